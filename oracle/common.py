@@ -437,3 +437,68 @@ def case_plan(grounds=("none", "i", "j"), n_total=N_CASES, unnormalized=True, ex
         assert x["label"] not in seen, x["label"]
         seen.add(x["label"])
     return plan
+
+
+# ---------------------------------------------------------------------------------------------
+# Markers (joints and drivers) and configurations placed on a solution
+# ---------------------------------------------------------------------------------------------
+
+
+def marker(rng, entry, which=0):
+    """A marker {point, x, y, z}: orthonormal right-handed frame in body coordinates."""
+    scale = entry["scale"]
+    if entry["axis"] is not None:
+        x, y, z = AXIS_FRAMES[(entry["axis"] + 3 * which) % len(AXIS_FRAMES)]
+        e = [0.0, 0.0, 0.0]
+        e[(entry["axis"] + which) % 3] = scale * 0.5 * (1 + which)
+        point = e
+    else:
+        x, y, z = random_frame(rng)
+        point = (scale * rng.uniform(-1.0, 1.0, 3)).tolist()
+    return {"point": [float(v) for v in point], "x": list(x), "y": list(y), "z": list(z)}
+
+
+def marker_matrix(m):
+    """[x y z] of a marker as a 3x3 numpy array (body coordinates)."""
+    return np.column_stack([m["x"], m["y"], m["z"]])
+
+
+def rot_axis(axis, angle):
+    """Rotation matrix about a coordinate axis (numeric, for case construction)."""
+    c, s = math.cos(angle), math.sin(angle)
+    i, j = (axis + 1) % 3, (axis + 2) % 3
+    m = np.eye(3)
+    m[i, i], m[i, j], m[j, i], m[j, j] = c, -s, s, c
+    return m
+
+
+def reposition(case, side, a_new, r_new):
+    """Move body `side` ("i" | "j") of a normalized case to rotation matrix a_new and position r_new,
+    keeping its rdot and w' (qdot_p is recomputed as 1/2 L^T w')."""
+    p = quat_from_matrix(a_new)
+    v = case["v_" + side]
+    case["q_" + side] = [float(x) for x in r_new] + p
+    case["qdot_" + side] = list(v[0:3]) + pdot_from_omega(p, np.array(v[3:6]))
+
+
+def assemble_markers(case, mi, mj, r_rel, offset):
+    """Place the moving body so that marker j's global frame is (marker i's frame) . r_rel and
+    P_j = P_i + (marker i's frame) . offset. Body j moves unless it is ground."""
+    ai = a_num(case["q_i"][3:])
+    aj = a_num(case["q_j"][3:])
+    ri = np.array(case["q_i"][:3])
+    rj = np.array(case["q_j"][:3])
+    li, lj = marker_matrix(mi), marker_matrix(mj)
+    if case["ground"] != "j":
+        frame_i = ai @ li
+        pi = ri + ai @ np.array(mi["point"])
+        a_j = frame_i @ r_rel @ lj.T
+        pj = pi + frame_i @ np.array(offset)
+        reposition(case, "j", a_j, pj - a_j @ np.array(mj["point"]))
+    else:
+        frame_j = aj @ lj
+        pj = rj + aj @ np.array(mj["point"])
+        frame_i = frame_j @ r_rel.T
+        a_i = frame_i @ li.T
+        pi = pj - frame_i @ np.array(offset)
+        reposition(case, "i", a_i, pi - a_i @ np.array(mi["point"]))
