@@ -1,0 +1,157 @@
+//! Dense LU with partial pivoting (faer), for small square systems.
+//!
+//! `P J = L U`, stored in one column-major `n × n` buffer; the row permutation and faer's scratch
+//! memory are allocated at [`analyze`](LinearSolver::analyze), so `factor` and `solve` do not
+//! allocate. Singularity is declared when a pivot satisfies `|u_jj| ≤ tol · max|J_ik|`
+//! ([`DEFAULT_PIVOT_TOLERANCE`] unless changed with [`DenseLu::with_pivot_tolerance`]).
+
+use crate::error::{NonFiniteLocation, SolverError};
+use crate::linear::{singular_error, LinearSolver, Scratch, DEFAULT_PIVOT_TOLERANCE};
+use crate::pattern::{check_len, SparsityPattern};
+use faer::dyn_stack::StackReq;
+use faer::linalg::lu::partial_pivoting::{factor as lu_factor, solve as lu_solve};
+use faer::perm::PermRef;
+use faer::{MatMut, MatRef, Par};
+
+/// Dense LU with partial pivoting. Square matrices only.
+#[derive(Debug)]
+pub struct DenseLu {
+    pattern: Option<SparsityPattern>,
+    n: usize,
+    lu: Vec<f64>,
+    perm: Vec<usize>,
+    perm_inv: Vec<usize>,
+    mem: Scratch,
+    pivot_tolerance: f64,
+    factored: bool,
+    pivot_rows: Vec<usize>,
+}
+
+impl Default for DenseLu {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl DenseLu {
+    /// A dense LU with the default pivot tolerance.
+    pub fn new() -> Self {
+        Self {
+            pattern: None,
+            n: 0,
+            lu: Vec::new(),
+            perm: Vec::new(),
+            perm_inv: Vec::new(),
+            mem: Scratch::empty(),
+            pivot_tolerance: DEFAULT_PIVOT_TOLERANCE,
+            factored: false,
+            pivot_rows: Vec::new(),
+        }
+    }
+
+    /// Sets the relative pivot tolerance (singular if `|u_jj| ≤ tol · max|J|`).
+    pub fn with_pivot_tolerance(mut self, tol: f64) -> Self {
+        self.pivot_tolerance = tol;
+        self
+    }
+}
+
+impl LinearSolver for DenseLu {
+    fn analyze(&mut self, pattern: &SparsityPattern) -> Result<(), SolverError> {
+        let (m, n) = (pattern.nrows(), pattern.ncols());
+        if m != n {
+            return Err(SolverError::NotSquare { nrows: m, ncols: n });
+        }
+        let req = StackReq::any_of(&[
+            lu_factor::lu_in_place_scratch::<usize, f64>(n, n, Par::Seq, Default::default()),
+            lu_solve::solve_in_place_scratch::<usize, f64>(n, 1, Par::Seq),
+        ]);
+        self.mem = Scratch::try_new(req)?;
+        self.n = n;
+        self.lu = vec![0.0; n * n];
+        self.perm = vec![0; n];
+        self.perm_inv = vec![0; n];
+        self.pivot_rows = Vec::with_capacity(n);
+        self.pattern = Some(pattern.clone());
+        self.factored = false;
+        Ok(())
+    }
+
+    fn factor(&mut self, slots: &[f64]) -> Result<(), SolverError> {
+        self.factored = false;
+        let pattern = self
+            .pattern
+            .as_ref()
+            .ok_or(SolverError::NotReady { missing: "analyze" })?;
+        pattern.check_finite(slots)?;
+        pattern.to_dense_col_major(slots, &mut self.lu)?;
+        let n = self.n;
+        let scale = self.lu.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let stack = self.mem.stack();
+        lu_factor::lu_in_place(
+            MatMut::from_column_major_slice_mut(&mut self.lu, n, n),
+            &mut self.perm,
+            &mut self.perm_inv,
+            Par::Seq,
+            stack,
+            Default::default(),
+        );
+        let tol = self.pivot_tolerance * scale;
+        self.pivot_rows.clear();
+        for j in 0..n {
+            let u = self.lu[j + n * j];
+            if u.abs() <= tol || u.is_nan() {
+                self.pivot_rows.push(self.perm[j]);
+            }
+        }
+        if !self.pivot_rows.is_empty() {
+            return Err(singular_error(pattern, slots, &self.pivot_rows));
+        }
+        self.factored = true;
+        Ok(())
+    }
+
+    fn solve(&mut self, b: &[f64], x: &mut [f64]) -> Result<(), SolverError> {
+        if !self.factored {
+            return Err(SolverError::NotReady { missing: "factor" });
+        }
+        let n = self.n;
+        check_len("right-hand side", n, b.len())?;
+        check_len("solution", n, x.len())?;
+        if let Some(index) = b.iter().position(|v| !v.is_finite()) {
+            return Err(SolverError::NonFinite {
+                location: NonFiniteLocation::RightHandSide { index },
+                iteration: None,
+            });
+        }
+        x.copy_from_slice(b);
+        let lu = MatRef::from_column_major_slice(&self.lu, n, n);
+        lu_solve::solve_in_place(
+            lu,
+            lu,
+            PermRef::new_checked(&self.perm, &self.perm_inv, n),
+            MatMut::from_column_major_slice_mut(x, n, 1),
+            Par::Seq,
+            self.mem.stack(),
+        );
+        if let Some(unknown) = x.iter().position(|v| !v.is_finite()) {
+            return Err(SolverError::NonFinite {
+                location: NonFiniteLocation::Solution { unknown },
+                iteration: None,
+            });
+        }
+        Ok(())
+    }
+
+    fn nrows(&self) -> usize {
+        self.n
+    }
+
+    fn ncols(&self) -> usize {
+        self.n
+    }
+
+    fn name(&self) -> &'static str {
+        "dense-lu"
+    }
+}

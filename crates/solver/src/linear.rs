@@ -1,0 +1,320 @@
+//! The linear-solver abstraction: analyze once, factor many times, solve many times.
+//!
+//! A mechanism's Jacobian keeps its structure for the whole simulation, so the work splits in
+//! three phases:
+//!
+//! | phase | when | may allocate |
+//! |---|---|---|
+//! | [`analyze`](LinearSolver::analyze) | once per [`SparsityPattern`] | yes |
+//! | [`factor`](LinearSolver::factor) | when the values change | no |
+//! | [`solve`](LinearSolver::solve) | per right-hand side | no |
+//!
+//! Members of the family: [`DenseLu`](crate::DenseLu) (partial pivoting, square),
+//! [`SparseLu`](crate::SparseLu) (faer simplicial LU with a COLAMD fill-reducing ordering, square),
+//! [`MinNormQr`](crate::MinNormQr) (rank revealing, any shape: drops dependent rows and returns
+//! the minimum-norm solution) and [`AutoSolver`], which picks one of them from the pattern.
+
+use crate::dense::DenseLu;
+use crate::error::SolverError;
+use crate::pattern::SparsityPattern;
+use crate::rank::MinNormQr;
+use crate::sparse::SparseLu;
+
+/// A linear solver for `J x = b` with `J` given as slot values of a fixed [`SparsityPattern`].
+///
+/// Call order: `analyze` once, then any sequence of `factor` and `solve` (each `solve` uses the
+/// last successful `factor`). After `analyze`, `factor` and `solve` must not allocate.
+///
+/// Implementing a new member means writing these methods; everything above (Newton-Raphson,
+/// velocity and acceleration solves) works with any member.
+pub trait LinearSolver {
+    /// Symbolic analysis of the structure (orderings, buffer sizes). May allocate.
+    ///
+    /// # Errors
+    /// Shape problems the solver cannot handle (for example [`SolverError::NotSquare`]).
+    fn analyze(&mut self, pattern: &SparsityPattern) -> Result<(), SolverError>;
+
+    /// Numeric factorization of the matrix whose slot values are `slots` (pattern of the last
+    /// `analyze`). Must not allocate.
+    ///
+    /// # Errors
+    /// [`SolverError::Singular`] (with the dependent equations when they can be identified),
+    /// [`SolverError::NonFinite`], [`SolverError::DimensionMismatch`], [`SolverError::NotReady`].
+    fn factor(&mut self, slots: &[f64]) -> Result<(), SolverError>;
+
+    /// Solves `J x = b` with the last factorization: `b` has `nrows` entries, `x` has `ncols`.
+    /// Must not allocate. Rank-revealing members return the minimum-norm solution of the
+    /// independent equations.
+    ///
+    /// # Errors
+    /// [`SolverError::NotReady`], [`SolverError::DimensionMismatch`], [`SolverError::NonFinite`].
+    fn solve(&mut self, b: &[f64], x: &mut [f64]) -> Result<(), SolverError>;
+
+    /// Rows of the analyzed pattern.
+    fn nrows(&self) -> usize;
+
+    /// Columns of the analyzed pattern.
+    fn ncols(&self) -> usize;
+
+    /// Numerical rank found by the last factorization, when the solver reveals it
+    /// (`None` for the LU members, which fail with [`SolverError::Singular`] instead).
+    fn rank(&self) -> Option<usize> {
+        None
+    }
+
+    /// Equations found dependent by the last factorization (rank-revealing members only).
+    fn dependent_equations(&self) -> &[usize] {
+        &[]
+    }
+
+    /// Short name for reports and benchmarks (`"dense-lu"`, `"sparse-lu"`, `"min-norm-qr"`).
+    fn name(&self) -> &'static str;
+}
+
+/// Which solver [`AutoSolver`] uses.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SolverChoice {
+    /// Decide from size and density at `analyze` (see [`AutoPolicy`]).
+    Auto(AutoPolicy),
+    /// Always [`DenseLu`].
+    Dense,
+    /// Always [`SparseLu`].
+    Sparse,
+    /// Always [`MinNormQr`] (rank revealing; any shape).
+    MinNorm,
+}
+
+impl Default for SolverChoice {
+    fn default() -> Self {
+        Self::Auto(AutoPolicy::default())
+    }
+}
+
+/// The size/density rule of [`SolverChoice::Auto`] for square patterns (non-square patterns always
+/// get [`MinNormQr`]).
+///
+/// Dense LU is chosen when `n ≤ dense_max_dim`, or when `n ≤ dense_density_max_dim` and the
+/// density is at least `dense_min_density`; sparse LU otherwise.
+///
+/// The defaults come from `benches/linear.rs` on a 2-core VM (see `BENCHMARKS.md`): on
+/// mechanism-like patterns (body chains, ladders of closed loops; density ≈ 10/n) the sparse LU
+/// overtakes the dense one between 60 and 100 unknowns, so the threshold is 64. A matrix denser
+/// than 20 % gains nothing from sparsity, so it stays dense up to 1000 unknowns.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AutoPolicy {
+    /// Dense at or below this many unknowns, whatever the density.
+    pub dense_max_dim: usize,
+    /// Density at or above which dense is chosen up to `dense_density_max_dim`.
+    pub dense_min_density: f64,
+    /// Size cap for the density rule.
+    pub dense_density_max_dim: usize,
+}
+
+impl Default for AutoPolicy {
+    fn default() -> Self {
+        Self {
+            dense_max_dim: 64,
+            dense_min_density: 0.2,
+            dense_density_max_dim: 1000,
+        }
+    }
+}
+
+impl AutoPolicy {
+    /// The solver kind this policy picks for `pattern`.
+    pub fn pick(&self, pattern: &SparsityPattern) -> SolverKind {
+        let (m, n) = (pattern.nrows(), pattern.ncols());
+        if m != n {
+            SolverKind::MinNorm
+        } else if n <= self.dense_max_dim
+            || (n <= self.dense_density_max_dim && pattern.density() >= self.dense_min_density)
+        {
+            SolverKind::Dense
+        } else {
+            SolverKind::Sparse
+        }
+    }
+}
+
+/// The concrete solver kinds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SolverKind {
+    /// [`DenseLu`].
+    Dense,
+    /// [`SparseLu`].
+    Sparse,
+    /// [`MinNormQr`].
+    MinNorm,
+}
+
+#[derive(Debug)]
+enum Inner {
+    None,
+    Dense(Box<DenseLu>),
+    Sparse(Box<SparseLu>),
+    MinNorm(Box<MinNormQr>),
+}
+
+/// A [`LinearSolver`] that picks [`DenseLu`], [`SparseLu`] or [`MinNormQr`] at `analyze`
+/// according to a [`SolverChoice`] (static dispatch through a closed enum).
+#[derive(Debug)]
+pub struct AutoSolver {
+    choice: SolverChoice,
+    inner: Inner,
+}
+
+impl Default for AutoSolver {
+    fn default() -> Self {
+        Self::new(SolverChoice::default())
+    }
+}
+
+impl AutoSolver {
+    /// A solver that will decide according to `choice` at `analyze`.
+    pub fn new(choice: SolverChoice) -> Self {
+        Self {
+            choice,
+            inner: Inner::None,
+        }
+    }
+
+    /// The kind picked at the last `analyze` (`None` before).
+    pub fn kind(&self) -> Option<SolverKind> {
+        match self.inner {
+            Inner::None => None,
+            Inner::Dense(_) => Some(SolverKind::Dense),
+            Inner::Sparse(_) => Some(SolverKind::Sparse),
+            Inner::MinNorm(_) => Some(SolverKind::MinNorm),
+        }
+    }
+
+    fn get(&mut self) -> Result<&mut dyn LinearSolver, SolverError> {
+        match &mut self.inner {
+            Inner::None => Err(SolverError::NotReady { missing: "analyze" }),
+            Inner::Dense(s) => Ok(s.as_mut()),
+            Inner::Sparse(s) => Ok(s.as_mut()),
+            Inner::MinNorm(s) => Ok(s.as_mut()),
+        }
+    }
+
+    fn get_ref(&self) -> Option<&dyn LinearSolver> {
+        match &self.inner {
+            Inner::None => None,
+            Inner::Dense(s) => Some(s.as_ref()),
+            Inner::Sparse(s) => Some(s.as_ref()),
+            Inner::MinNorm(s) => Some(s.as_ref()),
+        }
+    }
+}
+
+impl LinearSolver for AutoSolver {
+    fn analyze(&mut self, pattern: &SparsityPattern) -> Result<(), SolverError> {
+        let kind = match self.choice {
+            SolverChoice::Auto(policy) => policy.pick(pattern),
+            SolverChoice::Dense => SolverKind::Dense,
+            SolverChoice::Sparse => SolverKind::Sparse,
+            SolverChoice::MinNorm => SolverKind::MinNorm,
+        };
+        self.inner = Inner::None;
+        let mut inner = match kind {
+            SolverKind::Dense => Inner::Dense(Box::default()),
+            SolverKind::Sparse => Inner::Sparse(Box::default()),
+            SolverKind::MinNorm => Inner::MinNorm(Box::default()),
+        };
+        match &mut inner {
+            Inner::Dense(s) => s.analyze(pattern)?,
+            Inner::Sparse(s) => s.analyze(pattern)?,
+            Inner::MinNorm(s) => s.analyze(pattern)?,
+            Inner::None => {}
+        }
+        self.inner = inner;
+        Ok(())
+    }
+
+    fn factor(&mut self, slots: &[f64]) -> Result<(), SolverError> {
+        self.get()?.factor(slots)
+    }
+
+    fn solve(&mut self, b: &[f64], x: &mut [f64]) -> Result<(), SolverError> {
+        self.get()?.solve(b, x)
+    }
+
+    fn nrows(&self) -> usize {
+        self.get_ref().map_or(0, |s| s.nrows())
+    }
+
+    fn ncols(&self) -> usize {
+        self.get_ref().map_or(0, |s| s.ncols())
+    }
+
+    fn rank(&self) -> Option<usize> {
+        self.get_ref().and_then(|s| s.rank())
+    }
+
+    fn dependent_equations(&self) -> &[usize] {
+        self.get_ref().map_or(&[], |s| s.dependent_equations())
+    }
+
+    fn name(&self) -> &'static str {
+        self.get_ref().map_or("auto (not analyzed)", |s| s.name())
+    }
+}
+
+/// Relative pivot tolerance of the LU members: a pivot `|u_jj| ≤ tol · max|J|` means singular.
+pub const DEFAULT_PIVOT_TOLERANCE: f64 = 1e-12;
+
+/// Largest `m · n` for which a failed LU runs a dense rank analysis to name the dependent
+/// equations (beyond it the error lists the rows whose pivots vanished).
+pub(crate) const DIAGNOSE_MAX_ENTRIES: usize = 4_000_000;
+
+/// Builds the `Singular` error for an LU failure: a dense rank analysis when the matrix is
+/// small enough, else the given pivot rows. Runs only on the error path (it allocates).
+pub(crate) fn singular_error(
+    pattern: &SparsityPattern,
+    slots: &[f64],
+    pivot_rows: &[usize],
+) -> SolverError {
+    if pattern.nrows().saturating_mul(pattern.ncols()) <= DIAGNOSE_MAX_ENTRIES {
+        if let Ok(analysis) =
+            crate::rank::RankAnalysis::compute(pattern, slots, crate::RankOptions::default())
+        {
+            if !analysis.dependent_rows().is_empty() {
+                return SolverError::Singular {
+                    dependent_equations: analysis.dependent_rows().to_vec(),
+                };
+            }
+        }
+    }
+    let mut rows = pivot_rows.to_vec();
+    rows.sort_unstable();
+    SolverError::Singular {
+        dependent_equations: rows,
+    }
+}
+
+/// faer scratch memory, sized at analysis ([`faer::dyn_stack::MemBuffer`] with a `Debug` impl).
+pub(crate) struct Scratch(pub(crate) faer::dyn_stack::MemBuffer);
+
+impl Scratch {
+    pub(crate) fn empty() -> Self {
+        Self(faer::dyn_stack::MemBuffer::new(
+            faer::dyn_stack::StackReq::EMPTY,
+        ))
+    }
+
+    pub(crate) fn try_new(req: faer::dyn_stack::StackReq) -> Result<Self, SolverError> {
+        faer::dyn_stack::MemBuffer::try_new(req)
+            .map(Self)
+            .map_err(|e| SolverError::Backend(format!("scratch allocation: {e:?}")))
+    }
+
+    pub(crate) fn stack(&mut self) -> &mut faer::dyn_stack::MemStack {
+        faer::dyn_stack::MemStack::new(&mut self.0)
+    }
+}
+
+impl core::fmt::Debug for Scratch {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str("Scratch")
+    }
+}

@@ -1,0 +1,673 @@
+//! Newton-Raphson for `Φ(q) = 0`, and the velocity/acceleration solves that reuse its
+//! factorization.
+//!
+//! ```text
+//!   Φ_q(q_k) Δq_k = −Φ(q_k),     q_{k+1} = q_k ⊕ α_k Δq_k
+//! ```
+//!
+//! (Haug, *Computer Aided Kinematics and Dynamics of Mechanical Systems*, §4.4; Nikravesh,
+//! *Computer-Aided Analysis of Mechanical Systems*, §4.5.) `⊕` is
+//! [`NonlinearSystem::apply_step`]: plain addition for the 7-coordinate form, a rotation update for
+//! the 6-coordinate form. `α_k` is 1 unless the line search shortens the step.
+//!
+//! * **Full Newton** refactors `Φ_q` every iteration.
+//! * **Modified Newton** keeps the factorization while the scaled residual contracts by at least
+//!   `min_contraction` per iteration and the factorization is younger than `max_age`; a slow or
+//!   failed step triggers a refactorization at the current point. The factorization also survives
+//!   from one [`Newton::solve`] to the next (time stepping), subject to the same checks.
+//! * **Line search**: backtracking on `f = Σ (Φ_i / e_i)²` with the Armijo condition
+//!   `f(α) ≤ (1 − 2 c α) f(0)`, halving `α`; plus an optional cap on the scaled step length.
+//!   Together they let assembly start from a rough guess.
+//!
+//! Velocity `Φ_q q̇ = ν` and acceleration `Φ_q q̈ = γ#` share the matrix of the last position
+//! iteration only if it was evaluated at the converged `q`: with
+//! [`NewtonOptions::factor_at_solution`] (default) Newton refactors there once before returning,
+//! and [`Newton::solve_linear`] then solves both with that one factorization.
+
+use crate::convergence::{
+    reciprocal_in_place, weighted_inf_norm, weighted_sum_squares, worst_entries, Tolerances,
+};
+use crate::error::{NonFiniteLocation, SolverError};
+use crate::linear::{AutoSolver, LinearSolver};
+use crate::pattern::{check_len, RowSelection, SparsityPattern};
+
+/// The system a caller hands to [`Newton`]: `m` equations in `n` step unknowns, with the Jacobian
+/// on a fixed [`SparsityPattern`].
+///
+/// The state `x` (length [`state_len`](Self::state_len)) may be longer than the step (length
+/// `n`): in the 6-coordinate form the state stores `[r; p]` (7 per body) while the step is
+/// `[Δr; Δπ']` (6 per body) and [`apply_step`](Self::apply_step) rotates `p`.
+///
+/// ```
+/// use cardan_solver::{NonlinearSystem, Newton, NewtonOptions, SparsityPattern, AutoSolver};
+/// /// x² = 2, x·y = 1
+/// struct Sys;
+/// impl NonlinearSystem for Sys {
+///     fn num_equations(&self) -> usize { 2 }
+///     fn num_unknowns(&self) -> usize { 2 }
+///     fn residual(&mut self, x: &[f64], out: &mut [f64]) {
+///         out[0] = x[0] * x[0] - 2.0;
+///         out[1] = x[0] * x[1] - 1.0;
+///     }
+///     // slots: (0,0), (1,0), (1,1)
+///     fn jacobian(&mut self, x: &[f64], slots: &mut [f64]) {
+///         slots[0] = 2.0 * x[0];
+///         slots[1] = x[1];
+///         slots[2] = x[0];
+///     }
+/// }
+/// let pattern = SparsityPattern::new(2, 2, &[(0, 0), (1, 0), (1, 1)]).unwrap();
+/// let mut newton = Newton::new(&pattern, AutoSolver::default(), NewtonOptions::default()).unwrap();
+/// let mut x = [1.0, 1.0];
+/// let report = newton.solve(&mut Sys, &mut x).unwrap();
+/// assert!((x[0] - 2f64.sqrt()).abs() < 1e-12 && (x[1] - 0.5f64.sqrt()).abs() < 1e-12);
+/// assert!(report.iterations <= 6);
+/// ```
+pub trait NonlinearSystem {
+    /// Number of equations `m` (rows of the pattern).
+    fn num_equations(&self) -> usize;
+
+    /// Number of step unknowns `n` (columns of the pattern).
+    fn num_unknowns(&self) -> usize;
+
+    /// Length of the state vector `x`; defaults to `n`.
+    fn state_len(&self) -> usize {
+        self.num_unknowns()
+    }
+
+    /// Writes `Φ(x)` into `out` (length `m`).
+    fn residual(&mut self, x: &[f64], out: &mut [f64]);
+
+    /// Writes the Jacobian values at `x` into `slots`, in the slot order of the pattern.
+    fn jacobian(&mut self, x: &[f64], slots: &mut [f64]);
+
+    /// Applies a step: `x ← x ⊕ dx`. Default: `x += dx` (requires `state_len == n`).
+    fn apply_step(&mut self, x: &mut [f64], dx: &[f64]) {
+        for (xi, di) in x.iter_mut().zip(dx) {
+            *xi += di;
+        }
+    }
+
+    /// Scale `e_i > 0` of each equation (see [`convergence`](crate::convergence)). Default 1.
+    fn equation_scales(&self, out: &mut [f64]) {
+        out.fill(1.0);
+    }
+
+    /// Scale `u_j > 0` of each step unknown (see [`convergence`](crate::convergence)). Default 1.
+    fn unknown_scales(&self, out: &mut [f64]) {
+        out.fill(1.0);
+    }
+}
+
+/// When the Jacobian is re-evaluated and refactored.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum JacobianUpdate {
+    /// Full Newton: every iteration.
+    EveryIteration,
+    /// Modified Newton: keep the factorization while `‖Φ_{k+1}‖ ≤ min_contraction · ‖Φ_k‖` and
+    /// it has been used for fewer than `max_age` iterations.
+    Modified {
+        /// Iterations a factorization may serve.
+        max_age: usize,
+        /// Required contraction of the scaled residual per iteration (for example 0.25).
+        min_contraction: f64,
+    },
+}
+
+/// Step-length control.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum LineSearch {
+    /// Always the full step.
+    None,
+    /// Backtracking (halving) with the Armijo condition `f(α) ≤ (1 − 2 c α) f(0)`.
+    Backtracking {
+        /// Maximum halvings per iteration.
+        max_halvings: usize,
+        /// Armijo constant `c` (for example `1e-4`).
+        sufficient_decrease: f64,
+    },
+}
+
+/// Options of [`Newton`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NewtonOptions {
+    /// Scaled convergence tolerances.
+    pub tolerances: Tolerances,
+    /// Iteration cap. Default 25.
+    pub max_iterations: usize,
+    /// Full or modified Newton. Default full.
+    pub jacobian_update: JacobianUpdate,
+    /// Line search. Default backtracking, 10 halvings, `c = 1e-4`.
+    pub line_search: LineSearch,
+    /// Optional cap on the scaled step `max_j |Δq_j| / u_j` (damping for rough starts): longer
+    /// steps are shortened to this length before the line search. Default none.
+    pub max_step: Option<f64>,
+    /// Refactor at the converged point so [`Newton::solve_linear`] (velocity, acceleration) uses
+    /// `Φ_q(q)` exactly. Default true.
+    pub factor_at_solution: bool,
+    /// Number of worst equations listed in [`SolverError::NotConverged`]. Default 5.
+    pub report_worst: usize,
+}
+
+impl Default for NewtonOptions {
+    fn default() -> Self {
+        Self {
+            tolerances: Tolerances::default(),
+            max_iterations: 25,
+            jacobian_update: JacobianUpdate::EveryIteration,
+            line_search: LineSearch::Backtracking {
+                max_halvings: 10,
+                sufficient_decrease: 1e-4,
+            },
+            max_step: None,
+            factor_at_solution: true,
+            report_worst: 5,
+        }
+    }
+}
+
+/// Outcome of a converged [`Newton::solve`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NewtonReport {
+    /// Newton iterations (steps taken or attempted).
+    pub iterations: usize,
+    /// Final scaled residual `max_i |Φ_i| / e_i`.
+    pub residual_norm: f64,
+    /// Scaled length of the last step (0 if none was taken).
+    pub step_norm: f64,
+    /// Jacobian evaluations + factorizations performed (including the one at the solution).
+    pub refactorizations: usize,
+    /// Residual evaluations (including line-search trials).
+    pub residual_evaluations: usize,
+    /// Steps shortened by the line search or the step cap.
+    pub damped_steps: usize,
+    /// Rank of the last factorization, when the solver reveals it.
+    pub rank: Option<usize>,
+    /// Redundant equations: rows dropped by the row selection plus rows the rank-revealing solver
+    /// found dependent in the last factorization.
+    pub redundant_equations: usize,
+}
+
+/// Newton-Raphson solver with all buffers allocated at construction.
+///
+/// Generic over the [`LinearSolver`] (default [`AutoSolver`]). `solve`, `factor_at` and
+/// `solve_linear` do not allocate on success (error values do).
+#[derive(Debug)]
+pub struct Newton<S: LinearSolver = AutoSolver> {
+    pattern: SparsityPattern,
+    selection: Option<RowSelection>,
+    solver: S,
+    options: NewtonOptions,
+    m: usize,
+    n: usize,
+    full_slots: Vec<f64>,
+    reduced_slots: Vec<f64>,
+    residual: Vec<f64>,
+    trial_residual: Vec<f64>,
+    rhs: Vec<f64>,
+    dx: Vec<f64>,
+    scaled_dx: Vec<f64>,
+    x_trial: Vec<f64>,
+    eq_weights: Vec<f64>,
+    unknown_weights: Vec<f64>,
+    history: Vec<f64>,
+    factored: bool,
+    factored_at_current: bool,
+    age: usize,
+}
+
+impl<S: LinearSolver> Newton<S> {
+    /// Sets up Newton-Raphson for `pattern`: analyzes `solver` and allocates every buffer.
+    ///
+    /// # Errors
+    /// Whatever `solver.analyze` reports (for example [`SolverError::NotSquare`] for an LU solver
+    /// on a rectangular pattern).
+    pub fn new(
+        pattern: &SparsityPattern,
+        mut solver: S,
+        options: NewtonOptions,
+    ) -> Result<Self, SolverError> {
+        solver.analyze(pattern)?;
+        Ok(Self::with_parts(pattern, None, solver, options))
+    }
+
+    /// Like [`new`](Self::new), but solves only the rows kept by `selection` (decided once, for
+    /// example from a [`RankAnalysis`](crate::RankAnalysis)). Convergence is still judged on all
+    /// equations, so the dropped ones must be consistent.
+    ///
+    /// # Errors
+    /// [`SolverError::DimensionMismatch`] if the selection was not made from `pattern`, or what
+    /// `solver.analyze` reports on the reduced pattern.
+    pub fn with_row_selection(
+        pattern: &SparsityPattern,
+        selection: RowSelection,
+        mut solver: S,
+        options: NewtonOptions,
+    ) -> Result<Self, SolverError> {
+        check_len(
+            "row-selection columns",
+            pattern.ncols(),
+            selection.pattern().ncols(),
+        )?;
+        if let Some(&max) = selection.slot_map().iter().max() {
+            if max >= pattern.num_slots() {
+                return Err(SolverError::DimensionMismatch {
+                    what: "row-selection slot map",
+                    expected: pattern.num_slots(),
+                    found: max + 1,
+                });
+            }
+        }
+        solver.analyze(selection.pattern())?;
+        Ok(Self::with_parts(pattern, Some(selection), solver, options))
+    }
+
+    fn with_parts(
+        pattern: &SparsityPattern,
+        selection: Option<RowSelection>,
+        solver: S,
+        options: NewtonOptions,
+    ) -> Self {
+        let (m, n) = (pattern.nrows(), pattern.ncols());
+        let (rm, rslots) = selection
+            .as_ref()
+            .map_or((m, 0), |s| (s.pattern().nrows(), s.pattern().num_slots()));
+        Self {
+            pattern: pattern.clone(),
+            selection,
+            solver,
+            options,
+            m,
+            n,
+            full_slots: vec![0.0; pattern.num_slots()],
+            reduced_slots: vec![0.0; rslots],
+            residual: vec![0.0; m],
+            trial_residual: vec![0.0; m],
+            rhs: vec![0.0; rm],
+            dx: vec![0.0; n],
+            scaled_dx: vec![0.0; n],
+            x_trial: Vec::new(),
+            eq_weights: vec![1.0; m],
+            unknown_weights: vec![1.0; n],
+            history: Vec::with_capacity(options.max_iterations + 2),
+            factored: false,
+            factored_at_current: false,
+            age: 0,
+        }
+    }
+
+    /// The options.
+    pub fn options(&self) -> &NewtonOptions {
+        &self.options
+    }
+
+    /// Mutable options (tolerances, policy); buffers are unaffected except the residual history,
+    /// which grows if `max_iterations` grows.
+    pub fn options_mut(&mut self) -> &mut NewtonOptions {
+        &mut self.options
+    }
+
+    /// The linear solver (for its name, rank, dependent equations).
+    pub fn linear_solver(&self) -> &S {
+        &self.solver
+    }
+
+    /// The full pattern.
+    pub fn pattern(&self) -> &SparsityPattern {
+        &self.pattern
+    }
+
+    /// The row selection, if any.
+    pub fn row_selection(&self) -> Option<&RowSelection> {
+        self.selection.as_ref()
+    }
+
+    /// The Jacobian slot values of the last evaluation (full pattern order).
+    pub fn jacobian_slots(&self) -> &[f64] {
+        &self.full_slots
+    }
+
+    /// True when the current factorization was computed at the state last returned by
+    /// [`solve`](Self::solve) or passed to [`factor_at`](Self::factor_at).
+    pub fn factorization_is_current(&self) -> bool {
+        self.factored && self.factored_at_current
+    }
+
+    /// Forgets the factorization (the next solve refactors first).
+    pub fn invalidate(&mut self) {
+        self.factored = false;
+        self.factored_at_current = false;
+    }
+
+    fn check_system<N: NonlinearSystem + ?Sized>(
+        &mut self,
+        system: &N,
+        x: &[f64],
+    ) -> Result<(), SolverError> {
+        check_len("equations of the system", self.m, system.num_equations())?;
+        check_len("unknowns of the system", self.n, system.num_unknowns())?;
+        check_len("state vector", system.state_len(), x.len())?;
+        if self.x_trial.len() != x.len() {
+            // Allocates only the first time (or if the state length changes).
+            self.x_trial = vec![0.0; x.len()];
+        }
+        Ok(())
+    }
+
+    /// Evaluates the Jacobian at `x` and factors it (for velocity/acceleration at a `q` that did not
+    /// come from [`solve`](Self::solve)). Does not allocate after the first call.
+    ///
+    /// # Errors
+    /// Size mismatches, non-finite Jacobian entries, [`SolverError::Singular`].
+    pub fn factor_at<N: NonlinearSystem + ?Sized>(
+        &mut self,
+        system: &mut N,
+        x: &[f64],
+    ) -> Result<(), SolverError> {
+        self.check_system(system, x)?;
+        self.refactor(system, x, None)
+    }
+
+    fn refactor<N: NonlinearSystem + ?Sized>(
+        &mut self,
+        system: &mut N,
+        x: &[f64],
+        iteration: Option<usize>,
+    ) -> Result<(), SolverError> {
+        self.factored = false;
+        self.factored_at_current = false;
+        system.jacobian(x, &mut self.full_slots);
+        self.pattern
+            .check_finite(&self.full_slots)
+            .map_err(|e| with_iteration(e, iteration))?;
+        let r = match &self.selection {
+            Some(sel) => {
+                sel.gather_slots(&self.full_slots, &mut self.reduced_slots)?;
+                self.solver.factor(&self.reduced_slots)
+            }
+            None => self.solver.factor(&self.full_slots),
+        };
+        r.map_err(|e| self.map_rows(with_iteration(e, iteration)))?;
+        self.factored = true;
+        self.factored_at_current = true;
+        self.age = 0;
+        Ok(())
+    }
+
+    /// Maps equation indices of the reduced system back to the full system in errors.
+    fn map_rows(&self, e: SolverError) -> SolverError {
+        match (e, &self.selection) {
+            (
+                SolverError::Singular {
+                    dependent_equations,
+                },
+                Some(sel),
+            ) => {
+                let mut rows: Vec<usize> = dependent_equations
+                    .iter()
+                    .filter_map(|&i| sel.rows().get(i).copied())
+                    .collect();
+                rows.sort_unstable();
+                SolverError::Singular {
+                    dependent_equations: rows,
+                }
+            }
+            (e, _) => e,
+        }
+    }
+
+    /// Solves `Φ_q v = rhs` with the current factorization: velocity (`rhs = ν`) or acceleration
+    /// (`rhs = γ#`). `rhs` has `m` entries (all equations; dropped rows are ignored), `out` has
+    /// `n`. No allocation.
+    ///
+    /// Valid for the `q` of the last factorization: check
+    /// [`factorization_is_current`](Self::factorization_is_current) or call
+    /// [`factor_at`](Self::factor_at) first.
+    ///
+    /// # Errors
+    /// [`SolverError::NotReady`] without a factorization; size mismatches; non-finite values.
+    pub fn solve_linear(&mut self, rhs: &[f64], out: &mut [f64]) -> Result<(), SolverError> {
+        if !self.factored {
+            return Err(SolverError::NotReady {
+                missing: "factor_at (or a successful solve)",
+            });
+        }
+        check_len("right-hand side", self.m, rhs.len())?;
+        check_len("solution", self.n, out.len())?;
+        match &self.selection {
+            Some(sel) => {
+                sel.gather_rows(rhs, &mut self.rhs)?;
+                self.solver.solve(&self.rhs, out)
+            }
+            None => self.solver.solve(rhs, out),
+        }
+    }
+
+    fn eval_residual<N: NonlinearSystem + ?Sized>(
+        system: &mut N,
+        x: &[f64],
+        out: &mut [f64],
+        iteration: usize,
+    ) -> Result<(), SolverError> {
+        system.residual(x, out);
+        match out.iter().position(|v| !v.is_finite()) {
+            None => Ok(()),
+            Some(equation) => Err(SolverError::NonFinite {
+                location: NonFiniteLocation::Residual { equation },
+                iteration: Some(iteration),
+            }),
+        }
+    }
+
+    fn redundancy(&self) -> usize {
+        let dropped = self
+            .selection
+            .as_ref()
+            .map_or(0, |s| self.m - s.rows().len());
+        dropped + self.solver.rank().map_or(0, |r| self.solver.nrows() - r)
+    }
+
+    /// Solves `Φ(x) = 0` starting from `x` (overwritten with the solution, or with the last
+    /// iterate on failure). Does not allocate after the first call (on success).
+    ///
+    /// # Errors
+    /// [`SolverError::NotConverged`] (residual history and worst equations),
+    /// [`SolverError::Singular`] (dependent equations), [`SolverError::NonFinite`], size
+    /// mismatches.
+    pub fn solve<N: NonlinearSystem + ?Sized>(
+        &mut self,
+        system: &mut N,
+        x: &mut [f64],
+    ) -> Result<NewtonReport, SolverError> {
+        self.check_system(system, x)?;
+        // The state changes from here on: an old factorization is no longer "current".
+        self.factored_at_current = false;
+        let opts = self.options;
+        system.equation_scales(&mut self.eq_weights);
+        reciprocal_in_place(&mut self.eq_weights);
+        system.unknown_scales(&mut self.unknown_weights);
+        reciprocal_in_place(&mut self.unknown_weights);
+        if let JacobianUpdate::EveryIteration = opts.jacobian_update {
+            self.factored = false;
+        }
+        self.history.clear();
+        let mut report = NewtonReport {
+            iterations: 0,
+            residual_norm: f64::NAN,
+            step_norm: 0.0,
+            refactorizations: 0,
+            residual_evaluations: 0,
+            damped_steps: 0,
+            rank: None,
+            redundant_equations: 0,
+        };
+        let mut residual = std::mem::take(&mut self.residual);
+        let result = self.iterate(system, x, &mut residual, &mut report, &opts);
+        self.residual = residual;
+        result.map(|()| {
+            report.rank = self.solver.rank();
+            report.redundant_equations = self.redundancy();
+            report
+        })
+    }
+
+    fn iterate<N: NonlinearSystem + ?Sized>(
+        &mut self,
+        system: &mut N,
+        x: &mut [f64],
+        residual: &mut [f64],
+        report: &mut NewtonReport,
+        opts: &NewtonOptions,
+    ) -> Result<(), SolverError> {
+        Self::eval_residual(system, x, residual, 0)?;
+        report.residual_evaluations += 1;
+        let mut rn = weighted_inf_norm(residual, &self.eq_weights).0;
+        let mut merit = weighted_sum_squares(residual, &self.eq_weights);
+        self.history.push(rn);
+        let mut last_step = f64::INFINITY;
+        let mut force_refactor = false;
+        let mut k = 0;
+        loop {
+            report.residual_norm = rn;
+            if rn <= opts.tolerances.residual && (k == 0 || last_step <= opts.tolerances.step) {
+                report.iterations = k;
+                report.step_norm = if k == 0 { 0.0 } else { last_step };
+                if opts.factor_at_solution && !(self.factored && self.factored_at_current) {
+                    self.refactor(system, x, Some(k))?;
+                    report.refactorizations += 1;
+                }
+                return Ok(());
+            }
+            if k >= opts.max_iterations {
+                return Err(self.not_converged(k, residual, opts));
+            }
+            k += 1;
+            let stale_allowed = matches!(opts.jacobian_update, JacobianUpdate::Modified { .. });
+            let need = !self.factored
+                || force_refactor
+                || !stale_allowed
+                || match opts.jacobian_update {
+                    JacobianUpdate::Modified { max_age, .. } => self.age >= max_age.max(1),
+                    JacobianUpdate::EveryIteration => true,
+                };
+            if need && !(self.factored && self.factored_at_current) {
+                self.refactor(system, x, Some(k))?;
+                report.refactorizations += 1;
+            }
+            force_refactor = false;
+            let fresh = self.factored_at_current;
+            // Newton step: Φ_q dx = −Φ.
+            for v in residual.iter_mut() {
+                *v = -*v;
+            }
+            let solved = match &self.selection {
+                Some(sel) => sel
+                    .gather_rows(residual, &mut self.rhs)
+                    .and_then(|()| self.solver.solve(&self.rhs, &mut self.dx)),
+                None => self.solver.solve(residual, &mut self.dx),
+            };
+            for v in residual.iter_mut() {
+                *v = -*v;
+            }
+            solved.map_err(|e| with_iteration(e, Some(k)))?;
+            self.age += 1;
+            let (mut step, _) = weighted_inf_norm(&self.dx, &self.unknown_weights);
+            let mut alpha = 1.0;
+            if let Some(cap) = opts.max_step {
+                if step > cap {
+                    alpha = cap / step;
+                }
+            }
+            // Line search.
+            let (max_halvings, c) = match opts.line_search {
+                LineSearch::None => (0, 0.0),
+                LineSearch::Backtracking {
+                    max_halvings,
+                    sufficient_decrease,
+                } => (max_halvings, sufficient_decrease),
+            };
+            let mut accepted = false;
+            let mut halvings = 0;
+            loop {
+                self.x_trial.copy_from_slice(x);
+                for (s, d) in self.scaled_dx.iter_mut().zip(&self.dx) {
+                    *s = alpha * d;
+                }
+                system.apply_step(&mut self.x_trial, &self.scaled_dx);
+                if let Some(index) = self.x_trial.iter().position(|v| !v.is_finite()) {
+                    return Err(SolverError::NonFinite {
+                        location: NonFiniteLocation::Unknown { index },
+                        iteration: Some(k),
+                    });
+                }
+                Self::eval_residual(system, &self.x_trial, &mut self.trial_residual, k)?;
+                report.residual_evaluations += 1;
+                let trial_merit = weighted_sum_squares(&self.trial_residual, &self.eq_weights);
+                let ok = matches!(opts.line_search, LineSearch::None)
+                    || trial_merit <= (1.0 - 2.0 * c * alpha) * merit
+                    || trial_merit <= f64::MIN_POSITIVE;
+                if ok {
+                    accepted = true;
+                    break;
+                }
+                if !fresh || halvings >= max_halvings {
+                    break;
+                }
+                halvings += 1;
+                alpha *= 0.5;
+            }
+            if !accepted {
+                if !fresh {
+                    // A stale factorization gave a poor direction: refactor here and retry.
+                    force_refactor = true;
+                    self.history.push(rn);
+                    continue;
+                }
+                return Err(self.not_converged(k, residual, opts));
+            }
+            if alpha < 1.0 {
+                report.damped_steps += 1;
+            }
+            step *= alpha;
+            x.copy_from_slice(&self.x_trial);
+            self.factored_at_current = false;
+            residual.copy_from_slice(&self.trial_residual);
+            let new_rn = weighted_inf_norm(residual, &self.eq_weights).0;
+            merit = weighted_sum_squares(residual, &self.eq_weights);
+            if let JacobianUpdate::Modified {
+                min_contraction, ..
+            } = opts.jacobian_update
+            {
+                if new_rn > min_contraction * rn {
+                    force_refactor = true;
+                }
+            }
+            rn = new_rn;
+            last_step = step;
+            self.history.push(rn);
+        }
+    }
+
+    fn not_converged(
+        &self,
+        iterations: usize,
+        residual: &[f64],
+        opts: &NewtonOptions,
+    ) -> SolverError {
+        SolverError::NotConverged {
+            iterations,
+            residual_history: self.history.clone(),
+            worst_equations: worst_entries(residual, &self.eq_weights, opts.report_worst),
+        }
+    }
+}
+
+fn with_iteration(e: SolverError, iteration: Option<usize>) -> SolverError {
+    match e {
+        SolverError::NonFinite { location, .. } => SolverError::NonFinite {
+            location,
+            iteration,
+        },
+        e => e,
+    }
+}

@@ -1,0 +1,404 @@
+//! Rank-revealing analysis for redundant constraints, and the minimum-norm solver built on it.
+//!
+//! # Method
+//! Let `J` be `m × n`. Each row is first divided by its Euclidean norm (`D J`, `D` diagonal): row
+//! scaling does not change which rows are dependent, and it makes the tolerance independent of
+//! units (a constraint in millimetres and one in radians weigh the same). Then the transpose is
+//! factored with Householder QR and column pivoting (Businger–Golub; Golub & Van Loan,
+//! *Matrix Computations*, 4th ed., §5.4.2):
+//!
+//! ```text
+//!   (D J)ᵀ P = Q R,      R = [R11 R12; 0 R22],   R11 r × r
+//! ```
+//!
+//! Column `k` of `(D J)ᵀ` is equation `k`. The pivoting picks, at each step, an equation whose
+//! part orthogonal to the equations already chosen is largest (among those within a factor 2 of
+//! the largest, the lowest-numbered, so the choice is deterministic and does not chatter between
+//! steps); it stops when that part falls below the tolerance. The `r` chosen equations are
+//! independent; the other `m − r` are reported as dependent (redundant). With unit rows the
+//! tolerance is simply relative: `tol = max(relative_tolerance, 10 · max(m, n) · ε)`.
+//!
+//! # Minimum-norm solution
+//! For the independent equations, `(D J)_sel = R11ᵀ Q1ᵀ`, so the minimum-norm solution of
+//! `J_sel x = b_sel` is `x = Q1 R11⁻ᵀ (D b)_sel`: a forward substitution and `r` Householder
+//! reflections. For an under-determined system (`m < n`, assembly of an under-driven mechanism)
+//! this is the step that moves the unknowns least; for a redundant but consistent system it
+//! satisfies every equation; for an inconsistent one it satisfies the independent equations
+//! exactly and ignores the dependent ones.
+//!
+//! # When to run it
+//! Redundant constraints are exactly dependent only on the constraint manifold. Run the analysis
+//! at an assembled configuration (residual small compared with the tolerance), not at a rough
+//! initial guess, where the Jacobian of a redundant mechanism usually has full row rank.
+
+use crate::error::{NonFiniteLocation, SolverError};
+use crate::linear::LinearSolver;
+use crate::pattern::{check_len, SparsityPattern};
+
+/// Options of the rank analysis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RankOptions {
+    /// An equation whose unit-normalised row has a component orthogonal to the independent rows
+    /// smaller than this is dependent. Default `1e-9`: loose enough for a configuration assembled
+    /// to a residual of about `1e-10`, tight enough not to flag a well-posed mechanism away from
+    /// singular positions.
+    pub relative_tolerance: f64,
+}
+
+impl Default for RankOptions {
+    fn default() -> Self {
+        Self {
+            relative_tolerance: 1e-9,
+        }
+    }
+}
+
+/// Result of a rank analysis of an `m × n` Jacobian.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RankAnalysis {
+    nrows: usize,
+    ncols: usize,
+    rank: usize,
+    independent_rows: Vec<usize>,
+    dependent_rows: Vec<usize>,
+    tolerance: f64,
+    pivots: Vec<f64>,
+}
+
+impl RankAnalysis {
+    /// Analyzes the matrix with slot values `slots` of `pattern`. Allocates `m · n` doubles: meant
+    /// for setup (once per mechanism), not for every step.
+    ///
+    /// # Errors
+    /// [`SolverError::DimensionMismatch`], [`SolverError::NonFinite`].
+    pub fn compute(
+        pattern: &SparsityPattern,
+        slots: &[f64],
+        options: RankOptions,
+    ) -> Result<Self, SolverError> {
+        let mut qr = PivotedQr::new(pattern.nrows(), pattern.ncols());
+        qr.factor(pattern, slots, options)?;
+        Ok(qr.analysis())
+    }
+
+    /// Rows (equations) of the matrix.
+    pub fn nrows(&self) -> usize {
+        self.nrows
+    }
+
+    /// Columns (unknowns) of the matrix.
+    pub fn ncols(&self) -> usize {
+        self.ncols
+    }
+
+    /// Numerical rank.
+    pub fn rank(&self) -> usize {
+        self.rank
+    }
+
+    /// Number of redundant equations, `m − rank`.
+    pub fn redundancy(&self) -> usize {
+        self.nrows - self.rank
+    }
+
+    /// Degrees of freedom left by the equations, `n − rank`.
+    pub fn degrees_of_freedom(&self) -> usize {
+        self.ncols - self.rank
+    }
+
+    /// Independent equations, increasing. Pass them to
+    /// [`SparsityPattern::select_rows`] to drop the others once.
+    pub fn independent_rows(&self) -> &[usize] {
+        &self.independent_rows
+    }
+
+    /// Dependent (redundant) equations, increasing.
+    pub fn dependent_rows(&self) -> &[usize] {
+        &self.dependent_rows
+    }
+
+    /// Tolerance that was applied (relative to unit rows).
+    pub fn tolerance(&self) -> f64 {
+        self.tolerance
+    }
+
+    /// `|R_kk|` in pivot order, one per step performed (rank-revealing gap: the first `rank` are
+    /// above the tolerance; the next, if any, is below).
+    pub fn pivots(&self) -> &[f64] {
+        &self.pivots
+    }
+}
+
+/// Householder QR with column pivoting of `(D J)ᵀ`, all buffers preallocated.
+#[derive(Debug, Clone)]
+struct PivotedQr {
+    m: usize,
+    n: usize,
+    /// `(D J)ᵀ`, n × m column-major; after factor: R in the upper triangle, reflectors below.
+    a: Vec<f64>,
+    tau: Vec<f64>,
+    perm: Vec<usize>,
+    row_scale: Vec<f64>,
+    norms: Vec<f64>,
+    rank: usize,
+    tol: f64,
+    pivots_len: usize,
+    pivots: Vec<f64>,
+}
+
+impl PivotedQr {
+    fn new(m: usize, n: usize) -> Self {
+        let k = m.min(n);
+        Self {
+            m,
+            n,
+            a: vec![0.0; m * n],
+            tau: vec![0.0; k],
+            perm: (0..m).collect(),
+            row_scale: vec![0.0; m],
+            norms: vec![0.0; m],
+            rank: 0,
+            tol: 0.0,
+            pivots_len: 0,
+            pivots: vec![0.0; (k + 1).min(m)],
+        }
+    }
+
+    fn factor(
+        &mut self,
+        pattern: &SparsityPattern,
+        slots: &[f64],
+        options: RankOptions,
+    ) -> Result<(), SolverError> {
+        check_len("pattern rows", self.m, pattern.nrows())?;
+        check_len("pattern columns", self.n, pattern.ncols())?;
+        pattern.check_finite(slots)?;
+        pattern.to_dense_transpose(slots, &mut self.a)?;
+        let (m, n) = (self.m, self.n);
+        self.tol = options
+            .relative_tolerance
+            .max(10.0 * (m.max(n) as f64) * f64::EPSILON);
+        for i in 0..m {
+            let col = &mut self.a[i * n..(i + 1) * n];
+            let norm = col.iter().map(|v| v * v).sum::<f64>().sqrt();
+            let s = if norm > 0.0 { 1.0 / norm } else { 0.0 };
+            col.iter_mut().for_each(|v| *v *= s);
+            self.row_scale[i] = s;
+            self.perm[i] = i;
+        }
+        self.rank = 0;
+        self.pivots_len = 0;
+        let kmax = m.min(n);
+        for k in 0..=kmax {
+            if k == m {
+                break;
+            }
+            // Remaining column norms (rows k..n of columns k..m).
+            let mut best = 0.0f64;
+            for j in k..m {
+                let col = &self.a[j * n + k..(j + 1) * n];
+                let s = col.iter().map(|v| v * v).sum::<f64>().sqrt();
+                self.norms[j] = s;
+                best = best.max(s);
+            }
+            if self.pivots_len < self.pivots.len() {
+                self.pivots[self.pivots_len] = best;
+                self.pivots_len += 1;
+            }
+            if k == kmax || best <= self.tol {
+                break;
+            }
+            // Lowest original row index among near-maximal candidates.
+            let mut p = usize::MAX;
+            for j in k..m {
+                if self.norms[j] >= 0.5 * best && (p == usize::MAX || self.perm[j] < self.perm[p]) {
+                    p = j;
+                }
+            }
+            if p != k {
+                for i in 0..n {
+                    self.a.swap(k * n + i, p * n + i);
+                }
+                self.perm.swap(k, p);
+                self.norms.swap(k, p);
+            }
+            // Householder reflector for a[k..n, k].
+            let (head, tail) = self.a.split_at_mut((k + 1) * n);
+            let col = &mut head[k * n + k..(k + 1) * n];
+            let alpha = col[0];
+            let norm = self.norms[k];
+            let beta = if alpha >= 0.0 { -norm } else { norm };
+            let v0 = alpha - beta;
+            for v in col[1..].iter_mut() {
+                *v /= v0;
+            }
+            let tau = (beta - alpha) / beta;
+            col[0] = beta;
+            self.tau[k] = tau;
+            let v = &col[1..];
+            for j in 0..(m - k - 1) {
+                let c = &mut tail[j * n + k..(j + 1) * n];
+                let w = c[0] + v.iter().zip(&c[1..]).map(|(a, b)| a * b).sum::<f64>();
+                let tw = tau * w;
+                c[0] -= tw;
+                for (ci, vi) in c[1..].iter_mut().zip(v) {
+                    *ci -= tw * vi;
+                }
+            }
+            self.rank = k + 1;
+        }
+        Ok(())
+    }
+
+    fn analysis(&self) -> RankAnalysis {
+        let mut independent_rows = self.perm[..self.rank].to_vec();
+        independent_rows.sort_unstable();
+        let mut dependent_rows = self.perm[self.rank..].to_vec();
+        dependent_rows.sort_unstable();
+        RankAnalysis {
+            nrows: self.m,
+            ncols: self.n,
+            rank: self.rank,
+            independent_rows,
+            dependent_rows,
+            tolerance: self.tol,
+            pivots: self.pivots[..self.pivots_len].to_vec(),
+        }
+    }
+
+    /// Minimum-norm solution of the independent equations. No allocation.
+    fn solve(&self, b: &[f64], x: &mut [f64]) {
+        let (n, r) = (self.n, self.rank);
+        // Forward substitution R11ᵀ y = (D b)_sel, y stored in x[..r].
+        for k in 0..r {
+            let row = self.perm[k];
+            let mut s = self.row_scale[row] * b[row];
+            let col = &self.a[k * n..k * n + k];
+            for i in 0..k {
+                s -= col[i] * x[i];
+            }
+            x[k] = s / self.a[k * n + k];
+        }
+        x[r..].fill(0.0);
+        // x = H_0 H_1 … H_{r−1} [y; 0]
+        for k in (0..r).rev() {
+            let v = &self.a[k * n + k + 1..(k + 1) * n];
+            let w = x[k] + v.iter().zip(&x[k + 1..]).map(|(a, b)| a * b).sum::<f64>();
+            let tw = self.tau[k] * w;
+            x[k] -= tw;
+            for (xi, vi) in x[k + 1..].iter_mut().zip(v) {
+                *xi -= tw * vi;
+            }
+        }
+    }
+}
+
+/// Rank-revealing linear solver for any shape: drops the dependent equations found at each
+/// factorization and returns the minimum-norm solution of the others (see the module docs).
+///
+/// Dense (`O(m n min(m, n))` per factorization): meant for small and medium systems, for
+/// assembly of under-driven mechanisms, and as the fallback when the LU members report
+/// [`SolverError::Singular`]. For large redundant systems, run a [`RankAnalysis`] once, drop the
+/// dependent rows with [`SparsityPattern::select_rows`], and use the sparse LU on the rest.
+#[derive(Debug, Clone)]
+pub struct MinNormQr {
+    pattern: Option<SparsityPattern>,
+    qr: PivotedQr,
+    options: RankOptions,
+    factored: bool,
+}
+
+impl Default for MinNormQr {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl MinNormQr {
+    /// A solver with default [`RankOptions`].
+    pub fn new() -> Self {
+        Self::with_options(RankOptions::default())
+    }
+
+    /// A solver with the given rank tolerance.
+    pub fn with_options(options: RankOptions) -> Self {
+        Self {
+            pattern: None,
+            qr: PivotedQr::new(0, 0),
+            options,
+            factored: false,
+        }
+    }
+
+    /// The rank analysis of the last factorization (allocates: for reports, not hot loops).
+    pub fn analysis(&self) -> Option<RankAnalysis> {
+        self.factored.then(|| self.qr.analysis())
+    }
+}
+
+impl LinearSolver for MinNormQr {
+    fn analyze(&mut self, pattern: &SparsityPattern) -> Result<(), SolverError> {
+        self.qr = PivotedQr::new(pattern.nrows(), pattern.ncols());
+        self.pattern = Some(pattern.clone());
+        self.factored = false;
+        Ok(())
+    }
+
+    fn factor(&mut self, slots: &[f64]) -> Result<(), SolverError> {
+        self.factored = false;
+        let pattern = self
+            .pattern
+            .as_ref()
+            .ok_or(SolverError::NotReady { missing: "analyze" })?;
+        self.qr.factor(pattern, slots, self.options)?;
+        self.factored = true;
+        Ok(())
+    }
+
+    fn solve(&mut self, b: &[f64], x: &mut [f64]) -> Result<(), SolverError> {
+        if !self.factored {
+            return Err(SolverError::NotReady { missing: "factor" });
+        }
+        check_len("right-hand side", self.qr.m, b.len())?;
+        check_len("solution", self.qr.n, x.len())?;
+        if let Some(index) = b.iter().position(|v| !v.is_finite()) {
+            return Err(SolverError::NonFinite {
+                location: NonFiniteLocation::RightHandSide { index },
+                iteration: None,
+            });
+        }
+        self.qr.solve(b, x);
+        if let Some(unknown) = x.iter().position(|v| !v.is_finite()) {
+            return Err(SolverError::NonFinite {
+                location: NonFiniteLocation::Solution { unknown },
+                iteration: None,
+            });
+        }
+        Ok(())
+    }
+
+    fn nrows(&self) -> usize {
+        self.qr.m
+    }
+
+    fn ncols(&self) -> usize {
+        self.qr.n
+    }
+
+    fn rank(&self) -> Option<usize> {
+        self.factored.then_some(self.qr.rank)
+    }
+
+    fn dependent_equations(&self) -> &[usize] {
+        // perm[rank..] is the dependent set (pivot order, not sorted: sorting would need a buffer).
+        if self.factored {
+            &self.qr.perm[self.qr.rank..]
+        } else {
+            &[]
+        }
+    }
+
+    fn name(&self) -> &'static str {
+        "min-norm-qr"
+    }
+}
