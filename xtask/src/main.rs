@@ -1,5 +1,38 @@
 //! Project tasks, run as `cargo xtask <task>`.
-fn main() {
-    eprintln!("usage: cargo xtask oracle [--check]");
-    std::process::exit(2);
+//!
+//! - `cargo xtask oracle`: regenerate `oracle/data/` with the CasADi oracle (see `oracle/README.md`).
+//! - `cargo xtask oracle --check`: fail when the committed `oracle/data/` are stale.
+
+mod oracle;
+
+use std::process::ExitCode;
+
+const USAGE: &str = "usage: cargo xtask oracle [--check]
+
+tasks:
+  oracle            create/update the Python venv under target/ and regenerate oracle/data/
+  oracle --check    regenerate into target/ and fail if oracle/data/ differs (CI)";
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let result = match args.as_slice() {
+        ["oracle"] => oracle::run(oracle::Mode::Write),
+        ["oracle", "--check"] => oracle::run(oracle::Mode::Check),
+        ["help"] | ["--help"] | ["-h"] => {
+            println!("{USAGE}");
+            return ExitCode::SUCCESS;
+        }
+        _ => {
+            eprintln!("{USAGE}");
+            return ExitCode::from(2);
+        }
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
 }
