@@ -29,7 +29,10 @@ pub fn unit(what: &'static str, v: &Vector3<f64>) -> Result<Vector3<f64>, EulerP
     // Scale first so that tiny and huge vectors normalize without under/overflow.
     let m = v.amax();
     if m == 0.0 || !m.is_normal() {
-        return Err(EulerParamError::ZeroAxis { what, norm: v.norm() });
+        return Err(EulerParamError::ZeroAxis {
+            what,
+            norm: v.norm(),
+        });
     }
     let s = v / m;
     Ok(s / s.norm())
@@ -50,7 +53,11 @@ pub fn axis_angle_from_p(p: &EulerParams) -> (Vector3<f64>, f64) {
     let (e0, e) = (p.e0() / n, p.e() / n);
     let s = e.norm();
     if s == 0.0 {
-        let angle = if e0 >= 0.0 { 0.0 } else { 2.0 * std::f64::consts::PI };
+        let angle = if e0 >= 0.0 {
+            0.0
+        } else {
+            2.0 * std::f64::consts::PI
+        };
         return (Vector3::x(), angle);
     }
     (e / s, 2.0 * s.atan2(e0))
@@ -107,50 +114,99 @@ fn about(axis: usize, angle: f64) -> EulerParams {
 /// (Nikravesh 1988 eq. 6.53: e0 = cos(θ/2) cos((φ+ψ)/2), e1 = sin(θ/2) cos((φ−ψ)/2), …).
 pub fn p_from_euler_313(phi: f64, theta: f64, psi: f64) -> Result<EulerParams, EulerParamError> {
     check_finite("3-1-3 Euler angles", &[phi, theta, psi])?;
-    Ok(about(2, phi).compose(&about(0, theta)).compose(&about(2, psi)))
+    Ok(about(2, phi)
+        .compose(&about(0, theta))
+        .compose(&about(2, psi)))
 }
 
 /// 3-1-3 Euler angles (φ, θ, ψ) of p, with θ ∈ [0, π] and φ, ψ ∈ (−π, π]. At the singular
-/// orientations θ = 0 and θ = π only φ ± ψ is defined; ψ = 0 is returned.
+/// orientations θ = 0 and θ = π only φ + ψ (resp. φ − ψ) is defined; there ψ = 0 is returned.
+///
+/// Computed from the half-angle form of p (Nikravesh 1988 ch. 6), not from A:
+/// e0 = cos(θ/2) cos σ, e3 = cos(θ/2) sin σ, e1 = sin(θ/2) cos δ, e2 = sin(θ/2) sin δ with
+/// σ = (φ + ψ)/2, δ = (φ − ψ)/2. Every angle is an `atan2` of two parameters, so the angles
+/// reproduce A(p) to round-off at every orientation, including arbitrarily close to the
+/// singular ones (an extraction from the entries of A loses accuracy there). p and −p give the
+/// same angles. p need not be normalized; a p that cannot be normalized (zero or not finite)
+/// gives (0, 0, 0).
 pub fn euler_313_from_p(p: &EulerParams) -> (f64, f64, f64) {
-    let m = p.normalized().map(|q| q.a()).unwrap_or_else(|_| Matrix3::identity());
-    let c = m[(2, 2)].clamp(-1.0, 1.0);
-    let s = m[(0, 2)].hypot(m[(1, 2)]);
-    if s < 1e-12 {
-        let theta = if c > 0.0 { 0.0 } else { std::f64::consts::PI };
-        return (m[(1, 0)].atan2(m[(0, 0)]), theta, 0.0);
+    let Ok(q) = p.normalized() else {
+        return (0.0, 0.0, 0.0);
+    };
+    let v = q.as_vector();
+    // R_z R_x R_z: outer axis z (e3), middle axis x (e1), third axis y (e2).
+    proper_euler_from_half_angles(v[0], v[3], v[1], v[2])
+}
+
+/// Proper Euler angles (φ, θ, ψ) of R_a(φ) R_b(θ) R_a(ψ) from the parameters of that rotation
+/// listed as r0 (scalar), ra (outer axis a), rb (middle axis b), rc (the third axis c, with
+/// (a, b, c) a cyclic permutation of (x, y, z)):
+/// r0 = cos(θ/2) cos σ, ra = cos(θ/2) sin σ, rb = sin(θ/2) cos δ, rc = sin(θ/2) sin δ,
+/// σ = (φ + ψ)/2, δ = (φ − ψ)/2. θ ∈ [0, π], φ, ψ ∈ (−π, π]; ψ = 0 at θ = 0 and θ = π (up
+/// to round-off: when sin(θ/2) or cos(θ/2) is below 4 ε |r|, which moves A by less than 1e-15).
+fn proper_euler_from_half_angles(r0: f64, ra: f64, rb: f64, rc: f64) -> (f64, f64, f64) {
+    let c = r0.hypot(ra); // |cos(θ/2)|
+    let s = rb.hypot(rc); // |sin(θ/2)|
+    let tiny = 4.0 * f64::EPSILON * c.hypot(s);
+    if s <= tiny {
+        // θ = 0: A = R_a(φ + ψ).
+        return (wrap_angle(2.0 * ra.atan2(r0)), 0.0, 0.0);
     }
-    let theta = s.atan2(c);
-    let phi = m[(0, 2)].atan2(-m[(1, 2)]);
-    let psi = m[(2, 0)].atan2(m[(2, 1)]);
-    (phi, theta, psi)
+    if c <= tiny {
+        // θ = π: A = R_a(φ − ψ) R_b(π).
+        return (wrap_angle(2.0 * rc.atan2(rb)), std::f64::consts::PI, 0.0);
+    }
+    let sigma = ra.atan2(r0);
+    let delta = rc.atan2(rb);
+    (
+        wrap_angle(sigma + delta),
+        2.0 * s.atan2(c),
+        wrap_angle(sigma - delta),
+    )
+}
+
+/// Maps an angle in [−2π, 2π] to (−π, π].
+fn wrap_angle(x: f64) -> f64 {
+    use std::f64::consts::PI;
+    if x > PI {
+        x - 2.0 * PI
+    } else if x <= -PI {
+        x + 2.0 * PI
+    } else {
+        x
+    }
 }
 
 /// p for 1-2-3 Bryant angles (φ, θ, ψ): A = R_x(φ) R_y(θ) R_z(ψ) (Nikravesh 1988 §6.4.2).
 pub fn p_from_euler_123(phi: f64, theta: f64, psi: f64) -> Result<EulerParams, EulerParamError> {
     check_finite("1-2-3 Bryant angles", &[phi, theta, psi])?;
-    Ok(about(0, phi).compose(&about(1, theta)).compose(&about(2, psi)))
+    Ok(about(0, phi)
+        .compose(&about(1, theta))
+        .compose(&about(2, psi)))
 }
 
-/// 1-2-3 Bryant angles (φ, θ, ψ) of p, with θ ∈ [−π/2, π/2]. At gimbal lock (θ = ±π/2) only
-/// φ ± ψ is defined; ψ = 0 is returned.
+/// 1-2-3 Bryant angles (φ, θ, ψ) of p, with θ ∈ [−π/2, π/2] and φ, ψ ∈ (−π, π]. At gimbal
+/// lock (θ = ±π/2) only φ ± ψ is defined; there ψ = 0 is returned.
+///
+/// Computed from p, not from A, so that the angles reproduce A(p) to round-off at every
+/// orientation including arbitrarily close to gimbal lock (an extraction from the entries of A
+/// loses accuracy there: cos θ is a difference of O(1) entries). Because
+/// R_y(θ) R_z(ψ) = R_y(θ + π/2) R_x(−ψ) R_y(−π/2), the rotation A(p) R_y(π/2) has the proper
+/// x-y-x angles (φ, θ + π/2, −ψ), and its parameters are p ⊗ [1, 0, 1, 0]/√2 =
+/// [e0 − e2, e1 − e3, e0 + e2, e1 + e3]/√2. p and −p give the same angles. p need not be
+/// normalized; a p that cannot be normalized (zero or not finite) gives (0, 0, 0).
 pub fn euler_123_from_p(p: &EulerParams) -> (f64, f64, f64) {
-    let m = p.normalized().map(|q| q.a()).unwrap_or_else(|_| Matrix3::identity());
-    let s = m[(0, 2)].clamp(-1.0, 1.0);
-    let c = m[(0, 0)].hypot(m[(0, 1)]);
-    if c < 1e-12 {
-        let theta = std::f64::consts::FRAC_PI_2.copysign(s);
-        let phi = if s > 0.0 {
-            m[(1, 0)].atan2(m[(1, 1)])
-        } else {
-            (-m[(1, 0)]).atan2(m[(1, 1)])
-        };
-        return (phi, theta, 0.0);
-    }
-    let theta = s.atan2(c);
-    let phi = (-m[(1, 2)]).atan2(m[(2, 2)]);
-    let psi = (-m[(0, 1)]).atan2(m[(0, 0)]);
-    (phi, theta, psi)
+    let Ok(q) = p.normalized() else {
+        return (0.0, 0.0, 0.0);
+    };
+    let v = q.as_vector();
+    let (phi, theta_xyx, psi_xyx) =
+        proper_euler_from_half_angles(v[0] - v[2], v[1] - v[3], v[0] + v[2], v[1] + v[3]);
+    (
+        phi,
+        theta_xyx - std::f64::consts::FRAC_PI_2,
+        wrap_angle(-psi_xyx),
+    )
 }
 
 /// A right-handed orthonormal frame [x y z] (columns) whose z column is along `z`.
@@ -184,7 +240,11 @@ pub fn frame_from_two_axes(
             angle_deg: sin.asin().to_degrees(),
         });
     }
+    // A second Gram-Schmidt pass: when the hint is within a few degrees of z the first pass
+    // leaves a component along z of relative size ε / sin, which would make the frame
+    // non-orthonormal by that much (1e-10 at the 1e-6 rad threshold).
     let x = x / sin;
+    let x = (x - z * z.dot(&x)).normalize();
     let y = z.cross(&x);
     Ok(Matrix3::from_columns(&[x, y, z]))
 }

@@ -62,7 +62,9 @@ pub use error::EulerParamError;
 pub use matrices::{a, a_dot, bar, da_dp, da_dpi_local, g, g_dot, l, l_dot};
 pub use params::EulerParams;
 pub use skew::{skew, unskew};
-pub use velocity::{omega_global, omega_local, p_ddot_from_local, p_dot_from_global, p_dot_from_local};
+pub use velocity::{
+    omega_global, omega_local, p_ddot_from_local, p_dot_from_global, p_dot_from_local,
+};
 
 /// Re-exported so downstream crates name the same nalgebra types.
 pub use nalgebra;

@@ -86,11 +86,18 @@ pub fn da_dpi_local(p: &Vector4<f64>, a_local: &Vector3<f64>) -> Matrix3<f64> {
     -a(p) * skew(a_local)
 }
 
-/// Ȧ = Ġ Lᵀ + G L̇ᵀ with Ġ = G(ṗ), L̇ = L(ṗ) (Nikravesh 1988 eq. 6.39).
-/// For normalized p and pᵀṗ = 0 this equals ω̃ A = A ω̃'.
+/// Ȧ, the time derivative of [`a`] along ṗ: Ȧ = Ġ Lᵀ + G L̇ᵀ + 2 (pᵀṗ) I with Ġ = G(ṗ),
+/// L̇ = L(ṗ), so that Ȧ a' = (∂(A a')/∂p) ṗ = [`da_dp`]`(p, a') ṗ` for every p and ṗ.
+///
+/// On the constraint manifold (pᵀp = 1, pᵀṗ = 0) the last term vanishes and this is the book's
+/// Ȧ = Ġ Lᵀ + G L̇ᵀ = 2 G L̇ᵀ = ω̃ A = A ω̃' (Nikravesh 1988 ch. 6). Off it (a Newton iterate, or
+/// the 7-coordinate γ# = −d²/dτ² Φ(q + q̇τ) with an arbitrary q̇) the term 2 (pᵀṗ) I is the
+/// derivative of the (2 e0² − 1) I part that G Lᵀ = A + (1 − pᵀp) I does not carry.
 #[inline]
 pub fn a_dot(p: &Vector4<f64>, p_dot: &Vector4<f64>) -> Matrix3<f64> {
-    g(p_dot) * l(p).transpose() + g(p) * l(p_dot).transpose()
+    g(p_dot) * l(p).transpose()
+        + g(p) * l(p_dot).transpose()
+        + Matrix3::identity() * (2.0 * p.dot(p_dot))
 }
 
 /// Ġ = G(ṗ) (G is linear in p). Ġ ṗ = 0.
@@ -121,6 +128,9 @@ mod tests {
     fn a_of_half_turn_about_z() {
         // χ = π about z: e0 = 0, e3 = 1.
         let p = Vector4::new(0.0, 0.0, 0.0, 1.0);
-        assert_relative_eq!(a(&p), Matrix3::from_diagonal(&Vector3::new(-1.0, -1.0, 1.0)));
+        assert_relative_eq!(
+            a(&p),
+            Matrix3::from_diagonal(&Vector3::new(-1.0, -1.0, 1.0))
+        );
     }
 }

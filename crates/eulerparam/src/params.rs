@@ -161,7 +161,11 @@ mod tests {
         let m = -p;
         assert_ne!(p, m);
         assert!((p.a() - m.a()).norm() < 1e-15);
-        assert_eq!(m.normalized().unwrap(), m, "normalization must keep the sign");
+        assert_eq!(
+            m.normalized().unwrap(),
+            m,
+            "normalization must keep the sign"
+        );
     }
 
     #[test]
@@ -181,6 +185,9 @@ mod tests {
         let p = EulerParams::try_new_normalized(0.3, -0.5, 0.2, 0.7).unwrap();
         let q = EulerParams::try_new_normalized(-0.1, 0.4, 0.9, -0.2).unwrap();
         assert!((p.compose(&q).a() - p.a() * q.a()).norm() < 1e-14);
-        assert!((p.compose(&p.conjugate()).as_vector() - EulerParams::identity().as_vector()).norm() < 1e-15);
+        assert!(
+            (p.compose(&p.conjugate()).as_vector() - EulerParams::identity().as_vector()).norm()
+                < 1e-15
+        );
     }
 }

@@ -18,7 +18,11 @@ pub fn skew(a: &Vector3<f64>) -> Matrix3<f64> {
 /// ½ [m32 − m23, m13 − m31, m21 − m12].
 #[inline]
 pub fn unskew(m: &Matrix3<f64>) -> Vector3<f64> {
-    0.5 * Vector3::new(m[(2, 1)] - m[(1, 2)], m[(0, 2)] - m[(2, 0)], m[(1, 0)] - m[(0, 1)])
+    0.5 * Vector3::new(
+        m[(2, 1)] - m[(1, 2)],
+        m[(0, 2)] - m[(2, 0)],
+        m[(1, 0)] - m[(0, 1)],
+    )
 }
 
 #[cfg(test)]
