@@ -13,6 +13,7 @@ import numpy as np
 import common as C
 
 GENERATOR = "gen_drivers.py"
+FAMILY = "driver"
 
 # ---------------------------------------------------------------------------------------------
 # Time functions: f(t) as SX, given the numeric t of the case (which picks the spline segment or
@@ -277,7 +278,7 @@ def main(outdir):
     counts = {}
     for name in ELEMENTS:
         rows, cases = build_cases(name)
-        counts[name] = C.write_element(outdir, name, "driver", GENERATOR, rows, cases)
+        counts[name] = C.write_element(outdir, name, FAMILY, GENERATOR, rows, cases)
     return counts
 
 

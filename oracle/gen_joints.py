@@ -13,6 +13,7 @@ import numpy as np
 import common as C
 
 GENERATOR = "gen_joints.py"
+FAMILY = "joint"
 
 
 class Frames:
@@ -163,7 +164,7 @@ def main(outdir):
     counts = {}
     for name in ELEMENTS:
         rows, cases = build_cases(name)
-        counts[name] = C.write_element(outdir, name, "joint", GENERATOR, rows, cases)
+        counts[name] = C.write_element(outdir, name, FAMILY, GENERATOR, rows, cases)
     return counts
 
 

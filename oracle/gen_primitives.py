@@ -12,6 +12,7 @@ import numpy as np
 import common as C
 
 GENERATOR = "gen_primitives.py"
+FAMILY = "primitive"
 
 # ---------------------------------------------------------------------------------------------
 # Phi of each primitive: phi(body_i, body_j, t, params) -> SX
@@ -271,7 +272,7 @@ def main(outdir):
     counts = {}
     for name in ELEMENTS:
         rows, cases = build_cases(name)
-        counts[name] = C.write_element(outdir, name, "primitive", GENERATOR, rows, cases)
+        counts[name] = C.write_element(outdir, name, FAMILY, GENERATOR, rows, cases)
     return counts
 
 

@@ -3,18 +3,28 @@
 Usage: python generate.py OUTDIR      (cargo xtask oracle runs it with OUTDIR = oracle/data)
 
 Removes stale *.json files of OUTDIR first, so a removed element disappears from the data too.
+Elements are generated in parallel processes; each has its own fixed seed, so the output does not
+depend on the order or the number of processes.
 """
 
 import glob
 import os
 import sys
 import time
+from concurrent.futures import ProcessPoolExecutor
 
+import common
 import gen_drivers
 import gen_joints
 import gen_primitives
 
-GENERATORS = (gen_primitives, gen_joints, gen_drivers)
+GENERATORS = {m.__name__: m for m in (gen_primitives, gen_joints, gen_drivers)}
+
+
+def generate_one(module_name, element, outdir):
+    gen = GENERATORS[module_name]
+    rows, cases = gen.build_cases(element)
+    return common.write_element(outdir, element, gen.FAMILY, gen.GENERATOR, rows, cases)
 
 
 def main(argv):
@@ -26,13 +36,13 @@ def main(argv):
     for old in glob.glob(os.path.join(outdir, "*.json")):
         os.remove(old)
     start = time.time()
-    total_files = total_cases = 0
-    for gen in GENERATORS:
-        for element, n in gen.main(outdir).items():
-            total_files += 1
-            total_cases += n
-    print(f"oracle: wrote {total_files} files, {total_cases} cases to {outdir} "
-          f"in {time.time() - start:.1f} s")
+    jobs = [(name, element) for name, gen in GENERATORS.items() for element in gen.ELEMENTS]
+    workers = max(1, min(len(jobs), os.cpu_count() or 1))
+    with ProcessPoolExecutor(max_workers=workers) as pool:
+        futures = [pool.submit(generate_one, name, element, outdir) for name, element in jobs]
+        counts = [f.result() for f in futures]
+    print(f"oracle: wrote {len(counts)} files, {sum(counts)} cases to {outdir} "
+          f"in {time.time() - start:.1f} s ({workers} processes)")
     return 0
 
 
