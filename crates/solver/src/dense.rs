@@ -2,11 +2,16 @@
 //!
 //! `P J = L U`, stored in one column-major `n × n` buffer; the row permutation and faer's scratch
 //! memory are allocated at [`analyze`](LinearSolver::analyze), so `factor` and `solve` do not
-//! allocate. Singularity is declared when a pivot satisfies `|u_jj| ≤ tol · max|J_ik|`
-//! ([`DEFAULT_PIVOT_TOLERANCE`] unless changed with [`DenseLu::with_pivot_tolerance`]).
+//! allocate. The matrix is first equilibrated (rows, then columns, scaled by powers of two so
+//! that their largest entries are about 1), which makes the factorization and the singularity
+//! test independent of units. Singularity is declared when a pivot of the equilibrated matrix
+//! satisfies `|u_jj| ≤ tol` ([`DEFAULT_PIVOT_TOLERANCE`] unless changed with
+//! [`DenseLu::with_pivot_tolerance`]).
 
 use crate::error::{NonFiniteLocation, SolverError};
-use crate::linear::{singular_error, LinearSolver, Scratch, DEFAULT_PIVOT_TOLERANCE};
+use crate::linear::{
+    singular_error, Equilibration, LinearSolver, Scratch, DEFAULT_PIVOT_TOLERANCE,
+};
 use crate::pattern::{check_len, SparsityPattern};
 use faer::dyn_stack::StackReq;
 use faer::linalg::lu::partial_pivoting::{factor as lu_factor, solve as lu_solve};
@@ -25,6 +30,7 @@ pub struct DenseLu {
     pivot_tolerance: f64,
     factored: bool,
     pivot_rows: Vec<usize>,
+    equil: Equilibration,
 }
 
 impl Default for DenseLu {
@@ -46,10 +52,11 @@ impl DenseLu {
             pivot_tolerance: DEFAULT_PIVOT_TOLERANCE,
             factored: false,
             pivot_rows: Vec::new(),
+            equil: Equilibration::default(),
         }
     }
 
-    /// Sets the relative pivot tolerance (singular if `|u_jj| ≤ tol · max|J|`).
+    /// Sets the pivot tolerance (singular if a pivot of the equilibrated matrix is `≤ tol`).
     pub fn with_pivot_tolerance(mut self, tol: f64) -> Self {
         self.pivot_tolerance = tol;
         self
@@ -72,6 +79,7 @@ impl LinearSolver for DenseLu {
         self.perm = vec![0; n];
         self.perm_inv = vec![0; n];
         self.pivot_rows = Vec::with_capacity(n);
+        self.equil = Equilibration::new(n, n);
         self.pattern = Some(pattern.clone());
         self.factored = false;
         Ok(())
@@ -86,7 +94,7 @@ impl LinearSolver for DenseLu {
         pattern.check_finite(slots)?;
         pattern.to_dense_col_major(slots, &mut self.lu)?;
         let n = self.n;
-        let scale = self.lu.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        self.equil.apply_dense(&mut self.lu);
         let stack = self.mem.stack();
         lu_factor::lu_in_place(
             MatMut::from_column_major_slice_mut(&mut self.lu, n, n),
@@ -96,7 +104,8 @@ impl LinearSolver for DenseLu {
             stack,
             Default::default(),
         );
-        let tol = self.pivot_tolerance * scale;
+        // The equilibrated matrix has entries of size about 1: the tolerance is absolute.
+        let tol = self.pivot_tolerance;
         self.pivot_rows.clear();
         for j in 0..n {
             let u = self.lu[j + n * j];
@@ -124,7 +133,7 @@ impl LinearSolver for DenseLu {
                 iteration: None,
             });
         }
-        x.copy_from_slice(b);
+        self.equil.scale_rhs(b, x);
         let lu = MatRef::from_column_major_slice(&self.lu, n, n);
         lu_solve::solve_in_place(
             lu,
@@ -134,6 +143,7 @@ impl LinearSolver for DenseLu {
             Par::Seq,
             self.mem.stack(),
         );
+        self.equil.unscale_solution(x);
         if let Some(unknown) = x.iter().position(|v| !v.is_finite()) {
             return Err(SolverError::NonFinite {
                 location: NonFiniteLocation::Solution { unknown },

@@ -260,7 +260,8 @@ impl LinearSolver for AutoSolver {
     }
 }
 
-/// Relative pivot tolerance of the LU members: a pivot `|u_jj| ≤ tol · max|J|` means singular.
+/// Pivot tolerance of the LU members: a pivot `|u_jj| ≤ tol` of the equilibrated matrix (largest
+/// entry of every row and column about 1) means singular.
 pub const DEFAULT_PIVOT_TOLERANCE: f64 = 1e-12;
 
 /// Largest `m · n` for which a failed LU runs a dense rank analysis to name the dependent
@@ -316,5 +317,94 @@ impl Scratch {
 impl core::fmt::Debug for Scratch {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         f.write_str("Scratch")
+    }
+}
+
+/// Row and column equilibration `J̃ = D_r J D_c` (scales are powers of two, so scaling is exact):
+/// `D_r` makes every row's largest entry about 1, then `D_c` every column's. The LU members factor
+/// `J̃`, so their pivot tolerance is relative to 1 whatever the units, and solve
+/// `x = D_c J̃⁻¹ D_r b`.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Equilibration {
+    pub(crate) row: Vec<f64>,
+    pub(crate) col: Vec<f64>,
+}
+
+fn pow2_recip(max: f64) -> f64 {
+    if max > 0.0 && max.is_finite() {
+        2f64.powi(-(max.log2().round() as i32))
+    } else {
+        1.0
+    }
+}
+
+impl Equilibration {
+    pub(crate) fn new(m: usize, n: usize) -> Self {
+        Self {
+            row: vec![1.0; m],
+            col: vec![1.0; n],
+        }
+    }
+
+    /// Computes the scales of a compressed-column matrix and scales `values` in place.
+    pub(crate) fn apply_csc(&mut self, col_ptr: &[usize], row_idx: &[usize], values: &mut [f64]) {
+        self.row.fill(0.0);
+        for (&i, v) in row_idx.iter().zip(values.iter()) {
+            self.row[i] = self.row[i].max(v.abs());
+        }
+        for r in self.row.iter_mut() {
+            *r = pow2_recip(*r);
+        }
+        for j in 0..self.col.len() {
+            let range = col_ptr[j]..col_ptr[j + 1];
+            let mut max = 0.0f64;
+            for k in range.clone() {
+                values[k] *= self.row[row_idx[k]];
+                max = max.max(values[k].abs());
+            }
+            let c = pow2_recip(max);
+            self.col[j] = c;
+            for v in &mut values[range] {
+                *v *= c;
+            }
+        }
+    }
+
+    /// Same for a dense column-major `m × n` matrix.
+    pub(crate) fn apply_dense(&mut self, a: &mut [f64]) {
+        let m = self.row.len();
+        self.row.fill(0.0);
+        for col in a.chunks_exact(m.max(1)) {
+            for (r, v) in self.row.iter_mut().zip(col) {
+                *r = r.max(v.abs());
+            }
+        }
+        for r in self.row.iter_mut() {
+            *r = pow2_recip(*r);
+        }
+        for (j, col) in a.chunks_exact_mut(m.max(1)).enumerate() {
+            let mut max = 0.0f64;
+            for (v, r) in col.iter_mut().zip(&self.row) {
+                *v *= r;
+                max = max.max(v.abs());
+            }
+            let c = pow2_recip(max);
+            self.col[j] = c;
+            col.iter_mut().for_each(|v| *v *= c);
+        }
+    }
+
+    /// `x ← D_r b` (the right-hand side of the scaled system).
+    pub(crate) fn scale_rhs(&self, b: &[f64], x: &mut [f64]) {
+        for ((x, b), r) in x.iter_mut().zip(b).zip(&self.row) {
+            *x = b * r;
+        }
+    }
+
+    /// `x ← D_c y` (back to the unknowns of the original system).
+    pub(crate) fn unscale_solution(&self, x: &mut [f64]) {
+        for (x, c) in x.iter_mut().zip(&self.col) {
+            *x *= c;
+        }
     }
 }

@@ -1,7 +1,9 @@
 //! Rank-revealing analysis for redundant constraints, and the minimum-norm solver built on it.
 //!
 //! # Method
-//! Let `J` be `m × n`. Each row is first divided by its Euclidean norm (`D J`, `D` diagonal): row
+//! Let `J` be `m × n`. Columns are first scaled by powers of two so that each has largest entry
+//! about 1 (`J D_c`, optional, see [`RankOptions::equilibrate_columns`]). Each row is then divided
+//! by its Euclidean norm (`D J`, `D` diagonal; `D_c` is left out of the formulas below): row
 //! scaling does not change which rows are dependent, and it makes the tolerance independent of
 //! units (a constraint in millimetres and one in radians weigh the same). Then the transpose is
 //! factored with Householder QR and column pivoting (Businger–Golub; Golub & Van Loan,
@@ -12,15 +14,18 @@
 //! ```
 //!
 //! Column `k` of `(D J)ᵀ` is equation `k`. The pivoting picks, at each step, an equation whose
-//! part orthogonal to the equations already chosen is largest (among those within a factor 2 of
-//! the largest, the lowest-numbered, so the choice is deterministic and does not chatter between
-//! steps); it stops when that part falls below the tolerance. The `r` chosen equations are
+//! part orthogonal to the equations already chosen is large: among those within
+//! [`RankOptions::preference_threshold`] of the largest, the lowest-numbered, so that the choice
+//! is deterministic, independent of units, and drops the *last* equations of each dependent group
+//! (the caller decides which equations go by their order). It stops when the largest orthogonal
+//! part falls below the tolerance. The `r` chosen equations are
 //! independent; the other `m − r` are reported as dependent (redundant). With unit rows the
 //! tolerance is simply relative: `tol = max(relative_tolerance, 10 · max(m, n) · ε)`.
 //!
 //! # Minimum-norm solution
 //! For the independent equations, `(D J)_sel = R11ᵀ Q1ᵀ`, so the minimum-norm solution of
-//! `J_sel x = b_sel` is `x = Q1 R11⁻ᵀ (D b)_sel`: a forward substitution and `r` Householder
+//! `J_sel x = b_sel` is `x = Q1 R11⁻ᵀ (D b)_sel` (with column equilibration: `x = D_c Q1 R11⁻ᵀ (D
+//! b)_sel`, minimum in the norm `‖D_c⁻¹ x‖`): a forward substitution and `r` Householder
 //! reflections. For an under-determined system (`m < n`, assembly of an under-driven mechanism)
 //! this is the step that moves the unknowns least; for a redundant but consistent system it
 //! satisfies every equation; for an inconsistent one it satisfies the independent equations
@@ -43,12 +48,25 @@ pub struct RankOptions {
     /// to a residual of about `1e-10`, tight enough not to flag a well-posed mechanism away from
     /// singular positions.
     pub relative_tolerance: f64,
+    /// Scale each column (unknown) by a power of two so that its largest entry is about 1 before
+    /// the rows are normalized. Default true: the rank decision and the minimum-norm step then do
+    /// not depend on the units of the unknowns (the norm minimized is `‖D_c⁻¹ x‖`). Set false
+    /// for the plain Euclidean minimum norm.
+    pub equilibrate_columns: bool,
+    /// Pivot preference: among the remaining rows whose part orthogonal to the rows already
+    /// chosen is at least this fraction of the largest, the lowest-numbered is chosen. Default
+    /// `0.01`: the dependent rows reported are then the last ones of each dependent group (the
+    /// caller controls which equations are dropped by ordering them), independently of units.
+    /// `1.0` is classical maximum-norm pivoting (best conditioned `R11`).
+    pub preference_threshold: f64,
 }
 
 impl Default for RankOptions {
     fn default() -> Self {
         Self {
             relative_tolerance: 1e-9,
+            equilibrate_columns: true,
+            preference_threshold: 0.01,
         }
     }
 }
@@ -139,6 +157,7 @@ struct PivotedQr {
     tau: Vec<f64>,
     perm: Vec<usize>,
     row_scale: Vec<f64>,
+    col_scale: Vec<f64>,
     norms: Vec<f64>,
     rank: usize,
     tol: f64,
@@ -156,6 +175,7 @@ impl PivotedQr {
             tau: vec![0.0; k],
             perm: (0..m).collect(),
             row_scale: vec![0.0; m],
+            col_scale: vec![1.0; n],
             norms: vec![0.0; m],
             rank: 0,
             tol: 0.0,
@@ -178,6 +198,27 @@ impl PivotedQr {
         self.tol = options
             .relative_tolerance
             .max(10.0 * (m.max(n) as f64) * f64::EPSILON);
+        self.col_scale.fill(1.0);
+        if options.equilibrate_columns {
+            self.col_scale.fill(0.0);
+            for col in self.a.chunks_exact(n.max(1)) {
+                for (c, v) in self.col_scale.iter_mut().zip(col) {
+                    *c = c.max(v.abs());
+                }
+            }
+            for c in self.col_scale.iter_mut() {
+                *c = if *c > 0.0 && c.is_finite() {
+                    2f64.powi(-(c.log2().round() as i32))
+                } else {
+                    1.0
+                };
+            }
+            for col in self.a.chunks_exact_mut(n.max(1)) {
+                for (v, c) in col.iter_mut().zip(&self.col_scale) {
+                    *v *= c;
+                }
+            }
+        }
         for i in 0..m {
             let col = &mut self.a[i * n..(i + 1) * n];
             let norm = col.iter().map(|v| v * v).sum::<f64>().sqrt();
@@ -209,9 +250,10 @@ impl PivotedQr {
                 break;
             }
             // Lowest original row index among near-maximal candidates.
+            let threshold = (options.preference_threshold.clamp(0.0, 1.0) * best).max(self.tol);
             let mut p = usize::MAX;
             for j in k..m {
-                if self.norms[j] >= 0.5 * best && (p == usize::MAX || self.perm[j] < self.perm[p]) {
+                if self.norms[j] >= threshold && (p == usize::MAX || self.perm[j] < self.perm[p]) {
                     p = j;
                 }
             }
@@ -289,6 +331,9 @@ impl PivotedQr {
             for (xi, vi) in x[k + 1..].iter_mut().zip(v) {
                 *xi -= tw * vi;
             }
+        }
+        for (xi, c) in x.iter_mut().zip(&self.col_scale) {
+            *xi *= c;
         }
     }
 }

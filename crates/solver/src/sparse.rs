@@ -12,12 +12,15 @@
 //! mechanism patterns (blocks of 7 columns per body, few bodies per loop) supernodes are small
 //! and the simplicial variant is not slower (see `BENCHMARKS.md`).
 //!
-//! Singularity: the diagonal of `U` is checked with the same relative pivot tolerance as the dense
-//! LU; an exactly structurally singular matrix is reported by faer and mapped to
+//! Equilibration and singularity: as for [`DenseLu`](crate::DenseLu), the matrix is equilibrated
+//! (powers of two, rows then columns) and the diagonal of `U` is checked against the pivot
+//! tolerance; an exactly structurally singular matrix is reported by faer and mapped to
 //! [`SolverError::Singular`].
 
 use crate::error::{NonFiniteLocation, SolverError};
-use crate::linear::{singular_error, LinearSolver, Scratch, DEFAULT_PIVOT_TOLERANCE};
+use crate::linear::{
+    singular_error, Equilibration, LinearSolver, Scratch, DEFAULT_PIVOT_TOLERANCE,
+};
 use crate::pattern::{check_len, SparsityPattern};
 use faer::dyn_stack::StackReq;
 use faer::perm::PermRef;
@@ -39,6 +42,7 @@ pub struct SparseLu {
     pivot_tolerance: f64,
     factored: bool,
     pivot_rows: Vec<usize>,
+    equil: Equilibration,
 }
 
 impl Default for SparseLu {
@@ -61,10 +65,11 @@ impl SparseLu {
             pivot_tolerance: DEFAULT_PIVOT_TOLERANCE,
             factored: false,
             pivot_rows: Vec::new(),
+            equil: Equilibration::default(),
         }
     }
 
-    /// Sets the relative pivot tolerance (singular if `|u_jj| ≤ tol · max|J|`).
+    /// Sets the pivot tolerance (singular if a pivot of the equilibrated matrix is `≤ tol`).
     pub fn with_pivot_tolerance(mut self, tol: f64) -> Self {
         self.pivot_tolerance = tol;
         self
@@ -102,6 +107,7 @@ impl LinearSolver for SparseLu {
         self.row_perm_inv = vec![0; n];
         self.values = vec![0.0; pattern.nnz()];
         self.pivot_rows = Vec::with_capacity(n);
+        self.equil = Equilibration::new(n, n);
         self.lu = simplicial::SimplicialLu::new();
         self.pattern = Some(pattern.clone());
         self.factored = false;
@@ -116,7 +122,11 @@ impl LinearSolver for SparseLu {
         };
         pattern.check_finite(slots)?;
         pattern.scatter_csc(slots, &mut self.values)?;
-        let scale = self.values.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        {
+            let sym = pattern.symbolic();
+            self.equil
+                .apply_csc(sym.col_ptr(), sym.row_idx(), &mut self.values);
+        }
         let a = SparseColMatRef::new(pattern.symbolic(), &self.values);
         let result = simplicial::factorize_simplicial_numeric_lu(
             &mut self.row_perm,
@@ -138,7 +148,7 @@ impl LinearSolver for SparseLu {
             Err(e) => return Err(SolverError::Backend(format!("numeric LU: {e:?}"))),
         }
         // The diagonal of U is the last stored entry of each of its columns.
-        let tol = self.pivot_tolerance * scale;
+        let tol = self.pivot_tolerance;
         self.pivot_rows.clear();
         {
             let u = self.lu.u_factor_unsorted();
@@ -175,7 +185,7 @@ impl LinearSolver for SparseLu {
                 iteration: None,
             });
         }
-        x.copy_from_slice(b);
+        self.equil.scale_rhs(b, x);
         self.lu.solve_in_place_with_conj(
             PermRef::new_checked(&self.row_perm, &self.row_perm_inv, n),
             symbolic.col_perm(),
@@ -184,6 +194,7 @@ impl LinearSolver for SparseLu {
             Par::Seq,
             self.mem.stack(),
         );
+        self.equil.unscale_solution(x);
         if let Some(unknown) = x.iter().position(|v| !v.is_finite()) {
             return Err(SolverError::NonFinite {
                 location: NonFiniteLocation::Solution { unknown },
