@@ -1,11 +1,12 @@
 //! Conversions between Euler parameters and other descriptions of orientation.
 //!
-//! - Rotation matrix → p by Shepperd's method (Shepperd 1978; Nikravesh 1988 §6.3.3): pick the
+//! - Rotation matrix → p by Shepperd's method (Shepperd 1978; Nikravesh 1988 ch. 6): pick the
 //!   largest of e0², e1², e2², e3² from the trace and diagonal, so the division is always by a
 //!   number ≥ ½ — robust at every angle including 180°.
-//! - Axis-angle ↔ p (Nikravesh 1988 eq. 6.14).
-//! - Euler angles 3-1-3 (φ, θ, ψ): A = R_z(φ) R_x(θ) R_z(ψ) (Nikravesh 1988 §6.4.1).
-//! - Bryant angles 1-2-3 (φ, θ, ψ): A = R_x(φ) R_y(θ) R_z(ψ) (Nikravesh 1988 §6.4.2).
+//! - Axis-angle ↔ p (Nikravesh 1988 ch. 6).
+//! - Euler angles 3-1-3 (φ, θ, ψ): A = R_z(φ) R_x(θ) R_z(ψ) (Nikravesh 1988 ch. 6).
+//! - Bryant angles 1-2-3 (φ, θ, ψ): A = R_x(φ) R_y(θ) R_z(ψ) (Nikravesh 1988 ch. 6).
+//!   Angles are extracted from p, not from A, and reproduce A to round-off at every orientation.
 //! - Frames from one or two axes: how joints build the marker frames of their bodies.
 
 use crate::error::EulerParamError;
@@ -67,6 +68,18 @@ pub fn axis_angle_from_p(p: &EulerParams) -> (Vector3<f64>, f64) {
 /// choice; the caller that needs continuity with an earlier p flips the sign itself).
 ///
 /// Fails when `m` is not finite or not a rotation (|mᵀm − I|_F > 1e-6 or det ≤ 0).
+///
+/// ```
+/// use cardan_eulerparam::{p_from_rotation_matrix, EulerParamError};
+/// use nalgebra::{Matrix3, Vector3};
+/// // A half turn about u is 2 u uᵀ − I; its e0 is 0 and e = ±u.
+/// let u = Vector3::new(0.0, 1.0, 1.0).normalize();
+/// let p = p_from_rotation_matrix(&(2.0 * u * u.transpose() - Matrix3::identity())).unwrap();
+/// assert!(p.e0().abs() < 1e-15 && (p.e() - u).norm().min((p.e() + u).norm()) < 1e-15);
+/// // A reflection is not a rotation.
+/// let r = Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, -1.0));
+/// assert!(matches!(p_from_rotation_matrix(&r), Err(EulerParamError::NotRotation { .. })));
+/// ```
 pub fn p_from_rotation_matrix(m: &Matrix3<f64>) -> Result<EulerParams, EulerParamError> {
     check_finite("rotation matrix", m.as_slice())?;
     let orth = (m.transpose() * m - Matrix3::identity()).norm();
@@ -78,7 +91,7 @@ pub fn p_from_rotation_matrix(m: &Matrix3<f64>) -> Result<EulerParams, EulerPara
         });
     }
     let tr = m.trace();
-    // 4 e_k² for k = 0..3 (Nikravesh 1988 eq. 6.25–6.28).
+    // 4 e_k² for k = 0..3, from the trace and the diagonal of A.
     let cand = [
         1.0 + tr,
         1.0 + 2.0 * m[(0, 0)] - tr,
@@ -111,7 +124,8 @@ fn about(axis: usize, angle: f64) -> EulerParams {
 }
 
 /// p for 3-1-3 Euler angles (φ, θ, ψ): A = R_z(φ) R_x(θ) R_z(ψ)
-/// (Nikravesh 1988 eq. 6.53: e0 = cos(θ/2) cos((φ+ψ)/2), e1 = sin(θ/2) cos((φ−ψ)/2), …).
+/// (Nikravesh 1988 ch. 6): e0 = cos(θ/2) cos((φ+ψ)/2), e1 = sin(θ/2) cos((φ−ψ)/2),
+/// e2 = sin(θ/2) sin((φ−ψ)/2), e3 = cos(θ/2) sin((φ+ψ)/2).
 pub fn p_from_euler_313(phi: f64, theta: f64, psi: f64) -> Result<EulerParams, EulerParamError> {
     check_finite("3-1-3 Euler angles", &[phi, theta, psi])?;
     Ok(about(2, phi)
@@ -177,7 +191,7 @@ fn wrap_angle(x: f64) -> f64 {
     }
 }
 
-/// p for 1-2-3 Bryant angles (φ, θ, ψ): A = R_x(φ) R_y(θ) R_z(ψ) (Nikravesh 1988 §6.4.2).
+/// p for 1-2-3 Bryant angles (φ, θ, ψ): A = R_x(φ) R_y(θ) R_z(ψ) (Nikravesh 1988 ch. 6).
 pub fn p_from_euler_123(phi: f64, theta: f64, psi: f64) -> Result<EulerParams, EulerParamError> {
     check_finite("1-2-3 Bryant angles", &[phi, theta, psi])?;
     Ok(about(0, phi)
@@ -195,6 +209,18 @@ pub fn p_from_euler_123(phi: f64, theta: f64, psi: f64) -> Result<EulerParams, E
 /// x-y-x angles (φ, θ + π/2, −ψ), and its parameters are p ⊗ [1, 0, 1, 0]/√2 =
 /// [e0 − e2, e1 − e3, e0 + e2, e1 + e3]/√2. p and −p give the same angles. p need not be
 /// normalized; a p that cannot be normalized (zero or not finite) gives (0, 0, 0).
+///
+/// ```
+/// use cardan_eulerparam::{euler_123_from_p, p_from_euler_123};
+/// use std::f64::consts::FRAC_PI_2;
+/// // Gimbal lock: only φ + ψ = 0.5 is defined; ψ = 0 is returned, the rotation is the same.
+/// let p = p_from_euler_123(0.2, FRAC_PI_2, 0.3).unwrap();
+/// let (phi, theta, psi) = euler_123_from_p(&p);
+/// assert_eq!(psi, 0.0);
+/// assert!((phi - 0.5).abs() < 1e-14 && (theta - FRAC_PI_2).abs() < 1e-14);
+/// let q = p_from_euler_123(phi, theta, psi).unwrap();
+/// assert!((q.a() - p.a()).norm() < 1e-14);
+/// ```
 pub fn euler_123_from_p(p: &EulerParams) -> (f64, f64, f64) {
     let Ok(q) = p.normalized() else {
         return (0.0, 0.0, 0.0);
@@ -225,8 +251,21 @@ pub fn frame_from_axis(z: &Vector3<f64>) -> Result<Matrix3<f64>, EulerParamError
 }
 
 /// A right-handed orthonormal frame [x y z] with z along `z` and x along the part of `x_hint`
-/// perpendicular to z (Gram-Schmidt). Fails when either is zero or they are parallel
-/// (angle below 1e-6 rad).
+/// perpendicular to z (Gram-Schmidt, two passes so that the frame is orthonormal to round-off
+/// however close the hint is to z). Fails when either is zero or not finite, or when they are
+/// parallel or antiparallel (angle below 1e-6 rad).
+///
+/// ```
+/// use cardan_eulerparam::{frame_from_two_axes, EulerParamError};
+/// use nalgebra::Vector3;
+/// let f = frame_from_two_axes(&Vector3::new(0.0, 0.0, 2.0), &Vector3::new(1.0, 1.0, 0.0)).unwrap();
+/// let r = std::f64::consts::FRAC_1_SQRT_2;
+/// assert!((f.column(0) - Vector3::new(r, r, 0.0)).norm() < 1e-15);
+/// assert!((f.column(1) - Vector3::new(-r, r, 0.0)).norm() < 1e-15);
+/// assert!((f.determinant() - 1.0).abs() < 1e-15);
+/// let z = Vector3::new(0.3, -0.2, 0.9);
+/// assert!(matches!(frame_from_two_axes(&z, &(-2.0 * z)), Err(EulerParamError::ParallelAxes { .. })));
+/// ```
 pub fn frame_from_two_axes(
     z: &Vector3<f64>,
     x_hint: &Vector3<f64>,

@@ -10,19 +10,20 @@
 //! e0 = cos(χ/2) and e = u sin(χ/2). The rotation (body → global) is
 //!
 //! ```text
-//! A(p) = (2 e0² − 1) I + 2 (e eᵀ + e0 ẽ)            (Nikravesh 6.19, Haug 6.2.23)
+//! A(p) = (2 e0² − 1) I + 2 (e eᵀ + e0 ẽ)            (Nikravesh 1988 ch. 6; Haug 1989 ch. 6)
 //! ```
 //!
 //! and the two 3×4 matrices
 //!
 //! ```text
-//! G(p) = [−e, ẽ + e0 I]      L(p) = [−e, −ẽ + e0 I]   (Nikravesh 6.20; Haug calls them E and G)
+//! G(p) = [−e, ẽ + e0 I]      L(p) = [−e, −ẽ + e0 I]   (Haug calls them E and G)
 //! ```
 //!
-//! factor it, A = G Lᵀ, and map parameter rates to angular velocity: ω = 2 G ṗ (global),
-//! ω' = 2 L ṗ (body frame). Because A(p) is a homogeneous quadratic in p, the derivative of a
-//! rotated body-fixed vector, ∂(A a')/∂p = 2 (G ā' + a' pᵀ), is linear in p; the seed slides call
-//! it C_k for a direction vector and B_k for a point vector ([`da_dp`]).
+//! factor it, A = G Lᵀ (for pᵀp = 1; in general G Lᵀ = A + (1 − pᵀp) I), and map parameter
+//! rates to angular velocity: ω = 2 G ṗ (global), ω' = 2 L ṗ (body frame). A(p) as written is
+//! quadratic in p for every p (normalized or not), so the derivative of a rotated body-fixed
+//! vector, ∂(A a')/∂p = 2 (G ā' + a' pᵀ), is linear in p; the seed slides call it C_k for a
+//! direction vector and B_k for a point vector ([`da_dp`]).
 //!
 //! p and −p describe the same rotation but are different *coordinates*: this crate never treats
 //! them as equal and never flips a sign behind the caller's back. That is why [`EulerParams`] is a
@@ -30,12 +31,12 @@
 //!
 //! ## Layout
 //! - [`params`]: the [`EulerParams`] coordinate type (normalization, norm check, composition).
-//! - [`skew`]: the tilde operator ã b = a × b.
+//! - [`skew`](mod@skew): the tilde operator ã b = a × b.
 //! - [`matrices`]: A, G, L, ā, ∂(A a')/∂p and their time derivatives.
 //! - [`velocity`]: ω, ω', ṗ and p̈ maps.
 //! - [`convert`]: rotation matrix, axis-angle, Euler angles (3-1-3, 1-2-3), frames from axes.
 //!
-//! Everything uses nalgebra's fixed-size types; nothing here allocates.
+//! Everything uses nalgebra's fixed-size types; nothing allocates except an error's payload.
 //!
 //! ## Example
 //! ```

@@ -1,9 +1,11 @@
 //! A(p), G(p), L(p), the 4×4 ā, ∂(A a')/∂p and their time derivatives.
 //!
 //! All functions take the raw parameter vector p = [e0, e1, e2, e3]ᵀ and are defined for any p,
-//! normalized or not (the identities A = G Lᵀ, G p = L p = 0 hold for every p; AᵀA = I and
-//! G Gᵀ = I need pᵀp = 1). Because G and L are linear in p, their time derivatives are the same
-//! functions evaluated at ṗ: Ġ = G(ṗ), L̇ = L(ṗ).
+//! normalized or not. For every p: G p = L p = 0, G Gᵀ = L Lᵀ = (pᵀp) I and
+//! G Lᵀ = A + (1 − pᵀp) I; so A = G Lᵀ, AᵀA = I and G Gᵀ = L Lᵀ = I need pᵀp = 1. Because G
+//! and L are linear in p, their time derivatives are the same functions evaluated at ṗ:
+//! Ġ = G(ṗ), L̇ = L(ṗ). [`da_dp`] and [`a_dot`] are the exact derivatives of [`a`] as written,
+//! for every p and ṗ (tests/derivatives.rs checks both against central differences).
 
 #![allow(non_snake_case)]
 
@@ -11,7 +13,7 @@ use crate::skew::skew;
 use nalgebra::{Matrix3, Matrix3x4, Matrix4, Vector3, Vector4};
 
 /// The rotation matrix, body → global:
-/// A(p) = (2 e0² − 1) I + 2 (e eᵀ + e0 ẽ)   (Nikravesh 1988 eq. 6.19; Haug 1989 eq. 6.2.23).
+/// A(p) = (2 e0² − 1) I + 2 (e eᵀ + e0 ẽ)   (Nikravesh 1988 ch. 6; Haug 1989 ch. 6).
 ///
 /// Written out term by term so that it is exactly this quadratic form for unnormalized p too.
 #[inline]
@@ -31,7 +33,7 @@ pub fn a(p: &Vector4<f64>) -> Matrix3<f64> {
     )
 }
 
-/// G(p) = [−e, ẽ + e0 I]  (Nikravesh 1988 eq. 6.20; Haug's E). ω = 2 G ṗ.
+/// G(p) = [−e, ẽ + e0 I]  (Nikravesh's G; Haug's E). ω = 2 G ṗ.
 #[inline]
 pub fn g(p: &Vector4<f64>) -> Matrix3x4<f64> {
     let (e0, e1, e2, e3) = (p[0], p[1], p[2], p[3]);
@@ -42,7 +44,7 @@ pub fn g(p: &Vector4<f64>) -> Matrix3x4<f64> {
     )
 }
 
-/// L(p) = [−e, −ẽ + e0 I]  (Nikravesh 1988 eq. 6.20; Haug's G). ω' = 2 L ṗ.
+/// L(p) = [−e, −ẽ + e0 I]  (Nikravesh's L; Haug's G). ω' = 2 L ṗ.
 #[inline]
 pub fn l(p: &Vector4<f64>) -> Matrix3x4<f64> {
     let (e0, e1, e2, e3) = (p[0], p[1], p[2], p[3]);
@@ -53,8 +55,8 @@ pub fn l(p: &Vector4<f64>) -> Matrix3x4<f64> {
     )
 }
 
-/// The 4×4 matrix of a 3-vector, ā = [[0, −aᵀ], [a, −ã]] (Nikravesh 1988 eq. 6.93),
-/// the building block of [`da_dp`].
+/// The 4×4 matrix of a 3-vector, ā = [[0, −aᵀ], [a, −ã]] (Nikravesh 1988 ch. 6), the building
+/// block of [`da_dp`]. It is skew-symmetric, and ā q = q ⊗ [0, a] (Hamilton product).
 #[inline]
 pub fn bar(v: &Vector3<f64>) -> Matrix4<f64> {
     let t = skew(v);
@@ -69,7 +71,20 @@ pub fn bar(v: &Vector3<f64>) -> Matrix4<f64> {
     m
 }
 
-/// ∂(A(p) a')/∂p = 2 (G ā' + a' pᵀ), a 3×4 matrix (Nikravesh 1988 eq. 6.96; Haug 1989 eq. 9.4.x).
+/// ∂(A(p) a')/∂p = 2 (G ā' + a' pᵀ), a 3×4 matrix (Nikravesh 1988 ch. 6; Haug 1989 ch. 9).
+///
+/// Exact for every p, normalized or not (it is the derivative of [`a`] as written).
+///
+/// ```
+/// use cardan_eulerparam::{a, da_dp};
+/// use nalgebra::{Vector3, Vector4};
+/// let p = Vector4::new(0.9, -0.3, 0.5, 0.2); // need not be normalized
+/// let s = Vector3::new(0.4, -1.3, 2.2);
+/// let (dp, h) = (Vector4::new(0.1, 0.7, -0.2, 0.4), 1e-4);
+/// // A is quadratic in p: a central difference is exact up to round-off.
+/// let fd = (a(&(p + dp * h)) * s - a(&(p - dp * h)) * s) / (2.0 * h);
+/// assert!((da_dp(&p, &s) * dp - fd).norm() < 1e-10);
+/// ```
 ///
 /// The seed slides call it C_k when a' is a direction vector s'_k and B_k when a' is a point
 /// vector s'^P_k. It is linear in p, so (∂(A a')/∂p)(ṗ) ṗ is the velocity-quadratic part of the
@@ -80,7 +95,8 @@ pub fn da_dp(p: &Vector4<f64>, a_local: &Vector3<f64>) -> Matrix3x4<f64> {
 }
 
 /// ∂(A a')/∂π' = −A ã', the derivative of a rotated body-fixed vector with respect to a virtual
-/// rotation π' in the body frame (6-coordinate form; Nikravesh 1988 §6.6, Haug 1989 eq. 9.4.x).
+/// rotation π' in the body frame, p → p ⊗ [1, π'/2] (6-coordinate form; Nikravesh 1988 ch. 6,
+/// Haug 1989 ch. 9). For pᵀp = 1 it equals ½ [`da_dp`]`(p, a') Lᵀ`, i.e. Φ_π' = ½ Φ_p Lᵀ.
 #[inline]
 pub fn da_dpi_local(p: &Vector4<f64>, a_local: &Vector3<f64>) -> Matrix3<f64> {
     -a(p) * skew(a_local)
@@ -93,6 +109,18 @@ pub fn da_dpi_local(p: &Vector4<f64>, a_local: &Vector3<f64>) -> Matrix3<f64> {
 /// Ȧ = Ġ Lᵀ + G L̇ᵀ = 2 G L̇ᵀ = ω̃ A = A ω̃' (Nikravesh 1988 ch. 6). Off it (a Newton iterate, or
 /// the 7-coordinate γ# = −d²/dτ² Φ(q + q̇τ) with an arbitrary q̇) the term 2 (pᵀṗ) I is the
 /// derivative of the (2 e0² − 1) I part that G Lᵀ = A + (1 − pᵀp) I does not carry.
+///
+/// ```
+/// use cardan_eulerparam::{a, a_dot, da_dp, omega_global, skew};
+/// use nalgebra::{Vector3, Vector4};
+/// let p = Vector4::new(0.3, -0.5, 0.2, 0.7).normalize();
+/// let v = Vector4::new(0.4, 1.0, -0.6, 0.1);
+/// let p_dot = v - p * p.dot(&v); // tangent: pᵀṗ = 0
+/// let s = Vector3::new(1.0, 2.0, 3.0);
+/// assert!((a_dot(&p, &p_dot) * s - da_dp(&p, &s) * p_dot).norm() < 1e-14);
+/// let w = omega_global(&p, &p_dot);
+/// assert!((a_dot(&p, &p_dot) - skew(&w) * a(&p)).norm() < 1e-14);
+/// ```
 #[inline]
 pub fn a_dot(p: &Vector4<f64>, p_dot: &Vector4<f64>) -> Matrix3<f64> {
     g(p_dot) * l(p).transpose()

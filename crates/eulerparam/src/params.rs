@@ -120,7 +120,7 @@ impl EulerParams {
     }
 
     /// The parameters of a rotation by `angle` (rad) about `axis` (any nonzero length):
-    /// e0 = cos(χ/2), e = u sin(χ/2) (Nikravesh 1988 eq. 6.14).
+    /// e0 = cos(χ/2), e = u sin(χ/2) (Nikravesh 1988 ch. 6).
     pub fn from_axis_angle(axis: &Vector3<f64>, angle: f64) -> Result<Self, EulerParamError> {
         crate::convert::p_from_axis_angle(axis, angle)
     }

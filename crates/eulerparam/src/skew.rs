@@ -1,4 +1,5 @@
-//! The tilde (skew-symmetric) operator: ã b = a × b (Nikravesh 2.34, Haug 2.4.x).
+//! The tilde (skew-symmetric) operator: ã b = a × b (the tilde notation of Nikravesh 1988 and
+//! Haug 1989).
 
 use nalgebra::{Matrix3, Vector3};
 

@@ -169,6 +169,9 @@ fn a_dot_matches_finite_differences_on_curated_p() {
                     EXACT,
                     &format!("{ctx}: Ȧ = A ω̃'"),
                 );
+                let (gl, lt) = (g(&p) * l(&pt).transpose(), g(&pt) * l(&p).transpose());
+                assert_close(&ad, &(gl * 2.0), EXACT, &format!("{ctx}: Ȧ = 2 G L̇ᵀ"));
+                assert_close(&ad, &(lt * 2.0), EXACT, &format!("{ctx}: Ȧ = 2 Ġ Lᵀ"));
             }
         }
     }
