@@ -1,0 +1,71 @@
+//! The [`Constraint`] trait: what every primitive, joint and driver provides.
+
+use crate::jet::{Form, Q7, V6};
+use crate::state::{BodyPair, Footprint};
+
+/// A block of constraint equations Φ(q_i, q_j, t) = 0 between bodies i and j.
+///
+/// Implemented by every primitive, by [`crate::Joint`] (a list of primitives) and by
+/// [`crate::Driver`]. Evaluation never fails and never allocates: output slices have exactly
+/// [`Constraint::rows`] entries (rows), and the Jacobian blocks of a ground body may be written
+/// but are not used by a mechanism.
+///
+/// The two coordinate forms are selected by the [`Form`] type parameter:
+/// [`Q7`] (q_k = [r_k; p_k], 7 columns per body, Φ_q) or [`V6`] (v_k = [ṙ_k; ω'_k], 6 columns per
+/// body, Φ_v). The provided methods [`Constraint::phi_q`], [`Constraint::phi_v`],
+/// [`Constraint::gamma_sharp_q`] and [`Constraint::gamma_sharp_v`] name the four combinations.
+///
+/// Sign conventions (`shared/notation.md`): Φ_q q̇ = ν with ν = −Φ_t, and Φ_q q̈ = γ# where
+/// γ# = −(Φ_q q̇)_q q̇ − 2 Φ_qt q̇ − Φ_tt, i.e. minus everything in Φ̈ that is not Φ_q q̈.
+pub trait Constraint {
+    /// The element's name, as in the oracle data ("n1", "revolute", "rotation_driver", ...).
+    fn name(&self) -> &'static str;
+
+    /// Number of equations (rows).
+    fn rows(&self) -> usize;
+
+    /// Which coordinate blocks the rows depend on; fixed by the definition.
+    fn footprint(&self) -> Footprint;
+
+    /// Φ (length `rows`).
+    fn phi(&self, x: &BodyPair, t: f64, out: &mut [f64]);
+
+    /// The Jacobian blocks for body i and body j in form `F` (each `rows` × N).
+    fn jacobian<const N: usize, F: Form<N>>(
+        &self,
+        x: &BodyPair,
+        t: f64,
+        out_i: &mut [[f64; N]],
+        out_j: &mut [[f64; N]],
+    );
+
+    /// ν = −Φ_t (length `rows`). Zero for elements that do not depend on time.
+    fn nu(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
+        let _ = (x, t);
+        out.fill(0.0);
+    }
+
+    /// γ# in form `F` (length `rows`), from the velocities held in the [`BodyPair`]
+    /// (ṗ for [`Q7`], ω' for [`V6`]).
+    fn gamma_sharp<const N: usize, F: Form<N>>(&self, x: &BodyPair, t: f64, out: &mut [f64]);
+
+    /// Φ_q: blocks [Φ_ri Φ_pi] and [Φ_rj Φ_pj].
+    fn phi_q(&self, x: &BodyPair, t: f64, out_i: &mut [[f64; 7]], out_j: &mut [[f64; 7]]) {
+        self.jacobian::<7, Q7>(x, t, out_i, out_j)
+    }
+
+    /// Φ_v: blocks [Φ_ṙi Φ_ω'i] and [Φ_ṙj Φ_ω'j].
+    fn phi_v(&self, x: &BodyPair, t: f64, out_i: &mut [[f64; 6]], out_j: &mut [[f64; 6]]) {
+        self.jacobian::<6, V6>(x, t, out_i, out_j)
+    }
+
+    /// γ# of the 7-coordinate form (uses ṗ).
+    fn gamma_sharp_q(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
+        self.gamma_sharp::<7, Q7>(x, t, out)
+    }
+
+    /// γ# of the 6-coordinate form (uses ω').
+    fn gamma_sharp_v(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
+        self.gamma_sharp::<6, V6>(x, t, out)
+    }
+}

@@ -1,0 +1,100 @@
+//! Drivers: time-dependent equations that prescribe a joint coordinate or a position.
+//!
+//! A driver Φ^D(q, t) = 0 adds one row. Unlike the joints, its Φ_t and Φ_tt are nonzero, so
+//! ν = −Φ_t ≠ 0 and γ# contains −Φ_tt and, when the time function multiplies coordinate terms,
+//! −2 Φ_qt q̇ (Nikravesh 1988 §7.5, Haug 1989 §9.5). Each driver takes a [`TimeFunction`] with
+//! exact derivatives.
+//!
+//! | driver | Φ |
+//! |---|---|
+//! | [`RotationDriver`] | cos θ(t) · (y_iᵀ x_j) − sin θ(t) · (x_iᵀ x_j) = sin(φ − θ(t)) |
+//! | [`TranslationDriver`] | z_iᵀ d − s(t) |
+//! | [`DistanceDriver`] | dᵀd − ℓ(t)² |
+//! | [`CoordinateDriver`] | (r_i + A_i s'^P_i)[k] − c(t) |
+
+mod coordinate;
+mod distance;
+mod rotation;
+mod translation;
+
+pub use coordinate::CoordinateDriver;
+pub use distance::DistanceDriver;
+pub use rotation::RotationDriver;
+pub use translation::TranslationDriver;
+
+use crate::constraint::Constraint;
+use crate::jet::Form;
+use crate::state::{BodyPair, Footprint};
+use crate::time_function::TimeFunction;
+
+/// One driver (static dispatch).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Driver {
+    /// Rotation angle of a revolute or cylindrical joint.
+    Rotation(RotationDriver),
+    /// Slide of a prismatic or cylindrical joint.
+    Translation(TranslationDriver),
+    /// Distance between two points.
+    Distance(DistanceDriver),
+    /// One global coordinate of a body point.
+    Coordinate(CoordinateDriver),
+}
+
+macro_rules! dispatch {
+    ($self:ident, $c:ident => $e:expr) => {
+        match $self {
+            Driver::Rotation($c) => $e,
+            Driver::Translation($c) => $e,
+            Driver::Distance($c) => $e,
+            Driver::Coordinate($c) => $e,
+        }
+    };
+}
+
+impl Driver {
+    /// The time function.
+    pub fn function(&self) -> &TimeFunction {
+        dispatch!(self, c => &c.function)
+    }
+}
+
+impl Constraint for Driver {
+    fn name(&self) -> &'static str {
+        dispatch!(self, c => c.name())
+    }
+    fn rows(&self) -> usize {
+        1
+    }
+    fn footprint(&self) -> Footprint {
+        dispatch!(self, c => c.footprint())
+    }
+    fn phi(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
+        dispatch!(self, c => c.phi(x, t, out))
+    }
+    fn jacobian<const N: usize, F: Form<N>>(
+        &self,
+        x: &BodyPair,
+        t: f64,
+        out_i: &mut [[f64; N]],
+        out_j: &mut [[f64; N]],
+    ) {
+        dispatch!(self, c => c.jacobian::<N, F>(x, t, out_i, out_j))
+    }
+    fn nu(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
+        dispatch!(self, c => c.nu(x, t, out))
+    }
+    fn gamma_sharp<const N: usize, F: Form<N>>(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
+        dispatch!(self, c => c.gamma_sharp::<N, F>(x, t, out))
+    }
+}
+
+macro_rules! from_variant {
+    ($($v:ident => $t:ident),*) => {$(
+        impl From<$t> for Driver {
+            fn from(c: $t) -> Self {
+                Driver::$v(c)
+            }
+        }
+    )*};
+}
+from_variant!(Rotation => RotationDriver, Translation => TranslationDriver, Distance => DistanceDriver, Coordinate => CoordinateDriver);

@@ -1,0 +1,80 @@
+//! The conformance suite applied to every primitive, joint and driver: one line each.
+//!
+//! See `cardan_constraints::conformance` for what is checked. Each element runs the curated
+//! cases plus `RANDOM` seeded random ones; `proptest_random_cases` adds proptest-drawn seeds.
+
+use cardan_constraints::conformance::{self, Ground, Sampler};
+use cardan_constraints::*;
+use proptest::prelude::*;
+
+const RANDOM: usize = 30;
+const BOTH: &[Ground] = &[Ground::None, Ground::I, Ground::J];
+const ONLY_I_MOVES: &[Ground] = &[Ground::J];
+
+fn assert_conforms<C: Constraint>(
+    name: &str,
+    grounds: &[Ground],
+    make: impl Fn(&mut Sampler) -> C,
+) {
+    let (n, bad) = conformance::run(RANDOM, grounds, make);
+    assert!(n >= 50, "{name}: only {n} cases");
+    assert!(
+        bad.is_empty(),
+        "{name}: {} mismatches in {n} cases:\n{}",
+        bad.len(),
+        conformance::report(&bad, 20)
+    );
+}
+
+fn joint(kind: JointKind) -> impl Fn(&mut Sampler) -> Joint {
+    move |s| Joint::new(kind, s.marker(), s.marker()).expect("valid markers")
+}
+
+macro_rules! conformance_tests {
+    ($($test:ident: $grounds:expr, $make:expr;)*) => {$(
+        #[test]
+        fn $test() {
+            assert_conforms(stringify!($test), $grounds, $make);
+        }
+    )*};
+}
+
+conformance_tests! {
+    n1: BOTH, |s: &mut Sampler| N1::new(s.direction(), s.direction());
+    n2: BOTH, |s: &mut Sampler| N2::new(s.direction(), s.point(), s.point());
+    p1: BOTH, |s: &mut Sampler| P1::new(s.direction(), s.direction());
+    p1_select: BOTH, |s: &mut Sampler| P1Select::new(s.direction(), s.direction());
+    p1_perp: BOTH, |s: &mut Sampler| P1Perp::new(s.direction(), s.direction(), s.direction());
+    p2: BOTH, |s: &mut Sampler| P2::new(s.direction(), s.point(), s.point());
+    p2_select: BOTH, |s: &mut Sampler| P2Select::new(s.direction(), s.point(), s.point());
+    p2_perp: BOTH, |s: &mut Sampler| P2Perp::new(s.direction(), s.direction(), s.point(), s.point());
+    spherical_primitive: BOTH, |s: &mut Sampler| Spherical::new(s.point(), s.point());
+    distance: BOTH, |s: &mut Sampler| Distance::new(s.point(), s.point(), s.length());
+    normalization: ONLY_I_MOVES, |_: &mut Sampler| Normalization;
+    spherical_joint: BOTH, joint(JointKind::Spherical);
+    universal_joint: BOTH, joint(JointKind::Universal);
+    revolute_joint: BOTH, joint(JointKind::Revolute);
+    cylindrical_joint: BOTH, joint(JointKind::Cylindrical);
+    prismatic_joint: BOTH, joint(JointKind::Prismatic);
+    fixed_joint: BOTH, joint(JointKind::Fixed);
+    planar_joint: BOTH, joint(JointKind::Planar);
+    spherical_spherical_joint: BOTH, |s: &mut Sampler| Joint::spherical_spherical(s.point(), s.point(), s.length()).unwrap();
+    rotation_driver: BOTH, |s: &mut Sampler| RotationDriver::new(s.marker(), s.marker(), s.angle_function());
+    translation_driver: BOTH, |s: &mut Sampler| TranslationDriver::new(s.marker(), s.marker(), s.function());
+    distance_driver: BOTH, |s: &mut Sampler| DistanceDriver::new(s.point(), s.point(), s.function());
+    coordinate_driver: ONLY_I_MOVES, |s: &mut Sampler| CoordinateDriver::new(s.point(), s.rng.below(3), s.function()).unwrap();
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+    /// Random seeds through every element kind (a failure prints the seed, which reproduces it).
+    #[test]
+    fn proptest_random_cases(seed in any::<u64>()) {
+        let (case, mut s) = conformance::random_case(seed, BOTH);
+        let mut bad = conformance::check(&Joint::new(JointKind::Fixed, s.marker(), s.marker()).unwrap(), &case);
+        bad.extend(conformance::check(&Joint::new(JointKind::Prismatic, s.marker(), s.marker()).unwrap(), &case));
+        bad.extend(conformance::check(&RotationDriver::new(s.marker(), s.marker(), s.angle_function()), &case));
+        bad.extend(conformance::check(&DistanceDriver::new(s.point(), s.point(), s.function()), &case));
+        prop_assert!(bad.is_empty(), "{}", conformance::report(&bad, 10));
+    }
+}
