@@ -9,8 +9,8 @@
 mod common;
 
 use cardan_eulerparam::{
-    a, a_dot, da_dp, da_dpi_local, g, l, omega_global, omega_local, p_ddot_from_local,
-    p_dot_from_global, p_dot_from_local, skew,
+    a, a_dot, da_dp, da_dpi_local, g, g_dot, l, l_dot, omega_global, omega_local,
+    p_ddot_from_local, p_dot_from_global, p_dot_from_local, skew,
 };
 use common::*;
 use nalgebra::{Vector3, Vector4};
@@ -476,6 +476,13 @@ proptest! {
     #[test]
     fn prop_a_dot_matches_finite_differences(p in prop_oneof![unit_p(), unnormalized_p()], pd in vec4()) {
         if let Err(m) = check_a_dot(&p, &pd, "random p, ṗ") { return Err(TestCaseError::fail(m)); }
+    }
+
+    #[test]
+    fn prop_g_dot_l_dot_are_time_derivatives(p in prop_oneof![unit_p(), unnormalized_p()], pd in vec4()) {
+        // G and L are linear in p, so a central difference along p + ṗ t is exact up to round-off.
+        prop_close!(g_dot(&pd), central(|t| g(&(p + pd * t)), H_QUADRATIC), FD_QUADRATIC, "Ġ = d G(p + ṗ t)/dt");
+        prop_close!(l_dot(&pd), central(|t| l(&(p + pd * t)), H_QUADRATIC), FD_QUADRATIC, "L̇ = d L(p + ṗ t)/dt");
     }
 
     #[test]

@@ -281,3 +281,28 @@ proptest! {
         prop_assert!(n.as_vector().dot(&p) > 0.0, "normalization flipped the sign");
     }
 }
+
+#[test]
+fn euler_params_type_basics() {
+    assert_eq!(EulerParams::default(), EulerParams::identity());
+    let p = EulerParams::new(0.3, -0.5, 0.2, 0.7);
+    assert_eq!(Vector4::from(p), Vector4::new(0.3, -0.5, 0.2, 0.7));
+    assert_eq!((p.e0(), p.e()), (0.3, Vector3::new(-0.5, 0.2, 0.7)));
+    assert!((p.norm_squared() - 0.87).abs() < EXACT);
+    assert!((p.norm_error() - 0.13).abs() < EXACT);
+    assert!(!p.is_normalized(1e-3) && p.is_normalized(0.2));
+    let q = EulerParams::try_new_normalized(0.3, -0.5, 0.2, 0.7).unwrap();
+    assert!(q.is_normalized(EXACT), "|pᵀp − 1| = {:e}", q.norm_error());
+    assert!(matches!(
+        EulerParams::try_new_normalized(0.0, 0.0, 0.0, 0.0),
+        Err(cardan_eulerparam::EulerParamError::ZeroNorm { .. })
+    ));
+    assert!(matches!(
+        EulerParams::try_new_normalized(0.0, f64::INFINITY, 0.0, 0.0),
+        Err(cardan_eulerparam::EulerParamError::NotFinite { .. })
+    ));
+    // The accessor matrices agree with the free functions.
+    assert_eq!(q.a(), a(q.as_vector()));
+    assert_eq!(q.g(), g(q.as_vector()));
+    assert_eq!(q.l(), l(q.as_vector()));
+}
