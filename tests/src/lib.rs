@@ -1,1 +1,7 @@
-//! Shared helpers for the cross-layer tests.
+//! Shared helpers for cardan's cross-layer tests.
+//!
+//! - [`registry`]: every Rust constraint element by its oracle name, built from oracle parameters.
+//! - [`oracle`]: loading `oracle/data/*.json` and comparing the Rust implementation with it.
+
+pub mod oracle;
+pub mod registry;

@@ -1,0 +1,262 @@
+//! The registry of every constraint element, by the name the oracle files use.
+//!
+//! [`ELEMENTS`] must list every primitive, joint and driver the Rust code has. The functions
+//! [`primitive_name`], [`joint_name`] and [`driver_name`] match exhaustively on the Rust enums, so
+//! adding a variant without adding it here is a compile error; the gate then fails for any listed
+//! element that has no oracle data file. Nothing can be added unchecked.
+
+use cardan_constraints::{
+    Constraint, CoordinateDriver, Distance, DistanceDriver, Driver, Form, Joint, JointKind, Marker,
+    Normalization, P1Perp, P1Select, P2Perp, P2Select, Primitive, RotationDriver, Spherical,
+    TimeFunction, TranslationDriver, BodyPair, Footprint, N1, N2, P1, P2,
+};
+use nalgebra::{Matrix3, Vector3};
+use serde_json::Value;
+
+/// Every element name the Rust side implements, as the oracle names them.
+pub const ELEMENTS: &[&str] = &[
+    "n1",
+    "n2",
+    "p1",
+    "p1_select",
+    "p1_perp",
+    "p2",
+    "p2_select",
+    "p2_perp",
+    "s",
+    "distance",
+    "normalization",
+    "spherical",
+    "universal",
+    "revolute",
+    "cylindrical",
+    "prismatic",
+    "fixed",
+    "spherical_spherical",
+    "planar",
+    "rotation_driver",
+    "translation_driver",
+    "distance_driver",
+    "coordinate_driver",
+];
+
+/// The oracle name of a primitive variant (exhaustive: a new variant must be named here).
+pub fn primitive_name(p: &Primitive) -> &'static str {
+    match p {
+        Primitive::N1(_) => "n1",
+        Primitive::N2(_) => "n2",
+        Primitive::P1(_) => "p1",
+        Primitive::P1Select(_) => "p1_select",
+        Primitive::P1Perp(_) => "p1_perp",
+        Primitive::P2(_) => "p2",
+        Primitive::P2Select(_) => "p2_select",
+        Primitive::P2Perp(_) => "p2_perp",
+        Primitive::Spherical(_) => "s",
+        Primitive::Distance(_) => "distance",
+        Primitive::Normalization(_) => "normalization",
+    }
+}
+
+/// The oracle name of a joint kind (exhaustive).
+pub fn joint_name(k: JointKind) -> &'static str {
+    match k {
+        JointKind::Spherical => "spherical",
+        JointKind::Universal => "universal",
+        JointKind::Revolute => "revolute",
+        JointKind::Cylindrical => "cylindrical",
+        JointKind::Prismatic => "prismatic",
+        JointKind::Fixed => "fixed",
+        JointKind::SphericalSpherical => "spherical_spherical",
+        JointKind::Planar => "planar",
+    }
+}
+
+/// The oracle name of a driver variant (exhaustive).
+pub fn driver_name(d: &Driver) -> &'static str {
+    match d {
+        Driver::Rotation(_) => "rotation_driver",
+        Driver::Translation(_) => "translation_driver",
+        Driver::Distance(_) => "distance_driver",
+        Driver::Coordinate(_) => "coordinate_driver",
+    }
+}
+
+/// Any element, for uniform evaluation.
+#[derive(Debug, Clone)]
+pub enum Element {
+    /// A primitive.
+    Primitive(Primitive),
+    /// A joint.
+    Joint(Joint),
+    /// A driver.
+    Driver(Driver),
+}
+
+impl Element {
+    /// The oracle name (from the exhaustive name functions, not from the element's own `name`,
+    /// so that a mislabelled element is caught by [`Element::check_name`]).
+    pub fn oracle_name(&self) -> &'static str {
+        match self {
+            Element::Primitive(p) => primitive_name(p),
+            Element::Joint(j) => joint_name(j.kind()),
+            Element::Driver(d) => driver_name(d),
+        }
+    }
+}
+
+macro_rules! each {
+    ($self:ident, $c:ident => $e:expr) => {
+        match $self {
+            Element::Primitive($c) => $e,
+            Element::Joint($c) => $e,
+            Element::Driver($c) => $e,
+        }
+    };
+}
+
+impl Constraint for Element {
+    fn name(&self) -> &'static str {
+        each!(self, c => c.name())
+    }
+    fn rows(&self) -> usize {
+        each!(self, c => c.rows())
+    }
+    fn footprint(&self) -> Footprint {
+        each!(self, c => c.footprint())
+    }
+    fn phi(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
+        each!(self, c => c.phi(x, t, out))
+    }
+    fn jacobian<const N: usize, F: Form<N>>(
+        &self,
+        x: &BodyPair,
+        t: f64,
+        out_i: &mut [[f64; N]],
+        out_j: &mut [[f64; N]],
+    ) {
+        each!(self, c => c.jacobian::<N, F>(x, t, out_i, out_j))
+    }
+    fn nu(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
+        each!(self, c => c.nu(x, t, out))
+    }
+    fn gamma_sharp<const N: usize, F: Form<N>>(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
+        each!(self, c => c.gamma_sharp::<N, F>(x, t, out))
+    }
+}
+
+/// An error reading oracle parameters.
+pub type ParamError = String;
+
+fn v3(p: &Value, key: &str) -> Result<Vector3<f64>, ParamError> {
+    let a = p
+        .get(key)
+        .and_then(Value::as_array)
+        .ok_or_else(|| format!("missing 3-vector parameter `{key}`"))?;
+    if a.len() != 3 {
+        return Err(format!("parameter `{key}` has {} entries, want 3", a.len()));
+    }
+    let f = |k: usize| a[k].as_f64().ok_or_else(|| format!("`{key}`[{k}] is not a number"));
+    Ok(Vector3::new(f(0)?, f(1)?, f(2)?))
+}
+
+fn num(p: &Value, key: &str) -> Result<f64, ParamError> {
+    p.get(key)
+        .and_then(Value::as_f64)
+        .ok_or_else(|| format!("missing number parameter `{key}`"))
+}
+
+fn marker(p: &Value, key: &str) -> Result<Marker, ParamError> {
+    let m = p.get(key).ok_or_else(|| format!("missing marker `{key}`"))?;
+    let frame = Matrix3::from_columns(&[v3(m, "x")?, v3(m, "y")?, v3(m, "z")?]);
+    Marker::new(v3(m, "point")?, frame).map_err(|e| format!("marker `{key}`: {e}"))
+}
+
+fn nums(v: &Value, key: &str) -> Result<Vec<f64>, ParamError> {
+    v.get(key)
+        .and_then(Value::as_array)
+        .ok_or_else(|| format!("time function: missing array `{key}`"))?
+        .iter()
+        .map(|x| x.as_f64().ok_or_else(|| format!("time function: `{key}` holds a non-number")))
+        .collect()
+}
+
+/// A [`TimeFunction`] from its oracle description.
+pub fn time_function(f: &Value) -> Result<TimeFunction, ParamError> {
+    let kind = f.get("kind").and_then(Value::as_str).ok_or("time function without `kind`")?;
+    let tf = match kind {
+        "constant" => TimeFunction::Constant(num(f, "value")?),
+        "polynomial" => TimeFunction::Polynomial(nums(f, "coefficients")?),
+        "harmonic" => TimeFunction::Harmonic {
+            amplitude: num(f, "amplitude")?,
+            frequency: num(f, "frequency")?,
+            phase: num(f, "phase")?,
+            offset: num(f, "offset")?,
+        },
+        "ramp" => TimeFunction::Ramp {
+            t0: num(f, "t0")?,
+            t1: num(f, "t1")?,
+            f0: num(f, "f0")?,
+            f1: num(f, "f1")?,
+        },
+        "spline" => TimeFunction::spline(nums(f, "t")?, nums(f, "f")?).map_err(|e| e.to_string())?,
+        other => return Err(format!("unknown time function kind `{other}`")),
+    };
+    tf.validate().map_err(|e| e.to_string())?;
+    Ok(tf)
+}
+
+/// Builds the Rust element `name` from oracle parameters.
+pub fn build(name: &str, p: &Value) -> Result<Element, ParamError> {
+    use Element as E;
+    let prim = |x: Primitive| Ok(E::Primitive(x));
+    let joint = |k: JointKind| {
+        Joint::new(k, marker(p, "marker_i")?, marker(p, "marker_j")?)
+            .map(E::Joint)
+            .map_err(|e| e.to_string())
+    };
+    match name {
+        "n1" => prim(N1::new(v3(p, "s_i")?, v3(p, "s_j")?).into()),
+        "n2" => prim(N2::new(v3(p, "s_i")?, v3(p, "sp_i")?, v3(p, "sp_j")?).into()),
+        "p1" => prim(P1::new(v3(p, "s_i")?, v3(p, "s_j")?).into()),
+        "p1_select" => prim(P1Select::new(v3(p, "s_i")?, v3(p, "s_j")?).into()),
+        "p1_perp" => prim(P1Perp::new(v3(p, "f_i")?, v3(p, "g_i")?, v3(p, "s_j")?).into()),
+        "p2" => prim(P2::new(v3(p, "s_i")?, v3(p, "sp_i")?, v3(p, "sp_j")?).into()),
+        "p2_select" => prim(P2Select::new(v3(p, "s_i")?, v3(p, "sp_i")?, v3(p, "sp_j")?).into()),
+        "p2_perp" => prim(
+            P2Perp::new(v3(p, "f_i")?, v3(p, "g_i")?, v3(p, "sp_i")?, v3(p, "sp_j")?).into(),
+        ),
+        "s" => prim(Spherical::new(v3(p, "sp_i")?, v3(p, "sp_j")?).into()),
+        "distance" => prim(Distance::new(v3(p, "sp_i")?, v3(p, "sp_j")?, num(p, "length")?).into()),
+        "normalization" => prim(Normalization.into()),
+        "spherical" => joint(JointKind::Spherical),
+        "universal" => joint(JointKind::Universal),
+        "revolute" => joint(JointKind::Revolute),
+        "cylindrical" => joint(JointKind::Cylindrical),
+        "prismatic" => joint(JointKind::Prismatic),
+        "fixed" => joint(JointKind::Fixed),
+        "planar" => joint(JointKind::Planar),
+        "spherical_spherical" => {
+            Joint::spherical_spherical(v3(p, "point_i")?, v3(p, "point_j")?, num(p, "length")?)
+                .map(E::Joint)
+                .map_err(|e| e.to_string())
+        }
+        "rotation_driver" => Ok(E::Driver(
+            RotationDriver::new(marker(p, "marker_i")?, marker(p, "marker_j")?, time_function(&p["function"])?)
+                .into(),
+        )),
+        "translation_driver" => Ok(E::Driver(
+            TranslationDriver::new(marker(p, "marker_i")?, marker(p, "marker_j")?, time_function(&p["function"])?)
+                .into(),
+        )),
+        "distance_driver" => Ok(E::Driver(
+            DistanceDriver::new(v3(p, "point_i")?, v3(p, "point_j")?, time_function(&p["function"])?).into(),
+        )),
+        "coordinate_driver" => {
+            let axis = p.get("axis").and_then(Value::as_u64).ok_or("missing integer `axis`")? as usize;
+            CoordinateDriver::new(v3(p, "point_i")?, axis, time_function(&p["function"])?)
+                .map(|d| E::Driver(d.into()))
+                .map_err(|e| e.to_string())
+        }
+        other => Err(format!("no Rust element is registered under the oracle name `{other}`")),
+    }
+}
