@@ -147,6 +147,12 @@ pub struct NewtonOptions {
     pub factor_at_solution: bool,
     /// Number of worst equations listed in [`SolverError::NotConverged`]. Default 5.
     pub report_worst: usize,
+    /// Hand the linear solver the scaled system `(E⁻¹ Φ_q U) (U⁻¹ Δq) = −E⁻¹ Φ` (equation scales
+    /// `E`, unknown scales `U` from the [`NonlinearSystem`]) instead of the raw one. Default true:
+    /// pivoting, rank decisions and least-squares weights then see unit-free numbers, so a model
+    /// in millimetres and the same model in kilometres take the same steps. (For a square
+    /// nonsingular system the step is the same either way, up to rounding.)
+    pub scale_linear_system: bool,
 }
 
 impl Default for NewtonOptions {
@@ -162,6 +168,7 @@ impl Default for NewtonOptions {
             max_step: None,
             factor_at_solution: true,
             report_worst: 5,
+            scale_linear_system: true,
         }
     }
 }
@@ -201,7 +208,14 @@ pub struct Newton<S: LinearSolver = AutoSolver> {
     m: usize,
     n: usize,
     full_slots: Vec<f64>,
-    reduced_slots: Vec<f64>,
+    /// Values handed to the linear solver (reduced and scaled).
+    solve_slots: Vec<f64>,
+    /// For each solver slot: full slot, full row, column.
+    slot_src: Vec<usize>,
+    slot_row: Vec<usize>,
+    slot_col: Vec<usize>,
+    /// For each solver row: full row.
+    solve_rows: Vec<usize>,
     residual: Vec<f64>,
     trial_residual: Vec<f64>,
     rhs: Vec<f64>,
@@ -210,6 +224,8 @@ pub struct Newton<S: LinearSolver = AutoSolver> {
     x_trial: Vec<f64>,
     eq_weights: Vec<f64>,
     unknown_weights: Vec<f64>,
+    new_eq_weights: Vec<f64>,
+    new_unknown_weights: Vec<f64>,
     history: Vec<f64>,
     factored: bool,
     factored_at_current: bool,
@@ -269,9 +285,13 @@ impl<S: LinearSolver> Newton<S> {
         options: NewtonOptions,
     ) -> Self {
         let (m, n) = (pattern.nrows(), pattern.ncols());
-        let (rm, rslots) = selection
-            .as_ref()
-            .map_or((m, 0), |s| (s.pattern().nrows(), s.pattern().num_slots()));
+        let (slot_src, solve_rows): (Vec<usize>, Vec<usize>) = match &selection {
+            Some(sel) => (sel.slot_map().to_vec(), sel.rows().to_vec()),
+            None => ((0..pattern.num_slots()).collect(), (0..m).collect()),
+        };
+        let slot_row = slot_src.iter().map(|&k| pattern.entry(k).0).collect();
+        let slot_col = slot_src.iter().map(|&k| pattern.entry(k).1).collect();
+        let rm = solve_rows.len();
         Self {
             pattern: pattern.clone(),
             selection,
@@ -280,7 +300,11 @@ impl<S: LinearSolver> Newton<S> {
             m,
             n,
             full_slots: vec![0.0; pattern.num_slots()],
-            reduced_slots: vec![0.0; rslots],
+            solve_slots: vec![0.0; slot_src.len()],
+            slot_src,
+            slot_row,
+            slot_col,
+            solve_rows,
             residual: vec![0.0; m],
             trial_residual: vec![0.0; m],
             rhs: vec![0.0; rm],
@@ -289,6 +313,8 @@ impl<S: LinearSolver> Newton<S> {
             x_trial: Vec::new(),
             eq_weights: vec![1.0; m],
             unknown_weights: vec![1.0; n],
+            new_eq_weights: vec![1.0; m],
+            new_unknown_weights: vec![1.0; n],
             history: Vec::with_capacity(options.max_iterations + 2),
             factored: false,
             factored_at_current: false,
@@ -365,7 +391,44 @@ impl<S: LinearSolver> Newton<S> {
         x: &[f64],
     ) -> Result<(), SolverError> {
         self.check_system(system, x)?;
+        self.update_weights(system);
         self.refactor(system, x, None)
+    }
+
+    /// Reads the scales from the system; a factorization made with other scales is dropped.
+    fn update_weights<N: NonlinearSystem + ?Sized>(&mut self, system: &N) {
+        system.equation_scales(&mut self.new_eq_weights);
+        reciprocal_in_place(&mut self.new_eq_weights);
+        system.unknown_scales(&mut self.new_unknown_weights);
+        reciprocal_in_place(&mut self.new_unknown_weights);
+        if self.new_eq_weights != self.eq_weights
+            || self.new_unknown_weights != self.unknown_weights
+        {
+            self.eq_weights.copy_from_slice(&self.new_eq_weights);
+            self.unknown_weights
+                .copy_from_slice(&self.new_unknown_weights);
+            if self.options.scale_linear_system {
+                self.invalidate();
+            }
+        }
+    }
+
+    /// `rhs_solver[i] = sign · rhs_full[row_i] / e_row_i` (scaled if enabled). No allocation.
+    fn load_rhs(&mut self, full: &[f64], sign: f64) {
+        let scaled = self.options.scale_linear_system;
+        for (dst, &r) in self.rhs.iter_mut().zip(&self.solve_rows) {
+            let w = if scaled { self.eq_weights[r] } else { 1.0 };
+            *dst = sign * full[r] * w;
+        }
+    }
+
+    /// `out_j ← u_j · out_j` (back from the scaled unknowns).
+    fn unscale_solution(&self, out: &mut [f64]) {
+        if self.options.scale_linear_system {
+            for (o, w) in out.iter_mut().zip(&self.unknown_weights) {
+                *o /= w;
+            }
+        }
     }
 
     fn refactor<N: NonlinearSystem + ?Sized>(
@@ -380,14 +443,18 @@ impl<S: LinearSolver> Newton<S> {
         self.pattern
             .check_finite(&self.full_slots)
             .map_err(|e| with_iteration(e, iteration))?;
-        let r = match &self.selection {
-            Some(sel) => {
-                sel.gather_slots(&self.full_slots, &mut self.reduced_slots)?;
-                self.solver.factor(&self.reduced_slots)
-            }
-            None => self.solver.factor(&self.full_slots),
-        };
-        r.map_err(|e| self.map_rows(with_iteration(e, iteration)))?;
+        let scaled = self.options.scale_linear_system;
+        for k in 0..self.solve_slots.len() {
+            let v = self.full_slots[self.slot_src[k]];
+            self.solve_slots[k] = if scaled {
+                v * self.eq_weights[self.slot_row[k]] / self.unknown_weights[self.slot_col[k]]
+            } else {
+                v
+            };
+        }
+        self.solver
+            .factor(&self.solve_slots)
+            .map_err(|e| self.map_rows(with_iteration(e, iteration)))?;
         self.factored = true;
         self.factored_at_current = true;
         self.age = 0;
@@ -434,13 +501,10 @@ impl<S: LinearSolver> Newton<S> {
         }
         check_len("right-hand side", self.m, rhs.len())?;
         check_len("solution", self.n, out.len())?;
-        match &self.selection {
-            Some(sel) => {
-                sel.gather_rows(rhs, &mut self.rhs)?;
-                self.solver.solve(&self.rhs, out)
-            }
-            None => self.solver.solve(rhs, out),
-        }
+        self.load_rhs(rhs, 1.0);
+        self.solver.solve(&self.rhs, out)?;
+        self.unscale_solution(out);
+        Ok(())
     }
 
     fn eval_residual<N: NonlinearSystem + ?Sized>(
@@ -483,10 +547,7 @@ impl<S: LinearSolver> Newton<S> {
         // The state changes from here on: an old factorization is no longer "current".
         self.factored_at_current = false;
         let opts = self.options;
-        system.equation_scales(&mut self.eq_weights);
-        reciprocal_in_place(&mut self.eq_weights);
-        system.unknown_scales(&mut self.unknown_weights);
-        reciprocal_in_place(&mut self.unknown_weights);
+        self.update_weights(system);
         if let JacobianUpdate::EveryIteration = opts.jacobian_update {
             self.factored = false;
         }
@@ -557,19 +618,13 @@ impl<S: LinearSolver> Newton<S> {
             force_refactor = false;
             let fresh = self.factored_at_current;
             // Newton step: Φ_q dx = −Φ.
-            for v in residual.iter_mut() {
-                *v = -*v;
-            }
-            let solved = match &self.selection {
-                Some(sel) => sel
-                    .gather_rows(residual, &mut self.rhs)
-                    .and_then(|()| self.solver.solve(&self.rhs, &mut self.dx)),
-                None => self.solver.solve(residual, &mut self.dx),
-            };
-            for v in residual.iter_mut() {
-                *v = -*v;
-            }
-            solved.map_err(|e| with_iteration(e, Some(k)))?;
+            self.load_rhs(residual, -1.0);
+            self.solver
+                .solve(&self.rhs, &mut self.dx)
+                .map_err(|e| with_iteration(e, Some(k)))?;
+            let mut dx = std::mem::take(&mut self.dx);
+            self.unscale_solution(&mut dx);
+            self.dx = dx;
             self.age += 1;
             let (mut step, _) = weighted_inf_norm(&self.dx, &self.unknown_weights);
             let mut alpha = 1.0;

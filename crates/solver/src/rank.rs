@@ -22,14 +22,23 @@
 //! independent; the other `m − r` are reported as dependent (redundant). With unit rows the
 //! tolerance is simply relative: `tol = max(relative_tolerance, 10 · max(m, n) · ε)`.
 //!
-//! # Minimum-norm solution
-//! For the independent equations, `(D J)_sel = R11ᵀ Q1ᵀ`, so the minimum-norm solution of
-//! `J_sel x = b_sel` is `x = Q1 R11⁻ᵀ (D b)_sel` (with column equilibration: `x = D_c Q1 R11⁻ᵀ (D
-//! b)_sel`, minimum in the norm `‖D_c⁻¹ x‖`): a forward substitution and `r` Householder
-//! reflections. For an under-determined system (`m < n`, assembly of an under-driven mechanism)
-//! this is the step that moves the unknowns least; for a redundant but consistent system it
-//! satisfies every equation; for an inconsistent one it satisfies the independent equations
-//! exactly and ignores the dependent ones.
+//! # Minimum-norm least-squares solution
+//! Dropping `R22` (below the tolerance), `Pᵀ (D J) ≈ S Q1ᵀ` with `S = [R11 R12]ᵀ` (`m × r`, full
+//! column rank) and `Q1` the first `r` columns of `Q`. The solver returns
+//!
+//! ```text
+//!   x = Q1 y,   y = argmin ‖S y − Pᵀ D b‖   (a second Householder QR, of S)
+//! ```
+//!
+//! which is the minimum-norm least-squares solution `x = (D J)⁺ D b` (Golub & Van Loan §5.5, a
+//! complete orthogonal decomposition). When the rows are independent (`r = m`) this reduces to a
+//! forward substitution with `R11ᵀ`. Consequences:
+//! * under-determined (`m < n`, assembly of an under-driven mechanism): the step that moves the
+//!   unknowns least;
+//! * redundant and consistent (on the constraint manifold): every equation is satisfied;
+//! * redundant and inconsistent (a Newton iterate off the manifold of a redundant mechanism, where
+//!   the Jacobian is usually of full rank): the Gauss-Newton step, which converges quadratically to
+//!   a zero-residual solution.
 //!
 //! # When to run it
 //! Redundant constraints are exactly dependent only on the constraint manifold. Run the analysis
@@ -163,6 +172,43 @@ struct PivotedQr {
     tol: f64,
     pivots_len: usize,
     pivots: Vec<f64>,
+    /// `S = R[:r, :]ᵀ` (m × r, column-major) and its QR, for the least-squares solve when r < m.
+    s: Vec<f64>,
+    tau2: Vec<f64>,
+    work: Vec<f64>,
+}
+
+/// Householder QR (no pivoting) of a column-major `rows × cols` matrix in place, `rows ≥ cols`.
+/// R in the upper triangle, reflectors (unit first entry implied) below, scalars in `tau`.
+fn householder_in_place(a: &mut [f64], rows: usize, cols: usize, tau: &mut [f64]) {
+    for k in 0..cols {
+        let (head, tail) = a.split_at_mut((k + 1) * rows);
+        let col = &mut head[k * rows + k..(k + 1) * rows];
+        let norm = col.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if norm == 0.0 {
+            tau[k] = 0.0;
+            continue;
+        }
+        let alpha = col[0];
+        let beta = if alpha >= 0.0 { -norm } else { norm };
+        let v0 = alpha - beta;
+        for v in col[1..].iter_mut() {
+            *v /= v0;
+        }
+        let t = (beta - alpha) / beta;
+        col[0] = beta;
+        tau[k] = t;
+        let v = &col[1..];
+        for c in tail.chunks_exact_mut(rows) {
+            let c = &mut c[k..];
+            let w = c[0] + v.iter().zip(&c[1..]).map(|(a, b)| a * b).sum::<f64>();
+            let tw = t * w;
+            c[0] -= tw;
+            for (ci, vi) in c[1..].iter_mut().zip(v) {
+                *ci -= tw * vi;
+            }
+        }
+    }
 }
 
 impl PivotedQr {
@@ -181,6 +227,9 @@ impl PivotedQr {
             tol: 0.0,
             pivots_len: 0,
             pivots: vec![0.0; (k + 1).min(m)],
+            s: vec![0.0; m * k],
+            tau2: vec![0.0; k],
+            work: vec![0.0; m],
         }
     }
 
@@ -289,6 +338,17 @@ impl PivotedQr {
             }
             self.rank = k + 1;
         }
+        let r = self.rank;
+        if r < m && r > 0 {
+            // S = R[:r, :]ᵀ: row i of S is column i of R (pivot order), entries k ≤ min(i, r−1).
+            let s = &mut self.s[..m * r];
+            for k in 0..r {
+                for i in 0..m {
+                    s[k * m + i] = if k <= i { self.a[i * n + k] } else { 0.0 };
+                }
+            }
+            householder_in_place(s, m, r, &mut self.tau2[..r]);
+        }
         Ok(())
     }
 
@@ -308,11 +368,36 @@ impl PivotedQr {
         }
     }
 
-    /// Minimum-norm solution of the independent equations. No allocation.
-    fn solve(&self, b: &[f64], x: &mut [f64]) {
-        let (n, r) = (self.n, self.rank);
-        // Forward substitution R11ᵀ y = (D b)_sel, y stored in x[..r].
-        for k in 0..r {
+    /// Minimum-norm least-squares solution (see the module docs). No allocation.
+    fn solve(&mut self, b: &[f64], x: &mut [f64]) {
+        let (m, n, r) = (self.m, self.n, self.rank);
+        if r < m {
+            // y = argmin ‖S y − c‖ with c = P (D b): apply Q2ᵀ, back-substitute R2.
+            let s = &self.s[..m * r];
+            let c = &mut self.work;
+            for (i, ci) in c.iter_mut().enumerate() {
+                let row = self.perm[i];
+                *ci = self.row_scale[row] * b[row];
+            }
+            for k in 0..r {
+                let v = &s[k * m + k + 1..(k + 1) * m];
+                let w = c[k] + v.iter().zip(&c[k + 1..]).map(|(a, b)| a * b).sum::<f64>();
+                let tw = self.tau2[k] * w;
+                c[k] -= tw;
+                for (ci, vi) in c[k + 1..].iter_mut().zip(v) {
+                    *ci -= tw * vi;
+                }
+            }
+            for k in (0..r).rev() {
+                let mut acc = c[k];
+                for j in k + 1..r {
+                    acc -= s[j * m + k] * x[j];
+                }
+                x[k] = acc / s[k * m + k];
+            }
+        }
+        // Full row rank: forward substitution R11ᵀ y = (D b)_sel, y stored in x[..r].
+        for k in 0..if r < m { 0 } else { r } {
             let row = self.perm[k];
             let mut s = self.row_scale[row] * b[row];
             let col = &self.a[k * n..k * n + k];
@@ -338,8 +423,8 @@ impl PivotedQr {
     }
 }
 
-/// Rank-revealing linear solver for any shape: drops the dependent equations found at each
-/// factorization and returns the minimum-norm solution of the others (see the module docs).
+/// Rank-revealing linear solver for any shape: returns the minimum-norm least-squares solution,
+/// which satisfies every equation of a consistent redundant system (see the module docs).
 ///
 /// Dense (`O(m n min(m, n))` per factorization): meant for small and medium systems, for
 /// assembly of under-driven mechanisms, and as the fallback when the LU members report

@@ -229,7 +229,7 @@ impl FourBar {
         q
     }
 
-    fn body<'a>(q: &'a [f64], b: Option<usize>) -> (V3, &'a [f64]) {
+    fn body(q: &[f64], b: Option<usize>) -> (V3, &[f64]) {
         const IDENTITY: [f64; 4] = [1.0, 0.0, 0.0, 0.0];
         match b {
             Some(b) => (
