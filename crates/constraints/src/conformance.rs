@@ -69,6 +69,10 @@ pub struct Sampler {
     /// Draw axis-aligned vectors and frames.
     pub axis_aligned: bool,
     function_kind: usize,
+    /// The case's time: breakpoints of drawn time functions (ramp ends, spline knots, where f'''
+    /// jumps) are kept ≥ 0.05 s away from it, so the finite-difference stencils never straddle
+    /// one. (The oracle covers evaluation exactly at breakpoints.)
+    pub avoid_t: f64,
 }
 
 impl Sampler {
@@ -81,6 +85,7 @@ impl Sampler {
             scale,
             axis_aligned,
             function_kind,
+            avoid_t: f64::NAN,
         }
     }
 
@@ -159,6 +164,12 @@ impl Sampler {
 
     fn function_of_size(&mut self, s: f64) -> TimeFunction {
         self.function_kind = (self.function_kind + 1) % 5;
+        let avoid = self.avoid_t;
+        let away = |x: f64| match x - avoid {
+            d if d.abs() >= 0.05 => x,
+            d if d >= 0.0 => avoid + 0.05,
+            _ => avoid - 0.05,
+        };
         let r = &mut self.rng;
         match self.function_kind {
             0 => TimeFunction::Constant(r.uniform(-1.0, 1.0) * s),
@@ -175,13 +186,18 @@ impl Sampler {
                 offset: r.uniform(-1.0, 1.0) * s,
             },
             3 => TimeFunction::Ramp {
-                t0: r.uniform(0.0, 0.5),
-                t1: r.uniform(0.8, 1.5),
+                t0: away(r.uniform(0.0, 0.5)),
+                t1: away(r.uniform(0.8, 1.5)),
                 f0: r.uniform(-1.0, 1.0) * s,
                 f1: r.uniform(-1.0, 1.0) * s,
             },
             _ => {
-                let t: Vec<f64> = (0..6).map(|k| k as f64 * 0.3).collect();
+                // Knots 0.3 apart, shifted so that none is within 0.05 of the case time.
+                let mut off = 0.0;
+                while (0..6).any(|k| (k as f64 * 0.3 + off - avoid).abs() < 0.05) {
+                    off += 0.06;
+                }
+                let t: Vec<f64> = (0..6).map(|k| k as f64 * 0.3 + off).collect();
                 let f = t.iter().map(|_| r.uniform(-1.0, 1.0) * s).collect();
                 TimeFunction::spline(t, f).expect("valid knots")
             }
@@ -358,6 +374,8 @@ fn make_case(
     normalized: bool,
     s: Sampler,
 ) -> (Case, Sampler) {
+    let mut s = s;
+    s.avoid_t = t;
     match ground {
         Ground::I => i = BodyState::ground(),
         Ground::J => j = BodyState::ground(),
@@ -493,6 +511,7 @@ impl<C: Constraint> Eval<'_, C> {
         want: &[f64],
         floor: f64,
         rtol: f64,
+        cols: Option<usize>,
     ) {
         // Relative to the largest entry of this quantity in this case, with an absolute floor.
         let scale = got
@@ -500,7 +519,6 @@ impl<C: Constraint> Eval<'_, C> {
             .chain(want)
             .fold(floor, |m, v| m.max(v.abs()))
             .max(1e-300);
-        let cols: Option<usize> = None;
         for (k, (g, w)) in got.iter().zip(want).enumerate() {
             let close = (g - w).abs() <= rtol * scale;
             if !close {
@@ -533,8 +551,9 @@ impl<C: Constraint> Eval<'_, C> {
         let mut jj = vec![[0.0; 7]; m];
         c.phi_q(&x, case.t, &mut ji, &mut jj);
         let fp = c.footprint();
-        let mut got = Vec::new();
-        let mut want = Vec::new();
+        // Row-major m × 14 (columns of ground bodies stay zero in both).
+        let mut got = vec![0.0; m * 14];
+        let mut want = vec![0.0; m * 14];
         for side in 0..2 {
             if !self.moving(side) {
                 continue;
@@ -566,8 +585,8 @@ impl<C: Constraint> Eval<'_, C> {
                     } else {
                         jj[row][col]
                     };
-                    got.push(g);
-                    want.push(fd[row]);
+                    got[row * 14 + side * 7 + col] = g;
+                    want[row * 14 + side * 7 + col] = fd[row];
                 }
                 self.footprint_check(fp, side, col < 3, col, &fd[..m], |row| {
                     if side == 0 {
@@ -579,7 +598,7 @@ impl<C: Constraint> Eval<'_, C> {
             }
         }
         let noise = 10.0 * EPS * self.term_scale / 1e-3;
-        self.compare("phi_q", &got, &want, noise / 1e-7, 1e-7);
+        self.compare("phi_q", &got, &want, noise / 1e-7, 1e-7, Some(14));
         // γ# (7): −Φ̈ along q + q̇ τ, t + τ.
         let mut gq = [0.0; MAX_ROWS];
         c.gamma_sharp_q(&x, case.t, &mut gq[..m]);
@@ -599,7 +618,7 @@ impl<C: Constraint> Eval<'_, C> {
         let floor = self
             .rate_scale
             .max(100.0 * EPS * self.term_scale / (h * h) / 1e-6);
-        self.compare("gamma_q", &gq[..m], &want, floor, 1e-6);
+        self.compare("gamma_q", &gq[..m], &want, floor, 1e-6, None);
     }
 
     fn footprint_check(
@@ -639,8 +658,8 @@ impl<C: Constraint> Eval<'_, C> {
         let mut ji = vec![[0.0; 6]; m];
         let mut jj = vec![[0.0; 6]; m];
         c.phi_v(&x, case.t, &mut ji, &mut jj);
-        let mut got = Vec::new();
-        let mut want = Vec::new();
+        let mut got = vec![0.0; m * 12];
+        let mut want = vec![0.0; m * 12];
         for side in 0..2 {
             if !self.moving(side) {
                 continue;
@@ -670,17 +689,17 @@ impl<C: Constraint> Eval<'_, C> {
                     h,
                 );
                 for row in 0..m {
-                    got.push(if side == 0 {
+                    got[row * 12 + side * 6 + col] = if side == 0 {
                         ji[row][col]
                     } else {
                         jj[row][col]
-                    });
-                    want.push(fd[row]);
+                    };
+                    want[row * 12 + side * 6 + col] = fd[row];
                 }
             }
         }
         let noise = 10.0 * EPS * self.term_scale / 1e-3;
-        self.compare("phi_v", &got, &want, noise / 1e-7, 1e-7);
+        self.compare("phi_v", &got, &want, noise / 1e-7, 1e-7, Some(12));
         let mut gv = [0.0; MAX_ROWS];
         c.gamma_sharp_v(&x, case.t, &mut gv[..m]);
         let rate = case
@@ -705,7 +724,7 @@ impl<C: Constraint> Eval<'_, C> {
         let floor = self
             .rate_scale
             .max(100.0 * EPS * self.term_scale / (h * h) / 1e-6);
-        self.compare("gamma_v", &gv[..m], &want, floor, 1e-6);
+        self.compare("gamma_v", &gv[..m], &want, floor, 1e-6, None);
     }
 
     fn check_nu(&mut self) {
@@ -718,7 +737,7 @@ impl<C: Constraint> Eval<'_, C> {
         let floor = self
             .rate_scale
             .max(10.0 * EPS * self.term_scale / 1e-3 / 1e-7);
-        self.compare("nu", &nu[..m], &want, floor, 1e-7);
+        self.compare("nu", &nu[..m], &want, floor, 1e-7, None);
     }
 }
 
