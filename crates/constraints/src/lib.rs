@@ -64,6 +64,9 @@
 //!    to the registry in `tests/src/registry.rs` of the workspace: the oracle gate fails for an
 //!    element without reference data.
 
+#[macro_use]
+mod macros;
+
 pub mod conformance;
 pub mod constraint;
 pub mod distance;

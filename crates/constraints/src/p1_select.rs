@@ -22,10 +22,7 @@
 //! s'_i[k] s'_i, nonzero), so the two rows have rank 2 whenever s_j ∥ s_i, in every orientation
 //! of both bodies. Evaluation is that of [`crate::P1Perp`] with f' = u'_a, g' = u'_b.
 
-use crate::constraint::Constraint;
-use crate::jet::Form;
 use crate::p1_perp::P1Perp;
-use crate::state::{BodyPair, Footprint};
 use nalgebra::Vector3;
 
 /// The kept rows {a, b} (increasing) and their body-fixed vectors e_a × s', e_b × s'.
@@ -70,29 +67,4 @@ impl P1Select {
     }
 }
 
-impl Constraint for P1Select {
-    fn name(&self) -> &'static str {
-        "p1_select"
-    }
-    fn rows(&self) -> usize {
-        2
-    }
-    fn footprint(&self) -> Footprint {
-        self.inner.footprint()
-    }
-    fn phi(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
-        self.inner.phi(x, t, out)
-    }
-    fn jacobian<const N: usize, F: Form<N>>(
-        &self,
-        x: &BodyPair,
-        t: f64,
-        out_i: &mut [[f64; N]],
-        out_j: &mut [[f64; N]],
-    ) {
-        self.inner.jacobian::<N, F>(x, t, out_i, out_j)
-    }
-    fn gamma_sharp<const N: usize, F: Form<N>>(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
-        self.inner.gamma_sharp::<N, F>(x, t, out)
-    }
-}
+forward_constraint_to_field!(P1Select, inner, "p1_select");

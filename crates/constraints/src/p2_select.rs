@@ -6,11 +6,8 @@
 //! with the row k = argmax |s'_i[k]| dropped, fixed at construction (no chatter, always rank 2).
 //! Evaluation is that of [`crate::P2Perp`] with f' = u'_a, g' = u'_b.
 
-use crate::constraint::Constraint;
-use crate::jet::Form;
 use crate::p1_select::select_rows;
 use crate::p2_perp::P2Perp;
-use crate::state::{BodyPair, Footprint};
 use nalgebra::Vector3;
 
 /// Two selected rows of s̃'_i A_iᵀ d = 0.
@@ -41,29 +38,4 @@ impl P2Select {
     }
 }
 
-impl Constraint for P2Select {
-    fn name(&self) -> &'static str {
-        "p2_select"
-    }
-    fn rows(&self) -> usize {
-        2
-    }
-    fn footprint(&self) -> Footprint {
-        self.inner.footprint()
-    }
-    fn phi(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
-        self.inner.phi(x, t, out)
-    }
-    fn jacobian<const N: usize, F: Form<N>>(
-        &self,
-        x: &BodyPair,
-        t: f64,
-        out_i: &mut [[f64; N]],
-        out_j: &mut [[f64; N]],
-    ) {
-        self.inner.jacobian::<N, F>(x, t, out_i, out_j)
-    }
-    fn gamma_sharp<const N: usize, F: Form<N>>(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
-        self.inner.gamma_sharp::<N, F>(x, t, out)
-    }
-}
+forward_constraint_to_field!(P2Select, inner, "p2_select");

@@ -1,8 +1,5 @@
 //! [`Primitive`]: the closed set of primitive equations (static dispatch, no `dyn` in hot loops).
 
-use crate::constraint::Constraint;
-use crate::jet::Form;
-use crate::state::{BodyPair, Footprint};
 use crate::{
     Distance, Normalization, P1Perp, P1Select, P2Perp, P2Select, Spherical, N1, N2, P1, P2,
 };
@@ -53,35 +50,7 @@ macro_rules! dispatch {
     };
 }
 
-impl Constraint for Primitive {
-    fn name(&self) -> &'static str {
-        dispatch!(self, c => c.name())
-    }
-    fn rows(&self) -> usize {
-        dispatch!(self, c => c.rows())
-    }
-    fn footprint(&self) -> Footprint {
-        dispatch!(self, c => c.footprint())
-    }
-    fn phi(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
-        dispatch!(self, c => c.phi(x, t, out))
-    }
-    fn jacobian<const N: usize, F: Form<N>>(
-        &self,
-        x: &BodyPair,
-        t: f64,
-        out_i: &mut [[f64; N]],
-        out_j: &mut [[f64; N]],
-    ) {
-        dispatch!(self, c => c.jacobian::<N, F>(x, t, out_i, out_j))
-    }
-    fn nu(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
-        dispatch!(self, c => c.nu(x, t, out))
-    }
-    fn gamma_sharp<const N: usize, F: Form<N>>(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
-        dispatch!(self, c => c.gamma_sharp::<N, F>(x, t, out))
-    }
-}
+forward_constraint_by_match!(Primitive, dispatch);
 
 macro_rules! from_variant {
     ($($v:ident),*) => {$(

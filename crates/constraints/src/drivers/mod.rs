@@ -22,9 +22,6 @@ pub use distance::DistanceDriver;
 pub use rotation::RotationDriver;
 pub use translation::TranslationDriver;
 
-use crate::constraint::Constraint;
-use crate::jet::Form;
-use crate::state::{BodyPair, Footprint};
 use crate::time_function::TimeFunction;
 
 /// One driver (static dispatch).
@@ -58,35 +55,7 @@ impl Driver {
     }
 }
 
-impl Constraint for Driver {
-    fn name(&self) -> &'static str {
-        dispatch!(self, c => c.name())
-    }
-    fn rows(&self) -> usize {
-        1
-    }
-    fn footprint(&self) -> Footprint {
-        dispatch!(self, c => c.footprint())
-    }
-    fn phi(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
-        dispatch!(self, c => c.phi(x, t, out))
-    }
-    fn jacobian<const N: usize, F: Form<N>>(
-        &self,
-        x: &BodyPair,
-        t: f64,
-        out_i: &mut [[f64; N]],
-        out_j: &mut [[f64; N]],
-    ) {
-        dispatch!(self, c => c.jacobian::<N, F>(x, t, out_i, out_j))
-    }
-    fn nu(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
-        dispatch!(self, c => c.nu(x, t, out))
-    }
-    fn gamma_sharp<const N: usize, F: Form<N>>(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
-        dispatch!(self, c => c.gamma_sharp::<N, F>(x, t, out))
-    }
-}
+forward_constraint_by_match!(Driver, dispatch);
 
 macro_rules! from_variant {
     ($($v:ident => $t:ident),*) => {$(
