@@ -75,6 +75,38 @@ impl SparseLu {
         self
     }
 
+    /// Sizes the factor storage at analysis: faer's simplicial LU grows its `L`/`U` vectors when a
+    /// factorization produces more fill than every earlier one, which depends on the pivot
+    /// sequence. Factoring a few matrices with the pattern and random values (pivots all over the
+    /// place, hence more fill than a mechanism's usual near-diagonal pivoting) leaves enough
+    /// capacity, with the amortized doubling of `Vec`, that later factorizations do not allocate
+    /// in practice. Errors here are ignored (a structurally singular pattern fails later, with
+    /// the real values).
+    fn presize_factor_storage(&mut self) {
+        let (Some(pattern), Some(symbolic)) = (self.pattern.as_ref(), self.symbolic.as_ref())
+        else {
+            return;
+        };
+        let mut state = 0x9E37_79B9_7F4A_7C15u64;
+        for _ in 0..3 {
+            for v in self.values.iter_mut() {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                *v = (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+            }
+            let a = SparseColMatRef::new(pattern.symbolic(), &self.values);
+            let _ = simplicial::factorize_simplicial_numeric_lu(
+                &mut self.row_perm,
+                &mut self.row_perm_inv,
+                &mut self.lu,
+                a,
+                symbolic.col_perm(),
+                self.mem.stack(),
+            );
+        }
+    }
+
     /// Number of stored entries in `L + U` after the last factorization (fill measure).
     pub fn factor_nnz(&self) -> usize {
         if self.factored {
@@ -111,6 +143,7 @@ impl LinearSolver for SparseLu {
         self.lu = simplicial::SimplicialLu::new();
         self.pattern = Some(pattern.clone());
         self.factored = false;
+        self.presize_factor_storage();
         Ok(())
     }
 

@@ -143,7 +143,8 @@ pub fn z_rotation(theta: f64) -> [f64; 4] {
 /// Ground pivots A = (0,0,0), D = (ground, 0, 0); crank (body 0) A→B, coupler (body 1) B→C,
 /// rocker (body 2) C→D. Each body frame has its origin at its first joint and x along the link.
 /// Four revolute joints (spherical + two n1 rows each, axes z), three normalization rows and a
-/// crank-angle driver e3 − sin(θ/2) = 0: 24 equations in 21 unknowns, rank 21, 3 redundant.
+/// crank-angle driver (A₀ x̂)·(−sin θ, cos θ, 0) = 0: 24 equations in 21 unknowns, rank 21,
+/// 3 redundant. Driver: ν = θ̇, and Φ_qt q̇ = Φ_tt = 0 on the solution, so γ# = −(Φ_q q̇)_q q̇.
 pub struct FourBar {
     pub scale: f64,
     pub lengths: [f64; 4], // ground, crank, coupler, rocker (before scale)
@@ -194,7 +195,9 @@ impl FourBar {
                 e.push((20 + b, 7 * b + c));
             }
         }
-        e.push((23, 6));
+        for c in 3..7 {
+            e.push((23, c));
+        }
         e
     }
 
@@ -265,7 +268,8 @@ impl NonlinearSystem for FourBar {
             let p = &q[7 * b + 3..7 * b + 7];
             out[20 + b] = p.iter().map(|v| v * v).sum::<f64>() - 1.0;
         }
-        out[23] = q[6] - (self.theta / 2.0).sin();
+        let x0 = rot(&q[3..7], [1.0, 0.0, 0.0]);
+        out[23] = -x0[0] * self.theta.sin() + x0[1] * self.theta.cos();
     }
     fn jacobian(&mut self, q: &[f64], slots: &mut [f64]) {
         let mut s = 0;
@@ -314,7 +318,10 @@ impl NonlinearSystem for FourBar {
                 push(2.0 * q[7 * b + 3 + c]);
             }
         }
-        push(1.0);
+        let d = d_rot(&q[3..7], [1.0, 0.0, 0.0]);
+        for c in 0..4 {
+            push(-d[0][c] * self.theta.sin() + d[1][c] * self.theta.cos());
+        }
     }
     fn equation_scales(&self, out: &mut [f64]) {
         out.fill(1.0);
