@@ -266,7 +266,7 @@ pub const DEFAULT_PIVOT_TOLERANCE: f64 = 1e-12;
 
 /// Largest `m · n` for which a failed LU runs a dense rank analysis to name the dependent
 /// equations (beyond it the error lists the rows whose pivots vanished).
-pub(crate) const DIAGNOSE_MAX_ENTRIES: usize = 4_000_000;
+pub(crate) const DIAGNOSE_MAX_ENTRIES: usize = 1_000_000;
 
 /// Builds the `Singular` error for an LU failure: a dense rank analysis when the matrix is
 /// small enough, else the given pivot rows. Runs only on the error path (it allocates).

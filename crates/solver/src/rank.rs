@@ -58,9 +58,11 @@ pub struct RankOptions {
     /// singular positions.
     pub relative_tolerance: f64,
     /// Scale each column (unknown) by a power of two so that its largest entry is about 1 before
-    /// the rows are normalized. Default true: the rank decision and the minimum-norm step then do
-    /// not depend on the units of the unknowns (the norm minimized is `‖D_c⁻¹ x‖`). Set false
-    /// for the plain Euclidean minimum norm.
+    /// the rows are normalized. `RankOptions::default()` has it on: the rank decision then does
+    /// not depend on the units of the unknowns. [`MinNormQr::new`] turns it off, because it also
+    /// changes the norm that the minimum-norm solution minimizes (to `‖D_c⁻¹ x‖`, a metric that
+    /// depends on the Jacobian's values); [`Newton`](crate::Newton) instead hands the solver
+    /// unknowns already divided by the caller's unknown scales, so the step minimizes `‖U⁻¹ Δq‖`.
     pub equilibrate_columns: bool,
     /// Pivot preference: among the remaining rows whose part orthogonal to the rows already
     /// chosen is at least this fraction of the largest, the lowest-numbered is chosen. Default
@@ -445,9 +447,13 @@ impl Default for MinNormQr {
 }
 
 impl MinNormQr {
-    /// A solver with default [`RankOptions`].
+    /// A solver with default [`RankOptions`] except `equilibrate_columns = false`: the minimum
+    /// norm is the Euclidean norm of the unknowns as given.
     pub fn new() -> Self {
-        Self::with_options(RankOptions::default())
+        Self::with_options(RankOptions {
+            equilibrate_columns: false,
+            ..RankOptions::default()
+        })
     }
 
     /// A solver with the given rank tolerance.

@@ -171,12 +171,10 @@ impl LinearSolver for SparseLu {
         );
         match result {
             Ok(()) => {}
-            Err(LuError::SymbolicSingular { index }) => {
-                return Err(singular_error(
-                    pattern,
-                    slots,
-                    &[index.min(pattern.nrows() - 1)],
-                ));
+            Err(LuError::SymbolicSingular { .. }) => {
+                // A column with no pivot candidate: structurally singular. The dense analysis
+                // names the equations when the matrix is small enough.
+                return Err(singular_error(pattern, slots, &[]));
             }
             Err(e) => return Err(SolverError::Backend(format!("numeric LU: {e:?}"))),
         }

@@ -361,6 +361,41 @@ fn qm_at(at: &dyn Fn(f64) -> Vec<f64>, t: f64, h: f64, i: usize) -> f64 {
     at(t - h)[i]
 }
 
+/// One equation in two unknowns, x² + y² = 1 (assembly of an under-driven system).
+struct Circle;
+impl NonlinearSystem for Circle {
+    fn num_equations(&self) -> usize {
+        1
+    }
+    fn num_unknowns(&self) -> usize {
+        2
+    }
+    fn residual(&mut self, x: &[f64], out: &mut [f64]) {
+        out[0] = x[0] * x[0] + x[1] * x[1] - 1.0;
+    }
+    fn jacobian(&mut self, x: &[f64], s: &mut [f64]) {
+        s.copy_from_slice(&[2.0 * x[0], 2.0 * x[1]]);
+    }
+}
+
+#[test]
+fn underdetermined_assembly_takes_minimum_norm_steps() {
+    // From (2, 1) the minimum-norm steps go along the gradient: the point moves radially onto
+    // the circle, to (2, 1)/√5, the closest point.
+    let p = SparsityPattern::dense(1, 2);
+    let mut newton = Newton::new(&p, AutoSolver::default(), NewtonOptions::default()).unwrap();
+    assert_eq!(newton.linear_solver().kind(), Some(SolverKind::MinNorm));
+    let mut x = [2.0, 1.0];
+    let report = newton.solve(&mut Circle, &mut x).unwrap();
+    let s5 = 5f64.sqrt();
+    assert!(
+        (x[0] - 2.0 / s5).abs() < 1e-10 && (x[1] - 1.0 / s5).abs() < 1e-10,
+        "{x:?}"
+    );
+    assert_eq!(report.rank, Some(1));
+    assert_eq!(report.redundant_equations, 0);
+}
+
 /// Broyden's tridiagonal function, n = 3000 (sparse path): (3 − 2xᵢ)xᵢ − xᵢ₋₁ − 2xᵢ₊₁ + 1 = 0.
 struct Broyden(usize);
 impl NonlinearSystem for Broyden {
