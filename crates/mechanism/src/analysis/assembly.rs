@@ -1,0 +1,241 @@
+//! Assembly: consistent poses from a rough initial guess.
+//!
+//! The constraint equations (joints, and the drivers at `t` unless excluded) are solved by
+//! Newton-Raphson with the minimum-norm step of a rank-revealing QR ([`cardan_solver::MinNormQr`]):
+//! with fewer independent equations than unknowns (a mechanism with free degrees of freedom), each
+//! step is the smallest correction (in the scaled norm ‖Δr‖/L, ‖Δπ'‖) that satisfies the
+//! linearized equations, so the bodies move as little as possible and the free coordinates keep
+//! their guessed values as far as the constraints allow. Redundant equations are handled the
+//! same way. A cap on the scaled step (default 0.5: half the model size, or about 30°) and the
+//! backtracking line search keep the iteration on the branch of the guess.
+
+use crate::error::{AnalysisError, OpenElement};
+use crate::model::Model;
+use crate::workspace::{apply_rotation_step, set_poses, Workspace};
+use cardan_constraints::BodyState;
+use cardan_solver::{
+    LineSearch, MinNormQr, Newton, NewtonOptions, NonlinearSystem, SolverError, SparsityPattern,
+    Tolerances,
+};
+
+/// Options of [`Model::assemble`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AssemblyOptions {
+    /// Time at which the drivers are evaluated.
+    pub t: f64,
+    /// Include the drivers (default true): the assembled pose then also satisfies them at `t`.
+    pub include_drivers: bool,
+    /// Iteration cap (default 50).
+    pub max_iterations: usize,
+    /// Scaled convergence tolerances (default residual 1e-10, step 1e-6).
+    pub tolerances: Tolerances,
+    /// Cap on the scaled step per iteration (default 0.5).
+    pub max_step: Option<f64>,
+}
+
+impl Default for AssemblyOptions {
+    fn default() -> Self {
+        Self {
+            t: 0.0,
+            include_drivers: true,
+            max_iterations: 50,
+            tolerances: Tolerances::default(),
+            max_step: Some(0.5),
+        }
+    }
+}
+
+impl AssemblyOptions {
+    /// Defaults, with the drivers evaluated at `t`.
+    pub fn at(t: f64) -> Self {
+        Self {
+            t,
+            ..Self::default()
+        }
+    }
+}
+
+/// Outcome of a successful assembly.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AssemblyReport {
+    /// Newton iterations.
+    pub iterations: usize,
+    /// Final scaled residual max |Φ_i| / e_i.
+    pub residual: f64,
+    /// Largest displacement of a body reference point from the guess (m).
+    pub max_translation: f64,
+    /// Largest rotation of a body from the guess (rad).
+    pub max_rotation: f64,
+    /// Rank of the last Jacobian (equations included).
+    pub rank: Option<usize>,
+}
+
+/// The equations of the first `m` rows (joints, or joints + drivers).
+struct AssemblySystem<'a> {
+    model: &'a Model,
+    bodies: &'a mut [BodyState],
+    t: f64,
+    m: usize,
+    phi: Vec<f64>,
+    slots: Vec<f64>,
+}
+
+impl NonlinearSystem for AssemblySystem<'_> {
+    fn num_equations(&self) -> usize {
+        self.m
+    }
+    fn num_unknowns(&self) -> usize {
+        self.model.num_unknowns()
+    }
+    fn state_len(&self) -> usize {
+        7 * self.model.num_bodies()
+    }
+    fn residual(&mut self, x: &[f64], out: &mut [f64]) {
+        set_poses(self.bodies, x);
+        self.model.phi_into(self.bodies, self.t, &mut self.phi);
+        out.copy_from_slice(&self.phi[..self.m]);
+    }
+    fn jacobian(&mut self, x: &[f64], slots: &mut [f64]) {
+        set_poses(self.bodies, x);
+        self.model
+            .jacobian_into(self.bodies, self.t, &mut self.slots);
+        let k = slots.len();
+        slots.copy_from_slice(&self.slots[..k]);
+    }
+    fn apply_step(&mut self, x: &mut [f64], dx: &[f64]) {
+        apply_rotation_step(x, dx);
+    }
+    fn equation_scales(&self, out: &mut [f64]) {
+        out.copy_from_slice(&self.model.equation_scales()[..self.m]);
+    }
+    fn unknown_scales(&self, out: &mut [f64]) {
+        out.copy_from_slice(self.model.unknown_scales());
+    }
+}
+
+impl Model {
+    /// Moves the bodies of `ws` as little as possible onto the constraint manifold (see the
+    /// module docs). On success the workspace holds the assembled poses at time `options.t`, at
+    /// rest; on failure it holds the last iterate.
+    ///
+    /// # Errors
+    /// [`AnalysisError::AssemblyFailed`] naming the joints and drivers that stay open, with their
+    /// residual norms.
+    pub fn assemble(
+        &self,
+        ws: &mut Workspace,
+        options: &AssemblyOptions,
+    ) -> Result<AssemblyReport, AnalysisError> {
+        let m = if options.include_drivers {
+            self.num_equations()
+        } else {
+            self.num_joint_equations()
+        };
+        let n = self.num_unknowns();
+        // Rows are laid out element by element, so the first m rows own the first k slots.
+        let k = self.pattern.entries().take_while(|&(r, _)| r < m).count();
+        let entries: Vec<(usize, usize)> = self.pattern.entries().take(k).collect();
+        let pattern =
+            SparsityPattern::new(m, n, &entries).map_err(|e| crate::dof::solver(options.t, e))?;
+        let nopts = NewtonOptions {
+            tolerances: options.tolerances,
+            max_iterations: options.max_iterations,
+            line_search: LineSearch::Backtracking {
+                max_halvings: 12,
+                sufficient_decrease: 1e-4,
+            },
+            max_step: options.max_step,
+            factor_at_solution: false,
+            ..NewtonOptions::default()
+        };
+        let guess = ws.x.clone();
+        ws.t = options.t;
+        ws.v.fill(0.0);
+        ws.vdot.fill(0.0);
+        ws.invalidate();
+        let result = if m == 0 {
+            Ok(None)
+        } else {
+            let mut newton = Newton::new(&pattern, MinNormQr::new(), nopts)
+                .map_err(|e| crate::dof::solver(options.t, e))?;
+            let mut sys = AssemblySystem {
+                model: self,
+                bodies: &mut ws.bodies,
+                t: options.t,
+                m,
+                phi: vec![0.0; self.num_equations()],
+                slots: vec![0.0; self.pattern.num_slots()],
+            };
+            let r = newton.solve(&mut sys, &mut ws.x);
+            r.map(|rep| Some((rep, newton.linear_solver().analysis().map(|a| a.rank()))))
+        };
+        ws.sync_poses();
+        match result {
+            Ok(rep) => {
+                let (mut dt, mut dr) = (0.0f64, 0.0f64);
+                for b in 0..self.num_bodies() {
+                    let (g, x) = (&guess[7 * b..7 * b + 7], &ws.x[7 * b..7 * b + 7]);
+                    let d = ((x[0] - g[0]).powi(2) + (x[1] - g[1]).powi(2) + (x[2] - g[2]).powi(2))
+                        .sqrt();
+                    dt = dt.max(d);
+                    let dot: f64 = (3..7).map(|c| x[c] * g[c]).sum();
+                    dr = dr.max(2.0 * dot.abs().min(1.0).acos());
+                }
+                Ok(AssemblyReport {
+                    iterations: rep.map_or(0, |r| r.0.iterations),
+                    residual: rep.map_or(0.0, |r| r.0.residual_norm),
+                    max_translation: dt,
+                    max_rotation: dr,
+                    rank: rep.and_then(|r| r.1),
+                })
+            }
+            Err(e) => {
+                let iterations = match &e {
+                    SolverError::NotConverged { iterations, .. } => *iterations,
+                    _ => 0,
+                };
+                Err(AnalysisError::AssemblyFailed {
+                    open: self.open_elements(ws, m, options.tolerances.residual.max(1e-8)),
+                    iterations,
+                })
+            }
+        }
+    }
+
+    /// The elements among the first `m` rows whose scaled residual exceeds `tol`, largest first.
+    pub(crate) fn open_elements(&self, ws: &mut Workspace, m: usize, tol: f64) -> Vec<OpenElement> {
+        self.phi_into(&ws.bodies, ws.t, &mut ws.phi);
+        let mut open = Vec::new();
+        let mut check = |name: &str, rows: &std::ops::Range<usize>| {
+            if rows.start >= m {
+                return;
+            }
+            let scaled = rows
+                .clone()
+                .map(|r| (ws.phi[r] / self.equation_scales[r]).abs())
+                .fold(0.0, f64::max);
+            if scaled > tol || scaled.is_nan() {
+                let norm = rows
+                    .clone()
+                    .map(|r| ws.phi[r] * ws.phi[r])
+                    .sum::<f64>()
+                    .sqrt();
+                open.push((
+                    scaled,
+                    OpenElement {
+                        element: name.to_string(),
+                        residual: norm,
+                    },
+                ));
+            }
+        };
+        for j in &self.joints {
+            check(&j.name, &j.rows);
+        }
+        for d in &self.drivers {
+            check(&d.name, &d.rows);
+        }
+        open.sort_by(|a, b| b.0.total_cmp(&a.0));
+        open.into_iter().map(|(_, e)| e).collect()
+    }
+}

@@ -1,0 +1,14 @@
+//! Analyses on a [`crate::Model`] and its [`crate::Workspace`]: assembly, position, velocity and
+//! acceleration at one time, and runs over a time grid.
+//!
+//! - [`assembly`]: consistent initial poses from a rough guess (minimum-norm Newton).
+//! - [`position`]: the square kinematic Newton (redundant rows dropped once) at one time.
+//! - [`velocity`]: Φ_v v = ν with the position factorization.
+//! - [`acceleration`]: Φ_v v̇ = γ#_v with the same factorization.
+//! - [`grid`]: the three over a time grid, with a predicted Newton start, into [`crate::Results`].
+
+pub mod acceleration;
+pub mod assembly;
+pub mod grid;
+pub mod position;
+pub mod velocity;

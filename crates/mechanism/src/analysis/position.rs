@@ -1,0 +1,166 @@
+//! Position analysis at one time: Φ(q, t) = 0 for a kinematically driven mechanism.
+//!
+//! [`Model::prepare_kinematics`] runs once, at an assembled configuration: it counts the degrees
+//! of freedom, checks that the drivers use them up exactly, finds the redundant equations with a
+//! rank analysis of the full Jacobian (joints then drivers) and builds a square Newton solver on
+//! the independent rows ([`cardan_solver::Newton::with_row_selection`], [`cardan_solver::AutoSolver`]:
+//! dense LU for small models, sparse LU for large). Convergence is still judged on all equations.
+//! [`Model::position`] then solves
+//!
+//! ```text
+//! Φ_v(x_k) [Δr; Δπ'] = −Φ(x_k, t),   r ← r + Δr,   p ← normalize(p ⊗ exp(Δπ'/2))
+//! ```
+//!
+//! starting from the poses in the workspace.
+
+use crate::dof::{solver, DofReport};
+use crate::error::{AnalysisError, EquationName};
+use crate::model::Model;
+use crate::workspace::{PositionSystem, Workspace};
+use cardan_solver::{
+    AutoSolver, LineSearch, Newton, NewtonOptions, RankAnalysis, RankOptions, SolverError,
+};
+
+/// Outcome of one position solve.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PositionReport {
+    /// Newton iterations.
+    pub iterations: usize,
+    /// Max |Φ_i| over all equations at the solution (unscaled).
+    pub residual: f64,
+}
+
+impl Model {
+    /// Checks the drivers against the degrees of freedom at the workspace's (assembled) poses
+    /// and prepares the square kinematic solver (redundant rows dropped once). Allocates.
+    ///
+    /// # Errors
+    /// [`AnalysisError::DriverCount`] when the number of drivers differs from the degrees of
+    /// freedom; [`AnalysisError::DependentDrivers`] when drivers do not control the free motion.
+    pub fn prepare_kinematics(&self, ws: &mut Workspace) -> Result<DofReport, AnalysisError> {
+        self.prepare_kinematics_with(ws, Self::kinematic_newton_options())
+    }
+
+    /// The default Newton options of the kinematic solver: full Newton, no line search (the start
+    /// is predicted from the previous steps, and the solver's Armijo test rejects steps once the
+    /// residual is at round-off level), default scaled tolerances.
+    pub fn kinematic_newton_options() -> NewtonOptions {
+        NewtonOptions {
+            line_search: LineSearch::None,
+            ..NewtonOptions::default()
+        }
+    }
+
+    /// [`prepare_kinematics`](Self::prepare_kinematics) with Newton options of your choice.
+    ///
+    /// # Errors
+    /// As [`prepare_kinematics`](Self::prepare_kinematics).
+    pub fn prepare_kinematics_with(
+        &self,
+        ws: &mut Workspace,
+        options: NewtonOptions,
+    ) -> Result<DofReport, AnalysisError> {
+        let report = self.dof(ws)?;
+        if report.dof != report.drivers {
+            return Err(AnalysisError::DriverCount {
+                dof: report.dof,
+                drivers: report.drivers,
+            });
+        }
+        let mut slots = vec![0.0; self.pattern.num_slots()];
+        self.jacobian_into(&ws.bodies, ws.t, &mut slots);
+        let ra = RankAnalysis::compute(&self.pattern, &slots, RankOptions::default())
+            .map_err(|e| solver(ws.t, e))?;
+        if ra.rank() < self.num_unknowns() {
+            let dependent = ra
+                .dependent_rows()
+                .iter()
+                .filter(|&&r| r >= self.joint_rows)
+                .filter_map(|&r| self.equation(r))
+                .collect();
+            return Err(AnalysisError::DependentDrivers { dependent });
+        }
+        let selection = self
+            .pattern
+            .select_rows(ra.independent_rows())
+            .map_err(|e| solver(ws.t, e))?;
+        let newton =
+            Newton::with_row_selection(&self.pattern, selection, AutoSolver::default(), options)
+                .map_err(|e| solver(ws.t, e))?;
+        ws.kin = Some(newton);
+        ws.dof = Some(report.clone());
+        ws.invalidate();
+        Ok(report)
+    }
+
+    /// Solves the position equations at time `t`, starting from the workspace's poses (prepares
+    /// the kinematic solver first if needed). No allocation after preparation (on success).
+    ///
+    /// # Errors
+    /// [`AnalysisError::Singular`] (dependent equations named), [`AnalysisError::NotConverged`]
+    /// (worst equations named), and the errors of [`prepare_kinematics`](Self::prepare_kinematics).
+    pub fn position(&self, ws: &mut Workspace, t: f64) -> Result<PositionReport, AnalysisError> {
+        if ws.kin.is_none() {
+            self.prepare_kinematics(ws)?;
+        }
+        ws.velocity_valid = false;
+        ws.acceleration_valid = false;
+        let newton = ws.kin.as_mut().expect("prepared above");
+        let mut sys = PositionSystem {
+            model: self,
+            bodies: &mut ws.bodies,
+            t,
+        };
+        let result = newton.solve(&mut sys, &mut ws.x);
+        ws.t = t;
+        ws.v.fill(0.0);
+        ws.vdot.fill(0.0);
+        ws.sync_poses();
+        match result {
+            Ok(rep) => {
+                self.phi_into(&ws.bodies, t, &mut ws.phi);
+                let residual = ws.phi.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+                Ok(PositionReport {
+                    iterations: rep.iterations,
+                    residual,
+                })
+            }
+            Err(e) => Err(self.map_solver_error(t, e)),
+        }
+    }
+
+    /// Turns a solver error into an analysis error naming the equations.
+    pub(crate) fn map_solver_error(&self, time: f64, e: SolverError) -> AnalysisError {
+        match e {
+            SolverError::Singular {
+                dependent_equations,
+            } => AnalysisError::Singular {
+                time,
+                dependent: self.names(&dependent_equations),
+                partial: None,
+            },
+            SolverError::NotConverged {
+                iterations,
+                worst_equations,
+                ..
+            } => AnalysisError::NotConverged {
+                time,
+                iterations,
+                worst: worst_equations
+                    .iter()
+                    .filter_map(|&(r, v)| self.equation(r).map(|n| (n, v)))
+                    .collect(),
+                partial: None,
+            },
+            source => AnalysisError::Solver {
+                time,
+                source,
+                partial: None,
+            },
+        }
+    }
+
+    fn names(&self, rows: &[usize]) -> Vec<EquationName> {
+        rows.iter().filter_map(|&r| self.equation(r)).collect()
+    }
+}

@@ -1,0 +1,41 @@
+//! Velocity analysis: Φ_v v = ν with v = [ṙ; ω'] per body, ν = −Φ_t (nonzero only for drivers).
+//!
+//! The matrix is the one of the converged position iteration, factored at the solution, so the
+//! velocity costs one right-hand side and one triangular solve pair.
+
+use crate::error::AnalysisError;
+use crate::model::Model;
+use crate::workspace::{PositionSystem, Workspace};
+
+impl Model {
+    /// Solves for the velocities at the workspace's poses and time (after [`Model::position`]).
+    /// Evaluates ν only. No allocation.
+    ///
+    /// # Errors
+    /// [`AnalysisError::Singular`] if the Jacobian must be refactored and is singular.
+    pub fn velocity(&self, ws: &mut Workspace) -> Result<(), AnalysisError> {
+        if ws.kin.is_none() {
+            self.prepare_kinematics(ws)?;
+        }
+        let t = ws.t;
+        let newton = ws.kin.as_mut().expect("prepared above");
+        if !newton.factorization_is_current() {
+            let mut sys = PositionSystem {
+                model: self,
+                bodies: &mut ws.bodies,
+                t,
+            };
+            newton
+                .factor_at(&mut sys, &ws.x)
+                .map_err(|e| self.map_solver_error(t, e))?;
+        }
+        self.nu_into(&ws.bodies, t, &mut ws.rhs);
+        newton
+            .solve_linear(&ws.rhs, &mut ws.v)
+            .map_err(|e| self.map_solver_error(t, e))?;
+        ws.sync_poses();
+        ws.velocity_valid = true;
+        ws.acceleration_valid = false;
+        Ok(())
+    }
+}

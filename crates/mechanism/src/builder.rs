@@ -1,0 +1,419 @@
+//! The builder: bodies, named points and vectors, joints and drivers, validated by
+//! [`MechanismBuilder::build`] into an immutable [`Model`].
+//!
+//! Everything is referred to by name. A body's points and vectors are named per body
+//! (`"crank"`, `"B"`), so a model file can say "a revolute joint between ground point `A` about
+//! ground vector `x` and crank point `A` about crank vector `x`":
+//!
+//! ```
+//! use cardan_mechanism::{Body, JointSpec, MechanismBuilder, GROUND};
+//! use cardan_constraints::JointKind;
+//! use nalgebra::Vector3;
+//! let mut b = MechanismBuilder::new();
+//! b.body(Body::new("crank").position(Vector3::new(0.0, 0.1, 0.16)));
+//! b.point(GROUND, "A", Vector3::new(0.0, 0.1, 0.12));
+//! b.vector(GROUND, "x", Vector3::x());
+//! b.point("crank", "A", Vector3::new(0.0, 0.0, -0.04));
+//! b.vector("crank", "x", Vector3::x());
+//! b.joint(JointSpec::new("A", JointKind::Revolute, (GROUND, "A"), ("crank", "A")).axes("x", "x"));
+//! let model = b.build().unwrap();
+//! assert_eq!(model.num_bodies(), 1);
+//! ```
+//!
+//! The ground body [`GROUND`] exists from the start; its points and vectors are global. It has no
+//! unknowns: its coordinates are eliminated, not constrained.
+
+use crate::error::ModelError;
+use crate::model::Model;
+use cardan_constraints::{JointKind, TimeFunction};
+use nalgebra::{Matrix3, Vector3};
+
+/// The name of the built-in ground body.
+pub const GROUND: &str = "ground";
+
+/// The initial orientation of a body (body frame → global), in any of the usual forms.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub enum Orientation {
+    /// Body axes along the global axes.
+    #[default]
+    Identity,
+    /// Euler parameters [e0, e1, e2, e3] (normalized by the builder; must not be zero).
+    EulerParams([f64; 4]),
+    /// A rotation by `angle` (rad) about `axis` (global, any nonzero length).
+    AxisAngle {
+        /// Rotation axis.
+        axis: Vector3<f64>,
+        /// Angle in rad.
+        angle: f64,
+    },
+    /// Euler angles 3-1-3 (φ, θ, ψ) in rad.
+    Euler313([f64; 3]),
+    /// Bryant angles 1-2-3 (φ, θ, ψ) in rad.
+    Euler123([f64; 3]),
+    /// The body z axis along `z` (global) and, if given, the body x axis along the part of `x`
+    /// perpendicular to z (else a fixed perpendicular is chosen).
+    Axes {
+        /// Global direction of the body z axis.
+        z: Vector3<f64>,
+        /// Global direction hint for the body x axis.
+        x: Option<Vector3<f64>>,
+    },
+}
+
+/// A moving body: name, inertia data and a (rough) initial pose.
+///
+/// Mass and inertia are optional for kinematics (not used); a dynamic analysis requires them.
+/// The inertia tensor is about the centre of mass in body components; the body reference point
+/// is the centre of mass.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Body {
+    /// Unique name (not `"ground"`).
+    pub name: String,
+    /// Mass in kg (> 0 when given).
+    pub mass: Option<f64>,
+    /// Inertia tensor about the centre of mass, body frame (symmetric positive definite).
+    pub inertia: Option<Matrix3<f64>>,
+    /// Initial position of the body reference point, global.
+    pub position: Vector3<f64>,
+    /// Initial orientation.
+    pub orientation: Orientation,
+}
+
+impl Body {
+    /// A body at the origin with identity orientation and no inertia data.
+    pub fn new(name: impl Into<String>) -> Self {
+        Self {
+            name: name.into(),
+            mass: None,
+            inertia: None,
+            position: Vector3::zeros(),
+            orientation: Orientation::Identity,
+        }
+    }
+
+    /// Sets the mass (kg).
+    pub fn mass(mut self, mass: f64) -> Self {
+        self.mass = Some(mass);
+        self
+    }
+
+    /// Sets the inertia tensor about the centre of mass (body frame).
+    pub fn inertia(mut self, inertia: Matrix3<f64>) -> Self {
+        self.inertia = Some(inertia);
+        self
+    }
+
+    /// Sets a diagonal inertia tensor diag(ixx, iyy, izz).
+    pub fn inertia_diagonal(self, ixx: f64, iyy: f64, izz: f64) -> Self {
+        self.inertia(Matrix3::from_diagonal(&Vector3::new(ixx, iyy, izz)))
+    }
+
+    /// Sets the initial position (global).
+    pub fn position(mut self, position: Vector3<f64>) -> Self {
+        self.position = position;
+        self
+    }
+
+    /// Sets the initial orientation.
+    pub fn orientation(mut self, orientation: Orientation) -> Self {
+        self.orientation = orientation;
+        self
+    }
+}
+
+/// A joint between a named point of body i and a named point of body j.
+///
+/// Axes are names of vectors on the respective bodies:
+///
+/// | kind | `axis_i`, `axis_j` (marker z) | `x_axis_i`, `x_axis_j` |
+/// |---|---|---|
+/// | spherical | unused | unused (optional: frame of the joint angles) |
+/// | universal | required: the two arms of the cross (perpendicular) | optional |
+/// | revolute, cylindrical, prismatic, fixed | required: the common axis on each body | optional: zero of the angle |
+/// | planar | required: the plane normal on each body | optional |
+/// | spherical-spherical | unused | unused; `length` optional (default: the initial distance) |
+///
+/// Without an x axis the marker's x is a fixed perpendicular to z
+/// ([`cardan_eulerparam::frame_from_axis`]). A rotation or translation driver on the joint and the
+/// joint angle output use the marker x axes, so give them when the angle matters.
+#[derive(Debug, Clone, PartialEq)]
+pub struct JointSpec {
+    /// Unique name among joints and drivers.
+    pub name: String,
+    /// The joint kind.
+    pub kind: JointKind,
+    /// Body i.
+    pub body_i: String,
+    /// Point on body i.
+    pub point_i: String,
+    /// Body j.
+    pub body_j: String,
+    /// Point on body j.
+    pub point_j: String,
+    /// Vector on body i: the joint axis (marker z_i).
+    pub axis_i: Option<String>,
+    /// Vector on body j: the joint axis (marker z_j).
+    pub axis_j: Option<String>,
+    /// Vector on body i: marker x_i (reference for angles).
+    pub x_axis_i: Option<String>,
+    /// Vector on body j: marker x_j.
+    pub x_axis_j: Option<String>,
+    /// Length of a spherical-spherical joint (default: the distance at the initial poses).
+    pub length: Option<f64>,
+}
+
+impl JointSpec {
+    /// A joint `name` of `kind` between `(body_i, point_i)` and `(body_j, point_j)`.
+    pub fn new(
+        name: impl Into<String>,
+        kind: JointKind,
+        (body_i, point_i): (&str, &str),
+        (body_j, point_j): (&str, &str),
+    ) -> Self {
+        Self {
+            name: name.into(),
+            kind,
+            body_i: body_i.into(),
+            point_i: point_i.into(),
+            body_j: body_j.into(),
+            point_j: point_j.into(),
+            axis_i: None,
+            axis_j: None,
+            x_axis_i: None,
+            x_axis_j: None,
+            length: None,
+        }
+    }
+
+    /// Sets the joint axes (vector names on body i and body j).
+    pub fn axes(mut self, axis_i: &str, axis_j: &str) -> Self {
+        self.axis_i = Some(axis_i.into());
+        self.axis_j = Some(axis_j.into());
+        self
+    }
+
+    /// Sets the marker x axes (vector names on body i and body j).
+    pub fn x_axes(mut self, x_axis_i: &str, x_axis_j: &str) -> Self {
+        self.x_axis_i = Some(x_axis_i.into());
+        self.x_axis_j = Some(x_axis_j.into());
+        self
+    }
+
+    /// Sets the length of a spherical-spherical joint.
+    pub fn length(mut self, length: f64) -> Self {
+        self.length = Some(length);
+        self
+    }
+}
+
+/// A global coordinate direction.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Axis {
+    /// x.
+    X,
+    /// y.
+    Y,
+    /// z.
+    Z,
+}
+
+impl Axis {
+    /// 0, 1 or 2.
+    pub fn index(self) -> usize {
+        match self {
+            Axis::X => 0,
+            Axis::Y => 1,
+            Axis::Z => 2,
+        }
+    }
+
+    /// "x", "y" or "z".
+    pub fn name(self) -> &'static str {
+        ["x", "y", "z"][self.index()]
+    }
+}
+
+/// What a driver prescribes.
+#[derive(Debug, Clone, PartialEq)]
+pub enum DriverTarget {
+    /// The angle of a named revolute or cylindrical joint (its markers: angle of x_j from x_i
+    /// about z_i), in rad.
+    JointRotation {
+        /// Name of the joint.
+        joint: String,
+    },
+    /// The slide of a named prismatic or cylindrical joint (z_iᵀ (P_j − P_i)), in m.
+    JointTranslation {
+        /// Name of the joint.
+        joint: String,
+    },
+    /// The distance between two named points, in m.
+    Distance {
+        /// Body of the first point.
+        body_i: String,
+        /// First point.
+        point_i: String,
+        /// Body of the second point.
+        body_j: String,
+        /// Second point.
+        point_j: String,
+    },
+    /// One global coordinate of a named point of a moving body, in m.
+    Coordinate {
+        /// The body (not ground).
+        body: String,
+        /// The point.
+        point: String,
+        /// Which coordinate.
+        axis: Axis,
+    },
+}
+
+/// A driver: a named time law f(t) for a [`DriverTarget`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct DriverSpec {
+    /// Unique name among joints and drivers.
+    pub name: String,
+    /// What is driven.
+    pub target: DriverTarget,
+    /// The prescribed value f(t).
+    pub function: TimeFunction,
+}
+
+impl DriverSpec {
+    /// The angle of joint `joint` follows `function` (rad).
+    pub fn rotation(name: impl Into<String>, joint: &str, function: TimeFunction) -> Self {
+        Self {
+            name: name.into(),
+            target: DriverTarget::JointRotation {
+                joint: joint.into(),
+            },
+            function,
+        }
+    }
+
+    /// The slide of joint `joint` follows `function` (m).
+    pub fn translation(name: impl Into<String>, joint: &str, function: TimeFunction) -> Self {
+        Self {
+            name: name.into(),
+            target: DriverTarget::JointTranslation {
+                joint: joint.into(),
+            },
+            function,
+        }
+    }
+
+    /// The distance between `(body_i, point_i)` and `(body_j, point_j)` follows `function` (m).
+    pub fn distance(
+        name: impl Into<String>,
+        (body_i, point_i): (&str, &str),
+        (body_j, point_j): (&str, &str),
+        function: TimeFunction,
+    ) -> Self {
+        Self {
+            name: name.into(),
+            target: DriverTarget::Distance {
+                body_i: body_i.into(),
+                point_i: point_i.into(),
+                body_j: body_j.into(),
+                point_j: point_j.into(),
+            },
+            function,
+        }
+    }
+
+    /// Global coordinate `axis` of `(body, point)` follows `function` (m).
+    pub fn coordinate(
+        name: impl Into<String>,
+        (body, point): (&str, &str),
+        axis: Axis,
+        function: TimeFunction,
+    ) -> Self {
+        Self {
+            name: name.into(),
+            target: DriverTarget::Coordinate {
+                body: body.into(),
+                point: point.into(),
+                axis,
+            },
+            function,
+        }
+    }
+}
+
+/// A named point or vector declared on a body, in declaration order.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Feature {
+    pub body: String,
+    pub name: String,
+    pub value: Vector3<f64>,
+}
+
+/// Collects the elements of a mechanism; [`build`](Self::build) validates them all.
+///
+/// Methods take `&mut self` and return `&mut Self`, so calls can be chained or issued one by one
+/// (as a model-file reader does). Nothing is checked before `build`; `build` reports the first
+/// problem, naming the element.
+#[derive(Debug, Clone, Default)]
+pub struct MechanismBuilder {
+    pub(crate) bodies: Vec<Body>,
+    pub(crate) points: Vec<Feature>,
+    pub(crate) vectors: Vec<Feature>,
+    pub(crate) joints: Vec<JointSpec>,
+    pub(crate) drivers: Vec<DriverSpec>,
+}
+
+impl MechanismBuilder {
+    /// An empty mechanism (ground only).
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Adds a moving body.
+    pub fn body(&mut self, body: Body) -> &mut Self {
+        self.bodies.push(body);
+        self
+    }
+
+    /// Declares point `name` on `body` at body-frame position `local` (global for ground).
+    pub fn point(&mut self, body: &str, name: &str, local: Vector3<f64>) -> &mut Self {
+        self.points.push(Feature {
+            body: body.into(),
+            name: name.into(),
+            value: local,
+        });
+        self
+    }
+
+    /// Declares vector `name` on `body` with body-frame components `local` (global for ground).
+    /// Only its direction matters; it must not be zero.
+    pub fn vector(&mut self, body: &str, name: &str, local: Vector3<f64>) -> &mut Self {
+        self.vectors.push(Feature {
+            body: body.into(),
+            name: name.into(),
+            value: local,
+        });
+        self
+    }
+
+    /// Adds a joint.
+    pub fn joint(&mut self, joint: JointSpec) -> &mut Self {
+        self.joints.push(joint);
+        self
+    }
+
+    /// Adds a driver.
+    pub fn driver(&mut self, driver: DriverSpec) -> &mut Self {
+        self.drivers.push(driver);
+        self
+    }
+
+    /// Validates everything and builds the immutable [`Model`] (sparsity pattern, row ranges and
+    /// index maps computed here, once).
+    ///
+    /// # Errors
+    /// The first problem found, as a [`ModelError`] naming the element.
+    pub fn build(&self) -> Result<Model, ModelError> {
+        crate::model::build(self)
+    }
+}

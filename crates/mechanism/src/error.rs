@@ -1,0 +1,394 @@
+//! Errors of the mechanism layer: [`ModelError`] (building), [`AnalysisError`] (running).
+//!
+//! Each variant names the element concerned and carries the numbers that explain the problem.
+
+use crate::results::Results;
+use cardan_solver::SolverError;
+use thiserror::Error;
+
+fn fmt_suggestion(s: &Option<String>) -> String {
+    match s {
+        Some(s) => format!(" (did you mean \"{s}\"?)"),
+        None => String::new(),
+    }
+}
+
+/// A mechanism definition that cannot be built.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum ModelError {
+    /// A body name is used twice (or a body is called "ground").
+    #[error("duplicate body name \"{name}\"")]
+    DuplicateBody {
+        /// The name.
+        name: String,
+    },
+    /// A point or vector name is used twice on the same body.
+    #[error("duplicate {what} \"{name}\" on body \"{body}\"")]
+    DuplicateFeature {
+        /// "point" or "vector".
+        what: &'static str,
+        /// The body.
+        body: String,
+        /// The name.
+        name: String,
+    },
+    /// A joint or driver name is used twice (joints and drivers share one namespace).
+    #[error("duplicate joint/driver name \"{name}\"")]
+    DuplicateElement {
+        /// The name.
+        name: String,
+    },
+    /// A name is empty.
+    #[error("{what} has an empty name")]
+    EmptyName {
+        /// What kind of element.
+        what: String,
+    },
+    /// A referenced body does not exist.
+    #[error("{element}: unknown body \"{name}\"{}", fmt_suggestion(.suggestion))]
+    UnknownBody {
+        /// The element that refers to it (e.g. `joint "j2"`, `point "B"`).
+        element: String,
+        /// The missing name.
+        name: String,
+        /// The closest existing name, if any is close.
+        suggestion: Option<String>,
+    },
+    /// A referenced point does not exist on its body.
+    #[error("{element}: unknown point \"{name}\" on body \"{body}\"{}", fmt_suggestion(.suggestion))]
+    UnknownPoint {
+        /// The element that refers to it.
+        element: String,
+        /// The body.
+        body: String,
+        /// The missing name.
+        name: String,
+        /// The closest point name on that body.
+        suggestion: Option<String>,
+    },
+    /// A referenced vector does not exist on its body.
+    #[error("{element}: unknown vector \"{name}\" on body \"{body}\"{}", fmt_suggestion(.suggestion))]
+    UnknownVector {
+        /// The element that refers to it.
+        element: String,
+        /// The body.
+        body: String,
+        /// The missing name.
+        name: String,
+        /// The closest vector name on that body.
+        suggestion: Option<String>,
+    },
+    /// A driver refers to a joint that does not exist.
+    #[error("{element}: unknown joint \"{name}\"{}", fmt_suggestion(.suggestion))]
+    UnknownJoint {
+        /// The driver.
+        element: String,
+        /// The missing name.
+        name: String,
+        /// The closest joint name.
+        suggestion: Option<String>,
+    },
+    /// A number is NaN or infinite.
+    #[error("{element}: {what} is not finite ({value})")]
+    NotFinite {
+        /// The element.
+        element: String,
+        /// Which quantity.
+        what: String,
+        /// The value.
+        value: f64,
+    },
+    /// A number is finite but absurdly large (|x| > limit).
+    #[error("{element}: {what} = {value:e} is absurdly large (limit {limit:e})")]
+    Absurd {
+        /// The element.
+        element: String,
+        /// Which quantity.
+        what: String,
+        /// The value.
+        value: f64,
+        /// The limit.
+        limit: f64,
+    },
+    /// A direction vector has zero length.
+    #[error("vector \"{name}\" on body \"{body}\" has zero length")]
+    ZeroVector {
+        /// The body.
+        body: String,
+        /// The vector.
+        name: String,
+    },
+    /// An orientation cannot be built (zero axis, zero Euler parameters, parallel axes).
+    #[error("body \"{body}\": invalid orientation: {reason}")]
+    BadOrientation {
+        /// The body.
+        body: String,
+        /// Why.
+        reason: String,
+    },
+    /// Mass zero or negative.
+    #[error("body \"{body}\": mass must be positive, got {mass}")]
+    NonPositiveMass {
+        /// The body.
+        body: String,
+        /// The mass.
+        mass: f64,
+    },
+    /// Inertia tensor not symmetric.
+    #[error("body \"{body}\": inertia tensor is not symmetric (relative asymmetry {asymmetry:e})")]
+    InertiaNotSymmetric {
+        /// The body.
+        body: String,
+        /// max |I − Iᵀ| / max |I|.
+        asymmetry: f64,
+    },
+    /// Inertia tensor not positive definite.
+    #[error("body \"{body}\": inertia tensor is not positive definite (smallest eigenvalue {min_eigenvalue:e})")]
+    InertiaNotPositiveDefinite {
+        /// The body.
+        body: String,
+        /// Its smallest eigenvalue.
+        min_eigenvalue: f64,
+    },
+    /// A joint or driver connects a body to itself.
+    #[error("{element}: connects body \"{body}\" to itself")]
+    SelfConnection {
+        /// The element.
+        element: String,
+        /// The body.
+        body: String,
+    },
+    /// A joint or driver acts between ground and ground (constrains nothing).
+    #[error("{element}: both ends are on ground")]
+    GroundToGround {
+        /// The element.
+        element: String,
+    },
+    /// A joint kind needs an axis that was not given.
+    #[error("joint \"{joint}\" ({kind}): {which} is required")]
+    MissingAxis {
+        /// The joint.
+        joint: String,
+        /// Its kind.
+        kind: &'static str,
+        /// "axis_i" or "axis_j".
+        which: &'static str,
+    },
+    /// The two axes of a marker are parallel, or another marker problem.
+    #[error("joint \"{joint}\": invalid marker on body \"{body}\": {reason}")]
+    BadMarker {
+        /// The joint.
+        joint: String,
+        /// The body.
+        body: String,
+        /// Why.
+        reason: String,
+    },
+    /// A length that must be positive is not.
+    #[error("{element}: {what} must be positive, got {value}")]
+    NonPositive {
+        /// The element.
+        element: String,
+        /// Which quantity.
+        what: String,
+        /// The value.
+        value: f64,
+    },
+    /// A driver refers to a joint of a kind it cannot drive.
+    #[error(
+        "driver \"{driver}\": joint \"{joint}\" is {kind}; a {driver_kind} driver needs {expected}"
+    )]
+    WrongJointKind {
+        /// The driver.
+        driver: String,
+        /// The joint.
+        joint: String,
+        /// The joint's kind.
+        kind: &'static str,
+        /// "rotation" or "translation".
+        driver_kind: &'static str,
+        /// What kinds are accepted.
+        expected: &'static str,
+    },
+    /// A time function is malformed.
+    #[error("driver \"{driver}\": {reason}")]
+    BadTimeFunction {
+        /// The driver.
+        driver: String,
+        /// Why.
+        reason: String,
+    },
+    /// The mechanism has no moving body.
+    #[error("the mechanism has no moving body")]
+    NoBodies,
+}
+
+/// A named equation of the mechanism (for redundancy and singularity reports).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct EquationName {
+    /// Global row index.
+    pub row: usize,
+    /// Joint or driver name.
+    pub element: String,
+    /// Joint kind name or driver kind ("revolute", "rotation_driver", ...).
+    pub kind: &'static str,
+    /// Primitive the row belongs to ("spherical", "n1", ...; the driver kind for drivers).
+    pub primitive: &'static str,
+    /// Row within the element.
+    pub local_row: usize,
+}
+
+impl std::fmt::Display for EquationName {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} \"{}\" row {} ({})",
+            self.kind, self.element, self.local_row, self.primitive
+        )
+    }
+}
+
+fn fmt_names(v: &[EquationName]) -> String {
+    if v.is_empty() {
+        return "none identified".into();
+    }
+    v.iter()
+        .map(|e| e.to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// A joint or driver whose equations are not satisfied, with its residual.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OpenElement {
+    /// Joint or driver name.
+    pub element: String,
+    /// Euclidean norm of its residual (units of its equations).
+    pub residual: f64,
+}
+
+fn fmt_open(v: &[OpenElement]) -> String {
+    v.iter()
+        .map(|e| format!("\"{}\" (|Φ| = {:.3e})", e.element, e.residual))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// An analysis that could not be carried out.
+#[derive(Debug, Clone, Error)]
+#[non_exhaustive]
+pub enum AnalysisError {
+    /// The drivers do not use up exactly the degrees of freedom.
+    #[error(
+        "the mechanism has {dof} degrees of freedom but {drivers} drivers: {} {}",
+        (*.dof as i64 - *.drivers as i64).unsigned_abs(),
+        if .dof > .drivers { "missing" } else { "superfluous" }
+    )]
+    DriverCount {
+        /// Degrees of freedom (joints only).
+        dof: usize,
+        /// Number of drivers.
+        drivers: usize,
+    },
+    /// As many drivers as degrees of freedom, but some drivers depend on the joints or on each
+    /// other (they do not control the free motion).
+    #[error("the drivers do not control the mechanism: {} depend on the other equations", fmt_names(.dependent))]
+    DependentDrivers {
+        /// The dependent equations (drivers).
+        dependent: Vec<EquationName>,
+    },
+    /// Assembly did not close the loops.
+    #[error("assembly failed after {iterations} iterations: open {}", fmt_open(.open))]
+    AssemblyFailed {
+        /// Elements whose residual stays above tolerance, largest first.
+        open: Vec<OpenElement>,
+        /// Newton iterations made.
+        iterations: usize,
+    },
+    /// The Jacobian became singular during a run.
+    #[error("singular configuration at t = {time}: dependent equations {}", fmt_names(.dependent))]
+    Singular {
+        /// The time.
+        time: f64,
+        /// The dependent equations.
+        dependent: Vec<EquationName>,
+        /// Results up to (not including) `time`, when the failure happened in a time-grid run.
+        partial: Option<Box<Results>>,
+    },
+    /// Position Newton-Raphson did not converge during a run.
+    #[error("position analysis did not converge at t = {time} after {iterations} iterations: worst equations {}", fmt_worst(.worst))]
+    NotConverged {
+        /// The time.
+        time: f64,
+        /// Iterations.
+        iterations: usize,
+        /// Worst equations and their scaled residuals.
+        worst: Vec<(EquationName, f64)>,
+        /// Results up to (not including) `time`.
+        partial: Option<Box<Results>>,
+    },
+    /// Bad analysis options (time grid, ...).
+    #[error("invalid analysis options: {0}")]
+    Options(String),
+    /// Any other solver failure.
+    #[error("at t = {time}: {source}")]
+    Solver {
+        /// The time.
+        time: f64,
+        /// The solver error.
+        source: SolverError,
+        /// Results up to (not including) `time`.
+        partial: Option<Box<Results>>,
+    },
+}
+
+fn fmt_worst(v: &[(EquationName, f64)]) -> String {
+    v.iter()
+        .map(|(e, r)| format!("{e}: {r:.3e}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+impl AnalysisError {
+    /// The results computed before the failure, if the failure happened during a time-grid run.
+    pub fn partial_results(&self) -> Option<&Results> {
+        match self {
+            AnalysisError::Singular { partial, .. }
+            | AnalysisError::NotConverged { partial, .. }
+            | AnalysisError::Solver { partial, .. } => partial.as_deref(),
+            _ => None,
+        }
+    }
+
+    /// Takes the partial results out of the error.
+    pub fn into_partial_results(self) -> Option<Results> {
+        match self {
+            AnalysisError::Singular { partial, .. }
+            | AnalysisError::NotConverged { partial, .. }
+            | AnalysisError::Solver { partial, .. } => partial.map(|b| *b),
+            _ => None,
+        }
+    }
+
+    pub(crate) fn with_partial(mut self, results: Results) -> Self {
+        match &mut self {
+            AnalysisError::Singular { partial, .. }
+            | AnalysisError::NotConverged { partial, .. }
+            | AnalysisError::Solver { partial, .. } => *partial = Some(Box::new(results)),
+            _ => {}
+        }
+        self
+    }
+}
+
+/// Either kind of error, for callers that build and run in one go.
+#[derive(Debug, Clone, Error)]
+pub enum Error {
+    /// Building failed.
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    /// Running failed.
+    #[error(transparent)]
+    Analysis(#[from] AnalysisError),
+}

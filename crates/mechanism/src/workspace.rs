@@ -1,0 +1,333 @@
+//! The preallocated [`Workspace`]: the mutable state of an analysis (poses, velocities,
+//! accelerations, residual and right-hand-side buffers, the Newton solvers).
+//!
+//! Every buffer is sized when the workspace is made ([`crate::Model::workspace`]) or when the
+//! kinematic solver is prepared ([`crate::Model::prepare_kinematics`]); a kinematic step
+//! (position Newton, velocity, acceleration) then refills values only and does not allocate.
+//!
+//! The state vector of Newton-Raphson is `x = [r_0; p_0; r_1; p_1; …]` (7 per moving body); the
+//! step is `[Δr_k; Δπ'_k]` (6 per body) and the Euler parameters are updated by a rotation,
+//! p ← normalize(p ⊗ exp(Δπ'/2)) ([`apply_rotation_step`]), so p stays on the unit sphere without
+//! normalization rows.
+
+use crate::dof::DofReport;
+use crate::model::{BodyId, Model};
+use cardan_constraints::BodyState;
+use cardan_eulerparam::{p_ddot_from_local, p_dot_from_local, EulerParams};
+use cardan_solver::{AutoSolver, Newton, NonlinearSystem};
+use nalgebra::{Vector3, Vector4};
+
+/// The mutable state of a mechanism analysis. Made by [`Model::workspace`].
+#[derive(Debug)]
+pub struct Workspace {
+    pub(crate) t: f64,
+    /// Newton state, 7 per body.
+    pub(crate) x: Vec<f64>,
+    /// v = [ṙ; ω'] per body.
+    pub(crate) v: Vec<f64>,
+    /// v̇ = [r̈; ω̇'] per body.
+    pub(crate) vdot: Vec<f64>,
+    pub(crate) bodies: Vec<BodyState>,
+    /// Length m: ν, γ#, Φ.
+    pub(crate) rhs: Vec<f64>,
+    pub(crate) phi: Vec<f64>,
+    /// Predictor buffers.
+    pub(crate) x_prev: Vec<f64>,
+    pub(crate) x_tmp: Vec<f64>,
+    pub(crate) dx: Vec<f64>,
+    pub(crate) kin: Option<Newton<AutoSolver>>,
+    pub(crate) dof: Option<DofReport>,
+    pub(crate) velocity_valid: bool,
+    pub(crate) acceleration_valid: bool,
+}
+
+impl Workspace {
+    /// A workspace at the model's initial poses, at rest, t = 0.
+    pub fn new(model: &Model) -> Self {
+        let nb = model.num_bodies();
+        let m = model.num_equations();
+        let mut ws = Self {
+            t: 0.0,
+            x: vec![0.0; 7 * nb],
+            v: vec![0.0; 6 * nb],
+            vdot: vec![0.0; 6 * nb],
+            bodies: vec![BodyState::ground(); nb],
+            rhs: vec![0.0; m],
+            phi: vec![0.0; m],
+            x_prev: vec![0.0; 7 * nb],
+            x_tmp: vec![0.0; 7 * nb],
+            dx: vec![0.0; 6 * nb],
+            kin: None,
+            dof: None,
+            velocity_valid: false,
+            acceleration_valid: false,
+        };
+        ws.reset(model);
+        ws
+    }
+
+    /// Back to the model's initial poses, at rest (keeps the prepared kinematic solver).
+    pub fn reset(&mut self, model: &Model) {
+        for (k, b) in model.bodies().iter().enumerate() {
+            self.x[7 * k..7 * k + 3].copy_from_slice(b.initial_r.as_slice());
+            self.x[7 * k + 3..7 * k + 7].copy_from_slice(b.initial_p.as_slice());
+        }
+        self.v.fill(0.0);
+        self.vdot.fill(0.0);
+        self.sync_poses();
+        self.invalidate();
+    }
+
+    /// Time of the current state.
+    pub fn time(&self) -> f64 {
+        self.t
+    }
+
+    /// The Newton state `[r_k; p_k]` (7 per moving body).
+    pub fn state(&self) -> &[f64] {
+        &self.x
+    }
+
+    /// The velocities `[ṙ_k; ω'_k]` (6 per body), valid after a velocity analysis.
+    pub fn velocities(&self) -> &[f64] {
+        &self.v
+    }
+
+    /// The accelerations `[r̈_k; ω̇'_k]` (6 per body), valid after an acceleration analysis.
+    pub fn accelerations(&self) -> &[f64] {
+        &self.vdot
+    }
+
+    /// Pose and velocity of moving body `k` (A cached).
+    pub fn body_state(&self, k: usize) -> &BodyState {
+        &self.bodies[k]
+    }
+
+    /// The state of a body (ground included).
+    pub fn state_of(&self, id: BodyId) -> BodyState {
+        match id {
+            BodyId::Ground => BodyState::ground(),
+            BodyId::Moving(k) => self.bodies[k],
+        }
+    }
+
+    /// Sets the pose of moving body `k` (p is normalized; zero p is replaced by the identity).
+    /// Velocities and accelerations become invalid.
+    pub fn set_pose(&mut self, k: usize, r: Vector3<f64>, p: Vector4<f64>) {
+        let n = p.norm();
+        let p = if n > 0.0 && n.is_finite() {
+            p / n
+        } else {
+            Vector4::new(1.0, 0.0, 0.0, 0.0)
+        };
+        self.x[7 * k..7 * k + 3].copy_from_slice(r.as_slice());
+        self.x[7 * k + 3..7 * k + 7].copy_from_slice(p.as_slice());
+        self.sync_poses();
+        self.invalidate();
+    }
+
+    /// Sets the velocity of moving body `k` (ṙ and ω' in the body frame).
+    pub fn set_velocity(&mut self, k: usize, r_dot: Vector3<f64>, omega_local: Vector3<f64>) {
+        self.v[6 * k..6 * k + 3].copy_from_slice(r_dot.as_slice());
+        self.v[6 * k + 3..6 * k + 6].copy_from_slice(omega_local.as_slice());
+        self.bodies[k] = self.bodies[k].with_v(r_dot, omega_local);
+    }
+
+    /// Sets the time of the state.
+    pub fn set_time(&mut self, t: f64) {
+        self.t = t;
+    }
+
+    /// Position r of moving body `k`.
+    pub fn r(&self, k: usize) -> Vector3<f64> {
+        self.bodies[k].r
+    }
+
+    /// Euler parameters p of moving body `k`.
+    pub fn p(&self, k: usize) -> Vector4<f64> {
+        self.bodies[k].p
+    }
+
+    /// ṙ of body `k`.
+    pub fn r_dot(&self, k: usize) -> Vector3<f64> {
+        Vector3::from_column_slice(&self.v[6 * k..6 * k + 3])
+    }
+
+    /// ω' of body `k` (body frame).
+    pub fn omega_local(&self, k: usize) -> Vector3<f64> {
+        Vector3::from_column_slice(&self.v[6 * k + 3..6 * k + 6])
+    }
+
+    /// ω = A ω' of body `k` (global).
+    pub fn omega(&self, k: usize) -> Vector3<f64> {
+        self.bodies[k].a * self.omega_local(k)
+    }
+
+    /// ṗ = ½ Lᵀ ω' of body `k`.
+    pub fn p_dot(&self, k: usize) -> Vector4<f64> {
+        p_dot_from_local(&self.bodies[k].p, &self.omega_local(k))
+    }
+
+    /// r̈ of body `k`.
+    pub fn r_ddot(&self, k: usize) -> Vector3<f64> {
+        Vector3::from_column_slice(&self.vdot[6 * k..6 * k + 3])
+    }
+
+    /// ω̇' of body `k` (body frame).
+    pub fn omega_dot_local(&self, k: usize) -> Vector3<f64> {
+        Vector3::from_column_slice(&self.vdot[6 * k + 3..6 * k + 6])
+    }
+
+    /// ω̇ = A ω̇' of body `k` (global).
+    pub fn omega_dot(&self, k: usize) -> Vector3<f64> {
+        self.bodies[k].a * self.omega_dot_local(k)
+    }
+
+    /// p̈ = ½ Lᵀ ω̇' − ¼ |ω'|² p of body `k`.
+    pub fn p_ddot(&self, k: usize) -> Vector4<f64> {
+        p_ddot_from_local(
+            &self.bodies[k].p,
+            &self.omega_local(k),
+            &self.omega_dot_local(k),
+        )
+    }
+
+    /// Global position of a point given in the frame of `body`.
+    pub fn point_position(&self, body: BodyId, local: &Vector3<f64>) -> Vector3<f64> {
+        match body {
+            BodyId::Ground => *local,
+            BodyId::Moving(k) => self.bodies[k].point(local),
+        }
+    }
+
+    /// Global velocity of a body-fixed point: ṙ + A (ω' × s').
+    pub fn point_velocity(&self, body: BodyId, local: &Vector3<f64>) -> Vector3<f64> {
+        match body {
+            BodyId::Ground => Vector3::zeros(),
+            BodyId::Moving(k) => {
+                self.r_dot(k) + self.bodies[k].a * self.omega_local(k).cross(local)
+            }
+        }
+    }
+
+    /// Global acceleration of a body-fixed point: r̈ + A (ω̇' × s' + ω' × (ω' × s')).
+    pub fn point_acceleration(&self, body: BodyId, local: &Vector3<f64>) -> Vector3<f64> {
+        match body {
+            BodyId::Ground => Vector3::zeros(),
+            BodyId::Moving(k) => {
+                let w = self.omega_local(k);
+                self.r_ddot(k)
+                    + self.bodies[k].a
+                        * (self.omega_dot_local(k).cross(local) + w.cross(&w.cross(local)))
+            }
+        }
+    }
+
+    /// The degrees-of-freedom report of the last [`Model::prepare_kinematics`].
+    pub fn dof_report(&self) -> Option<&DofReport> {
+        self.dof.as_ref()
+    }
+
+    /// Whether the velocities are those of the current poses and time.
+    pub fn velocity_is_valid(&self) -> bool {
+        self.velocity_valid
+    }
+
+    /// Whether the accelerations are those of the current poses and time.
+    pub fn acceleration_is_valid(&self) -> bool {
+        self.acceleration_valid
+    }
+
+    pub(crate) fn invalidate(&mut self) {
+        self.velocity_valid = false;
+        self.acceleration_valid = false;
+        if let Some(k) = &mut self.kin {
+            k.invalidate();
+        }
+    }
+
+    /// Refreshes the body states (A, p) from the Newton state; keeps ω' from `v`.
+    pub(crate) fn sync_poses(&mut self) {
+        set_poses(&mut self.bodies, &self.x);
+        for (k, b) in self.bodies.iter_mut().enumerate() {
+            let rd = Vector3::from_column_slice(&self.v[6 * k..6 * k + 3]);
+            let w = Vector3::from_column_slice(&self.v[6 * k + 3..6 * k + 6]);
+            *b = b.with_v(rd, w);
+        }
+    }
+}
+
+/// Sets each body's pose from the Newton state (velocities zeroed).
+pub(crate) fn set_poses(bodies: &mut [BodyState], x: &[f64]) {
+    for (k, b) in bodies.iter_mut().enumerate() {
+        let r = Vector3::from_column_slice(&x[7 * k..7 * k + 3]);
+        let p = Vector4::from_column_slice(&x[7 * k + 3..7 * k + 7]);
+        *b = BodyState::at(r, p);
+    }
+}
+
+/// `x ← x ⊕ dx`: r += Δr, p ← normalize(p ⊗ exp(Δπ'/2)) for every body. No allocation.
+///
+/// exp(θ/2) is the unit Euler-parameter vector [cos(|θ|/2), sin(|θ|/2) θ/|θ|] of a rotation by
+/// |θ| about θ (body frame), so A(p_new) = A(p) exp(θ̃) and, to first order, Δ(A s') = A (θ × s'),
+/// which is the direction Φ_π' = ½ Φ_p Lᵀ linearizes.
+pub fn apply_rotation_step(x: &mut [f64], dx: &[f64]) {
+    let nb = dx.len() / 6;
+    for k in 0..nb {
+        for c in 0..3 {
+            x[7 * k + c] += dx[6 * k + c];
+        }
+        let th = Vector3::from_column_slice(&dx[6 * k + 3..6 * k + 6]);
+        let a = th.norm();
+        let q = if a > 0.0 {
+            let (s, c) = (0.5 * a).sin_cos();
+            let u = th * (s / a);
+            EulerParams::new(c, u.x, u.y, u.z)
+        } else {
+            EulerParams::identity()
+        };
+        let p = EulerParams::new(x[7 * k + 3], x[7 * k + 4], x[7 * k + 5], x[7 * k + 6]);
+        let n = p.compose(&q);
+        let v = n.as_vector();
+        let norm = v.norm();
+        for c in 0..4 {
+            x[7 * k + 3 + c] = v[c] / norm;
+        }
+    }
+}
+
+/// The position system handed to Newton-Raphson: Φ(x, t) = 0 in the 6-coordinate form.
+pub(crate) struct PositionSystem<'a> {
+    pub model: &'a Model,
+    pub bodies: &'a mut [BodyState],
+    pub t: f64,
+}
+
+impl NonlinearSystem for PositionSystem<'_> {
+    fn num_equations(&self) -> usize {
+        self.model.num_equations()
+    }
+    fn num_unknowns(&self) -> usize {
+        self.model.num_unknowns()
+    }
+    fn state_len(&self) -> usize {
+        7 * self.model.num_bodies()
+    }
+    fn residual(&mut self, x: &[f64], out: &mut [f64]) {
+        set_poses(self.bodies, x);
+        self.model.phi_into(self.bodies, self.t, out);
+    }
+    fn jacobian(&mut self, x: &[f64], slots: &mut [f64]) {
+        set_poses(self.bodies, x);
+        self.model.jacobian_into(self.bodies, self.t, slots);
+    }
+    fn apply_step(&mut self, x: &mut [f64], dx: &[f64]) {
+        apply_rotation_step(x, dx);
+    }
+    fn equation_scales(&self, out: &mut [f64]) {
+        out.copy_from_slice(self.model.equation_scales());
+    }
+    fn unknown_scales(&self, out: &mut [f64]) {
+        out.copy_from_slice(self.model.unknown_scales());
+    }
+}
