@@ -51,6 +51,26 @@ fn bench_family(
                 sparse.solve(black_box(&b), &mut x).unwrap();
             })
         });
+        if nb >= 100 {
+            // For comparison only: faer's high-level sparse LU (supernodal where faer's default
+            // heuristic picks it), which allocates in every factorization.
+            use faer::linalg::solvers::SolveCore;
+            use faer::sparse::linalg::solvers::{Lu, SymbolicLu};
+            let symbolic = SymbolicLu::try_new(pattern.symbolic()).unwrap();
+            let mut csc = vec![0.0; pattern.nnz()];
+            group.bench_with_input(BenchmarkId::new("faer-default", n), &n, |bench, _| {
+                bench.iter(|| {
+                    pattern.scatter_csc(black_box(&slots), &mut csc).unwrap();
+                    let a = faer::sparse::SparseColMatRef::new(pattern.symbolic(), &csc);
+                    let lu = Lu::try_new_with_symbolic(symbolic.clone(), a).unwrap();
+                    x.copy_from_slice(&b);
+                    lu.solve_in_place_with_conj(
+                        faer::Conj::No,
+                        faer::MatMut::from_column_major_slice_mut(&mut x, n, 1),
+                    );
+                })
+            });
+        }
         if nb <= DENSE_MAX_BODIES {
             let mut dense = DenseLu::new();
             dense.analyze(&pattern).unwrap();

@@ -96,10 +96,13 @@ impl Default for SolverChoice {
 /// Dense LU is chosen when `n ≤ dense_max_dim`, or when `n ≤ dense_density_max_dim` and the
 /// density is at least `dense_min_density`; sparse LU otherwise.
 ///
-/// The defaults come from `benches/linear.rs` on a 2-core VM (see `BENCHMARKS.md`): on
-/// mechanism-like patterns (body chains, ladders of closed loops; density ≈ 10/n) the sparse LU
-/// overtakes the dense one between 60 and 100 unknowns, so the threshold is 64. A matrix denser
-/// than 20 % gains nothing from sparsity, so it stays dense up to 1000 unknowns.
+/// The size threshold comes from `benches/linear.rs` on a 2-core VM (see `BENCHMARKS.md`): on
+/// mechanism-like patterns (7 × 7 blocks; a body chain, a ladder of closed loops) factor + solve
+/// costs the same with both at about 100 unknowns (chain: dense 80 µs vs sparse 59 µs at 105;
+/// ladder: 79 µs vs 99 µs at 105, 153 µs vs 141 µs at 140), and the dense LU is 10–60× slower
+/// from 700 unknowns on. Hence `dense_max_dim = 100`. The density rule (dense up to 1000
+/// unknowns at ≥ 20 % density, where fill makes the sparse factors dense anyway) is a judgement,
+/// not a measurement.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AutoPolicy {
     /// Dense at or below this many unknowns, whatever the density.
@@ -113,7 +116,7 @@ pub struct AutoPolicy {
 impl Default for AutoPolicy {
     fn default() -> Self {
         Self {
-            dense_max_dim: 64,
+            dense_max_dim: 100,
             dense_min_density: 0.2,
             dense_density_max_dim: 1000,
         }
