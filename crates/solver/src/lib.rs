@@ -42,25 +42,35 @@
 //!
 //! 1. drop the dependent rows once ([`SparsityPattern::select_rows`],
 //!    [`Newton::with_row_selection`]) and keep using a fast square LU;
-//! 2. use [`MinNormQr`], which drops them at every factorization and returns the minimum-norm
-//!    solution — also the step to use for assembling an under-driven mechanism (`m < n`), since it
-//!    moves the bodies as little as possible.
+//! 2. use [`MinNormQr`], which returns the minimum-norm least-squares solution at every step: it
+//!    satisfies all equations of a consistent redundant system, is the Gauss-Newton step at an
+//!    iterate off the manifold (where the redundant Jacobian usually has full rank), and is the
+//!    step to use for assembling an under-driven mechanism (`m < n`), since it moves the bodies
+//!    as little as possible (in the norm of the unknowns divided by their scales).
+//!
+//! The dependent rows are decided once, at an assembled configuration; choose them by ordering
+//! the equations (the last equations of each dependent group are the ones reported).
 //!
 //! # Layout (one concept per file)
 //! * [`pattern`] — [`SparsityPattern`] (fixed structure, values in a caller-owned slot array) and
 //!   [`RowSelection`].
 //! * [`linear`] — the [`LinearSolver`] trait (analyze / factor / solve) and [`AutoSolver`].
-//! * [`dense`] — [`DenseLu`]. [`sparse`]: [`SparseLu`]. [`rank`]: [`RankAnalysis`], [`MinNormQr`].
-//! * [`newton`] — [`NonlinearSystem`], [`Newton`], options and report. [`convergence`]: scaled tests.
+//! * [`dense`] — [`DenseLu`]; [`sparse`] — [`SparseLu`]; [`rank`] — [`RankAnalysis`], [`MinNormQr`].
+//! * [`newton`] — [`NonlinearSystem`], [`Newton`], options and report; [`convergence`] — scaled
+//!   tests.
 //! * [`error`] — [`SolverError`].
 //!
 //! # Allocation
 //! Every buffer is allocated when a solver is analyzed or a [`Newton`] is built. After that,
 //! `factor`, `solve`, `Newton::solve` and `Newton::solve_linear` do not allocate on success
-//! (checked by `tests/no_alloc.rs` with a counting allocator). One caveat, from faer: the sparse LU
-//! stores its factors in vectors that grow if a factorization produces more fill than every
-//! earlier one (a different pivot sequence); after the first few factorizations they no longer
-//! grow in practice.
+//! (checked by `tests/no_alloc.rs` with a counting allocator, including a 160-step time-stepping
+//! loop over a full crank turn). Caveats: (1) faer's simplicial sparse LU keeps its factors in
+//! vectors that grow if a factorization produces more fill than every earlier one (a different
+//! pivot sequence); [`SparseLu`] presizes them at `analyze` by factoring random values on the
+//! pattern, so this does not happen in practice, but it is not a hard guarantee. (2) The first
+//! `Newton::solve` sizes one buffer to the state length. (3) Error values allocate (messages,
+//! residual histories), and an LU failure runs a dense rank analysis to name the dependent
+//! equations.
 //!
 //! # Example: velocity after position
 //! ```

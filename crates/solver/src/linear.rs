@@ -9,10 +9,11 @@
 //! | [`factor`](LinearSolver::factor) | when the values change | no |
 //! | [`solve`](LinearSolver::solve) | per right-hand side | no |
 //!
-//! Members of the family: [`DenseLu`](crate::DenseLu) (partial pivoting, square),
-//! [`SparseLu`](crate::SparseLu) (faer simplicial LU with a COLAMD fill-reducing ordering, square),
-//! [`MinNormQr`](crate::MinNormQr) (rank revealing, any shape: drops dependent rows and returns
-//! the minimum-norm solution) and [`AutoSolver`], which picks one of them from the pattern.
+//! Members of the family: [`DenseLu`] (partial pivoting, square),
+//! [`SparseLu`] (faer simplicial LU with a COLAMD fill-reducing ordering, square),
+//! [`MinNormQr`] (rank revealing, any shape: minimum-norm least squares, which satisfies every
+//! equation of a consistent redundant system) and [`AutoSolver`], which picks one of them from
+//! the pattern.
 
 use crate::dense::DenseLu;
 use crate::error::SolverError;
