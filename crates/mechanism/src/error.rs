@@ -136,7 +136,9 @@ pub enum ModelError {
         mass: f64,
     },
     /// Inertia tensor not symmetric.
-    #[error("body \"{body}\": inertia tensor is not symmetric (relative asymmetry {asymmetry:e})")]
+    #[error(
+        "body \"{body}\": inertia tensor is not symmetric (relative asymmetry {asymmetry:.3e})"
+    )]
     InertiaNotSymmetric {
         /// The body.
         body: String,
@@ -144,7 +146,7 @@ pub enum ModelError {
         asymmetry: f64,
     },
     /// Inertia tensor not positive definite.
-    #[error("body \"{body}\": inertia tensor is not positive definite (smallest eigenvalue {min_eigenvalue:e})")]
+    #[error("body \"{body}\": inertia tensor is not positive definite (smallest eigenvalue {min_eigenvalue:.3e})")]
     InertiaNotPositiveDefinite {
         /// The body.
         body: String,

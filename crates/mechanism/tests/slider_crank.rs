@@ -78,11 +78,17 @@ fn conrod_angular_velocity_matches_the_benchmark() {
         .unwrap();
     let w = results.body("conrod").unwrap().omega[0];
     eprintln!("conrod ω at t = 0: {w:?}");
-    assert!((w - Vector3::new(1.92, -0.96, 0.48)).norm() < 1e-12, "{w:?}");
+    assert!(
+        (w - Vector3::new(1.92, -0.96, 0.48)).norm() < 1e-12,
+        "{w:?}"
+    );
     let v = results.body("slider").unwrap().r_dot[0];
     assert!((v - Vector3::new(0.24, 0.0, 0.0)).norm() < 1e-12);
     let vc = results.body("conrod").unwrap().r_dot[0];
-    assert!((vc - Vector3::new(0.12, -0.24, 0.0)).norm() < 1e-12, "{vc:?}");
+    assert!(
+        (vc - Vector3::new(0.12, -0.24, 0.0)).norm() < 1e-12,
+        "{vc:?}"
+    );
 }
 
 /// Central differences of the position history approximate the computed velocities (and of the
@@ -153,7 +159,11 @@ fn assembly_from_a_rough_guess() {
         Vector3::new(0.12, 0.03, 0.12),
         nalgebra::Vector4::new(0.9, 0.1, -0.2, 0.3),
     );
-    ws.set_pose(2, Vector3::new(0.25, 0.01, -0.01), nalgebra::Vector4::new(1.0, 0.0, 0.05, 0.0));
+    ws.set_pose(
+        2,
+        Vector3::new(0.25, 0.01, -0.01),
+        nalgebra::Vector4::new(1.0, 0.0, 0.05, 0.0),
+    );
     let rep = model
         .assemble(&mut ws, &cardan_mechanism::AssemblyOptions::default())
         .unwrap();

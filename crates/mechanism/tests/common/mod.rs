@@ -15,6 +15,17 @@ use std::f64::consts::PI;
 /// initially along +z (B = (0, 0.1, 0.2)). Conrod BC, length 0.3: spherical at B, universal at C
 /// (slider arm x, conrod arm y_rod ⟂ the rod). Slider: prismatic along global x, C = (x, 0, 0).
 pub fn slider_crank_builder(omega: f64) -> MechanismBuilder {
+    let mut b = slider_crank_undriven();
+    b.driver(DriverSpec::rotation(
+        "motor",
+        "A",
+        TimeFunction::Polynomial(vec![0.0, omega]),
+    ));
+    b
+}
+
+/// The slider-crank without its driver (1 degree of freedom).
+pub fn slider_crank_undriven() -> MechanismBuilder {
     let mut b = MechanismBuilder::new();
     let x_rod = Vector3::new(2.0, -1.0, -2.0) / 3.0;
     let y_rod = Vector3::new(0.0, 2.0, -1.0) / 5f64.sqrt();
@@ -65,18 +76,17 @@ pub fn slider_crank_builder(omega: f64) -> MechanismBuilder {
         ("conrod", "B"),
     ));
     b.joint(
-        JointSpec::new("C", JointKind::Universal, ("slider", "C"), ("conrod", "C"))
-            .axes("x", "y"),
+        JointSpec::new("C", JointKind::Universal, ("slider", "C"), ("conrod", "C")).axes("x", "y"),
     );
     b.joint(
-        JointSpec::new("slide", JointKind::Prismatic, (GROUND, "O"), ("slider", "C"))
-            .axes("x", "x"),
+        JointSpec::new(
+            "slide",
+            JointKind::Prismatic,
+            (GROUND, "O"),
+            ("slider", "C"),
+        )
+        .axes("x", "x"),
     );
-    b.driver(DriverSpec::rotation(
-        "motor",
-        "A",
-        TimeFunction::Polynomial(vec![0.0, omega]),
-    ));
     b
 }
 
@@ -118,7 +128,13 @@ pub fn four_bar_b(theta: f64) -> Vector3<f64> {
     pa + l * u + h * Vector3::new(-u.y, u.x, 0.0)
 }
 
-fn link(b: &mut MechanismBuilder, name: &str, p: Vector3<f64>, q: Vector3<f64>, ends: (&str, &str)) {
+fn link(
+    b: &mut MechanismBuilder,
+    name: &str,
+    p: Vector3<f64>,
+    q: Vector3<f64>,
+    ends: (&str, &str),
+) {
     let d = q - p;
     let len = d.norm();
     let angle = d.y.atan2(d.x);
@@ -154,7 +170,9 @@ pub fn four_bar_builder(theta0: f64, omega: f64) -> MechanismBuilder {
         .vector(GROUND, "z", Vector3::z())
         .vector(GROUND, "x", Vector3::x());
     let rev = |n: &str, i: (&str, &str), j: (&str, &str)| {
-        JointSpec::new(n, JointKind::Revolute, i, j).axes("z", "z").x_axes("x", "x")
+        JointSpec::new(n, JointKind::Revolute, i, j)
+            .axes("z", "z")
+            .x_axes("x", "x")
     };
     b.joint(rev("O2", (GROUND, "O2"), ("crank", "O")));
     b.joint(rev("A", ("crank", "A"), ("coupler", "A")));
@@ -218,14 +236,27 @@ pub fn bricard_builder() -> MechanismBuilder {
         }
     };
     for k in 0..6 {
-        let bi = if k == 0 { GROUND.to_string() } else { format!("rod{k}") };
-        let bj = if k == 5 { GROUND.to_string() } else { format!("rod{}", k + 1) };
+        let bi = if k == 0 {
+            GROUND.to_string()
+        } else {
+            format!("rod{k}")
+        };
+        let bj = if k == 5 {
+            GROUND.to_string()
+        } else {
+            format!("rod{}", k + 1)
+        };
         let a = axis_name(&axes[k]);
         let ref_axis = if a == "x" { "y" } else { "x" };
         b.joint(
-            JointSpec::new(names[k], JointKind::Revolute, (&bi, names[k]), (&bj, names[k]))
-                .axes(a, a)
-                .x_axes(ref_axis, ref_axis),
+            JointSpec::new(
+                names[k],
+                JointKind::Revolute,
+                (&bi, names[k]),
+                (&bj, names[k]),
+            )
+            .axes(a, a)
+            .x_axes(ref_axis, ref_axis),
         );
     }
     b
