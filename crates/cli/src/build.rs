@@ -1,0 +1,1146 @@
+//! From a parsed model file to a [`MechanismBuilder`], checking everything that can be pinned to
+//! a place in the file: names (with suggestions), duplicates, numbers, axes, mass and inertia,
+//! self-joints, function parameters. What only the mechanism can judge (DOF, assembly) is
+//! checked later, and mapped back to the element's line through [`Spans`].
+
+use crate::diag::{did_you_mean, list, Error, Source};
+use crate::model::{
+    AnalysisSection, BodySection, DriverSection, FunctionSpec, InertiaSpec, JointSection,
+    ModelFile, Name, Num, OrientationSpec, Vec3,
+};
+use cardan_constraints::{JointKind, TimeFunction};
+use cardan_eulerparam::EulerParams;
+use cardan_mechanism::{Axis, Body, DriverSpec, JointSpec, MechanismBuilder, Orientation, GROUND};
+use nalgebra::{Matrix3, Vector3};
+use std::collections::{BTreeMap, HashMap};
+use std::ops::Range;
+use toml::Spanned;
+
+/// Largest magnitude accepted for any number (SI units): beyond it a value is a typo.
+pub const ABSURD: f64 = 1e9;
+
+/// Where each named element is defined, to place errors found after parsing.
+#[derive(Debug, Clone, Default)]
+pub struct Spans {
+    /// Body name → span of its `[[body]]` name value.
+    pub bodies: HashMap<String, Range<usize>>,
+    /// Joint name → span.
+    pub joints: HashMap<String, Range<usize>>,
+    /// Driver name → span.
+    pub drivers: HashMap<String, Range<usize>>,
+    /// Span of `[analysis] kind` (or of the file start).
+    pub analysis: Range<usize>,
+    /// Span of the `[[driver]]` array (first driver name) for driver-count messages.
+    pub first_driver: Option<Range<usize>>,
+}
+
+impl Spans {
+    /// The span of a joint or driver or body by name.
+    pub fn element(&self, name: &str) -> Option<Range<usize>> {
+        self.joints
+            .get(name)
+            .or_else(|| self.drivers.get(name))
+            .or_else(|| self.bodies.get(name))
+            .cloned()
+    }
+}
+
+/// What to write.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Outputs {
+    /// (body, point).
+    pub points: Vec<(String, String)>,
+    /// Joint names.
+    pub joints: Vec<String>,
+    /// Body names.
+    pub bodies: Vec<String>,
+}
+
+/// The analysis requested.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Analysis {
+    /// Start time [s].
+    pub t_start: f64,
+    /// End time [s].
+    pub t_end: f64,
+    /// Number of steps.
+    pub steps: usize,
+    /// What to write.
+    pub outputs: Outputs,
+    /// Write SVG plots.
+    pub plots: bool,
+}
+
+impl Analysis {
+    /// The time grid t_start + k (t_end − t_start) / steps, k = 0..=steps.
+    pub fn times(&self) -> Vec<f64> {
+        let h = (self.t_end - self.t_start) / self.steps as f64;
+        (0..=self.steps)
+            .map(|k| {
+                if k == self.steps {
+                    self.t_end
+                } else {
+                    self.t_start + k as f64 * h
+                }
+            })
+            .collect()
+    }
+}
+
+/// A model file turned into a builder plus everything the commands need.
+#[derive(Debug, Clone)]
+pub struct Loaded {
+    /// `[model] name`.
+    pub name: String,
+    /// The mechanism.
+    pub builder: MechanismBuilder,
+    /// Element locations.
+    pub spans: Spans,
+    /// `[analysis]`, if present.
+    pub analysis: Option<Analysis>,
+    /// Joint names and kinds, in file order (for `check`).
+    pub joints: Vec<(String, JointKind, String, String)>,
+    /// Body names with mass, in file order.
+    pub bodies: Vec<(String, Option<f64>)>,
+    /// Driver names and what they drive, in file order.
+    pub drivers: Vec<(String, String)>,
+}
+
+/// Points and vectors of one body, with the span of each name.
+#[derive(Default)]
+struct Features {
+    points: BTreeMap<String, (Range<usize>, Vector3<f64>)>,
+    vectors: BTreeMap<String, (Range<usize>, Vector3<f64>)>,
+}
+
+struct Ctx<'a> {
+    src: &'a Source,
+}
+
+impl Ctx<'_> {
+    fn err(&self, span: Range<usize>, m: impl Into<String>) -> Error {
+        self.src.error_at(span, m)
+    }
+
+    fn num(&self, n: &Num, what: &str) -> Result<f64, Error> {
+        let v = *n.get_ref();
+        if v.is_nan() {
+            return Err(self.err(
+                n.span(),
+                format!("{what} is NaN; a finite number is needed"),
+            ));
+        }
+        if v.is_infinite() {
+            return Err(self.err(
+                n.span(),
+                format!("{what} is infinite; a finite number is needed"),
+            ));
+        }
+        if v.abs() > ABSURD {
+            return Err(self.err(
+                n.span(),
+                format!(
+                    "{what} = {v:e} is absurdly large (|value| > {ABSURD:e} in SI units: m, kg, s, rad); \
+                     check the exponent"
+                ),
+            ));
+        }
+        Ok(v)
+    }
+
+    fn vec3(&self, v: &Vec3, what: &str) -> Result<Vector3<f64>, Error> {
+        let a = v.get_ref();
+        Ok(Vector3::new(
+            self.num(&a[0], &format!("{what} x"))?,
+            self.num(&a[1], &format!("{what} y"))?,
+            self.num(&a[2], &format!("{what} z"))?,
+        ))
+    }
+
+    fn direction(&self, v: &Vec3, what: &str) -> Result<Vector3<f64>, Error> {
+        let d = self.vec3(v, what)?;
+        if d.norm() < 1e-12 {
+            return Err(self.err(
+                v.span(),
+                format!(
+                    "{what} has zero length ({}); a direction needs a nonzero vector",
+                    fmt_vec(&d)
+                ),
+            ));
+        }
+        Ok(d)
+    }
+
+    fn raw_num(&self, span: Range<usize>, v: f64, what: &str) -> Result<f64, Error> {
+        self.num(&Spanned::new(span, v), what)
+    }
+}
+
+/// Formats a vector as "(x, y, z)".
+pub fn fmt_vec(v: &Vector3<f64>) -> String {
+    format!("({}, {}, {})", v.x, v.y, v.z)
+}
+
+fn joint_kind(name: &str) -> Option<JointKind> {
+    Some(match name {
+        "spherical" => JointKind::Spherical,
+        "universal" => JointKind::Universal,
+        "revolute" => JointKind::Revolute,
+        "cylindrical" => JointKind::Cylindrical,
+        "prismatic" | "translational" => JointKind::Prismatic,
+        "fixed" => JointKind::Fixed,
+        "spherical_spherical" | "distance" => JointKind::SphericalSpherical,
+        "planar" => JointKind::Planar,
+        _ => return None,
+    })
+}
+
+const JOINT_TYPES: &[&str] = &[
+    "revolute",
+    "spherical",
+    "universal",
+    "cylindrical",
+    "prismatic",
+    "fixed",
+    "planar",
+    "spherical_spherical",
+];
+
+const DRIVER_TYPES: &[&str] = &["rotation", "translation", "distance", "coordinate"];
+const FUNCTION_KINDS: &[&str] = &["constant", "polynomial", "harmonic", "ramp", "spline"];
+
+/// Turns a parsed file into a builder, checking everything that has a place in the file.
+pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
+    let cx = Ctx { src };
+    let mut spans = Spans::default();
+    let mut builder = MechanismBuilder::new();
+
+    let model = file.model.get_ref();
+    let name = model.name.get_ref().trim().to_string();
+    if name.is_empty() || name.contains(['/', '\\']) || name == "." || name == ".." {
+        return Err(cx.err(
+            model.name.span(),
+            "model name must be non-empty and must not contain '/' or '\\' (it names the output directory)",
+        ));
+    }
+    if let Some(u) = &model.units {
+        let s = u.get_ref().to_ascii_lowercase();
+        if !s.starts_with("si") {
+            return Err(cx.err(
+                u.span(),
+                format!(
+                    "units = \"{}\" is not supported: model files are in SI units (m, kg, s, rad); write units = \"SI\"",
+                    u.get_ref()
+                ),
+            ));
+        }
+    }
+    if let Some(g) = &model.gravity {
+        cx.vec3(g, "gravity")?;
+    }
+
+    // Ground features.
+    let mut features: HashMap<String, Features> = HashMap::new();
+    let mut ground = Features::default();
+    if let Some(g) = &file.ground {
+        for (k, v) in &g.get_ref().points {
+            let p = cx.vec3(v, &format!("ground point \"{}\"", k.get_ref()))?;
+            ground.points.insert(k.get_ref().clone(), (k.span(), p));
+            builder.point(GROUND, k.get_ref(), p);
+        }
+        for (k, v) in &g.get_ref().vectors {
+            let d = cx.direction(v, &format!("ground vector \"{}\"", k.get_ref()))?;
+            ground.vectors.insert(k.get_ref().clone(), (k.span(), d));
+            builder.vector(GROUND, k.get_ref(), d);
+        }
+    }
+    features.insert(GROUND.to_string(), ground);
+
+    // Bodies.
+    let mut bodies = Vec::new();
+    let mut body_order: Vec<String> = vec![GROUND.into()];
+    for b in &file.body {
+        let b = b.get_ref();
+        let bname = b.name.get_ref().clone();
+        if bname == GROUND {
+            return Err(cx.err(
+                b.name.span(),
+                "\"ground\" is the built-in fixed body; give the moving body another name \
+                 (ground points and vectors go in [ground])",
+            ));
+        }
+        if bname.trim().is_empty() {
+            return Err(cx.err(b.name.span(), "body name must not be empty"));
+        }
+        if let Some(first) = spans.bodies.get(&bname) {
+            let l = src.location(first.start);
+            return Err(cx.err(
+                b.name.span(),
+                format!(
+                    "duplicate body name \"{bname}\" (first defined at line {})",
+                    l.line
+                ),
+            ));
+        }
+        spans.bodies.insert(bname.clone(), b.name.span());
+        let (body, f) = load_body(&cx, b)?;
+        for (n, (_, v)) in &f.points {
+            builder.point(&bname, n, *v);
+        }
+        for (n, (_, v)) in &f.vectors {
+            builder.vector(&bname, n, *v);
+        }
+        bodies.push((bname.clone(), body.mass));
+        builder.body(body);
+        features.insert(bname.clone(), f);
+        body_order.push(bname);
+    }
+
+    let resolver = Resolver {
+        cx: &cx,
+        features: &features,
+        order: &body_order,
+    };
+
+    // Joints.
+    let mut joints = Vec::new();
+    let mut joint_kinds: HashMap<String, JointKind> = HashMap::new();
+    for j in &file.joint {
+        let j = j.get_ref();
+        let jname = j.name.get_ref().clone();
+        check_unique_element(&cx, &spans, &j.name, "joint")?;
+        spans.joints.insert(jname.clone(), j.name.span());
+        let spec = load_joint(&resolver, j)?;
+        joints.push((
+            jname.clone(),
+            spec.kind,
+            spec.body_i.clone(),
+            spec.body_j.clone(),
+        ));
+        joint_kinds.insert(jname, spec.kind);
+        builder.joint(spec);
+    }
+
+    // Drivers.
+    let mut drivers = Vec::new();
+    for d in &file.driver {
+        let d = d.get_ref();
+        check_unique_element(&cx, &spans, &d.name, "driver")?;
+        spans
+            .drivers
+            .insert(d.name.get_ref().clone(), d.name.span());
+        if spans.first_driver.is_none() {
+            spans.first_driver = Some(d.name.span());
+        }
+        let (spec, what) = load_driver(&resolver, d, &joint_kinds, &spans)?;
+        drivers.push((d.name.get_ref().clone(), what));
+        builder.driver(spec);
+    }
+
+    // Analysis.
+    spans.analysis = 0..0;
+    let analysis = match &file.analysis {
+        Some(a) => {
+            spans.analysis = a.get_ref().kind.span();
+            Some(load_analysis(&resolver, a.get_ref(), &spans)?)
+        }
+        None => None,
+    };
+
+    Ok(Loaded {
+        name,
+        builder,
+        spans,
+        analysis,
+        joints,
+        bodies,
+        drivers,
+    })
+}
+
+fn check_unique_element(cx: &Ctx, spans: &Spans, name: &Name, what: &str) -> Result<(), Error> {
+    let n = name.get_ref();
+    if n.trim().is_empty() {
+        return Err(cx.err(name.span(), format!("{what} name must not be empty")));
+    }
+    let prev = spans
+        .joints
+        .get(n)
+        .map(|s| ("joint", s))
+        .or_else(|| spans.drivers.get(n).map(|s| ("driver", s)));
+    if let Some((kind, s)) = prev {
+        let l = cx.src.location(s.start);
+        return Err(cx.err(
+            name.span(),
+            format!(
+                "duplicate name \"{n}\": a {kind} of that name is defined at line {} \
+                 (joints and drivers share one namespace)",
+                l.line
+            ),
+        ));
+    }
+    Ok(())
+}
+
+fn orientation(
+    cx: &Ctx,
+    o: &Spanned<OrientationSpec>,
+) -> Result<(Orientation, Matrix3<f64>), Error> {
+    let s = o.get_ref();
+    let given: Vec<&str> = [
+        ("euler_parameters", s.euler_parameters.is_some()),
+        ("axis/angle", s.axis.is_some() || s.angle.is_some()),
+        ("euler313", s.euler313.is_some()),
+        ("euler123", s.euler123.is_some()),
+        ("z/x", s.z.is_some() || s.x.is_some()),
+    ]
+    .into_iter()
+    .filter(|(_, g)| *g)
+    .map(|(n, _)| n)
+    .collect();
+    if given.len() != 1 {
+        return Err(cx.err(
+            o.span(),
+            format!(
+                "orientation needs exactly one form: euler_parameters = [e0, e1, e2, e3], \
+                 axis = [..] with angle = .., euler313 = [φ, θ, ψ], euler123 = [φ, θ, ψ], or z = [..] \
+                 (with optional x = [..]); found {}",
+                if given.is_empty() { "none".to_string() } else { given.join(", ") }
+            ),
+        ));
+    }
+    let bad = |e: cardan_eulerparam::EulerParamError| cx.err(o.span(), format!("orientation: {e}"));
+    let (orient, p) = if let Some(ep) = &s.euler_parameters {
+        let a = ep.get_ref();
+        let mut v = [0.0; 4];
+        for k in 0..4 {
+            v[k] = cx.num(&a[k], &format!("euler_parameters[{k}]"))?;
+        }
+        let n = (v.iter().map(|x| x * x).sum::<f64>()).sqrt();
+        if (n - 1.0).abs() > 1e-6 {
+            return Err(cx.err(
+                ep.span(),
+                format!(
+                    "euler_parameters must have unit length (e0² + e1² + e2² + e3² = 1); |p| = {n}"
+                ),
+            ));
+        }
+        let p = EulerParams::try_new_normalized(v[0], v[1], v[2], v[3]).map_err(bad)?;
+        (Orientation::EulerParams(v), p)
+    } else if s.axis.is_some() || s.angle.is_some() {
+        let (Some(axis), Some(angle)) = (&s.axis, &s.angle) else {
+            return Err(cx.err(
+                o.span(),
+                "axis-angle orientation needs both axis = [x, y, z] and angle = θ [rad]",
+            ));
+        };
+        let axis = cx.direction(axis, "orientation axis")?;
+        let angle = cx.num(angle, "orientation angle")?;
+        let p = EulerParams::from_axis_angle(&axis, angle).map_err(bad)?;
+        (Orientation::AxisAngle { axis, angle }, p)
+    } else if let Some(e) = &s.euler313 {
+        let v = cx.vec3(e, "euler313")?;
+        let p = cardan_eulerparam::p_from_euler_313(v.x, v.y, v.z).map_err(bad)?;
+        (Orientation::Euler313([v.x, v.y, v.z]), p)
+    } else if let Some(e) = &s.euler123 {
+        let v = cx.vec3(e, "euler123")?;
+        let p = cardan_eulerparam::p_from_euler_123(v.x, v.y, v.z).map_err(bad)?;
+        (Orientation::Euler123([v.x, v.y, v.z]), p)
+    } else {
+        let Some(z) = &s.z else {
+            return Err(cx.err(
+                o.span(),
+                "orientation by axes needs z = [..] (x = [..] is optional)",
+            ));
+        };
+        let zv = cx.direction(z, "orientation z")?;
+        let (frame, x) = match &s.x {
+            Some(x) => {
+                let xv = cx.direction(x, "orientation x")?;
+                (
+                    cardan_eulerparam::frame_from_two_axes(&zv, &xv).map_err(bad)?,
+                    Some(xv),
+                )
+            }
+            None => (cardan_eulerparam::frame_from_axis(&zv).map_err(bad)?, None),
+        };
+        let p = EulerParams::from_rotation_matrix(&frame).map_err(bad)?;
+        (Orientation::Axes { z: zv, x }, p)
+    };
+    Ok((orient, p.a()))
+}
+
+fn load_body(cx: &Ctx, b: &BodySection) -> Result<(Body, Features), Error> {
+    let name = b.name.get_ref();
+    let mut body = Body::new(name.clone());
+    if let Some(m) = &b.mass {
+        let m_v = cx.num(m, &format!("mass of body \"{name}\""))?;
+        if m_v <= 0.0 {
+            return Err(cx.err(
+                m.span(),
+                format!("mass of body \"{name}\" must be positive, got {m_v} kg"),
+            ));
+        }
+        body = body.mass(m_v);
+    }
+    if let Some(i) = &b.inertia {
+        let j = match i.get_ref() {
+            InertiaSpec::Matrix(m) => Matrix3::from_fn(|r, c| m[r][c]),
+            InertiaSpec::Diag { diag } => Matrix3::from_diagonal(&Vector3::from(*diag)),
+        };
+        for v in j.iter() {
+            cx.raw_num(i.span(), *v, &format!("inertia of body \"{name}\""))?;
+        }
+        check_spd(cx, i.span(), name, &j)?;
+        body = body.inertia(j);
+    }
+    let position = match &b.position {
+        Some(p) => cx.vec3(p, &format!("position of body \"{name}\""))?,
+        None => Vector3::zeros(),
+    };
+    body = body.position(position);
+    let mut a = Matrix3::identity();
+    if let Some(o) = &b.orientation {
+        let (orient, a_) = orientation(cx, o)?;
+        a = a_;
+        body = body.orientation(orient);
+    }
+
+    let mut f = Features::default();
+    let add_point = |k: &Name, v: Vector3<f64>, f: &mut Features| -> Result<(), Error> {
+        if let Some((s, _)) = f.points.get(k.get_ref()) {
+            let l = cx.src.location(s.start);
+            return Err(cx.err(
+                k.span(),
+                format!(
+                    "duplicate point \"{}\" on body \"{name}\" (also defined at line {})",
+                    k.get_ref(),
+                    l.line
+                ),
+            ));
+        }
+        f.points.insert(k.get_ref().clone(), (k.span(), v));
+        Ok(())
+    };
+    for (k, v) in &b.points {
+        let p = cx.vec3(v, &format!("point \"{}\" of body \"{name}\"", k.get_ref()))?;
+        add_point(k, p, &mut f)?;
+    }
+    for (k, v) in &b.global_points {
+        let g = cx.vec3(v, &format!("point \"{}\" of body \"{name}\"", k.get_ref()))?;
+        add_point(k, a.transpose() * (g - position), &mut f)?;
+    }
+    let add_vec = |k: &Name, v: Vector3<f64>, f: &mut Features| -> Result<(), Error> {
+        if let Some((s, _)) = f.vectors.get(k.get_ref()) {
+            let l = cx.src.location(s.start);
+            return Err(cx.err(
+                k.span(),
+                format!(
+                    "duplicate vector \"{}\" on body \"{name}\" (also defined at line {})",
+                    k.get_ref(),
+                    l.line
+                ),
+            ));
+        }
+        f.vectors.insert(k.get_ref().clone(), (k.span(), v));
+        Ok(())
+    };
+    for (k, v) in &b.vectors {
+        let d = cx.direction(v, &format!("vector \"{}\" of body \"{name}\"", k.get_ref()))?;
+        add_vec(k, d, &mut f)?;
+    }
+    for (k, v) in &b.global_vectors {
+        let d = cx.direction(v, &format!("vector \"{}\" of body \"{name}\"", k.get_ref()))?;
+        add_vec(k, a.transpose() * d, &mut f)?;
+    }
+    Ok((body, f))
+}
+
+fn check_spd(cx: &Ctx, span: Range<usize>, name: &str, j: &Matrix3<f64>) -> Result<(), Error> {
+    let scale = j.amax().max(f64::MIN_POSITIVE);
+    let asym = (j - j.transpose()).amax();
+    if asym > 1e-9 * scale {
+        return Err(cx.err(
+            span,
+            format!(
+                "inertia of body \"{name}\" is not symmetric (largest |I_rc − I_cr| = {asym:e} kg m²)"
+            ),
+        ));
+    }
+    let eig = j.symmetric_eigenvalues();
+    let min = eig.min();
+    if min <= 1e-12 * scale {
+        return Err(cx.err(
+            span,
+            format!(
+                "inertia of body \"{name}\" is not positive definite (principal moments {:e}, {:e}, {:e} kg m²); \
+                 every principal moment must be > 0 (and each at most the sum of the other two)",
+                eig[0], eig[1], eig[2]
+            ),
+        ));
+    }
+    Ok(())
+}
+
+struct Resolver<'a> {
+    cx: &'a Ctx<'a>,
+    features: &'a HashMap<String, Features>,
+    order: &'a [String],
+}
+
+impl Resolver<'_> {
+    fn body<'n>(&self, n: &'n Name, owner: &str) -> Result<&'n str, Error> {
+        let b = n.get_ref();
+        if self.features.contains_key(b) {
+            return Ok(b);
+        }
+        let hint = did_you_mean(b, self.order.iter().map(String::as_str));
+        Err(self.cx.err(
+            n.span(),
+            format!(
+                "{owner}: unknown body \"{b}\"{hint} (bodies: {})",
+                list(self.order.iter().map(String::as_str))
+            ),
+        ))
+    }
+
+    fn feature(&self, body: &str, n: &Name, owner: &str, points: bool) -> Result<(), Error> {
+        let f = &self.features[body];
+        let map = if points { &f.points } else { &f.vectors };
+        let what = if points { "point" } else { "vector" };
+        if map.contains_key(n.get_ref()) {
+            return Ok(());
+        }
+        let hint = did_you_mean(n.get_ref(), map.keys().map(String::as_str));
+        let hint = if hint.is_empty() && !points {
+            // A vector name that is a point's name, or a common slip.
+            did_you_mean(n.get_ref(), map.keys().map(String::as_str))
+        } else {
+            hint
+        };
+        Err(self.cx.err(
+            n.span(),
+            format!(
+                "{owner}: body \"{body}\" has no {what} \"{}\"{hint} ({what}s of \"{body}\": {})",
+                n.get_ref(),
+                list(map.keys().map(String::as_str))
+            ),
+        ))
+    }
+
+    fn point_value(&self, body: &str, n: &str) -> Vector3<f64> {
+        self.features[body].points[n].1
+    }
+}
+
+fn load_joint(r: &Resolver, j: &JointSection) -> Result<JointSpec, Error> {
+    let cx = r.cx;
+    let name = j.name.get_ref();
+    let owner = format!("joint \"{name}\"");
+    let Some(kind) = joint_kind(j.kind.get_ref()) else {
+        let hint = did_you_mean(j.kind.get_ref(), JOINT_TYPES.iter().copied());
+        return Err(cx.err(
+            j.kind.span(),
+            format!(
+                "{owner}: unknown joint type \"{}\"{hint} (types: {})",
+                j.kind.get_ref(),
+                list(JOINT_TYPES.iter().copied())
+            ),
+        ));
+    };
+    let bi = r.body(&j.body_i, &owner)?;
+    let bj = r.body(&j.body_j, &owner)?;
+    if bi == bj {
+        return Err(cx.err(
+            j.body_j.span(),
+            format!("{owner} connects body \"{bi}\" to itself; a joint needs two different bodies"),
+        ));
+    }
+    r.feature(bi, &j.point_i, &owner, true)?;
+    r.feature(bj, &j.point_j, &owner, true)?;
+    let mut spec = JointSpec::new(
+        name.clone(),
+        kind,
+        (bi, j.point_i.get_ref()),
+        (bj, j.point_j.get_ref()),
+    );
+    let needs_axes = !matches!(kind, JointKind::Spherical | JointKind::SphericalSpherical);
+    match (&j.axis_i, &j.axis_j) {
+        (Some(ai), Some(aj)) => {
+            r.feature(bi, ai, &owner, false)?;
+            r.feature(bj, aj, &owner, false)?;
+            spec = spec.axes(ai.get_ref(), aj.get_ref());
+        }
+        (None, None) if !needs_axes => {}
+        _ => {
+            return Err(cx.err(
+                j.name.span(),
+                format!(
+                    "{owner}: a {} joint needs axis_i and axis_j (names of vectors on body \"{bi}\" and body \"{bj}\")",
+                    kind.name()
+                ),
+            ))
+        }
+    }
+    match (&j.x_axis_i, &j.x_axis_j) {
+        (Some(xi), Some(xj)) => {
+            r.feature(bi, xi, &owner, false)?;
+            r.feature(bj, xj, &owner, false)?;
+            spec = spec.x_axes(xi.get_ref(), xj.get_ref());
+        }
+        (None, None) => {}
+        (Some(x), None) | (None, Some(x)) => {
+            return Err(cx.err(
+                x.span(),
+                format!("{owner}: give both x_axis_i and x_axis_j, or neither"),
+            ))
+        }
+    }
+    if let Some(l) = &j.length {
+        if kind != JointKind::SphericalSpherical {
+            return Err(cx.err(
+                l.span(),
+                format!("{owner}: length applies only to spherical_spherical joints"),
+            ));
+        }
+        let v = cx.num(l, &format!("{owner} length"))?;
+        if v <= 0.0 {
+            return Err(cx.err(
+                l.span(),
+                format!("{owner}: length must be positive, got {v} m"),
+            ));
+        }
+        spec = spec.length(v);
+    } else if kind == JointKind::SphericalSpherical {
+        let _ = r.point_value(bi, j.point_i.get_ref());
+    }
+    Ok(spec)
+}
+
+fn missing(cx: &Ctx, span: Range<usize>, owner: &str, key: &str, why: &str) -> Error {
+    cx.err(span, format!("{owner}: missing key \"{key}\" ({why})"))
+}
+
+fn load_function(cx: &Ctx, f: &Spanned<FunctionSpec>, owner: &str) -> Result<TimeFunction, Error> {
+    let s = f.get_ref();
+    let kind = s.kind.get_ref().as_str();
+    let span = f.span();
+    let req = |v: &Option<Num>, key: &str| -> Result<f64, Error> {
+        match v {
+            Some(n) => cx.num(n, &format!("{owner}: function {key}")),
+            None => Err(missing(
+                cx,
+                span.clone(),
+                owner,
+                key,
+                &format!("a {kind} function needs it"),
+            )),
+        }
+    };
+    let opt = |v: &Option<Num>, key: &str, d: f64| -> Result<f64, Error> {
+        match v {
+            Some(n) => cx.num(n, &format!("{owner}: function {key}")),
+            None => Ok(d),
+        }
+    };
+    let list_of = |v: &Option<Spanned<Vec<Num>>>, key: &str| -> Result<Vec<f64>, Error> {
+        match v {
+            Some(l) => l
+                .get_ref()
+                .iter()
+                .enumerate()
+                .map(|(k, n)| cx.num(n, &format!("{owner}: function {key}[{k}]")))
+                .collect(),
+            None => Err(missing(
+                cx,
+                span.clone(),
+                owner,
+                key,
+                &format!("a {kind} function needs it"),
+            )),
+        }
+    };
+    // Keys that belong to another kind are an error, so a typo in kind does not go unnoticed.
+    let allowed: &[&str] = match kind {
+        "constant" => &["value"],
+        "polynomial" => &["coefficients"],
+        "harmonic" => &["amplitude", "frequency", "phase", "offset"],
+        "ramp" => &["t0", "t1", "f0", "f1"],
+        "spline" => &["times", "values"],
+        _ => {
+            let hint = did_you_mean(kind, FUNCTION_KINDS.iter().copied());
+            return Err(cx.err(
+                s.kind.span(),
+                format!(
+                    "{owner}: unknown function kind \"{kind}\"{hint} (kinds: {})",
+                    list(FUNCTION_KINDS.iter().copied())
+                ),
+            ));
+        }
+    };
+    let present: Vec<(&str, bool)> = vec![
+        ("value", s.value.is_some()),
+        ("coefficients", s.coefficients.is_some()),
+        ("amplitude", s.amplitude.is_some()),
+        ("frequency", s.frequency.is_some()),
+        ("phase", s.phase.is_some()),
+        ("offset", s.offset.is_some()),
+        ("t0", s.t0.is_some()),
+        ("t1", s.t1.is_some()),
+        ("f0", s.f0.is_some()),
+        ("f1", s.f1.is_some()),
+        ("times", s.times.is_some()),
+        ("values", s.values.is_some()),
+    ];
+    if let Some((k, _)) = present.iter().find(|(k, p)| *p && !allowed.contains(k)) {
+        return Err(cx.err(
+            span,
+            format!(
+                "{owner}: a {kind} function does not take \"{k}\" (it takes {})",
+                list(allowed.iter().copied())
+            ),
+        ));
+    }
+    let tf = match kind {
+        "constant" => TimeFunction::Constant(req(&s.value, "value")?),
+        "polynomial" => {
+            let c = list_of(&s.coefficients, "coefficients")?;
+            if c.is_empty() {
+                return Err(cx.err(
+                    span,
+                    format!("{owner}: polynomial needs at least one coefficient"),
+                ));
+            }
+            TimeFunction::Polynomial(c)
+        }
+        "harmonic" => TimeFunction::Harmonic {
+            amplitude: req(&s.amplitude, "amplitude")?,
+            frequency: req(&s.frequency, "frequency")?,
+            phase: opt(&s.phase, "phase", 0.0)?,
+            offset: opt(&s.offset, "offset", 0.0)?,
+        },
+        "ramp" => TimeFunction::Ramp {
+            t0: req(&s.t0, "t0")?,
+            t1: req(&s.t1, "t1")?,
+            f0: req(&s.f0, "f0")?,
+            f1: req(&s.f1, "f1")?,
+        },
+        _ => {
+            let t = list_of(&s.times, "times")?;
+            let v = list_of(&s.values, "values")?;
+            TimeFunction::spline(t, v).map_err(|e| cx.err(span.clone(), format!("{owner}: {e}")))?
+        }
+    };
+    tf.validate()
+        .map_err(|e| cx.err(span, format!("{owner}: {e}")))?;
+    Ok(tf)
+}
+
+fn load_driver(
+    r: &Resolver,
+    d: &DriverSection,
+    joint_kinds: &HashMap<String, JointKind>,
+    spans: &Spans,
+) -> Result<(DriverSpec, String), Error> {
+    let cx = r.cx;
+    let name = d.name.get_ref().clone();
+    let owner = format!("driver \"{name}\"");
+    let kind = d.kind.get_ref().as_str();
+    let function = load_function(cx, &d.function, &owner)?;
+    let span = d.name.span();
+    let stray = |keys: &[(&str, bool)]| -> Result<(), Error> {
+        if let Some((k, _)) = keys.iter().find(|(_, p)| *p) {
+            return Err(cx.err(
+                span.clone(),
+                format!("{owner}: a {kind} driver does not take \"{k}\""),
+            ));
+        }
+        Ok(())
+    };
+    let joint_ref = |allowed: &[JointKind]| -> Result<String, Error> {
+        let Some(j) = &d.joint else {
+            return Err(missing(
+                cx,
+                span.clone(),
+                &owner,
+                "joint",
+                &format!("a {kind} driver drives a joint"),
+            ));
+        };
+        let jn = j.get_ref();
+        let Some(k) = joint_kinds.get(jn) else {
+            let hint = did_you_mean(jn, joint_kinds.keys().map(String::as_str));
+            let mut names: Vec<&str> = joint_kinds.keys().map(String::as_str).collect();
+            names.sort_by_key(|n| spans.joints.get(*n).map(|s| s.start));
+            return Err(cx.err(
+                j.span(),
+                format!(
+                    "{owner}: unknown joint \"{jn}\"{hint} (joints: {})",
+                    list(names)
+                ),
+            ));
+        };
+        if !allowed.contains(k) {
+            return Err(cx.err(
+                j.span(),
+                format!(
+                    "{owner}: a {kind} driver needs a {} joint, but \"{jn}\" is {}",
+                    allowed
+                        .iter()
+                        .map(|k| k.name())
+                        .collect::<Vec<_>>()
+                        .join(" or "),
+                    k.name()
+                ),
+            ));
+        }
+        Ok(jn.clone())
+    };
+    match kind {
+        "rotation" | "translation" => {
+            stray(&[
+                ("body_i", d.body_i.is_some()),
+                ("point_i", d.point_i.is_some()),
+                ("body_j", d.body_j.is_some()),
+                ("point_j", d.point_j.is_some()),
+                ("body", d.body.is_some()),
+                ("point", d.point.is_some()),
+                ("coordinate", d.coordinate.is_some()),
+            ])?;
+            if kind == "rotation" {
+                let j = joint_ref(&[JointKind::Revolute, JointKind::Cylindrical])?;
+                Ok((
+                    DriverSpec::rotation(name, &j, function),
+                    format!("rotation of joint {j}"),
+                ))
+            } else {
+                let j = joint_ref(&[JointKind::Prismatic, JointKind::Cylindrical])?;
+                Ok((
+                    DriverSpec::translation(name, &j, function),
+                    format!("translation of joint {j}"),
+                ))
+            }
+        }
+        "distance" => {
+            stray(&[
+                ("joint", d.joint.is_some()),
+                ("body", d.body.is_some()),
+                ("point", d.point.is_some()),
+                ("coordinate", d.coordinate.is_some()),
+            ])?;
+            let need = |v: &Option<Name>, key: &str| -> Result<Name, Error> {
+                v.clone().ok_or_else(|| {
+                    missing(
+                        cx,
+                        span.clone(),
+                        &owner,
+                        key,
+                        "a distance driver is between two points",
+                    )
+                })
+            };
+            let (bi, pi, bj, pj) = (
+                need(&d.body_i, "body_i")?,
+                need(&d.point_i, "point_i")?,
+                need(&d.body_j, "body_j")?,
+                need(&d.point_j, "point_j")?,
+            );
+            let bi_s = r.body(&bi, &owner)?;
+            let bj_s = r.body(&bj, &owner)?;
+            r.feature(bi_s, &pi, &owner, true)?;
+            r.feature(bj_s, &pj, &owner, true)?;
+            if bi_s == bj_s {
+                return Err(cx.err(
+                    bj.span(),
+                    format!(
+                        "{owner}: both points are on body \"{bi_s}\"; their distance cannot change"
+                    ),
+                ));
+            }
+            Ok((
+                DriverSpec::distance(name, (bi_s, pi.get_ref()), (bj_s, pj.get_ref()), function),
+                format!("distance {bi_s}.{} – {bj_s}.{}", pi.get_ref(), pj.get_ref()),
+            ))
+        }
+        "coordinate" => {
+            stray(&[
+                ("joint", d.joint.is_some()),
+                ("body_i", d.body_i.is_some()),
+                ("point_i", d.point_i.is_some()),
+                ("body_j", d.body_j.is_some()),
+                ("point_j", d.point_j.is_some()),
+            ])?;
+            let (Some(b), Some(p), Some(c)) = (&d.body, &d.point, &d.coordinate) else {
+                return Err(missing(
+                    cx,
+                    span,
+                    &owner,
+                    "body, point and coordinate",
+                    "a coordinate driver moves one coordinate of a body point",
+                ));
+            };
+            let bs = r.body(b, &owner)?;
+            if bs == GROUND {
+                return Err(cx.err(b.span(), format!("{owner}: the ground cannot be driven")));
+            }
+            r.feature(bs, p, &owner, true)?;
+            let axis =
+                match c.get_ref().as_str() {
+                    "x" => Axis::X,
+                    "y" => Axis::Y,
+                    "z" => Axis::Z,
+                    other => return Err(cx.err(
+                        c.span(),
+                        format!(
+                            "{owner}: coordinate must be \"x\", \"y\" or \"z\", got \"{other}\""
+                        ),
+                    )),
+                };
+            Ok((
+                DriverSpec::coordinate(name, (bs, p.get_ref()), axis, function),
+                format!("{} of {bs}.{}", axis.name(), p.get_ref()),
+            ))
+        }
+        _ => {
+            let hint = did_you_mean(kind, DRIVER_TYPES.iter().copied());
+            Err(cx.err(
+                d.kind.span(),
+                format!(
+                    "{owner}: unknown driver type \"{kind}\"{hint} (types: {})",
+                    list(DRIVER_TYPES.iter().copied())
+                ),
+            ))
+        }
+    }
+}
+
+fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Analysis, Error> {
+    let cx = r.cx;
+    match a.kind.get_ref().as_str() {
+        "kinematic" => {}
+        "dynamic" => {
+            return Err(cx.err(
+                a.kind.span(),
+                "dynamic analysis is not available yet in this version; use kind = \"kinematic\"",
+            ))
+        }
+        other => {
+            let hint = did_you_mean(other, ["kinematic", "dynamic"]);
+            return Err(cx.err(
+                a.kind.span(),
+                format!("unknown analysis kind \"{other}\"{hint} (kinds: \"kinematic\")"),
+            ));
+        }
+    }
+    let t_start = match &a.t_start {
+        Some(t) => cx.num(t, "t_start")?,
+        None => 0.0,
+    };
+    let t_end = cx.num(&a.t_end, "t_end")?;
+    if t_end <= t_start {
+        return Err(cx.err(
+            a.t_end.span(),
+            format!("t_end = {t_end} s must be greater than t_start = {t_start} s"),
+        ));
+    }
+    let steps = match (&a.steps, &a.dt) {
+        (Some(_), Some(dt)) => {
+            return Err(cx.err(dt.span(), "give either steps or dt, not both"));
+        }
+        (Some(n), None) => {
+            let v = *n.get_ref();
+            if !(1..=10_000_000).contains(&v) {
+                return Err(cx.err(
+                    n.span(),
+                    format!("steps must be between 1 and 10000000, got {v}"),
+                ));
+            }
+            v as usize
+        }
+        (None, Some(dt)) => {
+            let h = cx.num(dt, "dt")?;
+            if h <= 0.0 {
+                return Err(cx.err(dt.span(), format!("dt must be positive, got {h} s")));
+            }
+            let n = ((t_end - t_start) / h).round();
+            if n > 1e7 {
+                return Err(cx.err(
+                    dt.span(),
+                    format!("dt = {h} s gives {n:e} steps; at most 10000000 are allowed"),
+                ));
+            }
+            if ((t_end - t_start) / h - n).abs() > 1e-6 * n.max(1.0) {
+                return Err(cx.err(
+                    dt.span(),
+                    format!(
+                        "dt = {h} s does not divide t_end − t_start = {} s into whole steps; use steps = N instead",
+                        t_end - t_start
+                    ),
+                ));
+            }
+            (n as usize).max(1)
+        }
+        (None, None) => 100,
+    };
+    let mut outputs = Outputs::default();
+    if let Some(o) = &a.outputs {
+        let o = o.get_ref();
+        for p in &o.points {
+            let Some((b, pt)) = p.get_ref().split_once('.') else {
+                return Err(cx.err(
+                    p.span(),
+                    format!(
+                        "output point \"{}\" must be written \"body.point\" (e.g. \"crank.B\")",
+                        p.get_ref()
+                    ),
+                ));
+            };
+            let bname = Spanned::new(p.span(), b.to_string());
+            let b = r.body(&bname, "outputs.points")?;
+            r.feature(
+                b,
+                &Spanned::new(p.span(), pt.to_string()),
+                "outputs.points",
+                true,
+            )?;
+            outputs.points.push((b.to_string(), pt.to_string()));
+        }
+        for j in &o.joints {
+            if !spans.joints.contains_key(j.get_ref()) {
+                let hint = did_you_mean(j.get_ref(), spans.joints.keys().map(String::as_str));
+                return Err(cx.err(
+                    j.span(),
+                    format!("outputs.joints: unknown joint \"{}\"{hint}", j.get_ref()),
+                ));
+            }
+            outputs.joints.push(j.get_ref().clone());
+        }
+        for b in &o.bodies {
+            let bs = r.body(b, "outputs.bodies")?;
+            if bs == GROUND {
+                return Err(cx.err(b.span(), "outputs.bodies: the ground does not move"));
+            }
+            outputs.bodies.push(bs.to_string());
+        }
+    }
+    let plots = match &a.plots {
+        None => true,
+        Some(p) => match p.get_ref().as_str() {
+            "svg" => true,
+            "none" => false,
+            other => {
+                return Err(cx.err(
+                    p.span(),
+                    format!("plots = \"{other}\" is not supported: use \"svg\" or \"none\""),
+                ))
+            }
+        },
+    };
+    Ok(Analysis {
+        t_start,
+        t_end,
+        steps,
+        outputs,
+        plots,
+    })
+}

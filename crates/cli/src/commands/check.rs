@@ -1,0 +1,186 @@
+//! `cardan check MODEL.toml`: validate and describe a model.
+
+use super::{analysis_error, prepare};
+use crate::diag::Error;
+use cardan_mechanism::{AnalysisError, AssemblyOptions};
+use std::io::Write;
+use std::path::Path;
+
+/// Writes an aligned text table.
+pub fn write_table(
+    out: &mut dyn Write,
+    headers: &[&str],
+    rows: &[Vec<String>],
+) -> std::io::Result<()> {
+    let n = headers.len();
+    let mut w: Vec<usize> = headers.iter().map(|h| h.chars().count()).collect();
+    for r in rows {
+        for (k, c) in r.iter().enumerate().take(n) {
+            w[k] = w[k].max(c.chars().count());
+        }
+    }
+    let line = |cells: Vec<&str>| {
+        let mut s = String::from("  ");
+        for (k, c) in cells.iter().enumerate() {
+            s.push_str(c);
+            if k + 1 < cells.len() {
+                s.push_str(&" ".repeat(w[k] - c.chars().count() + 2));
+            }
+        }
+        s
+    };
+    writeln!(out, "{}", line(headers.to_vec()))?;
+    for r in rows {
+        writeln!(out, "{}", line(r.iter().map(String::as_str).collect()))?;
+    }
+    Ok(())
+}
+
+pub(crate) fn io(e: std::io::Error) -> Error {
+    Error::output(format!("cannot write to standard output: {e}"))
+}
+
+/// Formats a number compactly.
+pub fn g(v: f64) -> String {
+    if v == 0.0 {
+        "0".into()
+    } else if (1e-3..1e5).contains(&v.abs()) {
+        let s = format!("{v:.6}");
+        let s = s.trim_end_matches('0').trim_end_matches('.');
+        s.to_string()
+    } else {
+        format!("{v:.4e}")
+    }
+}
+
+/// Validates the model and prints bodies, joints with equation counts, DOF and redundancy.
+///
+/// # Errors
+/// Any input error; an assembly that cannot close; a driver count that does not match the DOF
+/// of a kinematic analysis (after printing the description).
+pub fn check(path: &Path, out: &mut dyn Write) -> Result<(), Error> {
+    let p = prepare(path)?;
+    let model = &p.model;
+    let t0 = p.loaded.analysis.as_ref().map_or(0.0, |a| a.t_start);
+    let mut ws = model.workspace();
+    let opts = AssemblyOptions {
+        include_drivers: false,
+        ..AssemblyOptions::at(t0)
+    };
+    model
+        .assemble(&mut ws, &opts)
+        .map_err(|e| analysis_error(&p, &e))?;
+    let dof = model.dof(&ws).map_err(|e| analysis_error(&p, &e))?;
+
+    writeln!(
+        out,
+        "model \"{}\" ({}): SI units (m, kg, s, rad)",
+        p.loaded.name,
+        path.display()
+    )
+    .map_err(io)?;
+    writeln!(out, "\nbodies ({} moving, plus ground)", model.num_bodies()).map_err(io)?;
+    let rows: Vec<Vec<String>> = model
+        .bodies()
+        .iter()
+        .enumerate()
+        .map(|(k, b)| {
+            let r = ws.r(k);
+            vec![
+                b.name.clone(),
+                b.mass.map_or("-".into(), g),
+                format!("({}, {}, {})", g(r.x), g(r.y), g(r.z)),
+                format!("{}..{}", 6 * k, 6 * k + 6),
+            ]
+        })
+        .collect();
+    write_table(
+        out,
+        &["name", "mass [kg]", "assembled position [m]", "columns"],
+        &rows,
+    )
+    .map_err(io)?;
+
+    writeln!(out, "\njoints ({})", model.joints().len()).map_err(io)?;
+    let rows: Vec<Vec<String>> = model
+        .joints()
+        .iter()
+        .map(|j| {
+            vec![
+                j.name.clone(),
+                j.joint.kind().name().to_string(),
+                format!(
+                    "{} – {}",
+                    model.body_name(j.body_i),
+                    model.body_name(j.body_j)
+                ),
+                j.rows.len().to_string(),
+                format!("{}..{}", j.rows.start, j.rows.end),
+            ]
+        })
+        .collect();
+    write_table(out, &["name", "type", "bodies", "equations", "rows"], &rows).map_err(io)?;
+
+    writeln!(out, "\ndrivers ({})", model.drivers().len()).map_err(io)?;
+    let rows: Vec<Vec<String>> = model
+        .drivers()
+        .iter()
+        .zip(&p.loaded.drivers)
+        .map(|(d, (_, what))| {
+            vec![
+                d.name.clone(),
+                what.clone(),
+                d.rows.len().to_string(),
+                format!("{}..{}", d.rows.start, d.rows.end),
+            ]
+        })
+        .collect();
+    write_table(out, &["name", "drives", "equations", "rows"], &rows).map_err(io)?;
+
+    writeln!(
+        out,
+        "\nunknowns: {} (6 per moving body); equations: {} joint + {} driver = {}",
+        model.num_unknowns(),
+        model.num_joint_equations(),
+        model.num_equations() - model.num_joint_equations(),
+        model.num_equations()
+    )
+    .map_err(io)?;
+    writeln!(
+        out,
+        "joint Jacobian rank {} → degrees of freedom: {} (Grübler count: {})",
+        dof.rank,
+        dof.dof,
+        model.num_unknowns() as i64 - model.num_joint_equations() as i64
+    )
+    .map_err(io)?;
+    if dof.redundant.is_empty() {
+        writeln!(out, "redundant equations: none").map_err(io)?;
+    } else {
+        writeln!(out, "redundant equations ({}):", dof.redundant.len()).map_err(io)?;
+        for e in &dof.redundant {
+            writeln!(out, "  row {}: {e}", e.row).map_err(io)?;
+        }
+    }
+    if p.loaded.analysis.is_some() {
+        if dof.dof == dof.drivers {
+            writeln!(
+                out,
+                "kinematic analysis: {} driver{} for {} DOF: ok",
+                dof.drivers,
+                if dof.drivers == 1 { "" } else { "s" },
+                dof.dof
+            )
+            .map_err(io)?;
+        } else {
+            return Err(analysis_error(
+                &p,
+                &AnalysisError::DriverCount {
+                    dof: dof.dof,
+                    drivers: dof.drivers,
+                },
+            ));
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,465 @@
+//! `cardan run MODEL.toml [-o DIR]`: the analysis the file describes, written as CSV and SVG.
+
+use super::{analysis_error, prepare, Prepared};
+use crate::build::Outputs as Requested;
+use crate::diag::{describe_io, Error};
+use crate::table::Table;
+use cardan_mechanism::{KinematicOptions, Results};
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// Runs with more steps than this show a progress bar (when stderr is a terminal).
+pub const PROGRESS_MIN_STEPS: usize = 2000;
+
+/// What a run did.
+#[derive(Debug, Clone)]
+pub struct Summary {
+    /// The model name.
+    pub name: String,
+    /// Stored time steps.
+    pub steps: usize,
+    /// Total Newton iterations.
+    pub iterations: usize,
+    /// Largest max |Φ_i| over the run.
+    pub max_residual: f64,
+    /// Wall time of the analysis (not the writing).
+    pub wall: Duration,
+    /// Output directory.
+    pub dir: PathBuf,
+    /// Files written.
+    pub files: Vec<PathBuf>,
+}
+
+/// The output of [`run_model`]: the results (complete, or partial with the error).
+pub struct RunOutcome {
+    /// The model as prepared.
+    pub prepared: Prepared,
+    /// Results (up to the failure if `error` is set).
+    pub results: Results,
+    /// What was written.
+    pub summary: Summary,
+    /// The analysis error, if the run stopped early.
+    pub error: Option<Error>,
+}
+
+/// `cardan run`: runs, writes, prints the summary.
+///
+/// # Errors
+/// Input errors, analysis errors (after writing the partial results), output errors.
+pub fn run(
+    path: &Path,
+    output: Option<&Path>,
+    quiet: bool,
+    out: &mut dyn Write,
+) -> Result<Summary, Error> {
+    let show = !quiet && std::io::stderr().is_terminal();
+    let o = run_model(path, output, show)?;
+    let s = &o.summary;
+    let written: Vec<String> = s
+        .files
+        .iter()
+        .map(|f| {
+            f.file_name()
+                .map_or(String::new(), |n| n.to_string_lossy().into_owned())
+        })
+        .collect();
+    let io = |e: std::io::Error| Error::output(format!("cannot write to standard output: {e}"));
+    writeln!(
+        out,
+        "wrote {} files to {}: {}",
+        written.len(),
+        s.dir.display(),
+        written.join(", ")
+    )
+    .map_err(io)?;
+    writeln!(
+        out,
+        "{}: {} steps, {} Newton iterations, largest residual {:.3e}, wall time {:.3} s",
+        s.name,
+        s.steps,
+        s.iterations,
+        s.max_residual,
+        s.wall.as_secs_f64()
+    )
+    .map_err(io)?;
+    match o.error {
+        Some(e) => Err(e),
+        None => Ok(o.summary),
+    }
+}
+
+/// Runs the model file's analysis and writes its outputs to `output` (default
+/// `out/<model name>/`). A failure mid-run still writes the results up to the failure and is
+/// returned in [`RunOutcome::error`].
+///
+/// # Errors
+/// Input errors and failures before the first step (assembly, driver count); output errors.
+pub fn run_model(path: &Path, output: Option<&Path>, progress: bool) -> Result<RunOutcome, Error> {
+    let p = prepare(path)?;
+    let Some(analysis) = p.loaded.analysis.clone() else {
+        return Err(p.source.error(
+            "the model file has no [analysis] table, so there is nothing to run; add e.g.\n\
+             [analysis]\nkind = \"kinematic\"\nt_end = 1.0\nsteps = 100\n(`cardan check` validates a model without running it)",
+        ));
+    };
+    let dir = match output {
+        Some(d) => d.to_path_buf(),
+        None => Path::new("out").join(&p.loaded.name),
+    };
+    let opts = KinematicOptions::new(analysis.t_start, analysis.t_end, analysis.steps);
+    let start = Instant::now();
+    let (results, failure) = if progress && analysis.steps >= PROGRESS_MIN_STEPS {
+        run_with_progress(&p, &opts)
+    } else {
+        match p.model.run_kinematics(&opts) {
+            Ok(r) => (r, None),
+            Err(e) => match e.partial_results() {
+                Some(r) => (r.clone(), Some(e)),
+                None => return Err(analysis_error(&p, &e)),
+            },
+        }
+    };
+    let wall = start.elapsed();
+
+    let req = requested(&p, &analysis.outputs);
+    let tables = tables(&p, &results, &req);
+    std::fs::create_dir_all(&dir).map_err(|e| {
+        Error::output(format!(
+            "cannot create the output directory {}: {}",
+            dir.display(),
+            describe_io(&e)
+        ))
+    })?;
+    let mut files = Vec::new();
+    for t in &tables {
+        let f = dir.join(format!("{}.csv", t.name));
+        write(&f, &t.to_csv())?;
+        files.push(f);
+        if analysis.plots && t.name != "residual" {
+            let f = dir.join(format!("{}.svg", t.name));
+            write(&f, &t.to_svg())?;
+            files.push(f);
+        }
+    }
+    let summary = Summary {
+        name: p.loaded.name.clone(),
+        steps: results.len(),
+        iterations: results.iterations.iter().sum(),
+        max_residual: results.residual.iter().fold(0.0, |a: f64, &b| a.max(b)),
+        wall,
+        dir: dir.clone(),
+        files,
+    };
+    let error = failure.map(|e| {
+        let mut err = analysis_error(&p, &e);
+        let last = results.times.last().copied();
+        err.message.push_str(&match last {
+            Some(t) => format!(
+                ". The results up to t = {t} s ({} steps) were written to {}",
+                results.len(),
+                dir.display()
+            ),
+            None => format!(
+                ". No step was completed; empty tables were written to {}",
+                dir.display()
+            ),
+        });
+        err
+    });
+    Ok(RunOutcome {
+        prepared: p,
+        results,
+        summary,
+        error,
+    })
+}
+
+fn write(path: &Path, text: &str) -> Result<(), Error> {
+    std::fs::write(path, text).map_err(|e| {
+        Error::output(format!(
+            "cannot write {}: {}",
+            path.display(),
+            describe_io(&e)
+        ))
+    })
+}
+
+/// The run in about 100 chunks, with a progress bar on stderr. Chunks share the workspace, so
+/// each continues from the last solved state; the first time of each later chunk repeats the last
+/// of the previous one and is dropped, and joint angles are continued across chunks.
+fn run_with_progress(
+    p: &Prepared,
+    opts: &KinematicOptions,
+) -> (Results, Option<cardan_mechanism::AnalysisError>) {
+    let bar = indicatif::ProgressBar::new(opts.steps as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{bar:40} {pos}/{len} steps, t = {msg} s, eta {eta}",
+        )
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let mut ws = p.model.workspace();
+    let chunk = opts.steps.div_ceil(100).max(1);
+    let mut all: Option<Results> = None;
+    let mut k0 = 0;
+    let mut failure = None;
+    while k0 < opts.steps {
+        let k1 = (k0 + chunk).min(opts.steps);
+        let sub = KinematicOptions {
+            t0: opts.time(k0),
+            t_end: opts.time(k1),
+            steps: k1 - k0,
+            outputs: opts.outputs,
+        };
+        let (part, err) = match p.model.kinematics(&mut ws, &sub) {
+            Ok(r) => (r, None),
+            Err(e) => match e.partial_results() {
+                Some(r) => (r.clone(), Some(e)),
+                None => (Results::default(), Some(e)),
+            },
+        };
+        all = Some(match all {
+            None => part,
+            Some(acc) => append(acc, part),
+        });
+        bar.set_position(k1 as u64);
+        bar.set_message(format!("{:.4}", sub.t_end));
+        if err.is_some() {
+            failure = err;
+            break;
+        }
+        k0 = k1;
+    }
+    bar.finish_and_clear();
+    (all.unwrap_or_default(), failure)
+}
+
+/// Appends `b` (which starts with a repeat of the last time of `a`) to `a`.
+fn append(mut a: Results, b: Results) -> Results {
+    if b.is_empty() {
+        return a;
+    }
+    let skip = usize::from(!a.is_empty() && a.times.last() == b.times.first());
+    fn ext<T: Clone>(x: &mut Vec<T>, y: &[T], skip: usize) {
+        if y.len() > skip {
+            x.extend_from_slice(&y[skip..]);
+        }
+    }
+    ext(&mut a.times, &b.times, skip);
+    ext(&mut a.residual, &b.residual, skip);
+    ext(&mut a.iterations, &b.iterations, skip);
+    for (x, y) in a.bodies.iter_mut().zip(&b.bodies) {
+        ext(&mut x.r, &y.r, skip);
+        ext(&mut x.p, &y.p, skip);
+        ext(&mut x.r_dot, &y.r_dot, skip);
+        ext(&mut x.p_dot, &y.p_dot, skip);
+        ext(&mut x.omega, &y.omega, skip);
+        ext(&mut x.omega_local, &y.omega_local, skip);
+        ext(&mut x.r_ddot, &y.r_ddot, skip);
+        ext(&mut x.p_ddot, &y.p_ddot, skip);
+        ext(&mut x.omega_dot, &y.omega_dot, skip);
+        ext(&mut x.omega_dot_local, &y.omega_dot_local, skip);
+    }
+    for (x, y) in a.points.iter_mut().zip(&b.points) {
+        ext(&mut x.position, &y.position, skip);
+        ext(&mut x.velocity, &y.velocity, skip);
+        ext(&mut x.acceleration, &y.acceleration, skip);
+    }
+    for (x, y) in a.joints.iter_mut().zip(&b.joints) {
+        let mut vals = y.values.clone();
+        if let (Some(last), Some(first)) = (x.values.last().copied(), vals.first().copied()) {
+            for (q, name) in y.coordinate_names.iter().enumerate() {
+                if name.starts_with("angle") {
+                    let two_pi = 2.0 * std::f64::consts::PI;
+                    let shift = ((last[q] - first[q]) / two_pi).round() * two_pi;
+                    for v in &mut vals {
+                        v[q] += shift;
+                    }
+                }
+            }
+        }
+        ext(&mut x.values, &vals, skip);
+    }
+    a
+}
+
+/// The outputs to write: as requested, or everything when the file has no `[analysis.outputs]`.
+fn requested(p: &Prepared, req: &Requested) -> Requested {
+    if !req.points.is_empty() || !req.joints.is_empty() || !req.bodies.is_empty() {
+        return req.clone();
+    }
+    let m = &p.model;
+    Requested {
+        points: m
+            .points()
+            .iter()
+            .filter(|f| f.body_name != cardan_mechanism::GROUND)
+            .map(|f| (f.body_name.clone(), f.name.clone()))
+            .collect(),
+        joints: m.joints().iter().map(|j| j.name.clone()).collect(),
+        bodies: m.bodies().iter().map(|b| b.name.clone()).collect(),
+    }
+}
+
+/// The unit of a joint coordinate, from its name.
+fn joint_unit(name: &str) -> &'static str {
+    if name.starts_with("angle") {
+        "rad"
+    } else {
+        "m"
+    }
+}
+
+/// Builds the output groups from the results.
+pub fn tables(p: &Prepared, r: &Results, req: &Requested) -> Vec<Table> {
+    let n = r.len();
+    let xyz = ["x", "y", "z"];
+    let mut out = Vec::new();
+    let vec_table =
+        |name: &str,
+         title: &str,
+         unit: &str,
+         pick: &dyn Fn(&cardan_mechanism::PointResults) -> &Vec<nalgebra::Vector3<f64>>| {
+            let mut cols = Vec::new();
+            let mut series = Vec::new();
+            for (b, pt) in &req.points {
+                if let Some(h) = r.point(b, pt) {
+                    for (c, ax) in xyz.iter().enumerate() {
+                        cols.push(format!("{b}.{pt}.{ax} [{unit}]"));
+                        series.push((pick(h), c));
+                    }
+                }
+            }
+            let mut t = Table::new(name, title, cols);
+            for k in 0..n {
+                let mut row = vec![r.times[k]];
+                row.extend(
+                    series
+                        .iter()
+                        .map(|(v, c)| v.get(k).map_or(f64::NAN, |x| x[*c])),
+                );
+                t.rows.push(row);
+            }
+            t
+        };
+    if !req.points.is_empty() {
+        out.push(vec_table("points", "point positions", "m", &|h| {
+            &h.position
+        }));
+        out.push(vec_table(
+            "point_velocities",
+            "point velocities",
+            "m/s",
+            &|h| &h.velocity,
+        ));
+        out.push(vec_table(
+            "point_accelerations",
+            "point accelerations",
+            "m/s²",
+            &|h| &h.acceleration,
+        ));
+    }
+    if !req.joints.is_empty() {
+        let mut cols = Vec::new();
+        let mut src = Vec::new();
+        for j in &req.joints {
+            if let Some(h) = r.joint(j) {
+                for (q, c) in h.coordinate_names.iter().enumerate() {
+                    cols.push(format!("{j}.{c} [{}]", joint_unit(c)));
+                    src.push((h, q));
+                }
+            }
+        }
+        let mut t = Table::new("joints", "joint coordinates", cols);
+        for k in 0..n {
+            let mut row = vec![r.times[k]];
+            row.extend(
+                src.iter()
+                    .map(|(h, q)| h.values.get(k).map_or(f64::NAN, |v| v[*q])),
+            );
+            t.rows.push(row);
+        }
+        out.push(t);
+    }
+    if !req.bodies.is_empty() {
+        let bodies: Vec<_> = req.bodies.iter().filter_map(|b| r.body(b)).collect();
+        let mut cols = Vec::new();
+        for b in &bodies {
+            for ax in xyz {
+                cols.push(format!("{}.r.{ax} [m]", b.name));
+            }
+            for e in ["e0", "e1", "e2", "e3"] {
+                cols.push(format!("{}.p.{e} [-]", b.name));
+            }
+        }
+        let mut t = Table::new("bodies", "body poses (r, Euler parameters p)", cols);
+        for k in 0..n {
+            let mut row = vec![r.times[k]];
+            for b in &bodies {
+                row.extend((0..3).map(|c| b.r.get(k).map_or(f64::NAN, |v| v[c])));
+                row.extend((0..4).map(|c| b.p.get(k).map_or(f64::NAN, |v| v[c])));
+            }
+            t.rows.push(row);
+        }
+        out.push(t);
+        for (name, title, u1, u2, first, second) in [
+            (
+                "body_velocities",
+                "body velocities (ṙ, ω global)",
+                "m/s",
+                "rad/s",
+                "r_dot",
+                "omega",
+            ),
+            (
+                "body_accelerations",
+                "body accelerations (r̈, ω̇ global)",
+                "m/s²",
+                "rad/s²",
+                "r_ddot",
+                "omega_dot",
+            ),
+        ] {
+            let mut cols = Vec::new();
+            for b in &bodies {
+                for ax in xyz {
+                    cols.push(format!("{}.{first}.{ax} [{u1}]", b.name));
+                }
+                for ax in xyz {
+                    cols.push(format!("{}.{second}.{ax} [{u2}]", b.name));
+                }
+            }
+            let mut t = Table::new(name, title, cols);
+            for k in 0..n {
+                let mut row = vec![r.times[k]];
+                for b in &bodies {
+                    let (a, w) = if first == "r_dot" {
+                        (&b.r_dot, &b.omega)
+                    } else {
+                        (&b.r_ddot, &b.omega_dot)
+                    };
+                    row.extend((0..3).map(|c| a.get(k).map_or(f64::NAN, |v| v[c])));
+                    row.extend((0..3).map(|c| w.get(k).map_or(f64::NAN, |v| v[c])));
+                }
+                t.rows.push(row);
+            }
+            out.push(t);
+        }
+    }
+    let mut t = Table::new(
+        "residual",
+        "constraint residual",
+        vec!["max |Φ| [m or -]".into(), "newton_iterations [-]".into()],
+    );
+    for k in 0..n {
+        t.rows.push(vec![
+            r.times[k],
+            r.residual.get(k).copied().unwrap_or(f64::NAN),
+            r.iterations.get(k).map_or(f64::NAN, |&i| i as f64),
+        ]);
+    }
+    out.push(t);
+    let _ = p;
+    out
+}

@@ -1,0 +1,254 @@
+//! Errors of the command line: one paragraph each, with file, line and column when the problem
+//! is in the model file.
+
+use std::fmt;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+/// What kind of failure an [`Error`] is; it selects the exit code.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ErrorKind {
+    /// The model file cannot be read, parsed or validated (exit code 1).
+    Input,
+    /// The model is valid but the analysis failed (assembly, singular configuration; exit 3).
+    Analysis,
+    /// Writing output failed (exit code 4).
+    Output,
+}
+
+impl ErrorKind {
+    /// The process exit code for this kind.
+    pub fn exit_code(self) -> i32 {
+        match self {
+            ErrorKind::Input => 1,
+            ErrorKind::Analysis => 3,
+            ErrorKind::Output => 4,
+        }
+    }
+}
+
+/// A place in a source file (1-based line and column).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Location {
+    /// The file.
+    pub file: PathBuf,
+    /// Line, from 1.
+    pub line: usize,
+    /// Column (in characters), from 1.
+    pub column: usize,
+}
+
+impl fmt::Display for Location {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}:{}:{}", self.file.display(), self.line, self.column)
+    }
+}
+
+/// An error of the `cardan` command: kind, optional location and a one-paragraph message.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Error {
+    /// Selects the exit code.
+    pub kind: ErrorKind,
+    /// Where in the model file, when known.
+    pub location: Option<Location>,
+    /// What went wrong and, where possible, how to fix it.
+    pub message: String,
+}
+
+impl Error {
+    /// An input error without a location.
+    pub fn input(message: impl Into<String>) -> Self {
+        Self {
+            kind: ErrorKind::Input,
+            location: None,
+            message: message.into(),
+        }
+    }
+
+    /// An analysis error.
+    pub fn analysis(message: impl Into<String>) -> Self {
+        Self {
+            kind: ErrorKind::Analysis,
+            location: None,
+            message: message.into(),
+        }
+    }
+
+    /// An output error.
+    pub fn output(message: impl Into<String>) -> Self {
+        Self {
+            kind: ErrorKind::Output,
+            location: None,
+            message: message.into(),
+        }
+    }
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match &self.location {
+            Some(loc) => write!(f, "{loc}: error: {}", self.message),
+            None => write!(f, "error: {}", self.message),
+        }
+    }
+}
+
+impl std::error::Error for Error {}
+
+/// A model file's text, to turn byte spans into line and column.
+#[derive(Debug, Clone)]
+pub struct Source {
+    /// The path as given on the command line.
+    pub path: PathBuf,
+    /// The contents.
+    pub text: String,
+}
+
+impl Source {
+    /// Reads a file; an unreadable file is an input error naming the path and the cause.
+    pub fn read(path: &Path) -> Result<Self, Error> {
+        match std::fs::read(path) {
+            Ok(bytes) => match String::from_utf8(bytes) {
+                Ok(text) => Ok(Self {
+                    path: path.to_path_buf(),
+                    text,
+                }),
+                Err(e) => {
+                    let at = e.utf8_error().valid_up_to();
+                    let mut err = Error::input(
+                        "the model file is not valid UTF-8 text (TOML files must be UTF-8)",
+                    );
+                    let text = String::from_utf8_lossy(e.as_bytes()).into_owned();
+                    let src = Self {
+                        path: path.to_path_buf(),
+                        text,
+                    };
+                    err.location = Some(src.location(at));
+                    Err(err)
+                }
+            },
+            Err(e) => Err(Error::input(format!(
+                "cannot read the model file {}: {}",
+                path.display(),
+                describe_io(&e)
+            ))),
+        }
+    }
+
+    /// A source from text (tests, stdin).
+    pub fn from_text(path: impl Into<PathBuf>, text: impl Into<String>) -> Self {
+        Self {
+            path: path.into(),
+            text: text.into(),
+        }
+    }
+
+    /// Line and column (1-based, column in characters) of a byte offset.
+    pub fn location(&self, offset: usize) -> Location {
+        let offset = offset.min(self.text.len());
+        let mut start = offset;
+        while !self.text.is_char_boundary(start) {
+            start -= 1;
+        }
+        let before = &self.text[..start];
+        let line = before.matches('\n').count() + 1;
+        let line_start = before.rfind('\n').map_or(0, |k| k + 1);
+        let column = before[line_start..].chars().count() + 1;
+        Location {
+            file: self.path.clone(),
+            line,
+            column,
+        }
+    }
+
+    /// An input error at a span of this file.
+    pub fn error_at(&self, span: Range<usize>, message: impl Into<String>) -> Error {
+        Error {
+            kind: ErrorKind::Input,
+            location: Some(self.location(span.start)),
+            message: message.into(),
+        }
+    }
+
+    /// An input error located at the start of the file (no better place known).
+    pub fn error(&self, message: impl Into<String>) -> Error {
+        Error {
+            kind: ErrorKind::Input,
+            location: Some(self.location(0)),
+            message: message.into(),
+        }
+    }
+}
+
+/// A short human description of an I/O error.
+pub fn describe_io(e: &std::io::Error) -> String {
+    match e.kind() {
+        std::io::ErrorKind::NotFound => "no such file".into(),
+        std::io::ErrorKind::PermissionDenied => "permission denied".into(),
+        std::io::ErrorKind::IsADirectory => "it is a directory".into(),
+        _ => {
+            // A directory read as a file gives "Is a directory (os error 21)" on Linux.
+            let s = e.to_string();
+            s.split(" (os error").next().unwrap_or(&s).to_lowercase()
+        }
+    }
+}
+
+/// The candidate nearest to `word` (Jaro-Winkler similarity and Levenshtein distance), if any is
+/// close enough to be a plausible typo.
+pub fn nearest<'a>(word: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
+    let lw = word.to_lowercase();
+    candidates
+        .into_iter()
+        .map(|c| {
+            let lc = c.to_lowercase();
+            let lev = strsim::levenshtein(&lw, &lc);
+            let jw = strsim::jaro_winkler(&lw, &lc);
+            (c, lev, jw)
+        })
+        .filter(|&(c, lev, jw)| jw >= 0.7 || lev <= 2.max(c.len() / 3))
+        .min_by(|a, b| a.1.cmp(&b.1).then(b.2.total_cmp(&a.2)))
+        .map(|(c, _, _)| c)
+}
+
+/// ", did you mean `x`?" or "" when nothing is close.
+pub fn did_you_mean<'a>(word: &str, candidates: impl IntoIterator<Item = &'a str>) -> String {
+    match nearest(word, candidates) {
+        Some(c) => format!("; did you mean \"{c}\"?"),
+        None => String::new(),
+    }
+}
+
+/// "a, b, c" (quoted), for "valid names are ..." lists.
+pub fn list<'a>(names: impl IntoIterator<Item = &'a str>) -> String {
+    let v: Vec<String> = names.into_iter().map(|n| format!("\"{n}\"")).collect();
+    if v.is_empty() {
+        "(none)".into()
+    } else {
+        v.join(", ")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn line_and_column() {
+        let s = Source::from_text("m.toml", "a = 1\nbb = é2\n");
+        let l = s.location(6);
+        assert_eq!((l.line, l.column), (2, 1));
+        let l = s.location(11);
+        assert_eq!((l.line, l.column), (2, 6));
+    }
+
+    #[test]
+    fn suggestions() {
+        assert_eq!(
+            nearest("crnak", ["crank", "conrod", "slider"]),
+            Some("crank")
+        );
+        assert_eq!(nearest("zzzzzz", ["crank", "conrod"]), None);
+        assert_eq!(nearest("mas", ["mass", "name"]), Some("mass"));
+    }
+}

@@ -1,0 +1,108 @@
+//! # cardan-cli: the `cardan` command
+//!
+//! Model file (TOML, `docs/model-format.md`) → [`cardan_mechanism`] model → analysis → CSV files
+//! and SVG plots. The binary (`src/main.rs`) only calls [`main_with_args`]; everything else lives
+//! here so that tests can call it.
+//!
+//! - `cardan run MODEL.toml [-o DIR]`: the analysis the file describes; CSV per output group
+//!   (header with units), SVG plots, a summary line.
+//! - `cardan check MODEL.toml`: bodies, joints with equation counts, DOF, redundant equations.
+//! - `cardan eval MODEL.toml [--t T]`: Φ, the Jacobian (pattern and values), ν and γ# at the
+//!   assembled state.
+//!
+//! Every failure is an [`Error`] with a one-paragraph message (file:line:column when it comes
+//! from the model file) and an exit code; bad input never panics.
+
+pub mod build;
+pub mod commands;
+pub mod diag;
+pub mod model;
+pub mod svg;
+pub mod table;
+
+pub use diag::{Error, ErrorKind, Location, Source};
+
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+
+/// The `cardan` command line.
+#[derive(Debug, Parser)]
+#[command(
+    name = "cardan",
+    version,
+    about = "Kinematic analysis of spatial mechanisms in absolute coordinates with Euler parameters",
+    long_about = None
+)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Run the analysis the model file describes; write CSV and plots.
+    Run {
+        /// The model file (TOML).
+        model: PathBuf,
+        /// Output directory (default: out/<model name>/).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Do not show a progress bar.
+        #[arg(long)]
+        quiet: bool,
+    },
+    /// Validate the model; print bodies, joints, equation counts, DOF and redundant equations.
+    Check {
+        /// The model file (TOML).
+        model: PathBuf,
+    },
+    /// Print Φ, the Jacobian (pattern and values), ν and γ# at the assembled state.
+    Eval {
+        /// The model file (TOML).
+        model: PathBuf,
+        /// Time at which to assemble and evaluate [s] (default: the analysis start time).
+        #[arg(long = "t", allow_negative_numbers = true)]
+        t: Option<f64>,
+    },
+}
+
+/// Runs a parsed command line, writing reports to `out`.
+///
+/// # Errors
+/// The one-paragraph [`Error`] to print.
+pub fn run(cli: &Cli, out: &mut dyn std::io::Write) -> Result<(), Error> {
+    match &cli.command {
+        Command::Run {
+            model,
+            output,
+            quiet,
+        } => commands::run::run(model, output.as_deref(), *quiet, out).map(|_| ()),
+        Command::Check { model } => commands::check::check(model, out),
+        Command::Eval { model, t } => commands::eval::eval(model, *t, out),
+    }
+}
+
+/// The whole program: parses `args`, runs, prints errors, returns the exit code.
+pub fn main_with_args(args: impl IntoIterator<Item = std::ffi::OsString>) -> i32 {
+    let cli = match Cli::try_parse_from(args) {
+        Ok(c) => c,
+        Err(e) => {
+            let code = if e.use_stderr() { 2 } else { 0 };
+            let _ = e.print();
+            return code;
+        }
+    };
+    let stdout = std::io::stdout();
+    let mut lock = stdout.lock();
+    match run(&cli, &mut lock) {
+        Ok(()) => 0,
+        Err(e) => {
+            use std::io::Write as _;
+            let _ = lock.flush();
+            eprintln!("{e}");
+            e.kind.exit_code()
+        }
+    }
+}

@@ -1,0 +1,350 @@
+//! The TOML model file, as written (docs/model-format.md describes it for users).
+//!
+//! Every value a later check may complain about is kept as [`Spanned`], so an error such as
+//! "unknown point" points at the line and column of the offending value. Every table rejects
+//! unknown keys ([`parse`] turns serde's message into one with the nearest valid key).
+
+use crate::diag::{did_you_mean, Error, Source};
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use toml::Spanned;
+
+/// A spanned number.
+pub type Num = Spanned<f64>;
+/// A spanned 3-vector.
+pub type Vec3 = Spanned<[Num; 3]>;
+/// A spanned name.
+pub type Name = Spanned<String>;
+
+/// The whole file.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModelFile {
+    /// `[model]`: name and notes.
+    pub model: Spanned<ModelSection>,
+    /// `[ground]`: points and vectors on the fixed frame.
+    #[serde(default)]
+    pub ground: Option<Spanned<GroundSection>>,
+    /// `[[body]]`.
+    #[serde(default)]
+    pub body: Vec<Spanned<BodySection>>,
+    /// `[[joint]]`.
+    #[serde(default)]
+    pub joint: Vec<Spanned<JointSection>>,
+    /// `[[driver]]`.
+    #[serde(default)]
+    pub driver: Vec<Spanned<DriverSection>>,
+    /// `[analysis]`.
+    pub analysis: Option<Spanned<AnalysisSection>>,
+}
+
+/// `[model]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModelSection {
+    /// Used for the default output directory `out/<name>/`.
+    pub name: Name,
+    /// Free text.
+    #[serde(default)]
+    pub description: Option<String>,
+    /// Must be "SI" (m, kg, s, rad) if given.
+    #[serde(default)]
+    pub units: Option<Name>,
+    /// Gravity [m/s²] (used by dynamic analysis; ignored by kinematics).
+    #[serde(default)]
+    pub gravity: Option<Vec3>,
+}
+
+/// `[ground]`.
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct GroundSection {
+    /// Named points in global coordinates [m].
+    #[serde(default)]
+    pub points: BTreeMap<Name, Vec3>,
+    /// Named direction vectors in global coordinates.
+    #[serde(default)]
+    pub vectors: BTreeMap<Name, Vec3>,
+}
+
+/// Inertia: a full 3×3 matrix or `{ diag = [...] }`.
+#[derive(Debug, Deserialize)]
+#[serde(untagged)]
+pub enum InertiaSpec {
+    /// The full matrix in body coordinates [kg m²].
+    Matrix([[f64; 3]; 3]),
+    /// Principal moments.
+    Diag {
+        /// [Ixx, Iyy, Izz].
+        diag: [f64; 3],
+    },
+}
+
+/// `orientation = { ... }`: exactly one of the forms.
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct OrientationSpec {
+    /// [e0, e1, e2, e3] (normalized if within 1e-6 of unit length).
+    #[serde(default)]
+    pub euler_parameters: Option<Spanned<[Num; 4]>>,
+    /// Rotation axis (global), with `angle`.
+    #[serde(default)]
+    pub axis: Option<Vec3>,
+    /// Rotation angle [rad], with `axis`.
+    #[serde(default)]
+    pub angle: Option<Num>,
+    /// z-x-z Euler angles [rad].
+    #[serde(default)]
+    pub euler313: Option<Vec3>,
+    /// x-y-z (Bryant) angles [rad].
+    #[serde(default)]
+    pub euler123: Option<Vec3>,
+    /// The body z axis in global coordinates (with `x`).
+    #[serde(default)]
+    pub z: Option<Vec3>,
+    /// The body x axis in global coordinates (with `z`; its part ⟂ z is used).
+    #[serde(default)]
+    pub x: Option<Vec3>,
+}
+
+/// `[[body]]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodySection {
+    /// Unique name ("ground" is reserved).
+    pub name: Name,
+    /// [kg].
+    #[serde(default)]
+    pub mass: Option<Num>,
+    /// [kg m²] about the body origin (the centre of mass), body axes.
+    #[serde(default)]
+    pub inertia: Option<Spanned<InertiaSpec>>,
+    /// Initial (estimated) position of the body origin [m].
+    #[serde(default)]
+    pub position: Option<Vec3>,
+    /// Initial (estimated) orientation; identity if absent.
+    #[serde(default)]
+    pub orientation: Option<Spanned<OrientationSpec>>,
+    /// Named points in body coordinates [m].
+    #[serde(default)]
+    pub points: BTreeMap<Name, Vec3>,
+    /// Named points given in global coordinates at the initial pose [m].
+    #[serde(default)]
+    pub global_points: BTreeMap<Name, Vec3>,
+    /// Named directions in body coordinates.
+    #[serde(default)]
+    pub vectors: BTreeMap<Name, Vec3>,
+    /// Named directions given in global coordinates at the initial pose.
+    #[serde(default)]
+    pub global_vectors: BTreeMap<Name, Vec3>,
+}
+
+/// `[[joint]]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointSection {
+    /// Unique name.
+    pub name: Name,
+    /// revolute, spherical, universal, cylindrical, prismatic, fixed, planar,
+    /// spherical_spherical (alias distance).
+    #[serde(rename = "type")]
+    pub kind: Name,
+    /// Body i ("ground" allowed).
+    pub body_i: Name,
+    /// Body j.
+    pub body_j: Name,
+    /// Point on body i.
+    pub point_i: Name,
+    /// Point on body j.
+    pub point_j: Name,
+    /// Joint axis (z of the joint marker) on body i.
+    #[serde(default)]
+    pub axis_i: Option<Name>,
+    /// Joint axis on body j.
+    #[serde(default)]
+    pub axis_j: Option<Name>,
+    /// Reference direction ⟂ axis on body i (zero of the joint angle).
+    #[serde(default)]
+    pub x_axis_i: Option<Name>,
+    /// Reference direction ⟂ axis on body j.
+    #[serde(default)]
+    pub x_axis_j: Option<Name>,
+    /// Length [m] of a spherical_spherical joint (default: the initial distance).
+    #[serde(default)]
+    pub length: Option<Num>,
+}
+
+/// `function = { kind = ..., ... }`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FunctionSpec {
+    /// constant, polynomial, harmonic, ramp, spline.
+    pub kind: Name,
+    /// constant: the value.
+    #[serde(default)]
+    pub value: Option<Num>,
+    /// polynomial: c0, c1, ... (f = Σ c_k t^k).
+    #[serde(default)]
+    pub coefficients: Option<Spanned<Vec<Num>>>,
+    /// harmonic: a.
+    #[serde(default)]
+    pub amplitude: Option<Num>,
+    /// harmonic: ω [rad/s].
+    #[serde(default)]
+    pub frequency: Option<Num>,
+    /// harmonic: φ [rad].
+    #[serde(default)]
+    pub phase: Option<Num>,
+    /// harmonic: b.
+    #[serde(default)]
+    pub offset: Option<Num>,
+    /// ramp: start time [s].
+    #[serde(default)]
+    pub t0: Option<Num>,
+    /// ramp: end time [s].
+    #[serde(default)]
+    pub t1: Option<Num>,
+    /// ramp: value before t0.
+    #[serde(default)]
+    pub f0: Option<Num>,
+    /// ramp: value after t1.
+    #[serde(default)]
+    pub f1: Option<Num>,
+    /// spline: knot times [s].
+    #[serde(default)]
+    pub times: Option<Spanned<Vec<Num>>>,
+    /// spline: knot values.
+    #[serde(default)]
+    pub values: Option<Spanned<Vec<Num>>>,
+}
+
+/// `[[driver]]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DriverSection {
+    /// Unique name.
+    pub name: Name,
+    /// rotation, translation, distance, coordinate.
+    #[serde(rename = "type")]
+    pub kind: Name,
+    /// rotation / translation: the driven joint.
+    #[serde(default)]
+    pub joint: Option<Name>,
+    /// distance: body i.
+    #[serde(default)]
+    pub body_i: Option<Name>,
+    /// distance: point on body i.
+    #[serde(default)]
+    pub point_i: Option<Name>,
+    /// distance: body j.
+    #[serde(default)]
+    pub body_j: Option<Name>,
+    /// distance: point on body j.
+    #[serde(default)]
+    pub point_j: Option<Name>,
+    /// coordinate: the body.
+    #[serde(default)]
+    pub body: Option<Name>,
+    /// coordinate: the point.
+    #[serde(default)]
+    pub point: Option<Name>,
+    /// coordinate: "x", "y" or "z".
+    #[serde(default)]
+    pub coordinate: Option<Name>,
+    /// The time function.
+    pub function: Spanned<FunctionSpec>,
+}
+
+/// `[analysis]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AnalysisSection {
+    /// "kinematic" ("dynamic" is reserved for later).
+    pub kind: Name,
+    /// Start time [s] (default 0).
+    #[serde(default)]
+    pub t_start: Option<Num>,
+    /// End time [s].
+    pub t_end: Num,
+    /// Number of steps (the grid has steps + 1 times).
+    #[serde(default)]
+    pub steps: Option<Spanned<i64>>,
+    /// Step [s] (alternative to steps).
+    #[serde(default)]
+    pub dt: Option<Num>,
+    /// What to write.
+    #[serde(default)]
+    pub outputs: Option<Spanned<OutputsSection>>,
+    /// Plot format: "svg" (default) or "none".
+    #[serde(default)]
+    pub plots: Option<Name>,
+}
+
+/// `[analysis.outputs]`.
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct OutputsSection {
+    /// "body.point": positions, velocities and accelerations (points.csv, point_velocities.csv,
+    /// point_accelerations.csv).
+    #[serde(default)]
+    pub points: Vec<Name>,
+    /// Joint names: joint coordinates (joints.csv).
+    #[serde(default)]
+    pub joints: Vec<Name>,
+    /// Body names: position and Euler parameters (bodies.csv), ω (body_velocities.csv).
+    #[serde(default)]
+    pub bodies: Vec<Name>,
+}
+
+/// Parses the file; TOML syntax errors and type errors carry line and column, unknown keys get
+/// the nearest valid key.
+pub fn parse(src: &Source) -> Result<ModelFile, Error> {
+    toml::from_str::<ModelFile>(&src.text).map_err(|e| {
+        let span = e.span().unwrap_or(0..0);
+        let message = improve_message(e.message());
+        src.error_at(span, message)
+    })
+}
+
+/// Rewrites serde's "unknown field `x`, expected one of `a`, `b`" into a suggestion.
+fn improve_message(raw: &str) -> String {
+    let raw = raw.trim_end();
+    if let Some(rest) = raw.strip_prefix("unknown field `") {
+        if let Some((field, tail)) = rest.split_once('`') {
+            let expected: Vec<&str> = tail.split('`').skip(1).step_by(2).collect();
+            let hint = did_you_mean(field, expected.iter().copied());
+            let valid = if expected.is_empty() {
+                "this table takes no keys".to_string()
+            } else {
+                format!("valid keys here: {}", expected.join(", "))
+            };
+            return format!("unknown key \"{field}\"{hint} ({valid})");
+        }
+    }
+    if let Some(rest) = raw.strip_prefix("missing field `") {
+        if let Some((field, _)) = rest.split_once('`') {
+            return format!("missing required key \"{field}\"");
+        }
+    }
+    if raw.starts_with("data did not match any variant of untagged enum InertiaSpec") {
+        return "inertia must be a 3×3 matrix [[Ixx, Ixy, Ixz], [Ixy, Iyy, Iyz], [Ixz, Iyz, Izz]] \
+                or { diag = [Ixx, Iyy, Izz] } (numbers in kg m²)"
+            .into();
+    }
+    let mut m = raw.replace('\n', " ");
+    if let Some(first) = m.get(..1) {
+        m = first.to_lowercase() + &m[1..];
+    }
+    m
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn unknown_field_message() {
+        let m = improve_message("unknown field `mas`, expected one of `name`, `mass`, `inertia`");
+        assert!(m.contains("did you mean \"mass\""), "{m}");
+    }
+}
