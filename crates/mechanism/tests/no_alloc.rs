@@ -1,0 +1,65 @@
+//! "No allocation inside a step": a counting global allocator wraps the system one; after
+//! warm-up, kinematic frames (position Newton + velocity + acceleration) must not allocate.
+//!
+//! One test function only: the counter is global, and parallel tests would pollute it.
+
+mod common;
+
+use cardan_mechanism::{AssemblyOptions, Model};
+use stats_alloc::{Region, StatsAlloc, INSTRUMENTED_SYSTEM};
+use std::alloc::System;
+use std::f64::consts::PI;
+
+#[global_allocator]
+static GLOBAL: &StatsAlloc<System> = &INSTRUMENTED_SYSTEM;
+
+fn allocations(mut f: impl FnMut()) -> usize {
+    let region = Region::new(GLOBAL);
+    f();
+    let stats = region.change();
+    stats.allocations + stats.reallocations
+}
+
+fn frames_do_not_allocate(model: &Model, label: &str) {
+    let mut ws = model.workspace();
+    model
+        .assemble(&mut ws, &AssemblyOptions::default())
+        .unwrap();
+    model.prepare_kinematics(&mut ws).unwrap();
+    let dt = 1e-3;
+    let mut t = 0.0;
+    let frame = |ws: &mut cardan_mechanism::Workspace, t: f64| {
+        model.position(ws, t).unwrap();
+        model.velocity(ws).unwrap();
+        model.acceleration(ws).unwrap();
+    };
+    for _ in 0..20 {
+        t += dt;
+        frame(&mut ws, t);
+    }
+    let mut phi = vec![0.0; model.num_equations()];
+    let count = allocations(|| {
+        for _ in 0..200 {
+            t += dt;
+            frame(&mut ws, t);
+            model.eval_phi(&ws, t, &mut phi);
+            // Outputs read from the workspace.
+            let _ = ws.omega(0) + ws.omega_dot(0);
+            let _ = ws.p_ddot(0);
+        }
+    });
+    assert!(t > 0.2);
+    assert_eq!(
+        count, 0,
+        "{label}: {count} allocations in 200 kinematic frames"
+    );
+    eprintln!("{label}: 0 allocations in 200 frames");
+}
+
+#[test]
+fn kinematic_frames_do_not_allocate() {
+    frames_do_not_allocate(&common::slider_crank(), "slider-crank");
+    // Redundant: the row selection path.
+    let four_bar = common::four_bar_builder(0.3, 2.0 * PI).build().unwrap();
+    frames_do_not_allocate(&four_bar, "four-bar");
+}
