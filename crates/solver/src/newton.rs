@@ -643,6 +643,7 @@ impl<S: LinearSolver> Newton<S> {
             };
             let mut accepted = false;
             let mut halvings = 0;
+            let (mut best_alpha, mut best_merit) = (0.0, merit);
             loop {
                 self.x_trial.copy_from_slice(x);
                 for (s, d) in self.scaled_dx.iter_mut().zip(&self.dx) {
@@ -665,18 +666,45 @@ impl<S: LinearSolver> Newton<S> {
                     accepted = true;
                     break;
                 }
+                if trial_merit < best_merit {
+                    (best_alpha, best_merit) = (alpha, trial_merit);
+                }
                 if !fresh || halvings >= max_halvings {
                     break;
                 }
                 halvings += 1;
                 alpha *= 0.5;
             }
+            if !accepted && !fresh {
+                // A stale factorization gave a poor direction: refactor here and retry.
+                force_refactor = true;
+                self.history.push(rn);
+                continue;
+            }
+            if !accepted && best_alpha > 0.0 {
+                // No sufficient decrease, but some decrease: take the best trial.
+                alpha = best_alpha;
+                self.x_trial.copy_from_slice(x);
+                for (s, d) in self.scaled_dx.iter_mut().zip(&self.dx) {
+                    *s = alpha * d;
+                }
+                system.apply_step(&mut self.x_trial, &self.scaled_dx);
+                Self::eval_residual(system, &self.x_trial, &mut self.trial_residual, k)?;
+                report.residual_evaluations += 1;
+                accepted = true;
+            }
             if !accepted {
-                if !fresh {
-                    // A stale factorization gave a poor direction: refactor here and retry.
-                    force_refactor = true;
-                    self.history.push(rn);
-                    continue;
+                if rn <= opts.tolerances.residual {
+                    // The residual test holds and no step reduces the residual further (rounding
+                    // level): accept the point, reporting the step that could not be taken.
+                    report.iterations = k;
+                    report.residual_norm = rn;
+                    report.step_norm = step;
+                    if opts.factor_at_solution && !(self.factored && self.factored_at_current) {
+                        self.refactor(system, x, Some(k))?;
+                        report.refactorizations += 1;
+                    }
+                    return Ok(());
                 }
                 return Err(self.not_converged(k, residual, opts));
             }

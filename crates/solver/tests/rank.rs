@@ -188,3 +188,93 @@ fn four_bar_redundancy_does_not_depend_on_units() {
     assert!(found.windows(2).all(|w| w[0] == w[1]), "{found:?}");
     assert_eq!(found[0].0, 21);
 }
+
+/// Assembles a Bennett linkage (a = 1, α = 30°, b = √3, β = 60°, so a / sin α = b / sin β) at
+/// crank angle θ1: the DH loop closure is solved for θ2..θ4 (this crate's Newton, rank-revealing
+/// least squares; the closure converges only linearly, so a residual of 1e-6 is accepted), the
+/// absolute coordinates are built from the angles, then polished with the minimum-norm Newton on
+/// the 23 absolute-coordinate equations.
+fn bennett(theta1: f64) -> (common::Bennett, Vec<f64>) {
+    use cardan_solver::{AutoSolver, Newton, NewtonOptions};
+    let (a, alpha, beta) = (1.0, 30f64.to_radians(), 60f64.to_radians());
+    let b = a * beta.sin() / alpha.sin();
+    let params = [(a, alpha), (b, beta), (a, alpha), (b, beta)];
+    let mut closure = common::BennettClosure { theta1, params };
+    let p = SparsityPattern::dense(12, 3);
+    let options = NewtonOptions {
+        max_iterations: 60,
+        ..NewtonOptions::default()
+    };
+    let mut newton = Newton::new(&p, AutoSolver::default(), options).unwrap();
+    // In this convention the closure has θ3 = −θ1 and θ4 = −θ2.
+    for t2 in [3.0, 2.8, 2.4, 2.0, 1.5, 1.0] {
+        let mut x = [t2, -theta1, -t2];
+        let close = match newton.solve(&mut closure, &mut x) {
+            Ok(_) => true,
+            Err(cardan_solver::SolverError::NotConverged {
+                residual_history, ..
+            }) => residual_history.last().is_some_and(|r| *r < 1e-6),
+            Err(_) => false,
+        };
+        if close && x[0].sin().abs() > 0.1 {
+            let (mut linkage, mut q) = common::Bennett::new(params, [theta1, x[0], x[1], x[2]]);
+            let mut polish = Newton::new(
+                &common::Bennett::pattern(),
+                MinNormQr::new(),
+                NewtonOptions::default(),
+            )
+            .unwrap();
+            polish.solve(&mut linkage, &mut q).unwrap();
+            return (linkage, q);
+        }
+    }
+    panic!("Bennett closure not found for θ1 = {theta1}");
+}
+
+#[test]
+fn bennett_linkage_is_mobile_with_three_redundant_equations() {
+    let p = common::Bennett::pattern();
+    for theta1 in [0.5, 0.8, 1.1, 2.0] {
+        let (mut linkage, q) = bennett(theta1);
+        let mut r = vec![0.0; common::Bennett::M];
+        linkage.residual(&q, &mut r);
+        assert!(
+            r.iter().all(|v| v.abs() < 1e-9),
+            "θ1 = {theta1}: residual {r:?}"
+        );
+        assert!(common::fd_jacobian_error(&mut linkage, &p, &q) < 1e-7);
+        let mut slots = vec![0.0; p.num_slots()];
+        linkage.jacobian(&q, &mut slots);
+        let a = RankAnalysis::compute(&p, &slots, RankOptions::default()).unwrap();
+        // Grübler: 6·3 − 4·5 = −2, yet the Bennett linkage moves with one degree of freedom.
+        assert_eq!(
+            (a.rank(), a.redundancy(), a.degrees_of_freedom()),
+            (20, 3, 1),
+            "θ1 = {theta1}: pivots {:?}",
+            a.pivots()
+        );
+    }
+}
+
+#[test]
+fn bennett_assembles_from_a_perturbed_guess_with_min_norm_steps() {
+    use cardan_solver::{Newton, NewtonOptions};
+    let p = common::Bennett::pattern();
+    let (mut linkage, q_star) = bennett(0.8);
+    let mut rng = Rng(5);
+    let mut q: Vec<f64> = q_star.iter().map(|v| v + 0.02 * rng.sym()).collect();
+    // Under-driven (one degree of freedom) and redundant: 23 equations, rank 20, 21 unknowns.
+    let mut newton = Newton::new(&p, MinNormQr::new(), NewtonOptions::default()).unwrap();
+    let report = newton.solve(&mut linkage, &mut q).unwrap();
+    assert_eq!(report.rank, Some(20), "{report:?}");
+    assert_eq!(report.redundant_equations, 3);
+    let mut r = vec![0.0; common::Bennett::M];
+    linkage.residual(&q, &mut r);
+    assert!(r.iter().all(|v| v.abs() < 1e-10), "{r:?}");
+    // It lands near the start (a small motion along the one free direction at most).
+    let moved = q
+        .iter()
+        .zip(&q_star)
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    assert!(moved < 0.2, "moved {moved}");
+}

@@ -232,7 +232,7 @@ impl FourBar {
         q
     }
 
-    fn body(q: &[f64], b: Option<usize>) -> (V3, &[f64]) {
+    pub fn body(q: &[f64], b: Option<usize>) -> (V3, &[f64]) {
         const IDENTITY: [f64; 4] = [1.0, 0.0, 0.0, 0.0];
         match b {
             Some(b) => (
@@ -513,4 +513,295 @@ pub fn fd_jacobian_error(
         }
     }
     worst
+}
+
+// ---------------------------------------------------------------- Bennett linkage
+
+type Frame = ([[f64; 3]; 3], V3);
+
+fn mat_mul(a: &[[f64; 3]; 3], b: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    let mut c = [[0.0; 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            c[i][j] = (0..3).map(|k| a[i][k] * b[k][j]).sum();
+        }
+    }
+    c
+}
+
+fn mat_vec(a: &[[f64; 3]; 3], v: V3) -> V3 {
+    [0, 1, 2].map(|i| a[i][0] * v[0] + a[i][1] * v[1] + a[i][2] * v[2])
+}
+
+fn compose(f: &Frame, g: &Frame) -> Frame {
+    let t = mat_vec(&f.0, g.1);
+    (
+        mat_mul(&f.0, &g.0),
+        [t[0] + f.1[0], t[1] + f.1[1], t[2] + f.1[2]],
+    )
+}
+
+/// Denavit–Hartenberg step Rz(θ) Tx(a) Rx(α).
+fn dh(theta: f64, a: f64, alpha: f64) -> Frame {
+    let (ct, st, ca, sa) = (theta.cos(), theta.sin(), alpha.cos(), alpha.sin());
+    (
+        [
+            [ct, -st * ca, st * sa],
+            [st, ct * ca, -ct * sa],
+            [0.0, sa, ca],
+        ],
+        [a * ct, a * st, 0.0],
+    )
+}
+
+/// Euler parameters of a rotation matrix (Shepperd), e0 ≥ 0.
+pub fn quat_from_matrix(r: &[[f64; 3]; 3]) -> [f64; 4] {
+    let tr = r[0][0] + r[1][1] + r[2][2];
+    let cands = [tr, r[0][0], r[1][1], r[2][2]];
+    let k = (0..4)
+        .max_by(|&a, &b| cands[a].total_cmp(&cands[b]))
+        .unwrap();
+    let mut q = match k {
+        0 => {
+            let s = (1.0 + tr).sqrt() * 2.0;
+            [
+                s / 4.0,
+                (r[2][1] - r[1][2]) / s,
+                (r[0][2] - r[2][0]) / s,
+                (r[1][0] - r[0][1]) / s,
+            ]
+        }
+        1 => {
+            let s = (1.0 + r[0][0] - r[1][1] - r[2][2]).sqrt() * 2.0;
+            [
+                (r[2][1] - r[1][2]) / s,
+                s / 4.0,
+                (r[0][1] + r[1][0]) / s,
+                (r[0][2] + r[2][0]) / s,
+            ]
+        }
+        2 => {
+            let s = (1.0 - r[0][0] + r[1][1] - r[2][2]).sqrt() * 2.0;
+            [
+                (r[0][2] - r[2][0]) / s,
+                (r[0][1] + r[1][0]) / s,
+                s / 4.0,
+                (r[1][2] + r[2][1]) / s,
+            ]
+        }
+        _ => {
+            let s = (1.0 - r[0][0] - r[1][1] + r[2][2]).sqrt() * 2.0;
+            [
+                (r[1][0] - r[0][1]) / s,
+                (r[0][2] + r[2][0]) / s,
+                (r[1][2] + r[2][1]) / s,
+                s / 4.0,
+            ]
+        }
+    };
+    if q[0] < 0.0 {
+        q.iter_mut().for_each(|v| *v = -*v);
+    }
+    q
+}
+
+/// DH loop closure of a Bennett linkage as a function of (θ2, θ3, θ4) for a given θ1: the 12
+/// entries of (R − I, t) of the loop transform. Jacobian by central differences (test helper).
+pub struct BennettClosure {
+    pub theta1: f64,
+    pub params: [(f64, f64); 4], // (a_k, α_k)
+}
+
+impl BennettClosure {
+    pub fn loop_frame(&self, th: [f64; 4]) -> [Frame; 4] {
+        let mut f: Frame = (
+            [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+            [0.0; 3],
+        );
+        let mut out = [f; 4];
+        for k in 0..4 {
+            f = compose(&f, &dh(th[k], self.params[k].0, self.params[k].1));
+            out[k] = f;
+        }
+        out
+    }
+}
+
+impl NonlinearSystem for BennettClosure {
+    fn num_equations(&self) -> usize {
+        12
+    }
+    fn num_unknowns(&self) -> usize {
+        3
+    }
+    fn residual(&mut self, x: &[f64], out: &mut [f64]) {
+        let f = self.loop_frame([self.theta1, x[0], x[1], x[2]])[3];
+        for i in 0..3 {
+            for j in 0..3 {
+                out[3 * i + j] = f.0[i][j] - if i == j { 1.0 } else { 0.0 };
+            }
+            out[9 + i] = f.1[i];
+        }
+    }
+    fn jacobian(&mut self, x: &[f64], slots: &mut [f64]) {
+        let h = 1e-7;
+        let (mut rp, mut rm) = ([0.0; 12], [0.0; 12]);
+        for j in 0..3 {
+            let mut xp = [x[0], x[1], x[2]];
+            let mut xm = xp;
+            xp[j] += h;
+            xm[j] -= h;
+            self.residual(&xp, &mut rp);
+            self.residual(&xm, &mut rm);
+            for i in 0..12 {
+                slots[i + 12 * j] = (rp[i] - rm[i]) / (2.0 * h);
+            }
+        }
+    }
+}
+
+/// The Bennett linkage in absolute coordinates: ground + 3 moving bodies (DH frames), four
+/// revolute joints (spherical + two n1 rows each), three normalization rows, **no driver**:
+/// 23 equations in 21 unknowns, mobility 1, so rank 20 and 3 redundant equations.
+pub struct Bennett {
+    /// (body i or ground, point in i, body j or ground, point in j, axis in j); the axis in i is
+    /// its local z, with local x and y spanning the normal plane.
+    joints: [Joint5; 4],
+}
+
+type Joint5 = (Option<usize>, V3, Option<usize>, V3, V3);
+
+impl Bennett {
+    pub const M: usize = 23;
+    pub const N: usize = 21;
+
+    /// Builds the linkage from DH parameters, and the configuration of the given joint angles
+    /// (assembled to the accuracy of the angles).
+    pub fn new(params: [(f64, f64); 4], angles: [f64; 4]) -> (Self, Vec<f64>) {
+        let closure = BennettClosure {
+            theta1: angles[0],
+            params,
+        };
+        let frames = closure.loop_frame(angles);
+        // Body k (k = 1..3) has frame F_k; ground is F_0 = I (= F_4 after closure).
+        let frame = |k: usize| frames[k - 1];
+        let body = |k: usize| if k == 0 || k == 4 { None } else { Some(k - 1) };
+        // Joint k joins bodies k−1 and k along the z axis of F_{k−1}. In F_{k−1}: origin, z. In
+        // F_k = F_{k−1} Rz(θ) Tx(a) Rx(α): (−a, 0, 0) and Rx(−α) ẑ = (0, sin α, cos α), exactly,
+        // whatever θ (so the geometry is an exact Bennett linkage even if the angles are not).
+        let joints = [1, 2, 3, 4].map(|k| {
+            let (a, alpha) = params[k - 1];
+            (
+                body(k - 1),
+                [0.0; 3],
+                body(k),
+                [-a, 0.0, 0.0],
+                [0.0, alpha.sin(), alpha.cos()],
+            )
+        });
+        let mut q = vec![0.0; Self::N];
+        for k in 1..=3 {
+            let f = frame(k);
+            q[7 * (k - 1)..7 * (k - 1) + 3].copy_from_slice(&f.1);
+            q[7 * (k - 1) + 3..7 * k].copy_from_slice(&quat_from_matrix(&f.0));
+        }
+        (Self { joints }, q)
+    }
+
+    pub fn entries() -> Vec<(usize, usize)> {
+        let mut e = Vec::new();
+        let bodies = [
+            (None, Some(0)),
+            (Some(0), Some(1)),
+            (Some(1), Some(2)),
+            (Some(2), None),
+        ];
+        for (k, (bi, bj)) in bodies.iter().enumerate() {
+            for b in [bi, bj].into_iter().flatten() {
+                for r in 0..5 {
+                    let cols = if r < 3 { 0..7 } else { 3..7 };
+                    for c in cols {
+                        e.push((5 * k + r, 7 * b + c));
+                    }
+                }
+            }
+        }
+        for b in 0..3 {
+            for c in 3..7 {
+                e.push((20 + b, 7 * b + c));
+            }
+        }
+        e
+    }
+
+    pub fn pattern() -> SparsityPattern {
+        SparsityPattern::new(Self::M, Self::N, &Self::entries()).unwrap()
+    }
+}
+
+impl NonlinearSystem for Bennett {
+    fn num_equations(&self) -> usize {
+        Self::M
+    }
+    fn num_unknowns(&self) -> usize {
+        Self::N
+    }
+    fn residual(&mut self, q: &[f64], out: &mut [f64]) {
+        for (k, (bi, si, bj, sj, hj)) in self.joints.iter().enumerate() {
+            let (ri, pi) = FourBar::body(q, *bi);
+            let (rj, pj) = FourBar::body(q, *bj);
+            let (ai, aj) = (rot(pi, *si), rot(pj, *sj));
+            for x in 0..3 {
+                out[5 * k + x] = ri[x] + ai[x] - rj[x] - aj[x];
+            }
+            let h = rot(pj, *hj);
+            let (fi, gi) = (rot(pi, [1.0, 0.0, 0.0]), rot(pi, [0.0, 1.0, 0.0]));
+            out[5 * k + 3] = (0..3).map(|x| fi[x] * h[x]).sum();
+            out[5 * k + 4] = (0..3).map(|x| gi[x] * h[x]).sum();
+        }
+        for b in 0..3 {
+            let p = &q[7 * b + 3..7 * b + 7];
+            out[20 + b] = p.iter().map(|v| v * v).sum::<f64>() - 1.0;
+        }
+    }
+    fn jacobian(&mut self, q: &[f64], slots: &mut [f64]) {
+        let mut s = 0;
+        for (bi, si, bj, sj, hj) in self.joints {
+            let (_, pi) = FourBar::body(q, bi);
+            let (_, pj) = FourBar::body(q, bj);
+            let h = rot(pj, hj);
+            let (fi, gi) = (rot(pi, [1.0, 0.0, 0.0]), rot(pi, [0.0, 1.0, 0.0]));
+            for (b, sign, sp, is_i) in [(bi, 1.0, si, true), (bj, -1.0, sj, false)] {
+                if b.is_none() {
+                    continue;
+                }
+                let p = if is_i { pi } else { pj };
+                let d = d_rot(p, sp);
+                for r in 0..3 {
+                    for c in 0..3 {
+                        slots[s] = if r == c { sign } else { 0.0 };
+                        s += 1;
+                    }
+                    for c in 0..4 {
+                        slots[s] = sign * d[r][c];
+                        s += 1;
+                    }
+                }
+                for (row, local_i) in [(fi, [1.0, 0.0, 0.0]), (gi, [0.0, 1.0, 0.0])] {
+                    let (local, partner) = if is_i { (local_i, h) } else { (hj, row) };
+                    let d = d_rot(p, local);
+                    for c in 0..4 {
+                        slots[s] = (0..3).map(|x| partner[x] * d[x][c]).sum();
+                        s += 1;
+                    }
+                }
+            }
+        }
+        for b in 0..3 {
+            for c in 0..4 {
+                slots[s] = 2.0 * q[7 * b + 3 + c];
+                s += 1;
+            }
+        }
+    }
 }
