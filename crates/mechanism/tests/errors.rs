@@ -375,6 +375,24 @@ fn too_few_or_too_many_drivers() {
         .to_string()
         .contains("1 degrees of freedom but 2 drivers: 1 superfluous"));
 
+    // An inconsistent extra driver is still reported as superfluous (not as an open assembly).
+    let mut b = slider_crank_builder(1.0);
+    b.driver(DriverSpec::coordinate(
+        "x",
+        ("slider", "C"),
+        Axis::X,
+        TimeFunction::Constant(5.0),
+    ));
+    let e = b
+        .build()
+        .unwrap()
+        .run_kinematics(&KinematicOptions::new(0.0, 1.0, 10))
+        .unwrap_err();
+    assert!(
+        matches!(e, AnalysisError::DriverCount { dof: 1, drivers: 2 }),
+        "{e}"
+    );
+
     // Right count, but the driver prescribes a coordinate the joints already fix.
     let mut b = slider_crank_undriven();
     b.driver(DriverSpec::coordinate(

@@ -100,7 +100,9 @@ impl Model {
 
     /// Runs position (and, as asked, velocity and acceleration) analysis over the time grid,
     /// starting from the poses in `ws`. If the kinematic solver is not prepared yet, the
-    /// workspace is first assembled at `t0` and prepared ([`Model::prepare_kinematics`]).
+    /// workspace is first assembled (joints only), the driver count is checked against the
+    /// degrees of freedom, then it is assembled with the drivers at `t0` and prepared
+    /// ([`Model::prepare_kinematics`]).
     ///
     /// # Errors
     /// [`AnalysisError::Options`], assembly and driver-count errors before the run; on a failure
@@ -113,6 +115,20 @@ impl Model {
     ) -> Result<Results, AnalysisError> {
         options.validate()?;
         if ws.kin.is_none() {
+            // Joints first: the driver count is checked before the drivers can make the
+            // assembly fail (an over-driven mechanism gets "superfluous", not "open").
+            let joints_only = AssemblyOptions {
+                include_drivers: false,
+                ..AssemblyOptions::at(options.t0)
+            };
+            self.assemble(ws, &joints_only)?;
+            let dof = self.dof(ws)?;
+            if dof.dof != dof.drivers {
+                return Err(AnalysisError::DriverCount {
+                    dof: dof.dof,
+                    drivers: dof.drivers,
+                });
+            }
             self.assemble(ws, &AssemblyOptions::at(options.t0))?;
             self.prepare_kinematics(ws)?;
         }
