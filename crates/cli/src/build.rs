@@ -984,18 +984,19 @@ fn load_driver(
                 return Err(cx.err(b.span(), format!("{owner}: the ground cannot be driven")));
             }
             r.feature(bs, p, &owner, true)?;
-            let axis =
-                match c.get_ref().as_str() {
-                    "x" => Axis::X,
-                    "y" => Axis::Y,
-                    "z" => Axis::Z,
-                    other => return Err(cx.err(
+            let axis = match c.get_ref().as_str() {
+                "x" => Axis::X,
+                "y" => Axis::Y,
+                "z" => Axis::Z,
+                other => {
+                    return Err(cx.err(
                         c.span(),
                         format!(
                             "{owner}: coordinate must be \"x\", \"y\" or \"z\", got \"{other}\""
                         ),
-                    )),
-                };
+                    ))
+                }
+            };
             Ok((
                 DriverSpec::coordinate(name, (bs, p.get_ref()), axis, function),
                 format!("{} of {bs}.{}", axis.name(), p.get_ref()),

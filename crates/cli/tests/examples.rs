@@ -1,0 +1,362 @@
+//! Every bundled example (`examples/*.toml`) is run and its motion checked independently:
+//! against a closed form where one exists, and always against finite differences of its own
+//! position history (velocities and accelerations, second order: the error must shrink about 4×
+//! when the step is halved).
+
+use cardan_cli::commands::{prepare, run::run_model, Prepared};
+use cardan_mechanism::{AssemblyOptions, KinematicOptions, Results};
+use nalgebra::{Vector3, Vector4};
+use std::f64::consts::PI;
+use std::path::PathBuf;
+
+fn example(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(format!("{name}.toml"))
+}
+
+fn out_dir(name: &str) -> PathBuf {
+    std::env::temp_dir().join(format!("cardan-example-{name}-{}", std::process::id()))
+}
+
+/// Runs the example as `cardan run` does (CSV and SVG written), returns the model and results.
+fn run_example(name: &str) -> (Prepared, Results) {
+    let dir = out_dir(name);
+    let o = run_model(&example(name), Some(&dir), false).expect("example runs");
+    assert!(o.error.is_none(), "{name}: {:?}", o.error);
+    for group in ["residual"] {
+        let csv = std::fs::read_to_string(dir.join(format!("{group}.csv"))).unwrap();
+        let (header, rows) = cardan_cli::table::parse_csv(&csv).unwrap();
+        assert_eq!(header[0], "t [s]");
+        assert_eq!(rows.len(), o.results.len());
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    (o.prepared, o.results)
+}
+
+/// ω = 2 G(p) ṗ (global).
+fn omega_from(p: &Vector4<f64>, p_dot: &Vector4<f64>) -> Vector3<f64> {
+    2.0 * cardan_eulerparam::g(p) * p_dot
+}
+
+/// Largest FD errors (velocity, acceleration) over all points and bodies, interior steps,
+/// for a run of `steps` over the example's time span.
+fn fd_errors(p: &Prepared, steps: usize) -> (f64, f64) {
+    let a = p.loaded.analysis.as_ref().unwrap();
+    let r = p
+        .model
+        .run_kinematics(&KinematicOptions::new(a.t_start, a.t_end, steps))
+        .expect("run");
+    let h = (a.t_end - a.t_start) / steps as f64;
+    let (mut ev, mut ea) = (0.0f64, 0.0f64);
+    for k in 1..steps {
+        for pt in &r.points {
+            let x = &pt.position;
+            let v_fd = (x[k + 1] - x[k - 1]) / (2.0 * h);
+            let a_fd = (x[k + 1] - 2.0 * x[k] + x[k - 1]) / (h * h);
+            ev = ev.max((v_fd - pt.velocity[k]).amax());
+            ea = ea.max((a_fd - pt.acceleration[k]).amax());
+        }
+        for b in &r.bodies {
+            let x = &b.r;
+            ev = ev.max(((x[k + 1] - x[k - 1]) / (2.0 * h) - b.r_dot[k]).amax());
+            ea = ea.max(((x[k + 1] - 2.0 * x[k] + x[k - 1]) / (h * h) - b.r_ddot[k]).amax());
+            let p_dot = (b.p[k + 1] - b.p[k - 1]) / (2.0 * h);
+            ev = ev.max((omega_from(&b.p[k], &p_dot) - b.omega[k]).amax());
+            let w = &b.omega;
+            ea = ea.max(((w[k + 1] - w[k - 1]) / (2.0 * h) - b.omega_dot[k]).amax());
+        }
+    }
+    (ev, ea)
+}
+
+/// Checks second-order convergence of the FD errors; returns (ev, ea, order_v, order_a) at the
+/// finer step.
+fn check_fd(
+    name: &str,
+    p: &Prepared,
+    steps: usize,
+    max_v: f64,
+    max_a: f64,
+) -> (f64, f64, f64, f64) {
+    let (ev1, ea1) = fd_errors(p, steps);
+    let (ev2, ea2) = fd_errors(p, 2 * steps);
+    let (ov, oa) = ((ev1 / ev2).log2(), (ea1 / ea2).log2());
+    eprintln!(
+        "{name}: FD velocity error {ev1:.3e} → {ev2:.3e} (order {ov:.2}), acceleration {ea1:.3e} → {ea2:.3e} (order {oa:.2})"
+    );
+    assert!(
+        ev2 < max_v && ea2 < max_a,
+        "{name}: FD errors {ev2:e}, {ea2:e}"
+    );
+    assert!((1.8..2.3).contains(&ov), "{name}: velocity FD order {ov}");
+    assert!(
+        (1.8..2.3).contains(&oa),
+        "{name}: acceleration FD order {oa}"
+    );
+    (ev2, ea2, ov, oa)
+}
+
+/// Haug's spatial slider-crank (§2.6 of the benchmarks), crank driven at θ = 2πt.
+///
+/// Closed form: the crank turns about global x through A = (0, 0.1, 0.12), length 0.08, starting
+/// along +z, so B(θ) = (0, 0.1 − 0.08 sin θ, 0.12 + 0.08 cos θ). The slider point C = (x, 0, 0)
+/// is 0.3 from B: x² + B_y² + B_z² = 0.09, hence
+///
+/// ```text
+/// x(θ) = √(0.09 − B_y² − B_z²),     ẋ = −(B_y Ḃ_y + B_z Ḃ_z) / x,
+/// Ḃ_y = −0.08 cos θ · θ̇,            Ḃ_z = −0.08 sin θ · θ̇,       θ̇ = 2π
+/// ```
+///
+/// (x > 0 on the whole turn: B_y² + B_z² ≤ 0.0558 < 0.09). Velocities are linear in θ̇, so the
+/// benchmark's conrod ω = (1.92, −0.96, 0.48) rad/s at θ̇ = 6 becomes (1.92, −0.96, 0.48)·2π/6 at
+/// t = 0.
+#[test]
+fn slider_crank_matches_closed_form() {
+    let (p, r) = run_example("slider_crank");
+    assert_eq!(r.len(), 201);
+    let c = r.point("slider", "C").unwrap();
+    let b = r.point("crank", "B").unwrap();
+    let (mut ex, mut ev, mut eb) = (0.0f64, 0.0f64, 0.0f64);
+    for (k, &t) in r.times.iter().enumerate() {
+        let th = 2.0 * PI * t;
+        let w = 2.0 * PI;
+        let (by, bz) = (0.1 - 0.08 * th.sin(), 0.12 + 0.08 * th.cos());
+        let (bdy, bdz) = (-0.08 * th.cos() * w, -0.08 * th.sin() * w);
+        let x = (0.09 - by * by - bz * bz).sqrt();
+        let xd = -(by * bdy + bz * bdz) / x;
+        ex = ex.max((c.position[k] - Vector3::new(x, 0.0, 0.0)).amax());
+        ev = ev.max((c.velocity[k] - Vector3::new(xd, 0.0, 0.0)).amax());
+        eb = eb.max((b.position[k] - Vector3::new(0.0, by, bz)).amax());
+    }
+    eprintln!("slider_crank: max |x − x(θ)| = {ex:.2e} m, |ẋ − ẋ(θ)| = {ev:.2e} m/s, |B − B(θ)| = {eb:.2e} m");
+    assert!(ex < 1e-10 && eb < 1e-10 && ev < 1e-9, "{ex} {eb} {ev}");
+    let w0 = r.body("conrod").unwrap().omega[0];
+    let want = Vector3::new(1.92, -0.96, 0.48) * (2.0 * PI / 6.0);
+    assert!(
+        (w0 - want).amax() < 1e-10,
+        "conrod ω(0) = {w0:?}, want {want:?}"
+    );
+    // Joint output: the crank angle is θ = 2πt, unwrapped over the turn.
+    let j = r.joint("crank_pin").unwrap();
+    assert!((j.values[200][0] - 2.0 * PI).abs() < 1e-9);
+    check_fd("slider_crank", &p, 100, 1e-2, 5e-1);
+}
+
+/// Spatial RSSR four-bar. The crank tip is P(θ) = (a cos θ, a sin θ, 0), a = 0.1; the rocker turns
+/// about global y through G = (0.3, 0.15, 0.1) and its tip is Q(ψ) = G + b (cos ψ, 0, sin ψ),
+/// b = 0.2; the coupler keeps |Q − P| = L = 0.35. With w = G − P:
+///
+/// ```text
+/// |w|² + b² + 2b (w_x cos ψ + w_z sin ψ) = L²
+/// ⇒ A cos ψ + B sin ψ = C,   A = w_x, B = w_z, C = (L² − |w|² − b²) / (2b)
+/// ⇒ ψ = atan2(B, A) + acos(C / √(A² + B²))      (the branch of the file's initial pose)
+/// ```
+///
+/// A = 0.3 − a cos θ > 0, so atan2 is continuous over the turn, and √(A² + B²) − |C| ≥ 0.098:
+/// no dead point.
+#[test]
+fn rssr_matches_closed_form() {
+    let (p, r) = run_example("rssr_fourbar");
+    let q = r.point("rocker", "Q").unwrap();
+    let (a, b, l) = (0.1, 0.2, 0.35);
+    let g = Vector3::new(0.3, 0.15, 0.1);
+    let mut err = 0.0f64;
+    for (k, &t) in r.times.iter().enumerate() {
+        let th = 2.0 * PI * t;
+        let pp = Vector3::new(a * th.cos(), a * th.sin(), 0.0);
+        let w = g - pp;
+        let (ca, cb) = (w.x, w.z);
+        let cc = (l * l - w.norm_squared() - b * b) / (2.0 * b);
+        let psi = cb.atan2(ca) + (cc / ca.hypot(cb)).acos();
+        let want = g + b * Vector3::new(psi.cos(), 0.0, psi.sin());
+        err = err.max((q.position[k] - want).amax());
+    }
+    eprintln!("rssr: max |Q − Q(ψ(θ))| = {err:.2e} m");
+    assert!(err < 1e-10, "{err}");
+    check_fd("rssr_fourbar", &p, 100, 1e-2, 5e-1);
+}
+
+/// Universal (Cardan) joint at a bend β = 30°.
+///
+/// Shaft 1 turns about a₁ = x, shaft 2 about a₂ = (cos β, sin β, 0); both axes meet at the cross
+/// centre. Measure φ₁ from the position where shaft 1's arm lies in the plane of the shafts:
+/// u₁ = (0, cos φ₁, sin φ₁). Shaft 2's arm starts along the plane normal z and turns about a₂:
+/// u₂ = z cos φ₂ + (a₂ × z) sin φ₂ = (sin β sin φ₂, −cos β sin φ₂, cos φ₂). The cross keeps its
+/// arms perpendicular, u₁ · u₂ = 0:
+///
+/// ```text
+/// −cos β sin φ₂ cos φ₁ + sin φ₁ cos φ₂ = 0   ⇒   tan φ₂ = tan φ₁ / cos β
+/// ```
+///
+/// and, differentiating, φ̇₂ / φ̇₁ = cos β / (1 − sin² β cos² φ₁).
+#[test]
+fn universal_joint_follows_cardan_formula() {
+    let (p, r) = run_example("universal_drive");
+    let beta = PI / 6.0;
+    let a2 = Vector3::new(beta.cos(), beta.sin(), 0.0);
+    let n2 = a2.cross(&Vector3::z());
+    let (s1, s2) = (r.body("shaft1").unwrap(), r.body("shaft2").unwrap());
+    let (mut e_angle, mut e_rate) = (0.0f64, 0.0f64);
+    for k in 0..r.len() {
+        let u1 = cardan_eulerparam::a(&s1.p[k]) * Vector3::y();
+        let u2 = cardan_eulerparam::a(&s2.p[k]) * Vector3::z();
+        let phi1 = u1.z.atan2(u1.y);
+        let phi2 = u2.dot(&n2).atan2(u2.z);
+        // tan φ₂ = tan φ₁ / cos β, in the quadrant of φ₁.
+        let want = phi1.sin().atan2(phi1.cos() * beta.cos());
+        let d = (phi2 - want + PI).rem_euclid(2.0 * PI) - PI;
+        e_angle = e_angle.max(d.abs());
+        let w1 = s1.omega[k].dot(&Vector3::x());
+        let w2 = s2.omega[k].dot(&a2);
+        let ratio = beta.cos() / (1.0 - beta.sin().powi(2) * phi1.cos().powi(2));
+        e_rate = e_rate.max((w2 - ratio * w1).abs());
+    }
+    eprintln!("universal_drive: max |φ₂ − φ₂(φ₁)| = {e_angle:.2e} rad, |ω₂ − ratio ω₁| = {e_rate:.2e} rad/s");
+    assert!(e_angle < 1e-10 && e_rate < 1e-9, "{e_angle} {e_rate}");
+    // Two revolute bearings and the cross: 14 equations of rank 11 for 12 unknowns.
+    let mut ws = p.model.workspace();
+    let opts = AssemblyOptions {
+        include_drivers: false,
+        ..AssemblyOptions::at(0.0)
+    };
+    p.model.assemble(&mut ws, &opts).unwrap();
+    let dof = p.model.dof(&ws).unwrap();
+    assert_eq!((dof.dof, dof.redundant.len()), (1, 3));
+    check_fd("universal_drive", &p, 100, 1e-2, 5e-1);
+}
+
+/// Cubic Hermite interpolation of a point history at time t (positions and velocities).
+fn hermite(r: &Results, x: &[Vector3<f64>], v: &[Vector3<f64>], t: f64) -> Vector3<f64> {
+    let k = r.times.partition_point(|&s| s <= t).clamp(1, r.len() - 1) - 1;
+    let (t0, t1) = (r.times[k], r.times[k + 1]);
+    let h = t1 - t0;
+    let s = (t - t0) / h;
+    let (h00, h10, h01, h11) = (
+        2.0 * s.powi(3) - 3.0 * s * s + 1.0,
+        s.powi(3) - 2.0 * s * s + s,
+        -2.0 * s.powi(3) + 3.0 * s * s,
+        s.powi(3) - s * s,
+    );
+    x[k] * h00 + v[k] * (h10 * h) + x[k + 1] * h01 + v[k + 1] * (h11 * h)
+}
+
+/// Bricard's mechanism: 30 joint equations of rank 29 (Grübler 0, mobility 1), driven at J1.
+///
+/// Independent check: the point P3 = C of the IFToMM A04 benchmark moves on a fixed curve
+/// whatever drives it, so the reference positions of the dynamic benchmark
+/// (shared/benchmarks/README.md §2.4) must lie on our kinematic path. For each reference point we
+/// find the time at which our P3.x equals the reference x (bisection on the cubic Hermite
+/// interpolant of positions and velocities) and compare y and z there.
+#[test]
+fn bricard_is_mobile_with_one_redundant_equation() {
+    let (p, r) = run_example("bricard");
+    let mut ws = p.model.workspace();
+    let opts = AssemblyOptions {
+        include_drivers: false,
+        ..AssemblyOptions::at(0.0)
+    };
+    p.model.assemble(&mut ws, &opts).unwrap();
+    let dof = p.model.dof(&ws).unwrap();
+    assert_eq!(dof.joint_equations, 30);
+    assert_eq!(dof.rank, 29);
+    assert_eq!(dof.dof, 1);
+    assert_eq!(dof.redundant.len(), 1);
+    let res = r.residual.iter().fold(0.0f64, |a, &b| a.max(b));
+    eprintln!("bricard: largest constraint residual {res:.2e}");
+    assert!(res < 1e-10);
+    let c = r.point("rod2", "C").unwrap();
+    // The first half of the run (θ rising 0 → 3) sweeps P3.x from 1 down past −0.7.
+    let half = r.len() / 2;
+    let mut worst = 0.0f64;
+    for want in [
+        Vector3::new(0.774717808, -0.979815048, -0.199906159),
+        Vector3::new(0.274481319, -0.886707939, -0.462330003),
+        Vector3::new(-0.778135373, -0.980352683, -0.197252671),
+    ] {
+        let k = (1..=half)
+            .find(|&k| (c.position[k - 1].x - want.x) * (c.position[k].x - want.x) <= 0.0)
+            .expect("P3.x passes the reference value");
+        let (mut lo, mut hi) = (r.times[k - 1], r.times[k]);
+        let f = |t: f64| hermite(&r, &c.position, &c.velocity, t).x - want.x;
+        for _ in 0..60 {
+            let mid = 0.5 * (lo + hi);
+            if f(lo) * f(mid) <= 0.0 {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        let got = hermite(&r, &c.position, &c.velocity, 0.5 * (lo + hi));
+        worst = worst.max((got - want).amax());
+    }
+    eprintln!("bricard: P3 path vs benchmark reference points: max deviation {worst:.2e} m");
+    assert!(worst < 1e-6, "{worst}");
+    check_fd("bricard", &p, 200, 1e-1, 5.0);
+}
+
+/// RSCR four-bar with a cylindrical joint. The ball centre is P(θ) = (a cos θ, a sin θ, h),
+/// a = 0.1, h = 0.15. The rocker turns about global y through G = (0.35, 0, 0); its arm is the
+/// line through G with direction u(ψ) = (sin ψ, 0, cos ψ). The coupler holds P at distance
+/// e = 0.15 from its cylinder axis, which the cylindrical joint lays on the arm, so with
+/// w = P − G:
+///
+/// ```text
+/// |w × u|² = |w|² − (w · u)² = e²   ⇒   w_x sin ψ + w_z cos ψ = +√(|w|² − e²)
+/// ⇒ ψ = atan2(w_x, w_z) + acos(√(|w|² − e²) / √(w_x² + w_z²))
+/// ```
+///
+/// (sign and branch of the initial pose u = (−8, 0, 15)/17). The margin
+/// (w_x² + w_z²) − (|w|² − e²) = e² − a² sin² θ ≥ 0.0125 keeps the crank clear of dead points.
+#[test]
+fn rscr_matches_closed_form() {
+    let (p, r) = run_example("spatial_fourbar_cylindrical");
+    let (a, h, e) = (0.1, 0.15, 0.15);
+    let g = Vector3::new(0.35, 0.0, 0.0);
+    let arm = p
+        .model
+        .vectors()
+        .iter()
+        .find(|v| v.body_name == "rocker" && v.name == "arm")
+        .unwrap()
+        .local
+        .normalize();
+    let rocker = r.body("rocker").unwrap();
+    let mut err = 0.0f64;
+    for (k, &t) in r.times.iter().enumerate() {
+        let th = 2.0 * PI * t;
+        let w = Vector3::new(a * th.cos(), a * th.sin(), h) - g;
+        let c = (w.norm_squared() - e * e).sqrt();
+        let psi = w.x.atan2(w.z) + (c / w.x.hypot(w.z)).acos();
+        let want = Vector3::new(psi.sin(), 0.0, psi.cos());
+        let got = cardan_eulerparam::a(&rocker.p[k]) * arm;
+        err = err.max((got - want).amax());
+    }
+    eprintln!("rscr: max |u − u(ψ(θ))| = {err:.2e}");
+    assert!(err < 1e-10, "{err}");
+    check_fd("spatial_fourbar_cylindrical", &p, 100, 1e-2, 5e-1);
+}
+
+/// Every example also passes `cardan check` (through the library) with DOF = drivers.
+#[test]
+fn every_example_checks() {
+    for name in [
+        "slider_crank",
+        "rssr_fourbar",
+        "universal_drive",
+        "bricard",
+        "spatial_fourbar_cylindrical",
+    ] {
+        let p = prepare(&example(name)).unwrap();
+        let mut out = Vec::new();
+        cardan_cli::commands::check::check(&example(name), &mut out).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        assert!(text.contains("degrees of freedom: 1"), "{name}: {text}");
+        assert!(text.contains(": ok"), "{name}: {text}");
+        assert_eq!(p.model.drivers().len(), 1);
+        let mut out = Vec::new();
+        cardan_cli::commands::eval::eval(&example(name), None, &mut out).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        assert!(text.contains("Jacobian Φ_v pattern"), "{name}");
+    }
+}
