@@ -252,8 +252,8 @@ impl<S: LinearSolver> Newton<S> {
     /// equations, so the dropped ones must be consistent.
     ///
     /// # Errors
-    /// [`SolverError::DimensionMismatch`] if the selection was not made from `pattern`, or what
-    /// `solver.analyze` reports on the reduced pattern.
+    /// [`SolverError::DimensionMismatch`] or [`SolverError::InvalidRowSelection`] if the selection
+    /// was not made from `pattern`, or what `solver.analyze` reports on the reduced pattern.
     pub fn with_row_selection(
         pattern: &SparsityPattern,
         selection: RowSelection,
@@ -265,14 +265,19 @@ impl<S: LinearSolver> Newton<S> {
             pattern.ncols(),
             selection.pattern().ncols(),
         )?;
-        if let Some(&max) = selection.slot_map().iter().max() {
-            if max >= pattern.num_slots() {
-                return Err(SolverError::DimensionMismatch {
-                    what: "row-selection slot map",
-                    expected: pattern.num_slots(),
-                    found: max + 1,
-                });
-            }
+        // The selection must come from this pattern: same rows and slots, same entries.
+        let consistent = selection.rows().iter().all(|&r| r < pattern.nrows())
+            && selection.slot_map().len() == selection.pattern().num_slots()
+            && selection.slot_map().iter().enumerate().all(|(k, &full)| {
+                full < pattern.num_slots() && {
+                    let (r, c) = selection.pattern().entry(k);
+                    pattern.entry(full) == (selection.rows()[r], c)
+                }
+            });
+        if !consistent {
+            return Err(SolverError::InvalidRowSelection {
+                reason: "the row selection was not made from this pattern".to_owned(),
+            });
         }
         solver.analyze(selection.pattern())?;
         Ok(Self::with_parts(pattern, Some(selection), solver, options))

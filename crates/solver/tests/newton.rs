@@ -540,6 +540,19 @@ fn failures_are_typed_and_readable() {
         newton.solve_linear(&[0.0; 3], &mut [0.0; 3]),
         Err(SolverError::NotReady { .. })
     ));
+    // A row selection made from another pattern.
+    let other = SparsityPattern::dense(3, 3).select_rows(&[0, 2]).unwrap();
+    assert!(matches!(
+        Newton::with_row_selection(&p, other, DenseLu::new(), NewtonOptions::default()),
+        Err(SolverError::InvalidRowSelection { .. }) | Err(SolverError::NotSquare { .. })
+    ));
+    let other = SparsityPattern::dense(3, 3)
+        .select_rows(&[0, 1, 2])
+        .unwrap();
+    assert!(matches!(
+        Newton::with_row_selection(&p, other, DenseLu::new(), NewtonOptions::default()),
+        Err(SolverError::InvalidRowSelection { .. })
+    ));
     // LU on a rectangular pattern.
     assert!(matches!(
         Newton::new(
