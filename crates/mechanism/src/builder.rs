@@ -341,6 +341,69 @@ impl DriverSpec {
     }
 }
 
+/// A force element, for dynamic analysis (kinematic analyses ignore forces). The builder
+/// validates it (names, finite numbers, non-negative coefficients) and the model stores it
+/// resolved ([`crate::model::ForceInfo`]); evaluating it is the dynamics layer's job.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ForceSpec {
+    /// Uniform gravity acting at the centre of mass of every moving body with a mass.
+    Gravity {
+        /// Acceleration of gravity, global (m/s²), e.g. (0, 0, −9.81).
+        g: Vector3<f64>,
+    },
+    /// A linear spring-damper between two points: tension f = k (ℓ − ℓ0) + c ℓ̇ along the line.
+    SpringDamper {
+        /// Unique name among joints, drivers and forces.
+        name: String,
+        /// Body of the first point.
+        body_i: String,
+        /// First point.
+        point_i: String,
+        /// Body of the second point.
+        body_j: String,
+        /// Second point.
+        point_j: String,
+        /// k ≥ 0 (N/m).
+        stiffness: f64,
+        /// c ≥ 0 (N s/m).
+        damping: f64,
+        /// ℓ0 ≥ 0 (m); default: the distance at the initial poses.
+        free_length: Option<f64>,
+    },
+    /// A constant force (global components, N) at a named point of a moving body.
+    PointForce {
+        /// Unique name.
+        name: String,
+        /// The body.
+        body: String,
+        /// The point of application.
+        point: String,
+        /// The force, global.
+        force: Vector3<f64>,
+    },
+    /// A constant torque (global components, N m) on a moving body.
+    Torque {
+        /// Unique name.
+        name: String,
+        /// The body.
+        body: String,
+        /// The torque, global.
+        torque: Vector3<f64>,
+    },
+}
+
+impl ForceSpec {
+    /// The element name ("gravity" for gravity).
+    pub fn name(&self) -> &str {
+        match self {
+            ForceSpec::Gravity { .. } => "gravity",
+            ForceSpec::SpringDamper { name, .. }
+            | ForceSpec::PointForce { name, .. }
+            | ForceSpec::Torque { name, .. } => name,
+        }
+    }
+}
+
 /// A named point or vector declared on a body, in declaration order.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Feature {
@@ -361,6 +424,7 @@ pub struct MechanismBuilder {
     pub(crate) vectors: Vec<Feature>,
     pub(crate) joints: Vec<JointSpec>,
     pub(crate) drivers: Vec<DriverSpec>,
+    pub(crate) forces: Vec<ForceSpec>,
 }
 
 impl MechanismBuilder {
@@ -405,6 +469,12 @@ impl MechanismBuilder {
     /// Adds a driver.
     pub fn driver(&mut self, driver: DriverSpec) -> &mut Self {
         self.drivers.push(driver);
+        self
+    }
+
+    /// Adds a force element (used by dynamic analyses only).
+    pub fn force(&mut self, force: ForceSpec) -> &mut Self {
+        self.forces.push(force);
         self
     }
 

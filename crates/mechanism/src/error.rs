@@ -167,6 +167,12 @@ pub enum ModelError {
         /// The element.
         element: String,
     },
+    /// A force element acts on ground (it needs a moving body).
+    #[error("{element}: acts on ground; a force element needs a moving body")]
+    OnGround {
+        /// The element.
+        element: String,
+    },
     /// A joint kind needs an axis that was not given.
     #[error("joint \"{joint}\" ({kind}): {which} is required")]
     MissingAxis {

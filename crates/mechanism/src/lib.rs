@@ -84,11 +84,14 @@ pub use analysis::assembly::{AssemblyOptions, AssemblyReport};
 pub use analysis::grid::KinematicOptions;
 pub use analysis::position::PositionReport;
 pub use builder::{
-    Axis, Body, DriverSpec, DriverTarget, JointSpec, MechanismBuilder, Orientation, GROUND,
+    Axis, Body, DriverSpec, DriverTarget, ForceSpec, JointSpec, MechanismBuilder, Orientation,
+    GROUND,
 };
 pub use dof::DofReport;
 pub use error::{AnalysisError, EquationName, Error, ModelError, OpenElement};
-pub use model::{BodyId, BodyInfo, DriverInfo, FeatureInfo, JointInfo, Model, ABSURD_LIMIT};
+pub use model::{
+    BodyId, BodyInfo, DriverInfo, FeatureInfo, ForceInfo, JointInfo, Model, ABSURD_LIMIT,
+};
 pub use results::{BodyResults, JointResults, Outputs, PointResults, Results};
 pub use workspace::{apply_rotation_step, Workspace};
 

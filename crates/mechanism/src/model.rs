@@ -9,7 +9,7 @@
 //! declared r and p blocks ([`cardan_constraints::Footprint`]) of each moving body of its
 //! element, so a step only refills values.
 
-use crate::builder::{DriverTarget, MechanismBuilder, Orientation, GROUND};
+use crate::builder::{DriverTarget, ForceSpec, MechanismBuilder, Orientation, GROUND};
 use crate::error::{EquationName, ModelError};
 use crate::workspace::Workspace;
 use cardan_constraints::{
@@ -108,6 +108,55 @@ pub struct DriverInfo {
     pub(crate) map: ScatterMap,
 }
 
+/// A validated force element (see [`crate::ForceSpec`]); points are body-frame vectors.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ForceInfo {
+    /// Uniform gravity.
+    Gravity {
+        /// g, global.
+        g: Vector3<f64>,
+    },
+    /// Linear spring-damper between two points.
+    SpringDamper {
+        /// Name.
+        name: String,
+        /// Body i.
+        body_i: BodyId,
+        /// Point on body i (body frame).
+        point_i: Vector3<f64>,
+        /// Body j.
+        body_j: BodyId,
+        /// Point on body j (body frame).
+        point_j: Vector3<f64>,
+        /// k.
+        stiffness: f64,
+        /// c.
+        damping: f64,
+        /// ℓ0.
+        free_length: f64,
+    },
+    /// Constant global force at a body point.
+    PointForce {
+        /// Name.
+        name: String,
+        /// The body.
+        body: BodyId,
+        /// Point of application (body frame).
+        point: Vector3<f64>,
+        /// Force, global.
+        force: Vector3<f64>,
+    },
+    /// Constant global torque on a body.
+    Torque {
+        /// Name.
+        name: String,
+        /// The body.
+        body: BodyId,
+        /// Torque, global.
+        torque: Vector3<f64>,
+    },
+}
+
 /// The immutable mechanism. Build it with [`crate::MechanismBuilder`]; run analyses on a
 /// [`Workspace`] made by [`Model::workspace`].
 #[derive(Debug, Clone)]
@@ -117,6 +166,7 @@ pub struct Model {
     pub(crate) vectors: Vec<FeatureInfo>,
     pub(crate) joints: Vec<JointInfo>,
     pub(crate) drivers: Vec<DriverInfo>,
+    pub(crate) forces: Vec<ForceInfo>,
     pub(crate) pattern: SparsityPattern,
     pub(crate) equation_scales: Vec<f64>,
     pub(crate) unknown_scales: Vec<f64>,
@@ -180,6 +230,11 @@ impl Model {
     /// The drivers, in declaration order (rows after the joints).
     pub fn drivers(&self) -> &[DriverInfo] {
         &self.drivers
+    }
+
+    /// The force elements, in declaration order (for dynamic analysis).
+    pub fn forces(&self) -> &[ForceInfo] {
+        &self.forces
     }
 
     /// Index of joint `name`.
@@ -895,6 +950,107 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
         });
     }
 
+    // Force elements.
+    let mut forces = Vec::with_capacity(b.forces.len());
+    for spec in &b.forces {
+        let name = spec.name();
+        if name.is_empty() {
+            return Err(ModelError::EmptyName {
+                what: "a force element".into(),
+            });
+        }
+        if element_names.insert(name, ()).is_some() {
+            return Err(ModelError::DuplicateElement { name: name.into() });
+        }
+        let el = format!("force \"{name}\"");
+        let moving = |body: &str| -> Result<BodyId, ModelError> {
+            let id = names.body(&el, body)?;
+            if id == BodyId::Ground {
+                return Err(ModelError::OnGround {
+                    element: el.clone(),
+                });
+            }
+            Ok(id)
+        };
+        let non_negative = |what: &str, v: f64| {
+            check_number(&el, what, v)?;
+            if v < 0.0 {
+                return Err(ModelError::NonPositive {
+                    element: el.clone(),
+                    what: format!("{what} (≥ 0 required)"),
+                    value: v,
+                });
+            }
+            Ok(())
+        };
+        forces.push(match spec {
+            ForceSpec::Gravity { g } => {
+                check_numbers(&el, "gravity", g.as_slice())?;
+                ForceInfo::Gravity { g: *g }
+            }
+            ForceSpec::SpringDamper {
+                name,
+                body_i,
+                point_i,
+                body_j,
+                point_j,
+                stiffness,
+                damping,
+                free_length,
+            } => {
+                let bi = names.body(&el, body_i)?;
+                let bj = names.body(&el, body_j)?;
+                pair_check(&el, bi, bj, body_i)?;
+                let pi = names.feature(&el, body_i, point_i, false)?;
+                let pj = names.feature(&el, body_j, point_j, false)?;
+                non_negative("stiffness", *stiffness)?;
+                non_negative("damping", *damping)?;
+                let l0 = match free_length {
+                    Some(l) => {
+                        non_negative("free length", *l)?;
+                        *l
+                    }
+                    None => (pose(&bodies, bj).point(&pj) - pose(&bodies, bi).point(&pi)).norm(),
+                };
+                ForceInfo::SpringDamper {
+                    name: name.clone(),
+                    body_i: bi,
+                    point_i: pi,
+                    body_j: bj,
+                    point_j: pj,
+                    stiffness: *stiffness,
+                    damping: *damping,
+                    free_length: l0,
+                }
+            }
+            ForceSpec::PointForce {
+                name,
+                body,
+                point,
+                force,
+            } => {
+                let id = moving(body)?;
+                let p = names.feature(&el, body, point, false)?;
+                check_numbers(&el, "force", force.as_slice())?;
+                ForceInfo::PointForce {
+                    name: name.clone(),
+                    body: id,
+                    point: p,
+                    force: *force,
+                }
+            }
+            ForceSpec::Torque { name, body, torque } => {
+                let id = moving(body)?;
+                check_numbers(&el, "torque", torque.as_slice())?;
+                ForceInfo::Torque {
+                    name: name.clone(),
+                    body: id,
+                    torque: *torque,
+                }
+            }
+        });
+    }
+
     // Rows, pattern, index maps, scales.
     let mut entries: Vec<(usize, usize)> = Vec::new();
     let mut equation_scales = Vec::new();
@@ -947,6 +1103,7 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
         vectors,
         joints,
         drivers,
+        forces,
         pattern,
         equation_scales,
         unknown_scales,

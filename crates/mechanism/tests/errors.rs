@@ -3,8 +3,8 @@
 mod common;
 
 use cardan_mechanism::{
-    AnalysisError, AssemblyOptions, Axis, Body, DriverSpec, JointKind, JointSpec, KinematicOptions,
-    MechanismBuilder, ModelError, Orientation, TimeFunction, GROUND,
+    AnalysisError, AssemblyOptions, Axis, Body, DriverSpec, ForceInfo, ForceSpec, JointKind,
+    JointSpec, KinematicOptions, MechanismBuilder, ModelError, Orientation, TimeFunction, GROUND,
 };
 use common::{bricard_builder, slider_crank_builder, slider_crank_undriven};
 use nalgebra::{Matrix3, Vector3};
@@ -497,4 +497,60 @@ fn bad_time_grid() {
         .run_kinematics(&KinematicOptions::new(0.0, f64::NAN, 10))
         .unwrap_err();
     assert!(matches!(e, AnalysisError::Options(_)));
+}
+
+#[test]
+fn force_elements() {
+    let spring = |k: f64, l0: Option<f64>, point_j: &str| ForceSpec::SpringDamper {
+        name: "spring".into(),
+        body_i: GROUND.into(),
+        point_i: "A".into(),
+        body_j: "crank".into(),
+        point_j: point_j.into(),
+        stiffness: k,
+        damping: 1.0,
+        free_length: l0,
+    };
+    let mut b = base();
+    b.force(ForceSpec::Gravity {
+        g: Vector3::new(0.0, 0.0, -9.81),
+    });
+    b.force(spring(100.0, None, "B"));
+    b.force(ForceSpec::Torque {
+        name: "motor".into(),
+        body: "crank".into(),
+        torque: Vector3::z(),
+    });
+    let model = b.build().unwrap();
+    assert_eq!(model.forces().len(), 3);
+    // The free length defaults to the initial distance |B − A| = 1.
+    assert!(
+        matches!(model.forces()[1], ForceInfo::SpringDamper { free_length, .. } if (free_length - 1.0).abs() < 1e-15)
+    );
+
+    let mut b = base();
+    b.force(spring(-1.0, None, "B"));
+    assert!(
+        matches!(build_err(&b), ModelError::NonPositive { ref element, .. } if element.contains("spring"))
+    );
+    let mut b = base();
+    b.force(spring(1.0, Some(f64::INFINITY), "B"));
+    assert!(matches!(build_err(&b), ModelError::NotFinite { .. }));
+    let mut b = base();
+    b.force(spring(1.0, None, "BB"));
+    assert!(
+        matches!(build_err(&b), ModelError::UnknownPoint { ref suggestion, .. } if suggestion.as_deref() == Some("B"))
+    );
+    let mut b = base();
+    b.force(ForceSpec::PointForce {
+        name: "push".into(),
+        body: GROUND.into(),
+        point: "A".into(),
+        force: Vector3::x(),
+    });
+    assert!(matches!(build_err(&b), ModelError::OnGround { .. }));
+    let mut b = base();
+    b.joint(rev("spring"));
+    b.force(spring(1.0, None, "B"));
+    assert!(matches!(build_err(&b), ModelError::DuplicateElement { .. }));
 }
