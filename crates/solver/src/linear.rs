@@ -191,24 +191,18 @@ impl AutoSolver {
             Inner::MinNorm(_) => Some(SolverKind::MinNorm),
         }
     }
+}
 
-    fn get(&mut self) -> Result<&mut dyn LinearSolver, SolverError> {
-        match &mut self.inner {
-            Inner::None => Err(SolverError::NotReady { missing: "analyze" }),
-            Inner::Dense(s) => Ok(s.as_mut()),
-            Inner::Sparse(s) => Ok(s.as_mut()),
-            Inner::MinNorm(s) => Ok(s.as_mut()),
+/// Static dispatch over the members (a `match`, no trait object in the hot path).
+macro_rules! dispatch {
+    ($inner:expr, $s:ident => $call:expr, $none:expr) => {
+        match $inner {
+            Inner::None => $none,
+            Inner::Dense($s) => $call,
+            Inner::Sparse($s) => $call,
+            Inner::MinNorm($s) => $call,
         }
-    }
-
-    fn get_ref(&self) -> Option<&dyn LinearSolver> {
-        match &self.inner {
-            Inner::None => None,
-            Inner::Dense(s) => Some(s.as_ref()),
-            Inner::Sparse(s) => Some(s.as_ref()),
-            Inner::MinNorm(s) => Some(s.as_ref()),
-        }
-    }
+    };
 }
 
 impl LinearSolver for AutoSolver {
@@ -236,31 +230,33 @@ impl LinearSolver for AutoSolver {
     }
 
     fn factor(&mut self, slots: &[f64]) -> Result<(), SolverError> {
-        self.get()?.factor(slots)
+        let not_ready = Err(SolverError::NotReady { missing: "analyze" });
+        dispatch!(&mut self.inner, s => s.factor(slots), not_ready)
     }
 
     fn solve(&mut self, b: &[f64], x: &mut [f64]) -> Result<(), SolverError> {
-        self.get()?.solve(b, x)
+        let not_ready = Err(SolverError::NotReady { missing: "analyze" });
+        dispatch!(&mut self.inner, s => s.solve(b, x), not_ready)
     }
 
     fn nrows(&self) -> usize {
-        self.get_ref().map_or(0, |s| s.nrows())
+        dispatch!(&self.inner, s => s.nrows(), 0)
     }
 
     fn ncols(&self) -> usize {
-        self.get_ref().map_or(0, |s| s.ncols())
+        dispatch!(&self.inner, s => s.ncols(), 0)
     }
 
     fn rank(&self) -> Option<usize> {
-        self.get_ref().and_then(|s| s.rank())
+        dispatch!(&self.inner, s => s.rank(), None)
     }
 
     fn dependent_equations(&self) -> &[usize] {
-        self.get_ref().map_or(&[], |s| s.dependent_equations())
+        dispatch!(&self.inner, s => s.dependent_equations(), &[])
     }
 
     fn name(&self) -> &'static str {
-        self.get_ref().map_or("auto (not analyzed)", |s| s.name())
+        dispatch!(&self.inner, s => s.name(), "auto (not analyzed)")
     }
 }
 
