@@ -174,3 +174,24 @@ fn assembly_from_a_rough_guess() {
     assert!(res < 1e-11);
     assert!((ws.r(2).x - 0.2).abs() < 1e-10);
 }
+
+#[test]
+fn velocity_only_run_and_dt_grid() {
+    let model = slider_crank();
+    let opts = KinematicOptions::with_dt(0.0, 0.5, 0.01).outputs(Outputs::with_velocity());
+    assert_eq!(opts.steps, 50);
+    let r = model.run_kinematics(&opts).unwrap();
+    assert_eq!(r.len(), 51);
+    assert!((r.times[50] - 0.5).abs() < 1e-15);
+    let s = r.body("slider").unwrap();
+    assert_eq!(s.r_dot.len(), 51);
+    assert!(s.r_ddot.is_empty());
+    for (k, &t) in r.times.iter().enumerate() {
+        let (_, x1, _) = slider_x(2.0 * PI * t);
+        assert!((s.r_dot[k].x - 2.0 * PI * x1).abs() < 1e-10);
+    }
+    assert_eq!(KinematicOptions::with_dt(0.0, 0.0, 0.01).steps, 0);
+    assert!(model
+        .run_kinematics(&KinematicOptions::with_dt(0.0, 1.0, -0.1))
+        .is_err());
+}

@@ -41,9 +41,11 @@ impl KinematicOptions {
         }
     }
 
-    /// Steps of about `dt` from `t0` to `t_end` (the step is adjusted to land on `t_end`).
+    /// Steps of about `dt` from `t0` to `t_end` (the step is adjusted to land on `t_end`). A
+    /// non-positive `dt` with `t_end > t0` gives zero steps, which the run rejects.
     pub fn with_dt(t0: f64, t_end: f64, dt: f64) -> Self {
-        let steps = if dt > 0.0 && dt.is_finite() {
+        let usable = dt > 0.0 && dt.is_finite() && t_end > t0;
+        let steps = if usable {
             (((t_end - t0) / dt).round() as usize).max(1)
         } else {
             0
