@@ -574,7 +574,7 @@ fn check_spd(cx: &Ctx, span: Range<usize>, name: &str, j: &Matrix3<f64>) -> Resu
             span,
             format!(
                 "inertia of body \"{name}\" is not positive definite (principal moments {:e}, {:e}, {:e} kg m²); \
-                 every principal moment must be > 0 (and each at most the sum of the other two)",
+                 every principal moment must be > 0",
                 eig[0], eig[1], eig[2]
             ),
         ));

@@ -160,22 +160,110 @@ pub fn analysis_error(p: &Prepared, e: &AnalysisError) -> Error {
             time,
             iterations,
             worst,
-            ..
+            partial,
         } => {
             let names: Vec<String> = worst
                 .iter()
+                .take(3)
                 .map(|(e, r)| format!("{e} (scaled residual {r:.3e})"))
                 .collect();
+            let hint = partial
+                .as_deref()
+                .and_then(|r| conditioning(p, r))
+                .map_or(String::new(), |c| c.describe());
             located(
                 worst.first().and_then(|(d, _)| spans.element(&d.element)),
                 format!(
                     "the position analysis did not converge at t = {time} s after {iterations} \
-                     iterations (the mechanism may have reached a limit of its motion or a singular \
-                     configuration); worst equations: {}",
+                     iterations (the mechanism reached a limit of its motion or a singular \
+                     configuration); worst equations: {}{hint}",
                     names.join(", ")
                 ),
             )
         }
         other => Error::analysis(format!("{other}")),
     }
+}
+
+/// How close the constraint Jacobian was to singular at the last stored step of a run.
+#[derive(Debug, Clone)]
+pub struct Conditioning {
+    /// Time of the step.
+    pub time: f64,
+    /// σ_min / σ_max of the column-scaled Jacobian Φ_v (drivers included).
+    pub ratio: f64,
+    /// The equations that make up the (nearly) dependent combination, largest weight first.
+    pub dependent: Vec<cardan_mechanism::EquationName>,
+}
+
+impl Conditioning {
+    /// A sentence for an error message.
+    pub fn describe(&self) -> String {
+        let names: Vec<String> = self.dependent.iter().map(|e| e.to_string()).collect();
+        format!(
+            ". At the last solved time t = {} s the constraint Jacobian was {} (σ_min/σ_max = {:.2e}); \
+             dependent equations: {}",
+            self.time,
+            if self.ratio < 1e-4 { "singular" } else { "nearly singular" },
+            self.ratio,
+            names.join(", ")
+        )
+    }
+}
+
+/// The conditioning of Φ_v at the last step of `r` (a dense SVD; for diagnostics only).
+pub fn conditioning(p: &Prepared, r: &cardan_mechanism::Results) -> Option<Conditioning> {
+    let k = r.len().checked_sub(1)?;
+    let model = &p.model;
+    let mut ws = model.workspace();
+    for (b, h) in r.bodies.iter().enumerate() {
+        ws.set_pose(b, *h.r.get(k)?, *h.p.get(k)?);
+    }
+    let t = r.times[k];
+    ws.set_time(t);
+    let (m, n) = (model.num_equations(), model.num_unknowns());
+    let mut slots = vec![0.0; model.pattern().num_slots()];
+    model.eval_jacobian(&ws, t, &mut slots);
+    let mut j = nalgebra::DMatrix::<f64>::zeros(m, n);
+    for (s, v) in model.pattern().entries().zip(&slots) {
+        j[s] = *v;
+    }
+    // Rows to unit length (equations in different units), columns by the model's scales.
+    let scales = model.unknown_scales();
+    for c in 0..n {
+        let sc = scales.get(c).copied().unwrap_or(1.0);
+        for rr in 0..m {
+            j[(rr, c)] *= sc;
+        }
+    }
+    for rr in 0..m {
+        let norm = j.row(rr).norm();
+        if norm > 0.0 {
+            for c in 0..n {
+                j[(rr, c)] /= norm;
+            }
+        }
+    }
+    let svd = j.clone().svd(true, false);
+    let sv = &svd.singular_values;
+    let (imin, smin) = sv.argmin();
+    let smax = sv.max();
+    if smax.is_nan() || smax <= 0.0 {
+        return None;
+    }
+    let u = svd.u.as_ref()?.column(imin).into_owned();
+    let umax = u.amax();
+    let mut rows: Vec<(usize, f64)> = (0..m)
+        .filter(|&rr| u[rr].abs() > 0.2 * umax)
+        .map(|rr| (rr, u[rr].abs()))
+        .collect();
+    rows.sort_by(|a, b| b.1.total_cmp(&a.1));
+    Some(Conditioning {
+        time: t,
+        ratio: smin / smax,
+        dependent: rows
+            .iter()
+            .filter_map(|&(rr, _)| model.equation(rr))
+            .collect(),
+    })
 }

@@ -1,0 +1,520 @@
+//! Bad input, each a clear error: the real binary is run on a broken model file, and each test
+//! checks the exit code (≠ 0), that nothing panicked, and what the message says (with file, line
+//! and column where the problem is in the file).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// A valid one-body model: a crank on a revolute joint, driven at 1 rad/s.
+const BASE: &str = r#"[model]
+name = "crank"
+
+[ground]
+points = { O = [0.0, 0.0, 0.0] }
+vectors = { z = [0.0, 0.0, 1.0] }
+
+[[body]]
+name = "crank"
+mass = 1.0
+inertia = { diag = [0.01, 0.1, 0.1] }
+position = [0.5, 0.0, 0.0]
+points = { O = [-0.5, 0.0, 0.0], tip = [0.5, 0.0, 0.0] }
+vectors = { z = [0.0, 0.0, 1.0] }
+
+[[joint]]
+name = "pivot"
+type = "revolute"
+body_i = "ground"
+point_i = "O"
+axis_i = "z"
+body_j = "crank"
+point_j = "O"
+axis_j = "z"
+
+[[driver]]
+name = "motor"
+type = "rotation"
+joint = "pivot"
+function = { kind = "polynomial", coefficients = [0.0, 1.0] }
+
+[analysis]
+kind = "kinematic"
+t_end = 1.0
+steps = 10
+"#;
+
+static COUNTER: AtomicUsize = AtomicUsize::new(0);
+
+fn scratch() -> PathBuf {
+    let k = COUNTER.fetch_add(1, Ordering::SeqCst);
+    let d = std::env::temp_dir().join(format!("cardan-bad-{}-{k}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+struct Outcome {
+    code: i32,
+    stdout: String,
+    stderr: String,
+    dir: PathBuf,
+}
+
+fn cardan(args: &[&str], dir: &Path) -> Outcome {
+    let out = Command::new(env!("CARGO_BIN_EXE_cardan"))
+        .args(args)
+        .current_dir(dir)
+        .env("RUST_BACKTRACE", "1")
+        .output()
+        .expect("the binary runs");
+    let o = Outcome {
+        code: out.status.code().unwrap_or(-1),
+        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+        dir: dir.to_path_buf(),
+    };
+    assert!(
+        !o.stderr.contains("panicked") && !o.stderr.contains("stack backtrace"),
+        "panic: {}",
+        o.stderr
+    );
+    o
+}
+
+/// Writes `text` as model.toml in a fresh directory and runs `cardan <cmd> model.toml -o out`.
+fn run_text(cmd: &str, text: &str) -> Outcome {
+    let dir = scratch();
+    std::fs::write(dir.join("model.toml"), text).unwrap();
+    match cmd {
+        "run" => cardan(&["run", "model.toml", "-o", "out", "--quiet"], &dir),
+        other => cardan(&[other, "model.toml"], &dir),
+    }
+}
+
+/// BASE with `from` replaced by `to` (which must occur).
+fn edited(from: &str, to: &str) -> String {
+    assert!(BASE.contains(from), "{from}");
+    BASE.replacen(from, to, 1)
+}
+
+/// Runs the edited model and checks a failure whose message starts with `model.toml:LINE:COL`
+/// and contains every `needle`.
+fn fails_at(from: &str, to: &str, line_col: &str, needles: &[&str]) -> Outcome {
+    let o = run_text("run", &edited(from, to));
+    assert_ne!(o.code, 0, "should fail: {}", o.stdout);
+    let want = format!("model.toml:{line_col}: error: ");
+    assert!(
+        o.stderr.starts_with(&want),
+        "want {want}, got: {}",
+        o.stderr
+    );
+    for n in needles {
+        assert!(o.stderr.contains(n), "missing {n:?} in: {}", o.stderr);
+    }
+    assert_eq!(
+        o.stderr.trim_end().lines().count(),
+        1,
+        "one paragraph: {}",
+        o.stderr
+    );
+    o
+}
+
+#[test]
+fn the_base_model_runs() {
+    let o = run_text("run", BASE);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert!(o.stdout.contains("11 steps"), "{}", o.stdout);
+    let csv = std::fs::read_to_string(o.dir.join("out/points.csv")).unwrap();
+    assert!(csv.starts_with("t [s],crank.O.x [m],"), "{csv}");
+    assert!(o.dir.join("out/joints.svg").exists());
+}
+
+#[test]
+fn invalid_toml_reports_line_and_column() {
+    fails_at(r#"name = "crank""#, r#"name = "crank"#, "2:14", &["string"]);
+    fails_at("steps = 10", "steps = = 10", "35:9", &["extra `=`"]);
+}
+
+#[test]
+fn duplicate_toml_key_is_located() {
+    fails_at(
+        "points = { O = [0.0, 0.0, 0.0] }",
+        "points = { O = [0.0, 0.0, 0.0], O = [1.0, 0.0, 0.0] }",
+        "5:33",
+        &["duplicate key"],
+    );
+}
+
+#[test]
+fn unreadable_file() {
+    let dir = scratch();
+    let o = cardan(&["run", "missing.toml"], &dir);
+    assert_eq!(o.code, 1);
+    assert!(
+        o.stderr
+            .contains("cannot read the model file missing.toml: no such file"),
+        "{}",
+        o.stderr
+    );
+    let o = cardan(&["check", "."], &dir);
+    assert_eq!(o.code, 1);
+    assert!(
+        o.stderr.contains("cannot read the model file"),
+        "{}",
+        o.stderr
+    );
+    std::fs::write(dir.join("bin.toml"), [0xff, 0xfe, 0x00, 0x41]).unwrap();
+    let o = cardan(&["check", "bin.toml"], &dir);
+    assert_eq!(o.code, 1);
+    assert!(o.stderr.contains("not valid UTF-8"), "{}", o.stderr);
+}
+
+#[test]
+fn unknown_key_suggests_nearest() {
+    fails_at(
+        "mass = 1.0",
+        "mas = 1.0",
+        "10:1",
+        &[r#"unknown key "mas""#, r#"did you mean "mass"?"#],
+    );
+    fails_at(
+        "t_end = 1.0",
+        "tend = 1.0",
+        "34:1",
+        &[r#"did you mean "t_end"?"#],
+    );
+    fails_at(
+        "[analysis]",
+        "[analysys]",
+        "32:2",
+        &[r#"did you mean "analysis"?"#],
+    );
+}
+
+#[test]
+fn unknown_body_point_vector_joint_suggest_nearest() {
+    fails_at(
+        r#"body_j = "crank""#,
+        r#"body_j = "crnak""#,
+        "22:10",
+        &[
+            r#"joint "pivot": unknown body "crnak""#,
+            r#"did you mean "crank"?"#,
+        ],
+    );
+    fails_at(
+        r#"point_j = "O""#,
+        r#"point_j = "tpi""#,
+        "23:11",
+        &[
+            r#"body "crank" has no point "tpi""#,
+            r#"did you mean "tip"?"#,
+        ],
+    );
+    fails_at(
+        r#"axis_j = "z""#,
+        r#"axis_j = "zz""#,
+        "24:10",
+        &[r#"has no vector "zz""#, r#"did you mean "z"?"#],
+    );
+    fails_at(
+        r#"joint = "pivot""#,
+        r#"joint = "pivto""#,
+        "29:9",
+        &[
+            r#"driver "motor": unknown joint "pivto""#,
+            r#"did you mean "pivot"?"#,
+        ],
+    );
+    fails_at(
+        r#"type = "revolute""#,
+        r#"type = "revolut""#,
+        "18:8",
+        &[r#"did you mean "revolute"?"#],
+    );
+}
+
+#[test]
+fn duplicate_names() {
+    fails_at(
+        "[[joint]]",
+        "[[body]]\nname = \"crank\"\n\n[[joint]]",
+        "17:8",
+        &[r#"duplicate body name "crank""#, "line 9"],
+    );
+    fails_at(
+        "[analysis]",
+        "[[driver]]\nname = \"pivot\"\ntype = \"rotation\"\njoint = \"pivot\"\nfunction = { kind = \"constant\", value = 0.0 }\n\n[analysis]",
+        "33:8",
+        &[r#"duplicate name "pivot""#],
+    );
+    fails_at(
+        "vectors = { z = [0.0, 0.0, 1.0] }\n\n[[joint]]",
+        "vectors = { z = [0.0, 0.0, 1.0] }\nglobal_points = { O = [0.0, 0.0, 0.0] }\n\n[[joint]]",
+        "15:19",
+        &[r#"duplicate point "O" on body "crank""#],
+    );
+}
+
+#[test]
+fn nan_infinite_and_absurd_numbers() {
+    fails_at(
+        "mass = 1.0",
+        "mass = nan",
+        "10:8",
+        &["mass of body \"crank\" is NaN"],
+    );
+    fails_at(
+        "position = [0.5, 0.0, 0.0]",
+        "position = [0.5, -inf, 0.0]",
+        "12:18",
+        &["position of body \"crank\" y is infinite"],
+    );
+    fails_at(
+        "position = [0.5, 0.0, 0.0]",
+        "position = [1e308, 0.0, 0.0]",
+        "12:13",
+        &["absurdly large"],
+    );
+    fails_at(
+        "t_end = 1.0",
+        "t_end = 1e300",
+        "34:9",
+        &["t_end", "absurdly large"],
+    );
+    fails_at(
+        "coefficients = [0.0, 1.0]",
+        "coefficients = [0.0, nan]",
+        "30:56",
+        &["coefficients[1] is NaN"],
+    );
+}
+
+#[test]
+fn zero_length_axes() {
+    fails_at(
+        "vectors = { z = [0.0, 0.0, 1.0] }\n\n[[joint]]",
+        "vectors = { z = [0.0, 0.0, 0.0] }\n\n[[joint]]",
+        "14:17",
+        &[r#"vector "z" of body "crank" has zero length"#],
+    );
+    fails_at(
+        "position = [0.5, 0.0, 0.0]",
+        "position = [0.5, 0.0, 0.0]\norientation = { axis = [0.0, 0.0, 0.0], angle = 1.0 }",
+        "13:24",
+        &["orientation axis has zero length"],
+    );
+}
+
+#[test]
+fn bad_mass_and_inertia() {
+    fails_at(
+        "mass = 1.0",
+        "mass = -2.0",
+        "10:8",
+        &["mass of body \"crank\" must be positive, got -2 kg"],
+    );
+    fails_at(
+        "inertia = { diag = [0.01, 0.1, 0.1] }",
+        "inertia = { diag = [0.01, 0.1, -0.1] }",
+        "11:11",
+        &["not positive definite"],
+    );
+    fails_at(
+        "inertia = { diag = [0.01, 0.1, 0.1] }",
+        "inertia = [[0.01, 0.0, 0.0], [0.05, 0.1, 0.0], [0.0, 0.0, 0.1]]",
+        "11:11",
+        &["not symmetric"],
+    );
+    fails_at(
+        "inertia = { diag = [0.01, 0.1, 0.1] }",
+        "inertia = [[0.01, 0.0], [0.0, 0.1]]",
+        "11:11",
+        &["3×3 matrix"],
+    );
+}
+
+#[test]
+fn joint_from_a_body_to_itself() {
+    fails_at(
+        r#"body_i = "ground""#,
+        r#"body_i = "crank""#,
+        "22:10",
+        &[r#"joint "pivot" connects body "crank" to itself"#],
+    );
+}
+
+#[test]
+fn too_few_or_too_many_drivers() {
+    let start = BASE.find("[[driver]]").unwrap();
+    let end = BASE.find("[analysis]").unwrap();
+    let none = format!("{}{}", &BASE[..start], &BASE[end..]);
+    for cmd in ["run", "check"] {
+        let o = run_text(cmd, &none);
+        assert_eq!(o.code, 1, "{}", o.stderr);
+        assert!(
+            o.stderr
+                .contains("the joints leave 1 DOF, but the file has 0 drivers"),
+            "{}",
+            o.stderr
+        );
+        assert!(o.stderr.contains("add 1 driver"), "{}", o.stderr);
+    }
+    let two = edited(
+        "[analysis]",
+        "[[driver]]\nname = \"motor2\"\ntype = \"rotation\"\njoint = \"pivot\"\nfunction = { kind = \"constant\", value = 0.0 }\n\n[analysis]",
+    );
+    let o = run_text("run", &two);
+    assert_eq!(o.code, 1);
+    assert!(
+        o.stderr.starts_with("model.toml:27:8: error: "),
+        "{}",
+        o.stderr
+    );
+    assert!(
+        o.stderr
+            .contains("2 drivers (motor, motor2); remove 1 driver"),
+        "{}",
+        o.stderr
+    );
+}
+
+/// Two cranks joined by a coupler of 3 m whose pivots are 1 m apart and whose cranks are 0.5 m
+/// long: the loop cannot close.
+#[test]
+fn assembly_that_cannot_close_names_the_open_joint() {
+    let text = BASE.replacen(
+        "[[driver]]",
+        r#"[[body]]
+name = "rocker"
+position = [1.5, 0.0, 0.0]
+points = { O = [-0.5, 0.0, 0.0], tip = [0.5, 0.0, 0.0] }
+vectors = { z = [0.0, 0.0, 1.0] }
+
+[[joint]]
+name = "rocker_pivot"
+type = "revolute"
+body_i = "ground"
+point_i = "P"
+axis_i = "z"
+body_j = "rocker"
+point_j = "tip"
+axis_j = "z"
+
+[[joint]]
+name = "coupler"
+type = "spherical_spherical"
+body_i = "crank"
+point_i = "tip"
+body_j = "rocker"
+point_j = "O"
+length = 3.0
+
+[[driver]]"#,
+        1,
+    );
+    let text = text.replacen(
+        "points = { O = [0.0, 0.0, 0.0] }",
+        "points = { O = [0.0, 0.0, 0.0], P = [2.0, 0.0, 0.0] }",
+        1,
+    );
+    let o = run_text("run", &text);
+    assert_eq!(o.code, 3, "{}", o.stderr);
+    assert!(o.stderr.contains("cannot be assembled"), "{}", o.stderr);
+    assert!(o.stderr.contains("\"coupler\" (|Φ| = "), "{}", o.stderr);
+    let line: usize = o.stderr.split(':').nth(1).unwrap().parse().unwrap();
+    let want = text[..text.find("name = \"coupler\"").unwrap()]
+        .lines()
+        .count()
+        + 1;
+    assert_eq!(line, want, "{}", o.stderr);
+}
+
+/// The crank tip's x coordinate is pushed to x = t: at t = 1 the crank is stretched along x
+/// (the Jacobian is singular), after that no position exists.
+#[test]
+fn singular_configuration_mid_run_writes_partial_results() {
+    let text = edited(
+        "type = \"rotation\"\njoint = \"pivot\"",
+        "type = \"coordinate\"\nbody = \"crank\"\npoint = \"tip\"\ncoordinate = \"x\"",
+    )
+    .replacen(
+        "position = [0.5, 0.0, 0.0]",
+        "position = [0.0, 0.5, 0.0]\norientation = { axis = [0.0, 0.0, 1.0], angle = 1.5707963267948966 }",
+        1,
+    )
+    .replacen("t_end = 1.0\nsteps = 10", "t_end = 2.0\nsteps = 100", 1);
+    let o = run_text("run", &text);
+    assert_eq!(o.code, 3, "{}", o.stderr);
+    for needle in [
+        "at t = 1.02 s",
+        "At the last solved time t = 1 s the constraint Jacobian was singular",
+        "dependent equations: ",
+        "coordinate_driver \"push\"",
+        "revolute \"pivot\"",
+        "results up to t = 1 s (51 steps) were written to out",
+    ] {
+        let needle = needle.replace("\"push\"", "\"motor\"");
+        assert!(
+            o.stderr.contains(&needle),
+            "missing {needle:?}: {}",
+            o.stderr
+        );
+    }
+    let csv = std::fs::read_to_string(o.dir.join("out/points.csv")).unwrap();
+    let (_, rows) = cardan_cli::table::parse_csv(&csv).unwrap();
+    assert_eq!(rows.len(), 51);
+    assert!((rows[50][0] - 1.0).abs() < 1e-12);
+    // The tip reached x = 1 (stretched), within the accuracy of a singular root.
+    assert!((rows[50][4] - 1.0).abs() < 1e-6, "{:?}", rows[50]);
+    assert!(o.stdout.contains("51 steps"), "{}", o.stdout);
+}
+
+#[test]
+fn usage_errors_do_not_panic() {
+    let dir = scratch();
+    let o = cardan(&["frobnicate"], &dir);
+    assert_eq!(o.code, 2);
+    let o = cardan(&["run"], &dir);
+    assert_eq!(o.code, 2);
+    let o = cardan(&["eval", "x.toml", "--t", "abc"], &dir);
+    assert_eq!(o.code, 2);
+}
+
+#[test]
+fn check_and_eval_describe_the_model() {
+    let o = run_text("check", BASE);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    for needle in [
+        "pivot",
+        "revolute",
+        "ground – crank",
+        "degrees of freedom: 1",
+        "redundant equations: none",
+        "1 driver for 1 DOF: ok",
+    ] {
+        assert!(
+            o.stdout.contains(needle),
+            "missing {needle:?}: {}",
+            o.stdout
+        );
+    }
+    let o = run_text("eval", BASE);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    for needle in [
+        "Φ",
+        "ν",
+        "γ#",
+        "Jacobian Φ_v pattern",
+        "rrrwww",
+        "Jacobian Φ_v values",
+        "crank.ω'.z",
+    ] {
+        assert!(
+            o.stdout.contains(needle),
+            "missing {needle:?}: {}",
+            o.stdout
+        );
+    }
+}
