@@ -17,9 +17,7 @@ use crate::dof::{solver, DofReport};
 use crate::error::{AnalysisError, EquationName};
 use crate::model::Model;
 use crate::workspace::{PositionSystem, Workspace};
-use cardan_solver::{
-    AutoSolver, LineSearch, Newton, NewtonOptions, RankAnalysis, RankOptions, SolverError,
-};
+use cardan_solver::{AutoSolver, Newton, NewtonOptions, RankAnalysis, RankOptions, SolverError};
 
 /// Outcome of one position solve.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -41,14 +39,10 @@ impl Model {
         self.prepare_kinematics_with(ws, Self::kinematic_newton_options())
     }
 
-    /// The default Newton options of the kinematic solver: full Newton, no line search (the start
-    /// is predicted from the previous steps, and the solver's Armijo test rejects steps once the
-    /// residual is at round-off level), default scaled tolerances.
+    /// The default Newton options of the kinematic solver: full Newton with the solver's
+    /// backtracking line search and default scaled tolerances (residual 1e-10, step 1e-6).
     pub fn kinematic_newton_options() -> NewtonOptions {
-        NewtonOptions {
-            line_search: LineSearch::None,
-            ..NewtonOptions::default()
-        }
+        NewtonOptions::default()
     }
 
     /// [`prepare_kinematics`](Self::prepare_kinematics) with Newton options of your choice.
