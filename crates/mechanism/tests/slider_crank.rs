@@ -191,6 +191,15 @@ fn velocity_only_run_and_dt_grid() {
         assert!((s.r_dot[k].x - 2.0 * PI * x1).abs() < 1e-10);
     }
     assert_eq!(KinematicOptions::with_dt(0.0, 0.0, 0.01).steps, 0);
+    let mut seen = Vec::new();
+    let mut ws = model.workspace();
+    model
+        .kinematics_with_progress(&mut ws, &KinematicOptions::new(0.0, 0.1, 4), |k, t| {
+            seen.push((k, t))
+        })
+        .unwrap();
+    assert_eq!(seen.len(), 5);
+    assert_eq!(seen[4], (4, 0.1));
     assert!(model
         .run_kinematics(&KinematicOptions::with_dt(0.0, 1.0, -0.1))
         .is_err());

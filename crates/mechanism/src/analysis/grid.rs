@@ -115,6 +115,20 @@ impl Model {
         ws: &mut Workspace,
         options: &KinematicOptions,
     ) -> Result<Results, AnalysisError> {
+        self.kinematics_with_progress(ws, options, |_, _| {})
+    }
+
+    /// [`kinematics`](Self::kinematics), calling `progress(k, t_k)` after each stored step
+    /// (k = 0..=steps), e.g. to drive a progress bar.
+    ///
+    /// # Errors
+    /// As [`kinematics`](Self::kinematics).
+    pub fn kinematics_with_progress(
+        &self,
+        ws: &mut Workspace,
+        options: &KinematicOptions,
+        mut progress: impl FnMut(usize, f64),
+    ) -> Result<Results, AnalysisError> {
         options.validate()?;
         if ws.kin.is_none() {
             // Joints first: the driver count is checked before the drivers can make the
@@ -141,6 +155,7 @@ impl Model {
             if let Err(e) = self.step(ws, options, k, t, &mut results, &mut joint_prev) {
                 return Err(e.with_partial(results));
             }
+            progress(k, t);
         }
         Ok(results)
     }
