@@ -24,11 +24,22 @@ fn run_example(name: &str) -> (Prepared, Results) {
     let dir = out_dir(name);
     let o = run_model(&example(name), Some(&dir), false).expect("example runs");
     assert!(o.error.is_none(), "{name}: {:?}", o.error);
-    for group in ["residual"] {
-        let csv = std::fs::read_to_string(dir.join(format!("{group}.csv"))).unwrap();
+    // Every CSV has the time column, units in every header, and one row per stored step.
+    let csvs: Vec<_> = o
+        .summary
+        .files
+        .iter()
+        .filter(|f| f.extension().is_some_and(|e| e == "csv"))
+        .collect();
+    assert!(csvs.len() >= 2, "{name}: {csvs:?}");
+    for f in csvs {
+        let csv = std::fs::read_to_string(f).unwrap();
         let (header, rows) = cardan_cli::table::parse_csv(&csv).unwrap();
         assert_eq!(header[0], "t [s]");
+        assert!(header.iter().all(|h| h.ends_with(']')), "{f:?}: {header:?}");
         assert_eq!(rows.len(), o.results.len());
+        let svg = f.with_extension("svg");
+        assert!(svg.exists() || f.ends_with("residual.csv"), "{svg:?}");
     }
     let _ = std::fs::remove_dir_all(&dir);
     (o.prepared, o.results)
@@ -359,4 +370,38 @@ fn every_example_checks() {
         let text = String::from_utf8(out).unwrap();
         assert!(text.contains("Jacobian Φ_v pattern"), "{name}");
     }
+}
+
+/// The annotated example of docs/model-format.md is a valid model: it checks (1 DOF, 1 driver)
+/// and runs, and its slider follows the planar slider-crank closed form
+/// x = a cos θ + √(l² − a² sin² θ) with a = 0.1, l = 0.3, θ = t.
+#[test]
+fn documented_example_runs() {
+    let doc = std::fs::read_to_string(
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../docs/model-format.md"),
+    )
+    .unwrap();
+    let start = doc.find("```toml\n").unwrap() + 8;
+    let end = start + doc[start..].find("```").unwrap();
+    let dir = out_dir("doc");
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("doc.toml");
+    std::fs::write(&file, &doc[start..end]).unwrap();
+    let mut out = Vec::new();
+    cardan_cli::commands::check::check(&file, &mut out).unwrap();
+    let text = String::from_utf8(out).unwrap();
+    assert!(
+        text.contains("degrees of freedom: 1") && text.contains(": ok"),
+        "{text}"
+    );
+    let o = run_model(&file, Some(&dir.join("out")), false).unwrap();
+    assert!(o.error.is_none());
+    let b = o.results.point("slider", "B").unwrap();
+    let mut err = 0.0f64;
+    for (k, &t) in o.results.times.iter().enumerate() {
+        let x = 0.1 * t.cos() + (0.09 - 0.01 * t.sin().powi(2)).sqrt();
+        err = err.max((b.position[k] - Vector3::new(x, 0.0, 0.0)).amax());
+    }
+    assert!(err < 1e-10, "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
 }
