@@ -405,3 +405,38 @@ fn documented_example_runs() {
     assert!(err < 1e-10, "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A long run goes through the chunked path that drives the progress bar: its results must be
+/// those of one uninterrupted run (no repeated times, joint angles continued across chunks).
+#[test]
+fn chunked_progress_run_equals_single_run() {
+    let text = std::fs::read_to_string(example("slider_crank"))
+        .unwrap()
+        .replace("t_end = 1.0\nsteps = 200", "t_end = 2.5\nsteps = 2500");
+    let dir = out_dir("chunked");
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("long.toml");
+    std::fs::write(&file, text).unwrap();
+    let chunked = run_model(&file, Some(&dir.join("a")), true).unwrap();
+    let single = run_model(&file, Some(&dir.join("b")), false).unwrap();
+    let (a, b) = (&chunked.results, &single.results);
+    assert_eq!(a.len(), 2501);
+    assert_eq!(a.times.len(), b.times.len());
+    assert!(a
+        .times
+        .iter()
+        .zip(&b.times)
+        .all(|(x, y)| (x - y).abs() < 1e-12));
+    let (ja, jb) = (a.joint("crank_pin").unwrap(), b.joint("crank_pin").unwrap());
+    for k in 0..a.len() {
+        assert!((ja.values[k][0] - jb.values[k][0]).abs() < 1e-9, "step {k}");
+        let (pa, pb) = (
+            a.point("slider", "C").unwrap(),
+            b.point("slider", "C").unwrap(),
+        );
+        assert!((pa.position[k] - pb.position[k]).amax() < 1e-9);
+        assert!((pa.acceleration[k] - pb.acceleration[k]).amax() < 1e-6);
+    }
+    assert!((ja.values[2500][0] - 5.0 * PI).abs() < 1e-9);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -232,7 +232,12 @@ fn run_with_progress(
         k0 = k1;
     }
     bar.finish_and_clear();
-    (all.unwrap_or_default(), failure)
+    let mut all = all.unwrap_or_default();
+    // The grid times of one uninterrupted run (chunk ends are computed from their own start).
+    for (k, t) in all.times.iter_mut().enumerate() {
+        *t = opts.time(k);
+    }
+    (all, failure)
 }
 
 /// Appends `b` (which starts with a repeat of the last time of `a`) to `a`.
@@ -240,7 +245,8 @@ fn append(mut a: Results, b: Results) -> Results {
     if b.is_empty() {
         return a;
     }
-    let skip = usize::from(!a.is_empty() && a.times.last() == b.times.first());
+    // Each later chunk starts where the previous one ended.
+    let skip = usize::from(!a.is_empty());
     fn ext<T: Clone>(x: &mut Vec<T>, y: &[T], skip: usize) {
         if y.len() > skip {
             x.extend_from_slice(&y[skip..]);
