@@ -47,6 +47,9 @@ pub enum ConstraintError {
     /// A time function is malformed.
     #[error("time function: {0}")]
     TimeFunction(String),
+    /// Any other invalid definition, explained.
+    #[error("{0}")]
+    Invalid(String),
     /// A coordinate index out of 0..3.
     #[error("coordinate axis must be 0 (x), 1 (y) or 2 (z), got {0}")]
     BadAxis(usize),

@@ -32,7 +32,7 @@ fn from_ep(what: &str, e: EulerParamError) -> ConstraintError {
                 .find(|v| !v.is_finite())
                 .unwrap_or(f64::NAN),
         },
-        other => ConstraintError::TimeFunction(format!("{what}: {other}")),
+        other => ConstraintError::Invalid(format!("{what}: {other}")),
     }
 }
 

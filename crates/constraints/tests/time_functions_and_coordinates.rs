@@ -230,6 +230,11 @@ fn markers_and_joints_reject_bad_definitions() {
         Marker::new(Vector3::zeros(), mirror),
         Err(ConstraintError::NotOrthonormal { .. })
     ));
+    let m = Marker::from_axis(Vector3::zeros(), z).unwrap();
+    assert!(matches!(
+        Joint::new(JointKind::SphericalSpherical, m, m),
+        Err(ConstraintError::Invalid(_))
+    ));
     assert!(matches!(
         Joint::spherical_spherical(Vector3::zeros(), Vector3::x(), 0.0),
         Err(ConstraintError::NotPositive { .. })

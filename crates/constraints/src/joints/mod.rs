@@ -106,16 +106,19 @@ pub struct Joint {
 }
 
 impl Joint {
-    /// A joint of `kind` between markers on body i and body j. For
-    /// [`JointKind::SphericalSpherical`] use [`Joint::spherical_spherical`] (it needs a length).
+    /// A joint of `kind` between markers on body i and body j.
+    ///
+    /// [`JointKind::SphericalSpherical`] needs a length, which markers do not carry: build it
+    /// with [`Joint::spherical_spherical`]; here it is an error.
     pub fn new(
         kind: JointKind,
         marker_i: Marker,
         marker_j: Marker,
     ) -> Result<Self, ConstraintError> {
         if kind == JointKind::SphericalSpherical {
-            let d = marker_i.point - marker_j.point;
-            return Self::spherical_spherical(marker_i.point, marker_j.point, d.norm());
+            return Err(ConstraintError::Invalid(
+                "a spherical-spherical joint needs a length: use Joint::spherical_spherical".into(),
+            ));
         }
         let (pi, pj) = (marker_i.point, marker_j.point);
         let (xi, yi, zi) = (marker_i.x(), marker_i.y(), marker_i.z());
