@@ -1,0 +1,118 @@
+//! [`DynamicsError`]: everything a dynamic analysis can report. Variants name the element
+//! (body, joint, force) and carry the numbers.
+
+use cardan_mechanism::{AnalysisError, EquationName, OpenElement};
+use thiserror::Error;
+
+/// An error of the dynamics layer.
+#[derive(Debug, Error)]
+#[non_exhaustive]
+pub enum DynamicsError {
+    /// A moving body has no mass or no inertia tensor.
+    #[error("body \"{body}\": dynamic analysis needs a mass and an inertia tensor")]
+    MissingInertia {
+        /// The body.
+        body: String,
+    },
+    /// A force element refers to a body, point or joint that does not exist, or is invalid.
+    #[error("force \"{force}\": {reason}")]
+    BadForce {
+        /// The force element.
+        force: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// Invalid options (times, tolerances, step sizes).
+    #[error("invalid options: {0}")]
+    Options(String),
+    /// The initial positions cannot be assembled (the joints and drivers that stay open).
+    #[error("initial conditions: positions cannot be made consistent; open: {}", fmt_open(.open))]
+    InconsistentPositions {
+        /// The elements that stay open, largest residual first.
+        open: Vec<OpenElement>,
+    },
+    /// The initial velocities cannot be made consistent (Φ_v v = ν has no solution: the
+    /// velocity equations named are dependent on others with incompatible right-hand sides).
+    #[error("initial conditions: velocities cannot be made consistent (residual {residual:.3e}); equations: {}", fmt_names(.equations))]
+    InconsistentVelocities {
+        /// Residual max |Φ_v v − ν| after the projection.
+        residual: f64,
+        /// The equations that stay violated.
+        equations: Vec<EquationName>,
+    },
+    /// The augmented (KKT) matrix is singular: the constraints are dependent at this
+    /// configuration (a singular position), beyond the redundancy removed at the start.
+    #[error("t = {time}: the equations of motion are singular (dependent constraints: {})", fmt_names(.dependent))]
+    Singular {
+        /// Time.
+        time: f64,
+        /// The constraint equations found dependent.
+        dependent: Vec<EquationName>,
+    },
+    /// The step size fell below the minimum (adaptive integration) or Newton did not converge
+    /// at the minimum step (implicit integration).
+    #[error("t = {time}: step size {step:.3e} below the minimum ({reason})")]
+    StepTooSmall {
+        /// Time.
+        time: f64,
+        /// The step size.
+        step: f64,
+        /// Why the step was reduced.
+        reason: String,
+    },
+    /// The position projection or the implicit Newton iteration did not converge.
+    #[error("t = {time}: {what} did not converge in {iterations} iterations (residual {residual:.3e})")]
+    NotConverged {
+        /// Time.
+        time: f64,
+        /// Which iteration.
+        what: &'static str,
+        /// Iterations done.
+        iterations: usize,
+        /// Last scaled residual.
+        residual: f64,
+    },
+    /// NaN or infinity in the state or the forces.
+    #[error("t = {time}: non-finite values in {what}")]
+    NonFinite {
+        /// Time.
+        time: f64,
+        /// Where.
+        what: &'static str,
+    },
+    /// Inverse dynamics needs a fully driven mechanism (DOF = number of drivers, DOF > 0 or
+    /// drivers present).
+    #[error("inverse dynamics needs a kinematically driven mechanism: {dof} degrees of freedom, {drivers} drivers")]
+    NotFullyDriven {
+        /// Degrees of freedom of the joints.
+        dof: usize,
+        /// Drivers.
+        drivers: usize,
+    },
+    /// The step limit was reached.
+    #[error("t = {time}: maximum number of steps ({max_steps}) reached")]
+    TooManySteps {
+        /// Time.
+        time: f64,
+        /// The limit.
+        max_steps: usize,
+    },
+    /// An error of the mechanism layer (assembly, kinematics).
+    #[error(transparent)]
+    Mechanism(#[from] AnalysisError),
+}
+
+fn fmt_open(open: &[OpenElement]) -> String {
+    open.iter()
+        .map(|e| format!("{} ({:.3e})", e.element, e.residual))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+fn fmt_names(names: &[EquationName]) -> String {
+    names
+        .iter()
+        .map(|e| e.to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
+}

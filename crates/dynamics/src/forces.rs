@@ -1,0 +1,697 @@
+//! Applied forces: gravity, point forces and torques, translational spring-damper-actuators,
+//! rotational spring-dampers on revolute joints, and a user callback.
+//!
+//! ## Generalized forces in the 6-coordinate form
+//! With v_k = [ṙ_k; ω'_k] the generalized force of body k is h_k = [f_k; n'_k]: f_k the resultant
+//! force (global components) and n'_k the resultant torque about the centre of mass in body
+//! components. A force F (global) at body point s'^P contributes
+//!
+//! ```text
+//! f_k += F,      n'_k += s̃'^P (A_kᵀ F)
+//! ```
+//!
+//! and a torque T (global) contributes n'_k += A_kᵀ T. The gyroscopic term −ω̃' J' ω' is added by
+//! the equations of motion, not here.
+//!
+//! ## Elements
+//! - [`Force::Gravity`]: f_k += m_k g at every centre of mass; potential −m_k gᵀ r_k.
+//! - [`Force::PointForce`], [`Force::PointTorque`]: a vector [`VectorFunction`] of time in the
+//!   global or the body frame ([`Frame`]).
+//! - [`Force::SpringDamperActuator`]: between P_i and P_j, d = P_j − P_i, ℓ = |d|, u = d/ℓ; tension
+//!   f = k (ℓ − ℓ0) + c ℓ̇ + f_a(t) (positive pulls the points together): body i gets +f u at P_i,
+//!   body j gets −f u at P_j. Potential ½ k (ℓ − ℓ0)².
+//! - [`Force::RotationalSpringDamper`]: on a revolute (or cylindrical) joint with angle θ (the
+//!   joint's marker angle, x_j from x_i about z_i) and rate θ̇ = z_iᵀ(ω_j − ω_i): torque
+//!   T = −(k (θ − θ0) + c θ̇) z_i on body j and −T on body i. θ − θ0 is taken in (−π, π].
+//!   Potential ½ k (θ − θ0)².
+//! - A user callback ([`UserForces`]) adds anything else through [`AppliedForces`].
+
+use crate::DynamicsError;
+use cardan_constraints::{BodyPair, BodyState, TimeFunction};
+use cardan_mechanism::{BodyId, ForceInfo, Model};
+use nalgebra::Vector3;
+use std::f64::consts::PI;
+use std::fmt;
+use std::sync::Arc;
+
+/// The frame in which a force or torque vector is given.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Frame {
+    /// Global components.
+    #[default]
+    Global,
+    /// Components in the body frame (the vector turns with the body).
+    Body,
+}
+
+/// A vector-valued function of time.
+#[derive(Clone)]
+pub enum VectorFunction {
+    /// A constant vector.
+    Constant(Vector3<f64>),
+    /// Three scalar time functions (x, y, z).
+    Components(Box<[TimeFunction; 3]>),
+    /// Any function of time.
+    Function(Arc<dyn Fn(f64) -> Vector3<f64> + Send + Sync>),
+}
+
+impl VectorFunction {
+    /// The value at time `t`.
+    pub fn eval(&self, t: f64) -> Vector3<f64> {
+        match self {
+            VectorFunction::Constant(v) => *v,
+            VectorFunction::Components(c) => {
+                Vector3::new(c[0].eval(t).0, c[1].eval(t).0, c[2].eval(t).0)
+            }
+            VectorFunction::Function(f) => f(t),
+        }
+    }
+
+    /// A function of time.
+    pub fn function(f: impl Fn(f64) -> Vector3<f64> + Send + Sync + 'static) -> Self {
+        VectorFunction::Function(Arc::new(f))
+    }
+}
+
+impl From<Vector3<f64>> for VectorFunction {
+    fn from(v: Vector3<f64>) -> Self {
+        VectorFunction::Constant(v)
+    }
+}
+
+impl fmt::Debug for VectorFunction {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            VectorFunction::Constant(v) => write!(f, "Constant({v:?})"),
+            VectorFunction::Components(c) => write!(f, "Components({c:?})"),
+            VectorFunction::Function(_) => write!(f, "Function(..)"),
+        }
+    }
+}
+
+/// A point of a body: a named point of the model or body-frame coordinates (relative to the
+/// body reference point, which is the centre of mass).
+#[derive(Debug, Clone, PartialEq)]
+pub enum PointRef {
+    /// A point declared on the body in the model.
+    Named(String),
+    /// Body-frame coordinates (global for ground).
+    Local(Vector3<f64>),
+}
+
+impl From<&str> for PointRef {
+    fn from(s: &str) -> Self {
+        PointRef::Named(s.into())
+    }
+}
+
+impl From<Vector3<f64>> for PointRef {
+    fn from(v: Vector3<f64>) -> Self {
+        PointRef::Local(v)
+    }
+}
+
+/// A force element (see the module docs for the formulas and signs). Bodies are named
+/// (`"ground"` allowed where a second body is needed).
+#[derive(Debug, Clone)]
+pub enum Force {
+    /// Uniform gravity g (global, m/s²) on every moving body.
+    Gravity {
+        /// Acceleration of gravity.
+        g: Vector3<f64>,
+    },
+    /// A force at a point of a moving body.
+    PointForce {
+        /// Name (for error messages).
+        name: String,
+        /// The body.
+        body: String,
+        /// The point of application.
+        point: PointRef,
+        /// The force (N).
+        value: VectorFunction,
+        /// Frame of `value`.
+        frame: Frame,
+    },
+    /// A pure torque on a moving body.
+    PointTorque {
+        /// Name.
+        name: String,
+        /// The body.
+        body: String,
+        /// The torque (N m).
+        value: VectorFunction,
+        /// Frame of `value`.
+        frame: Frame,
+    },
+    /// Translational spring-damper-actuator between two points.
+    SpringDamperActuator {
+        /// Name.
+        name: String,
+        /// Body i.
+        body_i: String,
+        /// Point on body i.
+        point_i: PointRef,
+        /// Body j.
+        body_j: String,
+        /// Point on body j.
+        point_j: PointRef,
+        /// k ≥ 0 (N/m).
+        stiffness: f64,
+        /// c ≥ 0 (N s/m).
+        damping: f64,
+        /// ℓ0 (m); `None`: the distance at the model's initial poses.
+        free_length: Option<f64>,
+        /// Actuator tension f_a(t) (N), added to the spring-damper tension.
+        actuator: Option<TimeFunction>,
+    },
+    /// Rotational spring-damper on a revolute or cylindrical joint.
+    RotationalSpringDamper {
+        /// Name.
+        name: String,
+        /// The joint.
+        joint: String,
+        /// k ≥ 0 (N m/rad).
+        stiffness: f64,
+        /// c ≥ 0 (N m s/rad).
+        damping: f64,
+        /// θ0 (rad).
+        rest_angle: f64,
+    },
+}
+
+impl Force {
+    /// Gravity.
+    pub fn gravity(g: Vector3<f64>) -> Self {
+        Force::Gravity { g }
+    }
+
+    /// A force `value` (frame `frame`) at `point` of `body`.
+    pub fn point_force(
+        name: &str,
+        body: &str,
+        point: impl Into<PointRef>,
+        value: impl Into<VectorFunction>,
+        frame: Frame,
+    ) -> Self {
+        Force::PointForce {
+            name: name.into(),
+            body: body.into(),
+            point: point.into(),
+            value: value.into(),
+            frame,
+        }
+    }
+
+    /// A torque `value` (frame `frame`) on `body`.
+    pub fn torque(
+        name: &str,
+        body: &str,
+        value: impl Into<VectorFunction>,
+        frame: Frame,
+    ) -> Self {
+        Force::PointTorque {
+            name: name.into(),
+            body: body.into(),
+            value: value.into(),
+            frame,
+        }
+    }
+
+    /// A spring-damper (no actuator) between `(body_i, point_i)` and `(body_j, point_j)`.
+    pub fn spring_damper(
+        name: &str,
+        (body_i, point_i): (&str, impl Into<PointRef>),
+        (body_j, point_j): (&str, impl Into<PointRef>),
+        stiffness: f64,
+        damping: f64,
+        free_length: Option<f64>,
+    ) -> Self {
+        Force::SpringDamperActuator {
+            name: name.into(),
+            body_i: body_i.into(),
+            point_i: point_i.into(),
+            body_j: body_j.into(),
+            point_j: point_j.into(),
+            stiffness,
+            damping,
+            free_length,
+            actuator: None,
+        }
+    }
+
+    /// A rotational spring-damper on joint `joint`.
+    pub fn rotational_spring_damper(
+        name: &str,
+        joint: &str,
+        stiffness: f64,
+        damping: f64,
+        rest_angle: f64,
+    ) -> Self {
+        Force::RotationalSpringDamper {
+            name: name.into(),
+            joint: joint.into(),
+            stiffness,
+            damping,
+            rest_angle,
+        }
+    }
+
+    /// The element's name ("gravity" for gravity).
+    pub fn name(&self) -> &str {
+        match self {
+            Force::Gravity { .. } => "gravity",
+            Force::PointForce { name, .. }
+            | Force::PointTorque { name, .. }
+            | Force::SpringDamperActuator { name, .. }
+            | Force::RotationalSpringDamper { name, .. } => name,
+        }
+    }
+
+    /// The force elements stored in a model ([`Model::forces`]).
+    pub fn from_model(model: &Model) -> Vec<Force> {
+        model
+            .forces()
+            .iter()
+            .map(|f| match f {
+                ForceInfo::Gravity { g } => Force::Gravity { g: *g },
+                ForceInfo::SpringDamper {
+                    name,
+                    body_i,
+                    point_i,
+                    body_j,
+                    point_j,
+                    stiffness,
+                    damping,
+                    free_length,
+                } => Force::SpringDamperActuator {
+                    name: name.clone(),
+                    body_i: model.body_name(*body_i).into(),
+                    point_i: PointRef::Local(*point_i),
+                    body_j: model.body_name(*body_j).into(),
+                    point_j: PointRef::Local(*point_j),
+                    stiffness: *stiffness,
+                    damping: *damping,
+                    free_length: Some(*free_length),
+                    actuator: None,
+                },
+                ForceInfo::PointForce {
+                    name,
+                    body,
+                    point,
+                    force,
+                } => Force::PointForce {
+                    name: name.clone(),
+                    body: model.body_name(*body).into(),
+                    point: PointRef::Local(*point),
+                    value: VectorFunction::Constant(*force),
+                    frame: Frame::Global,
+                },
+                ForceInfo::Torque { name, body, torque } => Force::PointTorque {
+                    name: name.clone(),
+                    body: model.body_name(*body).into(),
+                    value: VectorFunction::Constant(*torque),
+                    frame: Frame::Global,
+                },
+            })
+            .collect()
+    }
+}
+
+/// Accumulates generalized forces h_k = [f_k; n'_k] (see the module docs). Handed to the user
+/// callback; ground contributions are ignored.
+pub struct AppliedForces<'a> {
+    pub(crate) h: &'a mut [f64],
+    pub(crate) bodies: &'a [BodyState],
+}
+
+impl AppliedForces<'_> {
+    /// Adds force `f` (global) at body point `s_local` (body frame) of `body`.
+    pub fn add_force_at(&mut self, body: BodyId, s_local: &Vector3<f64>, f: &Vector3<f64>) {
+        if let BodyId::Moving(k) = body {
+            let fl = self.bodies[k].a.tr_mul(f);
+            let n = s_local.cross(&fl);
+            for c in 0..3 {
+                self.h[6 * k + c] += f[c];
+                self.h[6 * k + 3 + c] += n[c];
+            }
+        }
+    }
+
+    /// Adds force `f` (global) at the centre of mass of `body`.
+    pub fn add_force(&mut self, body: BodyId, f: &Vector3<f64>) {
+        if let BodyId::Moving(k) = body {
+            for c in 0..3 {
+                self.h[6 * k + c] += f[c];
+            }
+        }
+    }
+
+    /// Adds torque `n` (global components) to `body`.
+    pub fn add_torque(&mut self, body: BodyId, n: &Vector3<f64>) {
+        if let BodyId::Moving(k) = body {
+            let nl = self.bodies[k].a.tr_mul(n);
+            self.add_torque_local(body, &nl);
+        }
+    }
+
+    /// Adds torque `n_local` (body components) to `body`.
+    pub fn add_torque_local(&mut self, body: BodyId, n_local: &Vector3<f64>) {
+        if let BodyId::Moving(k) = body {
+            for c in 0..3 {
+                self.h[6 * k + 3 + c] += n_local[c];
+            }
+        }
+    }
+
+    /// The body states (pose r, p, A and velocity ṙ, ω') of the moving bodies.
+    pub fn bodies(&self) -> &[BodyState] {
+        self.bodies
+    }
+}
+
+/// A user force callback: `f(t, forces)` adds forces through [`AppliedForces`] (whose
+/// [`bodies`](AppliedForces::bodies) give the current poses and velocities). It may be called
+/// several times per step and at trial states; it must not keep state that depends on being
+/// called once per step.
+pub type UserForces = Box<dyn FnMut(f64, &mut AppliedForces<'_>) + Send>;
+
+/// A force element with names resolved to body indices and body-frame points.
+#[derive(Debug, Clone)]
+pub(crate) enum Resolved {
+    Gravity(Vector3<f64>),
+    PointForce {
+        body: BodyId,
+        point: Vector3<f64>,
+        value: VectorFunction,
+        frame: Frame,
+    },
+    Torque {
+        body: BodyId,
+        value: VectorFunction,
+        frame: Frame,
+    },
+    Spring {
+        bi: BodyId,
+        pi: Vector3<f64>,
+        bj: BodyId,
+        pj: Vector3<f64>,
+        k: f64,
+        c: f64,
+        l0: f64,
+        actuator: Option<TimeFunction>,
+    },
+    Rotational {
+        joint: usize,
+        k: f64,
+        c: f64,
+        theta0: f64,
+    },
+}
+
+fn state_of<'a>(bodies: &'a [BodyState], ground: &'a BodyState, id: BodyId) -> &'a BodyState {
+    match id {
+        BodyId::Ground => ground,
+        BodyId::Moving(k) => &bodies[k],
+    }
+}
+
+fn point_velocity(b: &BodyState, s: &Vector3<f64>) -> Vector3<f64> {
+    b.r_dot + b.a * b.omega_local.cross(s)
+}
+
+fn wrap(a: f64) -> f64 {
+    let mut d = a % (2.0 * PI);
+    if d > PI {
+        d -= 2.0 * PI;
+    } else if d <= -PI {
+        d += 2.0 * PI;
+    }
+    d
+}
+
+impl Resolved {
+    pub(crate) fn resolve(model: &Model, f: &Force) -> Result<Self, DynamicsError> {
+        let bad = |reason: String| DynamicsError::BadForce {
+            force: f.name().into(),
+            reason,
+        };
+        let body = |name: &str, moving: bool| -> Result<BodyId, DynamicsError> {
+            match model.body_id(name) {
+                Some(BodyId::Ground) if moving => Err(bad("acts on ground".into())),
+                Some(id) => Ok(id),
+                None => Err(bad(format!("unknown body \"{name}\""))),
+            }
+        };
+        let point = |b: &str, p: &PointRef| -> Result<Vector3<f64>, DynamicsError> {
+            match p {
+                PointRef::Local(v) if v.iter().all(|x| x.is_finite()) => Ok(*v),
+                PointRef::Local(_) => Err(bad("point is not finite".into())),
+                PointRef::Named(n) => model
+                    .point_index(b, n)
+                    .map(|i| model.points()[i].local)
+                    .ok_or_else(|| bad(format!("unknown point \"{n}\" on body \"{b}\""))),
+            }
+        };
+        let nonneg = |what: &str, v: f64| {
+            if v.is_finite() && v >= 0.0 {
+                Ok(())
+            } else {
+                Err(bad(format!("{what} must be finite and ≥ 0, got {v}")))
+            }
+        };
+        Ok(match f {
+            Force::Gravity { g } => {
+                if !g.iter().all(|x| x.is_finite()) {
+                    return Err(bad("gravity is not finite".into()));
+                }
+                Resolved::Gravity(*g)
+            }
+            Force::PointForce {
+                body: b,
+                point: p,
+                value,
+                frame,
+                ..
+            } => Resolved::PointForce {
+                body: body(b, true)?,
+                point: point(b, p)?,
+                value: value.clone(),
+                frame: *frame,
+            },
+            Force::PointTorque {
+                body: b,
+                value,
+                frame,
+                ..
+            } => Resolved::Torque {
+                body: body(b, true)?,
+                value: value.clone(),
+                frame: *frame,
+            },
+            Force::SpringDamperActuator {
+                body_i,
+                point_i,
+                body_j,
+                point_j,
+                stiffness,
+                damping,
+                free_length,
+                actuator,
+                ..
+            } => {
+                let bi = body(body_i, false)?;
+                let bj = body(body_j, false)?;
+                if bi == bj {
+                    return Err(bad("both points are on the same body".into()));
+                }
+                let pi = point(body_i, point_i)?;
+                let pj = point(body_j, point_j)?;
+                nonneg("stiffness", *stiffness)?;
+                nonneg("damping", *damping)?;
+                let l0 = match free_length {
+                    Some(l) => {
+                        nonneg("free length", *l)?;
+                        *l
+                    }
+                    None => {
+                        let at = |id: BodyId, s: &Vector3<f64>| match id {
+                            BodyId::Ground => *s,
+                            BodyId::Moving(k) => {
+                                let b = &model.bodies()[k];
+                                BodyState::at(b.initial_r, b.initial_p).point(s)
+                            }
+                        };
+                        (at(bj, &pj) - at(bi, &pi)).norm()
+                    }
+                };
+                if let Some(a) = actuator {
+                    a.validate().map_err(|e| bad(format!("actuator: {e}")))?;
+                }
+                Resolved::Spring {
+                    bi,
+                    pi,
+                    bj,
+                    pj,
+                    k: *stiffness,
+                    c: *damping,
+                    l0,
+                    actuator: actuator.clone(),
+                }
+            }
+            Force::RotationalSpringDamper {
+                joint,
+                stiffness,
+                damping,
+                rest_angle,
+                ..
+            } => {
+                let j = model
+                    .joint_index(joint)
+                    .ok_or_else(|| bad(format!("unknown joint \"{joint}\"")))?;
+                use cardan_constraints::JointKind;
+                if !matches!(
+                    model.joints()[j].joint.kind(),
+                    JointKind::Revolute | JointKind::Cylindrical
+                ) {
+                    return Err(bad(format!(
+                        "joint \"{joint}\" is not revolute or cylindrical"
+                    )));
+                }
+                nonneg("stiffness", *stiffness)?;
+                nonneg("damping", *damping)?;
+                if !rest_angle.is_finite() {
+                    return Err(bad("rest angle is not finite".into()));
+                }
+                Resolved::Rotational {
+                    joint: j,
+                    k: *stiffness,
+                    c: *damping,
+                    theta0: *rest_angle,
+                }
+            }
+        })
+    }
+
+    /// Adds this element's generalized forces. No allocation.
+    pub(crate) fn apply(&self, model: &Model, masses: &[f64], t: f64, out: &mut AppliedForces) {
+        let ground = BodyState::ground();
+        match self {
+            Resolved::Gravity(g) => {
+                for (k, m) in masses.iter().enumerate() {
+                    out.add_force(BodyId::Moving(k), &(g * *m));
+                }
+            }
+            Resolved::PointForce {
+                body,
+                point,
+                value,
+                frame,
+            } => {
+                let mut f = value.eval(t);
+                if *frame == Frame::Body {
+                    f = state_of(out.bodies, &ground, *body).a * f;
+                }
+                out.add_force_at(*body, point, &f);
+            }
+            Resolved::Torque { body, value, frame } => {
+                let n = value.eval(t);
+                match frame {
+                    Frame::Global => out.add_torque(*body, &n),
+                    Frame::Body => out.add_torque_local(*body, &n),
+                }
+            }
+            Resolved::Spring {
+                bi,
+                pi,
+                bj,
+                pj,
+                k,
+                c,
+                l0,
+                actuator,
+            } => {
+                let (si, sj) = (
+                    state_of(out.bodies, &ground, *bi),
+                    state_of(out.bodies, &ground, *bj),
+                );
+                let d = sj.point(pj) - si.point(pi);
+                let l = d.norm();
+                if l == 0.0 {
+                    return;
+                }
+                let u = d / l;
+                let ldot = u.dot(&(point_velocity(sj, pj) - point_velocity(si, pi)));
+                let mut f = k * (l - l0) + c * ldot;
+                if let Some(a) = actuator {
+                    f += a.eval(t).0;
+                }
+                let fu = u * f;
+                out.add_force_at(*bi, pi, &fu);
+                out.add_force_at(*bj, pj, &(-fu));
+            }
+            Resolved::Rotational {
+                joint,
+                k,
+                c,
+                theta0,
+            } => {
+                let j = &model.joints()[*joint];
+                let (si, sj) = (
+                    state_of(out.bodies, &ground, j.body_i),
+                    state_of(out.bodies, &ground, j.body_j),
+                );
+                let theta = j.joint.coordinates(&BodyPair::new(si, sj)).values[0];
+                let z = si.a * j.joint.marker_i().z();
+                let rate = z.dot(&(sj.a * sj.omega_local - si.a * si.omega_local));
+                let tq = z * (-(k * wrap(theta - theta0) + c * rate));
+                out.add_torque(j.body_j, &tq);
+                out.add_torque(j.body_i, &(-tq));
+            }
+        }
+    }
+
+    /// Potential energy of the element: (gravity, spring).
+    pub(crate) fn potential(&self, model: &Model, masses: &[f64], bodies: &[BodyState]) -> (f64, f64) {
+        let ground = BodyState::ground();
+        match self {
+            Resolved::Gravity(g) => (
+                -masses
+                    .iter()
+                    .zip(bodies)
+                    .map(|(m, b)| m * g.dot(&b.r))
+                    .sum::<f64>(),
+                0.0,
+            ),
+            Resolved::Spring {
+                bi, pi, bj, pj, k, l0, ..
+            } => {
+                let d = state_of(bodies, &ground, *bj).point(pj)
+                    - state_of(bodies, &ground, *bi).point(pi);
+                (0.0, 0.5 * k * (d.norm() - l0).powi(2))
+            }
+            Resolved::Rotational { joint, k, theta0, .. } => {
+                let j = &model.joints()[*joint];
+                let pair = BodyPair::new(
+                    state_of(bodies, &ground, j.body_i),
+                    state_of(bodies, &ground, j.body_j),
+                );
+                let th = wrap(j.joint.coordinates(&pair).values[0] - theta0);
+                (0.0, 0.5 * k * th * th)
+            }
+            _ => (0.0, 0.0),
+        }
+    }
+
+    /// Bodies whose generalized forces this element couples (for the iteration-matrix pattern).
+    pub(crate) fn coupled(&self, model: &Model) -> Option<(BodyId, BodyId)> {
+        match self {
+            Resolved::Spring { bi, bj, .. } => Some((*bi, *bj)),
+            Resolved::Rotational { joint, .. } => {
+                let j = &model.joints()[*joint];
+                Some((j.body_i, j.body_j))
+            }
+            _ => None,
+        }
+    }
+}

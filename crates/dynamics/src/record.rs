@@ -1,0 +1,1 @@
+//! Storing results at output times.

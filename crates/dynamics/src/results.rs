@@ -1,0 +1,159 @@
+//! [`DynamicResults`]: the kinematic histories (the mechanism's [`Results`]) extended with
+//! multipliers, joint reactions, driver efforts, energy and constraint drift.
+
+use cardan_mechanism::{BodyResults, EquationName, PointResults, Results};
+use nalgebra::Vector3;
+
+/// A reaction on one body at a joint point: force and torque about the joint point, in global
+/// and body components.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Reaction {
+    /// Force F = −(Φ_r,k)ᵀ λ (global).
+    pub force: Vector3<f64>,
+    /// Torque about the joint point (global).
+    pub torque: Vector3<f64>,
+    /// Force in the body frame, Aᵀ F.
+    pub force_local: Vector3<f64>,
+    /// Torque about the joint point in the body frame, n' − s̃'^P F'.
+    pub torque_local: Vector3<f64>,
+}
+
+/// Reaction histories of one joint (or driver): on body i at marker point P_i and on body j at
+/// P_j. For ground, "local" components are global.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct JointReactions {
+    /// Joint name.
+    pub name: String,
+    /// Body i.
+    pub body_i: String,
+    /// Body j.
+    pub body_j: String,
+    /// On body i, per output time.
+    pub on_i: Vec<Reaction>,
+    /// On body j, per output time.
+    pub on_j: Vec<Reaction>,
+}
+
+/// Effort histories of one driver.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct DriverEfforts {
+    /// Driver name.
+    pub name: String,
+    /// Its multiplier λ.
+    pub lambda: Vec<f64>,
+    /// The generalized force the driver applies along its driven coordinate, −λ: the torque
+    /// (N m) about the joint axis on body j for a rotation driver, the force (N) for translation,
+    /// distance and coordinate drivers (positive in the sense of increasing coordinate).
+    pub effort: Vec<f64>,
+    /// Power −λ ċ = effort · (rate of the driven coordinate), W.
+    pub power: Vec<f64>,
+    /// Reactions of the driver row on its bodies (as for a joint).
+    pub reactions: JointReactions,
+}
+
+/// Energy histories.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct EnergyHistory {
+    /// Kinetic ½ m ṙᵀṙ + ½ ω'ᵀ J' ω'.
+    pub kinetic: Vec<f64>,
+    /// Gravity potential −Σ m gᵀ r.
+    pub gravity: Vec<f64>,
+    /// Spring potential ½ k (ℓ − ℓ0)² and ½ k (θ − θ0)².
+    pub spring: Vec<f64>,
+    /// Sum of the three.
+    pub total: Vec<f64>,
+}
+
+impl EnergyHistory {
+    /// total − total\[0\] per time (meaningful as an error for conservative models).
+    pub fn drift(&self) -> Vec<f64> {
+        let e0 = self.total.first().copied().unwrap_or(0.0);
+        self.total.iter().map(|e| e - e0).collect()
+    }
+
+    /// max |total − total\[0\]|.
+    pub fn max_drift(&self) -> f64 {
+        self.drift().iter().fold(0.0, |a, d| a.max(d.abs()))
+    }
+}
+
+/// Counters of a run.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct IntegrationStats {
+    /// Accepted steps.
+    pub steps: usize,
+    /// Rejected steps (error test or Newton failure).
+    pub rejected: usize,
+    /// Evaluations of the equations of motion (KKT solves).
+    pub evaluations: usize,
+    /// Newton iterations (implicit method and projections).
+    pub newton_iterations: usize,
+    /// Numeric factorizations of the KKT matrix.
+    pub factorizations: usize,
+    /// Wall time of the integration loop (s).
+    pub wall_time: f64,
+}
+
+/// Everything a dynamic run (forward or inverse) produced.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct DynamicResults {
+    /// Times, body poses / velocities / accelerations, points and joint coordinates (the
+    /// mechanism's results; `residual` holds max |Φ| per time, `iterations` the Newton
+    /// iterations of the step that reached the time).
+    pub kinematics: Results,
+    /// λ per time, one per equation of the model (joints then drivers); rows dropped as
+    /// redundant have λ = 0.
+    pub lambda: Vec<Vec<f64>>,
+    /// Reactions of every joint, in model order.
+    pub reactions: Vec<JointReactions>,
+    /// Efforts of every driver, in model order.
+    pub drivers: Vec<DriverEfforts>,
+    /// Energy.
+    pub energy: EnergyHistory,
+    /// max |Φ_i| (unscaled) per time.
+    pub position_drift: Vec<f64>,
+    /// max |Φ_v v − ν| per time.
+    pub velocity_drift: Vec<f64>,
+    /// Equations dropped as redundant (their share of the reactions is carried by the others,
+    /// so the split of reactions between redundant joints is one of many).
+    pub redundant: Vec<EquationName>,
+    /// Counters.
+    pub stats: IntegrationStats,
+}
+
+impl DynamicResults {
+    /// Output times.
+    pub fn times(&self) -> &[f64] {
+        &self.kinematics.times
+    }
+
+    /// Number of output times.
+    pub fn len(&self) -> usize {
+        self.kinematics.times.len()
+    }
+
+    /// True if nothing was stored.
+    pub fn is_empty(&self) -> bool {
+        self.kinematics.times.is_empty()
+    }
+
+    /// The history of body `name`.
+    pub fn body(&self, name: &str) -> Option<&BodyResults> {
+        self.kinematics.body(name)
+    }
+
+    /// The history of point `name` on `body`.
+    pub fn point(&self, body: &str, name: &str) -> Option<&PointResults> {
+        self.kinematics.point(body, name)
+    }
+
+    /// The reactions of joint `name`.
+    pub fn joint_reactions(&self, name: &str) -> Option<&JointReactions> {
+        self.reactions.iter().find(|r| r.name == name)
+    }
+
+    /// The efforts of driver `name`.
+    pub fn driver(&self, name: &str) -> Option<&DriverEfforts> {
+        self.drivers.iter().find(|d| d.name == name)
+    }
+}

@@ -1,0 +1,66 @@
+//! Forward dynamics over time: [`Dynamics::simulate`].
+
+use crate::options::{Integrator, SimulationOptions};
+use crate::results::DynamicResults;
+use crate::state::State;
+use crate::system::Dynamics;
+use crate::DynamicsError;
+
+impl Dynamics<'_> {
+    /// Forward dynamics from a rough initial guess: the guess is made consistent
+    /// ([`Dynamics::consistent_state`]), then integrated from `initial.t` to `options.t_end`
+    /// with the chosen [`Integrator`]; results are stored at the requested output times.
+    ///
+    /// # Errors
+    /// Inconsistent initial conditions, options, singular configurations, step-size failures.
+    /// On a failure mid-run, nothing is returned but the error (it names the time).
+    pub fn simulate(
+        &mut self,
+        initial: &State,
+        options: &SimulationOptions,
+    ) -> Result<DynamicResults, DynamicsError> {
+        let state = self.consistent_state(initial)?;
+        self.simulate_consistent(state, options)
+    }
+
+    /// [`simulate`](Self::simulate) from a state that is already consistent (no assembly; the
+    /// layout is prepared at `state` if needed).
+    ///
+    /// # Errors
+    /// As [`simulate`](Self::simulate).
+    pub fn simulate_consistent(
+        &mut self,
+        state: State,
+        options: &SimulationOptions,
+    ) -> Result<DynamicResults, DynamicsError> {
+        let times = options.times(state.t);
+        check_times(state.t, options.t_end, &times)?;
+        if self.kkt.is_none() {
+            self.prepare(&state)?;
+        }
+        match options.integrator {
+            Integrator::Dopri5(o) => crate::integrators::dopri5::run(self, state, &times, &o, options),
+            Integrator::GeneralizedAlpha(o) => {
+                crate::integrators::generalized_alpha::run(self, state, &times, &o, options)
+            }
+        }
+    }
+}
+
+fn check_times(t0: f64, t_end: f64, times: &[f64]) -> Result<(), DynamicsError> {
+    if !(t0.is_finite() && t_end.is_finite()) || t_end < t0 {
+        return Err(DynamicsError::Options(format!(
+            "need finite t0 ≤ t_end (t0 = {t0}, t_end = {t_end})"
+        )));
+    }
+    let mut prev = t0;
+    for &t in times {
+        if !(t.is_finite() && t >= prev && t <= t_end + 1e-12 * (1.0 + t_end.abs())) {
+            return Err(DynamicsError::Options(format!(
+                "output times must be increasing within [{t0}, {t_end}] (got {t})"
+            )));
+        }
+        prev = t;
+    }
+    Ok(())
+}

@@ -1,0 +1,592 @@
+//! [`Dynamics`]: a model with its mass data and force elements, and the equations of motion
+//! M v̇ + Φ_vᵀ λ = h, Φ_v v̇ = γ# solved at a state.
+
+use crate::forces::{AppliedForces, Force, Resolved, UserForces};
+use crate::kkt::{element_blocks, elements, eval_rows, mass_entry, Element, Kkt, Rhs};
+use crate::results::Reaction;
+use crate::state::State;
+use crate::DynamicsError;
+use cardan_constraints::BodyState;
+use cardan_mechanism::{AnalysisError, AssemblyOptions, BodyId, EquationName, Model};
+use cardan_solver::{RankAnalysis, RankOptions, SolverError, SparsityPattern};
+use nalgebra::{Matrix3, Vector3};
+
+/// Kinetic and potential energy at one state.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Energy {
+    /// ½ m ṙᵀṙ + ½ ω'ᵀ J' ω', summed over the bodies.
+    pub kinetic: f64,
+    /// −Σ m gᵀ r.
+    pub gravity: f64,
+    /// Springs (translational and rotational).
+    pub spring: f64,
+}
+
+impl Energy {
+    /// kinetic + gravity + spring.
+    pub fn total(&self) -> f64 {
+        self.kinetic + self.gravity + self.spring
+    }
+}
+
+/// The dynamics of a mechanism: the [`Model`] (bodies with mass and inertia about the centre of
+/// mass, joints, drivers), its force elements ([`Model::forces`] plus any added with
+/// [`add_force`](Self::add_force)) and an optional user callback.
+///
+/// The body reference point must be the centre of mass (the builder's convention: points are
+/// given relative to it), so that M = diag(m I, J') is block diagonal.
+pub struct Dynamics<'m> {
+    pub(crate) model: &'m Model,
+    pub(crate) mass: Vec<f64>,
+    pub(crate) inertia: Vec<Matrix3<f64>>,
+    pub(crate) forces: Vec<Resolved>,
+    pub(crate) user: Option<UserForces>,
+    pub(crate) elements: Vec<Element>,
+    pub(crate) kkt: Option<Kkt>,
+    pub(crate) redundant: Vec<EquationName>,
+    /// Body states of the last evaluation.
+    pub(crate) bodies: Vec<BodyState>,
+    /// Generalized forces h (n).
+    pub(crate) h: Vec<f64>,
+}
+
+impl std::fmt::Debug for Dynamics<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Dynamics")
+            .field("bodies", &self.mass.len())
+            .field("forces", &self.forces)
+            .field("user_forces", &self.user.is_some())
+            .finish()
+    }
+}
+
+impl<'m> Dynamics<'m> {
+    /// The dynamics of `model` with the model's force elements.
+    ///
+    /// # Errors
+    /// [`DynamicsError::MissingInertia`] if a body lacks mass or inertia;
+    /// [`DynamicsError::BadForce`] for an invalid force element.
+    pub fn new(model: &'m Model) -> Result<Self, DynamicsError> {
+        let mut mass = Vec::new();
+        let mut inertia = Vec::new();
+        for b in model.bodies() {
+            match (b.mass, b.inertia) {
+                (Some(m), Some(j)) => {
+                    mass.push(m);
+                    inertia.push(j);
+                }
+                _ => {
+                    return Err(DynamicsError::MissingInertia {
+                        body: b.name.clone(),
+                    })
+                }
+            }
+        }
+        let nb = model.num_bodies();
+        let mut d = Self {
+            model,
+            mass,
+            inertia,
+            forces: Vec::new(),
+            user: None,
+            elements: elements(model),
+            kkt: None,
+            redundant: Vec::new(),
+            bodies: vec![BodyState::ground(); nb],
+            h: vec![0.0; 6 * nb],
+        };
+        for f in Force::from_model(model) {
+            d.add_force(f)?;
+        }
+        Ok(d)
+    }
+
+    /// The model.
+    pub fn model(&self) -> &'m Model {
+        self.model
+    }
+
+    /// Adds a force element.
+    ///
+    /// # Errors
+    /// [`DynamicsError::BadForce`] naming the element (unknown body, point or joint, negative
+    /// coefficients, non-finite values).
+    pub fn add_force(&mut self, force: Force) -> Result<&mut Self, DynamicsError> {
+        let r = Resolved::resolve(self.model, &force)?;
+        self.forces.push(r);
+        self.kkt = None;
+        Ok(self)
+    }
+
+    /// Sets the user force callback (see [`UserForces`]).
+    pub fn set_user_forces(
+        &mut self,
+        f: impl FnMut(f64, &mut AppliedForces<'_>) + Send + 'static,
+    ) -> &mut Self {
+        self.user = Some(Box::new(f));
+        self
+    }
+
+    /// Mass of body k.
+    pub fn mass(&self, k: usize) -> f64 {
+        self.mass[k]
+    }
+
+    /// Inertia of body k about its centre of mass (body frame).
+    pub fn inertia(&self, k: usize) -> &Matrix3<f64> {
+        &self.inertia[k]
+    }
+
+    /// The model's initial poses (not assembled), at rest, at t = 0: a rough guess for
+    /// [`consistent_state`](Self::consistent_state).
+    pub fn initial_guess(&self) -> State {
+        State::initial(self.model, 0.0)
+    }
+
+    /// Equations dropped as redundant by the last preparation.
+    pub fn redundant_equations(&self) -> &[EquationName] {
+        &self.redundant
+    }
+
+    pub(crate) fn sync(&mut self, state: &State) {
+        for (k, b) in self.bodies.iter_mut().enumerate() {
+            *b = state.body_state(k);
+        }
+    }
+
+    /// Consistent initial conditions from a rough guess: positions by the mechanism's assembly
+    /// (minimum-norm Newton, drivers included at `guess.t`), velocities by the least-change
+    /// projection in the kinetic-energy metric,
+    ///
+    /// ```text
+    /// v ← v + Δv,   ⎡M  Φ_vᵀ⎤ ⎡Δv⎤   ⎡     0     ⎤
+    ///               ⎣Φ_v  0 ⎦ ⎣μ ⎦ = ⎣ν − Φ_v v  ⎦
+    /// ```
+    ///
+    /// i.e. the consistent velocity closest to the guess in ‖·‖_M. Also decides once which
+    /// redundant equations are dropped (rank analysis at the assembled poses).
+    ///
+    /// # Errors
+    /// [`DynamicsError::InconsistentPositions`] naming the open joints and drivers;
+    /// [`DynamicsError::InconsistentVelocities`] naming the violated velocity equations.
+    pub fn consistent_state(&mut self, guess: &State) -> Result<State, DynamicsError> {
+        let mut ws = self.model.workspace();
+        for k in 0..self.model.num_bodies() {
+            ws.set_pose(k, guess.r(k), guess.p(k));
+        }
+        match self.model.assemble(&mut ws, &AssemblyOptions::at(guess.t)) {
+            Ok(_) => {}
+            Err(AnalysisError::AssemblyFailed { open, .. }) => {
+                return Err(DynamicsError::InconsistentPositions { open })
+            }
+            Err(e) => return Err(e.into()),
+        }
+        let mut state = State {
+            t: guess.t,
+            q: ws.state().to_vec(),
+            v: guess.v.clone(),
+        };
+        self.prepare(&state)?;
+        self.project_velocities(&mut state)?;
+        let (res, worst) = self.velocity_residual(&state);
+        let scale = 1.0 + state.v.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        if res > 1e-8 * scale {
+            let equations = worst
+                .into_iter()
+                .filter(|&(_, r)| r > 1e-8 * scale)
+                .filter_map(|(row, _)| self.model.equation(row))
+                .collect();
+            return Err(DynamicsError::InconsistentVelocities {
+                residual: res,
+                equations,
+            });
+        }
+        Ok(state)
+    }
+
+    /// Lays out the KKT system at `state` (assumed assembled): rank analysis of Φ_v (all
+    /// equations), redundant rows dropped once. Allocates; called by the entry points.
+    ///
+    /// # Errors
+    /// Solver errors (non-finite Jacobian).
+    pub fn prepare(&mut self, state: &State) -> Result<(), DynamicsError> {
+        let model = self.model;
+        let m = model.num_equations();
+        let n = model.num_unknowns();
+        self.sync(state);
+        let active: Vec<usize> = if m == 0 {
+            Vec::new()
+        } else {
+            let pattern = SparsityPattern::dense(m, n);
+            let mut slots = vec![0.0; m * n];
+            let mut bi = [[0.0; 6]; 6];
+            let mut bj = [[0.0; 6]; 6];
+            for e in &self.elements {
+                element_blocks(model, e, &self.bodies, state.t, &mut bi, &mut bj);
+                for (lr, r) in e.rows.clone().enumerate() {
+                    for (id, blk) in [(e.bi, &bi), (e.bj, &bj)] {
+                        if let BodyId::Moving(k) = id {
+                            for c in 0..6 {
+                                slots[(6 * k + c) * m + r] += blk[lr][c];
+                            }
+                        }
+                    }
+                }
+            }
+            let ra = RankAnalysis::compute(&pattern, &slots, RankOptions::default())
+                .map_err(|e| self.solver_error(state.t, e))?;
+            self.redundant = ra
+                .dependent_rows()
+                .iter()
+                .filter_map(|&r| model.equation(r))
+                .collect();
+            ra.independent_rows().to_vec()
+        };
+        let mut pairs = Vec::new();
+        for f in &self.forces {
+            if let Some((BodyId::Moving(i), BodyId::Moving(j))) = f.coupled(model) {
+                pairs.push((i, j));
+            }
+        }
+        let kkt = Kkt::new(model, &self.elements, active, &pairs)
+            .map_err(|e| self.solver_error(state.t, e))?;
+        self.kkt = Some(kkt);
+        Ok(())
+    }
+
+    pub(crate) fn solver_error(&self, time: f64, e: SolverError) -> DynamicsError {
+        match e {
+            SolverError::Singular {
+                dependent_equations,
+            } => {
+                let n = self.model.num_unknowns();
+                let dependent = match &self.kkt {
+                    Some(k) => dependent_equations
+                        .iter()
+                        .filter(|&&r| r >= n)
+                        .filter_map(|&r| k.active.get(r - n))
+                        .filter_map(|&row| self.model.equation(row))
+                        .collect(),
+                    None => Vec::new(),
+                };
+                DynamicsError::Singular { time, dependent }
+            }
+            SolverError::NonFinite { .. } => DynamicsError::NonFinite {
+                time,
+                what: "the equations of motion",
+            },
+            other => DynamicsError::Singular {
+                time,
+                dependent: vec![EquationName {
+                    row: 0,
+                    element: other.to_string(),
+                    kind: "solver",
+                    primitive: "solver",
+                    local_row: 0,
+                }],
+            },
+        }
+    }
+
+    /// h = [f; n' − ω̃' J' ω'] at the synced bodies, time t, into `self.h`. No allocation
+    /// (unless the user callback allocates).
+    pub(crate) fn eval_forces(&mut self, t: f64) {
+        let model = self.model;
+        let h = &mut self.h;
+        h.fill(0.0);
+        let mut acc = AppliedForces {
+            h,
+            bodies: &self.bodies,
+        };
+        for f in &self.forces {
+            f.apply(model, &self.mass, t, &mut acc);
+        }
+        if let Some(u) = &mut self.user {
+            u(t, &mut acc);
+        }
+        for (k, b) in self.bodies.iter().enumerate() {
+            let w = b.omega_local;
+            let g = w.cross(&(self.inertia[k] * w));
+            for c in 0..3 {
+                self.h[6 * k + 3 + c] -= g[c];
+            }
+        }
+    }
+
+    /// The generalized forces h = [f_k; n'_k − ω̃'_k J'_k ω'_k] (6 per body) at `state`.
+    pub fn generalized_forces(&mut self, state: &State, out: &mut [f64]) {
+        self.sync(state);
+        self.eval_forces(state.t);
+        out.copy_from_slice(&self.h);
+    }
+
+    /// Solves the equations of motion at the synced bodies: fills `kkt.sol` = [v̇; λ_active].
+    /// `baumgarte` = (α, β) adds −2α(Φ_v v − ν) − β²Φ to γ#. No allocation.
+    pub(crate) fn solve_eom(&mut self, t: f64, baumgarte: (f64, f64)) -> Result<(), DynamicsError> {
+        self.eval_forces(t);
+        let model = self.model;
+        let kkt = self.kkt.as_mut().expect("prepared");
+        kkt.eval_jacobian(model, &self.elements, &self.bodies, t);
+        kkt.set_mass(&self.mass, &self.inertia);
+        let n = kkt.n;
+        eval_rows(model, &self.elements, &self.bodies, t, Rhs::Gamma, &mut kkt.full);
+        for (a, &r) in kkt.active.iter().enumerate() {
+            kkt.rhs[n + a] = kkt.full[r];
+        }
+        let (alpha, beta) = baumgarte;
+        if alpha != 0.0 || beta != 0.0 {
+            let mut wn = std::mem::take(&mut kkt.work_n);
+            let mut wa = std::mem::take(&mut kkt.work_a);
+            for (k, b) in self.bodies.iter().enumerate() {
+                for c in 0..3 {
+                    wn[6 * k + c] = b.r_dot[c];
+                    wn[6 * k + 3 + c] = b.omega_local[c];
+                }
+            }
+            kkt.phi_v_mul(&wn, &mut wa);
+            eval_rows(model, &self.elements, &self.bodies, t, Rhs::Nu, &mut kkt.full);
+            for (a, &r) in kkt.active.iter().enumerate() {
+                kkt.rhs[n + a] -= 2.0 * alpha * (wa[a] - kkt.full[r]);
+            }
+            eval_rows(model, &self.elements, &self.bodies, t, Rhs::Phi, &mut kkt.full);
+            for (a, &r) in kkt.active.iter().enumerate() {
+                kkt.rhs[n + a] -= beta * beta * kkt.full[r];
+            }
+            kkt.work_n = wn;
+            kkt.work_a = wa;
+        }
+        kkt.rhs[..n].copy_from_slice(&self.h);
+        let r = kkt.factor().and_then(|_| kkt.solve());
+        r.map_err(|e| self.solver_error(t, e))
+    }
+
+    /// Accelerations v̇ (6 per body) and multipliers λ (one per model equation; 0 for rows
+    /// dropped as redundant) at `state`: the augmented system
+    /// [M Φ_vᵀ; Φ_v 0][v̇; λ] = [h; γ#]. Prepares the layout at the first call. No allocation
+    /// after that.
+    ///
+    /// # Errors
+    /// [`DynamicsError::Singular`] at a singular configuration.
+    pub fn accelerations(
+        &mut self,
+        state: &State,
+        vdot: &mut [f64],
+        lambda: &mut [f64],
+    ) -> Result<(), DynamicsError> {
+        if self.kkt.is_none() {
+            self.prepare(state)?;
+        }
+        self.sync(state);
+        self.solve_eom(state.t, (0.0, 0.0))?;
+        self.read_solution(vdot, lambda);
+        Ok(())
+    }
+
+    /// Copies v̇ and the full-row λ out of the last KKT solution.
+    pub(crate) fn read_solution(&self, vdot: &mut [f64], lambda: &mut [f64]) {
+        let kkt = self.kkt.as_ref().expect("prepared");
+        let n = kkt.n;
+        vdot.copy_from_slice(&kkt.sol[..n]);
+        lambda.fill(0.0);
+        for (a, &r) in kkt.active.iter().enumerate() {
+            lambda[r] = kkt.sol[n + a];
+        }
+    }
+
+    /// Least-change velocity projection onto Φ_v v = ν in the metric of M (module docs of
+    /// [`consistent_state`](Self::consistent_state)). No allocation.
+    ///
+    /// # Errors
+    /// [`DynamicsError::Singular`].
+    pub fn project_velocities(&mut self, state: &mut State) -> Result<(), DynamicsError> {
+        if self.kkt.is_none() {
+            self.prepare(state)?;
+        }
+        self.sync(state);
+        let model = self.model;
+        let t = state.t;
+        let kkt = self.kkt.as_mut().expect("prepared");
+        kkt.eval_jacobian(model, &self.elements, &self.bodies, t);
+        kkt.set_mass(&self.mass, &self.inertia);
+        let n = kkt.n;
+        let mut wa = std::mem::take(&mut kkt.work_a);
+        kkt.phi_v_mul(&state.v, &mut wa);
+        eval_rows(model, &self.elements, &self.bodies, t, Rhs::Nu, &mut kkt.full);
+        kkt.rhs[..n].fill(0.0);
+        for (a, &r) in kkt.active.iter().enumerate() {
+            kkt.rhs[n + a] = kkt.full[r] - wa[a];
+        }
+        kkt.work_a = wa;
+        let r = kkt.factor().and_then(|_| kkt.solve());
+        if let Err(e) = r {
+            return Err(self.solver_error(t, e));
+        }
+        let kkt = self.kkt.as_ref().expect("prepared");
+        for c in 0..n {
+            state.v[c] += kkt.sol[c];
+        }
+        Ok(())
+    }
+
+    /// Position projection onto Φ(q, t) = 0: Newton with the least-change step in the metric
+    /// of M, [M Φ_vᵀ; Φ_v 0][Δ; μ] = [0; −Φ], applied as r += Δr, p ← p ⊗ exp(Δπ'/2).
+    /// Returns the iterations. No allocation.
+    ///
+    /// # Errors
+    /// [`DynamicsError::NotConverged`] after 20 iterations; [`DynamicsError::Singular`].
+    pub fn project_positions(&mut self, state: &mut State, tol: f64) -> Result<usize, DynamicsError> {
+        if self.kkt.is_none() {
+            self.prepare(state)?;
+        }
+        let model = self.model;
+        let t = state.t;
+        let scales = model.equation_scales();
+        let mut last = 0.0;
+        for it in 0..20 {
+            self.sync(state);
+            let kkt = self.kkt.as_mut().expect("prepared");
+            eval_rows(model, &self.elements, &self.bodies, t, Rhs::Phi, &mut kkt.full);
+            let res = kkt
+                .active
+                .iter()
+                .map(|&r| (kkt.full[r] / scales[r]).abs())
+                .fold(0.0f64, f64::max);
+            last = res;
+            if !res.is_finite() {
+                return Err(DynamicsError::NonFinite {
+                    time: t,
+                    what: "the constraint residual",
+                });
+            }
+            if res <= tol {
+                return Ok(it);
+            }
+            kkt.eval_jacobian(model, &self.elements, &self.bodies, t);
+            kkt.set_mass(&self.mass, &self.inertia);
+            let n = kkt.n;
+            kkt.rhs[..n].fill(0.0);
+            for (a, &r) in kkt.active.iter().enumerate() {
+                kkt.rhs[n + a] = -kkt.full[r];
+            }
+            let r = kkt.factor().and_then(|_| kkt.solve());
+            if let Err(e) = r {
+                return Err(self.solver_error(t, e));
+            }
+            let kkt = self.kkt.as_ref().expect("prepared");
+            cardan_mechanism::apply_rotation_step(&mut state.q, &kkt.sol[..n]);
+        }
+        Err(DynamicsError::NotConverged {
+            time: t,
+            what: "position projection",
+            iterations: 20,
+            residual: last,
+        })
+    }
+
+    /// max |Φ_v v − ν| over all equations (redundant ones included) and the per-row values.
+    pub(crate) fn velocity_residual(&mut self, state: &State) -> (f64, Vec<(usize, f64)>) {
+        self.sync(state);
+        let model = self.model;
+        let m = model.num_equations();
+        let mut nu = vec![0.0; m];
+        eval_rows(model, &self.elements, &self.bodies, state.t, Rhs::Nu, &mut nu);
+        let mut res = vec![0.0; m];
+        let mut bi = [[0.0; 6]; 6];
+        let mut bj = [[0.0; 6]; 6];
+        for e in &self.elements {
+            element_blocks(model, e, &self.bodies, state.t, &mut bi, &mut bj);
+            for (lr, r) in e.rows.clone().enumerate() {
+                let mut s = -nu[r];
+                for (id, blk) in [(e.bi, &bi), (e.bj, &bj)] {
+                    if let BodyId::Moving(k) = id {
+                        for c in 0..6 {
+                            s += blk[lr][c] * state.v[6 * k + c];
+                        }
+                    }
+                }
+                res[r] = s;
+            }
+        }
+        let max = res.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        (max, res.into_iter().map(f64::abs).enumerate().collect())
+    }
+
+    /// Energy at `state`.
+    pub fn energy(&mut self, state: &State) -> Energy {
+        self.sync(state);
+        let mut e = Energy::default();
+        for (k, b) in self.bodies.iter().enumerate() {
+            let w = b.omega_local;
+            e.kinetic +=
+                0.5 * self.mass[k] * b.r_dot.norm_squared() + 0.5 * w.dot(&(self.inertia[k] * w));
+        }
+        for f in &self.forces {
+            let (g, s) = f.potential(self.model, &self.mass, &self.bodies);
+            e.gravity += g;
+            e.spring += s;
+        }
+        e
+    }
+
+    /// Reactions of element `e` (joint index, or joints.len() + driver index) on its bodies i
+    /// and j at the synced bodies, from the full-row λ, about the points `pi`, `pj` (body
+    /// frames).
+    pub(crate) fn element_reaction(
+        &self,
+        e: &Element,
+        t: f64,
+        lambda: &[f64],
+        pi: &Vector3<f64>,
+        pj: &Vector3<f64>,
+    ) -> (Reaction, Reaction) {
+        let mut bi = [[0.0; 6]; 6];
+        let mut bj = [[0.0; 6]; 6];
+        element_blocks(self.model, e, &self.bodies, t, &mut bi, &mut bj);
+        let g = BodyState::ground();
+        let one = |id: BodyId, blk: &[[f64; 6]; 6], s: &Vector3<f64>| {
+            let mut f = Vector3::zeros();
+            let mut nl = Vector3::zeros();
+            for (lr, r) in e.rows.clone().enumerate() {
+                for c in 0..3 {
+                    f[c] -= blk[lr][c] * lambda[r];
+                    nl[c] -= blk[lr][3 + c] * lambda[r];
+                }
+            }
+            let a = match id {
+                BodyId::Ground => g.a,
+                BodyId::Moving(k) => self.bodies[k].a,
+            };
+            let fl = a.tr_mul(&f);
+            let tl = nl - s.cross(&fl);
+            Reaction {
+                force: f,
+                torque: a * tl,
+                force_local: fl,
+                torque_local: tl,
+            }
+        };
+        (one(e.bi, &bi, pi), one(e.bj, &bj, pj))
+    }
+
+    /// The reactions of joint `joint` (index into [`Model::joints`]) at `state` with full-row
+    /// multipliers `lambda`: (on body i at marker point P_i, on body j at P_j). The generalized
+    /// reaction force is −Φ_vᵀλ; F = −(Φ_r)ᵀλ and the body-frame torque about the centre of
+    /// mass n' = −(Φ_π')ᵀλ, shifted to the joint point: n'_P = n' − s̃'^P F'.
+    pub fn joint_reaction(
+        &mut self,
+        state: &State,
+        lambda: &[f64],
+        joint: usize,
+    ) -> (Reaction, Reaction) {
+        self.sync(state);
+        let j = &self.model.joints()[joint];
+        let (pi, pj) = (j.joint.marker_i().point, j.joint.marker_j().point);
+        let e = self.elements[joint].clone();
+        self.element_reaction(&e, state.t, lambda, &pi, &pj)
+    }
+}
+
+/// Entry (r, c) of M, for tests and the iteration matrix.
+pub(crate) fn mass_matrix_entry(d: &Dynamics, r: usize, c: usize) -> f64 {
+    mass_entry(&d.mass, &d.inertia, r, c)
+}
