@@ -1,1 +1,256 @@
-//! Storing results at output times.
+//! Storing results at output times: poses, velocities, accelerations, points, joint
+//! coordinates, λ, reactions, driver efforts, energy and drift. Storage is reserved up front;
+//! each record allocates only the λ vector of that time.
+
+use crate::kkt::{eval_rows, Rhs};
+use crate::results::{
+    DriverEfforts, DynamicResults, EnergyHistory, IntegrationStats, JointReactions,
+};
+use crate::state::State;
+use crate::system::Dynamics;
+use crate::DynamicsError;
+use cardan_constraints::{unwrap_angle, BodyPair, BodyState};
+use cardan_eulerparam::{p_ddot_from_local, p_dot_from_local};
+use cardan_mechanism::{BodyId, BodyResults, JointResults, Outputs, PointResults, Results};
+use nalgebra::Vector3;
+
+pub(crate) struct Recorder {
+    res: DynamicResults,
+    outputs: Outputs,
+    vdot: Vec<f64>,
+    lambda: Vec<f64>,
+    phi: Vec<f64>,
+    /// (body index, local point) of every named point of a moving body.
+    points: Vec<(usize, Vector3<f64>)>,
+}
+
+impl Recorder {
+    pub fn new(d: &Dynamics, capacity: usize, outputs: Outputs) -> Self {
+        let model = d.model;
+        let mut kin = Results {
+            outputs: Some(outputs),
+            times: Vec::with_capacity(capacity),
+            residual: Vec::with_capacity(capacity),
+            iterations: Vec::with_capacity(capacity),
+            ..Results::default()
+        };
+        let cap = |on: bool| if on { capacity } else { 0 };
+        let vel = outputs.needs_velocity();
+        let acc = outputs.acceleration;
+        for b in model.bodies() {
+            kin.bodies.push(BodyResults {
+                name: b.name.clone(),
+                r: Vec::with_capacity(capacity),
+                p: Vec::with_capacity(capacity),
+                r_dot: Vec::with_capacity(cap(vel)),
+                p_dot: Vec::with_capacity(cap(vel)),
+                omega: Vec::with_capacity(cap(vel)),
+                omega_local: Vec::with_capacity(cap(vel)),
+                r_ddot: Vec::with_capacity(cap(acc)),
+                p_ddot: Vec::with_capacity(cap(acc)),
+                omega_dot: Vec::with_capacity(cap(acc)),
+                omega_dot_local: Vec::with_capacity(cap(acc)),
+            });
+        }
+        let mut points = Vec::new();
+        if outputs.points {
+            for p in model.points() {
+                if let BodyId::Moving(k) = p.body {
+                    points.push((k, p.local));
+                    kin.points.push(PointResults {
+                        body: p.body_name.clone(),
+                        name: p.name.clone(),
+                        position: Vec::with_capacity(capacity),
+                        velocity: Vec::with_capacity(cap(vel)),
+                        acceleration: Vec::with_capacity(cap(acc)),
+                    });
+                }
+            }
+        }
+        if outputs.joints {
+            for j in model.joints() {
+                let names = j
+                    .joint
+                    .coordinates(&BodyPair::new(&BodyState::ground(), &BodyState::ground()))
+                    .names;
+                kin.joints.push(JointResults {
+                    name: j.name.clone(),
+                    kind: j.joint.kind(),
+                    coordinate_names: names,
+                    values: Vec::with_capacity(capacity),
+                });
+            }
+        }
+        let name = |id: BodyId| model.body_name(id).to_string();
+        let reactions = model
+            .joints()
+            .iter()
+            .map(|j| JointReactions {
+                name: j.name.clone(),
+                body_i: name(j.body_i),
+                body_j: name(j.body_j),
+                on_i: Vec::with_capacity(capacity),
+                on_j: Vec::with_capacity(capacity),
+            })
+            .collect();
+        let drivers = model
+            .drivers()
+            .iter()
+            .map(|dr| DriverEfforts {
+                name: dr.name.clone(),
+                lambda: Vec::with_capacity(capacity),
+                effort: Vec::with_capacity(capacity),
+                power: Vec::with_capacity(capacity),
+                reactions: JointReactions {
+                    name: dr.name.clone(),
+                    body_i: name(dr.body_i),
+                    body_j: name(dr.body_j),
+                    on_i: Vec::with_capacity(capacity),
+                    on_j: Vec::with_capacity(capacity),
+                },
+            })
+            .collect();
+        let e = || Vec::with_capacity(capacity);
+        let res = DynamicResults {
+            kinematics: kin,
+            lambda: Vec::with_capacity(capacity),
+            reactions,
+            drivers,
+            energy: EnergyHistory {
+                kinetic: e(),
+                gravity: e(),
+                spring: e(),
+                total: e(),
+            },
+            position_drift: e(),
+            velocity_drift: e(),
+            redundant: d.redundant.clone(),
+            stats: IntegrationStats::default(),
+        };
+        let n = model.num_unknowns();
+        let m = model.num_equations();
+        Self {
+            res,
+            outputs,
+            vdot: vec![0.0; n],
+            lambda: vec![0.0; m],
+            phi: vec![0.0; m],
+            points,
+        }
+    }
+
+    /// Records `state` (solving the equations of motion there for v̇ and λ).
+    pub fn record(
+        &mut self,
+        d: &mut Dynamics,
+        state: &State,
+        iterations: usize,
+    ) -> Result<(), DynamicsError> {
+        d.accelerations(state, &mut self.vdot, &mut self.lambda)?;
+        let model = d.model;
+        let kin = &mut self.res.kinematics;
+        kin.times.push(state.t);
+        kin.iterations.push(iterations);
+        eval_rows(model, &d.elements, &d.bodies, state.t, Rhs::Phi, &mut self.phi);
+        let res = self.phi.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        kin.residual.push(res);
+        self.res.position_drift.push(res);
+        let vel = self.outputs.needs_velocity();
+        let acc = self.outputs.acceleration;
+        for (k, b) in kin.bodies.iter_mut().enumerate() {
+            let s = &d.bodies[k];
+            let wd = Vector3::from_column_slice(&self.vdot[6 * k + 3..6 * k + 6]);
+            b.r.push(s.r);
+            b.p.push(s.p);
+            if vel {
+                b.r_dot.push(s.r_dot);
+                b.p_dot.push(p_dot_from_local(&s.p, &s.omega_local));
+                b.omega.push(s.a * s.omega_local);
+                b.omega_local.push(s.omega_local);
+            }
+            if acc {
+                b.r_ddot
+                    .push(Vector3::from_column_slice(&self.vdot[6 * k..6 * k + 3]));
+                b.p_ddot.push(p_ddot_from_local(&s.p, &s.omega_local, &wd));
+                b.omega_dot.push(s.a * wd);
+                b.omega_dot_local.push(wd);
+            }
+        }
+        for (pr, (k, sl)) in kin.points.iter_mut().zip(&self.points) {
+            let s = &d.bodies[*k];
+            pr.position.push(s.point(sl));
+            let w = s.omega_local;
+            if vel {
+                pr.velocity.push(s.r_dot + s.a * w.cross(sl));
+            }
+            if acc {
+                let rdd = Vector3::from_column_slice(&self.vdot[6 * k..6 * k + 3]);
+                let wd = Vector3::from_column_slice(&self.vdot[6 * k + 3..6 * k + 6]);
+                pr.acceleration
+                    .push(rdd + s.a * (wd.cross(sl) + w.cross(&w.cross(sl))));
+            }
+        }
+        let g = BodyState::ground();
+        let st = |id: BodyId| match id {
+            BodyId::Ground => &g,
+            BodyId::Moving(k) => &d.bodies[k],
+        };
+        for (jr, j) in kin.joints.iter_mut().zip(model.joints()) {
+            let mut c = j.joint.coordinates(&BodyPair::new(st(j.body_i), st(j.body_j)));
+            if let Some(prev) = jr.values.last() {
+                for (i, name) in c.names.iter().enumerate() {
+                    if name.contains("angle") {
+                        c.values[i] = unwrap_angle(prev[i], c.values[i]);
+                    }
+                }
+            }
+            jr.values.push(c.values);
+        }
+        self.res.lambda.push(self.lambda.clone());
+        for (ji, (jr, j)) in self.res.reactions.iter_mut().zip(model.joints()).enumerate() {
+            let e = &d.elements[ji];
+            let (ri, rj) = d.element_reaction(
+                e,
+                state.t,
+                &self.lambda,
+                &j.joint.marker_i().point,
+                &j.joint.marker_j().point,
+            );
+            jr.on_i.push(ri);
+            jr.on_j.push(rj);
+        }
+        let nj = model.joints().len();
+        eval_rows(model, &d.elements, &d.bodies, state.t, Rhs::Nu, &mut self.phi);
+        for (di, (de, dr)) in self.res.drivers.iter_mut().zip(model.drivers()).enumerate() {
+            let e = &d.elements[nj + di];
+            let (pi, pj) = match dr.joint {
+                Some(j) => (
+                    model.joints()[j].joint.marker_i().point,
+                    model.joints()[j].joint.marker_j().point,
+                ),
+                None => (Vector3::zeros(), Vector3::zeros()),
+            };
+            let (ri, rj) = d.element_reaction(e, state.t, &self.lambda, &pi, &pj);
+            let row = dr.rows.start;
+            let l = self.lambda[row];
+            de.lambda.push(l);
+            de.effort.push(-l);
+            de.power.push(-l * self.phi[row]);
+            de.reactions.on_i.push(ri);
+            de.reactions.on_j.push(rj);
+        }
+        let en = d.energy(state);
+        self.res.energy.kinetic.push(en.kinetic);
+        self.res.energy.gravity.push(en.gravity);
+        self.res.energy.spring.push(en.spring);
+        self.res.energy.total.push(en.total());
+        let (vd, _) = d.velocity_residual(state);
+        self.res.velocity_drift.push(vd);
+        Ok(())
+    }
+
+    pub fn finish(mut self, stats: IntegrationStats) -> DynamicResults {
+        self.res.stats = stats;
+        self.res
+    }
+}
