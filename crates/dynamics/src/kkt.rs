@@ -137,7 +137,6 @@ pub(crate) struct Kkt {
     pub active: Vec<usize>,
     /// Position of each model row among the active rows (usize::MAX if dropped).
     pub active_of: Vec<usize>,
-    pattern: SparsityPattern,
     solver: AutoSolver,
     pub slots: Vec<f64>,
     /// Top-left block slots: (row, col, slot).
@@ -226,7 +225,6 @@ impl Kkt {
         Ok(Self {
             n,
             active_of,
-            pattern,
             solver,
             slots: vec![0.0; ns],
             top,
@@ -240,11 +238,6 @@ impl Kkt {
             active,
             factorizations: 0,
         })
-    }
-
-    /// Number of active rows.
-    pub fn ma(&self) -> usize {
-        self.active.len()
     }
 
     /// Evaluates Φ_v at the bodies' poses into `jac` (and the KKT slots). No allocation.
@@ -297,11 +290,6 @@ impl Kkt {
         for &(r, c, s) in &self.top {
             self.slots[s] += f(r, c);
         }
-    }
-
-    /// The top-left entries (row, col) in slot order.
-    pub fn top_entries(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
-        self.top.iter().map(|&(r, c, _)| (r, c))
     }
 
     /// Factors the current slots.

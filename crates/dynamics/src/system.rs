@@ -2,7 +2,7 @@
 //! M v̇ + Φ_vᵀ λ = h, Φ_v v̇ = γ# solved at a state.
 
 use crate::forces::{AppliedForces, Force, Resolved, UserForces};
-use crate::kkt::{element_blocks, elements, eval_rows, mass_entry, Element, Kkt, Rhs};
+use crate::kkt::{element_blocks, elements, eval_rows, Element, Kkt, Rhs};
 use crate::results::Reaction;
 use crate::state::State;
 use crate::DynamicsError;
@@ -584,9 +584,4 @@ impl<'m> Dynamics<'m> {
         let e = self.elements[joint].clone();
         self.element_reaction(&e, state.t, lambda, &pi, &pj)
     }
-}
-
-/// Entry (r, c) of M, for tests and the iteration matrix.
-pub(crate) fn mass_matrix_entry(d: &Dynamics, r: usize, c: usize) -> f64 {
-    mass_entry(&d.mass, &d.inertia, r, c)
 }

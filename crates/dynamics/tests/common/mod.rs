@@ -1,0 +1,85 @@
+//! Shared models for the dynamics tests.
+#![allow(dead_code)]
+
+use cardan_constraints::{JointKind, TimeFunction};
+use cardan_mechanism::{Body, DriverSpec, JointSpec, MechanismBuilder, Model, GROUND};
+use nalgebra::Vector3;
+
+pub const G: f64 = 9.81;
+
+/// A01: a point mass `m` (tiny inertia `i`) at the end of a massless link of length `l`,
+/// pinned at the origin about z, released from rest at (+l, 0, 0).
+pub fn pendulum(m: f64, i: f64, l: f64) -> Model {
+    let mut b = MechanismBuilder::new();
+    b.body(
+        Body::new("mass")
+            .mass(m)
+            .inertia_diagonal(i, i, i)
+            .position(Vector3::new(l, 0.0, 0.0)),
+    );
+    b.point(GROUND, "O", Vector3::zeros())
+        .vector(GROUND, "z", Vector3::z())
+        .vector(GROUND, "x", Vector3::x());
+    b.point("mass", "O", Vector3::new(-l, 0.0, 0.0))
+        .vector("mass", "z", Vector3::z())
+        .vector("mass", "x", Vector3::x());
+    b.joint(
+        JointSpec::new("pin", JointKind::Revolute, (GROUND, "O"), ("mass", "O"))
+            .axes("z", "z")
+            .x_axes("x", "x"),
+    );
+    b.build().unwrap()
+}
+
+/// A uniform rod (mass m, length l, CoM at its middle) pinned at its end at the origin about
+/// z, initially along +x, optionally driven by `drive` (angle of the pin).
+pub fn crank(m: f64, l: f64, drive: Option<TimeFunction>) -> Model {
+    let mut b = MechanismBuilder::new();
+    let i = m * l * l / 12.0;
+    b.body(
+        Body::new("crank")
+            .mass(m)
+            .inertia_diagonal(1e-3, i, i)
+            .position(Vector3::new(l / 2.0, 0.0, 0.0)),
+    );
+    b.point(GROUND, "O", Vector3::zeros())
+        .vector(GROUND, "z", Vector3::z())
+        .vector(GROUND, "x", Vector3::x());
+    b.point("crank", "O", Vector3::new(-l / 2.0, 0.0, 0.0))
+        .point("crank", "tip", Vector3::new(l / 2.0, 0.0, 0.0))
+        .vector("crank", "z", Vector3::z())
+        .vector("crank", "x", Vector3::x());
+    b.joint(
+        JointSpec::new("pin", JointKind::Revolute, (GROUND, "O"), ("crank", "O"))
+            .axes("z", "z")
+            .x_axes("x", "x"),
+    );
+    if let Some(f) = drive {
+        b.driver(DriverSpec::rotation("motor", "pin", f));
+    }
+    b.build().unwrap()
+}
+
+/// One free body with diagonal inertia.
+pub fn free_body(m: f64, j: [f64; 3]) -> Model {
+    let mut b = MechanismBuilder::new();
+    b.body(
+        Body::new("body")
+            .mass(m)
+            .inertia_diagonal(j[0], j[1], j[2])
+            .position(Vector3::new(0.0, 0.0, 1.0)),
+    );
+    b.point("body", "c", Vector3::zeros());
+    b.build().unwrap()
+}
+
+/// Exact A01 positions (x, y) of the mass, from `shared/benchmarks/simple_pendulum_exact.csv`
+/// (released from rest at (+1, 0)).
+pub const A01: [(f64, f64, f64); 6] = [
+    (0.5, 0.391048791550546, -0.920369948785192),
+    (1.0, -0.986291751131875, -0.165010853125541),
+    (2.0, 0.793566195343322, -0.608483930443792),
+    (5.0, 0.942305435043757, -0.334754338414001),
+    (10.0, 0.275087462576117, -0.961419205099125),
+    (20.0, -0.996907173991, -0.0785880808093),
+];

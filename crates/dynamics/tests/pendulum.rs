@@ -1,0 +1,61 @@
+//! A01 simple pendulum: positions against the exact solution, energy, pin reaction (tension
+//! m (g cos θ + L θ̇²)), both integrators.
+
+mod common;
+use cardan_dynamics::{
+    Dopri5Options, Dynamics, Force, GeneralizedAlphaOptions, Integrator, SimulationOptions,
+};
+use common::*;
+use nalgebra::Vector3;
+
+fn run(integrator: Integrator) -> (f64, f64, f64, f64) {
+    let model = pendulum(1.0, 1e-8, 1.0);
+    let mut d = Dynamics::new(&model).unwrap();
+    d.add_force(Force::gravity(Vector3::new(0.0, -G, 0.0))).unwrap();
+    let times: Vec<f64> = A01.iter().map(|r| r.0).collect();
+    let opts = SimulationOptions::new(20.0, 1)
+        .output_times(std::iter::once(0.0).chain(times.iter().copied()).collect())
+        .integrator(integrator);
+    let res = d.simulate(&d.initial_guess(), &opts).unwrap();
+    let body = res.body("mass").unwrap();
+    let mut err: f64 = 0.0;
+    for (k, (_, x, y)) in A01.iter().enumerate() {
+        let r = body.r[k + 1];
+        err = err.max((r.x - x).abs()).max((r.y - y).abs());
+    }
+    // Tension: on the mass at the pin, the force points from the mass to the pivot.
+    let pin = res.joint_reactions("pin").unwrap();
+    let mut terr: f64 = 0.0;
+    for k in 0..res.len() {
+        let r = body.r[k];
+        let v = body.r_dot[k];
+        let cos_theta = -r.y / r.norm();
+        let tension = 1.0 * (G * cos_theta + v.norm_squared() / 1.0);
+        let f = pin.on_j[k].force;
+        let along = f.dot(&(-r / r.norm()));
+        terr = terr.max((along - tension).abs()).max((f - along * (-r / r.norm())).norm());
+    }
+    (err, res.energy.max_drift(), terr, res.stats.wall_time / res.stats.steps.max(1) as f64)
+}
+
+#[test]
+fn a01_dopri5_matches_the_exact_solution() {
+    let (err, drift, terr, per_step) =
+        run(Integrator::Dopri5(Dopri5Options::tolerances(1e-10, 1e-12)));
+    eprintln!("DOPRI5: max position error {err:.2e}, energy drift {drift:.2e}, tension error {terr:.2e}, {per_step:.2e} s/step");
+    assert!(err < 1e-6, "position error {err}");
+    assert!(drift < 1e-7, "energy drift {drift}");
+    assert!(terr < 1e-6, "tension error {terr}");
+}
+
+#[test]
+fn a01_generalized_alpha_matches_the_exact_solution() {
+    let (err, drift, terr, per_step) = run(Integrator::GeneralizedAlpha(GeneralizedAlphaOptions {
+        rho_inf: 1.0,
+        ..GeneralizedAlphaOptions::with_step(1e-3)
+    }));
+    eprintln!("gen-α h=1e-3: max position error {err:.2e}, energy drift {drift:.2e}, tension error {terr:.2e}, {per_step:.2e} s/step");
+    assert!(err < 1e-3, "position error {err}");
+    assert!(drift < 1e-3, "energy drift {drift}");
+    assert!(terr < 1e-6, "tension error {terr}");
+}
