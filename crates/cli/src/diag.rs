@@ -14,6 +14,8 @@ pub enum ErrorKind {
     Analysis,
     /// Writing output failed (exit code 4).
     Output,
+    /// Standard output was closed by its reader (exit code 0, no message).
+    BrokenPipe,
 }
 
 impl ErrorKind {
@@ -23,6 +25,7 @@ impl ErrorKind {
             ErrorKind::Input => 1,
             ErrorKind::Analysis => 3,
             ErrorKind::Output => 4,
+            ErrorKind::BrokenPipe => 0,
         }
     }
 }

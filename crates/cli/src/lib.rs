@@ -101,7 +101,9 @@ pub fn main_with_args(args: impl IntoIterator<Item = std::ffi::OsString>) -> i32
         Err(e) => {
             use std::io::Write as _;
             let _ = lock.flush();
-            eprintln!("{e}");
+            if e.kind != ErrorKind::BrokenPipe {
+                eprintln!("{e}");
+            }
             e.kind.exit_code()
         }
     }

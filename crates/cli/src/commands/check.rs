@@ -37,6 +37,14 @@ pub fn write_table(
 }
 
 pub(crate) fn io(e: std::io::Error) -> Error {
+    if e.kind() == std::io::ErrorKind::BrokenPipe {
+        // The reader went away (`cardan eval m.toml | head`): not an error worth a message.
+        return Error {
+            kind: crate::diag::ErrorKind::BrokenPipe,
+            location: None,
+            message: String::new(),
+        };
+    }
     Error::output(format!("cannot write to standard output: {e}"))
 }
 

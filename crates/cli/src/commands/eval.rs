@@ -114,6 +114,7 @@ pub fn eval(path: &Path, t: Option<f64>, out: &mut dyn Write) -> Result<(), Erro
 
     // Dense view of the values and the pattern.
     let pattern = model.pattern();
+    let big = slots.iter().fold(0.0f64, |a, v| a.max(v.abs()));
     let mut dense = vec![None; m * n];
     for (k, v) in slots.iter().enumerate() {
         let (r, c) = pattern.entry(k);
@@ -121,7 +122,7 @@ pub fn eval(path: &Path, t: Option<f64>, out: &mut dyn Write) -> Result<(), Erro
     }
     writeln!(
         out,
-        "\nJacobian Φ_v pattern: {} structural nonzeros of {} ('#' nonzero, '0' structural zero, '.' outside the pattern)",
+        "\nJacobian Φ_v pattern: {} structural nonzeros of {} ('#' nonzero, '0' zero to round-off, '.' outside the pattern)",
         pattern.nnz(),
         m * n
     )
@@ -146,7 +147,7 @@ pub fn eval(path: &Path, t: Option<f64>, out: &mut dyn Write) -> Result<(), Erro
             for c in 0..n {
                 line.push(match dense[r * n + c] {
                     None => '.',
-                    Some(0.0) => '0',
+                    Some(v) if v.abs() <= 1e-12 * big => '0',
                     Some(_) => '#',
                 });
                 if c % 6 == 5 {

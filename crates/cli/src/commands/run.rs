@@ -64,7 +64,7 @@ pub fn run(
                 .map_or(String::new(), |n| n.to_string_lossy().into_owned())
         })
         .collect();
-    let io = |e: std::io::Error| Error::output(format!("cannot write to standard output: {e}"));
+    let io = super::check::io;
     writeln!(
         out,
         "wrote {} files to {}: {}",
