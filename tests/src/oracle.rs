@@ -43,7 +43,11 @@ pub struct Disagreement {
 
 impl fmt::Display for Disagreement {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{} [case {}] {} row {}", self.element, self.case, self.quantity, self.row)?;
+        write!(
+            f,
+            "{} [case {}] {} row {}",
+            self.element, self.case, self.quantity, self.row
+        )?;
         if let Some(c) = self.col {
             let (body, local) = if c < 7 || (self.quantity == "phi_v" && c < 6) {
                 ("i", c)
@@ -87,7 +91,11 @@ pub fn load(path: &Path) -> Result<OracleFile, String> {
     let element = v["element"].as_str().ok_or("no `element`")?.to_string();
     let rows = v["rows"].as_u64().ok_or("no `rows`")? as usize;
     let cases = v["cases"].as_array().ok_or("no `cases`")?.clone();
-    Ok(OracleFile { element, rows, cases })
+    Ok(OracleFile {
+        element,
+        rows,
+        cases,
+    })
 }
 
 fn vec_of(v: &Value, key: &str) -> Result<Vec<f64>, String> {
@@ -95,7 +103,10 @@ fn vec_of(v: &Value, key: &str) -> Result<Vec<f64>, String> {
         .as_array()
         .ok_or_else(|| format!("field `{key}` missing or null"))?
         .iter()
-        .map(|x| x.as_f64().ok_or_else(|| format!("field `{key}` holds a non-number")))
+        .map(|x| {
+            x.as_f64()
+                .ok_or_else(|| format!("field `{key}` holds a non-number"))
+        })
         .collect()
 }
 
@@ -108,7 +119,10 @@ fn mat_of(v: &Value, key: &str) -> Result<Vec<Vec<f64>>, String> {
             row.as_array()
                 .ok_or_else(|| format!("field `{key}`: row is not an array"))?
                 .iter()
-                .map(|x| x.as_f64().ok_or_else(|| format!("field `{key}` holds a non-number")))
+                .map(|x| {
+                    x.as_f64()
+                        .ok_or_else(|| format!("field `{key}` holds a non-number"))
+                })
                 .collect()
         })
         .collect()
@@ -137,7 +151,14 @@ struct Cmp<'a> {
 }
 
 impl Cmp<'_> {
-    fn check(&mut self, quantity: &'static str, got: &[f64], want: &[f64], cols: Option<usize>, floor: f64) {
+    fn check(
+        &mut self,
+        quantity: &'static str,
+        got: &[f64],
+        want: &[f64],
+        cols: Option<usize>,
+        floor: f64,
+    ) {
         let scale = want.iter().chain(got).fold(floor, |m, v| m.max(v.abs()));
         let tol = RTOL * scale.max(1e-300);
         for (k, (g, w)) in got.iter().zip(want).enumerate() {
@@ -167,11 +188,21 @@ pub fn compare_case(element_name: &str, case: &Value) -> Result<Vec<Disagreement
     let label = case["label"].as_str().unwrap_or("?").to_string();
     let err = |e: String| format!("{element_name} [case {label}]: {e}");
     let el: Element = build(element_name, &case["params"]).map_err(err)?;
-    let normalized = case["normalized"].as_bool().ok_or_else(|| err("no `normalized`".into()))?;
+    let normalized = case["normalized"]
+        .as_bool()
+        .ok_or_else(|| err("no `normalized`".into()))?;
     let ground = case["ground"].as_str().unwrap_or("none");
     let t = case["t"].as_f64().ok_or_else(|| err("no `t`".into()))?;
-    let i = if ground == "i" { BodyState::ground() } else { body(case, "i", normalized).map_err(err)? };
-    let j = if ground == "j" { BodyState::ground() } else { body(case, "j", normalized).map_err(err)? };
+    let i = if ground == "i" {
+        BodyState::ground()
+    } else {
+        body(case, "i", normalized).map_err(err)?
+    };
+    let j = if ground == "j" {
+        BodyState::ground()
+    } else {
+        body(case, "j", normalized).map_err(err)?
+    };
     let x = BodyPair::new(&i, &j);
     let m = el.rows();
     let mut out = Vec::new();
@@ -241,11 +272,23 @@ pub fn compare_case(element_name: &str, case: &Value) -> Result<Vec<Disagreement
     let rate = (2.0 * pd_max).max(if length > 0.0 { rd_max / length } else { 0.0 });
     let mut nu = vec![0.0; m];
     el.nu(&x, t, &mut nu);
-    c.check("nu", &nu, &vec_of(case, "nu").map_err(err)?, None, rate_terms);
+    c.check(
+        "nu",
+        &nu,
+        &vec_of(case, "nu").map_err(err)?,
+        None,
+        rate_terms,
+    );
     let mut gq = vec![0.0; m];
     el.gamma_sharp_q(&x, t, &mut gq);
     let gamma_floor = (rate_terms * rate).max(term_scale * rate * rate);
-    c.check("gamma_q", &gq, &vec_of(case, "gamma_q").map_err(err)?, None, gamma_floor);
+    c.check(
+        "gamma_q",
+        &gq,
+        &vec_of(case, "gamma_q").map_err(err)?,
+        None,
+        gamma_floor,
+    );
     if normalized {
         let want_v = mat_of(case, "phi_v").map_err(err)?;
         let mut vi = vec![[0.0; 6]; m];
@@ -264,7 +307,13 @@ pub fn compare_case(element_name: &str, case: &Value) -> Result<Vec<Disagreement
         c.check("phi_v", &got, &want, Some(12), jac_scale);
         let mut gv = vec![0.0; m];
         el.gamma_sharp_v(&x, t, &mut gv);
-        c.check("gamma_v", &gv, &vec_of(case, "gamma_v").map_err(err)?, None, gamma_floor);
+        c.check(
+            "gamma_v",
+            &gv,
+            &vec_of(case, "gamma_v").map_err(err)?,
+            None,
+            gamma_floor,
+        );
     }
     Ok(out)
 }

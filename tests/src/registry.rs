@@ -6,9 +6,9 @@
 //! element that has no oracle data file. Nothing can be added unchecked.
 
 use cardan_constraints::{
-    Constraint, CoordinateDriver, Distance, DistanceDriver, Driver, Form, Joint, JointKind, Marker,
-    Normalization, P1Perp, P1Select, P2Perp, P2Select, Primitive, RotationDriver, Spherical,
-    TimeFunction, TranslationDriver, BodyPair, Footprint, N1, N2, P1, P2,
+    BodyPair, Constraint, CoordinateDriver, Distance, DistanceDriver, Driver, Footprint, Form,
+    Joint, JointKind, Marker, Normalization, P1Perp, P1Select, P2Perp, P2Select, Primitive,
+    RotationDriver, Spherical, TimeFunction, TranslationDriver, N1, N2, P1, P2,
 };
 use nalgebra::{Matrix3, Vector3};
 use serde_json::Value;
@@ -155,7 +155,10 @@ fn v3(p: &Value, key: &str) -> Result<Vector3<f64>, ParamError> {
     if a.len() != 3 {
         return Err(format!("parameter `{key}` has {} entries, want 3", a.len()));
     }
-    let f = |k: usize| a[k].as_f64().ok_or_else(|| format!("`{key}`[{k}] is not a number"));
+    let f = |k: usize| {
+        a[k].as_f64()
+            .ok_or_else(|| format!("`{key}`[{k}] is not a number"))
+    };
     Ok(Vector3::new(f(0)?, f(1)?, f(2)?))
 }
 
@@ -166,7 +169,9 @@ fn num(p: &Value, key: &str) -> Result<f64, ParamError> {
 }
 
 fn marker(p: &Value, key: &str) -> Result<Marker, ParamError> {
-    let m = p.get(key).ok_or_else(|| format!("missing marker `{key}`"))?;
+    let m = p
+        .get(key)
+        .ok_or_else(|| format!("missing marker `{key}`"))?;
     let frame = Matrix3::from_columns(&[v3(m, "x")?, v3(m, "y")?, v3(m, "z")?]);
     Marker::new(v3(m, "point")?, frame).map_err(|e| format!("marker `{key}`: {e}"))
 }
@@ -176,13 +181,19 @@ fn nums(v: &Value, key: &str) -> Result<Vec<f64>, ParamError> {
         .and_then(Value::as_array)
         .ok_or_else(|| format!("time function: missing array `{key}`"))?
         .iter()
-        .map(|x| x.as_f64().ok_or_else(|| format!("time function: `{key}` holds a non-number")))
+        .map(|x| {
+            x.as_f64()
+                .ok_or_else(|| format!("time function: `{key}` holds a non-number"))
+        })
         .collect()
 }
 
 /// A [`TimeFunction`] from its oracle description.
 pub fn time_function(f: &Value) -> Result<TimeFunction, ParamError> {
-    let kind = f.get("kind").and_then(Value::as_str).ok_or("time function without `kind`")?;
+    let kind = f
+        .get("kind")
+        .and_then(Value::as_str)
+        .ok_or("time function without `kind`")?;
     let tf = match kind {
         "constant" => TimeFunction::Constant(num(f, "value")?),
         "polynomial" => TimeFunction::Polynomial(nums(f, "coefficients")?),
@@ -198,7 +209,9 @@ pub fn time_function(f: &Value) -> Result<TimeFunction, ParamError> {
             f0: num(f, "f0")?,
             f1: num(f, "f1")?,
         },
-        "spline" => TimeFunction::spline(nums(f, "t")?, nums(f, "f")?).map_err(|e| e.to_string())?,
+        "spline" => {
+            TimeFunction::spline(nums(f, "t")?, nums(f, "f")?).map_err(|e| e.to_string())?
+        }
         other => return Err(format!("unknown time function kind `{other}`")),
     };
     tf.validate().map_err(|e| e.to_string())?;
@@ -222,9 +235,9 @@ pub fn build(name: &str, p: &Value) -> Result<Element, ParamError> {
         "p1_perp" => prim(P1Perp::new(v3(p, "f_i")?, v3(p, "g_i")?, v3(p, "s_j")?).into()),
         "p2" => prim(P2::new(v3(p, "s_i")?, v3(p, "sp_i")?, v3(p, "sp_j")?).into()),
         "p2_select" => prim(P2Select::new(v3(p, "s_i")?, v3(p, "sp_i")?, v3(p, "sp_j")?).into()),
-        "p2_perp" => prim(
-            P2Perp::new(v3(p, "f_i")?, v3(p, "g_i")?, v3(p, "sp_i")?, v3(p, "sp_j")?).into(),
-        ),
+        "p2_perp" => {
+            prim(P2Perp::new(v3(p, "f_i")?, v3(p, "g_i")?, v3(p, "sp_i")?, v3(p, "sp_j")?).into())
+        }
         "s" => prim(Spherical::new(v3(p, "sp_i")?, v3(p, "sp_j")?).into()),
         "distance" => prim(Distance::new(v3(p, "sp_i")?, v3(p, "sp_j")?, num(p, "length")?).into()),
         "normalization" => prim(Normalization.into()),
@@ -241,22 +254,40 @@ pub fn build(name: &str, p: &Value) -> Result<Element, ParamError> {
                 .map_err(|e| e.to_string())
         }
         "rotation_driver" => Ok(E::Driver(
-            RotationDriver::new(marker(p, "marker_i")?, marker(p, "marker_j")?, time_function(&p["function"])?)
-                .into(),
+            RotationDriver::new(
+                marker(p, "marker_i")?,
+                marker(p, "marker_j")?,
+                time_function(&p["function"])?,
+            )
+            .into(),
         )),
         "translation_driver" => Ok(E::Driver(
-            TranslationDriver::new(marker(p, "marker_i")?, marker(p, "marker_j")?, time_function(&p["function"])?)
-                .into(),
+            TranslationDriver::new(
+                marker(p, "marker_i")?,
+                marker(p, "marker_j")?,
+                time_function(&p["function"])?,
+            )
+            .into(),
         )),
         "distance_driver" => Ok(E::Driver(
-            DistanceDriver::new(v3(p, "point_i")?, v3(p, "point_j")?, time_function(&p["function"])?).into(),
+            DistanceDriver::new(
+                v3(p, "point_i")?,
+                v3(p, "point_j")?,
+                time_function(&p["function"])?,
+            )
+            .into(),
         )),
         "coordinate_driver" => {
-            let axis = p.get("axis").and_then(Value::as_u64).ok_or("missing integer `axis`")? as usize;
+            let axis = p
+                .get("axis")
+                .and_then(Value::as_u64)
+                .ok_or("missing integer `axis`")? as usize;
             CoordinateDriver::new(v3(p, "point_i")?, axis, time_function(&p["function"])?)
                 .map(|d| E::Driver(d.into()))
                 .map_err(|e| e.to_string())
         }
-        other => Err(format!("no Rust element is registered under the oracle name `{other}`")),
+        other => Err(format!(
+            "no Rust element is registered under the oracle name `{other}`"
+        )),
     }
 }

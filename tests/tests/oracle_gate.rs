@@ -35,7 +35,12 @@ fn rust_matches_the_casadi_oracle() {
     let (mut n_cases, mut n_bad) = (0, 0);
     for path in oracle_files() {
         let file = load(&path).expect("loadable oracle file");
-        assert!(file.cases.len() >= 50, "{}: only {} cases (at least 50 required)", file.element, file.cases.len());
+        assert!(
+            file.cases.len() >= 50,
+            "{}: only {} cases (at least 50 required)",
+            file.element,
+            file.cases.len()
+        );
         let mut bad = Vec::new();
         for case in &file.cases {
             bad.extend(compare_case(&file.element, case).unwrap_or_else(|e| panic!("{e}")));
@@ -46,9 +51,19 @@ fn rust_matches_the_casadi_oracle() {
             report.push_str(&format!("{d}\n"));
         }
         if bad.len() > 8 {
-            report.push_str(&format!("{}: ... and {} more\n", file.element, bad.len() - 8));
+            report.push_str(&format!(
+                "{}: ... and {} more\n",
+                file.element,
+                bad.len() - 8
+            ));
         }
     }
-    assert!(n_bad == 0, "{n_bad} entries disagree with the oracle over {n_cases} cases:\n{report}");
-    eprintln!("oracle gate: {n_cases} cases agree to relative {:e}", cardan_tests::oracle::RTOL);
+    assert!(
+        n_bad == 0,
+        "{n_bad} entries disagree with the oracle over {n_cases} cases:\n{report}"
+    );
+    eprintln!(
+        "oracle gate: {n_cases} cases agree to relative {:e}",
+        cardan_tests::oracle::RTOL
+    );
 }
