@@ -65,7 +65,8 @@ pub enum StepControl {
         /// First step (s).
         initial: Option<f64>,
     },
-    /// Fixed step h (s); steps are shortened to land on output times.
+    /// Fixed step h (s), no error control; the last step lands on t_end, outputs inside a step
+    /// come from the dense output.
     Fixed(f64),
 }
 

@@ -257,7 +257,8 @@ pub(crate) fn run(
             });
         }
         let mut hs = h.min(t_end - t);
-        if t + hs > t_end - 1e-12 * hs {
+        if t_end - (t + hs) <= 1e-9 * hs {
+            // Land on t_end instead of leaving a sliver of a step.
             hs = t_end - t;
         }
         // Stages 2..7.

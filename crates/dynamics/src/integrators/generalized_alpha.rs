@@ -60,7 +60,9 @@ fn tangents(d: &mut Dynamics, b: &mut Buf) {
     b.h0.copy_from_slice(&d.h);
     for c in 0..n {
         // Velocity column.
-        b.pert.clone_from(&b.t1);
+        b.pert.t = b.t1.t;
+        b.pert.q.copy_from_slice(&b.t1.q);
+        b.pert.v.copy_from_slice(&b.t1.v);
         let ev = 1e-7 * (1.0 + b.t1.v[c].abs());
         b.pert.v[c] += ev;
         d.sync(&b.pert);

@@ -1,0 +1,87 @@
+//! "No allocation per step": a counting global allocator wraps the system one. A run allocates
+//! during setup and once per stored output, never per step: two runs with the same outputs and
+//! 10× more steps allocate exactly as often. Also, one solve of the equations of motion after
+//! setup allocates nothing.
+//!
+//! One test function only: the counter is global, and parallel tests would pollute it.
+
+mod common;
+
+use cardan_dynamics::{
+    Dopri5Options, Dynamics, Force, GeneralizedAlphaOptions, Integrator, SimulationOptions,
+};
+use cardan_mechanism::GROUND;
+use common::*;
+use nalgebra::Vector3;
+use stats_alloc::{Region, StatsAlloc, INSTRUMENTED_SYSTEM};
+use std::alloc::System;
+
+#[global_allocator]
+static GLOBAL: &StatsAlloc<System> = &INSTRUMENTED_SYSTEM;
+
+fn allocations(f: impl FnOnce()) -> usize {
+    let region = Region::new(GLOBAL);
+    f();
+    let stats = region.change();
+    stats.allocations + stats.reallocations
+}
+
+#[test]
+fn steps_do_not_allocate() {
+    let model = crank(1.0, 1.0, None);
+    let mut d = Dynamics::new(&model).unwrap();
+    d.add_force(Force::gravity(Vector3::new(0.0, -G, 0.0))).unwrap();
+    d.add_force(Force::spring_damper(
+        "spring",
+        (GROUND, Vector3::new(0.0, 1.0, 0.0)),
+        ("crank", "tip"),
+        1e3,
+        5.0,
+        Some(0.5),
+    ))
+    .unwrap();
+    d.add_force(Force::rotational_spring_damper("coil", "pin", 3.0, 0.1, 0.3))
+        .unwrap();
+    let s0 = d.consistent_state(&d.initial_guess()).unwrap();
+
+    // One solve of the equations of motion.
+    let mut vdot = vec![0.0; 6];
+    let mut lambda = vec![0.0; model.num_equations()];
+    d.accelerations(&s0, &mut vdot, &mut lambda).unwrap();
+    let n = allocations(|| {
+        for _ in 0..100 {
+            d.accelerations(&s0, &mut vdot, &mut lambda).unwrap();
+        }
+    });
+    assert_eq!(n, 0, "{n} allocations in 100 solves of the equations of motion");
+
+    for (label, coarse, fine) in [
+        (
+            "generalized-α",
+            Integrator::GeneralizedAlpha(GeneralizedAlphaOptions::with_step(1e-3)),
+            Integrator::GeneralizedAlpha(GeneralizedAlphaOptions::with_step(1e-4)),
+        ),
+        (
+            "DOPRI5 fixed step",
+            Integrator::Dopri5(Dopri5Options::fixed(1e-3)),
+            Integrator::Dopri5(Dopri5Options::fixed(1e-4)),
+        ),
+    ] {
+        let mut steps = [0, 0];
+        let mut counts = [0, 0];
+        for (k, integ) in [coarse, fine].into_iter().enumerate() {
+            let opts = SimulationOptions::new(0.5, 5).integrator(integ);
+            let s = s0.clone();
+            counts[k] = allocations(|| {
+                let r = d.simulate_consistent(s, &opts).unwrap();
+                steps[k] = r.stats.steps;
+            });
+        }
+        eprintln!(
+            "{label}: {} allocations for {} steps, {} for {} steps",
+            counts[0], steps[0], counts[1], steps[1]
+        );
+        assert!(steps[1] >= 9 * steps[0]);
+        assert_eq!(counts[0], counts[1], "{label}: allocations grow with the step count");
+    }
+}
