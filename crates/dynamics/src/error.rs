@@ -61,7 +61,9 @@ pub enum DynamicsError {
         reason: String,
     },
     /// The position projection or the implicit Newton iteration did not converge.
-    #[error("t = {time}: {what} did not converge in {iterations} iterations (residual {residual:.3e})")]
+    #[error(
+        "t = {time}: {what} did not converge in {iterations} iterations (residual {residual:.3e})"
+    )]
     NotConverged {
         /// Time.
         time: f64,

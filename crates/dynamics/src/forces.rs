@@ -204,12 +204,7 @@ impl Force {
     }
 
     /// A torque `value` (frame `frame`) on `body`.
-    pub fn torque(
-        name: &str,
-        body: &str,
-        value: impl Into<VectorFunction>,
-        frame: Frame,
-    ) -> Self {
+    pub fn torque(name: &str, body: &str, value: impl Into<VectorFunction>, frame: Frame) -> Self {
         Force::PointTorque {
             name: name.into(),
             body: body.into(),
@@ -652,7 +647,12 @@ impl Resolved {
     }
 
     /// Potential energy of the element: (gravity, spring).
-    pub(crate) fn potential(&self, model: &Model, masses: &[f64], bodies: &[BodyState]) -> (f64, f64) {
+    pub(crate) fn potential(
+        &self,
+        model: &Model,
+        masses: &[f64],
+        bodies: &[BodyState],
+    ) -> (f64, f64) {
         let ground = BodyState::ground();
         match self {
             Resolved::Gravity(g) => (
@@ -664,13 +664,21 @@ impl Resolved {
                 0.0,
             ),
             Resolved::Spring {
-                bi, pi, bj, pj, k, l0, ..
+                bi,
+                pi,
+                bj,
+                pj,
+                k,
+                l0,
+                ..
             } => {
                 let d = state_of(bodies, &ground, *bj).point(pj)
                     - state_of(bodies, &ground, *bi).point(pi);
                 (0.0, 0.5 * k * (d.norm() - l0).powi(2))
             }
-            Resolved::Rotational { joint, k, theta0, .. } => {
+            Resolved::Rotational {
+                joint, k, theta0, ..
+            } => {
                 let j = &model.joints()[*joint];
                 let pair = BodyPair::new(
                     state_of(bodies, &ground, j.body_i),

@@ -151,7 +151,14 @@ impl Recorder {
         let kin = &mut self.res.kinematics;
         kin.times.push(state.t);
         kin.iterations.push(iterations);
-        eval_rows(model, &d.elements, &d.bodies, state.t, Rhs::Phi, &mut self.phi);
+        eval_rows(
+            model,
+            &d.elements,
+            &d.bodies,
+            state.t,
+            Rhs::Phi,
+            &mut self.phi,
+        );
         let res = self.phi.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         kin.residual.push(res);
         self.res.position_drift.push(res);
@@ -196,7 +203,9 @@ impl Recorder {
             BodyId::Moving(k) => &d.bodies[k],
         };
         for (jr, j) in kin.joints.iter_mut().zip(model.joints()) {
-            let mut c = j.joint.coordinates(&BodyPair::new(st(j.body_i), st(j.body_j)));
+            let mut c = j
+                .joint
+                .coordinates(&BodyPair::new(st(j.body_i), st(j.body_j)));
             if let Some(prev) = jr.values.last() {
                 for (i, name) in c.names.iter().enumerate() {
                     if name.contains("angle") {
@@ -207,7 +216,13 @@ impl Recorder {
             jr.values.push(c.values);
         }
         self.res.lambda.push(self.lambda.clone());
-        for (ji, (jr, j)) in self.res.reactions.iter_mut().zip(model.joints()).enumerate() {
+        for (ji, (jr, j)) in self
+            .res
+            .reactions
+            .iter_mut()
+            .zip(model.joints())
+            .enumerate()
+        {
             let e = &d.elements[ji];
             let (ri, rj) = d.element_reaction(
                 e,
@@ -220,7 +235,14 @@ impl Recorder {
             jr.on_j.push(rj);
         }
         let nj = model.joints().len();
-        eval_rows(model, &d.elements, &d.bodies, state.t, Rhs::Nu, &mut self.phi);
+        eval_rows(
+            model,
+            &d.elements,
+            &d.bodies,
+            state.t,
+            Rhs::Nu,
+            &mut self.phi,
+        );
         for (di, (de, dr)) in self.res.drivers.iter_mut().zip(model.drivers()).enumerate() {
             let e = &d.elements[nj + di];
             let (pi, pj) = match dr.joint {

@@ -39,7 +39,9 @@ impl Dynamics<'_> {
             self.prepare(&state)?;
         }
         match options.integrator {
-            Integrator::Dopri5(o) => crate::integrators::dopri5::run(self, state, &times, &o, options),
+            Integrator::Dopri5(o) => {
+                crate::integrators::dopri5::run(self, state, &times, &o, options)
+            }
             Integrator::GeneralizedAlpha(o) => {
                 crate::integrators::generalized_alpha::run(self, state, &times, &o, options)
             }

@@ -329,7 +329,14 @@ impl<'m> Dynamics<'m> {
         kkt.eval_jacobian(model, &self.elements, &self.bodies, t);
         kkt.set_mass(&self.mass, &self.inertia);
         let n = kkt.n;
-        eval_rows(model, &self.elements, &self.bodies, t, Rhs::Gamma, &mut kkt.full);
+        eval_rows(
+            model,
+            &self.elements,
+            &self.bodies,
+            t,
+            Rhs::Gamma,
+            &mut kkt.full,
+        );
         for (a, &r) in kkt.active.iter().enumerate() {
             kkt.rhs[n + a] = kkt.full[r];
         }
@@ -344,11 +351,25 @@ impl<'m> Dynamics<'m> {
                 }
             }
             kkt.phi_v_mul(&wn, &mut wa);
-            eval_rows(model, &self.elements, &self.bodies, t, Rhs::Nu, &mut kkt.full);
+            eval_rows(
+                model,
+                &self.elements,
+                &self.bodies,
+                t,
+                Rhs::Nu,
+                &mut kkt.full,
+            );
             for (a, &r) in kkt.active.iter().enumerate() {
                 kkt.rhs[n + a] -= 2.0 * alpha * (wa[a] - kkt.full[r]);
             }
-            eval_rows(model, &self.elements, &self.bodies, t, Rhs::Phi, &mut kkt.full);
+            eval_rows(
+                model,
+                &self.elements,
+                &self.bodies,
+                t,
+                Rhs::Phi,
+                &mut kkt.full,
+            );
             for (a, &r) in kkt.active.iter().enumerate() {
                 kkt.rhs[n + a] -= beta * beta * kkt.full[r];
             }
@@ -411,7 +432,14 @@ impl<'m> Dynamics<'m> {
         let n = kkt.n;
         let mut wa = std::mem::take(&mut kkt.work_a);
         kkt.phi_v_mul(&state.v, &mut wa);
-        eval_rows(model, &self.elements, &self.bodies, t, Rhs::Nu, &mut kkt.full);
+        eval_rows(
+            model,
+            &self.elements,
+            &self.bodies,
+            t,
+            Rhs::Nu,
+            &mut kkt.full,
+        );
         kkt.rhs[..n].fill(0.0);
         for (a, &r) in kkt.active.iter().enumerate() {
             kkt.rhs[n + a] = kkt.full[r] - wa[a];
@@ -434,7 +462,11 @@ impl<'m> Dynamics<'m> {
     ///
     /// # Errors
     /// [`DynamicsError::NotConverged`] after 20 iterations; [`DynamicsError::Singular`].
-    pub fn project_positions(&mut self, state: &mut State, tol: f64) -> Result<usize, DynamicsError> {
+    pub fn project_positions(
+        &mut self,
+        state: &mut State,
+        tol: f64,
+    ) -> Result<usize, DynamicsError> {
         if self.kkt.is_none() {
             self.prepare(state)?;
         }
@@ -445,7 +477,14 @@ impl<'m> Dynamics<'m> {
         for it in 0..20 {
             self.sync(state);
             let kkt = self.kkt.as_mut().expect("prepared");
-            eval_rows(model, &self.elements, &self.bodies, t, Rhs::Phi, &mut kkt.full);
+            eval_rows(
+                model,
+                &self.elements,
+                &self.bodies,
+                t,
+                Rhs::Phi,
+                &mut kkt.full,
+            );
             let res = kkt
                 .active
                 .iter()
@@ -489,7 +528,14 @@ impl<'m> Dynamics<'m> {
         let model = self.model;
         let m = model.num_equations();
         let mut nu = vec![0.0; m];
-        eval_rows(model, &self.elements, &self.bodies, state.t, Rhs::Nu, &mut nu);
+        eval_rows(
+            model,
+            &self.elements,
+            &self.bodies,
+            state.t,
+            Rhs::Nu,
+            &mut nu,
+        );
         let mut res = vec![0.0; m];
         let mut bi = [[0.0; 6]; 6];
         let mut bj = [[0.0; 6]; 6];

@@ -29,7 +29,10 @@ fn body_frame_point_force_spins_at_a_constant_rate() {
     ))
     .unwrap();
     let res = d
-        .simulate(&d.initial_guess(), &SimulationOptions::new(1.0, 10).integrator(tight()))
+        .simulate(
+            &d.initial_guess(),
+            &SimulationOptions::new(1.0, 10).integrator(tight()),
+        )
         .unwrap();
     let b = res.body("body").unwrap();
     let mut err: f64 = 0.0;
@@ -63,7 +66,10 @@ fn actuator_pulls_with_its_prescribed_tension() {
     })
     .unwrap();
     let res = d
-        .simulate(&d.initial_guess(), &SimulationOptions::new(0.4, 4).integrator(tight()))
+        .simulate(
+            &d.initial_guess(),
+            &SimulationOptions::new(0.4, 4).integrator(tight()),
+        )
         .unwrap();
     let b = res.body("body").unwrap();
     let mut err: f64 = 0.0;
@@ -85,7 +91,11 @@ fn rotational_spring_damper_is_a_damped_oscillator() {
         .unwrap();
     let mut s = d.initial_guess();
     let w0 = 2.0;
-    s.set_velocity(0, Vector3::new(0.0, w0 * l / 2.0, 0.0), Vector3::new(0.0, 0.0, w0));
+    s.set_velocity(
+        0,
+        Vector3::new(0.0, w0 * l / 2.0, 0.0),
+        Vector3::new(0.0, 0.0, w0),
+    );
     let res = d
         .simulate(&s, &SimulationOptions::new(3.0, 30).integrator(tight()))
         .unwrap();
@@ -117,7 +127,11 @@ fn user_callback_reproduces_gravity() {
         .simulate(&b.initial_guess(), &SimulationOptions::new(1.0, 10))
         .unwrap();
     let (pa, pb) = (&ra.body("crank").unwrap().r, &rb.body("crank").unwrap().r);
-    let diff = pa.iter().zip(pb).map(|(x, y)| (x - y).norm()).fold(0.0, f64::max);
+    let diff = pa
+        .iter()
+        .zip(pb)
+        .map(|(x, y)| (x - y).norm())
+        .fold(0.0, f64::max);
     assert!(diff < 1e-12, "{diff}");
 }
 
@@ -125,7 +139,8 @@ fn user_callback_reproduces_gravity() {
 fn springs_and_gravity_conserve_energy() {
     let model = crank(1.0, 1.0, None);
     let mut d = Dynamics::new(&model).unwrap();
-    d.add_force(Force::gravity(Vector3::new(0.0, -G, 0.0))).unwrap();
+    d.add_force(Force::gravity(Vector3::new(0.0, -G, 0.0)))
+        .unwrap();
     d.add_force(Force::spring_damper(
         "spring",
         (GROUND, Vector3::new(0.0, 1.0, 0.0)),
@@ -135,8 +150,10 @@ fn springs_and_gravity_conserve_energy() {
         Some(0.5),
     ))
     .unwrap();
-    d.add_force(Force::rotational_spring_damper("coil", "pin", 3.0, 0.0, 0.3))
-        .unwrap();
+    d.add_force(Force::rotational_spring_damper(
+        "coil", "pin", 3.0, 0.0, 0.3,
+    ))
+    .unwrap();
     let res = d
         .simulate(
             &d.initial_guess(),
@@ -145,8 +162,12 @@ fn springs_and_gravity_conserve_energy() {
         )
         .unwrap();
     let e = &res.energy;
-    let swing = e.spring.iter().fold(0.0f64, |a, v| a.max(*v)) - e.spring.iter().fold(f64::MAX, |a, v| a.min(*v));
-    eprintln!("springs + gravity: energy drift {:.2e} (spring energy varies by {swing:.2})", e.max_drift());
+    let swing = e.spring.iter().fold(0.0f64, |a, v| a.max(*v))
+        - e.spring.iter().fold(f64::MAX, |a, v| a.min(*v));
+    eprintln!(
+        "springs + gravity: energy drift {:.2e} (spring energy varies by {swing:.2})",
+        e.max_drift()
+    );
     assert!(swing > 1.0);
     assert!(e.max_drift() < 1e-7, "{}", e.max_drift());
 }
@@ -156,15 +177,33 @@ fn bad_force_elements_are_named() {
     let model = crank(1.0, 1.0, None);
     let mut d = Dynamics::new(&model).unwrap();
     let e = d
-        .add_force(Force::point_force("f", "crank", "nowhere", Vector3::x(), Frame::Global))
+        .add_force(Force::point_force(
+            "f",
+            "crank",
+            "nowhere",
+            Vector3::x(),
+            Frame::Global,
+        ))
         .unwrap_err();
-    assert!(matches!(&e, DynamicsError::BadForce { force, .. } if force == "f"), "{e}");
+    assert!(
+        matches!(&e, DynamicsError::BadForce { force, .. } if force == "f"),
+        "{e}"
+    );
     let e = d
-        .add_force(Force::rotational_spring_damper("coil", "nope", 1.0, 0.0, 0.0))
+        .add_force(Force::rotational_spring_damper(
+            "coil", "nope", 1.0, 0.0, 0.0,
+        ))
         .unwrap_err();
     assert!(e.to_string().contains("unknown joint"), "{e}");
     let e = d
-        .add_force(Force::spring_damper("s", (GROUND, "O"), ("crank", "tip"), -1.0, 0.0, None))
+        .add_force(Force::spring_damper(
+            "s",
+            (GROUND, "O"),
+            ("crank", "tip"),
+            -1.0,
+            0.0,
+            None,
+        ))
         .unwrap_err();
     assert!(e.to_string().contains("stiffness"), "{e}");
 }

@@ -45,9 +45,9 @@ fn ballistic_flight_dopri5() {
 #[test]
 fn ballistic_flight_generalized_alpha() {
     // Constant acceleration and constant spin are integrated exactly.
-    let err = ballistic(Integrator::GeneralizedAlpha(GeneralizedAlphaOptions::with_step(
-        0.01,
-    )));
+    let err = ballistic(Integrator::GeneralizedAlpha(
+        GeneralizedAlphaOptions::with_step(0.01),
+    ));
     eprintln!("ballistic gen-α error {err:.2e}");
     assert!(err < 1e-8, "{err}");
 }

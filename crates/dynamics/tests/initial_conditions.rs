@@ -27,7 +27,11 @@ fn rough_guess_becomes_consistent_with_the_m_closest_velocity() {
     let pin = Vector3::new(-l / 2.0, 0.0, 0.0);
     let b = s.body_state(0);
     assert!(b.point(&pin).norm() < 1e-10, "{}", b.point(&pin));
-    assert!(s.point_velocity(cardan_mechanism::BodyId::Moving(0), &pin).norm() < 1e-10);
+    assert!(
+        s.point_velocity(cardan_mechanism::BodyId::Moving(0), &pin)
+            .norm()
+            < 1e-10
+    );
     // Only rotation about z is left, at the rate of the M-closest consistent velocity:
     // θ̇ = Nᵀ M v0 / Nᵀ M N with N = [ẑ × (r − 0); A ẑ-components in the body frame].
     let z_body = b.a.transpose() * Vector3::z();
@@ -36,7 +40,12 @@ fn rough_guess_becomes_consistent_with_the_m_closest_velocity() {
     let num = m * n_r.dot(&v0) + z_body.dot(&(j * w0));
     let den = m * n_r.norm_squared() + z_body.dot(&(j * z_body));
     let rate = num / den;
-    assert!((s.omega_local(0) - z_body * rate).norm() < 1e-9, "{} vs {}", s.omega_local(0), rate);
+    assert!(
+        (s.omega_local(0) - z_body * rate).norm() < 1e-9,
+        "{} vs {}",
+        s.omega_local(0),
+        rate
+    );
     assert!((s.r_dot(0) - n_r * rate).norm() < 1e-9);
 }
 
@@ -47,8 +56,24 @@ fn impossible_positions_name_the_open_joints() {
     b.point(GROUND, "A", Vector3::new(-1.5, 0.0, 0.0))
         .point(GROUND, "B", Vector3::new(1.5, 0.0, 0.0))
         .point("link", "P", Vector3::zeros());
-    b.joint(JointSpec::new("left", JointKind::SphericalSpherical, (GROUND, "A"), ("link", "P")).length(1.0));
-    b.joint(JointSpec::new("right", JointKind::SphericalSpherical, (GROUND, "B"), ("link", "P")).length(1.0));
+    b.joint(
+        JointSpec::new(
+            "left",
+            JointKind::SphericalSpherical,
+            (GROUND, "A"),
+            ("link", "P"),
+        )
+        .length(1.0),
+    );
+    b.joint(
+        JointSpec::new(
+            "right",
+            JointKind::SphericalSpherical,
+            (GROUND, "B"),
+            ("link", "P"),
+        )
+        .length(1.0),
+    );
     let model = b.build().unwrap();
     let mut d = Dynamics::new(&model).unwrap();
     let err = d.consistent_state(&d.initial_guess()).unwrap_err();
@@ -56,7 +81,10 @@ fn impossible_positions_name_the_open_joints() {
     match err {
         DynamicsError::InconsistentPositions { open } => {
             let names: Vec<_> = open.iter().map(|e| e.element.as_str()).collect();
-            assert!(names.contains(&"left") || names.contains(&"right"), "{names:?}");
+            assert!(
+                names.contains(&"left") || names.contains(&"right"),
+                "{names:?}"
+            );
         }
         e => panic!("unexpected {e}"),
     }
@@ -84,16 +112,30 @@ fn incompatible_velocities_name_the_equation() {
             .axes("z", "z")
             .x_axes("x", "x"),
     );
-    b.driver(DriverSpec::rotation("slow", "pin", TimeFunction::Polynomial(vec![0.0, 1.0])));
-    b.driver(DriverSpec::rotation("fast", "pin", TimeFunction::Polynomial(vec![0.0, 2.0])));
+    b.driver(DriverSpec::rotation(
+        "slow",
+        "pin",
+        TimeFunction::Polynomial(vec![0.0, 1.0]),
+    ));
+    b.driver(DriverSpec::rotation(
+        "fast",
+        "pin",
+        TimeFunction::Polynomial(vec![0.0, 2.0]),
+    ));
     let model = b.build().unwrap();
     let mut d = Dynamics::new(&model).unwrap();
     let err = d.consistent_state(&d.initial_guess()).unwrap_err();
     eprintln!("{err}");
     match err {
-        DynamicsError::InconsistentVelocities { equations, residual } => {
+        DynamicsError::InconsistentVelocities {
+            equations,
+            residual,
+        } => {
             assert!((residual - 1.0).abs() < 1e-9, "{residual}");
-            assert!(equations.iter().any(|e| e.element == "fast"), "{equations:?}");
+            assert!(
+                equations.iter().any(|e| e.element == "fast"),
+                "{equations:?}"
+            );
         }
         e => panic!("unexpected {e}"),
     }
@@ -105,5 +147,8 @@ fn missing_inertia_is_reported() {
     b.body(Body::new("ghost").mass(1.0));
     let model = b.build().unwrap();
     let err = Dynamics::new(&model).unwrap_err();
-    assert!(matches!(err, DynamicsError::MissingInertia { ref body } if body == "ghost"), "{err}");
+    assert!(
+        matches!(err, DynamicsError::MissingInertia { ref body } if body == "ghost"),
+        "{err}"
+    );
 }

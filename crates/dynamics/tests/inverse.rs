@@ -13,8 +13,11 @@ fn driven_crank_motor_torque_and_pin_force() {
     let (m, l) = (2.0, 0.8);
     let model = crank(m, l, Some(TimeFunction::Polynomial(vec![0.0, 1.0, 0.5])));
     let mut d = Dynamics::new(&model).unwrap();
-    d.add_force(Force::gravity(Vector3::new(0.0, -G, 0.0))).unwrap();
-    let res = d.inverse_dynamics(&KinematicOptions::new(0.0, 3.0, 60)).unwrap();
+    d.add_force(Force::gravity(Vector3::new(0.0, -G, 0.0)))
+        .unwrap();
+    let res = d
+        .inverse_dynamics(&KinematicOptions::new(0.0, 3.0, 60))
+        .unwrap();
     let motor = res.driver("motor").unwrap();
     let pin = res.joint_reactions("pin").unwrap();
     let (mut terr, mut ferr, mut axial): (f64, f64, f64) = (0.0, 0.0, 0.0);
@@ -59,9 +62,13 @@ fn forward_dynamics_with_a_driver_reproduces_the_motion() {
     let (m, l) = (2.0, 0.8);
     let model = crank(m, l, Some(TimeFunction::Polynomial(vec![0.0, 1.0, 0.5])));
     let mut d = Dynamics::new(&model).unwrap();
-    d.add_force(Force::gravity(Vector3::new(0.0, -G, 0.0))).unwrap();
+    d.add_force(Force::gravity(Vector3::new(0.0, -G, 0.0)))
+        .unwrap();
     let res = d
-        .simulate(&d.initial_guess(), &cardan_dynamics::SimulationOptions::new(2.0, 20))
+        .simulate(
+            &d.initial_guess(),
+            &cardan_dynamics::SimulationOptions::new(2.0, 20),
+        )
         .unwrap();
     let motor = res.driver("motor").unwrap();
     let mut err: f64 = 0.0;

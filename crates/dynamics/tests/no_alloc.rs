@@ -30,7 +30,8 @@ fn allocations(f: impl FnOnce()) -> usize {
 fn steps_do_not_allocate() {
     let model = crank(1.0, 1.0, None);
     let mut d = Dynamics::new(&model).unwrap();
-    d.add_force(Force::gravity(Vector3::new(0.0, -G, 0.0))).unwrap();
+    d.add_force(Force::gravity(Vector3::new(0.0, -G, 0.0)))
+        .unwrap();
     d.add_force(Force::spring_damper(
         "spring",
         (GROUND, Vector3::new(0.0, 1.0, 0.0)),
@@ -40,8 +41,10 @@ fn steps_do_not_allocate() {
         Some(0.5),
     ))
     .unwrap();
-    d.add_force(Force::rotational_spring_damper("coil", "pin", 3.0, 0.1, 0.3))
-        .unwrap();
+    d.add_force(Force::rotational_spring_damper(
+        "coil", "pin", 3.0, 0.1, 0.3,
+    ))
+    .unwrap();
     let s0 = d.consistent_state(&d.initial_guess()).unwrap();
 
     // One solve of the equations of motion.
@@ -53,7 +56,10 @@ fn steps_do_not_allocate() {
             d.accelerations(&s0, &mut vdot, &mut lambda).unwrap();
         }
     });
-    assert_eq!(n, 0, "{n} allocations in 100 solves of the equations of motion");
+    assert_eq!(
+        n, 0,
+        "{n} allocations in 100 solves of the equations of motion"
+    );
 
     for (label, coarse, fine) in [
         (
@@ -82,6 +88,9 @@ fn steps_do_not_allocate() {
             counts[0], steps[0], counts[1], steps[1]
         );
         assert!(steps[1] >= 9 * steps[0]);
-        assert_eq!(counts[0], counts[1], "{label}: allocations grow with the step count");
+        assert_eq!(
+            counts[0], counts[1],
+            "{label}: allocations grow with the step count"
+        );
     }
 }

@@ -12,7 +12,8 @@ use nalgebra::Vector3;
 fn error_at_2s(integrator: Integrator) -> (f64, usize) {
     let model = pendulum(1.0, 1e-13, 1.0);
     let mut d = Dynamics::new(&model).unwrap();
-    d.add_force(Force::gravity(Vector3::new(0.0, -G, 0.0))).unwrap();
+    d.add_force(Force::gravity(Vector3::new(0.0, -G, 0.0)))
+        .unwrap();
     let res = d
         .simulate(
             &d.initial_guess(),
@@ -21,14 +22,20 @@ fn error_at_2s(integrator: Integrator) -> (f64, usize) {
         .unwrap();
     let r = res.body("mass").unwrap().r[1];
     let (_, x, y) = A01[2];
-    (((r.x - x).powi(2) + (r.y - y).powi(2)).sqrt(), res.stats.steps)
+    (
+        ((r.x - x).powi(2) + (r.y - y).powi(2)).sqrt(),
+        res.stats.steps,
+    )
 }
 
 #[test]
 fn dopri5_error_follows_the_tolerance() {
     let mut errs = Vec::new();
     for tol in [1e-5, 1e-7, 1e-9] {
-        let (e, steps) = error_at_2s(Integrator::Dopri5(Dopri5Options::tolerances(tol, tol * 1e-2)));
+        let (e, steps) = error_at_2s(Integrator::Dopri5(Dopri5Options::tolerances(
+            tol,
+            tol * 1e-2,
+        )));
         eprintln!("DOPRI5 rtol {tol:.0e}: error {e:.2e}, {steps} steps");
         errs.push(e);
     }
@@ -44,7 +51,9 @@ fn dopri5_fixed_step_is_fifth_order() {
     let (e1, _) = error_at_2s(Integrator::Dopri5(Dopri5Options::fixed(0.02)));
     let (e2, _) = error_at_2s(Integrator::Dopri5(Dopri5Options::fixed(0.01)));
     let order = (e1 / e2).log2();
-    eprintln!("DOPRI5 fixed: h=0.02 error {e1:.2e}, h=0.01 error {e2:.2e}, observed order {order:.2}");
+    eprintln!(
+        "DOPRI5 fixed: h=0.02 error {e1:.2e}, h=0.01 error {e2:.2e}, observed order {order:.2}"
+    );
     assert!(order > 4.0 && order < 6.5, "order {order}");
 }
 

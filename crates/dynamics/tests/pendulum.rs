@@ -11,7 +11,8 @@ use nalgebra::Vector3;
 fn run(integrator: Integrator) -> (f64, f64, f64, f64) {
     let model = pendulum(1.0, 1e-13, 1.0);
     let mut d = Dynamics::new(&model).unwrap();
-    d.add_force(Force::gravity(Vector3::new(0.0, -G, 0.0))).unwrap();
+    d.add_force(Force::gravity(Vector3::new(0.0, -G, 0.0)))
+        .unwrap();
     let times: Vec<f64> = A01.iter().map(|r| r.0).collect();
     let opts = SimulationOptions::new(20.0, 1)
         .output_times(std::iter::once(0.0).chain(times.iter().copied()).collect())
@@ -33,9 +34,16 @@ fn run(integrator: Integrator) -> (f64, f64, f64, f64) {
         let tension = 1.0 * (G * cos_theta + v.norm_squared() / 1.0);
         let f = pin.on_j[k].force;
         let along = f.dot(&(-r / r.norm()));
-        terr = terr.max((along - tension).abs()).max((f - along * (-r / r.norm())).norm());
+        terr = terr
+            .max((along - tension).abs())
+            .max((f - along * (-r / r.norm())).norm());
     }
-    (err, res.energy.max_drift(), terr, res.stats.wall_time / res.stats.steps.max(1) as f64)
+    (
+        err,
+        res.energy.max_drift(),
+        terr,
+        res.stats.wall_time / res.stats.steps.max(1) as f64,
+    )
 }
 
 #[test]

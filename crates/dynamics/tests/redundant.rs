@@ -3,7 +3,9 @@
 //! model J φ̈ = −2 m g L cos φ (J = 5/3 m L²), and energy conservation.
 
 mod common;
-use cardan_dynamics::{Dopri5Options, Dynamics, Force, GeneralizedAlphaOptions, Integrator, SimulationOptions};
+use cardan_dynamics::{
+    Dopri5Options, Dynamics, Force, GeneralizedAlphaOptions, Integrator, SimulationOptions,
+};
 use cardan_mechanism::{Body, JointKind, JointSpec, MechanismBuilder, Model, Orientation, GROUND};
 use common::G;
 use nalgebra::Vector3;
@@ -19,7 +21,10 @@ fn four_bar() -> Model {
                 .mass(m)
                 .inertia_diagonal(1e-4, i, i)
                 .position(Vector3::new(k as f64 * l, -l / 2.0, 0.0))
-                .orientation(Orientation::AxisAngle { axis: Vector3::z(), angle: -FRAC_PI_2 }),
+                .orientation(Orientation::AxisAngle {
+                    axis: Vector3::z(),
+                    angle: -FRAC_PI_2,
+                }),
         );
         b.point(name, "pivot", Vector3::new(-l / 2.0, 0.0, 0.0))
             .point(name, "end", Vector3::new(l / 2.0, 0.0, 0.0))
@@ -68,7 +73,8 @@ fn phi_exact(t_end: f64) -> f64 {
 fn run(integrator: Integrator) -> (f64, f64, usize) {
     let model = four_bar();
     let mut d = Dynamics::new(&model).unwrap();
-    d.add_force(Force::gravity(Vector3::new(0.0, -G, 0.0))).unwrap();
+    d.add_force(Force::gravity(Vector3::new(0.0, -G, 0.0)))
+        .unwrap();
     let mut s = d.initial_guess();
     for k in 0..2 {
         s.set_velocity(k, Vector3::new(0.5, 0.0, 0.0), Vector3::new(0.0, 0.0, 1.0));
@@ -89,11 +95,15 @@ fn run(integrator: Integrator) -> (f64, f64, usize) {
 #[test]
 fn redundant_four_bar_follows_the_one_dof_model() {
     let (err, drift, redundant) = run(Integrator::Dopri5(Dopri5Options::tolerances(1e-10, 1e-12)));
-    eprintln!("four-bar DOPRI5: error {err:.2e}, energy drift {drift:.2e}, {redundant} redundant rows");
+    eprintln!(
+        "four-bar DOPRI5: error {err:.2e}, energy drift {drift:.2e}, {redundant} redundant rows"
+    );
     assert_eq!(redundant, 3);
     assert!(err < 1e-7, "{err}");
     assert!(drift < 1e-7, "{drift}");
-    let (err, drift, _) = run(Integrator::GeneralizedAlpha(GeneralizedAlphaOptions::with_step(1e-3)));
+    let (err, drift, _) = run(Integrator::GeneralizedAlpha(
+        GeneralizedAlphaOptions::with_step(1e-3),
+    ));
     eprintln!("four-bar generalized-α h = 1 ms: error {err:.2e}, energy drift {drift:.2e}");
     assert!(err < 1e-3, "{err}");
 }

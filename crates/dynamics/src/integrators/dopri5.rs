@@ -172,7 +172,9 @@ pub(crate) fn run(
     }
     if let StepControl::Fixed(h) = o.step {
         if !(h > 0.0 && h.is_finite()) {
-            return Err(DynamicsError::Options(format!("fixed step must be positive, got {h}")));
+            return Err(DynamicsError::Options(format!(
+                "fixed step must be positive, got {h}"
+            )));
         }
     }
     let start = std::time::Instant::now();
@@ -222,7 +224,11 @@ pub(crate) fn run(
                 d1 += (b.k[0][i] / sc).powi(2);
             }
             let (d0, d1) = ((d0 / len as f64).sqrt(), (d1 / len as f64).sqrt());
-            let h0 = if d0 < 1e-5 || d1 < 1e-5 { 1e-6 } else { 0.01 * d0 / d1 };
+            let h0 = if d0 < 1e-5 || d1 < 1e-5 {
+                1e-6
+            } else {
+                0.01 * d0 / d1
+            };
             let h0 = h0.min(span);
             for i in 0..len {
                 b.yt[i] = b.y0[i] + h0 * b.k[0][i];
@@ -357,7 +363,11 @@ pub(crate) fn run(
             rhs(d, t, &b.y0, &mut b.k[0], &mut b.scratch, baum)?;
             stats.evaluations += 1;
             if !fixed {
-                let fac = if err == 0.0 { 10.0 } else { 0.9 * err.powf(-0.2) };
+                let fac = if err == 0.0 {
+                    10.0
+                } else {
+                    0.9 * err.powf(-0.2)
+                };
                 let fac = fac.clamp(0.2, if last_rejected { 1.0 } else { 10.0 });
                 h = (hs * fac).min(o.h_max);
             }

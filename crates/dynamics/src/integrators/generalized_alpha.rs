@@ -215,8 +215,22 @@ pub(crate) fn run(
         dq: vec![0.0; n],
         pert: state.clone(),
         h0: vec![0.0; n],
-        ct: vec![0.0; if o.iteration_matrix == IterationMatrix::Tangent { n * n } else { 0 }],
-        kt: vec![0.0; if o.iteration_matrix == IterationMatrix::Tangent { n * n } else { 0 }],
+        ct: vec![
+            0.0;
+            if o.iteration_matrix == IterationMatrix::Tangent {
+                n * n
+            } else {
+                0
+            }
+        ],
+        kt: vec![
+            0.0;
+            if o.iteration_matrix == IterationMatrix::Tangent {
+                n * n
+            } else {
+                0
+            }
+        ],
         phi: vec![0.0; m],
     };
     let mut rec = Recorder::new(d, times.len(), options.outputs);
@@ -252,11 +266,7 @@ pub(crate) fn run(
                     max_steps: options.max_steps,
                 });
             }
-            let t_goal = if sub + 1 == nsub {
-                target
-            } else {
-                b.s.t + hs
-            };
+            let t_goal = if sub + 1 == nsub { target } else { b.s.t + hs };
             // Reach t_goal, halving on failure.
             while b.s.t < t_goal {
                 let mut h = t_goal - b.s.t;
