@@ -1,6 +1,7 @@
 //! [`DynamicsError`]: everything a dynamic analysis can report. Variants name the element
 //! (body, joint, force) and carry the numbers.
 
+use crate::results::DynamicResults;
 use cardan_mechanism::{AnalysisError, EquationName, OpenElement};
 use thiserror::Error;
 
@@ -99,9 +100,38 @@ pub enum DynamicsError {
         /// The limit.
         max_steps: usize,
     },
+    /// A failure after some outputs were stored: the cause and the results up to the last
+    /// stored time.
+    #[error("{source} (results kept up to t = {last_time})")]
+    MidRun {
+        /// The cause.
+        source: Box<DynamicsError>,
+        /// The last stored time.
+        last_time: f64,
+        /// The results so far.
+        partial: Box<DynamicResults>,
+    },
     /// An error of the mechanism layer (assembly, kinematics).
     #[error(transparent)]
     Mechanism(#[from] AnalysisError),
+}
+
+impl DynamicsError {
+    /// The results stored before a mid-run failure ([`DynamicsError::MidRun`]).
+    pub fn partial_results(&self) -> Option<&DynamicResults> {
+        match self {
+            DynamicsError::MidRun { partial, .. } => Some(partial),
+            _ => None,
+        }
+    }
+
+    /// The underlying error (unwraps [`DynamicsError::MidRun`]).
+    pub fn cause(&self) -> &DynamicsError {
+        match self {
+            DynamicsError::MidRun { source, .. } => source.cause(),
+            e => e,
+        }
+    }
 }
 
 fn fmt_open(open: &[OpenElement]) -> String {

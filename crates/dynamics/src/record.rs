@@ -271,6 +271,11 @@ impl Recorder {
         Ok(())
     }
 
+    /// Number of stored times.
+    pub fn len(&self) -> usize {
+        self.res.kinematics.times.len()
+    }
+
     pub fn finish(mut self, stats: IntegrationStats) -> DynamicResults {
         self.res.stats = stats;
         self.res

@@ -1,7 +1,8 @@
 //! Forward dynamics over time: [`Dynamics::simulate`].
 
 use crate::options::{Integrator, SimulationOptions};
-use crate::results::DynamicResults;
+use crate::record::Recorder;
+use crate::results::{DynamicResults, IntegrationStats};
 use crate::state::State;
 use crate::system::Dynamics;
 use crate::DynamicsError;
@@ -13,7 +14,8 @@ impl Dynamics<'_> {
     ///
     /// # Errors
     /// Inconsistent initial conditions, options, singular configurations, step-size failures.
-    /// On a failure mid-run, nothing is returned but the error (it names the time).
+    /// A failure after the first stored output is wrapped in [`DynamicsError::MidRun`], which
+    /// keeps the results so far ([`DynamicsError::partial_results`]).
     pub fn simulate(
         &mut self,
         initial: &State,
@@ -38,13 +40,31 @@ impl Dynamics<'_> {
         if self.kkt.is_none() {
             self.prepare(&state)?;
         }
-        match options.integrator {
-            Integrator::Dopri5(o) => {
-                crate::integrators::dopri5::run(self, state, &times, &o, options)
+        let mut rec = Recorder::new(self, times.len(), options.outputs);
+        let mut stats = IntegrationStats::default();
+        let f0 = self.kkt.as_ref().map_or(0, |k| k.factorizations);
+        let start = std::time::Instant::now();
+        let r = match options.integrator {
+            Integrator::Dopri5(o) => crate::integrators::dopri5::run(
+                self, state, &times, &o, options, &mut rec, &mut stats,
+            ),
+            Integrator::GeneralizedAlpha(o) => crate::integrators::generalized_alpha::run(
+                self, state, &times, &o, options, &mut rec, &mut stats,
+            ),
+        };
+        stats.factorizations = self.kkt.as_ref().map_or(0, |k| k.factorizations) - f0;
+        stats.wall_time = start.elapsed().as_secs_f64();
+        match r {
+            Ok(()) => Ok(rec.finish(stats)),
+            Err(e) if rec.len() > 0 => {
+                let partial = rec.finish(stats);
+                Err(DynamicsError::MidRun {
+                    last_time: partial.times().last().copied().unwrap_or(f64::NAN),
+                    source: Box::new(e),
+                    partial: Box::new(partial),
+                })
             }
-            Integrator::GeneralizedAlpha(o) => {
-                crate::integrators::generalized_alpha::run(self, state, &times, &o, options)
-            }
+            Err(e) => Err(e),
         }
     }
 }

@@ -75,7 +75,16 @@ fn explicit_fixed_step_explodes() {
     let opts =
         SimulationOptions::new(0.1, 10).integrator(Integrator::Dopri5(Dopri5Options::fixed(1e-3)));
     match d.simulate(&d.initial_guess(), &opts) {
-        Err(e) => eprintln!("DOPRI5 h = 1 ms: {e}"),
+        Err(e) => {
+            eprintln!("DOPRI5 h = 1 ms: {e}");
+            // The outputs before the blow-up are kept.
+            let partial = e.partial_results().expect("t = 0 was stored");
+            assert!(!partial.is_empty());
+            assert!(matches!(
+                e.cause(),
+                cardan_dynamics::DynamicsError::NonFinite { .. }
+            ));
+        }
         Ok(res) => {
             let y = res.body("slider").unwrap().r.last().unwrap().y;
             eprintln!("DOPRI5 h = 1 ms: y(0.1) = {y:e}");

@@ -10,7 +10,7 @@
 
 use crate::options::{Dopri5Options, SimulationOptions, StepControl};
 use crate::record::Recorder;
-use crate::results::{DynamicResults, IntegrationStats};
+use crate::results::IntegrationStats;
 use crate::state::State;
 use crate::system::Dynamics;
 use crate::DynamicsError;
@@ -163,7 +163,9 @@ pub(crate) fn run(
     times: &[f64],
     o: &Dopri5Options,
     options: &SimulationOptions,
-) -> Result<DynamicResults, DynamicsError> {
+    rec: &mut Recorder,
+    stats: &mut IntegrationStats,
+) -> Result<(), DynamicsError> {
     if !(o.rtol > 0.0 && o.atol > 0.0 && o.rtol.is_finite() && o.atol.is_finite()) {
         return Err(DynamicsError::Options(format!(
             "DOPRI5 tolerances must be positive (rtol = {}, atol = {})",
@@ -177,7 +179,6 @@ pub(crate) fn run(
             )));
         }
     }
-    let start = std::time::Instant::now();
     let len = state.q.len() + state.v.len();
     let z = || vec![0.0; len];
     let mut b = Buffers {
@@ -188,11 +189,8 @@ pub(crate) fn run(
         cont: [z(), z(), z(), z(), z()],
         scratch: state.clone(),
     };
-    let mut rec = Recorder::new(d, times.len(), options.outputs);
-    let mut stats = IntegrationStats::default();
     let baum = o.stabilization.baumgarte();
     let projects = o.stabilization.projects();
-    let f0 = d.kkt.as_ref().map_or(0, |k| k.factorizations);
 
     let mut t = state.t;
     let t_end = options.t_end;
@@ -204,8 +202,7 @@ pub(crate) fn run(
         next += 1;
     }
     if next == times.len() || t >= t_end {
-        stats.wall_time = start.elapsed().as_secs_f64();
-        return Ok(rec.finish(stats));
+        return Ok(());
     }
 
     rhs(d, t, &b.y0, &mut b.k[0], &mut b.scratch, baum)?;
@@ -393,7 +390,5 @@ pub(crate) fn run(
             }
         }
     }
-    stats.factorizations = d.kkt.as_ref().map_or(0, |k| k.factorizations) - f0;
-    stats.wall_time = start.elapsed().as_secs_f64();
-    Ok(rec.finish(stats))
+    Ok(())
 }

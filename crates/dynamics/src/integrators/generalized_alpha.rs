@@ -15,7 +15,7 @@
 use crate::kkt::{eval_rows, Rhs};
 use crate::options::{GeneralizedAlphaOptions, IterationMatrix, SimulationOptions};
 use crate::record::Recorder;
-use crate::results::{DynamicResults, IntegrationStats};
+use crate::results::IntegrationStats;
 use crate::state::State;
 use crate::system::Dynamics;
 use crate::DynamicsError;
@@ -186,7 +186,9 @@ pub(crate) fn run(
     times: &[f64],
     o: &GeneralizedAlphaOptions,
     options: &SimulationOptions,
-) -> Result<DynamicResults, DynamicsError> {
+    rec: &mut Recorder,
+    stats: &mut IntegrationStats,
+) -> Result<(), DynamicsError> {
     if !(o.h > 0.0 && o.h.is_finite()) {
         return Err(DynamicsError::Options(format!(
             "generalized-α step must be positive, got {}",
@@ -199,7 +201,6 @@ pub(crate) fn run(
             o.rho_inf
         )));
     }
-    let start = std::time::Instant::now();
     let n = state.v.len();
     let ma = d.kkt.as_ref().expect("prepared").active.len();
     let m = d.model.num_equations();
@@ -233,9 +234,6 @@ pub(crate) fn run(
         ],
         phi: vec![0.0; m],
     };
-    let mut rec = Recorder::new(d, times.len(), options.outputs);
-    let mut stats = IntegrationStats::default();
-    let f0 = d.kkt.as_ref().map_or(0, |k| k.factorizations);
     // Consistent accelerations at t0.
     let mut full = vec![0.0; m];
     d.accelerations(&b.s, &mut b.vdot, &mut full)?;
@@ -273,7 +271,7 @@ pub(crate) fn run(
                 let mut halvings = 0;
                 loop {
                     let before = stats.newton_iterations;
-                    if attempt(d, &mut b, h, o, &mut stats)? {
+                    if attempt(d, &mut b, h, o, stats)? {
                         iters_since += stats.newton_iterations - before;
                         break;
                     }
@@ -306,7 +304,5 @@ pub(crate) fn run(
         iters_since = 0;
         next += 1;
     }
-    stats.factorizations = d.kkt.as_ref().map_or(0, |k| k.factorizations) - f0;
-    stats.wall_time = start.elapsed().as_secs_f64();
-    Ok(rec.finish(stats))
+    Ok(())
 }
