@@ -9,6 +9,10 @@
 //! Convergence: the scaled position increment β'|Δv̇| (per unknown, divided by its scale) and the
 //! scaled constraint residual both below the tolerance.
 //!
+//! Stored outputs (accelerations, λ, reactions) are those of the augmented system solved at the
+//! stored state (index-1 consistent), not the integrator's internal v̇ and λ, which carry the
+//! O(h) start-up error of index-3 schemes.
+//!
 //! After setup a step does not allocate (dense n × n tangent buffers are reserved once; fine for
 //! the models of interest, O(n²) memory for very large ones).
 
