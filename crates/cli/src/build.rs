@@ -5,10 +5,13 @@
 
 use crate::diag::{did_you_mean, list, Error, Source};
 use crate::model::{
-    AnalysisSection, BodySection, DriverSection, FunctionSpec, InertiaSpec, JointSection,
-    ModelFile, Name, Num, OrientationSpec, Vec3,
+    AnalysisSection, BodySection, DriverSection, ForceSection, FunctionSpec, InertiaSpec,
+    JointSection, ModelFile, Name, Num, OrientationSpec, Vec3,
 };
 use cardan_constraints::{JointKind, TimeFunction};
+use cardan_dynamics::{
+    Dopri5Options, Force, Frame, GeneralizedAlphaOptions, Integrator, PointRef, VectorFunction,
+};
 use cardan_eulerparam::EulerParams;
 use cardan_mechanism::{Axis, Body, DriverSpec, JointSpec, MechanismBuilder, Orientation, GROUND};
 use nalgebra::{Matrix3, Vector3};
@@ -28,6 +31,8 @@ pub struct Spans {
     pub joints: HashMap<String, Range<usize>>,
     /// Driver name → span.
     pub drivers: HashMap<String, Range<usize>>,
+    /// Force name → span.
+    pub forces: HashMap<String, Range<usize>>,
     /// Span of `[analysis] kind` (or of the file start).
     pub analysis: Range<usize>,
     /// Span of the `[[driver]]` array (first driver name) for driver-count messages.
@@ -41,6 +46,7 @@ impl Spans {
             .get(name)
             .or_else(|| self.drivers.get(name))
             .or_else(|| self.bodies.get(name))
+            .or_else(|| self.forces.get(name))
             .cloned()
     }
 }
@@ -54,6 +60,10 @@ pub struct Outputs {
     pub joints: Vec<String>,
     /// Body names.
     pub bodies: Vec<String>,
+    /// Dynamic: joints whose reactions are written (`None`: all joints).
+    pub reactions: Option<Vec<String>>,
+    /// Dynamic: write the energy table.
+    pub energy: bool,
 }
 
 /// The analysis requested.
@@ -69,6 +79,8 @@ pub struct Analysis {
     pub outputs: Outputs,
     /// Write SVG plots.
     pub plots: bool,
+    /// `kind = "dynamic"`: the integrator with its options (`None`: kinematic).
+    pub dynamic: Option<Integrator>,
 }
 
 impl Analysis {
@@ -104,6 +116,24 @@ pub struct Loaded {
     pub bodies: Vec<(String, Option<f64>)>,
     /// Driver names and what they drive, in file order.
     pub drivers: Vec<(String, String)>,
+    /// Force elements for dynamic analysis: `[model] gravity` first, then `[[force]]` in file
+    /// order.
+    pub forces: Vec<Force>,
+    /// Initial body velocities given in the file (dynamic analysis), in file order.
+    pub velocities: Vec<BodyVelocity>,
+}
+
+/// The initial velocity of one body as given in the file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BodyVelocity {
+    /// Body name.
+    pub body: String,
+    /// Velocity of the body origin (centre of mass), global [m/s].
+    pub velocity: Vector3<f64>,
+    /// Angular velocity [rad/s].
+    pub omega: Vector3<f64>,
+    /// `omega` is in body components (`angular_velocity_local`), else global.
+    pub omega_local: bool,
 }
 
 /// Points and vectors of one body, with the span of each name.
@@ -235,8 +265,9 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
             ));
         }
     }
+    let mut forces = Vec::new();
     if let Some(g) = &model.gravity {
-        cx.vec3(g, "gravity")?;
+        forces.push(Force::gravity(cx.vec3(g, "gravity")?));
     }
 
     // Ground features.
@@ -258,6 +289,7 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
 
     // Bodies.
     let mut bodies = Vec::new();
+    let mut velocities = Vec::new();
     let mut body_order: Vec<String> = vec![GROUND.into()];
     for b in &file.body {
         let b = b.get_ref();
@@ -284,6 +316,9 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
         }
         spans.bodies.insert(bname.clone(), b.name.span());
         let (body, f) = load_body(&cx, b)?;
+        if let Some(v) = body_velocity(&cx, b)? {
+            velocities.push(v);
+        }
         for (n, (_, v)) in &f.points {
             builder.point(&bname, n, *v);
         }
@@ -337,6 +372,14 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
         builder.driver(spec);
     }
 
+    // Forces.
+    for f in &file.force {
+        let f = f.get_ref();
+        check_unique_element(&cx, &spans, &f.name, "force")?;
+        spans.forces.insert(f.name.get_ref().clone(), f.name.span());
+        forces.push(load_force(&resolver, f, &joint_kinds, &spans)?);
+    }
+
     // Analysis.
     spans.analysis = 0..0;
     let analysis = match &file.analysis {
@@ -355,6 +398,8 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
         joints,
         bodies,
         drivers,
+        forces,
+        velocities,
     })
 }
 
@@ -367,14 +412,15 @@ fn check_unique_element(cx: &Ctx, spans: &Spans, name: &Name, what: &str) -> Res
         .joints
         .get(n)
         .map(|s| ("joint", s))
-        .or_else(|| spans.drivers.get(n).map(|s| ("driver", s)));
+        .or_else(|| spans.drivers.get(n).map(|s| ("driver", s)))
+        .or_else(|| spans.forces.get(n).map(|s| ("force", s)));
     if let Some((kind, s)) = prev {
         let l = cx.src.location(s.start);
         return Err(cx.err(
             name.span(),
             format!(
                 "duplicate name \"{n}\": a {kind} of that name is defined at line {} \
-                 (joints and drivers share one namespace)",
+                 (joints, drivers and forces share one namespace)",
                 l.line
             ),
         ));
@@ -1017,22 +1063,39 @@ fn load_driver(
 
 fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Analysis, Error> {
     let cx = r.cx;
-    match a.kind.get_ref().as_str() {
-        "kinematic" => {}
-        "dynamic" => {
-            return Err(cx.err(
-                a.kind.span(),
-                "dynamic analysis is not available yet in this version; use kind = \"kinematic\"",
-            ))
+    let dynamic = match a.kind.get_ref().as_str() {
+        "kinematic" => {
+            let dynamic_only: [(&str, Option<Range<usize>>); 7] = [
+                ("integrator", a.integrator.as_ref().map(|n| n.span())),
+                ("rtol", a.rtol.as_ref().map(|n| n.span())),
+                ("atol", a.atol.as_ref().map(|n| n.span())),
+                ("h_max", a.h_max.as_ref().map(|n| n.span())),
+                ("rho_inf", a.rho_inf.as_ref().map(|n| n.span())),
+                (
+                    "newton_tolerance",
+                    a.newton_tolerance.as_ref().map(|n| n.span()),
+                ),
+                ("output_dt", a.output_dt.as_ref().map(|n| n.span())),
+            ];
+            if let Some((k, Some(s))) = dynamic_only.into_iter().find(|(_, s)| s.is_some()) {
+                return Err(cx.err(
+                    s,
+                    format!("{k} applies only to kind = \"dynamic\" (a kinematic analysis has no integrator; its output step is dt or steps)"),
+                ));
+            }
+            None
         }
+        "dynamic" => Some(load_integrator(cx, a)?),
         other => {
             let hint = did_you_mean(other, ["kinematic", "dynamic"]);
             return Err(cx.err(
                 a.kind.span(),
-                format!("unknown analysis kind \"{other}\"{hint} (kinds: \"kinematic\")"),
+                format!(
+                    "unknown analysis kind \"{other}\"{hint} (kinds: \"kinematic\", \"dynamic\")"
+                ),
             ));
         }
-    }
+    };
     let t_start = match &a.t_start {
         Some(t) => cx.num(t, "t_start")?,
         None => 0.0,
@@ -1044,9 +1107,18 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
             format!("t_end = {t_end} s must be greater than t_start = {t_start} s"),
         ));
     }
-    let steps = match (&a.steps, &a.dt) {
+    // The output step: dt for kinematics; output_dt for dynamics (where dt is the integration step).
+    let (out_dt, out_key) = if dynamic.is_some() {
+        (&a.output_dt, "output_dt")
+    } else {
+        (&a.dt, "dt")
+    };
+    let steps = match (&a.steps, out_dt) {
         (Some(_), Some(dt)) => {
-            return Err(cx.err(dt.span(), "give either steps or dt, not both"));
+            return Err(cx.err(
+                dt.span(),
+                format!("give either steps or {out_key}, not both"),
+            ));
         }
         (Some(n), None) => {
             let v = *n.get_ref();
@@ -1059,22 +1131,22 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
             v as usize
         }
         (None, Some(dt)) => {
-            let h = cx.num(dt, "dt")?;
+            let h = cx.num(dt, out_key)?;
             if h <= 0.0 {
-                return Err(cx.err(dt.span(), format!("dt must be positive, got {h} s")));
+                return Err(cx.err(dt.span(), format!("{out_key} must be positive, got {h} s")));
             }
             let n = ((t_end - t_start) / h).round();
             if n > 1e7 {
                 return Err(cx.err(
                     dt.span(),
-                    format!("dt = {h} s gives {n:e} steps; at most 10000000 are allowed"),
+                    format!("{out_key} = {h} s gives {n:e} steps; at most 10000000 are allowed"),
                 ));
             }
             if ((t_end - t_start) / h - n).abs() > 1e-6 * n.max(1.0) {
                 return Err(cx.err(
                     dt.span(),
                     format!(
-                        "dt = {h} s does not divide t_end − t_start = {} s into whole steps; use steps = N instead",
+                        "{out_key} = {h} s does not divide t_end − t_start = {} s into whole steps; use steps = N instead",
                         t_end - t_start
                     ),
                 ));
@@ -1123,6 +1195,29 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
             }
             outputs.bodies.push(bs.to_string());
         }
+        if dynamic.is_none() && (o.reactions.is_some() || o.energy.is_some()) {
+            return Err(cx.err(
+                a.kind.span(),
+                "outputs.reactions and outputs.energy apply only to kind = \"dynamic\"",
+            ));
+        }
+        if let Some(list_) = &o.reactions {
+            let mut v = Vec::new();
+            for j in list_ {
+                if !spans.joints.contains_key(j.get_ref()) {
+                    let hint = did_you_mean(j.get_ref(), spans.joints.keys().map(String::as_str));
+                    return Err(cx.err(
+                        j.span(),
+                        format!("outputs.reactions: unknown joint \"{}\"{hint}", j.get_ref()),
+                    ));
+                }
+                v.push(j.get_ref().clone());
+            }
+            outputs.reactions = Some(v);
+        }
+        outputs.energy = o.energy.unwrap_or(true);
+    } else {
+        outputs.energy = true;
     }
     let plots = match &a.plots {
         None => true,
@@ -1143,5 +1238,384 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
         steps,
         outputs,
         plots,
+        dynamic,
     })
+}
+
+/// `velocity`, `angular_velocity` / `angular_velocity_local` of a body, if any is given.
+fn body_velocity(cx: &Ctx, b: &BodySection) -> Result<Option<BodyVelocity>, Error> {
+    let name = b.name.get_ref();
+    if b.velocity.is_none() && b.angular_velocity.is_none() && b.angular_velocity_local.is_none() {
+        return Ok(None);
+    }
+    if let (Some(_), Some(l)) = (&b.angular_velocity, &b.angular_velocity_local) {
+        return Err(cx.err(
+            l.span(),
+            format!(
+                "body \"{name}\": give angular_velocity (global components) or \
+                 angular_velocity_local (body components), not both"
+            ),
+        ));
+    }
+    let velocity = match &b.velocity {
+        Some(v) => cx.vec3(v, &format!("velocity of body \"{name}\""))?,
+        None => Vector3::zeros(),
+    };
+    let (omega, omega_local) = match (&b.angular_velocity, &b.angular_velocity_local) {
+        (Some(w), _) => (
+            cx.vec3(w, &format!("angular_velocity of body \"{name}\""))?,
+            false,
+        ),
+        (None, Some(w)) => (
+            cx.vec3(w, &format!("angular_velocity_local of body \"{name}\""))?,
+            true,
+        ),
+        (None, None) => (Vector3::zeros(), false),
+    };
+    Ok(Some(BodyVelocity {
+        body: name.clone(),
+        velocity,
+        omega,
+        omega_local,
+    }))
+}
+
+const FORCE_TYPES: &[&str] = &[
+    "point_force",
+    "torque",
+    "spring_damper",
+    "rotational_spring_damper",
+];
+
+fn load_force(
+    r: &Resolver,
+    f: &ForceSection,
+    joint_kinds: &HashMap<String, JointKind>,
+    spans: &Spans,
+) -> Result<Force, Error> {
+    let cx = r.cx;
+    let name = f.name.get_ref().clone();
+    let owner = format!("force \"{name}\"");
+    let kind = f.kind.get_ref().as_str();
+    let span = f.name.span();
+    let allowed: &[&str] = match kind {
+        "point_force" => &["body", "point", "value", "components", "frame"],
+        "torque" => &["body", "value", "components", "frame"],
+        "spring_damper" => &[
+            "body_i",
+            "point_i",
+            "body_j",
+            "point_j",
+            "stiffness",
+            "damping",
+            "free_length",
+            "actuator",
+        ],
+        "rotational_spring_damper" => &["joint", "stiffness", "damping", "rest_angle"],
+        _ => {
+            let hint = did_you_mean(kind, FORCE_TYPES.iter().copied());
+            return Err(cx.err(
+                f.kind.span(),
+                format!(
+                    "{owner}: unknown force type \"{kind}\"{hint} (types: {})",
+                    list(FORCE_TYPES.iter().copied())
+                ),
+            ));
+        }
+    };
+    let present = [
+        ("body", f.body.is_some()),
+        ("point", f.point.is_some()),
+        ("value", f.value.is_some()),
+        ("components", f.components.is_some()),
+        ("frame", f.frame.is_some()),
+        ("body_i", f.body_i.is_some()),
+        ("point_i", f.point_i.is_some()),
+        ("body_j", f.body_j.is_some()),
+        ("point_j", f.point_j.is_some()),
+        ("stiffness", f.stiffness.is_some()),
+        ("damping", f.damping.is_some()),
+        ("free_length", f.free_length.is_some()),
+        ("actuator", f.actuator.is_some()),
+        ("joint", f.joint.is_some()),
+        ("rest_angle", f.rest_angle.is_some()),
+    ];
+    if let Some((k, _)) = present.iter().find(|(k, p)| *p && !allowed.contains(k)) {
+        return Err(cx.err(
+            span,
+            format!(
+                "{owner}: a {kind} force does not take \"{k}\" (it takes {})",
+                list(allowed.iter().copied())
+            ),
+        ));
+    }
+    let need = |v: &Option<Name>, key: &str| -> Result<Name, Error> {
+        v.clone().ok_or_else(|| {
+            missing(
+                cx,
+                span.clone(),
+                &owner,
+                key,
+                &format!("a {kind} force needs it"),
+            )
+        })
+    };
+    let coefficient = |v: &Option<Num>, key: &str, unit: &str| -> Result<f64, Error> {
+        match v {
+            Some(n) => {
+                let x = cx.num(n, &format!("{owner}: {key}"))?;
+                if x < 0.0 {
+                    return Err(cx.err(
+                        n.span(),
+                        format!("{owner}: {key} must be ≥ 0, got {x} {unit}"),
+                    ));
+                }
+                Ok(x)
+            }
+            None => Ok(0.0),
+        }
+    };
+    match kind {
+        "point_force" | "torque" => {
+            let b = need(&f.body, "body")?;
+            let body = r.body(&b, &owner)?;
+            if body == GROUND {
+                return Err(cx.err(
+                    b.span(),
+                    format!("{owner}: a force on the ground does nothing; name a moving body"),
+                ));
+            }
+            let value = match (&f.value, &f.components) {
+                (Some(v), None) => VectorFunction::Constant(cx.vec3(v, &format!("{owner}: value"))?),
+                (None, Some(c)) => {
+                    let list_ = c.get_ref();
+                    if list_.len() != 3 {
+                        return Err(cx.err(
+                            c.span(),
+                            format!(
+                                "{owner}: components needs three functions (x, y, z), got {}",
+                                list_.len()
+                            ),
+                        ));
+                    }
+                    let fx = load_function(cx, &list_[0], &owner)?;
+                    let fy = load_function(cx, &list_[1], &owner)?;
+                    let fz = load_function(cx, &list_[2], &owner)?;
+                    VectorFunction::Components(Box::new([fx, fy, fz]))
+                }
+                (Some(_), Some(c)) => {
+                    return Err(cx.err(
+                        c.span(),
+                        format!("{owner}: give value (constant) or components (functions), not both"),
+                    ))
+                }
+                (None, None) => {
+                    return Err(missing(
+                        cx,
+                        span,
+                        &owner,
+                        "value",
+                        "a constant vector, or components = [{...}, {...}, {...}] for functions of time",
+                    ))
+                }
+            };
+            let frame = match &f.frame {
+                None => Frame::Global,
+                Some(fr) => match fr.get_ref().as_str() {
+                    "global" => Frame::Global,
+                    "body" | "local" => Frame::Body,
+                    other => {
+                        let hint = did_you_mean(other, ["global", "body"]);
+                        return Err(cx.err(
+                            fr.span(),
+                            format!("{owner}: unknown frame \"{other}\"{hint} (frames: \"global\", \"body\")"),
+                        ));
+                    }
+                },
+            };
+            if kind == "torque" {
+                Ok(Force::torque(&name, body, value, frame))
+            } else {
+                let p = need(&f.point, "point")?;
+                r.feature(body, &p, &owner, true)?;
+                let local = r.point_value(body, p.get_ref());
+                Ok(Force::point_force(
+                    &name,
+                    body,
+                    PointRef::Local(local),
+                    value,
+                    frame,
+                ))
+            }
+        }
+        "spring_damper" => {
+            let (bi, pi, bj, pj) = (
+                need(&f.body_i, "body_i")?,
+                need(&f.point_i, "point_i")?,
+                need(&f.body_j, "body_j")?,
+                need(&f.point_j, "point_j")?,
+            );
+            let bi_s = r.body(&bi, &owner)?;
+            let bj_s = r.body(&bj, &owner)?;
+            r.feature(bi_s, &pi, &owner, true)?;
+            r.feature(bj_s, &pj, &owner, true)?;
+            if bi_s == bj_s {
+                return Err(cx.err(
+                    bj.span(),
+                    format!(
+                        "{owner}: both points are on body \"{bi_s}\"; the spring cannot stretch"
+                    ),
+                ));
+            }
+            let stiffness = coefficient(&f.stiffness, "stiffness", "N/m")?;
+            let damping = coefficient(&f.damping, "damping", "N s/m")?;
+            let free_length = match &f.free_length {
+                Some(n) => Some(coefficient(&Some(n.clone()), "free_length", "m")?),
+                None => None,
+            };
+            let actuator = match &f.actuator {
+                Some(a) => Some(load_function(cx, a, &owner)?),
+                None => None,
+            };
+            if stiffness == 0.0 && damping == 0.0 && actuator.is_none() {
+                return Err(cx.err(
+                    span,
+                    format!("{owner}: stiffness, damping and actuator are all absent or zero, so the element does nothing"),
+                ));
+            }
+            let point_i = PointRef::Local(r.point_value(bi_s, pi.get_ref()));
+            let point_j = PointRef::Local(r.point_value(bj_s, pj.get_ref()));
+            Ok(Force::SpringDamperActuator {
+                name,
+                body_i: bi_s.into(),
+                point_i,
+                body_j: bj_s.into(),
+                point_j,
+                stiffness,
+                damping,
+                free_length,
+                actuator,
+            })
+        }
+        _ => {
+            let j = need(&f.joint, "joint")?;
+            let jn = j.get_ref();
+            match joint_kinds.get(jn) {
+                Some(JointKind::Revolute | JointKind::Cylindrical) => {}
+                Some(k) => {
+                    return Err(cx.err(
+                        j.span(),
+                        format!(
+                            "{owner}: a rotational_spring_damper needs a revolute or cylindrical joint, but \"{jn}\" is {}",
+                            k.name()
+                        ),
+                    ))
+                }
+                None => {
+                    let hint = did_you_mean(jn, joint_kinds.keys().map(String::as_str));
+                    let mut names: Vec<&str> = joint_kinds.keys().map(String::as_str).collect();
+                    names.sort_by_key(|n| spans.joints.get(*n).map(|s| s.start));
+                    return Err(cx.err(
+                        j.span(),
+                        format!("{owner}: unknown joint \"{jn}\"{hint} (joints: {})", list(names)),
+                    ));
+                }
+            }
+            let stiffness = coefficient(&f.stiffness, "stiffness", "N m/rad")?;
+            let damping = coefficient(&f.damping, "damping", "N m s/rad")?;
+            let rest_angle = match &f.rest_angle {
+                Some(n) => cx.num(n, &format!("{owner}: rest_angle"))?,
+                None => 0.0,
+            };
+            Ok(Force::rotational_spring_damper(
+                &name, jn, stiffness, damping, rest_angle,
+            ))
+        }
+    }
+}
+
+const INTEGRATORS: &[&str] = &["dopri5", "generalized_alpha"];
+
+/// A positive number with a unit, for the dynamic settings.
+fn positive(cx: &Ctx, n: &Num, what: &str, unit: &str) -> Result<f64, Error> {
+    let v = cx.num(n, what)?;
+    if v <= 0.0 {
+        return Err(cx.err(n.span(), format!("{what} must be positive, got {v}{unit}")));
+    }
+    Ok(v)
+}
+
+/// The integrator of a `kind = "dynamic"` analysis.
+fn load_integrator(cx: &Ctx, a: &AnalysisSection) -> Result<Integrator, Error> {
+    let name = a
+        .integrator
+        .as_ref()
+        .map_or("dopri5", |n| n.get_ref().as_str());
+    let stray = |keys: &[(&str, &Option<Num>)]| -> Result<(), Error> {
+        if let Some((k, n)) = keys.iter().find(|(_, v)| v.is_some()) {
+            let s = n.as_ref().map_or(0..0, |n| n.span());
+            return Err(cx.err(s, format!("{k} does not apply to integrator = \"{name}\"")));
+        }
+        Ok(())
+    };
+    match name {
+        "dopri5" => {
+            stray(&[
+                ("rho_inf", &a.rho_inf),
+                ("newton_tolerance", &a.newton_tolerance),
+            ])?;
+            let mut o = Dopri5Options::default();
+            if let Some(r) = &a.rtol {
+                o.rtol = positive(cx, r, "rtol", "")?;
+            }
+            if let Some(t) = &a.atol {
+                o.atol = positive(cx, t, "atol", "")?;
+            }
+            if let Some(h) = &a.h_max {
+                o.h_max = positive(cx, h, "h_max", " s")?;
+            }
+            if let Some(h) = &a.dt {
+                if a.rtol.is_some() || a.atol.is_some() {
+                    return Err(cx.err(
+                        h.span(),
+                        "give dt (fixed steps) or rtol/atol (adaptive steps), not both",
+                    ));
+                }
+                o = Dopri5Options {
+                    h_max: o.h_max,
+                    ..Dopri5Options::fixed(positive(cx, h, "dt", " s")?)
+                };
+            }
+            Ok(Integrator::Dopri5(o))
+        }
+        "generalized_alpha" => {
+            stray(&[("rtol", &a.rtol), ("atol", &a.atol), ("h_max", &a.h_max)])?;
+            let mut o = GeneralizedAlphaOptions::default();
+            if let Some(h) = &a.dt {
+                o.h = positive(cx, h, "dt", " s")?;
+            }
+            if let Some(r) = &a.rho_inf {
+                let v = cx.num(r, "rho_inf")?;
+                if !(0.0..=1.0).contains(&v) {
+                    return Err(cx.err(r.span(), format!("rho_inf must be in [0, 1], got {v}")));
+                }
+                o.rho_inf = v;
+            }
+            if let Some(t) = &a.newton_tolerance {
+                o.tolerance = positive(cx, t, "newton_tolerance", "")?;
+            }
+            Ok(Integrator::GeneralizedAlpha(o))
+        }
+        other => {
+            let hint = did_you_mean(other, INTEGRATORS.iter().copied());
+            let s = a.integrator.as_ref().map_or(0..0, |n| n.span());
+            Err(cx.err(
+                s,
+                format!(
+                    "unknown integrator \"{other}\"{hint} (integrators: {})",
+                    list(INTEGRATORS.iter().copied())
+                ),
+            ))
+        }
+    }
 }

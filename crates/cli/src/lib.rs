@@ -16,6 +16,7 @@
 pub mod build;
 pub mod commands;
 pub mod diag;
+pub mod dynamic;
 pub mod model;
 pub mod svg;
 pub mod table;

@@ -34,6 +34,9 @@ pub struct ModelFile {
     /// `[[driver]]`.
     #[serde(default)]
     pub driver: Vec<Spanned<DriverSection>>,
+    /// `[[force]]`: force elements (dynamic analysis).
+    #[serde(default)]
+    pub force: Vec<Spanned<ForceSection>>,
     /// `[analysis]`.
     pub analysis: Option<Spanned<AnalysisSection>>,
 }
@@ -137,6 +140,15 @@ pub struct BodySection {
     /// Named directions given in global coordinates at the initial pose.
     #[serde(default)]
     pub global_vectors: BTreeMap<Name, Vec3>,
+    /// Initial velocity of the body origin (centre of mass), global [m/s] (dynamic analysis).
+    #[serde(default)]
+    pub velocity: Option<Vec3>,
+    /// Initial angular velocity, global components [rad/s] (dynamic analysis).
+    #[serde(default)]
+    pub angular_velocity: Option<Vec3>,
+    /// Initial angular velocity, body components [rad/s] (dynamic analysis).
+    #[serde(default)]
+    pub angular_velocity_local: Option<Vec3>,
 }
 
 /// `[[joint]]`.
@@ -255,11 +267,67 @@ pub struct DriverSection {
     pub function: Spanned<FunctionSpec>,
 }
 
+/// `[[force]]`: one force element (used by dynamic analysis only).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ForceSection {
+    /// Unique name among joints, drivers and forces.
+    pub name: Name,
+    /// point_force, torque, spring_damper, rotational_spring_damper.
+    #[serde(rename = "type")]
+    pub kind: Name,
+    /// point_force / torque: the body.
+    #[serde(default)]
+    pub body: Option<Name>,
+    /// point_force: the point of application.
+    #[serde(default)]
+    pub point: Option<Name>,
+    /// point_force / torque: a constant vector [N or N m].
+    #[serde(default)]
+    pub value: Option<Vec3>,
+    /// point_force / torque: three time functions (x, y, z) instead of `value`.
+    #[serde(default)]
+    pub components: Option<Spanned<Vec<Spanned<FunctionSpec>>>>,
+    /// point_force / torque: "global" (default) or "body".
+    #[serde(default)]
+    pub frame: Option<Name>,
+    /// spring_damper: body i.
+    #[serde(default)]
+    pub body_i: Option<Name>,
+    /// spring_damper: point on body i.
+    #[serde(default)]
+    pub point_i: Option<Name>,
+    /// spring_damper: body j.
+    #[serde(default)]
+    pub body_j: Option<Name>,
+    /// spring_damper: point on body j.
+    #[serde(default)]
+    pub point_j: Option<Name>,
+    /// spring_damper [N/m] / rotational_spring_damper [N m/rad]: k ≥ 0.
+    #[serde(default)]
+    pub stiffness: Option<Num>,
+    /// spring_damper [N s/m] / rotational_spring_damper [N m s/rad]: c ≥ 0.
+    #[serde(default)]
+    pub damping: Option<Num>,
+    /// spring_damper: free length ℓ0 [m] (default: the initial distance).
+    #[serde(default)]
+    pub free_length: Option<Num>,
+    /// spring_damper: actuator tension f_a(t) [N], added to the spring-damper tension.
+    #[serde(default)]
+    pub actuator: Option<Spanned<FunctionSpec>>,
+    /// rotational_spring_damper: the revolute or cylindrical joint.
+    #[serde(default)]
+    pub joint: Option<Name>,
+    /// rotational_spring_damper: rest angle θ0 [rad] (default 0).
+    #[serde(default)]
+    pub rest_angle: Option<Num>,
+}
+
 /// `[analysis]`.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct AnalysisSection {
-    /// "kinematic" ("dynamic" is reserved for later).
+    /// "kinematic" or "dynamic".
     pub kind: Name,
     /// Start time [s] (default 0).
     #[serde(default)]
@@ -269,9 +337,31 @@ pub struct AnalysisSection {
     /// Number of steps (the grid has steps + 1 times).
     #[serde(default)]
     pub steps: Option<Spanned<i64>>,
-    /// Step [s] (alternative to steps).
+    /// kinematic: output step [s] (alternative to steps); dynamic: the integration step [s]
+    /// (generalized-α; DOPRI5 with fixed steps).
     #[serde(default)]
     pub dt: Option<Num>,
+    /// dynamic: output step [s] (alternative to steps).
+    #[serde(default)]
+    pub output_dt: Option<Num>,
+    /// dynamic: "dopri5" (default) or "generalized_alpha".
+    #[serde(default)]
+    pub integrator: Option<Name>,
+    /// dynamic, dopri5: relative tolerance (default 1e-6).
+    #[serde(default)]
+    pub rtol: Option<Num>,
+    /// dynamic, dopri5: absolute tolerance (default 1e-8).
+    #[serde(default)]
+    pub atol: Option<Num>,
+    /// dynamic, dopri5: largest step [s].
+    #[serde(default)]
+    pub h_max: Option<Num>,
+    /// dynamic, generalized_alpha: spectral radius at infinity ρ∞ ∈ [0, 1] (default 0.8).
+    #[serde(default)]
+    pub rho_inf: Option<Num>,
+    /// dynamic, generalized_alpha: Newton tolerance (default 1e-10).
+    #[serde(default)]
+    pub newton_tolerance: Option<Num>,
     /// What to write.
     #[serde(default)]
     pub outputs: Option<Spanned<OutputsSection>>,
@@ -294,6 +384,12 @@ pub struct OutputsSection {
     /// Body names: position and Euler parameters (bodies.csv), ω (body_velocities.csv).
     #[serde(default)]
     pub bodies: Vec<Name>,
+    /// dynamic: joint names whose reactions are written (reactions.csv); default all joints.
+    #[serde(default)]
+    pub reactions: Option<Vec<Name>>,
+    /// dynamic: write energy.csv (default true).
+    #[serde(default)]
+    pub energy: Option<bool>,
 }
 
 /// Parses the file; TOML syntax errors and type errors carry line and column, unknown keys get

@@ -29,6 +29,23 @@ pub struct Summary {
     pub dir: PathBuf,
     /// Files written.
     pub files: Vec<PathBuf>,
+    /// Dynamic runs: integration counters and drifts.
+    pub dynamic: Option<DynamicSummary>,
+}
+
+/// What a dynamic run adds to the summary line.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DynamicSummary {
+    /// Accepted integration steps.
+    pub steps: usize,
+    /// Rejected steps.
+    pub rejected: usize,
+    /// Newton iterations (implicit steps and projections).
+    pub newton_iterations: usize,
+    /// Largest max |Φ| over the stored times.
+    pub max_constraint_drift: f64,
+    /// max |E − E(t0)| (J).
+    pub energy_drift: f64,
 }
 
 /// The output of [`run_model`]: the results (complete, or partial with the error).
@@ -41,6 +58,8 @@ pub struct RunOutcome {
     pub summary: Summary,
     /// The analysis error, if the run stopped early.
     pub error: Option<Error>,
+    /// The dynamic results (`kind = "dynamic"`); `results` holds their kinematic part.
+    pub dynamic: Option<cardan_dynamics::DynamicResults>,
 }
 
 /// `cardan run`: runs, writes, prints the summary.
@@ -73,15 +92,30 @@ pub fn run(
         written.join(", ")
     )
     .map_err(io)?;
-    writeln!(
-        out,
-        "{}: {} steps, {} Newton iterations, largest residual {:.3e}, wall time {:.3} s",
-        s.name,
-        s.steps,
-        s.iterations,
-        s.max_residual,
-        s.wall.as_secs_f64()
-    )
+    match &s.dynamic {
+        None => writeln!(
+            out,
+            "{}: {} steps, {} Newton iterations, largest residual {:.3e}, wall time {:.3} s",
+            s.name,
+            s.steps,
+            s.iterations,
+            s.max_residual,
+            s.wall.as_secs_f64()
+        ),
+        Some(d) => writeln!(
+            out,
+            "{}: {} outputs, {} steps ({} rejected), {} Newton iterations, max constraint drift \
+             {:.3e}, energy drift {:.3e} J, wall time {:.3} s",
+            s.name,
+            s.steps,
+            d.steps,
+            d.rejected,
+            d.newton_iterations,
+            d.max_constraint_drift,
+            d.energy_drift,
+            s.wall.as_secs_f64()
+        ),
+    }
     .map_err(io)?;
     match o.error {
         Some(e) => Err(e),
@@ -107,6 +141,9 @@ pub fn run_model(path: &Path, output: Option<&Path>, progress: bool) -> Result<R
         Some(d) => d.to_path_buf(),
         None => Path::new("out").join(&p.loaded.name),
     };
+    if analysis.dynamic.is_some() {
+        return run_dynamic(p, &analysis, dir);
+    }
     let opts = KinematicOptions::new(analysis.t_start, analysis.t_end, analysis.steps);
     let start = Instant::now();
     let (results, failure) = if progress && analysis.steps >= PROGRESS_MIN_STEPS {
@@ -124,24 +161,7 @@ pub fn run_model(path: &Path, output: Option<&Path>, progress: bool) -> Result<R
 
     let req = requested(&p, &analysis.outputs);
     let tables = tables(&p, &results, &req);
-    std::fs::create_dir_all(&dir).map_err(|e| {
-        Error::output(format!(
-            "cannot create the output directory {}: {}",
-            dir.display(),
-            describe_io(&e)
-        ))
-    })?;
-    let mut files = Vec::new();
-    for t in &tables {
-        let f = dir.join(format!("{}.csv", t.name));
-        write(&f, &t.to_csv())?;
-        files.push(f);
-        if analysis.plots && t.name != "residual" {
-            let f = dir.join(format!("{}.svg", t.name));
-            write(&f, &t.to_svg())?;
-            files.push(f);
-        }
-    }
+    let files = write_tables(&dir, &tables, analysis.plots)?;
     let summary = Summary {
         name: p.loaded.name.clone(),
         steps: results.len(),
@@ -150,6 +170,7 @@ pub fn run_model(path: &Path, output: Option<&Path>, progress: bool) -> Result<R
         wall,
         dir: dir.clone(),
         files,
+        dynamic: None,
     };
     let error = failure.map(|e| {
         let mut err = analysis_error(&p, &e);
@@ -172,7 +193,68 @@ pub fn run_model(path: &Path, output: Option<&Path>, progress: bool) -> Result<R
         results,
         summary,
         error,
+        dynamic: None,
     })
+}
+
+/// `kind = "dynamic"`: simulate, write the tables, summarize. A failure mid-run writes nothing.
+fn run_dynamic(
+    p: Prepared,
+    analysis: &crate::build::Analysis,
+    dir: PathBuf,
+) -> Result<RunOutcome, Error> {
+    let start = Instant::now();
+    let r = crate::dynamic::simulate(&p, None)?;
+    let wall = start.elapsed();
+    let req = requested(&p, &analysis.outputs);
+    let tables = crate::dynamic::tables(&p, &r, &req);
+    let files = write_tables(&dir, &tables, analysis.plots)?;
+    let summary = Summary {
+        name: p.loaded.name.clone(),
+        steps: r.len(),
+        iterations: r.stats.newton_iterations,
+        max_residual: r.position_drift.iter().fold(0.0, |a: f64, &b| a.max(b)),
+        wall,
+        dir,
+        files,
+        dynamic: Some(DynamicSummary {
+            steps: r.stats.steps,
+            rejected: r.stats.rejected,
+            newton_iterations: r.stats.newton_iterations,
+            max_constraint_drift: r.position_drift.iter().fold(0.0, |a: f64, &b| a.max(b)),
+            energy_drift: r.energy.max_drift(),
+        }),
+    };
+    Ok(RunOutcome {
+        prepared: p,
+        results: r.kinematics.clone(),
+        summary,
+        error: None,
+        dynamic: Some(r),
+    })
+}
+
+/// Creates `dir` and writes each table as CSV (and SVG when `plots`, except the residual).
+fn write_tables(dir: &Path, tables: &[Table], plots: bool) -> Result<Vec<PathBuf>, Error> {
+    std::fs::create_dir_all(dir).map_err(|e| {
+        Error::output(format!(
+            "cannot create the output directory {}: {}",
+            dir.display(),
+            describe_io(&e)
+        ))
+    })?;
+    let mut files = Vec::new();
+    for t in tables {
+        let f = dir.join(format!("{}.csv", t.name));
+        write(&f, &t.to_csv())?;
+        files.push(f);
+        if plots && t.name != "residual" {
+            let f = dir.join(format!("{}.svg", t.name));
+            write(&f, &t.to_svg())?;
+            files.push(f);
+        }
+    }
+    Ok(files)
 }
 
 fn write(path: &Path, text: &str) -> Result<(), Error> {
@@ -295,6 +377,7 @@ fn requested(p: &Prepared, req: &Requested) -> Requested {
     if !req.points.is_empty() || !req.joints.is_empty() || !req.bodies.is_empty() {
         return req.clone();
     }
+    let _ = &req.reactions;
     let m = &p.model;
     Requested {
         points: m
@@ -305,6 +388,8 @@ fn requested(p: &Prepared, req: &Requested) -> Requested {
             .collect(),
         joints: m.joints().iter().map(|j| j.name.clone()).collect(),
         bodies: m.bodies().iter().map(|b| b.name.clone()).collect(),
+        reactions: req.reactions.clone(),
+        energy: req.energy,
     }
 }
 
