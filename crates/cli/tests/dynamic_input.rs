@@ -1,0 +1,380 @@
+//! `kind = "dynamic"` model files through the real binary: a valid pendulum runs and writes its
+//! tables (units in every header, reactions, energy, drift) and the summary line; every new key
+//! rejects bad values with a located one-paragraph message.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// A valid dynamic model: a rod pinned at its end, swinging under gravity, with every kind of
+/// force element and an initial angular velocity.
+const BASE: &str = r#"[model]
+name = "pendulum"
+gravity = [0.0, -9.81, 0.0]
+
+[ground]
+points = { O = [0.0, 0.0, 0.0] }
+vectors = { z = [0.0, 0.0, 1.0], x = [1.0, 0.0, 0.0] }
+
+[[body]]
+name = "rod"
+mass = 1.0
+inertia = { diag = [1e-4, 0.0833, 0.0833] }
+position = [0.5, 0.0, 0.0]
+points = { O = [-0.5, 0.0, 0.0], tip = [0.5, 0.0, 0.0] }
+vectors = { z = [0.0, 0.0, 1.0], x = [1.0, 0.0, 0.0] }
+velocity = [0.0, 0.5, 0.0]
+angular_velocity = [0.0, 0.0, 1.0]
+
+[[joint]]
+name = "pivot"
+type = "revolute"
+body_i = "ground"
+point_i = "O"
+axis_i = "z"
+x_axis_i = "x"
+body_j = "rod"
+point_j = "O"
+axis_j = "z"
+x_axis_j = "x"
+
+[[force]]
+name = "push"
+type = "point_force"
+body = "rod"
+point = "tip"
+value = [0.0, 0.1, 0.0]
+frame = "body"
+
+[[force]]
+name = "motor"
+type = "torque"
+body = "rod"
+components = [{ kind = "constant", value = 0.0 }, { kind = "constant", value = 0.0 }, { kind = "harmonic", amplitude = 0.1, frequency = 3.0 }]
+
+[[force]]
+name = "coil"
+type = "rotational_spring_damper"
+joint = "pivot"
+stiffness = 2.0
+damping = 0.01
+rest_angle = 0.0
+
+[[force]]
+name = "band"
+type = "spring_damper"
+body_i = "ground"
+point_i = "O"
+body_j = "rod"
+point_j = "tip"
+stiffness = 1.0
+damping = 0.0
+free_length = 1.0
+
+[analysis]
+kind = "dynamic"
+integrator = "dopri5"
+rtol = 1e-8
+atol = 1e-10
+t_end = 1.0
+output_dt = 0.1
+
+[analysis.outputs]
+points = ["rod.tip"]
+reactions = ["pivot"]
+energy = true
+"#;
+
+static COUNTER: AtomicUsize = AtomicUsize::new(0);
+
+struct Outcome {
+    code: i32,
+    stdout: String,
+    stderr: String,
+    dir: PathBuf,
+}
+
+fn run_text(text: &str) -> Outcome {
+    let k = COUNTER.fetch_add(1, Ordering::SeqCst);
+    let dir = std::env::temp_dir().join(format!("cardan-dyn-{}-{k}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("model.toml"), text).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_cardan"))
+        .args(["run", "model.toml", "-o", "out", "--quiet"])
+        .current_dir(&dir)
+        .output()
+        .expect("the binary runs");
+    let o = Outcome {
+        code: out.status.code().unwrap_or(-1),
+        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+        dir,
+    };
+    assert!(!o.stderr.contains("panicked"), "panic: {}", o.stderr);
+    o
+}
+
+fn read(dir: &Path, name: &str) -> String {
+    std::fs::read_to_string(dir.join("out").join(name)).unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+/// BASE with `from` replaced by `to`; the run must fail at `line_col` with every needle.
+fn fails_at(from: &str, to: &str, line_col: &str, needles: &[&str]) {
+    assert!(BASE.contains(from), "{from}");
+    let o = run_text(&BASE.replacen(from, to, 1));
+    assert_ne!(o.code, 0, "should fail: {}", o.stdout);
+    let want = format!("model.toml:{line_col}: error: ");
+    assert!(
+        o.stderr.starts_with(&want),
+        "want {want}, got: {}",
+        o.stderr
+    );
+    for n in needles {
+        assert!(o.stderr.contains(n), "missing {n:?} in: {}", o.stderr);
+    }
+    assert_eq!(o.stderr.trim_end().lines().count(), 1, "{}", o.stderr);
+    let _ = std::fs::remove_dir_all(&o.dir);
+}
+
+#[test]
+fn the_dynamic_model_runs_and_writes_its_tables() {
+    let o = run_text(BASE);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert!(o.stdout.contains("pendulum: 11 outputs"), "{}", o.stdout);
+    for needle in [
+        "rejected",
+        "Newton iterations",
+        "max constraint drift",
+        "energy drift",
+        "wall time",
+    ] {
+        assert!(o.stdout.contains(needle), "{needle}: {}", o.stdout);
+    }
+    for (file, header) in [
+        ("points.csv", "t [s],rod.tip.x [m]"),
+        ("reactions.csv", "pivot.ground.F.x [N]"),
+        ("reactions_local.csv", "pivot.rod.T.z [N m]"),
+        (
+            "energy.csv",
+            "kinetic [J],potential_gravity [J],potential_spring [J],total [J],drift [J]",
+        ),
+        ("constraint_drift.csv", "max |Φ| [m or -]"),
+    ] {
+        let csv = read(&o.dir, file);
+        let (h, rows) = cardan_cli::table::parse_csv(&csv).unwrap();
+        assert!(
+            csv.starts_with("t [s]") && csv.contains(header),
+            "{file}: {}",
+            &csv[..200.min(csv.len())]
+        );
+        assert!(h.iter().all(|c| c.ends_with(']')), "{file}: {h:?}");
+        assert_eq!(rows.len(), 11, "{file}");
+        assert!(
+            o.dir.join("out").join(file).with_extension("svg").exists(),
+            "{file}"
+        );
+    }
+    // The pin: the initial velocity is the file's (ω = 1 rad/s, tip speed 1 m/s).
+    let (_, rows) = cardan_cli::table::parse_csv(&read(&o.dir, "point_velocities.csv")).unwrap();
+    assert!((rows[0][2] - 1.0).abs() < 1e-9, "{:?}", rows[0]);
+    let _ = std::fs::remove_dir_all(&o.dir);
+}
+
+#[test]
+fn generalized_alpha_runs() {
+    let text = BASE.replace(
+        "integrator = \"dopri5\"\nrtol = 1e-8\natol = 1e-10",
+        "integrator = \"generalized_alpha\"\ndt = 1e-3\nrho_inf = 0.9",
+    );
+    let o = run_text(&text);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert!(o.stdout.contains("1000 steps"), "{}", o.stdout);
+}
+
+#[test]
+fn unknown_integrator_suggests_the_nearest() {
+    fails_at(
+        "integrator = \"dopri5\"",
+        "integrator = \"dopri\"",
+        "66:14",
+        &[
+            "unknown integrator \"dopri\"",
+            "did you mean \"dopri5\"",
+            "generalized_alpha",
+        ],
+    );
+}
+
+#[test]
+fn negative_or_zero_tolerances_and_steps() {
+    fails_at(
+        "rtol = 1e-8",
+        "rtol = -1e-8",
+        "67:8",
+        &["rtol must be positive"],
+    );
+    fails_at(
+        "atol = 1e-10",
+        "atol = 0.0",
+        "68:8",
+        &["atol must be positive"],
+    );
+    fails_at(
+        "output_dt = 0.1",
+        "output_dt = -0.1",
+        "70:13",
+        &["output_dt must be positive"],
+    );
+    fails_at(
+        "output_dt = 0.1",
+        "output_dt = 0.3",
+        "70:13",
+        &["does not divide"],
+    );
+    fails_at(
+        "output_dt = 0.1",
+        "output_dt = 0.1\nsteps = 10",
+        "70:13",
+        &["either steps or output_dt"],
+    );
+}
+
+#[test]
+fn keys_of_the_other_integrator_or_analysis_are_rejected() {
+    fails_at(
+        "rtol = 1e-8",
+        "rtol = 1e-8\nrho_inf = 0.5",
+        "68:11",
+        &["rho_inf does not apply to integrator = \"dopri5\""],
+    );
+    fails_at(
+        "rtol = 1e-8",
+        "rtol = 1e-8\ndt = 1e-3",
+        "68:6",
+        &["dt (fixed steps) or rtol/atol"],
+    );
+    fails_at(
+        "integrator = \"dopri5\"\nrtol = 1e-8\natol = 1e-10",
+        "integrator = \"generalized_alpha\"\nrho_inf = 1.5",
+        "67:11",
+        &["rho_inf must be in [0, 1]"],
+    );
+    fails_at(
+        "integrator = \"dopri5\"\nrtol = 1e-8\natol = 1e-10",
+        "integrator = \"generalized_alpha\"\nrtol = 1e-6",
+        "67:8",
+        &["rtol does not apply to integrator = \"generalized_alpha\""],
+    );
+    fails_at(
+        "kind = \"dynamic\"",
+        "kind = \"kinematic\"",
+        "66:14",
+        &["integrator applies only to kind = \"dynamic\""],
+    );
+    fails_at(
+        "kind = \"dynamic\"",
+        "kind = \"dynamik\"",
+        "65:8",
+        &["did you mean \"dynamic\""],
+    );
+}
+
+#[test]
+fn bad_forces() {
+    fails_at(
+        "type = \"point_force\"",
+        "type = \"pointforce\"",
+        "33:8",
+        &[
+            "unknown force type \"pointforce\"",
+            "did you mean \"point_force\"",
+        ],
+    );
+    fails_at(
+        "stiffness = 2.0",
+        "stiffness = -2.0",
+        "49:13",
+        &["stiffness must be ≥ 0"],
+    );
+    fails_at(
+        "damping = 0.01",
+        "damping = -0.01",
+        "50:11",
+        &["damping must be ≥ 0"],
+    );
+    fails_at(
+        "free_length = 1.0",
+        "free_length = -1.0",
+        "62:15",
+        &["free_length must be ≥ 0"],
+    );
+    fails_at(
+        "frame = \"body\"",
+        "frame = \"bodyy\"",
+        "37:9",
+        &["unknown frame \"bodyy\"", "did you mean \"body\""],
+    );
+    fails_at(
+        "point = \"tip\"",
+        "point = \"tipp\"",
+        "35:9",
+        &["has no point \"tipp\"", "did you mean \"tip\""],
+    );
+    fails_at(
+        "joint = \"pivot\"\nstiffness",
+        "joint = \"pivo\"\nstiffness",
+        "48:9",
+        &["unknown joint \"pivo\"", "did you mean \"pivot\""],
+    );
+    fails_at(
+        "name = \"band\"",
+        "name = \"pivot\"",
+        "54:8",
+        &["duplicate name \"pivot\""],
+    );
+    fails_at(
+        "frame = \"body\"",
+        "frame = \"body\"\nstiffness = 1.0",
+        "32:8",
+        &["does not take \"stiffness\""],
+    );
+    fails_at(
+        "components = [{ kind = \"constant\", value = 0.0 }, ",
+        "components = [",
+        "43:14",
+        &["components needs three functions"],
+    );
+    fails_at(
+        "stiffness = 1.0\ndamping = 0.0",
+        "damping = 0.0",
+        "54:8",
+        &["does nothing"],
+    );
+}
+
+#[test]
+fn bad_initial_velocities() {
+    fails_at(
+        "angular_velocity = [0.0, 0.0, 1.0]",
+        "angular_velocity = [0.0, 0.0, 1.0]\nangular_velocity_local = [0.0, 0.0, 1.0]",
+        "18:26",
+        &["not both"],
+    );
+    fails_at(
+        "velocity = [0.0, 0.5, 0.0]",
+        "velocity = [0.0, nan, 0.0]",
+        "16:18",
+        &["velocity of body \"rod\" y is NaN"],
+    );
+    fails_at(
+        "angular_velocity = [0.0, 0.0, 1.0]",
+        "angular_velocitty = [0.0, 0.0, 1.0]",
+        "17:1",
+        &["did you mean \"angular_velocity\""],
+    );
+}
+
+#[test]
+fn dynamic_analysis_needs_inertia() {
+    fails_at("mass = 1.0\n", "", "10:8", &["needs a mass and an inertia"]);
+}
