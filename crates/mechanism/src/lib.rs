@@ -93,7 +93,7 @@ pub use model::{
     BodyId, BodyInfo, DriverInfo, FeatureInfo, ForceInfo, JointInfo, Model, ABSURD_LIMIT,
 };
 pub use results::{BodyResults, JointResults, Outputs, PointResults, Results};
-pub use workspace::{apply_rotation_step, Workspace};
+pub use workspace::{apply_rotation_step, EvaluationCounts, Workspace};
 
 /// Re-exported so users name the same types.
 pub use cardan_constraints::{JointKind, TimeFunction};

@@ -39,9 +39,26 @@ pub struct Workspace {
     pub(crate) dof: Option<DofReport>,
     pub(crate) velocity_valid: bool,
     pub(crate) acceleration_valid: bool,
+    pub(crate) counts: EvaluationCounts,
+}
+
+/// How many times the velocity and acceleration right-hand sides were evaluated in a workspace:
+/// the evidence that an analysis computes only what it was asked for (a position-only run
+/// evaluates neither ν nor γ#).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct EvaluationCounts {
+    /// Evaluations of ν (velocity analysis).
+    pub nu: u64,
+    /// Evaluations of γ# (acceleration analysis).
+    pub gamma: u64,
 }
 
 impl Workspace {
+    /// The ν and γ# evaluation counts since the workspace was created.
+    pub fn evaluation_counts(&self) -> EvaluationCounts {
+        self.counts
+    }
+
     /// A workspace at the model's initial poses, at rest, t = 0.
     pub fn new(model: &Model) -> Self {
         let nb = model.num_bodies();
@@ -61,6 +78,7 @@ impl Workspace {
             dof: None,
             velocity_valid: false,
             acceleration_valid: false,
+            counts: EvaluationCounts::default(),
         };
         ws.reset(model);
         ws

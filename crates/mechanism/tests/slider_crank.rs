@@ -149,6 +149,30 @@ fn position_only_run_stores_no_velocities() {
     assert!(max_it <= 5);
 }
 
+/// Only what a run asks for is computed: a position-only run evaluates neither ν nor γ#, a
+/// velocity run never γ#, and a full run each once per step.
+#[test]
+fn analyses_evaluate_only_what_was_requested() {
+    let model = slider_crank();
+    let steps = 50;
+    let cases = [
+        (Outputs::position_only(), 0, 0),
+        (Outputs::with_velocity(), steps + 1, 0),
+        (Outputs::default(), steps + 1, steps + 1),
+    ];
+    for (outputs, nu, gamma) in cases {
+        let mut ws = model.workspace();
+        model
+            .kinematics(
+                &mut ws,
+                &KinematicOptions::new(0.0, 1.0, steps as usize).outputs(outputs),
+            )
+            .unwrap();
+        let c = ws.evaluation_counts();
+        assert_eq!((c.nu, c.gamma), (nu, gamma), "{outputs:?}");
+    }
+}
+
 #[test]
 fn assembly_from_a_rough_guess() {
     // Move every body away from the consistent pose; assembly brings them back.

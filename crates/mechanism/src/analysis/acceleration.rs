@@ -19,6 +19,7 @@ impl Model {
         }
         let t = ws.t;
         self.gamma_into(&ws.bodies, t, &mut ws.rhs);
+        ws.counts.gamma += 1;
         let newton = ws.kin.as_mut().expect("prepared by velocity");
         newton
             .solve_linear(&ws.rhs, &mut ws.vdot)

@@ -30,6 +30,7 @@ impl Model {
                 .map_err(|e| self.map_solver_error(t, e))?;
         }
         self.nu_into(&ws.bodies, t, &mut ws.rhs);
+        ws.counts.nu += 1;
         newton
             .solve_linear(&ws.rhs, &mut ws.v)
             .map_err(|e| self.map_solver_error(t, e))?;
