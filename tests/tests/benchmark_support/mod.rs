@@ -66,12 +66,20 @@ pub fn run(p: &Prepared, integrator: Option<Integrator>, t_end: f64, times: Vec<
     }
 }
 
-/// The reference times up to `t_end`.
+/// The reference times up to `t_end`, as the uniform output grid the CLI uses
+/// (t_k = t_last · k / n; the CSV's decimal times agree to an ulp). Exactly the same grid
+/// matters: generalized-α subdivides each output interval into equal steps, and an ulp's
+/// difference moves a step onto a singular configuration in A02 (see benchmark_a02_fourbar.rs).
 pub fn times_until(reference: &[Vec<f64>], t_end: f64) -> Vec<f64> {
-    reference
+    let t: Vec<f64> = reference
         .iter()
         .map(|r| r[0])
         .filter(|&t| t <= t_end + 1e-9)
+        .collect();
+    let n = t.len() - 1;
+    let (t0, t1) = (t[0], t[n]);
+    (0..=n)
+        .map(|k| t0 + (t1 - t0) * (k as f64 / n as f64))
         .collect()
 }
 
