@@ -378,3 +378,27 @@ fn bad_initial_velocities() {
 fn dynamic_analysis_needs_inertia() {
     fails_at("mass = 1.0\n", "", "10:8", &["needs a mass and an inertia"]);
 }
+
+#[test]
+fn check_describes_a_dynamic_model_without_asking_for_drivers() {
+    let k = COUNTER.fetch_add(1, Ordering::SeqCst);
+    let dir = std::env::temp_dir().join(format!("cardan-dyn-check-{}-{k}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("model.toml"), BASE).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_cardan"))
+        .args(["check", "model.toml"])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        stdout.contains("dynamic analysis (DOPRI5): 1 DOF left free by the joints and 0 drivers; 5 force elements"),
+        "{stdout}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -170,7 +170,22 @@ pub fn check(path: &Path, out: &mut dyn Write) -> Result<(), Error> {
             writeln!(out, "  row {}: {e}", e.row).map_err(io)?;
         }
     }
-    if p.loaded.analysis.is_some() {
+    if let Some(integrator) = p.loaded.analysis.as_ref().and_then(|a| a.dynamic) {
+        let name = match integrator {
+            cardan_dynamics::Integrator::Dopri5(_) => "DOPRI5",
+            cardan_dynamics::Integrator::GeneralizedAlpha(_) => "generalized-α",
+        };
+        writeln!(
+            out,
+            "dynamic analysis ({name}): {} DOF left free by the joints and {} driver{}; {} force element{}",
+            dof.dof.saturating_sub(dof.drivers),
+            dof.drivers,
+            if dof.drivers == 1 { "" } else { "s" },
+            p.loaded.forces.len(),
+            if p.loaded.forces.len() == 1 { "" } else { "s" },
+        )
+        .map_err(io)?;
+    } else if p.loaded.analysis.is_some() {
         if dof.dof == dof.drivers {
             writeln!(
                 out,
