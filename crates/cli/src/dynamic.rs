@@ -73,7 +73,7 @@ pub fn simulate(p: &Prepared, integrator: Option<Integrator>) -> Result<DynamicR
 pub fn located(p: &Prepared, e: &cardan_dynamics::DynamicsError) -> Error {
     use cardan_dynamics::DynamicsError as E;
     let spans = &p.loaded.spans;
-    let span = match e {
+    let span = match e.cause() {
         E::MissingInertia { body } => spans.element(body),
         E::BadForce { force, .. } => spans.element(force),
         E::InconsistentPositions { open } => open.first().and_then(|o| spans.element(&o.element)),
@@ -85,7 +85,7 @@ pub fn located(p: &Prepared, e: &cardan_dynamics::DynamicsError) -> Error {
         _ => None,
     }
     .unwrap_or_else(|| spans.analysis.clone());
-    let mut err = Error::analysis(format!("dynamic analysis: {e}"));
+    let mut err = Error::analysis(format!("dynamic analysis: {}", e.cause()));
     err.location = Some(p.source.location(span.start));
     err
 }

@@ -402,3 +402,25 @@ fn check_describes_a_dynamic_model_without_asking_for_drivers() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A dynamic run that stops mid-run (A02 N = 2 with DOPRI5 at rtol = 1e-9 reaches the singular
+/// horizontal position at t ≈ 0.714 s) writes the results so far and exits with code 3.
+#[test]
+fn a_failure_mid_run_writes_the_results_so_far() {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/a02_fourbar_n2.toml");
+    let text = std::fs::read_to_string(path)
+        .unwrap()
+        .replace("rtol = 1e-8", "rtol = 1e-9")
+        .replace("atol = 1e-10", "atol = 1e-11")
+        .replace("t_end = 10.0", "t_end = 1.0");
+    let o = run_text(&text);
+    assert_eq!(o.code, 3, "{}", o.stderr);
+    assert!(
+        o.stderr.contains("singular") && o.stderr.contains("were written to"),
+        "{}",
+        o.stderr
+    );
+    let (_, rows) = cardan_cli::table::parse_csv(&read(&o.dir, "points.csv")).unwrap();
+    assert_eq!(rows.len(), 15, "outputs 0, 0.05, …, 0.7");
+    let _ = std::fs::remove_dir_all(&o.dir);
+}

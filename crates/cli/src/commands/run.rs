@@ -197,15 +197,28 @@ pub fn run_model(path: &Path, output: Option<&Path>, progress: bool) -> Result<R
     })
 }
 
-/// `kind = "dynamic"`: simulate, write the tables, summarize. A failure mid-run writes nothing.
+/// `kind = "dynamic"`: simulate, write the tables, summarize. A failure mid-run writes the
+/// results so far and returns the error in [`RunOutcome::error`].
 fn run_dynamic(
     p: Prepared,
     analysis: &crate::build::Analysis,
     dir: PathBuf,
 ) -> Result<RunOutcome, Error> {
+    let opts = crate::dynamic::options(&p, None)?;
+    let mut d = crate::dynamic::dynamics(&p)?;
+    let initial = crate::dynamic::initial_state(&p);
     let start = Instant::now();
-    let r = crate::dynamic::simulate(&p, None)?;
+    let outcome = d.simulate(&initial, &opts);
     let wall = start.elapsed();
+    drop(d);
+    // A failure mid-run keeps the results so far: they are written, and the error returned.
+    let (r, failure) = match outcome {
+        Ok(r) => (r, None),
+        Err(e) => match e.partial_results() {
+            Some(r) => (r.clone(), Some(crate::dynamic::located(&p, &e))),
+            None => return Err(crate::dynamic::located(&p, &e)),
+        },
+    };
     let req = requested(&p, &analysis.outputs);
     let tables = crate::dynamic::tables(&p, &r, &req);
     let files = write_tables(&dir, &tables, analysis.plots)?;
@@ -225,11 +238,20 @@ fn run_dynamic(
             energy_drift: r.energy.max_drift(),
         }),
     };
+    let error = failure.map(|mut err| {
+        err.message.push_str(&format!(
+            ". The results up to t = {} s ({} outputs) were written to {}",
+            r.times().last().copied().unwrap_or(f64::NAN),
+            r.len(),
+            summary.dir.display()
+        ));
+        err
+    });
     Ok(RunOutcome {
         prepared: p,
         results: r.kinematics.clone(),
         summary,
-        error: None,
+        error,
         dynamic: Some(r),
     })
 }
