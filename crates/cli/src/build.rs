@@ -166,6 +166,16 @@ impl Ctx<'_> {
                 format!("{what} is infinite; a finite number is needed"),
             ));
         }
+        if v != 0.0 && v.abs() < f64::MIN_POSITIVE {
+            return Err(self.err(
+                n.span(),
+                format!(
+                    "{what} = {v:e} is subnormal (0 < |value| < {:e}): it has no meaning in SI units \
+                     and loses precision in any arithmetic; write 0 or a meaningful value",
+                    f64::MIN_POSITIVE
+                ),
+            ));
+        }
         if v.abs() > ABSURD {
             return Err(self.err(
                 n.span(),
@@ -208,7 +218,14 @@ impl Ctx<'_> {
 
 /// Formats a vector as "(x, y, z)".
 pub fn fmt_vec(v: &Vector3<f64>) -> String {
-    format!("({}, {}, {})", v.x, v.y, v.z)
+    let f = |x: f64| {
+        if x == 0.0 || (1e-4..1e9).contains(&x.abs()) {
+            format!("{x}")
+        } else {
+            format!("{x:e}")
+        }
+    };
+    format!("({}, {}, {})", f(v.x), f(v.y), f(v.z))
 }
 
 fn joint_kind(name: &str) -> Option<JointKind> {

@@ -110,7 +110,25 @@ pub struct Source {
 impl Source {
     /// Reads a file; an unreadable file is an input error naming the path and the cause.
     pub fn read(path: &Path) -> Result<Self, Error> {
-        match std::fs::read(path) {
+        // Refuse an oversized file before reading it (the size limit is checked again on the
+        // text by `model::parse`; `take` bounds the read if the file grows meanwhile).
+        let limit = crate::model::MAX_FILE_BYTES as u64;
+        if let Ok(meta) = std::fs::metadata(path) {
+            if meta.is_file() && meta.len() > limit {
+                return Err(Error::input(format!(
+                    "the model file {} is {} bytes long; at most {limit} bytes (4 MiB) are accepted",
+                    path.display(),
+                    meta.len()
+                )));
+            }
+        }
+        let read = std::fs::File::open(path).and_then(|f| {
+            use std::io::Read as _;
+            let mut bytes = Vec::new();
+            f.take(limit + 1).read_to_end(&mut bytes)?;
+            Ok(bytes)
+        });
+        match read {
             Ok(bytes) => match String::from_utf8(bytes) {
                 Ok(text) => Ok(Self {
                     path: path.to_path_buf(),

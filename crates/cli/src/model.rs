@@ -392,14 +392,192 @@ pub struct OutputsSection {
     pub energy: Option<bool>,
 }
 
+/// Largest model file accepted, in bytes (4 MiB; real models are a few kB to tens of kB).
+pub const MAX_FILE_BYTES: usize = 4 << 20;
+/// Most `[[body]]` entries. The degrees-of-freedom analysis (a dense rank-revealing QR) grows
+/// as the cube of the body count: about 10 s for 300 bodies in a release build.
+pub const MAX_BODIES: usize = 1_000;
+/// Most `[[joint]]`, `[[driver]]` or `[[force]]` entries of each kind.
+pub const MAX_ELEMENTS: usize = 5_000;
+/// Longest array accepted (polynomial coefficients, spline knots, output lists).
+pub const MAX_ARRAY_LEN: usize = 10_000;
+/// Deepest nesting of arrays and inline tables accepted (a model file needs 3).
+pub const MAX_NESTING: usize = 32;
+
 /// Parses the file; TOML syntax errors and type errors carry line and column, unknown keys get
 /// the nearest valid key.
+///
+/// Hostile input is rejected before the TOML parser sees it when a cheap scan can tell (size
+/// over [`MAX_FILE_BYTES`], brackets nested deeper than [`MAX_NESTING`], more element headers
+/// than [`MAX_BODIES`] + 3 × [`MAX_ELEMENTS`]), and after parsing otherwise ([`MAX_BODIES`],
+/// [`MAX_ELEMENTS`], [`MAX_ARRAY_LEN`]),
+/// so time and memory stay bounded by the file size limit.
 pub fn parse(src: &Source) -> Result<ModelFile, Error> {
-    toml::from_str::<ModelFile>(&src.text).map_err(|e| {
+    prescan(src)?;
+    let file = toml::from_str::<ModelFile>(&src.text).map_err(|e| {
         let span = e.span().unwrap_or(0..0);
         let message = improve_message(e.message());
         src.error_at(span, message)
-    })
+    })?;
+    check_counts(src, &file)?;
+    Ok(file)
+}
+
+/// Size, nesting depth and element-count limits checked on the raw text.
+fn prescan(src: &Source) -> Result<(), Error> {
+    let text = &src.text;
+    if text.len() > MAX_FILE_BYTES {
+        return Err(src.error(format!(
+            "the model file is {} bytes long; at most {MAX_FILE_BYTES} bytes (4 MiB) are accepted",
+            text.len()
+        )));
+    }
+    // Bracket depth outside strings and comments (an upper bound on TOML nesting).
+    let bytes = text.as_bytes();
+    let (mut depth, mut k, mut headers) = (0usize, 0usize, 0usize);
+    let mut line_start = true;
+    while k < bytes.len() {
+        let c = bytes[k];
+        match c {
+            b'#' => {
+                while k < bytes.len() && bytes[k] != b'\n' {
+                    k += 1;
+                }
+                continue;
+            }
+            b'"' | b'\'' => {
+                // Skip a string (basic strings honour backslash escapes; multi-line strings are
+                // skipped as a run of one-line strings, which is enough for a bound).
+                k += 1;
+                while k < bytes.len() && bytes[k] != c && bytes[k] != b'\n' {
+                    if c == b'"' && bytes[k] == b'\\' {
+                        k += 1;
+                    }
+                    k += 1;
+                }
+            }
+            b'[' | b'{' => {
+                if line_start && c == b'[' && bytes.get(k + 1) == Some(&b'[') {
+                    headers += 1;
+                }
+                depth += 1;
+                if depth > MAX_NESTING {
+                    return Err(src.error_at(
+                        k..k + 1,
+                        format!(
+                            "arrays or tables nested more than {MAX_NESTING} levels deep; a model file needs at most 3"
+                        ),
+                    ));
+                }
+            }
+            b']' | b'}' => depth = depth.saturating_sub(1),
+            _ => {}
+        }
+        if c == b'\n' {
+            line_start = true;
+        } else if !c.is_ascii_whitespace() {
+            line_start = false;
+        }
+        k += 1;
+    }
+    if headers > MAX_BODIES + 3 * MAX_ELEMENTS {
+        return Err(src.error(format!(
+            "the model file declares {headers} [[...]] tables; at most {MAX_BODIES} bodies, \
+             {MAX_ELEMENTS} joints, {MAX_ELEMENTS} drivers and {MAX_ELEMENTS} forces are accepted"
+        )));
+    }
+    Ok(())
+}
+
+/// Element counts and array lengths of a parsed file.
+fn check_counts(src: &Source, file: &ModelFile) -> Result<(), Error> {
+    let counts = [
+        (
+            "bodies",
+            file.body.len(),
+            MAX_BODIES,
+            file.body.get(MAX_BODIES).map(Spanned::span),
+        ),
+        (
+            "joints",
+            file.joint.len(),
+            MAX_ELEMENTS,
+            file.joint.get(MAX_ELEMENTS).map(Spanned::span),
+        ),
+        (
+            "drivers",
+            file.driver.len(),
+            MAX_ELEMENTS,
+            file.driver.get(MAX_ELEMENTS).map(Spanned::span),
+        ),
+        (
+            "forces",
+            file.force.len(),
+            MAX_ELEMENTS,
+            file.force.get(MAX_ELEMENTS).map(Spanned::span),
+        ),
+    ];
+    for (what, n, max, first_extra) in counts {
+        if n > max {
+            return Err(src.error_at(
+                first_extra.unwrap_or(0..0),
+                format!("the model file declares {n} {what}; at most {max} are accepted"),
+            ));
+        }
+    }
+    let long = |v: &Option<Spanned<Vec<Num>>>, key: &str| -> Result<(), Error> {
+        match v {
+            Some(l) if l.get_ref().len() > MAX_ARRAY_LEN => Err(src.error_at(
+                l.span(),
+                format!(
+                    "{key} has {} entries; at most {MAX_ARRAY_LEN} are accepted",
+                    l.get_ref().len()
+                ),
+            )),
+            _ => Ok(()),
+        }
+    };
+    let function = |f: &FunctionSpec| -> Result<(), Error> {
+        long(&f.coefficients, "function coefficients")?;
+        long(&f.times, "spline times")?;
+        long(&f.values, "spline values")
+    };
+    for d in &file.driver {
+        function(d.get_ref().function.get_ref())?;
+    }
+    for f in &file.force {
+        let f = f.get_ref();
+        if let Some(a) = &f.actuator {
+            function(a.get_ref())?;
+        }
+        if let Some(c) = &f.components {
+            if c.get_ref().len() > MAX_ARRAY_LEN {
+                return Err(src.error_at(
+                    c.span(),
+                    format!("components has more than {MAX_ARRAY_LEN} entries"),
+                ));
+            }
+            for g in c.get_ref() {
+                function(g.get_ref())?;
+            }
+        }
+    }
+    if let Some(a) = &file.analysis {
+        if let Some(o) = &a.get_ref().outputs {
+            let o = o.get_ref();
+            let n = o.points.len()
+                + o.joints.len()
+                + o.bodies.len()
+                + o.reactions.as_ref().map_or(0, Vec::len);
+            if n > MAX_ARRAY_LEN {
+                return Err(src.error_at(
+                    a.get_ref().outputs.as_ref().map_or(0..0, Spanned::span),
+                    format!("[analysis.outputs] lists {n} entries; at most {MAX_ARRAY_LEN} are accepted"),
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Rewrites serde's "unknown field `x`, expected one of `a`, `b`" into a suggestion.
