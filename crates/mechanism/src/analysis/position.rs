@@ -19,6 +19,11 @@ use crate::model::Model;
 use crate::workspace::{PositionSystem, Workspace};
 use cardan_solver::{AutoSolver, Newton, NewtonOptions, RankAnalysis, RankOptions, SolverError};
 
+/// Models with at least this many unknowns try a sparse LU of the square Φ_v before the dense
+/// rank analysis in [`Model::prepare_kinematics`] (below it the dense QR costs little and gives
+/// the same answer).
+pub const FAST_RANK_MIN_UNKNOWNS: usize = 300;
+
 /// Outcome of one position solve.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PositionReport {
@@ -54,6 +59,9 @@ impl Model {
         ws: &mut Workspace,
         options: NewtonOptions,
     ) -> Result<DofReport, AnalysisError> {
+        if let Some(report) = self.prepare_square_fast(ws, options) {
+            return Ok(report);
+        }
         let report = self.dof(ws)?;
         if report.dof != report.drivers {
             return Err(AnalysisError::DriverCount {
@@ -85,6 +93,40 @@ impl Model {
         ws.dof = Some(report.clone());
         ws.invalidate();
         Ok(report)
+    }
+
+    /// The fast path of [`prepare_kinematics_with`](Self::prepare_kinematics_with) for large
+    /// models (at least [`FAST_RANK_MIN_UNKNOWNS`] unknowns): when Φ_v is square and the solver's
+    /// LU factors it at the current poses with acceptable pivots, it has full rank, so no
+    /// equation is redundant, the joint rows are independent (DOF = n − m_J) and every driver
+    /// row is needed. That replaces the two dense rank-revealing QRs (O(n³) time, O(n²) memory:
+    /// 9 minutes and 0.3 GB at 6,000 unknowns, impossible at 60,000) by one sparse LU. `None`
+    /// (nothing changed) when the model is small, not square, or the LU fails: the caller then
+    /// runs the full rank analysis, which names what is wrong.
+    fn prepare_square_fast(&self, ws: &mut Workspace, options: NewtonOptions) -> Option<DofReport> {
+        let (m, n, mj) = (self.num_equations(), self.num_unknowns(), self.joint_rows);
+        if n < FAST_RANK_MIN_UNKNOWNS || m != n || n - mj != self.drivers.len() {
+            return None;
+        }
+        let mut newton = Newton::new(&self.pattern, AutoSolver::default(), options).ok()?;
+        let mut sys = PositionSystem {
+            model: self,
+            bodies: &mut ws.bodies,
+            t: ws.t,
+        };
+        newton.factor_at(&mut sys, &ws.x).ok()?;
+        let report = DofReport {
+            dof: n - mj,
+            moving_bodies: self.num_bodies(),
+            joint_equations: mj,
+            rank: mj,
+            redundant: Vec::new(),
+            drivers: self.drivers.len(),
+        };
+        ws.kin = Some(newton);
+        ws.dof = Some(report.clone());
+        ws.invalidate();
+        Some(report)
     }
 
     /// Solves the position equations at time `t`, starting from the workspace's poses (prepares
