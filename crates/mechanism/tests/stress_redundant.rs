@@ -129,8 +129,8 @@ fn bennett(theta0: f64) -> (MechanismBuilder, [f64; 4]) {
 }
 
 /// Bennett: 3 moving bodies, 4 revolutes, 20 equations of rank 17 → DOF 1 (Grübler: −2),
-/// three redundant equations. Driven at J0 (between link 3 and ground), the motion keeps the Bennett relation tan(θ0/2) tan(θ1/2) = const
-/// and θ2 = ±θ0.
+/// three redundant equations. Driven at J0 (between link 3 and ground), the motion keeps the
+/// Bennett relation tan(θ0/2) tan(θ1/2) = const and θ2 = ±θ0.
 #[test]
 fn bennett_has_one_dof_three_redundant_and_moves_like_bennett() {
     let (mut b, th) = bennett(1.0);
