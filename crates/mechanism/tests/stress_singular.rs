@@ -337,62 +337,65 @@ fn four_bar(
     b.joint(rev("A", ("crank", "Q"), ("coupler", "P")));
     b.joint(rev("B", ("coupler", "Q"), ("rocker", "Q")));
     b.joint(rev("O4", (GROUND, "O4"), ("rocker", "P")));
+    // The joint angle is measured from the initial pose (markers along global x on both
+    // bodies), so the crank angle is θ0 + ω t.
     b.driver(DriverSpec::rotation(
         "motor",
         "O2",
-        TimeFunction::Polynomial(vec![theta0, omega]),
+        TimeFunction::Polynomial(vec![0.0, omega]),
     ));
     b
 }
 
 /// The double (parallelogram) four-bar, d = b = 1, a = c = 0.4, driven through its horizontal
-/// change point θ = π (all four links collinear, where the parallelogram and the
+/// change points θ = π and 2π (all four links collinear, where the parallelogram and the
 /// anti-parallelogram branches meet and the joint Jacobian loses one more rank: an
-/// instantaneous second DOF). Expected (measured): whether a step lands exactly on θ = π
-/// (100 steps) or not (97), the run passes the change point on the parallelogram branch
-/// (rocker angle = crank angle to 1e-6) with ≤ 10 Newton iterations per step.
+/// instantaneous second DOF that the crank driver does not control). The crank angle is
+/// θ = 0.5 + ω t (the joint angle is measured from the initial pose, so the driver is ω t).
+/// Expected (measured): with steps that do not land on a change point (97), the run passes both
+/// on the parallelogram branch (rocker angle = crank angle to 1e-6, ≤ 10 Newton iterations per
+/// step); a step landing exactly on θ = π (100 steps, t = 0.5) stops with a typed `Singular`
+/// error at that time, naming a dependent equation, with the results up to it kept.
 #[test]
 fn double_four_bar_through_its_change_point() {
     let theta0 = 0.5;
-    // θ from 0.5 through π to ≈ 5.72: π is hit exactly when steps is even (steps/2).
-    let omega = 2.0 * (PI - theta0);
-    for steps in [97usize, 100] {
-        let model = four_bar(1.0, 0.4, 1.0, 0.4, theta0, omega, true)
-            .build()
-            .unwrap();
-        let r = model
-            .run_kinematics(&KinematicOptions::new(0.0, 0.99, steps))
-            .unwrap_or_else(|e| panic!("{steps} steps: {e}"));
-        assert!(results_finite(&r));
-        let (crank, rocker) = (r.joint("O2").unwrap(), r.joint("O4").unwrap());
-        for k in 0..r.len() {
-            let gap = (crank.values[k][0] - rocker.values[k][0]).abs();
-            assert!(
-                gap < 1e-6,
-                "{steps} steps, t = {}: left the parallelogram branch",
-                r.times[k]
-            );
-        }
-        assert!(r.iterations.iter().all(|&n| n <= 10));
-    }
-}
-
-/// Found by the stress suite: the parallelogram four-bar driven from θ0 = 0.5 reports
-/// `Singular` ("revolute O4 row 0") at θ = 2π − 0.5, a regular configuration (the full joint
-/// Jacobian has its normal rank 17 there; starting a run at that angle works). The redundant
-/// rows are chosen once at the initial configuration (see the crate docs), and the 17 rows kept
-/// there lose rank at the mirror pose. Expected: the run converges. Open (the fix — re-choosing
-/// the redundant rows when the kept set turns singular — belongs to `analysis/position.rs`,
-/// which was being changed by another engineer at the time).
-#[test]
-#[ignore = "open: redundant rows chosen once lose rank at the mirror pose (docs/stress.md)"]
-fn issue_parallelogram_false_singular_at_mirror_pose() {
-    let theta0 = 0.5;
-    let model = four_bar(1.0, 0.4, 1.0, 0.4, theta0, 2.0 * (PI - theta0), true)
+    let omega = 2.0 * (PI - theta0); // θ(0.5) = π, θ(1) = 2π − 0.5; θ = 2π at t ≈ 1.086
+    let model = four_bar(1.0, 0.4, 1.0, 0.4, theta0, omega, true)
         .build()
         .unwrap();
-    let r = model.run_kinematics(&KinematicOptions::new(0.0, 1.0, 97));
-    assert!(r.is_ok(), "{}", r.map(|_| ()).unwrap_err());
+    let r = model
+        .run_kinematics(&KinematicOptions::new(0.0, 1.2, 97))
+        .unwrap_or_else(|e| panic!("97 steps: {e}"));
+    assert!(results_finite(&r));
+    let (crank, rocker) = (r.joint("O2").unwrap(), r.joint("O4").unwrap());
+    for k in 0..r.len() {
+        let gap = (crank.values[k][0] - rocker.values[k][0]).abs();
+        assert!(
+            gap < 1e-6,
+            "t = {}: left the parallelogram branch",
+            r.times[k]
+        );
+    }
+    assert!(r.iterations.iter().all(|&n| n <= 10));
+    // Both change points passed: the crank angle θ0 + ω t went beyond 2π.
+    assert!(theta0 + crank.values.last().unwrap()[0] > 2.0 * PI);
+
+    let e = model
+        .run_kinematics(&KinematicOptions::new(0.0, 1.0, 100))
+        .map(|_| ())
+        .expect_err("a step lands exactly on the change point");
+    match &e {
+        AnalysisError::Singular {
+            time, dependent, ..
+        } => {
+            assert!((time - 0.5).abs() < 1e-12, "{e}");
+            assert!(!dependent.is_empty());
+        }
+        other => panic!("Singular expected: {other}"),
+    }
+    let p = e.partial_results().unwrap();
+    assert_eq!(p.len(), 50);
+    assert!(results_finite(p));
 }
 
 /// RSSR (crank about z at O, radius a; rocker about y at G, radius c; coupler a distance
