@@ -5,8 +5,8 @@
 use arbitrary::Arbitrary;
 use cardan_constraints::{JointKind, TimeFunction};
 use cardan_mechanism::{
-    Axis, Body, DriverSpec, JointSpec, KinematicOptions, MechanismBuilder, Orientation,
-    AssemblyOptions, GROUND,
+    AssemblyOptions, Axis, Body, DriverSpec, JointSpec, KinematicOptions, MechanismBuilder,
+    Orientation, GROUND,
 };
 use libfuzzer_sys::fuzz_target;
 use nalgebra::Vector3;
@@ -243,7 +243,10 @@ fuzz_target!(|input: Input| {
     if model.assemble(&mut ws, &opts).is_err() {
         return;
     }
-    assert!(ws.state().iter().all(|x| x.is_finite()), "assembled state not finite");
+    assert!(
+        ws.state().iter().all(|x| x.is_finite()),
+        "assembled state not finite"
+    );
     let _ = model.dof(&ws);
     let t_end = input.t_end.get();
     let steps = (input.steps % 8) as usize;
@@ -256,8 +259,14 @@ fuzz_target!(|input: Input| {
     };
     for body in &results.bodies {
         for k in 0..body.r.len() {
-            assert!(body.r[k].iter().all(|v| v.is_finite()), "r not finite at {k}");
-            assert!(body.p[k].iter().all(|v| v.is_finite()), "p not finite at {k}");
+            assert!(
+                body.r[k].iter().all(|v| v.is_finite()),
+                "r not finite at {k}"
+            );
+            assert!(
+                body.p[k].iter().all(|v| v.is_finite()),
+                "p not finite at {k}"
+            );
         }
     }
 });

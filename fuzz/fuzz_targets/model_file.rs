@@ -12,8 +12,12 @@ fuzz_target!(|data: &[u8]| {
     };
     let src = Source::from_text("fuzz.toml", text);
     let Ok(file) = parse(&src) else { return };
-    let Ok(loaded) = load(&src, &file) else { return };
-    let Ok(model) = loaded.builder.build() else { return };
+    let Ok(loaded) = load(&src, &file) else {
+        return;
+    };
+    let Ok(model) = loaded.builder.build() else {
+        return;
+    };
     let t0 = loaded.analysis.as_ref().map_or(0.0, |a| a.t_start);
     let mut ws = model.workspace();
     let opts = AssemblyOptions {
