@@ -225,7 +225,10 @@ fn huge_numbers_are_refused() {
         &["t_end", "absurdly large"],
     );
     // Beyond f64: TOML parses it as infinity.
-    rejected(edited("mass = 1.0", "mass = 1e999").as_bytes(), &["model.toml:10:8", "overflowed"]);
+    rejected(
+        edited("mass = 1.0", "mass = 1e999").as_bytes(),
+        &["model.toml:10:8", "overflowed"],
+    );
 }
 
 #[test]
