@@ -22,6 +22,10 @@ use toml::Spanned;
 /// Largest magnitude accepted for any number (SI units): beyond it a value is a typo.
 pub const ABSURD: f64 = 1e9;
 
+/// Most (output times) × (moving bodies + their points) a run may store: 10⁷, at most about
+/// 2.6 GB of results.
+pub const MAX_STORED_FRAMES: usize = 10_000_000;
+
 /// Where each named element is defined, to place errors found after parsing.
 #[derive(Debug, Clone, Default)]
 pub struct Spans {
@@ -1172,6 +1176,27 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
         }
         (None, None) => 100,
     };
+    // The run stores every moving body and point at every output time: bound the memory.
+    let moving = r.order.len().saturating_sub(1);
+    let points: usize = r
+        .order
+        .iter()
+        .skip(1)
+        .filter_map(|b| r.features.get(b))
+        .map(|f| f.points.len())
+        .sum();
+    let stored = (steps + 1).saturating_mul((moving + points).max(1));
+    if stored > MAX_STORED_FRAMES {
+        return Err(cx.err(
+            a.kind.span(),
+            format!(
+                "{} output times × {} bodies and points = {stored:e} stored frames; at most \
+                 {MAX_STORED_FRAMES:e} are allowed (each takes up to 264 bytes): use fewer steps",
+                steps + 1,
+                moving + points
+            ),
+        ));
+    }
     let mut outputs = Outputs::default();
     if let Some(o) = &a.outputs {
         let o = o.get_ref();

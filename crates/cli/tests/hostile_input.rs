@@ -311,3 +311,20 @@ fn binary_garbage_is_refused() {
     bytes[0] = 0xff;
     rejected(&bytes, &["UTF-8"]);
 }
+
+#[test]
+fn runs_that_would_store_too_much_are_refused() {
+    // 10⁷ steps of one body with two points would store 3·10⁷ frames (≈ 8 GB): refused before
+    // anything is allocated.
+    let text = edited("steps = 10", "steps = 10000000");
+    let dir = scratch();
+    std::fs::write(dir.join("model.toml"), &text).unwrap();
+    rejected_path(
+        &dir,
+        &dir.join("model.toml"),
+        &["stored frames", "use fewer steps"],
+    );
+    // The same through dt.
+    let text = edited("steps = 10", "dt = 1e-7");
+    rejected(text.as_bytes(), &["stored frames"]);
+}
