@@ -7,6 +7,12 @@
 //! test independent of units. Singularity is declared when a pivot of the equilibrated matrix
 //! satisfies `|u_jj| ≤ tol` ([`DEFAULT_PIVOT_TOLERANCE`] unless changed with
 //! [`DenseLu::with_pivot_tolerance`]).
+//!
+//! Matrices up to [`SMALL_DIM`] unknowns (the mechanisms of a few bodies) are factored by a plain
+//! unblocked right-looking LU with the same partial pivoting (largest |entry| of the column): for
+//! them faer's blocked, SIMD-dispatched kernel costs more in set-up than in arithmetic (measured
+//! on the slider-crank kinematic frame, 18 unknowns: see the commit message). A singular matrix
+//! is refactored by faer, so errors (the dependent equations) are reported exactly as before.
 
 use crate::error::{NonFiniteLocation, SolverError};
 use crate::linear::{
@@ -17,6 +23,9 @@ use faer::dyn_stack::StackReq;
 use faer::linalg::lu::partial_pivoting::{factor as lu_factor, solve as lu_solve};
 use faer::perm::PermRef;
 use faer::{MatMut, MatRef, Par};
+
+/// Largest dimension factored by the built-in unblocked LU instead of faer's.
+pub const SMALL_DIM: usize = 32;
 
 /// Dense LU with partial pivoting. Square matrices only.
 #[derive(Debug)]
@@ -31,6 +40,9 @@ pub struct DenseLu {
     factored: bool,
     pivot_rows: Vec<usize>,
     equil: Equilibration,
+    /// The factorization in `lu` is the built-in one (`perm[k]` = original row of row k).
+    small: bool,
+    work: Vec<f64>,
 }
 
 impl Default for DenseLu {
@@ -53,6 +65,8 @@ impl DenseLu {
             factored: false,
             pivot_rows: Vec::new(),
             equil: Equilibration::default(),
+            small: false,
+            work: Vec::new(),
         }
     }
 
@@ -80,6 +94,8 @@ impl LinearSolver for DenseLu {
         self.perm_inv = vec![0; n];
         self.pivot_rows = Vec::with_capacity(n);
         self.equil = Equilibration::new(n, n);
+        self.work = vec![0.0; n];
+        self.small = false;
         self.pattern = Some(pattern.clone());
         self.factored = false;
         Ok(())
@@ -95,6 +111,17 @@ impl LinearSolver for DenseLu {
         pattern.to_dense_col_major(slots, &mut self.lu)?;
         let n = self.n;
         self.equil.apply_dense(&mut self.lu);
+        self.small = false;
+        if n <= SMALL_DIM {
+            if small_lu(&mut self.lu, n, &mut self.perm, self.pivot_tolerance) {
+                self.small = true;
+                self.factored = true;
+                return Ok(());
+            }
+            // Singular: refactor with faer below so the error names the same equations.
+            pattern.to_dense_col_major(slots, &mut self.lu)?;
+            self.equil.apply_dense(&mut self.lu);
+        }
         let stack = self.mem.stack();
         lu_factor::lu_in_place(
             MatMut::from_column_major_slice_mut(&mut self.lu, n, n),
@@ -134,6 +161,11 @@ impl LinearSolver for DenseLu {
             });
         }
         self.equil.scale_rhs(b, x);
+        if self.small {
+            small_solve(&self.lu, n, &self.perm, x, &mut self.work);
+            self.equil.unscale_solution(x);
+            return check_solution(x);
+        }
         let lu = MatRef::from_column_major_slice(&self.lu, n, n);
         lu_solve::solve_in_place(
             lu,
@@ -144,13 +176,7 @@ impl LinearSolver for DenseLu {
             self.mem.stack(),
         );
         self.equil.unscale_solution(x);
-        if let Some(unknown) = x.iter().position(|v| !v.is_finite()) {
-            return Err(SolverError::NonFinite {
-                location: NonFiniteLocation::Solution { unknown },
-                iteration: None,
-            });
-        }
-        Ok(())
+        check_solution(x)
     }
 
     fn nrows(&self) -> usize {
@@ -164,4 +190,85 @@ impl LinearSolver for DenseLu {
     fn name(&self) -> &'static str {
         "dense-lu"
     }
+}
+
+fn check_solution(x: &[f64]) -> Result<(), SolverError> {
+    if let Some(unknown) = x.iter().position(|v| !v.is_finite()) {
+        return Err(SolverError::NonFinite {
+            location: NonFiniteLocation::Solution { unknown },
+            iteration: None,
+        });
+    }
+    Ok(())
+}
+
+/// In-place `P A = L U` of the column-major `n × n` matrix `a` (unit lower L below the diagonal,
+/// U on and above), partial pivoting on the largest |entry|; `perm[k]` = original row of row k.
+/// `false` as soon as a pivot is `≤ tol` in magnitude or not finite (the matrix is then garbage).
+fn small_lu(a: &mut [f64], n: usize, perm: &mut [usize], tol: f64) -> bool {
+    for (i, p) in perm.iter_mut().enumerate().take(n) {
+        *p = i;
+    }
+    for k in 0..n {
+        let col = &a[n * k..n * k + n];
+        let mut p = k;
+        let mut best = col[k].abs();
+        for (i, v) in col.iter().enumerate().skip(k + 1) {
+            if v.abs() > best {
+                best = v.abs();
+                p = i;
+            }
+        }
+        if best.is_nan() || best <= tol || best.is_infinite() {
+            return false;
+        }
+        if p != k {
+            for j in 0..n {
+                a.swap(p + n * j, k + n * j);
+            }
+            perm.swap(p, k);
+        }
+        let inv = 1.0 / a[k + n * k];
+        for v in &mut a[n * k + k + 1..n * k + n] {
+            *v *= inv;
+        }
+        let (left, right) = a.split_at_mut(n * (k + 1));
+        let lk = &left[n * k + k + 1..n * k + n];
+        for col in right.chunks_exact_mut(n) {
+            let akj = col[k];
+            if akj != 0.0 {
+                for (v, l) in col[k + 1..].iter_mut().zip(lk) {
+                    *v -= l * akj;
+                }
+            }
+        }
+    }
+    true
+}
+
+/// Solves with the factors of [`small_lu`]: `x ← U⁻¹ L⁻¹ P x`.
+fn small_solve(lu: &[f64], n: usize, perm: &[usize], x: &mut [f64], work: &mut [f64]) {
+    for (w, &p) in work.iter_mut().zip(perm) {
+        *w = x[p];
+    }
+    // Forward: unit lower, column-oriented.
+    for k in 0..n {
+        let wk = work[k];
+        if wk != 0.0 {
+            for i in k + 1..n {
+                work[i] -= lu[i + n * k] * wk;
+            }
+        }
+    }
+    // Backward: upper, column-oriented.
+    for k in (0..n).rev() {
+        let wk = work[k] / lu[k + n * k];
+        work[k] = wk;
+        if wk != 0.0 {
+            for i in 0..k {
+                work[i] -= lu[i + n * k] * wk;
+            }
+        }
+    }
+    x.copy_from_slice(&work[..n]);
 }
