@@ -196,6 +196,18 @@ impl Model {
         Ok(())
     }
 
+    /// Moves the poses in `ws` to the Taylor prediction x ⊕ (v dt + ½ v̇ dt²) at `ws.time() + dt`
+    /// from the current velocities (and accelerations, when valid): the Newton start the time
+    /// grid uses, for callers that step frames themselves ([`Model::position`] at t + dt then
+    /// typically converges in one iteration less). Does nothing when the velocities are not
+    /// valid. No allocation.
+    pub fn predict_poses(&self, ws: &mut Workspace, dt: f64) {
+        if ws.velocity_valid {
+            self.predict(ws, dt, 0, Outputs::default());
+            ws.invalidate();
+        }
+    }
+
     /// Moves the Newton start to the predicted poses at t + dt.
     fn predict(&self, ws: &mut Workspace, dt: f64, k: usize, out: Outputs) {
         let nb = self.num_bodies();
