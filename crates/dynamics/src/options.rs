@@ -131,6 +131,10 @@ pub enum IterationMatrix {
     Tangent,
     /// M only (cheaper; converges only when β' K and γ' C are small against M).
     MassOnly,
+    /// M only, and for a step whose Newton iteration fails, one retry with the full tangent
+    /// before the step is halved: the mass-only cost where it converges (most steps of a
+    /// gravity-driven model), the tangent's robustness near singular configurations.
+    MassOnlyThenTangent,
 }
 
 /// Options of the generalized-α integrator (index 3, Newton on [v̇, λ]).

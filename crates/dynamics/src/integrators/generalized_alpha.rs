@@ -107,6 +107,7 @@ fn attempt(
     b: &mut Buf,
     h: f64,
     o: &GeneralizedAlphaOptions,
+    tangent: bool,
     stats: &mut IntegrationStats,
 ) -> Result<bool, DynamicsError> {
     let p = parameters(o.rho_inf);
@@ -121,7 +122,6 @@ fn attempt(
     let uscale = model.unknown_scales();
     let escale = model.equation_scales();
     let n = b.a.len();
-    let tangent = o.iteration_matrix == IterationMatrix::Tangent;
     for it in 0..o.max_iterations {
         trial(b, h, p);
         if it == 0 && tangent {
@@ -222,7 +222,7 @@ pub(crate) fn run(
         h0: vec![0.0; n],
         ct: vec![
             0.0;
-            if o.iteration_matrix == IterationMatrix::Tangent {
+            if o.iteration_matrix != IterationMatrix::MassOnly {
                 n * n
             } else {
                 0
@@ -230,7 +230,7 @@ pub(crate) fn run(
         ],
         kt: vec![
             0.0;
-            if o.iteration_matrix == IterationMatrix::Tangent {
+            if o.iteration_matrix != IterationMatrix::MassOnly {
                 n * n
             } else {
                 0
@@ -275,7 +275,14 @@ pub(crate) fn run(
                 let mut halvings = 0;
                 loop {
                     let before = stats.newton_iterations;
-                    if attempt(d, &mut b, h, o, stats)? {
+                    let tangent = o.iteration_matrix == IterationMatrix::Tangent;
+                    if attempt(d, &mut b, h, o, tangent, stats)? {
+                        iters_since += stats.newton_iterations - before;
+                        break;
+                    }
+                    if o.iteration_matrix == IterationMatrix::MassOnlyThenTangent
+                        && attempt(d, &mut b, h, o, true, stats)?
+                    {
                         iters_since += stats.newton_iterations - before;
                         break;
                     }
