@@ -1,0 +1,956 @@
+//! `cardan-bench`: runs the benchmarks and writes the performance report.
+//!
+//! ```text
+//! cardan-bench [--smoke] [--report docs/benchmarks.md] [--plots docs/benchmarks] [--peers PYTHON]
+//! cardan-bench --point <kin|dyn> <chain|ladder> N     (one scaling point; used internally)
+//! ```
+//!
+//! Usually run through `cargo xtask bench [--smoke] [--peers]`.
+
+use cardan_bench::measure::{self, fmt_bytes, fmt_time, loglog_slope, ms, time_per_call};
+use cardan_bench::models;
+use cardan_bench::svg::{self, Series};
+use cardan_cli::commands::{prepare, Prepared};
+use cardan_dynamics::{
+    Dopri5Options, Dynamics, Force, GeneralizedAlphaOptions, Integrator, IterationMatrix,
+    SimulationOptions, State,
+};
+use cardan_mechanism::{AssemblyOptions, Model, Outputs};
+use cardan_solver::{NewtonOptions, Tolerances};
+use nalgebra::Vector3;
+use stats_alloc::{Region, StatsAlloc, INSTRUMENTED_SYSTEM};
+use std::alloc::System;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+#[global_allocator]
+static GLOBAL: &StatsAlloc<System> = &INSTRUMENTED_SYSTEM;
+
+const BEGIN: &str = "<!-- performance:begin -->";
+const END: &str = "<!-- performance:end -->";
+
+#[derive(Clone)]
+struct Cfg {
+    smoke: bool,
+    batch: Duration,
+    batches: usize,
+}
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if args.first().map(String::as_str) == Some("--point") {
+        let kind = args.get(1).cloned().unwrap_or_default();
+        let family = args.get(2).cloned().unwrap_or_default();
+        let n: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(10);
+        let smoke = args.iter().any(|a| a == "--smoke");
+        scaling_point(&kind, &family, n, smoke);
+        return;
+    }
+    if args.first().map(String::as_str) == Some("--profile") {
+        profile(&args[1..]);
+        return;
+    }
+    let mut smoke = false;
+    let mut report: Option<PathBuf> = None;
+    let mut plots: Option<PathBuf> = None;
+    let mut peers: Option<String> = None;
+    let mut peers_error: Option<String> = None;
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        match a.as_str() {
+            "--smoke" => smoke = true,
+            "--report" => report = it.next().map(PathBuf::from),
+            "--plots" => plots = it.next().map(PathBuf::from),
+            "--peers" => peers = it.next().cloned(),
+            "--peers-error" => peers_error = it.next().cloned(),
+            other => {
+                eprintln!("unknown argument {other}");
+                std::process::exit(2);
+            }
+        }
+    }
+    let cfg = Cfg {
+        smoke,
+        batch: if smoke { ms(5) } else { ms(200) },
+        batches: if smoke { 1 } else { 7 },
+    };
+    let started = Instant::now();
+    let mut md = String::new();
+    let _ = writeln!(md, "{BEGIN}\n## Performance\n");
+    let _ = writeln!(
+        md,
+        "Written by `cargo xtask bench{}` ({}); do not edit by hand. Machine: {}. \
+         Times are medians of repeated batches (wall clock; the machine is shared, treat them as \
+         ±15 %). Sources: `crates/bench/`.\n",
+        if smoke { " --smoke" } else { "" },
+        if smoke {
+            "smoke run: a few iterations each, numbers NOT representative"
+        } else {
+            "full run"
+        },
+        measure::machine()
+    );
+    let mut svgs: Vec<(String, String)> = Vec::new();
+    eprintln!("== kinematic frames of the example mechanisms");
+    md.push_str(&frames_section(&cfg));
+    eprintln!("== Newton tolerance");
+    md.push_str(&tolerance_section(&cfg, &mut svgs));
+    eprintln!("== scaling");
+    md.push_str(&scaling_section(&cfg, &mut svgs));
+    eprintln!("== work-precision");
+    md.push_str(&work_precision_section(&cfg, &mut svgs));
+    if let Some(py) = &peers {
+        eprintln!("== peers");
+        md.push_str(&peers_section(&cfg, py));
+    } else if let Some(e) = &peers_error {
+        let _ = writeln!(md, "### Peers\n\nPeers could not be installed: {e}\n");
+    } else {
+        md.push_str("### Peers\n\nNot run (`cargo xtask bench --peers` runs Exudyn and OndselSolver side by side).\n\n");
+    }
+    let _ = writeln!(
+        md,
+        "Total benchmark time: {:.0} s.\n\n{END}",
+        started.elapsed().as_secs_f64()
+    );
+    if let Some(dir) = &plots {
+        std::fs::create_dir_all(dir).expect("plot directory");
+        for (name, text) in &svgs {
+            std::fs::write(dir.join(name), text).expect("write plot");
+        }
+    }
+    match &report {
+        Some(path) => write_section(path, &md),
+        None => println!("{md}"),
+    }
+}
+
+/// Replaces (or appends) the marked section of `path`, keeping everything else.
+fn write_section(path: &Path, section: &str) {
+    let old = std::fs::read_to_string(path).unwrap_or_default();
+    let new = match (old.find(BEGIN), old.find(END)) {
+        (Some(a), Some(b)) if b > a => {
+            format!(
+                "{}{}{}",
+                &old[..a],
+                section.trim_end(),
+                &old[b + END.len()..]
+            )
+        }
+        _ if old.trim().is_empty() => format!("# Benchmarks\n\n{}\n", section.trim_end()),
+        _ => format!("{}\n\n{}\n", old.trim_end(), section.trim_end()),
+    };
+    if let Some(dir) = path.parent() {
+        let _ = std::fs::create_dir_all(dir);
+    }
+    std::fs::write(path, new).expect("write report");
+    eprintln!("wrote {}", path.display());
+}
+
+fn allocations(f: impl FnOnce()) -> usize {
+    let region = Region::new(GLOBAL);
+    f();
+    let s = region.change();
+    s.allocations + s.reallocations
+}
+
+/// `--profile frame EXAMPLE N` or `--profile chain N STEPS`: a fixed amount of work for
+/// `valgrind --tool=callgrind` (instruction counts are steadier than wall time).
+fn profile(args: &[String]) {
+    let n: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(1000);
+    match args.first().map(String::as_str) {
+        Some("chain") => {
+            let steps: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(100);
+            let model = models::spherical_chain(n);
+            let mut d = gravity_dynamics(&model, Vector3::new(0.0, 0.0, -9.81));
+            let s = State::initial(&model, 0.0);
+            d.prepare(&s).expect("prepare");
+            let opts = SimulationOptions::new(steps as f64 * 1e-3, 1)
+                .integrator(Integrator::GeneralizedAlpha(GeneralizedAlphaOptions {
+                    iteration_matrix: IterationMatrix::MassOnly,
+                    ..GeneralizedAlphaOptions::with_step(1e-3)
+                }))
+                .outputs(Outputs::position_only());
+            let r = d.simulate_consistent(s, &opts).expect("simulate");
+            eprintln!("{:?}", r.stats);
+        }
+        _ => {
+            let name = args.get(1).map_or("slider_crank", String::as_str);
+            let (_, p) = examples()
+                .into_iter()
+                .find(|(e, _)| e == name)
+                .expect("example");
+            let mut run =
+                FrameRun::new(&p.model, grid(&p), Model::kinematic_newton_options()).expect("run");
+            run.predict = args.get(3).is_none_or(|a| a != "--no-predict");
+            for _ in 0..n {
+                run.frame(true);
+            }
+            eprintln!("{} iterations in {} frames", run.iterations, run.frames);
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// 1. Kinematic frames of the example mechanisms.
+
+struct FrameRun<'a> {
+    model: &'a Model,
+    ws: cardan_mechanism::Workspace,
+    times: Vec<f64>,
+    k: usize,
+    dir: isize,
+    iterations: usize,
+    frames: usize,
+    residual: f64,
+    /// Start each full frame from the Taylor prediction (as the time grid does).
+    predict: bool,
+}
+
+impl<'a> FrameRun<'a> {
+    fn new(model: &'a Model, times: Vec<f64>, newton: NewtonOptions) -> Option<Self> {
+        let mut ws = model.workspace();
+        model
+            .assemble(&mut ws, &AssemblyOptions::at(times[0]))
+            .ok()?;
+        model.prepare_kinematics_with(&mut ws, newton).ok()?;
+        Some(Self::prepared(model, ws, times))
+    }
+
+    fn prepared(model: &'a Model, ws: cardan_mechanism::Workspace, times: Vec<f64>) -> Self {
+        Self {
+            model,
+            ws,
+            times,
+            k: 0,
+            dir: 1,
+            iterations: 0,
+            frames: 0,
+            residual: 0.0,
+            predict: true,
+        }
+    }
+
+    /// Next time of the grid, back and forth (every frame starts from its neighbour).
+    fn next_t(&mut self) -> f64 {
+        if self.times.len() > 1 {
+            let nk = self.k as isize + self.dir;
+            if nk < 0 || nk >= self.times.len() as isize {
+                self.dir = -self.dir;
+            }
+            self.k = (self.k as isize + self.dir) as usize;
+        }
+        self.times[self.k]
+    }
+
+    fn frame(&mut self, full: bool) {
+        let t = self.next_t();
+        if full && self.predict {
+            // The time grid's Taylor predictor (what `Model::kinematics` does between frames).
+            let dt = t - self.ws.time();
+            self.model.predict_poses(&mut self.ws, dt);
+        }
+        let r = self.model.position(&mut self.ws, t).expect("position");
+        self.iterations += r.iterations;
+        self.residual = self.residual.max(r.residual);
+        self.frames += 1;
+        if full {
+            self.model.velocity(&mut self.ws).expect("velocity");
+            self.model.acceleration(&mut self.ws).expect("acceleration");
+        }
+    }
+
+    fn reset_counts(&mut self) {
+        self.iterations = 0;
+        self.frames = 0;
+        self.residual = 0.0;
+    }
+}
+
+fn examples() -> Vec<(String, Prepared)> {
+    let dir = root().join("examples");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .map(|d| d.filter_map(|e| e.ok().map(|e| e.path())).collect())
+        .unwrap_or_default();
+    files.sort();
+    files
+        .into_iter()
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .filter_map(|p| {
+            let name = p.file_stem()?.to_string_lossy().to_string();
+            prepare(&p).ok().map(|prep| (name, prep))
+        })
+        .collect()
+}
+
+fn grid(p: &Prepared) -> Vec<f64> {
+    p.loaded
+        .analysis
+        .as_ref()
+        .map_or_else(|| vec![0.0], |a| a.times())
+}
+
+fn frames_section(cfg: &Cfg) -> String {
+    let mut md = String::new();
+    let _ = writeln!(
+        md,
+        "### Kinematic frame of each example mechanism\n\n\
+         One frame = position Newton to the default tolerance (scaled residual 1e-10, step 1e-6) \
+         from the previous frame's pose + velocity + acceleration, walking the file's time grid \
+         back and forth. *Allocations*: counted by a global counting allocator over 200 frames \
+         after 20 warm-up frames (setup excluded). Kinematic example files only (the dynamic ones \
+         have no drivers).\n\n\
+         | mechanism | bodies | unknowns | frame | position only | Newton iterations / frame | max ‖Φ‖ | allocations / 200 frames |\n\
+         |---|---:|---:|---:|---:|---:|---:|---:|"
+    );
+    for (name, p) in examples() {
+        let a = match &p.loaded.analysis {
+            Some(a) if a.dynamic.is_none() => a,
+            _ => continue,
+        };
+        let _ = a;
+        let model = &p.model;
+        let Some(mut run) = FrameRun::new(model, grid(&p), Model::kinematic_newton_options())
+        else {
+            eprintln!("{name}: could not assemble/prepare; skipped");
+            continue;
+        };
+        for _ in 0..20 {
+            run.frame(true);
+        }
+        let allocs = allocations(|| {
+            for _ in 0..200 {
+                run.frame(true);
+            }
+        });
+        run.reset_counts();
+        let t_frame = time_per_call(|| run.frame(true), cfg.batch, cfg.batches);
+        let iters = run.iterations as f64 / run.frames.max(1) as f64;
+        let res = run.residual;
+        let t_pos = time_per_call(|| run.frame(false), cfg.batch, cfg.batches);
+        eprintln!(
+            "{name}: {} / frame, {iters:.2} it, {allocs} allocs",
+            fmt_time(t_frame)
+        );
+        let _ = writeln!(
+            md,
+            "| {name} | {} | {} | {} | {} | {iters:.2} | {res:.1e} | {allocs} |",
+            model.num_bodies(),
+            model.num_unknowns(),
+            fmt_time(t_frame),
+            fmt_time(t_pos)
+        );
+    }
+    md.push('\n');
+    md
+}
+
+// ---------------------------------------------------------------------------------------------
+// 4. Newton tolerance against achieved constraint error and time.
+
+fn tolerance_section(cfg: &Cfg, svgs: &mut Vec<(String, String)>) -> String {
+    let mut md = String::new();
+    let _ = writeln!(
+        md,
+        "### Newton tolerance against achieved error and time\n\n\
+         Position-only frames (the same walk of the time grid), residual tolerance τ on the \
+         scaled residual and step tolerance √τ (quadratic convergence: a last step of √τ \
+         leaves about τ). Achieved error: max |Φ_i| over all equations and frames (unscaled, m \
+         or dimensionless).\n\n\
+         | mechanism | τ | achieved max ‖Φ‖ | Newton iterations / frame | time / frame |\n\
+         |---|---:|---:|---:|---:|"
+    );
+    let tols: &[f64] = if cfg.smoke {
+        &[1e-4, 1e-10]
+    } else {
+        &[1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12, 1e-14]
+    };
+    let mut series = Vec::new();
+    let chain = models::revolute_chain(100);
+    let mut cases: Vec<(String, Prepared)> = examples()
+        .into_iter()
+        .filter(|(n, _)| n == "slider_crank" || n == "bricard")
+        .collect();
+    cases.sort_by(|a, b| b.0.cmp(&a.0));
+    let mut entries: Vec<(String, &Model, Vec<f64>)> = cases
+        .iter()
+        .map(|(n, p)| (n.clone(), &p.model, grid(p)))
+        .collect();
+    entries.push((
+        "revolute chain, 100 bodies".into(),
+        &chain,
+        (0..=100).map(|k| k as f64 * 0.05).collect(),
+    ));
+    for (name, model, times) in entries {
+        let mut pts = Vec::new();
+        for &tol in tols {
+            let newton = NewtonOptions {
+                tolerances: Tolerances {
+                    residual: tol,
+                    step: tol.sqrt(),
+                },
+                ..Model::kinematic_newton_options()
+            };
+            let Some(mut run) = FrameRun::new(model, times.clone(), newton) else {
+                continue;
+            };
+            for _ in 0..5 {
+                run.frame(false);
+            }
+            run.reset_counts();
+            let t = time_per_call(|| run.frame(false), cfg.batch, cfg.batches);
+            let iters = run.iterations as f64 / run.frames.max(1) as f64;
+            let _ = writeln!(
+                md,
+                "| {name} | {tol:.0e} | {:.1e} | {iters:.2} | {} |",
+                run.residual,
+                fmt_time(t)
+            );
+            pts.push((run.residual.max(1e-17), t));
+        }
+        series.push(Series {
+            label: name,
+            points: pts,
+        });
+    }
+    svgs.push((
+        "newton_tolerance.svg".into(),
+        svg::loglog(
+            "Position frame: time against achieved constraint error",
+            "max |Φ| achieved",
+            "time per frame [s]",
+            &series,
+        ),
+    ));
+    md.push_str("\n![Newton tolerance](benchmarks/newton_tolerance.svg)\n\n");
+    md
+}
+
+// ---------------------------------------------------------------------------------------------
+// 2. Scaling: one process per point (peak memory per size).
+
+fn gravity_dynamics(model: &Model, g: Vector3<f64>) -> Dynamics<'_> {
+    let mut d = Dynamics::new(model).expect("dynamics");
+    d.add_force(Force::gravity(g)).expect("gravity");
+    d
+}
+
+/// Runs one scaling point and prints `RESULT key=value ...`.
+fn scaling_point(kind: &str, family: &str, n: usize, smoke: bool) {
+    let mut out: Vec<(String, String)> = Vec::new();
+    let t0 = Instant::now();
+    let (model, dyn_model) = match family {
+        "chain" if kind == "kin" => (Some(models::revolute_chain(n)), None),
+        "chain" => (None, Some(models::spherical_chain(n))),
+        _ if kind == "kin" => (Some(models::ladder(models::ladder_loops(n), true)), None),
+        _ => (None, Some(models::ladder(models::ladder_loops(n), false))),
+    };
+    out.push(("build".into(), format!("{:e}", t0.elapsed().as_secs_f64())));
+    let batch = if smoke { ms(2) } else { ms(300) };
+    let batches = if smoke { 1 } else { 5 };
+    if let Some(model) = &model {
+        out.push(("bodies".into(), model.num_bodies().to_string()));
+        let t1 = Instant::now();
+        let mut ws = model.workspace();
+        model.prepare_kinematics(&mut ws).expect("prepare");
+        out.push(("setup".into(), format!("{:e}", t1.elapsed().as_secs_f64())));
+        let times: Vec<f64> = (0..=200).map(|k| k as f64 * 0.02).collect();
+        let mut run = FrameRun::prepared(model, ws, times);
+        for _ in 0..3 {
+            run.frame(true);
+        }
+        let allocs = allocations(|| {
+            for _ in 0..5 {
+                run.frame(true);
+            }
+        });
+        run.reset_counts();
+        let t = time_per_call(|| run.frame(true), batch, batches);
+        out.push(("frame".into(), format!("{t:e}")));
+        out.push((
+            "iters".into(),
+            format!("{:.2}", run.iterations as f64 / run.frames.max(1) as f64),
+        ));
+        out.push(("allocs".into(), allocs.to_string()));
+    }
+    if let Some(model) = &dyn_model {
+        out.push(("bodies".into(), model.num_bodies().to_string()));
+        let g = if family == "chain" {
+            Vector3::new(0.0, 0.0, -9.81)
+        } else {
+            Vector3::new(-9.81, -9.81, 0.0)
+        };
+        let mut d = gravity_dynamics(model, g);
+        let state = State::initial(model, 0.0);
+        let t1 = Instant::now();
+        d.prepare(&state).expect("prepare dynamics");
+        out.push(("setup".into(), format!("{:e}", t1.elapsed().as_secs_f64())));
+        let h = 1e-3;
+        let steps = if smoke {
+            2
+        } else if n >= 10_000 {
+            10
+        } else {
+            40
+        };
+        let per_step = |d: &mut Dynamics, integ: Integrator| -> f64 {
+            let opts = SimulationOptions::new(steps as f64 * h, 1)
+                .integrator(integ)
+                .outputs(Outputs::position_only());
+            let mut best = f64::INFINITY;
+            for _ in 0..if smoke { 1 } else { 3 } {
+                let r = d
+                    .simulate_consistent(state.clone(), &opts)
+                    .expect("simulate");
+                best = best.min(r.stats.wall_time / r.stats.steps.max(1) as f64);
+            }
+            best
+        };
+        let ga = per_step(
+            &mut d,
+            Integrator::GeneralizedAlpha(GeneralizedAlphaOptions {
+                iteration_matrix: IterationMatrix::MassOnly,
+                ..GeneralizedAlphaOptions::with_step(h)
+            }),
+        );
+        out.push(("ga_step".into(), format!("{ga:e}")));
+        let dp = per_step(&mut d, Integrator::Dopri5(Dopri5Options::fixed(h)));
+        out.push(("dopri_step".into(), format!("{dp:e}")));
+        if n <= 1000 {
+            // O(n²): a few steps only at 1,000 bodies.
+            let steps = if n >= 1000 { 2 } else { steps };
+            let opts = SimulationOptions::new(steps as f64 * h, 1)
+                .integrator(Integrator::GeneralizedAlpha(
+                    GeneralizedAlphaOptions::with_step(h),
+                ))
+                .outputs(Outputs::position_only());
+            let r = d
+                .simulate_consistent(state.clone(), &opts)
+                .expect("simulate");
+            let gt = r.stats.wall_time / r.stats.steps.max(1) as f64;
+            out.push(("ga_tangent_step".into(), format!("{gt:e}")));
+        }
+    }
+    out.push((
+        "peak".into(),
+        measure::peak_rss_bytes().unwrap_or(0).to_string(),
+    ));
+    let line: Vec<String> = out.iter().map(|(k, v)| format!("{k}={v}")).collect();
+    println!("RESULT {}", line.join(" "));
+}
+
+fn run_point(kind: &str, family: &str, n: usize, smoke: bool) -> Option<Vec<(String, f64)>> {
+    let exe = std::env::current_exe().ok()?;
+    let mut cmd = std::process::Command::new(exe);
+    cmd.args(["--point", kind, family, &n.to_string()]);
+    if smoke {
+        cmd.arg("--smoke");
+    }
+    let o = cmd.output().ok()?;
+    if !o.status.success() {
+        eprintln!(
+            "scaling point {kind} {family} {n} failed: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        return None;
+    }
+    let s = String::from_utf8_lossy(&o.stdout);
+    let line = s.lines().find(|l| l.starts_with("RESULT "))?;
+    Some(
+        line[7..]
+            .split_whitespace()
+            .filter_map(|kv| {
+                let (k, v) = kv.split_once('=')?;
+                Some((k.to_string(), v.parse().ok()?))
+            })
+            .collect(),
+    )
+}
+
+fn get(r: &[(String, f64)], k: &str) -> f64 {
+    r.iter().find(|(a, _)| a == k).map_or(f64::NAN, |(_, v)| *v)
+}
+
+fn scaling_section(cfg: &Cfg, svgs: &mut Vec<(String, String)>) -> String {
+    let sizes: &[usize] = if cfg.smoke {
+        &[10, 100]
+    } else {
+        &[10, 100, 1000, 10_000]
+    };
+    let mut md = String::new();
+    let _ = writeln!(
+        md,
+        "### Scaling to 10,000 bodies\n\n\
+         Generated models (`crates/bench/src/models.rs`): **chain** = an open chain of rods; for \
+         kinematics every revolute joint is driven (axes alternating z, y), for dynamics the \
+         joints are spherical (gravity −z); **ladder** = a row of closed R-S-U-R loops sharing \
+         rockers (2k + 1 bodies, 1 DOF; the first revolute driven for kinematics; gravity in the \
+         plane for dynamics). Each point runs in its own process; *peak* is that process's peak \
+         resident memory (VmHWM), model and setup included. Dynamic steps: h = 1 ms, \
+         generalized-α with the mass-only iteration matrix (*gen-α M*), with the default \
+         finite-difference tangent matrix (*gen-α T*, n ≤ 1,000 only: it is O(n²)), and DOPRI5 \
+         at fixed step (6 stages, projection).\n"
+    );
+    let _ = writeln!(
+        md,
+        "| model | bodies | setup (kin) | kinematic frame | iterations | allocs / 5 frames | peak (kin) | setup (dyn) | gen-α M step | gen-α T step | DOPRI5 step | peak (dyn) |\n\
+         |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+    );
+    let mut fits = String::new();
+    let mut series = Vec::new();
+    for family in ["chain", "ladder"] {
+        let mut kin_pts = Vec::new();
+        let mut ga_pts = Vec::new();
+        let mut dp_pts = Vec::new();
+        let mut mem_pts = Vec::new();
+        for &n in sizes {
+            eprintln!("scaling {family} {n}");
+            let k = run_point("kin", family, n, cfg.smoke).unwrap_or_default();
+            let d = run_point("dyn", family, n, cfg.smoke).unwrap_or_default();
+            let nb = get(&k, "bodies").max(get(&d, "bodies"));
+            kin_pts.push((nb, get(&k, "frame")));
+            ga_pts.push((nb, get(&d, "ga_step")));
+            dp_pts.push((nb, get(&d, "dopri_step")));
+            mem_pts.push((nb, get(&d, "peak")));
+            let _ = writeln!(
+                md,
+                "| {family} | {nb} | {} | {} | {:.2} | {} | {} | {} | {} | {} | {} | {} |",
+                fmt_time(get(&k, "setup")),
+                fmt_time(get(&k, "frame")),
+                get(&k, "iters"),
+                get(&k, "allocs"),
+                fmt_bytes(get(&k, "peak") as u64),
+                fmt_time(get(&d, "setup")),
+                fmt_time(get(&d, "ga_step")),
+                fmt_time(get(&d, "ga_tangent_step")),
+                fmt_time(get(&d, "dopri_step")),
+                fmt_bytes(get(&d, "peak") as u64),
+            );
+        }
+        let _ = writeln!(
+            fits,
+            "| {family} | {:.2} | {:.2} | {:.2} | {:.2} |",
+            loglog_slope(&kin_pts),
+            loglog_slope(&ga_pts),
+            loglog_slope(&dp_pts),
+            loglog_slope(&mem_pts[mem_pts.len().saturating_sub(2)..]),
+        );
+        series.push(Series {
+            label: format!("{family}: kin. frame"),
+            points: kin_pts,
+        });
+        series.push(Series {
+            label: format!("{family}: gen-α M step"),
+            points: ga_pts,
+        });
+        series.push(Series {
+            label: format!("{family}: DOPRI5 step"),
+            points: dp_pts,
+        });
+    }
+    let _ = writeln!(
+        md,
+        "\nFitted exponents p of t ∝ n^p (least squares over all sizes; peak memory over the two \
+         largest):\n\n| model | kinematic frame | gen-α M step | DOPRI5 step | peak memory (dyn) |\n\
+         |---|---:|---:|---:|---:|\n{fits}\n![Scaling](benchmarks/scaling.svg)\n"
+    );
+    svgs.push((
+        "scaling.svg".into(),
+        svg::loglog(
+            "Time per kinematic frame / dynamic step",
+            "bodies",
+            "time [s]",
+            &series,
+        ),
+    ));
+    md
+}
+
+// ---------------------------------------------------------------------------------------------
+// 3. Work-precision.
+
+struct Problem {
+    file: &'static str,
+    title: &'static str,
+    body: &'static str,
+    point: &'static str,
+    /// Reference table in tests/data/benchmarks and (csv column, xyz component) pairs.
+    csv: Option<&'static str>,
+    cols: &'static [(usize, usize)],
+}
+
+const PROBLEMS: &[Problem] = &[
+    Problem {
+        file: "a01_pendulum",
+        title: "A01 pendulum, 10 s",
+        body: "bob",
+        point: "P1",
+        csv: Some("simple_pendulum_exact.csv"),
+        cols: &[(1, 0), (2, 1)],
+    },
+    Problem {
+        file: "a02_fourbar_n2",
+        title: "A02 double four-bar, 10 s",
+        body: "r0",
+        point: "top",
+        csv: Some("n_fourbar_N2.csv"),
+        cols: &[(1, 0), (2, 1)],
+    },
+    Problem {
+        file: "a03_andrews",
+        title: "A03 Andrews' squeezer, 0.03 s",
+        body: "OF",
+        point: "F",
+        csv: None,
+        cols: &[],
+    },
+    Problem {
+        file: "a04_bricard",
+        title: "A04 Bricard, 10 s",
+        body: "rod2",
+        point: "C",
+        csv: Some("bricard_P3_box.csv"),
+        cols: &[(1, 0), (2, 1), (3, 2)],
+    },
+    Problem {
+        file: "a05_flyball",
+        title: "A05 flyball governor, 10 s",
+        body: "slider",
+        point: "centre",
+        csv: Some("flyball_governor.csv"),
+        cols: &[(1, 2)],
+    },
+    Problem {
+        file: "slider_crank_dynamic",
+        title: "IFToMM spatial slider-crank, 5 s",
+        body: "slider",
+        point: "C",
+        csv: Some("spatial_slider_crank_crankCoM_mid.csv"),
+        cols: &[(1, 0)],
+    },
+];
+
+fn read_csv(file: &str) -> Option<Vec<Vec<f64>>> {
+    let text = std::fs::read_to_string(root().join("tests/data/benchmarks").join(file)).ok()?;
+    Some(
+        text.lines()
+            .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
+            .filter_map(|l| l.split(',').map(|x| x.trim().parse().ok()).collect())
+            .collect(),
+    )
+}
+
+/// Runs a problem with `integ` to `t_end`, outputs at `times`; (CPU s, positions) or None.
+fn wp_run(
+    p: &Prepared,
+    pr: &Problem,
+    integ: Integrator,
+    t_end: f64,
+    times: &[f64],
+) -> Option<(f64, Vec<Vector3<f64>>)> {
+    let mut opts = cardan_cli::dynamic::options(p, Some(integ)).ok()?;
+    opts.t_end = t_end;
+    opts.max_steps = 5_000_000;
+    let opts = opts
+        .output_times(times.to_vec())
+        .outputs(Outputs::position_only());
+    let mut cpu = f64::INFINITY;
+    let mut last = None;
+    let mut total = 0.0;
+    for _ in 0..5 {
+        let mut d = cardan_cli::dynamic::dynamics(p).ok()?;
+        let s = cardan_cli::dynamic::initial_state(p);
+        let t0 = Instant::now();
+        let r = d.simulate(&s, &opts).ok()?;
+        let e = t0.elapsed().as_secs_f64();
+        cpu = cpu.min(e);
+        total += e;
+        last = Some(r.point(pr.body, pr.point)?.position.clone());
+        if total > 0.3 {
+            break;
+        }
+    }
+    Some((cpu, last?))
+}
+
+fn work_precision_section(cfg: &Cfg, svgs: &mut Vec<(String, String)>) -> String {
+    let mut md = String::new();
+    let _ = writeln!(
+        md,
+        "### Work-precision (dynamics)\n\n\
+         Each benchmark problem's model file (`examples/`), every integrator over a range of \
+         tolerances (DOPRI5: rtol, atol = rtol/100) or steps (generalized-α, tangent iteration \
+         matrix, the file's ρ∞ or 0.8). CPU time: the whole `simulate` call (consistent initial \
+         conditions included), best of up to 5 runs. Error: max over the reference times of the \
+         output point's position error [m] against the reference table \
+         (`tests/data/benchmarks/`, from `shared/benchmarks/`); A03 has no point reference, so \
+         its reference is a DOPRI5 run at rtol 1e-12 (*self*). Missing points: the run failed \
+         (step too small / Newton) at that setting.\n"
+    );
+    let ex = examples();
+    let mut summary = String::new();
+    for pr in PROBLEMS {
+        let Some((_, p)) = ex.iter().find(|(n, _)| n == pr.file) else {
+            continue;
+        };
+        let Some(a) = p.loaded.analysis.as_ref() else {
+            continue;
+        };
+        let mut t_end = a.t_end;
+        if cfg.smoke {
+            t_end *= 0.05;
+        }
+        let rho = match a.dynamic {
+            Some(Integrator::GeneralizedAlpha(o)) => o.rho_inf,
+            _ => 0.8,
+        };
+        let table = pr.csv.and_then(read_csv);
+        let (times, reference, label): (Vec<f64>, Vec<Vector3<f64>>, &str) = match &table {
+            Some(rows) => {
+                let rows: Vec<&Vec<f64>> = rows.iter().filter(|r| r[0] <= t_end + 1e-9).collect();
+                let times = rows.iter().map(|r| r[0]).collect();
+                let refs = rows
+                    .iter()
+                    .map(|r| {
+                        let mut v = Vector3::zeros();
+                        for &(c, k) in pr.cols {
+                            v[k] = r[c];
+                        }
+                        v
+                    })
+                    .collect();
+                (times, refs, "reference table")
+            }
+            None => {
+                let n = 30;
+                let times: Vec<f64> = (0..=n).map(|k| t_end * k as f64 / n as f64).collect();
+                let integ = Integrator::Dopri5(Dopri5Options::tolerances(1e-12, 1e-14));
+                let Some((_, refs)) = wp_run(p, pr, integ, t_end, &times) else {
+                    continue;
+                };
+                (times, refs, "self (DOPRI5 1e-12)")
+            }
+        };
+        let comps: Vec<usize> = if pr.cols.is_empty() {
+            vec![0, 1, 2]
+        } else {
+            pr.cols.iter().map(|c| c.1).collect()
+        };
+        let err = |pos: &[Vector3<f64>]| -> f64 {
+            pos.iter()
+                .zip(&reference)
+                .map(|(a, b)| {
+                    comps
+                        .iter()
+                        .map(|&k| (a[k] - b[k]).abs())
+                        .fold(0.0, f64::max)
+                })
+                .fold(0.0, f64::max)
+        };
+        let rtols: &[f64] = if cfg.smoke {
+            &[1e-5]
+        } else {
+            &[1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11]
+        };
+        let nsteps: &[f64] = if cfg.smoke {
+            &[200.0]
+        } else {
+            &[250.0, 500.0, 1000.0, 2000.0, 4000.0, 8000.0, 16000.0]
+        };
+        let mut dp = Vec::new();
+        let mut ga = Vec::new();
+        let _ = writeln!(
+            md,
+            "**{}** (error against the {label}):\n\n| integrator | setting | CPU | max error [m] |\n|---|---:|---:|---:|",
+            pr.title
+        );
+        for &rtol in rtols {
+            let integ = Integrator::Dopri5(Dopri5Options::tolerances(rtol, rtol * 1e-2));
+            if let Some((cpu, pos)) = wp_run(p, pr, integ, t_end, &times) {
+                let e = err(&pos);
+                dp.push((e, cpu));
+                let _ = writeln!(
+                    md,
+                    "| DOPRI5 | rtol {rtol:.0e} | {} | {e:.2e} |",
+                    fmt_time(cpu)
+                );
+            } else {
+                let _ = writeln!(md, "| DOPRI5 | rtol {rtol:.0e} | failed | — |");
+            }
+        }
+        for &ns in nsteps {
+            let h = a.t_end / ns;
+            let integ = Integrator::GeneralizedAlpha(GeneralizedAlphaOptions {
+                rho_inf: rho,
+                ..GeneralizedAlphaOptions::with_step(h)
+            });
+            if let Some((cpu, pos)) = wp_run(p, pr, integ, t_end, &times) {
+                let e = err(&pos);
+                ga.push((e, cpu));
+                let _ = writeln!(
+                    md,
+                    "| gen-α ρ∞ {rho} | h {h:.2e} | {} | {e:.2e} |",
+                    fmt_time(cpu)
+                );
+            } else {
+                let _ = writeln!(md, "| gen-α ρ∞ {rho} | h {h:.2e} | failed | — |");
+            }
+        }
+        let best = |v: &[(f64, f64)], tol: f64| {
+            v.iter()
+                .filter(|(e, _)| *e <= tol)
+                .map(|(_, c)| *c)
+                .fold(f64::INFINITY, f64::min)
+        };
+        let _ = writeln!(
+            summary,
+            "| {} | {} | {} | {} | {} |",
+            pr.title,
+            fmt_time(best(&dp, 1e-3)),
+            fmt_time(best(&ga, 1e-3)),
+            fmt_time(best(&dp, 1e-6)),
+            fmt_time(best(&ga, 1e-6)),
+        );
+        let stem = pr.file.to_string();
+        svgs.push((
+            format!("wp_{stem}.svg"),
+            svg::loglog(
+                pr.title,
+                "max position error [m]",
+                "CPU time [s]",
+                &[
+                    Series {
+                        label: "DOPRI5".into(),
+                        points: dp,
+                    },
+                    Series {
+                        label: format!("gen-α ρ∞={rho}"),
+                        points: ga,
+                    },
+                ],
+            ),
+        ));
+        let _ = writeln!(md, "\n![{}](benchmarks/wp_{stem}.svg)\n", pr.title);
+        eprintln!("work-precision {} done", pr.file);
+    }
+    let _ = writeln!(
+        md,
+        "Cheapest run reaching a given accuracy:\n\n| problem | DOPRI5 ≤ 1e-3 m | gen-α ≤ 1e-3 m | DOPRI5 ≤ 1e-6 m | gen-α ≤ 1e-6 m |\n|---|---:|---:|---:|---:|\n{summary}"
+    );
+    md
+}
+
+// ---------------------------------------------------------------------------------------------
+// Peers.
+
+fn peers_section(cfg: &Cfg, python: &str) -> String {
+    cardan_bench_peers::run(cfg.smoke, python, &root())
+}
+
+mod cardan_bench_peers {
+    include!("peers.rs");
+}
