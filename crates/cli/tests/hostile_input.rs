@@ -7,54 +7,13 @@
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
-/// A valid one-body model: a crank on a revolute joint, driven at 1 rad/s.
-const BASE: &str = r#"[model]
-name = "crank"
-
-[ground]
-points = { O = [0.0, 0.0, 0.0] }
-vectors = { z = [0.0, 0.0, 1.0] }
-
-[[body]]
-name = "crank"
-mass = 1.0
-inertia = { diag = [0.01, 0.1, 0.1] }
-position = [0.5, 0.0, 0.0]
-points = { O = [-0.5, 0.0, 0.0], tip = [0.5, 0.0, 0.0] }
-vectors = { z = [0.0, 0.0, 1.0] }
-
-[[joint]]
-name = "pivot"
-type = "revolute"
-body_i = "ground"
-point_i = "O"
-axis_i = "z"
-body_j = "crank"
-point_j = "O"
-axis_j = "z"
-
-[[driver]]
-name = "motor"
-type = "rotation"
-joint = "pivot"
-function = { kind = "polynomial", coefficients = [0.0, 1.0] }
-
-[analysis]
-kind = "kinematic"
-t_end = 1.0
-steps = 10
-"#;
-
-static COUNTER: AtomicUsize = AtomicUsize::new(0);
+mod common;
+use common::{edited, BASE};
 
 fn scratch() -> PathBuf {
-    let k = COUNTER.fetch_add(1, Ordering::SeqCst);
-    let d = std::env::temp_dir().join(format!("cardan-hostile-{}-{k}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::scratch("hostile")
 }
 
 /// Writes `text` to a fresh directory, runs `cardan check` on it and checks the common contract:
@@ -94,11 +53,6 @@ fn rejected_path(dir: &Path, path: &Path, needles: &[&str]) -> String {
     }
     assert!(took < Duration::from_secs(5), "took {took:?}: {stderr}");
     stderr
-}
-
-fn edited(from: &str, to: &str) -> String {
-    assert!(BASE.contains(from), "{from}");
-    BASE.replacen(from, to, 1)
 }
 
 #[test]

@@ -1,0 +1,60 @@
+//! Shared pieces of the CLI tests that run the real binary on generated model files.
+
+#![allow(dead_code)]
+
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// A valid one-body model: a crank on a revolute joint, driven at 1 rad/s.
+pub const BASE: &str = r#"[model]
+name = "crank"
+
+[ground]
+points = { O = [0.0, 0.0, 0.0] }
+vectors = { z = [0.0, 0.0, 1.0] }
+
+[[body]]
+name = "crank"
+mass = 1.0
+inertia = { diag = [0.01, 0.1, 0.1] }
+position = [0.5, 0.0, 0.0]
+points = { O = [-0.5, 0.0, 0.0], tip = [0.5, 0.0, 0.0] }
+vectors = { z = [0.0, 0.0, 1.0] }
+
+[[joint]]
+name = "pivot"
+type = "revolute"
+body_i = "ground"
+point_i = "O"
+axis_i = "z"
+body_j = "crank"
+point_j = "O"
+axis_j = "z"
+
+[[driver]]
+name = "motor"
+type = "rotation"
+joint = "pivot"
+function = { kind = "polynomial", coefficients = [0.0, 1.0] }
+
+[analysis]
+kind = "kinematic"
+t_end = 1.0
+steps = 10
+"#;
+
+static COUNTER: AtomicUsize = AtomicUsize::new(0);
+
+/// A fresh scratch directory under the system temp dir, named after `prefix`.
+pub fn scratch(prefix: &str) -> PathBuf {
+    let k = COUNTER.fetch_add(1, Ordering::SeqCst);
+    let d = std::env::temp_dir().join(format!("cardan-{prefix}-{}-{k}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// [`BASE`] with the first `from` replaced by `to` (`from` must occur).
+pub fn edited(from: &str, to: &str) -> String {
+    assert!(BASE.contains(from), "{from}");
+    BASE.replacen(from, to, 1)
+}
