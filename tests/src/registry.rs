@@ -57,18 +57,9 @@ pub fn primitive_name(p: &Primitive) -> &'static str {
     }
 }
 
-/// The oracle name of a joint kind (exhaustive).
+/// The oracle name of a joint kind (`JointKind::name` is itself an exhaustive match).
 pub fn joint_name(k: JointKind) -> &'static str {
-    match k {
-        JointKind::Spherical => "spherical",
-        JointKind::Universal => "universal",
-        JointKind::Revolute => "revolute",
-        JointKind::Cylindrical => "cylindrical",
-        JointKind::Prismatic => "prismatic",
-        JointKind::Fixed => "fixed",
-        JointKind::SphericalSpherical => "spherical_spherical",
-        JointKind::Planar => "planar",
-    }
+    k.name()
 }
 
 /// The oracle name of a driver variant (exhaustive).
