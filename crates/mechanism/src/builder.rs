@@ -26,6 +26,10 @@
 use crate::error::ModelError;
 use crate::model::Model;
 use cardan_constraints::{JointKind, TimeFunction};
+use cardan_eulerparam::{
+    frame_from_axis, frame_from_two_axes, p_from_euler_123, p_from_euler_313,
+    p_from_rotation_matrix, EulerParamError, EulerParams,
+};
 use nalgebra::{Matrix3, Vector3};
 
 /// The name of the built-in ground body.
@@ -58,6 +62,27 @@ pub enum Orientation {
         /// Global direction hint for the body x axis.
         x: Option<Vector3<f64>>,
     },
+}
+
+impl Orientation {
+    /// The Euler parameters of this orientation (unit length, e0 ≥ 0 for the matrix and axis
+    /// forms). Fails on zero or parallel axes, zero-length parameters or non-finite numbers.
+    pub fn euler_params(&self) -> Result<EulerParams, EulerParamError> {
+        match self {
+            Orientation::Identity => Ok(EulerParams::identity()),
+            Orientation::EulerParams(e) => EulerParams::try_new_normalized(e[0], e[1], e[2], e[3]),
+            Orientation::AxisAngle { axis, angle } => EulerParams::from_axis_angle(axis, *angle),
+            Orientation::Euler313(a) => p_from_euler_313(a[0], a[1], a[2]),
+            Orientation::Euler123(a) => p_from_euler_123(a[0], a[1], a[2]),
+            Orientation::Axes { z, x } => {
+                let frame = match x {
+                    Some(x) => frame_from_two_axes(z, x)?,
+                    None => frame_from_axis(z)?,
+                };
+                p_from_rotation_matrix(&frame)
+            }
+        }
+    }
 }
 
 /// A moving body: name, inertia data and a (rough) initial pose.

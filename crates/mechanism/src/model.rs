@@ -16,9 +16,6 @@ use cardan_constraints::{
     BodyPair, BodyState, Constraint, CoordinateDriver, DistanceDriver, Driver, Footprint, Joint,
     JointKind, Marker, RotationDriver, TranslationDriver,
 };
-use cardan_eulerparam::{
-    frame_from_axis, p_from_euler_123, p_from_euler_313, p_from_rotation_matrix, EulerParams,
-};
 use cardan_solver::SparsityPattern;
 use nalgebra::{Matrix3, Vector3, Vector4};
 use std::collections::HashMap;
@@ -336,28 +333,32 @@ impl Model {
         }
     }
 
-    pub(crate) fn phi_into(&self, bodies: &[BodyState], t: f64, out: &mut [f64]) {
+    /// Fills `out` (one entry per equation) element by element with `eval`, which writes an
+    /// element's rows for its body pair: the one loop behind Φ, ν and γ#.
+    fn rows_into(
+        &self,
+        bodies: &[BodyState],
+        t: f64,
+        out: &mut [f64],
+        eval: impl Fn(&dyn ElementEval, &BodyPair, f64, &mut [f64]),
+    ) {
         let g = BodyState::ground();
         self.each(|e, bi, bj, rows, _| {
             let pair = BodyPair::new(Self::state(bodies, &g, bi), Self::state(bodies, &g, bj));
-            e.phi_dyn(&pair, t, &mut out[rows.clone()]);
+            eval(e, &pair, t, &mut out[rows.clone()]);
         });
+    }
+
+    pub(crate) fn phi_into(&self, bodies: &[BodyState], t: f64, out: &mut [f64]) {
+        self.rows_into(bodies, t, out, |e, x, t, o| e.phi_dyn(x, t, o));
     }
 
     pub(crate) fn nu_into(&self, bodies: &[BodyState], t: f64, out: &mut [f64]) {
-        let g = BodyState::ground();
-        self.each(|e, bi, bj, rows, _| {
-            let pair = BodyPair::new(Self::state(bodies, &g, bi), Self::state(bodies, &g, bj));
-            e.nu_dyn(&pair, t, &mut out[rows.clone()]);
-        });
+        self.rows_into(bodies, t, out, |e, x, t, o| e.nu_dyn(x, t, o));
     }
 
     pub(crate) fn gamma_into(&self, bodies: &[BodyState], t: f64, out: &mut [f64]) {
-        let g = BodyState::ground();
-        self.each(|e, bi, bj, rows, _| {
-            let pair = BodyPair::new(Self::state(bodies, &g, bi), Self::state(bodies, &g, bj));
-            e.gamma_dyn(&pair, t, &mut out[rows.clone()]);
-        });
+        self.rows_into(bodies, t, out, |e, x, t, o| e.gamma_dyn(x, t, o));
     }
 
     pub(crate) fn jacobian_into(&self, bodies: &[BodyState], t: f64, slots: &mut [f64]) {
@@ -467,41 +468,27 @@ fn check_numbers(element: &str, what: &str, v: &[f64]) -> Result<(), ModelError>
 
 fn orientation_p(body: &str, o: &Orientation) -> Result<Vector4<f64>, ModelError> {
     let el = format!("body \"{body}\"");
-    let bad = |e: cardan_eulerparam::EulerParamError| ModelError::BadOrientation {
-        body: body.into(),
-        reason: e.to_string(),
-    };
-    let p: EulerParams = match o {
-        Orientation::Identity => EulerParams::identity(),
-        Orientation::EulerParams(e) => {
-            check_numbers(&el, "Euler parameters", e)?;
-            EulerParams::try_new_normalized(e[0], e[1], e[2], e[3]).map_err(bad)?
-        }
+    match o {
+        Orientation::Identity => {}
+        Orientation::EulerParams(e) => check_numbers(&el, "Euler parameters", e)?,
         Orientation::AxisAngle { axis, angle } => {
             check_numbers(&el, "orientation axis", axis.as_slice())?;
             check_number(&el, "orientation angle", *angle)?;
-            EulerParams::from_axis_angle(axis, *angle).map_err(bad)?
         }
-        Orientation::Euler313(a) => {
-            check_numbers(&el, "Euler angles", a)?;
-            p_from_euler_313(a[0], a[1], a[2]).map_err(bad)?
-        }
-        Orientation::Euler123(a) => {
-            check_numbers(&el, "Euler angles", a)?;
-            p_from_euler_123(a[0], a[1], a[2]).map_err(bad)?
+        Orientation::Euler313(a) | Orientation::Euler123(a) => {
+            check_numbers(&el, "Euler angles", a)?
         }
         Orientation::Axes { z, x } => {
             check_numbers(&el, "orientation z axis", z.as_slice())?;
-            let frame = match x {
-                Some(x) => {
-                    check_numbers(&el, "orientation x axis", x.as_slice())?;
-                    cardan_eulerparam::frame_from_two_axes(z, x).map_err(bad)?
-                }
-                None => frame_from_axis(z).map_err(bad)?,
-            };
-            p_from_rotation_matrix(&frame).map_err(bad)?
+            if let Some(x) = x {
+                check_numbers(&el, "orientation x axis", x.as_slice())?;
+            }
         }
-    };
+    }
+    let p = o.euler_params().map_err(|e| ModelError::BadOrientation {
+        body: body.into(),
+        reason: e.to_string(),
+    })?;
     Ok(*p.as_vector())
 }
 
