@@ -12,7 +12,6 @@ use cardan_constraints::{JointKind, TimeFunction};
 use cardan_dynamics::{
     Dopri5Options, Force, Frame, GeneralizedAlphaOptions, Integrator, PointRef, VectorFunction,
 };
-use cardan_eulerparam::EulerParams;
 use cardan_mechanism::{Axis, Body, DriverSpec, JointSpec, MechanismBuilder, Orientation, GROUND};
 use nalgebra::{Matrix3, Vector3};
 use std::collections::{BTreeMap, HashMap};
@@ -477,7 +476,7 @@ fn orientation(
         ));
     }
     let bad = |e: cardan_eulerparam::EulerParamError| cx.err(o.span(), format!("orientation: {e}"));
-    let (orient, p) = if let Some(ep) = &s.euler_parameters {
+    let orient = if let Some(ep) = &s.euler_parameters {
         let a = ep.get_ref();
         let mut v = [0.0; 4];
         for k in 0..4 {
@@ -492,8 +491,7 @@ fn orientation(
                 ),
             ));
         }
-        let p = EulerParams::try_new_normalized(v[0], v[1], v[2], v[3]).map_err(bad)?;
-        (Orientation::EulerParams(v), p)
+        Orientation::EulerParams(v)
     } else if s.axis.is_some() || s.angle.is_some() {
         let (Some(axis), Some(angle)) = (&s.axis, &s.angle) else {
             return Err(cx.err(
@@ -503,16 +501,13 @@ fn orientation(
         };
         let axis = cx.direction(axis, "orientation axis")?;
         let angle = cx.num(angle, "orientation angle")?;
-        let p = EulerParams::from_axis_angle(&axis, angle).map_err(bad)?;
-        (Orientation::AxisAngle { axis, angle }, p)
+        Orientation::AxisAngle { axis, angle }
     } else if let Some(e) = &s.euler313 {
         let v = cx.vec3(e, "euler313")?;
-        let p = cardan_eulerparam::p_from_euler_313(v.x, v.y, v.z).map_err(bad)?;
-        (Orientation::Euler313([v.x, v.y, v.z]), p)
+        Orientation::Euler313([v.x, v.y, v.z])
     } else if let Some(e) = &s.euler123 {
         let v = cx.vec3(e, "euler123")?;
-        let p = cardan_eulerparam::p_from_euler_123(v.x, v.y, v.z).map_err(bad)?;
-        (Orientation::Euler123([v.x, v.y, v.z]), p)
+        Orientation::Euler123([v.x, v.y, v.z])
     } else {
         let Some(z) = &s.z else {
             return Err(cx.err(
@@ -521,19 +516,14 @@ fn orientation(
             ));
         };
         let zv = cx.direction(z, "orientation z")?;
-        let (frame, x) = match &s.x {
-            Some(x) => {
-                let xv = cx.direction(x, "orientation x")?;
-                (
-                    cardan_eulerparam::frame_from_two_axes(&zv, &xv).map_err(bad)?,
-                    Some(xv),
-                )
-            }
-            None => (cardan_eulerparam::frame_from_axis(&zv).map_err(bad)?, None),
+        let x = match &s.x {
+            Some(x) => Some(cx.direction(x, "orientation x")?),
+            None => None,
         };
-        let p = EulerParams::from_rotation_matrix(&frame).map_err(bad)?;
-        (Orientation::Axes { z: zv, x }, p)
+        Orientation::Axes { z: zv, x }
     };
+    // The conversion is the builder's own (`Orientation::euler_params`); errors located here.
+    let p = orient.euler_params().map_err(bad)?;
     Ok((orient, p.a()))
 }
 
@@ -574,51 +564,43 @@ fn load_body(cx: &Ctx, b: &BodySection) -> Result<(Body, Features), Error> {
     }
 
     let mut f = Features::default();
-    let add_point = |k: &Name, v: Vector3<f64>, f: &mut Features| -> Result<(), Error> {
-        if let Some((s, _)) = f.points.get(k.get_ref()) {
+    // One named feature (point or vector) into its map; a second definition of the name is an
+    // error located at the repeat, naming the line of the first.
+    let add = |what: &str,
+               map: &mut BTreeMap<String, (Range<usize>, Vector3<f64>)>,
+               k: &Name,
+               v: Vector3<f64>|
+     -> Result<(), Error> {
+        if let Some((s, _)) = map.get(k.get_ref()) {
             let l = cx.src.location(s.start);
             return Err(cx.err(
                 k.span(),
                 format!(
-                    "duplicate point \"{}\" on body \"{name}\" (also defined at line {})",
+                    "duplicate {what} \"{}\" on body \"{name}\" (also defined at line {})",
                     k.get_ref(),
                     l.line
                 ),
             ));
         }
-        f.points.insert(k.get_ref().clone(), (k.span(), v));
+        map.insert(k.get_ref().clone(), (k.span(), v));
         Ok(())
     };
+    let at = a.transpose();
     for (k, v) in &b.points {
         let p = cx.vec3(v, &format!("point \"{}\" of body \"{name}\"", k.get_ref()))?;
-        add_point(k, p, &mut f)?;
+        add("point", &mut f.points, k, p)?;
     }
     for (k, v) in &b.global_points {
         let g = cx.vec3(v, &format!("point \"{}\" of body \"{name}\"", k.get_ref()))?;
-        add_point(k, a.transpose() * (g - position), &mut f)?;
+        add("point", &mut f.points, k, at * (g - position))?;
     }
-    let add_vec = |k: &Name, v: Vector3<f64>, f: &mut Features| -> Result<(), Error> {
-        if let Some((s, _)) = f.vectors.get(k.get_ref()) {
-            let l = cx.src.location(s.start);
-            return Err(cx.err(
-                k.span(),
-                format!(
-                    "duplicate vector \"{}\" on body \"{name}\" (also defined at line {})",
-                    k.get_ref(),
-                    l.line
-                ),
-            ));
-        }
-        f.vectors.insert(k.get_ref().clone(), (k.span(), v));
-        Ok(())
-    };
     for (k, v) in &b.vectors {
         let d = cx.direction(v, &format!("vector \"{}\" of body \"{name}\"", k.get_ref()))?;
-        add_vec(k, d, &mut f)?;
+        add("vector", &mut f.vectors, k, d)?;
     }
     for (k, v) in &b.global_vectors {
         let d = cx.direction(v, &format!("vector \"{}\" of body \"{name}\"", k.get_ref()))?;
-        add_vec(k, a.transpose() * d, &mut f)?;
+        add("vector", &mut f.vectors, k, at * d)?;
     }
     Ok((body, f))
 }
