@@ -406,10 +406,10 @@ fn documented_example_runs() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// A long run goes through the chunked path that drives the progress bar: its results must be
-/// those of one uninterrupted run (no repeated times, joint angles continued across chunks).
+/// A long run goes through the path that drives the progress bar: its results must be those of
+/// the plain run (same times, joint angles continued over turns).
 #[test]
-fn chunked_progress_run_equals_single_run() {
+fn progress_run_equals_plain_run() {
     let text = std::fs::read_to_string(example("slider_crank"))
         .unwrap()
         .replace("t_end = 1.0\nsteps = 200", "t_end = 2.5\nsteps = 2500");

@@ -289,9 +289,7 @@ fn write(path: &Path, text: &str) -> Result<(), Error> {
     })
 }
 
-/// The run in about 100 chunks, with a progress bar on stderr. Chunks share the workspace, so
-/// each continues from the last solved state; the first time of each later chunk repeats the last
-/// of the previous one and is dropped, and joint angles are continued across chunks.
+/// The run with a progress bar on stderr, driven by the mechanism's per-step callback.
 fn run_with_progress(
     p: &Prepared,
     opts: &KinematicOptions,
@@ -303,95 +301,20 @@ fn run_with_progress(
         )
         .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
+    // About 100 redraws per run, however many steps.
+    let stride = opts.steps.div_ceil(100).max(1);
     let mut ws = p.model.workspace();
-    let chunk = opts.steps.div_ceil(100).max(1);
-    let mut all: Option<Results> = None;
-    let mut k0 = 0;
-    let mut failure = None;
-    while k0 < opts.steps {
-        let k1 = (k0 + chunk).min(opts.steps);
-        let sub = KinematicOptions {
-            t0: opts.time(k0),
-            t_end: opts.time(k1),
-            steps: k1 - k0,
-            outputs: opts.outputs,
-        };
-        let (part, err) = match p.model.kinematics(&mut ws, &sub) {
-            Ok(r) => (r, None),
-            Err(e) => match e.partial_results() {
-                Some(r) => (r.clone(), Some(e)),
-                None => (Results::default(), Some(e)),
-            },
-        };
-        all = Some(match all {
-            None => part,
-            Some(acc) => append(acc, part),
-        });
-        bar.set_position(k1 as u64);
-        bar.set_message(format!("{:.4}", sub.t_end));
-        if err.is_some() {
-            failure = err;
-            break;
+    let result = p.model.kinematics_with_progress(&mut ws, opts, |k, t| {
+        if k % stride == 0 || k == opts.steps {
+            bar.set_position(k as u64);
+            bar.set_message(format!("{t:.4}"));
         }
-        k0 = k1;
-    }
+    });
     bar.finish_and_clear();
-    let mut all = all.unwrap_or_default();
-    // The grid times of one uninterrupted run (chunk ends are computed from their own start).
-    for (k, t) in all.times.iter_mut().enumerate() {
-        *t = opts.time(k);
+    match result {
+        Ok(r) => (r, None),
+        Err(e) => (e.partial_results().cloned().unwrap_or_default(), Some(e)),
     }
-    (all, failure)
-}
-
-/// Appends `b` (which starts with a repeat of the last time of `a`) to `a`.
-fn append(mut a: Results, b: Results) -> Results {
-    if b.is_empty() {
-        return a;
-    }
-    // Each later chunk starts where the previous one ended.
-    let skip = usize::from(!a.is_empty());
-    fn ext<T: Clone>(x: &mut Vec<T>, y: &[T], skip: usize) {
-        if y.len() > skip {
-            x.extend_from_slice(&y[skip..]);
-        }
-    }
-    ext(&mut a.times, &b.times, skip);
-    ext(&mut a.residual, &b.residual, skip);
-    ext(&mut a.iterations, &b.iterations, skip);
-    for (x, y) in a.bodies.iter_mut().zip(&b.bodies) {
-        ext(&mut x.r, &y.r, skip);
-        ext(&mut x.p, &y.p, skip);
-        ext(&mut x.r_dot, &y.r_dot, skip);
-        ext(&mut x.p_dot, &y.p_dot, skip);
-        ext(&mut x.omega, &y.omega, skip);
-        ext(&mut x.omega_local, &y.omega_local, skip);
-        ext(&mut x.r_ddot, &y.r_ddot, skip);
-        ext(&mut x.p_ddot, &y.p_ddot, skip);
-        ext(&mut x.omega_dot, &y.omega_dot, skip);
-        ext(&mut x.omega_dot_local, &y.omega_dot_local, skip);
-    }
-    for (x, y) in a.points.iter_mut().zip(&b.points) {
-        ext(&mut x.position, &y.position, skip);
-        ext(&mut x.velocity, &y.velocity, skip);
-        ext(&mut x.acceleration, &y.acceleration, skip);
-    }
-    for (x, y) in a.joints.iter_mut().zip(&b.joints) {
-        let mut vals = y.values.clone();
-        if let (Some(last), Some(first)) = (x.values.last().copied(), vals.first().copied()) {
-            for (q, name) in y.coordinate_names.iter().enumerate() {
-                if name.starts_with("angle") {
-                    let two_pi = 2.0 * std::f64::consts::PI;
-                    let shift = ((last[q] - first[q]) / two_pi).round() * two_pi;
-                    for v in &mut vals {
-                        v[q] += shift;
-                    }
-                }
-            }
-        }
-        ext(&mut x.values, &vals, skip);
-    }
-    a
 }
 
 /// The outputs to write: as requested, or everything when the file has no `[analysis.outputs]`.
