@@ -6,14 +6,23 @@ solver call only).
   python peers.py check
   python peers.py ondsel-slider-crank FRAMES        # spatial slider-crank, crank at 2*pi rad/s, t in [0, 1]
   python peers.py exudyn-chain N H T_END            # N spherical-joint links, generalized-alpha, step H
+  python peers.py exudyn-slider-crank H T_END [CSV] # IFToMM spatial slider-crank, generalized-alpha, step H
 
 Models (see crates/bench/src/models.rs and examples/slider_crank.toml for cardan's side):
 - slider-crank: Haug's spatial slider-crank (ground A = (0, 0.1, 0.12), crank AB along z of length
   0.08, ball joint at B = (0, 0.1, 0.2), universal joint at C = (0.2, 0, 0) with arms along
   (0, 2, -1)/sqrt(5) (conrod) and x (slider), slider on x).
+- IFToMM spatial rigid slider-crank (examples/slider_crank_dynamic.toml; problem definition in
+  shared/benchmarks/README.md section 2.6): the same geometry, free motion under gravity -z from
+  crank omega = 6 rad/s, crank centre of mass at its midpoint, U-joint cross = slider x and the
+  conrod's y axis (0, 2, -1)/sqrt(5). Error: max over the reference samples (every 0.05 s of
+  tests/data/benchmarks/spatial_slider_crank_crankCoM_mid.csv) of |C - (x_ref, 0, 0)| (slider) and
+  |B - B_ref(theta_ref)| (crank tip), exactly as tests/tests/benchmark_slider_crank.rs.
 - chain: rods of length 1 m, mass 1 kg, inertia diag(0.001, 1/12, 1/12) about the centre, along +x
   at rest, spherical joints (the first to the ground at the origin), gravity -z.
 pyondsel needs plain Python floats in its model text (never numpy scalars).
+Exudyn is imported as its "fast" build (sys.exudynFast: the same solver without range checks, about
+10 % faster here), so the peer runs in its quickest stock configuration.
 """
 
 import math
@@ -28,8 +37,14 @@ def result(**kw):
     print("RESULT " + " ".join(f"{k}={v}" for k, v in kw.items()), flush=True)
 
 
+def _exudyn():
+    sys.exudynFast = True  # read by exudyn/__init__.py: the build without range checks
+    import exudyn
+    return exudyn
+
+
 def check():
-    import exudyn  # noqa: F401
+    _exudyn()
     import pyondsel  # noqa: F401
     from importlib.metadata import version
     result(exudyn=version("exudyn"), pyondsel=version("pyondsel"))
@@ -126,7 +141,7 @@ def _timed(f):
 # Exudyn
 
 def exudyn_chain(n, h, t_end):
-    import exudyn as exu
+    exu = _exudyn()
     import numpy as np
     from exudyn.utilities import RigidBodyInertia
 
@@ -170,6 +185,99 @@ def exudyn_chain(n, h, t_end):
            b0_x=float(first[0]), b0_y=float(first[1]), b0_z=float(first[2]))
 
 
+SLIDER_CRANK_CSV = "tests/data/benchmarks/spatial_slider_crank_crankCoM_mid.csv"
+
+
+def exudyn_slider_crank(h, t_end, csv=None):
+    """The IFToMM spatial slider-crank in Exudyn: three rigid bodies (Euler-parameter nodes, the
+    default), CreateRevoluteJoint (crank, axis x at A), CreateSphericalJoint (B),
+    CreateGenericJoint with the rotation about the joint z axis locked (universal joint at C: free
+    about the slider's x and the conrod's y), CreatePrismaticJoint (slider along x). Gravity as
+    body loads. Generalized-alpha (Exudyn's default dynamic solver and settings: rho_inf 0.9,
+    modified Newton, relative tolerance 1e-8, dense linear solver), fixed step h."""
+    exu = _exudyn()
+    import numpy as np
+    from exudyn.itemInterface import SensorBody
+    from exudyn.utilities import RigidBodyInertia
+
+    h, t_end = float(h), float(t_end)
+    if csv is None:
+        import os
+        csv = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", SLIDER_CRANK_CSV)
+    with open(csv) as f:
+        rows = [[float(x) for x in line.split(",")] for line in f
+                if line.strip() and not line.startswith("#")]
+    rows = [r for r in rows if r[0] <= t_end + 1e-9]
+    spacing = rows[1][0] - rows[0][0]
+
+    sc = exu.SystemContainer()
+    mbs = sc.AddSystem()
+    g = [0.0, 0.0, -9.81]
+    ground = mbs.CreateGround()
+    # Crank: body frame = global at t = 0 (x = rotation axis, z along the crank), CoM mid A-B.
+    crank = mbs.CreateRigidBody(inertia=RigidBodyInertia(0.12, np.diag([1e-4, 1e-4, 1e-5])),
+                                referencePosition=[0.0, 0.1, 0.16], initialVelocity=[0.0, -0.24, 0.0],
+                                initialAngularVelocity=[6.0, 0.0, 0.0], gravity=g)
+    # Conrod: body x along B -> C, y = the U-joint arm (0, 2, -1)/sqrt(5), z = x cross y.
+    ex = np.array([2.0, -1.0, -2.0]) / 3.0
+    ey = np.array([0.0, 2.0, -1.0]) / math.sqrt(5.0)
+    rod = mbs.CreateRigidBody(inertia=RigidBodyInertia(0.5, np.diag([4e-4, 4e-3, 4e-3])),
+                              referencePosition=[0.1, 0.05, 0.1],
+                              referenceRotationMatrix=np.column_stack([ex, ey, np.cross(ex, ey)]),
+                              initialVelocity=[0.12, -0.24, 0.0],
+                              initialAngularVelocity=[1.92, -0.96, 0.48], gravity=g)
+    slider = mbs.CreateRigidBody(inertia=RigidBodyInertia(2.0, np.diag([1e-4, 1e-4, 1e-4])),
+                                 referencePosition=[0.2, 0.0, 0.0], initialVelocity=[0.24, 0.0, 0.0],
+                                 gravity=g)
+    mbs.CreateRevoluteJoint(itemNumbers=[ground, crank], position=[0.0, 0.1, 0.12],
+                            axis=[1.0, 0.0, 0.0])
+    mbs.CreateSphericalJoint(itemNumbers=[crank, rod], position=[0.0, 0.1, 0.2])
+    # Universal joint: joint frame x = slider x (free), y = conrod arm (free), z locked, i.e.
+    # x_slider . y_rod = 0 (Haug's DP1), plus coincident points.
+    ux = np.array([1.0, 0.0, 0.0])
+    mbs.CreateGenericJoint(itemNumbers=[slider, rod], position=[0.2, 0.0, 0.0],
+                           rotationMatrixAxes=np.column_stack([ux, ey, np.cross(ux, ey)]),
+                           constrainedAxes=[1, 1, 1, 0, 0, 1])
+    mbs.CreatePrismaticJoint(itemNumbers=[ground, slider], position=[0.2, 0.0, 0.0],
+                             axis=[1.0, 0.0, 0.0])
+    # Positions stored in memory at the reference spacing (C++ sensors, no Python per step).
+    pos = exu.OutputVariableType.Position
+    s_b = mbs.AddSensor(SensorBody(bodyNumber=crank, localPosition=[0.0, 0.0, 0.04],
+                                   storeInternal=True, outputVariableType=pos))
+    s_c = mbs.AddSensor(SensorBody(bodyNumber=slider, localPosition=[0.0, 0.0, 0.0],
+                                   storeInternal=True, outputVariableType=pos))
+    mbs.Assemble()
+
+    s = exu.SimulationSettings()
+    steps = int(round(t_end / h))
+    s.timeIntegration.numberOfSteps = steps
+    s.timeIntegration.endTime = t_end
+    s.timeIntegration.verboseMode = 0
+    s.solution.file.write = False
+    s.solution.sensors.writePeriod = spacing
+    s.displayStatistics = False
+    s.displayComputationTime = False
+    t0 = time.perf_counter()
+    mbs.SolveDynamic(s, storeSolver=True)
+    wall = time.perf_counter() - t0
+    it = mbs.sys["dynamicSolver"].it
+
+    b = mbs.GetSensorStoredData(s_b)
+    c = mbs.GetSensorStoredData(s_c)
+    err = 0.0
+    for r in rows:
+        k = int(np.argmin(np.abs(b[:, 0] - r[0])))
+        if abs(b[k, 0] - r[0]) > 1e-9:
+            raise SystemExit(f"no sample at t = {r[0]} (h = {h} must divide {spacing})")
+        x, th = r[1], r[2]
+        b_ref = np.array([0.0, 0.1 - 0.08 * math.sin(th), 0.12 + 0.08 * math.cos(th)])
+        err = max(err, float(np.linalg.norm(b[k, 1:4] - b_ref)),
+                  float(np.linalg.norm(c[k, 1:4] - np.array([x, 0.0, 0.0]))))
+    result(wall=wall, steps=steps, err=err, samples=len(rows), newton=it.newtonStepsCount,
+           jacobians=it.newtonJacobiCount, x_end=float(c[-1, 1]))
+
+
 if __name__ == "__main__":
     cmd, args = sys.argv[1], sys.argv[2:]
-    {"check": check, "ondsel-slider-crank": ondsel_slider_crank, "exudyn-chain": exudyn_chain}[cmd](*args)
+    {"check": check, "ondsel-slider-crank": ondsel_slider_crank, "exudyn-chain": exudyn_chain,
+     "exudyn-slider-crank": exudyn_slider_crank}[cmd](*args)
