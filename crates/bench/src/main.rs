@@ -3,6 +3,7 @@
 //! ```text
 //! cardan-bench [--smoke] [--report docs/benchmarks.md] [--plots docs/benchmarks] [--peers PYTHON]
 //! cardan-bench --point <kin|dyn> <chain|ladder> N     (one scaling point; used internally)
+//! cardan-bench --peers-only PYTHON [--smoke] [kinematics|slider-crank|chain ...]  (peers to stdout)
 //! ```
 //!
 //! Usually run through `cargo xtask bench [--smoke] [--peers]`.
@@ -49,6 +50,10 @@ fn main() {
         let n: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(10);
         let smoke = args.iter().any(|a| a == "--smoke");
         scaling_point(&kind, &family, n, smoke);
+        return;
+    }
+    if args.first().map(String::as_str) == Some("--peers-only") {
+        cardan_bench_peers::peers_only(&args[1..]);
         return;
     }
     if args.first().map(String::as_str) == Some("--profile") {
