@@ -311,6 +311,13 @@ impl Kkt {
         }
     }
 
+    /// y (n) += |Φ_vᵀ| |λ| (entrywise absolute values: the size of the terms of Φ_vᵀλ).
+    pub fn phi_v_t_abs_mul_add(&self, lambda: &[f64], y: &mut [f64]) {
+        for (e, v) in self.entries.iter().zip(&self.jac) {
+            y[e.col] += (v * lambda[e.row]).abs();
+        }
+    }
+
     /// y (n) += Φ_vᵀ λ (λ over active rows).
     pub fn phi_v_t_mul_add(&self, lambda: &[f64], y: &mut [f64]) {
         for (e, v) in self.entries.iter().zip(&self.jac) {

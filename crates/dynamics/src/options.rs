@@ -155,6 +155,12 @@ pub struct GeneralizedAlphaOptions {
     pub project_velocities: bool,
     /// The iteration matrix.
     pub iteration_matrix: IterationMatrix,
+    /// Modified Newton (default true): keep the last factorization of the KKT matrix across
+    /// iterations, steps and velocity projections while the iteration contracts fast enough
+    /// (θ = ‖Δ_k‖/‖Δ_{k−1}‖ ≤ 0.25), refactor at the current iterate when it does not. The
+    /// converged result satisfies the same residual tests either way; `false` refactors at every
+    /// iteration (full Newton, for comparison and tests).
+    pub reuse_factorization: bool,
 }
 
 impl Default for GeneralizedAlphaOptions {
@@ -167,6 +173,7 @@ impl Default for GeneralizedAlphaOptions {
             max_halvings: 6,
             project_velocities: true,
             iteration_matrix: IterationMatrix::Tangent,
+            reuse_factorization: true,
         }
     }
 }
