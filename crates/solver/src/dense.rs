@@ -43,6 +43,11 @@ pub struct DenseLu {
     /// The factorization in `lu` is the built-in one (`perm[k]` = original row of row k).
     small: bool,
     work: Vec<f64>,
+    /// Row, column and column-major dense index of every slot, when the pattern has no
+    /// duplicate entries (empty otherwise): equilibration and assembly then touch the slots only.
+    slot_row: Vec<usize>,
+    slot_col: Vec<usize>,
+    slot_dense: Vec<usize>,
 }
 
 impl Default for DenseLu {
@@ -67,6 +72,9 @@ impl DenseLu {
             equil: Equilibration::default(),
             small: false,
             work: Vec::new(),
+            slot_row: Vec::new(),
+            slot_col: Vec::new(),
+            slot_dense: Vec::new(),
         }
     }
 
@@ -96,6 +104,16 @@ impl LinearSolver for DenseLu {
         self.equil = Equilibration::new(n, n);
         self.work = vec![0.0; n];
         self.small = false;
+        self.slot_row.clear();
+        self.slot_col.clear();
+        self.slot_dense.clear();
+        if pattern.nnz() == pattern.num_slots() {
+            for (i, j) in pattern.entries() {
+                self.slot_row.push(i);
+                self.slot_col.push(j);
+                self.slot_dense.push(i + n * j);
+            }
+        }
         self.pattern = Some(pattern.clone());
         self.factored = false;
         Ok(())
@@ -108,9 +126,20 @@ impl LinearSolver for DenseLu {
             .as_ref()
             .ok_or(SolverError::NotReady { missing: "analyze" })?;
         pattern.check_finite(slots)?;
-        pattern.to_dense_col_major(slots, &mut self.lu)?;
         let n = self.n;
-        self.equil.apply_dense(&mut self.lu);
+        let by_slots = !self.slot_dense.is_empty() || pattern.num_slots() == 0;
+        if by_slots {
+            self.equil.apply_slots(
+                slots,
+                &self.slot_row,
+                &self.slot_col,
+                &self.slot_dense,
+                &mut self.lu,
+            );
+        } else {
+            pattern.to_dense_col_major(slots, &mut self.lu)?;
+            self.equil.apply_dense(&mut self.lu);
+        }
         self.small = false;
         if n <= SMALL_DIM {
             if small_lu(&mut self.lu, n, &mut self.perm, self.pivot_tolerance) {
@@ -248,27 +277,30 @@ fn small_lu(a: &mut [f64], n: usize, perm: &mut [usize], tol: f64) -> bool {
 
 /// Solves with the factors of [`small_lu`]: `x ← U⁻¹ L⁻¹ P x`.
 fn small_solve(lu: &[f64], n: usize, perm: &[usize], x: &mut [f64], work: &mut [f64]) {
+    let work = &mut work[..n];
     for (w, &p) in work.iter_mut().zip(perm) {
         *w = x[p];
     }
     // Forward: unit lower, column-oriented.
-    for k in 0..n {
-        let wk = work[k];
+    for (k, col) in lu.chunks_exact(n).enumerate() {
+        let (head, tail) = work.split_at_mut(k + 1);
+        let wk = head[k];
         if wk != 0.0 {
-            for i in k + 1..n {
-                work[i] -= lu[i + n * k] * wk;
+            for (w, l) in tail.iter_mut().zip(&col[k + 1..]) {
+                *w -= l * wk;
             }
         }
     }
     // Backward: upper, column-oriented.
-    for k in (0..n).rev() {
-        let wk = work[k] / lu[k + n * k];
-        work[k] = wk;
+    for (k, col) in lu.chunks_exact(n).enumerate().rev() {
+        let (head, tail) = work.split_at_mut(k);
+        let wk = tail[0] / col[k];
+        tail[0] = wk;
         if wk != 0.0 {
-            for i in 0..k {
-                work[i] -= lu[i + n * k] * wk;
+            for (w, u) in head.iter_mut().zip(&col[..k]) {
+                *w -= u * wk;
             }
         }
     }
-    x.copy_from_slice(&work[..n]);
+    x.copy_from_slice(work);
 }

@@ -130,6 +130,7 @@ pub use linear::{
 };
 pub use newton::{
     JacobianUpdate, LineSearch, Newton, NewtonOptions, NewtonReport, NonlinearSystem,
+    REFINE_MAX_CORRECTIONS, REFINE_MAX_DRIFT,
 };
 pub use pattern::{RowSelection, SparsityPattern};
 pub use rank::{MinNormQr, RankAnalysis, RankOptions};

@@ -333,6 +333,7 @@ pub(crate) struct Equilibration {
 /// 2^−round(log2 max) (1 for zero, non-finite or negative input), from the exponent and
 /// mantissa bits: round(log2(m 2^e)) = e + [m ≥ √2] for m ∈ [1, 2). Called per row and column
 /// at every factorization, where log2/round/powi cost more than the scaling itself.
+#[inline]
 fn pow2_recip(max: f64) -> f64 {
     if max.is_nan() || max <= 0.0 || max.is_infinite() {
         return 1.0;
@@ -382,6 +383,48 @@ impl Equilibration {
             for v in &mut values[range] {
                 *v *= c;
             }
+        }
+    }
+
+    /// Computes the scales from the slots of a pattern without duplicate entries (`rows[k]`,
+    /// `cols[k]` of slot `k`) and writes the scaled matrix into the zeroed dense column-major
+    /// `out` at `dense[k]`: the same scales and values as [`apply_dense`](Self::apply_dense) on
+    /// the assembled matrix (the zeros do not change a maximum), touching the slots only. The
+    /// values must be finite.
+    pub(crate) fn apply_slots(
+        &mut self,
+        slots: &[f64],
+        rows: &[usize],
+        cols: &[usize],
+        dense: &[usize],
+        out: &mut [f64],
+    ) {
+        // Plain comparisons: the values are finite (no NaN semantics needed).
+        self.row.fill(0.0);
+        for (v, &i) in slots.iter().zip(rows) {
+            let a = v.abs();
+            let r = &mut self.row[i];
+            if a > *r {
+                *r = a;
+            }
+        }
+        for r in self.row.iter_mut() {
+            *r = pow2_recip(*r);
+        }
+        self.col.fill(0.0);
+        for ((v, &i), &j) in slots.iter().zip(rows).zip(cols) {
+            let a = (v * self.row[i]).abs();
+            let c = &mut self.col[j];
+            if a > *c {
+                *c = a;
+            }
+        }
+        for c in self.col.iter_mut() {
+            *c = pow2_recip(*c);
+        }
+        out.fill(0.0);
+        for (((v, &i), &j), &d) in slots.iter().zip(rows).zip(cols).zip(dense) {
+            out[d] = v * self.row[i] * self.col[j];
         }
     }
 

@@ -11,10 +11,18 @@
 //! the 6-coordinate form. `α_k` is 1 unless the line search shortens the step.
 //!
 //! * **Full Newton** refactors `Φ_q` every iteration.
-//! * **Modified Newton** keeps the factorization while the scaled residual contracts by at least
-//!   `min_contraction` per iteration and the factorization is younger than `max_age`; a slow or
-//!   failed step triggers a refactorization at the current point. The factorization also survives
-//!   from one [`Newton::solve`] to the next (time stepping), subject to the same checks.
+//! * **Modified Newton** (chord iteration) keeps the factorization while the scaled residual and
+//!   the step both contract by at least `min_contraction` per iteration and it has served fewer
+//!   than `max_age` iterations of this solve; a slow or failed step triggers a refactorization at
+//!   the current point. The factorization also survives from one [`Newton::solve`] to the next
+//!   (time stepping), subject to the same checks.
+//! * **Convergence**: the scaled residual test, and the step test on the error the last step
+//!   leaves. A Newton step (factorization made at the point the step starts from) converges
+//!   quadratically, so a step `‖Δ‖ ≤ τ_step` leaves an error of about `τ_step²`. A chord step
+//!   (older factorization) converges linearly with rate `θ`, estimated as the ratio of the last two
+//!   steps made with the same factorization (`min_contraction` for the first one), and leaves
+//!   about `θ/(1 − θ) ‖Δ‖`: it passes when that is `≤ τ_step²`. Both kinds thus promise the same
+//!   accuracy (see [`convergence`](crate::convergence)).
 //! * **Line search**: backtracking on `f = Σ (Φ_i / e_i)²` with the Armijo condition
 //!   `f(α) ≤ (1 − 2 c α) f(0)`, halving `α`; plus an optional cap on the scaled step length.
 //!   Together they let assembly start from a rough guess.
@@ -104,10 +112,12 @@ pub trait NonlinearSystem {
 pub enum JacobianUpdate {
     /// Full Newton: every iteration.
     EveryIteration,
-    /// Modified Newton: keep the factorization while `‖Φ_{k+1}‖ ≤ min_contraction · ‖Φ_k‖` and
-    /// it has been used for fewer than `max_age` iterations.
+    /// Modified Newton: keep the factorization while `‖Φ_{k+1}‖ ≤ min_contraction · ‖Φ_k‖`, the
+    /// steps made with it shrink by at least `min_contraction` (`‖Δ_{k+1}‖ ≤ min_contraction ·
+    /// ‖Δ_k‖`) and it has been used for fewer than `max_age` iterations.
     Modified {
-        /// Iterations a factorization may serve.
+        /// Iterations a factorization may serve in one [`Newton::solve`] (it may serve the
+        /// next solve again, subject to the contraction checks).
         max_age: usize,
         /// Required contraction of the scaled residual per iteration (for example 0.25).
         min_contraction: f64,
@@ -214,6 +224,8 @@ pub struct Newton<S: LinearSolver = AutoSolver> {
     slot_src: Vec<usize>,
     slot_row: Vec<usize>,
     slot_col: Vec<usize>,
+    /// For each solver slot: `w_row / w_col` (the scaling of the linear system; 1 unscaled).
+    slot_scale: Vec<f64>,
     /// For each solver row: full row.
     solve_rows: Vec<usize>,
     residual: Vec<f64>,
@@ -226,11 +238,36 @@ pub struct Newton<S: LinearSolver = AutoSolver> {
     unknown_weights: Vec<f64>,
     new_eq_weights: Vec<f64>,
     new_unknown_weights: Vec<f64>,
+    /// The scales the weights were computed from (NaN before the first read).
+    eq_scales: Vec<f64>,
+    unknown_scales: Vec<f64>,
     history: Vec<f64>,
     factored: bool,
     factored_at_current: bool,
     age: usize,
+    /// Scaled length of the last step made with the current factorization (NaN: none yet).
+    matrix_step: f64,
+    /// Largest ratio of consecutive steps made with the current factorization (0: none yet).
+    matrix_theta: f64,
+    /// Scaled distance (sum of step lengths) from the point of the factorization to the last
+    /// iterate, `x_last` (infinite: unknown).
+    drift: f64,
+    /// The state last returned by `solve` or passed to `factor_at` / `solve_linear_at`.
+    x_last: Vec<f64>,
+    /// `full_slots` hold the Jacobian at `x_last`.
+    slots_at_last: bool,
+    /// Refinement buffers (lengths m and n).
+    refine_r: Vec<f64>,
+    refine_dy: Vec<f64>,
 }
+
+/// Largest scaled distance between the point of the factorization and the current state at
+/// which [`Newton::solve_linear_at`] refines instead of refactoring: the refinement contracts by
+/// about the relative change of the Jacobian, so a few corrections then reach rounding level.
+pub const REFINE_MAX_DRIFT: f64 = 1e-5;
+
+/// Corrections [`Newton::solve_linear_at`] makes before it gives up and refactors.
+pub const REFINE_MAX_CORRECTIONS: usize = 4;
 
 impl<S: LinearSolver> Newton<S> {
     /// Sets up Newton-Raphson for `pattern`: analyzes `solver` and allocates every buffer.
@@ -306,6 +343,7 @@ impl<S: LinearSolver> Newton<S> {
             n,
             full_slots: vec![0.0; pattern.num_slots()],
             solve_slots: vec![0.0; slot_src.len()],
+            slot_scale: vec![1.0; slot_src.len()],
             slot_src,
             slot_row,
             slot_col,
@@ -320,10 +358,19 @@ impl<S: LinearSolver> Newton<S> {
             unknown_weights: vec![1.0; n],
             new_eq_weights: vec![1.0; m],
             new_unknown_weights: vec![1.0; n],
+            eq_scales: vec![f64::NAN; m],
+            unknown_scales: vec![f64::NAN; n],
             history: Vec::with_capacity(options.max_iterations + 2),
             factored: false,
             factored_at_current: false,
             age: 0,
+            matrix_step: f64::NAN,
+            matrix_theta: 0.0,
+            drift: f64::INFINITY,
+            x_last: Vec::new(),
+            slots_at_last: false,
+            refine_r: vec![0.0; m],
+            refine_dy: vec![0.0; n],
         }
     }
 
@@ -364,10 +411,21 @@ impl<S: LinearSolver> Newton<S> {
         self.factored && self.factored_at_current
     }
 
+    /// The state was moved outside the solver (for example by a predictor): the factorization is
+    /// kept, so a [`JacobianUpdate::Modified`] solve may start with it, but it is no longer
+    /// [current](Self::factorization_is_current).
+    pub fn state_moved(&mut self) {
+        self.factored_at_current = false;
+        self.slots_at_last = false;
+        self.drift = f64::INFINITY;
+    }
+
     /// Forgets the factorization (the next solve refactors first).
     pub fn invalidate(&mut self) {
         self.factored = false;
         self.factored_at_current = false;
+        self.slots_at_last = false;
+        self.drift = f64::INFINITY;
     }
 
     fn check_system<N: NonlinearSystem + ?Sized>(
@@ -381,6 +439,7 @@ impl<S: LinearSolver> Newton<S> {
         if self.x_trial.len() != x.len() {
             // Allocates only the first time (or if the state length changes).
             self.x_trial = vec![0.0; x.len()];
+            self.x_last = vec![f64::NAN; x.len()];
         }
         Ok(())
     }
@@ -397,14 +456,25 @@ impl<S: LinearSolver> Newton<S> {
     ) -> Result<(), SolverError> {
         self.check_system(system, x)?;
         self.update_weights(system);
-        self.refactor(system, x, None)
+        self.refactor(system, x, None)?;
+        self.x_last.copy_from_slice(x);
+        self.slots_at_last = true;
+        Ok(())
     }
 
     /// Reads the scales from the system; a factorization made with other scales is dropped.
     fn update_weights<N: NonlinearSystem + ?Sized>(&mut self, system: &N) {
         system.equation_scales(&mut self.new_eq_weights);
-        reciprocal_in_place(&mut self.new_eq_weights);
         system.unknown_scales(&mut self.new_unknown_weights);
+        if self.new_eq_weights == self.eq_scales && self.new_unknown_weights == self.unknown_scales
+        {
+            // Same scales as last time (the usual case): same weights.
+            return;
+        }
+        self.eq_scales.copy_from_slice(&self.new_eq_weights);
+        self.unknown_scales
+            .copy_from_slice(&self.new_unknown_weights);
+        reciprocal_in_place(&mut self.new_eq_weights);
         reciprocal_in_place(&mut self.new_unknown_weights);
         if self.new_eq_weights != self.eq_weights
             || self.new_unknown_weights != self.unknown_weights
@@ -412,6 +482,10 @@ impl<S: LinearSolver> Newton<S> {
             self.eq_weights.copy_from_slice(&self.new_eq_weights);
             self.unknown_weights
                 .copy_from_slice(&self.new_unknown_weights);
+            for k in 0..self.slot_scale.len() {
+                self.slot_scale[k] =
+                    self.eq_weights[self.slot_row[k]] / self.unknown_weights[self.slot_col[k]];
+            }
             if self.options.scale_linear_system {
                 self.invalidate();
             }
@@ -448,14 +522,19 @@ impl<S: LinearSolver> Newton<S> {
         self.pattern
             .check_finite(&self.full_slots)
             .map_err(|e| with_iteration(e, iteration))?;
-        let scaled = self.options.scale_linear_system;
-        for k in 0..self.solve_slots.len() {
-            let v = self.full_slots[self.slot_src[k]];
-            self.solve_slots[k] = if scaled {
-                v * self.eq_weights[self.slot_row[k]] / self.unknown_weights[self.slot_col[k]]
-            } else {
-                v
-            };
+        if self.options.scale_linear_system {
+            for ((dst, &src), &w) in self
+                .solve_slots
+                .iter_mut()
+                .zip(&self.slot_src)
+                .zip(&self.slot_scale)
+            {
+                *dst = self.full_slots[src] * w;
+            }
+        } else {
+            for (dst, &src) in self.solve_slots.iter_mut().zip(&self.slot_src) {
+                *dst = self.full_slots[src];
+            }
         }
         self.solver
             .factor(&self.solve_slots)
@@ -463,6 +542,9 @@ impl<S: LinearSolver> Newton<S> {
         self.factored = true;
         self.factored_at_current = true;
         self.age = 0;
+        self.matrix_step = f64::NAN;
+        self.matrix_theta = 0.0;
+        self.drift = 0.0;
         Ok(())
     }
 
@@ -512,6 +594,91 @@ impl<S: LinearSolver> Newton<S> {
         Ok(())
     }
 
+    /// Solves `Φ_q(x) v = rhs` (velocity, acceleration) at the state `x`, reusing the current
+    /// factorization when it was made close to `x`. No allocation after the first call.
+    ///
+    /// * Factorization made at `x`: one solve, as [`solve_linear`](Self::solve_linear).
+    /// * Made at a point at most [`REFINE_MAX_DRIFT`] (scaled) from `x`, which `x` was reached
+    ///   from by the steps of the last [`solve`](Self::solve) (typically the last, tiny Newton
+    ///   step): iterative refinement against the exact Jacobian at `x` (evaluated once and kept
+    ///   for further right-hand sides), `v ← v + M⁻¹ (rhs − Φ_q(x) v)` with the old factors `M`,
+    ///   until the correction is at rounding level (`‖δv‖ ≤ 4ε ‖v‖`). It contracts by about the
+    ///   relative change of the Jacobian; if a correction does not halve, or
+    ///   [`REFINE_MAX_CORRECTIONS`] do not suffice, the Jacobian is refactored at `x`.
+    /// * Otherwise (no factorization, another point, a moved state): refactors at `x` first.
+    ///
+    /// # Errors
+    /// Size mismatches, non-finite values, [`SolverError::Singular`] from a refactorization.
+    pub fn solve_linear_at<N: NonlinearSystem + ?Sized>(
+        &mut self,
+        system: &mut N,
+        x: &[f64],
+        rhs: &[f64],
+        out: &mut [f64],
+    ) -> Result<(), SolverError> {
+        self.check_system(system, x)?;
+        check_len("right-hand side", self.m, rhs.len())?;
+        check_len("solution", self.n, out.len())?;
+        if self.x_last.as_slice() != x {
+            self.state_moved();
+            self.x_last.copy_from_slice(x);
+        }
+        if self.factored && self.factored_at_current {
+            return self.solve_linear(rhs, out);
+        }
+        if self.factored && self.drift <= REFINE_MAX_DRIFT {
+            if !self.slots_at_last {
+                system.jacobian(x, &mut self.full_slots);
+                self.pattern.check_finite(&self.full_slots)?;
+                self.slots_at_last = true;
+            }
+            if self.refine(rhs, out)? {
+                return Ok(());
+            }
+        }
+        self.update_weights(system);
+        self.refactor(system, x, None)?;
+        self.slots_at_last = true;
+        self.solve_linear(rhs, out)
+    }
+
+    /// Iterative refinement of `Φ_q v = rhs` with the exact Jacobian in `full_slots` and the
+    /// (slightly older) factorization. `Ok(false)` when it does not converge.
+    fn refine(&mut self, rhs: &[f64], out: &mut [f64]) -> Result<bool, SolverError> {
+        self.solve_linear(rhs, out)?;
+        let mut last = f64::INFINITY;
+        for _ in 0..REFINE_MAX_CORRECTIONS {
+            // r = rhs − Φ_q v on the solved rows.
+            let mut r = std::mem::take(&mut self.refine_r);
+            r.copy_from_slice(rhs);
+            for k in 0..self.slot_src.len() {
+                r[self.slot_row[k]] -= self.full_slots[self.slot_src[k]] * out[self.slot_col[k]];
+            }
+            let mut dy = std::mem::take(&mut self.refine_dy);
+            let solved = self.solve_linear(&r, &mut dy);
+            self.refine_r = r;
+            if let Err(e) = solved {
+                self.refine_dy = dy;
+                return Err(e);
+            }
+            let (mut norm_dy, mut norm_y) = (0.0f64, 0.0f64);
+            for (o, d) in out.iter_mut().zip(&dy) {
+                *o += d;
+                norm_dy = norm_dy.max(d.abs());
+                norm_y = norm_y.max(o.abs());
+            }
+            self.refine_dy = dy;
+            if norm_dy <= 4.0 * f64::EPSILON * norm_y {
+                return Ok(true);
+            }
+            if norm_dy > 0.5 * last {
+                return Ok(false);
+            }
+            last = norm_dy;
+        }
+        Ok(false)
+    }
+
     fn eval_residual<N: NonlinearSystem + ?Sized>(
         system: &mut N,
         x: &[f64],
@@ -549,8 +716,17 @@ impl<S: LinearSolver> Newton<S> {
         x: &mut [f64],
     ) -> Result<NewtonReport, SolverError> {
         self.check_system(system, x)?;
+        if self.x_last.as_slice() != x {
+            // Moved since the last solve without `state_moved`: distance unknown.
+            self.drift = f64::INFINITY;
+        }
         // The state changes from here on: an old factorization is no longer "current".
         self.factored_at_current = false;
+        self.slots_at_last = false;
+        // Age and step ratios count within one solve.
+        self.age = 0;
+        self.matrix_step = f64::NAN;
+        self.matrix_theta = 0.0;
         let opts = self.options;
         self.update_weights(system);
         if let JacobianUpdate::EveryIteration = opts.jacobian_update {
@@ -570,6 +746,9 @@ impl<S: LinearSolver> Newton<S> {
         let mut residual = std::mem::take(&mut self.residual);
         let result = self.iterate(system, x, &mut residual, &mut report, &opts);
         self.residual = residual;
+        self.x_last.copy_from_slice(x);
+        // A factorization at the solution holds its Jacobian.
+        self.slots_at_last = self.factored && self.factored_at_current;
         result.map(|()| {
             report.rank = self.solver.rank();
             report.redundant_equations = self.redundancy();
@@ -591,11 +770,14 @@ impl<S: LinearSolver> Newton<S> {
         let mut merit = weighted_sum_squares(residual, &self.eq_weights);
         self.history.push(rn);
         let mut last_step = f64::INFINITY;
+        // Estimated error left by the last step (scaled), compared with τ_step².
+        let mut last_error = f64::INFINITY;
         let mut force_refactor = false;
         let mut k = 0;
+        let step_tol = opts.tolerances.step;
         loop {
             report.residual_norm = rn;
-            if rn <= opts.tolerances.residual && (k == 0 || last_step <= opts.tolerances.step) {
+            if rn <= opts.tolerances.residual && (k == 0 || last_error <= step_tol * step_tol) {
                 report.iterations = k;
                 report.step_norm = if k == 0 { 0.0 } else { last_step };
                 if opts.factor_at_solution && !(self.factored && self.factored_at_current) {
@@ -722,14 +904,60 @@ impl<S: LinearSolver> Newton<S> {
             residual.copy_from_slice(&self.trial_residual);
             let new_rn = weighted_inf_norm(residual, &self.eq_weights).0;
             merit = weighted_sum_squares(residual, &self.eq_weights);
+            last_error = if fresh {
+                // Newton step: quadratic convergence, the error left is about ‖Δ‖².
+                if step <= step_tol {
+                    0.0
+                } else {
+                    f64::INFINITY
+                }
+            } else {
+                f64::INFINITY
+            };
             if let JacobianUpdate::Modified {
-                min_contraction, ..
+                min_contraction,
+                max_age,
             } = opts.jacobian_update
             {
                 if new_rn > min_contraction * rn {
                     force_refactor = true;
                 }
+                if !fresh {
+                    // Chord step: linear convergence with rate θ, estimated by the largest ratio
+                    // of consecutive steps made with this factorization (the rate need not be
+                    // steady: several modes give oscillating ratios), or for the first step by
+                    // the residual ratio.
+                    let residual_ratio = if rn > 0.0 { new_rn / rn } else { 0.0 };
+                    let theta = if self.matrix_step.is_nan() {
+                        residual_ratio
+                    } else {
+                        let ratio = if step == 0.0 {
+                            0.0
+                        } else {
+                            step / self.matrix_step
+                        };
+                        self.matrix_theta = self.matrix_theta.max(ratio);
+                        self.matrix_theta
+                    };
+                    if theta > min_contraction {
+                        force_refactor = true;
+                    } else {
+                        last_error = step * theta / (1.0 - theta);
+                        // Chord steps left with this factorization in this solve: if they are
+                        // not expected to reach the step test, refactor now rather than spend
+                        // them (Newton converges from here in fewer steps).
+                        let left = max_age.max(1).saturating_sub(self.age);
+                        let tol2 = step_tol * step_tol;
+                        if last_error > tol2
+                            && (left == 0 || last_error * theta.powi(left.min(64) as i32) > tol2)
+                        {
+                            force_refactor = true;
+                        }
+                    }
+                }
             }
+            self.matrix_step = step;
+            self.drift += step;
             rn = new_rn;
             last_step = step;
             self.history.push(rn);

@@ -641,3 +641,103 @@ proptest! {
         prop_assert_eq!(newton.linear_solver().rank(), Some(21));
     }
 }
+
+fn chord_options() -> NewtonOptions {
+    NewtonOptions {
+        jacobian_update: JacobianUpdate::Modified {
+            max_age: 4,
+            min_contraction: 0.3,
+        },
+        factor_at_solution: false,
+        ..NewtonOptions::default()
+    }
+}
+
+/// The chord iteration keeps the last factorization from a good start and refactors when the
+/// start is bad (poor contraction), converging to the same accuracy either way.
+#[test]
+fn chord_iteration_refactors_when_the_start_is_bad() {
+    let mut newton = Newton::new(&cubic_pattern(), AutoSolver::default(), chord_options()).unwrap();
+    let mut x = [1.02, 1.98, 3.01];
+    newton.solve(&mut Cubic, &mut x).unwrap();
+    // Good start: chord steps with the kept factorization only.
+    let mut good = [1.0 + 1e-5, 2.0 - 1e-5, 3.0];
+    let r = newton.solve(&mut Cubic, &mut good).unwrap();
+    assert_eq!(r.refactorizations, 0, "{r:?}");
+    // Bad start: the kept factorization contracts poorly, so Newton refactors.
+    let mut bad = [1.4, 1.5, 3.4];
+    let r = newton.solve(&mut Cubic, &mut bad).unwrap();
+    assert!(r.refactorizations >= 1, "{r:?}");
+    for x in [good, bad] {
+        for (g, w) in x.iter().zip([1.0, 2.0, 3.0]) {
+            assert!((g - w).abs() < 1e-12, "{x:?}");
+        }
+    }
+}
+
+/// A chord step passes the step test only when the error it leaves, θ/(1 − θ) ‖Δ‖, is below
+/// τ_step² (1e-12 by default), the error full Newton leaves after a step of τ_step.
+#[test]
+fn chord_iteration_meets_the_squared_step_tolerance() {
+    let mut full = Newton::new(
+        &cubic_pattern(),
+        AutoSolver::default(),
+        NewtonOptions::default(),
+    )
+    .unwrap();
+    let mut chord = Newton::new(&cubic_pattern(), AutoSolver::default(), chord_options()).unwrap();
+    let mut x = [1.0, 2.0, 3.0];
+    chord.factor_at(&mut Cubic, &x).unwrap();
+    for k in 1..20 {
+        let d = 1e-3 * k as f64;
+        let start = [1.0 + d, 2.0 - 0.5 * d, 3.0 + 0.3 * d];
+        let (mut a, mut b) = (start, start);
+        full.solve(&mut Cubic, &mut a).unwrap();
+        chord.solve(&mut Cubic, &mut b).unwrap();
+        for (p, q) in a.iter().zip(&b) {
+            // Both within a few τ_step² of the solution.
+            assert!((p - q).abs() < 1e-11, "{a:?} vs {b:?}");
+        }
+        x = b;
+    }
+    assert!((x[2] - 3.0).abs() < 1e-12);
+}
+
+/// `solve_linear_at` after a solve that ended away from its factorization (chord steps or a
+/// last Newton step) gives the solution of a fresh factorization at the solution, to rounding.
+#[test]
+fn solve_linear_at_matches_a_fresh_factorization() {
+    let mut newton = Newton::new(&cubic_pattern(), AutoSolver::default(), chord_options()).unwrap();
+    let mut fresh = Newton::new(
+        &cubic_pattern(),
+        AutoSolver::default(),
+        NewtonOptions::default(),
+    )
+    .unwrap();
+    let rhs = [0.3, -1.7, 2.5];
+    for start in [
+        [1.02, 1.98, 3.01],
+        [1.0 + 1e-6, 2.0, 3.0 - 1e-6],
+        [1.3, 1.6, 3.2],
+    ] {
+        let mut x = start;
+        newton.solve(&mut Cubic, &mut x).unwrap();
+        let mut v = [0.0; 3];
+        newton
+            .solve_linear_at(&mut Cubic, &x, &rhs, &mut v)
+            .unwrap();
+        // The same factors serve a second right-hand side.
+        let mut w = [0.0; 3];
+        newton.solve_linear_at(&mut Cubic, &x, &v, &mut w).unwrap();
+        fresh.factor_at(&mut Cubic, &x).unwrap();
+        let (mut v_ref, mut w_ref) = ([0.0; 3], [0.0; 3]);
+        fresh.solve_linear(&rhs, &mut v_ref).unwrap();
+        fresh.solve_linear(&v, &mut w_ref).unwrap();
+        for (a, b) in v.iter().zip(&v_ref).chain(w.iter().zip(&w_ref)) {
+            assert!(
+                (a - b).abs() <= 1e-12 * b.abs().max(1.0),
+                "{v:?} {v_ref:?} {w:?} {w_ref:?}"
+            );
+        }
+    }
+}
