@@ -82,7 +82,7 @@ pub mod workspace;
 
 pub use analysis::assembly::{AssemblyOptions, AssemblyReport};
 pub use analysis::grid::KinematicOptions;
-pub use analysis::position::{PositionReport, FAST_RANK_MIN_UNKNOWNS};
+pub use analysis::position::{PositionReport, FAST_RANK_MIN_UNKNOWNS, KINEMATIC_MAX_CHORD_STEPS};
 pub use builder::{
     Axis, Body, DriverSpec, DriverTarget, ForceSpec, JointSpec, MechanismBuilder, Orientation,
     GROUND,

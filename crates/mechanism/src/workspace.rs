@@ -27,6 +27,12 @@ pub struct Workspace {
     pub(crate) v: Vec<f64>,
     /// v̇ = [r̈; ω̇'] per body.
     pub(crate) vdot: Vec<f64>,
+    /// The last two accelerations computed ([`Model::acceleration`]) and their times (NaN: none),
+    /// for the predictor's jerk estimate.
+    pub(crate) vdot_last: Vec<f64>,
+    pub(crate) vdot_prev: Vec<f64>,
+    pub(crate) vdot_last_time: f64,
+    pub(crate) vdot_prev_time: f64,
     pub(crate) bodies: Vec<BodyState>,
     /// Length m: ν, γ#, Φ.
     pub(crate) rhs: Vec<f64>,
@@ -68,6 +74,10 @@ impl Workspace {
             x: vec![0.0; 7 * nb],
             v: vec![0.0; 6 * nb],
             vdot: vec![0.0; 6 * nb],
+            vdot_last: vec![0.0; 6 * nb],
+            vdot_prev: vec![0.0; 6 * nb],
+            vdot_last_time: f64::NAN,
+            vdot_prev_time: f64::NAN,
             bodies: vec![BodyState::ground(); nb],
             rhs: vec![0.0; m],
             phi: vec![0.0; m],
@@ -259,8 +269,20 @@ impl Workspace {
     pub(crate) fn invalidate(&mut self) {
         self.velocity_valid = false;
         self.acceleration_valid = false;
+        self.vdot_last_time = f64::NAN;
+        self.vdot_prev_time = f64::NAN;
         if let Some(k) = &mut self.kin {
             k.invalidate();
+        }
+    }
+
+    /// The poses were moved by a predictor: velocities and accelerations become invalid, the
+    /// kinematic factorization is kept as the start of a modified-Newton solve.
+    pub(crate) fn poses_moved(&mut self) {
+        self.velocity_valid = false;
+        self.acceleration_valid = false;
+        if let Some(k) = &mut self.kin {
+            k.state_moved();
         }
     }
 

@@ -17,7 +17,15 @@ use crate::dof::{solver, DofReport};
 use crate::error::{AnalysisError, EquationName};
 use crate::model::Model;
 use crate::workspace::{PositionSystem, Workspace};
-use cardan_solver::{AutoSolver, Newton, NewtonOptions, RankAnalysis, RankOptions, SolverError};
+use cardan_solver::{
+    AutoSolver, JacobianUpdate, Newton, NewtonOptions, RankAnalysis, RankOptions, SolverError,
+};
+
+/// Steps one factorization serves in the default kinematic Newton
+/// ([`Model::kinematic_newton_options`]): with the Taylor predictor a frame usually converges in
+/// three chord steps with the factors made at the previous frame's solution; when the steps left
+/// are not expected to pass the step test, Newton refactors and finishes with a Newton step.
+pub const KINEMATIC_MAX_CHORD_STEPS: usize = 4;
 
 /// Models with at least this many unknowns try a sparse LU of the square Φ_v before the dense
 /// rank analysis in [`Model::prepare_kinematics`] (below it the dense QR costs little and gives
@@ -44,10 +52,23 @@ impl Model {
         self.prepare_kinematics_with(ws, Self::kinematic_newton_options())
     }
 
-    /// The default Newton options of the kinematic solver: full Newton with the solver's
-    /// backtracking line search and default scaled tolerances (residual 1e-10, step 1e-6).
+    /// The default Newton options of the kinematic solver: modified Newton (chord steps with
+    /// the last factorization, kept from frame to frame, while the residual and the steps
+    /// contract by 0.3 or better, at most [`KINEMATIC_MAX_CHORD_STEPS`] steps per
+    /// factorization; see [`cardan_solver::JacobianUpdate::Modified`]), the solver's backtracking
+    /// line search and default scaled tolerances (residual 1e-10, step 1e-6, the step test
+    /// applied to the error a chord step leaves). No refactorization at the solution: velocity
+    /// and acceleration refactor there only when the factors are not close enough for
+    /// iterative refinement ([`cardan_solver::Newton::solve_linear_at`]).
     pub fn kinematic_newton_options() -> NewtonOptions {
-        NewtonOptions::default()
+        NewtonOptions {
+            jacobian_update: JacobianUpdate::Modified {
+                max_age: KINEMATIC_MAX_CHORD_STEPS,
+                min_contraction: 0.3,
+            },
+            factor_at_solution: false,
+            ..NewtonOptions::default()
+        }
     }
 
     /// [`prepare_kinematics`](Self::prepare_kinematics) with Newton options of your choice.

@@ -1,7 +1,9 @@
 //! Velocity analysis: Φ_v v = ν with v = [ṙ; ω'] per body, ν = −Φ_t (nonzero only for drivers).
 //!
-//! The matrix is the one of the converged position iteration, factored at the solution, so the
-//! velocity costs one right-hand side and one triangular solve pair.
+//! The matrix is the kinematic solver's factorization: when the position iteration ended with a
+//! tiny step after a refactorization, those factors with iterative refinement against the exact
+//! Φ_v at the solution ([`cardan_solver::Newton::solve_linear_at`]); otherwise Φ_v is factored at
+//! the solution first (and the acceleration reuses it).
 
 use crate::error::AnalysisError;
 use crate::model::Model;
@@ -19,20 +21,15 @@ impl Model {
         }
         let t = ws.t;
         let newton = ws.kin.as_mut().expect("prepared above");
-        if !newton.factorization_is_current() {
-            let mut sys = PositionSystem {
-                model: self,
-                bodies: &mut ws.bodies,
-                t,
-            };
-            newton
-                .factor_at(&mut sys, &ws.x)
-                .map_err(|e| self.map_solver_error(t, e))?;
-        }
         self.nu_into(&ws.bodies, t, &mut ws.rhs);
         ws.counts.nu += 1;
+        let mut sys = PositionSystem {
+            model: self,
+            bodies: &mut ws.bodies,
+            t,
+        };
         newton
-            .solve_linear(&ws.rhs, &mut ws.v)
+            .solve_linear_at(&mut sys, &ws.x, &ws.rhs, &mut ws.v)
             .map_err(|e| self.map_solver_error(t, e))?;
         ws.sync_poses();
         ws.velocity_valid = true;
