@@ -82,8 +82,12 @@ pub struct Analysis {
     pub outputs: Outputs,
     /// Write SVG plots.
     pub plots: bool,
-    /// `kind = "dynamic"`: the integrator with its options (`None`: kinematic).
+    /// `kind = "dynamic"`: the integrator with its options (`None`: kinematic or inverse
+    /// dynamics).
     pub dynamic: Option<Integrator>,
+    /// `kind = "inverse_dynamics"`: driver efforts and reactions of a fully driven mechanism
+    /// along its kinematics (`dynamic` is then `None`).
+    pub inverse_dynamics: bool,
 }
 
 impl Analysis {
@@ -1066,8 +1070,9 @@ fn load_driver(
 
 fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Analysis, Error> {
     let cx = r.cx;
-    let dynamic = match a.kind.get_ref().as_str() {
-        "kinematic" => {
+    let kind = a.kind.get_ref().as_str();
+    let dynamic = match kind {
+        "kinematic" | "inverse_dynamics" => {
             let dynamic_only: [(&str, Option<Range<usize>>); 7] = [
                 ("integrator", a.integrator.as_ref().map(|n| n.span())),
                 ("rtol", a.rtol.as_ref().map(|n| n.span())),
@@ -1081,20 +1086,29 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
                 ("output_dt", a.output_dt.as_ref().map(|n| n.span())),
             ];
             if let Some((k, Some(s))) = dynamic_only.into_iter().find(|(_, s)| s.is_some()) {
+                let this = if kind == "kinematic" {
+                    "a kinematic"
+                } else {
+                    "an inverse dynamics"
+                };
                 return Err(cx.err(
                     s,
-                    format!("{k} applies only to kind = \"dynamic\" (a kinematic analysis has no integrator; its output step is dt or steps)"),
+                    format!(
+                        "{k} applies only to kind = \"dynamic\" ({this} analysis has no \
+                         integrator; its output step is dt or steps)"
+                    ),
                 ));
             }
             None
         }
         "dynamic" => Some(load_integrator(cx, a)?),
         other => {
-            let hint = did_you_mean(other, ["kinematic", "dynamic"]);
+            let hint = did_you_mean(other, ["kinematic", "dynamic", "inverse_dynamics"]);
             return Err(cx.err(
                 a.kind.span(),
                 format!(
-                    "unknown analysis kind \"{other}\"{hint} (kinds: \"kinematic\", \"dynamic\")"
+                    "unknown analysis kind \"{other}\"{hint} (kinds: \"kinematic\", \
+                     \"dynamic\", \"inverse_dynamics\")"
                 ),
             ));
         }
@@ -1219,10 +1233,18 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
             }
             outputs.bodies.push(bs.to_string());
         }
-        if dynamic.is_none() && (o.reactions.is_some() || o.energy.is_some()) {
+        if kind == "kinematic" && (o.reactions.is_some() || o.energy.is_some()) {
             return Err(cx.err(
                 a.kind.span(),
-                "outputs.reactions and outputs.energy apply only to kind = \"dynamic\"",
+                "outputs.reactions and outputs.energy apply only to kind = \"dynamic\" \
+                 (outputs.reactions also to kind = \"inverse_dynamics\")",
+            ));
+        }
+        if kind == "inverse_dynamics" && o.energy.is_some() {
+            return Err(cx.err(
+                a.kind.span(),
+                "outputs.energy applies only to kind = \"dynamic\" (an inverse dynamics run writes \
+                 driver efforts and reactions; the drivers do work, so its energy is not conserved)",
             ));
         }
         if let Some(list_) = &o.reactions {
@@ -1263,6 +1285,7 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
         outputs,
         plots,
         dynamic,
+        inverse_dynamics: kind == "inverse_dynamics",
     })
 }
 

@@ -472,3 +472,177 @@ fn check_and_eval_describe_the_model() {
         );
     }
 }
+
+/// BASE as `kind = "inverse_dynamics"` with `edits` applied; `cardan run` and `cardan check`
+/// both fail with exit code 1 at `line_col` with every needle, in one paragraph.
+fn inverse_fails_at(edits: &[(&str, &str)], line_col: &str, needles: &[&str]) {
+    let mut text = edited("kind = \"kinematic\"", "kind = \"inverse_dynamics\"");
+    for (from, to) in edits {
+        assert!(text.contains(from), "{from}");
+        text = text.replacen(from, to, 1);
+    }
+    for cmd in ["run", "check"] {
+        let o = run_text(cmd, &text);
+        assert_eq!(o.code, 1, "{cmd}: {}{}", o.stdout, o.stderr);
+        let want = format!("model.toml:{line_col}: error: ");
+        assert!(
+            o.stderr.starts_with(&want),
+            "{cmd}: want {want}, got: {}",
+            o.stderr
+        );
+        for n in needles {
+            assert!(
+                o.stderr.contains(n),
+                "{cmd}: missing {n:?} in: {}",
+                o.stderr
+            );
+        }
+        assert_eq!(o.stderr.trim_end().lines().count(), 1, "{}", o.stderr);
+        assert!(!o.dir.join("out").exists(), "{cmd}: nothing is written");
+        // A missing mass is found by the run only (check validates the kinematic model).
+        if needles.iter().any(|n| n.contains("needs a mass")) {
+            break;
+        }
+    }
+}
+
+const DRIVER: &str = "[[driver]]\nname = \"motor\"\ntype = \"rotation\"\njoint = \"pivot\"\n\
+                      function = { kind = \"polynomial\", coefficients = [0.0, 1.0] }\n";
+
+#[test]
+fn inverse_dynamics_needs_a_fully_driven_mechanism() {
+    // No driver (located at [analysis] kind): the message says how many DOF the joints leave.
+    inverse_fails_at(
+        &[(DRIVER, "")],
+        "28:8",
+        &[
+            "inverse dynamics needs a fully driven mechanism",
+            "the joints leave 1 DOF and the file has 0 drivers (none)",
+            "add 1 driver",
+        ],
+    );
+    // One driver too many, named.
+    inverse_fails_at(
+        &[(
+            "[analysis]",
+            "[[driver]]\nname = \"brake\"\ntype = \"rotation\"\njoint = \"pivot\"\n\
+             function = { kind = \"constant\", value = 0.0 }\n\n[analysis]",
+        )],
+        "27:8",
+        &[
+            "the joints leave 1 DOF and the file has 2 drivers (motor, brake)",
+            "remove 1 driver",
+        ],
+    );
+    // A cylindrical joint leaves a slide free.
+    inverse_fails_at(
+        &[("type = \"revolute\"", "type = \"cylindrical\"")],
+        "27:8",
+        &[
+            "the joints leave 2 DOF and the file has 1 driver (motor)",
+            "add 1 driver",
+        ],
+    );
+    // A structure: nothing to drive.
+    inverse_fails_at(
+        &[(DRIVER, ""), ("type = \"revolute\"", "type = \"fixed\"")],
+        "28:8",
+        &[
+            "the joints leave 0 DOF and the file has 0 drivers (none)",
+            "structure",
+        ],
+    );
+}
+
+#[test]
+fn inverse_dynamics_needs_masses() {
+    inverse_fails_at(
+        &[("mass = 1.0\n", "")],
+        "9:8",
+        &[
+            "inverse dynamics: body \"crank\"",
+            "needs a mass and an inertia tensor",
+        ],
+    );
+    inverse_fails_at(
+        &[("inertia = { diag = [0.01, 0.1, 0.1] }\n", "")],
+        "9:8",
+        &[
+            "inverse dynamics: body \"crank\"",
+            "needs a mass and an inertia tensor",
+        ],
+    );
+}
+
+#[test]
+fn inverse_dynamics_rejects_integrator_keys_and_energy() {
+    inverse_fails_at(
+        &[("t_end = 1.0", "rtol = 1e-6\nt_end = 1.0")],
+        "34:8",
+        &[
+            "rtol applies only to kind = \"dynamic\"",
+            "inverse dynamics analysis has no integrator",
+        ],
+    );
+    inverse_fails_at(
+        &[("steps = 10", "output_dt = 0.1")],
+        "35:13",
+        &["output_dt applies only to kind = \"dynamic\""],
+    );
+    inverse_fails_at(
+        &[(
+            "steps = 10",
+            "steps = 10\n\n[analysis.outputs]\nenergy = true",
+        )],
+        "33:8",
+        &["outputs.energy applies only to kind = \"dynamic\""],
+    );
+    inverse_fails_at(
+        &[("\"inverse_dynamics\"", "\"inverse-dynamics\"")],
+        "33:8",
+        &["did you mean \"inverse_dynamics\""],
+    );
+}
+
+/// As `singular_configuration_mid_run_writes_partial_results`, as inverse dynamics: the efforts
+/// up to the last solved time are written (the force grows without bound near the stretched
+/// position), and the exit code is 3.
+#[test]
+fn inverse_dynamics_mid_run_failure_writes_partial_results() {
+    let text = edited(
+        "type = \"rotation\"\njoint = \"pivot\"",
+        "type = \"coordinate\"\nbody = \"crank\"\npoint = \"tip\"\ncoordinate = \"x\"",
+    )
+    .replacen(
+        "position = [0.5, 0.0, 0.0]",
+        "position = [0.0, 0.5, 0.0]\norientation = { axis = [0.0, 0.0, 1.0], angle = 1.5707963267948966 }",
+        1,
+    )
+    .replacen(
+        "kind = \"kinematic\"\nt_end = 1.0\nsteps = 10",
+        "kind = \"inverse_dynamics\"\nt_end = 2.0\nsteps = 100",
+        1,
+    );
+    let o = run_text("run", &text);
+    assert_eq!(o.code, 3, "{}", o.stderr);
+    assert!(
+        o.stderr.contains("at t = 1.02 s")
+            && o.stderr
+                .contains("results up to t = 1 s (51 steps) were written to out"),
+        "{}",
+        o.stderr
+    );
+    let csv = std::fs::read_to_string(o.dir.join("out/driver_efforts.csv")).unwrap();
+    let (h, rows) = cardan_cli::table::parse_csv(&csv).unwrap();
+    assert_eq!(h, ["t [s]", "motor.force [N]"]);
+    assert_eq!(rows.len(), 51);
+    assert!((rows[50][0] - 1.0).abs() < 1e-12);
+    // No gravity, no force at rest: the effort is the crank's inertia alone, growing as the
+    // tip speed does near the stretched position.
+    assert!(
+        rows[40][1].abs() > rows[10][1].abs(),
+        "{:?} {:?}",
+        rows[10],
+        rows[40]
+    );
+}

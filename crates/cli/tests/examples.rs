@@ -357,6 +357,7 @@ fn every_example_checks() {
         "universal_drive",
         "bricard",
         "spatial_fourbar_cylindrical",
+        "slider_crank_inverse",
     ] {
         let p = prepare(&example(name)).unwrap();
         let mut out = Vec::new();

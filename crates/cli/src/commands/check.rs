@@ -185,14 +185,31 @@ pub fn check(path: &Path, out: &mut dyn Write) -> Result<(), Error> {
             if p.loaded.forces.len() == 1 { "" } else { "s" },
         )
         .map_err(io)?;
-    } else if p.loaded.analysis.is_some() {
+    } else if let Some(a) = &p.loaded.analysis {
+        if a.inverse_dynamics && (dof.dof != dof.drivers || dof.drivers == 0) {
+            return Err(crate::dynamic::not_fully_driven(&p, dof.dof, dof.drivers));
+        }
         if dof.dof == dof.drivers {
             writeln!(
                 out,
-                "kinematic analysis: {} driver{} for {} DOF: ok",
+                "{}: {} driver{} for {} DOF: ok{}",
+                if a.inverse_dynamics {
+                    "inverse dynamics"
+                } else {
+                    "kinematic analysis"
+                },
                 dof.drivers,
                 if dof.drivers == 1 { "" } else { "s" },
-                dof.dof
+                dof.dof,
+                if a.inverse_dynamics {
+                    format!(
+                        "; {} force element{}",
+                        p.loaded.forces.len(),
+                        if p.loaded.forces.len() == 1 { "" } else { "s" }
+                    )
+                } else {
+                    String::new()
+                }
             )
             .map_err(io)?;
         } else {

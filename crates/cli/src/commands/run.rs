@@ -31,6 +31,9 @@ pub struct Summary {
     pub files: Vec<PathBuf>,
     /// Dynamic runs: integration counters and drifts.
     pub dynamic: Option<DynamicSummary>,
+    /// Dynamic and inverse dynamics runs: per driver, its name, the largest |effort| over the
+    /// run and the unit ("N m" or "N").
+    pub peak_efforts: Vec<(String, f64, &'static str)>,
 }
 
 /// What a dynamic run adds to the summary line.
@@ -58,7 +61,8 @@ pub struct RunOutcome {
     pub summary: Summary,
     /// The analysis error, if the run stopped early.
     pub error: Option<Error>,
-    /// The dynamic results (`kind = "dynamic"`); `results` holds their kinematic part.
+    /// The dynamic results (`kind = "dynamic"` or `"inverse_dynamics"`); `results` holds their
+    /// kinematic part.
     pub dynamic: Option<cardan_dynamics::DynamicResults>,
 }
 
@@ -92,10 +96,20 @@ pub fn run(
         written.join(", ")
     )
     .map_err(io)?;
+    let efforts = if s.peak_efforts.is_empty() {
+        String::new()
+    } else {
+        let list: Vec<String> = s
+            .peak_efforts
+            .iter()
+            .map(|(n, v, u)| format!("{n} {v:.4e} {u}"))
+            .collect();
+        format!(", peak |driver effort| {}", list.join(", "))
+    };
     match &s.dynamic {
         None => writeln!(
             out,
-            "{}: {} steps, {} Newton iterations, largest residual {:.3e}, wall time {:.3} s",
+            "{}: {} steps, {} Newton iterations, largest residual {:.3e}{efforts}, wall time {:.3} s",
             s.name,
             s.steps,
             s.iterations,
@@ -105,7 +119,7 @@ pub fn run(
         Some(d) => writeln!(
             out,
             "{}: {} outputs, {} steps ({} rejected), {} Newton iterations, max constraint drift \
-             {:.3e}, energy drift {:.3e} J, wall time {:.3} s",
+             {:.3e}, energy drift {:.3e} J{efforts}, wall time {:.3} s",
             s.name,
             s.steps,
             d.steps,
@@ -144,6 +158,9 @@ pub fn run_model(path: &Path, output: Option<&Path>, progress: bool) -> Result<R
     if analysis.dynamic.is_some() {
         return run_dynamic(p, &analysis, dir);
     }
+    if analysis.inverse_dynamics {
+        return run_inverse(p, &analysis, dir);
+    }
     let opts = KinematicOptions::new(analysis.t_start, analysis.t_end, analysis.steps);
     let start = Instant::now();
     let (results, failure) = if progress && analysis.steps >= PROGRESS_MIN_STEPS {
@@ -171,6 +188,7 @@ pub fn run_model(path: &Path, output: Option<&Path>, progress: bool) -> Result<R
         dir: dir.clone(),
         files,
         dynamic: None,
+        peak_efforts: Vec::new(),
     };
     let error = failure.map(|e| {
         let mut err = analysis_error(&p, &e);
@@ -237,6 +255,7 @@ fn run_dynamic(
             max_constraint_drift: r.position_drift.iter().fold(0.0, |a: f64, &b| a.max(b)),
             energy_drift: r.energy.max_drift(),
         }),
+        peak_efforts: peak_efforts(&p, &r),
     };
     let error = failure.map(|mut err| {
         err.message.push_str(&format!(
@@ -254,6 +273,68 @@ fn run_dynamic(
         error,
         dynamic: Some(r),
     })
+}
+
+/// `kind = "inverse_dynamics"`: kinematics with driver efforts and reactions, the tables, the
+/// summary. A kinematic failure mid-run writes the results so far and returns the error in
+/// [`RunOutcome::error`].
+fn run_inverse(
+    p: Prepared,
+    analysis: &crate::build::Analysis,
+    dir: PathBuf,
+) -> Result<RunOutcome, Error> {
+    let start = Instant::now();
+    let (r, failure) = crate::dynamic::inverse_dynamics(&p)?;
+    let wall = start.elapsed();
+    let req = requested(&p, &analysis.outputs);
+    let tables = crate::dynamic::inverse_tables(&p, &r, &req);
+    let files = write_tables(&dir, &tables, analysis.plots)?;
+    let k = &r.kinematics;
+    let summary = Summary {
+        name: p.loaded.name.clone(),
+        steps: k.len(),
+        iterations: k.iterations.iter().sum(),
+        max_residual: k.residual.iter().fold(0.0, |a: f64, &b| a.max(b)),
+        wall,
+        dir,
+        files,
+        dynamic: None,
+        peak_efforts: peak_efforts(&p, &r),
+    };
+    let error = failure.map(|mut err| {
+        err.message.push_str(&format!(
+            ". The results up to t = {} s ({} steps) were written to {}",
+            r.times().last().copied().unwrap_or(f64::NAN),
+            r.len(),
+            summary.dir.display()
+        ));
+        err
+    });
+    Ok(RunOutcome {
+        prepared: p,
+        results: r.kinematics.clone(),
+        summary,
+        error,
+        dynamic: Some(r),
+    })
+}
+
+/// Per driver: name, largest |effort| over the run, unit.
+fn peak_efforts(
+    p: &Prepared,
+    r: &cardan_dynamics::DynamicResults,
+) -> Vec<(String, f64, &'static str)> {
+    r.drivers
+        .iter()
+        .map(|d| {
+            let peak = d.effort.iter().fold(0.0f64, |a, e| a.max(e.abs()));
+            (
+                d.name.clone(),
+                peak,
+                crate::dynamic::effort_kind(p, &d.name).1,
+            )
+        })
+        .collect()
 }
 
 /// Creates `dir` and writes each table as CSV (and SVG when `plots`, except the residual).

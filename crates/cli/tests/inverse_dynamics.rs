@@ -1,0 +1,370 @@
+//! Driver efforts through `cardan run`: `kind = "inverse_dynamics"` (the bundled example and a
+//! driven pendulum against its closed form) and the `driver_efforts.csv` of a dynamic run with a
+//! driver. The checks are independent of the program's own numbers: closed forms, the power
+//! balance (driver power = d(kinetic + gravitational energy)/dt, computed from the written body
+//! velocities and accelerations) and the dynamics crate's API run separately.
+
+use cardan_cli::commands::{prepare, run::run_model};
+use cardan_cli::table::parse_csv;
+use cardan_dynamics::{Dynamics, Force};
+use cardan_mechanism::KinematicOptions;
+use nalgebra::{Matrix3, Vector3, Vector4};
+use std::path::{Path, PathBuf};
+
+mod common;
+
+fn example(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(format!("{name}.toml"))
+}
+
+/// A CSV written by the run: columns by header.
+struct Csv {
+    header: Vec<String>,
+    rows: Vec<Vec<f64>>,
+}
+
+impl Csv {
+    fn read(dir: &Path, name: &str) -> Self {
+        let text =
+            std::fs::read_to_string(dir.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let (header, rows) = parse_csv(&text).unwrap_or_else(|| panic!("{name}: not a CSV"));
+        assert_eq!(header[0], "t [s]", "{name}");
+        assert!(
+            header.iter().all(|h| h.ends_with(']')),
+            "{name}: {header:?}"
+        );
+        Self { header, rows }
+    }
+
+    fn col(&self, name: &str) -> usize {
+        self.header
+            .iter()
+            .position(|h| h == name)
+            .unwrap_or_else(|| panic!("no column {name:?} in {:?}", self.header))
+    }
+
+    fn get(&self, k: usize, name: &str) -> f64 {
+        self.rows[k][self.col(name)]
+    }
+
+    fn vec3(&self, k: usize, prefix: &str, unit: &str) -> Vector3<f64> {
+        Vector3::new(
+            self.get(k, &format!("{prefix}.x [{unit}]")),
+            self.get(k, &format!("{prefix}.y [{unit}]")),
+            self.get(k, &format!("{prefix}.z [{unit}]")),
+        )
+    }
+}
+
+/// d/dt (kinetic + gravitational energy) at output `k`, from bodies.csv, body_velocities.csv
+/// and body_accelerations.csv: Σ m ṙ·(r̈ − g) + ω'·J'ω̇' with ω' = Aᵀω, ω̇' = Aᵀω̇ (global ω̇ =
+/// A ω̇' since ω × ω = 0).
+fn energy_rate(dir: &Path, bodies: &[(&str, f64, Matrix3<f64>)], g: Vector3<f64>) -> Vec<f64> {
+    let (pos, vel, acc) = (
+        Csv::read(dir, "bodies.csv"),
+        Csv::read(dir, "body_velocities.csv"),
+        Csv::read(dir, "body_accelerations.csv"),
+    );
+    (0..pos.rows.len())
+        .map(|k| {
+            bodies
+                .iter()
+                .map(|(b, m, j)| {
+                    let e = |c: &str| pos.get(k, &format!("{b}.p.{c} [-]"));
+                    let a = cardan_eulerparam::a(&Vector4::new(e("e0"), e("e1"), e("e2"), e("e3")));
+                    let v = vel.vec3(k, &format!("{b}.r_dot"), "m/s");
+                    let w = a.transpose() * vel.vec3(k, &format!("{b}.omega"), "rad/s");
+                    let r_dd = acc.vec3(k, &format!("{b}.r_ddot"), "m/s²");
+                    let w_d = a.transpose() * acc.vec3(k, &format!("{b}.omega_dot"), "rad/s²");
+                    m * v.dot(&(r_dd - g)) + w.dot(&(j * w_d))
+                })
+                .sum()
+        })
+        .collect()
+}
+
+/// The bundled example runs through `cardan run` (library entry), writes the kinematic tables,
+/// driver efforts and reactions with their plots, and its motor torque is the one of the
+/// dynamics API and satisfies the power balance τ θ̇ = d(T + V)/dt with θ̇ = 2π.
+#[test]
+fn slider_crank_inverse_example() {
+    let dir = common::scratch("inverse-example");
+    let o = run_model(&example("slider_crank_inverse"), Some(&dir), false).expect("runs");
+    assert!(o.error.is_none(), "{:?}", o.error);
+    for f in [
+        "points",
+        "point_velocities",
+        "point_accelerations",
+        "joints",
+        "bodies",
+        "body_velocities",
+        "body_accelerations",
+        "driver_efforts",
+        "reactions",
+        "reactions_local",
+    ] {
+        let csv = Csv::read(&dir, &format!("{f}.csv"));
+        assert_eq!(csv.rows.len(), 201, "{f}");
+        assert!(dir.join(format!("{f}.svg")).exists(), "{f}.svg");
+    }
+    assert_eq!(Csv::read(&dir, "residual.csv").rows.len(), 201);
+    assert!(!dir.join("energy.csv").exists() && !dir.join("constraint_drift.csv").exists());
+    let efforts = Csv::read(&dir, "driver_efforts.csv");
+    assert_eq!(efforts.header, ["t [s]", "motor.torque [N m]"]);
+    let reactions = Csv::read(&dir, "reactions.csv");
+    for j in [
+        "crank_pin.ground",
+        "crank_pin.crank",
+        "ball.conrod",
+        "cross.slider",
+        "slide.slider",
+    ] {
+        reactions.col(&format!("{j}.F.x [N]"));
+        reactions.col(&format!("{j}.T.z [N m]"));
+    }
+    Csv::read(&dir, "reactions_local.csv").col("slide.slider.T.y [N m]");
+
+    // The dynamics API on the same model, gravity added here, on the file's grid.
+    let p = prepare(&example("slider_crank_inverse")).unwrap();
+    let mut d = Dynamics::new(&p.model).unwrap();
+    d.add_force(Force::gravity(Vector3::new(0.0, 0.0, -9.81)))
+        .unwrap();
+    let api = d
+        .inverse_dynamics(&KinematicOptions::new(0.0, 1.0, 200))
+        .unwrap();
+    let motor = api.driver("motor").unwrap();
+    let pin = api.joint_reactions("crank_pin").unwrap();
+    let scale = motor.effort.iter().fold(0.0f64, |a, e| a.max(e.abs()));
+    assert!(scale > 0.1, "a real torque: {scale}");
+    for k in 0..201 {
+        assert_eq!(efforts.rows[k][0], api.times()[k]);
+        let tau = efforts.get(k, "motor.torque [N m]");
+        assert!(
+            (tau - motor.effort[k]).abs() <= 1e-9 * scale,
+            "t[{k}]: {tau} vs {}",
+            motor.effort[k]
+        );
+        let f = reactions.vec3(k, "crank_pin.crank.F", "N");
+        assert!((f - pin.on_j[k].force).amax() <= 1e-9 * pin.on_j[k].force.amax().max(1.0));
+    }
+
+    // Power balance: the joints are ideal and fixed, so only the motor does work.
+    let rate = energy_rate(
+        &dir,
+        &[
+            (
+                "crank",
+                0.12,
+                Matrix3::from_diagonal(&Vector3::new(1e-4, 1e-4, 1e-5)),
+            ),
+            (
+                "conrod",
+                0.5,
+                Matrix3::from_diagonal(&Vector3::new(4e-4, 4e-3, 4e-3)),
+            ),
+            (
+                "slider",
+                2.0,
+                Matrix3::from_diagonal(&Vector3::new(1e-4, 1e-4, 1e-4)),
+            ),
+        ],
+        Vector3::new(0.0, 0.0, -9.81),
+    );
+    let omega = 2.0 * std::f64::consts::PI;
+    let worst = (0..201)
+        .map(|k| (efforts.get(k, "motor.torque [N m]") * omega - rate[k]).abs())
+        .fold(0.0f64, f64::max);
+    eprintln!("slider_crank_inverse: power balance {worst:.2e} W (peak torque {scale:.4} N m)");
+    assert!(
+        worst < 1e-9 * scale * omega,
+        "power balance off by {worst:e} W"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A rod (m = 2 kg, centre of mass l = 0.5 m from the pivot, J_c = 0.1 kg m² about z) driven
+/// through θ(t) = 0.3 + 0.8 sin 2t about global z under gravity g = 9.81 m/s² along −y:
+///
+/// ```text
+/// τ = (J_c + m l²) θ̈ + m g l cos θ,            θ̈ = −3.2 sin 2t, θ̇ = 1.6 cos 2t
+/// F_pin→rod = m (a_c − g),   a_c = l θ̈ (−sin θ, cos θ) − l θ̇² (cos θ, sin θ)
+/// ```
+///
+/// and the pin (a revolute about z) carries no torque about z: that is the driver's.
+const PENDULUM: &str = r#"[model]
+name = "driven_pendulum"
+gravity = [0.0, -9.81, 0.0]
+
+[ground]
+points = { O = [0.0, 0.0, 0.0] }
+vectors = { z = [0.0, 0.0, 1.0], x = [1.0, 0.0, 0.0] }
+
+[[body]]
+name = "rod"
+mass = 2.0
+inertia = { diag = [0.002, 0.1, 0.1] }
+position = [0.4777, 0.1478, 0.0]
+orientation = { axis = [0.0, 0.0, 1.0], angle = 0.3 }
+points = { O = [-0.5, 0.0, 0.0], tip = [0.5, 0.0, 0.0] }
+vectors = { z = [0.0, 0.0, 1.0], x = [1.0, 0.0, 0.0] }
+
+[[joint]]
+name = "pivot"
+type = "revolute"
+body_i = "ground"
+point_i = "O"
+axis_i = "z"
+x_axis_i = "x"
+body_j = "rod"
+point_j = "O"
+axis_j = "z"
+x_axis_j = "x"
+
+[[driver]]
+name = "motor"
+type = "rotation"
+joint = "pivot"
+function = { kind = "harmonic", amplitude = 0.8, frequency = 2.0, offset = 0.3 }
+
+[analysis]
+kind = "inverse_dynamics"
+t_end = 3.0
+steps = 60
+"#;
+
+/// Writes `text` to a scratch directory and runs the binary on it.
+fn run_binary(text: &str) -> (i32, String, String, PathBuf) {
+    let dir = common::scratch("inverse");
+    std::fs::write(dir.join("model.toml"), text).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_cardan"))
+        .args(["run", "model.toml", "-o", "out", "--quiet"])
+        .current_dir(&dir)
+        .output()
+        .expect("the binary runs");
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        stderr,
+        dir,
+    )
+}
+
+#[test]
+fn driven_pendulum_matches_closed_form() {
+    let (code, stdout, stderr, dir) = run_binary(PENDULUM);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stdout.contains("driven_pendulum: 61 steps")
+            && stdout.contains("peak |driver effort| motor"),
+        "{stdout}"
+    );
+    let out = dir.join("out");
+    let efforts = Csv::read(&out, "driver_efforts.csv");
+    let reactions = Csv::read(&out, "reactions.csv");
+    let (m, l, jc, g) = (2.0, 0.5, 0.1, 9.81);
+    assert_eq!(efforts.rows.len(), 61);
+    let (mut worst_tau, mut worst_f) = (0.0f64, 0.0f64);
+    for k in 0..61 {
+        let t = efforts.rows[k][0];
+        let th = 0.3 + 0.8 * (2.0 * t).sin();
+        let thd = 1.6 * (2.0 * t).cos();
+        let thdd = -3.2 * (2.0 * t).sin();
+        let tau = (jc + m * l * l) * thdd + m * g * l * th.cos();
+        worst_tau = worst_tau.max((efforts.get(k, "motor.torque [N m]") - tau).abs());
+        let ac = l * thdd * Vector3::new(-th.sin(), th.cos(), 0.0)
+            - l * thd * thd * Vector3::new(th.cos(), th.sin(), 0.0);
+        let f = m * (ac - Vector3::new(0.0, -g, 0.0));
+        worst_f = worst_f.max((reactions.vec3(k, "pivot.rod.F", "N") - f).amax());
+        worst_f = worst_f.max((reactions.vec3(k, "pivot.ground.F", "N") + f).amax());
+        assert!(
+            reactions.get(k, "pivot.rod.T.z [N m]").abs() < 1e-9,
+            "t = {t}"
+        );
+    }
+    eprintln!("driven pendulum: torque error {worst_tau:.2e} N m, pin force error {worst_f:.2e} N");
+    assert!(worst_tau < 1e-9, "torque off by {worst_tau:e} N m");
+    assert!(worst_f < 1e-9, "pin force off by {worst_f:e} N");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A double pendulum whose upper link is driven at a constant 1.5 rad/s while the lower one
+/// swings freely under gravity (`kind = "dynamic"`): driver_efforts.csv holds the dynamics API's
+/// DriverEfforts, and the motor's power equals d(T + V)/dt from the written body states.
+#[test]
+fn dynamic_run_writes_driver_efforts() {
+    let text = PENDULUM
+        .replace("name = \"driven_pendulum\"", "name = \"driven_double_pendulum\"")
+        .replace(
+            "tip = [0.5, 0.0, 0.0] }\nvectors = { z = [0.0, 0.0, 1.0], x = [1.0, 0.0, 0.0] }",
+            "tip = [0.5, 0.0, 0.0] }\nvectors = { z = [0.0, 0.0, 1.0], x = [1.0, 0.0, 0.0] }\n\n\
+             [[body]]\nname = \"link\"\nmass = 1.0\ninertia = { diag = [0.001, 0.02, 0.02] }\n\
+             position = [1.1942, 0.3694, 0.2]\norientation = { axis = [0.0, 0.0, 1.0], angle = 0.3 }\n\
+             points = { P = [-0.25, 0.0, -0.2], end = [0.25, 0.0, 0.0] }\nvectors = { z = [0.0, 0.0, 1.0] }",
+        )
+        .replace(
+            "[[driver]]",
+            "[[joint]]\nname = \"elbow\"\ntype = \"revolute\"\nbody_i = \"rod\"\npoint_i = \"tip\"\n\
+             axis_i = \"z\"\nbody_j = \"link\"\npoint_j = \"P\"\naxis_j = \"z\"\n\n[[driver]]",
+        )
+        .replace(
+            "{ kind = \"harmonic\", amplitude = 0.8, frequency = 2.0, offset = 0.3 }",
+            "{ kind = \"polynomial\", coefficients = [0.3, 1.5] }",
+        )
+        .replace(
+            "kind = \"inverse_dynamics\"\nt_end = 3.0\nsteps = 60",
+            "kind = \"dynamic\"\nrtol = 1e-9\natol = 1e-11\nt_end = 2.0\noutput_dt = 0.05",
+        );
+    let (code, stdout, stderr, dir) = run_binary(&text);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("peak |driver effort| motor"), "{stdout}");
+    let out = dir.join("out");
+    let efforts = Csv::read(&out, "driver_efforts.csv");
+    assert_eq!(efforts.header, ["t [s]", "motor.torque [N m]"]);
+    assert_eq!(efforts.rows.len(), 41);
+    assert!(out.join("driver_efforts.svg").exists());
+
+    // The same file through the dynamics API.
+    std::fs::write(dir.join("same.toml"), &text).unwrap();
+    let p = prepare(&dir.join("same.toml")).unwrap();
+    let api = cardan_cli::dynamic::simulate(&p, None).unwrap();
+    let motor = api.driver("motor").unwrap();
+    let scale = motor.effort.iter().fold(0.0f64, |a, e| a.max(e.abs()));
+    assert!(scale > 1.0, "the motor works: {scale}");
+    for k in 0..41 {
+        assert_eq!(efforts.rows[k][0], api.times()[k]);
+        let tau = efforts.get(k, "motor.torque [N m]");
+        assert!(
+            (tau - motor.effort[k]).abs() <= 1e-9 * scale,
+            "t[{k}]: {tau} vs {}",
+            motor.effort[k]
+        );
+    }
+
+    // Power balance on the written states: τ θ̇ = d(T + V)/dt (the elbow is free and ideal).
+    let rate = energy_rate(
+        &out,
+        &[
+            (
+                "rod",
+                2.0,
+                Matrix3::from_diagonal(&Vector3::new(0.002, 0.1, 0.1)),
+            ),
+            (
+                "link",
+                1.0,
+                Matrix3::from_diagonal(&Vector3::new(0.001, 0.02, 0.02)),
+            ),
+        ],
+        Vector3::new(0.0, -9.81, 0.0),
+    );
+    let worst = (0..41)
+        .map(|k| (efforts.get(k, "motor.torque [N m]") * 1.5 - rate[k]).abs())
+        .fold(0.0f64, f64::max);
+    eprintln!("driven double pendulum: power balance {worst:.2e} W (peak torque {scale:.4} N m)");
+    assert!(worst < 1e-9 * scale, "power balance off by {worst:e} W");
+    let _ = std::fs::remove_dir_all(&dir);
+}
