@@ -136,8 +136,9 @@ enum Factor {
 }
 
 /// Largest relative residual of the equations of motion accepted as roundoff stagnation (see
-/// `attempt`). At A02's horizontal positions it stagnates at 1e-6–1e-5.
-const STAGNATION_MAX_RESIDUAL: f64 = 1e-4;
+/// `attempt`). At A02's horizontal positions it stagnates at 1e-6–1e-5 (N = 2) and about 1e-3
+/// (N = 40); a mass-only matrix diverging on a stiff spring stays far above.
+const STAGNATION_MAX_RESIDUAL: f64 = 1e-2;
 
 /// Contraction rate above which modified Newton refactors at the current iterate.
 const THETA_REFACTOR: f64 = 0.25;
