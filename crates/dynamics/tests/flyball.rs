@@ -103,10 +103,10 @@ fn flyball() -> Model {
     b.build().unwrap()
 }
 
-#[test]
-fn flyball_governor_is_stable_with_generalized_alpha() {
-    let model = flyball();
-    let mut d = Dynamics::new(&model).unwrap();
+/// The governor's dynamics (gravity, the two stiff spring-dampers) and its start: every body
+/// spinning with the shaft at 2π rad/s.
+fn loaded(model: &Model) -> (Dynamics<'_>, cardan_dynamics::State) {
+    let mut d = Dynamics::new(model).unwrap();
     d.add_force(Force::gravity(Vector3::new(0.0, 0.0, -G)))
         .unwrap();
     for (side, rod) in [("A", "rodA"), ("B", "rodB")] {
@@ -126,6 +126,13 @@ fn flyball_governor_is_stable_with_generalized_alpha() {
         let r = s.r(k);
         s.set_velocity_global(k, w.cross(&r), w);
     }
+    (d, s)
+}
+
+#[test]
+fn flyball_governor_is_stable_with_generalized_alpha() {
+    let model = flyball();
+    let (mut d, s) = loaded(&model);
     let times = std::iter::once(0.0)
         .chain(S_REF.iter().map(|r| r.0))
         .collect();
@@ -159,26 +166,7 @@ fn flyball_governor_is_stable_with_generalized_alpha() {
 fn modified_newton_matches_full_newton_with_fewer_factorizations() {
     use cardan_dynamics::IterationMatrix;
     let model = flyball();
-    let mut d = Dynamics::new(&model).unwrap();
-    d.add_force(Force::gravity(Vector3::new(0.0, 0.0, -G)))
-        .unwrap();
-    for (side, rod) in [("A", "rodA"), ("B", "rodB")] {
-        d.add_force(Force::spring_damper(
-            &format!("spring{side}"),
-            ("slider", side),
-            (rod, "mid"),
-            8e5,
-            4e4,
-            Some(0.5),
-        ))
-        .unwrap();
-    }
-    let mut s = d.initial_guess();
-    let w = Vector3::new(0.0, 0.0, 2.0 * PI);
-    for k in 0..model.num_bodies() {
-        let r = s.r(k);
-        s.set_velocity_global(k, w.cross(&r), w);
-    }
+    let (mut d, s) = loaded(&model);
     for matrix in [
         IterationMatrix::Tangent,
         IterationMatrix::MassOnlyThenTangent,
