@@ -69,14 +69,13 @@ fn a02_n2_tight_steps_on_the_singular_positions() {
     let p = example("a02_fourbar_n2");
     let reference = reference("n_fourbar_N2.csv");
     let times: Vec<f64> = reference.iter().map(|r| r[0]).collect();
-    let integrator = cardan_dynamics::Integrator::GeneralizedAlpha(
-        cardan_dynamics::GeneralizedAlphaOptions {
+    let integrator =
+        cardan_dynamics::Integrator::GeneralizedAlpha(cardan_dynamics::GeneralizedAlphaOptions {
             h: 5e-5,
             rho_inf: 0.9,
             iteration_matrix: cardan_dynamics::IterationMatrix::MassOnly,
             ..Default::default()
-        },
-    );
+        });
     let run = run(&p, Some(integrator), 10.0, times);
     let e = error(2, &run.results, &reference);
     print_row("A02 N=2", "10 s, tight, CSV times", &run, e, None);
