@@ -36,9 +36,7 @@ fn dynamics_as<'p>(p: &'p Prepared, what: &str) -> Result<Dynamics<'p>, Error> {
 /// file's forces ([`Dynamics::inverse_dynamics`]).
 ///
 /// Returns the results and, when the kinematics stopped early (a singular configuration, a
-/// limit of the motion), the error with the results up to the last solved time: the efforts
-/// are then computed again on the grid truncated there (the dynamics layer keeps no partial
-/// results of an inverse run).
+/// limit of the motion), the error with the results up to the last solved time.
 ///
 /// # Errors
 /// No such analysis; a mechanism that is not fully driven (no drivers, or fewer or more than the
@@ -79,18 +77,10 @@ pub fn inverse_dynamics(p: &Prepared) -> Result<(DynamicResults, Option<Error>),
         DynamicsError::NotFullyDriven { dof, drivers } => Err(not_fully_driven(p, *dof, *drivers)),
         DynamicsError::Mechanism(ae) => {
             let err = analysis_error(p, ae);
-            // The kinematics stopped mid-run: redo the efforts up to the last solved time.
-            let last = ae
-                .partial_results()
-                .and_then(|r| Some((r.len().checked_sub(1)?, *r.times.last()?)));
-            match last {
-                Some((k, t)) if k >= 1 => {
-                    match d.inverse_dynamics(&KinematicOptions::new(a.t_start, t, k)) {
-                        Ok(r) => Ok((r, Some(err))),
-                        Err(_) => Err(err),
-                    }
-                }
-                _ => Err(err),
+            match e.partial_results() {
+                // The kinematics stopped mid-run: the results so far, and the error.
+                Some(r) => Ok((r.clone(), Some(err))),
+                None => Err(err),
             }
         }
         _ => Err(located_as(p, &e, WHAT)),

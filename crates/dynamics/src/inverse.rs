@@ -5,7 +5,7 @@ use crate::results::{DynamicResults, IntegrationStats};
 use crate::state::State;
 use crate::system::Dynamics;
 use crate::DynamicsError;
-use cardan_mechanism::{AnalysisError, KinematicOptions, Outputs};
+use cardan_mechanism::{AnalysisError, KinematicOptions, Outputs, Results};
 
 impl Dynamics<'_> {
     /// Inverse dynamics: runs the kinematics (mechanism crate: assembly at t0, position,
@@ -19,26 +19,49 @@ impl Dynamics<'_> {
     ///
     /// # Errors
     /// [`DynamicsError::NotFullyDriven`] unless DOF = drivers; kinematic errors
-    /// ([`DynamicsError::Mechanism`]).
+    /// ([`DynamicsError::Mechanism`]). When the kinematics stops mid-run (a singular
+    /// configuration, a limit of the motion), [`DynamicsError::MidRun`] with the efforts and
+    /// reactions of the frames solved before it.
     pub fn inverse_dynamics(
         &mut self,
         options: &KinematicOptions,
     ) -> Result<DynamicResults, DynamicsError> {
         let start = std::time::Instant::now();
-        let model = self.model;
         let kopts = options.outputs(Outputs {
             velocity: true,
             acceleration: true,
             points: false,
             joints: false,
         });
-        let kin = match model.run_kinematics(&kopts) {
-            Ok(k) => k,
+        match self.model.run_kinematics(&kopts) {
+            Ok(kin) => self.efforts_along(&kin, options.outputs, start),
             Err(AnalysisError::DriverCount { dof, drivers }) => {
-                return Err(DynamicsError::NotFullyDriven { dof, drivers })
+                Err(DynamicsError::NotFullyDriven { dof, drivers })
             }
-            Err(e) => return Err(e.into()),
-        };
+            Err(e) => {
+                let partial = match e.partial_results() {
+                    Some(kin) if !kin.times.is_empty() => {
+                        self.efforts_along(kin, options.outputs, start)?
+                    }
+                    _ => return Err(e.into()),
+                };
+                Err(DynamicsError::MidRun {
+                    last_time: partial.times().last().copied().unwrap_or(f64::NAN),
+                    source: Box::new(e.into()),
+                    partial: Box::new(partial),
+                })
+            }
+        }
+    }
+
+    /// Driver efforts and reactions at every frame of the kinematic results `kin`.
+    fn efforts_along(
+        &mut self,
+        kin: &Results,
+        outputs: Outputs,
+        start: std::time::Instant,
+    ) -> Result<DynamicResults, DynamicsError> {
+        let model = self.model;
         let nb = model.num_bodies();
         let state_at = |i: usize| {
             let mut s = State::initial(model, kin.times[i]);
@@ -54,7 +77,7 @@ impl Dynamics<'_> {
         }
         let s0 = state_at(0);
         self.prepare(&s0)?;
-        let mut rec = Recorder::new(self, kin.times.len(), options.outputs);
+        let mut rec = Recorder::new(self, kin.times.len(), outputs);
         for i in 0..kin.times.len() {
             let s = state_at(i);
             rec.record(self, &s, kin.iterations.get(i).copied().unwrap_or(0))?;
