@@ -257,15 +257,7 @@ fn run_dynamic(
         }),
         peak_efforts: peak_efforts(&p, &r),
     };
-    let error = failure.map(|mut err| {
-        err.message.push_str(&format!(
-            ". The results up to t = {} s ({} outputs) were written to {}",
-            r.times().last().copied().unwrap_or(f64::NAN),
-            r.len(),
-            summary.dir.display()
-        ));
-        err
-    });
+    let error = failure.map(|err| written_so_far(err, &r, "outputs", &summary.dir));
     Ok(RunOutcome {
         prepared: p,
         results: r.kinematics.clone(),
@@ -301,15 +293,7 @@ fn run_inverse(
         dynamic: None,
         peak_efforts: peak_efforts(&p, &r),
     };
-    let error = failure.map(|mut err| {
-        err.message.push_str(&format!(
-            ". The results up to t = {} s ({} steps) were written to {}",
-            r.times().last().copied().unwrap_or(f64::NAN),
-            r.len(),
-            summary.dir.display()
-        ));
-        err
-    });
+    let error = failure.map(|err| written_so_far(err, &r, "steps", &summary.dir));
     Ok(RunOutcome {
         prepared: p,
         results: r.kinematics.clone(),
@@ -317,6 +301,23 @@ fn run_inverse(
         error,
         dynamic: Some(r),
     })
+}
+
+/// A mid-run failure's error, completed with what was written: "… The results up to t = … s
+/// (n outputs|steps) were written to DIR".
+fn written_so_far(
+    mut err: Error,
+    r: &cardan_dynamics::DynamicResults,
+    unit: &str,
+    dir: &Path,
+) -> Error {
+    err.message.push_str(&format!(
+        ". The results up to t = {} s ({} {unit}) were written to {}",
+        r.times().last().copied().unwrap_or(f64::NAN),
+        r.len(),
+        dir.display()
+    ));
+    err
 }
 
 /// Per driver: name, largest |effort| over the run, unit.
