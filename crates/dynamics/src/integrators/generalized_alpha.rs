@@ -109,6 +109,17 @@ fn tangents(d: &mut Dynamics, b: &mut Buf) {
     }
 }
 
+/// out = M x with M = diag(m_k I, J'_k) per body (6 entries per body).
+fn mass_mul(mass: &[f64], inertia: &[nalgebra::Matrix3<f64>], x: &[f64], out: &mut [f64]) {
+    for (k, (o, x)) in out.chunks_mut(6).zip(x.chunks(6)).enumerate() {
+        for c in 0..3 {
+            o[c] = mass[k] * x[c];
+        }
+        let jw = inertia[k] * nalgebra::Vector3::new(x[3], x[4], x[5]);
+        o[3..].copy_from_slice(jw.as_slice());
+    }
+}
+
 /// Sets the trial state from v̇_{n+1}: a_{n+1}, v_{n+1}, q_{n+1}.
 fn trial(b: &mut Buf, h: f64, p: (f64, f64, f64, f64)) {
     let (am, af, g, be) = p;
@@ -192,24 +203,11 @@ fn attempt(
         d.sync(&b.t1);
         d.eval_forces(t1);
         let kkt = d.kkt.as_mut().expect("prepared");
+        // Φ_v at the iterate (for Φ_vᵀλ; its slots serve a refactorization below).
         kkt.eval_jacobian(model, &d.elements, &d.bodies, t1);
-        kkt.set_mass(&d.mass, &d.inertia);
-        if tangent {
-            let (ct, kt) = (&b.ct, &b.kt);
-            kkt.add_top(|r, c| gamma_p * ct[c * n + r] + beta_p * kt[c * n + r]);
-        }
         // Residuals: r_v = M v̇ + Φ_vᵀλ − h (into rhs, negated), r_c = Φ / β'; the term sizes
         // |M v̇| + |Φ_vᵀ||λ| + |h| into `scale`.
-        for k in 0..n / 6 {
-            for c in 0..3 {
-                kkt.rhs[6 * k + c] = d.mass[k] * b.vdot1[6 * k + c];
-            }
-            let wd = nalgebra::Vector3::from_column_slice(&b.vdot1[6 * k + 3..6 * k + 6]);
-            let jw = d.inertia[k] * wd;
-            for c in 0..3 {
-                kkt.rhs[6 * k + 3 + c] = jw[c];
-            }
-        }
+        mass_mul(&d.mass, &d.inertia, &b.vdot1, &mut kkt.rhs[..n]);
         let mut top = std::mem::take(&mut kkt.work_n);
         top.copy_from_slice(&kkt.rhs[..n]);
         for i in 0..n {
@@ -273,6 +271,12 @@ fn attempt(
             refactor = true;
         }
         if refactor {
+            // The top-left only when factoring: M + γ' C_t + β' K_t.
+            kkt.set_mass(&d.mass, &d.inertia);
+            if tangent {
+                let (ct, kt) = (&b.ct, &b.kt);
+                kkt.add_top(|r, c| gamma_p * ct[c * n + r] + beta_p * kt[c * n + r]);
+            }
             if kkt.factor().is_err() {
                 b.factor = Factor::None;
                 return Ok(false);
@@ -339,20 +343,12 @@ fn project_velocities(d: &mut Dynamics, b: &mut Buf) -> Result<(), DynamicsError
     for _ in 0..6 {
         // Residual of the exact system at x: [−(M x_v + Φ_vᵀ x_μ); e − Φ_v x_v].
         let (xv, xm) = b.proj_x.split_at(n);
-        for k in 0..n / 6 {
-            for c in 0..3 {
-                kkt.rhs[6 * k + c] = -d.mass[k] * xv[6 * k + c];
-            }
-            let w = d.inertia[k] * nalgebra::Vector3::from_column_slice(&xv[6 * k + 3..6 * k + 6]);
-            for c in 0..3 {
-                kkt.rhs[6 * k + 3 + c] = -w[c];
-            }
-        }
+        mass_mul(&d.mass, &d.inertia, xv, &mut kkt.rhs[..n]);
         let mut top = std::mem::take(&mut kkt.work_n);
         top.fill(0.0);
         kkt.phi_v_t_mul_add(xm, &mut top);
         for i in 0..n {
-            kkt.rhs[i] -= top[i];
+            kkt.rhs[i] = -(kkt.rhs[i] + top[i]);
         }
         kkt.work_n = top;
         let mut wa = std::mem::take(&mut kkt.work_a);
