@@ -588,16 +588,19 @@ fn slider_crank_dynamics(smoke: bool, python: &str, script: &Path, root: &Path) 
     let mut summary = Vec::new();
     for &h in peer_steps {
         // Exudyn's error at this h (deterministic), then the matching cardan settings.
-        let first = match call(
-            python,
-            script,
-            &[
-                "exudyn-slider-crank",
-                &h.to_string(),
-                &t_end.to_string(),
-                &csv_arg,
-            ],
-        ) {
+        let exudyn = || {
+            call(
+                python,
+                script,
+                &[
+                    "exudyn-slider-crank",
+                    &h.to_string(),
+                    &t_end.to_string(),
+                    &csv_arg,
+                ],
+            )
+        };
+        let first = match exudyn() {
             Ok(r) => r,
             Err(e) => {
                 let _ = writeln!(md, "\nExudyn slider-crank h = {h} failed: {e}\n");
@@ -622,16 +625,7 @@ fn slider_crank_dynamics(smoke: bool, python: &str, script: &Path, root: &Path) 
                 }
             }
             if round + 1 < rounds {
-                if let Ok(r) = call(
-                    python,
-                    script,
-                    &[
-                        "exudyn-slider-crank",
-                        &h.to_string(),
-                        &t_end.to_string(),
-                        &csv_arg,
-                    ],
-                ) {
+                if let Ok(r) = exudyn() {
                     xt.push(get(&r, "wall"));
                 }
             }
