@@ -56,6 +56,9 @@
 //!   [`RowSelection`].
 //! * [`linear`] — the [`LinearSolver`] trait (analyze / factor / solve) and [`AutoSolver`].
 //! * [`dense`] — [`DenseLu`]; [`sparse`] — [`SparseLu`]; [`rank`] — [`RankAnalysis`], [`MinNormQr`].
+//! * [`schur`] — [`SchurSolver`]: saddle-point systems `[A Bᵀ; B 0]` with a block-diagonal SPD
+//!   `A` (the equations of motion with a mass-only matrix) by the Schur complement and a sparse
+//!   Cholesky.
 //! * [`newton`] — [`NonlinearSystem`], [`Newton`], options and report; [`convergence`] — scaled
 //!   tests.
 //! * [`error`] — [`SolverError`].
@@ -120,6 +123,7 @@ pub mod linear;
 pub mod newton;
 pub mod pattern;
 pub mod rank;
+pub mod schur;
 pub mod sparse;
 
 pub use convergence::Tolerances;
@@ -134,4 +138,5 @@ pub use newton::{
 };
 pub use pattern::{RowSelection, SparsityPattern};
 pub use rank::{MinNormQr, RankAnalysis, RankOptions};
+pub use schur::{SchurSolver, DEFAULT_SCHUR_PIVOT_TOLERANCE};
 pub use sparse::SparseLu;

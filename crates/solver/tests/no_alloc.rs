@@ -7,7 +7,7 @@ mod common;
 
 use cardan_solver::{
     AutoSolver, DenseLu, JacobianUpdate, LinearSolver, MinNormQr, Newton, NewtonOptions,
-    NonlinearSystem, RankAnalysis, RankOptions, SparseLu,
+    NonlinearSystem, RankAnalysis, RankOptions, SchurSolver, SparseLu,
 };
 use common::{FourBar, Rng};
 use stats_alloc::{Region, StatsAlloc, INSTRUMENTED_SYSTEM};
@@ -70,6 +70,52 @@ fn no_allocation_after_setup() {
         let mut dense = DenseLu::new();
         dense.analyze(&pattern).unwrap();
         linear_solver_does_not_allocate(&mut dense, &slots, &format!("dense LU, {label}"));
+    }
+
+    // Schur-complement saddle-point solver: a chain of 200 blocks of 6, three rows per joint
+    // (each touching the block and its predecessor), refactored with varying values.
+    {
+        const BS: usize = 6;
+        let nb: usize = 200;
+        let m = 3 * nb;
+        let mut entries = Vec::new();
+        for r in 0..m {
+            let k = r / 3;
+            for blk in std::iter::once(k).chain(k.checked_sub(1)) {
+                for c in 0..BS {
+                    entries.push((r, BS * blk + c));
+                }
+            }
+        }
+        let mut schur = SchurSolver::new();
+        schur.analyze(BS, nb, m, &entries).unwrap();
+        let variants: Vec<(Vec<f64>, Vec<f64>)> = (0..5)
+            .map(|_| {
+                let mut a = vec![0.0; nb * BS * BS];
+                for k in 0..nb {
+                    for i in 0..BS {
+                        a[k * BS * BS + i * BS + i] = 1.0 + rng.next_f64();
+                    }
+                }
+                let b = (0..entries.len()).map(|_| rng.sym()).collect();
+                (a, b)
+            })
+            .collect();
+        let rhs: Vec<f64> = (0..BS * nb + m).map(|i| (i as f64 * 0.3).cos()).collect();
+        let mut x = vec![0.0; BS * nb + m];
+        for (a, b) in &variants {
+            schur.factor(a, b).unwrap();
+            schur.solve(&rhs, &mut x).unwrap();
+        }
+        let count = allocations(|| {
+            for _ in 0..20 {
+                for (a, b) in &variants {
+                    schur.factor(a, b).unwrap();
+                    schur.solve(&rhs, &mut x).unwrap();
+                }
+            }
+        });
+        assert_eq!(count, 0, "Schur: {count} allocations in 100 factor+solve");
     }
 
     // Rank-revealing solver on the redundant four-bar (24 × 21, rank 21).

@@ -1,0 +1,553 @@
+//! Saddle-point systems with a block-diagonal symmetric positive definite top-left, solved by
+//! the Schur complement and a sparse Cholesky factorization.
+//!
+//! # Theory
+//! The system (for mechanisms: A = M, B = Φ_v, the augmented equations of motion)
+//!
+//! ```text
+//!   ⎡ A  Bᵀ ⎤ ⎡ x ⎤   ⎡ f ⎤        A = diag(A_1, …, A_N)   (n = N b unknowns, A_k b × b SPD)
+//!   ⎣ B  0  ⎦ ⎣ λ ⎦ = ⎣ g ⎦        B   m × n, full row rank
+//! ```
+//!
+//! is eliminated onto the multipliers: the first row gives x = A⁻¹(f − Bᵀλ), and the second then
+//! reads
+//!
+//! ```text
+//!   S λ = B A⁻¹ f − g,        S = B A⁻¹ Bᵀ = Σ_k B_k A_k⁻¹ B_kᵀ
+//! ```
+//!
+//! with B_k the b columns of block k. S is m × m, symmetric positive definite exactly when B has
+//! full row rank, and factored by a sparse Cholesky S = L Lᵀ (faer, AMD ordering). Each A_k is
+//! factored densely, A_k = L_k L_kᵀ; with W_k = L_k⁻¹ B_kᵀ (one column w_r per row r of B that
+//! touches block k) every contribution is a Gram matrix, S += W_kᵀ W_k, so the assembled S is
+//! exactly symmetric. Rows r and s are coupled in S when they touch a common block; the pattern
+//! of S is fixed at [`analyze`](SchurSolver::analyze), which also runs the symbolic Cholesky.
+//!
+//! The solve, with z_k = L_k⁻¹ f_k:
+//!
+//! ```text
+//!   t_r = Σ_k w_rᵀ z_k − g_r,     λ = S⁻¹ t,     x_k = L_k⁻ᵀ (z_k − Σ_r w_r λ_r)
+//! ```
+//!
+//! Work: O(N b³) for the blocks, O(Σ_k p_k² b) for S (p_k rows touching block k) and a sparse
+//! Cholesky of order m, against a sparse LU of order n + m with pivoting for the full matrix.
+//!
+//! # Conditioning
+//! S squares the conditioning of B (κ(S) ≈ κ(A) κ(B)² in the A⁻¹ metric), so a configuration
+//! where B is close to rank deficient (a four-bar passing a singular position) loses twice as
+//! many digits as an LU of the full matrix. [`factor`](SchurSolver::factor) therefore checks
+//! every pivot of both factorizations relative to its diagonal entry, L_jj² > τ S_jj and
+//! (L_k)_jj² > τ (A_k)_jj (the ratio is the squared sine of the angle between a row and the span
+//! of the rows eliminated before it, in the A⁻¹ metric; it does not depend on row scaling), and
+//! fails with [`SolverError::Singular`] below τ (default 1e-8: the Schur solve then loses at
+//! most about eight digits) so that the caller can fall back to an LU of the full matrix. It
+//! never returns NaN.
+//!
+//! # Allocation
+//! [`analyze`](SchurSolver::analyze) allocates everything; [`factor`](SchurSolver::factor) and
+//! [`solve`](SchurSolver::solve) do not (faer's simplicial Cholesky works in a preallocated
+//! `MemBuffer`; only error values allocate).
+
+use crate::error::{NonFiniteLocation, SolverError};
+use crate::linear::Scratch;
+use crate::pattern::check_len;
+use faer::dyn_stack::StackReq;
+use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
+    SymbolicCholeskyRaw, SymmetricOrdering,
+};
+use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
+use faer::{Conj, MatMut, Par, Side};
+
+/// Default relative pivot tolerance τ of [`SchurSolver`] (see the module docs).
+pub const DEFAULT_SCHUR_PIVOT_TOLERANCE: f64 = 1e-8;
+
+/// Solver for `[A Bᵀ; B 0] [x; λ] = [f; g]` with `A` block diagonal (equal square SPD blocks)
+/// by the Schur complement `S = B A⁻¹ Bᵀ` (see the module docs).
+///
+/// Call order: [`analyze`](Self::analyze) once with the block size and the entries of `B`, then
+/// any sequence of [`factor`](Self::factor) (blocks of `A`, values of `B`) and
+/// [`solve`](Self::solve) (each uses the last successful `factor`, including its `B`).
+#[derive(Debug)]
+pub struct SchurSolver {
+    /// Block size b.
+    block: usize,
+    /// Number of blocks N.
+    nblocks: usize,
+    /// Rows of B (m).
+    m: usize,
+    /// Number of B values (entries as given to `analyze`).
+    nb_values: usize,
+    /// Cholesky factors L_k of the blocks, column-major b × b each (lower triangle used).
+    a_fac: Vec<f64>,
+    /// Block-row pairs (k, r): rows r of B touching block k, grouped by block.
+    pair_start: Vec<usize>,
+    pair_row: Vec<usize>,
+    /// Entries of each pair: (column within the block, index into the B values).
+    entry_start: Vec<usize>,
+    entry_col: Vec<usize>,
+    entry_val: Vec<usize>,
+    /// w = L_k⁻¹ b_r for every pair, b values each.
+    w: Vec<f64>,
+    /// For every block, its pairs (p, q) with q ≤ p in loop order: the slot of S they add to.
+    s_target: Vec<usize>,
+    /// Lower triangle of S (compressed columns) and its values.
+    s_symbolic: Option<SymbolicSparseColMat<usize>>,
+    s_values: Vec<f64>,
+    /// Slot of S_rr in `s_values`, per row.
+    s_diag: Vec<usize>,
+    cholesky: Option<SymbolicCholesky<usize>>,
+    l_values: Vec<f64>,
+    mem: Scratch,
+    pivot_tolerance: f64,
+    min_pivot_ratio: f64,
+    factored: bool,
+}
+
+impl Default for SchurSolver {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl SchurSolver {
+    /// A solver with the default pivot tolerance ([`DEFAULT_SCHUR_PIVOT_TOLERANCE`]).
+    pub fn new() -> Self {
+        Self {
+            block: 0,
+            nblocks: 0,
+            m: 0,
+            nb_values: 0,
+            a_fac: Vec::new(),
+            pair_start: vec![0],
+            pair_row: Vec::new(),
+            entry_start: vec![0],
+            entry_col: Vec::new(),
+            entry_val: Vec::new(),
+            w: Vec::new(),
+            s_target: Vec::new(),
+            s_symbolic: None,
+            s_values: Vec::new(),
+            s_diag: Vec::new(),
+            cholesky: None,
+            l_values: Vec::new(),
+            mem: Scratch::empty(),
+            pivot_tolerance: DEFAULT_SCHUR_PIVOT_TOLERANCE,
+            min_pivot_ratio: f64::NAN,
+            factored: false,
+        }
+    }
+
+    /// Sets the relative pivot tolerance τ (a pivot fails when `L_jj² ≤ τ S_jj`).
+    pub fn with_pivot_tolerance(mut self, tol: f64) -> Self {
+        self.pivot_tolerance = tol;
+        self
+    }
+
+    /// Lays out the system: `nblocks` diagonal blocks of size `block` (n = `nblocks · block`
+    /// unknowns), `m` rows of B whose entries `(row, col)` are listed in the order their values
+    /// will be given to [`factor`](Self::factor) (duplicates are summed). Computes the pattern of
+    /// S, its fill-reducing ordering and symbolic Cholesky factorization, and every buffer.
+    ///
+    /// # Errors
+    /// [`SolverError::EntryOutOfBounds`] for an entry outside B; [`SolverError::Backend`] if
+    /// faer's symbolic analysis or the scratch allocation fails.
+    pub fn analyze(
+        &mut self,
+        block: usize,
+        nblocks: usize,
+        m: usize,
+        b_entries: &[(usize, usize)],
+    ) -> Result<(), SolverError> {
+        self.factored = false;
+        let n = block * nblocks;
+        for (index, &(row, col)) in b_entries.iter().enumerate() {
+            if row >= m || col >= n {
+                return Err(SolverError::EntryOutOfBounds {
+                    index,
+                    row,
+                    col,
+                    nrows: m,
+                    ncols: n,
+                });
+            }
+        }
+        // Entries sorted by (block, row, col): the block-row pairs and their entries.
+        let mut order: Vec<usize> = (0..b_entries.len()).collect();
+        order.sort_by_key(|&e| {
+            let (r, c) = b_entries[e];
+            (c / block, r, c)
+        });
+        self.pair_start = vec![0; nblocks + 1];
+        self.pair_row.clear();
+        self.entry_start = vec![0];
+        self.entry_col.clear();
+        self.entry_val.clear();
+        let mut last: Option<(usize, usize)> = None;
+        for &e in &order {
+            let (r, c) = b_entries[e];
+            let k = c / block;
+            if last != Some((k, r)) {
+                if last.is_some() {
+                    self.entry_start.push(self.entry_col.len());
+                }
+                self.pair_row.push(r);
+                self.pair_start[k + 1] += 1;
+                last = Some((k, r));
+            }
+            self.entry_col.push(c % block);
+            self.entry_val.push(e);
+        }
+        if last.is_some() {
+            self.entry_start.push(self.entry_col.len());
+        }
+        for k in 0..nblocks {
+            self.pair_start[k + 1] += self.pair_start[k];
+        }
+        // Pattern of the lower triangle of S: the diagonal, and (max, min) of every two rows
+        // touching a common block.
+        let mut lower: Vec<(usize, usize)> = (0..m).map(|r| (r, r)).collect();
+        for k in 0..nblocks {
+            let rows = &self.pair_row[self.pair_start[k]..self.pair_start[k + 1]];
+            for (p, &rp) in rows.iter().enumerate() {
+                for &rq in &rows[..=p] {
+                    lower.push((rp.max(rq), rp.min(rq)));
+                }
+            }
+        }
+        // Compressed columns: sort by (col, row), deduplicate.
+        let mut distinct = lower.clone();
+        distinct.sort_unstable_by_key(|&(r, c)| (c, r));
+        distinct.dedup();
+        let mut col_ptr = vec![0usize; m + 1];
+        let mut row_idx = Vec::with_capacity(distinct.len());
+        for &(r, c) in &distinct {
+            col_ptr[c + 1] += 1;
+            row_idx.push(r);
+        }
+        for c in 0..m {
+            col_ptr[c + 1] += col_ptr[c];
+        }
+        let slot = |r: usize, c: usize| -> usize {
+            let col = &row_idx[col_ptr[c]..col_ptr[c + 1]];
+            col_ptr[c] + col.binary_search(&r).expect("entry is in the pattern")
+        };
+        self.s_diag = (0..m).map(|r| slot(r, r)).collect();
+        self.s_target = lower[m..].iter().map(|&(r, c)| slot(r, c)).collect();
+        let symbolic = SymbolicSparseColMat::new_checked(m, m, col_ptr, None, row_idx);
+        let params = CholeskySymbolicParams {
+            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SIMPLICIAL,
+            ..Default::default()
+        };
+        let cholesky = factorize_symbolic_cholesky(
+            symbolic.as_ref(),
+            Side::Lower,
+            SymmetricOrdering::Amd,
+            params,
+        )
+        .map_err(|e| SolverError::Backend(format!("symbolic Cholesky: {e:?}")))?;
+        let req = StackReq::any_of(&[
+            cholesky.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
+            cholesky.solve_in_place_scratch::<f64>(1, Par::Seq),
+        ]);
+        self.mem = Scratch::try_new(req)?;
+        self.l_values = vec![0.0; cholesky.len_val()];
+        self.s_values = vec![0.0; symbolic.row_idx().len()];
+        self.s_symbolic = Some(symbolic);
+        self.cholesky = Some(cholesky);
+        self.block = block;
+        self.nblocks = nblocks;
+        self.m = m;
+        self.nb_values = b_entries.len();
+        self.a_fac = vec![0.0; nblocks * block * block];
+        self.w = vec![0.0; self.pair_row.len() * block];
+        self.min_pivot_ratio = f64::NAN;
+        Ok(())
+    }
+
+    /// Number of unknowns n (the size of A).
+    pub fn num_unknowns(&self) -> usize {
+        self.block * self.nblocks
+    }
+
+    /// Number of rows m of B (the order of S).
+    pub fn num_rows(&self) -> usize {
+        self.m
+    }
+
+    /// Structurally distinct entries in the lower triangle of S.
+    pub fn schur_nnz(&self) -> usize {
+        self.s_values.len()
+    }
+
+    /// Entries of the Cholesky factor L of S (fill measure).
+    pub fn factor_nnz(&self) -> usize {
+        self.l_values.len()
+    }
+
+    /// Smallest relative pivot `L_jj² / S_jj` of the last factorization attempt (NaN before):
+    /// a cheap lower-bound indicator of how close B is to rank deficiency.
+    pub fn min_pivot_ratio(&self) -> f64 {
+        self.min_pivot_ratio
+    }
+
+    /// Factors A (the `nblocks` blocks, each `block × block` column-major, concatenated; only
+    /// the lower triangles are read, A_k is taken symmetric) and S = B A⁻¹ Bᵀ with `b` the values
+    /// of B's entries in the order given to [`analyze`](Self::analyze). Keeps W = L⁻¹ Bᵀ (so
+    /// [`solve`](Self::solve) uses this B). No allocation on success.
+    ///
+    /// # Errors
+    /// [`SolverError::Singular`] when a block of A is not (numerically) positive definite (with
+    /// no equations listed) or S is not (B rank deficient, or close to it relative to the pivot
+    /// tolerance; the rows whose pivot failed are listed); [`SolverError::NonFinite`];
+    /// [`SolverError::DimensionMismatch`]; [`SolverError::NotReady`].
+    pub fn factor(&mut self, a: &[f64], b: &[f64]) -> Result<(), SolverError> {
+        self.factored = false;
+        let (Some(s_symbolic), Some(cholesky)) = (self.s_symbolic.as_ref(), self.cholesky.as_ref())
+        else {
+            return Err(SolverError::NotReady { missing: "analyze" });
+        };
+        let bs = self.block;
+        check_len("block-diagonal values", self.a_fac.len(), a.len())?;
+        check_len("constraint values", self.nb_values, b.len())?;
+        if let Some(slot) = a.iter().position(|v| !v.is_finite()) {
+            let (k, i) = (slot / (bs * bs), slot % (bs * bs));
+            return Err(SolverError::NonFinite {
+                location: NonFiniteLocation::Jacobian {
+                    slot,
+                    row: k * bs + i % bs,
+                    col: k * bs + i / bs,
+                },
+                iteration: None,
+            });
+        }
+        if let Some(slot) = b.iter().position(|v| !v.is_finite()) {
+            // Error path: find the entry's block-row pair.
+            let e = self.entry_val.iter().position(|&v| v == slot).unwrap_or(0);
+            let p = self
+                .entry_start
+                .partition_point(|&s| s <= e)
+                .saturating_sub(1);
+            let k = self
+                .pair_start
+                .partition_point(|&s| s <= p)
+                .saturating_sub(1);
+            return Err(SolverError::NonFinite {
+                location: NonFiniteLocation::Jacobian {
+                    slot,
+                    row: self.pair_row.get(p).copied().unwrap_or(0),
+                    col: k * bs + self.entry_col.get(e).copied().unwrap_or(0),
+                },
+                iteration: None,
+            });
+        }
+        let tol = self.pivot_tolerance;
+        self.s_values.fill(0.0);
+        let mut target = 0;
+        for k in 0..self.nblocks {
+            let lk = &mut self.a_fac[k * bs * bs..(k + 1) * bs * bs];
+            lk.copy_from_slice(&a[k * bs * bs..(k + 1) * bs * bs]);
+            if !dense_cholesky(lk, bs, tol) {
+                return Err(SolverError::Singular {
+                    dependent_equations: Vec::new(),
+                });
+            }
+            let pairs = self.pair_start[k]..self.pair_start[k + 1];
+            for p in pairs.clone() {
+                let wp = &mut self.w[p * bs..(p + 1) * bs];
+                wp.fill(0.0);
+                for e in self.entry_start[p]..self.entry_start[p + 1] {
+                    wp[self.entry_col[e]] += b[self.entry_val[e]];
+                }
+                forward(lk, bs, wp);
+            }
+            for p in pairs.clone() {
+                let wp = &self.w[p * bs..(p + 1) * bs];
+                for q in pairs.start..=p {
+                    let wq = &self.w[q * bs..(q + 1) * bs];
+                    let mut d = 0.0;
+                    for i in 0..bs {
+                        d += wp[i] * wq[i];
+                    }
+                    self.s_values[self.s_target[target]] += d;
+                    target += 1;
+                }
+            }
+        }
+        let s = SparseColMatRef::new(s_symbolic.as_ref(), &self.s_values);
+        let result = cholesky.factorize_numeric_llt(
+            &mut self.l_values,
+            s,
+            Side::Lower,
+            LltRegularization::default(),
+            Par::Seq,
+            self.mem.stack(),
+            Default::default(),
+        );
+        let perm_fwd = cholesky.perm().map(|p| p.arrays().0);
+        let original = |j: usize| perm_fwd.map_or(j, |f| f[j]);
+        if let Err(LltError::NonPositivePivot { index }) = result {
+            self.min_pivot_ratio = 0.0;
+            // faer reports the pivot one-based.
+            let j = index.saturating_sub(1).min(self.m.saturating_sub(1));
+            return Err(SolverError::Singular {
+                dependent_equations: vec![original(j)],
+            });
+        }
+        // Relative pivots: the diagonal of L is the first stored entry of each column.
+        let SymbolicCholeskyRaw::Simplicial(simplicial) = cholesky.raw() else {
+            return Err(SolverError::Backend(
+                "Schur complement: expected a simplicial Cholesky".into(),
+            ));
+        };
+        let col_ptr = simplicial.col_ptr();
+        let mut min_ratio = f64::INFINITY;
+        let mut failed = false;
+        for j in 0..self.m {
+            let l = self.l_values[col_ptr[j]];
+            let sjj = self.s_values[self.s_diag[original(j)]];
+            let ratio = l * l / sjj;
+            min_ratio = min_ratio.min(ratio);
+            failed |= !pivot_ok(l * l, sjj, tol);
+        }
+        self.min_pivot_ratio = min_ratio;
+        if failed {
+            // Error path only (allocates).
+            let mut rows: Vec<usize> = (0..self.m)
+                .filter(|&j| {
+                    let l = self.l_values[col_ptr[j]];
+                    !pivot_ok(l * l, self.s_values[self.s_diag[original(j)]], tol)
+                })
+                .map(original)
+                .collect();
+            rows.sort_unstable();
+            return Err(SolverError::Singular {
+                dependent_equations: rows,
+            });
+        }
+        self.factored = true;
+        Ok(())
+    }
+
+    /// Solves `[A Bᵀ; B 0] [x; λ] = [f; g]` with the last factorization: `rhs = [f; g]` and
+    /// `sol = [x; λ]` have n + m entries. No allocation on success.
+    ///
+    /// # Errors
+    /// [`SolverError::NotReady`], [`SolverError::DimensionMismatch`], [`SolverError::NonFinite`].
+    pub fn solve(&mut self, rhs: &[f64], sol: &mut [f64]) -> Result<(), SolverError> {
+        if !self.factored {
+            return Err(SolverError::NotReady { missing: "factor" });
+        }
+        let Some(cholesky) = self.cholesky.as_ref() else {
+            return Err(SolverError::NotReady { missing: "analyze" });
+        };
+        let (bs, n, m) = (self.block, self.num_unknowns(), self.m);
+        check_len("right-hand side", n + m, rhs.len())?;
+        check_len("solution", n + m, sol.len())?;
+        if let Some(index) = rhs.iter().position(|v| !v.is_finite()) {
+            return Err(SolverError::NonFinite {
+                location: NonFiniteLocation::RightHandSide { index },
+                iteration: None,
+            });
+        }
+        let (x, lambda) = sol.split_at_mut(n);
+        // z_k = L_k⁻¹ f_k (in x); t = W z − g (in λ).
+        x.copy_from_slice(&rhs[..n]);
+        for (r, &g) in lambda.iter_mut().zip(&rhs[n..]) {
+            *r = -g;
+        }
+        for k in 0..self.nblocks {
+            let lk = &self.a_fac[k * bs * bs..(k + 1) * bs * bs];
+            let zk = &mut x[k * bs..(k + 1) * bs];
+            forward(lk, bs, zk);
+            for p in self.pair_start[k]..self.pair_start[k + 1] {
+                let wp = &self.w[p * bs..(p + 1) * bs];
+                let mut d = 0.0;
+                for i in 0..bs {
+                    d += wp[i] * zk[i];
+                }
+                lambda[self.pair_row[p]] += d;
+            }
+        }
+        LltRef::new(cholesky, &self.l_values).solve_in_place_with_conj(
+            Conj::No,
+            MatMut::from_column_major_slice_mut(lambda, m, 1),
+            Par::Seq,
+            self.mem.stack(),
+        );
+        // x_k = L_k⁻ᵀ (z_k − Σ_r w_r λ_r).
+        for k in 0..self.nblocks {
+            let zk = &mut x[k * bs..(k + 1) * bs];
+            for p in self.pair_start[k]..self.pair_start[k + 1] {
+                let wp = &self.w[p * bs..(p + 1) * bs];
+                let l = lambda[self.pair_row[p]];
+                for i in 0..bs {
+                    zk[i] -= wp[i] * l;
+                }
+            }
+            backward(&self.a_fac[k * bs * bs..(k + 1) * bs * bs], bs, zk);
+        }
+        if let Some(unknown) = sol.iter().position(|v| !v.is_finite()) {
+            return Err(SolverError::NonFinite {
+                location: NonFiniteLocation::Solution { unknown },
+                iteration: None,
+            });
+        }
+        Ok(())
+    }
+}
+
+/// A pivot `d` of a row whose diagonal entry was `diag` is acceptable: `d > τ diag` (false for
+/// NaN).
+fn pivot_ok(d: f64, diag: f64, tol: f64) -> bool {
+    d > tol * diag
+}
+
+/// In-place dense Cholesky of the `n × n` column-major `a` (lower triangle read and written):
+/// `false` when a pivot `d_j` is not above `tol · a_jj` (not positive definite, or nearly so).
+fn dense_cholesky(a: &mut [f64], n: usize, tol: f64) -> bool {
+    for j in 0..n {
+        let ajj = a[j * n + j];
+        let mut d = ajj;
+        for k in 0..j {
+            d -= a[k * n + j] * a[k * n + j];
+        }
+        if !pivot_ok(d, ajj, tol) {
+            return false;
+        }
+        let l = d.sqrt();
+        a[j * n + j] = l;
+        for i in j + 1..n {
+            let mut s = a[j * n + i];
+            for k in 0..j {
+                s -= a[k * n + i] * a[k * n + j];
+            }
+            a[j * n + i] = s / l;
+        }
+    }
+    true
+}
+
+/// y ← L⁻¹ y (L lower triangular, column-major `n × n`).
+fn forward(l: &[f64], n: usize, y: &mut [f64]) {
+    for j in 0..n {
+        let v = y[j] / l[j * n + j];
+        y[j] = v;
+        for i in j + 1..n {
+            y[i] -= l[j * n + i] * v;
+        }
+    }
+}
+
+/// y ← L⁻ᵀ y.
+fn backward(l: &[f64], n: usize, y: &mut [f64]) {
+    for j in (0..n).rev() {
+        let mut v = y[j];
+        for i in j + 1..n {
+            v -= l[j * n + i] * y[i];
+        }
+        y[j] = v / l[j * n + j];
+    }
+}
