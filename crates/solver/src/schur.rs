@@ -305,10 +305,9 @@ impl SchurSolver {
     /// [`SolverError::DimensionMismatch`]; [`SolverError::NotReady`].
     pub fn factor(&mut self, a: &[f64], b: &[f64]) -> Result<(), SolverError> {
         self.factored = false;
-        let (Some(s_symbolic), Some(cholesky)) = (self.s_symbolic.as_ref(), self.cholesky.as_ref())
-        else {
+        if self.cholesky.is_none() {
             return Err(SolverError::NotReady { missing: "analyze" });
-        };
+        }
         let bs = self.block;
         check_len("block-diagonal values", self.a_fac.len(), a.len())?;
         check_len("constraint values", self.nb_values, b.len())?;
@@ -344,38 +343,21 @@ impl SchurSolver {
             });
         }
         let tol = self.pivot_tolerance;
-        self.s_values.fill(0.0);
-        let mut target = 0;
-        for k in 0..self.nblocks {
-            let lk = &mut self.a_fac[k * bs * bs..(k + 1) * bs * bs];
-            lk.copy_from_slice(&a[k * bs * bs..(k + 1) * bs * bs]);
-            if !dense_cholesky(lk, bs, tol) {
-                return Err(SolverError::Singular {
-                    dependent_equations: Vec::new(),
-                });
-            }
-            let pairs = self.pair_start[k]..self.pair_start[k + 1];
-            for p in pairs.clone() {
-                let wp = &mut self.w[p * bs..(p + 1) * bs];
-                wp.fill(0.0);
-                for e in self.entry_start[p]..self.entry_start[p + 1] {
-                    wp[self.entry_col[e]] += b[self.entry_val[e]];
-                }
-                forward(lk, bs, wp);
-            }
-            for p in pairs.clone() {
-                let wp = &self.w[p * bs..(p + 1) * bs];
-                for q in pairs.start..=p {
-                    let wq = &self.w[q * bs..(q + 1) * bs];
-                    let mut d = 0.0;
-                    for i in 0..bs {
-                        d += wp[i] * wq[i];
-                    }
-                    self.s_values[self.s_target[target]] += d;
-                    target += 1;
-                }
-            }
+        // Block kernels unrolled for the mechanisms' block size 6.
+        let blocks_ok = if bs == 6 {
+            self.assemble::<6>(a, b, tol)
+        } else {
+            self.assemble::<0>(a, b, tol)
+        };
+        if !blocks_ok {
+            return Err(SolverError::Singular {
+                dependent_equations: Vec::new(),
+            });
         }
+        let (Some(s_symbolic), Some(cholesky)) = (self.s_symbolic.as_ref(), self.cholesky.as_ref())
+        else {
+            return Err(SolverError::NotReady { missing: "analyze" });
+        };
         let s = SparseColMatRef::new(s_symbolic.as_ref(), &self.s_values);
         let result = cholesky.factorize_numeric_llt(
             &mut self.l_values,
@@ -458,18 +440,10 @@ impl SchurSolver {
         for (r, &g) in lambda.iter_mut().zip(&rhs[n..]) {
             *r = -g;
         }
-        for k in 0..self.nblocks {
-            let lk = &self.a_fac[k * bs * bs..(k + 1) * bs * bs];
-            let zk = &mut x[k * bs..(k + 1) * bs];
-            forward(lk, bs, zk);
-            for p in self.pair_start[k]..self.pair_start[k + 1] {
-                let wp = &self.w[p * bs..(p + 1) * bs];
-                let mut d = 0.0;
-                for i in 0..bs {
-                    d += wp[i] * zk[i];
-                }
-                lambda[self.pair_row[p]] += d;
-            }
+        if bs == 6 {
+            self.solve_forward::<6>(x, lambda);
+        } else {
+            self.solve_forward::<0>(x, lambda);
         }
         LltRef::new(cholesky, &self.l_values).solve_in_place_with_conj(
             Conj::No,
@@ -478,16 +452,10 @@ impl SchurSolver {
             self.mem.stack(),
         );
         // x_k = L_k⁻ᵀ (z_k − Σ_r w_r λ_r).
-        for k in 0..self.nblocks {
-            let zk = &mut x[k * bs..(k + 1) * bs];
-            for p in self.pair_start[k]..self.pair_start[k + 1] {
-                let wp = &self.w[p * bs..(p + 1) * bs];
-                let l = lambda[self.pair_row[p]];
-                for i in 0..bs {
-                    zk[i] -= wp[i] * l;
-                }
-            }
-            backward(&self.a_fac[k * bs * bs..(k + 1) * bs * bs], bs, zk);
+        if bs == 6 {
+            self.solve_backward::<6>(x, lambda);
+        } else {
+            self.solve_backward::<0>(x, lambda);
         }
         if let Some(unknown) = sol.iter().position(|v| !v.is_finite()) {
             return Err(SolverError::NonFinite {
@@ -499,15 +467,107 @@ impl SchurSolver {
     }
 }
 
+impl SchurSolver {
+    /// Block size: `B` when it is not 0 (a compile-time size, loops unrolled), else the
+    /// analyzed one.
+    #[inline(always)]
+    fn bs<const B: usize>(&self) -> usize {
+        if B == 0 {
+            self.block
+        } else {
+            B
+        }
+    }
+
+    /// Factors the blocks (L_k, with the reciprocals of their diagonals stored), computes
+    /// W = L⁻¹ Bᵀ and assembles S. `false` when a block is not positive definite.
+    fn assemble<const B: usize>(&mut self, a: &[f64], b: &[f64], tol: f64) -> bool {
+        let bs = self.bs::<B>();
+        let bb = bs * bs;
+        self.s_values.fill(0.0);
+        let mut target = 0;
+        for k in 0..self.nblocks {
+            let lk = &mut self.a_fac[k * bb..(k + 1) * bb];
+            lk.copy_from_slice(&a[k * bb..(k + 1) * bb]);
+            if !dense_cholesky(lk, bs, tol) {
+                return false;
+            }
+            let lk = &self.a_fac[k * bb..(k + 1) * bb];
+            let pairs = self.pair_start[k]..self.pair_start[k + 1];
+            for p in pairs.clone() {
+                let wp = &mut self.w[p * bs..(p + 1) * bs];
+                wp.fill(0.0);
+                for e in self.entry_start[p]..self.entry_start[p + 1] {
+                    wp[self.entry_col[e]] += b[self.entry_val[e]];
+                }
+                forward(lk, bs, wp);
+            }
+            for p in pairs.clone() {
+                let wp = &self.w[p * bs..(p + 1) * bs];
+                for q in pairs.start..=p {
+                    self.s_values[self.s_target[target]] +=
+                        dot(wp, &self.w[q * bs..(q + 1) * bs], bs);
+                    target += 1;
+                }
+            }
+        }
+        true
+    }
+
+    /// x_k ← L_k⁻¹ x_k, λ_r += w_rᵀ x_k.
+    fn solve_forward<const B: usize>(&self, x: &mut [f64], lambda: &mut [f64]) {
+        let bs = self.bs::<B>();
+        let bb = bs * bs;
+        for k in 0..self.nblocks {
+            let zk = &mut x[k * bs..(k + 1) * bs];
+            forward(&self.a_fac[k * bb..(k + 1) * bb], bs, zk);
+            for p in self.pair_start[k]..self.pair_start[k + 1] {
+                lambda[self.pair_row[p]] += dot(&self.w[p * bs..(p + 1) * bs], zk, bs);
+            }
+        }
+    }
+
+    /// x_k ← L_k⁻ᵀ (x_k − Σ_r w_r λ_r).
+    fn solve_backward<const B: usize>(&self, x: &mut [f64], lambda: &[f64]) {
+        let bs = self.bs::<B>();
+        let bb = bs * bs;
+        for k in 0..self.nblocks {
+            let zk = &mut x[k * bs..(k + 1) * bs];
+            for p in self.pair_start[k]..self.pair_start[k + 1] {
+                let wp = &self.w[p * bs..(p + 1) * bs];
+                let l = lambda[self.pair_row[p]];
+                for i in 0..bs {
+                    zk[i] -= wp[i] * l;
+                }
+            }
+            backward(&self.a_fac[k * bb..(k + 1) * bb], bs, zk);
+        }
+    }
+}
+
+/// x · y over the first n entries.
+#[inline(always)]
+fn dot(x: &[f64], y: &[f64], n: usize) -> f64 {
+    let (x, y) = (&x[..n], &y[..n]);
+    let mut d = 0.0;
+    for i in 0..n {
+        d += x[i] * y[i];
+    }
+    d
+}
+
 /// A pivot `d` of a row whose diagonal entry was `diag` is acceptable: `d > τ diag` (false for
 /// NaN).
 fn pivot_ok(d: f64, diag: f64, tol: f64) -> bool {
     d > tol * diag
 }
 
-/// In-place dense Cholesky of the `n × n` column-major `a` (lower triangle read and written):
-/// `false` when a pivot `d_j` is not above `tol · a_jj` (not positive definite, or nearly so).
+/// In-place dense Cholesky of the `n × n` column-major `a` (lower triangle read and written),
+/// with the **reciprocals** 1/L_jj stored on the diagonal: `false` when a pivot `d_j` is not
+/// above `tol · a_jj` (not positive definite, or nearly so).
+#[inline(always)]
 fn dense_cholesky(a: &mut [f64], n: usize, tol: f64) -> bool {
+    let a = &mut a[..n * n];
     for j in 0..n {
         let ajj = a[j * n + j];
         let mut d = ajj;
@@ -517,23 +577,25 @@ fn dense_cholesky(a: &mut [f64], n: usize, tol: f64) -> bool {
         if !pivot_ok(d, ajj, tol) {
             return false;
         }
-        let l = d.sqrt();
-        a[j * n + j] = l;
+        let r = 1.0 / d.sqrt();
+        a[j * n + j] = r;
         for i in j + 1..n {
             let mut s = a[j * n + i];
             for k in 0..j {
                 s -= a[k * n + i] * a[k * n + j];
             }
-            a[j * n + i] = s / l;
+            a[j * n + i] = s * r;
         }
     }
     true
 }
 
-/// y ← L⁻¹ y (L lower triangular, column-major `n × n`).
+/// y ← L⁻¹ y (L lower triangular, column-major `n × n`, reciprocal diagonal).
+#[inline(always)]
 fn forward(l: &[f64], n: usize, y: &mut [f64]) {
+    let (l, y) = (&l[..n * n], &mut y[..n]);
     for j in 0..n {
-        let v = y[j] / l[j * n + j];
+        let v = y[j] * l[j * n + j];
         y[j] = v;
         for i in j + 1..n {
             y[i] -= l[j * n + i] * v;
@@ -542,12 +604,14 @@ fn forward(l: &[f64], n: usize, y: &mut [f64]) {
 }
 
 /// y ← L⁻ᵀ y.
+#[inline(always)]
 fn backward(l: &[f64], n: usize, y: &mut [f64]) {
+    let (l, y) = (&l[..n * n], &mut y[..n]);
     for j in (0..n).rev() {
         let mut v = y[j];
         for i in j + 1..n {
             v -= l[j * n + i] * y[i];
         }
-        y[j] = v / l[j * n + j];
+        y[j] = v * l[j * n + j];
     }
 }
