@@ -9,12 +9,30 @@
 //! full 6×6 block per body (M_k = diag(m_k I, J'_k), or the implicit method's iteration matrix
 //! M + γ' C_t + β' K_t) and 6×6 coupling blocks for each two-body force element; Φ_v and Φ_vᵀ
 //! get six entries per active row and moving body of its element. The slot layout is fixed, so
-//! a step refills values and refactors ([`cardan_solver::AutoSolver`]: dense LU for small
-//! models, sparse LU for large; never a dense inverse of M).
+//! a step refills values and refactors. Never a dense inverse of M.
+//!
+//! Two factorizations, chosen at each [`Kkt::factor`]:
+//!
+//! * **Schur complement** ([`cardan_solver::SchurSolver`]) when the top-left is block diagonal
+//!   and symmetric: [`Kkt::set_mass`] only (the coupling blocks are then zero), or
+//!   [`Kkt::add_top`] on a layout without coupling blocks whose 6×6 blocks came out symmetric.
+//!   With A = the top-left, S = Φ_v A⁻¹ Φ_vᵀ (m_a × m_a, SPD when Φ_v has full row rank) is
+//!   assembled body by body and factored by a sparse Cholesky; λ = S⁻¹(Φ_v A⁻¹ h − γ#),
+//!   v̇ = A⁻¹(h − Φ_vᵀ λ). Used for models of more than [`SCHUR_MIN_SIZE`] unknowns
+//!   (n + m_a).
+//! * **LU of the full matrix** ([`cardan_solver::AutoSolver`]: dense LU for small models, sparse
+//!   LU for large) otherwise, and as the fallback when the Cholesky fails: S squares the
+//!   conditioning of Φ_v, so near a singular configuration (a four-bar passing a dead-centre
+//!   position) its relative pivots drop below 1e-8 and the LU, which loses half as many
+//!   digits, takes over for that factorization.
+//!
+//! [`Kkt::solve`] uses whichever factored last. The slots of the full matrix are written only
+//! when the LU path factors (Φ_v lives in `jac`, the mass blocks in their own array), so the
+//! Schur path never touches them.
 
 use cardan_constraints::{BodyPair, BodyState, Constraint};
 use cardan_mechanism::{BodyId, Model};
-use cardan_solver::{AutoSolver, LinearSolver, SolverError, SparsityPattern};
+use cardan_solver::{AutoSolver, LinearSolver, SchurSolver, SolverError, SparsityPattern};
 use std::ops::Range;
 
 /// One joint or driver: its rows, bodies.
@@ -120,13 +138,38 @@ pub(crate) fn eval_rows(
     }
 }
 
-/// One Φ_v entry: active row a, column c, its KKT slots (Φ_v and Φ_vᵀ).
+/// Six Φ_v entries: active row a, the six columns c..c+6 of one moving body (values
+/// `jac[6 g..6 g + 6]` for group g).
 #[derive(Debug, Clone, Copy)]
-struct Entry {
+struct Group {
     row: usize,
     col: usize,
-    slot: usize,
-    slot_t: usize,
+}
+
+/// Size n + m_a of the KKT system above which [`Kkt::factor`] uses the Schur complement when
+/// it can: the dense LU's limit (`AutoPolicy::dense_max_dim`).
+pub(crate) const SCHUR_MIN_SIZE: usize = 100;
+
+/// Which factorization [`Kkt::factor`] uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum KktSolve {
+    /// Schur complement when the top-left is block diagonal and the system is larger than
+    /// [`SCHUR_MIN_SIZE`], with the LU as fallback; LU otherwise.
+    Auto,
+    /// Always the LU of the full matrix.
+    #[allow(dead_code)]
+    Lu,
+    /// The Schur complement whenever the top-left is block diagonal, whatever the size, and no
+    /// fallback (its error is returned); LU otherwise.
+    #[allow(dead_code)]
+    Schur,
+}
+
+/// The factorization held for [`Kkt::solve`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Factored {
+    Schur,
+    Lu,
 }
 
 /// The laid-out KKT system and its solver.
@@ -138,12 +181,30 @@ pub(crate) struct Kkt {
     /// Position of each model row among the active rows (usize::MAX if dropped).
     pub active_of: Vec<usize>,
     solver: AutoSolver,
+    /// Slots of the full matrix (LU path only; written by `factor` when it takes that path).
     pub slots: Vec<f64>,
-    /// Top-left block slots: (row, col, slot).
+    /// Top-left block slots: (row, col, slot); the 36 nb diagonal-block entries first (body,
+    /// row, column order), then the coupling blocks.
     top: Vec<(usize, usize, usize)>,
-    entries: Vec<Entry>,
-    /// Φ_v values aligned with `entries`.
+    /// Coupling blocks were laid out (a force element joins two moving bodies).
+    coupled: bool,
+    /// Φ_v by groups of six entries, in evaluation order.
+    groups: Vec<Group>,
+    /// Φ_v values, six per group.
     pub jac: Vec<f64>,
+    /// KKT slots (Φ_v, Φ_vᵀ) of each `jac` value (LU path).
+    jac_slots: Vec<(usize, usize)>,
+    /// Diagonal blocks of the top-left, column-major 6×6 per body (36 nb).
+    blocks: Vec<f64>,
+    /// Slot of each `blocks` entry.
+    block_slots: Vec<usize>,
+    /// The top-left slots are behind `blocks` (set_mass wrote only `blocks`).
+    top_stale: bool,
+    /// add_top added terms since the last set_mass (the top-left is in the slots).
+    tangent: bool,
+    schur: Option<SchurSolver>,
+    mode: KktSolve,
+    factored: Option<Factored>,
     pub rhs: Vec<f64>,
     pub sol: Vec<f64>,
     /// All-row buffers (m).
@@ -153,6 +214,8 @@ pub(crate) struct Kkt {
     /// Scratch of length m_a.
     pub work_a: Vec<f64>,
     pub factorizations: usize,
+    /// Schur factorizations that failed and were replaced by an LU.
+    pub fallbacks: usize,
 }
 
 impl Kkt {
@@ -192,7 +255,8 @@ impl Kkt {
                 block(j, i, &mut pos);
             }
         }
-        let mut entries = Vec::new();
+        let mut groups = Vec::new();
+        let mut jac_slots = Vec::new();
         for e in elements {
             for r in e.rows.clone() {
                 let a = active_of[r];
@@ -201,14 +265,10 @@ impl Kkt {
                 }
                 for id in [e.bi, e.bj] {
                     if let BodyId::Moving(k) = id {
+                        groups.push(Group { row: a, col: 6 * k });
                         for c in 0..6 {
                             let col = 6 * k + c;
-                            entries.push(Entry {
-                                row: a,
-                                col,
-                                slot: pos.len(),
-                                slot_t: pos.len() + 1,
-                            });
+                            jac_slots.push((pos.len(), pos.len() + 1));
                             pos.push((n + a, col));
                             pos.push((col, n + a));
                         }
@@ -221,15 +281,29 @@ impl Kkt {
         let mut solver = AutoSolver::default();
         solver.analyze(&pattern)?;
         let ns = pattern.num_slots();
-        let ne = entries.len();
-        Ok(Self {
+        let ne = jac_slots.len();
+        // `blocks` is column-major per body; `top` lists the diagonal blocks row by row.
+        let mut block_slots = vec![0; 36 * nb];
+        for &(r, c, s) in &top[..36 * nb] {
+            block_slots[36 * (r / 6) + 6 * (c % 6) + r % 6] = s;
+        }
+        let mut kkt = Self {
             n,
             active_of,
             solver,
             slots: vec![0.0; ns],
+            coupled: top.len() > 36 * nb,
             top,
-            entries,
+            groups,
             jac: vec![0.0; ne],
+            jac_slots,
+            blocks: vec![0.0; 36 * nb],
+            block_slots,
+            top_stale: false,
+            tangent: false,
+            schur: None,
+            mode: KktSolve::Auto,
+            factored: None,
             rhs: vec![0.0; size],
             sol: vec![0.0; size],
             full: vec![0.0; m],
@@ -237,10 +311,45 @@ impl Kkt {
             work_a: vec![0.0; active.len()],
             active,
             factorizations: 0,
-        })
+            fallbacks: 0,
+        };
+        if size > SCHUR_MIN_SIZE {
+            kkt.analyze_schur()?;
+        }
+        Ok(kkt)
     }
 
-    /// Evaluates Φ_v at the bodies' poses into `jac` (and the KKT slots). No allocation.
+    /// Lays out the Schur-complement solver (entries of Φ_v in `jac` order).
+    fn analyze_schur(&mut self) -> Result<(), SolverError> {
+        let b: Vec<(usize, usize)> = self
+            .groups
+            .iter()
+            .flat_map(|g| (0..6).map(move |c| (g.row, g.col + c)))
+            .collect();
+        let mut schur = SchurSolver::new();
+        schur.analyze(6, self.n / 6, self.active.len(), &b)?;
+        self.schur = Some(schur);
+        Ok(())
+    }
+
+    /// Forces a factorization path (tests and measurements); lays out the Schur solver if
+    /// needed.
+    #[allow(dead_code)]
+    pub fn set_solve_path(&mut self, mode: KktSolve) -> Result<(), SolverError> {
+        if mode == KktSolve::Schur && self.schur.is_none() {
+            self.analyze_schur()?;
+        }
+        self.mode = mode;
+        Ok(())
+    }
+
+    /// The factorization the last successful [`factor`](Self::factor) made.
+    #[allow(dead_code)]
+    pub fn factored(&self) -> Option<Factored> {
+        self.factored
+    }
+
+    /// Evaluates Φ_v at the bodies' poses into `jac`. No allocation.
     pub fn eval_jacobian(
         &mut self,
         model: &Model,
@@ -264,89 +373,161 @@ impl Kkt {
                 for (id, blk) in [(e.bi, &bi), (e.bj, &bj)] {
                     if let BodyId::Moving(_) = id {
                         for c in 0..6 {
-                            let en = self.entries[cursor];
-                            let v = blk[lr][c];
-                            self.jac[cursor] = v;
-                            self.slots[en.slot] = v;
-                            self.slots[en.slot_t] = v;
+                            self.jac[cursor] = blk[lr][c];
                             cursor += 1;
                         }
                     }
                 }
             }
         }
-        debug_assert_eq!(cursor, self.entries.len());
+        debug_assert_eq!(cursor, self.jac.len());
     }
 
     /// Sets the top-left to M = diag(m I, J') per body (coupling blocks zero).
     pub fn set_mass(&mut self, mass: &[f64], inertia: &[nalgebra::Matrix3<f64>]) {
-        for &(r, c, s) in &self.top {
-            self.slots[s] = mass_entry(mass, inertia, r, c);
+        for (k, blk) in self.blocks.chunks_exact_mut(36).enumerate() {
+            blk.fill(0.0);
+            for i in 0..3 {
+                blk[7 * i] = mass[k];
+                for j in 0..3 {
+                    blk[6 * (3 + j) + 3 + i] = inertia[k][(i, j)];
+                }
+            }
         }
+        self.top_stale = true;
+        self.tangent = false;
     }
 
     /// Adds `f(row, col)` to the top-left entries (for tangent terms).
     pub fn add_top(&mut self, mut f: impl FnMut(usize, usize) -> f64) {
+        self.write_top();
         for &(r, c, s) in &self.top {
             self.slots[s] += f(r, c);
         }
+        self.tangent = true;
     }
 
-    /// Factors the current slots.
+    /// Brings the top-left slots up to `blocks` (coupling blocks zero) after a set_mass.
+    fn write_top(&mut self) {
+        if !self.top_stale {
+            return;
+        }
+        for (&s, &v) in self.block_slots.iter().zip(&self.blocks) {
+            self.slots[s] = v;
+        }
+        for &(_, _, s) in &self.top[self.blocks.len()..] {
+            self.slots[s] = 0.0;
+        }
+        self.top_stale = false;
+    }
+
+    /// The top-left is block diagonal and symmetric, so the Schur complement applies: mass only,
+    /// or tangent terms on a layout without coupling blocks whose diagonal blocks are symmetric
+    /// (then copied from the slots into `blocks`).
+    fn schur_applies(&mut self) -> bool {
+        if !self.tangent {
+            return true;
+        }
+        if self.coupled {
+            return false;
+        }
+        for (v, &s) in self.blocks.iter_mut().zip(&self.block_slots) {
+            *v = self.slots[s];
+        }
+        self.blocks.chunks_exact(36).all(|b| {
+            let size = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            (0..6).all(|c| (0..c).all(|r| (b[6 * c + r] - b[6 * r + c]).abs() <= 1e-14 * size))
+        })
+    }
+
+    /// Factors the current matrix: the Schur complement when it applies (see the module docs),
+    /// else, or when its Cholesky fails, the LU of the full matrix.
     pub fn factor(&mut self) -> Result<(), SolverError> {
         self.factorizations += 1;
-        self.solver.factor(&self.slots)
+        self.factored = None;
+        if self.mode != KktSolve::Lu && self.schur.is_some() && self.schur_applies() {
+            let schur = self.schur.as_mut().expect("checked");
+            match schur.factor(&self.blocks, &self.jac) {
+                Ok(()) => {
+                    self.factored = Some(Factored::Schur);
+                    return Ok(());
+                }
+                Err(e) if self.mode == KktSolve::Schur => {
+                    // Rows of S are active rows: KKT rows n + a.
+                    return Err(match e {
+                        SolverError::Singular {
+                            dependent_equations,
+                        } => SolverError::Singular {
+                            dependent_equations: dependent_equations
+                                .into_iter()
+                                .map(|a| self.n + a)
+                                .collect(),
+                        },
+                        e => e,
+                    });
+                }
+                Err(_) => self.fallbacks += 1,
+            }
+        }
+        self.write_top();
+        for (&(s, st), &v) in self.jac_slots.iter().zip(&self.jac) {
+            self.slots[s] = v;
+            self.slots[st] = v;
+        }
+        self.solver.factor(&self.slots)?;
+        self.factored = Some(Factored::Lu);
+        Ok(())
     }
 
-    /// Solves with `rhs` into `sol`.
+    /// Solves with `rhs` into `sol`, with the last factorization.
     pub fn solve(&mut self) -> Result<(), SolverError> {
-        self.solver.solve(&self.rhs, &mut self.sol)
+        match self.factored {
+            Some(Factored::Schur) => self
+                .schur
+                .as_mut()
+                .expect("factored")
+                .solve(&self.rhs, &mut self.sol),
+            Some(Factored::Lu) => self.solver.solve(&self.rhs, &mut self.sol),
+            None => Err(SolverError::NotReady { missing: "factor" }),
+        }
     }
 
     /// y (active rows) = Φ_v x.
     pub fn phi_v_mul(&self, x: &[f64], y: &mut [f64]) {
         y.fill(0.0);
-        for (e, v) in self.entries.iter().zip(&self.jac) {
-            y[e.row] += v * x[e.col];
+        for (g, v) in self.groups.iter().zip(self.jac.chunks_exact(6)) {
+            let x = &x[g.col..g.col + 6];
+            let mut s = y[g.row];
+            for c in 0..6 {
+                s += v[c] * x[c];
+            }
+            y[g.row] = s;
         }
     }
 
     /// y (n) += |Φ_vᵀ| |λ| (entrywise absolute values: the size of the terms of Φ_vᵀλ).
     pub fn phi_v_t_abs_mul_add(&self, lambda: &[f64], y: &mut [f64]) {
-        for (e, v) in self.entries.iter().zip(&self.jac) {
-            y[e.col] += (v * lambda[e.row]).abs();
+        for (g, v) in self.groups.iter().zip(self.jac.chunks_exact(6)) {
+            let l = lambda[g.row];
+            let y = &mut y[g.col..g.col + 6];
+            for c in 0..6 {
+                y[c] += (v[c] * l).abs();
+            }
         }
     }
 
     /// y (n) += Φ_vᵀ λ (λ over active rows).
     pub fn phi_v_t_mul_add(&self, lambda: &[f64], y: &mut [f64]) {
-        for (e, v) in self.entries.iter().zip(&self.jac) {
-            y[e.col] += v * lambda[e.row];
+        for (g, v) in self.groups.iter().zip(self.jac.chunks_exact(6)) {
+            let l = lambda[g.row];
+            let y = &mut y[g.col..g.col + 6];
+            for c in 0..6 {
+                y[c] += v[c] * l;
+            }
         }
     }
 }
 
-/// Entry (r, c) of the block-diagonal M.
-pub(crate) fn mass_entry(
-    mass: &[f64],
-    inertia: &[nalgebra::Matrix3<f64>],
-    r: usize,
-    c: usize,
-) -> f64 {
-    let (k, l) = (r / 6, c / 6);
-    if k != l {
-        return 0.0;
-    }
-    let (a, b) = (r % 6, c % 6);
-    if a < 3 && b < 3 {
-        if a == b {
-            mass[k]
-        } else {
-            0.0
-        }
-    } else if a >= 3 && b >= 3 {
-        inertia[k][(a - 3, b - 3)]
-    } else {
-        0.0
-    }
-}
+#[cfg(test)]
+#[path = "kkt_tests.rs"]
+mod tests;

@@ -1,0 +1,319 @@
+//! The two factorizations of [`Kkt`] (Schur complement and LU of the full matrix) give the same
+//! trajectories, and the Schur path falls back to the LU near singular configurations.
+
+use super::{elements, Factored, Kkt, KktSolve};
+use crate::{
+    Dopri5Options, Dynamics, Force, GeneralizedAlphaOptions, Integrator, IterationMatrix,
+    SimulationOptions, State,
+};
+use cardan_constraints::JointKind;
+use cardan_mechanism::{Body, JointSpec, MechanismBuilder, Model, GROUND};
+use cardan_solver::SolverError;
+use nalgebra::Vector3;
+
+/// `n` unit rods along +x joined by spherical joints, the first to the ground at the origin;
+/// with `tip = Some(ε)`, a distance joint from the far end of the last rod to the ground point
+/// (n + 1, ε, 0): at ε = 0 it is aligned with the straight chain, whose tip cannot move along x,
+/// so its Φ_v row depends on the spherical rows (a dead-centre position); for small ε it almost
+/// does (relative pivot of S ≈ ε²).
+fn chain(n: usize, tip: Option<f64>) -> Model {
+    let mut b = MechanismBuilder::new();
+    b.point(GROUND, "O", Vector3::zeros());
+    for k in 0..n {
+        let name = format!("b{k}");
+        b.body(
+            Body::new(&name)
+                .mass(1.0 + 0.1 * k as f64)
+                .inertia_diagonal(0.001, 1.0 / 12.0, 1.0 / 12.0)
+                .position(Vector3::new(k as f64 + 0.5, 0.0, 0.0)),
+        );
+        b.point(&name, "a", Vector3::new(-0.5, 0.0, 0.0)).point(
+            &name,
+            "b",
+            Vector3::new(0.5, 0.0, 0.0),
+        );
+        let (pb, pp) = if k == 0 {
+            (GROUND.to_string(), "O")
+        } else {
+            (format!("b{}", k - 1), "b")
+        };
+        b.joint(JointSpec::new(
+            format!("s{k}"),
+            JointKind::Spherical,
+            (&pb, pp),
+            (&name, "a"),
+        ));
+    }
+    if let Some(eps) = tip {
+        b.point(GROUND, "G", Vector3::new(n as f64 + 1.0, eps, 0.0));
+        b.joint(JointSpec::new(
+            "tip",
+            JointKind::SphericalSpherical,
+            (GROUND, "G"),
+            (&format!("b{}", n - 1), "b"),
+        ));
+    }
+    b.build().unwrap()
+}
+
+fn dynamics(model: &Model) -> Dynamics<'_> {
+    let mut d = Dynamics::new(model).unwrap();
+    d.add_force(Force::gravity(Vector3::new(0.0, 2.0, -9.81)))
+        .unwrap();
+    d
+}
+
+/// Body positions, Euler parameters, velocities and angular velocities at every output time.
+fn trajectory(model: &Model, integ: Integrator, path: KktSolve) -> (Vec<f64>, usize) {
+    let mut d = dynamics(model);
+    let s = State::initial(model, 0.0);
+    d.prepare(&s).unwrap();
+    d.kkt.as_mut().unwrap().set_solve_path(path).unwrap();
+    let opts = SimulationOptions::new(0.2, 10).integrator(integ);
+    let r = d.simulate_consistent(s, &opts).unwrap();
+    let kkt = d.kkt.as_ref().unwrap();
+    let want = if path == KktSolve::Lu {
+        Factored::Lu
+    } else {
+        Factored::Schur
+    };
+    assert_eq!(kkt.factored(), Some(want), "{path:?}");
+    assert_eq!(kkt.fallbacks, 0);
+    let mut out = Vec::new();
+    for b in &r.kinematics.bodies {
+        for k in 0..b.r.len() {
+            out.extend(b.r[k].iter());
+            out.extend(b.p[k].iter());
+            out.extend(b.r_dot[k].iter());
+            out.extend(b.omega[k].iter());
+        }
+    }
+    (out, r.stats.factorizations)
+}
+
+#[test]
+fn chain_trajectories_agree_with_schur_and_lu() {
+    // 30 links: n + m_a = 270, above SCHUR_MIN_SIZE, so Auto takes the Schur path.
+    let model = chain(30, None);
+    // Generalized-α stops its Newton iterations at 1e-10 (scaled), and the two paths may take
+    // different iteration counts (roundoff decides a contraction test now and then): the
+    // trajectories agree to that level. DOPRI5 solves the same systems at the same states.
+    for (integ, tol) in [
+        (
+            Integrator::GeneralizedAlpha(GeneralizedAlphaOptions {
+                iteration_matrix: IterationMatrix::MassOnly,
+                ..GeneralizedAlphaOptions::with_step(1e-3)
+            }),
+            1e-10,
+        ),
+        (Integrator::Dopri5(Dopri5Options::fixed(1e-3)), 1e-13),
+    ] {
+        let (lu, f_lu) = trajectory(&model, integ, KktSolve::Lu);
+        let (schur, f_schur) = trajectory(&model, integ, KktSolve::Schur);
+        let (auto, _) = trajectory(&model, integ, KktSolve::Auto);
+        assert_eq!(lu.len(), schur.len());
+        let diff = lu
+            .iter()
+            .zip(&schur)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        let size = lu.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+        assert!(size > 1.0);
+        assert!(
+            diff <= tol * size,
+            "{integ:?}: trajectories differ by {diff:.2e} (largest value {size:.2e}); \
+             factorizations LU {f_lu}, Schur {f_schur}"
+        );
+        assert_eq!(schur, auto, "Auto is the Schur path here");
+    }
+}
+
+/// The KKT system of `chain(n, Some(eps))` at its initial (straight) pose, all rows active.
+fn tip_kkt(model: &Model) -> (Kkt, Dynamics<'_>) {
+    let mut d = dynamics(model);
+    let s = State::initial(model, 0.0);
+    d.sync(&s);
+    let els = elements(model);
+    let m = model.num_equations();
+    let mut kkt = Kkt::new(model, &els, (0..m).collect(), &[]).unwrap();
+    kkt.eval_jacobian(model, &els, &d.bodies, 0.0);
+    kkt.set_mass(&d.mass, &d.inertia);
+    (kkt, d)
+}
+
+/// A right-hand side [h; γ] with γ = Φ_v y in the range of Φ_v (as the true γ# is near a dead
+/// centre, where the motion stays compatible), h and y smooth pseudo-random.
+fn consistent_rhs(kkt: &mut Kkt) {
+    let n = kkt.n;
+    let y: Vec<f64> = (0..n).map(|i| ((i as f64) * 1.3).cos()).collect();
+    let mut g = vec![0.0; kkt.active.len()];
+    kkt.phi_v_mul(&y, &mut g);
+    for i in 0..n {
+        kkt.rhs[i] = ((i as f64) * 0.7).sin();
+    }
+    kkt.rhs[n..].copy_from_slice(&g);
+}
+
+/// Relative residual of the full KKT system at `kkt.sol` for `kkt.rhs`.
+fn kkt_residual(kkt: &Kkt, d: &Dynamics) -> f64 {
+    let n = kkt.n;
+    let (x, lambda) = kkt.sol.split_at(n);
+    let mut top = vec![0.0; n];
+    for (k, (xk, yk)) in x.chunks(6).zip(top.chunks_mut(6)).enumerate() {
+        let w = d.inertia[k] * Vector3::new(xk[3], xk[4], xk[5]);
+        for c in 0..3 {
+            yk[c] = d.mass[k] * xk[c];
+            yk[3 + c] = w[c];
+        }
+    }
+    kkt.phi_v_t_mul_add(lambda, &mut top);
+    let mut bottom = vec![0.0; kkt.active.len()];
+    kkt.phi_v_mul(x, &mut bottom);
+    let mut r = 0.0f64;
+    let mut size = 0.0f64;
+    for (i, v) in top.iter().chain(&bottom).enumerate() {
+        r = r.max((v - kkt.rhs[i]).abs());
+        size = size.max(kkt.rhs[i].abs());
+    }
+    r / size
+}
+
+#[test]
+fn near_dead_centre_falls_back_to_lu_with_a_correct_solution() {
+    // ε = 1e-5: relative pivot of S ≈ 1e-10 < 1e-8, the LU pivot ≈ 1e-5 is fine.
+    let model = chain(20, Some(1e-5));
+    let (mut kkt, d) = tip_kkt(&model);
+    assert!(kkt.rhs.len() > super::SCHUR_MIN_SIZE);
+    consistent_rhs(&mut kkt);
+    kkt.factor().unwrap();
+    assert_eq!(kkt.factored(), Some(Factored::Lu));
+    assert_eq!(kkt.fallbacks, 1);
+    kkt.solve().unwrap();
+    let r = kkt_residual(&kkt, &d);
+    assert!(r < 1e-10, "LU fallback: relative residual {r:.2e}");
+    let fallback = kkt.sol.clone();
+
+    // The Schur path alone refuses this matrix, naming the tip row (KKT row n + m − 1).
+    kkt.set_solve_path(KktSolve::Schur).unwrap();
+    match kkt.factor() {
+        Err(SolverError::Singular {
+            dependent_equations,
+        }) => assert!(
+            dependent_equations.iter().all(|&r| r >= kkt.n),
+            "{dependent_equations:?}"
+        ),
+        other => panic!("expected Singular, got {other:?}"),
+    }
+    assert_eq!(kkt.factored(), None);
+    assert!(matches!(kkt.solve(), Err(SolverError::NotReady { .. })));
+
+    // The forced LU gives the same solution as the fallback.
+    kkt.set_solve_path(KktSolve::Lu).unwrap();
+    kkt.factor().unwrap();
+    kkt.solve().unwrap();
+    assert_eq!(kkt.sol, fallback);
+
+    // Away from the dead centre (ε = 0.3) Auto keeps the Schur path, with the same result.
+    let model = chain(20, Some(0.3));
+    let (mut kkt, d) = tip_kkt(&model);
+    consistent_rhs(&mut kkt);
+    kkt.factor().unwrap();
+    assert_eq!(kkt.factored(), Some(Factored::Schur));
+    kkt.solve().unwrap();
+    let schur = kkt.sol.clone();
+    assert!(kkt_residual(&kkt, &d) < 1e-12);
+    kkt.set_solve_path(KktSolve::Lu).unwrap();
+    kkt.factor().unwrap();
+    kkt.solve().unwrap();
+    let diff = schur
+        .iter()
+        .zip(&kkt.sol)
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    let scale = kkt.sol.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+    assert!(diff <= 1e-12 * scale, "Schur vs LU: {diff:.2e}");
+}
+
+#[test]
+fn exact_dead_centre_is_a_clean_error() {
+    let model = chain(20, Some(0.0));
+    let (mut kkt, _) = tip_kkt(&model);
+    match kkt.factor() {
+        Err(SolverError::Singular { .. }) => {}
+        other => panic!("expected Singular, got {other:?}"),
+    }
+    assert_eq!(kkt.fallbacks, 1);
+    assert!(matches!(kkt.solve(), Err(SolverError::NotReady { .. })));
+}
+
+#[test]
+fn tangent_terms_on_coupled_layouts_take_the_lu() {
+    // Coupling blocks laid out (a force element between b0 and b1) and tangent terms added:
+    // the top-left is no longer block diagonal.
+    let model = chain(20, None);
+    let d = dynamics(&model);
+    let mut s = State::initial(&model, 0.0);
+    s.v[4] = 0.3;
+    let els = elements(&model);
+    let m = model.num_equations();
+    let mut kkt = Kkt::new(&model, &els, (0..m).collect(), &[(0, 1)]).unwrap();
+    let mut d = d;
+    d.sync(&s);
+    kkt.eval_jacobian(&model, &els, &d.bodies, 0.0);
+    kkt.set_mass(&d.mass, &d.inertia);
+    kkt.factor().unwrap();
+    assert_eq!(kkt.factored(), Some(Factored::Schur));
+    // A symmetric coupling term: LU (the blocks are not diagonal any more).
+    kkt.add_top(|r, c| {
+        if r / 6 != c / 6 && r % 6 == c % 6 {
+            0.1
+        } else {
+            0.0
+        }
+    });
+    kkt.factor().unwrap();
+    assert_eq!(kkt.factored(), Some(Factored::Lu));
+    // Back to the mass only: Schur again.
+    kkt.set_mass(&d.mass, &d.inertia);
+    kkt.factor().unwrap();
+    assert_eq!(kkt.factored(), Some(Factored::Schur));
+
+    // Without coupling blocks: a symmetric block-diagonal term keeps the Schur path, a
+    // non-symmetric one (gyroscopic-like) takes the LU; both solve the same system as the LU.
+    let mut kkt = Kkt::new(&model, &els, (0..m).collect(), &[]).unwrap();
+    kkt.eval_jacobian(&model, &els, &d.bodies, 0.0);
+    for (i, v) in kkt.rhs.iter_mut().enumerate() {
+        *v = ((i as f64) * 0.3).cos();
+    }
+    for (skew, want) in [(0.0, Factored::Schur), (0.05, Factored::Lu)] {
+        let term = |r: usize, c: usize| {
+            if r / 6 != c / 6 {
+                0.0
+            } else if r == c {
+                0.2
+            } else if r % 6 == 3 && c % 6 == 4 {
+                0.01 + skew
+            } else if r % 6 == 4 && c % 6 == 3 {
+                0.01 - skew
+            } else {
+                0.0
+            }
+        };
+        kkt.set_solve_path(KktSolve::Auto).unwrap();
+        kkt.set_mass(&d.mass, &d.inertia);
+        kkt.add_top(term);
+        kkt.factor().unwrap();
+        assert_eq!(kkt.factored(), Some(want), "skew {skew}");
+        kkt.solve().unwrap();
+        let got = kkt.sol.clone();
+        kkt.set_solve_path(KktSolve::Lu).unwrap();
+        kkt.set_mass(&d.mass, &d.inertia);
+        kkt.add_top(term);
+        kkt.factor().unwrap();
+        kkt.solve().unwrap();
+        let diff = got
+            .iter()
+            .zip(&kkt.sol)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        let scale = kkt.sol.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+        assert!(diff <= 1e-12 * scale, "skew {skew}: {diff:.2e}");
+    }
+}
