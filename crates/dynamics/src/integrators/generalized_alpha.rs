@@ -151,6 +151,9 @@ enum Factor {
 /// (N = 40); a mass-only matrix diverging on a stiff spring stays far above.
 const STAGNATION_MAX_RESIDUAL: f64 = 1e-2;
 
+/// Consecutive non-contracting iterations of a fresh matrix after which a step attempt fails.
+const STALLED_MAX: usize = 4;
+
 /// Contraction rate above which modified Newton refactors at the current iterate.
 const THETA_REFACTOR: f64 = 0.25;
 
@@ -185,6 +188,8 @@ fn attempt(
     let escale = model.equation_scales();
     let n = b.a.len();
     let mut mu_prev = f64::INFINITY;
+    // Consecutive iterations in which a fresh matrix did not reduce the residual.
+    let mut stalled = 0;
     // Scaled position increment β'|Δv̇| of the last update.
     let mut inc = f64::INFINITY;
     // Largest increment of v̇ (scaled by the unknown scales) of the last two updates, and the
@@ -266,6 +271,16 @@ fn attempt(
             it >= 2 && theta_dv < 1.0 && theta_dv / (1.0 - theta_dv) * dv <= tol * acc;
         if (constraints_ok && (res_v <= tol || fresh_small || chord_small)) || stagnated {
             return Ok(true);
+        }
+        // A fresh matrix that no longer reduces the residual will not converge: give up early
+        // (the caller halves the step) instead of refactoring up to `max_iterations` times.
+        if b.factor == Factor::Fresh && it >= 1 && theta > 0.9 {
+            stalled += 1;
+            if stalled >= STALLED_MAX {
+                return Ok(false);
+            }
+        } else {
+            stalled = 0;
         }
         if !o.reuse_factorization || (it >= 1 && theta > THETA_REFACTOR) {
             refactor = true;
@@ -469,62 +484,61 @@ pub(crate) fn run(
     let mut iters_since = 0;
     while next < times.len() {
         let target = times[next];
-        let span = target - b.s.t;
-        let nsub = ((span / o.h) - 1e-9).ceil().max(1.0) as usize;
-        let hs = span / nsub as f64;
-        for sub in 0..nsub {
+        // Steps of at most h that land on the output time: the rest of the interval is divided
+        // into equal steps after every accepted step, so a halved step shifts the steps after
+        // it instead of aiming again at the end point that failed (a configuration singular to
+        // working precision, such as A02's horizontal positions, is then stepped over).
+        while b.s.t < target {
             if stats.steps + stats.rejected >= options.max_steps {
                 return Err(DynamicsError::TooManySteps {
                     time: b.s.t,
                     max_steps: options.max_steps,
                 });
             }
-            let t_goal = if sub + 1 == nsub { target } else { b.s.t + hs };
-            // Reach t_goal, halving on failure.
-            while b.s.t < t_goal {
-                let mut h = t_goal - b.s.t;
-                let mut halvings = 0;
-                loop {
-                    let before = stats.newton_iterations;
-                    let tangent = o.iteration_matrix == IterationMatrix::Tangent;
-                    if attempt(d, &mut b, h, o, tangent, stats)? {
-                        iters_since += stats.newton_iterations - before;
-                        break;
-                    }
-                    if o.iteration_matrix == IterationMatrix::MassOnlyThenTangent
-                        && attempt(d, &mut b, h, o, true, stats)?
-                    {
-                        iters_since += stats.newton_iterations - before;
-                        break;
-                    }
-                    stats.rejected += 1;
-                    halvings += 1;
-                    if halvings > o.max_halvings {
-                        return Err(DynamicsError::StepTooSmall {
-                            time: b.s.t,
-                            step: h,
-                            reason: "Newton iteration of generalized-α failed".into(),
-                        });
-                    }
-                    h *= 0.5;
+            let rest = target - b.s.t;
+            let nsub = ((rest / o.h) - 1e-9).ceil().max(1.0);
+            let mut h = if nsub <= 1.0 { rest } else { rest / nsub };
+            let mut halvings = 0;
+            loop {
+                let before = stats.newton_iterations;
+                let tangent = o.iteration_matrix == IterationMatrix::Tangent;
+                if attempt(d, &mut b, h, o, tangent, stats)? {
+                    iters_since += stats.newton_iterations - before;
+                    break;
                 }
-                // Accept.
-                std::mem::swap(&mut b.s, &mut b.t1);
-                if (b.s.t - t_goal).abs() <= 1e-12 * (1.0 + t_goal.abs()) {
-                    b.s.t = t_goal;
+                if o.iteration_matrix == IterationMatrix::MassOnlyThenTangent
+                    && attempt(d, &mut b, h, o, true, stats)?
+                {
+                    iters_since += stats.newton_iterations - before;
+                    break;
                 }
-                std::mem::swap(&mut b.vdot, &mut b.vdot1);
-                std::mem::swap(&mut b.a, &mut b.a1);
-                std::mem::swap(&mut b.lambda, &mut b.lambda1);
-                if o.project_velocities {
-                    if o.reuse_factorization {
-                        project_velocities(d, &mut b)?;
-                    } else {
-                        d.project_velocities(&mut b.s)?;
-                    }
+                stats.rejected += 1;
+                halvings += 1;
+                if halvings > o.max_halvings {
+                    return Err(DynamicsError::StepTooSmall {
+                        time: b.s.t,
+                        step: h,
+                        reason: "Newton iteration of generalized-α failed".into(),
+                    });
                 }
-                stats.steps += 1;
+                h *= 0.5;
             }
+            // Accept.
+            std::mem::swap(&mut b.s, &mut b.t1);
+            if (b.s.t - target).abs() <= 1e-12 * (1.0 + target.abs()) {
+                b.s.t = target;
+            }
+            std::mem::swap(&mut b.vdot, &mut b.vdot1);
+            std::mem::swap(&mut b.a, &mut b.a1);
+            std::mem::swap(&mut b.lambda, &mut b.lambda1);
+            if o.project_velocities {
+                if o.reuse_factorization {
+                    project_velocities(d, &mut b)?;
+                } else {
+                    d.project_velocities(&mut b.s)?;
+                }
+            }
+            stats.steps += 1;
         }
         rec.record(d, &b.s, iters_since)?;
         // The recorder's acceleration solve refactored [M Φ_vᵀ; Φ_v 0] at the output state.
