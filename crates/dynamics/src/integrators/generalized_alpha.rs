@@ -495,8 +495,10 @@ pub(crate) fn run(
                     max_steps: options.max_steps,
                 });
             }
+            // (A step up to 1e-6 longer than h rather than an extra one: the roundoff of the
+            // accumulated time, about 1e-8 h after 1000 steps, must not add a step.)
             let rest = target - b.s.t;
-            let nsub = ((rest / o.h) - 1e-9).ceil().max(1.0);
+            let nsub = ((rest / o.h) - 1e-6).ceil().max(1.0);
             let mut h = if nsub <= 1.0 { rest } else { rest / nsub };
             let mut halvings = 0;
             loop {
