@@ -138,5 +138,5 @@ pub use newton::{
 };
 pub use pattern::{RowSelection, SparsityPattern};
 pub use rank::{MinNormQr, RankAnalysis, RankOptions};
-pub use schur::{SchurSolver, DEFAULT_SCHUR_PIVOT_TOLERANCE};
+pub use schur::{SchurSolver, DEFAULT_BLOCK_PIVOT_TOLERANCE, DEFAULT_SCHUR_PIVOT_TOLERANCE};
 pub use sparse::SparseLu;

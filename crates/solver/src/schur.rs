@@ -35,13 +35,24 @@
 //! # Conditioning
 //! S squares the conditioning of B (κ(S) ≈ κ(A) κ(B)² in the A⁻¹ metric), so a configuration
 //! where B is close to rank deficient (a four-bar passing a singular position) loses twice as
-//! many digits as an LU of the full matrix. [`factor`](SchurSolver::factor) therefore checks
-//! every pivot of both factorizations relative to its diagonal entry, L_jj² > τ S_jj and
-//! (L_k)_jj² > τ (A_k)_jj (the ratio is the squared sine of the angle between a row and the span
-//! of the rows eliminated before it, in the A⁻¹ metric; it does not depend on row scaling), and
-//! fails with [`SolverError::Singular`] below τ (default 1e-8: the Schur solve then loses at
-//! most about eight digits) so that the caller can fall back to an LU of the full matrix. It
-//! never returns NaN.
+//! many digits as an LU of the full matrix; and S inherits the conditioning of A, since A⁻¹
+//! weights the columns of B (a point mass with a negligible inertia, J' = 10⁻¹³ m I, makes S
+//! mix terms 10¹³ apart). [`factor`](SchurSolver::factor) therefore checks every pivot of S
+//! relative to its diagonal entry, L_jj² > τ S_jj (the ratio is the squared sine of the angle
+//! between a row and the span of the rows eliminated before it, in the A⁻¹ metric; it does not
+//! depend on row scaling), and every pivot of a block relative to the block's largest diagonal
+//! entry, (L_k)_jj² > τ max_i (A_k)_ii (a bound on the block's condition number; scale
+//! dependent across a block's units, kg against kg m², but only pathological blocks come near
+//! it), and fails with [`SolverError::Singular`] below τ so that the caller can fall back to an
+//! LU of the full matrix, which pivots and equilibrates. It never returns NaN.
+//!
+//! The default τ = 1e-4 comes from the constraint rows: the solution satisfies B x = g only up
+//! to the residual of the S solve, about u κ(S) ≈ u / (smallest pivot ratio) relative (u the
+//! unit roundoff), where the LU of the full matrix, whose condition is about the square root,
+//! keeps it near u / √ratio. τ = 1e-4 keeps it near 1e-12, below the integrators' 1e-10
+//! tolerances. Measured: the IFToMM A02 four-bar (N = 2) passes its singular horizontal
+//! positions with τ = 1e-4 but fails one with τ = 1e-6 (generalized-α, the file's settings);
+//! the ratios of a spherical-joint chain are 7e-3 to 2e-2, so it stays on the Schur path.
 //!
 //! # Allocation
 //! [`analyze`](SchurSolver::analyze) allocates everything; [`factor`](SchurSolver::factor) and
@@ -61,8 +72,12 @@ use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::{Conj, MatMut, Par, Side};
 
-/// Default relative pivot tolerance τ of [`SchurSolver`] (see the module docs).
-pub const DEFAULT_SCHUR_PIVOT_TOLERANCE: f64 = 1e-8;
+/// Default relative pivot tolerance τ of S in [`SchurSolver`] (see the module docs).
+pub const DEFAULT_SCHUR_PIVOT_TOLERANCE: f64 = 1e-4;
+
+/// Default block tolerance τ_A of [`SchurSolver`]: blocks of condition up to about 1e8 (see the
+/// module docs).
+pub const DEFAULT_BLOCK_PIVOT_TOLERANCE: f64 = 1e-8;
 
 /// Solver for `[A Bᵀ; B 0] [x; λ] = [f; g]` with `A` block diagonal (equal square SPD blocks)
 /// by the Schur complement `S = B A⁻¹ Bᵀ` (see the module docs).
@@ -102,6 +117,7 @@ pub struct SchurSolver {
     l_values: Vec<f64>,
     mem: Scratch,
     pivot_tolerance: f64,
+    block_tolerance: f64,
     min_pivot_ratio: f64,
     factored: bool,
 }
@@ -135,6 +151,7 @@ impl SchurSolver {
             l_values: Vec::new(),
             mem: Scratch::empty(),
             pivot_tolerance: DEFAULT_SCHUR_PIVOT_TOLERANCE,
+            block_tolerance: DEFAULT_BLOCK_PIVOT_TOLERANCE,
             min_pivot_ratio: f64::NAN,
             factored: false,
         }
@@ -143,6 +160,12 @@ impl SchurSolver {
     /// Sets the relative pivot tolerance τ (a pivot fails when `L_jj² ≤ τ S_jj`).
     pub fn with_pivot_tolerance(mut self, tol: f64) -> Self {
         self.pivot_tolerance = tol;
+        self
+    }
+
+    /// Sets the block tolerance τ_A (a block fails when `(L_k)_jj² ≤ τ_A max_i (A_k)_ii`).
+    pub fn with_block_tolerance(mut self, tol: f64) -> Self {
+        self.block_tolerance = tol;
         self
     }
 
@@ -299,8 +322,8 @@ impl SchurSolver {
     /// [`solve`](Self::solve) uses this B). No allocation on success.
     ///
     /// # Errors
-    /// [`SolverError::Singular`] when a block of A is not (numerically) positive definite (with
-    /// no equations listed) or S is not (B rank deficient, or close to it relative to the pivot
+    /// [`SolverError::Singular`] when a block of A is not (numerically) positive definite or
+    /// too ill-conditioned (with no equations listed) or S is not (B rank deficient, or close to it relative to the pivot
     /// tolerance; the rows whose pivot failed are listed); [`SolverError::NonFinite`];
     /// [`SolverError::DimensionMismatch`]; [`SolverError::NotReady`].
     pub fn factor(&mut self, a: &[f64], b: &[f64]) -> Result<(), SolverError> {
@@ -342,12 +365,12 @@ impl SchurSolver {
                 iteration: None,
             });
         }
-        let tol = self.pivot_tolerance;
+        let (tol, tol_a) = (self.pivot_tolerance, self.block_tolerance);
         // Block kernels unrolled for the mechanisms' block size 6.
         let blocks_ok = if bs == 6 {
-            self.assemble::<6>(a, b, tol)
+            self.assemble::<6>(a, b, tol_a)
         } else {
-            self.assemble::<0>(a, b, tol)
+            self.assemble::<0>(a, b, tol_a)
         };
         if !blocks_ok {
             return Err(SolverError::Singular {
@@ -564,17 +587,17 @@ fn pivot_ok(d: f64, diag: f64, tol: f64) -> bool {
 
 /// In-place dense Cholesky of the `n × n` column-major `a` (lower triangle read and written),
 /// with the **reciprocals** 1/L_jj stored on the diagonal: `false` when a pivot `d_j` is not
-/// above `tol · a_jj` (not positive definite, or nearly so).
+/// above `tol · max_i a_ii` (not positive definite, or too ill-conditioned).
 #[inline(always)]
 fn dense_cholesky(a: &mut [f64], n: usize, tol: f64) -> bool {
     let a = &mut a[..n * n];
+    let amax = (0..n).fold(0.0f64, |m, j| m.max(a[j * n + j]));
     for j in 0..n {
-        let ajj = a[j * n + j];
-        let mut d = ajj;
+        let mut d = a[j * n + j];
         for k in 0..j {
             d -= a[k * n + j] * a[k * n + j];
         }
-        if !pivot_ok(d, ajj, tol) {
+        if !pivot_ok(d, amax, tol) {
             return false;
         }
         let r = 1.0 / d.sqrt();
