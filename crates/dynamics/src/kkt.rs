@@ -447,11 +447,7 @@ impl Kkt {
             || (self.mode == KktSolve::Auto && self.mass_refused && !self.tangent);
         if !skip && self.schur.is_some() && self.schur_applies() {
             let schur = self.schur.as_mut().expect("checked");
-            let __r = schur.factor(&self.blocks, &self.jac);
-            if std::env::var("SCHUR_DBG").is_ok() {
-                eprintln!("SCHURDBG {:.3e} {}", schur.min_pivot_ratio(), __r.is_ok());
-            }
-            match __r {
+            match schur.factor(&self.blocks, &self.jac) {
                 Ok(()) => {
                     self.factored = Some(Factored::Schur);
                     return Ok(());
