@@ -150,6 +150,13 @@ struct Group {
     col: usize,
 }
 
+/// Size n + m_a up to which the LU of the full matrix is analyzed with the layout. Beyond it,
+/// and without coupling blocks (so that the Schur complement is the usual path), the analysis
+/// (a fill-reducing ordering and trial factorizations, 25 ms at 1,000 bodies: more than ten
+/// steps) waits for the first LU factorization, a fallback near a singular configuration; that
+/// step allocates, once.
+pub(crate) const LU_EAGER_MAX_SIZE: usize = 2000;
+
 /// Which factorization [`Kkt::factor`] uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum KktSolve {
@@ -180,7 +187,11 @@ pub(crate) struct Kkt {
     pub active: Vec<usize>,
     /// Position of each model row among the active rows (usize::MAX if dropped).
     pub active_of: Vec<usize>,
-    solver: AutoSolver,
+    /// LU of the full matrix; `None` until its first use for large systems without coupling
+    /// blocks (see [`LU_EAGER_MAX_SIZE`]).
+    solver: Option<AutoSolver>,
+    /// Entries of the full matrix in slot order, kept for a deferred LU analysis.
+    lu_entries: Vec<(usize, usize)>,
     /// Slots of the full matrix (LU path only; written by `factor` when it takes that path).
     pub slots: Vec<f64>,
     /// Top-left block slots: (row, col, slot); the 36 nb diagonal-block entries first (body,
@@ -281,10 +292,8 @@ impl Kkt {
             }
         }
         let size = n + active.len();
-        let pattern = SparsityPattern::new(size, size, &pos)?;
-        let mut solver = AutoSolver::default();
-        solver.analyze(&pattern)?;
-        let ns = pattern.num_slots();
+        let coupled = top.len() > 36 * nb;
+        let ns = pos.len();
         let ne = jac_slots.len();
         // `blocks` is column-major per body; `top` lists the diagonal blocks row by row.
         let mut block_slots = vec![0; 36 * nb];
@@ -294,9 +303,10 @@ impl Kkt {
         let mut kkt = Self {
             n,
             active_of,
-            solver,
+            solver: None,
+            lu_entries: pos,
             slots: vec![0.0; ns],
-            coupled: top.len() > 36 * nb,
+            coupled,
             top,
             groups,
             jac: vec![0.0; ne],
@@ -319,7 +329,23 @@ impl Kkt {
             fallbacks: 0,
         };
         kkt.analyze_schur()?;
+        if size <= LU_EAGER_MAX_SIZE || coupled {
+            kkt.lu()?;
+        }
         Ok(kkt)
+    }
+
+    /// The LU of the full matrix, analyzed on first use.
+    fn lu(&mut self) -> Result<&mut AutoSolver, SolverError> {
+        if self.solver.is_none() {
+            let size = self.rhs.len();
+            let pattern = SparsityPattern::new(size, size, &self.lu_entries)?;
+            let mut solver = AutoSolver::default();
+            solver.analyze(&pattern)?;
+            self.solver = Some(solver);
+            self.lu_entries = Vec::new();
+        }
+        Ok(self.solver.as_mut().expect("analyzed"))
     }
 
     /// Lays out the Schur-complement solver (entries of Φ_v in `jac` order).
@@ -482,7 +508,10 @@ impl Kkt {
             self.slots[s] = v;
             self.slots[st] = v;
         }
-        self.solver.factor(&self.slots)?;
+        let slots = std::mem::take(&mut self.slots);
+        let r = self.lu().and_then(|lu| lu.factor(&slots));
+        self.slots = slots;
+        r?;
         self.factored = Some(Factored::Lu);
         Ok(())
     }
@@ -495,7 +524,11 @@ impl Kkt {
                 .as_mut()
                 .expect("factored")
                 .solve(&self.rhs, &mut self.sol),
-            Some(Factored::Lu) => self.solver.solve(&self.rhs, &mut self.sol),
+            Some(Factored::Lu) => self
+                .solver
+                .as_mut()
+                .expect("factored")
+                .solve(&self.rhs, &mut self.sol),
             None => Err(SolverError::NotReady { missing: "factor" }),
         }
     }

@@ -179,8 +179,23 @@ fn kkt_residual(kkt: &Kkt, d: &Dynamics) -> f64 {
 #[test]
 fn near_dead_centre_falls_back_to_lu_with_a_correct_solution() {
     // ε = 1e-5: relative pivot of S ≈ 1e-10 < 1e-4, the LU pivot ≈ 1e-5 is fine.
+    // 340 links: n + m_a = 3061, beyond LU_EAGER_MAX_SIZE: the LU is analyzed at the fallback.
+    let big = chain(340, Some(1e-5));
+    let (mut kkt, d) = tip_kkt(&big);
+    assert!(kkt.rhs.len() > super::LU_EAGER_MAX_SIZE && kkt.solver.is_none());
+    consistent_rhs(&mut kkt);
+    kkt.factor().unwrap();
+    assert_eq!(kkt.factored(), Some(Factored::Lu));
+    kkt.solve().unwrap();
+    let r = kkt_residual(&kkt, &d);
+    assert!(
+        r < 1e-10,
+        "LU fallback (deferred analysis): relative residual {r:.2e}"
+    );
+
     let model = chain(20, Some(1e-5));
     let (mut kkt, d) = tip_kkt(&model);
+    assert!(kkt.solver.is_some());
     consistent_rhs(&mut kkt);
     kkt.factor().unwrap();
     assert_eq!(kkt.factored(), Some(Factored::Lu));
