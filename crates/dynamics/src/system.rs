@@ -253,7 +253,7 @@ impl<'m> Dynamics<'m> {
     }
 
     /// Body pairs coupled by force elements (off-diagonal blocks of the iteration matrix).
-    fn coupled_pairs(&self) -> Vec<(usize, usize)> {
+    pub(crate) fn coupled_pairs(&self) -> Vec<(usize, usize)> {
         let mut pairs = Vec::new();
         for f in &self.forces {
             if let Some((BodyId::Moving(i), BodyId::Moving(j))) = f.coupled(self.model) {

@@ -6,7 +6,8 @@
 //! non-finite values) is retried with half the step, up to `max_halvings` times.
 //!
 //! Iteration matrix [M + γ' C_t + β' K_t, Φ_vᵀ; Φ_v, 0]: Φ_v and M exact, the force tangents
-//! by finite differences once per step attempt, at the predictor. With
+//! by finite differences once per step attempt, at the predictor (block-sparse and coloured,
+//! see `tangents`: 12 evaluations of h per colour of the force-coupling graph). With
 //! [`GeneralizedAlphaOptions::reuse_factorization`] (the default) the iteration is a modified
 //! Newton: the last factorization (of an earlier iteration or step, or of the velocity
 //! projection or output solve, all of the same layout) is kept while the residual contracts by
@@ -27,9 +28,10 @@
 //! stored state (index-1 consistent), not the integrator's internal v̇ and λ, which carry the
 //! O(h) start-up error of index-3 schemes.
 //!
-//! After setup a step does not allocate (dense n × n tangent buffers are reserved once; fine for
-//! the models of interest, O(n²) memory for very large ones).
+//! After setup a step does not allocate; the tangents are stored as the 6×6 blocks the KKT
+//! layout reserves (O(n) memory).
 
+use super::tangents::Tangents;
 use crate::kkt::{eval_rows, Rhs};
 use crate::options::{GeneralizedAlphaOptions, IterationMatrix, SimulationOptions};
 use crate::record::Recorder;
@@ -60,12 +62,8 @@ struct Buf {
     a1: Vec<f64>,
     lambda1: Vec<f64>,
     dq: Vec<f64>,
-    /// Perturbed state for tangents.
-    pert: State,
-    h0: Vec<f64>,
-    /// −∂h/∂v and −∂h/∂q, column-major n × n.
-    ct: Vec<f64>,
-    kt: Vec<f64>,
+    /// Force tangents (iteration matrices with tangent terms).
+    tan: Option<Tangents>,
     phi: Vec<f64>,
     /// Term sizes of the equations of motion (n).
     scale: Vec<f64>,
@@ -74,39 +72,6 @@ struct Buf {
     proj_x: Vec<f64>,
     /// State of the solver's factorization (modified Newton).
     factor: Factor,
-}
-
-/// Finite-difference tangents at `b.t1`: ct = −∂h/∂v, kt = −∂h/∂q.
-fn tangents(d: &mut Dynamics, b: &mut Buf) {
-    let n = b.h0.len();
-    let l = d.model.characteristic_length();
-    d.sync(&b.t1);
-    d.eval_forces(b.t1.t);
-    b.h0.copy_from_slice(&d.h);
-    for c in 0..n {
-        // Velocity column.
-        b.pert.t = b.t1.t;
-        b.pert.q.copy_from_slice(&b.t1.q);
-        b.pert.v.copy_from_slice(&b.t1.v);
-        let ev = 1e-7 * (1.0 + b.t1.v[c].abs());
-        b.pert.v[c] += ev;
-        d.sync(&b.pert);
-        d.eval_forces(b.t1.t);
-        for r in 0..n {
-            b.ct[c * n + r] = -(d.h[r] - b.h0[r]) / ev;
-        }
-        // Position column (r or π').
-        b.pert.v.copy_from_slice(&b.t1.v);
-        let eq = if c % 6 < 3 { 1e-7 * l } else { 1e-7 };
-        b.dq.fill(0.0);
-        b.dq[c] = eq;
-        apply_rotation_step(&mut b.pert.q, &b.dq);
-        d.sync(&b.pert);
-        d.eval_forces(b.t1.t);
-        for r in 0..n {
-            b.kt[c * n + r] = -(d.h[r] - b.h0[r]) / eq;
-        }
-    }
 }
 
 /// out = M x with M = diag(m_k I, J'_k) per body (6 entries per body).
@@ -203,7 +168,9 @@ fn attempt(
     for it in 0..o.max_iterations {
         trial(b, h, p);
         if it == 0 && tangent {
-            tangents(d, b);
+            if let Some(tan) = b.tan.as_mut() {
+                tan.eval(d, &b.t1);
+            }
         }
         d.sync(&b.t1);
         d.eval_forces(t1);
@@ -288,9 +255,8 @@ fn attempt(
         if refactor {
             // The top-left only when factoring: M + γ' C_t + β' K_t.
             kkt.set_mass(&d.mass, &d.inertia);
-            if tangent {
-                let (ct, kt) = (&b.ct, &b.kt);
-                kkt.add_top(|r, c| gamma_p * ct[c * n + r] + beta_p * kt[c * n + r]);
+            if let (true, Some(tan)) = (tangent, b.tan.as_ref()) {
+                kkt.add_top(|r, c| tan.entry(r, c, gamma_p, beta_p));
             }
             if kkt.factor().is_err() {
                 b.factor = Factor::None;
@@ -438,24 +404,7 @@ pub(crate) fn run(
         a1: vec![0.0; n],
         lambda1: vec![0.0; ma],
         dq: vec![0.0; n],
-        pert: state.clone(),
-        h0: vec![0.0; n],
-        ct: vec![
-            0.0;
-            if o.iteration_matrix != IterationMatrix::MassOnly {
-                n * n
-            } else {
-                0
-            }
-        ],
-        kt: vec![
-            0.0;
-            if o.iteration_matrix != IterationMatrix::MassOnly {
-                n * n
-            } else {
-                0
-            }
-        ],
+        tan: (o.iteration_matrix != IterationMatrix::MassOnly).then(|| Tangents::new(d, &state)),
         phi: vec![0.0; m],
         scale: vec![0.0; n],
         proj_e: vec![0.0; ma],
