@@ -62,15 +62,14 @@
 use crate::error::{NonFiniteLocation, SolverError};
 use crate::linear::Scratch;
 use crate::pattern::check_len;
-use faer::dyn_stack::StackReq;
 use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
-    SymbolicCholeskyRaw, SymmetricOrdering,
+    factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw,
+    SymmetricOrdering,
 };
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
-use faer::{Conj, MatMut, Par, Side};
+use faer::{Par, Side};
 
 /// Default relative pivot tolerance τ of S in [`SchurSolver`] (see the module docs).
 pub const DEFAULT_SCHUR_PIVOT_TOLERANCE: f64 = 1e-4;
@@ -97,7 +96,14 @@ pub struct SchurSolver {
     nb_values: usize,
     /// Cholesky factors L_k of the blocks, column-major b × b each (lower triangle used).
     a_fac: Vec<f64>,
-    /// Block-row pairs (k, r): rows r of B touching block k, grouped by block.
+    /// The blocks `a_fac` was computed from, and whether that succeeded.
+    a_prev: Vec<f64>,
+    a_factored: bool,
+    /// Every block-row pair has its b entries in column order at consecutive value indices
+    /// (the caller's layout groups them): gathered by one copy.
+    contiguous: bool,
+    /// Block-row pairs (k, r): rows r of B touching block k, grouped by block (r in the
+    /// permuted numbering of S).
     pair_start: Vec<usize>,
     pair_row: Vec<usize>,
     /// Entries of each pair: (column within the block, index into the B values).
@@ -108,13 +114,23 @@ pub struct SchurSolver {
     w: Vec<f64>,
     /// For every block, its pairs (p, q) with q ≤ p in loop order: the slot of S they add to.
     s_target: Vec<usize>,
-    /// Lower triangle of S (compressed columns) and its values.
+    /// Upper triangle of S in the permuted numbering (compressed columns) and its values.
     s_symbolic: Option<SymbolicSparseColMat<usize>>,
     s_values: Vec<f64>,
-    /// Slot of S_rr in `s_values`, per row.
+    /// Slot of S_jj in `s_values`, per (permuted) row.
     s_diag: Vec<usize>,
     cholesky: Option<SymbolicCholesky<usize>>,
+    /// Structure of L (compressed columns, diagonal first) and its values.
+    l_col_ptr: Vec<usize>,
+    l_row_idx: Vec<usize>,
     l_values: Vec<f64>,
+    /// 1 / L_jj.
+    l_inv_diag: Vec<f64>,
+    /// The AMD ordering: row `perm_fwd[j]` of B is row j of S as laid out; `perm_inv` inverse.
+    perm_fwd: Vec<usize>,
+    perm_inv: Vec<usize>,
+    /// λ in the permuted numbering (solve scratch).
+    lambda: Vec<f64>,
     mem: Scratch,
     pivot_tolerance: f64,
     block_tolerance: f64,
@@ -137,6 +153,9 @@ impl SchurSolver {
             m: 0,
             nb_values: 0,
             a_fac: Vec::new(),
+            a_prev: Vec::new(),
+            a_factored: false,
+            contiguous: false,
             pair_start: vec![0],
             pair_row: Vec::new(),
             entry_start: vec![0],
@@ -148,7 +167,13 @@ impl SchurSolver {
             s_values: Vec::new(),
             s_diag: Vec::new(),
             cholesky: None,
+            l_col_ptr: Vec::new(),
+            l_row_idx: Vec::new(),
             l_values: Vec::new(),
+            l_inv_diag: Vec::new(),
+            perm_fwd: Vec::new(),
+            perm_inv: Vec::new(),
+            lambda: Vec::new(),
             mem: Scratch::empty(),
             pivot_tolerance: DEFAULT_SCHUR_PIVOT_TOLERANCE,
             block_tolerance: DEFAULT_BLOCK_PIVOT_TOLERANCE,
@@ -240,44 +265,67 @@ impl SchurSolver {
                 }
             }
         }
-        // Compressed columns: sort by (col, row), deduplicate.
-        let mut distinct = lower.clone();
-        distinct.sort_unstable_by_key(|&(r, c)| (c, r));
-        distinct.dedup();
-        let mut col_ptr = vec![0usize; m + 1];
-        let mut row_idx = Vec::with_capacity(distinct.len());
-        for &(r, c) in &distinct {
-            col_ptr[c + 1] += 1;
-            row_idx.push(r);
-        }
-        for c in 0..m {
-            col_ptr[c + 1] += col_ptr[c];
-        }
-        let slot = |r: usize, c: usize| -> usize {
-            let col = &row_idx[col_ptr[c]..col_ptr[c + 1]];
-            col_ptr[c] + col.binary_search(&r).expect("entry is in the pattern")
-        };
-        self.s_diag = (0..m).map(|r| slot(r, r)).collect();
-        self.s_target = lower[m..].iter().map(|&(r, c)| slot(r, c)).collect();
-        let symbolic = SymbolicSparseColMat::new_checked(m, m, col_ptr, None, row_idx);
         let params = CholeskySymbolicParams {
             supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SIMPLICIAL,
             ..Default::default()
         };
+        // The fill-reducing (AMD) ordering, computed once on the lower triangle; then S is laid
+        // out directly in the permuted numbering (upper triangle, faer's simplicial input), so
+        // that neither the factorization nor the solve permutes anything.
+        let (perm_fwd, perm_inv) = {
+            let (sym, _) = csc(m, lower.clone());
+            let amd = factorize_symbolic_cholesky(
+                sym.as_ref(),
+                Side::Lower,
+                SymmetricOrdering::Amd,
+                params,
+            )
+            .map_err(|e| SolverError::Backend(format!("AMD ordering: {e:?}")))?;
+            match amd.perm() {
+                Some(p) => (p.arrays().0.to_vec(), p.arrays().1.to_vec()),
+                None => ((0..m).collect(), (0..m).collect()),
+            }
+        };
+        for r in &mut self.pair_row {
+            *r = perm_inv[*r];
+        }
+        let inv = &perm_inv;
+        let upper = |(r, c): (usize, usize)| {
+            let (a, b) = (inv[r], inv[c]);
+            (a.min(b), a.max(b))
+        };
+        let (symbolic, slot) = csc(m, lower.iter().map(|&e| upper(e)).collect());
+        self.s_diag = (0..m).map(|j| slot(j, j)).collect();
+        self.s_target = lower[m..]
+            .iter()
+            .map(|&e| {
+                let (r, c) = upper(e);
+                slot(r, c)
+            })
+            .collect();
         let cholesky = factorize_symbolic_cholesky(
             symbolic.as_ref(),
-            Side::Lower,
-            SymmetricOrdering::Amd,
+            Side::Upper,
+            SymmetricOrdering::Identity,
             params,
         )
         .map_err(|e| SolverError::Backend(format!("symbolic Cholesky: {e:?}")))?;
-        let req = StackReq::any_of(&[
+        let SymbolicCholeskyRaw::Simplicial(simplicial) = cholesky.raw() else {
+            return Err(SolverError::Backend(
+                "Schur complement: expected a simplicial Cholesky".into(),
+            ));
+        };
+        self.l_col_ptr = simplicial.col_ptr().to_vec();
+        self.l_row_idx = simplicial.row_idx().to_vec();
+        self.mem = Scratch::try_new(
             cholesky.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
-            cholesky.solve_in_place_scratch::<f64>(1, Par::Seq),
-        ]);
-        self.mem = Scratch::try_new(req)?;
+        )?;
         self.l_values = vec![0.0; cholesky.len_val()];
+        self.l_inv_diag = vec![0.0; m];
         self.s_values = vec![0.0; symbolic.row_idx().len()];
+        self.lambda = vec![0.0; m];
+        self.perm_fwd = perm_fwd;
+        self.perm_inv = perm_inv;
         self.s_symbolic = Some(symbolic);
         self.cholesky = Some(cholesky);
         self.block = block;
@@ -285,6 +333,15 @@ impl SchurSolver {
         self.m = m;
         self.nb_values = b_entries.len();
         self.a_fac = vec![0.0; nblocks * block * block];
+        self.a_prev = vec![0.0; nblocks * block * block];
+        self.a_factored = false;
+        self.contiguous = (0..self.pair_row.len()).all(|p| {
+            let (s, e) = (self.entry_start[p], self.entry_start[p + 1]);
+            e - s == block
+                && (s..e).all(|i| {
+                    self.entry_col[i] == i - s && self.entry_val[i] == self.entry_val[s] + i - s
+                })
+        });
         self.w = vec![0.0; self.pair_row.len() * block];
         self.min_pivot_ratio = f64::NAN;
         Ok(())
@@ -385,47 +442,40 @@ impl SchurSolver {
         let result = cholesky.factorize_numeric_llt(
             &mut self.l_values,
             s,
-            Side::Lower,
+            Side::Upper,
             LltRegularization::default(),
             Par::Seq,
             self.mem.stack(),
             Default::default(),
         );
-        let perm_fwd = cholesky.perm().map(|p| p.arrays().0);
-        let original = |j: usize| perm_fwd.map_or(j, |f| f[j]);
+        let perm_fwd = &self.perm_fwd;
         if let Err(LltError::NonPositivePivot { index }) = result {
             self.min_pivot_ratio = 0.0;
             // faer reports the pivot one-based.
             let j = index.saturating_sub(1).min(self.m.saturating_sub(1));
             return Err(SolverError::Singular {
-                dependent_equations: vec![original(j)],
+                dependent_equations: vec![perm_fwd[j]],
             });
         }
         // Relative pivots: the diagonal of L is the first stored entry of each column.
-        let SymbolicCholeskyRaw::Simplicial(simplicial) = cholesky.raw() else {
-            return Err(SolverError::Backend(
-                "Schur complement: expected a simplicial Cholesky".into(),
-            ));
-        };
-        let col_ptr = simplicial.col_ptr();
         let mut min_ratio = f64::INFINITY;
         let mut failed = false;
         for j in 0..self.m {
-            let l = self.l_values[col_ptr[j]];
-            let sjj = self.s_values[self.s_diag[original(j)]];
-            let ratio = l * l / sjj;
-            min_ratio = min_ratio.min(ratio);
+            let l = self.l_values[self.l_col_ptr[j]];
+            let sjj = self.s_values[self.s_diag[j]];
+            min_ratio = min_ratio.min(l * l / sjj);
             failed |= !pivot_ok(l * l, sjj, tol);
+            self.l_inv_diag[j] = 1.0 / l;
         }
         self.min_pivot_ratio = min_ratio;
         if failed {
             // Error path only (allocates).
             let mut rows: Vec<usize> = (0..self.m)
                 .filter(|&j| {
-                    let l = self.l_values[col_ptr[j]];
-                    !pivot_ok(l * l, self.s_values[self.s_diag[original(j)]], tol)
+                    let l = self.l_values[self.l_col_ptr[j]];
+                    !pivot_ok(l * l, self.s_values[self.s_diag[j]], tol)
                 })
-                .map(original)
+                .map(|j| perm_fwd[j])
                 .collect();
             rows.sort_unstable();
             return Err(SolverError::Singular {
@@ -445,9 +495,9 @@ impl SchurSolver {
         if !self.factored {
             return Err(SolverError::NotReady { missing: "factor" });
         }
-        let Some(cholesky) = self.cholesky.as_ref() else {
+        if self.cholesky.is_none() {
             return Err(SolverError::NotReady { missing: "analyze" });
-        };
+        }
         let (bs, n, m) = (self.block, self.num_unknowns(), self.m);
         check_len("right-hand side", n + m, rhs.len())?;
         check_len("solution", n + m, sol.len())?;
@@ -457,29 +507,44 @@ impl SchurSolver {
                 iteration: None,
             });
         }
-        let (x, lambda) = sol.split_at_mut(n);
-        // z_k = L_k⁻¹ f_k (in x); t = W z − g (in λ).
+        let (x, lambda_out) = sol.split_at_mut(n);
+        // z_k = L_k⁻¹ f_k (in x); t = W z − g (in λ, permuted numbering).
         x.copy_from_slice(&rhs[..n]);
-        for (r, &g) in lambda.iter_mut().zip(&rhs[n..]) {
-            *r = -g;
+        let mut lambda = std::mem::take(&mut self.lambda);
+        for (l, &r) in lambda.iter_mut().zip(&self.perm_fwd) {
+            *l = -rhs[n + r];
         }
         if bs == 6 {
-            self.solve_forward::<6>(x, lambda);
+            self.solve_forward::<6>(x, &mut lambda);
         } else {
-            self.solve_forward::<0>(x, lambda);
+            self.solve_forward::<0>(x, &mut lambda);
         }
-        LltRef::new(cholesky, &self.l_values).solve_in_place_with_conj(
-            Conj::No,
-            MatMut::from_column_major_slice_mut(lambda, m, 1),
-            Par::Seq,
-            self.mem.stack(),
-        );
+        // λ = S⁻¹ t = L⁻ᵀ L⁻¹ t.
+        let (cp, ri, lv) = (&self.l_col_ptr, &self.l_row_idx, &self.l_values);
+        for j in 0..m {
+            let v = lambda[j] * self.l_inv_diag[j];
+            lambda[j] = v;
+            for p in cp[j] + 1..cp[j + 1] {
+                lambda[ri[p]] -= lv[p] * v;
+            }
+        }
+        for j in (0..m).rev() {
+            let mut v = lambda[j];
+            for p in cp[j] + 1..cp[j + 1] {
+                v -= lv[p] * lambda[ri[p]];
+            }
+            lambda[j] = v * self.l_inv_diag[j];
+        }
         // x_k = L_k⁻ᵀ (z_k − Σ_r w_r λ_r).
         if bs == 6 {
-            self.solve_backward::<6>(x, lambda);
+            self.solve_backward::<6>(x, &lambda);
         } else {
-            self.solve_backward::<0>(x, lambda);
+            self.solve_backward::<0>(x, &lambda);
         }
+        for (o, &j) in lambda_out.iter_mut().zip(&self.perm_inv) {
+            *o = lambda[j];
+        }
+        self.lambda = lambda;
         if let Some(unknown) = sol.iter().position(|v| !v.is_finite()) {
             return Err(SolverError::NonFinite {
                 location: NonFiniteLocation::Solution { unknown },
@@ -507,21 +572,36 @@ impl SchurSolver {
     fn assemble<const B: usize>(&mut self, a: &[f64], b: &[f64], tol: f64) -> bool {
         let bs = self.bs::<B>();
         let bb = bs * bs;
+        // The block factors are kept when A is unchanged (a mass matrix: every factorization).
+        let reuse = self.a_factored && self.a_prev == a;
+        if !reuse {
+            self.a_factored = false;
+            for k in 0..self.nblocks {
+                let lk = &mut self.a_fac[k * bb..(k + 1) * bb];
+                lk.copy_from_slice(&a[k * bb..(k + 1) * bb]);
+                if !dense_cholesky(lk, bs, tol) {
+                    return false;
+                }
+            }
+            self.a_prev.copy_from_slice(a);
+            self.a_factored = true;
+        }
         self.s_values.fill(0.0);
         let mut target = 0;
         for k in 0..self.nblocks {
-            let lk = &mut self.a_fac[k * bb..(k + 1) * bb];
-            lk.copy_from_slice(&a[k * bb..(k + 1) * bb]);
-            if !dense_cholesky(lk, bs, tol) {
-                return false;
-            }
             let lk = &self.a_fac[k * bb..(k + 1) * bb];
             let pairs = self.pair_start[k]..self.pair_start[k + 1];
             for p in pairs.clone() {
                 let wp = &mut self.w[p * bs..(p + 1) * bs];
-                wp.fill(0.0);
-                for e in self.entry_start[p]..self.entry_start[p + 1] {
-                    wp[self.entry_col[e]] += b[self.entry_val[e]];
+                let entries = self.entry_start[p]..self.entry_start[p + 1];
+                if self.contiguous {
+                    let first = self.entry_val[entries.start];
+                    wp.copy_from_slice(&b[first..first + bs]);
+                } else {
+                    wp.fill(0.0);
+                    for e in entries {
+                        wp[self.entry_col[e]] += b[self.entry_val[e]];
+                    }
                 }
                 forward(lk, bs, wp);
             }
@@ -566,6 +646,34 @@ impl SchurSolver {
             backward(&self.a_fac[k * bb..(k + 1) * bb], bs, zk);
         }
     }
+}
+
+/// The compressed-column structure of an m × m matrix from its entries (duplicates merged) and
+/// a map from an entry to its position in the value array.
+fn csc(
+    m: usize,
+    mut distinct: Vec<(usize, usize)>,
+) -> (SymbolicSparseColMat<usize>, impl Fn(usize, usize) -> usize) {
+    distinct.sort_unstable_by_key(|&(r, c)| (c, r));
+    distinct.dedup();
+    let mut col_ptr = vec![0usize; m + 1];
+    let mut row_idx = Vec::with_capacity(distinct.len());
+    for &(r, c) in &distinct {
+        col_ptr[c + 1] += 1;
+        row_idx.push(r);
+    }
+    for c in 0..m {
+        col_ptr[c + 1] += col_ptr[c];
+    }
+    let (cp, ri) = (col_ptr.clone(), row_idx.clone());
+    let slot = move |r: usize, c: usize| -> usize {
+        let col = &ri[cp[c]..cp[c + 1]];
+        cp[c] + col.binary_search(&r).expect("entry is in the pattern")
+    };
+    (
+        SymbolicSparseColMat::new_checked(m, m, col_ptr, None, row_idx),
+        slot,
+    )
 }
 
 /// x · y over the first n entries.

@@ -135,7 +135,23 @@ fn schur_equals_lu_on_random_saddle_point_systems() {
         let rows = 1 + seed_case % 5;
         let chain = seed_case % 2 == 0;
         let full_blocks = seed_case % 3 == 0;
-        let c = case(&mut rng, nb, rows, chain, full_blocks);
+        let mut c = case(&mut rng, nb, rows, chain, full_blocks);
+        if seed_case % 4 == 1 {
+            // Entries in a scrambled order, one split in two duplicates (summed): the general
+            // gather instead of the contiguous copy.
+            let mut order: Vec<usize> = (0..c.entries.len()).collect();
+            for i in (1..order.len()).rev() {
+                let j = (rng.next_f64() * (i + 1) as f64) as usize % (i + 1);
+                order.swap(i, j);
+            }
+            let mut entries: Vec<(usize, usize)> = order.iter().map(|&i| c.entries[i]).collect();
+            let mut b: Vec<f64> = order.iter().map(|&i| c.b[i]).collect();
+            entries.push(entries[0]);
+            b[0] *= 0.25;
+            b.push(b[0] * 3.0);
+            c.entries = entries;
+            c.b = b;
+        }
         let (pattern, slots) = c.full();
         let mut lu = SparseLu::new();
         lu.analyze(&pattern).unwrap();
