@@ -380,8 +380,9 @@ impl SchurSolver {
     ///
     /// # Errors
     /// [`SolverError::Singular`] when a block of A is not (numerically) positive definite or
-    /// too ill-conditioned (with no equations listed) or S is not (B rank deficient, or close to it relative to the pivot
-    /// tolerance; the rows whose pivot failed are listed); [`SolverError::NonFinite`];
+    /// too ill-conditioned (with no equations listed) or S is not (B rank deficient, or close to
+    /// it relative to the pivot tolerance; the rows whose pivot failed are listed);
+    /// [`SolverError::NonFinite`] (a value of A or B, looked for when a pivot fails);
     /// [`SolverError::DimensionMismatch`]; [`SolverError::NotReady`].
     pub fn factor(&mut self, a: &[f64], b: &[f64]) -> Result<(), SolverError> {
         self.factored = false;
@@ -391,37 +392,6 @@ impl SchurSolver {
         let bs = self.block;
         check_len("block-diagonal values", self.a_fac.len(), a.len())?;
         check_len("constraint values", self.nb_values, b.len())?;
-        if let Some(slot) = a.iter().position(|v| !v.is_finite()) {
-            let (k, i) = (slot / (bs * bs), slot % (bs * bs));
-            return Err(SolverError::NonFinite {
-                location: NonFiniteLocation::Jacobian {
-                    slot,
-                    row: k * bs + i % bs,
-                    col: k * bs + i / bs,
-                },
-                iteration: None,
-            });
-        }
-        if let Some(slot) = b.iter().position(|v| !v.is_finite()) {
-            // Error path: find the entry's block-row pair.
-            let e = self.entry_val.iter().position(|&v| v == slot).unwrap_or(0);
-            let p = self
-                .entry_start
-                .partition_point(|&s| s <= e)
-                .saturating_sub(1);
-            let k = self
-                .pair_start
-                .partition_point(|&s| s <= p)
-                .saturating_sub(1);
-            return Err(SolverError::NonFinite {
-                location: NonFiniteLocation::Jacobian {
-                    slot,
-                    row: self.pair_row.get(p).copied().unwrap_or(0),
-                    col: k * bs + self.entry_col.get(e).copied().unwrap_or(0),
-                },
-                iteration: None,
-            });
-        }
         let (tol, tol_a) = (self.pivot_tolerance, self.block_tolerance);
         // Block kernels unrolled for the mechanisms' block size 6.
         let blocks_ok = if bs == 6 {
@@ -429,10 +399,14 @@ impl SchurSolver {
         } else {
             self.assemble::<0>(a, b, tol_a)
         };
+        // Non-finite inputs make a pivot fail (NaN, or an infinite ratio); they are looked for
+        // only then, to name them.
         if !blocks_ok {
-            return Err(SolverError::Singular {
-                dependent_equations: Vec::new(),
-            });
+            return Err(self
+                .non_finite_input(a, b)
+                .unwrap_or(SolverError::Singular {
+                    dependent_equations: Vec::new(),
+                }));
         }
         let (Some(s_symbolic), Some(cholesky)) = (self.s_symbolic.as_ref(), self.cholesky.as_ref())
         else {
@@ -453,9 +427,12 @@ impl SchurSolver {
             self.min_pivot_ratio = 0.0;
             // faer reports the pivot one-based.
             let j = index.saturating_sub(1).min(self.m.saturating_sub(1));
-            return Err(SolverError::Singular {
-                dependent_equations: vec![perm_fwd[j]],
-            });
+            let row = perm_fwd[j];
+            return Err(self
+                .non_finite_input(a, b)
+                .unwrap_or(SolverError::Singular {
+                    dependent_equations: vec![row],
+                }));
         }
         // Relative pivots: the diagonal of L is the first stored entry of each column.
         let mut min_ratio = f64::INFINITY;
@@ -478,9 +455,11 @@ impl SchurSolver {
                 .map(|j| perm_fwd[j])
                 .collect();
             rows.sort_unstable();
-            return Err(SolverError::Singular {
-                dependent_equations: rows,
-            });
+            return Err(self
+                .non_finite_input(a, b)
+                .unwrap_or(SolverError::Singular {
+                    dependent_equations: rows,
+                }));
         }
         self.factored = true;
         Ok(())
@@ -501,12 +480,6 @@ impl SchurSolver {
         let (bs, n, m) = (self.block, self.num_unknowns(), self.m);
         check_len("right-hand side", n + m, rhs.len())?;
         check_len("solution", n + m, sol.len())?;
-        if let Some(index) = rhs.iter().position(|v| !v.is_finite()) {
-            return Err(SolverError::NonFinite {
-                location: NonFiniteLocation::RightHandSide { index },
-                iteration: None,
-            });
-        }
         let (x, lambda_out) = sol.split_at_mut(n);
         // z_k = L_k⁻¹ f_k (in x); t = W z − g (in λ, permuted numbering).
         x.copy_from_slice(&rhs[..n]);
@@ -545,9 +518,14 @@ impl SchurSolver {
             *o = lambda[j];
         }
         self.lambda = lambda;
+        // A non-finite right-hand side makes the solution non-finite: looked for only then.
         if let Some(unknown) = sol.iter().position(|v| !v.is_finite()) {
+            let location = match rhs.iter().position(|v| !v.is_finite()) {
+                Some(index) => NonFiniteLocation::RightHandSide { index },
+                None => NonFiniteLocation::Solution { unknown },
+            };
             return Err(SolverError::NonFinite {
-                location: NonFiniteLocation::Solution { unknown },
+                location,
                 iteration: None,
             });
         }
@@ -556,6 +534,47 @@ impl SchurSolver {
 }
 
 impl SchurSolver {
+    /// The first non-finite value of A or B, as an error naming its entry (error path only).
+    fn non_finite_input(&self, a: &[f64], b: &[f64]) -> Option<SolverError> {
+        let bs = self.block;
+        if let Some(slot) = a.iter().position(|v| !v.is_finite()) {
+            let (k, i) = (slot / (bs * bs), slot % (bs * bs));
+            return Some(SolverError::NonFinite {
+                location: NonFiniteLocation::Jacobian {
+                    slot,
+                    row: k * bs + i % bs,
+                    col: k * bs + i / bs,
+                },
+                iteration: None,
+            });
+        }
+        let slot = b.iter().position(|v| !v.is_finite())?;
+        // The entry's block-row pair: its row of B and column.
+        let e = self.entry_val.iter().position(|&v| v == slot).unwrap_or(0);
+        let p = self
+            .entry_start
+            .partition_point(|&s| s <= e)
+            .saturating_sub(1);
+        let k = self
+            .pair_start
+            .partition_point(|&s| s <= p)
+            .saturating_sub(1);
+        let row = self
+            .pair_row
+            .get(p)
+            .and_then(|&j| self.perm_fwd.get(j))
+            .copied()
+            .unwrap_or(0);
+        Some(SolverError::NonFinite {
+            location: NonFiniteLocation::Jacobian {
+                slot,
+                row,
+                col: k * bs + self.entry_col.get(e).copied().unwrap_or(0),
+            },
+            iteration: None,
+        })
+    }
+
     /// Block size: `B` when it is not 0 (a compile-time size, loops unrolled), else the
     /// analyzed one.
     #[inline(always)]

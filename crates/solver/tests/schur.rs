@@ -306,23 +306,55 @@ fn indefinite_block_and_non_finite_values_are_errors() {
     loose.analyze(BS, c.nb, c.m, &c.entries).unwrap();
     loose.factor(&c.a, &c.b).unwrap();
     c.a = saved;
-    c.b[3] = f64::NAN;
-    assert!(matches!(
+    // Non-finite values of B (NaN, ±∞, in a row whose S row is not first in the ordering) and
+    // of A are reported as such, naming the entry.
+    for (slot, v) in [
+        (3, f64::NAN),
+        (c.b.len() - 2, f64::INFINITY),
+        (40, f64::NEG_INFINITY),
+    ] {
+        let keep = c.b[slot];
+        c.b[slot] = v;
+        let (row, col) = c.entries[slot];
+        assert_eq!(
+            schur.factor(&c.a, &c.b),
+            Err(SolverError::NonFinite {
+                location: NonFiniteLocation::Jacobian { slot, row, col },
+                iteration: None,
+            }),
+            "B slot {slot} = {v}"
+        );
+        c.b[slot] = keep;
+    }
+    let keep = c.a[BS * BS + 7];
+    c.a[BS * BS + 7] = f64::NAN;
+    assert_eq!(
         schur.factor(&c.a, &c.b),
         Err(SolverError::NonFinite {
-            location: NonFiniteLocation::Jacobian { slot: 3, .. },
-            ..
+            location: NonFiniteLocation::Jacobian {
+                slot: BS * BS + 7,
+                row: BS + 1,
+                col: BS + 1
+            },
+            iteration: None,
         })
-    ));
-    c.b[3] = 0.5;
+    );
+    c.a[BS * BS + 7] = keep;
     schur.factor(&c.a, &c.b).unwrap();
     let mut rhs = vec![1.0; c.n() + c.m];
-    rhs[1] = f64::INFINITY;
     let mut x = vec![0.0; c.n() + c.m];
-    assert!(matches!(
-        schur.solve(&rhs, &mut x),
-        Err(SolverError::NonFinite { .. })
-    ));
+    for index in [1, c.n() + 2] {
+        rhs[index] = f64::INFINITY;
+        assert_eq!(
+            schur.solve(&rhs, &mut x),
+            Err(SolverError::NonFinite {
+                location: NonFiniteLocation::RightHandSide { index },
+                iteration: None,
+            })
+        );
+        rhs[index] = 1.0;
+    }
+    schur.solve(&rhs, &mut x).unwrap();
 }
 
 #[test]
