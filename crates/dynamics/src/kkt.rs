@@ -516,6 +516,16 @@ impl Kkt {
         Ok(())
     }
 
+    /// Factors by the LU of the full matrix whatever the mode: the more accurate of the two
+    /// near a singular configuration, where S = Φ_v A⁻¹ Φ_vᵀ squares the conditioning.
+    pub fn factor_lu(&mut self) -> Result<(), SolverError> {
+        let mode = self.mode;
+        self.mode = KktSolve::Lu;
+        let r = self.factor();
+        self.mode = mode;
+        r
+    }
+
     /// Solves with `rhs` into `sol`, with the last factorization.
     pub fn solve(&mut self) -> Result<(), SolverError> {
         match self.factored {

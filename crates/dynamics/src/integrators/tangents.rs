@@ -290,7 +290,10 @@ mod tests {
                 }
             }
         }
-        assert!(nonzero_blocks > checked / 4, "{nonzero_blocks} of {checked}");
+        assert!(
+            nonzero_blocks > checked / 4,
+            "{nonzero_blocks} of {checked}"
+        );
     }
 
     /// Bodies at distance ≤ 2 in the coupling graph never share a colour; isolated bodies all
