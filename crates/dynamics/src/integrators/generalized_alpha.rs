@@ -24,9 +24,10 @@
 //! factorization (the KKT layer's choice for a block-diagonal top-left) squares the
 //! conditioning of Φ_v, so its increments are not trusted alone (the residual must show
 //! convergence) and when it stagnates the step refactors by LU (A02 N = 40, h = 31.25 µs:
-//! 1.03e-6 m trusting it, 4.07e-7 m with this rule; 6.1e-7 m with LU throughout). A stale matrix is never
-//! trusted on the β'-scaled position increment alone: after one update with it that increment
-//! is small whatever the remaining error in v̇ (A02 N = 2: 6.5e-3 m instead of 2e-6 m).
+//! 1.03e-6 m trusting it, 4.07e-7 m with this rule; 6.1e-7 m with LU throughout). A stale
+//! matrix is never trusted on the β'-scaled position increment alone: after one update with it
+//! that increment is small whatever the remaining error in v̇ (A02 N = 2: 6.5e-3 m instead of
+//! 2e-6 m).
 //!
 //! Stored outputs (accelerations, λ, reactions) are those of the augmented system solved at the
 //! stored state (index-1 consistent), not the integrator's internal v̇ and λ, which carry the
