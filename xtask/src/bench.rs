@@ -11,6 +11,10 @@
 //!
 //! `--smoke` runs a few iterations of everything (about half a minute after the build) and writes
 //! to `target/bench/` instead of `docs/`, so CI can prove that the benchmarks build and run.
+//!
+//! `cargo xtask bench --peers-only [kinematics|slider-crank|chain ...]` runs only the peer
+//! comparisons (all three, or the ones named) and prints their Markdown tables to stdout,
+//! without touching `docs/` (minutes instead of the hour of a full report).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -22,9 +26,8 @@ fn root() -> PathBuf {
         .to_path_buf()
 }
 
-/// Runs the benchmarks.
-pub fn run(smoke: bool, peers: bool) -> Result<(), String> {
-    let root = root();
+/// Builds `cardan-bench` in release mode.
+fn build(root: &Path) -> Result<(), String> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let status = Command::new(&cargo)
         .current_dir(&root)
@@ -41,6 +44,38 @@ pub fn run(smoke: bool, peers: bool) -> Result<(), String> {
     if !status.success() {
         return Err("cargo build -p cardan-bench failed".into());
     }
+    Ok(())
+}
+
+/// Runs only the peer comparisons named in `which` (all when empty), tables to stdout.
+pub fn peers_only(which: &[&str]) -> Result<(), String> {
+    const NAMES: [&str; 3] = ["kinematics", "slider-crank", "chain"];
+    if let Some(bad) = which.iter().find(|w| !NAMES.contains(w)) {
+        return Err(format!(
+            "unknown peer comparison '{bad}' (expected any of {})",
+            NAMES.join(", ")
+        ));
+    }
+    let root = root();
+    build(&root)?;
+    let python = peers_python(&root)?;
+    let status = Command::new(root.join("target/release/cardan-bench"))
+        .current_dir(&root)
+        .arg("--peers-only")
+        .arg(python)
+        .args(which)
+        .status()
+        .map_err(|e| format!("cannot run cardan-bench: {e}"))?;
+    if !status.success() {
+        return Err("cardan-bench --peers-only failed".into());
+    }
+    Ok(())
+}
+
+/// Runs the benchmarks.
+pub fn run(smoke: bool, peers: bool) -> Result<(), String> {
+    let root = root();
+    build(&root)?;
     let (report, plots) = if smoke {
         let dir = root.join("target/bench");
         (dir.join("benchmarks-smoke.md"), dir.join("plots"))

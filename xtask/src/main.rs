@@ -4,6 +4,8 @@
 //! - `cargo xtask oracle --check`: fail when the committed `oracle/data/` are stale.
 //! - `cargo xtask stress [--quick]`: the numerical stability stress suite (docs/stress.md).
 //! - `cargo xtask bench [--smoke] [--peers]`: performance benchmarks → docs/benchmarks.md.
+//! - `cargo xtask bench --peers-only [kinematics|slider-crank|chain ...]`: the peer comparisons
+//!   alone, tables to stdout.
 
 mod bench;
 mod oracle;
@@ -12,6 +14,7 @@ mod stress;
 use std::process::ExitCode;
 
 const USAGE: &str = "usage: cargo xtask oracle [--check] | stress [--quick] | bench [--smoke] [--peers]
+       cargo xtask bench --peers-only [kinematics|slider-crank|chain ...]
 
 tasks:
   oracle            create/update the Python venv under target/ and regenerate oracle/data/
@@ -20,7 +23,9 @@ tasks:
   stress --quick    the stress subset that cargo test --workspace runs (CI)
   bench             performance benchmarks; writes docs/benchmarks.md (performance section) and plots
   bench --smoke     a few iterations of every benchmark (CI); writes target/bench/
-  bench --peers     also Exudyn and OndselSolver side by side (PyPI, venv in target/)";
+  bench --peers     also Exudyn and OndselSolver side by side (PyPI, venv in target/)
+  bench --peers-only [NAME ...]
+                    only the peer comparisons (all, or those named), tables to stdout";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -30,6 +35,7 @@ fn main() -> ExitCode {
         ["oracle", "--check"] => oracle::run(oracle::Mode::Check),
         ["stress"] => stress::run(false),
         ["stress", "--quick"] => stress::run(true),
+        ["bench", "--peers-only", which @ ..] => bench::peers_only(which),
         ["bench", flags @ ..] if flags.iter().all(|f| matches!(*f, "--smoke" | "--peers")) => {
             bench::run(flags.contains(&"--smoke"), flags.contains(&"--peers"))
         }
