@@ -30,7 +30,7 @@ fn root() -> PathBuf {
 fn build(root: &Path) -> Result<(), String> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let status = Command::new(&cargo)
-        .current_dir(&root)
+        .current_dir(root)
         .args([
             "build",
             "--release",
