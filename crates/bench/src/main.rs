@@ -3,6 +3,7 @@
 //! ```text
 //! cardan-bench [--smoke] [--report docs/benchmarks.md] [--plots docs/benchmarks] [--peers PYTHON]
 //! cardan-bench --point <kin|dyn> <chain|ladder> N     (one scaling point; used internally)
+//! cardan-bench --profile <chain|chain-dopri5> x N [STEPS|RTOL]   (one run for a profiler)
 //! cardan-bench --peers-only PYTHON [--smoke] [kinematics|slider-crank|chain ...]  (peers to stdout)
 //! ```
 //!
@@ -186,6 +187,22 @@ fn profile(args: &[String]) {
                     iteration_matrix: IterationMatrix::MassOnly,
                     ..GeneralizedAlphaOptions::with_step(1e-3)
                 }))
+                .outputs(Outputs::position_only());
+            let r = d.simulate_consistent(s, &opts).expect("simulate");
+            eprintln!("{:?}", r.stats);
+        }
+        Some("chain-dopri5") => {
+            // cardan-bench --profile chain-dopri5 x N RTOL: 0.1 s of the chain with DOPRI5.
+            let rtol: f64 = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(1e-4);
+            let model = models::spherical_chain(n);
+            let mut d = gravity_dynamics(&model, Vector3::new(0.0, 0.0, -9.81));
+            let s = State::initial(&model, 0.0);
+            d.prepare(&s).expect("prepare");
+            let opts = SimulationOptions::new(0.1, 1)
+                .integrator(Integrator::Dopri5(Dopri5Options::tolerances(
+                    rtol,
+                    rtol * 1e-2,
+                )))
                 .outputs(Outputs::position_only());
             let r = d.simulate_consistent(s, &opts).expect("simulate");
             eprintln!("{:?}", r.stats);
