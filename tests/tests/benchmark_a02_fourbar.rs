@@ -119,7 +119,11 @@ fn a02_n40_file_settings() {
 }
 
 /// Tight: N = 40 over the file's 20 s with generalized-α at h = 31.25 µs and the mass-only
-/// iteration matrix (gravity only: no force tangent to add), modified Newton.
+/// iteration matrix (gravity only: no force tangent to add), modified Newton. It passes 16
+/// horizontal positions; the grid point t = 11.07203125 s lies within roundoff of one, where
+/// the iteration used to stagnate above its acceptance bounds and every halved retry aimed at
+/// the same point again (the run stopped there; now a failed step shifts the grid, and a
+/// stagnating Schur-complement solve is redone by LU). 4.1e-7 m, about 3 min.
 #[test]
 #[ignore = "81 bodies, 640 000 implicit steps (minutes): cargo test -p cardan-tests --release -- --ignored"]
 fn a02_n40_tight() {

@@ -516,6 +516,15 @@ impl Kkt {
         Ok(())
     }
 
+    /// The smallest pivot ratio L_jj² / S_jj of the last factorization when it was the Schur
+    /// complement's (see [`cardan_solver::SchurSolver::min_pivot_ratio`]); `None` for an LU.
+    pub fn schur_pivot_ratio(&self) -> Option<f64> {
+        match self.factored {
+            Some(Factored::Schur) => self.schur.as_ref().map(SchurSolver::min_pivot_ratio),
+            _ => None,
+        }
+    }
+
     /// Factors by the LU of the full matrix whatever the mode: the more accurate of the two
     /// near a singular configuration, where S = Φ_v A⁻¹ Φ_vᵀ squares the conditioning.
     pub fn factor_lu(&mut self) -> Result<(), SolverError> {
