@@ -92,45 +92,39 @@ impl Tangents {
         self.pert.t = at.t;
         for colour in &self.colours {
             for loc in 0..6 {
-                // Velocity columns 6k + loc of the colour's bodies.
-                self.pert.q.copy_from_slice(&at.q);
-                self.pert.v.copy_from_slice(&at.v);
-                for &k in colour {
-                    let c = 6 * k + loc;
-                    self.eps[k] = 1e-7 * (1.0 + at.v[c].abs());
-                    self.pert.v[c] += self.eps[k];
+                for velocity in [true, false] {
+                    // Columns 6k + loc of the colour's bodies: velocity, then position (r or
+                    // π').
+                    self.pert.q.copy_from_slice(&at.q);
+                    self.pert.v.copy_from_slice(&at.v);
+                    if velocity {
+                        for &k in colour {
+                            let c = 6 * k + loc;
+                            self.eps[k] = 1e-7 * (1.0 + at.v[c].abs());
+                            self.pert.v[c] += self.eps[k];
+                        }
+                    } else {
+                        self.dq.fill(0.0);
+                        let e = if loc < 3 { 1e-7 * l } else { 1e-7 };
+                        for &k in colour {
+                            self.dq[6 * k + loc] = e;
+                            self.eps[k] = e;
+                        }
+                        apply_rotation_step(&mut self.pert.q, &self.dq);
+                    }
+                    d.sync(&self.pert);
+                    d.eval_forces(at.t);
+                    let out = if velocity { &mut self.ct } else { &mut self.kt };
+                    // −(h − h0)/ε over the rows of each block of the perturbed bodies.
+                    for &k in colour {
+                        for &(j, b) in &self.columns[k] {
+                            for rr in 0..6 {
+                                let i = 6 * j + rr;
+                                out[b][rr * 6 + loc] = -(d.h[i] - self.h0[i]) / self.eps[k];
+                            }
+                        }
+                    }
                 }
-                d.sync(&self.pert);
-                d.eval_forces(at.t);
-                scatter(
-                    colour,
-                    loc,
-                    &self.columns,
-                    &self.eps,
-                    &d.h,
-                    &self.h0,
-                    &mut self.ct,
-                );
-                // Position columns (r or π').
-                self.pert.v.copy_from_slice(&at.v);
-                self.dq.fill(0.0);
-                let e = if loc < 3 { 1e-7 * l } else { 1e-7 };
-                for &k in colour {
-                    self.dq[6 * k + loc] = e;
-                    self.eps[k] = e;
-                }
-                apply_rotation_step(&mut self.pert.q, &self.dq);
-                d.sync(&self.pert);
-                d.eval_forces(at.t);
-                scatter(
-                    colour,
-                    loc,
-                    &self.columns,
-                    &self.eps,
-                    &d.h,
-                    &self.h0,
-                    &mut self.kt,
-                );
             }
         }
     }
@@ -144,26 +138,6 @@ impl Tangents {
                 gamma_p * self.ct[b][e] + beta_p * self.kt[b][e]
             }
             None => 0.0,
-        }
-    }
-}
-
-/// Column `loc` of the blocks of every body of `colour`: −(h − h0)/ε over the block's rows.
-fn scatter(
-    colour: &[usize],
-    loc: usize,
-    columns: &[Vec<(usize, usize)>],
-    eps: &[f64],
-    h: &[f64],
-    h0: &[f64],
-    out: &mut [[f64; 36]],
-) {
-    for &k in colour {
-        for &(j, b) in &columns[k] {
-            for rr in 0..6 {
-                let i = 6 * j + rr;
-                out[b][rr * 6 + loc] = -(h[i] - h0[i]) / eps[k];
-            }
         }
     }
 }
