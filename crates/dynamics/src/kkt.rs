@@ -157,6 +157,13 @@ struct Group {
 /// step allocates, once.
 pub(crate) const LU_EAGER_MAX_SIZE: usize = 2000;
 
+/// After this many consecutive refusals of S (`.0`), the Schur complement is skipped for the
+/// next `.1` factorizations: a model whose S is always refused (a chain beyond about 5,000
+/// links, smallest pivot ratio ≈ 1/(2N) below the solver's 1e-4) pays for the attempt once in
+/// 16 factorizations instead of at each, and a singular passage returns to the Schur path at
+/// most 15 factorizations after it.
+pub(crate) const SCHUR_BACKOFF: (usize, usize) = (3, 15);
+
 /// Which factorization [`Kkt::factor`] uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum KktSolve {
@@ -218,6 +225,10 @@ pub(crate) struct Kkt {
     /// negligible inertia). The owner's mass matrix is constant, so later mass-only
     /// factorizations go to the LU directly (in `Auto`).
     mass_refused: bool,
+    /// Consecutive factorizations whose S the Schur solver refused (small pivot ratio), and
+    /// the factorizations left before it is tried again (see [`SCHUR_BACKOFF`]).
+    refusals: usize,
+    skip_left: usize,
     mode: KktSolve,
     factored: Option<Factored>,
     pub rhs: Vec<f64>,
@@ -317,6 +328,8 @@ impl Kkt {
             tangent: false,
             schur: None,
             mass_refused: false,
+            refusals: 0,
+            skip_left: 0,
             mode: KktSolve::Auto,
             factored: None,
             rhs: vec![0.0; size],
@@ -469,12 +482,16 @@ impl Kkt {
     pub fn factor(&mut self) -> Result<(), SolverError> {
         self.factorizations += 1;
         self.factored = None;
+        let auto = self.mode == KktSolve::Auto;
         let skip = self.mode == KktSolve::Lu
-            || (self.mode == KktSolve::Auto && self.mass_refused && !self.tangent);
+            || (auto && self.mass_refused && !self.tangent)
+            || (auto && self.skip_left > 0);
+        self.skip_left = self.skip_left.saturating_sub(1);
         if !skip && self.schur.is_some() && self.schur_applies() {
             let schur = self.schur.as_mut().expect("checked");
             match schur.factor(&self.blocks, &self.jac) {
                 Ok(()) => {
+                    self.refusals = 0;
                     self.factored = Some(Factored::Schur);
                     return Ok(());
                 }
@@ -499,6 +516,11 @@ impl Kkt {
                         && matches!(&e, SolverError::Singular { dependent_equations } if dependent_equations.is_empty())
                     {
                         self.mass_refused = true;
+                    } else {
+                        self.refusals += 1;
+                        if self.refusals >= SCHUR_BACKOFF.0 {
+                            self.skip_left = SCHUR_BACKOFF.1;
+                        }
                     }
                 }
             }

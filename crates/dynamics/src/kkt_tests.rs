@@ -368,3 +368,16 @@ fn point_mass_with_negligible_inertia_takes_the_lu_once_and_for_all() {
         Err(SolverError::Singular { dependent_equations }) if dependent_equations.is_empty()
     ));
 }
+
+#[test]
+fn a_matrix_refused_again_and_again_is_tried_once_in_sixteen() {
+    // Near the dead centre every factorization is refused by the Schur solver.
+    let model = chain(20, Some(1e-5));
+    let (mut kkt, _) = tip_kkt(&model);
+    for _ in 0..35 {
+        kkt.factor().unwrap();
+        assert_eq!(kkt.factored(), Some(Factored::Lu));
+    }
+    // Tries 1, 2, 3 refused; 4–18 skipped; 19 refused, 20–34 skipped; 35 refused.
+    assert_eq!(kkt.fallbacks, 5);
+}
