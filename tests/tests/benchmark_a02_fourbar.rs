@@ -42,6 +42,9 @@ fn error(n: usize, r: &cardan_dynamics::DynamicResults, reference: &[Vec<f64>]) 
     err
 }
 
+/// The file's settings: generalized-α, h = 1 ms. (DOPRI5 at rtol = 1e-8 used to be the file's
+/// integrator; whether it passes the horizontal positions depends on where its stages land,
+/// i.e. on roundoff: since the KKT solve became a Schur complement it stops at t = 6.54 s.)
 #[test]
 fn a02_n2_file_settings() {
     let (e, _) = check(2, "10 s, file settings", None, 10.0);
@@ -100,14 +103,6 @@ fn a02_n2_dopri5_tight_stops_at_the_singular_position() {
         .expect_err("DOPRI5 at rtol 1e-9 stops at the horizontal position");
     let m = err.to_string();
     assert!(m.contains("singular") && m.contains("t = 0.71"), "{m}");
-}
-
-/// The implicit integrator through the same singular positions.
-#[test]
-#[ignore = "10 000 implicit steps: cargo test -p cardan-tests --release -- --ignored"]
-fn a02_n2_generalized_alpha() {
-    let (e, _) = check(2, "10 s, generalized-α", Some(gen_alpha(1e-3, 0.9)), 10.0);
-    assert!(e <= 1e-3, "max position error {e:e} m");
 }
 
 /// The original spec: N = 40, 20 s, generalized-α h = 1e-3 (the file's settings).
