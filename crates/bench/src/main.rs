@@ -3,7 +3,7 @@
 //! ```text
 //! cardan-bench [--smoke] [--report docs/benchmarks.md] [--plots docs/benchmarks] [--peers PYTHON]
 //! cardan-bench --point <kin|dyn> <chain|ladder> N     (one scaling point; used internally)
-//! cardan-bench --profile <chain|chain-dopri5> x N [STEPS|RTOL]   (one run for a profiler)
+//! cardan-bench --profile <frame EXAMPLE N | chain N STEPS | chain-dopri5 N RTOL>  (one run for a profiler)
 //! cardan-bench --peers-only PYTHON [--smoke] [kinematics|slider-crank|chain ...]  (peers to stdout)
 //! ```
 //!
@@ -171,13 +171,19 @@ fn allocations(f: impl FnOnce()) -> usize {
     s.allocations + s.reallocations
 }
 
-/// `--profile frame EXAMPLE N` or `--profile chain N STEPS`: a fixed amount of work for
-/// `valgrind --tool=callgrind` (instruction counts are steadier than wall time).
+/// `--profile frame EXAMPLE N`, `--profile chain N STEPS` or `--profile chain-dopri5 N RTOL`:
+/// a fixed amount of work for `valgrind --tool=callgrind` (instruction counts are steadier
+/// than wall time).
 fn profile(args: &[String]) {
-    let n: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(1000);
-    match args.first().map(String::as_str) {
+    let arg = |k: usize| args.get(k).map(String::as_str);
+    // The chain size is the first argument after the kind; a frame run's count the second.
+    let chain = matches!(arg(0), Some("chain" | "chain-dopri5"));
+    let n: usize = arg(if chain { 1 } else { 2 })
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1000);
+    match arg(0) {
         Some("chain") => {
-            let steps: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(100);
+            let steps: usize = arg(2).and_then(|s| s.parse().ok()).unwrap_or(100);
             let model = models::spherical_chain(n);
             let mut d = gravity_dynamics(&model, Vector3::new(0.0, 0.0, -9.81));
             let s = State::initial(&model, 0.0);
@@ -192,8 +198,8 @@ fn profile(args: &[String]) {
             eprintln!("{:?}", r.stats);
         }
         Some("chain-dopri5") => {
-            // cardan-bench --profile chain-dopri5 x N RTOL: 0.1 s of the chain with DOPRI5.
-            let rtol: f64 = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(1e-4);
+            // 0.1 s of the chain with DOPRI5.
+            let rtol: f64 = arg(2).and_then(|s| s.parse().ok()).unwrap_or(1e-4);
             let model = models::spherical_chain(n);
             let mut d = gravity_dynamics(&model, Vector3::new(0.0, 0.0, -9.81));
             let s = State::initial(&model, 0.0);
