@@ -4,41 +4,10 @@
 use cardan_dynamics::{
     Dynamics, Force, GeneralizedAlphaOptions, Integrator, IterationMatrix, SimulationOptions, State,
 };
-use cardan_mechanism::{
-    Body, JointKind, JointSpec, MechanismBuilder, Model, FAST_RANK_MIN_UNKNOWNS, GROUND,
-};
+mod common;
+use cardan_mechanism::FAST_RANK_MIN_UNKNOWNS;
+use common::spherical_chain;
 use nalgebra::Vector3;
-
-fn spherical_chain(n: usize) -> Model {
-    let mut b = MechanismBuilder::new();
-    b.point(GROUND, "O", Vector3::zeros());
-    for k in 0..n {
-        let body = format!("b{k}");
-        b.body(
-            Body::new(&body)
-                .mass(1.0)
-                .inertia_diagonal(0.001, 1.0 / 12.0, 1.0 / 12.0)
-                .position(Vector3::new(k as f64 + 0.5, 0.0, 0.0)),
-        );
-        b.point(&body, "a", Vector3::new(-0.5, 0.0, 0.0)).point(
-            &body,
-            "b",
-            Vector3::new(0.5, 0.0, 0.0),
-        );
-        let prev = if k == 0 {
-            (GROUND.to_string(), "O")
-        } else {
-            (format!("b{}", k - 1), "b")
-        };
-        b.joint(JointSpec::new(
-            format!("s{k}"),
-            JointKind::Spherical,
-            (&prev.0, prev.1),
-            (&body, "a"),
-        ));
-    }
-    b.build().unwrap()
-}
 
 #[test]
 fn large_chain_prepares_without_rank_analysis_and_conserves_energy() {

@@ -5,12 +5,12 @@
 //!
 //! One test function only: the counter is global, and parallel tests would pollute it.
 
-use cardan_constraints::JointKind;
+mod common;
 use cardan_dynamics::{
     Dopri5Options, Dynamics, Force, GeneralizedAlphaOptions, Integrator, IterationMatrix,
     SimulationOptions,
 };
-use cardan_mechanism::{Body, JointSpec, MechanismBuilder, Model, GROUND};
+use common::spherical_chain;
 use nalgebra::Vector3;
 use stats_alloc::{Region, StatsAlloc, INSTRUMENTED_SYSTEM};
 use std::alloc::System;
@@ -25,40 +25,9 @@ fn allocations(f: impl FnOnce()) -> usize {
     stats.allocations + stats.reallocations
 }
 
-fn chain(n: usize) -> Model {
-    let mut b = MechanismBuilder::new();
-    b.point(GROUND, "O", Vector3::zeros());
-    for k in 0..n {
-        let name = format!("b{k}");
-        b.body(
-            Body::new(&name)
-                .mass(1.0)
-                .inertia_diagonal(0.001, 1.0 / 12.0, 1.0 / 12.0)
-                .position(Vector3::new(k as f64 + 0.5, 0.0, 0.0)),
-        );
-        b.point(&name, "a", Vector3::new(-0.5, 0.0, 0.0)).point(
-            &name,
-            "b",
-            Vector3::new(0.5, 0.0, 0.0),
-        );
-        let (pb, pp) = if k == 0 {
-            (GROUND.to_string(), "O")
-        } else {
-            (format!("b{}", k - 1), "b")
-        };
-        b.joint(JointSpec::new(
-            format!("s{k}"),
-            JointKind::Spherical,
-            (&pb, pp),
-            (&name, "a"),
-        ));
-    }
-    b.build().unwrap()
-}
-
 #[test]
 fn schur_steps_do_not_allocate() {
-    let model = chain(40);
+    let model = spherical_chain(40);
     let mut d = Dynamics::new(&model).unwrap();
     d.add_force(Force::gravity(Vector3::new(0.0, 2.0, -9.81)))
         .unwrap();

@@ -83,3 +83,36 @@ pub const A01: [(f64, f64, f64); 6] = [
     (10.0, 0.275087462576117, -0.961419205099125),
     (20.0, -0.996907173991, -0.0785880808093),
 ];
+
+/// A chain of `n` uniform 1 m rods (1 kg) along +x joined by spherical joints, the first
+/// to the ground at the origin (points "a" and "b" at the rod ends).
+pub fn spherical_chain(n: usize) -> Model {
+    let mut b = MechanismBuilder::new();
+    b.point(GROUND, "O", Vector3::zeros());
+    for k in 0..n {
+        let body = format!("b{k}");
+        b.body(
+            Body::new(&body)
+                .mass(1.0)
+                .inertia_diagonal(0.001, 1.0 / 12.0, 1.0 / 12.0)
+                .position(Vector3::new(k as f64 + 0.5, 0.0, 0.0)),
+        );
+        b.point(&body, "a", Vector3::new(-0.5, 0.0, 0.0)).point(
+            &body,
+            "b",
+            Vector3::new(0.5, 0.0, 0.0),
+        );
+        let prev = if k == 0 {
+            (GROUND.to_string(), "O")
+        } else {
+            (format!("b{}", k - 1), "b")
+        };
+        b.joint(JointSpec::new(
+            format!("s{k}"),
+            JointKind::Spherical,
+            (&prev.0, prev.1),
+            (&body, "a"),
+        ));
+    }
+    b.build().unwrap()
+}
