@@ -245,6 +245,37 @@ fn near_dead_centre_falls_back_to_lu_with_a_correct_solution() {
     assert!(diff <= 1e-12 * scale, "Schur vs LU: {diff:.2e}");
 }
 
+/// Close to a dead centre, but not so close that S is refused (pivot ratio between τ = 1e-4
+/// and [`super::SCHUR_REFINE_RATIO`]): the Schur solve is refined once against K, which brings
+/// its residual down to the LU's.
+#[test]
+fn ill_conditioned_schur_solves_are_refined() {
+    for eps in [0.03, 0.015] {
+        let model = chain(60, Some(eps));
+        let (mut kkt, d) = tip_kkt(&model);
+        consistent_rhs(&mut kkt);
+        kkt.factor().unwrap();
+        assert_eq!(kkt.factored(), Some(Factored::Schur));
+        let ratio = kkt.schur.as_ref().unwrap().min_pivot_ratio();
+        assert!(ratio < super::SCHUR_REFINE_RATIO, "ratio {ratio:e}");
+        kkt.refine_below = 0.0;
+        kkt.solve().unwrap();
+        let plain = kkt_residual(&kkt, &d);
+        kkt.refine_below = super::SCHUR_REFINE_RATIO;
+        kkt.solve().unwrap();
+        let refined = kkt_residual(&kkt, &d);
+        kkt.set_solve_path(KktSolve::Lu);
+        kkt.factor().unwrap();
+        kkt.solve().unwrap();
+        let lu = kkt_residual(&kkt, &d);
+        eprintln!("ε = {eps}: ratio {ratio:.1e}, residual plain {plain:.1e}, refined {refined:.1e}, LU {lu:.1e}");
+        assert!(
+            refined < plain && refined <= 10.0 * lu.max(1e-16),
+            "{refined:e} vs {plain:e}, LU {lu:e}"
+        );
+    }
+}
+
 #[test]
 fn exact_dead_centre_is_a_clean_error() {
     let model = chain(20, Some(0.0));

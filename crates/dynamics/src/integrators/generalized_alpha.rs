@@ -20,13 +20,9 @@
 //! of motion relative to the size of their terms; for a matrix factored in the current step,
 //! the scaled position increment (as full Newton); for a stale matrix, the contraction
 //! estimate of the remaining error in v̇ relative to the largest acceleration. Near singular
-//! configurations, roundoff stagnation of a fresh LU within bounds. A Schur-complement
-//! factorization (the KKT layer's choice for a block-diagonal top-left) squares the
-//! conditioning of Φ_v: when its smallest pivot ratio is below `SCHUR_TRUSTED_PIVOT_RATIO`
-//! (near A02's horizontal positions) its increments are not trusted alone (the residual must
-//! show convergence) and when it stagnates the step refactors by LU. A02 N = 40, h = 31.25 µs:
-//! 1.03e-6 m trusting it always, 4.07e-7 m with this rule, 6.1e-7 m with LU throughout; the
-//! 1,000-link chain (ratios 7e-3 and above) keeps its 3.3 iterations per step. A stale
+//! configurations, roundoff stagnation of a fresh matrix within bounds. (The KKT layer refines
+//! a Schur-complement solve whose S is ill-conditioned, so its increments are as good as an
+//! LU's: A02 N = 40 tight, 1.03e-6 m without the refinement, 8.4e-7 m with it.) A stale
 //! matrix is never trusted on the β'-scaled position increment alone: after one update with it
 //! that increment is small whatever the remaining error in v̇ (A02 N = 2: 6.5e-3 m instead of
 //! 2e-6 m).
@@ -126,11 +122,6 @@ const STAGNATION_MAX_RESIDUAL: f64 = 1e-2;
 /// Consecutive non-contracting iterations of a fresh matrix after which a step attempt fails.
 const STALLED_MAX: usize = 4;
 
-/// Smallest pivot ratio of a Schur-complement factorization whose increments are trusted alone
-/// (a spherical-joint chain: 7e-3 and above; A02 near its horizontal positions: below; 1e-3
-/// let A02 N = 40 through at 8.9e-7 m instead of 4.1e-7 m).
-const SCHUR_TRUSTED_PIVOT_RATIO: f64 = 5e-3;
-
 /// Contraction rate above which modified Newton refactors at the current iterate.
 const THETA_REFACTOR: f64 = 0.25;
 
@@ -167,8 +158,6 @@ fn attempt(
     let mut mu_prev = f64::INFINITY;
     // Consecutive iterations in which a fresh matrix did not reduce the residual.
     let mut stalled = 0;
-    // Factor by LU (not the Schur complement) for the rest of the attempt.
-    let mut lu = false;
     // Scaled position increment β'|Δv̇| of the last update.
     let mut inc = f64::INFINITY;
     // Largest increment of v̇ (scaled by the unknown scales) of the last two updates, and the
@@ -232,17 +221,7 @@ fn attempt(
         // (a diverging iteration, e.g. a mass-only matrix on a stiff spring, does not) and the
         // last update moved the positions by less than 100 × tolerance (scaled).
         let stagnating = b.factor == Factor::Fresh && it >= 2 && theta > 0.5;
-        // A Schur-complement factorization squares the conditioning of Φ_v: its roundoff
-        // floor is not accepted, the LU of the full matrix takes over for this step.
-        let schur = kkt
-            .schur_pivot_ratio()
-            .is_some_and(|r| r < SCHUR_TRUSTED_PIVOT_RATIO);
-        if stagnating && schur && !lu {
-            lu = true;
-            refactor = true;
-        }
         let stagnated = stagnating
-            && !schur
             && res_c <= 10.0 * tol
             && res_v <= STAGNATION_MAX_RESIDUAL
             && inc <= 100.0 * tol;
@@ -250,8 +229,7 @@ fn attempt(
         // tolerance, or the last update of a matrix factored in this step (Newton, or a chord
         // iteration on it) moved the positions by less than the tolerance (scaled).
         let constraints_ok = res_c <= 10.0 * tol;
-        // (Not for a Schur-complement factorization: see the module docs.)
-        let fresh_small = b.factor == Factor::Fresh && !schur && inc <= tol;
+        let fresh_small = b.factor == Factor::Fresh && inc <= tol;
         // A stale (chord) matrix: the remaining error of v̇ estimated from the contraction of
         // the last two increments, θ/(1 − θ)·|Δv̇| (Hairer & Wanner IV.8; needs two updates),
         // relative to the largest acceleration. At the acceleration level, not the β'-scaled
@@ -282,8 +260,7 @@ fn attempt(
             if let (true, Some(tan)) = (tangent, b.tan.as_ref()) {
                 kkt.add_top(|r, c| tan.entry(r, c, gamma_p, beta_p));
             }
-            let factored = if lu { kkt.factor_lu() } else { kkt.factor() };
-            if factored.is_err() {
+            if kkt.factor().is_err() {
                 b.factor = Factor::None;
                 return Ok(false);
             }
