@@ -3,7 +3,9 @@
 //!
 //! Steps: each output interval is divided into equal steps of at most `h`, so results land on
 //! the output times. A step whose Newton iteration fails (no convergence, singular matrix,
-//! non-finite values) is retried with half the step, up to `max_halvings` times.
+//! non-finite values) is retried with half the step, up to `max_halvings` times, and the rest
+//! of the interval is divided again after it, so the retried steps do not aim at the end point
+//! that failed (a configuration singular to working precision is stepped over).
 //!
 //! Iteration matrix [M + γ' C_t + β' K_t, Φ_vᵀ; Φ_v, 0]: Φ_v and M exact, the force tangents
 //! by finite differences once per step attempt, at the predictor (block-sparse and coloured,
@@ -220,8 +222,9 @@ fn attempt(
         // residual, the constraints hold, the equations of motion hold to 1e-4 of their terms
         // (a diverging iteration, e.g. a mass-only matrix on a stiff spring, does not) and the
         // last update moved the positions by less than 100 × tolerance (scaled).
-        let stagnating = b.factor == Factor::Fresh && it >= 2 && theta > 0.5;
-        let stagnated = stagnating
+        let stagnated = b.factor == Factor::Fresh
+            && it >= 2
+            && theta > 0.5
             && res_c <= 10.0 * tol
             && res_v <= STAGNATION_MAX_RESIDUAL
             && inc <= 100.0 * tol;
