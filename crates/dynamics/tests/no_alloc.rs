@@ -1,14 +1,16 @@
 //! "No allocation per step": a counting global allocator wraps the system one. A run allocates
 //! during setup and once per stored output, never per step: two runs with the same outputs and
 //! 10× more steps allocate exactly as often. Also, one solve of the equations of motion after
-//! setup allocates nothing.
+//! setup allocates nothing. Both for a small model and for a 40-link chain (which goes through
+//! the Schur complement).
 //!
 //! One test function only: the counter is global, and parallel tests would pollute it.
 
 mod common;
 
 use cardan_dynamics::{
-    Dopri5Options, Dynamics, Force, GeneralizedAlphaOptions, Integrator, SimulationOptions,
+    Dopri5Options, Dynamics, Force, GeneralizedAlphaOptions, Integrator, IterationMatrix,
+    SimulationOptions, State,
 };
 use cardan_mechanism::GROUND;
 use common::*;
@@ -61,22 +63,78 @@ fn steps_do_not_allocate() {
         "{n} allocations in 100 solves of the equations of motion"
     );
 
-    for (label, coarse, fine) in [
-        (
-            "generalized-α",
-            Integrator::GeneralizedAlpha(GeneralizedAlphaOptions::with_step(1e-3)),
-            Integrator::GeneralizedAlpha(GeneralizedAlphaOptions::with_step(1e-4)),
-        ),
-        (
-            "DOPRI5 fixed step",
-            Integrator::Dopri5(Dopri5Options::fixed(1e-3)),
-            Integrator::Dopri5(Dopri5Options::fixed(1e-4)),
-        ),
-    ] {
+    runs_allocate_alike(
+        &mut d,
+        &s0,
+        0.5,
+        [
+            (
+                "generalized-α",
+                Integrator::GeneralizedAlpha(GeneralizedAlphaOptions::with_step(1e-3)),
+                Integrator::GeneralizedAlpha(GeneralizedAlphaOptions::with_step(1e-4)),
+            ),
+            (
+                "DOPRI5 fixed step",
+                Integrator::Dopri5(Dopri5Options::fixed(1e-3)),
+                Integrator::Dopri5(Dopri5Options::fixed(1e-4)),
+            ),
+        ],
+    );
+
+    // The Schur-complement path of the equations of motion: a chain of 40 spherical-joint
+    // links (n + m_a = 360, solved through S = Φ_v M⁻¹ Φ_vᵀ and a sparse Cholesky).
+    let model = spherical_chain(40);
+    let mut d = Dynamics::new(&model).unwrap();
+    d.add_force(Force::gravity(Vector3::new(0.0, 2.0, -9.81)))
+        .unwrap();
+    let s0 = d.consistent_state(&d.initial_guess()).unwrap();
+    let mut vdot = vec![0.0; model.num_unknowns()];
+    let mut lambda = vec![0.0; model.num_equations()];
+    d.accelerations(&s0, &mut vdot, &mut lambda).unwrap();
+    let n = allocations(|| {
+        for _ in 0..50 {
+            d.accelerations(&s0, &mut vdot, &mut lambda).unwrap();
+        }
+    });
+    assert_eq!(n, 0, "chain: {n} allocations in 50 solves");
+    runs_allocate_alike(
+        &mut d,
+        &s0,
+        0.1,
+        [
+            (
+                "chain, generalized-α, mass-only",
+                Integrator::GeneralizedAlpha(GeneralizedAlphaOptions {
+                    iteration_matrix: IterationMatrix::MassOnly,
+                    ..GeneralizedAlphaOptions::with_step(2e-3)
+                }),
+                Integrator::GeneralizedAlpha(GeneralizedAlphaOptions {
+                    iteration_matrix: IterationMatrix::MassOnly,
+                    ..GeneralizedAlphaOptions::with_step(2e-4)
+                }),
+            ),
+            (
+                "chain, DOPRI5 fixed step",
+                Integrator::Dopri5(Dopri5Options::fixed(2e-3)),
+                Integrator::Dopri5(Dopri5Options::fixed(2e-4)),
+            ),
+        ],
+    );
+}
+
+/// Runs `d` from `s0` to `t_end` with each (label, coarse, fine) pair of settings, the fine one
+/// taking 10× the steps, and asserts that both runs allocate equally often.
+fn runs_allocate_alike(
+    d: &mut Dynamics,
+    s0: &State,
+    t_end: f64,
+    cases: [(&str, Integrator, Integrator); 2],
+) {
+    for (label, coarse, fine) in cases {
         let mut steps = [0, 0];
         let mut counts = [0, 0];
         for (k, integ) in [coarse, fine].into_iter().enumerate() {
-            let opts = SimulationOptions::new(0.5, 5).integrator(integ);
+            let opts = SimulationOptions::new(t_end, 5).integrator(integ);
             let s = s0.clone();
             counts[k] = allocations(|| {
                 let r = d.simulate_consistent(s, &opts).unwrap();
