@@ -2,52 +2,13 @@
 //! checks the exit code (≠ 0), that nothing panicked, and what the message says (with file, line
 //! and column where the problem is in the file).
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::path::PathBuf;
 
 mod common;
-use common::{edited, BASE};
+use common::{cardan, edited, run_text, Outcome, BASE};
 
 fn scratch() -> PathBuf {
     common::scratch("bad")
-}
-
-struct Outcome {
-    code: i32,
-    stdout: String,
-    stderr: String,
-    dir: PathBuf,
-}
-
-fn cardan(args: &[&str], dir: &Path) -> Outcome {
-    let out = Command::new(env!("CARGO_BIN_EXE_cardan"))
-        .args(args)
-        .current_dir(dir)
-        .env("RUST_BACKTRACE", "1")
-        .output()
-        .expect("the binary runs");
-    let o = Outcome {
-        code: out.status.code().unwrap_or(-1),
-        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-        dir: dir.to_path_buf(),
-    };
-    assert!(
-        !o.stderr.contains("panicked") && !o.stderr.contains("stack backtrace"),
-        "panic: {}",
-        o.stderr
-    );
-    o
-}
-
-/// Writes `text` as model.toml in a fresh directory and runs `cardan <cmd> model.toml -o out`.
-fn run_text(cmd: &str, text: &str) -> Outcome {
-    let dir = scratch();
-    std::fs::write(dir.join("model.toml"), text).unwrap();
-    match cmd {
-        "run" => cardan(&["run", "model.toml", "-o", "out", "--quiet"], &dir),
-        other => cardan(&[other, "model.toml"], &dir),
-    }
 }
 
 /// BASE with `from` replaced by `to` (which must occur).

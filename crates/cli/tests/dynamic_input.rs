@@ -2,9 +2,9 @@
 //! tables (units in every header, reactions, energy, drift) and the summary line; every new key
 //! rejects bad values with a located one-paragraph message.
 
+mod common;
+use common::run_text;
 use std::path::{Path, PathBuf};
-use std::process::Command;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// A valid dynamic model: a rod pinned at its end, swinging under gravity, with every kind of
 /// force element and an initial angular velocity.
@@ -85,35 +85,6 @@ reactions = ["pivot"]
 energy = true
 "#;
 
-static COUNTER: AtomicUsize = AtomicUsize::new(0);
-
-struct Outcome {
-    code: i32,
-    stdout: String,
-    stderr: String,
-    dir: PathBuf,
-}
-
-fn run_text(text: &str) -> Outcome {
-    let k = COUNTER.fetch_add(1, Ordering::SeqCst);
-    let dir = std::env::temp_dir().join(format!("cardan-dyn-{}-{k}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    std::fs::write(dir.join("model.toml"), text).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_cardan"))
-        .args(["run", "model.toml", "-o", "out", "--quiet"])
-        .current_dir(&dir)
-        .output()
-        .expect("the binary runs");
-    let o = Outcome {
-        code: out.status.code().unwrap_or(-1),
-        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-        dir,
-    };
-    assert!(!o.stderr.contains("panicked"), "panic: {}", o.stderr);
-    o
-}
-
 fn read(dir: &Path, name: &str) -> String {
     std::fs::read_to_string(dir.join("out").join(name)).unwrap_or_else(|e| panic!("{name}: {e}"))
 }
@@ -121,7 +92,7 @@ fn read(dir: &Path, name: &str) -> String {
 /// BASE with `from` replaced by `to`; the run must fail at `line_col` with every needle.
 fn fails_at(from: &str, to: &str, line_col: &str, needles: &[&str]) {
     assert!(BASE.contains(from), "{from}");
-    let o = run_text(&BASE.replacen(from, to, 1));
+    let o = run_text("run", &BASE.replacen(from, to, 1));
     assert_ne!(o.code, 0, "should fail: {}", o.stdout);
     let want = format!("model.toml:{line_col}: error: ");
     assert!(
@@ -138,7 +109,7 @@ fn fails_at(from: &str, to: &str, line_col: &str, needles: &[&str]) {
 
 #[test]
 fn the_dynamic_model_runs_and_writes_its_tables() {
-    let o = run_text(BASE);
+    let o = run_text("run", BASE);
     assert_eq!(o.code, 0, "{}", o.stderr);
     assert!(o.stdout.contains("pendulum: 11 outputs"), "{}", o.stdout);
     for needle in [
@@ -186,7 +157,7 @@ fn generalized_alpha_runs() {
         "integrator = \"dopri5\"\nrtol = 1e-8\natol = 1e-10",
         "integrator = \"generalized_alpha\"\ndt = 1e-3\nrho_inf = 0.9",
     );
-    let o = run_text(&text);
+    let o = run_text("run", &text);
     assert_eq!(o.code, 0, "{}", o.stderr);
     assert!(o.stdout.contains("1000 steps"), "{}", o.stdout);
 }
@@ -381,26 +352,14 @@ fn dynamic_analysis_needs_inertia() {
 
 #[test]
 fn check_describes_a_dynamic_model_without_asking_for_drivers() {
-    let k = COUNTER.fetch_add(1, Ordering::SeqCst);
-    let dir = std::env::temp_dir().join(format!("cardan-dyn-check-{}-{k}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    std::fs::write(dir.join("model.toml"), BASE).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_cardan"))
-        .args(["check", "model.toml"])
-        .current_dir(&dir)
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let o = run_text("check", BASE);
+    let stdout = &o.stdout;
+    assert_eq!(o.code, 0, "{}", o.stderr);
     assert!(
         stdout.contains("dynamic analysis (DOPRI5): 1 DOF left free by the joints and 0 drivers; 5 force elements"),
         "{stdout}"
     );
-    let _ = std::fs::remove_dir_all(&dir);
+    let _ = std::fs::remove_dir_all(&o.dir);
 }
 
 /// A dynamic run that stops mid-run (A02 N = 2 with DOPRI5 at rtol = 1e-9 reaches the singular
@@ -415,7 +374,7 @@ fn a_failure_mid_run_writes_the_results_so_far() {
          atol = 1e-11\nt_end = 1.0\noutput_dt = 0.05\n\n[analysis.outputs]\n\
          points = [\"r0.top\"]\n"
     );
-    let o = run_text(&text);
+    let o = run_text("run", &text);
     assert_eq!(o.code, 3, "{}", o.stderr);
     assert!(
         o.stderr.contains("singular") && o.stderr.contains("were written to"),

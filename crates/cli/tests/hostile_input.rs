@@ -131,18 +131,9 @@ fn brackets_inside_strings_and_comments_do_not_count_as_nesting() {
             "{".repeat(40)
         ),
     );
-    let dir = scratch();
-    std::fs::write(dir.join("model.toml"), text).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_cardan"))
-        .args(["check", "model.toml"])
-        .current_dir(&dir)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let o = common::run_text("check", &text);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let _ = std::fs::remove_dir_all(&o.dir);
 }
 
 #[test]

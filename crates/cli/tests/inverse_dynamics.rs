@@ -234,28 +234,14 @@ t_end = 3.0
 steps = 60
 "#;
 
-/// Writes `text` to a scratch directory and runs the binary on it.
-fn run_binary(text: &str) -> (i32, String, String, PathBuf) {
-    let dir = common::scratch("inverse");
-    std::fs::write(dir.join("model.toml"), text).unwrap();
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_cardan"))
-        .args(["run", "model.toml", "-o", "out", "--quiet"])
-        .current_dir(&dir)
-        .output()
-        .expect("the binary runs");
-    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert!(!stderr.contains("panicked"), "{stderr}");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        stderr,
-        dir,
-    )
-}
-
 #[test]
 fn driven_pendulum_matches_closed_form() {
-    let (code, stdout, stderr, dir) = run_binary(PENDULUM);
+    let common::Outcome {
+        code,
+        stdout,
+        stderr,
+        dir,
+    } = common::run_text("run", PENDULUM);
     assert_eq!(code, 0, "{stderr}");
     assert!(
         stdout.contains("driven_pendulum: 61 steps")
@@ -318,7 +304,12 @@ fn dynamic_run_writes_driver_efforts() {
             "kind = \"inverse_dynamics\"\nt_end = 3.0\nsteps = 60",
             "kind = \"dynamic\"\nrtol = 1e-9\natol = 1e-11\nt_end = 2.0\noutput_dt = 0.05",
         );
-    let (code, stdout, stderr, dir) = run_binary(&text);
+    let common::Outcome {
+        code,
+        stdout,
+        stderr,
+        dir,
+    } = common::run_text("run", &text);
     assert_eq!(code, 0, "{stderr}");
     assert!(stdout.contains("peak |driver effort| motor"), "{stdout}");
     let out = dir.join("out");

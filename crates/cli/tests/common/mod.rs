@@ -2,7 +2,8 @@
 
 #![allow(dead_code)]
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::process::Command;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// A valid one-body model: a crank on a revolute joint, driven at 1 rad/s.
@@ -57,4 +58,46 @@ pub fn scratch(prefix: &str) -> PathBuf {
 pub fn edited(from: &str, to: &str) -> String {
     assert!(BASE.contains(from), "{from}");
     BASE.replacen(from, to, 1)
+}
+
+/// What a run of the binary printed and returned, and the directory it ran in.
+pub struct Outcome {
+    pub code: i32,
+    pub stdout: String,
+    pub stderr: String,
+    pub dir: PathBuf,
+}
+
+/// Runs `cardan ARGS` in `dir` (with backtraces on, so that a panic cannot pass unnoticed) and
+/// asserts that it did not panic.
+pub fn cardan(args: &[&str], dir: &Path) -> Outcome {
+    let out = Command::new(env!("CARGO_BIN_EXE_cardan"))
+        .args(args)
+        .current_dir(dir)
+        .env("RUST_BACKTRACE", "1")
+        .output()
+        .expect("the binary runs");
+    let o = Outcome {
+        code: out.status.code().unwrap_or(-1),
+        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+        dir: dir.to_path_buf(),
+    };
+    assert!(
+        !o.stderr.contains("panicked") && !o.stderr.contains("stack backtrace"),
+        "panic: {}",
+        o.stderr
+    );
+    o
+}
+
+/// Writes `text` as model.toml in a fresh directory and runs `cardan run model.toml -o out
+/// --quiet` (`cmd` = "run") or `cardan <cmd> model.toml`.
+pub fn run_text(cmd: &str, text: &str) -> Outcome {
+    let dir = scratch(cmd);
+    std::fs::write(dir.join("model.toml"), text).unwrap();
+    match cmd {
+        "run" => cardan(&["run", "model.toml", "-o", "out", "--quiet"], &dir),
+        other => cardan(&[other, "model.toml"], &dir),
+    }
 }
