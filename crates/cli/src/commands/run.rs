@@ -257,14 +257,7 @@ fn run_dynamic(
         }),
         peak_efforts: peak_efforts(&p, &r),
     };
-    let error = failure.map(|err| written_so_far(err, &r, "outputs", &summary.dir));
-    Ok(RunOutcome {
-        prepared: p,
-        results: r.kinematics.clone(),
-        summary,
-        error,
-        dynamic: Some(r),
-    })
+    Ok(dynamic_outcome(p, r, summary, failure, "outputs"))
 }
 
 /// `kind = "inverse_dynamics"`: kinematics with driver efforts and reactions, the tables, the
@@ -293,14 +286,26 @@ fn run_inverse(
         dynamic: None,
         peak_efforts: peak_efforts(&p, &r),
     };
-    let error = failure.map(|err| written_so_far(err, &r, "steps", &summary.dir));
-    Ok(RunOutcome {
+    Ok(dynamic_outcome(p, r, summary, failure, "steps"))
+}
+
+/// The outcome of a dynamic or inverse-dynamics run; a mid-run `failure` is completed with what
+/// was written (`unit`: what the count of results is called, "outputs" or "steps").
+fn dynamic_outcome(
+    p: Prepared,
+    r: cardan_dynamics::DynamicResults,
+    summary: Summary,
+    failure: Option<Error>,
+    unit: &str,
+) -> RunOutcome {
+    let error = failure.map(|err| written_so_far(err, &r, unit, &summary.dir));
+    RunOutcome {
         prepared: p,
         results: r.kinematics.clone(),
         summary,
         error,
         dynamic: Some(r),
-    })
+    }
 }
 
 /// A mid-run failure's error, completed with what was written: "… The results up to t = … s
