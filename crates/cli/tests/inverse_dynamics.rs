@@ -58,6 +58,23 @@ impl Csv {
     }
 }
 
+/// Asserts that the "motor.torque [N m]" column of `efforts` holds `effort` at `times` (to 1e-9
+/// of the largest |effort|, every row) and returns that largest |effort|.
+fn same_torques(efforts: &Csv, times: &[f64], effort: &[f64]) -> f64 {
+    let scale = effort.iter().fold(0.0f64, |a, e| a.max(e.abs()));
+    assert_eq!(efforts.rows.len(), times.len());
+    for (k, &t) in times.iter().enumerate() {
+        assert_eq!(efforts.rows[k][0], t);
+        let tau = efforts.get(k, "motor.torque [N m]");
+        assert!(
+            (tau - effort[k]).abs() <= 1e-9 * scale,
+            "t[{k}]: {tau} vs {}",
+            effort[k]
+        );
+    }
+    scale
+}
+
 /// d/dt (kinetic + gravitational energy) at output `k`, from bodies.csv, body_velocities.csv
 /// and body_accelerations.csv: Σ m ṙ·(r̈ − g) + ω'·J'ω̇' with ω' = Aᵀω, ω̇' = Aᵀω̇ (global ω̇ =
 /// A ω̇' since ω × ω = 0).
@@ -136,16 +153,9 @@ fn slider_crank_inverse_example() {
         .unwrap();
     let motor = api.driver("motor").unwrap();
     let pin = api.joint_reactions("crank_pin").unwrap();
-    let scale = motor.effort.iter().fold(0.0f64, |a, e| a.max(e.abs()));
+    let scale = same_torques(&efforts, api.times(), &motor.effort);
     assert!(scale > 0.1, "a real torque: {scale}");
     for k in 0..201 {
-        assert_eq!(efforts.rows[k][0], api.times()[k]);
-        let tau = efforts.get(k, "motor.torque [N m]");
-        assert!(
-            (tau - motor.effort[k]).abs() <= 1e-9 * scale,
-            "t[{k}]: {tau} vs {}",
-            motor.effort[k]
-        );
         let f = reactions.vec3(k, "crank_pin.crank.F", "N");
         assert!((f - pin.on_j[k].force).amax() <= 1e-9 * pin.on_j[k].force.amax().max(1.0));
     }
@@ -323,17 +333,8 @@ fn dynamic_run_writes_driver_efforts() {
     let p = prepare(&dir.join("same.toml")).unwrap();
     let api = cardan_cli::dynamic::simulate(&p, None).unwrap();
     let motor = api.driver("motor").unwrap();
-    let scale = motor.effort.iter().fold(0.0f64, |a, e| a.max(e.abs()));
+    let scale = same_torques(&efforts, api.times(), &motor.effort);
     assert!(scale > 1.0, "the motor works: {scale}");
-    for k in 0..41 {
-        assert_eq!(efforts.rows[k][0], api.times()[k]);
-        let tau = efforts.get(k, "motor.torque [N m]");
-        assert!(
-            (tau - motor.effort[k]).abs() <= 1e-9 * scale,
-            "t[{k}]: {tau} vs {}",
-            motor.effort[k]
-        );
-    }
 
     // Power balance on the written states: τ θ̇ = d(T + V)/dt (the elbow is free and ideal).
     let rate = energy_rate(
