@@ -227,12 +227,19 @@ impl SchurSolver {
                 });
             }
         }
-        // Entries sorted by (block, row, col): the block-row pairs and their entries.
-        let mut order: Vec<usize> = (0..b_entries.len()).collect();
-        order.sort_by_key(|&e| {
-            let (r, c) = b_entries[e];
-            (c / block, r, c)
-        });
+        // Entries sorted by (block, row, col): the block-row pairs and their entries. Bucketed
+        // by block first (a counting sort), so that only each block's few entries are compared.
+        let mut order = bucket_by(b_entries.len(), nblocks, |e| b_entries[e].1 / block);
+        let mut start = 0;
+        while start < order.len() {
+            let k = b_entries[order[start]].1 / block;
+            let len = order[start..]
+                .iter()
+                .take_while(|&&e| b_entries[e].1 / block == k)
+                .count();
+            order[start..start + len].sort_unstable_by_key(|&e| (b_entries[e].0, b_entries[e].1));
+            start += len;
+        }
         self.pair_start = vec![0; nblocks + 1];
         self.pair_row.clear();
         self.entry_start = vec![0];
@@ -676,18 +683,31 @@ impl SchurSolver {
 /// a map from an entry to its position in the value array.
 fn csc(
     m: usize,
-    mut distinct: Vec<(usize, usize)>,
+    entries: Vec<(usize, usize)>,
 ) -> (SymbolicSparseColMat<usize>, impl Fn(usize, usize) -> usize) {
-    distinct.sort_unstable_by_key(|&(r, c)| (c, r));
-    distinct.dedup();
+    // Bucketed by column (a counting sort), then each column's rows sorted and deduplicated.
+    let order = bucket_by(entries.len(), m, |e| entries[e].1);
     let mut col_ptr = vec![0usize; m + 1];
-    let mut row_idx = Vec::with_capacity(distinct.len());
-    for &(r, c) in &distinct {
-        col_ptr[c + 1] += 1;
-        row_idx.push(r);
-    }
+    let mut row_idx = Vec::with_capacity(entries.len());
+    let mut start = 0;
     for c in 0..m {
-        col_ptr[c + 1] += col_ptr[c];
+        let len = order[start..]
+            .iter()
+            .take_while(|&&e| entries[e].1 == c)
+            .count();
+        let first = row_idx.len();
+        row_idx.extend(order[start..start + len].iter().map(|&e| entries[e].0));
+        row_idx[first..].sort_unstable();
+        let mut kept = first;
+        for i in first..row_idx.len() {
+            if i == first || row_idx[i] != row_idx[kept - 1] {
+                row_idx[kept] = row_idx[i];
+                kept += 1;
+            }
+        }
+        row_idx.truncate(kept);
+        col_ptr[c + 1] = kept;
+        start += len;
     }
     let (cp, ri) = (col_ptr.clone(), row_idx.clone());
     let slot = move |r: usize, c: usize| -> usize {
@@ -698,6 +718,24 @@ fn csc(
         SymbolicSparseColMat::new_checked(m, m, col_ptr, None, row_idx),
         slot,
     )
+}
+
+/// The indices 0..len ordered by `key` (< `buckets`), stably: a counting sort.
+fn bucket_by(len: usize, buckets: usize, key: impl Fn(usize) -> usize) -> Vec<usize> {
+    let mut start = vec![0usize; buckets + 1];
+    for e in 0..len {
+        start[key(e) + 1] += 1;
+    }
+    for k in 0..buckets {
+        start[k + 1] += start[k];
+    }
+    let mut order = vec![0; len];
+    for e in 0..len {
+        let k = key(e);
+        order[start[k]] = e;
+        start[k] += 1;
+    }
+    order
 }
 
 /// x · y over the first n entries.
