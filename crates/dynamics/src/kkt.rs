@@ -166,8 +166,19 @@ pub(crate) const SCHUR_BACKOFF: (usize, usize) = (3, 15);
 
 /// Smallest pivot ratio of S below which [`Kkt::solve`] refines a Schur solve once (a
 /// 1,000-link chain sits at 5e-4 to 7.6e-4, A02 near its horizontal positions goes below
-/// 1e-4, where the Schur solver refuses S and the LU takes over).
+/// 1e-4, where the Schur solver refuses S and the LU takes over). The default, kept by
+/// generalized-α, whose Newton iteration works to the solve's last digits; DOPRI5 sets
+/// [`refine_ratio_for`] its tolerance.
 pub(crate) const SCHUR_REFINE_RATIO: f64 = 5e-3;
+
+/// The refinement threshold for an integrator that needs solves only to a backward error
+/// well below `rtol`: a plain Schur solve's backward error is about u / (smallest pivot
+/// ratio) (measured on the 1,000-link chain at ratio 5e-4: 2e-13 to 5e-13, u / ratio =
+/// 4.4e-13), so it is refined only when that exceeds 1e-3 rtol (rtol 1e-10: ratios below
+/// 2.2e-3 are refined; rtol 1e-8: below 2.2e-5, i.e. never, since S is refused below 1e-4).
+pub(crate) fn refine_ratio_for(rtol: f64) -> f64 {
+    (f64::EPSILON / (1e-3 * rtol)).min(SCHUR_REFINE_RATIO)
+}
 
 /// Which factorization [`Kkt::factor`] uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -244,8 +255,13 @@ pub(crate) struct Kkt {
     pub work_n: Vec<f64>,
     /// Pivot ratio below which a Schur solve is refined ([`SCHUR_REFINE_RATIO`]).
     pub(crate) refine_below: f64,
-    /// Φ_v values of the last Schur factorization (for its refinement).
+    /// Φ_v values of the last factorization (for the Schur refinement, and to recognize an
+    /// unchanged matrix).
     jac_factored: Vec<f64>,
+    /// The last factorization was of a mass-only matrix, and `blocks` has not changed since.
+    factored_mass_only: bool,
+    /// Factorizations skipped because the matrix had not changed ([`Kkt::factor`]).
+    pub reused: usize,
     /// Scratch of the Schur refinement (n + m_a each).
     refine_r: Vec<f64>,
     refine_d: Vec<f64>,
@@ -350,6 +366,8 @@ impl Kkt {
             work_n: vec![0.0; n],
             refine_below: SCHUR_REFINE_RATIO,
             jac_factored: vec![0.0; ne],
+            factored_mass_only: false,
+            reused: 0,
             refine_r: vec![0.0; n + active.len()],
             refine_d: vec![0.0; n + active.len()],
             work_a: vec![0.0; active.len()],
@@ -394,6 +412,7 @@ impl Kkt {
     #[allow(dead_code)]
     pub fn set_solve_path(&mut self, mode: KktSolve) {
         self.mode = mode;
+        self.factored = None;
     }
 
     /// The factorization the last successful [`factor`](Self::factor) made.
@@ -437,15 +456,28 @@ impl Kkt {
     }
 
     /// Sets the top-left to M = diag(m I, J') per body (coupling blocks zero).
+    /// When the values written differ from the blocks held (a tangent iteration matrix was
+    /// there, or other masses), the last factorization no longer counts as this matrix's.
     pub fn set_mass(&mut self, mass: &[f64], inertia: &[nalgebra::Matrix3<f64>]) {
+        let mut changed = self.tangent;
         for (k, blk) in self.blocks.chunks_exact_mut(36).enumerate() {
-            blk.fill(0.0);
-            for i in 0..3 {
-                blk[7 * i] = mass[k];
-                for j in 0..3 {
-                    blk[6 * (3 + j) + 3 + i] = inertia[k][(i, j)];
+            let mut set = |i: usize, v: f64| {
+                changed |= blk[i].to_bits() != v.to_bits();
+                blk[i] = v;
+            };
+            for c in 0..6 {
+                for r in 0..6 {
+                    let v = match (r < 3, c < 3) {
+                        (true, true) if r == c => mass[k],
+                        (false, false) => inertia[k][(r - 3, c - 3)],
+                        _ => 0.0,
+                    };
+                    set(6 * c + r, v);
                 }
             }
+        }
+        if changed {
+            self.factored_mass_only = false;
         }
         self.top_stale = true;
         self.tangent = false;
@@ -495,7 +527,16 @@ impl Kkt {
 
     /// Factors the current matrix: the Schur complement when it applies (see the module docs),
     /// else, or when its Cholesky fails, the LU of the full matrix.
+    ///
+    /// A mass-only matrix equal to the one factored last (same Φ_v values, same mass blocks) is
+    /// not factored again: DOPRI5's velocity projection of a step end whose positions did not
+    /// move, the evaluation of the equations of motion there and the recording of an output
+    /// time all share the factorization of the step's last stage.
     pub fn factor(&mut self) -> Result<(), SolverError> {
+        if self.unchanged() {
+            self.reused += 1;
+            return Ok(());
+        }
         self.factorizations += 1;
         self.factored = None;
         let auto = self.mode == KktSolve::Auto;
@@ -509,7 +550,7 @@ impl Kkt {
                 Ok(()) => {
                     self.refusals = 0;
                     self.factored = Some(Factored::Schur);
-                    self.jac_factored.copy_from_slice(&self.jac);
+                    self.remember_factored();
                     return Ok(());
                 }
                 Err(e) if self.mode == KktSolve::Schur => {
@@ -552,7 +593,22 @@ impl Kkt {
         self.slots = slots;
         r?;
         self.factored = Some(Factored::Lu);
+        self.remember_factored();
         Ok(())
+    }
+
+    /// The last factorization holds this mass-only matrix (see [`factor`](Self::factor)).
+    fn unchanged(&self) -> bool {
+        self.factored.is_some()
+            && self.factored_mass_only
+            && !self.tangent
+            && self.jac == self.jac_factored
+    }
+
+    /// Keeps what [`unchanged`](Self::unchanged) compares with.
+    fn remember_factored(&mut self) {
+        self.jac_factored.copy_from_slice(&self.jac);
+        self.factored_mass_only = !self.tangent;
     }
 
     /// Solves with `rhs` into `sol`, with the last factorization. A Schur solve whose smallest

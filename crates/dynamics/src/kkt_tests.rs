@@ -406,9 +406,52 @@ fn a_matrix_refused_again_and_again_is_tried_once_in_sixteen() {
     let model = chain(20, Some(1e-5));
     let (mut kkt, _) = tip_kkt(&model);
     for _ in 0..35 {
+        // A new matrix each time (one ulp apart), so that each one is factored.
+        kkt.jac[0] = f64::from_bits(kkt.jac[0].to_bits() ^ 1);
         kkt.factor().unwrap();
         assert_eq!(kkt.factored(), Some(Factored::Lu));
     }
     // Tries 1, 2, 3 refused; 4–18 skipped; 19 refused, 20–34 skipped; 35 refused.
     assert_eq!(kkt.fallbacks, 5);
+}
+
+#[test]
+fn an_unchanged_mass_only_matrix_is_not_factored_again() {
+    let model = chain(5, None);
+    let (mut kkt, d) = tip_kkt(&model);
+    kkt.factor().unwrap();
+    consistent_rhs(&mut kkt);
+    kkt.solve().unwrap();
+    let first = kkt.sol.clone();
+    // Same Φ_v, same masses: the factorization is kept, and solves the same.
+    kkt.set_mass(&d.mass, &d.inertia);
+    kkt.factor().unwrap();
+    kkt.solve().unwrap();
+    assert_eq!((kkt.factorizations, kkt.reused), (1, 1));
+    assert_eq!(kkt.sol, first);
+    // A changed Φ_v value, other masses, or tangent terms: factored again.
+    let k = kkt.jac.iter().position(|v| *v != 0.0).unwrap();
+    kkt.jac[k] *= 1.0 + 1e-12;
+    kkt.factor().unwrap();
+    assert_eq!(kkt.factorizations, 2);
+    let heavier: Vec<f64> = d.mass.iter().map(|m| 2.0 * m).collect();
+    kkt.set_mass(&heavier, &d.inertia);
+    kkt.factor().unwrap();
+    assert_eq!(kkt.factorizations, 3);
+    kkt.add_top(|r, c| if r == c { 1e-3 } else { 0.0 });
+    kkt.factor().unwrap();
+    kkt.factor().unwrap();
+    assert_eq!(kkt.factorizations, 5, "a tangent matrix is always factored");
+    // Back to the mass matrix: different from the tangent one just factored.
+    kkt.set_mass(&heavier, &d.inertia);
+    kkt.factor().unwrap();
+    assert_eq!((kkt.factorizations, kkt.reused), (6, 1));
+}
+
+#[test]
+fn dopri5_refines_schur_solves_only_for_tight_tolerances() {
+    // A 1,000-link chain's smallest pivot ratio is about 5e-4.
+    assert!(super::refine_ratio_for(1e-10) > 5e-4);
+    assert!(super::refine_ratio_for(1e-8) < 5e-4);
+    assert!(super::refine_ratio_for(1e-14) <= super::SCHUR_REFINE_RATIO);
 }

@@ -44,6 +44,12 @@ impl Dynamics<'_> {
         let mut stats = IntegrationStats::default();
         let f0 = self.kkt.as_ref().map_or(0, |k| k.factorizations);
         let start = std::time::Instant::now();
+        if let Some(kkt) = self.kkt.as_mut() {
+            kkt.refine_below = match options.integrator {
+                Integrator::Dopri5(o) => crate::kkt::refine_ratio_for(o.rtol),
+                Integrator::GeneralizedAlpha(_) => crate::kkt::SCHUR_REFINE_RATIO,
+            };
+        }
         let r = match options.integrator {
             Integrator::Dopri5(o) => crate::integrators::dopri5::run(
                 self, state, &times, &o, options, &mut rec, &mut stats,
@@ -53,6 +59,9 @@ impl Dynamics<'_> {
             ),
         };
         stats.factorizations = self.kkt.as_ref().map_or(0, |k| k.factorizations) - f0;
+        if let Some(kkt) = self.kkt.as_mut() {
+            kkt.refine_below = crate::kkt::SCHUR_REFINE_RATIO;
+        }
         stats.wall_time = start.elapsed().as_secs_f64();
         match r {
             Ok(()) => Ok(rec.finish(stats)),
