@@ -26,7 +26,8 @@
 //! * **LU of the full matrix** ([`cardan_solver::AutoSolver`]: dense LU for small models, sparse
 //!   LU for large) otherwise, and as the fallback when the Cholesky fails: S squares the
 //!   conditioning of Φ_v, so near a singular configuration (a four-bar passing a dead-centre
-//!   position) its relative pivots drop below 1e-4 and the LU, which loses half as many
+//!   position) its relative pivots drop below τ = min(1e-4, 0.1/m_a) ([`schur_pivot_tolerance`])
+//!   and the LU, which loses half as many
 //!   digits, takes over for that factorization; and when a mass block is too ill-conditioned
 //!   (a point mass with a negligible inertia), for every mass-only factorization.
 //!
@@ -158,11 +159,22 @@ struct Group {
 pub(crate) const LU_EAGER_MAX_SIZE: usize = 2000;
 
 /// After this many consecutive refusals of S (`.0`), the Schur complement is skipped for the
-/// next `.1` factorizations: a model whose S is always refused (a chain beyond about 5,000
-/// links, smallest pivot ratio ≈ 1/(2N) below the solver's 1e-4) pays for the attempt once in
-/// 16 factorizations instead of at each, and a singular passage returns to the Schur path at
-/// most 15 factorizations after it.
+/// next `.1` factorizations: a model whose S is always refused (a mechanism held in a
+/// near-singular configuration) pays for the attempt once in 16 factorizations instead of at
+/// each, and a singular passage returns to the Schur path at most 15 factorizations after it.
 pub(crate) const SCHUR_BACKOFF: (usize, usize) = (3, 15);
+
+/// Relative pivot tolerance τ of S for m active rows: τ = min(1e-4, 0.1/m). Below it the
+/// Schur complement is refused and the LU takes over. The solver's 1e-4 (see
+/// [`cardan_solver::SchurSolver`]) keeps a plain solve's constraint residual near 1e-12 and
+/// lets the LU take the passages of singular positions (the A02 four-bar: lowering it to 1e-5
+/// there moved the N = 40 tight run from 8.4e-7 m to 1.0e-6 m). But a healthy large model has
+/// small ratios too: a chain of N links has ≈ 1/(2N) = 1.5/m, so a fixed 1e-4 refused every
+/// chain beyond ~5,000 links and sent the 10,000-link chain to the LU. 0.1/m stays 15× below
+/// that law, leaves models under 1,000 rows at 1e-4, and [`Kkt::solve`] refines such solves.
+pub(crate) fn schur_pivot_tolerance(m: usize) -> f64 {
+    (0.1 / m.max(1) as f64).min(cardan_solver::DEFAULT_SCHUR_PIVOT_TOLERANCE)
+}
 
 /// Smallest pivot ratio of S below which [`Kkt::solve`] refines a Schur solve once (a
 /// 1,000-link chain sits at 5e-4 to 7.6e-4, A02 near its horizontal positions goes below
@@ -175,7 +187,8 @@ pub(crate) const SCHUR_REFINE_RATIO: f64 = 5e-3;
 /// well below `rtol`: a plain Schur solve's backward error is about u / (smallest pivot
 /// ratio) (measured on the 1,000-link chain at ratio 5e-4: 2e-13 to 5e-13, u / ratio =
 /// 4.4e-13), so it is refined only when that exceeds 1e-3 rtol (rtol 1e-10: ratios below
-/// 2.2e-3 are refined; rtol 1e-8: below 2.2e-5, i.e. never, since S is refused below 1e-4).
+/// 2.2e-3 are refined; rtol 1e-8: below 2.2e-5, which only S of models beyond 4,500 rows
+/// reach, see [`schur_pivot_tolerance`]).
 pub(crate) fn refine_ratio_for(rtol: f64) -> f64 {
     (f64::EPSILON / (1e-3 * rtol)).min(SCHUR_REFINE_RATIO)
 }
@@ -402,7 +415,8 @@ impl Kkt {
             .iter()
             .flat_map(|g| (0..6).map(move |c| (g.row, g.col + c)))
             .collect();
-        let mut schur = SchurSolver::new();
+        let mut schur =
+            SchurSolver::new().with_pivot_tolerance(schur_pivot_tolerance(self.active.len()));
         schur.analyze(6, self.n / 6, self.active.len(), &b)?;
         self.schur = Some(schur);
         Ok(())

@@ -17,13 +17,18 @@ use nalgebra::Vector3;
 /// so its Φ_v row depends on the spherical rows (a dead-centre position); for small ε it almost
 /// does (relative pivot of S ≈ ε²).
 fn chain(n: usize, tip: Option<f64>) -> Model {
+    chain_with(n, tip, 0.1)
+}
+
+/// [`chain`] with link k of mass 1 + `growth` k.
+fn chain_with(n: usize, tip: Option<f64>, growth: f64) -> Model {
     let mut b = MechanismBuilder::new();
     b.point(GROUND, "O", Vector3::zeros());
     for k in 0..n {
         let name = format!("b{k}");
         b.body(
             Body::new(&name)
-                .mass(1.0 + 0.1 * k as f64)
+                .mass(1.0 + growth * k as f64)
                 .inertia_diagonal(0.001, 1.0 / 12.0, 1.0 / 12.0)
                 .position(Vector3::new(k as f64 + 0.5, 0.0, 0.0)),
         );
@@ -454,4 +459,34 @@ fn dopri5_refines_schur_solves_only_for_tight_tolerances() {
     assert!(super::refine_ratio_for(1e-10) > 5e-4);
     assert!(super::refine_ratio_for(1e-8) < 5e-4);
     assert!(super::refine_ratio_for(1e-14) <= super::SCHUR_REFINE_RATIO);
+}
+
+#[test]
+fn the_schur_pivot_tolerance_admits_long_chains_only() {
+    use super::schur_pivot_tolerance;
+    // Models under 1,000 rows keep the solver's τ (the A02 four-bar passes its singular
+    // positions on the LU with it).
+    assert_eq!(schur_pivot_tolerance(3), 1e-4);
+    assert_eq!(schur_pivot_tolerance(999), 1e-4);
+    // A chain of N links (m = 3N rows) has a smallest pivot ratio of about 1/(2N): admitted at
+    // every length, with a margin.
+    for n in [1_000usize, 10_000, 100_000] {
+        let ratio = 1.0 / (2.0 * n as f64);
+        assert!(schur_pivot_tolerance(3 * n) < ratio / 10.0, "N = {n}");
+    }
+}
+
+#[test]
+fn a_long_chain_takes_the_schur_path() {
+    // 6,000 equal links: smallest pivot ratio ≈ 1/(2N) = 8e-5, which the fixed τ = 1e-4
+    // refused. (With masses growing along the chain, 1 + 0.1 k, the ratio falls like 1/N²:
+    // 6e-5 at 400 links, 1e-5 at 1,000; such chains still go to the LU.)
+    let model = chain_with(6000, None, 0.0);
+    let (mut kkt, d) = tip_kkt(&model);
+    kkt.factor().unwrap();
+    assert_eq!(kkt.factored(), Some(Factored::Schur));
+    consistent_rhs(&mut kkt);
+    kkt.solve().unwrap();
+    let r = kkt_residual(&kkt, &d);
+    assert!(r < 1e-13, "{r:e}");
 }
