@@ -17,34 +17,11 @@
 //! ```
 //!
 //! with B_k the b columns of block k. S is m × m, symmetric positive definite exactly when B has
-//! full row rank, and factored by a sparse Cholesky S = L Lᵀ. Each A_k is factored densely,
-//! A_k = L_k L_kᵀ; with W_k = L_k⁻¹ B_kᵀ (one column w_r per row r of B that touches block k)
-//! every contribution is a Gram matrix, S += W_kᵀ W_k, so the assembled S is exactly symmetric.
-//! Rows r and s are coupled in S when they touch a common block; the pattern of S is fixed at
-//! [`analyze`](SchurSolver::analyze), which also orders it (AMD) and computes the pattern of L
-//! (faer's symbolic analysis: elimination tree, column counts, row indices).
-//!
-//! The numeric factorization is our own, up-looking (by rows) on that fixed pattern. Row k of
-//! L, ℓ_k = (L_k0, …, L_k,k−1), solves a triangular system with the rows already factored, and
-//! the pivot follows:
-//!
-//! ```text
-//!   L_{0:k,0:k} ℓ_kᵀ = S_{0:k,k},   i.e.   L_ki = (S_ki − Σ_{j<i} L_ij L_kj) / L_ii,
-//!   d_k = L_kk² = S_kk − Σ_{i<k} L_ki²
-//! ```
-//!
-//! Row k's pattern (the columns i < k with L_ki ≠ 0) is known from the analysis, and ascending
-//! i is a valid order for the forward substitution. A dense vector u (zero between rows)
-//! collects the sums: at each i of the pattern in turn, u_i = −Σ_{j<i} L_ij L_kj is complete,
-//! L_ki = (S_ki + u_i) / L_ii, and column i pushes its entries on, u_r −= L_ri L_ki for the
-//! rows i < r < k of column i (all in row k's pattern, by the fill rule); u_i is then cleared.
-//! L is stored by columns, diagonal first and rows ascending, so the entries of column i above
-//! row k are the slots between its diagonal and L_ki's slot; S is assembled in the layout of L
-//! (S_ki at L_ki's slot, zero at the fill); and the analysis lists, for every row, its columns
-//! and those slots. The factorization thus neither searches nor recomputes a pattern: it does
-//! Σ_i c_i (c_i + 1) / 2 multiply-adds (c_i the entries of column i below the diagonal), for
-//! the block-tridiagonal S of a chain (no fill after AMD) about 10 per row. Each pivot d_k is
-//! checked before its square root is taken, so a non-positive one fails cleanly.
+//! full row rank, and factored by a sparse Cholesky S = L Lᵀ (faer, AMD ordering). Each A_k is
+//! factored densely, A_k = L_k L_kᵀ; with W_k = L_k⁻¹ B_kᵀ (one column w_r per row r of B that
+//! touches block k) every contribution is a Gram matrix, S += W_kᵀ W_k, so the assembled S is
+//! exactly symmetric. Rows r and s are coupled in S when they touch a common block; the pattern
+//! of S is fixed at [`analyze`](SchurSolver::analyze), which also runs the symbolic Cholesky.
 //!
 //! The solve, with z_k = L_k⁻¹ f_k:
 //!
@@ -83,20 +60,21 @@
 //! therefore refused at τ = 1e-4 and solved by the caller's LU (10,000 links: no gain).
 //!
 //! # Allocation
-//! [`analyze`](SchurSolver::analyze) allocates everything (the layout of S, the structure of L
-//! by columns and by rows, the dense vector u of the factorization);
-//! [`factor`](SchurSolver::factor) and [`solve`](SchurSolver::solve) do not (only error values
-//! allocate). u is zero between rows, also after a failed pivot: a row's entries of u are
-//! cleared as they are consumed, and it writes no other.
+//! [`analyze`](SchurSolver::analyze) allocates everything; [`factor`](SchurSolver::factor) and
+//! [`solve`](SchurSolver::solve) do not (faer's simplicial Cholesky works in a preallocated
+//! `MemBuffer`; only error values allocate).
 
 use crate::error::{NonFiniteLocation, SolverError};
+use crate::linear::Scratch;
 use crate::pattern::check_len;
+use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholeskyRaw, SymmetricOrdering,
+    factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw,
+    SymmetricOrdering,
 };
 use faer::sparse::linalg::SupernodalThreshold;
-use faer::sparse::SymbolicSparseColMat;
-use faer::Side;
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
+use faer::{Par, Side};
 
 /// Default relative pivot tolerance τ of S in [`SchurSolver`] (see the module docs).
 pub const DEFAULT_SCHUR_PIVOT_TOLERANCE: f64 = 1e-4;
@@ -141,32 +119,27 @@ pub struct SchurSolver {
     w: Vec<f64>,
     /// For every block, its pairs (p, q) with q ≤ p in loop order: the slot of S they add to.
     s_target: Vec<usize>,
-    /// Lower triangle of S in the permuted numbering, laid out like L: S_ij at the slot of
-    /// L_ij in `l_values`, zero at the fill.
+    /// Upper triangle of S in the permuted numbering (compressed columns) and its values.
+    s_symbolic: Option<SymbolicSparseColMat<usize>>,
     s_values: Vec<f64>,
-    /// Structurally distinct entries in the lower triangle of S.
-    s_nnz: usize,
-    /// Structure of L (compressed columns, diagonal first, then rows ascending) and its values.
+    /// Slot of S_jj in `s_values`, per (permuted) row.
+    s_diag: Vec<usize>,
+    cholesky: Option<SymbolicCholesky<usize>>,
+    /// Structure of L (compressed columns, diagonal first) and its values.
     l_col_ptr: Vec<usize>,
     l_row_idx: Vec<usize>,
     l_values: Vec<f64>,
-    /// The strictly lower part of L by rows, columns ascending: row k's entries are
-    /// `l_rows[l_row_ptr[k]..l_row_ptr[k + 1]]`.
-    l_row_ptr: Vec<usize>,
-    l_rows: Vec<RowEntry>,
     /// 1 / L_jj.
     l_inv_diag: Vec<f64>,
-    /// The dense vector u of the factorization (m entries, zero between rows).
-    work: Vec<f64>,
     /// The AMD ordering: row `perm_fwd[j]` of B is row j of S as laid out; `perm_inv` inverse.
     perm_fwd: Vec<usize>,
     perm_inv: Vec<usize>,
     /// λ in the permuted numbering (solve scratch).
     lambda: Vec<f64>,
+    mem: Scratch,
     pivot_tolerance: f64,
     block_tolerance: f64,
     min_pivot_ratio: f64,
-    analyzed: bool,
     factored: bool,
 }
 
@@ -195,22 +168,21 @@ impl SchurSolver {
             entry_val: Vec::new(),
             w: Vec::new(),
             s_target: Vec::new(),
+            s_symbolic: None,
             s_values: Vec::new(),
-            s_nnz: 0,
+            s_diag: Vec::new(),
+            cholesky: None,
             l_col_ptr: Vec::new(),
             l_row_idx: Vec::new(),
             l_values: Vec::new(),
-            l_row_ptr: Vec::new(),
-            l_rows: Vec::new(),
             l_inv_diag: Vec::new(),
-            work: Vec::new(),
             perm_fwd: Vec::new(),
             perm_inv: Vec::new(),
             lambda: Vec::new(),
+            mem: Scratch::empty(),
             pivot_tolerance: DEFAULT_SCHUR_PIVOT_TOLERANCE,
             block_tolerance: DEFAULT_BLOCK_PIVOT_TOLERANCE,
             min_pivot_ratio: f64::NAN,
-            analyzed: false,
             factored: false,
         }
     }
@@ -230,12 +202,11 @@ impl SchurSolver {
     /// Lays out the system: `nblocks` diagonal blocks of size `block` (n = `nblocks · block`
     /// unknowns), `m` rows of B whose entries `(row, col)` are listed in the order their values
     /// will be given to [`factor`](Self::factor) (duplicates are summed). Computes the pattern of
-    /// S, its fill-reducing ordering and the structure of its Cholesky factor (by columns and by
-    /// rows), and every buffer.
+    /// S, its fill-reducing ordering and symbolic Cholesky factorization, and every buffer.
     ///
     /// # Errors
     /// [`SolverError::EntryOutOfBounds`] for an entry outside B; [`SolverError::Backend`] if
-    /// faer's symbolic analysis fails or returns a structure of L not laid out as expected.
+    /// faer's symbolic analysis or the scratch allocation fails.
     pub fn analyze(
         &mut self,
         block: usize,
@@ -256,7 +227,6 @@ impl SchurSolver {
                 });
             }
         }
-        self.analyzed = false;
         // Entries sorted by (block, row, col): the block-row pairs and their entries. Bucketed
         // by block first (a counting sort), so that only each block's few entries are compared.
         let mut order = bucket_by(b_entries.len(), nblocks, |e| b_entries[e].1 / block);
@@ -311,12 +281,11 @@ impl SchurSolver {
             supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SIMPLICIAL,
             ..Default::default()
         };
-        // The fill-reducing (AMD) ordering, computed once on the lower triangle; then the pattern
-        // of S is built directly in the permuted numbering (upper triangle, the input of faer's
-        // symbolic factorization) and its values are assembled in the layout of L, so that
-        // neither the factorization nor the solve permutes anything.
+        // The fill-reducing (AMD) ordering, computed once on the lower triangle; then S is laid
+        // out directly in the permuted numbering (upper triangle, faer's simplicial input), so
+        // that neither the factorization nor the solve permutes anything.
         let (perm_fwd, perm_inv) = {
-            let sym = csc(m, lower.clone());
+            let (sym, _) = csc(m, lower.clone());
             let amd = factorize_symbolic_cholesky(
                 sym.as_ref(),
                 Side::Lower,
@@ -337,8 +306,15 @@ impl SchurSolver {
             let (a, b) = (inv[r], inv[c]);
             (a.min(b), a.max(b))
         };
-        let symbolic = csc(m, lower.iter().map(|&e| upper(e)).collect());
-        self.s_nnz = symbolic.row_idx().len();
+        let (symbolic, slot) = csc(m, lower.iter().map(|&e| upper(e)).collect());
+        self.s_diag = (0..m).map(|j| slot(j, j)).collect();
+        self.s_target = lower[m..]
+            .iter()
+            .map(|&e| {
+                let (r, c) = upper(e);
+                slot(r, c)
+            })
+            .collect();
         let cholesky = factorize_symbolic_cholesky(
             symbolic.as_ref(),
             Side::Upper,
@@ -353,30 +329,17 @@ impl SchurSolver {
         };
         self.l_col_ptr = simplicial.col_ptr().to_vec();
         self.l_row_idx = simplicial.row_idx().to_vec();
-        (self.l_row_ptr, self.l_rows) = rows_of_factor(m, &self.l_col_ptr, &self.l_row_idx)?;
-        // S is laid out like L (its entries at their slots in L, the fill zero).
-        let (cp, ri) = (&self.l_col_ptr, &self.l_row_idx);
-        self.s_target = lower[m..]
-            .iter()
-            .map(|&e| {
-                let (c, r) = upper(e);
-                ri[cp[c]..cp[c + 1]]
-                    .binary_search(&r)
-                    .map(|i| cp[c] + i)
-                    .map_err(|_| {
-                        SolverError::Backend(format!(
-                            "symbolic Cholesky: entry ({r}, {c}) of S is not in the pattern of L"
-                        ))
-                    })
-            })
-            .collect::<Result<_, _>>()?;
-        self.s_values = vec![0.0; ri.len()];
-        self.l_values = vec![0.0; ri.len()];
+        self.mem = Scratch::try_new(
+            cholesky.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
+        )?;
+        self.l_values = vec![0.0; cholesky.len_val()];
         self.l_inv_diag = vec![0.0; m];
-        self.work = vec![0.0; m];
+        self.s_values = vec![0.0; symbolic.row_idx().len()];
         self.lambda = vec![0.0; m];
         self.perm_fwd = perm_fwd;
         self.perm_inv = perm_inv;
+        self.s_symbolic = Some(symbolic);
+        self.cholesky = Some(cholesky);
         self.block = block;
         self.nblocks = nblocks;
         self.m = m;
@@ -393,7 +356,6 @@ impl SchurSolver {
         });
         self.w = vec![0.0; self.pair_row.len() * block];
         self.min_pivot_ratio = f64::NAN;
-        self.analyzed = true;
         Ok(())
     }
 
@@ -409,7 +371,7 @@ impl SchurSolver {
 
     /// Structurally distinct entries in the lower triangle of S.
     pub fn schur_nnz(&self) -> usize {
-        self.s_nnz
+        self.s_values.len()
     }
 
     /// Entries of the Cholesky factor L of S (fill measure).
@@ -436,13 +398,13 @@ impl SchurSolver {
     /// [`SolverError::DimensionMismatch`]; [`SolverError::NotReady`].
     pub fn factor(&mut self, a: &[f64], b: &[f64]) -> Result<(), SolverError> {
         self.factored = false;
-        if !self.analyzed {
+        if self.cholesky.is_none() {
             return Err(SolverError::NotReady { missing: "analyze" });
         }
         let bs = self.block;
         check_len("block-diagonal values", self.a_fac.len(), a.len())?;
         check_len("constraint values", self.nb_values, b.len())?;
-        let tol_a = self.block_tolerance;
+        let (tol, tol_a) = (self.pivot_tolerance, self.block_tolerance);
         // Block kernels unrolled for the mechanisms' block size 6.
         let blocks_ok = if bs == 6 {
             self.assemble::<6>(a, b, tol_a)
@@ -458,8 +420,58 @@ impl SchurSolver {
                     dependent_equations: Vec::new(),
                 }));
         }
-        if let Err(singular) = self.factor_schur() {
-            return Err(self.non_finite_input(a, b).unwrap_or(singular));
+        let (Some(s_symbolic), Some(cholesky)) = (self.s_symbolic.as_ref(), self.cholesky.as_ref())
+        else {
+            return Err(SolverError::NotReady { missing: "analyze" });
+        };
+        let s = SparseColMatRef::new(s_symbolic.as_ref(), &self.s_values);
+        let result = cholesky.factorize_numeric_llt(
+            &mut self.l_values,
+            s,
+            Side::Upper,
+            LltRegularization::default(),
+            Par::Seq,
+            self.mem.stack(),
+            Default::default(),
+        );
+        let perm_fwd = &self.perm_fwd;
+        if let Err(LltError::NonPositivePivot { index }) = result {
+            self.min_pivot_ratio = 0.0;
+            // faer reports the pivot one-based.
+            let j = index.saturating_sub(1).min(self.m.saturating_sub(1));
+            let row = perm_fwd[j];
+            return Err(self
+                .non_finite_input(a, b)
+                .unwrap_or(SolverError::Singular {
+                    dependent_equations: vec![row],
+                }));
+        }
+        // Relative pivots: the diagonal of L is the first stored entry of each column.
+        let mut min_ratio = f64::INFINITY;
+        let mut failed = false;
+        for j in 0..self.m {
+            let l = self.l_values[self.l_col_ptr[j]];
+            let sjj = self.s_values[self.s_diag[j]];
+            min_ratio = min_ratio.min(l * l / sjj);
+            failed |= !pivot_ok(l * l, sjj, tol);
+            self.l_inv_diag[j] = 1.0 / l;
+        }
+        self.min_pivot_ratio = min_ratio;
+        if failed {
+            // Error path only (allocates).
+            let mut rows: Vec<usize> = (0..self.m)
+                .filter(|&j| {
+                    let l = self.l_values[self.l_col_ptr[j]];
+                    !pivot_ok(l * l, self.s_values[self.s_diag[j]], tol)
+                })
+                .map(|j| perm_fwd[j])
+                .collect();
+            rows.sort_unstable();
+            return Err(self
+                .non_finite_input(a, b)
+                .unwrap_or(SolverError::Singular {
+                    dependent_equations: rows,
+                }));
         }
         self.factored = true;
         Ok(())
@@ -474,7 +486,7 @@ impl SchurSolver {
         if !self.factored {
             return Err(SolverError::NotReady { missing: "factor" });
         }
-        if !self.analyzed {
+        if self.cholesky.is_none() {
             return Err(SolverError::NotReady { missing: "analyze" });
         }
         let (bs, n, m) = (self.block, self.num_unknowns(), self.m);
@@ -575,76 +587,6 @@ impl SchurSolver {
         })
     }
 
-    /// The up-looking Cholesky factorization S = L Lᵀ on the structure from `analyze` (see the
-    /// module docs): row k of L from L_ki = (S_ki + u_i) / L_ii in ascending i, where u_i holds
-    /// −Σ_{j<i} L_ij L_kj (pushed on by u_r −= L_ri L_ki down each column i), and its pivot
-    /// d_k = S_kk − Σ_i L_ki², checked before L_kk = √d_k. Sets L, 1 / L_kk (the division by
-    /// L_ii is a multiplication by it) and the smallest ratio d_k / S_kk.
-    ///
-    /// # Errors
-    /// [`SolverError::Singular`]: at the first pivot d_k that is not positive (or NaN) the
-    /// factorization stops and names that row alone (the smallest ratio is then 0); otherwise
-    /// every row whose pivot fails the relative test d_k > τ S_kk is named (rows of B, sorted).
-    fn factor_schur(&mut self) -> Result<(), SolverError> {
-        let tol = self.pivot_tolerance;
-        // Slices, not vectors (the stores into L and u cannot be taken to move them), of two
-        // lengths only, m and nnz(L), so that one bounds check covers several arrays.
-        let (m, nnz) = (self.m, self.l_values.len());
-        let (cp, ri, s) = (
-            &self.l_col_ptr[..=m],
-            &self.l_row_idx[..nnz],
-            &self.s_values[..nnz],
-        );
-        let (row_ptr, rows) = (&self.l_row_ptr[..=m], &self.l_rows[..]);
-        let (lv, inv) = (&mut self.l_values[..nnz], &mut self.l_inv_diag[..m]);
-        let u = &mut self.work[..m];
-        let mut min_ratio = f64::INFINITY;
-        // Rows whose relative pivot fails (allocates only then).
-        let mut small = Vec::new();
-        for k in 0..m {
-            let skk = s[cp[k]];
-            let mut d = skk;
-            for &RowEntry {
-                col: i,
-                below,
-                slot,
-            } in &rows[row_ptr[k]..row_ptr[k + 1]]
-            {
-                // u_i is final: every column before i has been applied.
-                let lki = (s[slot] + u[i]) * inv[i];
-                u[i] = 0.0;
-                for q in below..slot {
-                    u[ri[q]] -= lv[q] * lki;
-                }
-                lv[slot] = lki;
-                d -= lki * lki;
-            }
-            // Here u is zero again: row k's pattern covers every entry written.
-            if d.is_nan() || d <= 0.0 {
-                self.min_pivot_ratio = 0.0;
-                return Err(SolverError::Singular {
-                    dependent_equations: vec![self.perm_fwd[k]],
-                });
-            }
-            let lkk = d.sqrt();
-            lv[cp[k]] = lkk;
-            inv[k] = 1.0 / lkk;
-            min_ratio = min_ratio.min(d / skk);
-            if !pivot_ok(d, skk, tol) {
-                small.push(self.perm_fwd[k]);
-            }
-        }
-        self.min_pivot_ratio = min_ratio;
-        if small.is_empty() {
-            Ok(())
-        } else {
-            small.sort_unstable();
-            Err(SolverError::Singular {
-                dependent_equations: small,
-            })
-        }
-    }
-
     /// Block size: `B` when it is not 0 (a compile-time size, loops unrolled), else the
     /// analyzed one.
     #[inline(always)]
@@ -737,9 +679,12 @@ impl SchurSolver {
     }
 }
 
-/// The compressed-column structure of an m × m matrix from its entries (duplicates merged, rows
-/// ascending).
-fn csc(m: usize, entries: Vec<(usize, usize)>) -> SymbolicSparseColMat<usize> {
+/// The compressed-column structure of an m × m matrix from its entries (duplicates merged) and
+/// a map from an entry to its position in the value array.
+fn csc(
+    m: usize,
+    entries: Vec<(usize, usize)>,
+) -> (SymbolicSparseColMat<usize>, impl Fn(usize, usize) -> usize) {
     // Bucketed by column (a counting sort), then each column's rows sorted and deduplicated.
     let order = bucket_by(entries.len(), m, |e| entries[e].1);
     let mut col_ptr = vec![0usize; m + 1];
@@ -764,71 +709,15 @@ fn csc(m: usize, entries: Vec<(usize, usize)>) -> SymbolicSparseColMat<usize> {
         col_ptr[c + 1] = kept;
         start += len;
     }
-    SymbolicSparseColMat::new_checked(m, m, col_ptr, None, row_idx)
-}
-
-/// An entry L_ki of the strictly lower part of L, in the order the factorization visits them
-/// (by rows k, columns i ascending).
-#[derive(Clone, Copy, Debug)]
-struct RowEntry {
-    /// Its column i.
-    col: usize,
-    /// The slot of the first entry of column i below the diagonal: the entries of column i
-    /// above row k are the slots `below..slot`.
-    below: usize,
-    /// Its slot in L's values.
-    slot: usize,
-}
-
-/// The strictly lower part of the m × m factor L given by compressed columns (each diagonal
-/// first, then rows ascending) as rows: `(row_ptr, entries)` with row k's entries, columns
-/// ascending, at `row_ptr[k]..row_ptr[k + 1]`.
-///
-/// # Errors
-/// [`SolverError::Backend`] when a column does not start with its diagonal or its rows are not
-/// ascending (the factorization relies on both).
-fn rows_of_factor(
-    m: usize,
-    col_ptr: &[usize],
-    row_idx: &[usize],
-) -> Result<(Vec<usize>, Vec<RowEntry>), SolverError> {
-    let mut row_ptr = vec![0usize; m + 1];
-    for j in 0..m {
-        let col = &row_idx[col_ptr[j]..col_ptr[j + 1]];
-        if col.first() != Some(&j)
-            || col.windows(2).any(|w| w[0] >= w[1])
-            || col[col.len() - 1] >= m
-        {
-            return Err(SolverError::Backend(format!(
-                "symbolic Cholesky: column {j} of L is not laid out diagonal first, rows ascending"
-            )));
-        }
-        for &r in &col[1..] {
-            row_ptr[r + 1] += 1;
-        }
-    }
-    for k in 0..m {
-        row_ptr[k + 1] += row_ptr[k];
-    }
-    let mut next = row_ptr[..m].to_vec();
-    let empty = RowEntry {
-        col: 0,
-        below: 0,
-        slot: 0,
+    let (cp, ri) = (col_ptr.clone(), row_idx.clone());
+    let slot = move |r: usize, c: usize| -> usize {
+        let col = &ri[cp[c]..cp[c + 1]];
+        cp[c] + col.binary_search(&r).expect("entry is in the pattern")
     };
-    let mut entries = vec![empty; row_ptr[m]];
-    for j in 0..m {
-        for slot in col_ptr[j] + 1..col_ptr[j + 1] {
-            let e = &mut next[row_idx[slot]];
-            entries[*e] = RowEntry {
-                col: j,
-                below: col_ptr[j] + 1,
-                slot,
-            };
-            *e += 1;
-        }
-    }
-    Ok((row_ptr, entries))
+    (
+        SymbolicSparseColMat::new_checked(m, m, col_ptr, None, row_idx),
+        slot,
+    )
 }
 
 /// The indices 0..len ordered by `key` (< `buckets`), stably: a counting sort.
@@ -917,381 +806,5 @@ fn backward(l: &[f64], n: usize, y: &mut [f64]) {
             v -= l[j * n + i] * y[i];
         }
         y[j] = v * l[j * n + j];
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Deterministic xorshift generator: uniform in [-1, 1).
-    struct Rng(u64);
-
-    impl Rng {
-        fn sym(&mut self) -> f64 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            2.0 * ((self.0 >> 11) as f64 / (1u64 << 53) as f64) - 1.0
-        }
-    }
-
-    /// A saddle-point system whose S has fill: two rails of `n` blocks each (blocks i and n + i),
-    /// joined along each rail, by a rung at every i, and by a diagonal closing the ladder into a
-    /// loop; `rows` rows per joint, and one ground row on block 0. Blocks G Gᵀ + I, entries of B
-    /// on every column of both blocks, random.
-    struct Ladder {
-        bs: usize,
-        nb: usize,
-        m: usize,
-        a: Vec<f64>,
-        entries: Vec<(usize, usize)>,
-        b: Vec<f64>,
-    }
-
-    fn ladder(rng: &mut Rng, bs: usize, n: usize, rows: usize) -> Ladder {
-        let nb = 2 * n;
-        let mut a = Vec::new();
-        for _ in 0..nb {
-            let g: Vec<f64> = (0..bs * bs).map(|_| rng.sym()).collect();
-            for c in 0..bs {
-                for r in 0..bs {
-                    let gg: f64 = (0..bs).map(|t| g[t * bs + r] * g[t * bs + c]).sum();
-                    a.push(gg + if r == c { 1.0 } else { 0.0 });
-                }
-            }
-        }
-        let mut joints = vec![(0, None)];
-        for i in 0..n - 1 {
-            joints.push((i, Some(i + 1)));
-            joints.push((n + i, Some(n + i + 1)));
-        }
-        for i in 0..n {
-            joints.push((i, Some(n + i)));
-        }
-        joints.push((n - 1, Some(n)));
-        let (mut m, mut entries, mut b) = (0, Vec::new(), Vec::new());
-        for (k, other) in joints {
-            for _ in 0..if other.is_some() { rows } else { 1 } {
-                for blk in std::iter::once(k).chain(other) {
-                    for c in 0..bs {
-                        entries.push((m, bs * blk + c));
-                        b.push(rng.sym());
-                    }
-                }
-                m += 1;
-            }
-        }
-        Ladder {
-            bs,
-            nb,
-            m,
-            a,
-            entries,
-            b,
-        }
-    }
-
-    impl Ladder {
-        fn n(&self) -> usize {
-            self.bs * self.nb
-        }
-
-        /// The dense B (m × n, row-major).
-        fn dense_b(&self) -> Vec<f64> {
-            let n = self.n();
-            let mut bd = vec![0.0; self.m * n];
-            for (&(r, c), &v) in self.entries.iter().zip(&self.b) {
-                bd[r * n + c] += v;
-            }
-            bd
-        }
-
-        /// The dense A (n × n, row-major).
-        fn dense_a(&self) -> Vec<f64> {
-            let (bs, n) = (self.bs, self.n());
-            let mut ad = vec![0.0; n * n];
-            for k in 0..self.nb {
-                for c in 0..bs {
-                    for r in 0..bs {
-                        ad[(k * bs + r) * n + k * bs + c] = self.a[k * bs * bs + c * bs + r];
-                    }
-                }
-            }
-            ad
-        }
-
-        /// S = B A⁻¹ Bᵀ densely (m × m, row-major, B's numbering).
-        fn dense_s(&self) -> Vec<f64> {
-            let (n, m) = (self.n(), self.m);
-            let (ad, bd) = (self.dense_a(), self.dense_b());
-            let mut s = vec![0.0; m * m];
-            for r in 0..m {
-                // A⁻¹ b_r, then its products with every row.
-                let z = gauss(ad.clone(), bd[r * n..(r + 1) * n].to_vec());
-                for q in 0..m {
-                    s[q * m + r] = (0..n).map(|c| bd[q * n + c] * z[c]).sum();
-                }
-            }
-            s
-        }
-
-        /// The solution of the full system [A Bᵀ; B 0] [x; λ] = rhs, densely.
-        fn dense_solve(&self, rhs: &[f64]) -> Vec<f64> {
-            let (n, m) = (self.n(), self.m);
-            let size = n + m;
-            let (ad, bd) = (self.dense_a(), self.dense_b());
-            let mut k = vec![0.0; size * size];
-            for r in 0..n {
-                k[r * size..r * size + n].copy_from_slice(&ad[r * n..(r + 1) * n]);
-            }
-            for r in 0..m {
-                for c in 0..n {
-                    k[(n + r) * size + c] = bd[r * n + c];
-                    k[c * size + n + r] = bd[r * n + c];
-                }
-            }
-            gauss(k, rhs.to_vec())
-        }
-
-        fn solver(&self) -> SchurSolver {
-            let mut s = SchurSolver::new();
-            s.analyze(self.bs, self.nb, self.m, &self.entries).unwrap();
-            s
-        }
-    }
-
-    /// Solves the dense row-major system `a x = b` by Gaussian elimination with partial pivoting.
-    fn gauss(mut a: Vec<f64>, mut b: Vec<f64>) -> Vec<f64> {
-        let n = b.len();
-        for j in 0..n {
-            let p = (j..n)
-                .max_by(|&r, &s| a[r * n + j].abs().total_cmp(&a[s * n + j].abs()))
-                .unwrap();
-            for c in 0..n {
-                a.swap(j * n + c, p * n + c);
-            }
-            b.swap(j, p);
-            for r in j + 1..n {
-                let f = a[r * n + j] / a[j * n + j];
-                for c in j..n {
-                    a[r * n + c] -= f * a[j * n + c];
-                }
-                b[r] -= f * b[j];
-            }
-        }
-        for j in (0..n).rev() {
-            let t: f64 = (j + 1..n).map(|c| a[j * n + c] * b[c]).sum();
-            b[j] = (b[j] - t) / a[j * n + j];
-        }
-        b
-    }
-
-    /// The pivots d_j = L_jj² of the dense Cholesky factorization of the m × m row-major `s`.
-    fn dense_pivots(s: &[f64], m: usize) -> Vec<f64> {
-        let mut l = vec![0.0; m * m];
-        let mut d = vec![0.0; m];
-        for j in 0..m {
-            d[j] = s[j * m + j] - (0..j).map(|t| l[j * m + t] * l[j * m + t]).sum::<f64>();
-            let ljj = d[j].sqrt();
-            l[j * m + j] = ljj;
-            for i in j + 1..m {
-                let v = s[i * m + j] - (0..j).map(|t| l[i * m + t] * l[j * m + t]).sum::<f64>();
-                l[i * m + j] = v / ljj;
-            }
-        }
-        d
-    }
-
-    /// S in the solver's (permuted) numbering, from B's.
-    fn permuted(solver: &SchurSolver, s: &[f64]) -> Vec<f64> {
-        let (m, p) = (solver.m, &solver.perm_fwd);
-        let mut sp = vec![0.0; m * m];
-        for i in 0..m {
-            for j in 0..m {
-                sp[i * m + j] = s[p[i] * m + p[j]];
-            }
-        }
-        sp
-    }
-
-    fn max_abs(v: &[f64]) -> f64 {
-        v.iter().fold(0.0f64, |a, x| a.max(x.abs()))
-    }
-
-    #[test]
-    fn factor_and_solve_match_a_dense_reference_on_a_ladder_with_fill() {
-        let mut rng = Rng(0x1ADDE5);
-        for (bs, n, rows) in [(6, 7, 2), (6, 4, 3), (3, 6, 1), (4, 9, 2)] {
-            let c = ladder(&mut rng, bs, n, rows);
-            let m = c.m;
-            let mut solver = c.solver();
-            assert!(
-                solver.factor_nnz() > solver.schur_nnz(),
-                "no fill: {} entries in L, {} in S",
-                solver.factor_nnz(),
-                solver.schur_nnz()
-            );
-            solver.factor(&c.a, &c.b).unwrap();
-            // S as assembled (laid out like L, zero at the fill) is B A⁻¹ Bᵀ, permuted.
-            let s_ref = permuted(&solver, &c.dense_s());
-            let scale = max_abs(&s_ref);
-            let (cp, ri) = (&solver.l_col_ptr, &solver.l_row_idx);
-            let mut s_got = vec![0.0; m * m];
-            let mut l = vec![0.0; m * m];
-            for j in 0..m {
-                for p in cp[j]..cp[j + 1] {
-                    let i = ri[p];
-                    s_got[i * m + j] = solver.s_values[p];
-                    s_got[j * m + i] = solver.s_values[p];
-                    l[i * m + j] = solver.l_values[p];
-                }
-                assert_eq!(solver.l_inv_diag[j], 1.0 / l[j * m + j]);
-            }
-            let ds = s_got
-                .iter()
-                .zip(&s_ref)
-                .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
-            assert!(ds < 1e-12 * scale, "bs {bs}: S differs by {ds:.2e}");
-            // L Lᵀ = S at every entry, the fill included (a missing fill entry would show).
-            let mut dl = 0.0f64;
-            for i in 0..m {
-                for j in 0..m {
-                    let llt: f64 = (0..m).map(|t| l[i * m + t] * l[j * m + t]).sum();
-                    dl = dl.max((llt - s_got[i * m + j]).abs());
-                }
-            }
-            assert!(dl < 1e-12 * scale, "bs {bs}: L Lᵀ − S = {dl:.2e}");
-            assert!(solver.work.iter().all(|&u| u == 0.0));
-            // The pivots and their smallest ratio are the dense factorization's.
-            let d = dense_pivots(&s_ref, m);
-            let ratio = (0..m).fold(f64::INFINITY, |a, j| a.min(d[j] / s_ref[j * m + j]));
-            assert!((solver.min_pivot_ratio() - ratio).abs() < 1e-9 * ratio);
-            // The solve against Gaussian elimination on the full matrix.
-            let size = c.n() + m;
-            for _ in 0..2 {
-                let rhs: Vec<f64> = (0..size).map(|_| rng.sym()).collect();
-                let mut sol = vec![0.0; size];
-                solver.solve(&rhs, &mut sol).unwrap();
-                let sol_ref = c.dense_solve(&rhs);
-                let diff = sol
-                    .iter()
-                    .zip(&sol_ref)
-                    .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
-                assert!(
-                    diff < 1e-9 * max_abs(&sol_ref),
-                    "bs {bs}: solutions differ by {diff:.2e}"
-                );
-            }
-        }
-    }
-
-    #[test]
-    fn failed_relative_pivots_are_the_dense_factorizations_sorted_in_b_numbering() {
-        let mut rng = Rng(77);
-        let c = ladder(&mut rng, 6, 6, 2);
-        let probe = c.solver();
-        let s_ref = permuted(&probe, &c.dense_s());
-        let m = c.m;
-        let d = dense_pivots(&s_ref, m);
-        let mut ratios: Vec<f64> = (0..m).map(|j| d[j] / s_ref[j * m + j]).collect();
-        // A tolerance halfway between two ratios a third of the way up: some rows fail, none
-        // at the edge.
-        let mut sorted = ratios.clone();
-        sorted.sort_by(f64::total_cmp);
-        let tol = 0.5 * (sorted[m / 3] + sorted[m / 3 + 1]);
-        let mut expected: Vec<usize> = (0..m)
-            .filter(|&j| ratios[j] <= tol)
-            .map(|j| probe.perm_fwd[j])
-            .collect();
-        expected.sort_unstable();
-        assert!(expected.len() > 1 && expected.len() < m);
-        let mut solver = c.solver().with_pivot_tolerance(tol);
-        assert_eq!(
-            solver.factor(&c.a, &c.b),
-            Err(SolverError::Singular {
-                dependent_equations: expected
-            })
-        );
-        ratios.sort_by(f64::total_cmp);
-        assert!((solver.min_pivot_ratio() - ratios[0]).abs() < 1e-9 * ratios[0]);
-        let mut sol = vec![0.0; c.n() + m];
-        assert!(matches!(
-            solver.solve(&vec![1.0; c.n() + m], &mut sol),
-            Err(SolverError::NotReady { .. })
-        ));
-        // The default tolerance accepts the same system.
-        let mut solver = c.solver();
-        solver.factor(&c.a, &c.b).unwrap();
-    }
-
-    #[test]
-    fn a_non_positive_pivot_fails_cleanly_at_its_row() {
-        let mut rng = Rng(2024);
-        let c = ladder(&mut rng, 6, 5, 2);
-        let mut solver = c.solver();
-        solver.factor(&c.a, &c.b).unwrap();
-        let (l_ok, s_ok) = (solver.l_values.clone(), solver.s_values.clone());
-        let m = c.m;
-        let k = m / 2;
-        let kk = solver.l_col_ptr[k];
-        // An off-diagonal entry of row k in S's pattern (rows of S are coupled along the ladder).
-        let off = solver.l_rows[solver.l_row_ptr[k]..solver.l_row_ptr[k + 1]]
-            .iter()
-            .map(|e| e.slot)
-            .find(|&p| s_ok[p] != 0.0)
-            .unwrap();
-        for (slot, v) in [(kk, -1.0), (kk, 0.0), (kk, f64::NAN), (off, f64::NAN)] {
-            solver.s_values[slot] = v;
-            assert_eq!(
-                solver.factor_schur(),
-                Err(SolverError::Singular {
-                    dependent_equations: vec![solver.perm_fwd[k]]
-                }),
-                "S slot {slot} = {v}"
-            );
-            assert_eq!(solver.min_pivot_ratio(), 0.0);
-            // The rows before k are factored as before, nothing after row k's off-diagonal
-            // entries is written (L_kk neither: no square root of d_k), and u is zero.
-            let row_k: Vec<usize> = solver.l_rows[solver.l_row_ptr[k]..solver.l_row_ptr[k + 1]]
-                .iter()
-                .map(|e| e.slot)
-                .collect();
-            for p in 0..l_ok.len() {
-                if !row_k.contains(&p) {
-                    assert_eq!(solver.l_values[p].to_bits(), l_ok[p].to_bits());
-                }
-            }
-            assert!(solver.work.iter().all(|&u| u == 0.0));
-            // Restored, S factors to the same L.
-            solver.s_values.copy_from_slice(&s_ok);
-            solver.factor_schur().unwrap();
-            assert_eq!(solver.l_values, l_ok);
-        }
-        // Through the public path: a row of B repeated makes S singular.
-        let mut dup = c;
-        let (r1, r2) = (3, dup.m - 2);
-        for e in 0..dup.entries.len() {
-            if dup.entries[e].0 == r2 {
-                dup.b[e] = 0.0;
-            }
-        }
-        for e in 0..dup.entries.len() {
-            if dup.entries[e].0 == r1 {
-                dup.entries.push((r2, dup.entries[e].1));
-                dup.b.push(dup.b[e]);
-            }
-        }
-        let mut solver = dup.solver();
-        match solver.factor(&dup.a, &dup.b) {
-            Err(SolverError::Singular {
-                dependent_equations,
-            }) => assert!(
-                dependent_equations.iter().any(|&r| r == r1 || r == r2),
-                "{dependent_equations:?}"
-            ),
-            other => panic!("expected Singular, got {other:?}"),
-        }
-        assert!(solver.work.iter().all(|&u| u == 0.0));
     }
 }
