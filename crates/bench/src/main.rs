@@ -627,7 +627,8 @@ fn scaling_section(cfg: &Cfg, svgs: &mut Vec<(String, String)>) -> String {
          plane for dynamics). Each point runs in its own process; *peak* is that process's peak \
          resident memory (VmHWM), model and setup included. Dynamic steps: h = 1 ms, \
          generalized-α with the mass-only iteration matrix (*gen-α M*), with the default \
-         finite-difference tangent matrix (*gen-α T*, n ≤ 1,000 only: it is O(n²)), and DOPRI5 \
+         finite-difference tangent matrix (*gen-α T*, block-sparse coloured differences; n ≤ 1,000 \
+         only, to keep the run short), and DOPRI5 \
          at fixed step (6 stages, projection).\n"
     );
     let _ = writeln!(
@@ -693,7 +694,7 @@ fn scaling_section(cfg: &Cfg, svgs: &mut Vec<(String, String)>) -> String {
     let _ = writeln!(
         md,
         "\nFitted exponents p of t ∝ n^p (least squares over all sizes; peak memory over the two \
-         largest; the dynamic peak at 1,000 bodies includes the O(n²) tangent run, which is not \
+         largest; the dynamic peak at 1,000 bodies includes the tangent run, which is not \
          made at 10,000):\n\n| model | kinematic frame | gen-α M step | DOPRI5 step | peak memory (kin) | peak memory (dyn) |\n\
          |---|---:|---:|---:|---:|---:|\n{fits}\n![Scaling](benchmarks/scaling.svg)\n"
     );
