@@ -4,7 +4,8 @@
 //! The state y = [q; v] (7 + 6 per body) obeys ṙ = ṙ, ṗ = ½ Lᵀ ω', v̇ from the augmented system
 //! (with Baumgarte terms if asked). Error control: err = ‖e / (atol + rtol max(|y₀|, |y₁|))‖_RMS,
 //! e the difference of the 5th- and 4th-order solutions; PI step-size control, factor
-//! 0.9 err^(−0.17) err_old^0.04 within [0.2, 10] (no growth right after a rejection), a last
+//! 0.9 err^(−0.17) err_old^0.04 within [0.2, 10] (no growth right after a rejection), or
+//! Gustafsson's predictive factor when that is smaller (a rising error trend), a last
 //! step stretched by up to 10 % to land on t_end, and a starting step from repeated Euler probes
 //! ([`starting_step`]). Output times inside a step come from the dense
 //! output (then projected, like every accepted step end). Projection breaks FSAL, so a step costs
@@ -293,6 +294,9 @@ pub(crate) fn run(
     let mut last_rejected = false;
     // Error of the last accepted step, for the PI controller (Hairer's initial value).
     let mut err_old: f64 = 1e-4;
+    // The last accepted step and its error (at least 1e-2), for Gustafsson's predictive
+    // factor (Hairer & Wanner, *Solving ODEs II*, §IV.8, as in their RADAU5).
+    let mut last_accepted: Option<(f64, f64)> = None;
     let mut proj_it = 0;
 
     loop {
@@ -409,7 +413,16 @@ pub(crate) fn run(
                 // PI control: 0.9 err^−(1/5 − 0.75 β) err_old^β.
                 let fac =
                     0.9 * err.max(1e-300).powf(-(0.2 - 0.75 * PI_BETA)) * err_old.powf(PI_BETA);
-                let fac = fac.clamp(0.2, if last_rejected { 1.0 } else { 10.0 });
+                let mut fac = fac.clamp(0.2, if last_rejected { 1.0 } else { 10.0 });
+                // Gustafsson's predictive factor, 0.9 (h/h_prev) (err_prev/err²)^(1/5), when
+                // smaller: it extrapolates a rising error instead of meeting it with a
+                // rejection.
+                if let Some((h_prev, err_prev)) = last_accepted {
+                    let e = err.max(1e-300);
+                    let gus = 0.9 * (hs / h_prev) * (err_prev / (e * e)).powf(0.2);
+                    fac = fac.min(gus.clamp(0.2, 10.0));
+                }
+                last_accepted = Some((hs, err.max(1e-2)));
                 h = (hs * fac).min(o.h_max);
                 err_old = err.max(1e-4);
             }
