@@ -4,7 +4,7 @@
 
 mod common;
 use common::run_text;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// A valid dynamic model: a rod pinned at its end, swinging under gravity, with every kind of
 /// force element and an initial angular velocity.
