@@ -26,10 +26,10 @@
 //! * **LU of the full matrix** ([`cardan_solver::AutoSolver`]: dense LU for small models, sparse
 //!   LU for large) otherwise, and as the fallback when the Cholesky fails: S squares the
 //!   conditioning of Φ_v, so near a singular configuration (a four-bar passing a dead-centre
-//!   position) its relative pivots drop below τ = min(1e-4, 0.1/m_a) ([`schur_pivot_tolerance`])
-//!   and the LU, which loses half as many
-//!   digits, takes over for that factorization; and when a mass block is too ill-conditioned
-//!   (a point mass with a negligible inertia), for every mass-only factorization.
+//!   position) its relative pivots drop below τ = min(1e-4, 0.1/m_a)
+//!   ([`schur_pivot_tolerance`]) and the LU, which loses half as many digits, takes over for
+//!   that factorization; and when a mass block is too ill-conditioned (a point mass with a
+//!   negligible inertia), for every mass-only factorization.
 //!
 //! [`Kkt::solve`] uses whichever factored last. The slots of the full matrix are written only
 //! when the LU path factors (Φ_v lives in `jac`, the mass blocks in their own array), so the
@@ -274,7 +274,7 @@ pub(crate) struct Kkt {
     /// The last factorization was of a mass-only matrix, and `blocks` has not changed since.
     factored_mass_only: bool,
     /// Factorizations skipped because the matrix had not changed ([`Kkt::factor`]).
-    pub reused: usize,
+    pub(crate) reused: usize,
     /// Scratch of the Schur refinement (n + m_a each).
     refine_r: Vec<f64>,
     refine_d: Vec<f64>,
@@ -626,7 +626,8 @@ impl Kkt {
     }
 
     /// Solves with `rhs` into `sol`, with the last factorization. A Schur solve whose smallest
-    /// pivot ratio is below [`SCHUR_REFINE_RATIO`] is refined once against the full system
+    /// pivot ratio is below `refine_below` ([`SCHUR_REFINE_RATIO`], or [`refine_ratio_for`]
+    /// DOPRI5's tolerance) is refined once against the full system
     /// (residual with K, correction with the Schur factors): S squares the conditioning of Φ_v,
     /// and near a singular configuration (A02's horizontal positions) the plain solve is less
     /// accurate than the LU of K would be.

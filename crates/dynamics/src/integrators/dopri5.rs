@@ -306,10 +306,12 @@ pub(crate) fn run(
                 max_steps: options.max_steps,
             });
         }
-        // Land on t_end in one step when the rest is at most STRETCH h, instead of leaving a
-        // sliver of a step (seven evaluations for a few percent of h).
+        // Land on t_end in one step when the rest is at most STRETCH h (adaptive steps; a
+        // fixed step only by roundoff), instead of leaving a sliver of a step (seven
+        // evaluations for a few percent of h).
         let rest = t_end - t;
-        let hs = if rest <= STRETCH * h && rest <= o.h_max {
+        let stretch = if fixed { 1.0 + 1e-9 } else { STRETCH };
+        let hs = if rest <= stretch * h && rest <= o.h_max {
             rest
         } else {
             h.min(rest)
