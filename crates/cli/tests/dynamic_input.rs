@@ -362,61 +362,31 @@ fn check_describes_a_dynamic_model_without_asking_for_drivers() {
     let _ = std::fs::remove_dir_all(&o.dir);
 }
 
-/// A dynamic run that stops mid-run writes the results so far and exits with code 3. A
-/// distance driver pulls the tip of a pendulum (pivot O, tip 1 m away, starting along +y) away
-/// from the ground point P = (2, 0, 0) at 1 m/s: |P − tip| starts at √5 and can reach at most 3,
-/// at t = 3 − √5 ≈ 0.764 s, where the driver's row becomes dependent (a singular configuration,
-/// whichever integrator; an earlier test relied on DOPRI5 stopping at a dead centre of the
-/// A02 four-bar, which it may also step over).
+/// A dynamic run that stops mid-run writes the results so far and exits with code 3. BASE's
+/// pendulum (pivot O, tip 1 m away along +x) gets a distance driver that pulls the tip away
+/// from the ground point P = (0, −2, 0) at 1 m/s: |P − tip| starts at √5 and can reach at most
+/// 3, at t = 3 − √5 ≈ 0.764 s, where the driver's row becomes dependent (a singular
+/// configuration, whichever integrator; an earlier test relied on DOPRI5 stopping at a dead
+/// centre of the A02 four-bar, which it may also step over).
 #[test]
 fn a_failure_mid_run_writes_the_results_so_far() {
-    let text = r#"[model]
-name = "pulled pendulum"
-gravity = [0.0, -9.81, 0.0]
-
-[ground]
-points = { O = [0.0, 0.0, 0.0], P = [2.0, 0.0, 0.0] }
-vectors = { z = [0.0, 0.0, 1.0], x = [1.0, 0.0, 0.0] }
-
-[[body]]
-name = "rod"
-mass = 1.0
-inertia = { diag = [0.0833, 1e-4, 0.0833] }
-position = [0.0, 0.5, 0.0]
-points = { O = [0.0, -0.5, 0.0], tip = [0.0, 0.5, 0.0] }
-vectors = { z = [0.0, 0.0, 1.0], x = [1.0, 0.0, 0.0] }
-
-[[joint]]
-name = "pivot"
-type = "revolute"
-body_i = "ground"
-point_i = "O"
-axis_i = "z"
-x_axis_i = "x"
-body_j = "rod"
-point_j = "O"
-axis_j = "z"
-x_axis_j = "x"
-
-[[driver]]
-name = "pull"
-type = "distance"
-body_i = "ground"
-point_i = "P"
-body_j = "rod"
-point_j = "tip"
-function = { kind = "polynomial", coefficients = [2.23606797749979, 1.0] }
-
-[analysis]
-kind = "dynamic"
-integrator = "dopri5"
-t_end = 2.0
-output_dt = 0.05
-
-[analysis.outputs]
-points = ["rod.tip"]
-"#;
-    let o = run_text("run", text);
+    let pull = "[[driver]]\nname = \"pull\"\ntype = \"distance\"\nbody_i = \"ground\"\n\
+                point_i = \"P\"\nbody_j = \"rod\"\npoint_j = \"tip\"\nfunction = { kind = \
+                \"polynomial\", coefficients = [2.23606797749979, 1.0] }\n\n[analysis]";
+    let text = BASE
+        .replacen(
+            "points = { O = [0.0, 0.0, 0.0] }",
+            "points = { O = [0.0, 0.0, 0.0], P = [0.0, -2.0, 0.0] }",
+            1,
+        )
+        .replacen("[analysis]", pull, 1)
+        .replacen(
+            "t_end = 1.0\noutput_dt = 0.1",
+            "t_end = 2.0\noutput_dt = 0.05",
+            1,
+        );
+    assert!(text.contains("P = [") && text.contains("name = \"pull\"") && text.contains("0.05"));
+    let o = run_text("run", &text);
     assert_eq!(o.code, 3, "{}", o.stderr);
     assert!(o.stderr.contains("were written to"), "{}", o.stderr);
     let (_, rows) = cardan_cli::table::parse_csv(&read(&o.dir, "points.csv")).unwrap();
