@@ -273,8 +273,6 @@ pub(crate) struct Kkt {
     jac_factored: Vec<f64>,
     /// The last factorization was of a mass-only matrix, and `blocks` has not changed since.
     factored_mass_only: bool,
-    /// Factorizations skipped because the matrix had not changed ([`Kkt::factor`]).
-    pub(crate) reused: usize,
     /// Scratch of the Schur refinement (n + m_a each).
     refine_r: Vec<f64>,
     refine_d: Vec<f64>,
@@ -380,7 +378,6 @@ impl Kkt {
             refine_below: SCHUR_REFINE_RATIO,
             jac_factored: vec![0.0; ne],
             factored_mass_only: false,
-            reused: 0,
             refine_r: vec![0.0; n + active.len()],
             refine_d: vec![0.0; n + active.len()],
             work_a: vec![0.0; active.len()],
@@ -548,7 +545,6 @@ impl Kkt {
     /// time all share the factorization of the step's last stage.
     pub fn factor(&mut self) -> Result<(), SolverError> {
         if self.unchanged() {
-            self.reused += 1;
             return Ok(());
         }
         self.factorizations += 1;
