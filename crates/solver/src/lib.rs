@@ -134,7 +134,7 @@ pub use linear::{
 };
 pub use newton::{
     JacobianUpdate, LineSearch, Newton, NewtonOptions, NewtonReport, NonlinearSystem,
-    REFINE_MAX_CORRECTIONS, REFINE_MAX_DRIFT,
+    REFINE_BACKWARD_ERROR, REFINE_MAX_CORRECTIONS, REFINE_MAX_DRIFT,
 };
 pub use pattern::{RowSelection, SparsityPattern};
 pub use rank::{MinNormQr, RankAnalysis, RankOptions};

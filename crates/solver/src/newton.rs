@@ -256,8 +256,9 @@ pub struct Newton<S: LinearSolver = AutoSolver> {
     x_last: Vec<f64>,
     /// `full_slots` hold the Jacobian at `x_last`.
     slots_at_last: bool,
-    /// Refinement buffers (lengths m and n).
+    /// Refinement buffers: residual and its scale (length m), correction (length n).
     refine_r: Vec<f64>,
+    refine_s: Vec<f64>,
     refine_dy: Vec<f64>,
 }
 
@@ -268,6 +269,11 @@ pub const REFINE_MAX_DRIFT: f64 = 1e-5;
 
 /// Corrections [`Newton::solve_linear_at`] makes before it gives up and refactors.
 pub const REFINE_MAX_CORRECTIONS: usize = 4;
+
+/// Backward error at which [`Newton::solve_linear_at`] accepts a refined solution:
+/// `‖rhs − Φ_q v‖ ≤ 8ε ‖|Φ_q| |v| + |rhs|‖` in the max norm over rows weighted by their equation
+/// scales, about what the residual of a few-entry constraint row resolves in floating point.
+pub const REFINE_BACKWARD_ERROR: f64 = 8.0 * f64::EPSILON;
 
 impl<S: LinearSolver> Newton<S> {
     /// Sets up Newton-Raphson for `pattern`: analyzes `solver` and allocates every buffer.
@@ -370,6 +376,7 @@ impl<S: LinearSolver> Newton<S> {
             x_last: Vec::new(),
             slots_at_last: false,
             refine_r: vec![0.0; m],
+            refine_s: vec![0.0; m],
             refine_dy: vec![0.0; n],
         }
     }
@@ -602,9 +609,10 @@ impl<S: LinearSolver> Newton<S> {
     ///   from by the steps of the last [`solve`](Self::solve) (typically the last, tiny Newton
     ///   step): iterative refinement against the exact Jacobian at `x` (evaluated once and kept
     ///   for further right-hand sides), `v ← v + M⁻¹ (rhs − Φ_q(x) v)` with the old factors `M`,
-    ///   until the correction is at rounding level (`‖δv‖ ≤ 4ε ‖v‖`). It contracts by about the
-    ///   relative change of the Jacobian; if a correction does not halve, or
-    ///   [`REFINE_MAX_CORRECTIONS`] do not suffice, the Jacobian is refactored at `x`.
+    ///   until the backward error of `v` is at most [`REFINE_BACKWARD_ERROR`] (as good as a
+    ///   fresh factorization). It contracts by about the relative change of the Jacobian; if a
+    ///   correction does not halve the backward error, or [`REFINE_MAX_CORRECTIONS`] do not
+    ///   suffice, the Jacobian is refactored at `x`.
     /// * Otherwise (no factorization, another point, a moved state): refactors at `x` first.
     ///
     /// # Errors
@@ -643,17 +651,54 @@ impl<S: LinearSolver> Newton<S> {
     }
 
     /// Iterative refinement of `Φ_q v = rhs` with the exact Jacobian in `full_slots` and the
-    /// (slightly older) factorization. `Ok(false)` when it does not converge.
+    /// (slightly older) factorization: `Ok(true)` once the backward error of `v` is at most
+    /// [`REFINE_BACKWARD_ERROR`], `Ok(false)` when it does not get there (a correction that does
+    /// not halve it, or [`REFINE_MAX_CORRECTIONS`] spent).
+    ///
+    /// The backward error is `max_i w_i |r_i| / max_i w_i (|Φ_q| |v| + |rhs|)_i` over the solved
+    /// rows, `r = rhs − Φ_q v`, rows in the units of their equation scales `w_i` (as the
+    /// convergence test sees them): the relative change of `Φ_q` and `rhs` that makes `v`
+    /// exact. A fresh factorization delivers a few ε. Unlike the size of the last correction it
+    /// does not depend on the conditioning: a long chain's corrections stall at about `κ ε ‖v‖`
+    /// while its backward error is already ε.
     fn refine(&mut self, rhs: &[f64], out: &mut [f64]) -> Result<bool, SolverError> {
         self.solve_linear(rhs, out)?;
         let mut last = f64::INFINITY;
-        for _ in 0..REFINE_MAX_CORRECTIONS {
-            // r = rhs − Φ_q v on the solved rows.
-            let mut r = std::mem::take(&mut self.refine_r);
+        for correction in 0..=REFINE_MAX_CORRECTIONS {
+            // r = rhs − Φ_q v and s = |rhs| + |Φ_q| |v| on the solved rows.
+            let (mut r, mut s) = (
+                std::mem::take(&mut self.refine_r),
+                std::mem::take(&mut self.refine_s),
+            );
             r.copy_from_slice(rhs);
-            for k in 0..self.slot_src.len() {
-                r[self.slot_row[k]] -= self.full_slots[self.slot_src[k]] * out[self.slot_col[k]];
+            for (si, ri) in s.iter_mut().zip(rhs) {
+                *si = ri.abs();
             }
+            for k in 0..self.slot_src.len() {
+                let (row, av) = (
+                    self.slot_row[k],
+                    self.full_slots[self.slot_src[k]] * out[self.slot_col[k]],
+                );
+                r[row] -= av;
+                s[row] += av.abs();
+            }
+            let (mut r_max, mut s_max) = (0.0f64, 0.0f64);
+            for &i in &self.solve_rows {
+                let w = self.eq_weights[i];
+                r_max = r_max.max(r[i].abs() * w);
+                s_max = s_max.max(s[i] * w);
+            }
+            self.refine_s = s;
+            let berr = if r_max == 0.0 { 0.0 } else { r_max / s_max };
+            if berr <= REFINE_BACKWARD_ERROR {
+                self.refine_r = r;
+                return Ok(true);
+            }
+            if correction == REFINE_MAX_CORRECTIONS || berr > 0.5 * last {
+                self.refine_r = r;
+                return Ok(false);
+            }
+            last = berr;
             let mut dy = std::mem::take(&mut self.refine_dy);
             let solved = self.solve_linear(&r, &mut dy);
             self.refine_r = r;
@@ -661,20 +706,10 @@ impl<S: LinearSolver> Newton<S> {
                 self.refine_dy = dy;
                 return Err(e);
             }
-            let (mut norm_dy, mut norm_y) = (0.0f64, 0.0f64);
             for (o, d) in out.iter_mut().zip(&dy) {
                 *o += d;
-                norm_dy = norm_dy.max(d.abs());
-                norm_y = norm_y.max(o.abs());
             }
             self.refine_dy = dy;
-            if norm_dy <= 4.0 * f64::EPSILON * norm_y {
-                return Ok(true);
-            }
-            if norm_dy > 0.5 * last {
-                return Ok(false);
-            }
-            last = norm_dy;
         }
         Ok(false)
     }
