@@ -3,7 +3,8 @@
 //! ```text
 //! cardan-bench [--smoke] [--report docs/benchmarks.md] [--plots docs/benchmarks] [--peers PYTHON]
 //! cardan-bench --point <kin|dyn> <chain|ladder> N     (one scaling point; used internally)
-//! cardan-bench --profile <frame EXAMPLE N | chain N STEPS | chain-dopri5 N RTOL>  (one run for a profiler)
+//! cardan-bench --profile <frame EXAMPLE N | kin-chain N FRAMES | chain N STEPS | chain-dopri5 N RTOL>
+//!     (one run for a profiler)
 //! cardan-bench --peers-only PYTHON [--smoke] [kinematics|slider-crank|chain ...]  (peers to stdout)
 //! ```
 //!
@@ -171,17 +172,36 @@ fn allocations(f: impl FnOnce()) -> usize {
     s.allocations + s.reallocations
 }
 
-/// `--profile frame EXAMPLE N`, `--profile chain N STEPS` or `--profile chain-dopri5 N RTOL`:
-/// a fixed amount of work for `valgrind --tool=callgrind` (instruction counts are steadier
+/// `--profile frame EXAMPLE N`, `--profile kin-chain N FRAMES`, `--profile chain N STEPS` or
+/// `--profile chain-dopri5 N RTOL`: a fixed amount of work for `valgrind --tool=callgrind` (instruction counts are steadier
 /// than wall time).
 fn profile(args: &[String]) {
     let arg = |k: usize| args.get(k).map(String::as_str);
     // The chain size is the first argument after the kind; a frame run's count the second.
-    let chain = matches!(arg(0), Some("chain" | "chain-dopri5"));
+    let chain = matches!(arg(0), Some("chain" | "chain-dopri5" | "kin-chain"));
     let n: usize = arg(if chain { 1 } else { 2 })
         .and_then(|s| s.parse().ok())
         .unwrap_or(1000);
     match arg(0) {
+        Some("kin-chain") => {
+            // Kinematic frames of the driven revolute chain (the scaling section's `kin chain`).
+            let frames: usize = arg(2).and_then(|s| s.parse().ok()).unwrap_or(20);
+            let model = models::revolute_chain(n);
+            let mut ws = model.workspace();
+            model.prepare_kinematics(&mut ws).expect("prepare");
+            let times: Vec<f64> = (0..=200).map(|k| k as f64 * 0.02).collect();
+            let mut run = FrameRun::prepared(&model, ws, times);
+            let t0 = Instant::now();
+            for _ in 0..frames {
+                run.frame(true);
+            }
+            eprintln!(
+                "{} iterations in {} frames, {:.3} ms per frame",
+                run.iterations,
+                run.frames,
+                t0.elapsed().as_secs_f64() * 1e3 / frames.max(1) as f64
+            );
+        }
         Some("chain") => {
             let steps: usize = arg(2).and_then(|s| s.parse().ok()).unwrap_or(100);
             let model = models::spherical_chain(n);
