@@ -737,8 +737,9 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
         length = 1.0;
     }
 
-    // Joints.
-    let mut element_names: HashMap<&str, ()> = HashMap::new();
+    // Joints. Every element name, with the joint index for joints (drivers look their joint up
+    // here: a linear search would make building a long driven chain quadratic).
+    let mut element_names: HashMap<&str, Option<usize>> = HashMap::new();
     let mut joints: Vec<JointInfo> = Vec::with_capacity(b.joints.len());
     for spec in &b.joints {
         if spec.name.is_empty() {
@@ -746,7 +747,10 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
                 what: format!("a {} joint", spec.kind.name()),
             });
         }
-        if element_names.insert(&spec.name, ()).is_some() {
+        if element_names
+            .insert(&spec.name, Some(joints.len()))
+            .is_some()
+        {
             return Err(ModelError::DuplicateElement {
                 name: spec.name.clone(),
             });
@@ -841,7 +845,7 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
                 what: "a driver".into(),
             });
         }
-        if element_names.insert(&spec.name, ()).is_some() {
+        if element_names.insert(&spec.name, None).is_some() {
             return Err(ModelError::DuplicateElement {
                 name: spec.name.clone(),
             });
@@ -854,16 +858,16 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
                 reason: e.to_string(),
             })?;
         let f = spec.function.clone();
-        let find_joint = |joint: &str| {
-            joints
-                .iter()
-                .position(|j| j.name == joint)
-                .ok_or_else(|| ModelError::UnknownJoint {
-                    element: el.clone(),
-                    name: joint.into(),
-                    suggestion: suggest(joint, joints.iter().map(|j| j.name.as_str())),
+        let find_joint =
+            |joint: &str| {
+                element_names.get(joint).copied().flatten().ok_or_else(|| {
+                    ModelError::UnknownJoint {
+                        element: el.clone(),
+                        name: joint.into(),
+                        suggestion: suggest(joint, joints.iter().map(|j| j.name.as_str())),
+                    }
                 })
-        };
+            };
         let (driver, bi, bj, jidx): (Driver, BodyId, BodyId, Option<usize>) = match &spec.target {
             DriverTarget::JointRotation { joint } => {
                 let k = find_joint(joint)?;
@@ -946,7 +950,7 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
                 what: "a force element".into(),
             });
         }
-        if element_names.insert(name, ()).is_some() {
+        if element_names.insert(name, None).is_some() {
             return Err(ModelError::DuplicateElement { name: name.into() });
         }
         let el = format!("force \"{name}\"");

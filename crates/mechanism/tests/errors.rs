@@ -87,6 +87,20 @@ fn unknown_names_suggest_the_closest() {
         ModelError::UnknownJoint { ref suggestion, .. } if suggestion.as_deref() == Some("hinge")
     ));
 
+    // A driver is not a joint, even though the names share one namespace.
+    let mut b = base();
+    b.joint(rev("hinge"));
+    b.driver(DriverSpec::rotation(
+        "m",
+        "hinge",
+        TimeFunction::Constant(0.0),
+    ));
+    b.driver(DriverSpec::rotation("m2", "m", TimeFunction::Constant(0.0)));
+    assert!(matches!(
+        build_err(&b),
+        ModelError::UnknownJoint { ref name, .. } if name == "m"
+    ));
+
     // Nothing close: no suggestion.
     let mut b = base();
     b.point("wheel", "P", Vector3::zeros());
