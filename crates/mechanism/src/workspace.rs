@@ -251,6 +251,13 @@ impl Workspace {
         }
     }
 
+    /// Factorizations of Φ_v made by the kinematic solver of this workspace (position, velocity
+    /// and acceleration analyses; 0 before [`Model::prepare_kinematics`]). With the iteration
+    /// counts of [`Model::position`] it tells how much work a run of frames did.
+    pub fn kinematic_factorizations(&self) -> u64 {
+        self.kin.as_ref().map_or(0, |n| n.factorization_count())
+    }
+
     /// The degrees-of-freedom report of the last [`Model::prepare_kinematics`].
     pub fn dof_report(&self) -> Option<&DofReport> {
         self.dof.as_ref()

@@ -256,6 +256,8 @@ pub struct Newton<S: LinearSolver = AutoSolver> {
     x_last: Vec<f64>,
     /// `full_slots` hold the Jacobian at `x_last`.
     slots_at_last: bool,
+    /// Factorizations attempted since construction (successful or not).
+    factorizations: u64,
     /// Refinement buffers: residual and its scale (length m), correction (length n).
     refine_r: Vec<f64>,
     refine_s: Vec<f64>,
@@ -375,6 +377,7 @@ impl<S: LinearSolver> Newton<S> {
             drift: f64::INFINITY,
             x_last: Vec::new(),
             slots_at_last: false,
+            factorizations: 0,
             refine_r: vec![0.0; m],
             refine_s: vec![0.0; m],
             refine_dy: vec![0.0; n],
@@ -416,6 +419,14 @@ impl<S: LinearSolver> Newton<S> {
     /// [`solve`](Self::solve) or passed to [`factor_at`](Self::factor_at).
     pub fn factorization_is_current(&self) -> bool {
         self.factored && self.factored_at_current
+    }
+
+    /// Jacobian evaluations and factorizations made since construction (by [`solve`](Self::solve),
+    /// [`factor_at`](Self::factor_at) and [`solve_linear_at`](Self::solve_linear_at); failed
+    /// attempts included): the costliest operation of a solve, counted to tell the work an
+    /// analysis does from the speed of each piece of it.
+    pub fn factorization_count(&self) -> u64 {
+        self.factorizations
     }
 
     /// The state was moved outside the solver (for example by a predictor): the factorization is
@@ -525,6 +536,7 @@ impl<S: LinearSolver> Newton<S> {
     ) -> Result<(), SolverError> {
         self.factored = false;
         self.factored_at_current = false;
+        self.factorizations += 1;
         system.jacobian(x, &mut self.full_slots);
         self.pattern
             .check_finite(&self.full_slots)
