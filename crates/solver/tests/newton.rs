@@ -824,6 +824,8 @@ fn solve_linear_at_accepts_a_backward_stable_refinement_of_an_ill_conditioned_sy
         !newton.factorization_is_current(),
         "refined to the backward error of a fresh factorization, but refactored anyway"
     );
+    // The factorization made by factor_at served the chord steps and the refinement.
+    assert_eq!(newton.factorization_count(), 1);
     exact.factor_at(&mut sys, &start).unwrap();
     let mut v_ref = vec![0.0; sys.n];
     exact.solve_linear(&rhs, &mut v_ref).unwrap();
