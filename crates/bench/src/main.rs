@@ -524,11 +524,20 @@ fn scaling_point(kind: &str, family: &str, n: usize, smoke: bool) {
             }
         });
         run.reset_counts();
+        let facts0 = run.ws.kinematic_factorizations();
         let t = time_per_call(|| run.frame(true), batch, batches);
         out.push(("frame".into(), format!("{t:e}")));
+        let frames = run.frames.max(1) as f64;
         out.push((
             "iters".into(),
-            format!("{:.2}", run.iterations as f64 / run.frames.max(1) as f64),
+            format!("{:.2}", run.iterations as f64 / frames),
+        ));
+        out.push((
+            "facts".into(),
+            format!(
+                "{:.2}",
+                (run.ws.kinematic_factorizations() - facts0) as f64 / frames
+            ),
         ));
         out.push(("allocs".into(), allocs.to_string()));
     }
@@ -552,20 +561,23 @@ fn scaling_point(kind: &str, family: &str, n: usize, smoke: bool) {
         } else {
             40
         };
-        let per_step = |d: &mut Dynamics, integ: Integrator| -> f64 {
+        // Best time per step, and Newton iterations per step.
+        let per_step = |d: &mut Dynamics, integ: Integrator| -> (f64, f64) {
             let opts = SimulationOptions::new(steps as f64 * h, 1)
                 .integrator(integ)
                 .outputs(Outputs::position_only());
-            let mut best = f64::INFINITY;
+            let (mut best, mut iters) = (f64::INFINITY, 0.0);
             for _ in 0..if smoke { 1 } else { 3 } {
                 let r = d
                     .simulate_consistent(state.clone(), &opts)
                     .expect("simulate");
-                best = best.min(r.stats.wall_time / r.stats.steps.max(1) as f64);
+                let steps = r.stats.steps.max(1) as f64;
+                best = best.min(r.stats.wall_time / steps);
+                iters = r.stats.newton_iterations as f64 / steps;
             }
-            best
+            (best, iters)
         };
-        let ga = per_step(
+        let (ga, ga_iters) = per_step(
             &mut d,
             Integrator::GeneralizedAlpha(GeneralizedAlphaOptions {
                 iteration_matrix: IterationMatrix::MassOnly,
@@ -573,7 +585,8 @@ fn scaling_point(kind: &str, family: &str, n: usize, smoke: bool) {
             }),
         );
         out.push(("ga_step".into(), format!("{ga:e}")));
-        let dp = per_step(&mut d, Integrator::Dopri5(Dopri5Options::fixed(h)));
+        out.push(("ga_iters".into(), format!("{ga_iters:.2}")));
+        let (dp, _) = per_step(&mut d, Integrator::Dopri5(Dopri5Options::fixed(h)));
         out.push(("dopri_step".into(), format!("{dp:e}")));
         if n <= 1000 {
             // O(n²): a few steps only at 1,000 bodies.
@@ -653,8 +666,8 @@ fn scaling_section(cfg: &Cfg, svgs: &mut Vec<(String, String)>) -> String {
     );
     let _ = writeln!(
         md,
-        "| model | bodies | setup (kin) | kinematic frame | iterations | allocs / 5 frames | peak (kin) | setup (dyn) | gen-α M step | gen-α T step | DOPRI5 step | peak (dyn) |\n\
-         |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+        "| model | bodies | setup (kin) | kinematic frame | iterations | factorizations | allocs / 5 frames | peak (kin) | setup (dyn) | gen-α M step | iterations | gen-α T step | DOPRI5 step | peak (dyn) |\n\
+         |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
     );
     let mut fits = String::new();
     let mut series = Vec::new();
@@ -664,6 +677,9 @@ fn scaling_section(cfg: &Cfg, svgs: &mut Vec<(String, String)>) -> String {
         let mut dp_pts = Vec::new();
         let mut mem_pts = Vec::new();
         let mut dmem_pts = Vec::new();
+        // Time per factorization of a kinematic frame, per Newton iteration of a gen-α step.
+        let mut kin_fact_pts = Vec::new();
+        let mut ga_iter_pts = Vec::new();
         for &n in sizes {
             eprintln!("scaling {family} {n}");
             let k = run_point("kin", family, n, cfg.smoke).unwrap_or_default();
@@ -674,16 +690,20 @@ fn scaling_section(cfg: &Cfg, svgs: &mut Vec<(String, String)>) -> String {
             dp_pts.push((nb, get(&d, "dopri_step")));
             mem_pts.push((nb, get(&k, "peak")));
             dmem_pts.push((nb, get(&d, "peak")));
+            kin_fact_pts.push((nb, get(&k, "frame") / get(&k, "facts")));
+            ga_iter_pts.push((nb, get(&d, "ga_step") / get(&d, "ga_iters")));
             let _ = writeln!(
                 md,
-                "| {family} | {nb} | {} | {} | {:.2} | {} | {} | {} | {} | {} | {} | {} |",
+                "| {family} | {nb} | {} | {} | {:.2} | {:.2} | {} | {} | {} | {} | {:.2} | {} | {} | {} |",
                 fmt_time(get(&k, "setup")),
                 fmt_time(get(&k, "frame")),
                 get(&k, "iters"),
+                get(&k, "facts"),
                 get(&k, "allocs"),
                 fmt_bytes(get(&k, "peak") as u64),
                 fmt_time(get(&d, "setup")),
                 fmt_time(get(&d, "ga_step")),
+                get(&d, "ga_iters"),
                 fmt_time(get(&d, "ga_tangent_step")),
                 fmt_time(get(&d, "dopri_step")),
                 fmt_bytes(get(&d, "peak") as u64),
@@ -691,9 +711,11 @@ fn scaling_section(cfg: &Cfg, svgs: &mut Vec<(String, String)>) -> String {
         }
         let _ = writeln!(
             fits,
-            "| {family} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} |",
+            "| {family} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} |",
             loglog_slope(&kin_pts),
+            loglog_slope(&kin_fact_pts),
             loglog_slope(&ga_pts),
+            loglog_slope(&ga_iter_pts),
             loglog_slope(&dp_pts),
             loglog_slope(&mem_pts[mem_pts.len().saturating_sub(2)..]),
             loglog_slope(&dmem_pts[dmem_pts.len().saturating_sub(2)..]),
@@ -713,10 +735,17 @@ fn scaling_section(cfg: &Cfg, svgs: &mut Vec<(String, String)>) -> String {
     }
     let _ = writeln!(
         md,
-        "\nFitted exponents p of t ∝ n^p (least squares over all sizes; peak memory over the two \
+        "\n*Iterations* and *factorizations* are per kinematic frame (Newton iterations of the \
+         position analysis; factorizations of Φ_v in the position, velocity and acceleration \
+         analyses), *iterations* after the gen-α step its Newton iterations per step: how much work \
+         a frame or step of the model does, which grows with n for the chain (below).\n\n\
+         Fitted exponents p of t ∝ n^p (least squares over all sizes; peak memory over the two \
          largest; the dynamic peak at 1,000 bodies includes the tangent run, which is not \
-         made at 10,000):\n\n| model | kinematic frame | gen-α M step | DOPRI5 step | peak memory (kin) | peak memory (dyn) |\n\
-         |---|---:|---:|---:|---:|---:|\n{fits}\n![Scaling](benchmarks/scaling.svg)\n"
+         made at 10,000). *Per factorization* divides the frame time by the factorizations per \
+         frame, *per iteration* the step time by the Newton iterations per step: the cost of one \
+         unit of the solver's work.\n\n\
+         | model | kinematic frame | … per factorization | gen-α M step | … per iteration | DOPRI5 step | peak memory (kin) | peak memory (dyn) |\n\
+         |---|---:|---:|---:|---:|---:|---:|---:|\n{fits}\n![Scaling](benchmarks/scaling.svg)\n"
     );
     svgs.push((
         "scaling.svg".into(),
