@@ -252,8 +252,10 @@ impl Workspace {
     }
 
     /// Factorizations of Φ_v made by the kinematic solver of this workspace (position, velocity
-    /// and acceleration analyses; 0 before [`Model::prepare_kinematics`]). With the iteration
-    /// counts of [`Model::position`] it tells how much work a run of frames did.
+    /// and acceleration analyses): 0 before [`Model::prepare_kinematics`], which builds a new
+    /// solver (the count restarts, and may include a factorization of the preparation). With
+    /// the iteration counts of [`Model::position`], the difference over a run of frames tells how
+    /// much work they did.
     pub fn kinematic_factorizations(&self) -> u64 {
         self.kin.as_ref().map_or(0, |n| n.factorization_count())
     }

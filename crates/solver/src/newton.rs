@@ -421,10 +421,11 @@ impl<S: LinearSolver> Newton<S> {
         self.factored && self.factored_at_current
     }
 
-    /// Jacobian evaluations and factorizations made since construction (by [`solve`](Self::solve),
-    /// [`factor_at`](Self::factor_at) and [`solve_linear_at`](Self::solve_linear_at); failed
-    /// attempts included): the costliest operation of a solve, counted to tell the work an
-    /// analysis does from the speed of each piece of it.
+    /// Factorizations (each with its Jacobian evaluation) made since construction by
+    /// [`solve`](Self::solve), [`factor_at`](Self::factor_at) and
+    /// [`solve_linear_at`](Self::solve_linear_at), failed attempts included: the costliest
+    /// operation of a solve, counted to tell the work an analysis does from the speed of each
+    /// piece of it. (The Jacobian evaluations of iterative refinement are not counted.)
     pub fn factorization_count(&self) -> u64 {
         self.factorizations
     }
@@ -706,7 +707,8 @@ impl<S: LinearSolver> Newton<S> {
                 self.refine_r = r;
                 return Ok(true);
             }
-            if correction == REFINE_MAX_CORRECTIONS || berr > 0.5 * last {
+            // (A NaN backward error, after an overflow, also ends here: refactor.)
+            if correction == REFINE_MAX_CORRECTIONS || !(berr <= 0.5 * last) {
                 self.refine_r = r;
                 return Ok(false);
             }
