@@ -708,7 +708,7 @@ impl<S: LinearSolver> Newton<S> {
                 return Ok(true);
             }
             // (A NaN backward error, after an overflow, also ends here: refactor.)
-            if correction == REFINE_MAX_CORRECTIONS || !(berr <= 0.5 * last) {
+            if correction == REFINE_MAX_CORRECTIONS || berr.is_nan() || berr > 0.5 * last {
                 self.refine_r = r;
                 return Ok(false);
             }
