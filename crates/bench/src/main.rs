@@ -189,8 +189,7 @@ fn profile(args: &[String]) {
             let model = models::revolute_chain(n);
             let mut ws = model.workspace();
             model.prepare_kinematics(&mut ws).expect("prepare");
-            let times: Vec<f64> = (0..=200).map(|k| k as f64 * 0.02).collect();
-            let mut run = FrameRun::prepared(&model, ws, times);
+            let mut run = FrameRun::prepared(&model, ws, scaling_times());
             let t0 = Instant::now();
             for _ in 0..frames {
                 run.frame(true);
@@ -324,6 +323,11 @@ impl<'a> FrameRun<'a> {
         self.frames = 0;
         self.residual = 0.0;
     }
+}
+
+/// The time grid of the generated scaling models' kinematic frames: 0 … 4 s every 0.02 s.
+fn scaling_times() -> Vec<f64> {
+    (0..=200).map(|k| f64::from(k) * 0.02).collect()
 }
 
 fn examples() -> Vec<(String, Prepared)> {
@@ -513,8 +517,7 @@ fn scaling_point(kind: &str, family: &str, n: usize, smoke: bool) {
         let mut ws = model.workspace();
         model.prepare_kinematics(&mut ws).expect("prepare");
         out.push(("setup".into(), format!("{:e}", t1.elapsed().as_secs_f64())));
-        let times: Vec<f64> = (0..=200).map(|k| k as f64 * 0.02).collect();
-        let mut run = FrameRun::prepared(model, ws, times);
+        let mut run = FrameRun::prepared(model, ws, scaling_times());
         for _ in 0..3 {
             run.frame(true);
         }
