@@ -362,24 +362,42 @@ impl Equilibration {
         }
     }
 
-    /// Computes the scales of a compressed-column matrix and scales `values` in place.
-    pub(crate) fn apply_csc(&mut self, col_ptr: &[usize], row_idx: &[usize], values: &mut [f64]) {
+    /// Row maxima of a compressed-column matrix into `self.row` (the first half of
+    /// [`scale_csc`](Self::scale_csc), for callers that cannot fold it into their assembly).
+    /// The values must be finite.
+    pub(crate) fn row_max_csc(&mut self, row_idx: &[u32], values: &[f64]) {
         self.row.fill(0.0);
-        for (&i, v) in row_idx.iter().zip(values.iter()) {
-            self.row[i] = self.row[i].max(v.abs());
+        for (&i, v) in row_idx.iter().zip(values) {
+            let (a, r) = (v.abs(), &mut self.row[i as usize]);
+            if a > *r {
+                *r = a;
+            }
         }
+    }
+
+    /// Scales a compressed-column matrix in place, with `self.row` holding the largest magnitude
+    /// of each row on entry (replaced by the row scales): rows first, then each column by its
+    /// own scale, one pass over the values (a column is short, its second loop runs in L1).
+    /// The values must be finite.
+    pub(crate) fn scale_csc(&mut self, col_ptr: &[u32], row_idx: &[u32], values: &mut [f64]) {
         for r in self.row.iter_mut() {
             *r = pow2_recip(*r);
         }
-        for j in 0..self.col.len() {
-            let range = col_ptr[j]..col_ptr[j + 1];
+        for (j, c_out) in self.col.iter_mut().enumerate() {
+            let range = col_ptr[j] as usize..col_ptr[j + 1] as usize;
             let mut max = 0.0f64;
-            for k in range.clone() {
-                values[k] *= self.row[row_idx[k]];
-                max = max.max(values[k].abs());
+            for (v, &i) in values[range.clone()]
+                .iter_mut()
+                .zip(&row_idx[range.clone()])
+            {
+                *v *= self.row[i as usize];
+                let a = v.abs();
+                if a > max {
+                    max = a;
+                }
             }
             let c = pow2_recip(max);
-            self.col[j] = c;
+            *c_out = c;
             for v in &mut values[range] {
                 *v *= c;
             }

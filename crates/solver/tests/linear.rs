@@ -296,6 +296,54 @@ fn bad_input_is_a_typed_error() {
 }
 
 #[test]
+fn sparse_lu_names_the_non_finite_slot_with_and_without_duplicates() {
+    // Without duplicates the check is folded into the scatter; with them the values are summed
+    // first. Either way the first bad slot is named, and the solver factors again afterwards.
+    let plain = SparsityPattern::new(2, 2, &[(0, 0), (1, 0), (0, 1), (1, 1)]).unwrap();
+    let dup = SparsityPattern::new(2, 2, &[(0, 0), (1, 0), (0, 1), (1, 1), (0, 0)]).unwrap();
+    for (p, bad_slot) in [(&plain, 2usize), (&dup, 4usize)] {
+        let mut s = SparseLu::new();
+        s.analyze(p).unwrap();
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            let mut slots = vec![2.0, 0.5, 0.25, 3.0, 1.0];
+            slots.truncate(p.num_slots());
+            slots[bad_slot] = bad;
+            let (row, col) = p.entry(bad_slot);
+            assert_eq!(
+                s.factor(&slots),
+                Err(SolverError::NonFinite {
+                    location: cardan_solver::NonFiniteLocation::Jacobian {
+                        slot: bad_slot,
+                        row,
+                        col
+                    },
+                    iteration: None
+                }),
+                "{} slots, value {bad}",
+                p.num_slots()
+            );
+            let mut x = [0.0; 2];
+            assert!(matches!(
+                s.solve(&[1.0, 1.0], &mut x),
+                Err(SolverError::NotReady { .. })
+            ));
+        }
+        assert!(matches!(
+            s.factor(&vec![1.0; p.num_slots() + 1]),
+            Err(SolverError::DimensionMismatch { .. })
+        ));
+        let mut slots = vec![2.0, 0.5, 0.25, 3.0, 1.0];
+        slots.truncate(p.num_slots());
+        s.factor(&slots).unwrap();
+        let x = solve_with(&mut s, p, &slots, &[1.0, 2.0]);
+        assert!(
+            relative_residual(p, &slots, &x, &[1.0, 2.0]) < 1e-15,
+            "{x:?}"
+        );
+    }
+}
+
+#[test]
 fn auto_choice_follows_size_and_density_and_can_be_overridden() {
     let mut rng = Rng(5);
     let (small, _) = common::chain(4, &mut rng); // 28 unknowns
