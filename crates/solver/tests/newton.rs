@@ -534,6 +534,75 @@ fn failures_are_typed_and_readable() {
             iteration: Some(0)
         }
     );
+    // A non-finite Jacobian entry is named by slot, row and column, with the iteration: with
+    // every row solved (the check is folded into the copy to the solver), and with a row
+    // selection whose dropped row holds the bad entry (not copied, checked all the same).
+    struct BadJacobian {
+        value: f64,
+    }
+    impl NonlinearSystem for BadJacobian {
+        fn num_equations(&self) -> usize {
+            3
+        }
+        fn num_unknowns(&self) -> usize {
+            2
+        }
+        fn residual(&mut self, x: &[f64], out: &mut [f64]) {
+            out.copy_from_slice(&[x[0] - 1.0, x[1] - 2.0, x[0] + x[1] - 3.0]);
+        }
+        // Slots (column-major dense): (0,0) (1,0) (2,0) (0,1) (1,1) (2,1).
+        fn jacobian(&mut self, _x: &[f64], s: &mut [f64]) {
+            s.copy_from_slice(&[1.0, 0.0, 1.0, 0.0, 1.0, self.value]);
+        }
+    }
+    let p3 = SparsityPattern::dense(3, 2);
+    for (value, selected) in [
+        (f64::NAN, false),
+        (f64::INFINITY, false),
+        (f64::NAN, true),
+        (f64::NEG_INFINITY, true),
+    ] {
+        let mut system = BadJacobian { value };
+        let err = if selected {
+            let sel = p3.select_rows(&[0, 1]).unwrap();
+            Newton::with_row_selection(&p3, sel, SparseLu::new(), NewtonOptions::default())
+                .unwrap()
+                .solve(&mut system, &mut [0.0, 0.0])
+        } else {
+            Newton::new(&p3, AutoSolver::default(), NewtonOptions::default())
+                .unwrap()
+                .solve(&mut system, &mut [0.0, 0.0])
+        }
+        .unwrap_err();
+        assert_eq!(
+            err,
+            SolverError::NonFinite {
+                location: NonFiniteLocation::Jacobian {
+                    slot: 5,
+                    row: 2,
+                    col: 1
+                },
+                iteration: Some(1)
+            },
+            "value {value}, row selection {selected}"
+        );
+    }
+    // The same system with a finite entry solves, with and without the selection.
+    let mut newton = Newton::with_row_selection(
+        &p3,
+        p3.select_rows(&[0, 1]).unwrap(),
+        SparseLu::new(),
+        NewtonOptions::default(),
+    )
+    .unwrap();
+    let mut x = [0.0, 0.0];
+    newton
+        .solve(&mut BadJacobian { value: 1.0 }, &mut x)
+        .unwrap();
+    assert!(
+        (x[0] - 1.0).abs() < 1e-14 && (x[1] - 2.0).abs() < 1e-14,
+        "{x:?}"
+    );
     // Velocity before any factorization.
     let mut newton = Newton::new(&p, AutoSolver::default(), NewtonOptions::default()).unwrap();
     assert!(matches!(
