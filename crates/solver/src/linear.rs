@@ -365,10 +365,10 @@ impl Equilibration {
     /// Row maxima of a compressed-column matrix into `self.row` (the first half of
     /// [`scale_csc`](Self::scale_csc), for callers that cannot fold it into their assembly).
     /// The values must be finite.
-    pub(crate) fn row_max_csc(&mut self, row_idx: &[u32], values: &[f64]) {
+    pub(crate) fn row_max_csc<I: faer::Index>(&mut self, row_idx: &[I], values: &[f64]) {
         self.row.fill(0.0);
         for (&i, v) in row_idx.iter().zip(values) {
-            let (a, r) = (v.abs(), &mut self.row[i as usize]);
+            let (a, r) = (v.abs(), &mut self.row[i.zx()]);
             if a > *r {
                 *r = a;
             }
@@ -379,18 +379,23 @@ impl Equilibration {
     /// of each row on entry (replaced by the row scales): rows first, then each column by its
     /// own scale, one pass over the values (a column is short, its second loop runs in L1).
     /// The values must be finite.
-    pub(crate) fn scale_csc(&mut self, col_ptr: &[u32], row_idx: &[u32], values: &mut [f64]) {
+    pub(crate) fn scale_csc<I: faer::Index>(
+        &mut self,
+        col_ptr: &[I],
+        row_idx: &[I],
+        values: &mut [f64],
+    ) {
         for r in self.row.iter_mut() {
             *r = pow2_recip(*r);
         }
         for (j, c_out) in self.col.iter_mut().enumerate() {
-            let range = col_ptr[j] as usize..col_ptr[j + 1] as usize;
+            let range = col_ptr[j].zx()..col_ptr[j + 1].zx();
             let mut max = 0.0f64;
             for (v, &i) in values[range.clone()]
                 .iter_mut()
                 .zip(&row_idx[range.clone()])
             {
-                *v *= self.row[i as usize];
+                *v *= self.row[i.zx()];
                 let a = v.abs();
                 if a > max {
                     max = a;

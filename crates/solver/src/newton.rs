@@ -220,8 +220,8 @@ pub struct Newton<S: LinearSolver = AutoSolver> {
     full_slots: Vec<f64>,
     /// Values handed to the linear solver (reduced and scaled).
     solve_slots: Vec<f64>,
-    /// For each solver slot: full slot (empty without a row selection: the identity), full row,
-    /// column. 32-bit: on a large model these maps are streamed at every factorization and
+    /// For each solver slot: full slot (unused and empty without a row selection: the
+    /// identity), full row, column. 32-bit: on a large model these maps are streamed at every factorization and
     /// refinement, and half the width is half the memory traffic.
     slot_src: Vec<u32>,
     slot_row: Vec<u32>,
@@ -284,7 +284,8 @@ impl<S: LinearSolver> Newton<S> {
     ///
     /// # Errors
     /// Whatever `solver.analyze` reports (for example [`SolverError::NotSquare`] for an LU solver
-    /// on a rectangular pattern).
+    /// on a rectangular pattern); [`SolverError::Backend`] for a pattern with 2³² or more slots,
+    /// rows or columns (the slot maps are 32-bit).
     pub fn new(
         pattern: &SparsityPattern,
         mut solver: S,
@@ -301,7 +302,8 @@ impl<S: LinearSolver> Newton<S> {
     ///
     /// # Errors
     /// [`SolverError::DimensionMismatch`] or [`SolverError::InvalidRowSelection`] if the selection
-    /// was not made from `pattern`, or what `solver.analyze` reports on the reduced pattern.
+    /// was not made from `pattern`, or what `solver.analyze` reports on the reduced pattern;
+    /// [`SolverError::Backend`] for a pattern with 2³² or more slots, rows or columns.
     pub fn with_row_selection(
         pattern: &SparsityPattern,
         selection: RowSelection,
@@ -551,13 +553,13 @@ impl<S: LinearSolver> Newton<S> {
         self.factored_at_current = false;
         self.factorizations += 1;
         system.jacobian(x, &mut self.full_slots);
-        // One pass: the solver's (reduced, scaled) values, with the finiteness check.
+        // The solver's (reduced, scaled) values, with the finiteness check in the same pass.
         let scale = self
             .options
             .scale_linear_system
             .then_some(self.slot_scale.as_slice());
         let full = &self.full_slots;
-        let finite = if self.slot_src.is_empty() {
+        let finite = if self.selection.is_none() {
             gather_slots(&mut self.solve_slots, full.iter().copied(), scale)
         } else {
             let src = self.slot_src.iter().map(|&k| full[k as usize]);
@@ -702,7 +704,7 @@ impl<S: LinearSolver> Newton<S> {
             }
             let full = &self.full_slots;
             let (rows, cols) = (&self.slot_row, &self.slot_col);
-            if self.slot_src.is_empty() {
+            if self.selection.is_none() {
                 residual_and_scale(&mut r, &mut s, full.iter().copied(), rows, cols, out);
             } else {
                 let src = self.slot_src.iter().map(|&k| full[k as usize]);

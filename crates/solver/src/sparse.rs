@@ -19,11 +19,17 @@
 //!
 //! Memory traffic: on a large model (a 10,000-body chain has 660,000 nonzeros) a factorization
 //! streams arrays far larger than the caches, so its cost is the number of passes over them
-//! and their width. The indices are 32-bit (faer's factors and this struct's maps: half the
-//! bytes of `usize`), and `factor` makes two passes before faer's: the slots go straight to
-//! their compressed-column positions, with the finiteness check and the row maxima of the
-//! equilibration in the same loop, then one pass per column scales it. Patterns beyond
-//! 2³² − 1 nonzeros or unknowns are refused at [`analyze`](LinearSolver::analyze).
+//! and their width.
+//! * Index width: up to [`NARROW_MAX`] unknowns and nonzeros, faer's factors and this struct's
+//!   maps use 32-bit indices (half the bytes of `usize`); larger patterns use `usize`. faer keeps
+//!   signed 32-bit positions in COLAMD and in the factors' column pointers, so the bound leaves
+//!   room for 2³¹ / 2²⁶ = 32 times the fill of the matrix itself (mechanism patterns fill 1.1 to
+//!   3 times), and a presizing run with more than [`NARROW_MAX_FACTOR`] entries in `L + U`
+//!   switches to `usize` at analysis.
+//! * Passes: without duplicate slots, `factor` places each slot at its compressed-column
+//!   position with the finiteness check and the row maxima of the equilibration in the same
+//!   loop, then scales one column at a time while it is in L1. With duplicates (summed) the
+//!   values are zeroed, summed, and their row maxima taken in a pass of their own.
 
 use crate::error::{NonFiniteLocation, SolverError};
 use crate::linear::{
@@ -35,24 +41,199 @@ use faer::perm::PermRef;
 use faer::sparse::linalg::lu::{factorize_symbolic_lu, simplicial, LuSymbolicParams, SymbolicLu};
 use faer::sparse::linalg::{LuError, SupernodalThreshold};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
-use faer::{Conj, MatMut, Par};
+use faer::{Conj, Index, MatMut, Par};
+
+/// Largest number of unknowns and of nonzeros for which [`SparseLu`] uses 32-bit indices (2²⁶).
+pub const NARROW_MAX: usize = 1 << 26;
+
+/// Largest number of entries of `L + U` after the presizing factorizations for which
+/// [`SparseLu`] keeps 32-bit indices (2³⁰, half of faer's signed 32-bit positions).
+pub const NARROW_MAX_FACTOR: usize = 1 << 30;
+
+/// What depends on the index type: the pattern in compressed columns, the slot maps, faer's
+/// symbolic and numeric LU and the row permutation.
+#[derive(Debug)]
+struct Indexed<I: Index> {
+    csc: SymbolicSparseColMat<I>,
+    /// Per slot: its position in the compressed-column values, and its row.
+    slot_pos: Vec<I>,
+    slot_row: Vec<I>,
+    symbolic: SymbolicLu<I>,
+    lu: simplicial::SimplicialLu<I, f64>,
+    row_perm: Vec<I>,
+    row_perm_inv: Vec<I>,
+}
+
+/// The index width chosen at analysis.
+#[derive(Debug)]
+enum Width {
+    Narrow(Indexed<u32>),
+    Wide(Indexed<usize>),
+}
+
+/// Calls `$body` with `$x` bound to the [`Indexed`] of either width.
+macro_rules! with_width {
+    ($w:expr, $x:ident => $body:expr) => {
+        match $w {
+            Width::Narrow($x) => $body,
+            Width::Wide($x) => $body,
+        }
+    };
+}
+
+impl<I: Index> Indexed<I> {
+    /// The symbolic analysis of `pattern` (square, `n` unknowns) with indices of type `I`, and
+    /// the scratch memory its factorizations and solves need.
+    fn analyze(pattern: &SparsityPattern, n: usize) -> Result<(Self, Scratch), SolverError> {
+        let sym = pattern.symbolic();
+        let narrow = |v: &usize| I::truncate(*v);
+        let csc = SymbolicSparseColMat::new_checked(
+            n,
+            n,
+            sym.col_ptr().iter().map(narrow).collect(),
+            None,
+            sym.row_idx().iter().map(narrow).collect(),
+        );
+        let params = LuSymbolicParams {
+            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SIMPLICIAL,
+            ..Default::default()
+        };
+        let symbolic = factorize_symbolic_lu(csc.as_ref(), params)
+            .map_err(|e| SolverError::Backend(format!("symbolic LU: {e:?}")))?;
+        let req = StackReq::any_of(&[
+            simplicial::factorize_simplicial_numeric_lu_scratch::<I, f64>(n, n),
+            simplicial::solve_in_place_scratch::<I, f64>(n, 1, Par::Seq),
+        ]);
+        let mem = Scratch::try_new(req)?;
+        let indexed = Self {
+            csc,
+            slot_pos: pattern.slot_to_csc().iter().map(narrow).collect(),
+            slot_row: pattern.entries().map(|(r, _)| I::truncate(r)).collect(),
+            symbolic,
+            lu: simplicial::SimplicialLu::new(),
+            row_perm: vec![I::truncate(0); n],
+            row_perm_inv: vec![I::truncate(0); n],
+        };
+        Ok((indexed, mem))
+    }
+
+    /// faer's numeric LU of the equilibrated `values`.
+    fn factor_values(&mut self, values: &[f64], mem: &mut Scratch) -> Result<(), LuError> {
+        simplicial::factorize_simplicial_numeric_lu(
+            &mut self.row_perm,
+            &mut self.row_perm_inv,
+            &mut self.lu,
+            SparseColMatRef::new(self.csc.as_ref(), values),
+            self.symbolic.col_perm(),
+            mem.stack(),
+        )
+    }
+
+    /// Sizes the factor storage at analysis: faer's simplicial LU grows its `L`/`U` vectors
+    /// when a factorization produces more fill than every earlier one, which depends on the
+    /// pivot sequence. Factoring a few matrices with the pattern and random values (pivots all
+    /// over the place, hence more fill than a mechanism's usual near-diagonal pivoting) leaves
+    /// enough capacity, with the amortized doubling of `Vec`, that later factorizations do not
+    /// allocate in practice. Errors here are ignored (a structurally singular pattern fails
+    /// later, with the real values). Returns the largest `L + U` seen.
+    fn presize(&mut self, values: &mut [f64], mem: &mut Scratch) -> usize {
+        let mut state = 0x9E37_79B9_7F4A_7C15u64;
+        let mut largest = 0;
+        for _ in 0..3 {
+            for v in values.iter_mut() {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                *v = (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+            }
+            if self.factor_values(values, mem).is_ok() {
+                largest = largest.max(self.factor_nnz());
+            }
+        }
+        largest
+    }
+
+    fn factor_nnz(&self) -> usize {
+        self.lu.l_factor_unsorted().compute_nnz() + self.lu.u_factor_unsorted().compute_nnz()
+    }
+
+    /// Places the slots at their compressed-column positions and equilibrates; `false` if a
+    /// value is not finite (`values` and `equil` are then unusable).
+    fn assemble(
+        &self,
+        slots: &[f64],
+        duplicates: bool,
+        values: &mut [f64],
+        equil: &mut Equilibration,
+    ) -> bool {
+        let mut finite = true;
+        if duplicates {
+            values.fill(0.0);
+            for (&v, &p) in slots.iter().zip(&self.slot_pos) {
+                finite &= v.is_finite();
+                values[p.zx()] += v;
+            }
+            if !finite {
+                return false;
+            }
+            equil.row_max_csc(self.csc.row_idx(), values);
+        } else {
+            // One pass: place, check, row maxima.
+            let row = &mut equil.row;
+            row.fill(0.0);
+            for ((&v, &p), &i) in slots.iter().zip(&self.slot_pos).zip(&self.slot_row) {
+                finite &= v.is_finite();
+                values[p.zx()] = v;
+                let (a, r) = (v.abs(), &mut row[i.zx()]);
+                if a > *r {
+                    *r = a;
+                }
+            }
+            if !finite {
+                return false;
+            }
+        }
+        equil.scale_csc(self.csc.col_ptr(), self.csc.row_idx(), values);
+        true
+    }
+
+    /// Rows (of the equilibrated matrix's pivot order) whose pivot `|u_jj|` is `≤ tol` or NaN.
+    fn small_pivots(&self, tol: f64, out: &mut Vec<usize>) {
+        out.clear();
+        let u = self.lu.u_factor_unsorted();
+        let col_ptr = u.symbolic().col_ptr();
+        let vals = u.val();
+        for j in 0..self.row_perm.len() {
+            // The diagonal of U is the last stored entry of each of its columns.
+            let (start, end) = (col_ptr[j].zx(), col_ptr[j + 1].zx());
+            let d = if end > start { vals[end - 1] } else { 0.0 };
+            if d.abs() <= tol || d.is_nan() {
+                out.push(self.row_perm[j].zx());
+            }
+        }
+    }
+
+    fn solve_in_place(&self, x: &mut [f64], mem: &mut Scratch) {
+        let n = self.row_perm.len();
+        self.lu.solve_in_place_with_conj(
+            PermRef::new_checked(&self.row_perm, &self.row_perm_inv, n),
+            self.symbolic.col_perm(),
+            Conj::No,
+            MatMut::from_column_major_slice_mut(x, n, 1),
+            Par::Seq,
+            mem.stack(),
+        );
+    }
+}
 
 /// Sparse LU with a fill-reducing ordering computed once. Square matrices only.
 #[derive(Debug)]
 pub struct SparseLu {
     pattern: Option<SparsityPattern>,
-    /// The pattern's compressed columns with 32-bit indices.
-    csc: Option<SymbolicSparseColMat<u32>>,
-    /// Per slot: its position in the compressed-column values, and its row.
-    slot_pos: Vec<u32>,
-    slot_row: Vec<u32>,
+    indexed: Option<Width>,
     /// Whether two slots share an entry (they are summed: the values are zeroed first and the
     /// row maxima taken after assembly).
     duplicates: bool,
-    symbolic: Option<SymbolicLu<u32>>,
-    lu: simplicial::SimplicialLu<u32, f64>,
-    row_perm: Vec<u32>,
-    row_perm_inv: Vec<u32>,
     values: Vec<f64>,
     mem: Scratch,
     pivot_tolerance: f64,
@@ -72,14 +253,8 @@ impl SparseLu {
     pub fn new() -> Self {
         Self {
             pattern: None,
-            csc: None,
-            slot_pos: Vec::new(),
-            slot_row: Vec::new(),
+            indexed: None,
             duplicates: false,
-            symbolic: None,
-            lu: simplicial::SimplicialLu::new(),
-            row_perm: Vec::new(),
-            row_perm_inv: Vec::new(),
             values: Vec::new(),
             mem: Scratch::empty(),
             pivot_tolerance: DEFAULT_PIVOT_TOLERANCE,
@@ -95,144 +270,73 @@ impl SparseLu {
         self
     }
 
-    /// Sizes the factor storage at analysis: faer's simplicial LU grows its `L`/`U` vectors when a
-    /// factorization produces more fill than every earlier one, which depends on the pivot
-    /// sequence. Factoring a few matrices with the pattern and random values (pivots all over the
-    /// place, hence more fill than a mechanism's usual near-diagonal pivoting) leaves enough
-    /// capacity, with the amortized doubling of `Vec`, that later factorizations do not allocate
-    /// in practice. Errors here are ignored (a structurally singular pattern fails later, with
-    /// the real values).
-    fn presize_factor_storage(&mut self) {
-        let (Some(csc), Some(symbolic)) = (self.csc.as_ref(), self.symbolic.as_ref()) else {
-            return;
-        };
-        let mut state = 0x9E37_79B9_7F4A_7C15u64;
-        for _ in 0..3 {
-            for v in self.values.iter_mut() {
-                state ^= state << 13;
-                state ^= state >> 7;
-                state ^= state << 17;
-                *v = (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
-            }
-            let a = SparseColMatRef::new(csc.as_ref(), &self.values);
-            let _ = simplicial::factorize_simplicial_numeric_lu(
-                &mut self.row_perm,
-                &mut self.row_perm_inv,
-                &mut self.lu,
-                a,
-                symbolic.col_perm(),
-                self.mem.stack(),
-            );
+    /// Number of stored entries in `L + U` after the last factorization (fill measure).
+    pub fn factor_nnz(&self) -> usize {
+        match (&self.indexed, self.factored) {
+            (Some(w), true) => with_width!(w, x => x.factor_nnz()),
+            _ => 0,
         }
     }
 
-    /// Number of stored entries in `L + U` after the last factorization (fill measure).
-    pub fn factor_nnz(&self) -> usize {
-        if self.factored {
-            self.lu.l_factor_unsorted().compute_nnz() + self.lu.u_factor_unsorted().compute_nnz()
-        } else {
-            0
+    /// Whether the analysis chose 32-bit indices (see the [module docs](self)).
+    pub fn uses_32_bit_indices(&self) -> bool {
+        matches!(self.indexed, Some(Width::Narrow(_)))
+    }
+
+    /// [`analyze`](LinearSolver::analyze) with a choice of index width: `narrow` if the pattern
+    /// allows it, 64-bit otherwise or when the presizing run's fill exceeds
+    /// [`NARROW_MAX_FACTOR`].
+    fn analyze_with(&mut self, pattern: &SparsityPattern, narrow: bool) -> Result<(), SolverError> {
+        // Nothing of an earlier analysis survives a failed one.
+        self.pattern = None;
+        self.indexed = None;
+        self.factored = false;
+        let (m, n) = (pattern.nrows(), pattern.ncols());
+        if m != n {
+            return Err(SolverError::NotSquare { nrows: m, ncols: n });
         }
+        let mut values = vec![0.0; pattern.nnz()];
+        let narrow = narrow && n <= NARROW_MAX && pattern.nnz() <= NARROW_MAX;
+        let (mut indexed, mut mem) = if narrow {
+            let (x, mem) = Indexed::<u32>::analyze(pattern, n)?;
+            (Width::Narrow(x), mem)
+        } else {
+            let (x, mem) = Indexed::<usize>::analyze(pattern, n)?;
+            (Width::Wide(x), mem)
+        };
+        let fill = with_width!(&mut indexed, x => x.presize(&mut values, &mut mem));
+        if narrow && fill > NARROW_MAX_FACTOR {
+            return self.analyze_with(pattern, false);
+        }
+        self.indexed = Some(indexed);
+        self.mem = mem;
+        self.values = values;
+        self.pivot_rows = Vec::with_capacity(n);
+        self.equil = Equilibration::new(n, n);
+        self.duplicates = pattern.num_slots() != pattern.nnz();
+        self.pattern = Some(pattern.clone());
+        Ok(())
     }
 }
 
 impl LinearSolver for SparseLu {
     fn analyze(&mut self, pattern: &SparsityPattern) -> Result<(), SolverError> {
-        let (m, n) = (pattern.nrows(), pattern.ncols());
-        if m != n {
-            return Err(SolverError::NotSquare { nrows: m, ncols: n });
-        }
-        let too_large = |what: &str| {
-            SolverError::Backend(format!(
-                "sparse LU: {what} exceeds 2^32 - 1 (32-bit indices); split the model"
-            ))
-        };
-        let narrow = |v: usize| u32::try_from(v);
-        if narrow(n).is_err() || narrow(pattern.nnz()).is_err() {
-            return Err(too_large("the number of unknowns or nonzeros"));
-        }
-        let sym = pattern.symbolic();
-        let col_ptr: Vec<u32> = sym.col_ptr().iter().map(|&v| v as u32).collect();
-        let row_idx: Vec<u32> = sym.row_idx().iter().map(|&v| v as u32).collect();
-        let csc = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
-        self.slot_pos = pattern.slot_to_csc().iter().map(|&p| p as u32).collect();
-        self.slot_row = pattern.entries().map(|(r, _)| r as u32).collect();
-        self.duplicates = pattern.num_slots() != pattern.nnz();
-        let params = LuSymbolicParams {
-            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SIMPLICIAL,
-            ..Default::default()
-        };
-        let symbolic = factorize_symbolic_lu(csc.as_ref(), params)
-            .map_err(|e| SolverError::Backend(format!("symbolic LU: {e:?}")))?;
-        let req = StackReq::any_of(&[
-            simplicial::factorize_simplicial_numeric_lu_scratch::<u32, f64>(n, n),
-            simplicial::solve_in_place_scratch::<u32, f64>(n, 1, Par::Seq),
-        ]);
-        self.mem = Scratch::try_new(req)?;
-        self.symbolic = Some(symbolic);
-        self.csc = Some(csc);
-        self.row_perm = vec![0; n];
-        self.row_perm_inv = vec![0; n];
-        self.values = vec![0.0; pattern.nnz()];
-        self.pivot_rows = Vec::with_capacity(n);
-        self.equil = Equilibration::new(n, n);
-        self.lu = simplicial::SimplicialLu::new();
-        self.pattern = Some(pattern.clone());
-        self.factored = false;
-        self.presize_factor_storage();
-        Ok(())
+        self.analyze_with(pattern, true)
     }
 
     fn factor(&mut self, slots: &[f64]) -> Result<(), SolverError> {
         self.factored = false;
-        let (Some(pattern), Some(csc), Some(symbolic)) = (
-            self.pattern.as_ref(),
-            self.csc.as_ref(),
-            self.symbolic.as_ref(),
-        ) else {
+        let (Some(pattern), Some(indexed)) = (self.pattern.as_ref(), self.indexed.as_mut()) else {
             return Err(SolverError::NotReady { missing: "analyze" });
         };
-        check_len("Jacobian slot values", self.slot_pos.len(), slots.len())?;
-        // One pass over the slots: place each value, check that it is finite and, without
-        // duplicates, take the row maxima of the equilibration.
-        let mut finite = true;
-        let values = &mut self.values;
-        if self.duplicates {
-            values.fill(0.0);
-            for (&v, &p) in slots.iter().zip(&self.slot_pos) {
-                finite &= v.is_finite();
-                values[p as usize] += v;
-            }
-        } else {
-            let row = &mut self.equil.row;
-            row.fill(0.0);
-            for ((&v, &p), &i) in slots.iter().zip(&self.slot_pos).zip(&self.slot_row) {
-                finite &= v.is_finite();
-                values[p as usize] = v;
-                let (a, r) = (v.abs(), &mut row[i as usize]);
-                if a > *r {
-                    *r = a;
-                }
-            }
-        }
-        if !finite {
+        check_len("Jacobian slot values", pattern.num_slots(), slots.len())?;
+        let (values, equil, mem) = (&mut self.values, &mut self.equil, &mut self.mem);
+        let duplicates = self.duplicates;
+        if !with_width!(&*indexed, x => x.assemble(slots, duplicates, values, equil)) {
             // Name the first offending slot.
             pattern.check_finite(slots)?;
         }
-        if self.duplicates {
-            self.equil.row_max_csc(csc.row_idx(), values);
-        }
-        self.equil.scale_csc(csc.col_ptr(), csc.row_idx(), values);
-        let a = SparseColMatRef::new(csc.as_ref(), &self.values);
-        let result = simplicial::factorize_simplicial_numeric_lu(
-            &mut self.row_perm,
-            &mut self.row_perm_inv,
-            &mut self.lu,
-            a,
-            symbolic.col_perm(),
-            self.mem.stack(),
-        );
-        match result {
+        match with_width!(indexed, x => x.factor_values(values, mem)) {
             Ok(()) => {}
             Err(LuError::SymbolicSingular { .. }) => {
                 // A column with no pivot candidate: structurally singular. The dense analysis
@@ -241,21 +345,8 @@ impl LinearSolver for SparseLu {
             }
             Err(e) => return Err(SolverError::Backend(format!("numeric LU: {e:?}"))),
         }
-        // The diagonal of U is the last stored entry of each of its columns.
         let tol = self.pivot_tolerance;
-        self.pivot_rows.clear();
-        {
-            let u = self.lu.u_factor_unsorted();
-            let col_ptr = u.symbolic().col_ptr();
-            let vals = u.val();
-            for j in 0..pattern.ncols() {
-                let (start, end) = (col_ptr[j] as usize, col_ptr[j + 1] as usize);
-                let d = if end > start { vals[end - 1] } else { 0.0 };
-                if d.abs() <= tol || d.is_nan() {
-                    self.pivot_rows.push(self.row_perm[j] as usize);
-                }
-            }
-        }
+        with_width!(&*indexed, x => x.small_pivots(tol, &mut self.pivot_rows));
         if !self.pivot_rows.is_empty() {
             return Err(singular_error(pattern, slots, &self.pivot_rows));
         }
@@ -267,10 +358,10 @@ impl LinearSolver for SparseLu {
         if !self.factored {
             return Err(SolverError::NotReady { missing: "factor" });
         }
-        let Some(symbolic) = self.symbolic.as_ref() else {
+        let Some(indexed) = self.indexed.as_ref() else {
             return Err(SolverError::NotReady { missing: "analyze" });
         };
-        let n = self.row_perm.len();
+        let n = self.equil.col.len();
         check_len("right-hand side", n, b.len())?;
         check_len("solution", n, x.len())?;
         if let Some(index) = b.iter().position(|v| !v.is_finite()) {
@@ -280,14 +371,8 @@ impl LinearSolver for SparseLu {
             });
         }
         self.equil.scale_rhs(b, x);
-        self.lu.solve_in_place_with_conj(
-            PermRef::new_checked(&self.row_perm, &self.row_perm_inv, n),
-            symbolic.col_perm(),
-            Conj::No,
-            MatMut::from_column_major_slice_mut(x, n, 1),
-            Par::Seq,
-            self.mem.stack(),
-        );
+        let mem = &mut self.mem;
+        with_width!(indexed, w => w.solve_in_place(x, mem));
         self.equil.unscale_solution(x);
         if let Some(unknown) = x.iter().position(|v| !v.is_finite()) {
             return Err(SolverError::NonFinite {
@@ -299,14 +384,90 @@ impl LinearSolver for SparseLu {
     }
 
     fn nrows(&self) -> usize {
-        self.row_perm.len()
+        self.pattern.as_ref().map_or(0, SparsityPattern::nrows)
     }
 
     fn ncols(&self) -> usize {
-        self.row_perm.len()
+        self.pattern.as_ref().map_or(0, SparsityPattern::ncols)
     }
 
     fn name(&self) -> &'static str {
         "sparse-lu"
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 3-body-like banded pattern with random values and a dominant diagonal.
+    fn system(n: usize) -> (SparsityPattern, Vec<f64>, Vec<f64>) {
+        let mut entries = Vec::new();
+        for i in 0..n {
+            for j in i.saturating_sub(3)..(i + 4).min(n) {
+                entries.push((i, j));
+            }
+        }
+        let mut state = 12345u64;
+        let slots: Vec<f64> = entries
+            .iter()
+            .map(|&(i, j)| {
+                state = state
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                let r = (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+                if i == j {
+                    4.0 + r
+                } else {
+                    r * 1e3f64.powf(r)
+                }
+            })
+            .collect();
+        let b = (0..n).map(|i| (i as f64).sin()).collect();
+        (SparsityPattern::new(n, n, &entries).unwrap(), slots, b)
+    }
+
+    #[test]
+    fn both_index_widths_give_the_same_bits() {
+        let (p, slots, b) = system(200);
+        let mut narrow = SparseLu::new();
+        narrow.analyze(&p).unwrap();
+        assert!(narrow.uses_32_bit_indices());
+        let mut wide = SparseLu::new();
+        wide.analyze_with(&p, false).unwrap();
+        assert!(!wide.uses_32_bit_indices());
+        let (mut x_n, mut x_w) = (vec![0.0; 200], vec![0.0; 200]);
+        for s in [narrow, wide].iter_mut().zip([&mut x_n, &mut x_w]) {
+            s.0.factor(&slots).unwrap();
+            s.0.solve(&b, s.1).unwrap();
+        }
+        assert!(x_n
+            .iter()
+            .zip(&x_w)
+            .all(|(a, b)| a.to_bits() == b.to_bits()));
+        assert!(x_n.iter().any(|v| *v != 0.0));
+    }
+
+    #[test]
+    fn a_failed_analysis_leaves_nothing_of_the_previous_one() {
+        let (p, slots, _) = system(10);
+        let mut s = SparseLu::new();
+        s.analyze(&p).unwrap();
+        s.factor(&slots).unwrap();
+        let rect = SparsityPattern::new(2, 3, &[(0, 0), (1, 1), (1, 2)]).unwrap();
+        assert!(matches!(
+            s.analyze(&rect),
+            Err(SolverError::NotSquare { .. })
+        ));
+        assert_eq!((s.nrows(), s.ncols(), s.factor_nnz()), (0, 0, 0));
+        assert!(matches!(
+            s.factor(&slots),
+            Err(SolverError::NotReady { missing: "analyze" })
+        ));
+        let mut x = vec![0.0; 10];
+        assert!(matches!(
+            s.solve(&x.clone(), &mut x),
+            Err(SolverError::NotReady { .. })
+        ));
     }
 }

@@ -296,30 +296,34 @@ fn bad_input_is_a_typed_error() {
 }
 
 #[test]
-fn sparse_lu_names_the_non_finite_slot_with_and_without_duplicates() {
+fn sparse_lu_names_the_first_non_finite_slot_with_and_without_duplicates() {
     // Without duplicates the check is folded into the scatter; with them the values are summed
-    // first. Either way the first bad slot is named, and the solver factors again afterwards.
-    let plain = SparsityPattern::new(2, 2, &[(0, 0), (1, 0), (0, 1), (1, 1)]).unwrap();
-    let dup = SparsityPattern::new(2, 2, &[(0, 0), (1, 0), (0, 1), (1, 1), (0, 0)]).unwrap();
-    for (p, bad_slot) in [(&plain, 2usize), (&dup, 4usize)] {
+    // first. Either way the first bad slot (not its compressed-column position: the slots are
+    // listed row by row) is named, and the solver factors again afterwards.
+    let plain = SparsityPattern::new(2, 2, &[(0, 0), (0, 1), (1, 0), (1, 1)]).unwrap();
+    let dup = SparsityPattern::new(2, 2, &[(0, 0), (0, 1), (1, 0), (1, 1), (0, 0)]).unwrap();
+    let good = [2.0, 0.25, 0.5, 3.0, 1.0];
+    for (p, bad_slots) in [(&plain, [1usize, 2]), (&dup, [1, 4]), (&dup, [4, 4])] {
         let mut s = SparseLu::new();
         s.analyze(p).unwrap();
         for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
-            let mut slots = vec![2.0, 0.5, 0.25, 3.0, 1.0];
-            slots.truncate(p.num_slots());
-            slots[bad_slot] = bad;
-            let (row, col) = p.entry(bad_slot);
+            let mut slots = good[..p.num_slots()].to_vec();
+            for &k in &bad_slots {
+                slots[k] = bad;
+            }
+            let first = bad_slots[0];
+            let (row, col) = p.entry(first);
             assert_eq!(
                 s.factor(&slots),
                 Err(SolverError::NonFinite {
                     location: cardan_solver::NonFiniteLocation::Jacobian {
-                        slot: bad_slot,
+                        slot: first,
                         row,
                         col
                     },
                     iteration: None
                 }),
-                "{} slots, value {bad}",
+                "{} slots, value {bad} at {bad_slots:?}",
                 p.num_slots()
             );
             let mut x = [0.0; 2];
@@ -332,15 +336,33 @@ fn sparse_lu_names_the_non_finite_slot_with_and_without_duplicates() {
             s.factor(&vec![1.0; p.num_slots() + 1]),
             Err(SolverError::DimensionMismatch { .. })
         ));
-        let mut slots = vec![2.0, 0.5, 0.25, 3.0, 1.0];
-        slots.truncate(p.num_slots());
-        s.factor(&slots).unwrap();
-        let x = solve_with(&mut s, p, &slots, &[1.0, 2.0]);
+        let slots = &good[..p.num_slots()];
+        let x = solve_with(&mut s, p, slots, &[1.0, 2.0]);
         assert!(
-            relative_residual(p, &slots, &x, &[1.0, 2.0]) < 1e-15,
+            relative_residual(p, slots, &x, &[1.0, 2.0]) < 1e-15,
             "{x:?}"
         );
     }
+}
+
+#[test]
+fn sparse_lu_equilibrates_the_summed_entries() {
+    // Row 0 is [1 − 1 + 2⁻⁴⁵, 2⁻⁴⁴] once its (0, 0) slots are summed: its scale must come from
+    // the sums (≈ 2⁻⁴⁴), not from the slots (1), or its pivot looks like 2⁻⁴⁵ and is refused.
+    let p = SparsityPattern::new(2, 2, &[(0, 0), (0, 0), (0, 1), (1, 0), (1, 1)]).unwrap();
+    let t = 2f64.powi(-45);
+    let slots = [1.0, -1.0 + t, 2.0 * t, 1.0, 1.0];
+    let mut s = SparseLu::new();
+    s.analyze(&p).unwrap();
+    s.factor(&slots).unwrap();
+    let b = [3.0 * t, 2.0];
+    let mut x = [0.0; 2];
+    s.solve(&b, &mut x).unwrap();
+    // [t 2t; 1 1] x = [3t; 2] → x = [1, 1].
+    assert!(
+        (x[0] - 1.0).abs() < 1e-12 && (x[1] - 1.0).abs() < 1e-12,
+        "{x:?}"
+    );
 }
 
 #[test]

@@ -534,6 +534,30 @@ fn failures_are_typed_and_readable() {
             iteration: Some(0)
         }
     );
+    /// Factors nothing, solves to zero.
+    #[derive(Debug)]
+    struct Blind(usize);
+    impl LinearSolver for Blind {
+        fn analyze(&mut self, _: &SparsityPattern) -> Result<(), SolverError> {
+            Ok(())
+        }
+        fn factor(&mut self, _: &[f64]) -> Result<(), SolverError> {
+            Ok(())
+        }
+        fn solve(&mut self, _: &[f64], x: &mut [f64]) -> Result<(), SolverError> {
+            x.fill(0.0);
+            Ok(())
+        }
+        fn nrows(&self) -> usize {
+            self.0
+        }
+        fn ncols(&self) -> usize {
+            self.0
+        }
+        fn name(&self) -> &'static str {
+            "blind"
+        }
+    }
     // A non-finite Jacobian entry is named by slot, row and column, with the iteration: with
     // every row solved (the check is folded into the copy to the solver), and with a row
     // selection whose dropped row holds the bad entry (not copied, checked all the same).
@@ -569,7 +593,8 @@ fn failures_are_typed_and_readable() {
                 .unwrap()
                 .solve(&mut system, &mut [0.0, 0.0])
         } else {
-            Newton::new(&p3, AutoSolver::default(), NewtonOptions::default())
+            // A linear solver that never looks at the values: the error must be Newton's own.
+            Newton::new(&p3, Blind(2), NewtonOptions::default())
                 .unwrap()
                 .solve(&mut system, &mut [0.0, 0.0])
         }
