@@ -221,8 +221,8 @@ pub struct Newton<S: LinearSolver = AutoSolver> {
     /// Values handed to the linear solver (reduced and scaled).
     solve_slots: Vec<f64>,
     /// For each solver slot: full slot (unused and empty without a row selection: the
-    /// identity), full row, column. 32-bit: on a large model these maps are streamed at every factorization and
-    /// refinement, and half the width is half the memory traffic.
+    /// identity), full row, column. 32-bit: on a large model these maps are streamed at every
+    /// factorization and refinement, and half the width is half the memory traffic.
     slot_src: Vec<u32>,
     slot_row: Vec<u32>,
     slot_col: Vec<u32>,
