@@ -170,6 +170,8 @@ pub struct Model {
     pub(crate) length: f64,
     pub(crate) num_rows: usize,
     pub(crate) joint_rows: usize,
+    /// The kinematic predictor's spanning tree.
+    pub(crate) tree: crate::analysis::predictor::PredictorTree,
 }
 
 impl Model {
@@ -1088,7 +1090,9 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
     let unknown_scales = (0..6 * nb)
         .map(|c| if c % 6 < 3 { length } else { 1.0 })
         .collect();
+    let tree = crate::analysis::predictor::PredictorTree::new(nb, &joints);
     Ok(Model {
+        tree,
         bodies,
         points,
         vectors,

@@ -33,6 +33,10 @@ pub struct Workspace {
     pub(crate) vdot_prev: Vec<f64>,
     pub(crate) vdot_last_time: f64,
     pub(crate) vdot_prev_time: f64,
+    /// The relative accelerations [ë; ω̇'_rel] of the predictor's tree edges (6 per body) at the
+    /// same two times.
+    pub(crate) edge_acc_last: Vec<f64>,
+    pub(crate) edge_acc_prev: Vec<f64>,
     pub(crate) bodies: Vec<BodyState>,
     /// Length m: ν, γ#, Φ.
     pub(crate) rhs: Vec<f64>,
@@ -40,7 +44,11 @@ pub struct Workspace {
     /// Predictor buffers.
     pub(crate) x_prev: Vec<f64>,
     pub(crate) x_tmp: Vec<f64>,
-    pub(crate) dx: Vec<f64>,
+    /// The predicted relative poses [p_rel; e] (7 per body).
+    pub(crate) pred: Vec<f64>,
+    /// Whether the predictor took a body's absolute motion (it turns faster relative to its
+    /// parent than absolutely).
+    pub(crate) pred_absolute: Vec<bool>,
     pub(crate) kin: Option<Newton<AutoSolver>>,
     pub(crate) dof: Option<DofReport>,
     pub(crate) velocity_valid: bool,
@@ -78,12 +86,15 @@ impl Workspace {
             vdot_prev: vec![0.0; 6 * nb],
             vdot_last_time: f64::NAN,
             vdot_prev_time: f64::NAN,
+            edge_acc_last: vec![0.0; 6 * nb],
+            edge_acc_prev: vec![0.0; 6 * nb],
             bodies: vec![BodyState::ground(); nb],
             rhs: vec![0.0; m],
             phi: vec![0.0; m],
             x_prev: vec![0.0; 7 * nb],
             x_tmp: vec![0.0; 7 * nb],
-            dx: vec![0.0; 6 * nb],
+            pred: vec![0.0; 7 * nb],
+            pred_absolute: vec![false; nb],
             kin: None,
             dof: None,
             velocity_valid: false,

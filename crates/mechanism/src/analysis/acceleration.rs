@@ -34,6 +34,14 @@ impl Model {
         ws.acceleration_valid = true;
         std::mem::swap(&mut ws.vdot_last, &mut ws.vdot_prev);
         ws.vdot_last.copy_from_slice(&ws.vdot);
+        std::mem::swap(&mut ws.edge_acc_last, &mut ws.edge_acc_prev);
+        crate::analysis::predictor::relative_accelerations(
+            self,
+            &ws.bodies,
+            &ws.v,
+            &ws.vdot,
+            &mut ws.edge_acc_last,
+        );
         ws.vdot_prev_time = ws.vdot_last_time;
         ws.vdot_last_time = t;
         Ok(())

@@ -2,11 +2,15 @@
 //!
 //! At each time t_k = t0 + k·dt: predict the poses from the previous steps, solve the position
 //! equations, then (if asked) velocity and acceleration, and store the requested outputs. The
-//! prediction is the Taylor step x ⊕ (v dt + ½ v̇ dt² + ⅙ j dt³) when velocities (and
+//! prediction is a Taylor step x ⊕ (v dt + ½ v̇ dt² + ⅙ j dt³) when velocities (and
 //! accelerations) are computed, with the jerk j from the last two accelerations and the rotation
-//! increment's second Magnus term (dt³/12) ω' × ω̇' (error O(dt⁴)); otherwise the linear
-//! extrapolation x_k ⊕ (x_k ⊖ x_{k−1}) (the same relative rotation applied once more). The
-//! prediction keeps the kinematic factorization, so the position solve starts with chord steps. Storage is reserved before the first step, so a step does not allocate.
+//! increment's second Magnus term (dt³/12) ω' × ω̇' (error O(dt⁴)), taken for each body relative
+//! to its parent in a spanning tree of the joints where that motion is slower than the absolute
+//! one (see `predictor`: a long chain's far links are then predicted exactly when its joints
+//! turn uniformly); otherwise the linear extrapolation x_k ⊕ (x_k ⊖ x_{k−1}) (the same relative
+//! rotation applied once more). The prediction keeps the kinematic factorization, so the
+//! position solve starts with chord steps. Storage is reserved before the first step, so a step
+//! does not allocate.
 //!
 //! A failure mid-run (singular configuration, no convergence) returns an error that carries the
 //! time, the named equations, and the results up to the last successful step.
@@ -15,7 +19,7 @@ use crate::analysis::assembly::AssemblyOptions;
 use crate::error::AnalysisError;
 use crate::model::{BodyId, Model};
 use crate::results::{BodyResults, JointResults, Outputs, PointResults, Results};
-use crate::workspace::{apply_rotation_step, Workspace};
+use crate::workspace::Workspace;
 use cardan_constraints::{unwrap_angle, BodyPair};
 use cardan_eulerparam::EulerParams;
 
@@ -199,7 +203,8 @@ impl Model {
     }
 
     /// Moves the poses in `ws` to the Taylor prediction x ⊕ (v dt + ½ v̇ dt² + ⅙ j dt³) at
-    /// `ws.time() + dt` from the current velocities (and accelerations and jerk, when valid): the
+    /// `ws.time() + dt` from the current velocities (and accelerations and jerk, when valid),
+    /// body by body relative to a parent where that is the slower motion (module docs): the
     /// Newton start the time grid uses, for callers that step frames themselves
     /// ([`Model::position`] at t + dt then converges in fewer, cheaper iterations: the
     /// factorization is kept for chord steps). Does nothing when the velocities are not valid.
@@ -220,27 +225,7 @@ impl Model {
             let h = ws.vdot_last_time - ws.vdot_prev_time;
             let jerk = acc && ws.vdot_last_time == ws.t && h != 0.0 && h.is_finite();
             let c3 = if jerk { dt * dt * dt / (6.0 * h) } else { 0.0 };
-            for i in 0..6 * nb {
-                let a = if acc { ws.vdot[i] } else { 0.0 };
-                let j = if jerk {
-                    ws.vdot_last[i] - ws.vdot_prev[i]
-                } else {
-                    0.0
-                };
-                ws.dx[i] = ws.v[i] * dt + 0.5 * a * dt * dt + c3 * j;
-            }
-            if acc {
-                // The rotation increment's second Magnus term, (dt³/12) ω' × ω̇' (body frame).
-                for b in 0..nb {
-                    let w = nalgebra::Vector3::from_column_slice(&ws.v[6 * b + 3..6 * b + 6]);
-                    let wd = nalgebra::Vector3::from_column_slice(&ws.vdot[6 * b + 3..6 * b + 6]);
-                    let m = w.cross(&wd) * (dt * dt * dt / 12.0);
-                    for c in 0..3 {
-                        ws.dx[6 * b + 3 + c] += m[c];
-                    }
-                }
-            }
-            apply_rotation_step(&mut ws.x, &ws.dx);
+            crate::analysis::predictor::predict(self, ws, dt, acc, c3);
         } else if k >= 2 {
             for b in 0..nb {
                 let (xs, xp) = (&mut ws.x[7 * b..7 * b + 7], &ws.x_prev[7 * b..7 * b + 7]);

@@ -6,9 +6,12 @@
 //! - [`velocity`]: Φ_v v = ν with the position factorization.
 //! - [`acceleration`]: Φ_v v̇ = γ#_v with the same factorization.
 //! - [`grid`]: the three over a time grid, with a predicted Newton start, into [`crate::Results`].
+//! - `predictor`: that Newton start, predicted relative to a parent along a spanning tree of the
+//!   joints.
 
 pub mod acceleration;
 pub mod assembly;
 pub mod grid;
 pub mod position;
+pub(crate) mod predictor;
 pub mod velocity;
