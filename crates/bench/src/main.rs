@@ -741,7 +741,9 @@ fn scaling_section(cfg: &Cfg, svgs: &mut Vec<(String, String)>) -> String {
         "\n*Iterations* and *factorizations* are per kinematic frame (Newton iterations of the \
          position analysis; factorizations of Φ_v in the position, velocity and acceleration \
          analyses), *iterations* after the gen-α step its Newton iterations per step: how much work \
-         a frame or step of the model does, which grows with n for the chain (below).\n\n\
+         a frame or step of the model does (the chain's kinematic frames did more of it the \
+         longer the chain until the predictor took each link relative to its parent, \
+         optimization 18).\n\n\
          Fitted exponents p of t ∝ n^p (least squares over all sizes; peak memory over the two \
          largest; the dynamic peak at 1,000 bodies includes the tangent run, which is not \
          made at 10,000). *Per factorization* divides the frame time by the factorizations per \
