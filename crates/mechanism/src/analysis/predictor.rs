@@ -148,8 +148,8 @@ impl PredictorTree {
     }
 }
 
-/// Pose, velocity and acceleration of a body read from the workspace vectors (the ground when
-/// `None`).
+/// Pose, velocity and acceleration of moving body `b`: the pose from its body state (kept in
+/// step with the Newton state by every analysis), the rest from the workspace vectors.
 struct Frame {
     r: Vector3<f64>,
     p: EulerParams,
@@ -165,18 +165,7 @@ fn v3(s: &[f64]) -> Vector3<f64> {
 }
 
 impl Frame {
-    fn of(body: Option<usize>, bodies: &[BodyState], v: &[f64], vdot: Option<&[f64]>) -> Self {
-        let Some(b) = body else {
-            return Self {
-                r: Vector3::zeros(),
-                p: EulerParams::identity(),
-                a: Matrix3::identity(),
-                rd: Vector3::zeros(),
-                w: Vector3::zeros(),
-                rdd: Vector3::zeros(),
-                wd: Vector3::zeros(),
-            };
-        };
+    fn of(b: usize, bodies: &[BodyState], v: &[f64], vdot: Option<&[f64]>) -> Self {
         let s = &bodies[b];
         let (rdd, wd) = vdot.map_or((Vector3::zeros(), Vector3::zeros()), |a| {
             (v3(&a[6 * b..]), v3(&a[6 * b + 3..]))
@@ -237,8 +226,9 @@ fn relative(edge: &TreeEdge, pf: &Frame, cf: &Frame) -> Relative {
     }
 }
 
-/// The relative accelerations [ë; ω̇'_rel] of every tree edge (6 per body) at the workspace's
-/// poses, velocities and accelerations, into `out`: the samples of the predictor's jerk.
+/// The relative accelerations [ë; ω̇'_rel] of every body under a moving parent (6 per body; the
+/// others are not written) at the given poses, velocities and accelerations, into `out`: the
+/// samples of the predictor's jerk.
 pub(crate) fn relative_accelerations(
     model: &Model,
     bodies: &[BodyState],
@@ -247,11 +237,11 @@ pub(crate) fn relative_accelerations(
     out: &mut [f64],
 ) {
     for (b, edge) in model.tree.edges.iter().enumerate() {
-        if edge.parent.is_none() {
+        let Some(parent) = edge.parent else {
             continue;
-        }
-        let pf = Frame::of(edge.parent, bodies, v, Some(vdot));
-        let cf = Frame::of(Some(b), bodies, v, Some(vdot));
+        };
+        let pf = Frame::of(parent, bodies, v, Some(vdot));
+        let cf = Frame::of(b, bodies, v, Some(vdot));
         let rel = relative(edge, &pf, &cf);
         out[6 * b..6 * b + 3].copy_from_slice(rel.e_ddot.as_slice());
         out[6 * b + 3..6 * b + 6].copy_from_slice(rel.w_dot.as_slice());
@@ -300,10 +290,10 @@ pub(crate) fn predict(model: &Model, ws: &mut Workspace, dt: f64, acc: bool, c3:
     // than absolutely).
     for (b, edge) in tree.edges.iter().enumerate() {
         let vdot = acc.then_some(ws.vdot.as_slice());
-        let cf = Frame::of(Some(b), &ws.bodies, &ws.v, vdot);
+        let cf = Frame::of(b, &ws.bodies, &ws.v, vdot);
         let parent = edge
             .parent
-            .map(|k| Frame::of(Some(k), &ws.bodies, &ws.v, vdot))
+            .map(|k| Frame::of(k, &ws.bodies, &ws.v, vdot))
             .filter(|pf| relative_w(pf, &cf).norm_squared() <= cf.w.norm_squared());
         ws.pred_absolute[b] = parent.is_none();
         let (p, e) = if let Some(pf) = parent {
