@@ -114,6 +114,28 @@ impl EulerParams {
         EulerParams::new(s, v.x, v.y, v.z)
     }
 
+    /// p ⊗ q rescaled to unit length: the composition of two unit parameters, with the roundoff
+    /// drift of its norm removed (both must be unit, or nearly).
+    pub fn compose_unit(&self, q: &EulerParams) -> EulerParams {
+        let v = self.compose(q).0;
+        let n = v.norm();
+        EulerParams::new(v[0] / n, v[1] / n, v[2] / n, v[3] / n)
+    }
+
+    /// exp(θ/2) = [cos(|θ|/2), sin(|θ|/2) θ/|θ|]: the parameters of a rotation by |θ| about the
+    /// rotation vector θ (identity for θ = 0). Unit by construction. Applied in a body frame,
+    /// p ⊗ exp(θ'/2) gives A(p) exp(θ̃').
+    pub fn from_rotation_vector(theta: &Vector3<f64>) -> EulerParams {
+        let a = theta.norm();
+        if a > 0.0 {
+            let (s, c) = (0.5 * a).sin_cos();
+            let u = theta * (s / a);
+            EulerParams::new(c, u.x, u.y, u.z)
+        } else {
+            EulerParams::identity()
+        }
+    }
+
     /// The conjugate [e0, −e], which for unit p is the inverse rotation: A(p*) = A(p)ᵀ.
     pub fn conjugate(&self) -> EulerParams {
         EulerParams::new(self.0[0], -self.0[1], -self.0[2], -self.0[3])
@@ -154,6 +176,22 @@ impl std::ops::Neg for EulerParams {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_rotation_vector_gives_the_axis_angle_parameters() {
+        let th = Vector3::new(0.3, -1.2, 0.5);
+        let p = EulerParams::from_rotation_vector(&th);
+        let q = EulerParams::from_axis_angle(&th, th.norm()).unwrap();
+        assert!((p.as_vector() - q.as_vector()).norm() < 1e-15);
+        assert_eq!(
+            EulerParams::from_rotation_vector(&Vector3::zeros()),
+            EulerParams::identity()
+        );
+        // Composed with a slightly unnormalized p, the result is unit again.
+        let r = EulerParams::new(0.6, 0.8, 0.0, 1e-9).compose_unit(&p);
+        assert!(r.norm_error() < 1e-15);
+        assert!((r.a() - EulerParams::new(0.6, 0.8, 0.0, 0.0).a() * p.a()).norm() < 1e-8);
+    }
 
     #[test]
     fn p_and_minus_p_are_different_values_with_the_same_rotation() {

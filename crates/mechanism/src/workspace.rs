@@ -338,21 +338,9 @@ pub fn apply_rotation_step(x: &mut [f64], dx: &[f64]) {
             x[7 * k + c] += dx[6 * k + c];
         }
         let th = Vector3::from_column_slice(&dx[6 * k + 3..6 * k + 6]);
-        let a = th.norm();
-        let q = if a > 0.0 {
-            let (s, c) = (0.5 * a).sin_cos();
-            let u = th * (s / a);
-            EulerParams::new(c, u.x, u.y, u.z)
-        } else {
-            EulerParams::identity()
-        };
         let p = EulerParams::new(x[7 * k + 3], x[7 * k + 4], x[7 * k + 5], x[7 * k + 6]);
-        let n = p.compose(&q);
-        let v = n.as_vector();
-        let norm = v.norm();
-        for c in 0..4 {
-            x[7 * k + 3 + c] = v[c] / norm;
-        }
+        let n = p.compose_unit(&EulerParams::from_rotation_vector(&th));
+        x[7 * k + 3..7 * k + 7].copy_from_slice(n.as_vector().as_slice());
     }
 }
 

@@ -234,13 +234,8 @@ impl Model {
                 }
                 let p = EulerParams::new(xs[3], xs[4], xs[5], xs[6]);
                 let q = EulerParams::new(xp[3], xp[4], xp[5], xp[6]);
-                let rel = q.conjugate().compose(&p);
-                let n = p.compose(&rel);
-                let v = n.as_vector();
-                let norm = v.norm();
-                for c in 0..4 {
-                    xs[3 + c] = v[c] / norm;
-                }
+                let n = p.compose_unit(&q.conjugate().compose(&p));
+                xs[3..].copy_from_slice(n.as_vector().as_slice());
             }
         }
         ws.sync_poses();

@@ -46,8 +46,8 @@
 //! crank's rate. Each frame, a body is therefore predicted relative to its parent only when
 //! |ω'_rel| ≤ |ω'_C|, and by its absolute Taylor step otherwise; bodies under the ground (and
 //! bodies that no joint path reaches) always take the absolute step, as before. The
-//! slider-crank then predicts exactly as the absolute step did (1,212 against 1,210 Newton
-//! iterations in 400 frames); taking every body relative cost it 10 % more iterations. Cut joints
+//! slider-crank then needs the same Newton iterations as with the absolute step (1,210 in 400
+//! frames); taking every body relative cost it 10 % more. Cut joints
 //! (those that close loops) are left to Newton, as all joints were before.
 //!
 //! Measured (`cardan-bench --point kin chain N`, 2-core VM): the driven revolute chain of the
@@ -248,24 +248,6 @@ pub(crate) fn relative_accelerations(
     }
 }
 
-/// exp(½ θ) as Euler parameters (a rotation by |θ| about θ).
-fn exp_half(th: &Vector3<f64>) -> EulerParams {
-    let a = th.norm();
-    if a > 0.0 {
-        let (s, c) = (0.5 * a).sin_cos();
-        let u = th * (s / a);
-        EulerParams::new(c, u.x, u.y, u.z)
-    } else {
-        EulerParams::identity()
-    }
-}
-
-fn normalized(p: &EulerParams) -> EulerParams {
-    let v = p.as_vector();
-    let n = v.norm();
-    EulerParams::new(v[0] / n, v[1] / n, v[2] / n, v[3] / n)
-}
-
 /// Moves the workspace's poses to the prediction at `ws.t + dt` from the current velocities
 /// (and, with `acc`, accelerations; with `c3` = dt³ / (6 h) ≠ 0, the jerk from the last two
 /// relative accelerations, h apart). Requires valid velocities. No allocation.
@@ -283,7 +265,7 @@ pub(crate) fn predict(model: &Model, ws: &mut Workspace, dt: f64, acc: bool, c3:
         if acc {
             th += w.cross(w_dot) * (dt * dt * dt / 12.0);
         }
-        exp_half(&th)
+        EulerParams::from_rotation_vector(&th)
     };
     // Pass 1: each body's predicted pose relative to its parent [p_rel (4); e (3)], or its
     // absolute pose [p; r] (under the ground, or when it turns faster relative to its parent
@@ -307,7 +289,7 @@ pub(crate) fn predict(model: &Model, ws: &mut Workspace, dt: f64, acc: bool, c3:
         } else {
             let (last, prev) = (&ws.vdot_last[6 * b..], &ws.vdot_prev[6 * b..]);
             let r = cf.r + cf.rd * dt + cf.rdd * (0.5 * dt * dt) + jerk(last, prev, 0);
-            let p = cf.p.compose(&step(&cf.w, &cf.wd, jerk(last, prev, 3)));
+            let p = cf.p.compose_unit(&step(&cf.w, &cf.wd, jerk(last, prev, 3)));
             (p, r)
         };
         let out = &mut ws.pred[7 * b..7 * b + 7];
@@ -323,13 +305,13 @@ pub(crate) fn predict(model: &Model, ws: &mut Workspace, dt: f64, acc: bool, c3:
             Some(k) if !ws.pred_absolute[b] => {
                 let x = &ws.x[7 * k..7 * k + 7];
                 let (rp, pp) = (v3(x), EulerParams::new(x[3], x[4], x[5], x[6]));
-                let pc = normalized(&pp.compose(&p));
+                let pc = pp.compose_unit(&p);
                 (
                     rp + pp.a() * (edge.s_parent + e) - pc.a() * edge.s_child,
                     pc,
                 )
             }
-            _ => (e, normalized(&p)),
+            _ => (e, p),
         };
         let xs = &mut ws.x[7 * b..7 * b + 7];
         xs[..3].copy_from_slice(r.as_slice());
