@@ -28,12 +28,25 @@ fn check(
 
 /// Max over the stored samples and the tops of all rockers of |top_k − (k + x_B0, y_B0)|.
 fn error(n: usize, r: &cardan_dynamics::DynamicResults, reference: &[Vec<f64>]) -> f64 {
+    error_until(n, r, reference, f64::INFINITY)
+}
+
+/// [`error`] over the samples at times below `t_max`.
+fn error_until(
+    n: usize,
+    r: &cardan_dynamics::DynamicResults,
+    reference: &[Vec<f64>],
+    t_max: f64,
+) -> f64 {
     let tops: Vec<_> = (0..=n)
         .map(|k| r.point(&format!("r{k}"), "top").expect("rocker top"))
         .collect();
     let mut err = 0.0f64;
     for (k, row) in reference.iter().take(r.len()).enumerate() {
         assert!((r.times()[k] - row[0]).abs() < 1e-12);
+        if row[0] >= t_max {
+            break;
+        }
         for (j, top) in tops.iter().enumerate() {
             let x = top.position[k];
             err = err.max((x.x - j as f64 - row[1]).hypot(x.y - row[2]).hypot(x.z));
@@ -120,7 +133,17 @@ fn a02_n40_file_settings() {
 /// horizontal positions; the grid point t = 11.07203125 s lies within roundoff of one, where
 /// the iteration used to stagnate above its acceptance bounds and every halved retry aimed at
 /// the same point again (the run stopped there; now a failed step shifts the grid, and a
-/// stagnating Schur-complement solve is redone by LU). 4.1e-7 m, about 3 min.
+/// stagnating Schur-complement solve is redone by LU). About 3 min.
+///
+/// Two criteria, because past the first few passages the error is decided by roundoff. Each
+/// passage is a bifurcation (N + 1 degrees of freedom for an instant) that amplifies any
+/// perturbation off the parallelogram branch, so changing gravity by one or two ulps
+/// (−9.81 → −9.810000000000002, −9.810000000000004, −9.809999999999999) moves the 20 s error
+/// between 4.5e-7 m and 1.6e-5 m (eight runs, with and without the refinement of the Schur
+/// solves; 8.4e-7 m and 1.02e-6 m for the file's −9.81), while over the first 4 s (three
+/// passages) all eight agree: 6.6e-8 to 6.7e-8 m, the discretization error. So: 2e-7 m up to
+/// 4 s (the accuracy of the step), and 1e-4 m over the 20 s (the branch is kept and the
+/// roundoff amplification stays bounded; the IFToMM high-precision bound is 1e-3 m).
 #[test]
 #[ignore = "81 bodies, 640 000 implicit steps (minutes): cargo test -p cardan-tests --release -- --ignored"]
 fn a02_n40_tight() {
@@ -131,6 +154,17 @@ fn a02_n40_tight() {
             iteration_matrix: cardan_dynamics::IterationMatrix::MassOnly,
             ..Default::default()
         });
-    let (e, _) = check(40, "20 s, tight", Some(integrator), 20.0);
-    assert!(e <= 1e-6, "max position error {e:e} m");
+    let p = example("a02_fourbar_n40");
+    let reference = reference("n_fourbar_N40.csv");
+    let run = run(&p, Some(integrator), 20.0, times_until(&reference, 20.0));
+    let early = error_until(40, &run.results, &reference, 4.0);
+    let e = error(40, &run.results, &reference);
+    let drift = run.results.energy.max_drift();
+    print_row("A02 N=40", "20 s, tight", &run, e, Some(drift));
+    println!("A02 N=40 tight: max position error over the first 4 s {early:.2e} m");
+    assert!(
+        early <= 2e-7,
+        "max position error over the first 4 s {early:e} m"
+    );
+    assert!(e <= 1e-4, "max position error {e:e} m");
 }
