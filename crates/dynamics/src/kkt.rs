@@ -178,9 +178,10 @@ pub(crate) fn schur_pivot_tolerance(m: usize) -> f64 {
 
 /// Smallest pivot ratio of S below which [`Kkt::solve`] refines a Schur solve once (a
 /// 1,000-link chain sits at 5e-4 to 7.6e-4, A02 near its horizontal positions goes below
-/// 1e-4, where the Schur solver refuses S and the LU takes over). The default, kept by
-/// generalized-α, whose Newton iteration works to the solve's last digits; DOPRI5 sets
-/// [`refine_ratio_for`] its tolerance.
+/// 1e-4, where the Schur solver refuses S and the LU takes over). The default, for one-shot
+/// solves (accelerations and multipliers, a first velocity projection); DOPRI5 sets
+/// [`refine_ratio_for`] its tolerance; generalized-α's iterations do not refine (see
+/// [`Kkt::solve_unrefined`]).
 pub(crate) const SCHUR_REFINE_RATIO: f64 = 5e-3;
 
 /// The refinement threshold for an integrator that needs solves only to a backward error
@@ -628,11 +629,25 @@ impl Kkt {
     /// and near a singular configuration (A02's horizontal positions) the plain solve is less
     /// accurate than the LU of K would be.
     pub fn solve(&mut self) -> Result<(), SolverError> {
+        self.solve_refined(true)
+    }
+
+    /// [`solve`](Self::solve) without the refinement of a Schur solve, for a caller that
+    /// iterates on residuals of the exact system itself (generalized-α's Newton iteration and
+    /// its velocity projection): there the next residual corrects the error of this solve,
+    /// whose backward error, about u / (smallest pivot ratio), is at most 2e-12 where the
+    /// Schur path is taken (ratio ≥ τ = 1e-4), so it slows the iteration by nothing
+    /// measurable, and a refinement would only repeat that iteration's work.
+    pub fn solve_unrefined(&mut self) -> Result<(), SolverError> {
+        self.solve_refined(false)
+    }
+
+    fn solve_refined(&mut self, refine: bool) -> Result<(), SolverError> {
         match self.factored {
             Some(Factored::Schur) => {
                 let schur = self.schur.as_mut().expect("factored");
                 schur.solve(&self.rhs, &mut self.sol)?;
-                if schur.min_pivot_ratio() < self.refine_below {
+                if refine && schur.min_pivot_ratio() < self.refine_below {
                     self.refine_schur()?;
                 }
                 Ok(())

@@ -252,7 +252,7 @@ fn near_dead_centre_falls_back_to_lu_with_a_correct_solution() {
 
 /// Close to a dead centre, but not so close that S is refused (pivot ratio between τ = 1e-4
 /// and [`super::SCHUR_REFINE_RATIO`]): the Schur solve is refined once against K, which brings
-/// its residual down to the LU's.
+/// its residual down to the LU's; `solve_unrefined` leaves it (as `refine_below` = 0 does).
 #[test]
 fn ill_conditioned_schur_solves_are_refined() {
     for eps in [0.03, 0.015] {
@@ -263,9 +263,11 @@ fn ill_conditioned_schur_solves_are_refined() {
         assert_eq!(kkt.factored(), Some(Factored::Schur));
         let ratio = kkt.schur.as_ref().unwrap().min_pivot_ratio();
         assert!(ratio < super::SCHUR_REFINE_RATIO, "ratio {ratio:e}");
+        kkt.solve_unrefined().unwrap();
+        let plain = kkt_residual(&kkt, &d);
         kkt.refine_below = 0.0;
         kkt.solve().unwrap();
-        let plain = kkt_residual(&kkt, &d);
+        assert_eq!(kkt_residual(&kkt, &d), plain);
         kkt.refine_below = super::SCHUR_REFINE_RATIO;
         kkt.solve().unwrap();
         let refined = kkt_residual(&kkt, &d);

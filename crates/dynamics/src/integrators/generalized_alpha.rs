@@ -22,9 +22,13 @@
 //! of motion relative to the size of their terms; for a matrix factored in the current step,
 //! the scaled position increment (as full Newton); for a stale matrix, the contraction
 //! estimate of the remaining error in v̇ relative to the largest acceleration. Near singular
-//! configurations, roundoff stagnation of a fresh matrix within bounds. (The KKT layer refines
-//! a Schur-complement solve whose S is ill-conditioned, so its increments are as good as an
-//! LU's: A02 N = 40 tight, 1.03e-6 m without the refinement, 8.4e-7 m with it.) A stale
+//! configurations, roundoff stagnation of a fresh matrix within bounds. The iteration's
+//! solves are not refined (`Kkt::solve_unrefined`): each residual is of the exact system, so
+//! the next iteration corrects a solve's error, and a Schur solve's backward error is at most
+//! about 2e-12. (Refining them, as before, cost a second solve and a residual per iteration
+//! for every chain longer than ~100 links, and did not make the A02 N = 40 tight run more
+//! accurate: its error past the first passages is decided by roundoff, see
+//! `tests/tests/benchmark_a02_fourbar.rs`.) A stale
 //! matrix is never trusted on the β'-scaled position increment alone: after one update with it
 //! that increment is small whatever the remaining error in v̇ (A02 N = 2: 6.5e-3 m instead of
 //! 2e-6 m).
@@ -270,7 +274,7 @@ fn attempt(
             b.factor = Factor::Fresh;
             refactor = false;
         }
-        if kkt.solve().is_err() {
+        if kkt.solve_unrefined().is_err() {
             b.factor = Factor::None;
             return Ok(false);
         }
@@ -343,7 +347,7 @@ fn project_velocities(d: &mut Dynamics, b: &mut Buf) -> Result<(), DynamicsError
             kkt.rhs[n + a] = b.proj_e[a] - wa[a];
         }
         kkt.work_a = wa;
-        if kkt.solve().is_err() {
+        if kkt.solve_unrefined().is_err() {
             break;
         }
         let mut dmax = 0.0f64;
