@@ -167,11 +167,12 @@ pub(crate) const SCHUR_BACKOFF: (usize, usize) = (3, 15);
 /// Relative pivot tolerance τ of S for m active rows: τ = min(1e-4, 0.1/m). Below it the
 /// Schur complement is refused and the LU takes over. The solver's 1e-4 (see
 /// [`cardan_solver::SchurSolver`]) keeps a plain solve's constraint residual near 1e-12 and
-/// lets the LU take the passages of singular positions (the A02 four-bar: lowering it to 1e-5
-/// there moved the N = 40 tight run from 8.4e-7 m to 1.0e-6 m). But a healthy large model has
-/// small ratios too: a chain of N links has ≈ 1/(2N) = 1.5/m, so a fixed 1e-4 refused every
-/// chain beyond ~5,000 links and sent the 10,000-link chain to the LU. 0.1/m stays 15× below
-/// that law, leaves models under 1,000 rows at 1e-4, and [`Kkt::solve`] refines such solves.
+/// lets the LU take the passages of singular positions (the A02 four-bar N = 2 fails one at
+/// 1e-5). But a healthy large model has small ratios too: a chain of N links has
+/// ≈ 1/(2N) = 1.5/m, so a fixed 1e-4 refused every chain beyond ~5,000 links and sent the
+/// 10,000-link chain to the LU. 0.1/m stays 15× below that law, leaves models under 1,000 rows
+/// at 1e-4, and [`Kkt::solve`] refines such solves (one-shot solves; an iteration on exact
+/// residuals corrects them itself, see [`Kkt::solve_unrefined`]).
 pub(crate) fn schur_pivot_tolerance(m: usize) -> f64 {
     (0.1 / m.max(1) as f64).min(cardan_solver::DEFAULT_SCHUR_PIVOT_TOLERANCE)
 }
