@@ -715,13 +715,17 @@ impl Kkt {
         }
     }
 
-    /// y (n) += |Φ_vᵀ| |λ| (entrywise absolute values: the size of the terms of Φ_vᵀλ).
-    pub fn phi_v_t_abs_mul_add(&self, lambda: &[f64], y: &mut [f64]) {
+    /// y (n) += Φ_vᵀ λ and size (n) += |Φ_vᵀ| |λ| (entrywise absolute values: the size of the
+    /// terms of Φ_vᵀλ), in one pass over Φ_v.
+    pub fn phi_v_t_mul_add_with_size(&self, lambda: &[f64], y: &mut [f64], size: &mut [f64]) {
         for (g, v) in self.groups.iter().zip(self.jac.chunks_exact(6)) {
             let l = lambda[g.row];
             let y = &mut y[g.col..g.col + 6];
+            let size = &mut size[g.col..g.col + 6];
             for c in 0..6 {
-                y[c] += (v[c] * l).abs();
+                let t = v[c] * l;
+                y[c] += t;
+                size[c] += t.abs();
             }
         }
     }

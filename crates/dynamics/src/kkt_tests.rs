@@ -492,3 +492,30 @@ fn a_long_chain_takes_the_schur_path() {
     let r = kkt_residual(&kkt, &d);
     assert!(r < 1e-13, "{r:e}");
 }
+
+/// The fused product of the residual (Φ_vᵀλ and the size of its terms) equals Φ_vᵀλ term for
+/// term, and |Φ_v|ᵀ|λ|.
+#[test]
+fn phi_v_t_product_with_size_is_the_product_and_its_term_sizes() {
+    let model = chain(12, Some(0.3));
+    let (mut kkt, _) = tip_kkt(&model);
+    let (n, na) = (kkt.n, kkt.active.len());
+    let lambda: Vec<f64> = (0..na).map(|a| (a as f64 * 0.7).sin() - 0.2).collect();
+    let base: Vec<f64> = (0..n).map(|i| (i as f64 * 0.3).cos()).collect();
+    let mut plain = base.clone();
+    kkt.phi_v_t_mul_add(&lambda, &mut plain);
+    let mut fused = base.clone();
+    let mut size = vec![1.0; n];
+    kkt.phi_v_t_mul_add_with_size(&lambda, &mut fused, &mut size);
+    assert_eq!(fused, plain);
+    for v in kkt.jac.iter_mut() {
+        *v = v.abs();
+    }
+    let abs_lambda: Vec<f64> = lambda.iter().map(|l| l.abs()).collect();
+    let mut expected = vec![1.0; n];
+    kkt.phi_v_t_mul_add(&abs_lambda, &mut expected);
+    assert!(size.iter().any(|&s| s > 1.0));
+    for (s, e) in size.iter().zip(&expected) {
+        assert!((s - e).abs() <= 1e-15 * e, "{s} vs {e}");
+    }
+}

@@ -194,8 +194,7 @@ fn attempt(
         for i in 0..n {
             b.scale[i] = top[i].abs() + d.h[i].abs();
         }
-        kkt.phi_v_t_mul_add(&b.lambda1, &mut top);
-        kkt.phi_v_t_abs_mul_add(&b.lambda1, &mut b.scale);
+        kkt.phi_v_t_mul_add_with_size(&b.lambda1, &mut top, &mut b.scale);
         // Relative to the largest term size of the body's force (or torque) triplet: a
         // component whose own terms all vanish (the torque about a rod's axis) is measured
         // against its neighbours, not against its roundoff.
