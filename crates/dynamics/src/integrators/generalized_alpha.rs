@@ -24,14 +24,13 @@
 //! estimate of the remaining error in v̇ relative to the largest acceleration. Near singular
 //! configurations, roundoff stagnation of a fresh matrix within bounds. The iteration's
 //! solves are not refined (`Kkt::solve_unrefined`): each residual is of the exact system, so
-//! the next iteration corrects a solve's error, and a Schur solve's backward error is at most
-//! about 2e-12. (Refining them, as before, cost a second solve and a residual per iteration
-//! for every chain longer than ~100 links, and did not make the A02 N = 40 tight run more
+//! the next iteration corrects a solve's error, and a Schur solve's backward error is a few
+//! 1e-12. (Refining them, as before, cost a second solve and a residual per iteration for
+//! every chain longer than ~100 links, and did not make the A02 N = 40 tight run more
 //! accurate: its error past the first passages is decided by roundoff, see
-//! `tests/tests/benchmark_a02_fourbar.rs`.) A stale
-//! matrix is never trusted on the β'-scaled position increment alone: after one update with it
-//! that increment is small whatever the remaining error in v̇ (A02 N = 2: 6.5e-3 m instead of
-//! 2e-6 m).
+//! `tests/tests/benchmark_a02_fourbar.rs`.) A stale matrix is never trusted on the β'-scaled
+//! position increment alone: after one update with it that increment is small whatever the
+//! remaining error in v̇ (A02 N = 2: 6.5e-3 m instead of 2e-6 m).
 //!
 //! Stored outputs (accelerations, λ, reactions) are those of the augmented system solved at the
 //! stored state (index-1 consistent), not the integrator's internal v̇ and λ, which carry the
