@@ -279,7 +279,7 @@ pub fn effort_kind(p: &Prepared, driver: &str) -> (&'static str, &'static str) {
 }
 
 /// `driver_efforts`: per driver, the generalized force it applies along its driven coordinate
-/// (−λ; positive in the sense of increasing coordinate): `motor.torque [N m]` for a rotation
+/// (−λ ∂Φ/∂c; positive in the sense of increasing coordinate): `motor.torque [N m]` for a rotation
 /// driver (about the joint axis, on body j), `name.force [N]` for the others. `None` without
 /// drivers.
 pub fn driver_efforts_table(p: &Prepared, r: &DynamicResults) -> Option<Table> {

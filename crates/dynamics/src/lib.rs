@@ -37,8 +37,9 @@
 //! **Sign convention:** the generalized constraint (reaction) force is −Φ_vᵀλ. The reaction of a
 //! joint on body k is F = −(Φ_r,k)ᵀλ_joint (global) and, about the centre of mass in body
 //! components, n' = −(Φ_π',k)ᵀλ_joint; about the joint point P (body point s'^P) the torque is
-//! n'_P = n' − s̃'^P F' with F' = A_kᵀ F ([`Reaction`]). A driver's effort is −λ
-//! ([`DriverEfforts`]). The matrix is laid out once (M blocks, Φ_v, Φ_vᵀ) and refactored with
+//! n'_P = n' − s̃'^P F' with F' = A_kᵀ F ([`Reaction`]). A driver's effort is −λ ∂Φ/∂c, the force
+//! or torque along its driven coordinate c ([`DriverEfforts`]; ∂Φ/∂c = 2ℓ for the distance driver's
+//! dᵀd − ℓ², 1 for the others). The matrix is laid out once (M blocks, Φ_v, Φ_vᵀ) and refactored with
 //! the solver crate's LU (dense for small models, sparse for large); M is never inverted.
 //! Equations found redundant by a rank analysis at the initial configuration (a four-bar of
 //! spatial revolutes, Bricard's linkage) are dropped once; their λ is reported as 0, so the

@@ -256,7 +256,9 @@ impl Recorder {
             let row = dr.rows.start;
             let l = self.lambda[row];
             de.lambda.push(l);
-            de.effort.push(-l);
+            // −λ ∂Φ/∂c: the force or torque along the driven coordinate (the distance
+            // driver's row dᵀd − ℓ² grows by 2ℓ per metre). Its power −λ ν is effort × ċ.
+            de.effort.push(-l * dr.driver.coordinate_slope(state.t));
             de.power.push(-l * self.phi[row]);
             de.reactions.on_i.push(ri);
             de.reactions.on_j.push(rj);

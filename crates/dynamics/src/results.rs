@@ -41,11 +41,13 @@ pub struct DriverEfforts {
     pub name: String,
     /// Its multiplier λ.
     pub lambda: Vec<f64>,
-    /// The generalized force the driver applies along its driven coordinate, −λ: the torque
+    /// The generalized force the driver applies along its driven coordinate c, −λ ∂Φ/∂c
+    /// ([`cardan_constraints::Driver::coordinate_slope`]: 2ℓ for the distance driver, 1 for the
+    /// others), so that effort × ċ is the driver's power: the torque
     /// (N m) about the joint axis on body j for a rotation driver, the force (N) for translation,
     /// distance and coordinate drivers (positive in the sense of increasing coordinate).
     pub effort: Vec<f64>,
-    /// Power −λ ċ = effort · (rate of the driven coordinate), W.
+    /// Power −λ ν (ν = −Φ_t) = effort · (rate of the driven coordinate), W.
     pub power: Vec<f64>,
     /// Reactions of the driver row on its bodies (as for a joint).
     pub reactions: JointReactions,

@@ -53,6 +53,18 @@ impl Driver {
     pub fn function(&self) -> &TimeFunction {
         dispatch!(self, c => &c.function)
     }
+
+    /// ∂Φ/∂c at time `t` on the solution: how fast the driver's equation grows with its driven
+    /// coordinate c (the angle, slide, distance or global coordinate). 1 for every driver written
+    /// as c − f(t) (rotation: sin(φ − θ) has slope cos 0 = 1 on its branch), 2ℓ(t) for the
+    /// distance driver dᵀd − ℓ(t)². The physical effort along c (a force in N or a torque in
+    /// N m, with effort × ċ = power) is −λ · ∂Φ/∂c.
+    pub fn coordinate_slope(&self, t: f64) -> f64 {
+        match self {
+            Driver::Distance(d) => 2.0 * d.function.eval(t).0,
+            Driver::Rotation(_) | Driver::Translation(_) | Driver::Coordinate(_) => 1.0,
+        }
+    }
 }
 
 forward_constraint_by_match!(Driver, dispatch);
