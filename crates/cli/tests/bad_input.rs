@@ -48,7 +48,7 @@ fn the_base_model_runs() {
 #[test]
 fn invalid_toml_reports_line_and_column() {
     fails_at(r#"name = "crank""#, r#"name = "crank"#, "2:14", &["string"]);
-    fails_at("steps = 10", "steps = = 10", "35:9", &["extra `=`"]);
+    fails_at("steps = 10", "steps = = 10", "37:9", &["extra `=`"]);
 }
 
 #[test]
@@ -96,13 +96,13 @@ fn unknown_key_suggests_nearest() {
     fails_at(
         "t_end = 1.0",
         "tend = 1.0",
-        "34:1",
+        "36:1",
         &[r#"did you mean "t_end"?"#],
     );
     fails_at(
         "[analysis]",
         "[analysys]",
-        "32:2",
+        "34:2",
         &[r#"did you mean "analysis"?"#],
     );
 }
@@ -136,7 +136,7 @@ fn unknown_body_point_vector_joint_suggest_nearest() {
     fails_at(
         r#"joint = "pivot""#,
         r#"joint = "pivto""#,
-        "29:9",
+        "31:9",
         &[
             r#"driver "motor": unknown joint "pivto""#,
             r#"did you mean "pivot"?"#,
@@ -161,12 +161,12 @@ fn duplicate_names() {
     fails_at(
         "[analysis]",
         "[[driver]]\nname = \"pivot\"\ntype = \"rotation\"\njoint = \"pivot\"\nfunction = { kind = \"constant\", value = 0.0 }\n\n[analysis]",
-        "33:8",
+        "35:8",
         &[r#"duplicate name "pivot""#],
     );
     fails_at(
-        "vectors = { z = [0.0, 0.0, 1.0] }\n\n[[joint]]",
-        "vectors = { z = [0.0, 0.0, 1.0] }\nglobal_points = { O = [0.0, 0.0, 0.0] }\n\n[[joint]]",
+        "vectors = { z = [0.0, 0.0, 1.0], x = [1.0, 0.0, 0.0] }\n\n[[joint]]",
+        "vectors = { z = [0.0, 0.0, 1.0], x = [1.0, 0.0, 0.0] }\nglobal_points = { O = [0.0, 0.0, 0.0] }\n\n[[joint]]",
         "15:19",
         &[r#"duplicate point "O" on body "crank""#],
     );
@@ -195,13 +195,13 @@ fn nan_infinite_and_absurd_numbers() {
     fails_at(
         "t_end = 1.0",
         "t_end = 1e300",
-        "34:9",
+        "36:9",
         &["t_end", "absurdly large"],
     );
     fails_at(
         "coefficients = [0.0, 1.0]",
         "coefficients = [0.0, nan]",
-        "30:56",
+        "32:56",
         &["coefficients[1] is NaN"],
     );
 }
@@ -209,7 +209,7 @@ fn nan_infinite_and_absurd_numbers() {
 #[test]
 fn zero_length_axes() {
     fails_at(
-        "vectors = { z = [0.0, 0.0, 1.0] }\n\n[[joint]]",
+        "vectors = { z = [0.0, 0.0, 1.0], x = [1.0, 0.0, 0.0] }\n\n[[joint]]",
         "vectors = { z = [0.0, 0.0, 0.0] }\n\n[[joint]]",
         "14:17",
         &[r#"vector "z" of body "crank" has zero length"#],
@@ -283,7 +283,7 @@ fn too_few_or_too_many_drivers() {
     let o = run_text("run", &two);
     assert_eq!(o.code, 1);
     assert!(
-        o.stderr.starts_with("model.toml:27:8: error: "),
+        o.stderr.starts_with("model.toml:29:8: error: "),
         "{}",
         o.stderr
     );
@@ -475,7 +475,7 @@ fn inverse_dynamics_needs_a_fully_driven_mechanism() {
     // No driver (located at [analysis] kind): the message says how many DOF the joints leave.
     inverse_fails_at(
         &[(DRIVER, "")],
-        "28:8",
+        "30:8",
         &[
             "inverse dynamics needs a fully driven mechanism",
             "the joints leave 1 DOF and the file has 0 drivers (none)",
@@ -489,7 +489,7 @@ fn inverse_dynamics_needs_a_fully_driven_mechanism() {
             "[[driver]]\nname = \"brake\"\ntype = \"rotation\"\njoint = \"pivot\"\n\
              function = { kind = \"constant\", value = 0.0 }\n\n[analysis]",
         )],
-        "27:8",
+        "29:8",
         &[
             "the joints leave 1 DOF and the file has 2 drivers (motor, brake)",
             "remove 1 driver",
@@ -498,7 +498,7 @@ fn inverse_dynamics_needs_a_fully_driven_mechanism() {
     // A cylindrical joint leaves a slide free.
     inverse_fails_at(
         &[("type = \"revolute\"", "type = \"cylindrical\"")],
-        "27:8",
+        "29:8",
         &[
             "the joints leave 2 DOF and the file has 1 driver (motor)",
             "add 1 driver",
@@ -507,7 +507,7 @@ fn inverse_dynamics_needs_a_fully_driven_mechanism() {
     // A structure: nothing to drive.
     inverse_fails_at(
         &[(DRIVER, ""), ("type = \"revolute\"", "type = \"fixed\"")],
-        "28:8",
+        "30:8",
         &[
             "the joints leave 0 DOF and the file has 0 drivers (none)",
             "structure",
@@ -539,7 +539,7 @@ fn inverse_dynamics_needs_masses() {
 fn inverse_dynamics_rejects_integrator_keys_and_energy() {
     inverse_fails_at(
         &[("t_end = 1.0", "rtol = 1e-6\nt_end = 1.0")],
-        "34:8",
+        "36:8",
         &[
             "rtol applies only to kind = \"dynamic\"",
             "inverse dynamics analysis has no integrator",
@@ -547,7 +547,7 @@ fn inverse_dynamics_rejects_integrator_keys_and_energy() {
     );
     inverse_fails_at(
         &[("steps = 10", "output_dt = 0.1")],
-        "35:13",
+        "37:13",
         &["output_dt applies only to kind = \"dynamic\""],
     );
     inverse_fails_at(
@@ -555,12 +555,12 @@ fn inverse_dynamics_rejects_integrator_keys_and_energy() {
             "steps = 10",
             "steps = 10\n\n[analysis.outputs]\nenergy = true",
         )],
-        "33:8",
+        "35:8",
         &["outputs.energy applies only to kind = \"dynamic\""],
     );
     inverse_fails_at(
         &[("\"inverse_dynamics\"", "\"inverse-dynamics\"")],
-        "33:8",
+        "35:8",
         &["did you mean \"inverse_dynamics\""],
     );
 }
@@ -605,5 +605,22 @@ fn inverse_dynamics_mid_run_failure_writes_partial_results() {
         "{:?} {:?}",
         rows[10],
         rows[40]
+    );
+}
+
+/// A rotation driver on a joint without x axes: the angle would be measured from a hidden
+/// zero, so the file is refused at the driver, naming the joint and the keys to add.
+#[test]
+fn driven_joint_without_x_axes_is_refused() {
+    fails_at(
+        "x_axis_i = \"x\"\nx_axis_j = \"x\"\n",
+        "",
+        "27:8",
+        &[
+            "driver \"motor\"",
+            "joint \"pivot\"",
+            "x_axis_i",
+            "x_axis_j",
+        ],
     );
 }

@@ -399,3 +399,17 @@ fn a_failure_mid_run_writes_the_results_so_far() {
     );
     let _ = std::fs::remove_dir_all(&o.dir);
 }
+
+/// A rotational spring with stiffness on a joint without x axes: its rest angle would refer to
+/// a hidden zero, so the file is refused, naming the spring and the joint.
+#[test]
+fn spring_on_a_joint_without_x_axes_is_refused() {
+    let text = BASE
+        .replacen("x_axis_i = \"x\"\n", "", 1)
+        .replacen("x_axis_j = \"x\"\n", "", 1);
+    let o = run_text("run", &text);
+    assert_eq!(o.code, 1, "{}{}", o.stdout, o.stderr);
+    for n in ["coil", "joint \"pivot\"", "x_axis_i", "x_axis_j"] {
+        assert!(o.stderr.contains(n), "missing {n:?} in: {}", o.stderr);
+    }
+}

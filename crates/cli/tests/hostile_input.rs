@@ -188,8 +188,8 @@ fn subnormal_numbers_are_refused() {
     );
     rejected(
         edited(
-            "vectors = { z = [0.0, 0.0, 1.0] }\n\n[[body]]",
-            "vectors = { z = [0.0, 0.0, 2.2e-308] }\n\n[[body]]",
+            "vectors = { z = [0.0, 0.0, 1.0], x = [1.0, 0.0, 0.0] }\n\n[[body]]",
+            "vectors = { z = [0.0, 0.0, 2.2e-308], x = [1.0, 0.0, 0.0] }\n\n[[body]]",
         )
         .as_bytes(),
         &["ground vector", "subnormal"],
@@ -205,8 +205,8 @@ fn tiny_but_normal_numbers_give_a_readable_message() {
     // A direction of length 1e-300 is refused as zero; the message prints it compactly.
     let e = rejected(
         edited(
-            "vectors = { z = [0.0, 0.0, 1.0] }\n\n[[body]]",
-            "vectors = { z = [0.0, 0.0, 1e-300] }\n\n[[body]]",
+            "vectors = { z = [0.0, 0.0, 1.0], x = [1.0, 0.0, 0.0] }\n\n[[body]]",
+            "vectors = { z = [0.0, 0.0, 1e-300], x = [1.0, 0.0, 0.0] }\n\n[[body]]",
         )
         .as_bytes(),
         &["zero length", "1e-300"],

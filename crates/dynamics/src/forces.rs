@@ -555,6 +555,14 @@ impl Resolved {
                 }
                 nonneg("stiffness", *stiffness)?;
                 nonneg("damping", *damping)?;
+                if *stiffness != 0.0 && !model.joints()[j].has_x_axes {
+                    return Err(bad(format!(
+                        "joint \"{joint}\" has no x axes, so the spring's angle has no defined \
+                         zero; the angle is measured from x_axis_i to x_axis_j about axis_i: add \
+                         x_axis_i and x_axis_j to the joint (pointing them the same way at the \
+                         drawn pose makes the drawn angle 0)"
+                    )));
+                }
                 if !rest_angle.is_finite() {
                     return Err(bad("rest angle is not finite".into()));
                 }

@@ -183,6 +183,20 @@ pub enum ModelError {
         /// "axis_i" or "axis_j".
         which: &'static str,
     },
+    /// A rotation driver (or another element that uses the joint angle's zero) acts on a joint
+    /// without x axes.
+    #[error(
+        "{element}: joint \"{joint}\" has no x axes, so its angle has no defined zero; the angle \
+         is measured from x_axis_i to x_axis_j about axis_i: add x_axis_i and x_axis_j to the \
+         joint (vectors perpendicular to its axes; pointing them the same way at the drawn pose \
+         makes the drawn angle 0)"
+    )]
+    AngleWithoutXAxes {
+        /// The element that needs the angle, e.g. `driver "motor"`.
+        element: String,
+        /// The joint.
+        joint: String,
+    },
     /// The two axes of a marker are parallel, or another marker problem.
     #[error("joint \"{joint}\": invalid marker on body \"{body}\": {reason}")]
     BadMarker {

@@ -82,6 +82,10 @@ pub struct JointInfo {
     pub body_j: BodyId,
     /// The joint (kind, markers, primitives).
     pub joint: Joint,
+    /// Whether x axes were given (the zero of the joint angle): required by rotation drivers
+    /// and rotational springs; without them the markers' x axes are perpendiculars the program
+    /// picks and the angle is meaningful only relative to its initial value.
+    pub has_x_axes: bool,
     /// Its rows in the global system.
     pub rows: Range<usize>,
     pub(crate) map: ScatterMap,
@@ -834,6 +838,7 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
             body_i: bi,
             body_j: bj,
             joint,
+            has_x_axes: xi.is_some() && xj.is_some(),
             rows: 0..0,
             map: ScatterMap { slots: Vec::new() },
         });
@@ -881,6 +886,12 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
                         kind: j.joint.kind().name(),
                         driver_kind: "rotation",
                         expected: "a revolute or cylindrical joint",
+                    });
+                }
+                if !j.has_x_axes {
+                    return Err(ModelError::AngleWithoutXAxes {
+                        element: el.clone(),
+                        joint: joint.clone(),
                     });
                 }
                 let d = RotationDriver::new(*j.joint.marker_i(), *j.joint.marker_j(), f);

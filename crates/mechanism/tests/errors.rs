@@ -14,10 +14,12 @@ fn base() -> MechanismBuilder {
     let mut b = MechanismBuilder::new();
     b.body(Body::new("crank").mass(1.0).inertia_diagonal(1.0, 1.0, 1.0));
     b.point(GROUND, "A", Vector3::zeros())
-        .vector(GROUND, "z", Vector3::z());
+        .vector(GROUND, "z", Vector3::z())
+        .vector(GROUND, "x", Vector3::x());
     b.point("crank", "A", Vector3::zeros())
         .point("crank", "B", Vector3::x())
-        .vector("crank", "z", Vector3::z());
+        .vector("crank", "z", Vector3::z())
+        .vector("crank", "x", Vector3::x());
     b
 }
 
@@ -28,7 +30,9 @@ fn build_err(b: &MechanismBuilder) -> ModelError {
 }
 
 fn rev(name: &str) -> JointSpec {
-    JointSpec::new(name, JointKind::Revolute, (GROUND, "A"), ("crank", "A")).axes("z", "z")
+    JointSpec::new(name, JointKind::Revolute, (GROUND, "A"), ("crank", "A"))
+        .axes("z", "z")
+        .x_axes("x", "x")
 }
 
 #[test]
@@ -207,8 +211,7 @@ fn zero_axes_and_bad_orientations() {
     assert!(matches!(build_err(&b), ModelError::BadOrientation { .. }));
     // A marker x axis parallel to the joint axis.
     let mut b = base();
-    b.vector(GROUND, "z2", Vector3::z() * 3.0)
-        .vector("crank", "x", Vector3::x());
+    b.vector(GROUND, "z2", Vector3::z() * 3.0);
     b.joint(rev("j").x_axes("z2", "x"));
     assert!(matches!(build_err(&b), ModelError::BadMarker { ref joint, .. } if joint == "j"));
 }
@@ -567,4 +570,40 @@ fn force_elements() {
     b.joint(rev("spring"));
     b.force(spring(1.0, None, "B"));
     assert!(matches!(build_err(&b), ModelError::DuplicateElement { .. }));
+}
+
+/// A rotation driver measures the joint angle from x_axis_i to x_axis_j: without x axes the
+/// zero would be a perpendicular the program picks (a crank drawn at 50° was turned to 0° by
+/// assembly), so the builder refuses it, naming the driver and the joint.
+#[test]
+fn driven_angle_needs_x_axes() {
+    let mut b = base();
+    b.joint(
+        JointSpec::new("hinge", JointKind::Revolute, (GROUND, "A"), ("crank", "A")).axes("z", "z"),
+    );
+    b.driver(DriverSpec::rotation(
+        "motor",
+        "hinge",
+        TimeFunction::Polynomial(vec![0.0, 1.0]),
+    ));
+    let e = build_err(&b);
+    assert!(
+        matches!(&e, ModelError::AngleWithoutXAxes { element, joint }
+            if element == "driver \"motor\"" && joint == "hinge"),
+        "{e}"
+    );
+    let text = e.to_string();
+    assert!(
+        text.contains("x_axis_i") && text.contains("x_axis_j"),
+        "{text}"
+    );
+    // With x axes the same model builds.
+    let mut b = base();
+    b.joint(rev("hinge"));
+    b.driver(DriverSpec::rotation(
+        "motor",
+        "hinge",
+        TimeFunction::Polynomial(vec![0.0, 1.0]),
+    ));
+    b.build().unwrap();
 }

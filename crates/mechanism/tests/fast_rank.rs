@@ -93,7 +93,8 @@ fn wrong_driver_count_still_reported_on_large_models() {
     let short = {
         let mut b = MechanismBuilder::new();
         b.point(GROUND, "O", Vector3::zeros())
-            .vector(GROUND, "z", Vector3::z());
+            .vector(GROUND, "z", Vector3::z())
+            .vector(GROUND, "x", Vector3::x());
         for k in 0..n {
             let body = format!("b{k}");
             b.body(
@@ -104,7 +105,8 @@ fn wrong_driver_count_still_reported_on_large_models() {
             );
             b.point(&body, "a", Vector3::new(-0.5, 0.0, 0.0))
                 .point(&body, "b", Vector3::new(0.5, 0.0, 0.0))
-                .vector(&body, "z", Vector3::z());
+                .vector(&body, "z", Vector3::z())
+                .vector(&body, "x", Vector3::x());
             let prev = if k == 0 {
                 (GROUND.to_string(), "O")
             } else {
@@ -117,7 +119,8 @@ fn wrong_driver_count_still_reported_on_large_models() {
                     (&prev.0, prev.1),
                     (&body, "a"),
                 )
-                .axes("z", "z"),
+                .axes("z", "z")
+                .x_axes("x", "x"),
             );
             if k + 1 < n {
                 b.driver(DriverSpec::rotation(

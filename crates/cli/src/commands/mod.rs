@@ -52,7 +52,8 @@ fn model_error_element(e: &ModelError) -> Option<String> {
         | ModelError::Absurd { element, .. }
         | ModelError::SelfConnection { element, .. }
         | ModelError::GroundToGround { element }
-        | ModelError::NonPositive { element, .. } => element.clone(),
+        | ModelError::NonPositive { element, .. }
+        | ModelError::AngleWithoutXAxes { element, .. } => element.clone(),
         ModelError::DuplicateFeature { body, .. }
         | ModelError::ZeroVector { body, .. }
         | ModelError::BadOrientation { body, .. }

@@ -12,7 +12,7 @@ name = "crank"
 
 [ground]
 points = { O = [0.0, 0.0, 0.0] }
-vectors = { z = [0.0, 0.0, 1.0] }
+vectors = { z = [0.0, 0.0, 1.0], x = [1.0, 0.0, 0.0] }
 
 [[body]]
 name = "crank"
@@ -20,7 +20,7 @@ mass = 1.0
 inertia = { diag = [0.01, 0.1, 0.1] }
 position = [0.5, 0.0, 0.0]
 points = { O = [-0.5, 0.0, 0.0], tip = [0.5, 0.0, 0.0] }
-vectors = { z = [0.0, 0.0, 1.0] }
+vectors = { z = [0.0, 0.0, 1.0], x = [1.0, 0.0, 0.0] }
 
 [[joint]]
 name = "pivot"
@@ -31,6 +31,8 @@ axis_i = "z"
 body_j = "crank"
 point_j = "O"
 axis_j = "z"
+x_axis_i = "x"
+x_axis_j = "x"
 
 [[driver]]
 name = "motor"
