@@ -328,6 +328,25 @@ pub enum AnalysisError {
         /// Newton iterations made.
         iterations: usize,
     },
+    /// A rotation driver could only be assembled on the spurious branch φ = θ(t) ± π of its
+    /// equation sin(φ − θ(t)) = 0, even by continuation from the drawn pose.
+    #[error(
+        "at t = {time}: rotation driver \"{driver}\" prescribes the angle {prescribed} rad, but \
+         the mechanism assembles only at {reached} rad (the opposite branch, θ ± π), even when \
+         turned there step by step from the drawn pose; check that the drawn pose can reach the \
+         prescribed angle (a limit of the motion?) and that the x axes of the driven joint point \
+         where you mean the angle 0"
+    )]
+    DriverBranch {
+        /// The time.
+        time: f64,
+        /// The driver.
+        driver: String,
+        /// The assembled angle φ (principal value).
+        reached: f64,
+        /// The prescribed θ(t).
+        prescribed: f64,
+    },
     /// The Jacobian became singular during a run.
     #[error("singular configuration at t = {time}: dependent equations {}", fmt_names(.dependent))]
     Singular {

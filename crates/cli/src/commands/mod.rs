@@ -182,6 +182,9 @@ pub fn analysis_error(p: &Prepared, e: &AnalysisError) -> Error {
                 ),
             )
         }
+        AnalysisError::DriverBranch { driver, .. } => {
+            located(spans.element(driver), format!("{e}"))
+        }
         other => Error::analysis(format!("{other}")),
     }
 }

@@ -22,6 +22,7 @@ pub use distance::DistanceDriver;
 pub use rotation::RotationDriver;
 pub use translation::TranslationDriver;
 
+use crate::state::BodyPair;
 use crate::time_function::TimeFunction;
 
 /// One driver (static dispatch).
@@ -52,6 +53,32 @@ impl Driver {
     /// The time function.
     pub fn function(&self) -> &TimeFunction {
         dispatch!(self, c => &c.function)
+    }
+
+    /// Replaces the time function (assembly's continuation holds each driver at intermediate
+    /// constant values on the way to f(t)).
+    pub fn set_function(&mut self, function: TimeFunction) {
+        dispatch!(self, c => c.function = function)
+    }
+
+    /// The driven coordinate c at the bodies' poses: the joint angle atan2(y_iᵀ x_j, x_iᵀ x_j)
+    /// (principal value, rad), the slide z_iᵀ d, the distance |d| (m) or the point's global
+    /// coordinate (m). The driver's equation holds when c = f(t) (mod 2π for an angle).
+    pub fn coordinate(&self, x: &BodyPair) -> f64 {
+        match self {
+            Driver::Rotation(d) => {
+                let xj = x.j.vector(&d.marker_j.x());
+                x.i.vector(&d.marker_i.y())
+                    .dot(&xj)
+                    .atan2(x.i.vector(&d.marker_i.x()).dot(&xj))
+            }
+            Driver::Translation(d) => {
+                let dv = x.j.point(&d.marker_j.point) - x.i.point(&d.marker_i.point);
+                x.i.vector(&d.marker_i.z()).dot(&dv)
+            }
+            Driver::Distance(d) => (x.j.point(&d.point_j) - x.i.point(&d.point_i)).norm(),
+            Driver::Coordinate(d) => x.i.point(&d.point_i)[d.axis],
+        }
     }
 
     /// ∂Φ/∂c at time `t` on the solution: how fast the driver's equation grows with its driven

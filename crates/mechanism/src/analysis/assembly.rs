@@ -8,15 +8,30 @@
 //! their guessed values as far as the constraints allow. Redundant equations are handled the
 //! same way. A cap on the scaled step (default 0.5: half the model size, or about 30°) and the
 //! backtracking line search keep the iteration on the branch of the guess.
+//!
+//! ### The driven branch
+//! A rotation driver's equation sin(φ − θ(t)) = 0 also holds at φ = θ(t) ± π, and a Newton start
+//! more than 90° from θ(t) (a run starting at a late `t_start`, `cardan eval --t`) converges
+//! there. After assembling with the drivers, every rotation driver is checked:
+//! cos(φ − θ(t)) > 0. When one fails (or the direct assembly fails), the drivers are moved
+//! from their values at the guess to their values at t by continuation: each driven
+//! coordinate c_k goes along c_k⁰ + s (f_k(t) − c_k⁰) (an angle along the shorter way round,
+//! so it ends at θ(t) mod 2π), in steps of s small enough that no angle moves by more than
+//! [`CONTINUATION_MAX_ANGLE`], each step assembled from the last. If the branch is still wrong
+//! the assembly fails with [`AnalysisError::DriverBranch`], never silently at θ ± π.
 
 use crate::error::{AnalysisError, OpenElement};
 use crate::model::Model;
 use crate::workspace::{apply_rotation_step, set_poses, Workspace};
-use cardan_constraints::BodyState;
+use cardan_constraints::{BodyPair, BodyState, Driver, TimeFunction};
 use cardan_solver::{
     LineSearch, MinNormQr, Newton, NewtonOptions, NonlinearSystem, SolverError, SparsityPattern,
     Tolerances,
 };
+
+/// Largest change of a driven angle per continuation step of the assembly (rad, 22.5°): well
+/// inside the 90° basin of the driven branch.
+pub const CONTINUATION_MAX_ANGLE: f64 = std::f64::consts::PI / 8.0;
 
 /// Options of [`Model::assemble`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -116,12 +131,108 @@ impl NonlinearSystem for AssemblySystem<'_> {
 impl Model {
     /// Moves the bodies of `ws` as little as possible onto the constraint manifold (see the
     /// module docs). On success the workspace holds the assembled poses at time `options.t`, at
-    /// rest; on failure it holds the last iterate.
+    /// rest, with every rotation driver on its driven branch; on failure it holds the last
+    /// iterate.
     ///
     /// # Errors
     /// [`AnalysisError::AssemblyFailed`] naming the joints and drivers that stay open, with their
-    /// residual norms.
+    /// residual norms; [`AnalysisError::DriverBranch`] when a rotation driver can only be
+    /// assembled at θ(t) ± π.
     pub fn assemble(
+        &self,
+        ws: &mut Workspace,
+        options: &AssemblyOptions,
+    ) -> Result<AssemblyReport, AnalysisError> {
+        let guess = ws.x.clone();
+        let direct = self.assemble_direct(ws, options);
+        if !options.include_drivers || self.drivers.is_empty() {
+            return direct;
+        }
+        if direct.is_ok() && self.wrong_branch(ws, options.t).is_none() {
+            return direct;
+        }
+        ws.x.copy_from_slice(&guess);
+        ws.sync_poses();
+        match self.assemble_by_continuation(ws, options) {
+            Ok(report) => match self.wrong_branch(ws, options.t) {
+                None => Ok(report),
+                Some((driver, reached, prescribed)) => Err(AnalysisError::DriverBranch {
+                    time: options.t,
+                    driver,
+                    reached,
+                    prescribed,
+                }),
+            },
+            // The direct attempt's error names what stays open from the user's own guess.
+            Err(e) => Err(direct.err().unwrap_or(e)),
+        }
+    }
+
+    /// The first rotation driver whose assembled angle φ is on the spurious branch
+    /// (cos(φ − θ(t)) ≤ 0), with φ and θ(t).
+    fn wrong_branch(&self, ws: &Workspace, t: f64) -> Option<(String, f64, f64)> {
+        self.drivers.iter().find_map(|d| {
+            if !matches!(d.driver, Driver::Rotation(_)) {
+                return None;
+            }
+            let (si, sj) = (ws.state_of(d.body_i), ws.state_of(d.body_j));
+            let phi = d.driver.coordinate(&BodyPair::new(&si, &sj));
+            let theta = d.driver.function().eval(t).0;
+            ((phi - theta).cos() <= 0.0).then(|| (d.name.clone(), phi, theta))
+        })
+    }
+
+    /// Assembly with every driver moved from its value at the guess to its value at
+    /// `options.t` in steps (see the module docs), on a copy of the model whose drivers hold
+    /// constant intermediate values; the last step assembles this model at `options.t`.
+    fn assemble_by_continuation(
+        &self,
+        ws: &mut Workspace,
+        options: &AssemblyOptions,
+    ) -> Result<AssemblyReport, AnalysisError> {
+        // Each driver's path: start value and total change.
+        let paths: Vec<(f64, f64)> = self
+            .drivers
+            .iter()
+            .map(|d| {
+                let (si, sj) = (ws.state_of(d.body_i), ws.state_of(d.body_j));
+                let c0 = d.driver.coordinate(&BodyPair::new(&si, &sj));
+                let target = d.driver.function().eval(options.t).0;
+                let change = match d.driver {
+                    Driver::Rotation(_) => {
+                        let w = (target - c0).rem_euclid(2.0 * std::f64::consts::PI);
+                        if w > std::f64::consts::PI {
+                            w - 2.0 * std::f64::consts::PI
+                        } else {
+                            w
+                        }
+                    }
+                    _ => target - c0,
+                };
+                (c0, change)
+            })
+            .collect();
+        let largest_turn = self
+            .drivers
+            .iter()
+            .zip(&paths)
+            .filter(|(d, _)| matches!(d.driver, Driver::Rotation(_)))
+            .fold(0.0f64, |a, (_, p)| a.max(p.1.abs()));
+        let steps = ((largest_turn / CONTINUATION_MAX_ANGLE).ceil() as usize).max(4);
+        let mut held = self.clone();
+        for k in 1..steps {
+            let s = k as f64 / steps as f64;
+            for (d, (c0, change)) in held.drivers.iter_mut().zip(&paths) {
+                d.driver
+                    .set_function(TimeFunction::Constant(c0 + s * change));
+            }
+            held.assemble_direct(ws, options)?;
+        }
+        self.assemble_direct(ws, options)
+    }
+
+    /// One minimum-norm Newton solve from the workspace's poses (see [`assemble`](Self::assemble)).
+    fn assemble_direct(
         &self,
         ws: &mut Workspace,
         options: &AssemblyOptions,
