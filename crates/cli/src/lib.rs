@@ -18,6 +18,8 @@ pub mod commands;
 pub mod diag;
 pub mod dynamic;
 pub mod model;
+pub mod output;
+pub mod report;
 pub mod svg;
 pub mod table;
 
