@@ -360,3 +360,81 @@ pub fn reaction_tables(r: &DynamicResults, req: &Requested) -> Vec<Table> {
     }
     out
 }
+
+/// A conservative run whose energy drifts by more than this fraction of its energy scale
+/// ([`energy_scale`]) is flagged (docs/model-format.md, "Warnings").
+pub const ENERGY_DRIFT_BOUND: f64 = 0.01;
+
+/// Whether the energy of the model file's dynamic run should stay constant: no drivers (they do
+/// work), and only gravity and springs without damping or actuator (the energy table holds their
+/// potentials; a damper dissipates, an applied force or torque works and is not in the table).
+pub fn conservative(p: &Prepared) -> bool {
+    use cardan_dynamics::Force;
+    p.model.drivers().is_empty()
+        && p.loaded.forces.iter().all(|f| match f {
+            Force::Gravity { .. } => true,
+            Force::SpringDamperActuator {
+                damping, actuator, ..
+            } => *damping == 0.0 && actuator.is_none(),
+            Force::RotationalSpringDamper { damping, .. } => *damping == 0.0,
+            _ => false,
+        })
+}
+
+/// The energy scale of a run: the largest kinetic energy plus the range of the potential energy
+/// (gravity and springs) over the stored times, in J. It measures how much energy the motion
+/// exchanges, independently of the arbitrary zero of the potential.
+pub fn energy_scale(e: &cardan_dynamics::EnergyHistory) -> f64 {
+    let kinetic = e.kinetic.iter().fold(0.0f64, |a, &t| a.max(t));
+    let potential = e.gravity.iter().zip(&e.spring).map(|(g, s)| g + s);
+    let (lo, hi) = potential.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+        (lo.min(v), hi.max(v))
+    });
+    let range = if hi >= lo { hi - lo } else { 0.0 };
+    kinetic + range
+}
+
+/// The constraint drift a run may show: the integrator's tolerance on the scaled residual
+/// (at least 1e-12, the round-off of a converged projection) times the largest equation scale
+/// (the model's length for point equations), in m or -.
+pub fn drift_bound(p: &Prepared, integrator: &Integrator) -> f64 {
+    let tol = match integrator {
+        Integrator::Dopri5(o) => o.projection_tolerance,
+        Integrator::GeneralizedAlpha(o) => o.tolerance,
+    };
+    let scale = p
+        .model
+        .equation_scales()
+        .iter()
+        .fold(1.0f64, |a, &s| a.max(s));
+    tol.max(1e-12) * scale
+}
+
+/// Warnings about doubtful results of a dynamic run: an energy drift beyond
+/// [`ENERGY_DRIFT_BOUND`] of the energy scale for a [`conservative`] model, a constraint drift
+/// beyond [`drift_bound`].
+pub fn doubtful_results(p: &Prepared, r: &DynamicResults, integrator: &Integrator) -> Vec<String> {
+    let mut warnings = Vec::new();
+    let drift = r.energy.max_drift();
+    let scale = energy_scale(&r.energy);
+    if conservative(p) && drift > ENERGY_DRIFT_BOUND * scale {
+        warnings.push(format!(
+            "energy drift {drift:.3e} J is {:.1} % of the model's energy scale {scale:.3e} J \
+             (largest kinetic energy + range of the potential energy), more than the {} % \
+             allowed: the model has no dissipation, so the integration is inaccurate or \
+             unstable; use a smaller step (dt) or tighter tolerances (rtol, atol)",
+            100.0 * drift / scale,
+            100.0 * ENERGY_DRIFT_BOUND
+        ));
+    }
+    let worst = r.position_drift.iter().fold(0.0f64, |a, &d| a.max(d));
+    let bound = drift_bound(p, integrator);
+    if worst > bound || worst.is_nan() {
+        warnings.push(format!(
+            "constraint drift {worst:.3e} (largest |Φ_i|, m or -) exceeds the tolerance \
+             {bound:.3e} (the integrator's tolerance times the model's length scale): the \
+             joints are not held closely; use a smaller step (dt) or tighter tolerances"
+        ));
+    }
+    warnings
+}

@@ -55,6 +55,10 @@ pub enum Command {
         /// Do not show a progress bar.
         #[arg(long)]
         quiet: bool,
+        /// Treat warnings about doubtful results as failures: exit code 3 (the results are
+        /// still written; run.json says "complete" with the warnings).
+        #[arg(long)]
+        strict: bool,
     },
     /// Validate the model; print bodies, joints, equation counts, DOF and redundant equations.
     Check {
@@ -81,7 +85,14 @@ pub fn run(cli: &Cli, out: &mut dyn std::io::Write) -> Result<(), Error> {
             model,
             output,
             quiet,
-        } => commands::run::run(model, output.as_deref(), *quiet, out).map(|_| ()),
+            strict,
+        } => {
+            let flags = commands::run::RunFlags {
+                progress: !*quiet && std::io::IsTerminal::is_terminal(&std::io::stderr()),
+                strict: *strict,
+            };
+            commands::run::run(model, output.as_deref(), &flags, out).map(|_| ())
+        }
         Command::Check { model } => commands::check::check(model, out),
         Command::Eval { model, t } => commands::eval::eval(model, *t, out),
     }

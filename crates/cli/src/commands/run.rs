@@ -8,7 +8,7 @@ use crate::output::OutputDir;
 use crate::report::{ModelRef, RunReport, Status};
 use crate::table::Table;
 use cardan_mechanism::{KinematicOptions, Results};
-use std::io::{IsTerminal, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -72,18 +72,27 @@ pub struct RunOutcome {
     pub dynamic: Option<cardan_dynamics::DynamicResults>,
 }
 
+/// How `cardan run` was asked to run.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct RunFlags {
+    /// Show a progress bar on stderr.
+    pub progress: bool,
+    /// `--strict`: warnings make the run fail with exit code 3 (the results are still written).
+    pub strict: bool,
+}
+
 /// `cardan run`: runs, writes, prints the summary.
 ///
 /// # Errors
-/// Input errors, analysis errors (after writing the partial results), output errors.
+/// Input errors, analysis errors (after writing the partial results), output errors; with
+/// `--strict`, warnings (after writing the results).
 pub fn run(
     path: &Path,
     output: Option<&Path>,
-    quiet: bool,
+    flags: &RunFlags,
     out: &mut dyn Write,
 ) -> Result<Summary, Error> {
-    let show = !quiet && std::io::stderr().is_terminal();
-    let o = run_model(path, output, show)?;
+    let o = run_model_with(path, output, flags)?;
     print_summary(&o.summary, out)?;
     match o.error {
         Some(e) => Err(e),
@@ -119,6 +128,11 @@ fn print_summary(s: &Summary, out: &mut dyn Write) -> Result<(), Error> {
             .map(|(n, v, u)| format!("{n} {v:.4e} {u}"))
             .collect();
         format!(", peak |driver effort| {}", list.join(", "))
+    };
+    let efforts = match s.warnings.len() {
+        0 => efforts,
+        1 => format!("{efforts}, 1 warning (below)"),
+        n => format!("{efforts}, {n} warnings (below)"),
     };
     match &s.dynamic {
         None => writeln!(
@@ -163,6 +177,8 @@ struct Analysed {
     dynamic: Option<cardan_dynamics::DynamicResults>,
     /// The failure that stopped the run early; `None` when it reached `t_end`.
     failure: Option<Error>,
+    /// `--strict` with warnings: the error to return after writing (the run is complete).
+    strict_failure: Option<Error>,
 }
 
 /// Runs the model file's analysis and writes its outputs to `output` (default
@@ -174,6 +190,24 @@ struct Analysed {
 /// Input errors and failures before the first step (assembly, driver count): nothing is
 /// written, the previous directory stays. Output errors (the previous directory stays).
 pub fn run_model(path: &Path, output: Option<&Path>, progress: bool) -> Result<RunOutcome, Error> {
+    let flags = RunFlags {
+        progress,
+        ..RunFlags::default()
+    };
+    run_model_with(path, output, &flags)
+}
+
+/// [`run_model`] as `flags` say. With `flags.strict`, a run with warnings returns an error
+/// (exit code 3) in [`RunOutcome::error`] after writing its results.
+///
+/// # Errors
+/// As [`run_model`].
+pub fn run_model_with(
+    path: &Path,
+    output: Option<&Path>,
+    flags: &RunFlags,
+) -> Result<RunOutcome, Error> {
+    let progress = flags.progress;
     let p = prepare(path)?;
     let Some(analysis) = p.loaded.analysis.clone() else {
         return Err(p.source.error(
@@ -201,6 +235,9 @@ pub fn run_model(path: &Path, output: Option<&Path>, progress: bool) -> Result<R
             Error::analysis("the analysis stored no result (no time was solved)")
         }));
     }
+    if flags.strict && a.failure.is_none() && !a.summary.warnings.is_empty() {
+        a.strict_failure = Some(strict_error(&a.summary.warnings));
+    }
     let files = write_outputs(out_dir, &p, kind, &mut a, analysis.plots)?;
     a.summary.dir = dir;
     a.summary.files = files;
@@ -208,9 +245,19 @@ pub fn run_model(path: &Path, output: Option<&Path>, progress: bool) -> Result<R
         prepared: p,
         results: a.results,
         summary: a.summary,
-        error: a.failure,
+        error: a.failure.or(a.strict_failure),
         dynamic: a.dynamic,
     })
+}
+
+/// The error of a `--strict` run with warnings.
+fn strict_error(warnings: &[String]) -> Error {
+    let n = warnings.len();
+    Error::analysis(format!(
+        "--strict: the run gave {n} warning{} about doubtful results (listed after the summary \
+         and in run.json); the results were written",
+        if n == 1 { "" } else { "s" }
+    ))
 }
 
 /// Writes the tables and `run.json` into the locked directory and renames it into place.
@@ -265,7 +312,11 @@ fn report(p: &Prepared, kind: &'static str, a: &Analysed, files: Vec<String>) ->
             Status::Complete
         },
         reason: a.failure.as_ref().map(|e| e.message.clone()),
-        exit_code: a.failure.as_ref().map_or(0, |e| e.kind.exit_code()),
+        exit_code: a
+            .failure
+            .as_ref()
+            .or(a.strict_failure.as_ref())
+            .map_or(0, |e| e.kind.exit_code()),
         t_reached: a.results.times.last().copied(),
         steps: s.steps,
         integration_steps: d.map(|d| d.steps),
@@ -320,6 +371,7 @@ fn run_kinematic(
         results,
         dynamic: None,
         failure: failure.map(|e| analysis_error(p, &e)),
+        strict_failure: None,
     })
 }
 
@@ -359,7 +411,7 @@ fn run_dynamic(p: &Prepared, analysis: &crate::build::Analysis) -> Result<Analys
             energy_drift: r.energy.max_drift(),
         }),
         peak_efforts: peak_efforts(p, &r),
-        warnings: Vec::new(),
+        warnings: crate::dynamic::doubtful_results(p, &r, &opts.integrator),
     };
     Ok(Analysed {
         tables,
@@ -367,6 +419,7 @@ fn run_dynamic(p: &Prepared, analysis: &crate::build::Analysis) -> Result<Analys
         results: r.kinematics.clone(),
         dynamic: Some(r),
         failure,
+        strict_failure: None,
     })
 }
 
@@ -397,6 +450,7 @@ fn run_inverse(p: &Prepared, analysis: &crate::build::Analysis) -> Result<Analys
         results: r.kinematics.clone(),
         dynamic: Some(r),
         failure,
+        strict_failure: None,
     })
 }
 
