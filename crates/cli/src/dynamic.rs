@@ -12,6 +12,7 @@ use cardan_dynamics::{
     DynamicResults, Dynamics, DynamicsError, Integrator, SimulationOptions, State,
 };
 use cardan_mechanism::{AssemblyOptions, KinematicOptions};
+use std::ops::ControlFlow;
 
 /// The [`Dynamics`] of a prepared model with the file's forces (gravity first).
 ///
@@ -43,6 +44,19 @@ fn dynamics_as<'p>(p: &'p Prepared, what: &str) -> Result<Dynamics<'p>, Error> {
 /// joints leave degrees of freedom: an input error naming the DOF and the drivers); a body
 /// without mass or inertia; assembly failures and failures at the first step.
 pub fn inverse_dynamics(p: &Prepared) -> Result<(DynamicResults, Option<Error>), Error> {
+    inverse_dynamics_with(p, |_, _| ControlFlow::Continue(()))
+}
+
+/// [`inverse_dynamics`] with a progress callback
+/// ([`Dynamics::inverse_dynamics_with_progress`]); when it breaks (Ctrl-C), the results so far
+/// and an interrupted error ([`crate::progress::interrupted`]).
+///
+/// # Errors
+/// As [`inverse_dynamics`].
+pub fn inverse_dynamics_with(
+    p: &Prepared,
+    progress: impl FnMut(usize, f64) -> ControlFlow<()>,
+) -> Result<(DynamicResults, Option<Error>), Error> {
     const WHAT: &str = "inverse dynamics";
     let a = p
         .loaded
@@ -69,11 +83,15 @@ pub fn inverse_dynamics(p: &Prepared) -> Result<(DynamicResults, Option<Error>),
     }
     let mut d = dynamics_as(p, WHAT)?;
     let opts = KinematicOptions::new(a.t_start, a.t_end, a.steps);
-    let e = match d.inverse_dynamics(&opts) {
+    let e = match d.inverse_dynamics_with_progress(&opts, progress) {
         Ok(r) => return Ok((r, None)),
         Err(e) => e,
     };
     match e.cause() {
+        DynamicsError::Stopped { .. } => match e.partial_results() {
+            Some(r) => Ok((r.clone(), Some(crate::progress::interrupted(r.times())))),
+            None => Err(located_as(p, &e, WHAT)),
+        },
         DynamicsError::NotFullyDriven { dof, drivers } => Err(not_fully_driven(p, *dof, *drivers)),
         DynamicsError::Mechanism(ae) => {
             let err = analysis_error(p, ae);
@@ -437,4 +455,59 @@ pub fn doubtful_results(p: &Prepared, r: &DynamicResults, integrator: &Integrato
         ));
     }
     warnings
+}
+
+/// Most integration steps a dynamic run may need without `--allow-long`: as many as a kinematic
+/// run may have, and the integrators' own step limit
+/// ([`SimulationOptions::max_steps`]'s default).
+pub const MAX_STEPS: usize = 10_000_000;
+
+/// The least number of integration steps the run needs and the step it assumes: t span / h for
+/// fixed steps (DOPRI5 with `dt`, generalized-α), t span / h_max for adaptive DOPRI5 with
+/// `h_max`; `None` when it cannot be told before the run (adaptive without `h_max`: the step
+/// follows the motion, and the integrators' limit of [`MAX_STEPS`] steps applies).
+pub fn step_estimate(opts: &SimulationOptions, span: f64) -> Option<(f64, f64)> {
+    use cardan_dynamics::StepControl;
+    let h = match opts.integrator {
+        Integrator::Dopri5(o) => match o.step {
+            StepControl::Fixed(h) => h,
+            StepControl::Adaptive { .. } if o.h_max.is_finite() => o.h_max,
+            StepControl::Adaptive { .. } => return None,
+        },
+        Integrator::GeneralizedAlpha(o) => o.h,
+    };
+    Some(((span / h).ceil(), h))
+}
+
+/// Refuses a dynamic run estimated to need more than [`MAX_STEPS`] steps unless `allow_long`;
+/// with `allow_long`, lifts the integrators' step limit (a long adaptive run is then stopped by
+/// Ctrl-C only).
+///
+/// # Errors
+/// An input error at `[analysis]` with the estimate and the flag that overrides it.
+pub fn check_length(
+    p: &Prepared,
+    opts: &mut SimulationOptions,
+    allow_long: bool,
+) -> Result<(), Error> {
+    if allow_long {
+        opts.max_steps = usize::MAX;
+        return Ok(());
+    }
+    let Some(a) = p.loaded.analysis.as_ref() else {
+        return Ok(());
+    };
+    let span = a.t_end - a.t_start;
+    match step_estimate(opts, span) {
+        Some((n, h)) if n > MAX_STEPS as f64 => Err(p.source.error_at(
+            p.loaded.spans.analysis.clone(),
+            format!(
+                "this dynamic run needs at least {n:.2e} integration steps (t_end − t_start = \
+                 {span} s with steps of at most {h:e} s); runs of more than {MAX_STEPS} steps \
+                 are refused as a likely mistake: use a larger step, or pass --allow-long to \
+                 run it anyway (Ctrl-C stops it and keeps the results so far)"
+            ),
+        )),
+        _ => Ok(()),
+    }
 }

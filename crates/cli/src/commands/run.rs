@@ -12,9 +12,6 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-/// Runs with more steps than this show a progress bar (when stderr is a terminal).
-pub const PROGRESS_MIN_STEPS: usize = 2000;
-
 /// What a run did.
 #[derive(Debug, Clone)]
 pub struct Summary {
@@ -79,6 +76,9 @@ pub struct RunFlags {
     pub progress: bool,
     /// `--strict`: warnings make the run fail with exit code 3 (the results are still written).
     pub strict: bool,
+    /// `--allow-long`: run a dynamic analysis beyond [`crate::dynamic::MAX_STEPS`] estimated
+    /// steps.
+    pub allow_long: bool,
 }
 
 /// `cardan run`: runs, writes, prints the summary.
@@ -92,6 +92,7 @@ pub fn run(
     flags: &RunFlags,
     out: &mut dyn Write,
 ) -> Result<Summary, Error> {
+    crate::progress::catch_ctrl_c();
     let o = run_model_with(path, output, flags)?;
     print_summary(&o.summary, out)?;
     match o.error {
@@ -222,9 +223,9 @@ pub fn run_model_with(
     // Locked before the analysis: a concurrent run is refused at once, not after its work.
     let out_dir = OutputDir::lock(&dir)?;
     let (kind, ran) = if analysis.dynamic.is_some() {
-        ("dynamic", run_dynamic(&p, &analysis))
+        ("dynamic", run_dynamic(&p, &analysis, flags))
     } else if analysis.inverse_dynamics {
-        ("inverse_dynamics", run_inverse(&p, &analysis))
+        ("inverse_dynamics", run_inverse(&p, &analysis, progress))
     } else {
         ("kinematic", run_kinematic(&p, &analysis, progress))
     };
@@ -339,18 +340,24 @@ fn run_kinematic(
 ) -> Result<Analysed, Error> {
     let opts = KinematicOptions::new(analysis.t_start, analysis.t_end, analysis.steps);
     let start = Instant::now();
-    let (results, failure) = if progress && analysis.steps >= PROGRESS_MIN_STEPS {
-        run_with_progress(p, &opts)
-    } else {
-        match p.model.run_kinematics(&opts) {
-            Ok(r) => (r, None),
-            Err(e) => match e.partial_results() {
-                Some(r) => (r.clone(), Some(e)),
-                None => return Err(analysis_error(p, &e)),
-            },
-        }
-    };
+    let mut bar = crate::progress::Progress::new(progress, opts.steps as u64 + 1);
+    let mut ws = p.model.workspace();
+    let run = p
+        .model
+        .kinematics_with_control(&mut ws, &opts, |k, t| bar.tick(k as u64 + 1, t));
     let wall = start.elapsed();
+    let (results, failure) = match run {
+        Ok(r) if bar.stopped() => {
+            let e = crate::progress::interrupted(&r.times);
+            (r, Some(e))
+        }
+        Ok(r) => (r, None),
+        Err(e) => match e.partial_results() {
+            Some(r) => (r.clone(), Some(analysis_error(p, &e))),
+            None => return Err(analysis_error(p, &e)),
+        },
+    };
+    drop(bar);
     let req = requested(p, &analysis.outputs);
     let tables = tables(p, &results, &req);
     let summary = Summary {
@@ -370,24 +377,39 @@ fn run_kinematic(
         summary,
         results,
         dynamic: None,
-        failure: failure.map(|e| analysis_error(p, &e)),
+        failure,
         strict_failure: None,
     })
 }
 
 /// `kind = "dynamic"`: simulate, the tables, the summary. A failure mid-run keeps the results
 /// so far with the error.
-fn run_dynamic(p: &Prepared, analysis: &crate::build::Analysis) -> Result<Analysed, Error> {
-    let opts = crate::dynamic::options(p, None)?;
+fn run_dynamic(
+    p: &Prepared,
+    analysis: &crate::build::Analysis,
+    flags: &RunFlags,
+) -> Result<Analysed, Error> {
+    let mut opts = crate::dynamic::options(p, None)?;
+    crate::dynamic::check_length(p, &mut opts, flags.allow_long)?;
     let mut d = crate::dynamic::dynamics(p)?;
     let initial = crate::dynamic::initial_state(p);
     let start = Instant::now();
-    let outcome = d.simulate(&initial, &opts);
+    // Progress in parts of the time span (the number of adaptive steps is not known).
+    const PARTS: f64 = 10_000.0;
+    let (t0, span) = (analysis.t_start, analysis.t_end - analysis.t_start);
+    let mut bar = crate::progress::Progress::new(flags.progress, PARTS as u64);
+    let outcome = d.simulate_with_progress(&initial, &opts, |t| {
+        bar.tick(((t - t0) / span * PARTS) as u64, t)
+    });
+    drop(bar);
     let wall = start.elapsed();
     drop(d);
     let (r, failure) = match outcome {
         Ok(r) => (r, None),
         Err(e) => match e.partial_results() {
+            Some(r) if matches!(e.cause(), cardan_dynamics::DynamicsError::Stopped { .. }) => {
+                (r.clone(), Some(crate::progress::interrupted(r.times())))
+            }
             Some(r) => (r.clone(), Some(crate::dynamic::located(p, &e))),
             None => return Err(crate::dynamic::located(p, &e)),
         },
@@ -425,9 +447,17 @@ fn run_dynamic(p: &Prepared, analysis: &crate::build::Analysis) -> Result<Analys
 
 /// `kind = "inverse_dynamics"`: kinematics with driver efforts and reactions, the tables, the
 /// summary. A kinematic failure mid-run keeps the results so far with the error.
-fn run_inverse(p: &Prepared, analysis: &crate::build::Analysis) -> Result<Analysed, Error> {
+fn run_inverse(
+    p: &Prepared,
+    analysis: &crate::build::Analysis,
+    progress: bool,
+) -> Result<Analysed, Error> {
     let start = Instant::now();
-    let (r, failure) = crate::dynamic::inverse_dynamics(p)?;
+    // Two passes over the grid: the kinematics, then the efforts.
+    let frames = 2 * (analysis.steps as u64 + 1);
+    let mut bar = crate::progress::Progress::new(progress, frames);
+    let (r, failure) = crate::dynamic::inverse_dynamics_with(p, |k, t| bar.tick(k as u64 + 1, t))?;
+    drop(bar);
     let wall = start.elapsed();
     let req = requested(p, &analysis.outputs);
     let tables = crate::dynamic::inverse_tables(p, &r, &req);
@@ -470,34 +500,6 @@ fn peak_efforts(
             )
         })
         .collect()
-}
-
-/// The run with a progress bar on stderr, driven by the mechanism's per-step callback.
-fn run_with_progress(
-    p: &Prepared,
-    opts: &KinematicOptions,
-) -> (Results, Option<cardan_mechanism::AnalysisError>) {
-    let bar = indicatif::ProgressBar::new(opts.steps as u64);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template(
-            "{bar:40} {pos}/{len} steps, t = {msg} s, eta {eta}",
-        )
-        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-    );
-    // About 100 redraws per run, however many steps.
-    let stride = opts.steps.div_ceil(100).max(1);
-    let mut ws = p.model.workspace();
-    let result = p.model.kinematics_with_progress(&mut ws, opts, |k, t| {
-        if k % stride == 0 || k == opts.steps {
-            bar.set_position(k as u64);
-            bar.set_message(format!("{t:.4}"));
-        }
-    });
-    bar.finish_and_clear();
-    match result {
-        Ok(r) => (r, None),
-        Err(e) => (e.partial_results().cloned().unwrap_or_default(), Some(e)),
-    }
 }
 
 /// The outputs to write: as requested, or everything when the file has no `[analysis.outputs]`.
