@@ -71,7 +71,7 @@ impl Progress {
     }
 
     /// One step done: `done` units of `len`, at time `t`. Breaks when Ctrl-C was pressed. No
-    /// allocation, except when the bar is created or redrawn (at most [`REDRAWS`] times).
+    /// allocation, except when the bar is created or redrawn (at most 1000 times a run).
     pub fn tick(&mut self, done: u64, t: f64) -> ControlFlow<()> {
         if stop_requested() {
             self.stopped = true;
