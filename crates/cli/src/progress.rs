@@ -103,7 +103,7 @@ impl Progress {
         let bar = indicatif::ProgressBar::new(self.len);
         bar.set_style(
             indicatif::ProgressStyle::with_template(
-                "{bar:40} {percent:>3}%, t = {msg} s, {elapsed} elapsed, eta {eta} (Ctrl-C stops and keeps the results)",
+                "{wide_bar} {percent:>3}% t = {msg} s, eta {eta} (Ctrl-C: stop, keep results)",
             )
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
         );
