@@ -16,6 +16,9 @@ pub enum ErrorKind {
     Output,
     /// Standard output was closed by its reader (exit code 0, no message).
     BrokenPipe,
+    /// The run was stopped by Ctrl-C; its results so far were written (exit code 130, as a
+    /// shell reports a process ended by SIGINT).
+    Interrupted,
 }
 
 impl ErrorKind {
@@ -26,6 +29,7 @@ impl ErrorKind {
             ErrorKind::Analysis => 3,
             ErrorKind::Output => 4,
             ErrorKind::BrokenPipe => 0,
+            ErrorKind::Interrupted => 130,
         }
     }
 }

@@ -12,6 +12,7 @@ use cardan_dynamics::{
     DynamicResults, Dynamics, DynamicsError, Integrator, SimulationOptions, State,
 };
 use cardan_mechanism::{AssemblyOptions, KinematicOptions};
+use std::ops::ControlFlow;
 
 /// The [`Dynamics`] of a prepared model with the file's forces (gravity first).
 ///
@@ -43,6 +44,19 @@ fn dynamics_as<'p>(p: &'p Prepared, what: &str) -> Result<Dynamics<'p>, Error> {
 /// joints leave degrees of freedom: an input error naming the DOF and the drivers); a body
 /// without mass or inertia; assembly failures and failures at the first step.
 pub fn inverse_dynamics(p: &Prepared) -> Result<(DynamicResults, Option<Error>), Error> {
+    inverse_dynamics_with(p, |_, _| ControlFlow::Continue(()))
+}
+
+/// [`inverse_dynamics`] with a progress callback
+/// ([`Dynamics::inverse_dynamics_with_progress`]); when it breaks (Ctrl-C), the results so far
+/// and an interrupted error ([`crate::progress::interrupted`]).
+///
+/// # Errors
+/// As [`inverse_dynamics`].
+pub fn inverse_dynamics_with(
+    p: &Prepared,
+    progress: impl FnMut(usize, f64) -> ControlFlow<()>,
+) -> Result<(DynamicResults, Option<Error>), Error> {
     const WHAT: &str = "inverse dynamics";
     let a = p
         .loaded
@@ -69,11 +83,15 @@ pub fn inverse_dynamics(p: &Prepared) -> Result<(DynamicResults, Option<Error>),
     }
     let mut d = dynamics_as(p, WHAT)?;
     let opts = KinematicOptions::new(a.t_start, a.t_end, a.steps);
-    let e = match d.inverse_dynamics(&opts) {
+    let e = match d.inverse_dynamics_with_progress(&opts, progress) {
         Ok(r) => return Ok((r, None)),
         Err(e) => e,
     };
     match e.cause() {
+        DynamicsError::Stopped { .. } => match e.partial_results() {
+            Some(r) => Ok((r.clone(), Some(crate::progress::interrupted(r.times())))),
+            None => Err(located_as(p, &e, WHAT)),
+        },
         DynamicsError::NotFullyDriven { dof, drivers } => Err(not_fully_driven(p, *dof, *drivers)),
         DynamicsError::Mechanism(ae) => {
             let err = analysis_error(p, ae);
@@ -359,4 +377,137 @@ pub fn reaction_tables(r: &DynamicResults, req: &Requested) -> Vec<Table> {
         out.push(t);
     }
     out
+}
+
+/// A conservative run whose energy drifts by more than this fraction of its energy scale
+/// ([`energy_scale`]) is flagged (docs/model-format.md, "Warnings").
+pub const ENERGY_DRIFT_BOUND: f64 = 0.01;
+
+/// Whether the energy of the model file's dynamic run should stay constant: no drivers (they do
+/// work), and only gravity and springs without damping or actuator (the energy table holds their
+/// potentials; a damper dissipates, an applied force or torque works and is not in the table).
+pub fn conservative(p: &Prepared) -> bool {
+    use cardan_dynamics::Force;
+    p.model.drivers().is_empty()
+        && p.loaded.forces.iter().all(|f| match f {
+            Force::Gravity { .. } => true,
+            Force::SpringDamperActuator {
+                damping, actuator, ..
+            } => *damping == 0.0 && actuator.is_none(),
+            Force::RotationalSpringDamper { damping, .. } => *damping == 0.0,
+            _ => false,
+        })
+}
+
+/// The energy scale of a run: the largest kinetic energy plus the range of the potential energy
+/// (gravity and springs) over the stored times, in J. It measures how much energy the motion
+/// exchanges, independently of the arbitrary zero of the potential.
+pub fn energy_scale(e: &cardan_dynamics::EnergyHistory) -> f64 {
+    let kinetic = e.kinetic.iter().fold(0.0f64, |a, &t| a.max(t));
+    let potential = e.gravity.iter().zip(&e.spring).map(|(g, s)| g + s);
+    let (lo, hi) = potential.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+        (lo.min(v), hi.max(v))
+    });
+    let range = if hi >= lo { hi - lo } else { 0.0 };
+    kinetic + range
+}
+
+/// The constraint drift a run may show: the integrator's tolerance on the scaled residual
+/// (at least 1e-12, the round-off of a converged projection) times the largest equation scale
+/// (the model's length for point equations), in m or -.
+pub fn drift_bound(p: &Prepared, integrator: &Integrator) -> f64 {
+    let tol = match integrator {
+        Integrator::Dopri5(o) => o.projection_tolerance,
+        Integrator::GeneralizedAlpha(o) => o.tolerance,
+    };
+    let scale = p
+        .model
+        .equation_scales()
+        .iter()
+        .fold(1.0f64, |a, &s| a.max(s));
+    tol.max(1e-12) * scale
+}
+
+/// Warnings about doubtful results of a dynamic run: an energy drift beyond
+/// [`ENERGY_DRIFT_BOUND`] of the energy scale for a [`conservative`] model, a constraint drift
+/// beyond [`drift_bound`].
+pub fn doubtful_results(p: &Prepared, r: &DynamicResults, integrator: &Integrator) -> Vec<String> {
+    let mut warnings = Vec::new();
+    let drift = r.energy.max_drift();
+    let scale = energy_scale(&r.energy);
+    if conservative(p) && drift > ENERGY_DRIFT_BOUND * scale {
+        warnings.push(format!(
+            "energy drift {drift:.3e} J is {:.1} % of the model's energy scale {scale:.3e} J \
+             (largest kinetic energy + range of the potential energy), more than the {} % \
+             allowed: the model has no dissipation, so the integration is inaccurate or \
+             unstable; use a smaller step (dt) or tighter tolerances (rtol, atol)",
+            100.0 * drift / scale,
+            100.0 * ENERGY_DRIFT_BOUND
+        ));
+    }
+    let worst = r.position_drift.iter().fold(0.0f64, |a, &d| a.max(d));
+    let bound = drift_bound(p, integrator);
+    if worst > bound || worst.is_nan() {
+        warnings.push(format!(
+            "constraint drift {worst:.3e} (largest |Φ_i|, m or -) exceeds the tolerance \
+             {bound:.3e} (the integrator's tolerance times the model's length scale): the \
+             joints are not held closely; use a smaller step (dt) or tighter tolerances"
+        ));
+    }
+    warnings
+}
+
+/// Most integration steps a dynamic run may need without `--allow-long`: as many as a kinematic
+/// run may have, and the integrators' own step limit
+/// ([`SimulationOptions::max_steps`]'s default).
+pub const MAX_STEPS: usize = 10_000_000;
+
+/// The least number of integration steps the run needs and the step it assumes: t span / h for
+/// fixed steps (DOPRI5 with `dt`, generalized-α), t span / h_max for adaptive DOPRI5 with
+/// `h_max`; `None` when it cannot be told before the run (adaptive without `h_max`: the step
+/// follows the motion, and the integrators' limit of [`MAX_STEPS`] steps applies).
+pub fn step_estimate(opts: &SimulationOptions, span: f64) -> Option<(f64, f64)> {
+    use cardan_dynamics::StepControl;
+    let h = match opts.integrator {
+        Integrator::Dopri5(o) => match o.step {
+            StepControl::Fixed(h) => h,
+            StepControl::Adaptive { .. } if o.h_max.is_finite() => o.h_max,
+            StepControl::Adaptive { .. } => return None,
+        },
+        Integrator::GeneralizedAlpha(o) => o.h,
+    };
+    Some(((span / h).ceil(), h))
+}
+
+/// Refuses a dynamic run estimated to need more than [`MAX_STEPS`] steps unless `allow_long`;
+/// with `allow_long`, lifts the integrators' step limit (a long adaptive run is then stopped by
+/// Ctrl-C only).
+///
+/// # Errors
+/// An input error at `[analysis]` with the estimate and the flag that overrides it.
+pub fn check_length(
+    p: &Prepared,
+    opts: &mut SimulationOptions,
+    allow_long: bool,
+) -> Result<(), Error> {
+    if allow_long {
+        opts.max_steps = usize::MAX;
+        return Ok(());
+    }
+    let Some(a) = p.loaded.analysis.as_ref() else {
+        return Ok(());
+    };
+    let span = a.t_end - a.t_start;
+    match step_estimate(opts, span) {
+        Some((n, h)) if n > MAX_STEPS as f64 => Err(p.source.error_at(
+            p.loaded.spans.analysis.clone(),
+            format!(
+                "this dynamic run needs at least {n:.2e} integration steps (t_end − t_start = \
+                 {span} s with steps of at most {h:e} s); runs of more than {MAX_STEPS} steps \
+                 are refused as a likely mistake: use a larger step, or pass --allow-long to \
+                 run it anyway (Ctrl-C stops it and keeps the results so far)"
+            ),
+        )),
+        _ => Ok(()),
+    }
 }

@@ -4,8 +4,9 @@
 //! and SVG plots. The binary (`src/main.rs`) only calls [`main_with_args`]; everything else lives
 //! here so that tests can call it.
 //!
-//! - `cardan run MODEL.toml [-o DIR]`: the analysis the file describes; CSV per output group
-//!   (header with units), SVG plots, a summary line.
+//! - `cardan run MODEL.toml [-o DIR] [--quiet] [--strict] [--allow-long]`: the analysis the
+//!   file describes; CSV per output group (header with units), SVG plots, `run.json`, a summary
+//!   line with warnings ([`output`]: the directory rule; [`progress`]: progress bar and Ctrl-C).
 //! - `cardan check MODEL.toml`: bodies, joints with equation counts, DOF, redundant equations.
 //! - `cardan eval MODEL.toml [--t T]`: Φ, the Jacobian (pattern and values), ν and γ# at the
 //!   assembled state.
@@ -18,6 +19,9 @@ pub mod commands;
 pub mod diag;
 pub mod dynamic;
 pub mod model;
+pub mod output;
+pub mod progress;
+pub mod report;
 pub mod svg;
 pub mod table;
 
@@ -53,6 +57,14 @@ pub enum Command {
         /// Do not show a progress bar.
         #[arg(long)]
         quiet: bool,
+        /// Treat warnings about doubtful results as failures: exit code 3 (the results are
+        /// still written; run.json says "complete" with the warnings).
+        #[arg(long)]
+        strict: bool,
+        /// Run a dynamic analysis even if it needs more than 10 000 000 integration steps
+        /// (Ctrl-C stops a run and keeps its results).
+        #[arg(long)]
+        allow_long: bool,
     },
     /// Validate the model; print bodies, joints, equation counts, DOF and redundant equations.
     Check {
@@ -79,7 +91,16 @@ pub fn run(cli: &Cli, out: &mut dyn std::io::Write) -> Result<(), Error> {
             model,
             output,
             quiet,
-        } => commands::run::run(model, output.as_deref(), *quiet, out).map(|_| ()),
+            strict,
+            allow_long,
+        } => {
+            let flags = commands::run::RunFlags {
+                progress: !*quiet && std::io::IsTerminal::is_terminal(&std::io::stderr()),
+                strict: *strict,
+                allow_long: *allow_long,
+            };
+            commands::run::run(model, output.as_deref(), &flags, out).map(|_| ())
+        }
         Command::Check { model } => commands::check::check(model, out),
         Command::Eval { model, t } => commands::eval::eval(model, *t, out),
     }

@@ -100,6 +100,13 @@ pub enum DynamicsError {
         /// The limit.
         max_steps: usize,
     },
+    /// The caller's progress callback asked to stop (e.g. Ctrl-C): not a failure of the
+    /// analysis; the results so far are kept ([`DynamicsError::MidRun`]).
+    #[error("t = {time}: stopped on request")]
+    Stopped {
+        /// The time reached.
+        time: f64,
+    },
     /// A failure after some outputs were stored: the cause and the results up to the last
     /// stored time.
     #[error("{source} (results kept up to t = {last_time})")]

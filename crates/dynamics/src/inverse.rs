@@ -6,6 +6,7 @@ use crate::state::State;
 use crate::system::Dynamics;
 use crate::DynamicsError;
 use cardan_mechanism::{AnalysisError, KinematicOptions, Outputs, Results};
+use std::ops::ControlFlow;
 
 impl Dynamics<'_> {
     /// Inverse dynamics: runs the kinematics (mechanism crate: assembly at t0, position,
@@ -26,6 +27,22 @@ impl Dynamics<'_> {
         &mut self,
         options: &KinematicOptions,
     ) -> Result<DynamicResults, DynamicsError> {
+        self.inverse_dynamics_with_progress(options, |_, _| ControlFlow::Continue(()))
+    }
+
+    /// [`inverse_dynamics`](Self::inverse_dynamics), calling `progress(done, t)` after each
+    /// frame of its two passes: the kinematics (done = 0..=steps), then the efforts (done =
+    /// steps + 1 ..= 2 steps + 1). When it returns [`ControlFlow::Break`], the run stops with
+    /// [`DynamicsError::Stopped`] in [`DynamicsError::MidRun`], with the efforts of the frames
+    /// done so far.
+    ///
+    /// # Errors
+    /// As [`inverse_dynamics`](Self::inverse_dynamics); [`DynamicsError::Stopped`].
+    pub fn inverse_dynamics_with_progress(
+        &mut self,
+        options: &KinematicOptions,
+        mut progress: impl FnMut(usize, f64) -> ControlFlow<()>,
+    ) -> Result<DynamicResults, DynamicsError> {
         let start = std::time::Instant::now();
         let kopts = options.outputs(Outputs {
             velocity: true,
@@ -33,15 +50,41 @@ impl Dynamics<'_> {
             points: false,
             joints: false,
         });
-        match self.model.run_kinematics(&kopts) {
-            Ok(kin) => self.efforts_along(&kin, options.outputs, start),
+        let mut stopped = false;
+        let mut ws = self.model.workspace();
+        let kin = self.model.kinematics_with_control(&mut ws, &kopts, |k, t| {
+            let flow = progress(k, t);
+            stopped = flow.is_break();
+            flow
+        });
+        let offset = options.steps + 1;
+        match kin {
+            Ok(kin) => {
+                let r = self.efforts_along(&kin, options.outputs, start, &mut |i, t| {
+                    let flow = progress(offset + i, t);
+                    stopped |= flow.is_break();
+                    flow
+                })?;
+                if stopped {
+                    return Err(DynamicsError::MidRun {
+                        last_time: r.times().last().copied().unwrap_or(f64::NAN),
+                        source: Box::new(DynamicsError::Stopped {
+                            time: r.times().last().copied().unwrap_or(f64::NAN),
+                        }),
+                        partial: Box::new(r),
+                    });
+                }
+                Ok(r)
+            }
             Err(AnalysisError::DriverCount { dof, drivers }) => {
                 Err(DynamicsError::NotFullyDriven { dof, drivers })
             }
             Err(e) => {
                 let partial = match e.partial_results() {
                     Some(kin) if !kin.times.is_empty() => {
-                        self.efforts_along(kin, options.outputs, start)?
+                        self.efforts_along(kin, options.outputs, start, &mut |i, t| {
+                            progress(offset + i, t)
+                        })?
                     }
                     _ => return Err(e.into()),
                 };
@@ -55,11 +98,13 @@ impl Dynamics<'_> {
     }
 
     /// Driver efforts and reactions at every frame of the kinematic results `kin`.
+    /// `progress(i, t_i)` after each frame; a break keeps the frames done.
     fn efforts_along(
         &mut self,
         kin: &Results,
         outputs: Outputs,
         start: std::time::Instant,
+        progress: &mut dyn FnMut(usize, f64) -> ControlFlow<()>,
     ) -> Result<DynamicResults, DynamicsError> {
         let model = self.model;
         let nb = model.num_bodies();
@@ -78,13 +123,18 @@ impl Dynamics<'_> {
         let s0 = state_at(0);
         self.prepare(&s0)?;
         let mut rec = Recorder::new(self, kin.times.len(), outputs);
+        let mut done = 0;
         for i in 0..kin.times.len() {
             let s = state_at(i);
             rec.record(self, &s, kin.iterations.get(i).copied().unwrap_or(0))?;
+            done += 1;
+            if progress(i, kin.times[i]).is_break() {
+                break;
+            }
         }
         let stats = IntegrationStats {
-            steps: kin.times.len(),
-            evaluations: kin.times.len(),
+            steps: done,
+            evaluations: done,
             wall_time: start.elapsed().as_secs_f64(),
             ..IntegrationStats::default()
         };

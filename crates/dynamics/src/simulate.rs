@@ -6,6 +6,7 @@ use crate::results::{DynamicResults, IntegrationStats};
 use crate::state::State;
 use crate::system::Dynamics;
 use crate::DynamicsError;
+use std::ops::ControlFlow;
 
 impl Dynamics<'_> {
     /// Forward dynamics from a rough initial guess: the guess is made consistent
@@ -35,6 +36,38 @@ impl Dynamics<'_> {
         state: State,
         options: &SimulationOptions,
     ) -> Result<DynamicResults, DynamicsError> {
+        self.simulate_consistent_with_progress(state, options, |_| ControlFlow::Continue(()))
+    }
+
+    /// [`simulate`](Self::simulate), calling `progress(t)` before each integration step with
+    /// the time reached (e.g. to drive a progress bar). When it returns
+    /// [`ControlFlow::Break`], the run stops there with [`DynamicsError::Stopped`] wrapped in
+    /// [`DynamicsError::MidRun`], which keeps the results stored so far. The callback is the
+    /// only cost (no allocation).
+    ///
+    /// # Errors
+    /// As [`simulate`](Self::simulate); [`DynamicsError::Stopped`] when asked to stop.
+    pub fn simulate_with_progress(
+        &mut self,
+        initial: &State,
+        options: &SimulationOptions,
+        progress: impl FnMut(f64) -> ControlFlow<()>,
+    ) -> Result<DynamicResults, DynamicsError> {
+        let state = self.consistent_state(initial)?;
+        self.simulate_consistent_with_progress(state, options, progress)
+    }
+
+    /// [`simulate_consistent`](Self::simulate_consistent) with the progress callback of
+    /// [`simulate_with_progress`](Self::simulate_with_progress).
+    ///
+    /// # Errors
+    /// As [`simulate_with_progress`](Self::simulate_with_progress).
+    pub fn simulate_consistent_with_progress(
+        &mut self,
+        state: State,
+        options: &SimulationOptions,
+        mut progress: impl FnMut(f64) -> ControlFlow<()>,
+    ) -> Result<DynamicResults, DynamicsError> {
         let times = options.times(state.t);
         check_times(state.t, options.t_end, &times)?;
         if self.kkt.is_none() {
@@ -52,10 +85,24 @@ impl Dynamics<'_> {
         }
         let r = match options.integrator {
             Integrator::Dopri5(o) => crate::integrators::dopri5::run(
-                self, state, &times, &o, options, &mut rec, &mut stats,
+                self,
+                state,
+                &times,
+                &o,
+                options,
+                &mut rec,
+                &mut stats,
+                &mut progress,
             ),
             Integrator::GeneralizedAlpha(o) => crate::integrators::generalized_alpha::run(
-                self, state, &times, &o, options, &mut rec, &mut stats,
+                self,
+                state,
+                &times,
+                &o,
+                options,
+                &mut rec,
+                &mut stats,
+                &mut progress,
             ),
         };
         stats.factorizations = self.kkt.as_ref().map_or(0, |k| k.factorizations) - f0;

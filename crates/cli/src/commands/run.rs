@@ -1,16 +1,16 @@
-//! `cardan run MODEL.toml [-o DIR]`: the analysis the file describes, written as CSV and SVG.
+//! `cardan run MODEL.toml [-o DIR]`: the analysis the file describes, written as CSV and SVG
+//! with a `run.json` that says how the run went (the directory rule: [`crate::output`]).
 
 use super::{analysis_error, prepare, Prepared};
 use crate::build::Outputs as Requested;
-use crate::diag::{describe_io, Error};
+use crate::diag::Error;
+use crate::output::OutputDir;
+use crate::report::{ModelRef, RunReport, Status};
 use crate::table::Table;
 use cardan_mechanism::{KinematicOptions, Results};
-use std::io::{IsTerminal, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
-
-/// Runs with more steps than this show a progress bar (when stderr is a terminal).
-pub const PROGRESS_MIN_STEPS: usize = 2000;
 
 /// What a run did.
 #[derive(Debug, Clone)]
@@ -27,13 +27,16 @@ pub struct Summary {
     pub wall: Duration,
     /// Output directory.
     pub dir: PathBuf,
-    /// Files written.
+    /// Files written (`run.json` last).
     pub files: Vec<PathBuf>,
     /// Dynamic runs: integration counters and drifts.
     pub dynamic: Option<DynamicSummary>,
     /// Dynamic and inverse dynamics runs: per driver, its name, the largest |effort| over the
     /// run and the unit ("N m" or "N").
     pub peak_efforts: Vec<(String, f64, &'static str)>,
+    /// Doubtful results and other remarks, one sentence each: printed after the summary line
+    /// and written to `run.json`. Any check may push to it.
+    pub warnings: Vec<String>,
 }
 
 /// What a dynamic run adds to the summary line.
@@ -66,19 +69,40 @@ pub struct RunOutcome {
     pub dynamic: Option<cardan_dynamics::DynamicResults>,
 }
 
+/// How `cardan run` was asked to run.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct RunFlags {
+    /// Show a progress bar on stderr.
+    pub progress: bool,
+    /// `--strict`: warnings make the run fail with exit code 3 (the results are still written).
+    pub strict: bool,
+    /// `--allow-long`: run a dynamic analysis beyond [`crate::dynamic::MAX_STEPS`] estimated
+    /// steps.
+    pub allow_long: bool,
+}
+
 /// `cardan run`: runs, writes, prints the summary.
 ///
 /// # Errors
-/// Input errors, analysis errors (after writing the partial results), output errors.
+/// Input errors, analysis errors (after writing the partial results), output errors; with
+/// `--strict`, warnings (after writing the results).
 pub fn run(
     path: &Path,
     output: Option<&Path>,
-    quiet: bool,
+    flags: &RunFlags,
     out: &mut dyn Write,
 ) -> Result<Summary, Error> {
-    let show = !quiet && std::io::stderr().is_terminal();
-    let o = run_model(path, output, show)?;
-    let s = &o.summary;
+    crate::progress::catch_ctrl_c();
+    let o = run_model_with(path, output, flags)?;
+    print_summary(&o.summary, out)?;
+    match o.error {
+        Some(e) => Err(e),
+        None => Ok(o.summary),
+    }
+}
+
+/// The summary: the files written, one line of numbers, then one line per warning.
+fn print_summary(s: &Summary, out: &mut dyn Write) -> Result<(), Error> {
     let written: Vec<String> = s
         .files
         .iter()
@@ -106,6 +130,11 @@ pub fn run(
             .collect();
         format!(", peak |driver effort| {}", list.join(", "))
     };
+    let efforts = match s.warnings.len() {
+        0 => efforts,
+        1 => format!("{efforts}, 1 warning (below)"),
+        n => format!("{efforts}, {n} warnings (below)"),
+    };
     match &s.dynamic {
         None => writeln!(
             out,
@@ -131,19 +160,55 @@ pub fn run(
         ),
     }
     .map_err(io)?;
-    match o.error {
-        Some(e) => Err(e),
-        None => Ok(o.summary),
+    for w in &s.warnings {
+        writeln!(out, "warning: {w}").map_err(io)?;
     }
+    Ok(())
+}
+
+/// An analysis that has run, before anything is written.
+struct Analysed {
+    /// The output groups.
+    tables: Vec<Table>,
+    /// The summary (files and directory are filled in when written).
+    summary: Summary,
+    /// The results (the kinematic part for dynamic runs).
+    results: Results,
+    /// Dynamic and inverse dynamics runs: everything they computed.
+    dynamic: Option<cardan_dynamics::DynamicResults>,
+    /// The failure that stopped the run early; `None` when it reached `t_end`.
+    failure: Option<Error>,
+    /// `--strict` with warnings: the error to return after writing (the run is complete).
+    strict_failure: Option<Error>,
 }
 
 /// Runs the model file's analysis and writes its outputs to `output` (default
-/// `out/<model name>/`). A failure mid-run still writes the results up to the failure and is
-/// returned in [`RunOutcome::error`].
+/// `out/<model name>/`) by the directory rule of [`crate::output`], with `run.json`. A failure
+/// mid-run still writes the results up to the failure (marked partial) and is returned in
+/// [`RunOutcome::error`].
 ///
 /// # Errors
-/// Input errors and failures before the first step (assembly, driver count); output errors.
+/// Input errors and failures before the first step (assembly, driver count): nothing is
+/// written, the previous directory stays. Output errors (the previous directory stays).
 pub fn run_model(path: &Path, output: Option<&Path>, progress: bool) -> Result<RunOutcome, Error> {
+    let flags = RunFlags {
+        progress,
+        ..RunFlags::default()
+    };
+    run_model_with(path, output, &flags)
+}
+
+/// [`run_model`] as `flags` say. With `flags.strict`, a run with warnings returns an error
+/// (exit code 3) in [`RunOutcome::error`] after writing its results.
+///
+/// # Errors
+/// As [`run_model`].
+pub fn run_model_with(
+    path: &Path,
+    output: Option<&Path>,
+    flags: &RunFlags,
+) -> Result<RunOutcome, Error> {
+    let progress = flags.progress;
     let p = prepare(path)?;
     let Some(analysis) = p.loaded.analysis.clone() else {
         return Err(p.source.error(
@@ -155,125 +220,247 @@ pub fn run_model(path: &Path, output: Option<&Path>, progress: bool) -> Result<R
         Some(d) => d.to_path_buf(),
         None => Path::new("out").join(&p.loaded.name),
     };
-    if analysis.dynamic.is_some() {
-        return run_dynamic(p, &analysis, dir);
+    // Locked before the analysis: a concurrent run is refused at once, not after its work.
+    let out_dir = OutputDir::lock(&dir)?;
+    let (kind, ran) = if analysis.dynamic.is_some() {
+        ("dynamic", run_dynamic(&p, &analysis, flags))
+    } else if analysis.inverse_dynamics {
+        ("inverse_dynamics", run_inverse(&p, &analysis, progress))
+    } else {
+        ("kinematic", run_kinematic(&p, &analysis, progress))
+    };
+    let mut a = ran?;
+    if a.results.times.is_empty() {
+        // Nothing to write: the previous directory stays as it was.
+        return Err(a.failure.unwrap_or_else(|| {
+            Error::analysis("the analysis stored no result (no time was solved)")
+        }));
     }
-    if analysis.inverse_dynamics {
-        return run_inverse(p, &analysis, dir);
+    if flags.strict && a.failure.is_none() && !a.summary.warnings.is_empty() {
+        a.strict_failure = Some(strict_error(&a.summary.warnings));
     }
+    let files = write_outputs(out_dir, &p, kind, &mut a, analysis.plots)?;
+    a.summary.dir = dir;
+    a.summary.files = files;
+    Ok(RunOutcome {
+        prepared: p,
+        results: a.results,
+        summary: a.summary,
+        error: a.failure.or(a.strict_failure),
+        dynamic: a.dynamic,
+    })
+}
+
+/// The error of a `--strict` run with warnings.
+fn strict_error(warnings: &[String]) -> Error {
+    let n = warnings.len();
+    Error::analysis(format!(
+        "--strict: the run gave {n} warning{} about doubtful results (listed after the summary \
+         and in run.json); the results were written",
+        if n == 1 { "" } else { "s" }
+    ))
+}
+
+/// Writes the tables and `run.json` into the locked directory and renames it into place.
+/// Completes a failure's message with what was written. Returns the paths written.
+fn write_outputs(
+    mut dir: OutputDir,
+    p: &Prepared,
+    kind: &'static str,
+    a: &mut Analysed,
+    plots: bool,
+) -> Result<Vec<PathBuf>, Error> {
+    for t in &a.tables {
+        dir.write(&format!("{}.csv", t.name), &t.to_csv())?;
+        if plots && t.name != "residual" {
+            dir.write(&format!("{}.svg", t.name), &t.to_svg())?;
+        }
+    }
+    let unit = if kind == "dynamic" {
+        "outputs"
+    } else {
+        "steps"
+    };
+    let target = dir.target().to_path_buf();
+    if let Some(err) = &mut a.failure {
+        err.message.push_str(&format!(
+            ". The results up to t = {} s ({} {unit}) were written to {}",
+            a.results.times.last().copied().unwrap_or(f64::NAN),
+            a.results.len(),
+            target.display()
+        ));
+    }
+    let report = report(p, kind, a, dir.files().to_vec());
+    dir.write("run.json", &report.to_json())?;
+    let files = dir.files().iter().map(|f| target.join(f)).collect();
+    dir.commit()?;
+    Ok(files)
+}
+
+/// The contents of `run.json` for an analysed run whose tables are `files`.
+fn report(p: &Prepared, kind: &'static str, a: &Analysed, files: Vec<String>) -> RunReport {
+    let s = &a.summary;
+    let d = s.dynamic.as_ref();
+    RunReport {
+        model: ModelRef {
+            path: p.source.path.display().to_string(),
+            name: s.name.clone(),
+        },
+        analysis: kind,
+        status: if a.failure.is_some() {
+            Status::Partial
+        } else {
+            Status::Complete
+        },
+        reason: a.failure.as_ref().map(|e| e.message.clone()),
+        exit_code: a
+            .failure
+            .as_ref()
+            .or(a.strict_failure.as_ref())
+            .map_or(0, |e| e.kind.exit_code()),
+        t_reached: a.results.times.last().copied(),
+        steps: s.steps,
+        integration_steps: d.map(|d| d.steps),
+        rejected_steps: d.map(|d| d.rejected),
+        newton_iterations: s.iterations,
+        largest_residual: s.max_residual,
+        constraint_drift: d.map(|d| d.max_constraint_drift),
+        energy_drift: d.map(|d| d.energy_drift),
+        warnings: s.warnings.clone(),
+        files,
+        wall_time_s: s.wall.as_secs_f64(),
+    }
+}
+
+/// `kind = "kinematic"`: the kinematics over the file's grid and its tables.
+fn run_kinematic(
+    p: &Prepared,
+    analysis: &crate::build::Analysis,
+    progress: bool,
+) -> Result<Analysed, Error> {
     let opts = KinematicOptions::new(analysis.t_start, analysis.t_end, analysis.steps);
     let start = Instant::now();
-    let (results, failure) = if progress && analysis.steps >= PROGRESS_MIN_STEPS {
-        run_with_progress(&p, &opts)
-    } else {
-        match p.model.run_kinematics(&opts) {
-            Ok(r) => (r, None),
-            Err(e) => match e.partial_results() {
-                Some(r) => (r.clone(), Some(e)),
-                None => return Err(analysis_error(&p, &e)),
-            },
-        }
-    };
+    let mut bar = crate::progress::Progress::new(progress, opts.steps as u64 + 1);
+    let mut ws = p.model.workspace();
+    let run = p
+        .model
+        .kinematics_with_control(&mut ws, &opts, |k, t| bar.tick(k as u64 + 1, t));
     let wall = start.elapsed();
-
-    let req = requested(&p, &analysis.outputs);
-    let tables = tables(&p, &results, &req);
-    let files = write_tables(&dir, &tables, analysis.plots)?;
+    let (results, failure) = match run {
+        Ok(r) if bar.stopped() => {
+            let e = crate::progress::interrupted(&r.times);
+            (r, Some(e))
+        }
+        Ok(r) => (r, None),
+        Err(e) => match e.partial_results() {
+            Some(r) => (r.clone(), Some(analysis_error(p, &e))),
+            None => return Err(analysis_error(p, &e)),
+        },
+    };
+    drop(bar);
+    let req = requested(p, &analysis.outputs);
+    let tables = tables(p, &results, &req);
     let summary = Summary {
         name: p.loaded.name.clone(),
         steps: results.len(),
         iterations: results.iterations.iter().sum(),
         max_residual: results.residual.iter().fold(0.0, |a: f64, &b| a.max(b)),
         wall,
-        dir: dir.clone(),
-        files,
+        dir: PathBuf::new(),
+        files: Vec::new(),
         dynamic: None,
         peak_efforts: Vec::new(),
+        warnings: Vec::new(),
     };
-    let error = failure.map(|e| {
-        let mut err = analysis_error(&p, &e);
-        let last = results.times.last().copied();
-        err.message.push_str(&match last {
-            Some(t) => format!(
-                ". The results up to t = {t} s ({} steps) were written to {}",
-                results.len(),
-                dir.display()
-            ),
-            None => format!(
-                ". No step was completed; empty tables were written to {}",
-                dir.display()
-            ),
-        });
-        err
-    });
-    Ok(RunOutcome {
-        prepared: p,
-        results,
+    Ok(Analysed {
+        tables,
         summary,
-        error,
+        results,
         dynamic: None,
+        failure,
+        strict_failure: None,
     })
 }
 
-/// `kind = "dynamic"`: simulate, write the tables, summarize. A failure mid-run writes the
-/// results so far and returns the error in [`RunOutcome::error`].
+/// `kind = "dynamic"`: simulate, the tables, the summary. A failure mid-run keeps the results
+/// so far with the error.
 fn run_dynamic(
-    p: Prepared,
+    p: &Prepared,
     analysis: &crate::build::Analysis,
-    dir: PathBuf,
-) -> Result<RunOutcome, Error> {
-    let opts = crate::dynamic::options(&p, None)?;
-    let mut d = crate::dynamic::dynamics(&p)?;
-    let initial = crate::dynamic::initial_state(&p);
+    flags: &RunFlags,
+) -> Result<Analysed, Error> {
+    let mut opts = crate::dynamic::options(p, None)?;
+    crate::dynamic::check_length(p, &mut opts, flags.allow_long)?;
+    let mut d = crate::dynamic::dynamics(p)?;
+    let initial = crate::dynamic::initial_state(p);
     let start = Instant::now();
-    let outcome = d.simulate(&initial, &opts);
+    // Progress in parts of the time span (the number of adaptive steps is not known).
+    const PARTS: f64 = 10_000.0;
+    let (t0, span) = (analysis.t_start, analysis.t_end - analysis.t_start);
+    let mut bar = crate::progress::Progress::new(flags.progress, PARTS as u64);
+    let outcome = d.simulate_with_progress(&initial, &opts, |t| {
+        bar.tick(((t - t0) / span * PARTS) as u64, t)
+    });
+    drop(bar);
     let wall = start.elapsed();
     drop(d);
-    // A failure mid-run keeps the results so far: they are written, and the error returned.
     let (r, failure) = match outcome {
         Ok(r) => (r, None),
         Err(e) => match e.partial_results() {
-            Some(r) => (r.clone(), Some(crate::dynamic::located(&p, &e))),
-            None => return Err(crate::dynamic::located(&p, &e)),
+            Some(r) if matches!(e.cause(), cardan_dynamics::DynamicsError::Stopped { .. }) => {
+                (r.clone(), Some(crate::progress::interrupted(r.times())))
+            }
+            Some(r) => (r.clone(), Some(crate::dynamic::located(p, &e))),
+            None => return Err(crate::dynamic::located(p, &e)),
         },
     };
-    let req = requested(&p, &analysis.outputs);
-    let tables = crate::dynamic::tables(&p, &r, &req);
-    let files = write_tables(&dir, &tables, analysis.plots)?;
+    let req = requested(p, &analysis.outputs);
+    let tables = crate::dynamic::tables(p, &r, &req);
+    let drift = r.position_drift.iter().fold(0.0, |a: f64, &b| a.max(b));
     let summary = Summary {
         name: p.loaded.name.clone(),
         steps: r.len(),
         iterations: r.stats.newton_iterations,
-        max_residual: r.position_drift.iter().fold(0.0, |a: f64, &b| a.max(b)),
+        max_residual: drift,
         wall,
-        dir,
-        files,
+        dir: PathBuf::new(),
+        files: Vec::new(),
         dynamic: Some(DynamicSummary {
             steps: r.stats.steps,
             rejected: r.stats.rejected,
             newton_iterations: r.stats.newton_iterations,
-            max_constraint_drift: r.position_drift.iter().fold(0.0, |a: f64, &b| a.max(b)),
+            max_constraint_drift: drift,
             energy_drift: r.energy.max_drift(),
         }),
-        peak_efforts: peak_efforts(&p, &r),
+        peak_efforts: peak_efforts(p, &r),
+        warnings: crate::dynamic::doubtful_results(p, &r, &opts.integrator),
     };
-    Ok(dynamic_outcome(p, r, summary, failure, "outputs"))
+    Ok(Analysed {
+        tables,
+        summary,
+        results: r.kinematics.clone(),
+        dynamic: Some(r),
+        failure,
+        strict_failure: None,
+    })
 }
 
 /// `kind = "inverse_dynamics"`: kinematics with driver efforts and reactions, the tables, the
-/// summary. A kinematic failure mid-run writes the results so far and returns the error in
-/// [`RunOutcome::error`].
+/// summary. A kinematic failure mid-run keeps the results so far with the error.
 fn run_inverse(
-    p: Prepared,
+    p: &Prepared,
     analysis: &crate::build::Analysis,
-    dir: PathBuf,
-) -> Result<RunOutcome, Error> {
+    progress: bool,
+) -> Result<Analysed, Error> {
     let start = Instant::now();
-    let (r, failure) = crate::dynamic::inverse_dynamics(&p)?;
+    // Two passes over the grid: the kinematics, then the efforts.
+    let frames = 2 * (analysis.steps as u64 + 1);
+    let mut bar = crate::progress::Progress::new(progress, frames);
+    let (r, failure) = crate::dynamic::inverse_dynamics_with(p, |k, t| bar.tick(k as u64 + 1, t))?;
+    drop(bar);
     let wall = start.elapsed();
-    let req = requested(&p, &analysis.outputs);
-    let tables = crate::dynamic::inverse_tables(&p, &r, &req);
-    let files = write_tables(&dir, &tables, analysis.plots)?;
+    let req = requested(p, &analysis.outputs);
+    let tables = crate::dynamic::inverse_tables(p, &r, &req);
     let k = &r.kinematics;
     let summary = Summary {
         name: p.loaded.name.clone(),
@@ -281,48 +468,20 @@ fn run_inverse(
         iterations: k.iterations.iter().sum(),
         max_residual: k.residual.iter().fold(0.0, |a: f64, &b| a.max(b)),
         wall,
-        dir,
-        files,
+        dir: PathBuf::new(),
+        files: Vec::new(),
         dynamic: None,
-        peak_efforts: peak_efforts(&p, &r),
+        peak_efforts: peak_efforts(p, &r),
+        warnings: Vec::new(),
     };
-    Ok(dynamic_outcome(p, r, summary, failure, "steps"))
-}
-
-/// The outcome of a dynamic or inverse-dynamics run; a mid-run `failure` is completed with what
-/// was written (`unit`: what the count of results is called, "outputs" or "steps").
-fn dynamic_outcome(
-    p: Prepared,
-    r: cardan_dynamics::DynamicResults,
-    summary: Summary,
-    failure: Option<Error>,
-    unit: &str,
-) -> RunOutcome {
-    let error = failure.map(|err| written_so_far(err, &r, unit, &summary.dir));
-    RunOutcome {
-        prepared: p,
-        results: r.kinematics.clone(),
+    Ok(Analysed {
+        tables,
         summary,
-        error,
+        results: r.kinematics.clone(),
         dynamic: Some(r),
-    }
-}
-
-/// A mid-run failure's error, completed with what was written: "… The results up to t = … s
-/// (n outputs|steps) were written to DIR".
-fn written_so_far(
-    mut err: Error,
-    r: &cardan_dynamics::DynamicResults,
-    unit: &str,
-    dir: &Path,
-) -> Error {
-    err.message.push_str(&format!(
-        ". The results up to t = {} s ({} {unit}) were written to {}",
-        r.times().last().copied().unwrap_or(f64::NAN),
-        r.len(),
-        dir.display()
-    ));
-    err
+        failure,
+        strict_failure: None,
+    })
 }
 
 /// Per driver: name, largest |effort| over the run, unit.
@@ -341,67 +500,6 @@ fn peak_efforts(
             )
         })
         .collect()
-}
-
-/// Creates `dir` and writes each table as CSV (and SVG when `plots`, except the residual).
-fn write_tables(dir: &Path, tables: &[Table], plots: bool) -> Result<Vec<PathBuf>, Error> {
-    std::fs::create_dir_all(dir).map_err(|e| {
-        Error::output(format!(
-            "cannot create the output directory {}: {}",
-            dir.display(),
-            describe_io(&e)
-        ))
-    })?;
-    let mut files = Vec::new();
-    for t in tables {
-        let f = dir.join(format!("{}.csv", t.name));
-        write(&f, &t.to_csv())?;
-        files.push(f);
-        if plots && t.name != "residual" {
-            let f = dir.join(format!("{}.svg", t.name));
-            write(&f, &t.to_svg())?;
-            files.push(f);
-        }
-    }
-    Ok(files)
-}
-
-fn write(path: &Path, text: &str) -> Result<(), Error> {
-    std::fs::write(path, text).map_err(|e| {
-        Error::output(format!(
-            "cannot write {}: {}",
-            path.display(),
-            describe_io(&e)
-        ))
-    })
-}
-
-/// The run with a progress bar on stderr, driven by the mechanism's per-step callback.
-fn run_with_progress(
-    p: &Prepared,
-    opts: &KinematicOptions,
-) -> (Results, Option<cardan_mechanism::AnalysisError>) {
-    let bar = indicatif::ProgressBar::new(opts.steps as u64);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template(
-            "{bar:40} {pos}/{len} steps, t = {msg} s, eta {eta}",
-        )
-        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-    );
-    // About 100 redraws per run, however many steps.
-    let stride = opts.steps.div_ceil(100).max(1);
-    let mut ws = p.model.workspace();
-    let result = p.model.kinematics_with_progress(&mut ws, opts, |k, t| {
-        if k % stride == 0 || k == opts.steps {
-            bar.set_position(k as u64);
-            bar.set_message(format!("{t:.4}"));
-        }
-    });
-    bar.finish_and_clear();
-    match result {
-        Ok(r) => (r, None),
-        Err(e) => (e.partial_results().cloned().unwrap_or_default(), Some(e)),
-    }
 }
 
 /// The outputs to write: as requested, or everything when the file has no `[analysis.outputs]`.

@@ -19,6 +19,7 @@ use crate::system::Dynamics;
 use crate::DynamicsError;
 use cardan_eulerparam::p_dot_from_local;
 use nalgebra::{Vector3, Vector4};
+use std::ops::ControlFlow;
 
 const C: [f64; 7] = [0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0];
 const A: [[f64; 6]; 7] = [
@@ -239,6 +240,7 @@ pub(crate) fn run(
     options: &SimulationOptions,
     rec: &mut Recorder,
     stats: &mut IntegrationStats,
+    progress: &mut dyn FnMut(f64) -> ControlFlow<()>,
 ) -> Result<(), DynamicsError> {
     if !(o.rtol > 0.0 && o.atol > 0.0 && o.rtol.is_finite() && o.atol.is_finite()) {
         return Err(DynamicsError::Options(format!(
@@ -305,6 +307,9 @@ pub(crate) fn run(
                 time: t,
                 max_steps: options.max_steps,
             });
+        }
+        if progress(t).is_break() {
+            return Err(DynamicsError::Stopped { time: t });
         }
         // Land on t_end in one step when the rest is at most STRETCH h (adaptive steps; a
         // fixed step only by roundoff), instead of leaving a sliver of a step (seven

@@ -48,6 +48,7 @@ use crate::state::State;
 use crate::system::Dynamics;
 use crate::DynamicsError;
 use cardan_mechanism::apply_rotation_step;
+use std::ops::ControlFlow;
 
 /// The four parameters (αm, αf, γ, β) from ρ∞.
 pub fn parameters(rho_inf: f64) -> (f64, f64, f64, f64) {
@@ -385,6 +386,7 @@ pub(crate) fn run(
     options: &SimulationOptions,
     rec: &mut Recorder,
     stats: &mut IntegrationStats,
+    progress: &mut dyn FnMut(f64) -> ControlFlow<()>,
 ) -> Result<(), DynamicsError> {
     if !(o.h > 0.0 && o.h.is_finite()) {
         return Err(DynamicsError::Options(format!(
@@ -450,6 +452,9 @@ pub(crate) fn run(
                     time: b.s.t,
                     max_steps: options.max_steps,
                 });
+            }
+            if progress(b.s.t).is_break() {
+                return Err(DynamicsError::Stopped { time: b.s.t });
             }
             // (A step up to 1e-6 longer than h rather than an extra one: the roundoff of the
             // accumulated time, about 1e-8 h after 1000 steps, must not add a step.)

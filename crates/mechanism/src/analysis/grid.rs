@@ -22,6 +22,7 @@ use crate::results::{BodyResults, JointResults, Outputs, PointResults, Results};
 use crate::workspace::Workspace;
 use cardan_constraints::{unwrap_angle, BodyPair};
 use cardan_eulerparam::EulerParams;
+use std::ops::ControlFlow;
 
 /// Options of a kinematic run.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -135,6 +136,24 @@ impl Model {
         options: &KinematicOptions,
         mut progress: impl FnMut(usize, f64),
     ) -> Result<Results, AnalysisError> {
+        self.kinematics_with_control(ws, options, |k, t| {
+            progress(k, t);
+            ControlFlow::Continue(())
+        })
+    }
+
+    /// [`kinematics_with_progress`](Self::kinematics_with_progress) whose callback may stop the
+    /// run: when `progress(k, t_k)` returns [`ControlFlow::Break`], the results of steps 0..=k
+    /// are returned (fewer than `steps + 1` times; e.g. Ctrl-C in the command line).
+    ///
+    /// # Errors
+    /// As [`kinematics`](Self::kinematics).
+    pub fn kinematics_with_control(
+        &self,
+        ws: &mut Workspace,
+        options: &KinematicOptions,
+        mut progress: impl FnMut(usize, f64) -> ControlFlow<()>,
+    ) -> Result<Results, AnalysisError> {
         options.validate()?;
         if ws.kin.is_none() {
             // Joints first: the driver count is checked before the drivers can make the
@@ -161,7 +180,9 @@ impl Model {
             if let Err(e) = self.step(ws, options, k, t, &mut results, &mut joint_prev) {
                 return Err(e.with_partial(results));
             }
-            progress(k, t);
+            if progress(k, t).is_break() {
+                break;
+            }
         }
         Ok(results)
     }

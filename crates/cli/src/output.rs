@@ -1,0 +1,303 @@
+//! The output directory of `cardan run`: one rule for every analysis.
+//!
+//! 1. **Lock.** `DIR.lock` beside the target `DIR` is created with `create_new` and holds the
+//!    process id. A second run into the same directory gets an error naming the directory, the
+//!    other run's process id and the lock file. A lock whose process no longer exists (a run
+//!    that was killed) is stale and taken over.
+//! 2. **Temporary sibling.** The files are written into `DIR.tmp-<pid>` next to the target (the
+//!    same file system, so the final rename is atomic), each one written, flushed and synced
+//!    to disk before the next; a write error (a full disk) removes the temporary directory and
+//!    leaves the previous run's directory as it was: no truncated file is ever in `DIR`.
+//! 3. **Rename into place.** The previous `DIR` is renamed aside, the temporary directory renamed
+//!    to `DIR`, then the previous one removed: `DIR` always holds the files of one run, never a
+//!    mix. A directory is only replaced if it holds nothing but what a run writes (`*.csv`,
+//!    `*.svg`, `run.json`); anything else there is refused, so `-o` cannot delete a user's files.
+//!
+//! A run that produced no result (an input error, an assembly failure) writes nothing: the
+//! previous directory stays. Partial results (a failure mid-run, Ctrl-C) replace it, marked
+//! `"partial"` in `run.json`.
+
+use crate::diag::{describe_io, Error};
+use std::ffi::OsString;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+/// A locked output directory being written: files go to the temporary sibling until
+/// [`OutputDir::commit`]. Dropping it without committing removes the temporary directory and
+/// the lock, leaving the target as it was.
+#[derive(Debug)]
+pub struct OutputDir {
+    /// The directory the run writes (as given).
+    target: PathBuf,
+    /// `target` with `.tmp-<pid>` appended.
+    tmp: PathBuf,
+    /// `target` with `.lock` appended.
+    lock: PathBuf,
+    /// Names of the files written so far, in order.
+    files: Vec<String>,
+    /// The temporary directory exists and is ours to remove.
+    tmp_created: bool,
+    committed: bool,
+}
+
+/// `path` with `suffix` appended to its last component (`out` → `out.lock`).
+fn sibling(path: &Path, suffix: &str) -> PathBuf {
+    let mut name: OsString = path.file_name().unwrap_or_default().to_os_string();
+    name.push(suffix);
+    path.with_file_name(name)
+}
+
+impl OutputDir {
+    /// Locks `target` against other runs (module docs, rule 1) and checks that it may be
+    /// replaced. Nothing is written yet.
+    ///
+    /// # Errors
+    /// An output error: no usable name (`.`, `/`), another live run holds the lock, the target
+    /// is not a directory or holds files a run does not write, the parent cannot be created.
+    pub fn lock(target: &Path) -> Result<Self, Error> {
+        let named = target.file_name().is_some_and(|n| n != "." && n != "..");
+        if !named {
+            return Err(Error::output(format!(
+                "the output directory {} has no name of its own to replace; give a directory \
+                 such as out/run1",
+                target.display()
+            )));
+        }
+        if let Some(parent) = target.parent().filter(|p| !p.as_os_str().is_empty()) {
+            std::fs::create_dir_all(parent).map_err(|e| {
+                Error::output(format!(
+                    "cannot create the output directory's parent {}: {}",
+                    parent.display(),
+                    describe_io(&e)
+                ))
+            })?;
+        }
+        let lock = sibling(target, ".lock");
+        take_lock(&lock, target)?;
+        // Ours from here on: Drop releases it on every path (never another run's lock).
+        let dir = Self {
+            target: target.to_path_buf(),
+            tmp: sibling(target, &format!(".tmp-{}", std::process::id())),
+            lock,
+            files: Vec::new(),
+            tmp_created: false,
+            committed: false,
+        };
+        check_replaceable(&dir.target)?;
+        Ok(dir)
+    }
+
+    /// The target directory.
+    pub fn target(&self) -> &Path {
+        &self.target
+    }
+
+    /// Names of the files written so far.
+    pub fn files(&self) -> &[String] {
+        &self.files
+    }
+
+    /// Writes `name` into the temporary directory: write, flush, sync to disk.
+    ///
+    /// # Errors
+    /// An output error naming the file and the cause (a full disk, permissions).
+    pub fn write(&mut self, name: &str, text: &str) -> Result<(), Error> {
+        if !self.tmp_created {
+            if self.tmp.exists() {
+                // Left by an earlier run with our process id (ids are reused): ours to clear.
+                let _ = std::fs::remove_dir_all(&self.tmp);
+            }
+            std::fs::create_dir(&self.tmp).map_err(|e| {
+                Error::output(format!(
+                    "cannot create the output directory {}: {}",
+                    self.tmp.display(),
+                    describe_io(&e)
+                ))
+            })?;
+            self.tmp_created = true;
+        }
+        let path = self.tmp.join(name);
+        let written = std::fs::File::create(&path).and_then(|mut f| {
+            f.write_all(text.as_bytes())?;
+            f.flush()?;
+            f.sync_all()
+        });
+        written.map_err(|e| {
+            Error::output(format!(
+                "cannot write {} (for {}): {}; the previous contents of {} are unchanged",
+                name,
+                self.target.display(),
+                describe_io(&e),
+                self.target.display()
+            ))
+        })?;
+        self.files.push(name.to_string());
+        Ok(())
+    }
+
+    /// Renames the temporary directory into place, replacing the previous run's directory as a
+    /// whole, and releases the lock.
+    ///
+    /// # Errors
+    /// An output error if a rename fails (the previous directory is then put back).
+    pub fn commit(mut self) -> Result<(), Error> {
+        if let Ok(d) = std::fs::File::open(&self.tmp) {
+            // The directory entries themselves reach the disk before the rename.
+            let _ = d.sync_all();
+        }
+        let old = sibling(&self.target, &format!(".old-{}", std::process::id()));
+        let had_previous = std::fs::symlink_metadata(&self.target).is_ok();
+        if had_previous {
+            let _ = std::fs::remove_dir_all(&old);
+            std::fs::rename(&self.target, &old).map_err(|e| self.rename_error(&e))?;
+        }
+        if let Err(e) = std::fs::rename(&self.tmp, &self.target) {
+            if had_previous {
+                let _ = std::fs::rename(&old, &self.target);
+            }
+            return Err(self.rename_error(&e));
+        }
+        self.committed = true;
+        if had_previous {
+            let _ = std::fs::remove_dir_all(&old);
+        }
+        Ok(())
+    }
+
+    fn rename_error(&self, e: &std::io::Error) -> Error {
+        Error::output(format!(
+            "cannot move the new results into {}: {}; the previous contents are unchanged",
+            self.target.display(),
+            describe_io(e)
+        ))
+    }
+}
+
+impl Drop for OutputDir {
+    fn drop(&mut self) {
+        if self.tmp_created && !self.committed {
+            let _ = std::fs::remove_dir_all(&self.tmp);
+        }
+        let _ = std::fs::remove_file(&self.lock);
+    }
+}
+
+/// Creates `lock` holding our process id, taking over a stale lock of a dead process.
+fn take_lock(lock: &Path, target: &Path) -> Result<(), Error> {
+    for attempt in 0..3 {
+        match std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(lock)
+        {
+            Ok(mut f) => {
+                let _ = writeln!(f, "{}", std::process::id());
+                return Ok(());
+            }
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+                let holder = std::fs::read_to_string(lock).unwrap_or_default();
+                let pid = holder.trim().parse::<u32>().ok();
+                match pid {
+                    Some(pid) if process_alive(pid) => {
+                        return Err(Error::output(format!(
+                            "another run (process {pid}) is writing {}; wait for it to finish or \
+                             write elsewhere with -o DIR (if no such run is active, delete the \
+                             lock file {})",
+                            target.display(),
+                            lock.display()
+                        )))
+                    }
+                    // Empty: the other run may have created it an instant ago and not yet
+                    // written its id; look again before calling it stale.
+                    None if attempt == 0 => {
+                        std::thread::sleep(std::time::Duration::from_millis(100))
+                    }
+                    _ => take_over(lock, &holder),
+                }
+            }
+            Err(e) => {
+                return Err(Error::output(format!(
+                    "cannot create the lock file {}: {}",
+                    lock.display(),
+                    describe_io(&e)
+                )))
+            }
+        }
+    }
+    Err(Error::output(format!(
+        "cannot lock {}: the lock file {} keeps changing (other runs starting?); try again",
+        target.display(),
+        lock.display()
+    )))
+}
+
+/// Removes a stale lock whose contents were `seen`. It is first renamed to a name of our own
+/// and checked: if another run took it over in between, its lock is put back.
+fn take_over(lock: &Path, seen: &str) {
+    let mine = sibling(lock, &format!(".stale-{}", std::process::id()));
+    if std::fs::rename(lock, &mine).is_ok() {
+        let now = std::fs::read_to_string(&mine).unwrap_or_default();
+        if now == seen {
+            let _ = std::fs::remove_file(&mine);
+        } else {
+            let _ = std::fs::rename(&mine, lock);
+        }
+    }
+}
+
+/// Whether process `pid` exists. Where this cannot be told (no `/proc`), assumed alive: the
+/// error message then says which lock file to delete.
+fn process_alive(pid: u32) -> bool {
+    let proc = Path::new("/proc");
+    if proc.join("self").exists() {
+        proc.join(pid.to_string()).exists()
+    } else {
+        true
+    }
+}
+
+/// The target may be replaced: it does not exist, or it is a directory (not a link) that holds
+/// only files a run writes.
+fn check_replaceable(target: &Path) -> Result<(), Error> {
+    let Ok(meta) = std::fs::symlink_metadata(target) else {
+        return Ok(());
+    };
+    if !meta.is_dir() {
+        return Err(Error::output(format!(
+            "the output path {} exists and is not a directory (a file or a link); remove it or \
+             write elsewhere with -o DIR",
+            target.display()
+        )));
+    }
+    let entries = std::fs::read_dir(target).map_err(|e| {
+        Error::output(format!(
+            "cannot read the output directory {}: {}",
+            target.display(),
+            describe_io(&e)
+        ))
+    })?;
+    let foreign: Vec<String> = entries
+        .filter_map(Result::ok)
+        .filter(|e| !is_run_output(e))
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .take(3)
+        .collect();
+    if !foreign.is_empty() {
+        return Err(Error::output(format!(
+            "the output directory {} holds files a run does not write ({}); a run replaces its \
+             directory as a whole, so it will not delete them: move them away or write elsewhere \
+             with -o DIR",
+            target.display(),
+            foreign.join(", ")
+        )));
+    }
+    Ok(())
+}
+
+/// A plain file named `*.csv`, `*.svg` or `run.json`.
+fn is_run_output(e: &std::fs::DirEntry) -> bool {
+    let name = e.file_name();
+    let name = name.to_string_lossy();
+    let plain = e.file_type().is_ok_and(|t| t.is_file());
+    plain && (name.ends_with(".csv") || name.ends_with(".svg") || name == "run.json")
+}

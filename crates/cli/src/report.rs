@@ -1,0 +1,74 @@
+//! `run.json`: what a run did, written beside its tables (docs/model-format.md, "Output of
+//! `cardan run`").
+
+use serde::Serialize;
+
+/// How a run ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Status {
+    /// The analysis reached `t_end` (there may still be warnings).
+    Complete,
+    /// The analysis stopped early (a failure mid-run, Ctrl-C); the tables hold the results up
+    /// to `t_reached`.
+    Partial,
+}
+
+/// The model a run read.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ModelRef {
+    /// The model file as given on the command line.
+    pub path: String,
+    /// `[model] name`.
+    pub name: String,
+}
+
+/// The contents of `run.json`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RunReport {
+    /// The model file and name.
+    pub model: ModelRef,
+    /// `"kinematic"`, `"dynamic"` or `"inverse_dynamics"`.
+    pub analysis: &'static str,
+    /// Complete or partial.
+    pub status: Status,
+    /// Why a partial run stopped (the error message); `null` when complete.
+    pub reason: Option<String>,
+    /// The exit code of `cardan run` (0, 3 for a failure or `--strict` with warnings, 130 for
+    /// Ctrl-C).
+    pub exit_code: i32,
+    /// The last stored time (s).
+    pub t_reached: Option<f64>,
+    /// Stored output times.
+    pub steps: usize,
+    /// Dynamic: accepted integration steps; `null` otherwise.
+    pub integration_steps: Option<usize>,
+    /// Dynamic: rejected integration steps; `null` otherwise.
+    pub rejected_steps: Option<usize>,
+    /// Newton iterations (position solves; for a dynamic run implicit steps and projections).
+    pub newton_iterations: usize,
+    /// Largest max |Φ_i| over the stored times.
+    pub largest_residual: f64,
+    /// Dynamic: largest constraint drift max |Φ_i| (m or -); `null` otherwise.
+    pub constraint_drift: Option<f64>,
+    /// Dynamic: max |E − E(t_start)| (J); `null` otherwise.
+    pub energy_drift: Option<f64>,
+    /// Doubtful results and other remarks, one sentence each.
+    pub warnings: Vec<String>,
+    /// The files written besides `run.json`, in the order written.
+    pub files: Vec<String>,
+    /// Wall time of the analysis, without the writing (s).
+    pub wall_time_s: f64,
+}
+
+impl RunReport {
+    /// The JSON text (pretty-printed, with a final newline; non-finite numbers as `null`).
+    pub fn to_json(&self) -> String {
+        let mut s = serde_json::to_string_pretty(self).unwrap_or_else(|e| {
+            // Serializing plain data cannot fail; if it ever did, say so in the file.
+            format!("{{\"error\": \"run.json could not be written: {e}\"}}")
+        });
+        s.push('\n');
+        s
+    }
+}
