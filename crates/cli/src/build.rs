@@ -1592,7 +1592,8 @@ fn positive(cx: &Ctx, n: &Num, what: &str, unit: &str) -> Result<f64, Error> {
     Ok(v)
 }
 
-/// The integrator of a `kind = "dynamic"` analysis.
+/// The integrator of a `kind = "dynamic"` analysis. The values are only read here; their
+/// ranges are the library's ([`Integrator::validate`]), and a refusal is placed at the key.
 fn load_integrator(cx: &Ctx, a: &AnalysisSection) -> Result<Integrator, Error> {
     let name = a
         .integrator
@@ -1605,22 +1606,16 @@ fn load_integrator(cx: &Ctx, a: &AnalysisSection) -> Result<Integrator, Error> {
         }
         Ok(())
     };
-    match name {
+    let read = |n: &Option<Num>, key: &str| -> Result<Option<f64>, Error> {
+        n.as_ref().map(|n| cx.num(n, key)).transpose()
+    };
+    let integrator = match name {
         "dopri5" => {
             stray(&[
                 ("rho_inf", &a.rho_inf),
                 ("newton_tolerance", &a.newton_tolerance),
             ])?;
             let mut o = Dopri5Options::default();
-            if let Some(r) = &a.rtol {
-                o.rtol = positive(cx, r, "rtol", "")?;
-            }
-            if let Some(t) = &a.atol {
-                o.atol = positive(cx, t, "atol", "")?;
-            }
-            if let Some(h) = &a.h_max {
-                o.h_max = positive(cx, h, "h_max", " s")?;
-            }
             if let Some(h) = &a.dt {
                 if a.rtol.is_some() || a.atol.is_some() {
                     return Err(cx.err(
@@ -1628,41 +1623,46 @@ fn load_integrator(cx: &Ctx, a: &AnalysisSection) -> Result<Integrator, Error> {
                         "give dt (fixed steps) or rtol/atol (adaptive steps), not both",
                     ));
                 }
-                o = Dopri5Options {
-                    h_max: o.h_max,
-                    ..Dopri5Options::fixed(positive(cx, h, "dt", " s")?)
-                };
+                o = Dopri5Options::fixed(positive(cx, h, "dt", " s")?);
             }
-            Ok(Integrator::Dopri5(o))
+            o.rtol = read(&a.rtol, "rtol")?.unwrap_or(o.rtol);
+            o.atol = read(&a.atol, "atol")?.unwrap_or(o.atol);
+            o.h_max = read(&a.h_max, "h_max")?.unwrap_or(o.h_max);
+            Integrator::Dopri5(o)
         }
         "generalized_alpha" => {
             stray(&[("rtol", &a.rtol), ("atol", &a.atol), ("h_max", &a.h_max)])?;
             let mut o = GeneralizedAlphaOptions::default();
-            if let Some(h) = &a.dt {
-                o.h = positive(cx, h, "dt", " s")?;
-            }
-            if let Some(r) = &a.rho_inf {
-                let v = cx.num(r, "rho_inf")?;
-                if !(0.0..=1.0).contains(&v) {
-                    return Err(cx.err(r.span(), format!("rho_inf must be in [0, 1], got {v}")));
-                }
-                o.rho_inf = v;
-            }
-            if let Some(t) = &a.newton_tolerance {
-                o.tolerance = positive(cx, t, "newton_tolerance", "")?;
-            }
-            Ok(Integrator::GeneralizedAlpha(o))
+            o.h = read(&a.dt, "dt")?.unwrap_or(o.h);
+            o.rho_inf = read(&a.rho_inf, "rho_inf")?.unwrap_or(o.rho_inf);
+            o.tolerance = read(&a.newton_tolerance, "newton_tolerance")?.unwrap_or(o.tolerance);
+            Integrator::GeneralizedAlpha(o)
         }
         other => {
             let hint = did_you_mean(other, INTEGRATORS.iter().copied());
             let s = a.integrator.as_ref().map_or(0..0, |n| n.span());
-            Err(cx.err(
+            return Err(cx.err(
                 s,
                 format!(
                     "unknown integrator \"{other}\"{hint} (integrators: {})",
                     list(INTEGRATORS.iter().copied())
                 ),
-            ))
+            ));
         }
-    }
+    };
+    integrator.validate().map_err(|e| {
+        // The option struct's field → the file's key.
+        let (key, value) = match e.option {
+            "step" | "h" => ("dt", &a.dt),
+            "tolerance" => ("newton_tolerance", &a.newton_tolerance),
+            "rtol" => ("rtol", &a.rtol),
+            "atol" => ("atol", &a.atol),
+            "h_max" => ("h_max", &a.h_max),
+            "rho_inf" => ("rho_inf", &a.rho_inf),
+            other => (other, &None),
+        };
+        let span = value.as_ref().map_or(a.kind.span(), Spanned::span);
+        cx.err(span, e.describe(key))
+    })?;
+    Ok(integrator)
 }
