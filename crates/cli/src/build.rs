@@ -552,7 +552,8 @@ fn load_body(cx: &Ctx, b: &BodySection) -> Result<(Body, Features), Error> {
         for v in j.iter() {
             cx.raw_num(i.span(), *v, &format!("inertia of body \"{name}\""))?;
         }
-        check_spd(cx, i.span(), name, &j)?;
+        // The library's test (symmetric, positive definite, triangle inequality), located here.
+        cardan_mechanism::check_inertia(name, &j).map_err(|e| cx.err(i.span(), e.to_string()))?;
         body = body.inertia(j);
     }
     let position = match &b.position {
@@ -607,32 +608,6 @@ fn load_body(cx: &Ctx, b: &BodySection) -> Result<(Body, Features), Error> {
         add("vector", &mut f.vectors, k, at * d)?;
     }
     Ok((body, f))
-}
-
-fn check_spd(cx: &Ctx, span: Range<usize>, name: &str, j: &Matrix3<f64>) -> Result<(), Error> {
-    let scale = j.amax().max(f64::MIN_POSITIVE);
-    let asym = (j - j.transpose()).amax();
-    if asym > 1e-9 * scale {
-        return Err(cx.err(
-            span,
-            format!(
-                "inertia of body \"{name}\" is not symmetric (largest |I_rc − I_cr| = {asym:e} kg m²)"
-            ),
-        ));
-    }
-    let eig = j.symmetric_eigenvalues();
-    let min = eig.min();
-    if min <= 1e-12 * scale {
-        return Err(cx.err(
-            span,
-            format!(
-                "inertia of body \"{name}\" is not positive definite (principal moments {:e}, {:e}, {:e} kg m²); \
-                 every principal moment must be > 0",
-                eig[0], eig[1], eig[2]
-            ),
-        ));
-    }
-    Ok(())
 }
 
 struct Resolver<'a> {

@@ -248,6 +248,13 @@ fn bad_mass_and_inertia() {
         "11:11",
         &["3×3 matrix"],
     );
+    // Issue 27, item 8: no rigid body has these principal moments (0.3 > 0.1 + 0.1).
+    fails_at(
+        "inertia = { diag = [0.01, 0.1, 0.1] }",
+        "inertia = { diag = [0.3, 0.1, 0.1] }",
+        "11:11",
+        &["body \"crank\"", "triangle inequality", "0.3"],
+    );
 }
 
 #[test]

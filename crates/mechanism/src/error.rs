@@ -6,6 +6,20 @@ use crate::results::Results;
 use cardan_solver::SolverError;
 use thiserror::Error;
 
+/// "a, b, c": plain notation between 1e-4 and 1e9, scientific beyond.
+fn fmt_numbers(v: &[f64]) -> String {
+    v.iter()
+        .map(|&x| {
+            if x == 0.0 || (1e-4..1e9).contains(&x.abs()) {
+                format!("{x}")
+            } else {
+                format!("{x:e}")
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 fn fmt_suggestion(s: &Option<String>) -> String {
     match s {
         Some(s) => format!(" (did you mean \"{s}\"?)"),
@@ -146,12 +160,24 @@ pub enum ModelError {
         asymmetry: f64,
     },
     /// Inertia tensor not positive definite.
-    #[error("body \"{body}\": inertia tensor is not positive definite (smallest eigenvalue {min_eigenvalue:.3e})")]
+    #[error("body \"{body}\": inertia tensor is not positive definite (smallest principal moment {min_eigenvalue:.3e} kg m²); every principal moment must be > 0")]
     InertiaNotPositiveDefinite {
         /// The body.
         body: String,
         /// Its smallest eigenvalue.
         min_eigenvalue: f64,
+    },
+    /// The principal moments violate the triangle inequality I₁ + I₂ ≥ I₃: no rigid body
+    /// has them ([`crate::sanity`]).
+    #[error(
+        "body \"{body}\": inertia tensor is not a rigid body's: its principal moments {} kg m² violate the triangle inequality (the two smaller must add up to at least the largest; a thin disk has equality)",
+        fmt_numbers(.moments)
+    )]
+    InertiaTriangle {
+        /// The body.
+        body: String,
+        /// The principal moments, ascending.
+        moments: [f64; 3],
     },
     /// A joint or driver connects a body to itself.
     #[error("{element}: connects body \"{body}\" to itself")]

@@ -78,6 +78,7 @@ pub mod dof;
 pub mod error;
 pub mod model;
 pub mod results;
+pub mod sanity;
 pub mod workspace;
 
 pub use analysis::assembly::{AssemblyOptions, AssemblyReport};
@@ -93,6 +94,7 @@ pub use model::{
     BodyId, BodyInfo, DriverInfo, FeatureInfo, ForceInfo, JointInfo, Model, ABSURD_LIMIT,
 };
 pub use results::{BodyResults, JointResults, Outputs, PointResults, Results};
+pub use sanity::check_inertia;
 pub use workspace::{apply_rotation_step, EvaluationCounts, Workspace};
 
 /// Re-exported so users name the same types.

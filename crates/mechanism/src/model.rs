@@ -494,33 +494,6 @@ fn orientation_p(body: &str, o: &Orientation) -> Result<Vector4<f64>, ModelError
     Ok(*p.as_vector())
 }
 
-fn check_inertia(body: &str, i: &Matrix3<f64>) -> Result<(), ModelError> {
-    check_numbers(&format!("body \"{body}\""), "inertia", i.as_slice())?;
-    let scale = i.amax();
-    let asym = (i - i.transpose()).amax();
-    if scale == 0.0 {
-        return Err(ModelError::InertiaNotPositiveDefinite {
-            body: body.into(),
-            min_eigenvalue: 0.0,
-        });
-    }
-    if asym > 1e-9 * scale {
-        return Err(ModelError::InertiaNotSymmetric {
-            body: body.into(),
-            asymmetry: asym / scale,
-        });
-    }
-    let sym = 0.5 * (i + i.transpose());
-    if sym.cholesky().is_none() {
-        let min = sym.symmetric_eigenvalues().min();
-        return Err(ModelError::InertiaNotPositiveDefinite {
-            body: body.into(),
-            min_eigenvalue: min,
-        });
-    }
-    Ok(())
-}
-
 struct Names<'a> {
     bodies: HashMap<&'a str, BodyId>,
     body_list: Vec<&'a str>,
@@ -656,7 +629,8 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
             }
         }
         if let Some(i) = &body.inertia {
-            check_inertia(&body.name, i)?;
+            check_numbers(&el, "inertia", i.as_slice())?;
+            crate::sanity::check_inertia(&body.name, i)?;
         }
         names.bodies.insert(&body.name, BodyId::Moving(k));
         names.body_list.push(&body.name);

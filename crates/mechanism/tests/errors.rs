@@ -244,6 +244,42 @@ fn mass_and_inertia() {
     ));
 }
 
+/// Issue 27, item 8: principal moments that violate the triangle inequality (I1 + I2 ≥ I3)
+/// belong to no rigid body (a negative second moment of mass); they were accepted.
+#[test]
+fn inertia_violating_the_triangle_inequality() {
+    let refused = |i: Matrix3<f64>| {
+        let mut b = base();
+        b.body(Body::new("b2").inertia(i));
+        b.build().err()
+    };
+    let e = refused(Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, 2.5)));
+    assert!(
+        matches!(e, Some(ModelError::InertiaTriangle { ref body, .. }) if body == "b2"),
+        "{e:?}"
+    );
+    let m = e.unwrap().to_string();
+    assert!(m.contains("triangle inequality"), "{m}");
+    assert!(m.contains("2.5"), "{m}");
+    // The same tensor in rotated axes (the check is on the eigenvalues).
+    let r = nalgebra::Rotation3::from_euler_angles(0.3, -0.7, 1.1).into_inner();
+    let rotated = |d: Vector3<f64>| r * Matrix3::from_diagonal(&d) * r.transpose();
+    let e = refused(rotated(Vector3::new(2.5, 1.0, 1.0)));
+    assert!(
+        matches!(e, Some(ModelError::InertiaTriangle { .. })),
+        "{e:?}"
+    );
+    // A thin disk (I3 = I1 + I2 exactly) and a thin rod are bodies, also when rotated.
+    for d in [
+        Vector3::new(0.25, 0.25, 0.5),
+        Vector3::new(0.5, 0.25, 0.25),
+        Vector3::new(1e-9, 1.0, 1.0),
+    ] {
+        assert_eq!(refused(Matrix3::from_diagonal(&d)), None, "{d:?}");
+        assert_eq!(refused(rotated(d)), None, "rotated {d:?}");
+    }
+}
+
 #[test]
 fn joints_and_drivers_between_wrong_bodies() {
     let mut b = base();
