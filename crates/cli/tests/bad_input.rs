@@ -206,6 +206,33 @@ fn nan_infinite_and_absurd_numbers() {
     );
 }
 
+/// Issue 27, item 12: one blanket limit (|x| ≤ 1e9 on every number) refused legitimate SI
+/// values (a ship's inertia, a contact stiffness) and let absurd lengths through. Each
+/// quantity now has its own SI bound (`cardan_mechanism::sanity::Quantity`).
+#[test]
+fn magnitudes_are_checked_per_quantity() {
+    // A 10 000 t body with a ship's inertia: legitimate SI values beyond 1e9.
+    let heavy = edited(
+        "mass = 1.0\ninertia = { diag = [0.01, 0.1, 0.1] }",
+        "mass = 1e7\ninertia = { diag = [2e10, 3e10, 3e10] }",
+    );
+    let o = run_text("check", &heavy);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    // A length of 1e8 m (100 000 km) is a typo, though below the old blanket limit.
+    fails_at(
+        "position = [0.5, 0.0, 0.0]",
+        "position = [1e8, 0.0, 0.0]",
+        "12:13",
+        &["position of body \"crank\" x = 1e8 m", "length", "1e7 m"],
+    );
+    fails_at(
+        "mass = 1.0",
+        "mass = 1e11",
+        "10:8",
+        &["mass of body \"crank\" = 1e11 kg", "1e10 kg"],
+    );
+}
+
 #[test]
 fn zero_length_axes() {
     fails_at(

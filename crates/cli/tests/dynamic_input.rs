@@ -208,6 +208,23 @@ fn meaningless_tolerances_are_refused_with_their_range() {
     );
 }
 
+/// Issue 27, item 12: a contact-like stiffness of 2e10 N/m and a force of 5e9 N are SI values
+/// a model may need; the blanket limit of 1e9 refused them.
+#[test]
+fn large_forces_and_stiffnesses_are_accepted() {
+    let text = BASE
+        .replacen("stiffness = 1.0", "stiffness = 2e10", 1)
+        .replacen("value = [0.0, 0.1, 0.0]", "value = [0.0, 5e9, 0.0]", 1);
+    let o = run_text("check", &text);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    fails_at(
+        "stiffness = 1.0",
+        "stiffness = 1e20",
+        "60:13",
+        &["stiffness = 1e20 N/m", "absurdly large for a stiffness"],
+    );
+}
+
 #[test]
 fn negative_or_zero_tolerances_and_steps() {
     fails_at(

@@ -113,8 +113,9 @@ pub enum ModelError {
         /// The value.
         value: f64,
     },
-    /// A number is finite but absurdly large (|x| > limit).
-    #[error("{element}: {what} = {value:e} is absurdly large (limit {limit:e})")]
+    /// A number is finite but absurdly large for its quantity (|x| > limit,
+    /// [`crate::sanity::Quantity::limit`]).
+    #[error("{element}: {what} = {value:e} {unit} is absurdly large (limit {limit:e} {unit} in SI units); check the exponent and the unit")]
     Absurd {
         /// The element.
         element: String,
@@ -124,6 +125,8 @@ pub enum ModelError {
         value: f64,
         /// The limit.
         limit: f64,
+        /// The SI unit of value and limit.
+        unit: &'static str,
     },
     /// A direction vector has zero length.
     #[error("vector \"{name}\" on body \"{body}\" has zero length")]

@@ -66,3 +66,157 @@ pub fn principal_moments(j: &Matrix3<f64>) -> [f64; 3] {
     m.sort_by(f64::total_cmp);
     m
 }
+
+/// What a number in a model means, for the magnitude limits ([`Quantity::limit`]).
+///
+/// ## Magnitude limits
+/// A number far beyond anything a mechanism can have is a typo (a wrong exponent, a value in
+/// the wrong unit), and it would wreck the solution (a point at 1e12 m leaves f64 a resolution
+/// of 1e-4 m). Each quantity has its own bound in SI units, generous enough for large machines
+/// (a 100 000 t ship, a steel contact's stiffness) and far below overflow:
+///
+/// | quantity | limit |
+/// |---|---|
+/// | length (positions, points, lengths) | 1e7 m |
+/// | mass | 1e10 kg |
+/// | inertia | 1e15 kg m² |
+/// | time | 1e9 s |
+/// | angle | 1e7 rad |
+/// | velocity | 1e6 m/s |
+/// | angular velocity, frequency | 1e6 rad/s |
+/// | acceleration (gravity) | 1e6 m/s² |
+/// | force | 1e12 N |
+/// | torque | 1e12 N m |
+/// | stiffness | 1e15 N/m, N m/rad |
+/// | damping | 1e12 N s/m, N m s/rad |
+/// | direction (only its direction counts) | 1e150 |
+/// | coefficient (a polynomial's c_k: its unit depends on k) | none: finite |
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Quantity {
+    /// m.
+    Length,
+    /// kg.
+    Mass,
+    /// kg m².
+    Inertia,
+    /// s.
+    Time,
+    /// rad.
+    Angle,
+    /// m/s.
+    Velocity,
+    /// rad/s.
+    AngularVelocity,
+    /// rad/s (of a harmonic function).
+    Frequency,
+    /// m/s².
+    Acceleration,
+    /// N.
+    Force,
+    /// N m.
+    Torque,
+    /// N/m.
+    Stiffness,
+    /// N m/rad.
+    RotationalStiffness,
+    /// N s/m.
+    Damping,
+    /// N m s/rad.
+    RotationalDamping,
+    /// A direction vector's component (any unit, only the direction counts).
+    Direction,
+    /// A number whose unit the reader cannot tell (a polynomial coefficient, a tolerance
+    /// checked elsewhere): finite is all that is asked.
+    Unbounded,
+}
+
+impl Quantity {
+    /// The largest magnitude accepted, in the SI unit [`Quantity::unit`].
+    pub fn limit(self) -> f64 {
+        match self {
+            Quantity::Length | Quantity::Angle => 1e7,
+            Quantity::Mass => 1e10,
+            Quantity::Inertia | Quantity::Stiffness | Quantity::RotationalStiffness => 1e15,
+            Quantity::Time => 1e9,
+            Quantity::Velocity
+            | Quantity::AngularVelocity
+            | Quantity::Frequency
+            | Quantity::Acceleration => 1e6,
+            Quantity::Force
+            | Quantity::Torque
+            | Quantity::Damping
+            | Quantity::RotationalDamping => 1e12,
+            Quantity::Direction => 1e150,
+            Quantity::Unbounded => f64::MAX,
+        }
+    }
+
+    /// The SI unit ("" for directions and unbounded numbers).
+    pub fn unit(self) -> &'static str {
+        match self {
+            Quantity::Length => "m",
+            Quantity::Mass => "kg",
+            Quantity::Inertia => "kg m²",
+            Quantity::Time => "s",
+            Quantity::Angle => "rad",
+            Quantity::Velocity => "m/s",
+            Quantity::AngularVelocity | Quantity::Frequency => "rad/s",
+            Quantity::Acceleration => "m/s²",
+            Quantity::Force => "N",
+            Quantity::Torque => "N m",
+            Quantity::Stiffness => "N/m",
+            Quantity::RotationalStiffness => "N m/rad",
+            Quantity::Damping => "N s/m",
+            Quantity::RotationalDamping => "N m s/rad",
+            Quantity::Direction | Quantity::Unbounded => "",
+        }
+    }
+
+    /// The quantity's name in messages ("a length", "a mass", ...).
+    pub fn name(self) -> &'static str {
+        match self {
+            Quantity::Length => "a length",
+            Quantity::Mass => "a mass",
+            Quantity::Inertia => "an inertia",
+            Quantity::Time => "a time",
+            Quantity::Angle => "an angle",
+            Quantity::Velocity => "a velocity",
+            Quantity::AngularVelocity => "an angular velocity",
+            Quantity::Frequency => "a frequency",
+            Quantity::Acceleration => "an acceleration",
+            Quantity::Force => "a force",
+            Quantity::Torque => "a torque",
+            Quantity::Stiffness | Quantity::RotationalStiffness => "a stiffness",
+            Quantity::Damping | Quantity::RotationalDamping => "a damping coefficient",
+            Quantity::Direction => "a direction component",
+            Quantity::Unbounded => "a number",
+        }
+    }
+
+    /// `Err(message)` when `value` is not finite or beyond [`Quantity::limit`]; the message
+    /// starts with "`what` = value unit" and says what to check.
+    ///
+    /// # Errors
+    /// The message, for the caller to wrap with the element and place.
+    pub fn check(self, what: &str, value: f64) -> Result<(), String> {
+        let unit = match self.unit() {
+            "" => String::new(),
+            u => format!(" {u}"),
+        };
+        if value.is_nan() {
+            return Err(format!("{what} is NaN; a finite number is needed"));
+        }
+        if value.is_infinite() {
+            return Err(format!("{what} is infinite; a finite number is needed"));
+        }
+        if value.abs() > self.limit() {
+            return Err(format!(
+                "{what} = {value:e}{unit} is absurdly large for {} (limit {:e}{unit}; model \
+                 values are in SI units); check the exponent and the unit",
+                self.name(),
+                self.limit()
+            ));
+        }
+        Ok(())
+    }
+}

@@ -280,6 +280,31 @@ fn inertia_violating_the_triangle_inequality() {
     }
 }
 
+/// Issue 27, item 12: the builder's magnitude limits are per quantity, in SI
+/// (`cardan_mechanism::sanity::Quantity`), not one bound on every number.
+#[test]
+fn magnitude_limits_per_quantity() {
+    let mut b = base();
+    b.body(
+        Body::new("ship")
+            .mass(1e8)
+            .inertia_diagonal(2e11, 3e11, 3e11),
+    );
+    assert!(b.build().is_ok(), "{:?}", b.build().err());
+    let mut b = base();
+    b.body(Body::new("b2").mass(1e11));
+    let e = build_err(&b);
+    assert!(
+        matches!(e, ModelError::Absurd { limit, unit: "kg", .. } if limit == 1e10),
+        "{e:?}"
+    );
+    let mut b = base();
+    b.point("crank", "far", Vector3::new(0.0, 2e7, 0.0));
+    let e = build_err(&b);
+    assert!(matches!(e, ModelError::Absurd { unit: "m", .. }), "{e:?}");
+    assert!(e.to_string().contains("2e7 m is absurdly large"), "{e}");
+}
+
 #[test]
 fn joints_and_drivers_between_wrong_bodies() {
     let mut b = base();
