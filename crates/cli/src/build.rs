@@ -122,6 +122,9 @@ pub struct Loaded {
     pub bodies: Vec<(String, Option<f64>)>,
     /// Driver names and what they drive, in file order.
     pub drivers: Vec<(String, String)>,
+    /// The drivers' time functions and the quantities of their values (an angle for a rotation
+    /// driver, a length for the others), in file order (as `drivers`).
+    pub driver_functions: Vec<(TimeFunction, Quantity)>,
     /// Force elements for dynamic analysis: `[model] gravity` first, then `[[force]]` in file
     /// order.
     pub forces: Vec<Force>,
@@ -371,6 +374,7 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
 
     // Drivers.
     let mut drivers = Vec::new();
+    let mut driver_functions = Vec::new();
     for d in &file.driver {
         let d = d.get_ref();
         check_unique_element(&cx, &spans, &d.name, "driver")?;
@@ -382,6 +386,11 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
         }
         let (spec, what) = load_driver(&resolver, d, &joint_kinds, &spans)?;
         drivers.push((d.name.get_ref().clone(), what));
+        let q = match spec.target {
+            cardan_mechanism::DriverTarget::JointRotation { .. } => Quantity::Angle,
+            _ => Quantity::Length,
+        };
+        driver_functions.push((spec.function.clone(), q));
         builder.driver(spec);
     }
 
@@ -411,6 +420,7 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
         joints,
         bodies,
         drivers,
+        driver_functions,
         forces,
         velocities,
     })

@@ -641,3 +641,35 @@ fn inverse_dynamics_mid_run_failure_writes_partial_results() {
         rows[40]
     );
 }
+
+/// Issue 27, item 11: a driver whose value overflows at the requested time was reported as an
+/// assembly failure of nothing ("these joints/drivers stay open: .") by `eval --t 1e308`, and
+/// as "non-finite value ... in the residual of equation 5" by a run. Both now name the driver,
+/// its line and the time.
+#[test]
+fn a_driver_value_that_is_not_finite_names_the_driver() {
+    let text = edited("coefficients = [0.0, 1.0]", "coefficients = [0.0, 10.0]");
+    let dir = scratch();
+    std::fs::write(dir.join("model.toml"), &text).unwrap();
+    let o = cardan(&["eval", "model.toml", "--t", "1e308"], &dir);
+    assert_eq!(o.code, 1, "{}", o.stderr);
+    for n in [
+        "model.toml:27:8: error:",
+        "driver \"motor\"",
+        "not finite at t = 1e308 s",
+    ] {
+        assert!(o.stderr.contains(n), "missing {n:?} in: {}", o.stderr);
+    }
+    // A polynomial far beyond any angle within the run's time span (it used to fail with
+    // "non-finite value (NaN or infinity) in the residual of equation 0").
+    let o = fails_at(
+        "coefficients = [0.0, 1.0]",
+        "coefficients = [0.0, 1.0, 1e300]",
+        "27:8",
+        &[
+            "driver \"motor\": at t = 0.1 s its value = 1e298 rad",
+            "absurdly large for an angle",
+        ],
+    );
+    assert!(!o.stderr.contains("equation"), "{}", o.stderr);
+}

@@ -211,12 +211,24 @@ impl Quantity {
         }
         if value.abs() > self.limit() {
             return Err(format!(
-                "{what} = {value:e}{unit} is absurdly large for {} (limit {:e}{unit}; model \
+                "{what} = {}{unit} is absurdly large for {} (limit {:e}{unit}; model \
                  values are in SI units); check the exponent and the unit",
+                scientific(value),
                 self.name(),
                 self.limit()
             ));
         }
         Ok(())
+    }
+}
+
+/// `x` in scientific notation with at most six significant digits ("1e298", "2.5e10").
+fn scientific(x: f64) -> String {
+    let s = format!("{x:.5e}");
+    match s.split_once('e') {
+        Some((m, e)) if m.contains('.') => {
+            format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.'))
+        }
+        _ => s,
     }
 }
