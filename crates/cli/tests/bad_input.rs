@@ -57,7 +57,30 @@ fn duplicate_toml_key_is_located() {
         "points = { O = [0.0, 0.0, 0.0] }",
         "points = { O = [0.0, 0.0, 0.0], O = [1.0, 0.0, 0.0] }",
         "5:33",
-        &["duplicate key"],
+        &["duplicate key \"O\"", "[ground]"],
+    );
+    // Issue 27, item 11: the key and the table are named (the message was "duplicate key").
+    fails_at(
+        "mass = 1.0",
+        "mass = 1.0\nmass = 2.0",
+        "11:1",
+        &[
+            "duplicate key \"mass\" in [[body]]",
+            "first given at line 10",
+        ],
+    );
+}
+
+/// Issue 27, item 11: `[body]` where `[[body]]` is meant read "invalid type: map, expected a
+/// sequence"; an integer beyond i64 read "as i128, expected i64".
+#[test]
+fn single_table_headers_and_oversized_integers_get_a_hint() {
+    fails_at("[[body]]", "[body]", "8:1", &["[body]", "write [[body]]"]);
+    fails_at(
+        "steps = 10",
+        "steps = 99999999999999999999999",
+        "35:9",
+        &["steps = 99999999999999999999999", "between 1 and 10000000"],
     );
 }
 
