@@ -255,10 +255,10 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
 
     let model = file.model.get_ref();
     let name = model.name.get_ref().trim().to_string();
-    if name.is_empty() || name.contains(['/', '\\']) || name == "." || name == ".." {
+    if let Some(why) = unusable_directory_name(&name) {
         return Err(cx.err(
             model.name.span(),
-            "model name must be non-empty and must not contain '/' or '\\' (it names the output directory)",
+            format!("model name {why}; it names the output directory out/<name>/"),
         ));
     }
     if let Some(u) = &model.units {
@@ -424,6 +424,32 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
         forces,
         velocities,
     })
+}
+
+/// Why `name` cannot name one output directory, if it cannot.
+fn unusable_directory_name(name: &str) -> Option<String> {
+    if name.is_empty() {
+        return Some("must not be empty".into());
+    }
+    match name {
+        "." => return Some("\".\" is the output directory itself (out/./ is out/)".into()),
+        ".." => return Some("\"..\" is the parent of the output directory (out/../)".into()),
+        _ => {}
+    }
+    if let Some(c) = name.chars().find(|c| matches!(c, '/' | '\\')) {
+        return Some(format!(
+            "\"{name}\" contains the path separator '{c}', which would make nested directories"
+        ));
+    }
+    if let Some(c) = name.chars().find(|c| c.is_control()) {
+        return Some(format!(
+            "{:?} contains a control character (U+{:04X}); write the name on one line, \
+             without tabs or other control characters",
+            name,
+            u32::from(c)
+        ));
+    }
+    None
 }
 
 fn check_unique_element(cx: &Ctx, spans: &Spans, name: &Name, what: &str) -> Result<(), Error> {

@@ -696,3 +696,30 @@ fn a_driver_value_that_is_not_finite_names_the_driver() {
     );
     assert!(!o.stderr.contains("equation"), "{}", o.stderr);
 }
+
+/// Issue 27, item 11: the model name names the output directory; "." and ".." were refused
+/// without a reason, and a newline made a directory with a newline in its name.
+#[test]
+fn model_names_that_cannot_name_a_directory_say_why() {
+    let name = r#"name = "crank""#;
+    fails_at(
+        name,
+        r#"name = "..""#,
+        "2:8",
+        &["\"..\"", "parent", "out/<name>/"],
+    );
+    fails_at(name, r#"name = ".""#, "2:8", &["\".\"", "itself"]);
+    fails_at(
+        name,
+        r#"name = "a\nb""#,
+        "2:8",
+        &["control character", "U+000A"],
+    );
+    fails_at(
+        name,
+        r#"name = "a\tb""#,
+        "2:8",
+        &["control character", "U+0009"],
+    );
+    fails_at(name, r#"name = "a/b""#, "2:8", &["path separator '/'"]);
+}
