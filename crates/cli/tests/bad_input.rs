@@ -723,3 +723,21 @@ fn model_names_that_cannot_name_a_directory_say_why() {
     );
     fails_at(name, r#"name = "a/b""#, "2:8", &["path separator '/'"]);
 }
+
+/// Issue 27, item 11: "marker" is an internal word; a message about axes uses the keys of the
+/// model format ("invalid marker on body ...: marker axes: the axes are parallel").
+#[test]
+fn axis_messages_use_the_model_format_words() {
+    let o = fails_at(
+        "axis_i = \"z\"\n",
+        "axis_i = \"z\"\nx_axis_i = \"z\"\nx_axis_j = \"z\"\n",
+        "17:8",
+        &[
+            "joint \"pivot\"",
+            "x_axis_i",
+            "parallel to axis_i",
+            "perpendicular",
+        ],
+    );
+    assert!(!o.stderr.contains("marker"), "{}", o.stderr);
+}

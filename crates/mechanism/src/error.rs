@@ -212,8 +212,9 @@ pub enum ModelError {
         /// "axis_i" or "axis_j".
         which: &'static str,
     },
-    /// The two axes of a marker are parallel, or another marker problem.
-    #[error("joint \"{joint}\": invalid marker on body \"{body}\": {reason}")]
+    /// The axes of a joint on one body do not define a frame (x axis parallel to the axis),
+    /// or the joint cannot be formed from them. `reason` uses the builder's keys.
+    #[error("joint \"{joint}\", on body \"{body}\": {reason}")]
     BadMarker {
         /// The joint.
         joint: String,

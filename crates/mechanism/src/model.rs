@@ -770,24 +770,38 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
             Some(n) => Some(names.feature(&el, &spec.body_j, n, true)?),
             None => None,
         };
-        let marker =
-            |body: &str, p: Vector3<f64>, z: Option<Vector3<f64>>, x: Option<Vector3<f64>>| {
-                let bad = |e: cardan_constraints::ConstraintError| ModelError::BadMarker {
-                    joint: spec.name.clone(),
-                    body: body.into(),
-                    reason: e.to_string(),
-                };
-                match (z, x) {
-                    (Some(z), Some(x)) => Marker::from_axes(p, z, x).map_err(bad),
-                    (Some(z), None) => Marker::from_axis(p, z).map_err(bad),
-                    _ => Ok(Marker {
-                        point: p,
-                        frame: Matrix3::identity(),
-                    }),
-                }
+        // The joint frame on one side (`side` = "i" or "j"); a refusal is worded with the
+        // builder's keys (axis_i, x_axis_i), not the internal "marker".
+        let marker = |side: &str,
+                      body: &str,
+                      p: Vector3<f64>,
+                      z: Option<Vector3<f64>>,
+                      x: Option<Vector3<f64>>| {
+            let bad = |e: cardan_constraints::ConstraintError| ModelError::BadMarker {
+                joint: spec.name.clone(),
+                body: body.into(),
+                reason: match e {
+                    cardan_constraints::ConstraintError::ParallelAxes { .. } => format!(
+                        "x_axis_{side} is parallel to axis_{side}; the x axis must be \
+                             perpendicular to the joint axis (it is the zero of the joint angle)"
+                    ),
+                    cardan_constraints::ConstraintError::ZeroAxis { .. } => {
+                        format!("axis_{side} or x_axis_{side} has zero length")
+                    }
+                    other => other.to_string().replace("marker ", ""),
+                },
             };
-        let mi = marker(&spec.body_i, pi, zi, xi)?;
-        let mj = marker(&spec.body_j, pj, zj, xj)?;
+            match (z, x) {
+                (Some(z), Some(x)) => Marker::from_axes(p, z, x).map_err(bad),
+                (Some(z), None) => Marker::from_axis(p, z).map_err(bad),
+                _ => Ok(Marker {
+                    point: p,
+                    frame: Matrix3::identity(),
+                }),
+            }
+        };
+        let mi = marker("i", &spec.body_i, pi, zi, xi)?;
+        let mj = marker("j", &spec.body_j, pj, zj, xj)?;
         let joint = if kind == JointKind::SphericalSpherical {
             let l = match spec.length {
                 Some(l) => {
