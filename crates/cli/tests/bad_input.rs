@@ -741,3 +741,99 @@ fn axis_messages_use_the_model_format_words() {
     );
     assert!(!o.stderr.contains("marker"), "{}", o.stderr);
 }
+
+/// A two-DOF model (a crank and a slider) whose two drivers both drive the crank.
+const DEPENDENT_DRIVERS: &str = r#"[model]
+name = "dep"
+
+[ground]
+points = { O = [0.0, 0.0, 0.0], S = [0.0, 1.0, 0.0] }
+vectors = { z = [0.0, 0.0, 1.0], x = [1.0, 0.0, 0.0] }
+
+[[body]]
+name = "crank"
+position = [0.5, 0.0, 0.0]
+points = { O = [-0.5, 0.0, 0.0], tip = [0.5, 0.0, 0.0] }
+vectors = { z = [0.0, 0.0, 1.0], x = [1.0, 0.0, 0.0] }
+
+[[body]]
+name = "slider"
+position = [0.0, 1.0, 0.0]
+points = { S = [0.0, 0.0, 0.0] }
+vectors = { x = [1.0, 0.0, 0.0], z = [0.0, 0.0, 1.0] }
+
+[[joint]]
+name = "pivot"
+type = "revolute"
+body_i = "ground"
+point_i = "O"
+axis_i = "z"
+x_axis_i = "x"
+body_j = "crank"
+point_j = "O"
+axis_j = "z"
+x_axis_j = "x"
+
+[[joint]]
+name = "way"
+type = "prismatic"
+body_i = "ground"
+point_i = "S"
+axis_i = "x"
+body_j = "slider"
+point_j = "S"
+axis_j = "x"
+
+[[driver]]
+name = "motor"
+type = "rotation"
+joint = "pivot"
+function = { kind = "polynomial", coefficients = [0.0, 1.0] }
+
+[[driver]]
+name = "lift"
+type = "coordinate"
+body = "crank"
+point = "tip"
+coordinate = "y"
+function = { kind = "polynomial", coefficients = [0.0, 0.5] }
+
+[analysis]
+kind = "kinematic"
+t_end = 1.0
+steps = 10
+"#;
+
+/// Issue 27, item 11: `cardan check` approved two drivers that depend on each other (and left
+/// the slider free), which `run` then refused; it approved a universal joint drawn with
+/// parallel arms, which no assembly can close.
+#[test]
+fn check_finds_dependent_drivers_and_parallel_universal_arms() {
+    let o = run_text("check", DEPENDENT_DRIVERS);
+    assert_ne!(o.code, 0, "{}", o.stdout);
+    for n in ["model.toml:49:8:", "drivers do not control", "\"lift\""] {
+        assert!(o.stderr.contains(n), "missing {n:?} in: {}", o.stderr);
+    }
+    let drive = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../examples/universal_drive.toml"),
+    )
+    .unwrap();
+    let arm = "vectors = { axis = [1.0, 0.0, 0.0], arm = [0.0, 0.0, 1.0] }";
+    assert!(drive.contains(arm));
+    let parallel = drive.replace(
+        arm,
+        "vectors = { axis = [1.0, 0.0, 0.0], arm = [0.0, 1.0, 0.0] }",
+    );
+    for cmd in ["check", "run"] {
+        let o = run_text(cmd, &parallel);
+        assert_eq!(o.code, 1, "{cmd}: {}", o.stderr);
+        for n in ["joint \"cross\"", "arms", "perpendicular"] {
+            assert!(
+                o.stderr.contains(n),
+                "{cmd}: missing {n:?} in: {}",
+                o.stderr
+            );
+        }
+    }
+}

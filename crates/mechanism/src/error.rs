@@ -223,6 +223,15 @@ pub enum ModelError {
         /// Why.
         reason: String,
     },
+    /// The arms of a universal joint's cross are drawn (nearly) parallel
+    /// ([`crate::sanity::check_universal_arms`]).
+    #[error("joint \"{joint}\" (universal): its arms axis_i and axis_j are {angle_deg:.1}° apart at the drawn pose; the two arms of the cross must be perpendicular (at least 45° apart as drawn, so the assembly can close them): check the vectors and the bodies' orientations")]
+    UniversalArms {
+        /// The joint.
+        joint: String,
+        /// The angle between the arms at the drawn pose, in degrees (0 to 90).
+        angle_deg: f64,
+    },
     /// A length that must be positive is not.
     #[error("{element}: {what} must be positive, got {value}")]
     NonPositive {

@@ -802,6 +802,10 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
         };
         let mi = marker("i", &spec.body_i, pi, zi, xi)?;
         let mj = marker("j", &spec.body_j, pj, zj, xj)?;
+        if let (JointKind::Universal, Some(zi), Some(zj)) = (kind, zi, zj) {
+            let (si, sj) = (pose(&bodies, bi).vector(&zi), pose(&bodies, bj).vector(&zj));
+            crate::sanity::check_universal_arms(&spec.name, &si, &sj)?;
+        }
         let joint = if kind == JointKind::SphericalSpherical {
             let l = match spec.length {
                 Some(l) => {

@@ -10,7 +10,7 @@
 //! [`INERTIA_TRIANGLE_TOLERANCE`] × I₃.
 
 use crate::error::ModelError;
-use nalgebra::Matrix3;
+use nalgebra::{Matrix3, Vector3};
 
 /// Relative slack of the triangle inequality: I₁ + I₂ ≥ (1 − 1e-3) I₃ is accepted.
 pub const INERTIA_TRIANGLE_TOLERANCE: f64 = 1e-3;
@@ -65,6 +65,33 @@ pub fn principal_moments(j: &Matrix3<f64>) -> [f64; 3] {
     let mut m = [e[0], e[1], e[2]];
     m.sort_by(f64::total_cmp);
     m
+}
+
+/// Smallest angle between the two arms of a universal joint's cross at the drawn pose, in
+/// degrees: 45°, the arms closer to perpendicular than to parallel.
+pub const UNIVERSAL_ARMS_MIN_ANGLE_DEG: f64 = 45.0;
+
+/// Checks that the arms of universal joint `joint` (global directions `arm_i`, `arm_j` at the
+/// drawn pose) are at least [`UNIVERSAL_ARMS_MIN_ANGLE_DEG`] apart. The joint keeps them
+/// perpendicular (n1: arm_iᵀ arm_j = 0); drawn parallel, that equation has a zero gradient and
+/// the assembly cannot close it, drawn nearly parallel it has to turn a body by most of 90°.
+///
+/// # Errors
+/// [`ModelError::UniversalArms`] with the angle.
+pub fn check_universal_arms(
+    joint: &str,
+    arm_i: &Vector3<f64>,
+    arm_j: &Vector3<f64>,
+) -> Result<(), ModelError> {
+    let cos = arm_i.dot(arm_j) / (arm_i.norm() * arm_j.norm());
+    let angle = cos.abs().min(1.0).acos().to_degrees();
+    if angle < UNIVERSAL_ARMS_MIN_ANGLE_DEG {
+        return Err(ModelError::UniversalArms {
+            joint: joint.into(),
+            angle_deg: angle,
+        });
+    }
+    Ok(())
 }
 
 /// What a number in a model means, for the magnitude limits ([`Quantity::limit`]).

@@ -108,10 +108,11 @@ fn model_error_element(e: &ModelError) -> Option<String> {
         | ModelError::BadOrientation { body, .. }
         | ModelError::NonPositiveMass { body, .. }
         | ModelError::InertiaNotSymmetric { body, .. }
-        | ModelError::InertiaNotPositiveDefinite { body, .. } => body.clone(),
-        ModelError::MissingAxis { joint, .. } | ModelError::BadMarker { joint, .. } => {
-            joint.clone()
-        }
+        | ModelError::InertiaNotPositiveDefinite { body, .. }
+        | ModelError::InertiaTriangle { body, .. } => body.clone(),
+        ModelError::MissingAxis { joint, .. }
+        | ModelError::BadMarker { joint, .. }
+        | ModelError::UniversalArms { joint, .. } => joint.clone(),
         ModelError::WrongJointKind { driver, .. } | ModelError::BadTimeFunction { driver, .. } => {
             driver.clone()
         }
