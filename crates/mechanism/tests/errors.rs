@@ -561,6 +561,36 @@ fn singular_configuration_mid_run_keeps_the_results() {
     assert_eq!(partial.bodies[0].r_ddot.len(), partial.len());
 }
 
+/// Issue 27, item 6: position tolerances outside their sensible range (a residual tolerance
+/// of 1.0 "assembles" a mechanism whose loops are open by a metre) were accepted.
+#[test]
+fn meaningless_assembly_tolerances_are_refused() {
+    let model = slider_crank_builder(1.0).build().unwrap();
+    let refused = |o: AssemblyOptions| {
+        let mut ws = model.workspace();
+        match model.assemble(&mut ws, &o) {
+            Err(AnalysisError::Options(m)) => Some(m),
+            Err(e) => panic!("refused for another reason: {e}"),
+            Ok(_) => None,
+        }
+    };
+    let loose = |residual, step| AssemblyOptions {
+        tolerances: cardan_solver::Tolerances { residual, step },
+        ..AssemblyOptions::at(0.0)
+    };
+    let m = refused(loose(1.0, 1e-6)).expect("residual tolerance 1.0 accepted");
+    assert!(m.contains("residual tolerance = 1 is outside"), "{m}");
+    assert!(m.contains("[1e-14, 1e-6]"), "{m}");
+    assert!(refused(loose(0.0, 1e-6)).is_some());
+    assert!(refused(loose(1e-10, f64::NAN)).is_some());
+    assert!(refused(AssemblyOptions {
+        max_iterations: 0,
+        ..AssemblyOptions::at(0.0)
+    })
+    .is_some());
+    assert_eq!(refused(AssemblyOptions::at(0.0)), None);
+}
+
 #[test]
 fn bad_time_grid() {
     let model = slider_crank_builder(1.0).build().unwrap();
