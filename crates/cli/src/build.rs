@@ -12,14 +12,13 @@ use cardan_constraints::{JointKind, TimeFunction};
 use cardan_dynamics::{
     Dopri5Options, Force, Frame, GeneralizedAlphaOptions, Integrator, PointRef, VectorFunction,
 };
-use cardan_mechanism::{Axis, Body, DriverSpec, JointSpec, MechanismBuilder, Orientation, GROUND};
+use cardan_mechanism::{
+    Axis, Body, DriverSpec, JointSpec, MechanismBuilder, Orientation, Quantity, GROUND,
+};
 use nalgebra::{Matrix3, Vector3};
 use std::collections::{BTreeMap, HashMap};
 use std::ops::Range;
 use toml::Spanned;
-
-/// Largest magnitude accepted for any number (SI units): beyond it a value is a typo.
-pub const ABSURD: f64 = 1e9;
 
 /// Most (output times) × (moving bodies + their points) a run may store: 10⁷, at most about
 /// 2.6 GB of results.
@@ -123,6 +122,9 @@ pub struct Loaded {
     pub bodies: Vec<(String, Option<f64>)>,
     /// Driver names and what they drive, in file order.
     pub drivers: Vec<(String, String)>,
+    /// The drivers' time functions and the quantities of their values (an angle for a rotation
+    /// driver, a length for the others), in file order (as `drivers`).
+    pub driver_functions: Vec<(TimeFunction, Quantity)>,
     /// Force elements for dynamic analysis: `[model] gravity` first, then `[[force]]` in file
     /// order.
     pub forces: Vec<Force>,
@@ -159,20 +161,10 @@ impl Ctx<'_> {
         self.src.error_at(span, m)
     }
 
-    fn num(&self, n: &Num, what: &str) -> Result<f64, Error> {
+    /// A finite, not subnormal number within the SI magnitude limit of its quantity
+    /// (`cardan_mechanism::sanity::Quantity`, the builder's limits).
+    fn num(&self, n: &Num, what: &str, q: Quantity) -> Result<f64, Error> {
         let v = *n.get_ref();
-        if v.is_nan() {
-            return Err(self.err(
-                n.span(),
-                format!("{what} is NaN; a finite number is needed"),
-            ));
-        }
-        if v.is_infinite() {
-            return Err(self.err(
-                n.span(),
-                format!("{what} is infinite; a finite number is needed"),
-            ));
-        }
         if v != 0.0 && v.abs() < f64::MIN_POSITIVE {
             return Err(self.err(
                 n.span(),
@@ -183,29 +175,21 @@ impl Ctx<'_> {
                 ),
             ));
         }
-        if v.abs() > ABSURD {
-            return Err(self.err(
-                n.span(),
-                format!(
-                    "{what} = {v:e} is absurdly large (|value| > {ABSURD:e} in SI units: m, kg, s, rad); \
-                     check the exponent"
-                ),
-            ));
-        }
+        q.check(what, v).map_err(|m| self.err(n.span(), m))?;
         Ok(v)
     }
 
-    fn vec3(&self, v: &Vec3, what: &str) -> Result<Vector3<f64>, Error> {
+    fn vec3(&self, v: &Vec3, what: &str, q: Quantity) -> Result<Vector3<f64>, Error> {
         let a = v.get_ref();
         Ok(Vector3::new(
-            self.num(&a[0], &format!("{what} x"))?,
-            self.num(&a[1], &format!("{what} y"))?,
-            self.num(&a[2], &format!("{what} z"))?,
+            self.num(&a[0], &format!("{what} x"), q)?,
+            self.num(&a[1], &format!("{what} y"), q)?,
+            self.num(&a[2], &format!("{what} z"), q)?,
         ))
     }
 
     fn direction(&self, v: &Vec3, what: &str) -> Result<Vector3<f64>, Error> {
-        let d = self.vec3(v, what)?;
+        let d = self.vec3(v, what, Quantity::Direction)?;
         if d.norm() < 1e-12 {
             return Err(self.err(
                 v.span(),
@@ -218,8 +202,8 @@ impl Ctx<'_> {
         Ok(d)
     }
 
-    fn raw_num(&self, span: Range<usize>, v: f64, what: &str) -> Result<f64, Error> {
-        self.num(&Spanned::new(span, v), what)
+    fn raw_num(&self, span: Range<usize>, v: f64, what: &str, q: Quantity) -> Result<f64, Error> {
+        self.num(&Spanned::new(span, v), what, q)
     }
 }
 
@@ -271,10 +255,10 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
 
     let model = file.model.get_ref();
     let name = model.name.get_ref().trim().to_string();
-    if name.is_empty() || name.contains(['/', '\\']) || name == "." || name == ".." {
+    if let Some(why) = unusable_directory_name(&name) {
         return Err(cx.err(
             model.name.span(),
-            "model name must be non-empty and must not contain '/' or '\\' (it names the output directory)",
+            format!("model name {why}; it names the output directory out/<name>/"),
         ));
     }
     if let Some(u) = &model.units {
@@ -291,7 +275,11 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
     }
     let mut forces = Vec::new();
     if let Some(g) = &model.gravity {
-        forces.push(Force::gravity(cx.vec3(g, "gravity")?));
+        forces.push(Force::gravity(cx.vec3(
+            g,
+            "gravity",
+            Quantity::Acceleration,
+        )?));
     }
 
     // Ground features.
@@ -299,7 +287,11 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
     let mut ground = Features::default();
     if let Some(g) = &file.ground {
         for (k, v) in &g.get_ref().points {
-            let p = cx.vec3(v, &format!("ground point \"{}\"", k.get_ref()))?;
+            let p = cx.vec3(
+                v,
+                &format!("ground point \"{}\"", k.get_ref()),
+                Quantity::Length,
+            )?;
             ground.points.insert(k.get_ref().clone(), (k.span(), p));
             builder.point(GROUND, k.get_ref(), p);
         }
@@ -382,6 +374,7 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
 
     // Drivers.
     let mut drivers = Vec::new();
+    let mut driver_functions = Vec::new();
     for d in &file.driver {
         let d = d.get_ref();
         check_unique_element(&cx, &spans, &d.name, "driver")?;
@@ -393,6 +386,11 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
         }
         let (spec, what) = load_driver(&resolver, d, &joint_kinds, &spans)?;
         drivers.push((d.name.get_ref().clone(), what));
+        let q = match spec.target {
+            cardan_mechanism::DriverTarget::JointRotation { .. } => Quantity::Angle,
+            _ => Quantity::Length,
+        };
+        driver_functions.push((spec.function.clone(), q));
         builder.driver(spec);
     }
 
@@ -422,9 +420,36 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
         joints,
         bodies,
         drivers,
+        driver_functions,
         forces,
         velocities,
     })
+}
+
+/// Why `name` cannot name one output directory, if it cannot.
+fn unusable_directory_name(name: &str) -> Option<String> {
+    if name.is_empty() {
+        return Some("must not be empty".into());
+    }
+    match name {
+        "." => return Some("\".\" is the output directory itself (out/./ is out/)".into()),
+        ".." => return Some("\"..\" is the parent of the output directory (out/../)".into()),
+        _ => {}
+    }
+    if let Some(c) = name.chars().find(|c| matches!(c, '/' | '\\')) {
+        return Some(format!(
+            "\"{name}\" contains the path separator '{c}', which would make nested directories"
+        ));
+    }
+    if let Some(c) = name.chars().find(|c| c.is_control()) {
+        return Some(format!(
+            "{:?} contains a control character (U+{:04X}); write the name on one line, \
+             without tabs or other control characters",
+            name,
+            u32::from(c)
+        ));
+    }
+    None
 }
 
 fn check_unique_element(cx: &Ctx, spans: &Spans, name: &Name, what: &str) -> Result<(), Error> {
@@ -484,7 +509,11 @@ fn orientation(
         let a = ep.get_ref();
         let mut v = [0.0; 4];
         for k in 0..4 {
-            v[k] = cx.num(&a[k], &format!("euler_parameters[{k}]"))?;
+            v[k] = cx.num(
+                &a[k],
+                &format!("euler_parameters[{k}]"),
+                Quantity::Direction,
+            )?;
         }
         let n = (v.iter().map(|x| x * x).sum::<f64>()).sqrt();
         if (n - 1.0).abs() > 1e-6 {
@@ -504,13 +533,13 @@ fn orientation(
             ));
         };
         let axis = cx.direction(axis, "orientation axis")?;
-        let angle = cx.num(angle, "orientation angle")?;
+        let angle = cx.num(angle, "orientation angle", Quantity::Angle)?;
         Orientation::AxisAngle { axis, angle }
     } else if let Some(e) = &s.euler313 {
-        let v = cx.vec3(e, "euler313")?;
+        let v = cx.vec3(e, "euler313", Quantity::Angle)?;
         Orientation::Euler313([v.x, v.y, v.z])
     } else if let Some(e) = &s.euler123 {
-        let v = cx.vec3(e, "euler123")?;
+        let v = cx.vec3(e, "euler123", Quantity::Angle)?;
         Orientation::Euler123([v.x, v.y, v.z])
     } else {
         let Some(z) = &s.z else {
@@ -535,7 +564,7 @@ fn load_body(cx: &Ctx, b: &BodySection) -> Result<(Body, Features), Error> {
     let name = b.name.get_ref();
     let mut body = Body::new(name.clone());
     if let Some(m) = &b.mass {
-        let m_v = cx.num(m, &format!("mass of body \"{name}\""))?;
+        let m_v = cx.num(m, &format!("mass of body \"{name}\""), Quantity::Mass)?;
         if m_v <= 0.0 {
             return Err(cx.err(
                 m.span(),
@@ -550,13 +579,19 @@ fn load_body(cx: &Ctx, b: &BodySection) -> Result<(Body, Features), Error> {
             InertiaSpec::Diag { diag } => Matrix3::from_diagonal(&Vector3::from(*diag)),
         };
         for v in j.iter() {
-            cx.raw_num(i.span(), *v, &format!("inertia of body \"{name}\""))?;
+            cx.raw_num(
+                i.span(),
+                *v,
+                &format!("inertia of body \"{name}\""),
+                Quantity::Inertia,
+            )?;
         }
-        check_spd(cx, i.span(), name, &j)?;
+        // The library's test (symmetric, positive definite, triangle inequality), located here.
+        cardan_mechanism::check_inertia(name, &j).map_err(|e| cx.err(i.span(), e.to_string()))?;
         body = body.inertia(j);
     }
     let position = match &b.position {
-        Some(p) => cx.vec3(p, &format!("position of body \"{name}\""))?,
+        Some(p) => cx.vec3(p, &format!("position of body \"{name}\""), Quantity::Length)?,
         None => Vector3::zeros(),
     };
     body = body.position(position);
@@ -591,11 +626,19 @@ fn load_body(cx: &Ctx, b: &BodySection) -> Result<(Body, Features), Error> {
     };
     let at = a.transpose();
     for (k, v) in &b.points {
-        let p = cx.vec3(v, &format!("point \"{}\" of body \"{name}\"", k.get_ref()))?;
+        let p = cx.vec3(
+            v,
+            &format!("point \"{}\" of body \"{name}\"", k.get_ref()),
+            Quantity::Length,
+        )?;
         add("point", &mut f.points, k, p)?;
     }
     for (k, v) in &b.global_points {
-        let g = cx.vec3(v, &format!("point \"{}\" of body \"{name}\"", k.get_ref()))?;
+        let g = cx.vec3(
+            v,
+            &format!("point \"{}\" of body \"{name}\"", k.get_ref()),
+            Quantity::Length,
+        )?;
         add("point", &mut f.points, k, at * (g - position))?;
     }
     for (k, v) in &b.vectors {
@@ -607,32 +650,6 @@ fn load_body(cx: &Ctx, b: &BodySection) -> Result<(Body, Features), Error> {
         add("vector", &mut f.vectors, k, at * d)?;
     }
     Ok((body, f))
-}
-
-fn check_spd(cx: &Ctx, span: Range<usize>, name: &str, j: &Matrix3<f64>) -> Result<(), Error> {
-    let scale = j.amax().max(f64::MIN_POSITIVE);
-    let asym = (j - j.transpose()).amax();
-    if asym > 1e-9 * scale {
-        return Err(cx.err(
-            span,
-            format!(
-                "inertia of body \"{name}\" is not symmetric (largest |I_rc − I_cr| = {asym:e} kg m²)"
-            ),
-        ));
-    }
-    let eig = j.symmetric_eigenvalues();
-    let min = eig.min();
-    if min <= 1e-12 * scale {
-        return Err(cx.err(
-            span,
-            format!(
-                "inertia of body \"{name}\" is not positive definite (principal moments {:e}, {:e}, {:e} kg m²); \
-                 every principal moment must be > 0",
-                eig[0], eig[1], eig[2]
-            ),
-        ));
-    }
-    Ok(())
 }
 
 struct Resolver<'a> {
@@ -756,7 +773,7 @@ fn load_joint(r: &Resolver, j: &JointSection) -> Result<JointSpec, Error> {
                 format!("{owner}: length applies only to spherical_spherical joints"),
             ));
         }
-        let v = cx.num(l, &format!("{owner} length"))?;
+        let v = cx.num(l, &format!("{owner} length"), Quantity::Length)?;
         if v <= 0.0 {
             return Err(cx.err(
                 l.span(),
@@ -774,13 +791,29 @@ fn missing(cx: &Ctx, span: Range<usize>, owner: &str, key: &str, why: &str) -> E
     cx.err(span, format!("{owner}: missing key \"{key}\" ({why})"))
 }
 
-fn load_function(cx: &Ctx, f: &Spanned<FunctionSpec>, owner: &str) -> Result<TimeFunction, Error> {
+/// A time function whose values are `value_q` (an angle for a rotation driver, a length for the
+/// other drivers, a force or torque for force components).
+fn load_function(
+    cx: &Ctx,
+    f: &Spanned<FunctionSpec>,
+    owner: &str,
+    value_q: Quantity,
+) -> Result<TimeFunction, Error> {
     let s = f.get_ref();
+    // The quantity of each key: times, the frequency and the phase have theirs; a polynomial
+    // coefficient c_k has the unit of the value / s^k, so it is only checked to be finite.
+    let quantity = |key: &str| match key {
+        "t0" | "t1" | "times" => Quantity::Time,
+        "frequency" => Quantity::Frequency,
+        "phase" => Quantity::Angle,
+        "coefficients" => Quantity::Unbounded,
+        _ => value_q,
+    };
     let kind = s.kind.get_ref().as_str();
     let span = f.span();
     let req = |v: &Option<Num>, key: &str| -> Result<f64, Error> {
         match v {
-            Some(n) => cx.num(n, &format!("{owner}: function {key}")),
+            Some(n) => cx.num(n, &format!("{owner}: function {key}"), quantity(key)),
             None => Err(missing(
                 cx,
                 span.clone(),
@@ -792,7 +825,7 @@ fn load_function(cx: &Ctx, f: &Spanned<FunctionSpec>, owner: &str) -> Result<Tim
     };
     let opt = |v: &Option<Num>, key: &str, d: f64| -> Result<f64, Error> {
         match v {
-            Some(n) => cx.num(n, &format!("{owner}: function {key}")),
+            Some(n) => cx.num(n, &format!("{owner}: function {key}"), quantity(key)),
             None => Ok(d),
         }
     };
@@ -802,7 +835,7 @@ fn load_function(cx: &Ctx, f: &Spanned<FunctionSpec>, owner: &str) -> Result<Tim
                 .get_ref()
                 .iter()
                 .enumerate()
-                .map(|(k, n)| cx.num(n, &format!("{owner}: function {key}[{k}]")))
+                .map(|(k, n)| cx.num(n, &format!("{owner}: function {key}[{k}]"), quantity(key)))
                 .collect(),
             None => Err(missing(
                 cx,
@@ -899,7 +932,12 @@ fn load_driver(
     let name = d.name.get_ref().clone();
     let owner = format!("driver \"{name}\"");
     let kind = d.kind.get_ref().as_str();
-    let function = load_function(cx, &d.function, &owner)?;
+    let value_q = if kind == "rotation" {
+        Quantity::Angle
+    } else {
+        Quantity::Length
+    };
+    let function = load_function(cx, &d.function, &owner, value_q)?;
     let span = d.name.span();
     let stray = |keys: &[(&str, bool)]| -> Result<(), Error> {
         if let Some((k, _)) = keys.iter().find(|(_, p)| *p) {
@@ -1114,10 +1152,10 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
         }
     };
     let t_start = match &a.t_start {
-        Some(t) => cx.num(t, "t_start")?,
+        Some(t) => cx.num(t, "t_start", Quantity::Time)?,
         None => 0.0,
     };
-    let t_end = cx.num(&a.t_end, "t_end")?;
+    let t_end = cx.num(&a.t_end, "t_end", Quantity::Time)?;
     if t_end <= t_start {
         return Err(cx.err(
             a.t_end.span(),
@@ -1148,7 +1186,7 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
             v as usize
         }
         (None, Some(dt)) => {
-            let h = cx.num(dt, out_key)?;
+            let h = cx.num(dt, out_key, Quantity::Time)?;
             if h <= 0.0 {
                 return Err(cx.err(dt.span(), format!("{out_key} must be positive, got {h} s")));
             }
@@ -1305,16 +1343,28 @@ fn body_velocity(cx: &Ctx, b: &BodySection) -> Result<Option<BodyVelocity>, Erro
         ));
     }
     let velocity = match &b.velocity {
-        Some(v) => cx.vec3(v, &format!("velocity of body \"{name}\""))?,
+        Some(v) => cx.vec3(
+            v,
+            &format!("velocity of body \"{name}\""),
+            Quantity::Velocity,
+        )?,
         None => Vector3::zeros(),
     };
     let (omega, omega_local) = match (&b.angular_velocity, &b.angular_velocity_local) {
         (Some(w), _) => (
-            cx.vec3(w, &format!("angular_velocity of body \"{name}\""))?,
+            cx.vec3(
+                w,
+                &format!("angular_velocity of body \"{name}\""),
+                Quantity::AngularVelocity,
+            )?,
             false,
         ),
         (None, Some(w)) => (
-            cx.vec3(w, &format!("angular_velocity_local of body \"{name}\""))?,
+            cx.vec3(
+                w,
+                &format!("angular_velocity_local of body \"{name}\""),
+                Quantity::AngularVelocity,
+            )?,
             true,
         ),
         (None, None) => (Vector3::zeros(), false),
@@ -1407,10 +1457,11 @@ fn load_force(
             )
         })
     };
-    let coefficient = |v: &Option<Num>, key: &str, unit: &str| -> Result<f64, Error> {
+    let coefficient = |v: &Option<Num>, key: &str, q: Quantity| -> Result<f64, Error> {
+        let unit = q.unit();
         match v {
             Some(n) => {
-                let x = cx.num(n, &format!("{owner}: {key}"))?;
+                let x = cx.num(n, &format!("{owner}: {key}"), q)?;
                 if x < 0.0 {
                     return Err(cx.err(
                         n.span(),
@@ -1424,6 +1475,11 @@ fn load_force(
     };
     match kind {
         "point_force" | "torque" => {
+            let value_q = if kind == "torque" {
+                Quantity::Torque
+            } else {
+                Quantity::Force
+            };
             let b = need(&f.body, "body")?;
             let body = r.body(&b, &owner)?;
             if body == GROUND {
@@ -1433,7 +1489,7 @@ fn load_force(
                 ));
             }
             let value = match (&f.value, &f.components) {
-                (Some(v), None) => VectorFunction::Constant(cx.vec3(v, &format!("{owner}: value"))?),
+                (Some(v), None) => VectorFunction::Constant(cx.vec3(v, &format!("{owner}: value"), value_q)?),
                 (None, Some(c)) => {
                     let list_ = c.get_ref();
                     if list_.len() != 3 {
@@ -1445,9 +1501,9 @@ fn load_force(
                             ),
                         ));
                     }
-                    let fx = load_function(cx, &list_[0], &owner)?;
-                    let fy = load_function(cx, &list_[1], &owner)?;
-                    let fz = load_function(cx, &list_[2], &owner)?;
+                    let fx = load_function(cx, &list_[0], &owner, value_q)?;
+                    let fy = load_function(cx, &list_[1], &owner, value_q)?;
+                    let fz = load_function(cx, &list_[2], &owner, value_q)?;
                     VectorFunction::Components(Box::new([fx, fy, fz]))
                 }
                 (Some(_), Some(c)) => {
@@ -1514,14 +1570,18 @@ fn load_force(
                     ),
                 ));
             }
-            let stiffness = coefficient(&f.stiffness, "stiffness", "N/m")?;
-            let damping = coefficient(&f.damping, "damping", "N s/m")?;
+            let stiffness = coefficient(&f.stiffness, "stiffness", Quantity::Stiffness)?;
+            let damping = coefficient(&f.damping, "damping", Quantity::Damping)?;
             let free_length = match &f.free_length {
-                Some(n) => Some(coefficient(&Some(n.clone()), "free_length", "m")?),
+                Some(n) => Some(coefficient(
+                    &Some(n.clone()),
+                    "free_length",
+                    Quantity::Length,
+                )?),
                 None => None,
             };
             let actuator = match &f.actuator {
-                Some(a) => Some(load_function(cx, a, &owner)?),
+                Some(a) => Some(load_function(cx, a, &owner, Quantity::Force)?),
                 None => None,
             };
             if stiffness == 0.0 && damping == 0.0 && actuator.is_none() {
@@ -1568,10 +1628,10 @@ fn load_force(
                     ));
                 }
             }
-            let stiffness = coefficient(&f.stiffness, "stiffness", "N m/rad")?;
-            let damping = coefficient(&f.damping, "damping", "N m s/rad")?;
+            let stiffness = coefficient(&f.stiffness, "stiffness", Quantity::RotationalStiffness)?;
+            let damping = coefficient(&f.damping, "damping", Quantity::RotationalDamping)?;
             let rest_angle = match &f.rest_angle {
-                Some(n) => cx.num(n, &format!("{owner}: rest_angle"))?,
+                Some(n) => cx.num(n, &format!("{owner}: rest_angle"), Quantity::Angle)?,
                 None => 0.0,
             };
             Ok(Force::rotational_spring_damper(
@@ -1585,14 +1645,15 @@ const INTEGRATORS: &[&str] = &["dopri5", "generalized_alpha"];
 
 /// A positive number with a unit, for the dynamic settings.
 fn positive(cx: &Ctx, n: &Num, what: &str, unit: &str) -> Result<f64, Error> {
-    let v = cx.num(n, what)?;
+    let v = cx.num(n, what, Quantity::Time)?;
     if v <= 0.0 {
         return Err(cx.err(n.span(), format!("{what} must be positive, got {v}{unit}")));
     }
     Ok(v)
 }
 
-/// The integrator of a `kind = "dynamic"` analysis.
+/// The integrator of a `kind = "dynamic"` analysis. The values are only read here; their
+/// ranges are the library's ([`Integrator::validate`]), and a refusal is placed at the key.
 fn load_integrator(cx: &Ctx, a: &AnalysisSection) -> Result<Integrator, Error> {
     let name = a
         .integrator
@@ -1605,22 +1666,21 @@ fn load_integrator(cx: &Ctx, a: &AnalysisSection) -> Result<Integrator, Error> {
         }
         Ok(())
     };
-    match name {
+    // Tolerances and ρ∞ have their ranges checked by the library; steps are times.
+    let read = |n: &Option<Num>, key: &str| -> Result<Option<f64>, Error> {
+        let q = match key {
+            "dt" | "h_max" => Quantity::Time,
+            _ => Quantity::Unbounded,
+        };
+        n.as_ref().map(|n| cx.num(n, key, q)).transpose()
+    };
+    let integrator = match name {
         "dopri5" => {
             stray(&[
                 ("rho_inf", &a.rho_inf),
                 ("newton_tolerance", &a.newton_tolerance),
             ])?;
             let mut o = Dopri5Options::default();
-            if let Some(r) = &a.rtol {
-                o.rtol = positive(cx, r, "rtol", "")?;
-            }
-            if let Some(t) = &a.atol {
-                o.atol = positive(cx, t, "atol", "")?;
-            }
-            if let Some(h) = &a.h_max {
-                o.h_max = positive(cx, h, "h_max", " s")?;
-            }
             if let Some(h) = &a.dt {
                 if a.rtol.is_some() || a.atol.is_some() {
                     return Err(cx.err(
@@ -1628,41 +1688,46 @@ fn load_integrator(cx: &Ctx, a: &AnalysisSection) -> Result<Integrator, Error> {
                         "give dt (fixed steps) or rtol/atol (adaptive steps), not both",
                     ));
                 }
-                o = Dopri5Options {
-                    h_max: o.h_max,
-                    ..Dopri5Options::fixed(positive(cx, h, "dt", " s")?)
-                };
+                o = Dopri5Options::fixed(positive(cx, h, "dt", " s")?);
             }
-            Ok(Integrator::Dopri5(o))
+            o.rtol = read(&a.rtol, "rtol")?.unwrap_or(o.rtol);
+            o.atol = read(&a.atol, "atol")?.unwrap_or(o.atol);
+            o.h_max = read(&a.h_max, "h_max")?.unwrap_or(o.h_max);
+            Integrator::Dopri5(o)
         }
         "generalized_alpha" => {
             stray(&[("rtol", &a.rtol), ("atol", &a.atol), ("h_max", &a.h_max)])?;
             let mut o = GeneralizedAlphaOptions::default();
-            if let Some(h) = &a.dt {
-                o.h = positive(cx, h, "dt", " s")?;
-            }
-            if let Some(r) = &a.rho_inf {
-                let v = cx.num(r, "rho_inf")?;
-                if !(0.0..=1.0).contains(&v) {
-                    return Err(cx.err(r.span(), format!("rho_inf must be in [0, 1], got {v}")));
-                }
-                o.rho_inf = v;
-            }
-            if let Some(t) = &a.newton_tolerance {
-                o.tolerance = positive(cx, t, "newton_tolerance", "")?;
-            }
-            Ok(Integrator::GeneralizedAlpha(o))
+            o.h = read(&a.dt, "dt")?.unwrap_or(o.h);
+            o.rho_inf = read(&a.rho_inf, "rho_inf")?.unwrap_or(o.rho_inf);
+            o.tolerance = read(&a.newton_tolerance, "newton_tolerance")?.unwrap_or(o.tolerance);
+            Integrator::GeneralizedAlpha(o)
         }
         other => {
             let hint = did_you_mean(other, INTEGRATORS.iter().copied());
             let s = a.integrator.as_ref().map_or(0..0, |n| n.span());
-            Err(cx.err(
+            return Err(cx.err(
                 s,
                 format!(
                     "unknown integrator \"{other}\"{hint} (integrators: {})",
                     list(INTEGRATORS.iter().copied())
                 ),
-            ))
+            ));
         }
-    }
+    };
+    integrator.validate().map_err(|e| {
+        // The option struct's field → the file's key.
+        let (key, value) = match e.option {
+            "step" | "h" => ("dt", &a.dt),
+            "tolerance" => ("newton_tolerance", &a.newton_tolerance),
+            "rtol" => ("rtol", &a.rtol),
+            "atol" => ("atol", &a.atol),
+            "h_max" => ("h_max", &a.h_max),
+            "rho_inf" => ("rho_inf", &a.rho_inf),
+            other => (other, &None),
+        };
+        let span = value.as_ref().map_or(a.kind.span(), Spanned::span);
+        cx.err(span, e.describe(key))
+    })?;
+    Ok(integrator)
 }

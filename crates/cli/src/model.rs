@@ -416,7 +416,7 @@ pub fn parse(src: &Source) -> Result<ModelFile, Error> {
     prescan(src)?;
     let file = toml::from_str::<ModelFile>(&src.text).map_err(|e| {
         let span = e.span().unwrap_or(0..0);
-        let message = improve_message(e.message());
+        let message = in_context(&src.text, span.start, improve_message(e.message()));
         src.error_at(span, message)
     })?;
     check_counts(src, &file)?;
@@ -578,6 +578,97 @@ fn check_counts(src: &Source, file: &ModelFile) -> Result<(), Error> {
         }
     }
     Ok(())
+}
+
+/// Adds what the parser's message leaves out, from the text at `at`: the key and table of a
+/// duplicate key, the hint `[[body]]` for a `[body]` header, the key and range of an integer
+/// too large for 64 bits.
+fn in_context(text: &str, at: usize, message: String) -> String {
+    let at = at.min(text.len());
+    if message == "duplicate key" {
+        let key = key_at(&text[at..]);
+        let table = header_before(text, at);
+        let first = table
+            .as_ref()
+            .and_then(|(_, start)| first_assignment(text, *start, at, &key))
+            .map_or(String::new(), |line| {
+                format!(" (first given at line {line})")
+            });
+        let table = table.map_or("the top level".to_string(), |(h, _)| h);
+        return format!(
+            "duplicate key \"{key}\" in {table}{first}; a key may appear once per table"
+        );
+    }
+    if message.starts_with("invalid type: map, expected a sequence") {
+        for name in ["body", "joint", "driver", "force"] {
+            if text[at..].starts_with(&format!("[{name}]")) {
+                return format!(
+                    "[{name}] declares a single table, but a model has a list of them: write \
+                     [[{name}]] (one [[{name}]] table per {name})"
+                );
+            }
+        }
+    }
+    if message.contains("as i128") || message.contains("as u64") {
+        let line_start = text[..at].rfind('\n').map_or(0, |k| k + 1);
+        let key = key_at(text[line_start..at].trim_start());
+        let number = message.split('`').nth(1).unwrap_or("the number");
+        return if key == "steps" {
+            format!("steps = {number} is out of range: steps must be between 1 and 10000000")
+        } else {
+            format!("{key} = {number} is too large for an integer (64 bits); write it as a float")
+        };
+    }
+    message
+}
+
+/// The bare key at the start of `s` (quotes removed).
+fn key_at(s: &str) -> String {
+    let end = s
+        .find(|c: char| c.is_whitespace() || matches!(c, '=' | ',' | '}' | '.'))
+        .unwrap_or(s.len());
+    s[..end].trim_matches(|c| c == '"' || c == '\'').to_string()
+}
+
+/// The last table header (`[name]` or `[[name]]`, alone on its line) before `at`, with its
+/// byte offset.
+fn header_before(text: &str, at: usize) -> Option<(String, usize)> {
+    let mut offset = 0;
+    let mut found = None;
+    for line in text[..at].split_inclusive('\n') {
+        let t = line.split('#').next().unwrap_or("").trim();
+        let inner = t.trim_start_matches('[').trim_end_matches(']');
+        let is_header = t.starts_with('[')
+            && t.ends_with(']')
+            && !inner.is_empty()
+            && inner
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.'));
+        if is_header {
+            found = Some((t.to_string(), offset));
+        }
+        offset += line.len();
+    }
+    found
+}
+
+/// The line (from 1) of the first `key =` between `from` and `to`.
+fn first_assignment(text: &str, from: usize, to: usize, key: &str) -> Option<usize> {
+    let region = &text[from..to];
+    let mut k = 0;
+    while let Some(pos) = region[k..].find(key) {
+        let start = k + pos;
+        let before_ok = region[..start]
+            .chars()
+            .next_back()
+            .is_none_or(|c| c.is_whitespace() || matches!(c, '{' | ','));
+        let after = region[start + key.len()..].trim_start();
+        if before_ok && after.starts_with('=') {
+            return Some(text[..from + start].matches('\n').count() + 1);
+        }
+        k = start + key.len();
+    }
+    None
 }
 
 /// Rewrites serde's "unknown field `x`, expected one of `a`, `b`" into a suggestion.

@@ -57,7 +57,30 @@ fn duplicate_toml_key_is_located() {
         "points = { O = [0.0, 0.0, 0.0] }",
         "points = { O = [0.0, 0.0, 0.0], O = [1.0, 0.0, 0.0] }",
         "5:33",
-        &["duplicate key"],
+        &["duplicate key \"O\"", "[ground]"],
+    );
+    // Issue 27, item 11: the key and the table are named (the message was "duplicate key").
+    fails_at(
+        "mass = 1.0",
+        "mass = 1.0\nmass = 2.0",
+        "11:1",
+        &[
+            "duplicate key \"mass\" in [[body]]",
+            "first given at line 10",
+        ],
+    );
+}
+
+/// Issue 27, item 11: `[body]` where `[[body]]` is meant read "invalid type: map, expected a
+/// sequence"; an integer beyond i64 read "as i128, expected i64".
+#[test]
+fn single_table_headers_and_oversized_integers_get_a_hint() {
+    fails_at("[[body]]", "[body]", "8:1", &["[body]", "write [[body]]"]);
+    fails_at(
+        "steps = 10",
+        "steps = 99999999999999999999999",
+        "37:9",
+        &["steps = 99999999999999999999999", "between 1 and 10000000"],
     );
 }
 
@@ -206,6 +229,33 @@ fn nan_infinite_and_absurd_numbers() {
     );
 }
 
+/// Issue 27, item 12: one blanket limit (|x| ≤ 1e9 on every number) refused legitimate SI
+/// values (a ship's inertia, a contact stiffness) and let absurd lengths through. Each
+/// quantity now has its own SI bound (`cardan_mechanism::sanity::Quantity`).
+#[test]
+fn magnitudes_are_checked_per_quantity() {
+    // A 10 000 t body with a ship's inertia: legitimate SI values beyond 1e9.
+    let heavy = edited(
+        "mass = 1.0\ninertia = { diag = [0.01, 0.1, 0.1] }",
+        "mass = 1e7\ninertia = { diag = [2e10, 3e10, 3e10] }",
+    );
+    let o = run_text("check", &heavy);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    // A length of 1e8 m (100 000 km) is a typo, though below the old blanket limit.
+    fails_at(
+        "position = [0.5, 0.0, 0.0]",
+        "position = [1e8, 0.0, 0.0]",
+        "12:13",
+        &["position of body \"crank\" x = 1e8 m", "length", "1e7 m"],
+    );
+    fails_at(
+        "mass = 1.0",
+        "mass = 1e11",
+        "10:8",
+        &["mass of body \"crank\" = 1e11 kg", "1e10 kg"],
+    );
+}
+
 #[test]
 fn zero_length_axes() {
     fails_at(
@@ -247,6 +297,13 @@ fn bad_mass_and_inertia() {
         "inertia = [[0.01, 0.0], [0.0, 0.1]]",
         "11:11",
         &["3×3 matrix"],
+    );
+    // Issue 27, item 8: no rigid body has these principal moments (0.3 > 0.1 + 0.1).
+    fails_at(
+        "inertia = { diag = [0.01, 0.1, 0.1] }",
+        "inertia = { diag = [0.3, 0.1, 0.1] }",
+        "11:11",
+        &["body \"crank\"", "triangle inequality", "0.3"],
     );
 }
 
@@ -623,4 +680,177 @@ fn driven_joint_without_x_axes_is_refused() {
             "x_axis_j",
         ],
     );
+}
+
+/// Issue 27, item 11: a driver whose value overflows at the requested time was reported as an
+/// assembly failure of nothing ("these joints/drivers stay open: .") by `eval --t 1e308`, and
+/// as "non-finite value ... in the residual of equation 5" by a run. Both now name the driver,
+/// its line and the time.
+#[test]
+fn a_driver_value_that_is_not_finite_names_the_driver() {
+    let text = edited("coefficients = [0.0, 1.0]", "coefficients = [0.0, 10.0]");
+    let dir = scratch();
+    std::fs::write(dir.join("model.toml"), &text).unwrap();
+    let o = cardan(&["eval", "model.toml", "--t", "1e308"], &dir);
+    assert_eq!(o.code, 1, "{}", o.stderr);
+    for n in [
+        "model.toml:29:8: error:",
+        "driver \"motor\"",
+        "not finite at t = 1e308 s",
+    ] {
+        assert!(o.stderr.contains(n), "missing {n:?} in: {}", o.stderr);
+    }
+    // A polynomial far beyond any angle within the run's time span (it used to fail with
+    // "non-finite value (NaN or infinity) in the residual of equation 0").
+    let o = fails_at(
+        "coefficients = [0.0, 1.0]",
+        "coefficients = [0.0, 1.0, 1e300]",
+        "29:8",
+        &[
+            "driver \"motor\": at t = 0.1 s its value = 1e298 rad",
+            "absurdly large for an angle",
+        ],
+    );
+    assert!(!o.stderr.contains("equation"), "{}", o.stderr);
+}
+
+/// Issue 27, item 11: the model name names the output directory; "." and ".." were refused
+/// without a reason, and a newline made a directory with a newline in its name.
+#[test]
+fn model_names_that_cannot_name_a_directory_say_why() {
+    let name = r#"name = "crank""#;
+    fails_at(
+        name,
+        r#"name = "..""#,
+        "2:8",
+        &["\"..\"", "parent", "out/<name>/"],
+    );
+    fails_at(name, r#"name = ".""#, "2:8", &["\".\"", "itself"]);
+    fails_at(
+        name,
+        r#"name = "a\nb""#,
+        "2:8",
+        &["control character", "U+000A"],
+    );
+    fails_at(
+        name,
+        r#"name = "a\tb""#,
+        "2:8",
+        &["control character", "U+0009"],
+    );
+    fails_at(name, r#"name = "a/b""#, "2:8", &["path separator '/'"]);
+}
+
+/// Issue 27, item 11: "marker" is an internal word; a message about axes uses the keys of the
+/// model format ("invalid marker on body ...: marker axes: the axes are parallel").
+#[test]
+fn axis_messages_use_the_model_format_words() {
+    let o = fails_at(
+        "axis_i = \"z\"\n",
+        "axis_i = \"z\"\nx_axis_i = \"z\"\nx_axis_j = \"z\"\n",
+        "17:8",
+        &[
+            "joint \"pivot\"",
+            "x_axis_i",
+            "parallel to axis_i",
+            "perpendicular",
+        ],
+    );
+    assert!(!o.stderr.contains("marker"), "{}", o.stderr);
+}
+
+/// A two-DOF model (a crank and a slider) whose two drivers both drive the crank.
+const DEPENDENT_DRIVERS: &str = r#"[model]
+name = "dep"
+
+[ground]
+points = { O = [0.0, 0.0, 0.0], S = [0.0, 1.0, 0.0] }
+vectors = { z = [0.0, 0.0, 1.0], x = [1.0, 0.0, 0.0] }
+
+[[body]]
+name = "crank"
+position = [0.5, 0.0, 0.0]
+points = { O = [-0.5, 0.0, 0.0], tip = [0.5, 0.0, 0.0] }
+vectors = { z = [0.0, 0.0, 1.0], x = [1.0, 0.0, 0.0] }
+
+[[body]]
+name = "slider"
+position = [0.0, 1.0, 0.0]
+points = { S = [0.0, 0.0, 0.0] }
+vectors = { x = [1.0, 0.0, 0.0], z = [0.0, 0.0, 1.0] }
+
+[[joint]]
+name = "pivot"
+type = "revolute"
+body_i = "ground"
+point_i = "O"
+axis_i = "z"
+x_axis_i = "x"
+body_j = "crank"
+point_j = "O"
+axis_j = "z"
+x_axis_j = "x"
+
+[[joint]]
+name = "way"
+type = "prismatic"
+body_i = "ground"
+point_i = "S"
+axis_i = "x"
+body_j = "slider"
+point_j = "S"
+axis_j = "x"
+
+[[driver]]
+name = "motor"
+type = "rotation"
+joint = "pivot"
+function = { kind = "polynomial", coefficients = [0.0, 1.0] }
+
+[[driver]]
+name = "lift"
+type = "coordinate"
+body = "crank"
+point = "tip"
+coordinate = "y"
+function = { kind = "polynomial", coefficients = [0.0, 0.5] }
+
+[analysis]
+kind = "kinematic"
+t_end = 1.0
+steps = 10
+"#;
+
+/// Issue 27, item 11: `cardan check` approved two drivers that depend on each other (and left
+/// the slider free), which `run` then refused; it approved a universal joint drawn with
+/// parallel arms, which no assembly can close.
+#[test]
+fn check_finds_dependent_drivers_and_parallel_universal_arms() {
+    let o = run_text("check", DEPENDENT_DRIVERS);
+    assert_ne!(o.code, 0, "{}", o.stdout);
+    for n in ["model.toml:49:8:", "drivers do not control", "\"lift\""] {
+        assert!(o.stderr.contains(n), "missing {n:?} in: {}", o.stderr);
+    }
+    let drive = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../examples/universal_drive.toml"),
+    )
+    .unwrap();
+    let arm = "vectors = { axis = [1.0, 0.0, 0.0], arm = [0.0, 0.0, 1.0] }";
+    assert!(drive.contains(arm));
+    let parallel = drive.replace(
+        arm,
+        "vectors = { axis = [1.0, 0.0, 0.0], arm = [0.0, 1.0, 0.0] }",
+    );
+    for cmd in ["check", "run"] {
+        let o = run_text(cmd, &parallel);
+        assert_eq!(o.code, 1, "{cmd}: {}", o.stderr);
+        for n in ["joint \"cross\"", "arms", "perpendicular"] {
+            assert!(
+                o.stderr.contains(n),
+                "{cmd}: missing {n:?} in: {}",
+                o.stderr
+            );
+        }
+    }
 }

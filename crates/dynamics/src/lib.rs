@@ -137,8 +137,8 @@ pub mod system;
 pub use error::DynamicsError;
 pub use forces::{AppliedForces, Force, Frame, PointRef, UserForces, VectorFunction};
 pub use options::{
-    Dopri5Options, GeneralizedAlphaOptions, Integrator, IterationMatrix, OutputTimes,
-    SimulationOptions, Stabilization, StepControl,
+    Dopri5Options, GeneralizedAlphaOptions, Integrator, IterationMatrix, OptionError, OutputTimes,
+    SimulationOptions, Stabilization, StepControl, ATOL_MAX, NEWTON_TOLERANCE_RANGE, RTOL_RANGE,
 };
 pub use results::{
     DriverEfforts, DynamicResults, EnergyHistory, IntegrationStats, JointReactions, Reaction,

@@ -3,6 +3,90 @@
 
 use cardan_mechanism::Outputs;
 
+/// An integrator option outside the range where it means something (from
+/// [`Integrator::validate`]). `option` is the field name in the options struct (`rtol`, `atol`,
+/// `h_max`, `h_min`, `step`, `projection_tolerance`, `alpha`, `beta`, `h`, `rho_inf`,
+/// `tolerance`, `max_iterations`, `max_halvings`), so a caller that read the options from a
+/// file can point at its own key ([`OptionError::describe`]).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{}", self.describe(self.option))]
+pub struct OptionError {
+    /// The field of the options struct.
+    pub option: &'static str,
+    /// The value given.
+    pub value: f64,
+    /// The accepted range, e.g. "[1e-14, 1e-2]".
+    pub range: &'static str,
+    /// Why values outside the range are refused.
+    pub why: &'static str,
+}
+
+impl OptionError {
+    /// The message with the option called `key` (a model file's key for the same option).
+    pub fn describe(&self, key: &str) -> String {
+        let v = self.value;
+        let value = if v == 0.0 || (1e-3..1e6).contains(&v.abs()) || !v.is_finite() {
+            format!("{v}")
+        } else {
+            format!("{v:e}")
+        };
+        format!(
+            "{key} = {value} is outside its sensible range {}: {}",
+            self.range, self.why
+        )
+    }
+}
+
+/// Relative tolerances (DOPRI5's rtol): [1e-14, 1e-2].
+pub const RTOL_RANGE: (f64, f64) = (1e-14, 1e-2);
+/// Newton tolerances on scaled residuals (generalized-α, the projection): [1e-14, 1e-6].
+pub const NEWTON_TOLERANCE_RANGE: (f64, f64) = (1e-14, 1e-6);
+/// Absolute tolerances (DOPRI5's atol, in m, rad, m/s, rad/s): (0, 1e-2].
+pub const ATOL_MAX: f64 = 1e-2;
+
+/// `Ok` when lo ≤ value ≤ hi (false for NaN).
+fn within(
+    option: &'static str,
+    value: f64,
+    (lo, hi): (f64, f64),
+    range: &'static str,
+    why: &'static str,
+) -> Result<(), OptionError> {
+    if value >= lo && value <= hi {
+        Ok(())
+    } else {
+        Err(OptionError {
+            option,
+            value,
+            range,
+            why,
+        })
+    }
+}
+
+/// A step size: positive and finite.
+fn step_size(option: &'static str, h: f64) -> Result<(), OptionError> {
+    within(
+        option,
+        h,
+        (f64::MIN_POSITIVE, f64::MAX),
+        "(0, ∞) s",
+        "a step must be a positive finite time",
+    )
+}
+
+/// A Newton tolerance on a scaled residual.
+fn newton_tolerance(option: &'static str, t: f64) -> Result<(), OptionError> {
+    within(
+        option,
+        t,
+        NEWTON_TOLERANCE_RANGE,
+        "[1e-14, 1e-6] (default 1e-10)",
+        "below 1e-14 it asks for less than roundoff; above 1e-6 the constraints are left \
+         visibly violated and the energy is wrong",
+    )
+}
+
 /// When results are stored.
 #[derive(Debug, Clone, PartialEq)]
 pub enum OutputTimes {
@@ -120,6 +204,61 @@ impl Dopri5Options {
             ..Self::default()
         }
     }
+
+    /// Refuses options that cannot give a meaningful result: tolerances outside
+    /// [`RTOL_RANGE`], (0, [`ATOL_MAX`]] and [`NEWTON_TOLERANCE_RANGE`], non-positive or
+    /// non-finite steps, h_min > h_max, negative Baumgarte factors.
+    ///
+    /// # Errors
+    /// The first option out of range.
+    pub fn validate(&self) -> Result<(), OptionError> {
+        within(
+            "rtol",
+            self.rtol,
+            RTOL_RANGE,
+            "[1e-14, 1e-2] (default 1e-6)",
+            "below 1e-14 the error test asks for less than roundoff; above 1e-2 the result \
+             has no correct digits",
+        )?;
+        within(
+            "atol",
+            self.atol,
+            (f64::MIN_POSITIVE, ATOL_MAX),
+            "(0, 1e-2] (default 1e-8; m, rad, m/s, rad/s)",
+            "above 1e-2 the result has no correct digits",
+        )?;
+        match self.step {
+            StepControl::Fixed(h) => step_size("step", h)?,
+            StepControl::Adaptive { initial: Some(h) } => step_size("initial", h)?,
+            StepControl::Adaptive { initial: None } => {}
+        }
+        within(
+            "h_max",
+            self.h_max,
+            (f64::MIN_POSITIVE, f64::INFINITY),
+            "(0, ∞] s",
+            "the largest step must be positive",
+        )?;
+        within(
+            "h_min",
+            self.h_min,
+            (f64::MIN_POSITIVE, self.h_max.min(f64::MAX)),
+            "(0, h_max] s",
+            "the smallest step must be positive and not above the largest",
+        )?;
+        newton_tolerance("projection_tolerance", self.projection_tolerance)?;
+        let (alpha, beta) = self.stabilization.baumgarte();
+        for (option, v) in [("alpha", alpha), ("beta", beta)] {
+            within(
+                option,
+                v,
+                (0.0, f64::MAX),
+                "[0, ∞) 1/s",
+                "a Baumgarte factor must be finite and not negative",
+            )?;
+        }
+        Ok(())
+    }
 }
 
 /// Which iteration matrix the implicit Newton uses.
@@ -186,6 +325,38 @@ impl GeneralizedAlphaOptions {
             ..Self::default()
         }
     }
+
+    /// Refuses options that cannot give a meaningful result: a non-positive or non-finite
+    /// step, ρ∞ outside [0, 1], a Newton tolerance outside [`NEWTON_TOLERANCE_RANGE`], no
+    /// iterations, more halvings than a step can take.
+    ///
+    /// # Errors
+    /// The first option out of range.
+    pub fn validate(&self) -> Result<(), OptionError> {
+        step_size("h", self.h)?;
+        within(
+            "rho_inf",
+            self.rho_inf,
+            (0.0, 1.0),
+            "[0, 1] (default 0.8)",
+            "the spectral radius at infinite frequency: 1 = no numerical damping, 0 = the most",
+        )?;
+        newton_tolerance("tolerance", self.tolerance)?;
+        within(
+            "max_iterations",
+            self.max_iterations as f64,
+            (1.0, 1000.0),
+            "[1, 1000] (default 20)",
+            "Newton needs at least one iteration",
+        )?;
+        within(
+            "max_halvings",
+            f64::from(self.max_halvings),
+            (0.0, 52.0),
+            "[0, 52] (default 6)",
+            "a step halved more than 52 times is below the roundoff of the time",
+        )
+    }
 }
 
 /// The time integrator.
@@ -195,6 +366,20 @@ pub enum Integrator {
     Dopri5(Dopri5Options),
     /// Implicit index-3 generalized-α (stiff models).
     GeneralizedAlpha(GeneralizedAlphaOptions),
+}
+
+impl Integrator {
+    /// Refuses options that cannot give a meaningful result
+    /// ([`Dopri5Options::validate`], [`GeneralizedAlphaOptions::validate`]).
+    ///
+    /// # Errors
+    /// The first option out of range.
+    pub fn validate(&self) -> Result<(), OptionError> {
+        match self {
+            Integrator::Dopri5(o) => o.validate(),
+            Integrator::GeneralizedAlpha(o) => o.validate(),
+        }
+    }
 }
 
 impl Default for Integrator {

@@ -70,6 +70,10 @@ impl Dynamics<'_> {
     ) -> Result<DynamicResults, DynamicsError> {
         let times = options.times(state.t);
         check_times(state.t, options.t_end, &times)?;
+        options
+            .integrator
+            .validate()
+            .map_err(|e| DynamicsError::Options(e.to_string()))?;
         if self.kkt.is_none() {
             self.prepare(&state)?;
         }

@@ -54,7 +54,7 @@ fn ballistic_flight_generalized_alpha() {
 
 #[test]
 fn torque_free_precession_of_an_axisymmetric_body() {
-    let (i1, i3) = (0.2, 0.5);
+    let (i1, i3) = (0.3, 0.5);
     let model = free_body(1.0, [i1, i1, i3]);
     let mut d = Dynamics::new(&model).unwrap();
     let mut s = d.initial_guess();

@@ -6,6 +6,20 @@ use crate::results::Results;
 use cardan_solver::SolverError;
 use thiserror::Error;
 
+/// "a, b, c": plain notation between 1e-4 and 1e9, scientific beyond.
+fn fmt_numbers(v: &[f64]) -> String {
+    v.iter()
+        .map(|&x| {
+            if x == 0.0 || (1e-4..1e9).contains(&x.abs()) {
+                format!("{x}")
+            } else {
+                format!("{x:e}")
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 fn fmt_suggestion(s: &Option<String>) -> String {
     match s {
         Some(s) => format!(" (did you mean \"{s}\"?)"),
@@ -99,8 +113,9 @@ pub enum ModelError {
         /// The value.
         value: f64,
     },
-    /// A number is finite but absurdly large (|x| > limit).
-    #[error("{element}: {what} = {value:e} is absurdly large (limit {limit:e})")]
+    /// A number is finite but absurdly large for its quantity (|x| > limit,
+    /// [`crate::sanity::Quantity::limit`]).
+    #[error("{element}: {what} = {value:e} {unit} is absurdly large (limit {limit:e} {unit} in SI units); check the exponent and the unit")]
     Absurd {
         /// The element.
         element: String,
@@ -110,6 +125,8 @@ pub enum ModelError {
         value: f64,
         /// The limit.
         limit: f64,
+        /// The SI unit of value and limit.
+        unit: &'static str,
     },
     /// A direction vector has zero length.
     #[error("vector \"{name}\" on body \"{body}\" has zero length")]
@@ -146,12 +163,24 @@ pub enum ModelError {
         asymmetry: f64,
     },
     /// Inertia tensor not positive definite.
-    #[error("body \"{body}\": inertia tensor is not positive definite (smallest eigenvalue {min_eigenvalue:.3e})")]
+    #[error("body \"{body}\": inertia tensor is not positive definite (smallest principal moment {min_eigenvalue:.3e} kg m²); every principal moment must be > 0")]
     InertiaNotPositiveDefinite {
         /// The body.
         body: String,
         /// Its smallest eigenvalue.
         min_eigenvalue: f64,
+    },
+    /// The principal moments violate the triangle inequality I₁ + I₂ ≥ I₃: no rigid body
+    /// has them ([`crate::sanity`]).
+    #[error(
+        "body \"{body}\": inertia tensor is not a rigid body's: its principal moments {} kg m² violate the triangle inequality (the two smaller must add up to at least the largest; a thin disk has equality)",
+        fmt_numbers(.moments)
+    )]
+    InertiaTriangle {
+        /// The body.
+        body: String,
+        /// The principal moments, ascending.
+        moments: [f64; 3],
     },
     /// A joint or driver connects a body to itself.
     #[error("{element}: connects body \"{body}\" to itself")]
@@ -197,8 +226,9 @@ pub enum ModelError {
         /// The joint.
         joint: String,
     },
-    /// The two axes of a marker are parallel, or another marker problem.
-    #[error("joint \"{joint}\": invalid marker on body \"{body}\": {reason}")]
+    /// The axes of a joint on one body do not define a frame (x axis parallel to the axis),
+    /// or the joint cannot be formed from them. `reason` uses the builder's keys.
+    #[error("joint \"{joint}\", on body \"{body}\": {reason}")]
     BadMarker {
         /// The joint.
         joint: String,
@@ -206,6 +236,15 @@ pub enum ModelError {
         body: String,
         /// Why.
         reason: String,
+    },
+    /// The arms of a universal joint's cross are drawn (nearly) parallel
+    /// ([`crate::sanity::check_universal_arms`]).
+    #[error("joint \"{joint}\" (universal): its arms axis_i and axis_j are {angle_deg:.1}° apart at the drawn pose; the two arms of the cross must be perpendicular (at least 45° apart as drawn, so the assembly can close them): check the vectors and the bodies' orientations")]
+    UniversalArms {
+        /// The joint.
+        joint: String,
+        /// The angle between the arms at the drawn pose, in degrees (0 to 90).
+        angle_deg: f64,
     },
     /// A length that must be positive is not.
     #[error("{element}: {what} must be positive, got {value}")]

@@ -78,6 +78,7 @@ pub mod dof;
 pub mod error;
 pub mod model;
 pub mod results;
+pub mod sanity;
 pub mod workspace;
 
 pub use analysis::assembly::{AssemblyOptions, AssemblyReport};
@@ -89,10 +90,9 @@ pub use builder::{
 };
 pub use dof::DofReport;
 pub use error::{AnalysisError, EquationName, Error, ModelError, OpenElement};
-pub use model::{
-    BodyId, BodyInfo, DriverInfo, FeatureInfo, ForceInfo, JointInfo, Model, ABSURD_LIMIT,
-};
+pub use model::{BodyId, BodyInfo, DriverInfo, FeatureInfo, ForceInfo, JointInfo, Model};
 pub use results::{BodyResults, JointResults, Outputs, PointResults, Results};
+pub use sanity::{check_inertia, Quantity};
 pub use workspace::{apply_rotation_step, EvaluationCounts, Workspace};
 
 /// Re-exported so users name the same types.

@@ -11,6 +11,7 @@
 
 use crate::builder::{DriverTarget, ForceSpec, MechanismBuilder, Orientation, GROUND};
 use crate::error::{EquationName, ModelError};
+use crate::sanity::Quantity;
 use crate::workspace::Workspace;
 use cardan_constraints::{
     BodyPair, BodyState, Constraint, CoordinateDriver, DistanceDriver, Driver, Footprint, Joint,
@@ -20,10 +21,6 @@ use cardan_solver::SparsityPattern;
 use nalgebra::{Matrix3, Vector3, Vector4};
 use std::collections::HashMap;
 use std::ops::Range;
-
-/// Largest magnitude accepted for a length or coordinate (m): anything beyond is a unit or
-/// typing error.
-pub const ABSURD_LIMIT: f64 = 1e12;
 
 /// Which body: ground or moving body `k` (index into [`Model::bodies`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -449,7 +446,8 @@ fn suggest<'a>(name: &str, candidates: impl Iterator<Item = &'a str>) -> Option<
     best.filter(|(s, _)| *s >= 0.7).map(|(_, c)| c.to_string())
 }
 
-fn check_number(element: &str, what: &str, v: f64) -> Result<(), ModelError> {
+/// A finite number within the SI magnitude limit of its quantity ([`crate::sanity`]).
+fn check_number(element: &str, what: &str, q: Quantity, v: f64) -> Result<(), ModelError> {
     if !v.is_finite() {
         return Err(ModelError::NotFinite {
             element: element.into(),
@@ -457,37 +455,46 @@ fn check_number(element: &str, what: &str, v: f64) -> Result<(), ModelError> {
             value: v,
         });
     }
-    if v.abs() > ABSURD_LIMIT {
+    if v.abs() > q.limit() {
         return Err(ModelError::Absurd {
             element: element.into(),
             what: what.into(),
             value: v,
-            limit: ABSURD_LIMIT,
+            limit: q.limit(),
+            unit: q.unit(),
         });
     }
     Ok(())
 }
 
-fn check_numbers(element: &str, what: &str, v: &[f64]) -> Result<(), ModelError> {
-    v.iter().try_for_each(|&x| check_number(element, what, x))
+fn check_numbers(element: &str, what: &str, q: Quantity, v: &[f64]) -> Result<(), ModelError> {
+    v.iter()
+        .try_for_each(|&x| check_number(element, what, q, x))
 }
 
 fn orientation_p(body: &str, o: &Orientation) -> Result<Vector4<f64>, ModelError> {
     let el = format!("body \"{body}\"");
     match o {
         Orientation::Identity => {}
-        Orientation::EulerParams(e) => check_numbers(&el, "Euler parameters", e)?,
+        Orientation::EulerParams(e) => {
+            check_numbers(&el, "Euler parameters", Quantity::Direction, e)?
+        }
         Orientation::AxisAngle { axis, angle } => {
-            check_numbers(&el, "orientation axis", axis.as_slice())?;
-            check_number(&el, "orientation angle", *angle)?;
+            check_numbers(
+                &el,
+                "orientation axis",
+                Quantity::Direction,
+                axis.as_slice(),
+            )?;
+            check_number(&el, "orientation angle", Quantity::Angle, *angle)?;
         }
         Orientation::Euler313(a) | Orientation::Euler123(a) => {
-            check_numbers(&el, "Euler angles", a)?
+            check_numbers(&el, "Euler angles", Quantity::Angle, a)?
         }
         Orientation::Axes { z, x } => {
-            check_numbers(&el, "orientation z axis", z.as_slice())?;
+            check_numbers(&el, "orientation z axis", Quantity::Direction, z.as_slice())?;
             if let Some(x) = x {
-                check_numbers(&el, "orientation x axis", x.as_slice())?;
+                check_numbers(&el, "orientation x axis", Quantity::Direction, x.as_slice())?;
             }
         }
     }
@@ -496,33 +503,6 @@ fn orientation_p(body: &str, o: &Orientation) -> Result<Vector4<f64>, ModelError
         reason: e.to_string(),
     })?;
     Ok(*p.as_vector())
-}
-
-fn check_inertia(body: &str, i: &Matrix3<f64>) -> Result<(), ModelError> {
-    check_numbers(&format!("body \"{body}\""), "inertia", i.as_slice())?;
-    let scale = i.amax();
-    let asym = (i - i.transpose()).amax();
-    if scale == 0.0 {
-        return Err(ModelError::InertiaNotPositiveDefinite {
-            body: body.into(),
-            min_eigenvalue: 0.0,
-        });
-    }
-    if asym > 1e-9 * scale {
-        return Err(ModelError::InertiaNotSymmetric {
-            body: body.into(),
-            asymmetry: asym / scale,
-        });
-    }
-    let sym = 0.5 * (i + i.transpose());
-    if sym.cholesky().is_none() {
-        let min = sym.symmetric_eigenvalues().min();
-        return Err(ModelError::InertiaNotPositiveDefinite {
-            body: body.into(),
-            min_eigenvalue: min,
-        });
-    }
-    Ok(())
 }
 
 struct Names<'a> {
@@ -648,10 +628,10 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
             });
         }
         let el = format!("body \"{}\"", body.name);
-        check_numbers(&el, "position", body.position.as_slice())?;
+        check_numbers(&el, "position", Quantity::Length, body.position.as_slice())?;
         let p = orientation_p(&body.name, &body.orientation)?;
         if let Some(m) = body.mass {
-            check_number(&el, "mass", m)?;
+            check_number(&el, "mass", Quantity::Mass, m)?;
             if m <= 0.0 {
                 return Err(ModelError::NonPositiveMass {
                     body: body.name.clone(),
@@ -660,7 +640,8 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
             }
         }
         if let Some(i) = &body.inertia {
-            check_inertia(&body.name, i)?;
+            check_numbers(&el, "inertia", Quantity::Inertia, i.as_slice())?;
+            crate::sanity::check_inertia(&body.name, i)?;
         }
         names.bodies.insert(&body.name, BodyId::Moving(k));
         names.body_list.push(&body.name);
@@ -693,7 +674,12 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
                 });
             }
             let el = format!("{what} \"{}\" on body \"{}\"", f.name, f.body);
-            check_numbers(&el, "components", f.value.as_slice())?;
+            let q = if is_vec {
+                Quantity::Direction
+            } else {
+                Quantity::Length
+            };
+            check_numbers(&el, "components", q, f.value.as_slice())?;
             if is_vec && (f.value.amax() == 0.0 || !f.value.amax().is_normal()) {
                 return Err(ModelError::ZeroVector {
                     body: f.body.clone(),
@@ -788,28 +774,46 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
             Some(n) => Some(names.feature(&el, &spec.body_j, n, true)?),
             None => None,
         };
-        let marker =
-            |body: &str, p: Vector3<f64>, z: Option<Vector3<f64>>, x: Option<Vector3<f64>>| {
-                let bad = |e: cardan_constraints::ConstraintError| ModelError::BadMarker {
-                    joint: spec.name.clone(),
-                    body: body.into(),
-                    reason: e.to_string(),
-                };
-                match (z, x) {
-                    (Some(z), Some(x)) => Marker::from_axes(p, z, x).map_err(bad),
-                    (Some(z), None) => Marker::from_axis(p, z).map_err(bad),
-                    _ => Ok(Marker {
-                        point: p,
-                        frame: Matrix3::identity(),
-                    }),
-                }
+        // The joint frame on one side (`side` = "i" or "j"); a refusal is worded with the
+        // builder's keys (axis_i, x_axis_i), not the internal "marker".
+        let marker = |side: &str,
+                      body: &str,
+                      p: Vector3<f64>,
+                      z: Option<Vector3<f64>>,
+                      x: Option<Vector3<f64>>| {
+            let bad = |e: cardan_constraints::ConstraintError| ModelError::BadMarker {
+                joint: spec.name.clone(),
+                body: body.into(),
+                reason: match e {
+                    cardan_constraints::ConstraintError::ParallelAxes { .. } => format!(
+                        "x_axis_{side} is parallel to axis_{side}; the x axis must be \
+                             perpendicular to the joint axis (it is the zero of the joint angle)"
+                    ),
+                    cardan_constraints::ConstraintError::ZeroAxis { .. } => {
+                        format!("axis_{side} or x_axis_{side} has zero length")
+                    }
+                    other => other.to_string().replace("marker ", ""),
+                },
             };
-        let mi = marker(&spec.body_i, pi, zi, xi)?;
-        let mj = marker(&spec.body_j, pj, zj, xj)?;
+            match (z, x) {
+                (Some(z), Some(x)) => Marker::from_axes(p, z, x).map_err(bad),
+                (Some(z), None) => Marker::from_axis(p, z).map_err(bad),
+                _ => Ok(Marker {
+                    point: p,
+                    frame: Matrix3::identity(),
+                }),
+            }
+        };
+        let mi = marker("i", &spec.body_i, pi, zi, xi)?;
+        let mj = marker("j", &spec.body_j, pj, zj, xj)?;
+        if let (JointKind::Universal, Some(zi), Some(zj)) = (kind, zi, zj) {
+            let (si, sj) = (pose(&bodies, bi).vector(&zi), pose(&bodies, bj).vector(&zj));
+            crate::sanity::check_universal_arms(&spec.name, &si, &sj)?;
+        }
         let joint = if kind == JointKind::SphericalSpherical {
             let l = match spec.length {
                 Some(l) => {
-                    check_number(&el, "length", l)?;
+                    check_number(&el, "length", Quantity::Length, l)?;
                     l
                 }
                 None => {
@@ -976,8 +980,8 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
             }
             Ok(id)
         };
-        let non_negative = |what: &str, v: f64| {
-            check_number(&el, what, v)?;
+        let non_negative = |what: &str, q: Quantity, v: f64| {
+            check_number(&el, what, q, v)?;
             if v < 0.0 {
                 return Err(ModelError::NonPositive {
                     element: el.clone(),
@@ -989,7 +993,7 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
         };
         forces.push(match spec {
             ForceSpec::Gravity { g } => {
-                check_numbers(&el, "gravity", g.as_slice())?;
+                check_numbers(&el, "gravity", Quantity::Acceleration, g.as_slice())?;
                 ForceInfo::Gravity { g: *g }
             }
             ForceSpec::SpringDamper {
@@ -1007,11 +1011,11 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
                 pair_check(&el, bi, bj, body_i)?;
                 let pi = names.feature(&el, body_i, point_i, false)?;
                 let pj = names.feature(&el, body_j, point_j, false)?;
-                non_negative("stiffness", *stiffness)?;
-                non_negative("damping", *damping)?;
+                non_negative("stiffness", Quantity::Stiffness, *stiffness)?;
+                non_negative("damping", Quantity::Damping, *damping)?;
                 let l0 = match free_length {
                     Some(l) => {
-                        non_negative("free length", *l)?;
+                        non_negative("free length", Quantity::Length, *l)?;
                         *l
                     }
                     None => (pose(&bodies, bj).point(&pj) - pose(&bodies, bi).point(&pi)).norm(),
@@ -1035,7 +1039,7 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
             } => {
                 let id = moving(body)?;
                 let p = names.feature(&el, body, point, false)?;
-                check_numbers(&el, "force", force.as_slice())?;
+                check_numbers(&el, "force", Quantity::Force, force.as_slice())?;
                 ForceInfo::PointForce {
                     name: name.clone(),
                     body: id,
@@ -1045,7 +1049,7 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
             }
             ForceSpec::Torque { name, body, torque } => {
                 let id = moving(body)?;
-                check_numbers(&el, "torque", torque.as_slice())?;
+                check_numbers(&el, "torque", Quantity::Torque, torque.as_slice())?;
                 ForceInfo::Torque {
                     name: name.clone(),
                     body: id,

@@ -247,6 +247,67 @@ fn mass_and_inertia() {
     ));
 }
 
+/// Issue 27, item 8: principal moments that violate the triangle inequality (I1 + I2 ≥ I3)
+/// belong to no rigid body (a negative second moment of mass); they were accepted.
+#[test]
+fn inertia_violating_the_triangle_inequality() {
+    let refused = |i: Matrix3<f64>| {
+        let mut b = base();
+        b.body(Body::new("b2").inertia(i));
+        b.build().err()
+    };
+    let e = refused(Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, 2.5)));
+    assert!(
+        matches!(e, Some(ModelError::InertiaTriangle { ref body, .. }) if body == "b2"),
+        "{e:?}"
+    );
+    let m = e.unwrap().to_string();
+    assert!(m.contains("triangle inequality"), "{m}");
+    assert!(m.contains("2.5"), "{m}");
+    // The same tensor in rotated axes (the check is on the eigenvalues).
+    let r = nalgebra::Rotation3::from_euler_angles(0.3, -0.7, 1.1).into_inner();
+    let rotated = |d: Vector3<f64>| r * Matrix3::from_diagonal(&d) * r.transpose();
+    let e = refused(rotated(Vector3::new(2.5, 1.0, 1.0)));
+    assert!(
+        matches!(e, Some(ModelError::InertiaTriangle { .. })),
+        "{e:?}"
+    );
+    // A thin disk (I3 = I1 + I2 exactly) and a thin rod are bodies, also when rotated.
+    for d in [
+        Vector3::new(0.25, 0.25, 0.5),
+        Vector3::new(0.5, 0.25, 0.25),
+        Vector3::new(1e-9, 1.0, 1.0),
+    ] {
+        assert_eq!(refused(Matrix3::from_diagonal(&d)), None, "{d:?}");
+        assert_eq!(refused(rotated(d)), None, "rotated {d:?}");
+    }
+}
+
+/// Issue 27, item 12: the builder's magnitude limits are per quantity, in SI
+/// (`cardan_mechanism::sanity::Quantity`), not one bound on every number.
+#[test]
+fn magnitude_limits_per_quantity() {
+    let mut b = base();
+    b.body(
+        Body::new("ship")
+            .mass(1e8)
+            .inertia_diagonal(2e11, 3e11, 3e11),
+    );
+    assert!(b.build().is_ok(), "{:?}", b.build().err());
+    let mut b = base();
+    b.body(Body::new("b2").mass(1e11));
+    let e = build_err(&b);
+    assert!(
+        matches!(e, ModelError::Absurd { limit, unit: "kg", .. } if limit == 1e10),
+        "{e:?}"
+    );
+    let mut b = base();
+    b.point("crank", "far", Vector3::new(0.0, 2e7, 0.0));
+    let e = build_err(&b);
+    assert!(matches!(e, ModelError::Absurd { unit: "m", .. }), "{e:?}");
+    assert!(e.to_string().contains("2e7 m is absurdly large"), "{e}");
+}
+
 #[test]
 fn joints_and_drivers_between_wrong_bodies() {
     let mut b = base();
@@ -501,6 +562,36 @@ fn singular_configuration_mid_run_keeps_the_results() {
     assert!(*partial.times.last().unwrap() < time);
     assert_eq!(partial.bodies[0].r.len(), partial.len());
     assert_eq!(partial.bodies[0].r_ddot.len(), partial.len());
+}
+
+/// Issue 27, item 6: position tolerances outside their sensible range (a residual tolerance
+/// of 1.0 "assembles" a mechanism whose loops are open by a metre) were accepted.
+#[test]
+fn meaningless_assembly_tolerances_are_refused() {
+    let model = slider_crank_builder(1.0).build().unwrap();
+    let refused = |o: AssemblyOptions| {
+        let mut ws = model.workspace();
+        match model.assemble(&mut ws, &o) {
+            Err(AnalysisError::Options(m)) => Some(m),
+            Err(e) => panic!("refused for another reason: {e}"),
+            Ok(_) => None,
+        }
+    };
+    let loose = |residual, step| AssemblyOptions {
+        tolerances: cardan_solver::Tolerances { residual, step },
+        ..AssemblyOptions::at(0.0)
+    };
+    let m = refused(loose(1.0, 1e-6)).expect("residual tolerance 1.0 accepted");
+    assert!(m.contains("residual tolerance = 1 is outside"), "{m}");
+    assert!(m.contains("[1e-14, 1e-6]"), "{m}");
+    assert!(refused(loose(0.0, 1e-6)).is_some());
+    assert!(refused(loose(1e-10, f64::NAN)).is_some());
+    assert!(refused(AssemblyOptions {
+        max_iterations: 0,
+        ..AssemblyOptions::at(0.0)
+    })
+    .is_some());
+    assert_eq!(refused(AssemblyOptions::at(0.0)), None);
 }
 
 #[test]

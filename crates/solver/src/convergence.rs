@@ -38,6 +38,35 @@ impl Default for Tolerances {
     }
 }
 
+impl Tolerances {
+    /// Refuses tolerances that cannot give a meaningful solution: the residual tolerance must
+    /// be in [1e-14, 1e-6] (a looser one leaves the equations visibly open, a tighter one asks
+    /// for less than roundoff), the step tolerance in [1e-14, 1e-2].
+    ///
+    /// # Errors
+    /// A sentence naming the tolerance, its value and its range.
+    pub fn validate(&self) -> Result<(), String> {
+        let check = |name: &str, v: f64, hi: f64, default: f64| {
+            if (1e-14..=hi).contains(&v) {
+                Ok(())
+            } else {
+                let value = if v == 0.0 || (1e-3..1e6).contains(&v.abs()) {
+                    format!("{v}")
+                } else {
+                    format!("{v:e}")
+                };
+                Err(format!(
+                    "{name} tolerance = {value} is outside its sensible range [1e-14, {hi:e}] \
+                     (default {default:e}): a looser one leaves the equations visibly open, a \
+                     tighter one asks for less than roundoff"
+                ))
+            }
+        };
+        check("residual", self.residual, 1e-6, 1e-10)?;
+        check("step", self.step, 1e-2, 1e-6)
+    }
+}
+
 /// `max_i |v_i| · w_i` and its index (weights are reciprocal scales). No allocation.
 pub fn weighted_inf_norm(v: &[f64], weights: &[f64]) -> (f64, usize) {
     let mut best = 0.0;

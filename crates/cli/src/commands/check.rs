@@ -190,6 +190,10 @@ pub fn check(path: &Path, out: &mut dyn Write) -> Result<(), Error> {
             return Err(crate::dynamic::not_fully_driven(&p, dof.dof, dof.drivers));
         }
         if dof.dof == dof.drivers {
+            // What `run` refuses next: drivers that depend on the joints or on each other.
+            model
+                .prepare_kinematics(&mut ws)
+                .map_err(|e| analysis_error(&p, &e))?;
             writeln!(
                 out,
                 "{}: {} driver{} for {} DOF: ok{}",

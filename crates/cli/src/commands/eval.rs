@@ -26,6 +26,7 @@ pub fn eval(path: &Path, t: Option<f64>, out: &mut dyn Write) -> Result<(), Erro
     if !t.is_finite() {
         return Err(Error::input(format!("--t must be a finite time, got {t}")));
     }
+    super::check_driver_values(&p.source, &p.loaded, &[t])?;
     let mut ws = model.workspace();
     let rep = model
         .assemble(&mut ws, &AssemblyOptions::at(t))

@@ -33,11 +33,61 @@ pub fn prepare(path: &Path) -> Result<Prepared, Error> {
         .builder
         .build()
         .map_err(|e| model_error(&source, &loaded, &e))?;
+    if let Some(a) = &loaded.analysis {
+        check_driver_values(&source, &loaded, &a.times())?;
+    }
     Ok(Prepared {
         source,
         loaded,
         model,
     })
+}
+
+/// Refuses a driver whose prescribed value, rate or acceleration is not finite at one of
+/// `times` (a polynomial that overflows, `eval --t 1e308`), or whose value is beyond the
+/// magnitude limit of its quantity (an angle or a length, `cardan_mechanism::Quantity`): the
+/// analysis would fail there with a message about an equation number instead of the driver.
+/// Located at the driver.
+///
+/// # Errors
+/// An input error naming the driver and the time.
+pub fn check_driver_values(src: &Source, loaded: &Loaded, times: &[f64]) -> Result<(), Error> {
+    let names = loaded.drivers.iter().map(|(n, _)| n);
+    for (name, (f, q)) in names.zip(&loaded.driver_functions) {
+        let located = |message: String| match loaded.spans.drivers.get(name) {
+            Some(s) => src.error_at(s.clone(), message),
+            None => src.error(message),
+        };
+        for &t in times {
+            let (v, rate, acc) = f.eval(t);
+            if !(v.is_finite() && rate.is_finite() && acc.is_finite()) {
+                return Err(located(format!(
+                    "driver \"{name}\": its function is not finite at t = {} s (value {}, rate \
+                     {}, acceleration {}): the prescribed motion overflows there; use another \
+                     time span or change the function",
+                    num(t),
+                    num(v),
+                    num(rate),
+                    num(acc)
+                )));
+            }
+            q.check(
+                &format!("driver \"{name}\": at t = {} s its value", num(t)),
+                v,
+            )
+            .map_err(located)?;
+        }
+    }
+    Ok(())
+}
+
+/// A number in plain notation between 1e-4 and 1e9, in scientific notation beyond.
+fn num(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || (1e-4..1e9).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
 }
 
 /// The element a builder error is about, if it names one.
@@ -59,10 +109,11 @@ fn model_error_element(e: &ModelError) -> Option<String> {
         | ModelError::BadOrientation { body, .. }
         | ModelError::NonPositiveMass { body, .. }
         | ModelError::InertiaNotSymmetric { body, .. }
-        | ModelError::InertiaNotPositiveDefinite { body, .. } => body.clone(),
-        ModelError::MissingAxis { joint, .. } | ModelError::BadMarker { joint, .. } => {
-            joint.clone()
-        }
+        | ModelError::InertiaNotPositiveDefinite { body, .. }
+        | ModelError::InertiaTriangle { body, .. } => body.clone(),
+        ModelError::MissingAxis { joint, .. }
+        | ModelError::BadMarker { joint, .. }
+        | ModelError::UniversalArms { joint, .. } => joint.clone(),
         ModelError::WrongJointKind { driver, .. } | ModelError::BadTimeFunction { driver, .. } => {
             driver.clone()
         }

@@ -68,6 +68,29 @@ impl AssemblyOptions {
             ..Self::default()
         }
     }
+
+    /// Refuses options that cannot give a meaningful assembly: a non-finite time, tolerances
+    /// outside their ranges ([`Tolerances::validate`]), no iterations, a step cap that is not
+    /// positive.
+    ///
+    /// # Errors
+    /// [`AnalysisError::Options`] naming the option.
+    pub fn validate(&self) -> Result<(), AnalysisError> {
+        let bad = |m: String| Err(AnalysisError::Options(format!("assembly: {m}")));
+        if !self.t.is_finite() {
+            return bad(format!("the time must be finite, got {}", self.t));
+        }
+        self.tolerances.validate().or_else(bad)?;
+        if self.max_iterations == 0 {
+            return bad("max_iterations must be at least 1".into());
+        }
+        if let Some(s) = self.max_step {
+            if !(s > 0.0 && s.is_finite()) {
+                return bad(format!("max_step must be positive and finite, got {s}"));
+            }
+        }
+        Ok(())
+    }
 }
 
 /// Outcome of a successful assembly.
@@ -143,6 +166,7 @@ impl Model {
         ws: &mut Workspace,
         options: &AssemblyOptions,
     ) -> Result<AssemblyReport, AnalysisError> {
+        options.validate()?;
         let guess = ws.x.clone();
         let direct = self.assemble_direct(ws, options);
         if !options.include_drivers || self.drivers.is_empty() {
