@@ -746,8 +746,8 @@ fn model_names_that_cannot_name_a_directory_say_why() {
 #[test]
 fn axis_messages_use_the_model_format_words() {
     let o = fails_at(
-        "axis_i = \"z\"\n",
-        "axis_i = \"z\"\nx_axis_i = \"z\"\nx_axis_j = \"z\"\n",
+        "x_axis_i = \"x\"\n",
+        "x_axis_i = \"z\"\n",
         "17:8",
         &[
             "joint \"pivot\"",
