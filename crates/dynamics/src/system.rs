@@ -44,6 +44,8 @@ pub struct Dynamics<'m> {
     pub(crate) elements: Vec<Element>,
     pub(crate) kkt: Option<Kkt>,
     pub(crate) redundant: Vec<EquationName>,
+    /// Times the independent rows were chosen again ([`Dynamics::row_reselections`]).
+    pub(crate) reselections: usize,
     /// Body states of the last evaluation.
     pub(crate) bodies: Vec<BodyState>,
     /// Generalized forces h (n).
@@ -92,6 +94,7 @@ impl<'m> Dynamics<'m> {
             elements: elements(model),
             kkt: None,
             redundant: Vec::new(),
+            reselections: 0,
             bodies: vec![BodyState::ground(); nb],
             h: vec![0.0; 6 * nb],
         };
@@ -210,13 +213,54 @@ impl<'m> Dynamics<'m> {
     /// # Errors
     /// Solver errors (non-finite Jacobian).
     pub fn prepare(&mut self, state: &State) -> Result<(), DynamicsError> {
-        let model = self.model;
-        let m = model.num_equations();
-        let n = model.num_unknowns();
         self.sync(state);
         if self.prepare_full_rank_fast(state) {
             return Ok(());
         }
+        self.select_rows(state.t)
+    }
+
+    /// Chooses the independent rows again at the synced bodies and time `t`, for a mechanism
+    /// with redundant equations whose kept rows lost rank where the full set has not (Bennett's
+    /// linkage: the rows kept at the drawn pose are singular at two crank angles). Called when a
+    /// factorization of the augmented system fails; `true` when the choice changed (the
+    /// caller then solves again). The new rows are the best conditioned at this pose and are
+    /// kept until they fail in turn, so the choice does not chatter. Allocates; rare.
+    pub(crate) fn reselect(&mut self, t: f64) -> bool {
+        if self.redundant.is_empty() {
+            return false;
+        }
+        let Some(old) = self.kkt.as_ref() else {
+            return false;
+        };
+        // The run's counters and the refinement setting carry over to the new layout.
+        let (active, factorizations, refine_below) =
+            (old.active.clone(), old.factorizations, old.refine_below);
+        if self.select_rows(t).is_err() {
+            return false;
+        }
+        let kkt = self.kkt.as_mut().expect("laid out");
+        kkt.factorizations = factorizations;
+        kkt.refine_below = refine_below;
+        let changed = kkt.active != active;
+        if changed {
+            self.reselections += 1;
+        }
+        changed
+    }
+
+    /// How many times the independent rows were chosen again during the runs of this
+    /// [`Dynamics`] (see [`prepare`](Self::prepare)).
+    pub fn row_reselections(&self) -> usize {
+        self.reselections
+    }
+
+    /// The rank analysis of Φ_v (all equations) at the synced bodies and time `t`, and the KKT
+    /// layout on the independent rows.
+    fn select_rows(&mut self, t: f64) -> Result<(), DynamicsError> {
+        let model = self.model;
+        let m = model.num_equations();
+        let n = model.num_unknowns();
         let active: Vec<usize> = if m == 0 {
             Vec::new()
         } else {
@@ -225,7 +269,7 @@ impl<'m> Dynamics<'m> {
             let mut bi = [[0.0; 6]; 6];
             let mut bj = [[0.0; 6]; 6];
             for e in &self.elements {
-                element_blocks(model, e, &self.bodies, state.t, &mut bi, &mut bj);
+                element_blocks(model, e, &self.bodies, t, &mut bi, &mut bj);
                 for (lr, r) in e.rows.clone().enumerate() {
                     for (id, blk) in [(e.bi, &bi), (e.bj, &bj)] {
                         if let BodyId::Moving(k) = id {
@@ -237,7 +281,7 @@ impl<'m> Dynamics<'m> {
                 }
             }
             let ra = RankAnalysis::compute(&pattern, &slots, RankOptions::default())
-                .map_err(|e| self.solver_error(state.t, e))?;
+                .map_err(|e| self.solver_error(t, e))?;
             self.redundant = ra
                 .dependent_rows()
                 .iter()
@@ -246,8 +290,8 @@ impl<'m> Dynamics<'m> {
             ra.independent_rows().to_vec()
         };
         let pairs = self.coupled_pairs();
-        let kkt = Kkt::new(model, &self.elements, active, &pairs)
-            .map_err(|e| self.solver_error(state.t, e))?;
+        let kkt =
+            Kkt::new(model, &self.elements, active, &pairs).map_err(|e| self.solver_error(t, e))?;
         self.kkt = Some(kkt);
         Ok(())
     }
@@ -415,7 +459,10 @@ impl<'m> Dynamics<'m> {
         }
         kkt.rhs[..n].copy_from_slice(&self.h);
         let r = kkt.factor().and_then(|_| kkt.solve());
-        r.map_err(|e| self.solver_error(t, e))
+        match r {
+            Err(SolverError::Singular { .. }) if self.reselect(t) => self.solve_eom(t, baumgarte),
+            r => r.map_err(|e| self.solver_error(t, e)),
+        }
     }
 
     /// Accelerations v̇ (6 per body) and multipliers λ (one per model equation; 0 for rows
@@ -483,8 +530,12 @@ impl<'m> Dynamics<'m> {
         }
         kkt.work_a = wa;
         let r = kkt.factor().and_then(|_| kkt.solve());
-        if let Err(e) = r {
-            return Err(self.solver_error(t, e));
+        match r {
+            Err(SolverError::Singular { .. }) if self.reselect(t) => {
+                return self.project_velocities(state)
+            }
+            Err(e) => return Err(self.solver_error(t, e)),
+            Ok(()) => {}
         }
         let kkt = self.kkt.as_ref().expect("prepared");
         for c in 0..n {
@@ -545,8 +596,10 @@ impl<'m> Dynamics<'m> {
                 kkt.rhs[n + a] = -kkt.full[r];
             }
             let r = kkt.factor().and_then(|_| kkt.solve());
-            if let Err(e) = r {
-                return Err(self.solver_error(t, e));
+            match r {
+                Err(SolverError::Singular { .. }) if self.reselect(t) => continue,
+                Err(e) => return Err(self.solver_error(t, e)),
+                Ok(()) => {}
             }
             let kkt = self.kkt.as_ref().expect("prepared");
             cardan_mechanism::apply_rotation_step(&mut state.q, &kkt.sol[..n]);

@@ -83,7 +83,9 @@ pub mod workspace;
 
 pub use analysis::assembly::{AssemblyOptions, AssemblyReport};
 pub use analysis::grid::KinematicOptions;
-pub use analysis::position::{PositionReport, FAST_RANK_MIN_UNKNOWNS, KINEMATIC_MAX_CHORD_STEPS};
+pub use analysis::position::{
+    PositionReport, FAST_RANK_MIN_UNKNOWNS, KINEMATIC_MAX_CHORD_STEPS, SELECTION_PIVOT_TOLERANCE,
+};
 pub use builder::{
     Axis, Body, DriverSpec, DriverTarget, ForceSpec, JointSpec, MechanismBuilder, Orientation,
     GROUND,

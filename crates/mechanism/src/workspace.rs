@@ -44,6 +44,11 @@ pub struct Workspace {
     /// Predictor buffers.
     pub(crate) x_prev: Vec<f64>,
     pub(crate) x_tmp: Vec<f64>,
+    /// The Newton start of the current position solve, kept when the kinematic solver works on
+    /// a selection of rows (to retry from it after a re-selection).
+    pub(crate) x_start: Vec<f64>,
+    /// Times the kinematic solver re-selected its independent rows.
+    pub(crate) reselections: usize,
     /// The predicted relative poses [p_rel; e] (7 per body).
     pub(crate) pred: Vec<f64>,
     /// Whether the predictor took a body's absolute motion (it turns faster relative to its
@@ -68,6 +73,12 @@ pub struct EvaluationCounts {
 }
 
 impl Workspace {
+    /// How many times the kinematic solver of a mechanism with redundant equations re-selected
+    /// its independent rows (see [`Model::position`]).
+    pub fn row_reselections(&self) -> usize {
+        self.reselections
+    }
+
     /// The ν and γ# evaluation counts since the workspace was created.
     pub fn evaluation_counts(&self) -> EvaluationCounts {
         self.counts
@@ -93,6 +104,8 @@ impl Workspace {
             phi: vec![0.0; m],
             x_prev: vec![0.0; 7 * nb],
             x_tmp: vec![0.0; 7 * nb],
+            x_start: vec![0.0; 7 * nb],
+            reselections: 0,
             pred: vec![0.0; 7 * nb],
             pred_absolute: vec![false; nb],
             kin: None,

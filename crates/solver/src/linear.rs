@@ -164,6 +164,7 @@ enum Inner {
 #[derive(Debug)]
 pub struct AutoSolver {
     choice: SolverChoice,
+    pivot_tolerance: Option<f64>,
     inner: Inner,
 }
 
@@ -178,8 +179,18 @@ impl AutoSolver {
     pub fn new(choice: SolverChoice) -> Self {
         Self {
             choice,
+            pivot_tolerance: None,
             inner: Inner::None,
         }
+    }
+
+    /// The LU members declare the matrix singular when a pivot of the equilibrated matrix is
+    /// below `tol` (instead of [`DEFAULT_PIVOT_TOLERANCE`]): a caller that can do better than
+    /// solve with a nearly singular matrix (the kinematic solver re-selects its independent
+    /// rows) asks to hear of it early.
+    pub fn with_pivot_tolerance(mut self, tol: f64) -> Self {
+        self.pivot_tolerance = Some(tol);
+        self
     }
 
     /// The kind picked at the last `analyze` (`None` before).
@@ -214,9 +225,12 @@ impl LinearSolver for AutoSolver {
             SolverChoice::MinNorm => SolverKind::MinNorm,
         };
         self.inner = Inner::None;
+        let tol = self.pivot_tolerance.unwrap_or(DEFAULT_PIVOT_TOLERANCE);
         let mut inner = match kind {
-            SolverKind::Dense => Inner::Dense(Box::default()),
-            SolverKind::Sparse => Inner::Sparse(Box::default()),
+            SolverKind::Dense => Inner::Dense(Box::new(DenseLu::new().with_pivot_tolerance(tol))),
+            SolverKind::Sparse => {
+                Inner::Sparse(Box::new(SparseLu::new().with_pivot_tolerance(tol)))
+            }
             SolverKind::MinNorm => Inner::MinNorm(Box::default()),
         };
         match &mut inner {

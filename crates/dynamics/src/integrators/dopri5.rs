@@ -217,6 +217,17 @@ fn starting_step(
     Ok(h)
 }
 
+/// [`Dynamics::reselect`] at the state held in `y` at time `t` (when finite): whether the
+/// independent rows of a mechanism with redundant equations changed.
+fn reselect_at(d: &mut Dynamics, y: &[f64], t: f64, s: &mut State) -> bool {
+    if d.redundant.is_empty() || y.iter().any(|v| !v.is_finite()) {
+        return false;
+    }
+    to_state(y, t, s);
+    d.sync(s);
+    d.reselect(t)
+}
+
 /// Projects the state held in `y` (positions, then velocities); returns Newton iterations.
 fn project(
     d: &mut Dynamics,
@@ -226,7 +237,18 @@ fn project(
     o: &Dopri5Options,
 ) -> Result<usize, DynamicsError> {
     to_state(y, t, s);
-    let it = d.project_positions(s, o.projection_tolerance)?;
+    let it = match d.project_positions(s, o.projection_tolerance) {
+        Ok(it) => it,
+        // The kept rows of a mechanism with redundant equations may have lost rank here:
+        // choose them again at the unprojected state and project again from it.
+        Err(e) => {
+            if !reselect_at(d, y, t, s) {
+                return Err(e);
+            }
+            to_state(y, t, s);
+            d.project_positions(s, o.projection_tolerance)?
+        }
+    };
     d.project_velocities(s)?;
     from_state(s, y);
     Ok(it)
@@ -323,6 +345,7 @@ pub(crate) fn run(
         };
         // Stages 2..7.
         let mut failed = None;
+        let mut failed_at = t + hs;
         for s in 1..7 {
             for i in 0..len {
                 let mut acc = 0.0;
@@ -337,6 +360,7 @@ pub(crate) fn run(
                 Ok(()) => stats.evaluations += 1,
                 Err(e) => {
                     failed = Some(e);
+                    failed_at = t + C[s] * hs;
                     break;
                 }
             }
@@ -358,6 +382,15 @@ pub(crate) fn run(
             }
             err_norm(&b.y0, &b.y1, &b.yt, o)
         };
+        if !(err <= 1.0 && err.is_finite()) {
+            // Redundant equations: the kept rows may have lost rank within the step where the
+            // full set has not. Choose them again where the step went wrong and retry it.
+            let y = if failed.is_some() { &b.yt } else { &b.y1 };
+            if reselect_at(d, y, failed_at, &mut b.scratch) {
+                stats.rejected += 1;
+                continue;
+            }
+        }
         if fixed {
             if let Some(e) = failed {
                 return Err(e);

@@ -475,6 +475,14 @@ pub(crate) fn run(
                     iters_since += stats.newton_iterations - before;
                     break;
                 }
+                // Redundant equations: the kept rows may have lost rank at the step's end where
+                // the full set has not; choose them again at the failed iterate and retry.
+                if b.t1.q.iter().all(|v| v.is_finite()) {
+                    d.sync(&b.t1);
+                    if d.reselect(b.t1.t) {
+                        continue;
+                    }
+                }
                 stats.rejected += 1;
                 halvings += 1;
                 if halvings > o.max_halvings {

@@ -12,6 +12,19 @@
 //! ```
 //!
 //! starting from the poses in the workspace.
+//!
+//! ### Redundant equations: re-selection
+//! A mechanism with redundant equations (a planar loop of spatial revolutes, Bennett's or
+//! Bricard's linkage) is solved on a square subset of its rows, picked by the rank analysis at the
+//! assembled pose. The full set keeps its rank along the motion, but a subset can lose it at a
+//! regular position (Bennett's linkage: the rows kept at the drawn pose are singular at two crank
+//! angles). So the subset's LU runs with a tighter pivot tolerance,
+//! [`SELECTION_PIVOT_TOLERANCE`] instead of 1e-12, and when the position solve on the subset fails
+//! (singular or not converging), the rows are chosen again by a rank analysis of all rows at the
+//! frame's start and the frame is solved again from there. The new subset is the best conditioned
+//! one at that pose and is kept until it degrades in turn, so the choice does not chatter. Only
+//! a failure of the full set is reported. The reactions of redundant joints are one admissible
+//! split: at a re-selection the split changes (the multipliers of the dropped rows are 0).
 
 use crate::dof::{solver, DofReport};
 use crate::error::{AnalysisError, EquationName};
@@ -31,6 +44,11 @@ pub const KINEMATIC_MAX_CHORD_STEPS: usize = 4;
 /// rank analysis in [`Model::prepare_kinematics`] (below it the dense QR costs little and gives
 /// the same answer).
 pub const FAST_RANK_MIN_UNKNOWNS: usize = 300;
+
+/// Pivot tolerance of the LU of a selection of rows (a mechanism with redundant equations):
+/// an equilibrated pivot below it makes the solver re-select its rows (see the module docs)
+/// before the subset's conditioning (about 1 / pivot) costs accuracy.
+pub const SELECTION_PIVOT_TOLERANCE: f64 = 1e-8;
 
 /// Outcome of one position solve.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -84,6 +102,17 @@ impl Model {
             return Ok(report);
         }
         let report = self.dof(ws)?;
+        self.select_rows(ws, report, options)
+    }
+
+    /// Checks the drivers against the DOF report, picks the independent rows at the workspace's
+    /// poses and builds the square kinematic Newton on them.
+    fn select_rows(
+        &self,
+        ws: &mut Workspace,
+        report: DofReport,
+        options: NewtonOptions,
+    ) -> Result<DofReport, AnalysisError> {
         if report.dof != report.drivers {
             return Err(AnalysisError::DriverCount {
                 dof: report.dof,
@@ -107,9 +136,13 @@ impl Model {
             .pattern
             .select_rows(ra.independent_rows())
             .map_err(|e| solver(ws.t, e))?;
-        let newton =
-            Newton::with_row_selection(&self.pattern, selection, AutoSolver::default(), options)
-                .map_err(|e| solver(ws.t, e))?;
+        let lu = if ra.independent_rows().len() < self.num_equations() {
+            AutoSolver::default().with_pivot_tolerance(SELECTION_PIVOT_TOLERANCE)
+        } else {
+            AutoSolver::default()
+        };
+        let newton = Newton::with_row_selection(&self.pattern, selection, lu, options)
+            .map_err(|e| solver(ws.t, e))?;
         ws.kin = Some(newton);
         ws.dof = Some(report.clone());
         ws.invalidate();
@@ -162,13 +195,40 @@ impl Model {
         }
         ws.velocity_valid = false;
         ws.acceleration_valid = false;
-        let newton = ws.kin.as_mut().expect("prepared above");
-        let mut sys = PositionSystem {
-            model: self,
-            bodies: &mut ws.bodies,
-            t,
-        };
-        let result = newton.solve(&mut sys, &mut ws.x);
+        let selected = self.solves_a_selection(ws);
+        if selected {
+            ws.x_start.copy_from_slice(&ws.x);
+        }
+        let mut result = self.solve_positions(ws, t);
+        if selected
+            && matches!(
+                result,
+                Err(SolverError::Singular { .. } | SolverError::NotConverged { .. })
+            )
+        {
+            // The kept rows may have lost rank where the full set has not: choose again at the
+            // failed iterate (near the solution, where the kept rows are nearly dependent; the
+            // frame's start if the iterate is not finite) and solve the frame again from its
+            // start (allocates; rare).
+            if !ws.x.iter().all(|v| v.is_finite()) {
+                ws.x.copy_from_slice(&ws.x_start);
+            }
+            ws.sync_poses();
+            let newton = ws.kin.as_ref().expect("prepared above");
+            let (options, old) = (*newton.options(), newton.row_selection().cloned());
+            let report = ws.dof.clone().expect("prepared with a DOF report");
+            let t_prepared = ws.t;
+            ws.t = t;
+            self.select_rows(ws, report, options)?;
+            ws.t = t_prepared;
+            ws.x.copy_from_slice(&ws.x_start);
+            ws.sync_poses();
+            let new = ws.kin.as_ref().and_then(|n| n.row_selection());
+            if new.map(|s| s.rows()) != old.as_ref().map(|s| s.rows()) {
+                ws.reselections += 1;
+                result = self.solve_positions(ws, t);
+            }
+        }
         ws.t = t;
         ws.v.fill(0.0);
         ws.vdot.fill(0.0);
@@ -184,6 +244,30 @@ impl Model {
             }
             Err(e) => Err(self.map_solver_error(t, e)),
         }
+    }
+
+    /// Whether the prepared kinematic solver works on a selection of the rows (some dropped as
+    /// redundant).
+    fn solves_a_selection(&self, ws: &Workspace) -> bool {
+        ws.kin
+            .as_ref()
+            .and_then(|n| n.row_selection())
+            .is_some_and(|s| s.rows().len() < self.num_equations())
+    }
+
+    /// One Newton solve of the prepared kinematic solver from the workspace's poses.
+    fn solve_positions(
+        &self,
+        ws: &mut Workspace,
+        t: f64,
+    ) -> Result<cardan_solver::NewtonReport, SolverError> {
+        let newton = ws.kin.as_mut().expect("prepared above");
+        let mut sys = PositionSystem {
+            model: self,
+            bodies: &mut ws.bodies,
+            t,
+        };
+        newton.solve(&mut sys, &mut ws.x)
     }
 
     /// Turns a solver error into an analysis error naming the equations.
