@@ -55,6 +55,10 @@ pub struct RunReport {
     pub energy_drift: Option<f64>,
     /// Doubtful results and other remarks, one sentence each.
     pub warnings: Vec<String>,
+    /// Kinematic and inverse dynamics: grid steps solved in substeps because the full step
+    /// left the assembly branch (a note, not a warning: `--strict` ignores it); `null` for a
+    /// dynamic run.
+    pub subdivided_steps: Option<usize>,
     /// The files written besides `run.json`, in the order written.
     pub files: Vec<String>,
     /// Wall time of the analysis, without the writing (s).

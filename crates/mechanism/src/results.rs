@@ -130,6 +130,10 @@ pub struct Results {
     pub residual: Vec<f64>,
     /// Newton iterations per step.
     pub iterations: Vec<usize>,
+    /// Grid steps of a kinematic run that were solved in substeps because the full step's
+    /// solution left the assembly branch (see the time-grid docs, `analysis::grid`); 0 for a
+    /// run whose every step followed its prediction.
+    pub subdivided_steps: usize,
 }
 
 impl Results {

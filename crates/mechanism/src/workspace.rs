@@ -54,6 +54,12 @@ pub struct Workspace {
     /// Whether the predictor took a body's absolute motion (it turns faster relative to its
     /// parent than absolutely).
     pub(crate) pred_absolute: Vec<bool>,
+    /// The Newton start of the frame being solved (the prediction), for the branch-jump test of
+    /// the time grid, and the velocities and accelerations of the last accepted frame, to
+    /// return to it when a step is subdivided (see `analysis::grid`).
+    pub(crate) x_pred: Vec<f64>,
+    pub(crate) v_saved: Vec<f64>,
+    pub(crate) vdot_saved: Vec<f64>,
     pub(crate) kin: Option<Newton<AutoSolver>>,
     pub(crate) dof: Option<DofReport>,
     pub(crate) velocity_valid: bool,
@@ -108,6 +114,9 @@ impl Workspace {
             reselections: 0,
             pred: vec![0.0; 7 * nb],
             pred_absolute: vec![false; nb],
+            x_pred: vec![0.0; 7 * nb],
+            v_saved: vec![0.0; 6 * nb],
+            vdot_saved: vec![0.0; 6 * nb],
             kin: None,
             dof: None,
             velocity_valid: false,

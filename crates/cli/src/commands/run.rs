@@ -37,6 +37,9 @@ pub struct Summary {
     /// Doubtful results and other remarks, one sentence each: printed after the summary line
     /// and written to `run.json`. Any check may push to it.
     pub warnings: Vec<String>,
+    /// Kinematic and inverse dynamics runs: grid steps solved in substeps to stay on the
+    /// assembly branch (`Results::subdivided_steps`; not a warning); `None` for dynamic runs.
+    pub subdivided_steps: Option<usize>,
 }
 
 /// What a dynamic run adds to the summary line.
@@ -129,6 +132,13 @@ fn print_summary(s: &Summary, out: &mut dyn Write) -> Result<(), Error> {
             .map(|(n, v, u)| format!("{n} {v:.4e} {u}"))
             .collect();
         format!(", peak |driver effort| {}", list.join(", "))
+    };
+    let efforts = match s.subdivided_steps {
+        Some(1) => format!("{efforts}, 1 step subdivided to stay on the assembly branch"),
+        Some(n) if n > 1 => {
+            format!("{efforts}, {n} steps subdivided to stay on the assembly branch")
+        }
+        _ => efforts,
     };
     let efforts = match s.warnings.len() {
         0 => efforts,
@@ -327,6 +337,7 @@ fn report(p: &Prepared, kind: &'static str, a: &Analysed, files: Vec<String>) ->
         constraint_drift: d.map(|d| d.max_constraint_drift),
         energy_drift: d.map(|d| d.energy_drift),
         warnings: s.warnings.clone(),
+        subdivided_steps: s.subdivided_steps,
         files,
         wall_time_s: s.wall.as_secs_f64(),
     }
@@ -371,6 +382,7 @@ fn run_kinematic(
         dynamic: None,
         peak_efforts: Vec::new(),
         warnings: Vec::new(),
+        subdivided_steps: Some(results.subdivided_steps),
     };
     Ok(Analysed {
         tables,
@@ -434,6 +446,7 @@ fn run_dynamic(
         }),
         peak_efforts: peak_efforts(p, &r),
         warnings: crate::dynamic::doubtful_results(p, &r, &opts.integrator),
+        subdivided_steps: None,
     };
     Ok(Analysed {
         tables,
@@ -473,6 +486,7 @@ fn run_inverse(
         dynamic: None,
         peak_efforts: peak_efforts(p, &r),
         warnings: Vec::new(),
+        subdivided_steps: Some(k.subdivided_steps),
     };
     Ok(Analysed {
         tables,

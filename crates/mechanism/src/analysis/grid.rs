@@ -12,10 +12,35 @@
 //! position solve starts with chord steps. Storage is reserved before the first step, so a step
 //! does not allocate.
 //!
+//! # Coarse steps: staying on the assembly branch
+//! A closed loop has several assembly branches (an RSSR four-bar's rocker can close the loop
+//! on either side). On a fine grid the prediction lies close to the solution on the branch of
+//! the previous step, so Newton stays there. On a coarse grid (two steps per crank turn) the
+//! prediction can be far off and Newton may converge on the other branch. Each step is
+//! therefore checked, body by body, by comparing the Newton correction C_b = |x ⊖ x_pred| with
+//! the predicted motion M_b = |x_pred ⊖ x_{k−1}| (the larger of the rotation angle and the
+//! translation over the characteristic length L):
+//!
+//! ```text
+//! jump  ⇔  C_b > κ M_b + ε for some body b,      κ = 0.5,  ε = 1e-4
+//! ```
+//!
+//! A good prediction misses by O(dt⁴) (Taylor) or O(dt²) (extrapolation) against a motion of
+//! O(dt), so a fine grid never trips it and its output is unchanged; a branch change moves some
+//! body by a finite amount the prediction did not foresee. The test reads three stored states
+//! and allocates nothing. On a jump the step restarts from step k − 1 in 2 substeps; a substep
+//! that jumps returns to the last accepted substep and halves the substep, down to
+//! 1/2^[`MAX_SUBDIVISION_DEPTH`] of the grid step ([`AnalysisError::BranchJump`] beyond). Each
+//! substep is predicted from the last, with its velocity and acceleration solved as on the grid;
+//! only the grid times are stored, and [`Results::subdivided_steps`] counts the subdivided
+//! steps (their Newton iterations, rejected attempts included, are summed into the step's).
+//! A frame without a prediction (the first step of a run without velocities) is not checked.
+//!
 //! A failure mid-run (singular configuration, no convergence) returns an error that carries the
 //! time, the named equations, and the results up to the last successful step.
 
 use crate::analysis::assembly::AssemblyOptions;
+use crate::analysis::position::PositionReport;
 use crate::error::AnalysisError;
 use crate::model::{BodyId, Model};
 use crate::results::{BodyResults, JointResults, Outputs, PointResults, Results};
@@ -23,6 +48,37 @@ use crate::workspace::Workspace;
 use cardan_constraints::{unwrap_angle, BodyPair};
 use cardan_eulerparam::EulerParams;
 use std::ops::ControlFlow;
+
+/// κ of the branch-jump test: a step whose Newton correction exceeds κ times the predicted
+/// motion (plus [`BRANCH_JUMP_FLOOR`]) is taken to have left the assembly branch.
+pub const BRANCH_JUMP_RATIO: f64 = 0.5;
+
+/// ε of the branch-jump test (radians, or lengths in units of the model's characteristic
+/// length): corrections below it never count as a jump, whatever the predicted motion.
+pub const BRANCH_JUMP_FLOOR: f64 = 1e-4;
+
+/// At most 2^10 = 1,024 substeps per grid step; a step that still jumps is an error
+/// ([`AnalysisError::BranchJump`]).
+pub const MAX_SUBDIVISION_DEPTH: u32 = 10;
+
+/// The frame a subdivided step returns to (its poses in `x_tmp`, velocities and accelerations
+/// in `v_saved`, `vdot_saved`).
+struct SavedFrame {
+    t: f64,
+    velocity_valid: bool,
+    acceleration_valid: bool,
+}
+
+/// The change of a body between two poses (7 coordinates [r; p]): the larger of the rotation
+/// angle of p_aᵀ ⊗ p_b (radians, in [0, π]) and |r_b − r_a| / L.
+fn pose_distance(a: &[f64], b: &[f64], length: f64) -> f64 {
+    let dr = (0..3).map(|c| (b[c] - a[c]).powi(2)).sum::<f64>().sqrt() / length;
+    let pa = EulerParams::new(a[3], a[4], a[5], a[6]);
+    let pb = EulerParams::new(b[3], b[4], b[5], b[6]);
+    let q = *pa.conjugate().compose(&pb).as_vector();
+    let angle = 2.0 * q.fixed_rows::<3>(1).norm().atan2(q[0].abs());
+    dr.max(angle)
+}
 
 /// Options of a kinematic run.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -187,7 +243,8 @@ impl Model {
         Ok(results)
     }
 
-    /// One step of the grid (no allocation after warm-up).
+    /// One step of the grid (no allocation after warm-up): the position at t_k (subdivided when
+    /// the full step jumps branches, module docs), then velocity and acceleration as asked.
     pub(crate) fn step(
         &self,
         ws: &mut Workspace,
@@ -198,13 +255,15 @@ impl Model {
         joint_prev: &mut [[f64; 3]],
     ) -> Result<(), AnalysisError> {
         let out = options.outputs;
-        // x holds the solution of step k − 1, x_prev that of step k − 2.
-        ws.x_tmp.copy_from_slice(&ws.x);
-        if k > 0 {
-            self.predict(ws, t - ws.t, k, out);
-        }
-        let rep = self.position(ws, t)?;
-        ws.x_prev.copy_from_slice(&ws.x_tmp);
+        let rep = if k == 0 {
+            // x_prev holds the solution of step k − 2 (for the linear extrapolation).
+            ws.x_tmp.copy_from_slice(&ws.x);
+            let rep = self.position(ws, t)?;
+            ws.x_prev.copy_from_slice(&ws.x_tmp);
+            rep
+        } else {
+            self.advance(ws, t, k, out, &mut results.subdivided_steps)?
+        };
         if out.needs_velocity() {
             self.velocity(ws)?;
         }
@@ -223,6 +282,145 @@ impl Model {
         Ok(())
     }
 
+    /// Solves the position at grid time `t` from the accepted frame in `ws` (step k − 1): the
+    /// full step first; when its solution jumped branches, again from step k − 1 in 2, 4, 8, …
+    /// substeps ([`MAX_SUBDIVISION_DEPTH`] halvings at most), counting the step in `subdivided`.
+    fn advance(
+        &self,
+        ws: &mut Workspace,
+        t: f64,
+        k: usize,
+        out: Outputs,
+        subdivided: &mut usize,
+    ) -> Result<PositionReport, AnalysisError> {
+        let saved = self.save_frame(ws);
+        let (rep, jumped) = self.try_step(ws, t, k, out)?;
+        if !jumped {
+            return Ok(rep);
+        }
+        *subdivided += 1;
+        self.restore_frame(ws, &saved);
+        let mut rep_sub = self.substeps(ws, saved, t, k, out)?;
+        // The iterations of the rejected full step count too.
+        rep_sub.iterations += rep.iterations;
+        Ok(rep_sub)
+    }
+
+    /// Marches from the frame in `ws` (time t_a) to `t_b` in substeps of (t_b − t_a) / 2^depth,
+    /// each predicted from the last; a substep that jumps returns to the last accepted substep
+    /// and halves the substep (depth + 1). The substep times are t_a + (t_b − t_a)·i/2^D with
+    /// D = [`MAX_SUBDIVISION_DEPTH`] (the last is t_b itself), so no rounding accumulates.
+    fn substeps(
+        &self,
+        ws: &mut Workspace,
+        mut saved: SavedFrame,
+        t_b: f64,
+        k: usize,
+        out: Outputs,
+    ) -> Result<PositionReport, AnalysisError> {
+        let t_a = ws.t;
+        let full = 1usize << MAX_SUBDIVISION_DEPTH;
+        let (mut done, mut depth) = (0usize, 1u32);
+        let mut iterations = 0;
+        loop {
+            let next = (done + (full >> depth)).min(full);
+            let s = if next == full {
+                t_b
+            } else {
+                t_a + (t_b - t_a) * (next as f64 / full as f64)
+            };
+            // After an accepted substep x_prev is the frame before: linear extrapolation works.
+            let k_sub = if done > 0 { k.max(2) } else { k };
+            let (rep, jumped) = self.try_step(ws, s, k_sub, out)?;
+            iterations += rep.iterations;
+            match jumped {
+                false if next == full => return Ok(PositionReport { iterations, ..rep }),
+                false => {
+                    // The predictor of the next substep needs this one's velocity (and
+                    // acceleration), as on the grid.
+                    if out.needs_velocity() {
+                        self.velocity(ws)?;
+                    }
+                    if out.acceleration {
+                        self.acceleration(ws)?;
+                    }
+                    saved = self.save_frame(ws);
+                    done = next;
+                }
+                true if depth == MAX_SUBDIVISION_DEPTH => {
+                    return Err(AnalysisError::BranchJump {
+                        time: t_b,
+                        substeps: full,
+                        partial: None,
+                    });
+                }
+                true => {
+                    self.restore_frame(ws, &saved);
+                    depth += 1;
+                }
+            }
+        }
+    }
+
+    /// One attempt from the frame in `ws` to time `t`: predict, solve, and test for a branch
+    /// jump. The report and whether the solution jumped (`ws` then holds it; the caller
+    /// restores the frame); otherwise x_prev becomes the frame the step started from.
+    fn try_step(
+        &self,
+        ws: &mut Workspace,
+        t: f64,
+        k: usize,
+        out: Outputs,
+    ) -> Result<(PositionReport, bool), AnalysisError> {
+        ws.x_tmp.copy_from_slice(&ws.x);
+        let predicted = self.predict(ws, t - ws.t, k, out);
+        ws.x_pred.copy_from_slice(&ws.x);
+        let rep = self.position(ws, t)?;
+        if predicted && self.jumped(ws) {
+            return Ok((rep, true));
+        }
+        ws.x_prev.copy_from_slice(&ws.x_tmp);
+        Ok((rep, false))
+    }
+
+    /// The branch-jump test (module docs): for some body, C_b > κ M_b + ε, with M_b its
+    /// predicted motion (x_pred ⊖ x_start) and C_b its correction (x ⊖ x_pred).
+    fn jumped(&self, ws: &Workspace) -> bool {
+        let l = self.characteristic_length();
+        let start = ws.x_tmp.chunks_exact(7);
+        let pred = ws.x_pred.chunks_exact(7);
+        let solved = ws.x.chunks_exact(7);
+        start.zip(pred).zip(solved).any(|((x0, xp), x)| {
+            let motion = pose_distance(x0, xp, l);
+            let correction = pose_distance(xp, x, l);
+            correction > BRANCH_JUMP_RATIO * motion + BRANCH_JUMP_FLOOR
+        })
+    }
+
+    /// Copies what a return to the current frame needs (the poses stay in `x` and are copied
+    /// to `x_tmp` by the next attempt).
+    fn save_frame(&self, ws: &mut Workspace) -> SavedFrame {
+        ws.v_saved.copy_from_slice(&ws.v);
+        ws.vdot_saved.copy_from_slice(&ws.vdot);
+        SavedFrame {
+            t: ws.t,
+            velocity_valid: ws.velocity_valid,
+            acceleration_valid: ws.acceleration_valid,
+        }
+    }
+
+    /// Returns `ws` to the frame an attempt started from (poses in `x_tmp`).
+    fn restore_frame(&self, ws: &mut Workspace, saved: &SavedFrame) {
+        ws.x.copy_from_slice(&ws.x_tmp);
+        ws.v.copy_from_slice(&ws.v_saved);
+        ws.vdot.copy_from_slice(&ws.vdot_saved);
+        ws.t = saved.t;
+        ws.poses_moved();
+        ws.sync_poses();
+        ws.velocity_valid = saved.velocity_valid;
+        ws.acceleration_valid = saved.acceleration_valid;
+    }
+
     /// Moves the poses in `ws` to the Taylor prediction x ⊕ (v dt + ½ v̇ dt² + ⅙ j dt³) at
     /// `ws.time() + dt` from the current velocities (and accelerations and jerk, when valid),
     /// body by body relative to a parent where that is the slower motion (module docs): the
@@ -232,13 +430,15 @@ impl Model {
     /// No allocation.
     pub fn predict_poses(&self, ws: &mut Workspace, dt: f64) {
         if ws.velocity_valid {
-            self.predict(ws, dt, 0, Outputs::default());
+            let _ = self.predict(ws, dt, 0, Outputs::default());
             ws.poses_moved();
         }
     }
 
-    /// Moves the Newton start to the predicted poses at t + dt.
-    fn predict(&self, ws: &mut Workspace, dt: f64, k: usize, out: Outputs) {
+    /// Moves the Newton start to the predicted poses at t + dt. False when there is nothing to
+    /// predict from (no valid velocities and fewer than two earlier frames): the start stays
+    /// at the last frame.
+    fn predict(&self, ws: &mut Workspace, dt: f64, k: usize, out: Outputs) -> bool {
         let nb = self.num_bodies();
         if out.needs_velocity() && ws.velocity_valid {
             let acc = out.acceleration && ws.acceleration_valid;
@@ -258,8 +458,11 @@ impl Model {
                 let n = p.compose_unit(&q.conjugate().compose(&p));
                 xs[3..].copy_from_slice(n.as_vector().as_slice());
             }
+        } else {
+            return false;
         }
         ws.sync_poses();
+        true
     }
 
     fn allocate_results(&self, options: &KinematicOptions) -> Results {
@@ -325,6 +528,7 @@ impl Model {
             joints,
             residual: Vec::with_capacity(n),
             iterations: Vec::with_capacity(n),
+            subdivided_steps: 0,
         }
     }
 

@@ -1,0 +1,160 @@
+//! Issue 27, item 5: a kinematic run on a coarse grid (a few steps per crank turn) must follow
+//! the assembly branch of its drawn pose, as a fine run does: the grid detects a step whose
+//! solution leaves the branch and solves it in substeps, and `cardan run` reports how many steps
+//! it subdivided (summary line and run.json, not a warning).
+
+mod common;
+use cardan_cli::commands::prepare;
+use cardan_mechanism::KinematicOptions;
+use nalgebra::Vector3;
+use std::f64::consts::PI;
+use std::path::PathBuf;
+
+fn example(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(format!("{name}.toml"))
+}
+
+/// The RSSR rocker tip Q at crank angle θ on the drawn branch (closed form of
+/// `examples.rs::rssr_matches_closed_form`).
+fn rssr_q(th: f64) -> Vector3<f64> {
+    let (a, b, l) = (0.1, 0.2, 0.35);
+    let g = Vector3::new(0.3, 0.15, 0.1);
+    let w = g - Vector3::new(a * th.cos(), a * th.sin(), 0.0);
+    let cc = (l * l - w.norm_squared() - b * b) / (2.0 * b);
+    let psi = w.z.atan2(w.x) + (cc / w.x.hypot(w.z)).acos();
+    g + b * Vector3::new(psi.cos(), 0.0, psi.sin())
+}
+
+/// Largest |Q − Q(θ)| of an RSSR run of `steps` steps from 0 to `t_end` (θ = 2πt), and the
+/// number of subdivided steps.
+fn rssr_error(steps: usize, t_end: f64) -> (f64, usize) {
+    let p = prepare(&example("rssr_fourbar")).unwrap();
+    let r = p
+        .model
+        .run_kinematics(&KinematicOptions::new(0.0, t_end, steps))
+        .unwrap_or_else(|e| panic!("{steps} steps: {e}"));
+    let q = r.point("rocker", "Q").unwrap();
+    let err = r
+        .times
+        .iter()
+        .zip(&q.position)
+        .map(|(&t, x)| (x - rssr_q(2.0 * PI * t)).amax())
+        .fold(0.0, f64::max);
+    (err, r.subdivided_steps)
+}
+
+#[test]
+fn rssr_on_coarse_grids_stays_on_the_drawn_branch() {
+    for (steps, t_end) in [(2, 1.0), (3, 1.0), (4, 1.0), (4, 2.0), (5, 2.0), (6, 3.0)] {
+        let (err, sub) = rssr_error(steps, t_end);
+        eprintln!(
+            "rssr, {steps} steps to t = {t_end}: max |Q − Q(θ)| = {err:.2e} m, {sub} subdivided"
+        );
+        assert!(
+            err < 1e-10,
+            "{steps} steps to {t_end}: |Q − Q(θ)| = {err} m"
+        );
+    }
+}
+
+#[test]
+fn a_fine_grid_subdivides_nothing() {
+    let (err, sub) = rssr_error(200, 1.0);
+    assert!(err < 1e-10 && sub == 0, "{err} m, {sub} subdivided");
+    let p = prepare(&example("slider_crank")).unwrap();
+    let r = p
+        .model
+        .run_kinematics(&KinematicOptions::new(0.0, 1.0, 200))
+        .unwrap();
+    assert_eq!(r.subdivided_steps, 0);
+}
+
+/// Haug's slider-crank with a few steps per turn: the slider x(θ) of the closed form of
+/// `examples.rs::slider_crank_matches_closed_form`.
+#[test]
+fn slider_crank_on_coarse_grids_follows_the_closed_form() {
+    let p = prepare(&example("slider_crank")).unwrap();
+    for steps in [2, 3, 4, 5] {
+        let r = p
+            .model
+            .run_kinematics(&KinematicOptions::new(0.0, 2.0, steps))
+            .unwrap();
+        let c = r.point("slider", "C").unwrap();
+        for (&t, x) in r.times.iter().zip(&c.position) {
+            let th = 2.0 * PI * t;
+            let (by, bz) = (0.1 - 0.08 * th.sin(), 0.12 + 0.08 * th.cos());
+            let want = (0.09 - by * by - bz * bz).sqrt();
+            assert!(
+                (x - Vector3::new(want, 0.0, 0.0)).amax() < 1e-10,
+                "{steps} steps, t = {t}: C = {x:?}, want x = {want}"
+            );
+        }
+    }
+}
+
+/// The bundled RSSR file with another grid (and analysis kind).
+fn rssr_text(steps: usize, kind: &str) -> String {
+    std::fs::read_to_string(example("rssr_fourbar"))
+        .unwrap()
+        .replace("steps = 200", &format!("steps = {steps}"))
+        .replace("kind = \"kinematic\"", &format!("kind = \"{kind}\""))
+}
+
+/// Column `col` of a CSV file, every row.
+fn column(csv: &str, col: &str) -> Vec<f64> {
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let k = header.iter().position(|h| h.starts_with(col)).unwrap();
+    lines
+        .map(|l| l.split(',').nth(k).unwrap().parse().unwrap())
+        .collect()
+}
+
+#[test]
+fn cardan_run_reports_subdivided_steps_and_strict_accepts_them() {
+    let o = common::run_text("run", &rssr_text(2, "kinematic"));
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let dir = common::scratch("coarse-strict");
+    std::fs::write(dir.join("model.toml"), rssr_text(2, "kinematic")).unwrap();
+    let o = common::cardan(&["run", "model.toml", "-o", "out", "--strict"], &dir);
+    assert_eq!(o.code, 0, "--strict: {}", o.stderr);
+    assert!(
+        o.stdout
+            .contains("1 step subdivided to stay on the assembly branch"),
+        "{}",
+        o.stdout
+    );
+    let json = std::fs::read_to_string(dir.join("out/run.json")).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(v["subdivided_steps"], 1, "{json}");
+    assert_eq!(v["warnings"].as_array().unwrap().len(), 0, "{json}");
+    let joints = std::fs::read_to_string(dir.join("out/joints.csv")).unwrap();
+    let psi = column(&joints, "rocker_pivot.angle");
+    // The rocker angle at θ = π on the drawn branch (fine run: −2.5459136692…).
+    assert!((psi[1] + 2.545_913_669_214_6).abs() < 1e-9, "{psi:?}");
+}
+
+/// Inverse dynamics runs on the same grid: the coarse run's motor torque equals the fine run's
+/// at the common times.
+#[test]
+fn inverse_dynamics_on_a_coarse_grid_gives_the_fine_torque() {
+    let coarse = common::run_text("run", &rssr_text(2, "inverse_dynamics"));
+    let fine = common::run_text("run", &rssr_text(200, "inverse_dynamics"));
+    assert_eq!(coarse.code, 0, "{}", coarse.stderr);
+    assert_eq!(fine.code, 0, "{}", fine.stderr);
+    let read = |o: &common::Outcome| {
+        let csv = std::fs::read_to_string(o.dir.join("out/driver_efforts.csv")).unwrap();
+        column(&csv, "motor.torque")
+    };
+    let (c, f) = (read(&coarse), read(&fine));
+    for (k, tc) in c.iter().enumerate() {
+        let tf = f[100 * k];
+        assert!(
+            (tc - tf).abs() <= 1e-8 * tf.abs().max(1e-3),
+            "t = {}: coarse {tc} N m, fine {tf} N m",
+            k as f64 / 2.0
+        );
+    }
+}
