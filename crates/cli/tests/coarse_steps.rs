@@ -5,7 +5,7 @@
 
 mod common;
 use cardan_cli::commands::prepare;
-use cardan_mechanism::KinematicOptions;
+use cardan_mechanism::{KinematicOptions, Outputs};
 use nalgebra::Vector3;
 use std::f64::consts::PI;
 use std::path::PathBuf;
@@ -69,6 +69,14 @@ fn a_fine_grid_subdivides_nothing() {
         .run_kinematics(&KinematicOptions::new(0.0, 1.0, 200))
         .unwrap();
     assert_eq!(r.subdivided_steps, 0);
+    // The first-order predictors (velocities only; extrapolation without velocities) too.
+    for outputs in [Outputs::with_velocity(), Outputs::position_only()] {
+        let r = p
+            .model
+            .run_kinematics(&KinematicOptions::new(0.0, 1.0, 50).outputs(outputs))
+            .unwrap();
+        assert_eq!(r.subdivided_steps, 0, "{outputs:?}");
+    }
 }
 
 /// Haug's slider-crank with a few steps per turn: the slider x(θ) of the closed form of

@@ -408,21 +408,6 @@ pub enum AnalysisError {
         /// Results up to (not including) `time`.
         partial: Option<Box<Results>>,
     },
-    /// A step of a time-grid run left the assembly branch (its solution lies far from the
-    /// prediction) even when subdivided into the finest substeps allowed.
-    #[error(
-        "at t = {time} the position solution leaves the assembly branch even in {substeps} substeps \
-         (the mechanism passes a singular or branch point near this time): use finer steps, or \
-         check the drivers and the drawn pose"
-    )]
-    BranchJump {
-        /// The time of the grid step.
-        time: f64,
-        /// Substeps of the last attempt.
-        substeps: usize,
-        /// Results up to (not including) `time`.
-        partial: Option<Box<Results>>,
-    },
     /// Bad analysis options (time grid, ...).
     #[error("invalid analysis options: {0}")]
     Options(String),
@@ -451,8 +436,7 @@ impl AnalysisError {
         match self {
             AnalysisError::Singular { partial, .. }
             | AnalysisError::NotConverged { partial, .. }
-            | AnalysisError::Solver { partial, .. }
-            | AnalysisError::BranchJump { partial, .. } => partial.as_deref(),
+            | AnalysisError::Solver { partial, .. } => partial.as_deref(),
             _ => None,
         }
     }
@@ -462,8 +446,7 @@ impl AnalysisError {
         match self {
             AnalysisError::Singular { partial, .. }
             | AnalysisError::NotConverged { partial, .. }
-            | AnalysisError::Solver { partial, .. }
-            | AnalysisError::BranchJump { partial, .. } => partial.map(|b| *b),
+            | AnalysisError::Solver { partial, .. } => partial.map(|b| *b),
             _ => None,
         }
     }
@@ -472,8 +455,7 @@ impl AnalysisError {
         match &mut self {
             AnalysisError::Singular { partial, .. }
             | AnalysisError::NotConverged { partial, .. }
-            | AnalysisError::Solver { partial, .. }
-            | AnalysisError::BranchJump { partial, .. } => *partial = Some(Box::new(results)),
+            | AnalysisError::Solver { partial, .. } => *partial = Some(Box::new(results)),
             _ => {}
         }
         self
