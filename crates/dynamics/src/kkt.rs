@@ -399,14 +399,7 @@ impl Kkt {
         if self.solver.is_none() {
             let size = self.rhs.len();
             let pattern = SparsityPattern::new(size, size, &self.lu_entries)?;
-            // Rows dropped as redundant: a nearly singular kept set is refused early, so that the
-            // caller chooses the rows again (`Dynamics::reselect`) instead of solving with it.
-            let mut solver = if self.active.len() < self.full.len() {
-                AutoSolver::default()
-                    .with_pivot_tolerance(cardan_mechanism::SELECTION_PIVOT_TOLERANCE)
-            } else {
-                AutoSolver::default()
-            };
+            let mut solver = AutoSolver::default();
             solver.analyze(&pattern)?;
             self.solver = Some(solver);
             self.lu_entries = Vec::new();

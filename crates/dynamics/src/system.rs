@@ -230,23 +230,26 @@ impl<'m> Dynamics<'m> {
         if self.redundant.is_empty() {
             return false;
         }
+        let Ok(active) = self.independent_rows(t) else {
+            return false;
+        };
         let Some(old) = self.kkt.as_ref() else {
             return false;
         };
+        if old.active == active {
+            // The same choice: the layout, its factorization and its counters stay.
+            return false;
+        }
         // The run's counters and the refinement setting carry over to the new layout.
-        let (active, factorizations, refine_below) =
-            (old.active.clone(), old.factorizations, old.refine_below);
-        if self.select_rows(t).is_err() {
+        let (factorizations, refine_below) = (old.factorizations, old.refine_below);
+        if self.lay_out(t, active).is_err() {
             return false;
         }
         let kkt = self.kkt.as_mut().expect("laid out");
         kkt.factorizations = factorizations;
         kkt.refine_below = refine_below;
-        let changed = kkt.active != active;
-        if changed {
-            self.reselections += 1;
-        }
-        changed
+        self.reselections += 1;
+        true
     }
 
     /// How many times the independent rows were chosen again during the runs of this
@@ -258,6 +261,13 @@ impl<'m> Dynamics<'m> {
     /// The rank analysis of Φ_v (all equations) at the synced bodies and time `t`, and the KKT
     /// layout on the independent rows.
     fn select_rows(&mut self, t: f64) -> Result<(), DynamicsError> {
+        let active = self.independent_rows(t)?;
+        self.lay_out(t, active)
+    }
+
+    /// The rank analysis of Φ_v (all equations) at the synced bodies and time `t`: the
+    /// independent rows (the redundant ones are recorded in `self.redundant`).
+    fn independent_rows(&mut self, t: f64) -> Result<Vec<usize>, DynamicsError> {
         let model = self.model;
         let m = model.num_equations();
         let n = model.num_unknowns();
@@ -289,9 +299,14 @@ impl<'m> Dynamics<'m> {
                 .collect();
             ra.independent_rows().to_vec()
         };
+        Ok(active)
+    }
+
+    /// The KKT layout on the rows `active`.
+    fn lay_out(&mut self, t: f64, active: Vec<usize>) -> Result<(), DynamicsError> {
         let pairs = self.coupled_pairs();
-        let kkt =
-            Kkt::new(model, &self.elements, active, &pairs).map_err(|e| self.solver_error(t, e))?;
+        let kkt = Kkt::new(self.model, &self.elements, active, &pairs)
+            .map_err(|e| self.solver_error(t, e))?;
         self.kkt = Some(kkt);
         Ok(())
     }

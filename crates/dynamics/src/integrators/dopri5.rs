@@ -384,7 +384,10 @@ pub(crate) fn run(
         };
         if !(err <= 1.0 && err.is_finite()) {
             // Redundant equations: the kept rows may have lost rank within the step where the
-            // full set has not. Choose them again where the step went wrong and retry it.
+            // full set has not. Choose them again where the step went wrong and retry it. This
+            // runs a dense rank analysis (which allocates) on every rejected step of a model with
+            // redundant equations; waiting for a second rejection in a row missed Bennett's
+            // singular point (the shorter retry ends too far from it to change the choice).
             let y = if failed.is_some() { &b.yt } else { &b.y1 };
             if reselect_at(d, y, failed_at, &mut b.scratch) {
                 stats.rejected += 1;

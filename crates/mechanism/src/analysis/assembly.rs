@@ -23,7 +23,7 @@
 use crate::error::{AnalysisError, OpenElement};
 use crate::model::Model;
 use crate::workspace::{apply_rotation_step, set_poses, Workspace};
-use cardan_constraints::{BodyPair, BodyState, Driver, TimeFunction};
+use cardan_constraints::{unwrap_angle, BodyPair, BodyState, Driver, TimeFunction};
 use cardan_solver::{
     LineSearch, MinNormQr, Newton, NewtonOptions, NonlinearSystem, SolverError, SparsityPattern,
     Tolerances,
@@ -223,14 +223,8 @@ impl Model {
                 let c0 = d.driver.coordinate(&BodyPair::new(&si, &sj));
                 let target = d.driver.function().eval(options.t).0;
                 let change = match d.driver {
-                    Driver::Rotation(_) => {
-                        let w = (target - c0).rem_euclid(2.0 * std::f64::consts::PI);
-                        if w > std::f64::consts::PI {
-                            w - 2.0 * std::f64::consts::PI
-                        } else {
-                            w
-                        }
-                    }
+                    // The shorter way round: θ(t) taken within π of the drawn angle.
+                    Driver::Rotation(_) => unwrap_angle(c0, target) - c0,
                     _ => target - c0,
                 };
                 (c0, change)
