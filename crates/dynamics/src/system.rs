@@ -577,6 +577,7 @@ impl<'m> Dynamics<'m> {
         let t = state.t;
         let scales = model.equation_scales();
         let mut last = 0.0;
+        let mut polish = 0;
         for it in 0..20 {
             self.sync(state);
             let kkt = self.kkt.as_mut().expect("prepared");
@@ -601,7 +602,24 @@ impl<'m> Dynamics<'m> {
                 });
             }
             if res <= tol {
-                return Ok(it);
+                // The kept rows are satisfied; the dropped ones must be too. On the full set's
+                // manifold they follow the kept rows up to the kept rows' conditioning, so a
+                // Newton step or two more brings them in. If they stay off, Newton has landed on
+                // a branch of the kept rows' solution set that the full set does not have (it
+                // branches where the kept rows lose rank: Bennett's linkage with fixed DOPRI5
+                // steps through such a point): choose the rows again and go on projecting.
+                let dropped = dropped_residual(&kkt.active, &kkt.full, scales);
+                if dropped <= tol {
+                    return Ok(it);
+                }
+                if polish == POLISH_STEPS {
+                    if dropped > DROPPED_ROW_FACTOR * tol && self.reselect(t) {
+                        polish = 0;
+                        continue;
+                    }
+                    return Ok(it);
+                }
+                polish += 1;
             }
             kkt.eval_jacobian(model, &self.elements, &self.bodies, t);
             kkt.set_mass(&self.mass, &self.inertia);
@@ -735,4 +753,30 @@ impl<'m> Dynamics<'m> {
         let e = self.elements[joint].clone();
         self.element_reaction(&e, state.t, lambda, &pi, &pj)
     }
+}
+
+/// Newton steps a projection takes beyond the kept rows' convergence for dropped (redundant)
+/// rows that are still off by more than the tolerance.
+const POLISH_STEPS: usize = 2;
+
+/// A projection whose dropped rows are still off by more than this multiple of the tolerance
+/// after [`POLISH_STEPS`] has landed on a branch of the kept rows that the full set does not
+/// have, or the kept rows are nearly singular there: reason enough to choose them again.
+const DROPPED_ROW_FACTOR: f64 = 1e2;
+
+/// max |Φ_r / scale_r| over the rows not in `active` (sorted); 0 without redundant rows.
+fn dropped_residual(active: &[usize], phi: &[f64], scales: &[f64]) -> f64 {
+    if active.len() == phi.len() {
+        return 0.0;
+    }
+    let mut kept = active.iter().peekable();
+    let mut worst = 0.0f64;
+    for (r, (&v, &s)) in phi.iter().zip(scales).enumerate() {
+        if kept.peek() == Some(&&r) {
+            kept.next();
+        } else {
+            worst = worst.max((v / s).abs());
+        }
+    }
+    worst
 }

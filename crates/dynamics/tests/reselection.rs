@@ -260,13 +260,12 @@ fn dynamics_re_selects_rows_where_the_first_choice_is_singular() {
     assert!(failures.is_empty(), "{failures:#?}");
 }
 
-/// Still open (issue 27, item 1): DOPRI5 with fixed steps that land exactly on the singular
-/// time of the first choice records that output, but its projection two steps later diverges
-/// ("position projection did not converge", residual 82): the subset's manifold branches there
-/// and the state follows the wrong branch before any factorization fails. Needs a proactive
-/// re-selection (on the conditioning of the kept rows, or on the residual of the dropped ones).
+/// DOPRI5 with fixed steps that land exactly on the singular times of the first choice. Before
+/// the projection checked the dropped rows, the output at the singular time was recorded but the
+/// projection two steps later diverged ("position projection did not converge", residual 82):
+/// the kept rows' solution set branches there and Newton followed the branch the full set does
+/// not have.
 #[test]
-#[ignore = "known defect: DOPRI5 fixed steps through a singular point of the kept rows"]
 fn dopri5_fixed_steps_through_the_singular_time() {
     let failures = dynamic_failures(true);
     assert!(failures.is_empty(), "{failures:#?}");
