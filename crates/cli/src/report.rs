@@ -59,6 +59,9 @@ pub struct RunReport {
     /// left the assembly branch (a note, not a warning: `--strict` ignores it); `null` for a
     /// dynamic run.
     pub subdivided_steps: Option<usize>,
+    /// Times the independent equations of a model with redundant equations were chosen again
+    /// because the kept ones lost rank where the full set has not (a note, not a warning).
+    pub row_reselections: usize,
     /// The files written besides `run.json`, in the order written.
     pub files: Vec<String>,
     /// Wall time of the analysis, without the writing (s).

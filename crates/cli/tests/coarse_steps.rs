@@ -145,13 +145,24 @@ fn cardan_run_reports_subdivided_steps_and_strict_accepts_them() {
 }
 
 /// Inverse dynamics runs on the same grid: the coarse run's motor torque equals the fine run's
-/// at the common times.
+/// at the common times, and the coarse run reports its subdivided step (the inverse run's
+/// summary and run.json said 0 before the efforts pass passed the kinematic pass's count on).
 #[test]
 fn inverse_dynamics_on_a_coarse_grid_gives_the_fine_torque() {
     let coarse = common::run_text("run", &rssr_text(2, "inverse_dynamics"));
     let fine = common::run_text("run", &rssr_text(200, "inverse_dynamics"));
     assert_eq!(coarse.code, 0, "{}", coarse.stderr);
     assert_eq!(fine.code, 0, "{}", fine.stderr);
+    assert!(
+        coarse
+            .stdout
+            .contains("1 step subdivided to stay on the assembly branch"),
+        "{}",
+        coarse.stdout
+    );
+    let json = std::fs::read_to_string(coarse.dir.join("out/run.json")).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(v["subdivided_steps"], 1, "{json}");
     let read = |o: &common::Outcome| {
         let csv = std::fs::read_to_string(o.dir.join("out/driver_efforts.csv")).unwrap();
         column(&csv, "motor.torque")

@@ -306,6 +306,46 @@ fn bricard_is_mobile_with_one_redundant_equation() {
     check_fd("bricard", &p, 200, 1e-1, 5.0);
 }
 
+/// Bennett's linkage: 20 joint equations of rank 17 with one degree of freedom. The 17 rows kept
+/// at the drawn pose lose rank at t = 0.420422528454052 (issue 27, item 1): a run whose last
+/// frame lands there chooses the rows again, closes every equation, and says so in the summary
+/// and in run.json.
+#[test]
+fn bennett_chooses_its_rows_again_where_the_first_choice_is_singular() {
+    let (p, r) = run_example("bennett");
+    let res = r.residual.iter().fold(0.0f64, |a, &b| a.max(b));
+    assert!(res < 1e-10, "{res}");
+    assert_eq!(
+        p.model.num_equations(),
+        21,
+        "20 joint equations and the driver"
+    );
+    check_fd("bennett", &p, 200, 1e-1, 5.0);
+
+    let text = std::fs::read_to_string(example("bennett"))
+        .unwrap()
+        .replace("t_end = 1.0", "t_end = 0.420422528454052")
+        .replace("steps = 200", "steps = 50");
+    let dir = out_dir("bennett-singular");
+    std::fs::create_dir_all(&dir).unwrap();
+    let model = dir.join("bennett.toml");
+    std::fs::write(&model, text).unwrap();
+    let o = run_model(&model, Some(&dir.join("out")), false).expect("runs");
+    assert!(o.error.is_none(), "{:?}", o.error);
+    let res = o.results.residual.iter().fold(0.0f64, |a, &b| a.max(b));
+    assert!(res < 1e-10, "{res}");
+    assert!(o.summary.row_reselections >= 1, "{:?}", o.summary);
+    let json = std::fs::read_to_string(dir.join("out/run.json")).unwrap();
+    assert!(json.contains(&format!(
+        "\"row_reselections\": {}",
+        o.summary.row_reselections
+    )));
+    let mut line = Vec::new();
+    cardan_cli::commands::run::print_summary(&o.summary, &mut line).unwrap();
+    let line = String::from_utf8(line).unwrap();
+    assert!(line.contains("redundant equations chosen again"), "{line}");
+}
+
 /// RSCR four-bar with a cylindrical joint. The ball centre is P(θ) = (a cos θ, a sin θ, h),
 /// a = 0.1, h = 0.15. The rocker turns about global y through G = (0.35, 0, 0); its arm is the
 /// line through G with direction u(ψ) = (sin ψ, 0, cos ψ). The coupler holds P at distance
@@ -356,6 +396,7 @@ fn every_example_checks() {
         "rssr_fourbar",
         "universal_drive",
         "bricard",
+        "bennett",
         "spatial_fourbar_cylindrical",
         "slider_crank_inverse",
     ] {

@@ -122,6 +122,7 @@ impl Dynamics<'_> {
         }
         let s0 = state_at(0);
         self.prepare(&s0)?;
+        let reselections = self.reselections;
         let mut rec = Recorder::new(self, kin.times.len(), outputs);
         let mut done = 0;
         for i in 0..kin.times.len() {
@@ -135,9 +136,14 @@ impl Dynamics<'_> {
         let stats = IntegrationStats {
             steps: done,
             evaluations: done,
+            row_reselections: self.reselections - reselections,
             wall_time: start.elapsed().as_secs_f64(),
             ..IntegrationStats::default()
         };
-        Ok(rec.finish(stats))
+        let mut r = rec.finish(stats);
+        // What the kinematic pass counted.
+        r.kinematics.subdivided_steps = kin.subdivided_steps;
+        r.kinematics.row_reselections = kin.row_reselections;
+        Ok(r)
     }
 }

@@ -92,6 +92,10 @@ pub struct IntegrationStats {
     pub newton_iterations: usize,
     /// Numeric factorizations of the KKT matrix.
     pub factorizations: usize,
+    /// Times the independent equations of a mechanism with redundant equations were chosen
+    /// again because the kept ones lost rank where the full set has not
+    /// ([`Dynamics::row_reselections`](crate::Dynamics::row_reselections)).
+    pub row_reselections: usize,
     /// Wall time of the integration loop (s).
     pub wall_time: f64,
 }

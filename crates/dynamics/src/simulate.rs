@@ -80,6 +80,7 @@ impl Dynamics<'_> {
         let mut rec = Recorder::new(self, times.len(), options.outputs);
         let mut stats = IntegrationStats::default();
         let f0 = self.kkt.as_ref().map_or(0, |k| k.factorizations);
+        let reselections = self.reselections;
         let start = std::time::Instant::now();
         if let Some(kkt) = self.kkt.as_mut() {
             kkt.refine_below = match options.integrator {
@@ -110,6 +111,7 @@ impl Dynamics<'_> {
             ),
         };
         stats.factorizations = self.kkt.as_ref().map_or(0, |k| k.factorizations) - f0;
+        stats.row_reselections = self.reselections - reselections;
         if let Some(kkt) = self.kkt.as_mut() {
             kkt.refine_below = crate::kkt::SCHUR_REFINE_RATIO;
         }

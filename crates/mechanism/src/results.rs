@@ -134,6 +134,10 @@ pub struct Results {
     /// solution left the assembly branch (see the time-grid docs, `analysis::grid`); 0 for a
     /// run whose every step followed its prediction.
     pub subdivided_steps: usize,
+    /// Times the independent equations of a mechanism with redundant equations were chosen
+    /// again during the run because the kept ones lost rank where the full set has not
+    /// (see `Workspace::row_reselections`); 0 without redundant equations.
+    pub row_reselections: usize,
 }
 
 impl Results {

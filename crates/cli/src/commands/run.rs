@@ -40,6 +40,9 @@ pub struct Summary {
     /// Kinematic and inverse dynamics runs: grid steps solved in substeps to stay on the
     /// assembly branch (`Results::subdivided_steps`; not a warning); `None` for dynamic runs.
     pub subdivided_steps: Option<usize>,
+    /// Times the independent equations of a model with redundant equations were chosen again
+    /// because the kept ones lost rank (a note, not a warning).
+    pub row_reselections: usize,
 }
 
 /// What a dynamic run adds to the summary line.
@@ -105,7 +108,7 @@ pub fn run(
 }
 
 /// The summary: the files written, one line of numbers, then one line per warning.
-fn print_summary(s: &Summary, out: &mut dyn Write) -> Result<(), Error> {
+pub fn print_summary(s: &Summary, out: &mut dyn Write) -> Result<(), Error> {
     let written: Vec<String> = s
         .files
         .iter()
@@ -139,6 +142,11 @@ fn print_summary(s: &Summary, out: &mut dyn Write) -> Result<(), Error> {
             format!("{efforts}, {n} steps subdivided to stay on the assembly branch")
         }
         _ => efforts,
+    };
+    let efforts = match s.row_reselections {
+        0 => efforts,
+        1 => format!("{efforts}, redundant equations chosen again once"),
+        n => format!("{efforts}, redundant equations chosen again {n} times"),
     };
     let efforts = match s.warnings.len() {
         0 => efforts,
@@ -338,6 +346,7 @@ fn report(p: &Prepared, kind: &'static str, a: &Analysed, files: Vec<String>) ->
         energy_drift: d.map(|d| d.energy_drift),
         warnings: s.warnings.clone(),
         subdivided_steps: s.subdivided_steps,
+        row_reselections: s.row_reselections,
         files,
         wall_time_s: s.wall.as_secs_f64(),
     }
@@ -383,6 +392,7 @@ fn run_kinematic(
         peak_efforts: Vec::new(),
         warnings: Vec::new(),
         subdivided_steps: Some(results.subdivided_steps),
+        row_reselections: results.row_reselections,
     };
     Ok(Analysed {
         tables,
@@ -447,6 +457,7 @@ fn run_dynamic(
         peak_efforts: peak_efforts(p, &r),
         warnings: crate::dynamic::doubtful_results(p, &r, &opts.integrator),
         subdivided_steps: None,
+        row_reselections: r.stats.row_reselections,
     };
     Ok(Analysed {
         tables,
@@ -487,6 +498,7 @@ fn run_inverse(
         peak_efforts: peak_efforts(p, &r),
         warnings: Vec::new(),
         subdivided_steps: Some(k.subdivided_steps),
+        row_reselections: k.row_reselections + r.stats.row_reselections,
     };
     Ok(Analysed {
         tables,

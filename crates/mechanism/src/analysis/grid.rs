@@ -235,9 +235,12 @@ impl Model {
         }
         let mut results = self.allocate_results(options);
         let mut joint_prev = vec![[0.0; 3]; self.joints.len()];
+        let reselections = ws.reselections;
         for k in 0..=options.steps {
             let t = options.time(k);
-            if let Err(e) = self.step(ws, options, k, t, &mut results, &mut joint_prev) {
+            let step = self.step(ws, options, k, t, &mut results, &mut joint_prev);
+            results.row_reselections = ws.reselections - reselections;
+            if let Err(e) = step {
                 return Err(e.with_partial(results));
             }
             if progress(k, t).is_break() {
@@ -533,6 +536,7 @@ impl Model {
             residual: Vec::with_capacity(n),
             iterations: Vec::with_capacity(n),
             subdivided_steps: 0,
+            row_reselections: 0,
         }
     }
 
