@@ -3,7 +3,7 @@
 #![no_main]
 
 use arbitrary::Arbitrary;
-use cardan_constraints::{JointKind, TimeFunction};
+use cardan_constraints::{TimeFunction, KINDS};
 use cardan_mechanism::{
     AssemblyOptions, Axis, Body, DriverSpec, JointSpec, KinematicOptions, MechanismBuilder,
     Orientation, GROUND,
@@ -110,16 +110,6 @@ struct Input {
     steps: u8,
 }
 
-const KINDS: [JointKind; 8] = [
-    JointKind::Spherical,
-    JointKind::Universal,
-    JointKind::Revolute,
-    JointKind::Cylindrical,
-    JointKind::Prismatic,
-    JointKind::Fixed,
-    JointKind::SphericalSpherical,
-    JointKind::Planar,
-];
 
 fn body_name(k: u8, n: usize) -> String {
     // One index past the bodies names a body that does not exist.
@@ -201,7 +191,7 @@ fuzz_target!(|input: Input| {
         let (pi, pj) = (feat(j.pi), feat(j.pj));
         let mut js = JointSpec::new(
             format!("j{k}"),
-            KINDS[j.kind as usize % KINDS.len()],
+            KINDS[j.kind as usize % KINDS.len()].kind,
             (&bi, &pi),
             (&bj, &pj),
         );

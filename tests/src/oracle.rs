@@ -98,6 +98,50 @@ pub fn load(path: &Path) -> Result<OracleFile, String> {
     })
 }
 
+/// What keeps the oracle data and the Rust vocabulary apart: names the Rust side has without
+/// oracle data (`missing`), oracle data naming nothing on the Rust side (`unknown`). The gate
+/// requires both to be empty, for elements and for time-function kinds.
+#[derive(Debug, Default, PartialEq, Eq)]
+pub struct Mismatch {
+    /// Rust names without oracle data.
+    pub missing: Vec<String>,
+    /// Oracle names without a Rust counterpart.
+    pub unknown: Vec<String>,
+}
+
+impl Mismatch {
+    /// Compares the Rust names with the oracle's.
+    pub fn between<'a>(
+        rust: impl IntoIterator<Item = &'a str>,
+        oracle: impl IntoIterator<Item = &'a str>,
+    ) -> Self {
+        let rust: std::collections::BTreeSet<&str> = rust.into_iter().collect();
+        let oracle: std::collections::BTreeSet<&str> = oracle.into_iter().collect();
+        Self {
+            missing: rust.difference(&oracle).map(|s| s.to_string()).collect(),
+            unknown: oracle.difference(&rust).map(|s| s.to_string()).collect(),
+        }
+    }
+
+    /// Whether the two sides agree.
+    pub fn is_empty(&self) -> bool {
+        self.missing.is_empty() && self.unknown.is_empty()
+    }
+}
+
+/// The time-function kinds the cases of `files` exercise (`params.function.kind`).
+pub fn function_kinds(files: &[OracleFile]) -> Vec<String> {
+    let mut kinds: Vec<String> = files
+        .iter()
+        .flat_map(|f| &f.cases)
+        .filter_map(|c| c["params"]["function"]["kind"].as_str())
+        .map(str::to_string)
+        .collect();
+    kinds.sort();
+    kinds.dedup();
+    kinds
+}
+
 fn vec_of(v: &Value, key: &str) -> Result<Vec<f64>, String> {
     v[key]
         .as_array()

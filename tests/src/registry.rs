@@ -1,20 +1,23 @@
 //! The registry of every constraint element, by the name the oracle files use.
 //!
-//! [`ELEMENTS`] must list every primitive, joint and driver the Rust code has. The functions
-//! [`primitive_name`], [`joint_name`] and [`driver_name`] match exhaustively on the Rust enums, so
-//! adding a variant without adding it here is a compile error; the gate then fails for any listed
-//! element that has no oracle data file. Nothing can be added unchecked.
+//! [`elements`] lists every primitive, joint and driver the Rust code has: the joints from the
+//! kind table ([`KINDS`]), the primitives and drivers from [`PRIMITIVES`] and [`DRIVERS`], which
+//! sit beside the exhaustive matches [`primitive_name`] and [`driver_name`] (a new variant must
+//! be named there, and a test checks every name is built by [`build`]). The oracle gate fails for
+//! any listed element without oracle data, for oracle data naming no element, and for a time
+//! function kind ([`TimeFunction::KINDS`]) that no driver case exercises. Nothing can be added
+//! unchecked.
 
 use cardan_constraints::{
-    BodyPair, Constraint, CoordinateDriver, Distance, DistanceDriver, Driver, Footprint, Form,
-    Joint, JointKind, Marker, Normalization, P1Perp, P1Select, P2Perp, P2Select, Primitive,
-    RotationDriver, Spherical, TimeFunction, TranslationDriver, N1, N2, P1, P2,
+    BodyPair, Constraint, CoordinateDriver, Dimension, Distance, DistanceDriver, Driver, Footprint,
+    Form, Joint, JointKind, Marker, Normalization, P1Perp, P1Select, P2Perp, P2Select, Primitive,
+    RotationDriver, Spherical, TimeFunction, TranslationDriver, KINDS, N1, N2, P1, P2,
 };
 use nalgebra::{Matrix3, Vector3};
 use serde_json::Value;
 
-/// Every element name the Rust side implements, as the oracle names them.
-pub const ELEMENTS: &[&str] = &[
+/// Every primitive, as the oracle names them (see [`primitive_name`]).
+pub const PRIMITIVES: &[&str] = &[
     "n1",
     "n2",
     "p1",
@@ -26,19 +29,27 @@ pub const ELEMENTS: &[&str] = &[
     "s",
     "distance",
     "normalization",
-    "spherical",
-    "universal",
-    "revolute",
-    "cylindrical",
-    "prismatic",
-    "fixed",
-    "spherical_spherical",
-    "planar",
+];
+
+/// Every driver, as the oracle names them (see [`driver_name`]).
+pub const DRIVERS: &[&str] = &[
     "rotation_driver",
     "translation_driver",
     "distance_driver",
     "coordinate_driver",
 ];
+
+/// Every element name the Rust side implements: primitives, the joint kinds of the kind table,
+/// drivers.
+pub fn elements() -> Vec<&'static str> {
+    let joints = KINDS.iter().map(|k| k.name);
+    PRIMITIVES
+        .iter()
+        .copied()
+        .chain(joints)
+        .chain(DRIVERS.iter().copied())
+        .collect()
+}
 
 /// The oracle name of a primitive variant (exhaustive: a new variant must be named here).
 pub fn primitive_name(p: &Primitive) -> &'static str {
@@ -111,6 +122,9 @@ impl Constraint for Element {
     }
     fn rows(&self) -> usize {
         each!(self, c => c.rows())
+    }
+    fn dimension(&self, row: usize) -> Dimension {
+        each!(self, c => c.dimension(row))
     }
     fn footprint(&self) -> Footprint {
         each!(self, c => c.footprint())
@@ -232,17 +246,22 @@ pub fn build(name: &str, p: &Value) -> Result<Element, ParamError> {
         "s" => prim(Spherical::new(v3(p, "sp_i")?, v3(p, "sp_j")?).into()),
         "distance" => prim(Distance::new(v3(p, "sp_i")?, v3(p, "sp_j")?, num(p, "length")?).into()),
         "normalization" => prim(Normalization.into()),
-        "spherical" => joint(JointKind::Spherical),
-        "universal" => joint(JointKind::Universal),
-        "revolute" => joint(JointKind::Revolute),
-        "cylindrical" => joint(JointKind::Cylindrical),
-        "prismatic" => joint(JointKind::Prismatic),
-        "fixed" => joint(JointKind::Fixed),
-        "planar" => joint(JointKind::Planar),
-        "spherical_spherical" => {
-            Joint::spherical_spherical(v3(p, "point_i")?, v3(p, "point_j")?, num(p, "length")?)
-                .map(E::Joint)
-                .map_err(|e| e.to_string())
+        // A joint kind of the table: markers, or two points and a length.
+        _ if JointKind::from_name(name).is_some_and(|k| k.name() == name) => {
+            let kind = JointKind::from_name(name).expect("checked");
+            if kind.info().length {
+                let at = |key| {
+                    v3(p, key).map(|point| Marker {
+                        point,
+                        frame: Matrix3::identity(),
+                    })
+                };
+                Joint::with_length(kind, at("point_i")?, at("point_j")?, num(p, "length")?)
+                    .map(E::Joint)
+                    .map_err(|e| e.to_string())
+            } else {
+                joint(kind)
+            }
         }
         "rotation_driver" => Ok(E::Driver(
             RotationDriver::new(

@@ -2,9 +2,9 @@
 //! `oracle/data/` (regenerate with `cargo xtask oracle`; CI checks they are current with
 //! `cargo xtask oracle --check`). Relative tolerance 1e-12; see `cardan_tests::oracle`.
 
-use cardan_tests::oracle::{compare_case, data_dir, load};
-use cardan_tests::registry::ELEMENTS;
-use std::collections::BTreeSet;
+use cardan_constraints::TimeFunction;
+use cardan_tests::oracle::{compare_case, data_dir, function_kinds, load, Mismatch, OracleFile};
+use cardan_tests::registry::{build, elements};
 
 fn oracle_files() -> Vec<std::path::PathBuf> {
     let mut files: Vec<_> = std::fs::read_dir(data_dir())
@@ -16,17 +16,72 @@ fn oracle_files() -> Vec<std::path::PathBuf> {
     files
 }
 
+fn loaded() -> Vec<OracleFile> {
+    oracle_files()
+        .iter()
+        .map(|p| load(p).expect("loadable oracle file"))
+        .collect()
+}
+
+/// The element names of the Rust side (primitives, the kind table's joints, drivers) against
+/// the oracle files.
+fn element_mismatch(rust: &[&str], files: &[OracleFile]) -> Mismatch {
+    Mismatch::between(
+        rust.iter().copied(),
+        files.iter().map(|f| f.element.as_str()),
+    )
+}
+
+/// The time-function kinds of the Rust side against those the driver cases exercise.
+fn function_mismatch(rust: &[&str], files: &[OracleFile]) -> Mismatch {
+    let exercised = function_kinds(files);
+    Mismatch::between(rust.iter().copied(), exercised.iter().map(String::as_str))
+}
+
 #[test]
 fn every_rust_element_has_oracle_data_and_every_oracle_file_a_rust_element() {
-    let have: BTreeSet<String> = oracle_files()
-        .iter()
-        .map(|p| load(p).expect("loadable oracle file").element)
-        .collect();
-    let rust: BTreeSet<String> = ELEMENTS.iter().map(|s| s.to_string()).collect();
-    let missing: Vec<_> = rust.difference(&have).collect();
-    let unknown: Vec<_> = have.difference(&rust).collect();
-    assert!(missing.is_empty(), "Rust elements without oracle data (add them to oracle/ and run `cargo xtask oracle`): {missing:?}");
-    assert!(unknown.is_empty(), "oracle elements with no Rust implementation registered in tests/src/registry.rs: {unknown:?}");
+    let files = loaded();
+    let m = element_mismatch(&elements(), &files);
+    assert!(m.missing.is_empty(), "Rust elements without oracle data (add them to oracle/ and run `cargo xtask oracle`): {:?}", m.missing);
+    assert!(m.unknown.is_empty(), "oracle elements with no Rust implementation (joint kinds come from cardan_constraints::KINDS, the others from tests/src/registry.rs): {:?}", m.unknown);
+    let m = function_mismatch(&TimeFunction::KINDS, &files);
+    assert!(
+        m.is_empty(),
+        "time-function kinds without oracle cases / unknown in Rust: {m:?}"
+    );
+}
+
+/// The gate's check can fail: a joint kind added to the table without oracle data, an oracle
+/// file naming a kind that does not exist, a time-function kind no case exercises.
+#[test]
+fn the_gate_fails_for_a_kind_without_oracle_data_and_for_data_without_a_kind() {
+    let files = loaded();
+    let mut rust = elements();
+    rust.push("phantom_joint");
+    let m = element_mismatch(&rust, &files);
+    assert_eq!(m.missing, ["phantom_joint"]);
+    assert!(m.unknown.is_empty());
+
+    let mut rust = elements();
+    rust.retain(|&n| n != "revolute");
+    let m = element_mismatch(&rust, &files);
+    assert_eq!(m.unknown, ["revolute"]);
+
+    let mut kinds = TimeFunction::KINDS.to_vec();
+    kinds.push("sawtooth");
+    let m = function_mismatch(&kinds, &files);
+    assert_eq!(m.missing, ["sawtooth"]);
+}
+
+/// Every registered name builds an element from the parameters of its first oracle case (so the
+/// lists of the registry and its builder agree).
+#[test]
+fn every_registered_element_is_built_from_its_oracle_parameters() {
+    for f in loaded() {
+        let e = build(&f.element, &f.cases[0]["params"])
+            .unwrap_or_else(|e| panic!("{}: {e}", f.element));
+        assert_eq!(e.oracle_name(), f.element);
+    }
 }
 
 #[test]

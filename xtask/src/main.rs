@@ -6,15 +6,21 @@
 //! - `cargo xtask bench [--smoke] [--peers]`: performance benchmarks → docs/benchmarks.md.
 //! - `cargo xtask bench --peers-only [kinematics|slider-crank|chain ...]`: the peer comparisons
 //!   alone, tables to stdout.
+//! - `cargo xtask docs`: regenerate the tables of docs/ that come from code (the joint table).
+//! - `cargo xtask compare-outputs <rev>`: every example's CSV output at `<rev>` and now, byte for
+//!   byte.
 
 mod bench;
 mod oracle;
+mod outputs;
 mod stress;
 
-use std::process::ExitCode;
+use std::path::{Path, PathBuf};
+use std::process::{Command, ExitCode};
 
 const USAGE: &str = "usage: cargo xtask oracle [--check] | stress [--quick] | bench [--smoke] [--peers]
        cargo xtask bench --peers-only [kinematics|slider-crank|chain ...]
+       cargo xtask docs | compare-outputs REV
 
 tasks:
   oracle            create/update the Python venv under target/ and regenerate oracle/data/
@@ -25,7 +31,10 @@ tasks:
   bench --smoke     a few iterations of every benchmark (CI); writes target/bench/
   bench --peers     also Exudyn and OndselSolver side by side (PyPI, venv in target/)
   bench --peers-only [NAME ...]
-                    only the peer comparisons (all, or those named), tables to stdout";
+                    only the peer comparisons (all, or those named), tables to stdout
+  docs              regenerate docs/model-format.md's joint table from the kind table
+  compare-outputs REV
+                    every example's CSV files at commit REV and in the working tree, byte for byte";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -39,6 +48,8 @@ fn main() -> ExitCode {
         ["bench", flags @ ..] if flags.iter().all(|f| matches!(*f, "--smoke" | "--peers")) => {
             bench::run(flags.contains(&"--smoke"), flags.contains(&"--peers"))
         }
+        ["docs"] => docs(),
+        ["compare-outputs", rev] => outputs::run(rev),
         ["help"] | ["--help"] | ["-h"] => {
             println!("{USAGE}");
             return ExitCode::SUCCESS;
@@ -54,5 +65,34 @@ fn main() -> ExitCode {
             eprintln!("error: {e}");
             ExitCode::FAILURE
         }
+    }
+}
+
+/// The workspace root (the parent of the `xtask` package).
+pub fn workspace_root() -> PathBuf {
+    let manifest = Path::new(env!("CARGO_MANIFEST_DIR"));
+    manifest.parent().unwrap_or(manifest).to_path_buf()
+}
+
+/// Writes the generated tables of docs/ (the test that checks them, in bless mode).
+fn docs() -> Result<(), String> {
+    let status = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()))
+        .args([
+            "test",
+            "-q",
+            "-p",
+            "cardan-constraints",
+            "--test",
+            "docs_table",
+        ])
+        .env("CARDAN_BLESS", "1")
+        .current_dir(workspace_root())
+        .status()
+        .map_err(|e| e.to_string())?;
+    if status.success() {
+        println!("docs/model-format.md: joint table written");
+        Ok(())
+    } else {
+        Err("writing the joint table failed".into())
     }
 }

@@ -12,6 +12,7 @@
 //! Missing Python, a failing venv creation or a failing pip are errors that say what to install;
 //! the task never skips silently.
 
+use crate::workspace_root;
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -81,12 +82,6 @@ pub fn run(mode: Mode) -> Result<(), String> {
             }
         }
     }
-}
-
-/// The workspace root (the parent of the `xtask` package).
-fn workspace_root() -> PathBuf {
-    let manifest = Path::new(env!("CARGO_MANIFEST_DIR"));
-    manifest.parent().unwrap_or(manifest).to_path_buf()
 }
 
 /// Python inside the venv (`bin/python`, or `Scripts\python.exe` on Windows).

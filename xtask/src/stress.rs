@@ -8,8 +8,9 @@
 //!   spatial slider-crank through the `cardan` binary; the measured bounds are printed and
 //!   written to `target/stress/report.md`.
 
+use crate::workspace_root;
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 use std::time::Instant;
 
@@ -202,13 +203,6 @@ energy = true
         "- {summary}\n- outputs: {rows}\n- max |‖p‖ − 1| at the outputs: {norm:.3e}\n- max |E(t) − E(0)|: {drift:.3e} J (relative to max(|T|, |V|) = {e_scale:.3e} J: {:.3e})",
         drift / e_scale.max(f64::MIN_POSITIVE)
     ))
-}
-
-fn workspace_root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .expect("xtask lives in the workspace")
-        .to_path_buf()
 }
 
 fn cargo(root: &Path, args: &[String], envs: &[(&str, &str)]) -> Result<(), String> {

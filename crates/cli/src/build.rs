@@ -8,7 +8,7 @@ use crate::model::{
     AnalysisSection, BodySection, DriverSection, ForceSection, FunctionSpec, InertiaSpec,
     JointSection, ModelFile, Name, Num, OrientationSpec, Vec3,
 };
-use cardan_constraints::{JointKind, TimeFunction};
+use cardan_constraints::{JointKind, KindInfo, TimeFunction, KINDS};
 use cardan_dynamics::{
     Dopri5Options, Force, Frame, GeneralizedAlphaOptions, Integrator, PointRef, VectorFunction,
 };
@@ -219,33 +219,15 @@ pub fn fmt_vec(v: &Vector3<f64>) -> String {
     format!("({}, {}, {})", f(v.x), f(v.y), f(v.z))
 }
 
-fn joint_kind(name: &str) -> Option<JointKind> {
-    Some(match name {
-        "spherical" => JointKind::Spherical,
-        "universal" => JointKind::Universal,
-        "revolute" => JointKind::Revolute,
-        "cylindrical" => JointKind::Cylindrical,
-        "prismatic" | "translational" => JointKind::Prismatic,
-        "fixed" => JointKind::Fixed,
-        "spherical_spherical" | "distance" => JointKind::SphericalSpherical,
-        "planar" => JointKind::Planar,
-        _ => return None,
-    })
+/// Every joint type name a model file accepts (names and aliases, from the kind table).
+fn joint_types() -> impl Iterator<Item = &'static str> + Clone {
+    KINDS
+        .iter()
+        .flat_map(|k| std::iter::once(k.name).chain(k.aliases.iter().copied()))
 }
 
-const JOINT_TYPES: &[&str] = &[
-    "revolute",
-    "spherical",
-    "universal",
-    "cylindrical",
-    "prismatic",
-    "fixed",
-    "planar",
-    "spherical_spherical",
-];
-
 const DRIVER_TYPES: &[&str] = &["rotation", "translation", "distance", "coordinate"];
-const FUNCTION_KINDS: &[&str] = &["constant", "polynomial", "harmonic", "ramp", "spline"];
+const FUNCTION_KINDS: &[&str] = &TimeFunction::KINDS;
 
 /// Turns a parsed file into a builder, checking everything that has a place in the file.
 pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
@@ -707,14 +689,14 @@ fn load_joint(r: &Resolver, j: &JointSection) -> Result<JointSpec, Error> {
     let cx = r.cx;
     let name = j.name.get_ref();
     let owner = format!("joint \"{name}\"");
-    let Some(kind) = joint_kind(j.kind.get_ref()) else {
-        let hint = did_you_mean(j.kind.get_ref(), JOINT_TYPES.iter().copied());
+    let Some(kind) = JointKind::from_name(j.kind.get_ref()) else {
+        let hint = did_you_mean(j.kind.get_ref(), joint_types());
         return Err(cx.err(
             j.kind.span(),
             format!(
                 "{owner}: unknown joint type \"{}\"{hint} (types: {})",
                 j.kind.get_ref(),
-                list(JOINT_TYPES.iter().copied())
+                list(KINDS.iter().map(|k| k.name))
             ),
         ));
     };
@@ -734,7 +716,8 @@ fn load_joint(r: &Resolver, j: &JointSection) -> Result<JointSpec, Error> {
         (bi, j.point_i.get_ref()),
         (bj, j.point_j.get_ref()),
     );
-    let needs_axes = !matches!(kind, JointKind::Spherical | JointKind::SphericalSpherical);
+    let info = kind.info();
+    let needs_axes = info.axes.is_some();
     match (&j.axis_i, &j.axis_j) {
         (Some(ai), Some(aj)) => {
             r.feature(bi, ai, &owner, false)?;
@@ -767,10 +750,13 @@ fn load_joint(r: &Resolver, j: &JointSection) -> Result<JointSpec, Error> {
         }
     }
     if let Some(l) = &j.length {
-        if kind != JointKind::SphericalSpherical {
+        if !info.length {
             return Err(cx.err(
                 l.span(),
-                format!("{owner}: length applies only to spherical_spherical joints"),
+                format!(
+                    "{owner}: length applies only to {} joints",
+                    list(KINDS.iter().filter(|k| k.length).map(|k| k.name))
+                ),
             ));
         }
         let v = cx.num(l, &format!("{owner} length"), Quantity::Length)?;
@@ -781,8 +767,6 @@ fn load_joint(r: &Resolver, j: &JointSection) -> Result<JointSpec, Error> {
             ));
         }
         spec = spec.length(v);
-    } else if kind == JointKind::SphericalSpherical {
-        let _ = r.point_value(bi, j.point_i.get_ref());
     }
     Ok(spec)
 }
@@ -948,7 +932,7 @@ fn load_driver(
         }
         Ok(())
     };
-    let joint_ref = |allowed: &[JointKind]| -> Result<String, Error> {
+    let joint_ref = |allowed: fn(&KindInfo) -> bool| -> Result<String, Error> {
         let Some(j) = &d.joint else {
             return Err(missing(
                 cx,
@@ -971,16 +955,12 @@ fn load_driver(
                 ),
             ));
         };
-        if !allowed.contains(k) {
+        if !allowed(k.info()) {
             return Err(cx.err(
                 j.span(),
                 format!(
-                    "{owner}: a {kind} driver needs a {} joint, but \"{jn}\" is {}",
-                    allowed
-                        .iter()
-                        .map(|k| k.name())
-                        .collect::<Vec<_>>()
-                        .join(" or "),
+                    "{owner}: a {kind} driver needs {}, but \"{jn}\" is {}",
+                    cardan_mechanism::kinds_with(allowed),
                     k.name()
                 ),
             ));
@@ -999,13 +979,13 @@ fn load_driver(
                 ("coordinate", d.coordinate.is_some()),
             ])?;
             if kind == "rotation" {
-                let j = joint_ref(&[JointKind::Revolute, JointKind::Cylindrical])?;
+                let j = joint_ref(|k| k.rotation.is_some())?;
                 Ok((
                     DriverSpec::rotation(name, &j, function),
                     format!("rotation of joint {j}"),
                 ))
             } else {
-                let j = joint_ref(&[JointKind::Prismatic, JointKind::Cylindrical])?;
+                let j = joint_ref(|k| k.translation.is_some())?;
                 Ok((
                     DriverSpec::translation(name, &j, function),
                     format!("translation of joint {j}"),
@@ -1608,12 +1588,13 @@ fn load_force(
             let j = need(&f.joint, "joint")?;
             let jn = j.get_ref();
             match joint_kinds.get(jn) {
-                Some(JointKind::Revolute | JointKind::Cylindrical) => {}
+                Some(k) if k.info().rotation.is_some() => {}
                 Some(k) => {
                     return Err(cx.err(
                         j.span(),
                         format!(
-                            "{owner}: a rotational_spring_damper needs a revolute or cylindrical joint, but \"{jn}\" is {}",
+                            "{owner}: a rotational_spring_damper needs {}, but \"{jn}\" is {}",
+                            cardan_mechanism::kinds_with(|k| k.rotation.is_some()),
                             k.name()
                         ),
                     ))
@@ -1624,7 +1605,10 @@ fn load_force(
                     names.sort_by_key(|n| spans.joints.get(*n).map(|s| s.start));
                     return Err(cx.err(
                         j.span(),
-                        format!("{owner}: unknown joint \"{jn}\"{hint} (joints: {})", list(names)),
+                        format!(
+                            "{owner}: unknown joint \"{jn}\"{hint} (joints: {})",
+                            list(names)
+                        ),
                     ));
                 }
             }

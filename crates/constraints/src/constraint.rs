@@ -24,6 +24,11 @@ pub trait Constraint {
     /// Number of equations (rows).
     fn rows(&self) -> usize;
 
+    /// The physical dimension of row `row`'s value (1, length or area), which fixes the row's
+    /// scale in convergence tests and rank decisions. Every element states it: a new
+    /// dimensionless element cannot silently get a length scale.
+    fn dimension(&self, row: usize) -> Dimension;
+
     /// Which coordinate blocks the rows depend on; fixed by the definition.
     fn footprint(&self) -> Footprint;
 
@@ -67,5 +72,28 @@ pub trait Constraint {
     /// γ# of the 6-coordinate form (uses ω').
     fn gamma_sharp_v(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
         self.gamma_sharp::<6, V6>(x, t, out)
+    }
+}
+
+/// The physical dimension of an equation's value, which fixes its scale for convergence tests
+/// and rank decisions: 1, L or L² for a model length L.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Dimension {
+    /// A cosine or a sine (n1 and p1 rows, angle drivers), or Euler parameters.
+    Dimensionless,
+    /// A distance (point coincidence, n2 and p2 rows, slides, coordinates).
+    Length,
+    /// A squared distance (dᵀd − ℓ²).
+    Area,
+}
+
+impl Dimension {
+    /// The scale of a value of this dimension in a model of length scale `length`.
+    pub fn scale(self, length: f64) -> f64 {
+        match self {
+            Dimension::Dimensionless => 1.0,
+            Dimension::Length => length,
+            Dimension::Area => length * length,
+        }
     }
 }

@@ -9,7 +9,7 @@
 //! Nikravesh 1988 §7.3 (eq. 7.29), Haug 1989 §9.2 (SS). The squared form has no square root
 //! (smooth at d = 0) but its Jacobian vanishes there: ℓ must be positive, checked by the joint.
 
-use crate::constraint::Constraint;
+use crate::constraint::{Constraint, Dimension};
 use crate::jet::{Form, Grad, Motion};
 use crate::state::{BlockUse, BodyPair, Footprint};
 use nalgebra::Vector3;
@@ -33,6 +33,9 @@ impl Distance {
 }
 
 impl Constraint for Distance {
+    fn dimension(&self, _row: usize) -> Dimension {
+        Dimension::Area
+    }
     fn name(&self) -> &'static str {
         "distance"
     }

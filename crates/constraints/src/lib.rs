@@ -89,12 +89,12 @@ pub mod spherical;
 pub mod state;
 pub mod time_function;
 
-pub use constraint::Constraint;
+pub use constraint::{Constraint, Dimension};
 pub use distance::Distance;
 pub use drivers::{CoordinateDriver, DistanceDriver, Driver, RotationDriver, TranslationDriver};
 pub use error::ConstraintError;
 pub use jet::{Form, Q7, V6};
-pub use joints::{unwrap_angle, Joint, JointCoordinates, JointKind};
+pub use joints::{unwrap_angle, Joint, JointCoordinates, JointKind, KindInfo, KINDS};
 pub use marker::Marker;
 pub use n1::N1;
 pub use n2::N2;

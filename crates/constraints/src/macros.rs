@@ -11,6 +11,9 @@ macro_rules! forward_constraint_by_match {
             fn rows(&self) -> usize {
                 $dispatch!(self, c => c.rows())
             }
+            fn dimension(&self, row: usize) -> $crate::constraint::Dimension {
+                $dispatch!(self, c => c.dimension(row))
+            }
             fn footprint(&self) -> $crate::state::Footprint {
                 $dispatch!(self, c => c.footprint())
             }
@@ -50,6 +53,9 @@ macro_rules! forward_constraint_to_field {
             }
             fn rows(&self) -> usize {
                 self.$inner.rows()
+            }
+            fn dimension(&self, row: usize) -> $crate::constraint::Dimension {
+                self.$inner.dimension(row)
             }
             fn footprint(&self) -> $crate::state::Footprint {
                 self.$inner.footprint()

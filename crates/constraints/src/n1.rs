@@ -9,7 +9,7 @@
 //! ```
 //! Nikravesh 1988 §7.2 (eq. 7.13), Haug 1989 §9.2 (DP1). Footprint: the p blocks of i and j.
 
-use crate::constraint::Constraint;
+use crate::constraint::{Constraint, Dimension};
 use crate::jet::{Form, Grad, Motion, Side};
 use crate::state::{BlockUse, BodyPair, Footprint};
 use nalgebra::Vector3;
@@ -31,6 +31,9 @@ impl N1 {
 }
 
 impl Constraint for N1 {
+    fn dimension(&self, _row: usize) -> Dimension {
+        Dimension::Dimensionless
+    }
     fn name(&self) -> &'static str {
         "n1"
     }

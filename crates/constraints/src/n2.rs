@@ -10,7 +10,7 @@
 //! ```
 //! Nikravesh 1988 §7.2 (eq. 7.16), Haug 1989 §9.2 (DP2). Footprint: r and p of both bodies.
 
-use crate::constraint::Constraint;
+use crate::constraint::{Constraint, Dimension};
 use crate::jet::{Form, Grad, Motion, Side};
 use crate::state::{BlockUse, BodyPair, Footprint};
 use nalgebra::Vector3;
@@ -34,6 +34,9 @@ impl N2 {
 }
 
 impl Constraint for N2 {
+    fn dimension(&self, _row: usize) -> Dimension {
+        Dimension::Length
+    }
     fn name(&self) -> &'static str {
         "n2"
     }

@@ -10,7 +10,7 @@
 //! first and second order: Φ_v = ½ Φ_p Lᵀ = (L p)ᵀ = 0. A mechanism in 6-coordinate form does not
 //! include these rows; the zeros here state that fact for the conformance suite. Body j is unused.
 
-use crate::constraint::Constraint;
+use crate::constraint::{Constraint, Dimension};
 use crate::jet::Form;
 use crate::state::{BlockUse, BodyPair, Footprint};
 
@@ -19,6 +19,9 @@ use crate::state::{BlockUse, BodyPair, Footprint};
 pub struct Normalization;
 
 impl Constraint for Normalization {
+    fn dimension(&self, _row: usize) -> Dimension {
+        Dimension::Dimensionless
+    }
     fn name(&self) -> &'static str {
         "normalization"
     }

@@ -11,7 +11,7 @@
 //! [`crate::P1Select`] (the seed's two-row selection). This form is the reference the two are
 //! checked against, and is available to solvers that handle redundant rows.
 
-use crate::constraint::Constraint;
+use crate::constraint::{Constraint, Dimension};
 use crate::jet::{write_rows, Form, Grad, Motion, Side};
 use crate::state::{BlockUse, BodyPair, Footprint};
 use nalgebra::Vector3;
@@ -33,6 +33,9 @@ impl P1 {
 }
 
 impl Constraint for P1 {
+    fn dimension(&self, _row: usize) -> Dimension {
+        Dimension::Dimensionless
+    }
     fn name(&self) -> &'static str {
         "p1"
     }

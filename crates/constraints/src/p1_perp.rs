@@ -8,7 +8,7 @@
 //! those of [`crate::N1`] for each row (Haug 1989 §9.2: a parallel constraint as two DP1).
 //! Joints build f', g' from their marker frames (x and y axes of a frame whose z is s').
 
-use crate::constraint::Constraint;
+use crate::constraint::{Constraint, Dimension};
 use crate::jet::{Form, Grad, Motion, Side};
 use crate::state::{BlockUse, BodyPair, Footprint};
 use nalgebra::Vector3;
@@ -32,6 +32,9 @@ impl P1Perp {
 }
 
 impl Constraint for P1Perp {
+    fn dimension(&self, _row: usize) -> Dimension {
+        Dimension::Dimensionless
+    }
     fn name(&self) -> &'static str {
         "p1_perp"
     }

@@ -10,7 +10,7 @@
 //! Nikravesh 1988 §7.2 (eq. 7.21). As for [`crate::P1`], joints use the two-row forms
 //! [`crate::P2Perp`] or [`crate::P2Select`].
 
-use crate::constraint::Constraint;
+use crate::constraint::{Constraint, Dimension};
 use crate::jet::{write_rows, Form, Grad, Motion, Side};
 use crate::state::{BlockUse, BodyPair, Footprint};
 use nalgebra::Vector3;
@@ -34,6 +34,9 @@ impl P2 {
 }
 
 impl Constraint for P2 {
+    fn dimension(&self, _row: usize) -> Dimension {
+        Dimension::Length
+    }
     fn name(&self) -> &'static str {
         "p2"
     }

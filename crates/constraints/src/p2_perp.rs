@@ -7,7 +7,7 @@
 //! d ∥ s_i ⇔ Φ = 0 when f'_i, g'_i, s'_i are independent. Jacobian and γ# are those of
 //! [`crate::N2`] for each row (Haug 1989 §9.2: two DP2).
 
-use crate::constraint::Constraint;
+use crate::constraint::{Constraint, Dimension};
 use crate::jet::{Form, Grad, Motion, Side};
 use crate::state::{BlockUse, BodyPair, Footprint};
 use nalgebra::Vector3;
@@ -43,6 +43,9 @@ impl P2Perp {
 }
 
 impl Constraint for P2Perp {
+    fn dimension(&self, _row: usize) -> Dimension {
+        Dimension::Length
+    }
     fn name(&self) -> &'static str {
         "p2_perp"
     }

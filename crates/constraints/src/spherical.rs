@@ -9,7 +9,7 @@
 //! ```
 //! Nikravesh 1988 §7.3 (eq. 7.26), Haug 1989 §9.2 (SPH). Footprint: r and p of both bodies.
 
-use crate::constraint::Constraint;
+use crate::constraint::{Constraint, Dimension};
 use crate::jet::{write_rows, Form, Grad, Motion, Side};
 use crate::state::{BlockUse, BodyPair, Footprint};
 use nalgebra::Vector3;
@@ -31,6 +31,9 @@ impl Spherical {
 }
 
 impl Constraint for Spherical {
+    fn dimension(&self, _row: usize) -> Dimension {
+        Dimension::Length
+    }
     fn name(&self) -> &'static str {
         "s"
     }

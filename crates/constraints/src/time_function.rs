@@ -57,6 +57,22 @@ pub struct Spline {
 }
 
 impl TimeFunction {
+    /// Every kind's name, as in model files and oracle data; [`TimeFunction::kind`] (an
+    /// exhaustive match) names each variant, and the oracle gate requires reference data for
+    /// every name here.
+    pub const KINDS: [&'static str; 5] = ["constant", "polynomial", "harmonic", "ramp", "spline"];
+
+    /// The kind's name (one of [`TimeFunction::KINDS`]).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            TimeFunction::Constant(_) => "constant",
+            TimeFunction::Polynomial(_) => "polynomial",
+            TimeFunction::Harmonic { .. } => "harmonic",
+            TimeFunction::Ramp { .. } => "ramp",
+            TimeFunction::Spline(_) => "spline",
+        }
+    }
+
     /// A natural cubic spline through (t_k, f_k); t strictly increasing, at least 2 knots.
     pub fn spline(t: Vec<f64>, f: Vec<f64>) -> Result<Self, ConstraintError> {
         Ok(TimeFunction::Spline(Spline::new(t, f)?))

@@ -154,6 +154,9 @@ impl Constraint for GlobalRows01 {
     fn rows(&self) -> usize {
         2
     }
+    fn dimension(&self, _row: usize) -> cardan_constraints::Dimension {
+        cardan_constraints::Dimension::Dimensionless
+    }
     fn footprint(&self) -> Footprint {
         self.0.footprint()
     }

@@ -544,13 +544,13 @@ impl Resolved {
                 let j = model
                     .joint_index(joint)
                     .ok_or_else(|| bad(format!("unknown joint \"{joint}\"")))?;
-                use cardan_constraints::JointKind;
-                if !matches!(
-                    model.joints()[j].joint.kind(),
-                    JointKind::Revolute | JointKind::Cylindrical
-                ) {
+                let info = model.joints()[j].joint.kind().info();
+                if info.rotation.is_none() {
                     return Err(bad(format!(
-                        "joint \"{joint}\" is not revolute or cylindrical"
+                        "joint \"{joint}\" is a {} joint; a rotational spring acts on the angle \
+                         of {}",
+                        info.name,
+                        cardan_mechanism::kinds_with(|k| k.rotation.is_some())
                     )));
                 }
                 nonneg("stiffness", *stiffness)?;

@@ -9,6 +9,7 @@ use crate::results::{
 use crate::state::State;
 use crate::system::Dynamics;
 use crate::DynamicsError;
+use cardan_constraints::joints::CoordinateQuantity;
 use cardan_constraints::{unwrap_angle, BodyPair, BodyState};
 use cardan_eulerparam::{p_ddot_from_local, p_dot_from_local};
 use cardan_mechanism::{BodyId, BodyResults, JointResults, Outputs, PointResults, Results};
@@ -69,14 +70,10 @@ impl Recorder {
         }
         if outputs.joints {
             for j in model.joints() {
-                let names = j
-                    .joint
-                    .coordinates(&BodyPair::new(&BodyState::ground(), &BodyState::ground()))
-                    .names;
                 kin.joints.push(JointResults {
                     name: j.name.clone(),
                     kind: j.joint.kind(),
-                    coordinate_names: names,
+                    coordinates: j.joint.kind().info().coordinates,
                     values: Vec::with_capacity(capacity),
                 });
             }
@@ -207,8 +204,8 @@ impl Recorder {
                 .joint
                 .coordinates(&BodyPair::new(st(j.body_i), st(j.body_j)));
             if let Some(prev) = jr.values.last() {
-                for (i, name) in c.names.iter().enumerate() {
-                    if name.contains("angle") {
+                for (i, coord) in c.coordinates.iter().enumerate() {
+                    if coord.measure.quantity() == CoordinateQuantity::Angle {
                         c.values[i] = unwrap_angle(prev[i], c.values[i]);
                     }
                 }

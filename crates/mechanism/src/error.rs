@@ -269,8 +269,8 @@ pub enum ModelError {
         kind: &'static str,
         /// "rotation" or "translation".
         driver_kind: &'static str,
-        /// What kinds are accepted.
-        expected: &'static str,
+        /// What kinds are accepted ("a revolute or cylindrical joint").
+        expected: String,
     },
     /// A time function is malformed.
     #[error("driver \"{driver}\": {reason}")]

@@ -92,7 +92,9 @@ pub use builder::{
 };
 pub use dof::DofReport;
 pub use error::{AnalysisError, EquationName, Error, ModelError, OpenElement};
-pub use model::{BodyId, BodyInfo, DriverInfo, FeatureInfo, ForceInfo, JointInfo, Model};
+pub use model::{
+    kinds_with, BodyId, BodyInfo, DriverInfo, FeatureInfo, ForceInfo, JointInfo, Model,
+};
 pub use results::{BodyResults, JointResults, Outputs, PointResults, Results};
 pub use sanity::{check_inertia, Quantity};
 pub use workspace::{apply_rotation_step, EvaluationCounts, Workspace};

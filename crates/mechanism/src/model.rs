@@ -754,7 +754,8 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
         let pi = names.feature(&el, &spec.body_i, &spec.point_i, false)?;
         let pj = names.feature(&el, &spec.body_j, &spec.point_j, false)?;
         let kind = spec.kind;
-        let needs_axes = !matches!(kind, JointKind::Spherical | JointKind::SphericalSpherical);
+        let info = kind.info();
+        let needs_axes = info.axes.is_some();
         let axis = |which: &'static str, body: &str, name: &Option<String>| match name {
             Some(n) => names.feature(&el, body, n, true).map(Some),
             None if needs_axes => Err(ModelError::MissingAxis {
@@ -810,7 +811,7 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
             let (si, sj) = (pose(&bodies, bi).vector(&zi), pose(&bodies, bj).vector(&zj));
             crate::sanity::check_universal_arms(&spec.name, &si, &sj)?;
         }
-        let joint = if kind == JointKind::SphericalSpherical {
+        let joint = if info.length {
             let l = match spec.length {
                 Some(l) => {
                     check_number(&el, "length", Quantity::Length, l)?;
@@ -828,7 +829,7 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
                     value: l,
                 });
             }
-            Joint::spherical_spherical(pi, pj, l)
+            Joint::with_length(kind, mi, mj, l)
         } else {
             Joint::new(kind, mi, mj)
         }
@@ -883,13 +884,13 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
             DriverTarget::JointRotation { joint } => {
                 let k = find_joint(joint)?;
                 let j = &joints[k];
-                if !matches!(j.joint.kind(), JointKind::Revolute | JointKind::Cylindrical) {
+                if j.joint.kind().info().rotation.is_none() {
                     return Err(ModelError::WrongJointKind {
                         driver: spec.name.clone(),
                         joint: joint.clone(),
                         kind: j.joint.kind().name(),
                         driver_kind: "rotation",
-                        expected: "a revolute or cylindrical joint",
+                        expected: kinds_with(|k| k.rotation.is_some()),
                     });
                 }
                 if !j.has_x_axes {
@@ -904,16 +905,13 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
             DriverTarget::JointTranslation { joint } => {
                 let k = find_joint(joint)?;
                 let j = &joints[k];
-                if !matches!(
-                    j.joint.kind(),
-                    JointKind::Prismatic | JointKind::Cylindrical
-                ) {
+                if j.joint.kind().info().translation.is_none() {
                     return Err(ModelError::WrongJointKind {
                         driver: spec.name.clone(),
                         joint: joint.clone(),
                         kind: j.joint.kind().name(),
                         driver_kind: "translation",
-                        expected: "a prismatic or cylindrical joint",
+                        expected: kinds_with(|k| k.translation.is_some()),
                     });
                 }
                 let d = TranslationDriver::new(*j.joint.marker_i(), *j.joint.marker_j(), f);
@@ -1063,11 +1061,6 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
     let mut entries: Vec<(usize, usize)> = Vec::new();
     let mut equation_scales = Vec::new();
     let mut row = 0;
-    let scale_of = |prim: &str| match prim {
-        "n1" | "p1" | "p1_perp" | "p1_select" | "rotation_driver" => 1.0,
-        "distance" | "distance_driver" => length * length,
-        _ => length,
-    };
     for j in &mut joints {
         let (rows, map) = layout(
             &mut row,
@@ -1079,9 +1072,9 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
         );
         j.rows = rows;
         j.map = map;
+        // Each row's scale from its dimension: 1, L or L².
         for r in 0..j.joint.rows() {
-            let prim = j.joint.row_origin(r).map_or("s", |(_, n)| n);
-            equation_scales.push(scale_of(prim));
+            equation_scales.push(j.joint.dimension(r).scale(length));
         }
     }
     let joint_rows = row;
@@ -1096,7 +1089,7 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
         );
         d.rows = rows;
         d.map = map;
-        equation_scales.push(scale_of(d.driver.name()));
+        equation_scales.push(d.driver.dimension(0).scale(length));
     }
     let num_rows = row;
     let nb = bodies.len();
@@ -1121,4 +1114,18 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
         num_rows,
         joint_rows,
     })
+}
+
+/// "a revolute or cylindrical joint": the kinds whose description passes `pick`, for messages.
+pub fn kinds_with(pick: impl Fn(&cardan_constraints::KindInfo) -> bool) -> String {
+    let names: Vec<&str> = cardan_constraints::KINDS
+        .iter()
+        .filter(|k| pick(k))
+        .map(|k| k.name)
+        .collect();
+    match names.as_slice() {
+        [] => "no joint".into(),
+        [one] => format!("a {one} joint"),
+        [init @ .., last] => format!("a {} or {last} joint", init.join(", ")),
+    }
 }

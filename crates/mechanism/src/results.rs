@@ -106,9 +106,9 @@ pub struct JointResults {
     pub name: String,
     /// Joint kind.
     pub kind: JointKind,
-    /// Names of the coordinates (see [`cardan_constraints::Joint::coordinates`]).
-    pub coordinate_names: &'static [&'static str],
-    /// Values per time (first `coordinate_names.len()` entries meaningful); angles unwrapped.
+    /// The coordinates (names and measures; see [`cardan_constraints::Joint::coordinates`]).
+    pub coordinates: &'static [cardan_constraints::joints::Coordinate],
+    /// Values per time (first `coordinates.len()` entries meaningful); angles unwrapped.
     pub values: Vec<[f64; 3]>,
 }
 

@@ -19,38 +19,20 @@
 
 mod stress_common;
 
+use cardan_constraints::{KindInfo, KINDS};
 use cardan_mechanism::{
     AnalysisError, AssemblyOptions, Body, DriverSpec, JointKind, JointSpec, KinematicOptions,
     MechanismBuilder, Model, Orientation, Results, TimeFunction, GROUND,
 };
 use nalgebra::{Matrix3, UnitQuaternion, Vector3, Vector4};
 use proptest::prelude::*;
+use std::sync::LazyLock;
 use std::time::{Duration, Instant};
 use stress_common::{cases, results_finite};
 
-const KINDS: [JointKind; 8] = [
-    JointKind::Spherical,
-    JointKind::Universal,
-    JointKind::Revolute,
-    JointKind::Cylindrical,
-    JointKind::Prismatic,
-    JointKind::Fixed,
-    JointKind::SphericalSpherical,
-    JointKind::Planar,
-];
-
-/// Relative DOF of a joint kind.
+/// Relative DOF of a joint kind (from the kind table).
 fn joint_dof(kind: JointKind) -> usize {
-    match kind {
-        JointKind::Spherical => 3,
-        JointKind::Universal => 2,
-        JointKind::Revolute => 1,
-        JointKind::Cylindrical => 2,
-        JointKind::Prismatic => 1,
-        JointKind::Fixed => 0,
-        JointKind::SphericalSpherical => 5,
-        JointKind::Planar => 3,
-    }
+    kind.info().relative_dof()
 }
 
 /// One body's pose: position (in units of L) and a rotation.
@@ -153,7 +135,8 @@ fn add_joint(
     l: f64,
     drive: bool,
 ) -> (JointKind, usize, Vec<[f64; 6]>) {
-    let kind = KINDS[draw.kind];
+    let kind = KINDS[draw.kind].kind;
+    let info = kind.info();
     let u = unit(draw.axis, Vector3::z());
     let w = Vector3::from(draw.other);
     let mut v = w - u * u.dot(&w);
@@ -173,11 +156,7 @@ fn add_joint(
             }
         }
     };
-    let at_j = if kind == JointKind::SphericalSpherical {
-        at + 0.5 * l * u
-    } else {
-        at
-    };
+    let at_j = if info.length { at + 0.5 * l * u } else { at };
     let (pi, pj) = (format!("{name}_Pi"), format!("{name}_Pj"));
     let (ui, uj, xi, xj) = (
         format!("{name}_ui"),
@@ -198,9 +177,9 @@ fn add_joint(
     b.vector(bi, &xi, local(pose_i, v, false));
     b.vector(bj, &xj, local(pose_j, x_j, false));
     let mut js = JointSpec::new(name, kind, (bi, &pi), (bj, &pj));
-    if !matches!(kind, JointKind::Spherical | JointKind::SphericalSpherical) {
+    if info.axes.is_some() {
         js = js.axes(&ui, &uj);
-        if kind != JointKind::Universal {
+        if info.x_axes && kind != JointKind::Universal {
             js = js.x_axes(&xi, &xj);
         }
     }
@@ -208,7 +187,7 @@ fn add_joint(
     let mut drivers = 0;
     if drive {
         let rate = draw.driven_rate;
-        if matches!(kind, JointKind::Revolute | JointKind::Cylindrical) {
+        if info.rotation.is_some() {
             b.driver(DriverSpec::rotation(
                 format!("{name}_rot"),
                 name,
@@ -216,7 +195,7 @@ fn add_joint(
             ));
             drivers += 1;
         }
-        if matches!(kind, JointKind::Prismatic | JointKind::Cylindrical) {
+        if info.translation.is_some() {
             b.driver(DriverSpec::translation(
                 format!("{name}_slide"),
                 name,
@@ -226,7 +205,8 @@ fn add_joint(
         }
     }
     // The relative twists (ω; v_O) of body j with respect to body i the joint allows, at the
-    // constructed configuration: an independent description of the joint's freedom.
+    // constructed configuration: an independent description of the joint's freedom (so this
+    // match is exhaustive: a new kind states its freedom here).
     let rot = |axis: Vector3<f64>, p: Vector3<f64>| {
         let v = p.cross(&axis);
         [axis.x, axis.y, axis.z, v.x, v.y, v.z]
@@ -265,16 +245,32 @@ fn loop_dof(twists: &[[f64; 6]]) -> usize {
     twists.len() - sv.iter().filter(|&&x| x > tol).count()
 }
 
-/// All joint kinds; the drivable ones (revolute, cylindrical, prismatic, fixed).
-static ALL: [usize; 8] = [0, 1, 2, 3, 4, 5, 6, 7];
-static DRIVABLE: [usize; 4] = [2, 3, 4, 5];
-/// Loop joints (the fixed joint is left out: it merges two bodies of a four-body loop).
-static LOOP: [usize; 7] = [0, 1, 2, 3, 4, 6, 7];
+/// Indices into the kind table of the kinds that pass `pick`.
+fn kinds_where(pick: fn(&KindInfo) -> bool) -> Vec<usize> {
+    (0..KINDS.len()).filter(|&k| pick(&KINDS[k])).collect()
+}
+
+/// All joint kinds.
+static ALL: LazyLock<Vec<usize>> = LazyLock::new(|| kinds_where(|_| true));
+/// The drivable ones: every relative freedom has a driver (revolute, cylindrical, prismatic,
+/// fixed).
+static DRIVABLE: LazyLock<Vec<usize>> = LazyLock::new(|| {
+    kinds_where(|k| {
+        let driven = usize::from(k.rotation.is_some()) + usize::from(k.translation.is_some());
+        k.relative_dof() == driven
+    })
+});
+/// Loop joints (a rigid joint is left out: it merges two bodies of a four-body loop).
+static LOOP: LazyLock<Vec<usize>> = LazyLock::new(|| kinds_where(|k| k.relative_dof() > 0));
 
 fn chain() -> impl Strategy<Value = Drawn> {
     (any::<bool>(), 1usize..=4, -3.0f64..3.0, -3.0f64..3.0)
         .prop_flat_map(|(driven, n, log_l, log_m)| {
-            let kinds: &'static [usize] = if driven { &DRIVABLE } else { &ALL };
+            let kinds: &'static [usize] = if driven {
+                DRIVABLE.as_slice()
+            } else {
+                ALL.as_slice()
+            };
             (
                 Just(driven),
                 Just(10f64.powf(log_l)),
@@ -332,7 +328,7 @@ fn closed_loop() -> impl Strategy<Value = Drawn> {
         -3.0f64..3.0,
         prop::collection::vec(pose(), 3),
         prop::collection::vec(prop::array::uniform3(-1.0f64..1.0), 4),
-        prop::collection::vec(joint_draw(&LOOP), 4),
+        prop::collection::vec(joint_draw(LOOP.as_slice()), 4),
     )
         .prop_map(|(driven, log_l, log_m, poses, points, mut joints)| {
             let (l, m) = (10f64.powf(log_l), 10f64.powf(log_m));

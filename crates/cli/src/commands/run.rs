@@ -549,15 +549,6 @@ fn requested(p: &Prepared, req: &Requested) -> Requested {
     }
 }
 
-/// The unit of a joint coordinate, from its name.
-fn joint_unit(name: &str) -> &'static str {
-    if name.starts_with("angle") {
-        "rad"
-    } else {
-        "m"
-    }
-}
-
 /// Builds the output groups from the results.
 pub fn tables(p: &Prepared, r: &Results, req: &Requested) -> Vec<Table> {
     let n = r.len();
@@ -612,8 +603,9 @@ pub fn tables(p: &Prepared, r: &Results, req: &Requested) -> Vec<Table> {
         let mut src = Vec::new();
         for j in &req.joints {
             if let Some(h) = r.joint(j) {
-                for (q, c) in h.coordinate_names.iter().enumerate() {
-                    cols.push(format!("{j}.{c} [{}]", joint_unit(c)));
+                for (q, c) in h.coordinates.iter().enumerate() {
+                    let unit = c.measure.quantity().unit();
+                    cols.push(format!("{j}.{} [{unit}]", c.name));
                     src.push((h, q));
                 }
             }

@@ -6,7 +6,7 @@
 //! ```
 //! Nikravesh 1988 §7.5 (absolute drivers). Body j is unused (ground).
 
-use crate::constraint::Constraint;
+use crate::constraint::{Constraint, Dimension};
 use crate::error::ConstraintError;
 use crate::jet::{Form, Grad, Motion, Side};
 use crate::state::{BlockUse, BodyPair, Footprint};
@@ -43,6 +43,9 @@ impl CoordinateDriver {
 }
 
 impl Constraint for CoordinateDriver {
+    fn dimension(&self, _row: usize) -> Dimension {
+        Dimension::Length
+    }
     fn name(&self) -> &'static str {
         "coordinate_driver"
     }

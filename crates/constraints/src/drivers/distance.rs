@@ -8,7 +8,7 @@
 //! ```
 //! Nikravesh 1988 §7.5; the squared form of [`crate::Distance`] with a time-dependent length.
 
-use crate::constraint::Constraint;
+use crate::constraint::{Constraint, Dimension};
 use crate::jet::{Form, Grad, Motion};
 use crate::state::{BlockUse, BodyPair, Footprint};
 use crate::time_function::TimeFunction;
@@ -37,6 +37,9 @@ impl DistanceDriver {
 }
 
 impl Constraint for DistanceDriver {
+    fn dimension(&self, _row: usize) -> Dimension {
+        Dimension::Area
+    }
     fn name(&self) -> &'static str {
         "distance_driver"
     }

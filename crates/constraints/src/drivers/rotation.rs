@@ -16,7 +16,7 @@
 //! φ = θ + π has ∂Φ/∂φ = −1 and is far from any Newton start predicted from the previous step.)
 //! Nikravesh 1988 §7.5 (rotational driver), with the two-term form that avoids branch loss.
 
-use crate::constraint::Constraint;
+use crate::constraint::{Constraint, Dimension};
 use crate::jet::{Form, Grad, Motion, Side};
 use crate::marker::Marker;
 use crate::state::{BlockUse, BodyPair, Footprint};
@@ -45,6 +45,9 @@ impl RotationDriver {
 }
 
 impl Constraint for RotationDriver {
+    fn dimension(&self, _row: usize) -> Dimension {
+        Dimension::Dimensionless
+    }
     fn rows(&self) -> usize {
         1
     }

@@ -9,7 +9,7 @@
 //! ```
 //! Nikravesh 1988 §7.5 (translational driver).
 
-use crate::constraint::Constraint;
+use crate::constraint::{Constraint, Dimension};
 use crate::jet::{Form, Grad, Motion, Side};
 use crate::marker::Marker;
 use crate::state::{BlockUse, BodyPair, Footprint};
@@ -38,6 +38,9 @@ impl TranslationDriver {
 }
 
 impl Constraint for TranslationDriver {
+    fn dimension(&self, _row: usize) -> Dimension {
+        Dimension::Length
+    }
     fn name(&self) -> &'static str {
         "translation_driver"
     }

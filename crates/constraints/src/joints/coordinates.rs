@@ -1,6 +1,6 @@
 //! Relative joint coordinates for output: angles and slides measured between the markers.
 
-use super::{Joint, JointKind};
+use super::{Axis, Coordinate, Joint, Measure};
 use crate::state::BodyPair;
 use cardan_eulerparam::{euler_123_from_p, p_from_rotation_matrix};
 use std::f64::consts::PI;
@@ -11,8 +11,8 @@ use std::f64::consts::PI;
 /// (a time-stepping caller keeps the previous value).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct JointCoordinates {
-    /// The names of the coordinates (e.g. ["angle"] or ["angle", "slide"]).
-    pub names: &'static [&'static str],
+    /// The coordinates (names and measures; e.g. `angle`, or `angle` and `slide`).
+    pub coordinates: &'static [Coordinate],
     /// Their values (the first `names.len()` entries are meaningful).
     pub values: [f64; 3],
 }
@@ -20,7 +20,7 @@ pub struct JointCoordinates {
 impl JointCoordinates {
     /// The meaningful values.
     pub fn as_slice(&self) -> &[f64] {
-        &self.values[..self.names.len()]
+        &self.values[..self.coordinates.len()]
     }
 }
 
@@ -37,18 +37,17 @@ pub fn unwrap_angle(previous: f64, principal: f64) -> f64 {
 }
 
 impl Joint {
-    /// The joint's relative coordinates at the bodies' current poses.
+    /// The joint's relative coordinates at the bodies' current poses: its kind's
+    /// [`KindInfo::coordinates`](super::KindInfo::coordinates), each by its [`Measure`] (with
+    /// d = P_j − P_i and the global marker axes x_k, y_k, z_k):
     ///
-    /// - revolute: `angle` of x_j from x_i about z_i, atan2(y_iᵀ x_j, x_iᵀ x_j);
-    /// - prismatic: `slide` z_iᵀ d, d = P_j − P_i;
-    /// - cylindrical: `angle` and `slide` as above;
-    /// - universal: `angle_i`, the cross's rotation about arm z_i relative to body i,
-    ///   atan2(y_iᵀ z_j, x_iᵀ z_j), and `angle_j`, body j's rotation about arm z_j relative to the
-    ///   cross, atan2(y_jᵀ z_i, x_jᵀ z_i);
-    /// - spherical: Bryant 1-2-3 angles of marker frame j relative to marker frame i;
-    /// - planar: `x`, `y` of P_j in marker frame i and `angle` about z_i;
-    /// - spherical-spherical: the current `distance` |d|;
-    /// - fixed: none.
+    /// - [`Measure::Angle`]: x_j from x_i about z_i, atan2(y_iᵀ x_j, x_iᵀ x_j);
+    /// - [`Measure::Slide`]: z_iᵀ d; [`Measure::Offset`]: x_iᵀ d or y_iᵀ d;
+    /// - [`Measure::Distance`]: the length of d;
+    /// - [`Measure::CrossAngleI`]: the universal joint's cross about arm z_i relative to body i,
+    ///   atan2(y_iᵀ z_j, x_iᵀ z_j); [`Measure::CrossAngleJ`]: body j about arm z_j relative to
+    ///   the cross, atan2(y_jᵀ z_i, x_jᵀ z_i);
+    /// - [`Measure::Bryant`]: Bryant 1-2-3 angles of marker frame j relative to marker frame i.
     pub fn coordinates(&self, x: &BodyPair) -> JointCoordinates {
         let (mi, mj) = (&self.marker_i, &self.marker_j);
         let fi = x.i.a * mi.frame; // global columns x_i, y_i, z_i
@@ -56,30 +55,32 @@ impl Joint {
         let (xi, yi, zi) = (fi.column(0), fi.column(1), fi.column(2));
         let (xj, yj, zj) = (fj.column(0), fj.column(1), fj.column(2));
         let d = x.j.point(&mj.point) - x.i.point(&mi.point);
-        let angle = yi.dot(&xj).atan2(xi.dot(&xj));
-        let c = |names: &'static [&'static str], v: [f64; 3]| JointCoordinates { names, values: v };
-        match self.kind {
-            JointKind::Revolute => c(&["angle"], [angle, 0.0, 0.0]),
-            JointKind::Prismatic => c(&["slide"], [zi.dot(&d), 0.0, 0.0]),
-            JointKind::Cylindrical => c(&["angle", "slide"], [angle, zi.dot(&d), 0.0]),
-            JointKind::Universal => c(
-                &["angle_i", "angle_j"],
-                [
-                    yi.dot(&zj).atan2(xi.dot(&zj)),
-                    yj.dot(&zi).atan2(xj.dot(&zi)),
-                    0.0,
-                ],
-            ),
-            JointKind::Spherical => {
-                let rel = fi.transpose() * fj;
-                let (a, b, g) = p_from_rotation_matrix(&rel)
-                    .map(|p| euler_123_from_p(&p))
-                    .unwrap_or((f64::NAN, f64::NAN, f64::NAN));
-                c(&["angle_x", "angle_y", "angle_z"], [a, b, g])
-            }
-            JointKind::Planar => c(&["x", "y", "angle"], [xi.dot(&d), yi.dot(&d), angle]),
-            JointKind::SphericalSpherical => c(&["distance"], [d.norm(), 0.0, 0.0]),
-            JointKind::Fixed => c(&[], [0.0; 3]),
+        let info = self.kind.info();
+        let mut values = [0.0; 3];
+        let mut bryant = None;
+        for (v, c) in values.iter_mut().zip(info.coordinates) {
+            *v = match c.measure {
+                Measure::Angle => yi.dot(&xj).atan2(xi.dot(&xj)),
+                Measure::Slide => zi.dot(&d),
+                Measure::Offset(Axis::X) => xi.dot(&d),
+                Measure::Offset(Axis::Y) => yi.dot(&d),
+                Measure::Offset(Axis::Z) => zi.dot(&d),
+                Measure::Distance => d.norm(),
+                Measure::CrossAngleI => yi.dot(&zj).atan2(xi.dot(&zj)),
+                Measure::CrossAngleJ => yj.dot(&zi).atan2(xj.dot(&zi)),
+                Measure::Bryant(k) => {
+                    let (a, b, g) = *bryant.get_or_insert_with(|| {
+                        p_from_rotation_matrix(&(fi.transpose() * fj))
+                            .map(|p| euler_123_from_p(&p))
+                            .unwrap_or((f64::NAN, f64::NAN, f64::NAN))
+                    });
+                    [a, b, g][k]
+                }
+            };
+        }
+        JointCoordinates {
+            coordinates: info.coordinates,
+            values,
         }
     }
 }

@@ -46,6 +46,7 @@ use crate::error::AnalysisError;
 use crate::model::{BodyId, Model};
 use crate::results::{BodyResults, JointResults, Outputs, PointResults, Results};
 use crate::workspace::Workspace;
+use cardan_constraints::joints::CoordinateQuantity;
 use cardan_constraints::{unwrap_angle, BodyPair};
 use cardan_eulerparam::EulerParams;
 use std::ops::ControlFlow;
@@ -513,15 +514,11 @@ impl Model {
         let joints = if out.joints {
             self.joints
                 .iter()
-                .map(|j| {
-                    let g = cardan_constraints::BodyState::ground();
-                    let c = j.joint.coordinates(&BodyPair::new(&g, &g));
-                    JointResults {
-                        name: j.name.clone(),
-                        kind: j.joint.kind(),
-                        coordinate_names: c.names,
-                        values: Vec::with_capacity(n),
-                    }
+                .map(|j| JointResults {
+                    name: j.name.clone(),
+                    kind: j.joint.kind(),
+                    coordinates: j.joint.kind().info().coordinates,
+                    values: Vec::with_capacity(n),
                 })
                 .collect()
         } else {
@@ -591,8 +588,8 @@ impl Model {
                 let c = j.joint.coordinates(&BodyPair::new(&si, &sj));
                 let mut vals = c.values;
                 let prev = &mut joint_prev[idx];
-                for (q, name) in c.names.iter().enumerate() {
-                    if k > 0 && name.starts_with("angle") {
+                for (q, coord) in c.coordinates.iter().enumerate() {
+                    if k > 0 && coord.measure.quantity() == CoordinateQuantity::Angle {
                         vals[q] = unwrap_angle(prev[q], vals[q]);
                     }
                 }

@@ -1,0 +1,468 @@
+//! The joint kinds as data: one [`KindInfo`] per [`JointKind`], the single description every
+//! list in cardan is derived from (the builder's validation, the model file's accepted names and
+//! keys, the drivers and springs a joint accepts, the units of its output columns, the
+//! conformance and oracle registries, the documentation table).
+//!
+//! A kind's equations are a composition of [`Block`]s, a closed family of primitives built from
+//! the two joint markers (each block knows its rows); its relative
+//! coordinates are a list of [`Measure`]s. Adding a kind that these families can express is one
+//! entry in [`KINDS`] plus one variant of [`JointKind`] (see ARCHITECTURE.md, "Adding a joint
+//! kind").
+
+use crate::marker::Marker;
+use crate::primitive::Primitive;
+use crate::{Distance, P1Perp, P2Perp, Spherical, N1, N2};
+
+/// An axis of a joint marker frame: x, y or the joint axis z.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Axis {
+    /// The marker's x axis (the zero of the joint angle).
+    X,
+    /// The marker's y axis, z × x.
+    Y,
+    /// The joint axis.
+    Z,
+}
+
+impl Axis {
+    fn of(self, m: &Marker) -> nalgebra::Vector3<f64> {
+        match self {
+            Axis::X => m.x(),
+            Axis::Y => m.y(),
+            Axis::Z => m.z(),
+        }
+    }
+
+    fn letter(self) -> char {
+        match self {
+            Axis::X => 'x',
+            Axis::Y => 'y',
+            Axis::Z => 'z',
+        }
+    }
+}
+
+/// One block of a joint's equations: a primitive built from marker i (point P_i, axes x_i, y_i,
+/// z_i) and marker j. A closed family: each block has a fixed row count.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Block {
+    /// s(P_i, P_j) = P_i − P_j: coincident points (3 rows; [`Spherical`]).
+    Coincident,
+    /// n1(a_i, b_j) = a_iᵀ b_j: the two axes perpendicular (1 row; [`N1`]).
+    Perpendicular(Axis, Axis),
+    /// [x_iᵀ z_j; y_iᵀ z_j]: z_j parallel to z_i (2 rows; [`P1Perp`]).
+    ParallelAxes,
+    /// [x_iᵀ d; y_iᵀ d], d = P_j − P_i: P_j on the line through P_i along z_i (2 rows; [`P2Perp`]).
+    OnAxisLine,
+    /// a_iᵀ d: P_j in the plane through P_i normal to a_i (1 row; [`N2`]).
+    InPlane(Axis),
+    /// dᵀd − ℓ²: P_j at distance ℓ from P_i (1 row; [`Distance`]).
+    Distance,
+}
+
+impl Block {
+    /// Number of equations.
+    pub const fn rows(self) -> usize {
+        match self {
+            Block::Coincident => 3,
+            Block::ParallelAxes | Block::OnAxisLine => 2,
+            Block::Perpendicular(..) | Block::InPlane(_) | Block::Distance => 1,
+        }
+    }
+
+    /// The primitive between markers `mi` and `mj` (`length`: ℓ of [`Block::Distance`]).
+    pub fn primitive(self, mi: &Marker, mj: &Marker, length: f64) -> Primitive {
+        let (pi, pj) = (mi.point, mj.point);
+        match self {
+            Block::Coincident => Spherical::new(pi, pj).into(),
+            Block::Perpendicular(a, b) => N1::new(a.of(mi), b.of(mj)).into(),
+            Block::ParallelAxes => P1Perp::new(mi.x(), mi.y(), mj.z()).into(),
+            Block::OnAxisLine => P2Perp::new(mi.x(), mi.y(), pi, pj).into(),
+            Block::InPlane(a) => N2::new(a.of(mi), pi, pj).into(),
+            Block::Distance => Distance::new(pi, pj, length).into(),
+        }
+    }
+
+    /// The block in the notation of the joint docs, e.g. `n1(x_i, z_j)`.
+    pub fn notation(self) -> String {
+        match self {
+            Block::Coincident => "s(P_i, P_j)".into(),
+            Block::Perpendicular(a, b) => format!("n1({}_i, {}_j)", a.letter(), b.letter()),
+            Block::ParallelAxes => "n1(x_i, z_j); n1(y_i, z_j)".into(),
+            Block::OnAxisLine => "n2(x_i; P_i, P_j); n2(y_i; P_i, P_j)".into(),
+            Block::InPlane(a) => format!("n2({}_i; P_i, P_j)", a.letter()),
+            Block::Distance => "distance(P_i, P_j, ℓ)".into(),
+        }
+    }
+}
+
+/// What a joint coordinate measures (d = P_j − P_i; x_k, y_k, z_k the global marker axes).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Measure {
+    /// The angle of x_j from x_i about z_i, atan2(y_iᵀ x_j, x_iᵀ x_j), rad.
+    Angle,
+    /// The slide z_iᵀ d along the joint axis, m.
+    Slide,
+    /// The component a_iᵀ d of d in marker frame i, m.
+    Offset(Axis),
+    /// The current distance |d|, m.
+    Distance,
+    /// The universal joint's cross about arm z_i relative to body i, atan2(y_iᵀ z_j, x_iᵀ z_j).
+    CrossAngleI,
+    /// Body j about arm z_j relative to the cross, atan2(y_jᵀ z_i, x_jᵀ z_i).
+    CrossAngleJ,
+    /// Bryant 1-2-3 angle k (0, 1, 2) of marker frame j relative to marker frame i.
+    Bryant(usize),
+}
+
+/// The physical quantity of a joint coordinate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CoordinateQuantity {
+    /// An angle, rad (continued over full turns in outputs).
+    Angle,
+    /// A length, m.
+    Length,
+}
+
+impl CoordinateQuantity {
+    /// The SI unit written in output headers.
+    pub fn unit(self) -> &'static str {
+        match self {
+            CoordinateQuantity::Angle => "rad",
+            CoordinateQuantity::Length => "m",
+        }
+    }
+}
+
+impl Measure {
+    /// Angle or length.
+    pub fn quantity(self) -> CoordinateQuantity {
+        match self {
+            Measure::Angle | Measure::CrossAngleI | Measure::CrossAngleJ | Measure::Bryant(_) => {
+                CoordinateQuantity::Angle
+            }
+            Measure::Slide | Measure::Offset(_) | Measure::Distance => CoordinateQuantity::Length,
+        }
+    }
+}
+
+/// A named joint coordinate, written to `joints.csv` as `joint.name [unit]`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Coordinate {
+    /// Its name.
+    pub name: &'static str,
+    /// What it measures.
+    pub measure: Measure,
+}
+
+const fn coord(name: &'static str, measure: Measure) -> Coordinate {
+    Coordinate { name, measure }
+}
+
+/// Everything cardan knows about a joint kind.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct KindInfo {
+    /// The kind.
+    pub kind: JointKind,
+    /// The name in model files, oracle data and outputs.
+    pub name: &'static str,
+    /// Other names model files accept.
+    pub aliases: &'static [&'static str],
+    /// One line for the documentation.
+    pub summary: &'static str,
+    /// What `axis_i` / `axis_j` mean; `None`: the kind takes no axes.
+    pub axes: Option<&'static str>,
+    /// Whether the kind accepts x axes (`x_axis_i`, `x_axis_j`: the zero of its angles).
+    pub x_axes: bool,
+    /// Whether the kind takes a `length` (default: the drawn distance of its points).
+    pub length: bool,
+    /// Its equations, in row order.
+    pub blocks: &'static [Block],
+    /// Its relative coordinates, in output order.
+    pub coordinates: &'static [Coordinate],
+    /// The coordinate a rotation driver or a rotational spring acts on (an angle measured from
+    /// x_axis_i to x_axis_j about z_i: x axes required), if any.
+    pub rotation: Option<&'static str>,
+    /// The coordinate a translation driver acts on (a slide along z_i), if any.
+    pub translation: Option<&'static str>,
+}
+
+impl KindInfo {
+    /// Number of equations (sum of the blocks' rows).
+    pub const fn rows(&self) -> usize {
+        let mut n = 0;
+        let mut k = 0;
+        while k < self.blocks.len() {
+            n += self.blocks[k].rows();
+            k += 1;
+        }
+        n
+    }
+
+    /// Degrees of freedom between the two bodies when the equations are independent.
+    pub const fn relative_dof(&self) -> usize {
+        6 - self.rows()
+    }
+
+    /// Whether `name` (or an alias) names this kind.
+    pub fn is_called(&self, name: &str) -> bool {
+        self.name == name || self.aliases.contains(&name)
+    }
+
+    /// The equations in the notation of the joint docs.
+    pub fn notation(&self) -> String {
+        let b: Vec<String> = self.blocks.iter().map(|b| b.notation()).collect();
+        b.join("; ")
+    }
+}
+
+use Axis::{X, Y, Z};
+use Block::{Coincident, InPlane, OnAxisLine, ParallelAxes, Perpendicular};
+
+const ANGLE: Coordinate = coord("angle", Measure::Angle);
+const SLIDE: Coordinate = coord("slide", Measure::Slide);
+
+/// Declares [`JointKind`] and [`KINDS`] from one list, so a variant cannot exist without its
+/// description (and the description's `kind` is filled in).
+macro_rules! joint_kinds {
+    ($( $(#[$doc:meta])* $variant:ident => { $($field:ident : $value:expr),* $(,)? } ),* $(,)?) => {
+        /// The kind of a joint; [`JointKind::info`] describes it.
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        pub enum JointKind {
+            $( $(#[$doc])* $variant, )*
+        }
+
+        /// Every kind's description, in [`JointKind`] order.
+        pub const KINDS: &[KindInfo] = &[
+            $( KindInfo { kind: JointKind::$variant, $($field: $value),* }, )*
+        ];
+    };
+}
+
+// The parallel conditions use the always-rank-2 form (two rows with the marker's x and y,
+// `P1Perp` and `P2Perp`), so a joint never loses rank through its own equations.
+joint_kinds! {
+    /// Coincident points (3 rows).
+    Spherical => {
+        name: "spherical",
+        aliases: &[],
+        summary: "coincident points: a ball joint",
+        axes: None,
+        x_axes: false,
+        length: false,
+        blocks: &[Coincident],
+        coordinates: &[
+            coord("angle_x", Measure::Bryant(0)),
+            coord("angle_y", Measure::Bryant(1)),
+            coord("angle_z", Measure::Bryant(2)),
+        ],
+        rotation: None,
+        translation: None,
+    },
+    /// Coincident points, perpendicular cross arms z_i ⟂ z_j (4 rows).
+    Universal => {
+        name: "universal",
+        aliases: &[],
+        summary: "coincident points, perpendicular cross arms z_i ⟂ z_j",
+        axes: Some(
+            "the two arms of the cross (perpendicular; drawn at least 45° apart, else the model \
+             is refused)",
+        ),
+        x_axes: true,
+        length: false,
+        blocks: &[Coincident, Perpendicular(Z, Z)],
+        coordinates: &[
+            coord("angle_i", Measure::CrossAngleI),
+            coord("angle_j", Measure::CrossAngleJ),
+        ],
+        rotation: None,
+        translation: None,
+    },
+    /// Coincident points, common axis z (5 rows).
+    Revolute => {
+        name: "revolute",
+        aliases: &[],
+        summary: "coincident points and a common axis: rotation about it",
+        axes: Some("the common axis"),
+        x_axes: true,
+        length: false,
+        blocks: &[Coincident, ParallelAxes],
+        coordinates: &[ANGLE],
+        rotation: Some("angle"),
+        translation: None,
+    },
+    /// Common axis z, rotation and sliding along it (4 rows).
+    Cylindrical => {
+        name: "cylindrical",
+        aliases: &[],
+        summary: "a common axis: rotation about it and sliding along it",
+        axes: Some("the common axis"),
+        x_axes: true,
+        length: false,
+        blocks: &[ParallelAxes, OnAxisLine],
+        coordinates: &[ANGLE, SLIDE],
+        rotation: Some("angle"),
+        translation: Some("slide"),
+    },
+    /// Common axis z, sliding only (5 rows).
+    Prismatic => {
+        name: "prismatic",
+        aliases: &["translational"],
+        summary: "a common axis and no rotation: sliding along it",
+        axes: Some("the common axis"),
+        x_axes: true,
+        length: false,
+        blocks: &[ParallelAxes, OnAxisLine, Perpendicular(X, Y)],
+        coordinates: &[SLIDE],
+        rotation: None,
+        translation: Some("slide"),
+    },
+    /// No relative motion (6 rows).
+    Fixed => {
+        name: "fixed",
+        aliases: &[],
+        summary: "no relative motion",
+        axes: Some("a common axis (and x axes for the twist)"),
+        x_axes: true,
+        length: false,
+        blocks: &[Coincident, ParallelAxes, Perpendicular(X, Y)],
+        coordinates: &[],
+        rotation: None,
+        translation: None,
+    },
+    /// Two points at a constant distance (1 row).
+    SphericalSpherical => {
+        name: "spherical_spherical",
+        aliases: &["distance"],
+        summary: "two points at a constant distance: a massless rod with ball joints at both ends",
+        axes: None,
+        x_axes: false,
+        length: true,
+        blocks: &[Block::Distance],
+        coordinates: &[coord("distance", Measure::Distance)],
+        rotation: None,
+        translation: None,
+    },
+    /// Plane normals z_i ∥ z_j and P_j in the plane of i (3 rows).
+    Planar => {
+        name: "planar",
+        aliases: &[],
+        summary: "parallel plane normals and P_j in the plane of i: sliding and turning in a plane",
+        axes: Some("the plane normals"),
+        x_axes: true,
+        length: false,
+        blocks: &[ParallelAxes, InPlane(Z)],
+        coordinates: &[
+            coord("x", Measure::Offset(X)),
+            coord("y", Measure::Offset(Y)),
+            ANGLE,
+        ],
+        rotation: None,
+        translation: None,
+    },
+}
+
+impl JointKind {
+    /// The kind's description.
+    pub fn info(self) -> &'static KindInfo {
+        &KINDS[self as usize]
+    }
+
+    /// The name used in model files, oracle data and outputs.
+    pub fn name(self) -> &'static str {
+        self.info().name
+    }
+
+    /// Number of equations.
+    pub fn rows(self) -> usize {
+        self.info().rows()
+    }
+
+    /// The kind called `name` (or an alias), if any.
+    pub fn from_name(name: &str) -> Option<JointKind> {
+        KINDS.iter().find(|k| k.is_called(name)).map(|k| k.kind)
+    }
+
+    /// Every kind, in declaration order.
+    pub fn all() -> impl Iterator<Item = JointKind> {
+        KINDS.iter().map(|k| k.kind)
+    }
+}
+
+/// The joint table of docs/model-format.md, generated from [`KINDS`] (`cargo xtask docs`
+/// writes it; a test fails when the committed table differs).
+pub fn markdown_table() -> String {
+    let mut out = String::from(
+        "| type | equations | axes | joint coordinates written | driven by |\n|---|---|---|---|---|\n",
+    );
+    for k in KINDS {
+        let mut name = format!("`{}`", k.name);
+        if !k.aliases.is_empty() {
+            let a: Vec<String> = k.aliases.iter().map(|a| format!("`{a}`")).collect();
+            name.push_str(&format!(" (alias {})", a.join(", ")));
+        }
+        let coords: Vec<String> = k
+            .coordinates
+            .iter()
+            .map(|c| format!("{} [{}]", c.name, c.measure.quantity().unit()))
+            .collect();
+        let mut driven = Vec::new();
+        if let Some(c) = k.rotation {
+            driven.push(format!("rotation ({c}), rotational spring"));
+        }
+        if let Some(c) = k.translation {
+            driven.push(format!("translation ({c})"));
+        }
+        let or_dash = |s: String| if s.is_empty() { "–".to_string() } else { s };
+        out.push_str(&format!(
+            "| {name}: {} | {} | {} | {} | {} |\n",
+            k.summary,
+            k.rows(),
+            k.axes.unwrap_or("–"),
+            or_dash(coords.join(", ")),
+            or_dash(driven.join("; ")),
+        ));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_kind_is_described_once_in_order() {
+        for (k, info) in KINDS.iter().enumerate() {
+            assert_eq!(info.kind as usize, k);
+            assert_eq!(info.kind.info(), info);
+            assert_eq!(JointKind::from_name(info.name), Some(info.kind));
+            for a in info.aliases {
+                assert_eq!(JointKind::from_name(a), Some(info.kind), "{a}");
+            }
+            assert!(info.rows() >= 1 && info.rows() <= 6, "{}", info.name);
+            for c in [info.rotation, info.translation].into_iter().flatten() {
+                assert!(
+                    info.coordinates.iter().any(|x| x.name == c),
+                    "{}",
+                    info.name
+                );
+            }
+            if let Some(r) = info.rotation {
+                assert!(info.x_axes, "{}: a driven angle needs x axes", info.name);
+                // Springs and drivers read the angle as the first coordinate.
+                assert_eq!(info.coordinates[0].name, r, "{}", info.name);
+                assert_eq!(info.coordinates[0].measure, Measure::Angle, "{}", info.name);
+            }
+            if let Some(t) = info.translation {
+                let c = info.coordinates.iter().find(|c| c.name == t).unwrap();
+                assert_eq!(c.measure, Measure::Slide, "{}", info.name);
+            }
+        }
+        let names: std::collections::BTreeSet<_> = KINDS
+            .iter()
+            .flat_map(|k| std::iter::once(k.name).chain(k.aliases.iter().copied()))
+            .collect();
+        let count: usize = KINDS.iter().map(|k| 1 + k.aliases.len()).sum();
+        assert_eq!(names.len(), count, "names and aliases are unique");
+    }
+}
