@@ -117,7 +117,7 @@ pub fn print_summary(s: &Summary, out: &mut dyn Write) -> Result<(), Error> {
                 .map_or(String::new(), |n| n.to_string_lossy().into_owned())
         })
         .collect();
-    let io = super::check::io;
+    let io = super::output_tables::io;
     writeln!(
         out,
         "wrote {} files to {}: {}",
