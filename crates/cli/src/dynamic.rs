@@ -226,7 +226,7 @@ pub fn located_as(p: &Prepared, e: &cardan_dynamics::DynamicsError, what: &str) 
 /// The output groups of a dynamic run: the kinematic groups, then driver efforts (when the
 /// model has drivers), reactions (global and body components), energy and constraint drift.
 pub fn tables(p: &Prepared, r: &DynamicResults, req: &Requested) -> Vec<Table> {
-    let mut out = crate::commands::run::tables(p, &r.kinematics, req);
+    let mut out = crate::commands::run::kinematic::tables(p, &r.kinematics, req);
     // The kinematic "residual" group is replaced by the drift group below.
     out.retain(|t| t.name != "residual");
     out.extend(driver_efforts_table(p, r));
@@ -282,7 +282,7 @@ pub fn tables(p: &Prepared, r: &DynamicResults, req: &Requested) -> Vec<Table> {
 /// The output groups of an inverse dynamics run: the kinematic groups (with the residual of the
 /// position analysis), then driver efforts and reactions (global and body components).
 pub fn inverse_tables(p: &Prepared, r: &DynamicResults, req: &Requested) -> Vec<Table> {
-    let mut out = crate::commands::run::tables(p, &r.kinematics, req);
+    let mut out = crate::commands::run::kinematic::tables(p, &r.kinematics, req);
     out.extend(driver_efforts_table(p, r));
     out.extend(reaction_tables(r, req));
     out

@@ -1,64 +1,22 @@
 //! `cardan run MODEL.toml [-o DIR]`: the analysis the file describes, written as CSV and SVG
 //! with a `run.json` that says how the run went (the directory rule: [`crate::output`]).
 
-use super::{analysis_error, prepare, Prepared};
-use crate::build::Outputs as Requested;
+pub mod kinematic;
+mod summary;
+
+pub use summary::{DynamicSummary, RunFlags, Summary};
+
+use super::output_tables::{peak_efforts, requested};
+use super::{prepare, Prepared};
 use crate::diag::Error;
 use crate::output::OutputDir;
 use crate::report::{ModelRef, RunReport, Status};
-use crate::table::Table;
-use cardan_mechanism::{KinematicOptions, Results};
+use cardan_mechanism::Results;
+use kinematic::run_kinematic;
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
-
-/// What a run did.
-#[derive(Debug, Clone)]
-pub struct Summary {
-    /// The model name.
-    pub name: String,
-    /// Stored time steps.
-    pub steps: usize,
-    /// Total Newton iterations.
-    pub iterations: usize,
-    /// Largest max |Φ_i| over the run.
-    pub max_residual: f64,
-    /// Wall time of the analysis (not the writing).
-    pub wall: Duration,
-    /// Output directory.
-    pub dir: PathBuf,
-    /// Files written (`run.json` last).
-    pub files: Vec<PathBuf>,
-    /// Dynamic runs: integration counters and drifts.
-    pub dynamic: Option<DynamicSummary>,
-    /// Dynamic and inverse dynamics runs: per driver, its name, the largest |effort| over the
-    /// run and the unit ("N m" or "N").
-    pub peak_efforts: Vec<(String, f64, &'static str)>,
-    /// Doubtful results and other remarks, one sentence each: printed after the summary line
-    /// and written to `run.json`. Any check may push to it.
-    pub warnings: Vec<String>,
-    /// Kinematic and inverse dynamics runs: grid steps solved in substeps to stay on the
-    /// assembly branch (`Results::subdivided_steps`; not a warning); `None` for dynamic runs.
-    pub subdivided_steps: Option<usize>,
-    /// Times the independent equations of a model with redundant equations were chosen again
-    /// because the kept ones lost rank (a note, not a warning).
-    pub row_reselections: usize,
-}
-
-/// What a dynamic run adds to the summary line.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct DynamicSummary {
-    /// Accepted integration steps.
-    pub steps: usize,
-    /// Rejected steps.
-    pub rejected: usize,
-    /// Newton iterations (implicit steps and projections).
-    pub newton_iterations: usize,
-    /// Largest max |Φ| over the stored times.
-    pub max_constraint_drift: f64,
-    /// max |E − E(t0)| (J).
-    pub energy_drift: f64,
-}
+use std::time::Instant;
+use summary::Analysed;
 
 /// The output of [`run_model`]: the results (complete, or partial with the error).
 pub struct RunOutcome {
@@ -73,18 +31,6 @@ pub struct RunOutcome {
     /// The dynamic results (`kind = "dynamic"` or `"inverse_dynamics"`); `results` holds their
     /// kinematic part.
     pub dynamic: Option<cardan_dynamics::DynamicResults>,
-}
-
-/// How `cardan run` was asked to run.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct RunFlags {
-    /// Show a progress bar on stderr.
-    pub progress: bool,
-    /// `--strict`: warnings make the run fail with exit code 3 (the results are still written).
-    pub strict: bool,
-    /// `--allow-long`: run a dynamic analysis beyond [`crate::dynamic::MAX_STEPS`] estimated
-    /// steps.
-    pub allow_long: bool,
 }
 
 /// `cardan run`: runs, writes, prints the summary.
@@ -182,22 +128,6 @@ pub fn print_summary(s: &Summary, out: &mut dyn Write) -> Result<(), Error> {
         writeln!(out, "warning: {w}").map_err(io)?;
     }
     Ok(())
-}
-
-/// An analysis that has run, before anything is written.
-struct Analysed {
-    /// The output groups.
-    tables: Vec<Table>,
-    /// The summary (files and directory are filled in when written).
-    summary: Summary,
-    /// The results (the kinematic part for dynamic runs).
-    results: Results,
-    /// Dynamic and inverse dynamics runs: everything they computed.
-    dynamic: Option<cardan_dynamics::DynamicResults>,
-    /// The failure that stopped the run early; `None` when it reached `t_end`.
-    failure: Option<Error>,
-    /// `--strict` with warnings: the error to return after writing (the run is complete).
-    strict_failure: Option<Error>,
 }
 
 /// Runs the model file's analysis and writes its outputs to `output` (default
@@ -352,58 +282,6 @@ fn report(p: &Prepared, kind: &'static str, a: &Analysed, files: Vec<String>) ->
     }
 }
 
-/// `kind = "kinematic"`: the kinematics over the file's grid and its tables.
-fn run_kinematic(
-    p: &Prepared,
-    analysis: &crate::build::Analysis,
-    progress: bool,
-) -> Result<Analysed, Error> {
-    let opts = KinematicOptions::new(analysis.t_start, analysis.t_end, analysis.steps);
-    let start = Instant::now();
-    let mut bar = crate::progress::Progress::new(progress, opts.steps as u64 + 1);
-    let mut ws = p.model.workspace();
-    let run = p
-        .model
-        .kinematics_with_control(&mut ws, &opts, |k, t| bar.tick(k as u64 + 1, t));
-    let wall = start.elapsed();
-    let (results, failure) = match run {
-        Ok(r) if bar.stopped() => {
-            let e = crate::progress::interrupted(&r.times);
-            (r, Some(e))
-        }
-        Ok(r) => (r, None),
-        Err(e) => match e.partial_results() {
-            Some(r) => (r.clone(), Some(analysis_error(p, &e))),
-            None => return Err(analysis_error(p, &e)),
-        },
-    };
-    drop(bar);
-    let req = requested(p, &analysis.outputs);
-    let tables = tables(p, &results, &req);
-    let summary = Summary {
-        name: p.loaded.name.clone(),
-        steps: results.len(),
-        iterations: results.iterations.iter().sum(),
-        max_residual: results.residual.iter().fold(0.0, |a: f64, &b| a.max(b)),
-        wall,
-        dir: PathBuf::new(),
-        files: Vec::new(),
-        dynamic: None,
-        peak_efforts: Vec::new(),
-        warnings: Vec::new(),
-        subdivided_steps: Some(results.subdivided_steps),
-        row_reselections: results.row_reselections,
-    };
-    Ok(Analysed {
-        tables,
-        summary,
-        results,
-        dynamic: None,
-        failure,
-        strict_failure: None,
-    })
-}
-
 /// `kind = "dynamic"`: simulate, the tables, the summary. A failure mid-run keeps the results
 /// so far with the error.
 fn run_dynamic(
@@ -508,205 +386,4 @@ fn run_inverse(
         failure,
         strict_failure: None,
     })
-}
-
-/// Per driver: name, largest |effort| over the run, unit.
-fn peak_efforts(
-    p: &Prepared,
-    r: &cardan_dynamics::DynamicResults,
-) -> Vec<(String, f64, &'static str)> {
-    r.drivers
-        .iter()
-        .map(|d| {
-            let peak = d.effort.iter().fold(0.0f64, |a, e| a.max(e.abs()));
-            (
-                d.name.clone(),
-                peak,
-                crate::dynamic::effort_kind(p, &d.name).1,
-            )
-        })
-        .collect()
-}
-
-/// The outputs to write: as requested, or everything when the file has no `[analysis.outputs]`.
-fn requested(p: &Prepared, req: &Requested) -> Requested {
-    if !req.points.is_empty() || !req.joints.is_empty() || !req.bodies.is_empty() {
-        return req.clone();
-    }
-    let _ = &req.reactions;
-    let m = &p.model;
-    Requested {
-        points: m
-            .points()
-            .iter()
-            .filter(|f| f.body_name != cardan_mechanism::GROUND)
-            .map(|f| (f.body_name.clone(), f.name.clone()))
-            .collect(),
-        joints: m.joints().iter().map(|j| j.name.clone()).collect(),
-        bodies: m.bodies().iter().map(|b| b.name.clone()).collect(),
-        reactions: req.reactions.clone(),
-        energy: req.energy,
-    }
-}
-
-/// The unit of a joint coordinate, from its name.
-fn joint_unit(name: &str) -> &'static str {
-    if name.starts_with("angle") {
-        "rad"
-    } else {
-        "m"
-    }
-}
-
-/// Builds the output groups from the results.
-pub fn tables(p: &Prepared, r: &Results, req: &Requested) -> Vec<Table> {
-    let n = r.len();
-    let xyz = ["x", "y", "z"];
-    let mut out = Vec::new();
-    let vec_table =
-        |name: &str,
-         title: &str,
-         unit: &str,
-         pick: &dyn Fn(&cardan_mechanism::PointResults) -> &Vec<nalgebra::Vector3<f64>>| {
-            let mut cols = Vec::new();
-            let mut series = Vec::new();
-            for (b, pt) in &req.points {
-                if let Some(h) = r.point(b, pt) {
-                    for (c, ax) in xyz.iter().enumerate() {
-                        cols.push(format!("{b}.{pt}.{ax} [{unit}]"));
-                        series.push((pick(h), c));
-                    }
-                }
-            }
-            let mut t = Table::new(name, title, cols);
-            for k in 0..n {
-                let mut row = vec![r.times[k]];
-                row.extend(
-                    series
-                        .iter()
-                        .map(|(v, c)| v.get(k).map_or(f64::NAN, |x| x[*c])),
-                );
-                t.rows.push(row);
-            }
-            t
-        };
-    if !req.points.is_empty() {
-        out.push(vec_table("points", "point positions", "m", &|h| {
-            &h.position
-        }));
-        out.push(vec_table(
-            "point_velocities",
-            "point velocities",
-            "m/s",
-            &|h| &h.velocity,
-        ));
-        out.push(vec_table(
-            "point_accelerations",
-            "point accelerations",
-            "m/s²",
-            &|h| &h.acceleration,
-        ));
-    }
-    if !req.joints.is_empty() {
-        let mut cols = Vec::new();
-        let mut src = Vec::new();
-        for j in &req.joints {
-            if let Some(h) = r.joint(j) {
-                for (q, c) in h.coordinate_names.iter().enumerate() {
-                    cols.push(format!("{j}.{c} [{}]", joint_unit(c)));
-                    src.push((h, q));
-                }
-            }
-        }
-        let mut t = Table::new("joints", "joint coordinates", cols);
-        for k in 0..n {
-            let mut row = vec![r.times[k]];
-            row.extend(
-                src.iter()
-                    .map(|(h, q)| h.values.get(k).map_or(f64::NAN, |v| v[*q])),
-            );
-            t.rows.push(row);
-        }
-        out.push(t);
-    }
-    if !req.bodies.is_empty() {
-        let bodies: Vec<_> = req.bodies.iter().filter_map(|b| r.body(b)).collect();
-        let mut cols = Vec::new();
-        for b in &bodies {
-            for ax in xyz {
-                cols.push(format!("{}.r.{ax} [m]", b.name));
-            }
-            for e in ["e0", "e1", "e2", "e3"] {
-                cols.push(format!("{}.p.{e} [-]", b.name));
-            }
-        }
-        let mut t = Table::new("bodies", "body poses (r, Euler parameters p)", cols);
-        for k in 0..n {
-            let mut row = vec![r.times[k]];
-            for b in &bodies {
-                row.extend((0..3).map(|c| b.r.get(k).map_or(f64::NAN, |v| v[c])));
-                row.extend((0..4).map(|c| b.p.get(k).map_or(f64::NAN, |v| v[c])));
-            }
-            t.rows.push(row);
-        }
-        out.push(t);
-        for (name, title, u1, u2, first, second) in [
-            (
-                "body_velocities",
-                "body velocities (ṙ, ω global)",
-                "m/s",
-                "rad/s",
-                "r_dot",
-                "omega",
-            ),
-            (
-                "body_accelerations",
-                "body accelerations (r̈, ω̇ global)",
-                "m/s²",
-                "rad/s²",
-                "r_ddot",
-                "omega_dot",
-            ),
-        ] {
-            let mut cols = Vec::new();
-            for b in &bodies {
-                for ax in xyz {
-                    cols.push(format!("{}.{first}.{ax} [{u1}]", b.name));
-                }
-                for ax in xyz {
-                    cols.push(format!("{}.{second}.{ax} [{u2}]", b.name));
-                }
-            }
-            let mut t = Table::new(name, title, cols);
-            for k in 0..n {
-                let mut row = vec![r.times[k]];
-                for b in &bodies {
-                    let (a, w) = if first == "r_dot" {
-                        (&b.r_dot, &b.omega)
-                    } else {
-                        (&b.r_ddot, &b.omega_dot)
-                    };
-                    row.extend((0..3).map(|c| a.get(k).map_or(f64::NAN, |v| v[c])));
-                    row.extend((0..3).map(|c| w.get(k).map_or(f64::NAN, |v| v[c])));
-                }
-                t.rows.push(row);
-            }
-            out.push(t);
-        }
-    }
-    let mut t = Table::new(
-        "residual",
-        "constraint residual",
-        vec!["max |Φ| [m or -]".into(), "newton_iterations [-]".into()],
-    );
-    for k in 0..n {
-        t.rows.push(vec![
-            r.times[k],
-            r.residual.get(k).copied().unwrap_or(f64::NAN),
-            r.iterations.get(k).map_or(f64::NAN, |&i| i as f64),
-        ]);
-    }
-    out.push(t);
-    let _ = p;
-    out
 }
