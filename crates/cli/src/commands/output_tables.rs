@@ -2,11 +2,14 @@
 //! `cardan eval` with their compact number format, the error of a failed write to standard
 //! output (also for the summary line of `cardan run`), and what the analyses of `cardan run`
 //! share for their output groups: the outputs to write ([`requested`]), the unit of a joint
-//! coordinate, the peak driver efforts.
+//! coordinate, and the driver efforts and joint reactions of the dynamic and inverse dynamics
+//! runs (their tables and peak values).
 
 use super::Prepared;
 use crate::build::Outputs as Requested;
 use crate::diag::Error;
+use crate::table::Table;
+use cardan_dynamics::DynamicResults;
 use std::io::Write;
 
 /// Writes an aligned text table.
@@ -73,11 +76,7 @@ pub(super) fn peak_efforts(
         .iter()
         .map(|d| {
             let peak = d.effort.iter().fold(0.0f64, |a, e| a.max(e.abs()));
-            (
-                d.name.clone(),
-                peak,
-                crate::dynamic::effort_kind(p, &d.name).1,
-            )
+            (d.name.clone(), peak, effort_kind(p, &d.name).1)
         })
         .collect()
 }
@@ -110,4 +109,95 @@ pub(super) fn joint_unit(name: &str) -> &'static str {
     } else {
         "m"
     }
+}
+
+/// What a driver exerts and its unit: a torque (N m) for a rotation driver, else a force (N).
+pub fn effort_kind(p: &Prepared, driver: &str) -> (&'static str, &'static str) {
+    match p.model.drivers().iter().find(|d| d.name == driver) {
+        Some(d) if matches!(d.driver, cardan_constraints::Driver::Rotation(_)) => ("torque", "N m"),
+        _ => ("force", "N"),
+    }
+}
+
+/// `driver_efforts`: per driver, the generalized force it applies along its driven coordinate
+/// (−λ ∂Φ/∂c; positive in the sense of increasing coordinate): `motor.torque [N m]` for a rotation
+/// driver (about the joint axis, on body j), `name.force [N]` for the others. `None` without
+/// drivers.
+pub fn driver_efforts_table(p: &Prepared, r: &DynamicResults) -> Option<Table> {
+    if r.drivers.is_empty() {
+        return None;
+    }
+    let cols = r
+        .drivers
+        .iter()
+        .map(|d| {
+            let (what, unit) = effort_kind(p, &d.name);
+            format!("{}.{what} [{unit}]", d.name)
+        })
+        .collect();
+    let mut t = Table::new(
+        "driver_efforts",
+        "driver efforts (positive along the driven coordinate)",
+        cols,
+    );
+    for (k, time) in r.times().iter().enumerate() {
+        let mut row = vec![*time];
+        row.extend(
+            r.drivers
+                .iter()
+                .map(|d| d.effort.get(k).copied().unwrap_or(f64::NAN)),
+        );
+        t.rows.push(row);
+    }
+    Some(t)
+}
+
+/// `reactions` and `reactions_local`: per requested joint (default all) and per body, the
+/// reaction force and its torque about the joint point.
+pub fn reaction_tables(r: &DynamicResults, req: &Requested) -> Vec<Table> {
+    let mut out = Vec::new();
+    let times = r.times();
+    let n = times.len();
+    let joints: Vec<&cardan_dynamics::JointReactions> = match &req.reactions {
+        Some(list) => list.iter().filter_map(|j| r.joint_reactions(j)).collect(),
+        None => r.reactions.iter().collect(),
+    };
+    let xyz = ["x", "y", "z"];
+    for (name, title, local) in [
+        ("reactions", "joint reactions (global components)", false),
+        ("reactions_local", "joint reactions (body components)", true),
+    ] {
+        if joints.is_empty() {
+            break;
+        }
+        let mut cols = Vec::new();
+        for j in &joints {
+            for body in [&j.body_i, &j.body_j] {
+                for (q, u) in [("F", "N"), ("T", "N m")] {
+                    for ax in xyz {
+                        cols.push(format!("{}.{body}.{q}.{ax} [{u}]", j.name));
+                    }
+                }
+            }
+        }
+        let mut t = Table::new(name, title, cols);
+        for k in 0..n {
+            let mut row = vec![times[k]];
+            for j in &joints {
+                for side in [&j.on_i, &j.on_j] {
+                    let rc = side.get(k).copied().unwrap_or_default();
+                    let (f, m) = if local {
+                        (rc.force_local, rc.torque_local)
+                    } else {
+                        (rc.force, rc.torque)
+                    };
+                    row.extend(f.iter().copied());
+                    row.extend(m.iter().copied());
+                }
+            }
+            t.rows.push(row);
+        }
+        out.push(t);
+    }
+    out
 }

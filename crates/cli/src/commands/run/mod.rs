@@ -1,6 +1,7 @@
 //! `cardan run MODEL.toml [-o DIR]`: the analysis the file describes, written as CSV and SVG
 //! with a `run.json` that says how the run went (the directory rule: [`crate::output`]).
 
+pub mod dynamic;
 pub mod kinematic;
 mod summary;
 
@@ -12,6 +13,7 @@ use crate::diag::Error;
 use crate::output::OutputDir;
 use crate::report::{ModelRef, RunReport, Status};
 use cardan_mechanism::Results;
+use dynamic::run_dynamic;
 use kinematic::run_kinematic;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -282,71 +284,6 @@ fn report(p: &Prepared, kind: &'static str, a: &Analysed, files: Vec<String>) ->
     }
 }
 
-/// `kind = "dynamic"`: simulate, the tables, the summary. A failure mid-run keeps the results
-/// so far with the error.
-fn run_dynamic(
-    p: &Prepared,
-    analysis: &crate::build::Analysis,
-    flags: &RunFlags,
-) -> Result<Analysed, Error> {
-    let mut opts = crate::dynamic::options(p, None)?;
-    crate::dynamic::check_length(p, &mut opts, flags.allow_long)?;
-    let mut d = crate::dynamic::dynamics(p)?;
-    let initial = crate::dynamic::initial_state(p);
-    let start = Instant::now();
-    // Progress in parts of the time span (the number of adaptive steps is not known).
-    const PARTS: f64 = 10_000.0;
-    let (t0, span) = (analysis.t_start, analysis.t_end - analysis.t_start);
-    let mut bar = crate::progress::Progress::new(flags.progress, PARTS as u64);
-    let outcome = d.simulate_with_progress(&initial, &opts, |t| {
-        bar.tick(((t - t0) / span * PARTS) as u64, t)
-    });
-    drop(bar);
-    let wall = start.elapsed();
-    drop(d);
-    let (r, failure) = match outcome {
-        Ok(r) => (r, None),
-        Err(e) => match e.partial_results() {
-            Some(r) if matches!(e.cause(), cardan_dynamics::DynamicsError::Stopped { .. }) => {
-                (r.clone(), Some(crate::progress::interrupted(r.times())))
-            }
-            Some(r) => (r.clone(), Some(crate::dynamic::located(p, &e))),
-            None => return Err(crate::dynamic::located(p, &e)),
-        },
-    };
-    let req = requested(p, &analysis.outputs);
-    let tables = crate::dynamic::tables(p, &r, &req);
-    let drift = r.position_drift.iter().fold(0.0, |a: f64, &b| a.max(b));
-    let summary = Summary {
-        name: p.loaded.name.clone(),
-        steps: r.len(),
-        iterations: r.stats.newton_iterations,
-        max_residual: drift,
-        wall,
-        dir: PathBuf::new(),
-        files: Vec::new(),
-        dynamic: Some(DynamicSummary {
-            steps: r.stats.steps,
-            rejected: r.stats.rejected,
-            newton_iterations: r.stats.newton_iterations,
-            max_constraint_drift: drift,
-            energy_drift: r.energy.max_drift(),
-        }),
-        peak_efforts: peak_efforts(p, &r),
-        warnings: crate::dynamic::doubtful_results(p, &r, &opts.integrator),
-        subdivided_steps: None,
-        row_reselections: r.stats.row_reselections,
-    };
-    Ok(Analysed {
-        tables,
-        summary,
-        results: r.kinematics.clone(),
-        dynamic: Some(r),
-        failure,
-        strict_failure: None,
-    })
-}
-
 /// `kind = "inverse_dynamics"`: kinematics with driver efforts and reactions, the tables, the
 /// summary. A kinematic failure mid-run keeps the results so far with the error.
 fn run_inverse(
@@ -358,11 +295,11 @@ fn run_inverse(
     // Two passes over the grid: the kinematics, then the efforts.
     let frames = 2 * (analysis.steps as u64 + 1);
     let mut bar = crate::progress::Progress::new(progress, frames);
-    let (r, failure) = crate::dynamic::inverse_dynamics_with(p, |k, t| bar.tick(k as u64 + 1, t))?;
+    let (r, failure) = dynamic::inverse_dynamics_with(p, |k, t| bar.tick(k as u64 + 1, t))?;
     drop(bar);
     let wall = start.elapsed();
     let req = requested(p, &analysis.outputs);
-    let tables = crate::dynamic::inverse_tables(p, &r, &req);
+    let tables = dynamic::inverse_tables(p, &r, &req);
     let k = &r.kinematics;
     let summary = Summary {
         name: p.loaded.name.clone(),

@@ -64,7 +64,7 @@ pub struct RunFlags {
     pub progress: bool,
     /// `--strict`: warnings make the run fail with exit code 3 (the results are still written).
     pub strict: bool,
-    /// `--allow-long`: run a dynamic analysis beyond [`crate::dynamic::MAX_STEPS`] estimated
+    /// `--allow-long`: run a dynamic analysis beyond [`super::dynamic::MAX_STEPS`] estimated
     /// steps.
     pub allow_long: bool,
 }
