@@ -133,7 +133,7 @@ pub fn check(path: &Path, out: &mut dyn Write) -> Result<(), Error> {
         .map_err(io)?;
     } else if let Some(a) = &p.loaded.analysis {
         if a.inverse_dynamics && (dof.dof != dof.drivers || dof.drivers == 0) {
-            return Err(super::run::dynamic::not_fully_driven(
+            return Err(super::run::inverse::not_fully_driven(
                 &p,
                 dof.dof,
                 dof.drivers,

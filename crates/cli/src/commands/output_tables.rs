@@ -1,7 +1,7 @@
 //! Output shared by the subcommands: the aligned text tables of `cardan check` and
 //! `cardan eval` with their compact number format, the error of a failed write to standard
 //! output (also for the summary line of `cardan run`), and what the analyses of `cardan run`
-//! share for their output groups: the outputs to write ([`requested`]), the unit of a joint
+//! share for their output groups: the outputs to write (`requested`), the unit of a joint
 //! coordinate, and the driver efforts and joint reactions of the dynamic and inverse dynamics
 //! runs (their tables and peak values).
 

@@ -1,23 +1,27 @@
 //! `cardan run MODEL.toml [-o DIR]`: the analysis the file describes, written as CSV and SVG
 //! with a `run.json` that says how the run went (the directory rule: [`crate::output`]).
+//!
+//! This module picks the analysis ([`kinematic`], [`dynamic`] or [`inverse`] dynamics; each
+//! returns its output groups and summary), writes the outputs and `run.json`, and prints the
+//! summary line with the warnings.
 
 pub mod dynamic;
+pub mod inverse;
 pub mod kinematic;
 mod summary;
 
 pub use summary::{DynamicSummary, RunFlags, Summary};
 
-use super::output_tables::{peak_efforts, requested};
 use super::{prepare, Prepared};
 use crate::diag::Error;
 use crate::output::OutputDir;
 use crate::report::{ModelRef, RunReport, Status};
 use cardan_mechanism::Results;
 use dynamic::run_dynamic;
+use inverse::run_inverse;
 use kinematic::run_kinematic;
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 use summary::Analysed;
 
 /// The output of [`run_model`]: the results (complete, or partial with the error).
@@ -282,45 +286,4 @@ fn report(p: &Prepared, kind: &'static str, a: &Analysed, files: Vec<String>) ->
         files,
         wall_time_s: s.wall.as_secs_f64(),
     }
-}
-
-/// `kind = "inverse_dynamics"`: kinematics with driver efforts and reactions, the tables, the
-/// summary. A kinematic failure mid-run keeps the results so far with the error.
-fn run_inverse(
-    p: &Prepared,
-    analysis: &crate::build::Analysis,
-    progress: bool,
-) -> Result<Analysed, Error> {
-    let start = Instant::now();
-    // Two passes over the grid: the kinematics, then the efforts.
-    let frames = 2 * (analysis.steps as u64 + 1);
-    let mut bar = crate::progress::Progress::new(progress, frames);
-    let (r, failure) = dynamic::inverse_dynamics_with(p, |k, t| bar.tick(k as u64 + 1, t))?;
-    drop(bar);
-    let wall = start.elapsed();
-    let req = requested(p, &analysis.outputs);
-    let tables = dynamic::inverse_tables(p, &r, &req);
-    let k = &r.kinematics;
-    let summary = Summary {
-        name: p.loaded.name.clone(),
-        steps: k.len(),
-        iterations: k.iterations.iter().sum(),
-        max_residual: k.residual.iter().fold(0.0, |a: f64, &b| a.max(b)),
-        wall,
-        dir: PathBuf::new(),
-        files: Vec::new(),
-        dynamic: None,
-        peak_efforts: peak_efforts(p, &r),
-        warnings: Vec::new(),
-        subdivided_steps: Some(k.subdivided_steps),
-        row_reselections: k.row_reselections + r.stats.row_reselections,
-    };
-    Ok(Analysed {
-        tables,
-        summary,
-        results: r.kinematics.clone(),
-        dynamic: Some(r),
-        failure,
-        strict_failure: None,
-    })
 }
