@@ -846,7 +846,7 @@ fn wp_run(
     t_end: f64,
     times: &[f64],
 ) -> Option<(f64, Vec<Vector3<f64>>)> {
-    let mut opts = cardan_cli::dynamic::options(p, Some(integ)).ok()?;
+    let mut opts = cardan_cli::commands::run::dynamic::options(p, Some(integ)).ok()?;
     opts.t_end = t_end;
     opts.max_steps = 5_000_000;
     let opts = opts
@@ -856,8 +856,8 @@ fn wp_run(
     let mut last = None;
     let mut total = 0.0;
     for _ in 0..5 {
-        let mut d = cardan_cli::dynamic::dynamics(p).ok()?;
-        let s = cardan_cli::dynamic::initial_state(p);
+        let mut d = cardan_cli::commands::run::dynamic::dynamics(p).ok()?;
+        let s = cardan_cli::commands::run::dynamic::initial_state(p);
         let t0 = Instant::now();
         let r = d.simulate(&s, &opts).ok()?;
         let e = t0.elapsed().as_secs_f64();

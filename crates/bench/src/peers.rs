@@ -450,14 +450,14 @@ impl SliderCrank {
     /// The max over the reference samples of |C − (x_ref, 0, 0)| and |B − B_ref(θ_ref)|, as
     /// tests/tests/benchmark_slider_crank.rs computes it.
     fn run(&self, integ: Integrator) -> Option<ScRun> {
-        let mut opts = cardan_cli::dynamic::options(&self.p, Some(integ)).ok()?;
+        let mut opts = cardan_cli::commands::run::dynamic::options(&self.p, Some(integ)).ok()?;
         opts.t_end = self.t_end;
         opts.max_steps = 5_000_000;
         let opts = opts
             .output_times(self.times.clone())
             .outputs(Outputs::position_only());
-        let mut d = cardan_cli::dynamic::dynamics(&self.p).ok()?;
-        let s = cardan_cli::dynamic::initial_state(&self.p);
+        let mut d = cardan_cli::commands::run::dynamic::dynamics(&self.p).ok()?;
+        let s = cardan_cli::commands::run::dynamic::initial_state(&self.p);
         let t0 = Instant::now();
         let r = d.simulate(&s, &opts).ok()?;
         let wall = t0.elapsed().as_secs_f64();

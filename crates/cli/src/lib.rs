@@ -17,7 +17,6 @@
 pub mod build;
 pub mod commands;
 pub mod diag;
-pub mod dynamic;
 pub mod model;
 pub mod output;
 pub mod progress;

@@ -135,15 +135,15 @@ fn a_constraint_drift_beyond_the_tolerance_warns() {
     .unwrap();
     let p = cardan_cli::commands::prepare(&dir.join("model.toml")).unwrap();
     let integrator = cardan_dynamics::Integrator::default();
-    let bound = cardan_cli::dynamic::drift_bound(&p, &integrator);
+    let bound = cardan_cli::commands::run::dynamic::drift_bound(&p, &integrator);
     assert!(bound > 0.0 && bound < 1e-9, "{bound}");
     let mut r = cardan_dynamics::DynamicResults {
         position_drift: vec![0.0, 0.5 * bound],
         ..Default::default()
     };
-    assert!(cardan_cli::dynamic::doubtful_results(&p, &r, &integrator).is_empty());
+    assert!(cardan_cli::commands::run::dynamic::doubtful_results(&p, &r, &integrator).is_empty());
     r.position_drift.push(100.0 * bound);
-    let w = cardan_cli::dynamic::doubtful_results(&p, &r, &integrator);
+    let w = cardan_cli::commands::run::dynamic::doubtful_results(&p, &r, &integrator);
     assert_eq!(w.len(), 1, "{w:?}");
     assert!(w[0].contains("constraint drift"), "{w:?}");
 }

@@ -331,7 +331,7 @@ fn dynamic_run_writes_driver_efforts() {
     // The same file through the dynamics API.
     std::fs::write(dir.join("same.toml"), &text).unwrap();
     let p = prepare(&dir.join("same.toml")).unwrap();
-    let api = cardan_cli::dynamic::simulate(&p, None).unwrap();
+    let api = cardan_cli::commands::run::dynamic::simulate(&p, None).unwrap();
     let motor = api.driver("motor").unwrap();
     let scale = same_torques(&efforts, api.times(), &motor.effort);
     assert!(scale > 1.0, "the motor works: {scale}");

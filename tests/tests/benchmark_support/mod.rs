@@ -49,11 +49,12 @@ pub struct Run {
 /// Runs the example's dynamic analysis until `t_end` with results at `times`, with the file's
 /// integrator settings (`None`) or others.
 pub fn run(p: &Prepared, integrator: Option<Integrator>, t_end: f64, times: Vec<f64>) -> Run {
-    let mut opts = cardan_cli::dynamic::options(p, integrator).expect("dynamic analysis");
+    let mut opts =
+        cardan_cli::commands::run::dynamic::options(p, integrator).expect("dynamic analysis");
     opts.t_end = t_end;
     let opts = opts.output_times(times);
-    let mut d = cardan_cli::dynamic::dynamics(p).expect("dynamics");
-    let s = cardan_cli::dynamic::initial_state(p);
+    let mut d = cardan_cli::commands::run::dynamic::dynamics(p).expect("dynamics");
+    let s = cardan_cli::commands::run::dynamic::initial_state(p);
     let start = Instant::now();
     let results = match d.simulate(&s, &opts) {
         Ok(r) => r,

@@ -1,65 +1,11 @@
 //! `cardan check MODEL.toml`: validate and describe a model.
 
+use super::output_tables::{g, io, write_table};
 use super::{analysis_error, prepare};
 use crate::diag::Error;
 use cardan_mechanism::{AnalysisError, AssemblyOptions};
 use std::io::Write;
 use std::path::Path;
-
-/// Writes an aligned text table.
-pub fn write_table(
-    out: &mut dyn Write,
-    headers: &[&str],
-    rows: &[Vec<String>],
-) -> std::io::Result<()> {
-    let n = headers.len();
-    let mut w: Vec<usize> = headers.iter().map(|h| h.chars().count()).collect();
-    for r in rows {
-        for (k, c) in r.iter().enumerate().take(n) {
-            w[k] = w[k].max(c.chars().count());
-        }
-    }
-    let line = |cells: Vec<&str>| {
-        let mut s = String::from("  ");
-        for (k, c) in cells.iter().enumerate() {
-            s.push_str(c);
-            if k + 1 < cells.len() {
-                s.push_str(&" ".repeat(w[k] - c.chars().count() + 2));
-            }
-        }
-        s
-    };
-    writeln!(out, "{}", line(headers.to_vec()))?;
-    for r in rows {
-        writeln!(out, "{}", line(r.iter().map(String::as_str).collect()))?;
-    }
-    Ok(())
-}
-
-pub(crate) fn io(e: std::io::Error) -> Error {
-    if e.kind() == std::io::ErrorKind::BrokenPipe {
-        // The reader went away (`cardan eval m.toml | head`): not an error worth a message.
-        return Error {
-            kind: crate::diag::ErrorKind::BrokenPipe,
-            location: None,
-            message: String::new(),
-        };
-    }
-    Error::output(format!("cannot write to standard output: {e}"))
-}
-
-/// Formats a number compactly.
-pub fn g(v: f64) -> String {
-    if v == 0.0 {
-        "0".into()
-    } else if (1e-3..1e5).contains(&v.abs()) {
-        let s = format!("{v:.6}");
-        let s = s.trim_end_matches('0').trim_end_matches('.');
-        s.to_string()
-    } else {
-        format!("{v:.4e}")
-    }
-}
 
 /// Validates the model and prints bodies, joints with equation counts, DOF and redundancy.
 ///
@@ -187,7 +133,11 @@ pub fn check(path: &Path, out: &mut dyn Write) -> Result<(), Error> {
         .map_err(io)?;
     } else if let Some(a) = &p.loaded.analysis {
         if a.inverse_dynamics && (dof.dof != dof.drivers || dof.drivers == 0) {
-            return Err(crate::dynamic::not_fully_driven(&p, dof.dof, dof.drivers));
+            return Err(super::run::inverse::not_fully_driven(
+                &p,
+                dof.dof,
+                dof.drivers,
+            ));
         }
         if dof.dof == dof.drivers {
             // What `run` refuses next: drivers that depend on the joints or on each other.

@@ -1,7 +1,7 @@
 //! `cardan eval MODEL.toml [--t T]`: Φ, Φ_v (pattern and values), ν and γ# at the assembled
 //! state, the tool for debugging a model.
 
-use super::check::{g, io, write_table};
+use super::output_tables::{g, io, write_table};
 use super::{analysis_error, prepare};
 use crate::diag::Error;
 use cardan_mechanism::AssemblyOptions;

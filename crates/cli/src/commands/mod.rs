@@ -3,6 +3,7 @@
 
 pub mod check;
 pub mod eval;
+pub mod output_tables;
 pub mod run;
 
 use crate::build::{load, Loaded};

@@ -1,18 +1,87 @@
 //! `kind = "dynamic"`: a model file's forces, initial velocities and integrator settings turned
 //! into a [`cardan_dynamics`] simulation, and its results into output tables (reactions,
-//! energy, constraint drift, besides the kinematic groups).
+//! energy, constraint drift, besides the kinematic groups). Before the run, a run too long to
+//! be meant is refused ([`check_length`], `--allow-long`); after it, doubtful results (energy
+//! drift of a conservative model, constraint drift) become warnings ([`doubtful_results`]).
 //!
 //! The benchmark tests call [`simulate`] directly, so what is tested is the model file itself.
 
+use super::summary::{Analysed, DynamicSummary, RunFlags, Summary};
 use crate::build::Outputs as Requested;
-use crate::commands::{analysis_error, Prepared};
+use crate::commands::output_tables::{
+    driver_efforts_table, peak_efforts, reaction_tables, requested,
+};
+use crate::commands::Prepared;
 use crate::diag::Error;
 use crate::table::Table;
-use cardan_dynamics::{
-    DynamicResults, Dynamics, DynamicsError, Integrator, SimulationOptions, State,
-};
-use cardan_mechanism::{AssemblyOptions, KinematicOptions};
-use std::ops::ControlFlow;
+use cardan_dynamics::{DynamicResults, Dynamics, Integrator, SimulationOptions, State};
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// `kind = "dynamic"`: simulate, the tables, the summary. A failure mid-run keeps the results
+/// so far with the error.
+pub(super) fn run_dynamic(
+    p: &Prepared,
+    analysis: &crate::build::Analysis,
+    flags: &RunFlags,
+) -> Result<Analysed, Error> {
+    let mut opts = options(p, None)?;
+    check_length(p, &mut opts, flags.allow_long)?;
+    let mut d = dynamics(p)?;
+    let initial = initial_state(p);
+    let start = Instant::now();
+    // Progress in parts of the time span (the number of adaptive steps is not known).
+    const PARTS: f64 = 10_000.0;
+    let (t0, span) = (analysis.t_start, analysis.t_end - analysis.t_start);
+    let mut bar = crate::progress::Progress::new(flags.progress, PARTS as u64);
+    let outcome = d.simulate_with_progress(&initial, &opts, |t| {
+        bar.tick(((t - t0) / span * PARTS) as u64, t)
+    });
+    drop(bar);
+    let wall = start.elapsed();
+    drop(d);
+    let (r, failure) = match outcome {
+        Ok(r) => (r, None),
+        Err(e) => match e.partial_results() {
+            Some(r) if matches!(e.cause(), cardan_dynamics::DynamicsError::Stopped { .. }) => {
+                (r.clone(), Some(crate::progress::interrupted(r.times())))
+            }
+            Some(r) => (r.clone(), Some(located(p, &e))),
+            None => return Err(located(p, &e)),
+        },
+    };
+    let req = requested(p, &analysis.outputs);
+    let tables = tables(p, &r, &req);
+    let drift = r.position_drift.iter().fold(0.0, |a: f64, &b| a.max(b));
+    let summary = Summary {
+        name: p.loaded.name.clone(),
+        steps: r.len(),
+        iterations: r.stats.newton_iterations,
+        max_residual: drift,
+        wall,
+        dir: PathBuf::new(),
+        files: Vec::new(),
+        dynamic: Some(DynamicSummary {
+            steps: r.stats.steps,
+            rejected: r.stats.rejected,
+            newton_iterations: r.stats.newton_iterations,
+            max_constraint_drift: drift,
+            energy_drift: r.energy.max_drift(),
+        }),
+        peak_efforts: peak_efforts(p, &r),
+        warnings: doubtful_results(p, &r, &opts.integrator),
+        subdivided_steps: None,
+        row_reselections: r.stats.row_reselections,
+    };
+    Ok(Analysed {
+        tables,
+        summary,
+        results: r.kinematics.clone(),
+        dynamic: Some(r),
+        failure,
+        strict_failure: None,
+    })
+}
 
 /// The [`Dynamics`] of a prepared model with the file's forces (gravity first).
 ///
@@ -23,127 +92,13 @@ pub fn dynamics(p: &Prepared) -> Result<Dynamics<'_>, Error> {
 }
 
 /// As [`dynamics`], errors starting with `what`.
-fn dynamics_as<'p>(p: &'p Prepared, what: &str) -> Result<Dynamics<'p>, Error> {
+pub(super) fn dynamics_as<'p>(p: &'p Prepared, what: &str) -> Result<Dynamics<'p>, Error> {
     let mut d = Dynamics::new(&p.model).map_err(|e| located_as(p, &e, what))?;
     for f in &p.loaded.forces {
         d.add_force(f.clone())
             .map_err(|e| located_as(p, &e, what))?;
     }
     Ok(d)
-}
-
-/// Runs the file's `kind = "inverse_dynamics"` analysis: the kinematics on the file's time grid
-/// and, at every time, the driver efforts and joint reactions that produce that motion under the
-/// file's forces ([`Dynamics::inverse_dynamics`]).
-///
-/// Returns the results and, when the kinematics stopped early (a singular configuration, a
-/// limit of the motion), the error with the results up to the last solved time.
-///
-/// # Errors
-/// No such analysis; a mechanism that is not fully driven (no drivers, or fewer or more than the
-/// joints leave degrees of freedom: an input error naming the DOF and the drivers); a body
-/// without mass or inertia; assembly failures and failures at the first step.
-pub fn inverse_dynamics(p: &Prepared) -> Result<(DynamicResults, Option<Error>), Error> {
-    inverse_dynamics_with(p, |_, _| ControlFlow::Continue(()))
-}
-
-/// [`inverse_dynamics`] with a progress callback
-/// ([`Dynamics::inverse_dynamics_with_progress`]); when it breaks (Ctrl-C), the results so far
-/// and an interrupted error ([`crate::progress::interrupted`]).
-///
-/// # Errors
-/// As [`inverse_dynamics`].
-pub fn inverse_dynamics_with(
-    p: &Prepared,
-    progress: impl FnMut(usize, f64) -> ControlFlow<()>,
-) -> Result<(DynamicResults, Option<Error>), Error> {
-    const WHAT: &str = "inverse dynamics";
-    let a = p
-        .loaded
-        .analysis
-        .as_ref()
-        .filter(|a| a.inverse_dynamics)
-        .ok_or_else(|| {
-            p.source
-                .error("the model file has no [analysis] with kind = \"inverse_dynamics\"")
-        })?;
-    if p.model.drivers().is_empty() {
-        // Without drivers the run would succeed on a structure and compute nothing useful; say
-        // how many DOF the joints leave (assembling without drivers, as `cardan check` does).
-        let mut ws = p.model.workspace();
-        let opts = AssemblyOptions {
-            include_drivers: false,
-            ..AssemblyOptions::at(a.t_start)
-        };
-        p.model
-            .assemble(&mut ws, &opts)
-            .map_err(|e| analysis_error(p, &e))?;
-        let dof = p.model.dof(&ws).map_err(|e| analysis_error(p, &e))?;
-        return Err(not_fully_driven(p, dof.dof, 0));
-    }
-    let mut d = dynamics_as(p, WHAT)?;
-    let opts = KinematicOptions::new(a.t_start, a.t_end, a.steps);
-    let e = match d.inverse_dynamics_with_progress(&opts, progress) {
-        Ok(r) => return Ok((r, None)),
-        Err(e) => e,
-    };
-    match e.cause() {
-        DynamicsError::Stopped { .. } => match e.partial_results() {
-            Some(r) => Ok((r.clone(), Some(crate::progress::interrupted(r.times())))),
-            None => Err(located_as(p, &e, WHAT)),
-        },
-        DynamicsError::NotFullyDriven { dof, drivers } => Err(not_fully_driven(p, *dof, *drivers)),
-        DynamicsError::Mechanism(ae) => {
-            let err = analysis_error(p, ae);
-            match e.partial_results() {
-                // The kinematics stopped mid-run: the results so far, and the error.
-                Some(r) => Ok((r.clone(), Some(err))),
-                None => Err(err),
-            }
-        }
-        _ => Err(located_as(p, &e, WHAT)),
-    }
-}
-
-/// The one-paragraph error of an inverse dynamics run on a model that is not fully driven.
-pub fn not_fully_driven(p: &Prepared, dof: usize, drivers: usize) -> Error {
-    let names: Vec<&str> = p.loaded.drivers.iter().map(|(n, _)| n.as_str()).collect();
-    let s = |n: usize| if n == 1 { "" } else { "s" };
-    let advice = if dof > drivers {
-        let n = dof - drivers;
-        format!(
-            "add {n} driver{} (a rotation or translation driver per free joint coordinate), or use \
-             kind = \"dynamic\" to simulate the motion the forces produce",
-            s(n)
-        )
-    } else if drivers > dof {
-        let n = drivers - dof;
-        format!("remove {n} driver{} (or add joints)", s(n))
-    } else {
-        "the model is a structure: nothing moves and no driver exerts an effort; add the joint \
-         to drive and its driver"
-            .to_string()
-    };
-    let span = p
-        .loaded
-        .spans
-        .first_driver
-        .clone()
-        .unwrap_or_else(|| p.loaded.spans.analysis.clone());
-    p.source.error_at(
-        span,
-        format!(
-            "inverse dynamics needs a fully driven mechanism, with as many drivers as the joints \
-             leave degrees of freedom (at least one): the joints leave {dof} DOF and the file \
-             has {drivers} driver{} ({}); {advice}",
-            s(drivers),
-            if names.is_empty() {
-                "none".to_string()
-            } else {
-                names.join(", ")
-            },
-        ),
-    )
 }
 
 /// The initial guess: the bodies' initial poses (assembled later) and the file's velocities, at
@@ -226,7 +181,7 @@ pub fn located_as(p: &Prepared, e: &cardan_dynamics::DynamicsError, what: &str) 
 /// The output groups of a dynamic run: the kinematic groups, then driver efforts (when the
 /// model has drivers), reactions (global and body components), energy and constraint drift.
 pub fn tables(p: &Prepared, r: &DynamicResults, req: &Requested) -> Vec<Table> {
-    let mut out = crate::commands::run::tables(p, &r.kinematics, req);
+    let mut out = super::kinematic::tables(p, &r.kinematics, req);
     // The kinematic "residual" group is replaced by the drift group below.
     out.retain(|t| t.name != "residual");
     out.extend(driver_efforts_table(p, r));
@@ -276,106 +231,6 @@ pub fn tables(p: &Prepared, r: &DynamicResults, req: &Requested) -> Vec<Table> {
         ]);
     }
     out.push(t);
-    out
-}
-
-/// The output groups of an inverse dynamics run: the kinematic groups (with the residual of the
-/// position analysis), then driver efforts and reactions (global and body components).
-pub fn inverse_tables(p: &Prepared, r: &DynamicResults, req: &Requested) -> Vec<Table> {
-    let mut out = crate::commands::run::tables(p, &r.kinematics, req);
-    out.extend(driver_efforts_table(p, r));
-    out.extend(reaction_tables(r, req));
-    out
-}
-
-/// What a driver exerts and its unit: a torque (N m) for a rotation driver, else a force (N).
-pub fn effort_kind(p: &Prepared, driver: &str) -> (&'static str, &'static str) {
-    match p.model.drivers().iter().find(|d| d.name == driver) {
-        Some(d) if matches!(d.driver, cardan_constraints::Driver::Rotation(_)) => ("torque", "N m"),
-        _ => ("force", "N"),
-    }
-}
-
-/// `driver_efforts`: per driver, the generalized force it applies along its driven coordinate
-/// (−λ ∂Φ/∂c; positive in the sense of increasing coordinate): `motor.torque [N m]` for a rotation
-/// driver (about the joint axis, on body j), `name.force [N]` for the others. `None` without
-/// drivers.
-pub fn driver_efforts_table(p: &Prepared, r: &DynamicResults) -> Option<Table> {
-    if r.drivers.is_empty() {
-        return None;
-    }
-    let cols = r
-        .drivers
-        .iter()
-        .map(|d| {
-            let (what, unit) = effort_kind(p, &d.name);
-            format!("{}.{what} [{unit}]", d.name)
-        })
-        .collect();
-    let mut t = Table::new(
-        "driver_efforts",
-        "driver efforts (positive along the driven coordinate)",
-        cols,
-    );
-    for (k, time) in r.times().iter().enumerate() {
-        let mut row = vec![*time];
-        row.extend(
-            r.drivers
-                .iter()
-                .map(|d| d.effort.get(k).copied().unwrap_or(f64::NAN)),
-        );
-        t.rows.push(row);
-    }
-    Some(t)
-}
-
-/// `reactions` and `reactions_local`: per requested joint (default all) and per body, the
-/// reaction force and its torque about the joint point.
-pub fn reaction_tables(r: &DynamicResults, req: &Requested) -> Vec<Table> {
-    let mut out = Vec::new();
-    let times = r.times();
-    let n = times.len();
-    let joints: Vec<&cardan_dynamics::JointReactions> = match &req.reactions {
-        Some(list) => list.iter().filter_map(|j| r.joint_reactions(j)).collect(),
-        None => r.reactions.iter().collect(),
-    };
-    let xyz = ["x", "y", "z"];
-    for (name, title, local) in [
-        ("reactions", "joint reactions (global components)", false),
-        ("reactions_local", "joint reactions (body components)", true),
-    ] {
-        if joints.is_empty() {
-            break;
-        }
-        let mut cols = Vec::new();
-        for j in &joints {
-            for body in [&j.body_i, &j.body_j] {
-                for (q, u) in [("F", "N"), ("T", "N m")] {
-                    for ax in xyz {
-                        cols.push(format!("{}.{body}.{q}.{ax} [{u}]", j.name));
-                    }
-                }
-            }
-        }
-        let mut t = Table::new(name, title, cols);
-        for k in 0..n {
-            let mut row = vec![times[k]];
-            for j in &joints {
-                for side in [&j.on_i, &j.on_j] {
-                    let rc = side.get(k).copied().unwrap_or_default();
-                    let (f, m) = if local {
-                        (rc.force_local, rc.torque_local)
-                    } else {
-                        (rc.force, rc.torque)
-                    };
-                    row.extend(f.iter().copied());
-                    row.extend(m.iter().copied());
-                }
-            }
-            t.rows.push(row);
-        }
-        out.push(t);
-    }
     out
 }
 

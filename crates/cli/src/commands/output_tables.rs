@@ -1,0 +1,194 @@
+//! Output shared by the subcommands: the aligned text tables of `cardan check` and
+//! `cardan eval` with their compact number format, the error of a failed write to standard
+//! output (also for the summary line of `cardan run`), and what the analyses of `cardan run`
+//! share for their output groups: the outputs to write (`requested`), the unit of a joint
+//! coordinate, and the driver efforts and joint reactions of the dynamic and inverse dynamics
+//! runs (their tables and peak values).
+
+use super::Prepared;
+use crate::build::Outputs as Requested;
+use crate::diag::Error;
+use crate::table::Table;
+use cardan_dynamics::DynamicResults;
+use std::io::Write;
+
+/// Writes an aligned text table.
+pub fn write_table(
+    out: &mut dyn Write,
+    headers: &[&str],
+    rows: &[Vec<String>],
+) -> std::io::Result<()> {
+    let n = headers.len();
+    let mut w: Vec<usize> = headers.iter().map(|h| h.chars().count()).collect();
+    for r in rows {
+        for (k, c) in r.iter().enumerate().take(n) {
+            w[k] = w[k].max(c.chars().count());
+        }
+    }
+    let line = |cells: Vec<&str>| {
+        let mut s = String::from("  ");
+        for (k, c) in cells.iter().enumerate() {
+            s.push_str(c);
+            if k + 1 < cells.len() {
+                s.push_str(&" ".repeat(w[k] - c.chars().count() + 2));
+            }
+        }
+        s
+    };
+    writeln!(out, "{}", line(headers.to_vec()))?;
+    for r in rows {
+        writeln!(out, "{}", line(r.iter().map(String::as_str).collect()))?;
+    }
+    Ok(())
+}
+
+pub(crate) fn io(e: std::io::Error) -> Error {
+    if e.kind() == std::io::ErrorKind::BrokenPipe {
+        // The reader went away (`cardan eval m.toml | head`): not an error worth a message.
+        return Error {
+            kind: crate::diag::ErrorKind::BrokenPipe,
+            location: None,
+            message: String::new(),
+        };
+    }
+    Error::output(format!("cannot write to standard output: {e}"))
+}
+
+/// Formats a number compactly.
+pub fn g(v: f64) -> String {
+    if v == 0.0 {
+        "0".into()
+    } else if (1e-3..1e5).contains(&v.abs()) {
+        let s = format!("{v:.6}");
+        let s = s.trim_end_matches('0').trim_end_matches('.');
+        s.to_string()
+    } else {
+        format!("{v:.4e}")
+    }
+}
+
+/// Per driver: name, largest |effort| over the run, unit.
+pub(super) fn peak_efforts(
+    p: &Prepared,
+    r: &cardan_dynamics::DynamicResults,
+) -> Vec<(String, f64, &'static str)> {
+    r.drivers
+        .iter()
+        .map(|d| {
+            let peak = d.effort.iter().fold(0.0f64, |a, e| a.max(e.abs()));
+            (d.name.clone(), peak, effort_kind(p, &d.name).1)
+        })
+        .collect()
+}
+
+/// The outputs to write: as requested, or everything when the file has no `[analysis.outputs]`.
+pub(super) fn requested(p: &Prepared, req: &Requested) -> Requested {
+    if !req.points.is_empty() || !req.joints.is_empty() || !req.bodies.is_empty() {
+        return req.clone();
+    }
+    let _ = &req.reactions;
+    let m = &p.model;
+    Requested {
+        points: m
+            .points()
+            .iter()
+            .filter(|f| f.body_name != cardan_mechanism::GROUND)
+            .map(|f| (f.body_name.clone(), f.name.clone()))
+            .collect(),
+        joints: m.joints().iter().map(|j| j.name.clone()).collect(),
+        bodies: m.bodies().iter().map(|b| b.name.clone()).collect(),
+        reactions: req.reactions.clone(),
+        energy: req.energy,
+    }
+}
+
+/// What a driver exerts and its unit: a torque (N m) for a rotation driver, else a force (N).
+pub fn effort_kind(p: &Prepared, driver: &str) -> (&'static str, &'static str) {
+    match p.model.drivers().iter().find(|d| d.name == driver) {
+        Some(d) if matches!(d.driver, cardan_constraints::Driver::Rotation(_)) => ("torque", "N m"),
+        _ => ("force", "N"),
+    }
+}
+
+/// `driver_efforts`: per driver, the generalized force it applies along its driven coordinate
+/// (−λ ∂Φ/∂c; positive in the sense of increasing coordinate): `motor.torque [N m]` for a rotation
+/// driver (about the joint axis, on body j), `name.force [N]` for the others. `None` without
+/// drivers.
+pub fn driver_efforts_table(p: &Prepared, r: &DynamicResults) -> Option<Table> {
+    if r.drivers.is_empty() {
+        return None;
+    }
+    let cols = r
+        .drivers
+        .iter()
+        .map(|d| {
+            let (what, unit) = effort_kind(p, &d.name);
+            format!("{}.{what} [{unit}]", d.name)
+        })
+        .collect();
+    let mut t = Table::new(
+        "driver_efforts",
+        "driver efforts (positive along the driven coordinate)",
+        cols,
+    );
+    for (k, time) in r.times().iter().enumerate() {
+        let mut row = vec![*time];
+        row.extend(
+            r.drivers
+                .iter()
+                .map(|d| d.effort.get(k).copied().unwrap_or(f64::NAN)),
+        );
+        t.rows.push(row);
+    }
+    Some(t)
+}
+
+/// `reactions` and `reactions_local`: per requested joint (default all) and per body, the
+/// reaction force and its torque about the joint point.
+pub fn reaction_tables(r: &DynamicResults, req: &Requested) -> Vec<Table> {
+    let mut out = Vec::new();
+    let times = r.times();
+    let n = times.len();
+    let joints: Vec<&cardan_dynamics::JointReactions> = match &req.reactions {
+        Some(list) => list.iter().filter_map(|j| r.joint_reactions(j)).collect(),
+        None => r.reactions.iter().collect(),
+    };
+    let xyz = ["x", "y", "z"];
+    for (name, title, local) in [
+        ("reactions", "joint reactions (global components)", false),
+        ("reactions_local", "joint reactions (body components)", true),
+    ] {
+        if joints.is_empty() {
+            break;
+        }
+        let mut cols = Vec::new();
+        for j in &joints {
+            for body in [&j.body_i, &j.body_j] {
+                for (q, u) in [("F", "N"), ("T", "N m")] {
+                    for ax in xyz {
+                        cols.push(format!("{}.{body}.{q}.{ax} [{u}]", j.name));
+                    }
+                }
+            }
+        }
+        let mut t = Table::new(name, title, cols);
+        for k in 0..n {
+            let mut row = vec![times[k]];
+            for j in &joints {
+                for side in [&j.on_i, &j.on_j] {
+                    let rc = side.get(k).copied().unwrap_or_default();
+                    let (f, m) = if local {
+                        (rc.force_local, rc.torque_local)
+                    } else {
+                        (rc.force, rc.torque)
+                    };
+                    row.extend(f.iter().copied());
+                    row.extend(m.iter().copied());
+                }
+            }
+            t.rows.push(row);
+        }
+        out.push(t);
+    }
+    out
+}

@@ -1,0 +1,186 @@
+//! `kind = "inverse_dynamics"`: the kinematics on the file's time grid and, at every time, the
+//! driver efforts and joint reactions that produce that motion under the file's forces
+//! ([`cardan_dynamics::Dynamics::inverse_dynamics`]). Its output groups are the kinematic ones
+//! (with the residual of the position analysis), the driver efforts and the reactions. It needs
+//! a fully driven mechanism ([`not_fully_driven`] says what is missing; `cardan check` uses it
+//! too).
+
+use super::dynamic::{dynamics_as, located_as};
+use super::kinematic;
+use super::summary::{Analysed, Summary};
+use crate::build::Outputs as Requested;
+use crate::commands::output_tables::{
+    driver_efforts_table, peak_efforts, reaction_tables, requested,
+};
+use crate::commands::{analysis_error, Prepared};
+use crate::diag::Error;
+use crate::table::Table;
+use cardan_dynamics::{DynamicResults, DynamicsError};
+use cardan_mechanism::{AssemblyOptions, KinematicOptions};
+use std::ops::ControlFlow;
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// `kind = "inverse_dynamics"`: kinematics with driver efforts and reactions, the tables, the
+/// summary. A kinematic failure mid-run keeps the results so far with the error.
+pub(super) fn run_inverse(
+    p: &Prepared,
+    analysis: &crate::build::Analysis,
+    progress: bool,
+) -> Result<Analysed, Error> {
+    let start = Instant::now();
+    // Two passes over the grid: the kinematics, then the efforts.
+    let frames = 2 * (analysis.steps as u64 + 1);
+    let mut bar = crate::progress::Progress::new(progress, frames);
+    let (r, failure) = inverse_dynamics_with(p, |k, t| bar.tick(k as u64 + 1, t))?;
+    drop(bar);
+    let wall = start.elapsed();
+    let req = requested(p, &analysis.outputs);
+    let tables = inverse_tables(p, &r, &req);
+    let k = &r.kinematics;
+    let summary = Summary {
+        name: p.loaded.name.clone(),
+        steps: k.len(),
+        iterations: k.iterations.iter().sum(),
+        max_residual: k.residual.iter().fold(0.0, |a: f64, &b| a.max(b)),
+        wall,
+        dir: PathBuf::new(),
+        files: Vec::new(),
+        dynamic: None,
+        peak_efforts: peak_efforts(p, &r),
+        warnings: Vec::new(),
+        subdivided_steps: Some(k.subdivided_steps),
+        row_reselections: k.row_reselections + r.stats.row_reselections,
+    };
+    Ok(Analysed {
+        tables,
+        summary,
+        results: r.kinematics.clone(),
+        dynamic: Some(r),
+        failure,
+        strict_failure: None,
+    })
+}
+
+/// Runs the file's `kind = "inverse_dynamics"` analysis: the kinematics on the file's time grid
+/// and, at every time, the driver efforts and joint reactions that produce that motion under the
+/// file's forces ([`cardan_dynamics::Dynamics::inverse_dynamics`]).
+///
+/// Returns the results and, when the kinematics stopped early (a singular configuration, a
+/// limit of the motion), the error with the results up to the last solved time.
+///
+/// # Errors
+/// No such analysis; a mechanism that is not fully driven (no drivers, or fewer or more than the
+/// joints leave degrees of freedom: an input error naming the DOF and the drivers); a body
+/// without mass or inertia; assembly failures and failures at the first step.
+pub fn inverse_dynamics(p: &Prepared) -> Result<(DynamicResults, Option<Error>), Error> {
+    inverse_dynamics_with(p, |_, _| ControlFlow::Continue(()))
+}
+
+/// [`inverse_dynamics`] with a progress callback
+/// ([`cardan_dynamics::Dynamics::inverse_dynamics_with_progress`]); when it breaks (Ctrl-C),
+/// the results so far and an interrupted error ([`crate::progress::interrupted`]).
+///
+/// # Errors
+/// As [`inverse_dynamics`].
+pub fn inverse_dynamics_with(
+    p: &Prepared,
+    progress: impl FnMut(usize, f64) -> ControlFlow<()>,
+) -> Result<(DynamicResults, Option<Error>), Error> {
+    const WHAT: &str = "inverse dynamics";
+    let a = p
+        .loaded
+        .analysis
+        .as_ref()
+        .filter(|a| a.inverse_dynamics)
+        .ok_or_else(|| {
+            p.source
+                .error("the model file has no [analysis] with kind = \"inverse_dynamics\"")
+        })?;
+    if p.model.drivers().is_empty() {
+        // Without drivers the run would succeed on a structure and compute nothing useful; say
+        // how many DOF the joints leave (assembling without drivers, as `cardan check` does).
+        let mut ws = p.model.workspace();
+        let opts = AssemblyOptions {
+            include_drivers: false,
+            ..AssemblyOptions::at(a.t_start)
+        };
+        p.model
+            .assemble(&mut ws, &opts)
+            .map_err(|e| analysis_error(p, &e))?;
+        let dof = p.model.dof(&ws).map_err(|e| analysis_error(p, &e))?;
+        return Err(not_fully_driven(p, dof.dof, 0));
+    }
+    let mut d = dynamics_as(p, WHAT)?;
+    let opts = KinematicOptions::new(a.t_start, a.t_end, a.steps);
+    let e = match d.inverse_dynamics_with_progress(&opts, progress) {
+        Ok(r) => return Ok((r, None)),
+        Err(e) => e,
+    };
+    match e.cause() {
+        DynamicsError::Stopped { .. } => match e.partial_results() {
+            Some(r) => Ok((r.clone(), Some(crate::progress::interrupted(r.times())))),
+            None => Err(located_as(p, &e, WHAT)),
+        },
+        DynamicsError::NotFullyDriven { dof, drivers } => Err(not_fully_driven(p, *dof, *drivers)),
+        DynamicsError::Mechanism(ae) => {
+            let err = analysis_error(p, ae);
+            match e.partial_results() {
+                // The kinematics stopped mid-run: the results so far, and the error.
+                Some(r) => Ok((r.clone(), Some(err))),
+                None => Err(err),
+            }
+        }
+        _ => Err(located_as(p, &e, WHAT)),
+    }
+}
+
+/// The one-paragraph error of an inverse dynamics run on a model that is not fully driven.
+pub fn not_fully_driven(p: &Prepared, dof: usize, drivers: usize) -> Error {
+    let names: Vec<&str> = p.loaded.drivers.iter().map(|(n, _)| n.as_str()).collect();
+    let s = |n: usize| if n == 1 { "" } else { "s" };
+    let advice = if dof > drivers {
+        let n = dof - drivers;
+        format!(
+            "add {n} driver{} (a rotation or translation driver per free joint coordinate), or use \
+             kind = \"dynamic\" to simulate the motion the forces produce",
+            s(n)
+        )
+    } else if drivers > dof {
+        let n = drivers - dof;
+        format!("remove {n} driver{} (or add joints)", s(n))
+    } else {
+        "the model is a structure: nothing moves and no driver exerts an effort; add the joint \
+         to drive and its driver"
+            .to_string()
+    };
+    let span = p
+        .loaded
+        .spans
+        .first_driver
+        .clone()
+        .unwrap_or_else(|| p.loaded.spans.analysis.clone());
+    p.source.error_at(
+        span,
+        format!(
+            "inverse dynamics needs a fully driven mechanism, with as many drivers as the joints \
+             leave degrees of freedom (at least one): the joints leave {dof} DOF and the file \
+             has {drivers} driver{} ({}); {advice}",
+            s(drivers),
+            if names.is_empty() {
+                "none".to_string()
+            } else {
+                names.join(", ")
+            },
+        ),
+    )
+}
+
+/// The output groups of an inverse dynamics run: the kinematic groups (with the residual of the
+/// position analysis), then driver efforts and reactions (global and body components).
+pub fn inverse_tables(p: &Prepared, r: &DynamicResults, req: &Requested) -> Vec<Table> {
+    let mut out = kinematic::tables(p, &r.kinematics, req);
+    out.extend(driver_efforts_table(p, r));
+    out.extend(reaction_tables(r, req));
+    out
+}

@@ -1,0 +1,220 @@
+//! `kind = "kinematic"`: the position, velocity and acceleration analysis over the file's time
+//! grid ([`cardan_mechanism::Model::kinematics_with_control`]) and its output groups: points,
+//! joint coordinates, body poses, velocities and accelerations, and the residual of the
+//! position analysis. The dynamic and inverse dynamics runs write the same kinematic groups.
+
+use super::summary::{Analysed, Summary};
+use crate::build::Outputs as Requested;
+use crate::commands::output_tables::requested;
+use crate::commands::{analysis_error, Prepared};
+use crate::diag::Error;
+use crate::table::Table;
+use cardan_mechanism::{KinematicOptions, Results};
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// `kind = "kinematic"`: the kinematics over the file's grid and its tables.
+pub(super) fn run_kinematic(
+    p: &Prepared,
+    analysis: &crate::build::Analysis,
+    progress: bool,
+) -> Result<Analysed, Error> {
+    let opts = KinematicOptions::new(analysis.t_start, analysis.t_end, analysis.steps);
+    let start = Instant::now();
+    let mut bar = crate::progress::Progress::new(progress, opts.steps as u64 + 1);
+    let mut ws = p.model.workspace();
+    let run = p
+        .model
+        .kinematics_with_control(&mut ws, &opts, |k, t| bar.tick(k as u64 + 1, t));
+    let wall = start.elapsed();
+    let (results, failure) = match run {
+        Ok(r) if bar.stopped() => {
+            let e = crate::progress::interrupted(&r.times);
+            (r, Some(e))
+        }
+        Ok(r) => (r, None),
+        Err(e) => match e.partial_results() {
+            Some(r) => (r.clone(), Some(analysis_error(p, &e))),
+            None => return Err(analysis_error(p, &e)),
+        },
+    };
+    drop(bar);
+    let req = requested(p, &analysis.outputs);
+    let tables = tables(p, &results, &req);
+    let summary = Summary {
+        name: p.loaded.name.clone(),
+        steps: results.len(),
+        iterations: results.iterations.iter().sum(),
+        max_residual: results.residual.iter().fold(0.0, |a: f64, &b| a.max(b)),
+        wall,
+        dir: PathBuf::new(),
+        files: Vec::new(),
+        dynamic: None,
+        peak_efforts: Vec::new(),
+        warnings: Vec::new(),
+        subdivided_steps: Some(results.subdivided_steps),
+        row_reselections: results.row_reselections,
+    };
+    Ok(Analysed {
+        tables,
+        summary,
+        results,
+        dynamic: None,
+        failure,
+        strict_failure: None,
+    })
+}
+
+/// Builds the output groups from the results.
+pub fn tables(p: &Prepared, r: &Results, req: &Requested) -> Vec<Table> {
+    let n = r.len();
+    let xyz = ["x", "y", "z"];
+    let mut out = Vec::new();
+    let vec_table =
+        |name: &str,
+         title: &str,
+         unit: &str,
+         pick: &dyn Fn(&cardan_mechanism::PointResults) -> &Vec<nalgebra::Vector3<f64>>| {
+            let mut cols = Vec::new();
+            let mut series = Vec::new();
+            for (b, pt) in &req.points {
+                if let Some(h) = r.point(b, pt) {
+                    for (c, ax) in xyz.iter().enumerate() {
+                        cols.push(format!("{b}.{pt}.{ax} [{unit}]"));
+                        series.push((pick(h), c));
+                    }
+                }
+            }
+            let mut t = Table::new(name, title, cols);
+            for k in 0..n {
+                let mut row = vec![r.times[k]];
+                row.extend(
+                    series
+                        .iter()
+                        .map(|(v, c)| v.get(k).map_or(f64::NAN, |x| x[*c])),
+                );
+                t.rows.push(row);
+            }
+            t
+        };
+    if !req.points.is_empty() {
+        out.push(vec_table("points", "point positions", "m", &|h| {
+            &h.position
+        }));
+        out.push(vec_table(
+            "point_velocities",
+            "point velocities",
+            "m/s",
+            &|h| &h.velocity,
+        ));
+        out.push(vec_table(
+            "point_accelerations",
+            "point accelerations",
+            "m/s²",
+            &|h| &h.acceleration,
+        ));
+    }
+    if !req.joints.is_empty() {
+        let mut cols = Vec::new();
+        let mut src = Vec::new();
+        for j in &req.joints {
+            if let Some(h) = r.joint(j) {
+                for (q, c) in h.coordinates.iter().enumerate() {
+                    let unit = c.measure.quantity().unit();
+                    cols.push(format!("{j}.{} [{unit}]", c.name));
+                    src.push((h, q));
+                }
+            }
+        }
+        let mut t = Table::new("joints", "joint coordinates", cols);
+        for k in 0..n {
+            let mut row = vec![r.times[k]];
+            row.extend(
+                src.iter()
+                    .map(|(h, q)| h.values.get(k).map_or(f64::NAN, |v| v[*q])),
+            );
+            t.rows.push(row);
+        }
+        out.push(t);
+    }
+    if !req.bodies.is_empty() {
+        let bodies: Vec<_> = req.bodies.iter().filter_map(|b| r.body(b)).collect();
+        let mut cols = Vec::new();
+        for b in &bodies {
+            for ax in xyz {
+                cols.push(format!("{}.r.{ax} [m]", b.name));
+            }
+            for e in ["e0", "e1", "e2", "e3"] {
+                cols.push(format!("{}.p.{e} [-]", b.name));
+            }
+        }
+        let mut t = Table::new("bodies", "body poses (r, Euler parameters p)", cols);
+        for k in 0..n {
+            let mut row = vec![r.times[k]];
+            for b in &bodies {
+                row.extend((0..3).map(|c| b.r.get(k).map_or(f64::NAN, |v| v[c])));
+                row.extend((0..4).map(|c| b.p.get(k).map_or(f64::NAN, |v| v[c])));
+            }
+            t.rows.push(row);
+        }
+        out.push(t);
+        for (name, title, u1, u2, first, second) in [
+            (
+                "body_velocities",
+                "body velocities (ṙ, ω global)",
+                "m/s",
+                "rad/s",
+                "r_dot",
+                "omega",
+            ),
+            (
+                "body_accelerations",
+                "body accelerations (r̈, ω̇ global)",
+                "m/s²",
+                "rad/s²",
+                "r_ddot",
+                "omega_dot",
+            ),
+        ] {
+            let mut cols = Vec::new();
+            for b in &bodies {
+                for ax in xyz {
+                    cols.push(format!("{}.{first}.{ax} [{u1}]", b.name));
+                }
+                for ax in xyz {
+                    cols.push(format!("{}.{second}.{ax} [{u2}]", b.name));
+                }
+            }
+            let mut t = Table::new(name, title, cols);
+            for k in 0..n {
+                let mut row = vec![r.times[k]];
+                for b in &bodies {
+                    let (a, w) = if first == "r_dot" {
+                        (&b.r_dot, &b.omega)
+                    } else {
+                        (&b.r_ddot, &b.omega_dot)
+                    };
+                    row.extend((0..3).map(|c| a.get(k).map_or(f64::NAN, |v| v[c])));
+                    row.extend((0..3).map(|c| w.get(k).map_or(f64::NAN, |v| v[c])));
+                }
+                t.rows.push(row);
+            }
+            out.push(t);
+        }
+    }
+    let mut t = Table::new(
+        "residual",
+        "constraint residual",
+        vec!["max |Φ| [m or -]".into(), "newton_iterations [-]".into()],
+    );
+    for k in 0..n {
+        t.rows.push(vec![
+            r.times[k],
+            r.residual.get(k).copied().unwrap_or(f64::NAN),
+            r.iterations.get(k).map_or(f64::NAN, |&i| i as f64),
+        ]);
+    }
+    out.push(t);
+    let _ = p;
+    out
+}

@@ -1,0 +1,289 @@
+//! `cardan run MODEL.toml [-o DIR]`: the analysis the file describes, written as CSV and SVG
+//! with a `run.json` that says how the run went (the directory rule: [`crate::output`]).
+//!
+//! This module picks the analysis ([`kinematic`], [`dynamic`] or [`inverse`] dynamics; each
+//! returns its output groups and summary), writes the outputs and `run.json`, and prints the
+//! summary line with the warnings.
+
+pub mod dynamic;
+pub mod inverse;
+pub mod kinematic;
+mod summary;
+
+pub use summary::{DynamicSummary, RunFlags, Summary};
+
+use super::{prepare, Prepared};
+use crate::diag::Error;
+use crate::output::OutputDir;
+use crate::report::{ModelRef, RunReport, Status};
+use cardan_mechanism::Results;
+use dynamic::run_dynamic;
+use inverse::run_inverse;
+use kinematic::run_kinematic;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use summary::Analysed;
+
+/// The output of [`run_model`]: the results (complete, or partial with the error).
+pub struct RunOutcome {
+    /// The model as prepared.
+    pub prepared: Prepared,
+    /// Results (up to the failure if `error` is set).
+    pub results: Results,
+    /// What was written.
+    pub summary: Summary,
+    /// The analysis error, if the run stopped early.
+    pub error: Option<Error>,
+    /// The dynamic results (`kind = "dynamic"` or `"inverse_dynamics"`); `results` holds their
+    /// kinematic part.
+    pub dynamic: Option<cardan_dynamics::DynamicResults>,
+}
+
+/// `cardan run`: runs, writes, prints the summary.
+///
+/// # Errors
+/// Input errors, analysis errors (after writing the partial results), output errors; with
+/// `--strict`, warnings (after writing the results).
+pub fn run(
+    path: &Path,
+    output: Option<&Path>,
+    flags: &RunFlags,
+    out: &mut dyn Write,
+) -> Result<Summary, Error> {
+    crate::progress::catch_ctrl_c();
+    let o = run_model_with(path, output, flags)?;
+    print_summary(&o.summary, out)?;
+    match o.error {
+        Some(e) => Err(e),
+        None => Ok(o.summary),
+    }
+}
+
+/// The summary: the files written, one line of numbers, then one line per warning.
+pub fn print_summary(s: &Summary, out: &mut dyn Write) -> Result<(), Error> {
+    let written: Vec<String> = s
+        .files
+        .iter()
+        .map(|f| {
+            f.file_name()
+                .map_or(String::new(), |n| n.to_string_lossy().into_owned())
+        })
+        .collect();
+    let io = super::output_tables::io;
+    writeln!(
+        out,
+        "wrote {} files to {}: {}",
+        written.len(),
+        s.dir.display(),
+        written.join(", ")
+    )
+    .map_err(io)?;
+    let efforts = if s.peak_efforts.is_empty() {
+        String::new()
+    } else {
+        let list: Vec<String> = s
+            .peak_efforts
+            .iter()
+            .map(|(n, v, u)| format!("{n} {v:.4e} {u}"))
+            .collect();
+        format!(", peak |driver effort| {}", list.join(", "))
+    };
+    let efforts = match s.subdivided_steps {
+        Some(1) => format!("{efforts}, 1 step subdivided to stay on the assembly branch"),
+        Some(n) if n > 1 => {
+            format!("{efforts}, {n} steps subdivided to stay on the assembly branch")
+        }
+        _ => efforts,
+    };
+    let efforts = match s.row_reselections {
+        0 => efforts,
+        1 => format!("{efforts}, redundant equations chosen again once"),
+        n => format!("{efforts}, redundant equations chosen again {n} times"),
+    };
+    let efforts = match s.warnings.len() {
+        0 => efforts,
+        1 => format!("{efforts}, 1 warning (below)"),
+        n => format!("{efforts}, {n} warnings (below)"),
+    };
+    match &s.dynamic {
+        None => writeln!(
+            out,
+            "{}: {} steps, {} Newton iterations, largest residual {:.3e}{efforts}, wall time {:.3} s",
+            s.name,
+            s.steps,
+            s.iterations,
+            s.max_residual,
+            s.wall.as_secs_f64()
+        ),
+        Some(d) => writeln!(
+            out,
+            "{}: {} outputs, {} steps ({} rejected), {} Newton iterations, max constraint drift \
+             {:.3e}, energy drift {:.3e} J{efforts}, wall time {:.3} s",
+            s.name,
+            s.steps,
+            d.steps,
+            d.rejected,
+            d.newton_iterations,
+            d.max_constraint_drift,
+            d.energy_drift,
+            s.wall.as_secs_f64()
+        ),
+    }
+    .map_err(io)?;
+    for w in &s.warnings {
+        writeln!(out, "warning: {w}").map_err(io)?;
+    }
+    Ok(())
+}
+
+/// Runs the model file's analysis and writes its outputs to `output` (default
+/// `out/<model name>/`) by the directory rule of [`crate::output`], with `run.json`. A failure
+/// mid-run still writes the results up to the failure (marked partial) and is returned in
+/// [`RunOutcome::error`].
+///
+/// # Errors
+/// Input errors and failures before the first step (assembly, driver count): nothing is
+/// written, the previous directory stays. Output errors (the previous directory stays).
+pub fn run_model(path: &Path, output: Option<&Path>, progress: bool) -> Result<RunOutcome, Error> {
+    let flags = RunFlags {
+        progress,
+        ..RunFlags::default()
+    };
+    run_model_with(path, output, &flags)
+}
+
+/// [`run_model`] as `flags` say. With `flags.strict`, a run with warnings returns an error
+/// (exit code 3) in [`RunOutcome::error`] after writing its results.
+///
+/// # Errors
+/// As [`run_model`].
+pub fn run_model_with(
+    path: &Path,
+    output: Option<&Path>,
+    flags: &RunFlags,
+) -> Result<RunOutcome, Error> {
+    let progress = flags.progress;
+    let p = prepare(path)?;
+    let Some(analysis) = p.loaded.analysis.clone() else {
+        return Err(p.source.error(
+            "the model file has no [analysis] table, so there is nothing to run; add e.g.\n\
+             [analysis]\nkind = \"kinematic\"\nt_end = 1.0\nsteps = 100\n(`cardan check` validates a model without running it)",
+        ));
+    };
+    let dir = match output {
+        Some(d) => d.to_path_buf(),
+        None => Path::new("out").join(&p.loaded.name),
+    };
+    // Locked before the analysis: a concurrent run is refused at once, not after its work.
+    let out_dir = OutputDir::lock(&dir)?;
+    let (kind, ran) = if analysis.dynamic.is_some() {
+        ("dynamic", run_dynamic(&p, &analysis, flags))
+    } else if analysis.inverse_dynamics {
+        ("inverse_dynamics", run_inverse(&p, &analysis, progress))
+    } else {
+        ("kinematic", run_kinematic(&p, &analysis, progress))
+    };
+    let mut a = ran?;
+    if a.results.times.is_empty() {
+        // Nothing to write: the previous directory stays as it was.
+        return Err(a.failure.unwrap_or_else(|| {
+            Error::analysis("the analysis stored no result (no time was solved)")
+        }));
+    }
+    if flags.strict && a.failure.is_none() && !a.summary.warnings.is_empty() {
+        a.strict_failure = Some(strict_error(&a.summary.warnings));
+    }
+    let files = write_outputs(out_dir, &p, kind, &mut a, analysis.plots)?;
+    a.summary.dir = dir;
+    a.summary.files = files;
+    Ok(RunOutcome {
+        prepared: p,
+        results: a.results,
+        summary: a.summary,
+        error: a.failure.or(a.strict_failure),
+        dynamic: a.dynamic,
+    })
+}
+
+/// The error of a `--strict` run with warnings.
+fn strict_error(warnings: &[String]) -> Error {
+    let n = warnings.len();
+    Error::analysis(format!(
+        "--strict: the run gave {n} warning{} about doubtful results (listed after the summary \
+         and in run.json); the results were written",
+        if n == 1 { "" } else { "s" }
+    ))
+}
+
+/// Writes the tables and `run.json` into the locked directory and renames it into place.
+/// Completes a failure's message with what was written. Returns the paths written.
+fn write_outputs(
+    mut dir: OutputDir,
+    p: &Prepared,
+    kind: &'static str,
+    a: &mut Analysed,
+    plots: bool,
+) -> Result<Vec<PathBuf>, Error> {
+    for t in &a.tables {
+        dir.write(&format!("{}.csv", t.name), &t.to_csv())?;
+        if plots && t.name != "residual" {
+            dir.write(&format!("{}.svg", t.name), &t.to_svg())?;
+        }
+    }
+    let unit = if kind == "dynamic" {
+        "outputs"
+    } else {
+        "steps"
+    };
+    let target = dir.target().to_path_buf();
+    if let Some(err) = &mut a.failure {
+        err.message.push_str(&format!(
+            ". The results up to t = {} s ({} {unit}) were written to {}",
+            a.results.times.last().copied().unwrap_or(f64::NAN),
+            a.results.len(),
+            target.display()
+        ));
+    }
+    let report = report(p, kind, a, dir.files().to_vec());
+    dir.write("run.json", &report.to_json())?;
+    let files = dir.files().iter().map(|f| target.join(f)).collect();
+    dir.commit()?;
+    Ok(files)
+}
+
+/// The contents of `run.json` for an analysed run whose tables are `files`.
+fn report(p: &Prepared, kind: &'static str, a: &Analysed, files: Vec<String>) -> RunReport {
+    let s = &a.summary;
+    let d = s.dynamic.as_ref();
+    RunReport {
+        model: ModelRef {
+            path: p.source.path.display().to_string(),
+            name: s.name.clone(),
+        },
+        analysis: kind,
+        status: if a.failure.is_some() {
+            Status::Partial
+        } else {
+            Status::Complete
+        },
+        reason: a.failure.as_ref().map(|e| e.message.clone()),
+        exit_code: a
+            .failure
+            .as_ref()
+            .or(a.strict_failure.as_ref())
+            .map_or(0, |e| e.kind.exit_code()),
+        t_reached: a.results.times.last().copied(),
+        steps: s.steps,
+        integration_steps: d.map(|d| d.steps),
+        rejected_steps: d.map(|d| d.rejected),
+        newton_iterations: s.iterations,
+        largest_residual: s.max_residual,
+        constraint_drift: d.map(|d| d.max_constraint_drift),
+        energy_drift: d.map(|d| d.energy_drift),
+        warnings: s.warnings.clone(),
+        subdivided_steps: s.subdivided_steps,
+        row_reselections: s.row_reselections,
+        files,
+        wall_time_s: s.wall.as_secs_f64(),
+    }
+}

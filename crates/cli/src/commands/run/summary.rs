@@ -1,0 +1,86 @@
+//! What the analyses of `cardan run` hand to [`super::run_model_with`]: an [`Analysed`] run
+//! (its output groups, its [`Summary`], its results) under the [`RunFlags`] it was asked to run
+//! with. These types sit below the analyses so that they and `run` share them without using each
+//! other; `run` exports the public ones.
+
+use crate::diag::Error;
+use crate::table::Table;
+use cardan_mechanism::Results;
+use std::path::PathBuf;
+use std::time::Duration;
+
+/// What a run did.
+#[derive(Debug, Clone)]
+pub struct Summary {
+    /// The model name.
+    pub name: String,
+    /// Stored time steps.
+    pub steps: usize,
+    /// Total Newton iterations.
+    pub iterations: usize,
+    /// Largest max |Φ_i| over the run.
+    pub max_residual: f64,
+    /// Wall time of the analysis (not the writing).
+    pub wall: Duration,
+    /// Output directory.
+    pub dir: PathBuf,
+    /// Files written (`run.json` last).
+    pub files: Vec<PathBuf>,
+    /// Dynamic runs: integration counters and drifts.
+    pub dynamic: Option<DynamicSummary>,
+    /// Dynamic and inverse dynamics runs: per driver, its name, the largest |effort| over the
+    /// run and the unit ("N m" or "N").
+    pub peak_efforts: Vec<(String, f64, &'static str)>,
+    /// Doubtful results and other remarks, one sentence each: printed after the summary line
+    /// and written to `run.json`. Any check may push to it.
+    pub warnings: Vec<String>,
+    /// Kinematic and inverse dynamics runs: grid steps solved in substeps to stay on the
+    /// assembly branch (`Results::subdivided_steps`; not a warning); `None` for dynamic runs.
+    pub subdivided_steps: Option<usize>,
+    /// Times the independent equations of a model with redundant equations were chosen again
+    /// because the kept ones lost rank (a note, not a warning).
+    pub row_reselections: usize,
+}
+
+/// What a dynamic run adds to the summary line.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DynamicSummary {
+    /// Accepted integration steps.
+    pub steps: usize,
+    /// Rejected steps.
+    pub rejected: usize,
+    /// Newton iterations (implicit steps and projections).
+    pub newton_iterations: usize,
+    /// Largest max |Φ| over the stored times.
+    pub max_constraint_drift: f64,
+    /// max |E − E(t0)| (J).
+    pub energy_drift: f64,
+}
+
+/// How `cardan run` was asked to run.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct RunFlags {
+    /// Show a progress bar on stderr.
+    pub progress: bool,
+    /// `--strict`: warnings make the run fail with exit code 3 (the results are still written).
+    pub strict: bool,
+    /// `--allow-long`: run a dynamic analysis beyond [`super::dynamic::MAX_STEPS`] estimated
+    /// steps.
+    pub allow_long: bool,
+}
+
+/// An analysis that has run, before anything is written.
+pub(super) struct Analysed {
+    /// The output groups.
+    pub(super) tables: Vec<Table>,
+    /// The summary (files and directory are filled in when written).
+    pub(super) summary: Summary,
+    /// The results (the kinematic part for dynamic runs).
+    pub(super) results: Results,
+    /// Dynamic and inverse dynamics runs: everything they computed.
+    pub(super) dynamic: Option<cardan_dynamics::DynamicResults>,
+    /// The failure that stopped the run early; `None` when it reached `t_end`.
+    pub(super) failure: Option<Error>,
+    /// `--strict` with warnings: the error to return after writing (the run is complete).
+    pub(super) strict_failure: Option<Error>,
+}
