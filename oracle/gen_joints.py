@@ -81,6 +81,12 @@ def phi_planar(bi, bj, t, P):
     return ca.vertcat(f.n1(f.xi, f.zj), f.n1(f.yi, f.zj), f.n2(f.zi))
 
 
+def phi_perpendicular(bi, bj, t, P):
+    """z_i . z_j = 0: the two joint axes perpendicular."""
+    f = Frames(bi, bj, P)
+    return f.n1(f.zi, f.zj)
+
+
 # ---------------------------------------------------------------------------------------------
 
 
@@ -116,6 +122,9 @@ def relative_motion(name, rng, scale):
     if name == "planar":
         off = (scale * rng.uniform(-1, 1, 2)).tolist()
         return C.rot_axis(2, _angle(rng)), off + [0.0]
+    if name == "perpendicular":
+        r = C.rot_axis(2, _angle(rng)) @ C.rot_axis(0, math.pi / 2) @ C.rot_axis(2, _angle(rng))
+        return r, (scale * rng.uniform(-1, 1, 3)).tolist()
     raise KeyError(name)
 
 
@@ -143,6 +152,7 @@ ELEMENTS = {
     "fixed": (phi_fixed, 6, pr_markers, solve_markers("fixed")),
     "spherical_spherical": (phi_spherical_spherical, 1, pr_ss, solve_ss),
     "planar": (phi_planar, 3, pr_markers, solve_markers("planar")),
+    "perpendicular": (phi_perpendicular, 1, pr_markers, solve_markers("perpendicular")),
 }
 
 

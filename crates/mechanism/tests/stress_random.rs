@@ -166,8 +166,8 @@ fn add_joint(
     );
     b.point(bi, &pi, local(pose_i, at, true));
     b.point(bj, &pj, local(pose_j, at_j, true));
-    // Universal: the cross arms are perpendicular (u on i, v on j).
-    let (arm_j, x_j) = if kind == JointKind::Universal {
+    // Universal and perpendicular: the axes are perpendicular (u on i, v on j).
+    let (arm_j, x_j) = if matches!(kind, JointKind::Universal | JointKind::Perpendicular) {
         (v, u)
     } else {
         (u, v)
@@ -230,6 +230,9 @@ fn add_joint(
             rot(w, at),
         ],
         JointKind::Planar => vec![rot(u, at), tra(v), tra(w)],
+        // z_j ⟂ z_i (u on i, v on j, as for the universal arms): every translation, the rotations
+        // about the two axes.
+        JointKind::Perpendicular => vec![tra(e1), tra(e2), tra(e3), rot(u, at), rot(v, at)],
     };
     (kind, drivers, twists)
 }

@@ -360,6 +360,19 @@ joint_kinds! {
         rotation: None,
         translation: None,
     },
+    /// Axes z_i ⟂ z_j, points free (1 row).
+    Perpendicular => {
+        name: "perpendicular",
+        aliases: &[],
+        summary: "the two axes held perpendicular, z_i ⟂ z_j; everything else free",
+        axes: Some("the two axes held perpendicular"),
+        x_axes: false,
+        length: false,
+        blocks: &[Perpendicular(Z, Z)],
+        coordinates: &[],
+        rotation: None,
+        translation: None,
+    },
 }
 
 impl JointKind {
