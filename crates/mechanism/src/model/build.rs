@@ -1,0 +1,71 @@
+//! [`build`]: a [`MechanismBuilder`] checked and turned into a [`Model`]. Names are resolved
+//! ([`super::resolve`], one function per element kind), then the rows laid out
+//! ([`super::layout`]). Every element name is unique across joints, drivers and forces.
+
+use super::{layout, resolve, Model};
+use crate::builder::MechanismBuilder;
+use crate::error::ModelError;
+use std::collections::HashMap;
+
+pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
+    let (mut names, bodies) = resolve::bodies(b)?;
+    let (points, vectors) = resolve::features(b, &mut names)?;
+    let length = layout::characteristic_length(b, &bodies, &points);
+
+    // Every element name, with the joint index for joints (drivers look their joint up here: a
+    // linear search would make building a long driven chain quadratic).
+    let mut element_names: HashMap<&str, Option<usize>> = HashMap::new();
+    let mut joints = Vec::with_capacity(b.joints.len());
+    for spec in &b.joints {
+        let what = format!("a {} joint", spec.kind.name());
+        unique(&mut element_names, &spec.name, Some(joints.len()), &what)?;
+        joints.push(resolve::joint(spec, &names, &bodies)?);
+    }
+    let mut drivers = Vec::with_capacity(b.drivers.len());
+    for spec in &b.drivers {
+        unique(&mut element_names, &spec.name, None, "a driver")?;
+        drivers.push(resolve::driver(spec, &names, &joints, &element_names)?);
+    }
+    let mut forces = Vec::with_capacity(b.forces.len());
+    for spec in &b.forces {
+        let name = spec.name();
+        unique(&mut element_names, name, None, "a force element")?;
+        forces.push(resolve::force(spec, name, &names, &bodies)?);
+    }
+
+    let nb = bodies.len();
+    let lay = layout::rows(&mut joints, &mut drivers, nb, length);
+    let tree = crate::analysis::predictor::PredictorTree::new(nb, &joints);
+    Ok(Model {
+        tree,
+        bodies,
+        points,
+        vectors,
+        joints,
+        drivers,
+        forces,
+        pattern: lay.pattern,
+        equation_scales: lay.equation_scales,
+        unknown_scales: lay.unknown_scales,
+        length,
+        num_rows: lay.num_rows,
+        joint_rows: lay.joint_rows,
+    })
+}
+
+/// Enters an element name (with its joint index, for a joint): not empty, not taken by another
+/// joint, driver or force (`what` names the element in the empty-name error).
+fn unique<'a>(
+    names: &mut HashMap<&'a str, Option<usize>>,
+    name: &'a str,
+    joint: Option<usize>,
+    what: &str,
+) -> Result<(), ModelError> {
+    if name.is_empty() {
+        return Err(ModelError::EmptyName { what: what.into() });
+    }
+    if names.insert(name, joint).is_some() {
+        return Err(ModelError::DuplicateElement { name: name.into() });
+    }
+    Ok(())
+}

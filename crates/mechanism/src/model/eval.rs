@@ -1,0 +1,126 @@
+//! Evaluation of the global system on body states (6-coordinate form): Φ, ν, γ# and the
+//! Jacobian Φ_v, element by element, scattered into the global vectors and slot array.
+
+use super::{BodyId, Model, ScatterMap, NO_SLOT};
+use crate::workspace::Workspace;
+use cardan_constraints::{BodyPair, BodyState, Constraint};
+use std::ops::Range;
+
+impl Model {
+    pub(crate) fn state<'a>(
+        bodies: &'a [BodyState],
+        ground: &'a BodyState,
+        id: BodyId,
+    ) -> &'a BodyState {
+        match id {
+            BodyId::Ground => ground,
+            BodyId::Moving(k) => &bodies[k],
+        }
+    }
+
+    fn each<F>(&self, mut f: F)
+    where
+        F: FnMut(&dyn ElementEval, BodyId, BodyId, &Range<usize>, &ScatterMap),
+    {
+        for j in &self.joints {
+            f(&j.joint, j.body_i, j.body_j, &j.rows, &j.map);
+        }
+        for d in &self.drivers {
+            f(&d.driver, d.body_i, d.body_j, &d.rows, &d.map);
+        }
+    }
+
+    /// Fills `out` (one entry per equation) element by element with `eval`, which writes an
+    /// element's rows for its body pair: the one loop behind Φ, ν and γ#.
+    fn rows_into(
+        &self,
+        bodies: &[BodyState],
+        t: f64,
+        out: &mut [f64],
+        eval: impl Fn(&dyn ElementEval, &BodyPair, f64, &mut [f64]),
+    ) {
+        let g = BodyState::ground();
+        self.each(|e, bi, bj, rows, _| {
+            let pair = BodyPair::new(Self::state(bodies, &g, bi), Self::state(bodies, &g, bj));
+            eval(e, &pair, t, &mut out[rows.clone()]);
+        });
+    }
+
+    pub(crate) fn phi_into(&self, bodies: &[BodyState], t: f64, out: &mut [f64]) {
+        self.rows_into(bodies, t, out, |e, x, t, o| e.phi_dyn(x, t, o));
+    }
+
+    pub(crate) fn nu_into(&self, bodies: &[BodyState], t: f64, out: &mut [f64]) {
+        self.rows_into(bodies, t, out, |e, x, t, o| e.nu_dyn(x, t, o));
+    }
+
+    pub(crate) fn gamma_into(&self, bodies: &[BodyState], t: f64, out: &mut [f64]) {
+        self.rows_into(bodies, t, out, |e, x, t, o| e.gamma_dyn(x, t, o));
+    }
+
+    pub(crate) fn jacobian_into(&self, bodies: &[BodyState], t: f64, slots: &mut [f64]) {
+        let g = BodyState::ground();
+        self.each(|e, bi, bj, rows, map| {
+            let pair = BodyPair::new(Self::state(bodies, &g, bi), Self::state(bodies, &g, bj));
+            let n = rows.len();
+            let mut bi_blk = [[0.0; 6]; 6];
+            let mut bj_blk = [[0.0; 6]; 6];
+            e.phi_v_dyn(&pair, t, &mut bi_blk[..n], &mut bj_blk[..n]);
+            for r in 0..n {
+                let m = &map.slots[r * 12..r * 12 + 12];
+                for c in 0..6 {
+                    if m[c] != NO_SLOT {
+                        slots[m[c]] = bi_blk[r][c];
+                    }
+                    if m[6 + c] != NO_SLOT {
+                        slots[m[6 + c]] = bj_blk[r][c];
+                    }
+                }
+            }
+        });
+    }
+
+    /// Φ at the workspace's poses and time `t` (length [`num_equations`](Self::num_equations)).
+    /// No allocation.
+    pub fn eval_phi(&self, ws: &Workspace, t: f64, out: &mut [f64]) {
+        self.phi_into(&ws.bodies, t, out)
+    }
+
+    /// Φ_v slot values (pattern [`Model::pattern`]) at the workspace's poses. No allocation.
+    pub fn eval_jacobian(&self, ws: &Workspace, t: f64, slots: &mut [f64]) {
+        self.jacobian_into(&ws.bodies, t, slots)
+    }
+
+    /// ν = −Φ_t at the workspace's poses. No allocation.
+    pub fn eval_nu(&self, ws: &Workspace, t: f64, out: &mut [f64]) {
+        self.nu_into(&ws.bodies, t, out)
+    }
+
+    /// γ#_v (6-coordinate form) at the workspace's poses and velocities (ω'). No allocation.
+    pub fn eval_gamma(&self, ws: &Workspace, t: f64, out: &mut [f64]) {
+        self.gamma_into(&ws.bodies, t, out)
+    }
+}
+
+/// Object-safe view of a joint or driver (the [`Constraint`] trait has generic methods).
+pub(crate) trait ElementEval {
+    fn phi_dyn(&self, x: &BodyPair, t: f64, out: &mut [f64]);
+    fn nu_dyn(&self, x: &BodyPair, t: f64, out: &mut [f64]);
+    fn gamma_dyn(&self, x: &BodyPair, t: f64, out: &mut [f64]);
+    fn phi_v_dyn(&self, x: &BodyPair, t: f64, oi: &mut [[f64; 6]], oj: &mut [[f64; 6]]);
+}
+
+impl<C: Constraint> ElementEval for C {
+    fn phi_dyn(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
+        self.phi(x, t, out)
+    }
+    fn nu_dyn(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
+        self.nu(x, t, out)
+    }
+    fn gamma_dyn(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
+        self.gamma_sharp_v(x, t, out)
+    }
+    fn phi_v_dyn(&self, x: &BodyPair, t: f64, oi: &mut [[f64; 6]], oj: &mut [[f64; 6]]) {
+        self.phi_v(x, t, oi, oj)
+    }
+}

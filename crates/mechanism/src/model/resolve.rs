@@ -1,0 +1,515 @@
+//! Name resolution: every element of a [`MechanismBuilder`] checked and turned into its model
+//! form, one function per element kind ([`bodies`], [`features`], [`joint`], [`driver`],
+//! [`force`]). Names are looked up in [`Names`]; an unknown name gets a suggestion. The checks
+//! of numbers and shapes are in [`super::validate`].
+
+use super::validate::{
+    check_number, check_numbers, kinds_with, orientation_p, pair_check, suggest,
+};
+use super::{BodyId, BodyInfo, DriverInfo, FeatureInfo, ForceInfo, JointInfo, ScatterMap};
+use crate::builder::{DriverSpec, DriverTarget, ForceSpec, JointSpec, MechanismBuilder, GROUND};
+use crate::error::ModelError;
+use crate::sanity::Quantity;
+use cardan_constraints::{
+    BodyState, ConstraintError, CoordinateDriver, DistanceDriver, Driver, Joint, JointKind, Marker,
+    RotationDriver, TranslationDriver,
+};
+use nalgebra::{Matrix3, Vector3};
+use std::collections::HashMap;
+
+/// The name tables elements are resolved against: bodies, and the points and vectors of each.
+pub(super) struct Names<'a> {
+    bodies: HashMap<&'a str, BodyId>,
+    body_list: Vec<&'a str>,
+    points: HashMap<(&'a str, &'a str), Vector3<f64>>,
+    vectors: HashMap<(&'a str, &'a str), Vector3<f64>>,
+}
+
+impl<'a> Names<'a> {
+    pub(super) fn body(&self, element: &str, name: &str) -> Result<BodyId, ModelError> {
+        self.bodies
+            .get(name)
+            .copied()
+            .ok_or_else(|| ModelError::UnknownBody {
+                element: element.into(),
+                name: name.into(),
+                suggestion: suggest(name, self.body_list.iter().copied()),
+            })
+    }
+
+    pub(super) fn feature(
+        &self,
+        element: &str,
+        body: &str,
+        name: &str,
+        vector: bool,
+    ) -> Result<Vector3<f64>, ModelError> {
+        let map = if vector { &self.vectors } else { &self.points };
+        if let Some(v) = map.get(&(body, name)) {
+            return Ok(*v);
+        }
+        let suggestion = suggest(
+            name,
+            map.keys().filter(|(b, _)| *b == body).map(|(_, n)| *n),
+        );
+        Err(if vector {
+            ModelError::UnknownVector {
+                element: element.into(),
+                body: body.into(),
+                name: name.into(),
+                suggestion,
+            }
+        } else {
+            ModelError::UnknownPoint {
+                element: element.into(),
+                body: body.into(),
+                name: name.into(),
+                suggestion,
+            }
+        })
+    }
+}
+
+/// The initial pose of a body (ground at the origin).
+fn pose(bodies: &[BodyInfo], id: BodyId) -> BodyState {
+    match id {
+        BodyId::Ground => BodyState::ground(),
+        BodyId::Moving(k) => BodyState::at(bodies[k].initial_r, bodies[k].initial_p),
+    }
+}
+
+/// The moving bodies: names unique, numbers within their limits, orientation and inertia
+/// checked; with the name tables the other elements are resolved against.
+pub(super) fn bodies(b: &MechanismBuilder) -> Result<(Names<'_>, Vec<BodyInfo>), ModelError> {
+    let mut names = Names {
+        bodies: HashMap::new(),
+        body_list: vec![GROUND],
+        points: HashMap::new(),
+        vectors: HashMap::new(),
+    };
+    names.bodies.insert(GROUND, BodyId::Ground);
+    let mut bodies = Vec::with_capacity(b.bodies.len());
+    for (k, body) in b.bodies.iter().enumerate() {
+        if body.name.is_empty() {
+            return Err(ModelError::EmptyName {
+                what: format!("body #{}", k + 1),
+            });
+        }
+        if names.bodies.contains_key(body.name.as_str()) {
+            return Err(ModelError::DuplicateBody {
+                name: body.name.clone(),
+            });
+        }
+        let el = format!("body \"{}\"", body.name);
+        check_numbers(&el, "position", Quantity::Length, body.position.as_slice())?;
+        let p = orientation_p(&body.name, &body.orientation)?;
+        if let Some(m) = body.mass {
+            check_number(&el, "mass", Quantity::Mass, m)?;
+            if m <= 0.0 {
+                return Err(ModelError::NonPositiveMass {
+                    body: body.name.clone(),
+                    mass: m,
+                });
+            }
+        }
+        if let Some(i) = &body.inertia {
+            check_numbers(&el, "inertia", Quantity::Inertia, i.as_slice())?;
+            crate::sanity::check_inertia(&body.name, i)?;
+        }
+        names.bodies.insert(&body.name, BodyId::Moving(k));
+        names.body_list.push(&body.name);
+        bodies.push(BodyInfo {
+            name: body.name.clone(),
+            mass: body.mass,
+            inertia: body.inertia,
+            initial_r: body.position,
+            initial_p: p,
+        });
+    }
+    if bodies.is_empty() {
+        return Err(ModelError::NoBodies);
+    }
+    Ok((names, bodies))
+}
+
+/// The named points and vectors of the bodies (entered into `names`): on known bodies, unique
+/// per body, finite, vectors not zero.
+pub(super) fn features<'a>(
+    b: &'a MechanismBuilder,
+    names: &mut Names<'a>,
+) -> Result<(Vec<FeatureInfo>, Vec<FeatureInfo>), ModelError> {
+    let mut points = Vec::new();
+    let mut vectors = Vec::new();
+    for (list, out, is_vec) in [
+        (&b.points, &mut points, false),
+        (&b.vectors, &mut vectors, true),
+    ] {
+        let what = if is_vec { "vector" } else { "point" };
+        for f in list {
+            let el = format!("{what} \"{}\"", f.name);
+            let id = names.body(&el, &f.body)?;
+            if f.name.is_empty() {
+                return Err(ModelError::EmptyName {
+                    what: format!("a {what} on body \"{}\"", f.body),
+                });
+            }
+            let el = format!("{what} \"{}\" on body \"{}\"", f.name, f.body);
+            let q = if is_vec {
+                Quantity::Direction
+            } else {
+                Quantity::Length
+            };
+            check_numbers(&el, "components", q, f.value.as_slice())?;
+            if is_vec && (f.value.amax() == 0.0 || !f.value.amax().is_normal()) {
+                return Err(ModelError::ZeroVector {
+                    body: f.body.clone(),
+                    name: f.name.clone(),
+                });
+            }
+            let map = if is_vec {
+                &mut names.vectors
+            } else {
+                &mut names.points
+            };
+            if map
+                .insert((f.body.as_str(), f.name.as_str()), f.value)
+                .is_some()
+            {
+                return Err(ModelError::DuplicateFeature {
+                    what,
+                    body: f.body.clone(),
+                    name: f.name.clone(),
+                });
+            }
+            out.push(FeatureInfo {
+                body: id,
+                body_name: f.body.clone(),
+                name: f.name.clone(),
+                local: f.value,
+            });
+        }
+    }
+    Ok((points, vectors))
+}
+
+/// One joint: its bodies, points and axes resolved and checked, its markers, and the joint
+/// built from its kind's description.
+pub(super) fn joint(
+    spec: &JointSpec,
+    names: &Names,
+    bodies: &[BodyInfo],
+) -> Result<JointInfo, ModelError> {
+    let el = format!("joint \"{}\"", spec.name);
+    let bi = names.body(&el, &spec.body_i)?;
+    let bj = names.body(&el, &spec.body_j)?;
+    pair_check(&el, bi, bj, &spec.body_i)?;
+    let pi = names.feature(&el, &spec.body_i, &spec.point_i, false)?;
+    let pj = names.feature(&el, &spec.body_j, &spec.point_j, false)?;
+    let kind = spec.kind;
+    let info = kind.info();
+    let needs_axes = info.axes.is_some();
+    let axis = |which: &'static str, body: &str, name: &Option<String>| match name {
+        Some(n) => names.feature(&el, body, n, true).map(Some),
+        None if needs_axes => Err(ModelError::MissingAxis {
+            joint: spec.name.clone(),
+            kind: kind.name(),
+            which,
+        }),
+        None => Ok(None),
+    };
+    let zi = axis("axis_i", &spec.body_i, &spec.axis_i)?;
+    let zj = axis("axis_j", &spec.body_j, &spec.axis_j)?;
+    let xi = match &spec.x_axis_i {
+        Some(n) => Some(names.feature(&el, &spec.body_i, n, true)?),
+        None => None,
+    };
+    let xj = match &spec.x_axis_j {
+        Some(n) => Some(names.feature(&el, &spec.body_j, n, true)?),
+        None => None,
+    };
+    let mi = marker(&spec.name, "i", &spec.body_i, pi, zi, xi)?;
+    let mj = marker(&spec.name, "j", &spec.body_j, pj, zj, xj)?;
+    if let (JointKind::Universal, Some(zi), Some(zj)) = (kind, zi, zj) {
+        let (si, sj) = (pose(bodies, bi).vector(&zi), pose(bodies, bj).vector(&zj));
+        crate::sanity::check_universal_arms(&spec.name, &si, &sj)?;
+    }
+    let joint = if info.length {
+        let l = joint_length(spec, &el, (pose(bodies, bi), pi), (pose(bodies, bj), pj))?;
+        Joint::with_length(kind, mi, mj, l)
+    } else {
+        Joint::new(kind, mi, mj)
+    }
+    .map_err(|e| ModelError::BadMarker {
+        joint: spec.name.clone(),
+        body: spec.body_i.clone(),
+        reason: e.to_string(),
+    })?;
+    Ok(JointInfo {
+        name: spec.name.clone(),
+        body_i: bi,
+        body_j: bj,
+        joint,
+        has_x_axes: xi.is_some() && xj.is_some(),
+        rows: 0..0,
+        map: ScatterMap { slots: Vec::new() },
+    })
+}
+
+/// The joint frame on side `side` ("i" or "j") of joint `joint`: from its axis and x axis when
+/// given; a refusal is worded with the builder's keys (axis_i, x_axis_i), not the internal
+/// "marker".
+fn marker(
+    joint: &str,
+    side: &str,
+    body: &str,
+    p: Vector3<f64>,
+    z: Option<Vector3<f64>>,
+    x: Option<Vector3<f64>>,
+) -> Result<Marker, ModelError> {
+    let bad = |e: ConstraintError| ModelError::BadMarker {
+        joint: joint.into(),
+        body: body.into(),
+        reason: match e {
+            ConstraintError::ParallelAxes { .. } => format!(
+                "x_axis_{side} is parallel to axis_{side}; the x axis must be perpendicular to \
+                 the joint axis (it is the zero of the joint angle)"
+            ),
+            ConstraintError::ZeroAxis { .. } => {
+                format!("axis_{side} or x_axis_{side} has zero length")
+            }
+            other => other.to_string().replace("marker ", ""),
+        },
+    };
+    match (z, x) {
+        (Some(z), Some(x)) => Marker::from_axes(p, z, x).map_err(bad),
+        (Some(z), None) => Marker::from_axis(p, z).map_err(bad),
+        _ => Ok(Marker {
+            point: p,
+            frame: Matrix3::identity(),
+        }),
+    }
+}
+
+/// The length of a joint kind that takes one: as given (finite, within limits), else the drawn
+/// distance of its points (each body's initial pose and the point on it); positive.
+fn joint_length(
+    spec: &JointSpec,
+    el: &str,
+    (si, pi): (BodyState, Vector3<f64>),
+    (sj, pj): (BodyState, Vector3<f64>),
+) -> Result<f64, ModelError> {
+    let l = match spec.length {
+        Some(l) => {
+            check_number(el, "length", Quantity::Length, l)?;
+            l
+        }
+        None => (sj.point(&pj) - si.point(&pi)).norm(),
+    };
+    if l <= 0.0 {
+        return Err(ModelError::NonPositive {
+            element: el.into(),
+            what: "length".into(),
+            value: l,
+        });
+    }
+    Ok(l)
+}
+
+/// One driver: its joint (looked up in `element_names`, which maps every element name to its
+/// joint index, if a joint) or its bodies and points, and its time function checked.
+pub(super) fn driver(
+    spec: &DriverSpec,
+    names: &Names,
+    joints: &[JointInfo],
+    element_names: &HashMap<&str, Option<usize>>,
+) -> Result<DriverInfo, ModelError> {
+    let el = format!("driver \"{}\"", spec.name);
+    spec.function
+        .validate()
+        .map_err(|e| ModelError::BadTimeFunction {
+            driver: spec.name.clone(),
+            reason: e.to_string(),
+        })?;
+    let f = spec.function.clone();
+    let find_joint = |joint: &str| {
+        element_names
+            .get(joint)
+            .copied()
+            .flatten()
+            .ok_or_else(|| ModelError::UnknownJoint {
+                element: el.clone(),
+                name: joint.into(),
+                suggestion: suggest(joint, joints.iter().map(|j| j.name.as_str())),
+            })
+    };
+    let (driver, bi, bj, jidx): (Driver, BodyId, BodyId, Option<usize>) = match &spec.target {
+        DriverTarget::JointRotation { joint } => {
+            let k = find_joint(joint)?;
+            let j = &joints[k];
+            if j.joint.kind().info().rotation.is_none() {
+                return Err(ModelError::WrongJointKind {
+                    driver: spec.name.clone(),
+                    joint: joint.clone(),
+                    kind: j.joint.kind().name(),
+                    driver_kind: "rotation",
+                    expected: kinds_with(|k| k.rotation.is_some()),
+                });
+            }
+            if !j.has_x_axes {
+                return Err(ModelError::AngleWithoutXAxes {
+                    element: el.clone(),
+                    joint: joint.clone(),
+                });
+            }
+            let d = RotationDriver::new(*j.joint.marker_i(), *j.joint.marker_j(), f);
+            (d.into(), j.body_i, j.body_j, Some(k))
+        }
+        DriverTarget::JointTranslation { joint } => {
+            let k = find_joint(joint)?;
+            let j = &joints[k];
+            if j.joint.kind().info().translation.is_none() {
+                return Err(ModelError::WrongJointKind {
+                    driver: spec.name.clone(),
+                    joint: joint.clone(),
+                    kind: j.joint.kind().name(),
+                    driver_kind: "translation",
+                    expected: kinds_with(|k| k.translation.is_some()),
+                });
+            }
+            let d = TranslationDriver::new(*j.joint.marker_i(), *j.joint.marker_j(), f);
+            (d.into(), j.body_i, j.body_j, Some(k))
+        }
+        DriverTarget::Distance {
+            body_i,
+            point_i,
+            body_j,
+            point_j,
+        } => {
+            let bi = names.body(&el, body_i)?;
+            let bj = names.body(&el, body_j)?;
+            pair_check(&el, bi, bj, body_i)?;
+            let pi = names.feature(&el, body_i, point_i, false)?;
+            let pj = names.feature(&el, body_j, point_j, false)?;
+            (DistanceDriver::new(pi, pj, f).into(), bi, bj, None)
+        }
+        DriverTarget::Coordinate { body, point, axis } => {
+            let bi = names.body(&el, body)?;
+            if bi == BodyId::Ground {
+                return Err(ModelError::GroundToGround { element: el });
+            }
+            let pi = names.feature(&el, body, point, false)?;
+            let d = CoordinateDriver::new(pi, axis.index(), f).map_err(|e| {
+                ModelError::BadTimeFunction {
+                    driver: spec.name.clone(),
+                    reason: e.to_string(),
+                }
+            })?;
+            (d.into(), bi, BodyId::Ground, None)
+        }
+    };
+    Ok(DriverInfo {
+        name: spec.name.clone(),
+        body_i: bi,
+        body_j: bj,
+        driver,
+        joint: jidx,
+        rows: 0..0,
+        map: ScatterMap { slots: Vec::new() },
+    })
+}
+
+/// One force element: its bodies and points resolved, its coefficients checked.
+pub(super) fn force(
+    spec: &ForceSpec,
+    name: &str,
+    names: &Names,
+    bodies: &[BodyInfo],
+) -> Result<ForceInfo, ModelError> {
+    let el = format!("force \"{name}\"");
+    let moving = |body: &str| -> Result<BodyId, ModelError> {
+        let id = names.body(&el, body)?;
+        if id == BodyId::Ground {
+            return Err(ModelError::OnGround {
+                element: el.clone(),
+            });
+        }
+        Ok(id)
+    };
+    let non_negative = |what: &str, q: Quantity, v: f64| {
+        check_number(&el, what, q, v)?;
+        if v < 0.0 {
+            return Err(ModelError::NonPositive {
+                element: el.clone(),
+                what: format!("{what} (≥ 0 required)"),
+                value: v,
+            });
+        }
+        Ok(())
+    };
+    Ok(match spec {
+        ForceSpec::Gravity { g } => {
+            check_numbers(&el, "gravity", Quantity::Acceleration, g.as_slice())?;
+            ForceInfo::Gravity { g: *g }
+        }
+        ForceSpec::SpringDamper {
+            name,
+            body_i,
+            point_i,
+            body_j,
+            point_j,
+            stiffness,
+            damping,
+            free_length,
+        } => {
+            let bi = names.body(&el, body_i)?;
+            let bj = names.body(&el, body_j)?;
+            pair_check(&el, bi, bj, body_i)?;
+            let pi = names.feature(&el, body_i, point_i, false)?;
+            let pj = names.feature(&el, body_j, point_j, false)?;
+            non_negative("stiffness", Quantity::Stiffness, *stiffness)?;
+            non_negative("damping", Quantity::Damping, *damping)?;
+            let l0 = match free_length {
+                Some(l) => {
+                    non_negative("free length", Quantity::Length, *l)?;
+                    *l
+                }
+                None => (pose(bodies, bj).point(&pj) - pose(bodies, bi).point(&pi)).norm(),
+            };
+            ForceInfo::SpringDamper {
+                name: name.clone(),
+                body_i: bi,
+                point_i: pi,
+                body_j: bj,
+                point_j: pj,
+                stiffness: *stiffness,
+                damping: *damping,
+                free_length: l0,
+            }
+        }
+        ForceSpec::PointForce {
+            name,
+            body,
+            point,
+            force,
+        } => {
+            let id = moving(body)?;
+            let p = names.feature(&el, body, point, false)?;
+            check_numbers(&el, "force", Quantity::Force, force.as_slice())?;
+            ForceInfo::PointForce {
+                name: name.clone(),
+                body: id,
+                point: p,
+                force: *force,
+            }
+        }
+        ForceSpec::Torque { name, body, torque } => {
+            let id = moving(body)?;
+            check_numbers(&el, "torque", Quantity::Torque, torque.as_slice())?;
+            ForceInfo::Torque {
+                name: name.clone(),
+                body: id,
+                torque: *torque,
+            }
+        }
+    })
+}

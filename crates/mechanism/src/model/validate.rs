@@ -1,0 +1,124 @@
+//! The builder's checks of numbers and shapes, in one place: magnitudes per quantity in SI
+//! ([`crate::sanity`]), orientations, two-body elements, and the wording of accepted joint kinds
+//! and of suggestions for unknown names.
+
+use super::BodyId;
+use crate::builder::Orientation;
+use crate::error::ModelError;
+use crate::sanity::Quantity;
+use nalgebra::Vector4;
+
+pub(super) fn suggest<'a>(name: &str, candidates: impl Iterator<Item = &'a str>) -> Option<String> {
+    let mut best: Option<(f64, &str)> = None;
+    for c in candidates {
+        let s = strsim::jaro_winkler(&name.to_lowercase(), &c.to_lowercase());
+        if best.is_none_or(|(b, _)| s > b) {
+            best = Some((s, c));
+        }
+    }
+    best.filter(|(s, _)| *s >= 0.7).map(|(_, c)| c.to_string())
+}
+
+/// A finite number within the SI magnitude limit of its quantity ([`crate::sanity`]).
+pub(super) fn check_number(
+    element: &str,
+    what: &str,
+    q: Quantity,
+    v: f64,
+) -> Result<(), ModelError> {
+    if !v.is_finite() {
+        return Err(ModelError::NotFinite {
+            element: element.into(),
+            what: what.into(),
+            value: v,
+        });
+    }
+    if v.abs() > q.limit() {
+        return Err(ModelError::Absurd {
+            element: element.into(),
+            what: what.into(),
+            value: v,
+            limit: q.limit(),
+            unit: q.unit(),
+        });
+    }
+    Ok(())
+}
+
+pub(super) fn check_numbers(
+    element: &str,
+    what: &str,
+    q: Quantity,
+    v: &[f64],
+) -> Result<(), ModelError> {
+    v.iter()
+        .try_for_each(|&x| check_number(element, what, q, x))
+}
+
+pub(super) fn orientation_p(body: &str, o: &Orientation) -> Result<Vector4<f64>, ModelError> {
+    let el = format!("body \"{body}\"");
+    match o {
+        Orientation::Identity => {}
+        Orientation::EulerParams(e) => {
+            check_numbers(&el, "Euler parameters", Quantity::Direction, e)?
+        }
+        Orientation::AxisAngle { axis, angle } => {
+            check_numbers(
+                &el,
+                "orientation axis",
+                Quantity::Direction,
+                axis.as_slice(),
+            )?;
+            check_number(&el, "orientation angle", Quantity::Angle, *angle)?;
+        }
+        Orientation::Euler313(a) | Orientation::Euler123(a) => {
+            check_numbers(&el, "Euler angles", Quantity::Angle, a)?
+        }
+        Orientation::Axes { z, x } => {
+            check_numbers(&el, "orientation z axis", Quantity::Direction, z.as_slice())?;
+            if let Some(x) = x {
+                check_numbers(&el, "orientation x axis", Quantity::Direction, x.as_slice())?;
+            }
+        }
+    }
+    let p = o.euler_params().map_err(|e| ModelError::BadOrientation {
+        body: body.into(),
+        reason: e.to_string(),
+    })?;
+    Ok(*p.as_vector())
+}
+
+/// Body i and body j of a two-body element differ (and are not both ground).
+pub(super) fn pair_check(
+    element: &str,
+    bi: BodyId,
+    bj: BodyId,
+    name_i: &str,
+) -> Result<(), ModelError> {
+    if bi == bj {
+        return Err(match bi {
+            BodyId::Ground => ModelError::GroundToGround {
+                element: element.into(),
+            },
+            BodyId::Moving(_) => ModelError::SelfConnection {
+                element: element.into(),
+                body: name_i.into(),
+            },
+        });
+    }
+    Ok(())
+}
+
+/// "a revolute or cylindrical joint": the kinds whose description passes `pick`, for messages.
+pub fn kinds_with(pick: impl Fn(&cardan_constraints::KindInfo) -> bool) -> String {
+    let names: Vec<&str> = cardan_constraints::KINDS
+        .iter()
+        .filter(|k| pick(k))
+        .map(|k| k.name)
+        .collect();
+    match names.as_slice() {
+        [] => "no joint".into(),
+        [one] => format!("a {one} joint"),
+        [init @ .., last] => format!("a {} or {last} joint", init.join(", ")),
+    }
+}
