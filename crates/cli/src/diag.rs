@@ -1,5 +1,12 @@
 //! Errors of the command line: one paragraph each, with file, line and column when the problem
-//! is in the model file.
+//! is in the model file, and under it that line of the file with the key or value underlined:
+//!
+//! ```text
+//! model.toml:29:8: error: joint "pivot": unknown joint type "revolut"; did you mean "revolute"?
+//!    |
+//! 29 | type = "revolut"
+//!    |        ^^^^^^^^^
+//! ```
 
 use std::fmt;
 use std::ops::Range;
@@ -43,11 +50,51 @@ pub struct Location {
     pub line: usize,
     /// Column (in characters), from 1.
     pub column: usize,
+    /// The source line and the part of it to underline, shown under the message.
+    pub excerpt: Option<Excerpt>,
 }
 
 impl fmt::Display for Location {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{}:{}:{}", self.file.display(), self.line, self.column)
+    }
+}
+
+/// A source line with the span to underline (a window of it when the line is long).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Excerpt {
+    /// The line as shown (control characters replaced, long lines cut to a window).
+    pub text: String,
+    /// Characters before the underline in `text`.
+    pub indent: usize,
+    /// Underlined characters (at least 1).
+    pub width: usize,
+}
+
+/// Longest excerpt shown, in characters; a longer line is cut to a window around the span.
+const EXCERPT_MAX: usize = 100;
+
+impl Excerpt {
+    /// The excerpt of `line` underlining characters `col..col + width` (0-based).
+    fn new(line: &str, col: usize, width: usize) -> Self {
+        let chars: Vec<char> = line
+            .chars()
+            .map(|c| if c.is_control() { ' ' } else { c })
+            .collect();
+        let width = width.clamp(1, EXCERPT_MAX / 2);
+        let (start, prefix) = if chars.len() <= EXCERPT_MAX || col < EXCERPT_MAX / 3 {
+            (0, "")
+        } else {
+            (col - EXCERPT_MAX / 3, "…")
+        };
+        let end = (start + EXCERPT_MAX).min(chars.len());
+        let suffix = if end < chars.len() { "…" } else { "" };
+        let body: String = chars[start.min(end)..end].iter().collect();
+        Self {
+            text: format!("{prefix}{}{suffix}", body.trim_end()),
+            indent: col - start + prefix.chars().count(),
+            width,
+        }
     }
 }
 
@@ -94,10 +141,39 @@ impl Error {
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match &self.location {
-            Some(loc) => write!(f, "{loc}: error: {}", self.message),
+            Some(loc) => {
+                write!(f, "{loc}: error: {}", self.message)?;
+                if let Some(x) = &loc.excerpt {
+                    let n = loc.line.to_string();
+                    let pad = " ".repeat(n.len());
+                    write!(
+                        f,
+                        "\n{pad} |\n{n} | {}\n{pad} | {}{}",
+                        x.text,
+                        " ".repeat(x.indent),
+                        "^".repeat(x.width)
+                    )?;
+                }
+                Ok(())
+            }
             None => write!(f, "error: {}", self.message),
         }
     }
+}
+
+/// The message of an error as printed, without the source excerpt under it (for tests that
+/// check a message is one paragraph).
+pub fn message_paragraph(printed: &str) -> &str {
+    let t = printed.trim_end();
+    let cut = t.find("\n").filter(|&k| {
+        t[k + 1..].lines().all(|l| {
+            l.trim_start()
+                .trim_start_matches(|c: char| c.is_ascii_digit())
+                .trim_start()
+                .starts_with('|')
+        })
+    });
+    cut.map_or(t, |k| &t[..k])
 }
 
 impl std::error::Error for Error {}
@@ -168,9 +244,16 @@ impl Source {
         }
     }
 
-    /// Line and column (1-based, column in characters) of a byte offset.
+    /// Line and column (1-based, column in characters) of a byte offset, with the character
+    /// there underlined.
     pub fn location(&self, offset: usize) -> Location {
-        let offset = offset.min(self.text.len());
+        self.span_location(offset..offset)
+    }
+
+    /// The location of the start of a byte span, with the span underlined (up to the end of
+    /// its first line).
+    pub fn span_location(&self, span: Range<usize>) -> Location {
+        let offset = span.start.min(self.text.len());
         let mut start = offset;
         while !self.text.is_char_boundary(start) {
             start -= 1;
@@ -179,10 +262,23 @@ impl Source {
         let line = before.matches('\n').count() + 1;
         let line_start = before.rfind('\n').map_or(0, |k| k + 1);
         let column = before[line_start..].chars().count() + 1;
+        let line_end = self.text[start..]
+            .find('\n')
+            .map_or(self.text.len(), |k| start + k);
+        let mut end = span.end.clamp(start, line_end);
+        while !self.text.is_char_boundary(end) {
+            end -= 1;
+        }
+        let width = self.text[start..end].chars().count();
         Location {
             file: self.path.clone(),
             line,
             column,
+            excerpt: Some(Excerpt::new(
+                &self.text[line_start..line_end],
+                column - 1,
+                width,
+            )),
         }
     }
 
@@ -190,7 +286,7 @@ impl Source {
     pub fn error_at(&self, span: Range<usize>, message: impl Into<String>) -> Error {
         Error {
             kind: ErrorKind::Input,
-            location: Some(self.location(span.start)),
+            location: Some(self.span_location(span)),
             message: message.into(),
         }
     }
@@ -265,6 +361,36 @@ mod tests {
         assert_eq!((l.line, l.column), (2, 1));
         let l = s.location(11);
         assert_eq!((l.line, l.column), (2, 6));
+    }
+
+    #[test]
+    fn excerpt_underlines_the_span() {
+        let s = Source::from_text("m.toml", "a = 1\ntype = \"revolut\"\n");
+        let e = s.error_at(13..22, "unknown joint type");
+        assert_eq!(
+            e.to_string(),
+            "m.toml:2:8: error: unknown joint type\n  |\n2 | type = \"revolut\"\n  |        ^^^^^^^^^"
+        );
+        assert_eq!(
+            message_paragraph(&e.to_string()),
+            "m.toml:2:8: error: unknown joint type"
+        );
+        // A long line is cut to a window around the span; control characters are blanked.
+        let long = format!("x = \"{}\tEND\"", "y".repeat(500));
+        let s = Source::from_text("m.toml", long.clone());
+        let at = long.find("END").unwrap();
+        let x = s
+            .error_at(at..at + 3, "bad")
+            .location
+            .unwrap()
+            .excerpt
+            .unwrap();
+        assert!(x.text.chars().count() <= EXCERPT_MAX + 2, "{}", x.text);
+        assert_eq!(
+            x.text.chars().skip(x.indent).take(3).collect::<String>(),
+            "END"
+        );
+        assert!(!x.text.contains('\t'));
     }
 
     #[test]

@@ -27,7 +27,9 @@ fn fails_at(from: &str, to: &str, line_col: &str, needles: &[&str]) -> Outcome {
         assert!(o.stderr.contains(n), "missing {n:?} in: {}", o.stderr);
     }
     assert_eq!(
-        o.stderr.trim_end().lines().count(),
+        cardan_cli::diag::message_paragraph(&o.stderr)
+            .lines()
+            .count(),
         1,
         "one paragraph: {}",
         o.stderr
@@ -165,11 +167,19 @@ fn unknown_body_point_vector_joint_suggest_nearest() {
             r#"did you mean "pivot"?"#,
         ],
     );
-    fails_at(
+    let o = fails_at(
         r#"type = "revolute""#,
         r#"type = "revolut""#,
         "18:8",
         &[r#"did you mean "revolute"?"#],
+    );
+    // Under the message: the line of the file with the value underlined.
+    let excerpt: Vec<&str> = o.stderr.trim_end().lines().skip(1).collect();
+    assert_eq!(
+        excerpt,
+        ["   |", r#"18 | type = "revolut""#, "   |        ^^^^^^^^^"],
+        "{}",
+        o.stderr
     );
 }
 
@@ -515,7 +525,14 @@ fn inverse_fails_at(edits: &[(&str, &str)], line_col: &str, needles: &[&str]) {
                 o.stderr
             );
         }
-        assert_eq!(o.stderr.trim_end().lines().count(), 1, "{}", o.stderr);
+        assert_eq!(
+            cardan_cli::diag::message_paragraph(&o.stderr)
+                .lines()
+                .count(),
+            1,
+            "{}",
+            o.stderr
+        );
         assert!(!o.dir.join("out").exists(), "{cmd}: nothing is written");
         // A missing mass is found by the run only (check validates the kinematic model).
         if needles.iter().any(|n| n.contains("needs a mass")) {

@@ -103,7 +103,14 @@ fn fails_at(from: &str, to: &str, line_col: &str, needles: &[&str]) {
     for n in needles {
         assert!(o.stderr.contains(n), "missing {n:?} in: {}", o.stderr);
     }
-    assert_eq!(o.stderr.trim_end().lines().count(), 1, "{}", o.stderr);
+    assert_eq!(
+        cardan_cli::diag::message_paragraph(&o.stderr)
+            .lines()
+            .count(),
+        1,
+        "{}",
+        o.stderr
+    );
     let _ = std::fs::remove_dir_all(&o.dir);
 }
 

@@ -43,11 +43,14 @@ fn rejected_path(dir: &Path, path: &Path, needles: &[&str]) -> String {
     );
     assert_eq!(out.status.code(), Some(1), "input error expected: {stderr}");
     assert_eq!(
-        stderr.trim_end().lines().count(),
+        cardan_cli::diag::message_paragraph(&stderr).lines().count(),
         1,
         "one paragraph: {stderr}"
     );
-    assert!(stderr.len() < 600, "a short message: {stderr}");
+    assert!(
+        cardan_cli::diag::message_paragraph(&stderr).len() < 600,
+        "a short message: {stderr}"
+    );
     for n in needles {
         assert!(stderr.contains(n), "missing {n:?} in: {stderr}");
     }

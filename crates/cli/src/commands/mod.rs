@@ -145,7 +145,7 @@ pub fn analysis_error(p: &Prepared, e: &AnalysisError) -> Error {
     let located = |span: Option<std::ops::Range<usize>>, message: String| {
         let mut err = Error::analysis(message);
         if let Some(s) = span {
-            err.location = Some(p.source.location(s.start));
+            err.location = Some(p.source.span_location(s));
         }
         err
     };

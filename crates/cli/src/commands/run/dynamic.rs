@@ -170,7 +170,7 @@ pub fn located_as(p: &Prepared, e: &cardan_dynamics::DynamicsError, what: &str) 
     }
     .unwrap_or_else(|| spans.analysis.clone());
     let mut err = Error::analysis(format!("{what}: {}", e.cause()));
-    err.location = Some(p.source.location(span.start));
+    err.location = Some(p.source.span_location(span));
     if matches!(e.cause(), E::MissingInertia { .. } | E::BadForce { .. }) {
         // The file is incomplete, not the analysis failed.
         err.kind = crate::diag::ErrorKind::Input;
