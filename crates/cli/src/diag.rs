@@ -315,22 +315,7 @@ pub fn describe_io(e: &std::io::Error) -> String {
     }
 }
 
-/// The candidate nearest to `word` (Jaro-Winkler similarity and Levenshtein distance), if any is
-/// close enough to be a plausible typo.
-pub fn nearest<'a>(word: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
-    let lw = word.to_lowercase();
-    candidates
-        .into_iter()
-        .map(|c| {
-            let lc = c.to_lowercase();
-            let lev = strsim::levenshtein(&lw, &lc);
-            let jw = strsim::jaro_winkler(&lw, &lc);
-            (c, lev, jw)
-        })
-        .filter(|&(c, lev, jw)| jw >= 0.7 || lev <= 2.max(c.len() / 3))
-        .min_by(|a, b| a.1.cmp(&b.1).then(b.2.total_cmp(&a.2)))
-        .map(|(c, _, _)| c)
-}
+pub use cardan_mechanism::nearest;
 
 /// ", did you mean `x`?" or "" when nothing is close.
 pub fn did_you_mean<'a>(word: &str, candidates: impl IntoIterator<Item = &'a str>) -> String {

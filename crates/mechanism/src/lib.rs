@@ -93,7 +93,7 @@ pub use builder::{
 pub use dof::DofReport;
 pub use error::{AnalysisError, EquationName, Error, ModelError, OpenElement};
 pub use model::{
-    kinds_with, BodyId, BodyInfo, DriverInfo, FeatureInfo, ForceInfo, JointInfo, Model,
+    kinds_with, nearest, BodyId, BodyInfo, DriverInfo, FeatureInfo, ForceInfo, JointInfo, Model,
 };
 pub use results::{BodyResults, JointResults, Outputs, PointResults, Results};
 pub use sanity::{check_inertia, Quantity};

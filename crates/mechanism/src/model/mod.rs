@@ -22,7 +22,7 @@ mod resolve;
 mod validate;
 
 pub(crate) use build::build;
-pub use validate::kinds_with;
+pub use validate::{kinds_with, nearest};
 
 use crate::builder::GROUND;
 use crate::error::EquationName;

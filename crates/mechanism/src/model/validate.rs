@@ -8,15 +8,27 @@ use crate::error::ModelError;
 use crate::sanity::Quantity;
 use nalgebra::Vector4;
 
+/// The candidate nearest to `word` (Jaro-Winkler similarity and Levenshtein distance, ignoring
+/// case), if any is close enough to be a plausible typo. The one did-you-mean of cardan: the
+/// builder's errors and the model file's use it.
+pub fn nearest<'a>(word: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
+    let lw = word.to_lowercase();
+    candidates
+        .into_iter()
+        .map(|c| {
+            let lc = c.to_lowercase();
+            let lev = strsim::levenshtein(&lw, &lc);
+            let jw = strsim::jaro_winkler(&lw, &lc);
+            (c, lev, jw)
+        })
+        .filter(|&(c, lev, jw)| jw >= 0.7 || lev <= 2.max(c.len() / 3))
+        .min_by(|a, b| a.1.cmp(&b.1).then(b.2.total_cmp(&a.2)))
+        .map(|(c, _, _)| c)
+}
+
+/// [`nearest`] as an owned suggestion for an error.
 pub(super) fn suggest<'a>(name: &str, candidates: impl Iterator<Item = &'a str>) -> Option<String> {
-    let mut best: Option<(f64, &str)> = None;
-    for c in candidates {
-        let s = strsim::jaro_winkler(&name.to_lowercase(), &c.to_lowercase());
-        if best.is_none_or(|(b, _)| s > b) {
-            best = Some((s, c));
-        }
-    }
-    best.filter(|(s, _)| *s >= 0.7).map(|(_, c)| c.to_string())
+    nearest(name, candidates).map(str::to_string)
 }
 
 /// A finite number within the SI magnitude limit of its quantity ([`crate::sanity`]).
