@@ -13,7 +13,8 @@ use cardan_dynamics::{
     Dopri5Options, Force, Frame, GeneralizedAlphaOptions, Integrator, PointRef, VectorFunction,
 };
 use cardan_mechanism::{
-    Axis, Body, DriverSpec, JointSpec, MechanismBuilder, Orientation, Quantity, GROUND,
+    Axis, Body, DriverSpec, ElementKind, JointSpec, MechanismBuilder, Orientation, Quantity, Site,
+    GROUND,
 };
 use nalgebra::{Matrix3, Vector3};
 use std::collections::{BTreeMap, HashMap};
@@ -42,6 +43,34 @@ pub struct Spans {
 }
 
 impl Spans {
+    /// The span in `text` (the model file) of what a builder error is about: the value of the
+    /// key `site.field`, or the quoted name `site.value`, inside the element's section; else
+    /// the element's name.
+    pub fn locate(&self, text: &str, site: &Site) -> Option<Range<usize>> {
+        let table = match site.kind {
+            ElementKind::Body => &self.bodies,
+            ElementKind::Joint => &self.joints,
+            ElementKind::Driver => &self.drivers,
+            ElementKind::Force => &self.forces,
+        };
+        let name = table.get(&site.name)?.clone();
+        // The section: from its header to the next header.
+        let start = text[..name.start].rfind("\n[").map_or(0, |k| k + 1);
+        let end = text[name.end..]
+            .find("\n[")
+            .map_or(text.len(), |k| name.end + k);
+        let section = &text[start..end];
+        let found = site
+            .field
+            .as_deref()
+            .and_then(|f| key_value_span(section, f))
+            .or_else(|| {
+                let v = format!("\"{}\"", site.value.as_deref()?);
+                section.find(&v).map(|k| k..k + v.len())
+            });
+        Some(found.map_or(name, |r| start + r.start..start + r.end))
+    }
+
     /// The span of a joint or driver or body by name.
     pub fn element(&self, name: &str) -> Option<Range<usize>> {
         self.joints
@@ -205,6 +234,28 @@ impl Ctx<'_> {
     fn raw_num(&self, span: Range<usize>, v: f64, what: &str, q: Quantity) -> Result<f64, Error> {
         self.num(&Spanned::new(span, v), what, q)
     }
+}
+
+/// The span of the value of `key = value` on a line of `section` (up to a comment or the end of
+/// the line), if the key is there.
+fn key_value_span(section: &str, key: &str) -> Option<Range<usize>> {
+    let mut at = 0;
+    for line in section.split_inclusive('\n') {
+        let body = line.trim_start();
+        let indent = line.len() - body.len();
+        if let Some(rest) = body.strip_prefix(key) {
+            let after = rest.trim_start();
+            if let Some(value) = after.strip_prefix('=') {
+                let value_start = at + indent + key.len() + (rest.len() - after.len()) + 1;
+                let v = value.trim_start();
+                let v_start = value_start + (value.len() - v.len());
+                let v = v.split(" #").next().unwrap_or(v).trim_end();
+                return Some(v_start..v_start + v.len().max(1));
+            }
+        }
+        at += line.len();
+    }
+    None
 }
 
 /// Formats a vector as "(x, y, z)".
@@ -546,13 +597,8 @@ fn load_body(cx: &Ctx, b: &BodySection) -> Result<(Body, Features), Error> {
     let name = b.name.get_ref();
     let mut body = Body::new(name.clone());
     if let Some(m) = &b.mass {
+        // Positive: checked by the builder (located here through its error's site).
         let m_v = cx.num(m, &format!("mass of body \"{name}\""), Quantity::Mass)?;
-        if m_v <= 0.0 {
-            return Err(cx.err(
-                m.span(),
-                format!("mass of body \"{name}\" must be positive, got {m_v} kg"),
-            ));
-        }
         body = body.mass(m_v);
     }
     if let Some(i) = &b.inertia {
@@ -568,8 +614,7 @@ fn load_body(cx: &Ctx, b: &BodySection) -> Result<(Body, Features), Error> {
                 Quantity::Inertia,
             )?;
         }
-        // The library's test (symmetric, positive definite, triangle inequality), located here.
-        cardan_mechanism::check_inertia(name, &j).map_err(|e| cx.err(i.span(), e.to_string()))?;
+        // Symmetric, positive definite, triangle inequality: checked by the builder.
         body = body.inertia(j);
     }
     let position = match &b.position {

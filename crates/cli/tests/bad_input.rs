@@ -288,7 +288,7 @@ fn bad_mass_and_inertia() {
         "mass = 1.0",
         "mass = -2.0",
         "10:8",
-        &["mass of body \"crank\" must be positive, got -2 kg"],
+        &["body \"crank\": mass must be positive, got -2 kg"],
     );
     fails_at(
         "inertia = { diag = [0.01, 0.1, 0.1] }",
@@ -686,10 +686,11 @@ fn inverse_dynamics_mid_run_failure_writes_partial_results() {
 /// zero, so the file is refused at the driver, naming the joint and the keys to add.
 #[test]
 fn driven_joint_without_x_axes_is_refused() {
+    // Located at the driver's `joint` key (the builder's error names its site).
     fails_at(
         "x_axis_i = \"x\"\nx_axis_j = \"x\"\n",
         "",
-        "27:8",
+        "29:9",
         &[
             "driver \"motor\"",
             "joint \"pivot\"",

@@ -145,7 +145,7 @@ pub enum ModelError {
         reason: String,
     },
     /// Mass zero or negative.
-    #[error("body \"{body}\": mass must be positive, got {mass}")]
+    #[error("body \"{body}\": mass must be positive, got {mass} kg")]
     NonPositiveMass {
         /// The body.
         body: String,
@@ -283,6 +283,122 @@ pub enum ModelError {
     /// The mechanism has no moving body.
     #[error("the mechanism has no moving body")]
     NoBodies,
+}
+
+/// What kind of model element an error is about.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ElementKind {
+    /// A moving body (its points and vectors included).
+    Body,
+    /// A joint.
+    Joint,
+    /// A driver.
+    Driver,
+    /// A force element.
+    Force,
+}
+
+/// Where in a model an error is, for a front end to point at the source: the element (kind and
+/// name), and the field (the builder's and the model file's key) or the offending value (a name
+/// the element refers to) when known.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Site {
+    /// The element's kind.
+    pub kind: ElementKind,
+    /// The element's name (a body's name for its points and vectors).
+    pub name: String,
+    /// The key whose value is wrong (`mass`, `inertia`, `length`, `joint`, ...).
+    pub field: Option<String>,
+    /// A name the element refers to that is wrong (an unknown body, point or joint).
+    pub value: Option<String>,
+}
+
+impl Site {
+    fn new(kind: ElementKind, name: &str, field: Option<&str>, value: Option<&str>) -> Self {
+        Self {
+            kind,
+            name: name.into(),
+            field: field.map(Into::into),
+            value: value.map(Into::into),
+        }
+    }
+
+    /// From an element description as the builder writes it (`joint "j"`, `driver "d"`,
+    /// `force "f"`, `body "b"`, `point "p" on body "b"`, `vector "v" on body "b"`).
+    fn parse(element: &str, field: Option<&str>, value: Option<&str>) -> Option<Self> {
+        let quoted: Vec<&str> = element.split('"').skip(1).step_by(2).collect();
+        let kind = match element.split_whitespace().next()? {
+            "body" | "point" | "vector" => ElementKind::Body,
+            "joint" => ElementKind::Joint,
+            "driver" => ElementKind::Driver,
+            "force" => ElementKind::Force,
+            _ => return None,
+        };
+        // A point or vector: the body's, at the feature's name.
+        let (name, value) = match (element.split_whitespace().next()?, quoted.as_slice()) {
+            ("point" | "vector", [feature, body, ..]) => (*body, value.or(Some(*feature))),
+            (_, [name, ..]) => (*name, value),
+            _ => return None,
+        };
+        Some(Self::new(kind, name, field, value))
+    }
+}
+
+/// The model file key of a builder field description ("free length (≥ 0 required)" →
+/// "free_length").
+fn key_of(what: &str) -> String {
+    what.split(" (")
+        .next()
+        .unwrap_or(what)
+        .trim()
+        .replace(' ', "_")
+}
+
+impl ModelError {
+    /// Where in the model the error is (see [`Site`]); `None` for errors about the model as a
+    /// whole.
+    pub fn site(&self) -> Option<Site> {
+        use ElementKind::{Body, Driver, Joint};
+        use ModelError as E;
+        match self {
+            E::DuplicateBody { name } => Some(Site::new(Body, name, None, None)),
+            E::DuplicateFeature { body, name, .. } | E::ZeroVector { body, name } => {
+                Some(Site::new(Body, body, None, Some(name)))
+            }
+            E::UnknownBody { element, name, .. }
+            | E::UnknownPoint { element, name, .. }
+            | E::UnknownVector { element, name, .. }
+            | E::UnknownJoint { element, name, .. } => Site::parse(element, None, Some(name)),
+            E::NotFinite { element, what, .. }
+            | E::Absurd { element, what, .. }
+            | E::NonPositive { element, what, .. } => {
+                Site::parse(element, Some(&key_of(what)), None)
+            }
+            E::BadOrientation { body, .. } => {
+                Some(Site::new(Body, body, Some("orientation"), None))
+            }
+            E::NonPositiveMass { body, .. } => Some(Site::new(Body, body, Some("mass"), None)),
+            E::InertiaNotSymmetric { body, .. }
+            | E::InertiaNotPositiveDefinite { body, .. }
+            | E::InertiaTriangle { body, .. } => Some(Site::new(Body, body, Some("inertia"), None)),
+            E::SelfConnection { element, .. } | E::GroundToGround { element } => {
+                Site::parse(element, Some("body_j"), None)
+            }
+            E::OnGround { element } => Site::parse(element, None, None),
+            E::MissingAxis { joint, .. } | E::BadMarker { joint, .. } => {
+                Some(Site::new(Joint, joint, None, None))
+            }
+            E::UniversalArms { joint, .. } => Some(Site::new(Joint, joint, Some("axis_j"), None)),
+            E::AngleWithoutXAxes { element, .. } => Site::parse(element, Some("joint"), None),
+            E::WrongJointKind { driver, .. } => {
+                Some(Site::new(Driver, driver, Some("joint"), None))
+            }
+            E::BadTimeFunction { driver, .. } => {
+                Some(Site::new(Driver, driver, Some("function"), None))
+            }
+            E::DuplicateElement { .. } | E::EmptyName { .. } | E::NoBodies => None,
+        }
+    }
 }
 
 /// A named equation of the mechanism (for redundancy and singularity reports).

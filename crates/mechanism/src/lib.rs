@@ -91,7 +91,7 @@ pub use builder::{
     GROUND,
 };
 pub use dof::DofReport;
-pub use error::{AnalysisError, EquationName, Error, ModelError, OpenElement};
+pub use error::{AnalysisError, ElementKind, EquationName, Error, ModelError, OpenElement, Site};
 pub use model::{
     kinds_with, nearest, BodyId, BodyInfo, DriverInfo, FeatureInfo, ForceInfo, JointInfo, Model,
 };

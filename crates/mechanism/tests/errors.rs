@@ -698,3 +698,69 @@ fn driven_angle_needs_x_axes() {
     ));
     b.build().unwrap();
 }
+
+/// Builder errors say where they are (element, key, offending name), so a front end can point
+/// at the source without re-checking (issue 20).
+#[test]
+fn errors_name_their_site() {
+    use cardan_mechanism::{ElementKind, Site};
+    let site = |kind, name: &str, field: Option<&str>, value: Option<&str>| Site {
+        kind,
+        name: name.into(),
+        field: field.map(Into::into),
+        value: value.map(Into::into),
+    };
+    let mut b = base();
+    b.body(Body::new("heavy").mass(-1.0));
+    assert_eq!(
+        build_err(&b).site(),
+        Some(site(ElementKind::Body, "heavy", Some("mass"), None))
+    );
+    let mut b = base();
+    b.joint(JointSpec::new(
+        "j",
+        JointKind::Spherical,
+        (GROUND, "A"),
+        ("crnk", "A"),
+    ));
+    assert_eq!(
+        build_err(&b).site(),
+        Some(site(ElementKind::Joint, "j", None, Some("crnk")))
+    );
+    let mut b = base();
+    b.joint(JointSpec::new(
+        "j",
+        JointKind::Spherical,
+        (GROUND, "A"),
+        ("crank", "Q"),
+    ));
+    assert_eq!(
+        build_err(&b).site(),
+        Some(site(ElementKind::Joint, "j", None, Some("Q")))
+    );
+    let mut b = base();
+    b.joint(rev("hinge"));
+    b.driver(DriverSpec::translation(
+        "m",
+        "hinge",
+        TimeFunction::Constant(0.0),
+    ));
+    assert_eq!(
+        build_err(&b).site(),
+        Some(site(ElementKind::Driver, "m", Some("joint"), None))
+    );
+    let mut b = base();
+    b.joint(
+        JointSpec::new(
+            "rod",
+            JointKind::SphericalSpherical,
+            (GROUND, "A"),
+            ("crank", "B"),
+        )
+        .length(-1.0),
+    );
+    assert_eq!(
+        build_err(&b).site(),
+        Some(site(ElementKind::Joint, "rod", Some("length"), None))
+    );
+}

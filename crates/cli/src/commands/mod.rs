@@ -91,47 +91,10 @@ fn num(x: f64) -> String {
     }
 }
 
-/// The element a builder error is about, if it names one.
-fn model_error_element(e: &ModelError) -> Option<String> {
-    Some(match e {
-        ModelError::DuplicateBody { name } | ModelError::DuplicateElement { name } => name.clone(),
-        ModelError::UnknownBody { element, .. }
-        | ModelError::UnknownPoint { element, .. }
-        | ModelError::UnknownVector { element, .. }
-        | ModelError::UnknownJoint { element, .. }
-        | ModelError::NotFinite { element, .. }
-        | ModelError::Absurd { element, .. }
-        | ModelError::SelfConnection { element, .. }
-        | ModelError::GroundToGround { element }
-        | ModelError::NonPositive { element, .. }
-        | ModelError::AngleWithoutXAxes { element, .. } => element.clone(),
-        ModelError::DuplicateFeature { body, .. }
-        | ModelError::ZeroVector { body, .. }
-        | ModelError::BadOrientation { body, .. }
-        | ModelError::NonPositiveMass { body, .. }
-        | ModelError::InertiaNotSymmetric { body, .. }
-        | ModelError::InertiaNotPositiveDefinite { body, .. }
-        | ModelError::InertiaTriangle { body, .. } => body.clone(),
-        ModelError::MissingAxis { joint, .. }
-        | ModelError::BadMarker { joint, .. }
-        | ModelError::UniversalArms { joint, .. } => joint.clone(),
-        ModelError::WrongJointKind { driver, .. } | ModelError::BadTimeFunction { driver, .. } => {
-            driver.clone()
-        }
-        _ => return None,
-    })
-}
-
-/// Strips a `joint "x"` / `driver "x"` / `body "x"` prefix to the bare name.
-fn bare(element: &str) -> &str {
-    match element.split_once('"') {
-        Some((_, rest)) => rest.split('"').next().unwrap_or(rest),
-        None => element,
-    }
-}
-
+/// A builder error, located at what it is about (the key's value, the unknown name, or the
+/// element) in the model file.
 fn model_error(src: &Source, loaded: &Loaded, e: &ModelError) -> Error {
-    let span = model_error_element(e).and_then(|el| loaded.spans.element(bare(&el)));
+    let span = e.site().and_then(|s| loaded.spans.locate(&src.text, &s));
     let message = format!("invalid model: {e}");
     match span {
         Some(s) => src.error_at(s, message),
