@@ -762,7 +762,7 @@ fn load_joint(r: &Resolver, j: &JointSection) -> Result<JointSpec, Error> {
         (bj, j.point_j.get_ref()),
     );
     let info = kind.info();
-    let needs_axes = info.axes.is_some();
+    let needs_axes = info.axes.required();
     match (&j.axis_i, &j.axis_j) {
         (Some(ai), Some(aj)) => {
             r.feature(bi, ai, &owner, false)?;
@@ -795,22 +795,8 @@ fn load_joint(r: &Resolver, j: &JointSection) -> Result<JointSpec, Error> {
         }
     }
     if let Some(l) = &j.length {
-        if !info.length {
-            return Err(cx.err(
-                l.span(),
-                format!(
-                    "{owner}: length applies only to {} joints",
-                    list(KINDS.iter().filter(|k| k.length).map(|k| k.name))
-                ),
-            ));
-        }
+        // Whether the kind takes a length, and its sign: checked by the builder.
         let v = cx.num(l, &format!("{owner} length"), Quantity::Length)?;
-        if v <= 0.0 {
-            return Err(cx.err(
-                l.span(),
-                format!("{owner}: length must be positive, got {v} m"),
-            ));
-        }
         spec = spec.length(v);
     }
     Ok(spec)

@@ -872,3 +872,43 @@ fn check_finds_dependent_drivers_and_parallel_universal_arms() {
         }
     }
 }
+
+/// Keys a joint kind does not use are refused by the builder (from the kind table) and located
+/// at the key: a length on a revolute joint, axes on a spherical-spherical joint; a negative
+/// length is located at its value (issue 20: one validator, the CLI maps the builder's site).
+#[test]
+fn keys_a_joint_kind_does_not_use_are_refused_at_the_key() {
+    fails_at(
+        "x_axis_j = \"x\"\n",
+        "x_axis_j = \"x\"\nlength = 1.0\n",
+        "27:10",
+        &["joint \"pivot\" (revolute)", "takes no length"],
+    );
+    let ss = BASE
+        .replacen("type = \"revolute\"", "type = \"spherical_spherical\"", 1)
+        .replacen("point_j = \"O\"", "point_j = \"tip\"", 1)
+        .replacen("x_axis_i = \"x\"\nx_axis_j = \"x\"\n", "length = 1.0\n", 1)
+        .replacen("[[driver]]\nname = \"motor\"\ntype = \"rotation\"\njoint = \"pivot\"\nfunction = { kind = \"polynomial\", coefficients = [0.0, 1.0] }\n", "", 1);
+    let o = run_text("check", &ss);
+    assert_eq!(o.code, 1, "{}", o.stdout);
+    assert!(
+        o.stderr.starts_with("model.toml:21:10: error: ")
+            && o.stderr
+                .contains("spherical_spherical joint takes no axis_i and axis_j"),
+        "{}",
+        o.stderr
+    );
+    let o = run_text(
+        "check",
+        &ss.replacen("axis_i = \"z\"\n", "", 1)
+            .replacen("axis_j = \"z\"\n", "", 1)
+            .replacen("length = 1.0", "length = -1.0", 1),
+    );
+    assert_eq!(o.code, 1, "{}", o.stdout);
+    assert!(
+        o.stderr.starts_with("model.toml:23:10: error: ")
+            && o.stderr.contains("length must be positive, got -1"),
+        "{}",
+        o.stderr
+    );
+}

@@ -283,6 +283,17 @@ pub enum ModelError {
     /// The mechanism has no moving body.
     #[error("the mechanism has no moving body")]
     NoBodies,
+    /// A joint is given a key its kind does not use (axes of a spherical-spherical joint, x axes
+    /// of a perpendicular joint, a length of a revolute joint).
+    #[error("joint \"{joint}\" ({kind}): a {kind} joint takes no {key}; its equations and coordinates do not use them: remove them")]
+    UnusedKey {
+        /// The joint.
+        joint: String,
+        /// Its kind.
+        kind: &'static str,
+        /// The keys.
+        key: &'static str,
+    },
 }
 
 /// What kind of model element an error is about.
@@ -395,6 +406,9 @@ impl ModelError {
             }
             E::BadTimeFunction { driver, .. } => {
                 Some(Site::new(Driver, driver, Some("function"), None))
+            }
+            E::UnusedKey { joint, key, .. } => {
+                Some(Site::new(Joint, joint, key.split_whitespace().next(), None))
             }
             E::DuplicateElement { .. } | E::EmptyName { .. } | E::NoBodies => None,
         }

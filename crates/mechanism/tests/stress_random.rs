@@ -177,7 +177,7 @@ fn add_joint(
     b.vector(bi, &xi, local(pose_i, v, false));
     b.vector(bj, &xj, local(pose_j, x_j, false));
     let mut js = JointSpec::new(name, kind, (bi, &pi), (bj, &pj));
-    if info.axes.is_some() {
+    if info.axes.accepted() {
         js = js.axes(&ui, &uj);
         if info.x_axes && kind != JointKind::Universal {
             js = js.x_axes(&xi, &xj);

@@ -159,6 +159,30 @@ const fn coord(name: &'static str, measure: Measure) -> Coordinate {
     Coordinate { name, measure }
 }
 
+/// Whether a joint kind takes axes (`axis_i`, `axis_j`: the z axes of its markers), and what
+/// they mean.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Axes {
+    /// Required; their meaning.
+    Required(&'static str),
+    /// Accepted; their meaning (without them the marker frames are the body frames).
+    Optional(&'static str),
+    /// Refused: the kind's equations and coordinates do not use them.
+    Unused,
+}
+
+impl Axes {
+    /// Whether the kind requires axes.
+    pub fn required(self) -> bool {
+        matches!(self, Axes::Required(_))
+    }
+
+    /// Whether the kind accepts axes.
+    pub fn accepted(self) -> bool {
+        !matches!(self, Axes::Unused)
+    }
+}
+
 /// Everything cardan knows about a joint kind.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct KindInfo {
@@ -170,9 +194,10 @@ pub struct KindInfo {
     pub aliases: &'static [&'static str],
     /// One line for the documentation.
     pub summary: &'static str,
-    /// What `axis_i` / `axis_j` mean; `None`: the kind takes no axes.
-    pub axes: Option<&'static str>,
-    /// Whether the kind accepts x axes (`x_axis_i`, `x_axis_j`: the zero of its angles).
+    /// Whether the kind takes `axis_i` / `axis_j`, and what they mean.
+    pub axes: Axes,
+    /// Whether the kind accepts x axes (`x_axis_i`, `x_axis_j`: the zero of its angles); a kind
+    /// that does not refuses them.
     pub x_axes: bool,
     /// Whether the kind takes a `length` (default: the drawn distance of its points).
     pub length: bool,
@@ -247,8 +272,8 @@ joint_kinds! {
         name: "spherical",
         aliases: &[],
         summary: "coincident points: a ball joint",
-        axes: None,
-        x_axes: false,
+        axes: Axes::Optional("with the x axes, the frames its Bryant angles are measured between"),
+        x_axes: true,
         length: false,
         blocks: &[Coincident],
         coordinates: &[
@@ -264,7 +289,7 @@ joint_kinds! {
         name: "universal",
         aliases: &[],
         summary: "coincident points, perpendicular cross arms z_i ⟂ z_j",
-        axes: Some(
+        axes: Axes::Required(
             "the two arms of the cross (perpendicular; drawn at least 45° apart, else the model \
              is refused)",
         ),
@@ -283,7 +308,7 @@ joint_kinds! {
         name: "revolute",
         aliases: &[],
         summary: "coincident points and a common axis: rotation about it",
-        axes: Some("the common axis"),
+        axes: Axes::Required("the common axis"),
         x_axes: true,
         length: false,
         blocks: &[Coincident, ParallelAxes],
@@ -296,7 +321,7 @@ joint_kinds! {
         name: "cylindrical",
         aliases: &[],
         summary: "a common axis: rotation about it and sliding along it",
-        axes: Some("the common axis"),
+        axes: Axes::Required("the common axis"),
         x_axes: true,
         length: false,
         blocks: &[ParallelAxes, OnAxisLine],
@@ -309,7 +334,7 @@ joint_kinds! {
         name: "prismatic",
         aliases: &["translational"],
         summary: "a common axis and no rotation: sliding along it",
-        axes: Some("the common axis"),
+        axes: Axes::Required("the common axis"),
         x_axes: true,
         length: false,
         blocks: &[ParallelAxes, OnAxisLine, Perpendicular(X, Y)],
@@ -322,7 +347,7 @@ joint_kinds! {
         name: "fixed",
         aliases: &[],
         summary: "no relative motion",
-        axes: Some("a common axis (and x axes for the twist)"),
+        axes: Axes::Required("a common axis (and x axes for the twist)"),
         x_axes: true,
         length: false,
         blocks: &[Coincident, ParallelAxes, Perpendicular(X, Y)],
@@ -335,7 +360,7 @@ joint_kinds! {
         name: "spherical_spherical",
         aliases: &["distance"],
         summary: "two points at a constant distance: a massless rod with ball joints at both ends",
-        axes: None,
+        axes: Axes::Unused,
         x_axes: false,
         length: true,
         blocks: &[Block::Distance],
@@ -348,7 +373,7 @@ joint_kinds! {
         name: "planar",
         aliases: &[],
         summary: "parallel plane normals and P_j in the plane of i: sliding and turning in a plane",
-        axes: Some("the plane normals"),
+        axes: Axes::Required("the plane normals"),
         x_axes: true,
         length: false,
         blocks: &[ParallelAxes, InPlane(Z)],
@@ -365,7 +390,7 @@ joint_kinds! {
         name: "perpendicular",
         aliases: &[],
         summary: "the two axes held perpendicular, z_i ⟂ z_j; everything else free",
-        axes: Some("the two axes held perpendicular"),
+        axes: Axes::Required("the two axes held perpendicular"),
         x_axes: false,
         length: false,
         blocks: &[Perpendicular(Z, Z)],
@@ -402,6 +427,14 @@ impl JointKind {
     }
 }
 
+fn axes_column(a: Axes) -> String {
+    match a {
+        Axes::Required(m) => m.into(),
+        Axes::Optional(m) => format!("optional: {m}"),
+        Axes::Unused => "–".into(),
+    }
+}
+
 /// The joint table of docs/model-format.md, generated from [`KINDS`] (`cargo xtask docs`
 /// writes it; a test fails when the committed table differs).
 pub fn markdown_table() -> String {
@@ -431,7 +464,7 @@ pub fn markdown_table() -> String {
             "| {name}: {} | {} | {} | {} | {} |\n",
             k.summary,
             k.rows(),
-            k.axes.unwrap_or("–"),
+            axes_column(k.axes),
             or_dash(coords.join(", ")),
             or_dash(driven.join("; ")),
         ));

@@ -207,7 +207,22 @@ pub(super) fn joint(
     let pj = names.feature(&el, &spec.body_j, &spec.point_j, false)?;
     let kind = spec.kind;
     let info = kind.info();
-    let needs_axes = info.axes.is_some();
+    let needs_axes = info.axes.required();
+    // Keys the kind does not use are refused, not ignored.
+    let unused = |key: &'static str| ModelError::UnusedKey {
+        joint: spec.name.clone(),
+        kind: info.name,
+        key,
+    };
+    if !info.axes.accepted() && (spec.axis_i.is_some() || spec.axis_j.is_some()) {
+        return Err(unused("axis_i and axis_j"));
+    }
+    if !info.x_axes && (spec.x_axis_i.is_some() || spec.x_axis_j.is_some()) {
+        return Err(unused("x_axis_i and x_axis_j"));
+    }
+    if !info.length && spec.length.is_some() {
+        return Err(unused("length"));
+    }
     let axis = |which: &'static str, body: &str, name: &Option<String>| match name {
         Some(n) => names.feature(&el, body, n, true).map(Some),
         None if needs_axes => Err(ModelError::MissingAxis {
