@@ -704,40 +704,29 @@ fn driven_angle_needs_x_axes() {
 #[test]
 fn errors_name_their_site() {
     use cardan_mechanism::{ElementKind, Site};
-    let site = |kind, name: &str, field: Option<&str>, value: Option<&str>| Site {
-        kind,
-        name: name.into(),
-        field: field.map(Into::into),
-        value: value.map(Into::into),
-    };
+    let check =
+        |b: &MechanismBuilder, kind, name: &str, field: Option<&str>, value: Option<&str>| {
+            let want = Site {
+                kind,
+                name: name.into(),
+                field: field.map(Into::into),
+                value: value.map(Into::into),
+            };
+            assert_eq!(build_err(b).site(), Some(want));
+        };
     let mut b = base();
     b.body(Body::new("heavy").mass(-1.0));
-    assert_eq!(
-        build_err(&b).site(),
-        Some(site(ElementKind::Body, "heavy", Some("mass"), None))
-    );
-    let mut b = base();
-    b.joint(JointSpec::new(
-        "j",
-        JointKind::Spherical,
-        (GROUND, "A"),
-        ("crnk", "A"),
-    ));
-    assert_eq!(
-        build_err(&b).site(),
-        Some(site(ElementKind::Joint, "j", None, Some("crnk")))
-    );
-    let mut b = base();
-    b.joint(JointSpec::new(
-        "j",
-        JointKind::Spherical,
-        (GROUND, "A"),
-        ("crank", "Q"),
-    ));
-    assert_eq!(
-        build_err(&b).site(),
-        Some(site(ElementKind::Joint, "j", None, Some("Q")))
-    );
+    check(&b, ElementKind::Body, "heavy", Some("mass"), None);
+    for (body, point, value) in [("crnk", "A", "crnk"), ("crank", "Q", "Q")] {
+        let mut b = base();
+        b.joint(JointSpec::new(
+            "j",
+            JointKind::Spherical,
+            (GROUND, "A"),
+            (body, point),
+        ));
+        check(&b, ElementKind::Joint, "j", None, Some(value));
+    }
     let mut b = base();
     b.joint(rev("hinge"));
     b.driver(DriverSpec::translation(
@@ -745,22 +734,14 @@ fn errors_name_their_site() {
         "hinge",
         TimeFunction::Constant(0.0),
     ));
-    assert_eq!(
-        build_err(&b).site(),
-        Some(site(ElementKind::Driver, "m", Some("joint"), None))
-    );
+    check(&b, ElementKind::Driver, "m", Some("joint"), None);
     let mut b = base();
-    b.joint(
-        JointSpec::new(
-            "rod",
-            JointKind::SphericalSpherical,
-            (GROUND, "A"),
-            ("crank", "B"),
-        )
-        .length(-1.0),
+    let rod = JointSpec::new(
+        "rod",
+        JointKind::SphericalSpherical,
+        (GROUND, "A"),
+        ("crank", "B"),
     );
-    assert_eq!(
-        build_err(&b).site(),
-        Some(site(ElementKind::Joint, "rod", Some("length"), None))
-    );
+    b.joint(rod.length(-1.0));
+    check(&b, ElementKind::Joint, "rod", Some("length"), None);
 }

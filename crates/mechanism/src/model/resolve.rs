@@ -361,15 +361,7 @@ pub(super) fn driver(
         DriverTarget::JointRotation { joint } => {
             let k = find_joint(joint)?;
             let j = &joints[k];
-            if j.joint.kind().info().rotation.is_none() {
-                return Err(ModelError::WrongJointKind {
-                    driver: spec.name.clone(),
-                    joint: joint.clone(),
-                    kind: j.joint.kind().name(),
-                    driver_kind: "rotation",
-                    expected: kinds_with(|k| k.rotation.is_some()),
-                });
-            }
+            drivable(spec, j, "rotation", |k| k.rotation.is_some())?;
             if !j.has_x_axes {
                 return Err(ModelError::AngleWithoutXAxes {
                     element: el.clone(),
@@ -382,15 +374,7 @@ pub(super) fn driver(
         DriverTarget::JointTranslation { joint } => {
             let k = find_joint(joint)?;
             let j = &joints[k];
-            if j.joint.kind().info().translation.is_none() {
-                return Err(ModelError::WrongJointKind {
-                    driver: spec.name.clone(),
-                    joint: joint.clone(),
-                    kind: j.joint.kind().name(),
-                    driver_kind: "translation",
-                    expected: kinds_with(|k| k.translation.is_some()),
-                });
-            }
+            drivable(spec, j, "translation", |k| k.translation.is_some())?;
             let d = TranslationDriver::new(*j.joint.marker_i(), *j.joint.marker_j(), f);
             (d.into(), j.body_i, j.body_j, Some(k))
         }
@@ -430,6 +414,27 @@ pub(super) fn driver(
         joint: jidx,
         rows: 0..0,
         map: ScatterMap { slots: Vec::new() },
+    })
+}
+
+/// The joint `j` of driver `spec` is of a kind a `driver_kind` driver can act on (`accepts`,
+/// from the kind table).
+fn drivable(
+    spec: &DriverSpec,
+    j: &JointInfo,
+    driver_kind: &'static str,
+    accepts: fn(&cardan_constraints::KindInfo) -> bool,
+) -> Result<(), ModelError> {
+    let kind = j.joint.kind();
+    if accepts(kind.info()) {
+        return Ok(());
+    }
+    Err(ModelError::WrongJointKind {
+        driver: spec.name.clone(),
+        joint: j.name.clone(),
+        kind: kind.name(),
+        driver_kind,
+        expected: kinds_with(accepts),
     })
 }
 
