@@ -133,11 +133,7 @@ pub fn check(path: &Path, out: &mut dyn Write) -> Result<(), Error> {
         .map_err(io)?;
     } else if let Some(a) = &p.loaded.analysis {
         if a.inverse_dynamics && (dof.dof != dof.drivers || dof.drivers == 0) {
-            return Err(super::run::inverse::not_fully_driven(
-                &p,
-                dof.dof,
-                dof.drivers,
-            ));
+            return Err(super::not_fully_driven(&p, dof.dof, dof.drivers));
         }
         if dof.dof == dof.drivers {
             // What `run` refuses next: drivers that depend on the joints or on each other.

@@ -102,6 +102,47 @@ fn model_error(src: &Source, loaded: &Loaded, e: &ModelError) -> Error {
     }
 }
 
+/// The one-paragraph error of an inverse dynamics run on a model that is not fully driven.
+pub fn not_fully_driven(p: &Prepared, dof: usize, drivers: usize) -> Error {
+    let names: Vec<&str> = p.loaded.drivers.iter().map(|(n, _)| n.as_str()).collect();
+    let s = |n: usize| if n == 1 { "" } else { "s" };
+    let advice = if dof > drivers {
+        let n = dof - drivers;
+        format!(
+            "add {n} driver{} (a rotation or translation driver per free joint coordinate), or use \
+             kind = \"dynamic\" to simulate the motion the forces produce",
+            s(n)
+        )
+    } else if drivers > dof {
+        let n = drivers - dof;
+        format!("remove {n} driver{} (or add joints)", s(n))
+    } else {
+        "the model is a structure: nothing moves and no driver exerts an effort; add the joint \
+         to drive and its driver"
+            .to_string()
+    };
+    let span = p
+        .loaded
+        .spans
+        .first_driver
+        .clone()
+        .unwrap_or_else(|| p.loaded.spans.analysis.clone());
+    p.source.error_at(
+        span,
+        format!(
+            "inverse dynamics needs a fully driven mechanism, with as many drivers as the joints \
+             leave degrees of freedom (at least one): the joints leave {dof} DOF and the file \
+             has {drivers} driver{} ({}); {advice}",
+            s(drivers),
+            if names.is_empty() {
+                "none".to_string()
+            } else {
+                names.join(", ")
+            },
+        ),
+    )
+}
+
 /// Turns an analysis error into a message, located at the element concerned when possible.
 pub fn analysis_error(p: &Prepared, e: &AnalysisError) -> Error {
     let spans = &p.loaded.spans;

@@ -86,7 +86,6 @@ pub(super) fn requested(p: &Prepared, req: &Requested) -> Requested {
     if !req.points.is_empty() || !req.joints.is_empty() || !req.bodies.is_empty() {
         return req.clone();
     }
-    let _ = &req.reactions;
     let m = &p.model;
     Requested {
         points: m

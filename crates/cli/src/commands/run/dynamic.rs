@@ -181,7 +181,7 @@ pub fn located_as(p: &Prepared, e: &cardan_dynamics::DynamicsError, what: &str) 
 /// The output groups of a dynamic run: the kinematic groups, then driver efforts (when the
 /// model has drivers), reactions (global and body components), energy and constraint drift.
 pub fn tables(p: &Prepared, r: &DynamicResults, req: &Requested) -> Vec<Table> {
-    let mut out = super::kinematic::tables(p, &r.kinematics, req);
+    let mut out = super::kinematic::tables(&r.kinematics, req);
     // The kinematic "residual" group is replaced by the drift group below.
     out.retain(|t| t.name != "residual");
     out.extend(driver_efforts_table(p, r));

@@ -2,8 +2,8 @@
 //! driver efforts and joint reactions that produce that motion under the file's forces
 //! ([`cardan_dynamics::Dynamics::inverse_dynamics`]). Its output groups are the kinematic ones
 //! (with the residual of the position analysis), the driver efforts and the reactions. It needs
-//! a fully driven mechanism ([`not_fully_driven`] says what is missing; `cardan check` uses it
-//! too).
+//! a fully driven mechanism ([`crate::commands::not_fully_driven`] says what is missing;
+//! `cardan check` uses it too).
 
 use super::dynamic::{dynamics_as, located_as};
 use super::kinematic;
@@ -109,7 +109,7 @@ pub fn inverse_dynamics_with(
             .assemble(&mut ws, &opts)
             .map_err(|e| analysis_error(p, &e))?;
         let dof = p.model.dof(&ws).map_err(|e| analysis_error(p, &e))?;
-        return Err(not_fully_driven(p, dof.dof, 0));
+        return Err(crate::commands::not_fully_driven(p, dof.dof, 0));
     }
     let mut d = dynamics_as(p, WHAT)?;
     let opts = KinematicOptions::new(a.t_start, a.t_end, a.steps);
@@ -122,7 +122,9 @@ pub fn inverse_dynamics_with(
             Some(r) => Ok((r.clone(), Some(crate::progress::interrupted(r.times())))),
             None => Err(located_as(p, &e, WHAT)),
         },
-        DynamicsError::NotFullyDriven { dof, drivers } => Err(not_fully_driven(p, *dof, *drivers)),
+        DynamicsError::NotFullyDriven { dof, drivers } => {
+            Err(crate::commands::not_fully_driven(p, *dof, *drivers))
+        }
         DynamicsError::Mechanism(ae) => {
             let err = analysis_error(p, ae);
             match e.partial_results() {
@@ -135,51 +137,10 @@ pub fn inverse_dynamics_with(
     }
 }
 
-/// The one-paragraph error of an inverse dynamics run on a model that is not fully driven.
-pub fn not_fully_driven(p: &Prepared, dof: usize, drivers: usize) -> Error {
-    let names: Vec<&str> = p.loaded.drivers.iter().map(|(n, _)| n.as_str()).collect();
-    let s = |n: usize| if n == 1 { "" } else { "s" };
-    let advice = if dof > drivers {
-        let n = dof - drivers;
-        format!(
-            "add {n} driver{} (a rotation or translation driver per free joint coordinate), or use \
-             kind = \"dynamic\" to simulate the motion the forces produce",
-            s(n)
-        )
-    } else if drivers > dof {
-        let n = drivers - dof;
-        format!("remove {n} driver{} (or add joints)", s(n))
-    } else {
-        "the model is a structure: nothing moves and no driver exerts an effort; add the joint \
-         to drive and its driver"
-            .to_string()
-    };
-    let span = p
-        .loaded
-        .spans
-        .first_driver
-        .clone()
-        .unwrap_or_else(|| p.loaded.spans.analysis.clone());
-    p.source.error_at(
-        span,
-        format!(
-            "inverse dynamics needs a fully driven mechanism, with as many drivers as the joints \
-             leave degrees of freedom (at least one): the joints leave {dof} DOF and the file \
-             has {drivers} driver{} ({}); {advice}",
-            s(drivers),
-            if names.is_empty() {
-                "none".to_string()
-            } else {
-                names.join(", ")
-            },
-        ),
-    )
-}
-
 /// The output groups of an inverse dynamics run: the kinematic groups (with the residual of the
 /// position analysis), then driver efforts and reactions (global and body components).
 pub fn inverse_tables(p: &Prepared, r: &DynamicResults, req: &Requested) -> Vec<Table> {
-    let mut out = kinematic::tables(p, &r.kinematics, req);
+    let mut out = kinematic::tables(&r.kinematics, req);
     out.extend(driver_efforts_table(p, r));
     out.extend(reaction_tables(r, req));
     out

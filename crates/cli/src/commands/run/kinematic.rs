@@ -40,7 +40,7 @@ pub(super) fn run_kinematic(
     };
     drop(bar);
     let req = requested(p, &analysis.outputs);
-    let tables = tables(p, &results, &req);
+    let tables = tables(&results, &req);
     let summary = Summary {
         name: p.loaded.name.clone(),
         steps: results.len(),
@@ -66,7 +66,7 @@ pub(super) fn run_kinematic(
 }
 
 /// Builds the output groups from the results.
-pub fn tables(p: &Prepared, r: &Results, req: &Requested) -> Vec<Table> {
+pub fn tables(r: &Results, req: &Requested) -> Vec<Table> {
     let n = r.len();
     let xyz = ["x", "y", "z"];
     let mut out = Vec::new();
@@ -215,6 +215,5 @@ pub fn tables(p: &Prepared, r: &Results, req: &Requested) -> Vec<Table> {
         ]);
     }
     out.push(t);
-    let _ = p;
     out
 }
