@@ -8,7 +8,7 @@ use crate::model::{
     AnalysisSection, BodySection, DriverSection, ForceSection, FunctionSpec, InertiaSpec,
     JointSection, ModelFile, Name, Num, OrientationSpec, Vec3,
 };
-use cardan_constraints::{JointKind, KindInfo, TimeFunction, KINDS};
+use cardan_constraints::{JointKind, TimeFunction, KINDS};
 use cardan_dynamics::{
     Dopri5Options, Force, Frame, GeneralizedAlphaOptions, Integrator, PointRef, VectorFunction,
 };
@@ -417,7 +417,7 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
         if spans.first_driver.is_none() {
             spans.first_driver = Some(d.name.span());
         }
-        let (spec, what) = load_driver(&resolver, d, &joint_kinds, &spans)?;
+        let (spec, what) = load_driver(&resolver, d)?;
         drivers.push((d.name.get_ref().clone(), what));
         let q = match spec.target {
             cardan_mechanism::DriverTarget::JointRotation { .. } => Quantity::Angle,
@@ -745,16 +745,9 @@ fn load_joint(r: &Resolver, j: &JointSection) -> Result<JointSpec, Error> {
             ),
         ));
     };
-    let bi = r.body(&j.body_i, &owner)?;
-    let bj = r.body(&j.body_j, &owner)?;
-    if bi == bj {
-        return Err(cx.err(
-            j.body_j.span(),
-            format!("{owner} connects body \"{bi}\" to itself; a joint needs two different bodies"),
-        ));
-    }
-    r.feature(bi, &j.point_i, &owner, true)?;
-    r.feature(bj, &j.point_j, &owner, true)?;
+    // Bodies, points and vectors are resolved by the builder; its errors are located at the key
+    // or the unknown name (`Spans::locate`).
+    let (bi, bj) = (j.body_i.get_ref().as_str(), j.body_j.get_ref().as_str());
     let mut spec = JointSpec::new(
         name.clone(),
         kind,
@@ -764,11 +757,7 @@ fn load_joint(r: &Resolver, j: &JointSection) -> Result<JointSpec, Error> {
     let info = kind.info();
     let needs_axes = info.axes.required();
     match (&j.axis_i, &j.axis_j) {
-        (Some(ai), Some(aj)) => {
-            r.feature(bi, ai, &owner, false)?;
-            r.feature(bj, aj, &owner, false)?;
-            spec = spec.axes(ai.get_ref(), aj.get_ref());
-        }
+        (Some(ai), Some(aj)) => spec = spec.axes(ai.get_ref(), aj.get_ref()),
         (None, None) if !needs_axes => {}
         _ => {
             return Err(cx.err(
@@ -781,11 +770,7 @@ fn load_joint(r: &Resolver, j: &JointSection) -> Result<JointSpec, Error> {
         }
     }
     match (&j.x_axis_i, &j.x_axis_j) {
-        (Some(xi), Some(xj)) => {
-            r.feature(bi, xi, &owner, false)?;
-            r.feature(bj, xj, &owner, false)?;
-            spec = spec.x_axes(xi.get_ref(), xj.get_ref());
-        }
+        (Some(xi), Some(xj)) => spec = spec.x_axes(xi.get_ref(), xj.get_ref()),
         (None, None) => {}
         (Some(x), None) | (None, Some(x)) => {
             return Err(cx.err(
@@ -937,12 +922,7 @@ fn load_function(
     Ok(tf)
 }
 
-fn load_driver(
-    r: &Resolver,
-    d: &DriverSection,
-    joint_kinds: &HashMap<String, JointKind>,
-    spans: &Spans,
-) -> Result<(DriverSpec, String), Error> {
+fn load_driver(r: &Resolver, d: &DriverSection) -> Result<(DriverSpec, String), Error> {
     let cx = r.cx;
     let name = d.name.get_ref().clone();
     let owner = format!("driver \"{name}\"");
@@ -963,7 +943,8 @@ fn load_driver(
         }
         Ok(())
     };
-    let joint_ref = |allowed: fn(&KindInfo) -> bool| -> Result<String, Error> {
+    // The joint's existence and kind are checked by the builder (located at this key).
+    let joint_ref = || -> Result<String, Error> {
         let Some(j) = &d.joint else {
             return Err(missing(
                 cx,
@@ -973,30 +954,7 @@ fn load_driver(
                 &format!("a {kind} driver drives a joint"),
             ));
         };
-        let jn = j.get_ref();
-        let Some(k) = joint_kinds.get(jn) else {
-            let hint = did_you_mean(jn, joint_kinds.keys().map(String::as_str));
-            let mut names: Vec<&str> = joint_kinds.keys().map(String::as_str).collect();
-            names.sort_by_key(|n| spans.joints.get(*n).map(|s| s.start));
-            return Err(cx.err(
-                j.span(),
-                format!(
-                    "{owner}: unknown joint \"{jn}\"{hint} (joints: {})",
-                    list(names)
-                ),
-            ));
-        };
-        if !allowed(k.info()) {
-            return Err(cx.err(
-                j.span(),
-                format!(
-                    "{owner}: a {kind} driver needs {}, but \"{jn}\" is {}",
-                    cardan_mechanism::kinds_with(allowed),
-                    k.name()
-                ),
-            ));
-        }
-        Ok(jn.clone())
+        Ok(j.get_ref().clone())
     };
     match kind {
         "rotation" | "translation" => {
@@ -1010,13 +968,13 @@ fn load_driver(
                 ("coordinate", d.coordinate.is_some()),
             ])?;
             if kind == "rotation" {
-                let j = joint_ref(|k| k.rotation.is_some())?;
+                let j = joint_ref()?;
                 Ok((
                     DriverSpec::rotation(name, &j, function),
                     format!("rotation of joint {j}"),
                 ))
             } else {
-                let j = joint_ref(|k| k.translation.is_some())?;
+                let j = joint_ref()?;
                 Ok((
                     DriverSpec::translation(name, &j, function),
                     format!("translation of joint {j}"),

@@ -912,3 +912,18 @@ fn keys_a_joint_kind_does_not_use_are_refused_at_the_key() {
         o.stderr
     );
 }
+
+/// A driver of a joint kind it cannot drive: the builder's error (kinds from the table),
+/// located at the driver's `joint` key.
+#[test]
+fn a_driver_on_a_joint_it_cannot_drive_is_located_at_its_joint_key() {
+    fails_at(
+        "type = \"rotation\"",
+        "type = \"translation\"",
+        "31:9",
+        &[
+            "driver \"motor\": joint \"pivot\" is revolute",
+            "a translation driver needs a cylindrical or prismatic joint",
+        ],
+    );
+}

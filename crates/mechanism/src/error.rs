@@ -22,9 +22,18 @@ fn fmt_numbers(v: &[f64]) -> String {
 
 fn fmt_suggestion(s: &Option<String>) -> String {
     match s {
-        Some(s) => format!(" (did you mean \"{s}\"?)"),
+        Some(s) => format!("; did you mean \"{s}\"?"),
         None => String::new(),
     }
+}
+
+/// "\"a\", \"b\"" (quoted), or "(none)".
+fn fmt_known(names: &[String]) -> String {
+    if names.is_empty() {
+        return "(none)".into();
+    }
+    let v: Vec<String> = names.iter().map(|n| format!("\"{n}\"")).collect();
+    v.join(", ")
 }
 
 /// A mechanism definition that cannot be built.
@@ -60,7 +69,7 @@ pub enum ModelError {
         what: String,
     },
     /// A referenced body does not exist.
-    #[error("{element}: unknown body \"{name}\"{}", fmt_suggestion(.suggestion))]
+    #[error("{element}: unknown body \"{name}\"{} (bodies: {})", fmt_suggestion(.suggestion), fmt_known(.known))]
     UnknownBody {
         /// The element that refers to it (e.g. `joint "j2"`, `point "B"`).
         element: String,
@@ -68,9 +77,11 @@ pub enum ModelError {
         name: String,
         /// The closest existing name, if any is close.
         suggestion: Option<String>,
+        /// The bodies there are (ground first, then in definition order).
+        known: Vec<String>,
     },
     /// A referenced point does not exist on its body.
-    #[error("{element}: unknown point \"{name}\" on body \"{body}\"{}", fmt_suggestion(.suggestion))]
+    #[error("{element}: body \"{body}\" has no point \"{name}\"{} (points of \"{body}\": {})", fmt_suggestion(.suggestion), fmt_known(.known))]
     UnknownPoint {
         /// The element that refers to it.
         element: String,
@@ -80,9 +91,11 @@ pub enum ModelError {
         name: String,
         /// The closest point name on that body.
         suggestion: Option<String>,
+        /// The points of that body, sorted.
+        known: Vec<String>,
     },
     /// A referenced vector does not exist on its body.
-    #[error("{element}: unknown vector \"{name}\" on body \"{body}\"{}", fmt_suggestion(.suggestion))]
+    #[error("{element}: body \"{body}\" has no vector \"{name}\"{} (vectors of \"{body}\": {})", fmt_suggestion(.suggestion), fmt_known(.known))]
     UnknownVector {
         /// The element that refers to it.
         element: String,
@@ -92,9 +105,11 @@ pub enum ModelError {
         name: String,
         /// The closest vector name on that body.
         suggestion: Option<String>,
+        /// The vectors of that body, sorted.
+        known: Vec<String>,
     },
     /// A driver refers to a joint that does not exist.
-    #[error("{element}: unknown joint \"{name}\"{}", fmt_suggestion(.suggestion))]
+    #[error("{element}: unknown joint \"{name}\"{} (joints: {})", fmt_suggestion(.suggestion), fmt_known(.known))]
     UnknownJoint {
         /// The driver.
         element: String,
@@ -102,6 +117,8 @@ pub enum ModelError {
         name: String,
         /// The closest joint name.
         suggestion: Option<String>,
+        /// The joints, in definition order.
+        known: Vec<String>,
     },
     /// A number is NaN or infinite.
     #[error("{element}: {what} is not finite ({value})")]
@@ -183,7 +200,7 @@ pub enum ModelError {
         moments: [f64; 3],
     },
     /// A joint or driver connects a body to itself.
-    #[error("{element}: connects body \"{body}\" to itself")]
+    #[error("{element} connects body \"{body}\" to itself; it needs two different bodies")]
     SelfConnection {
         /// The element.
         element: String,

@@ -51,6 +51,7 @@ fn unknown_names_suggest_the_closest() {
             element: "joint \"j1\"".into(),
             name: "crnak".into(),
             suggestion: Some("crank".into()),
+            known: vec!["ground".into(), "crank".into()],
         }
     );
     assert!(e.to_string().contains("did you mean \"crank\""));
@@ -69,6 +70,7 @@ fn unknown_names_suggest_the_closest() {
             body: "crank".into(),
             name: "b".into(),
             suggestion: Some("B".into()),
+            known: vec!["A".into(), "B".into()],
         }
     );
 

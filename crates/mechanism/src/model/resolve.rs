@@ -34,6 +34,7 @@ impl<'a> Names<'a> {
                 element: element.into(),
                 name: name.into(),
                 suggestion: suggest(name, self.body_list.iter().copied()),
+                known: self.body_list.iter().map(|b| b.to_string()).collect(),
             })
     }
 
@@ -48,16 +49,20 @@ impl<'a> Names<'a> {
         if let Some(v) = map.get(&(body, name)) {
             return Ok(*v);
         }
-        let suggestion = suggest(
-            name,
-            map.keys().filter(|(b, _)| *b == body).map(|(_, n)| *n),
-        );
+        let mut known: Vec<String> = map
+            .keys()
+            .filter(|(b, _)| *b == body)
+            .map(|(_, n)| n.to_string())
+            .collect();
+        known.sort();
+        let suggestion = suggest(name, known.iter().map(String::as_str));
         Err(if vector {
             ModelError::UnknownVector {
                 element: element.into(),
                 body: body.into(),
                 name: name.into(),
                 suggestion,
+                known,
             }
         } else {
             ModelError::UnknownPoint {
@@ -65,6 +70,7 @@ impl<'a> Names<'a> {
                 body: body.into(),
                 name: name.into(),
                 suggestion,
+                known,
             }
         })
     }
@@ -355,6 +361,7 @@ pub(super) fn driver(
                 element: el.clone(),
                 name: joint.into(),
                 suggestion: suggest(joint, joints.iter().map(|j| j.name.as_str())),
+                known: joints.iter().map(|j| j.name.clone()).collect(),
             })
     };
     let (driver, bi, bj, jidx): (Driver, BodyId, BodyId, Option<usize>) = match &spec.target {
