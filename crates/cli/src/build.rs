@@ -1005,18 +1005,8 @@ fn load_driver(r: &Resolver, d: &DriverSection) -> Result<(DriverSpec, String), 
                 need(&d.body_j, "body_j")?,
                 need(&d.point_j, "point_j")?,
             );
-            let bi_s = r.body(&bi, &owner)?;
-            let bj_s = r.body(&bj, &owner)?;
-            r.feature(bi_s, &pi, &owner, true)?;
-            r.feature(bj_s, &pj, &owner, true)?;
-            if bi_s == bj_s {
-                return Err(cx.err(
-                    bj.span(),
-                    format!(
-                        "{owner}: both points are on body \"{bi_s}\"; their distance cannot change"
-                    ),
-                ));
-            }
+            // Bodies and points (and that they differ) are checked by the builder.
+            let (bi_s, bj_s) = (bi.get_ref().as_str(), bj.get_ref().as_str());
             Ok((
                 DriverSpec::distance(name, (bi_s, pi.get_ref()), (bj_s, pj.get_ref()), function),
                 format!("distance {bi_s}.{} – {bj_s}.{}", pi.get_ref(), pj.get_ref()),
@@ -1039,11 +1029,8 @@ fn load_driver(r: &Resolver, d: &DriverSection) -> Result<(DriverSpec, String), 
                     "a coordinate driver moves one coordinate of a body point",
                 ));
             };
-            let bs = r.body(b, &owner)?;
-            if bs == GROUND {
-                return Err(cx.err(b.span(), format!("{owner}: the ground cannot be driven")));
-            }
-            r.feature(bs, p, &owner, true)?;
+            // The body (a moving one) and the point are checked by the builder.
+            let bs = b.get_ref().as_str();
             let axis = match c.get_ref().as_str() {
                 "x" => Axis::X,
                 "y" => Axis::Y,

@@ -927,3 +927,28 @@ fn a_driver_on_a_joint_it_cannot_drive_is_located_at_its_joint_key() {
         ],
     );
 }
+
+/// A coordinate driver on the ground and a distance driver between two points of one body: the
+/// builder's errors, located at the key (the CLI no longer resolves drivers' bodies itself).
+#[test]
+fn drivers_on_the_ground_or_within_one_body_are_located_at_the_key() {
+    let joint_driver = "type = \"rotation\"\njoint = \"pivot\"\n";
+    fails_at(
+        joint_driver,
+        "type = \"coordinate\"\nbody = \"ground\"\npoint = \"O\"\ncoordinate = \"x\"\n",
+        "31:8",
+        &["driver \"motor\": acts on the ground, which cannot move"],
+    );
+    fails_at(
+        joint_driver,
+        "type = \"distance\"\nbody_i = \"crank\"\npoint_i = \"O\"\nbody_j = \"crank\"\npoint_j = \"tip\"\n",
+        "33:10",
+        &["driver \"motor\" connects body \"crank\" to itself"],
+    );
+    fails_at(
+        joint_driver,
+        "type = \"distance\"\nbody_i = \"ground\"\npoint_i = \"O\"\nbody_j = \"crank\"\npoint_j = \"tpi\"\n",
+        "34:11",
+        &["body \"crank\" has no point \"tpi\"", "did you mean \"tip\"?"],
+    );
+}

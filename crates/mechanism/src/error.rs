@@ -214,7 +214,7 @@ pub enum ModelError {
         element: String,
     },
     /// A force element acts on ground (it needs a moving body).
-    #[error("{element}: acts on ground; a force element needs a moving body")]
+    #[error("{element}: acts on the ground, which cannot move; it needs a moving body")]
     OnGround {
         /// The element.
         element: String,
@@ -412,7 +412,7 @@ impl ModelError {
             E::SelfConnection { element, .. } | E::GroundToGround { element } => {
                 Site::parse(element, Some("body_j"), None)
             }
-            E::OnGround { element } => Site::parse(element, None, None),
+            E::OnGround { element } => Site::parse(element, Some("body"), None),
             E::MissingAxis { joint, .. } | E::BadMarker { joint, .. } => {
                 Some(Site::new(Joint, joint, None, None))
             }

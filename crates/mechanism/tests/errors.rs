@@ -338,7 +338,7 @@ fn joints_and_drivers_between_wrong_bodies() {
         Axis::X,
         TimeFunction::Constant(0.0),
     ));
-    assert!(matches!(build_err(&b), ModelError::GroundToGround { .. }));
+    assert!(matches!(build_err(&b), ModelError::OnGround { .. }));
     let mut b = base();
     b.driver(DriverSpec::distance(
         "d",

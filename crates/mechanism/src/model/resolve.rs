@@ -401,7 +401,7 @@ pub(super) fn driver(
         DriverTarget::Coordinate { body, point, axis } => {
             let bi = names.body(&el, body)?;
             if bi == BodyId::Ground {
-                return Err(ModelError::GroundToGround { element: el });
+                return Err(ModelError::OnGround { element: el });
             }
             let pi = names.feature(&el, body, point, false)?;
             let d = CoordinateDriver::new(pi, axis.index(), f).map_err(|e| {
