@@ -76,23 +76,31 @@ pub fn workspace_root() -> PathBuf {
 
 /// Writes the generated tables of docs/ (the test that checks them, in bless mode).
 fn docs() -> Result<(), String> {
-    let status = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()))
-        .args([
-            "test",
-            "-q",
-            "-p",
-            "cardan-constraints",
-            "--test",
-            "docs_table",
-        ])
-        .env("CARDAN_BLESS", "1")
-        .current_dir(workspace_root())
+    let mut cmd = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
+    cmd.args([
+        "test",
+        "-q",
+        "-p",
+        "cardan-constraints",
+        "--test",
+        "docs_table",
+    ])
+    .env("CARDAN_BLESS", "1")
+    .current_dir(workspace_root());
+    run_status(cmd, "writing the joint table")?;
+    println!("docs/model-format.md: joint table written");
+    Ok(())
+}
+
+/// Runs `cmd` to completion in the foreground; an error names `what` when it cannot start or
+/// fails.
+pub fn run_status(mut cmd: Command, what: &str) -> Result<(), String> {
+    let status = cmd
         .status()
-        .map_err(|e| e.to_string())?;
+        .map_err(|e| format!("cannot run {what}: {e}"))?;
     if status.success() {
-        println!("docs/model-format.md: joint table written");
         Ok(())
     } else {
-        Err("writing the joint table failed".into())
+        Err(format!("{what} failed"))
     }
 }

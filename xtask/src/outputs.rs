@@ -6,7 +6,7 @@
 //! release mode with its own target directory (a full build the first time); both binaries run
 //! every `examples/*.toml` that exists in both trees.
 
-use crate::workspace_root;
+use crate::{run_status, workspace_root};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -121,28 +121,15 @@ fn build(tree: &Path, target: &Path) -> Result<(), String> {
         "$ cargo build --release -p cardan-cli  (in {})",
         tree.display()
     );
-    let status = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()))
-        .args(["build", "--release", "-q", "-p", "cardan-cli"])
+    let mut cmd = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
+    cmd.args(["build", "--release", "-q", "-p", "cardan-cli"])
         .env("CARGO_TARGET_DIR", target)
-        .current_dir(tree)
-        .status()
-        .map_err(|e| e.to_string())?;
-    if status.success() {
-        Ok(())
-    } else {
-        Err(format!("build in {} failed", tree.display()))
-    }
+        .current_dir(tree);
+    run_status(cmd, &format!("the build in {}", tree.display()))
 }
 
 fn git(root: &Path, args: &[&str]) -> Result<(), String> {
-    let status = Command::new("git")
-        .args(args)
-        .current_dir(root)
-        .status()
-        .map_err(|e| format!("git: {e}"))?;
-    if status.success() {
-        Ok(())
-    } else {
-        Err(format!("git {} failed", args.join(" ")))
-    }
+    let mut cmd = Command::new("git");
+    cmd.args(args).current_dir(root);
+    run_status(cmd, &format!("git {}", args.join(" ")))
 }

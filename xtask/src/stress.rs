@@ -207,17 +207,9 @@ energy = true
 
 fn cargo(root: &Path, args: &[String], envs: &[(&str, &str)]) -> Result<(), String> {
     println!("$ cargo {}", args.join(" "));
-    let status = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()))
-        .args(args)
-        .envs(envs.iter().copied())
-        .current_dir(root)
-        .status()
-        .map_err(|e| format!("cannot run cargo: {e}"))?;
-    if status.success() {
-        Ok(())
-    } else {
-        Err(format!("cargo {} failed", args.join(" ")))
-    }
+    let mut cmd = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
+    cmd.args(args).envs(envs.iter().copied()).current_dir(root);
+    crate::run_status(cmd, &format!("cargo {}", args.join(" ")))
 }
 
 fn cargo_output(root: &Path, args: &[&str]) -> Result<String, String> {

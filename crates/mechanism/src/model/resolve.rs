@@ -17,6 +17,9 @@ use cardan_constraints::{
 use nalgebra::{Matrix3, Vector3};
 use std::collections::HashMap;
 
+/// A body and a point in its frame.
+type BodyPoint = (BodyId, Vector3<f64>);
+
 /// The name tables elements are resolved against: bodies, and the points and vectors of each.
 pub(super) struct Names<'a> {
     bodies: HashMap<&'a str, BodyId>,
@@ -36,6 +39,22 @@ impl<'a> Names<'a> {
                 suggestion: suggest(name, self.body_list.iter().copied()),
                 known: self.body_list.iter().map(|b| b.to_string()).collect(),
             })
+    }
+
+    /// Two points on two different bodies (a two-point element: distance driver, spring):
+    /// each body's id and the point in its frame.
+    pub(super) fn point_pair(
+        &self,
+        element: &str,
+        (body_i, point_i): (&str, &str),
+        (body_j, point_j): (&str, &str),
+    ) -> Result<(BodyPoint, BodyPoint), ModelError> {
+        let bi = self.body(element, body_i)?;
+        let bj = self.body(element, body_j)?;
+        pair_check(element, bi, bj, body_i)?;
+        let pi = self.feature(element, body_i, point_i, false)?;
+        let pj = self.feature(element, body_j, point_j, false)?;
+        Ok(((bi, pi), (bj, pj)))
     }
 
     pub(super) fn feature(
@@ -391,11 +410,8 @@ pub(super) fn driver(
             body_j,
             point_j,
         } => {
-            let bi = names.body(&el, body_i)?;
-            let bj = names.body(&el, body_j)?;
-            pair_check(&el, bi, bj, body_i)?;
-            let pi = names.feature(&el, body_i, point_i, false)?;
-            let pj = names.feature(&el, body_j, point_j, false)?;
+            let ((bi, pi), (bj, pj)) =
+                names.point_pair(&el, (body_i, point_i), (body_j, point_j))?;
             (DistanceDriver::new(pi, pj, f).into(), bi, bj, None)
         }
         DriverTarget::Coordinate { body, point, axis } => {
@@ -488,11 +504,8 @@ pub(super) fn force(
             damping,
             free_length,
         } => {
-            let bi = names.body(&el, body_i)?;
-            let bj = names.body(&el, body_j)?;
-            pair_check(&el, bi, bj, body_i)?;
-            let pi = names.feature(&el, body_i, point_i, false)?;
-            let pj = names.feature(&el, body_j, point_j, false)?;
+            let ((bi, pi), (bj, pj)) =
+                names.point_pair(&el, (body_i, point_i), (body_j, point_j))?;
             non_negative("stiffness", Quantity::Stiffness, *stiffness)?;
             non_negative("damping", Quantity::Damping, *damping)?;
             let l0 = match free_length {
