@@ -8,8 +8,8 @@
 //!   file describes; CSV per output group (header with units), SVG plots, `run.json`, a summary
 //!   line with warnings ([`output`]: the directory rule; [`progress`]: progress bar and Ctrl-C).
 //! - `cardan check MODEL.toml`: bodies, joints with equation counts, DOF, redundant equations.
-//! - `cardan eval MODEL.toml [--t T]`: Φ, the Jacobian (pattern and values), ν and γ# at the
-//!   assembled state.
+//! - `cardan eval MODEL.toml [--t T] [--format text|json]`: Φ, the Jacobian (pattern and
+//!   values), ν and γ# at the assembled state; JSON at full precision with row and column maps.
 //!
 //! Every failure is an [`Error`] with a one-paragraph message (file:line:column when it comes
 //! from the model file) and an exit code; bad input never panics.
@@ -77,6 +77,9 @@ pub enum Command {
         /// Time at which to assemble and evaluate [s] (default: the analysis start time).
         #[arg(long = "t", allow_negative_numbers = true)]
         t: Option<f64>,
+        /// Output format: tables to read, or JSON at full precision with the row and column maps.
+        #[arg(long, value_enum, default_value_t = commands::eval::Format::Text)]
+        format: commands::eval::Format,
     },
 }
 
@@ -101,7 +104,7 @@ pub fn run(cli: &Cli, out: &mut dyn std::io::Write) -> Result<(), Error> {
             commands::run::run(model, output.as_deref(), &flags, out).map(|_| ())
         }
         Command::Check { model } => commands::check::check(model, out),
-        Command::Eval { model, t } => commands::eval::eval(model, *t, out),
+        Command::Eval { model, t, format } => commands::eval::eval(model, *t, *format, out),
     }
 }
 

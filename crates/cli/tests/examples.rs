@@ -408,7 +408,8 @@ fn every_example_checks() {
         assert!(text.contains(": ok"), "{name}: {text}");
         assert_eq!(p.model.drivers().len(), 1);
         let mut out = Vec::new();
-        cardan_cli::commands::eval::eval(&example(name), None, &mut out).unwrap();
+        cardan_cli::commands::eval::eval(&example(name), None, Default::default(), &mut out)
+            .unwrap();
         let text = String::from_utf8(out).unwrap();
         assert!(text.contains("Jacobian Φ_v pattern"), "{name}");
     }
@@ -481,4 +482,66 @@ fn progress_run_equals_plain_run() {
     }
     assert!((ja.values[2500][0] - 5.0 * PI).abs() < 1e-9);
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `cardan eval --format json` (issue 28): every float reads back bit for bit to the value the
+/// library computed, and the rows and columns are mapped to elements, primitives, bodies and
+/// coordinates.
+#[test]
+fn eval_json_round_trips_every_float_exactly() {
+    use cardan_cli::commands::eval::{evaluate, COORDINATES};
+    for name in ["slider_crank", "bricard", "universal_drive"] {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_cardan"))
+            .args(["eval", "--format", "json", "--t", "0.3"])
+            .arg(example(name))
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        let (p, _, want) = evaluate(&example(name), Some(0.3)).unwrap();
+        let floats = |key: &str| -> Vec<f64> {
+            v[key]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|x| x.as_f64().unwrap())
+                .collect()
+        };
+        let bits = |a: &[f64]| a.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&floats("phi")), bits(&want.phi), "{name}: Φ");
+        assert_eq!(bits(&floats("nu")), bits(&want.nu), "{name}: ν");
+        assert_eq!(bits(&floats("gamma")), bits(&want.gamma), "{name}: γ#");
+        let jac = v["jacobian"].as_array().unwrap();
+        assert_eq!(jac.len(), want.jacobian.len());
+        for (got, &(r, c, x)) in jac.iter().zip(&want.jacobian) {
+            assert_eq!(got[0].as_u64(), Some(r as u64));
+            assert_eq!(got[1].as_u64(), Some(c as u64));
+            assert_eq!(
+                got[2].as_f64().unwrap().to_bits(),
+                x.to_bits(),
+                "{name}: Φ_v[{r},{c}]"
+            );
+        }
+        // Row and column maps.
+        let rows = v["rows"].as_array().unwrap();
+        assert_eq!(rows.len(), p.model.num_equations());
+        for (r, row) in rows.iter().enumerate() {
+            let eq = p.model.equation(r).unwrap();
+            assert_eq!(row["element"], eq.element.as_str());
+            assert_eq!(row["primitive"], eq.primitive);
+            assert_eq!(row["local_row"], eq.local_row);
+        }
+        let cols = v["columns"].as_array().unwrap();
+        assert_eq!(cols.len(), p.model.num_unknowns());
+        for (c, col) in cols.iter().enumerate() {
+            assert_eq!(col["body"], p.model.bodies()[c / 6].name.as_str());
+            assert_eq!(col["coordinate"], COORDINATES[c % 6]);
+        }
+        let t = v["t"].as_f64().unwrap();
+        assert_eq!(t, 0.3);
+    }
 }

@@ -1,10 +1,18 @@
-//! `cardan eval MODEL.toml [--t T]`: Φ, Φ_v (pattern and values), ν and γ# at the assembled
-//! state, the tool for debugging a model.
+//! `cardan eval MODEL.toml [--t T] [--format text|json]`: Φ, Φ_v (pattern and values), ν and
+//! γ# at the assembled state, the tool for debugging a model. As text for reading (7
+//! significant digits), or as JSON for programs: every number at full precision (the shortest
+//! decimal that reads back to the same f64), with the map from each row to its element and
+//! primitive and from each column to its body and coordinate.
+//!
+//! The form is the 6-coordinate one (`shared/notation.md`): per moving body the unknowns are
+//! Δr (global, m) and Δπ' (body frame, rad), so Φ_v multiplies v = [ṙ; ω'] and
+//! Φ_v v̇ = γ#, with ν = −Φ_t and γ# = −(Φ_v v)_q q̇ − 2 Φ_vt v − Φ_tt at the bodies' velocities.
 
 use super::output_tables::{g, io, write_table};
-use super::{analysis_error, prepare};
+use super::{analysis_error, prepare, Prepared};
 use crate::diag::Error;
-use cardan_mechanism::AssemblyOptions;
+use cardan_mechanism::{AssemblyOptions, Workspace};
+use serde::Serialize;
 use std::io::Write;
 use std::path::Path;
 
@@ -15,11 +23,111 @@ fn e(v: f64) -> String {
     format!("{v:+.6e}")
 }
 
-/// Assembles at time t (default: the analysis start) and prints Φ, the Jacobian, ν and γ#.
+/// The output format of `cardan eval`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum Format {
+    /// Tables to read (7 significant digits).
+    #[default]
+    Text,
+    /// One JSON object at full precision (see [`Evaluation`]).
+    Json,
+}
+
+/// The unknowns of one moving body, in column order (6-coordinate form).
+pub const COORDINATES: [&str; 6] = ["r.x", "r.y", "r.z", "ω'.x", "ω'.y", "ω'.z"];
+
+/// What `cardan eval --format json` writes: the assembled state and the constraint quantities
+/// there, every number as the shortest decimal that reads back to the same f64.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Evaluation {
+    /// The model name.
+    pub model: String,
+    /// The time (s).
+    pub t: f64,
+    /// Newton iterations of the assembly.
+    pub assembly_iterations: usize,
+    /// Where the velocities come from (the velocity analysis, or rest).
+    pub velocities: String,
+    /// The form of the quantities (see the module docs).
+    pub form: &'static str,
+    /// Each moving body's state: r (m), p, ṙ (m/s), ω (global, rad/s).
+    pub bodies: Vec<BodyState>,
+    /// What each row is: element, kind, primitive and row within it.
+    pub rows: Vec<RowInfo>,
+    /// What each column is: body and coordinate.
+    pub columns: Vec<ColumnInfo>,
+    /// Φ per row.
+    pub phi: Vec<f64>,
+    /// ν = −Φ_t per row.
+    pub nu: Vec<f64>,
+    /// γ# per row.
+    pub gamma: Vec<f64>,
+    /// The structural nonzeros of Φ_v: row, column, value.
+    pub jacobian: Vec<(usize, usize, f64)>,
+}
+
+/// A body's state in an [`Evaluation`].
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BodyState {
+    /// Its name.
+    pub name: String,
+    /// Position of the body frame origin (m).
+    pub r: [f64; 3],
+    /// Euler parameters [e0, e1, e2, e3].
+    pub p: [f64; 4],
+    /// Velocity (m/s).
+    pub r_dot: [f64; 3],
+    /// Angular velocity, global (rad/s).
+    pub omega: [f64; 3],
+}
+
+/// One row of an [`Evaluation`].
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RowInfo {
+    /// The joint or driver.
+    pub element: String,
+    /// Its kind.
+    pub kind: String,
+    /// The primitive the row belongs to.
+    pub primitive: String,
+    /// The row within the element.
+    pub local_row: usize,
+}
+
+/// One column of an [`Evaluation`].
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ColumnInfo {
+    /// The moving body.
+    pub body: String,
+    /// The coordinate ([`COORDINATES`]).
+    pub coordinate: &'static str,
+}
+
+const FORM: &str = "6-coordinate: per moving body the columns are r.x r.y r.z (global, m) and \
+                    ω'.x ω'.y ω'.z (body frame, rad); Φ_v v = ν with ν = −Φ_t, Φ_v v̇ = γ#";
+
+/// Assembles at time t (default: the analysis start) and writes Φ, the Jacobian, ν and γ#, as
+/// text or as JSON.
 ///
 /// # Errors
 /// Input errors; an assembly that cannot close.
-pub fn eval(path: &Path, t: Option<f64>, out: &mut dyn Write) -> Result<(), Error> {
+pub fn eval(path: &Path, t: Option<f64>, format: Format, out: &mut dyn Write) -> Result<(), Error> {
+    let (p, ws, ev) = evaluate(path, t)?;
+    match format {
+        Format::Text => write_text(&p, &ws, &ev, out),
+        Format::Json => {
+            let text = serde_json::to_string_pretty(&ev)
+                .map_err(|e| Error::output(format!("cannot write the JSON: {e}")))?;
+            writeln!(out, "{text}").map_err(io)
+        }
+    }
+}
+
+/// Assembles at time t (default: the analysis start) and evaluates Φ, ν, γ# and Φ_v there.
+///
+/// # Errors
+/// Input errors; an assembly that cannot close.
+pub fn evaluate(path: &Path, t: Option<f64>) -> Result<(Prepared, Workspace, Evaluation), Error> {
     let p = prepare(path)?;
     let model = &p.model;
     let t = t.unwrap_or_else(|| p.loaded.analysis.as_ref().map_or(0.0, |a| a.t_start));
@@ -60,10 +168,77 @@ pub fn eval(path: &Path, t: Option<f64>, out: &mut dyn Write) -> Result<(), Erro
     model.eval_gamma(&ws, t, &mut gamma);
     model.eval_jacobian(&ws, t, &mut slots);
 
+    let bodies = model
+        .bodies()
+        .iter()
+        .enumerate()
+        .map(|(k, b)| BodyState {
+            name: b.name.clone(),
+            r: ws.r(k).into(),
+            p: {
+                let q = ws.p(k);
+                [q[0], q[1], q[2], q[3]]
+            },
+            r_dot: ws.r_dot(k).into(),
+            omega: ws.omega(k).into(),
+        })
+        .collect();
+    let rows = (0..m)
+        .map(|r| {
+            let eq = model.equation(r);
+            RowInfo {
+                element: eq.as_ref().map_or("?".into(), |e| e.element.clone()),
+                kind: eq.as_ref().map_or("?".into(), |e| e.kind.to_string()),
+                primitive: eq.as_ref().map_or("?".into(), |e| e.primitive.to_string()),
+                local_row: eq.as_ref().map_or(0, |e| e.local_row),
+            }
+        })
+        .collect();
+    let columns = (0..n)
+        .map(|c| ColumnInfo {
+            body: model.bodies()[c / 6].name.clone(),
+            coordinate: COORDINATES[c % 6],
+        })
+        .collect();
+    let jacobian = model
+        .pattern()
+        .entries()
+        .zip(&slots)
+        .map(|((r, c), v)| (r, c, *v))
+        .collect();
+    let ev = Evaluation {
+        model: p.loaded.name.clone(),
+        t,
+        assembly_iterations: rep.iterations,
+        velocities: velocity_note,
+        form: FORM,
+        bodies,
+        rows,
+        columns,
+        phi,
+        nu,
+        gamma,
+        jacobian,
+    };
+    Ok((p, ws, ev))
+}
+
+/// The text form of an [`Evaluation`].
+fn write_text(
+    p: &Prepared,
+    ws: &Workspace,
+    ev: &Evaluation,
+    out: &mut dyn Write,
+) -> Result<(), Error> {
+    let model = &p.model;
+    let (t, m, n) = (ev.t, ev.phi.len(), ev.columns.len());
+    let (phi, nu, gamma) = (&ev.phi, &ev.nu, &ev.gamma);
+    let velocity_note = &ev.velocities;
+    let slots: Vec<f64> = ev.jacobian.iter().map(|&(_, _, v)| v).collect();
     writeln!(
         out,
-        "model \"{}\" at t = {t} s: assembled in {} iterations (scaled residual {:.2e}); {velocity_note}",
-        p.loaded.name, rep.iterations, rep.residual
+        "model \"{}\" at t = {t} s: assembled in {} iterations; {velocity_note}",
+        p.loaded.name, ev.assembly_iterations
     )
     .map_err(io)?;
     writeln!(
@@ -171,7 +346,7 @@ pub fn eval(path: &Path, t: Option<f64>, out: &mut dyn Write) -> Result<(), Erro
         "\nJacobian Φ_v values (row, column, body.coordinate, value)"
     )
     .map_err(io)?;
-    let coord = ["r.x", "r.y", "r.z", "ω'.x", "ω'.y", "ω'.z"];
+    let coord = COORDINATES;
     let rows: Vec<Vec<String>> = pattern
         .entries()
         .zip(&slots)
