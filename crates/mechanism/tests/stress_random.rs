@@ -30,11 +30,6 @@ use std::sync::LazyLock;
 use std::time::{Duration, Instant};
 use stress_common::{cases, results_finite};
 
-/// Relative DOF of a joint kind (from the kind table).
-fn joint_dof(kind: JointKind) -> usize {
-    kind.info().relative_dof()
-}
-
 /// One body's pose: position (in units of L) and a rotation.
 #[derive(Debug, Clone)]
 struct Pose {
@@ -310,7 +305,7 @@ fn chain() -> impl Strategy<Value = Drawn> {
                     l,
                     driven,
                 );
-                dof += joint_dof(kind);
+                dof += kind.info().relative_dof();
                 drivers += d;
             }
             Drawn {

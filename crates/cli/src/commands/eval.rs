@@ -11,7 +11,7 @@
 use super::output_tables::{g, io, write_table};
 use super::{analysis_error, prepare, Prepared};
 use crate::diag::Error;
-use cardan_mechanism::{AssemblyOptions, Workspace};
+use cardan_mechanism::AssemblyOptions;
 use serde::Serialize;
 use std::io::Write;
 use std::path::Path;
@@ -46,6 +46,8 @@ pub struct Evaluation {
     pub t: f64,
     /// Newton iterations of the assembly.
     pub assembly_iterations: usize,
+    /// Largest scaled residual after the assembly.
+    pub assembly_residual: f64,
     /// Where the velocities come from (the velocity analysis, or rest).
     pub velocities: String,
     /// The form of the quantities (see the module docs).
@@ -112,9 +114,9 @@ const FORM: &str = "6-coordinate: per moving body the columns are r.x r.y r.z (g
 /// # Errors
 /// Input errors; an assembly that cannot close.
 pub fn eval(path: &Path, t: Option<f64>, format: Format, out: &mut dyn Write) -> Result<(), Error> {
-    let (p, ws, ev) = evaluate(path, t)?;
+    let (p, ev) = evaluate(path, t)?;
     match format {
-        Format::Text => write_text(&p, &ws, &ev, out),
+        Format::Text => write_text(&p, &ev, out),
         Format::Json => {
             let text = serde_json::to_string_pretty(&ev)
                 .map_err(|e| Error::output(format!("cannot write the JSON: {e}")))?;
@@ -127,7 +129,7 @@ pub fn eval(path: &Path, t: Option<f64>, format: Format, out: &mut dyn Write) ->
 ///
 /// # Errors
 /// Input errors; an assembly that cannot close.
-pub fn evaluate(path: &Path, t: Option<f64>) -> Result<(Prepared, Workspace, Evaluation), Error> {
+pub fn evaluate(path: &Path, t: Option<f64>) -> Result<(Prepared, Evaluation), Error> {
     let p = prepare(path)?;
     let model = &p.model;
     let t = t.unwrap_or_else(|| p.loaded.analysis.as_ref().map_or(0.0, |a| a.t_start));
@@ -210,6 +212,7 @@ pub fn evaluate(path: &Path, t: Option<f64>) -> Result<(Prepared, Workspace, Eva
         model: p.loaded.name.clone(),
         t,
         assembly_iterations: rep.iterations,
+        assembly_residual: rep.residual,
         velocities: velocity_note,
         form: FORM,
         bodies,
@@ -220,16 +223,11 @@ pub fn evaluate(path: &Path, t: Option<f64>) -> Result<(Prepared, Workspace, Eva
         gamma,
         jacobian,
     };
-    Ok((p, ws, ev))
+    Ok((p, ev))
 }
 
 /// The text form of an [`Evaluation`].
-fn write_text(
-    p: &Prepared,
-    ws: &Workspace,
-    ev: &Evaluation,
-    out: &mut dyn Write,
-) -> Result<(), Error> {
+fn write_text(p: &Prepared, ev: &Evaluation, out: &mut dyn Write) -> Result<(), Error> {
     let model = &p.model;
     let (t, m, n) = (ev.t, ev.phi.len(), ev.columns.len());
     let (phi, nu, gamma) = (&ev.phi, &ev.nu, &ev.gamma);
@@ -237,8 +235,8 @@ fn write_text(
     let slots: Vec<f64> = ev.jacobian.iter().map(|&(_, _, v)| v).collect();
     writeln!(
         out,
-        "model \"{}\" at t = {t} s: assembled in {} iterations; {velocity_note}",
-        p.loaded.name, ev.assembly_iterations
+        "model \"{}\" at t = {t} s: assembled in {} iterations (scaled residual {:.2e}); {velocity_note}",
+        p.loaded.name, ev.assembly_iterations, ev.assembly_residual
     )
     .map_err(io)?;
     writeln!(
@@ -248,18 +246,18 @@ fn write_text(
     .map_err(io)?;
 
     writeln!(out, "\nbody states").map_err(io)?;
-    let rows: Vec<Vec<String>> = model
-        .bodies()
+    let v3 = |v: &[f64; 3]| format!("({}, {}, {})", g(v[0]), g(v[1]), g(v[2]));
+    let rows: Vec<Vec<String>> = ev
+        .bodies
         .iter()
-        .enumerate()
-        .map(|(k, b)| {
-            let (r, q, rd, w) = (ws.r(k), ws.p(k), ws.r_dot(k), ws.omega(k));
+        .map(|b| {
+            let q = &b.p;
             vec![
                 b.name.clone(),
-                format!("({}, {}, {})", g(r.x), g(r.y), g(r.z)),
+                v3(&b.r),
                 format!("({}, {}, {}, {})", g(q[0]), g(q[1]), g(q[2]), g(q[3])),
-                format!("({}, {}, {})", g(rd.x), g(rd.y), g(rd.z)),
-                format!("({}, {}, {})", g(w.x), g(w.y), g(w.z)),
+                v3(&b.r_dot),
+                v3(&b.omega),
             ]
         })
         .collect();

@@ -439,7 +439,8 @@ fn axes_column(a: Axes) -> String {
 /// writes it; a test fails when the committed table differs).
 pub fn markdown_table() -> String {
     let mut out = String::from(
-        "| type | equations | axes | joint coordinates written | driven by |\n|---|---|---|---|---|\n",
+        "| type | equations | rows, in order | axes | joint coordinates written | driven by |\n\
+         |---|---|---|---|---|---|\n",
     );
     for k in KINDS {
         let mut name = format!("`{}`", k.name);
@@ -461,9 +462,10 @@ pub fn markdown_table() -> String {
         }
         let or_dash = |s: String| if s.is_empty() { "–".to_string() } else { s };
         out.push_str(&format!(
-            "| {name}: {} | {} | {} | {} | {} |\n",
+            "| {name}: {} | {} | {} | {} | {} | {} |\n",
             k.summary,
             k.rows(),
+            k.notation(),
             axes_column(k.axes),
             or_dash(coords.join(", ")),
             or_dash(driven.join("; ")),
