@@ -543,6 +543,18 @@ impl<C: Constraint> Eval<'_, C> {
         !matches!((self.case.ground, side), (Ground::I, 0) | (Ground::J, 1))
     }
 
+    /// The case's size: the larger body position (the step of r in the finite differences is
+    /// 1e-3 of it, so bodies 1e-3 apart get 1e-6: an element that is not polynomial in r, like
+    /// a coupler's angle, needs a step below its size).
+    fn length(&self) -> f64 {
+        let l = self.case.i.r.amax().max(self.case.j.r.amax());
+        if l > 0.0 {
+            l
+        } else {
+            1.0
+        }
+    }
+
     fn check_q(&mut self) {
         let (c, case) = (self.c, self.case);
         let m = c.rows();
@@ -560,7 +572,7 @@ impl<C: Constraint> Eval<'_, C> {
             }
             for col in 0..7 {
                 let base = if side == 0 { &case.i } else { &case.j };
-                let mag = if col < 3 { base.r.amax().max(1.0) } else { 1.0 };
+                let mag = if col < 3 { self.length() } else { 1.0 };
                 let h = 1e-3 * mag;
                 let fd = d1(
                     |e| {
@@ -597,7 +609,7 @@ impl<C: Constraint> Eval<'_, C> {
                 });
             }
         }
-        let noise = 10.0 * EPS * self.term_scale / 1e-3;
+        let noise = 10.0 * EPS * self.term_scale / (1e-3 * self.length()).min(1e-3);
         self.compare("phi_q", &got, &want, noise / 1e-7, 1e-7, Some(14));
         // γ# (7): −Φ̈ along q + q̇ τ, t + τ.
         let mut gq = [0.0; MAX_ROWS];
@@ -666,11 +678,7 @@ impl<C: Constraint> Eval<'_, C> {
             }
             let base = if side == 0 { &case.i } else { &case.j };
             for col in 0..6 {
-                let h = if col < 3 {
-                    1e-3 * base.r.amax().max(1.0)
-                } else {
-                    1e-3
-                };
+                let h = if col < 3 { 1e-3 * self.length() } else { 1e-3 };
                 let fd = d1(
                     |e| {
                         let b = if col < 3 {
@@ -698,7 +706,7 @@ impl<C: Constraint> Eval<'_, C> {
                 }
             }
         }
-        let noise = 10.0 * EPS * self.term_scale / 1e-3;
+        let noise = 10.0 * EPS * self.term_scale / (1e-3 * self.length()).min(1e-3);
         self.compare("phi_v", &got, &want, noise / 1e-7, 1e-7, Some(12));
         let mut gv = [0.0; MAX_ROWS];
         c.gamma_sharp_v(&x, case.t, &mut gv[..m]);

@@ -30,6 +30,10 @@
 //! [`Joint`]s are lists of primitives built from two [`Marker`]s (see [`joints`] for the table);
 //! [`Driver`]s add time-dependent rows with a [`TimeFunction`].
 //!
+//! ## Couplers
+//! [`Coupler`]s ([`couplers`]: gear, rack and pinion, screw) relate the coordinates of two
+//! joints by one equation between two bodies, with angles continued over turns.
+//!
 //! ## Evaluation
 //! All of them implement [`Constraint`]. Evaluation takes a [`BodyPair`] (pose, cached A and
 //! velocities of bodies i and j; ground is [`BodyState::ground`]) and writes into caller slices:
@@ -69,6 +73,7 @@ mod macros;
 
 pub mod conformance;
 pub mod constraint;
+pub mod couplers;
 pub mod distance;
 pub mod drivers;
 pub mod error;
@@ -90,6 +95,7 @@ pub mod state;
 pub mod time_function;
 
 pub use constraint::{Constraint, Dimension};
+pub use couplers::{Coupler, Gear, RackPinion, Screw};
 pub use distance::Distance;
 pub use drivers::{CoordinateDriver, DistanceDriver, Driver, RotationDriver, TranslationDriver};
 pub use error::ConstraintError;

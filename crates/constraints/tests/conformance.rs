@@ -72,6 +72,40 @@ conformance_tests! {
     translation_driver: BOTH, |s: &mut Sampler| TranslationDriver::new(s.marker(), s.marker(), s.function());
     distance_driver: BOTH, |s: &mut Sampler| DistanceDriver::new(s.point(), s.point(), s.function());
     coordinate_driver: ONLY_I_MOVES, |s: &mut Sampler| CoordinateDriver::new(s.point(), s.rng.below(3), s.function()).unwrap();
+    gear: BOTH, sample_gear;
+    rack_pinion: BOTH, |s: &mut Sampler| RackPinion::new(general(s).marker(), s.marker(), coefficient(s), s.length() * coefficient(s), s.length(), turns(s));
+    screw: BOTH, |s: &mut Sampler| Screw::new(general(s).marker(), s.marker(), coefficient(s), s.length() * coefficient(s), s.length(), turns(s));
+}
+
+/// A coupler coefficient of either sign.
+fn coefficient(s: &mut Sampler) -> f64 {
+    s.rng.uniform(-2.0, 2.0)
+}
+
+/// A reference angle several turns away from the principal range, so that the continuation
+/// over turns is exercised.
+fn turns(s: &mut Sampler) -> f64 {
+    s.rng.uniform(-40.0, 40.0)
+}
+
+/// A coupler's angle is undefined where x_j ∥ z_i (rack, screw) or d ∥ z_i (gear), which the
+/// joints exclude but axis-aligned frames and points on bodies turned by multiples of 90° hit
+/// exactly: couplers draw general frames and points.
+fn general(s: &mut Sampler) -> &mut Sampler {
+    s.axis_aligned = false;
+    s
+}
+
+fn sample_gear(s: &mut Sampler) -> Gear {
+    general(s);
+    Gear {
+        marker_i: s.marker(),
+        marker_j: s.marker(),
+        k_i: coefficient(s),
+        k_j: coefficient(s),
+        constant: s.rng.uniform(-3.0, 3.0),
+        reference: [turns(s), turns(s)],
+    }
 }
 
 proptest! {
