@@ -14,11 +14,12 @@ import time
 from concurrent.futures import ProcessPoolExecutor
 
 import common
+import gen_couplers
 import gen_drivers
 import gen_joints
 import gen_primitives
 
-GENERATORS = {m.__name__: m for m in (gen_primitives, gen_joints, gen_drivers)}
+GENERATORS = {m.__name__: m for m in (gen_primitives, gen_joints, gen_drivers, gen_couplers)}
 
 
 def generate_one(module_name, element, outdir):

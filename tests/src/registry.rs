@@ -9,7 +9,7 @@
 //! unchecked.
 
 use cardan_constraints::{
-    BodyPair, Constraint, CoordinateDriver, Dimension, Distance, DistanceDriver, Driver, Footprint,
+    BodyPair, Constraint, CoordinateDriver, Coupler, Gear, RackPinion, Screw, Dimension, Distance, DistanceDriver, Driver, Footprint,
     Form, Joint, JointKind, Marker, Normalization, P1Perp, P1Select, P2Perp, P2Select, Primitive,
     RotationDriver, Spherical, TimeFunction, TranslationDriver, KINDS, N1, N2, P1, P2,
 };
@@ -39,8 +39,11 @@ pub const DRIVERS: &[&str] = &[
     "coordinate_driver",
 ];
 
+/// Every coupler, as the oracle names them (see [`coupler_name`]).
+pub const COUPLERS: &[&str] = &["gear", "rack_pinion", "screw"];
+
 /// Every element name the Rust side implements: primitives, the joint kinds of the kind table,
-/// drivers.
+/// drivers, couplers.
 pub fn elements() -> Vec<&'static str> {
     let joints = KINDS.iter().map(|k| k.name);
     PRIMITIVES
@@ -48,7 +51,17 @@ pub fn elements() -> Vec<&'static str> {
         .copied()
         .chain(joints)
         .chain(DRIVERS.iter().copied())
+        .chain(COUPLERS.iter().copied())
         .collect()
+}
+
+/// The oracle name of a coupler variant (exhaustive).
+pub fn coupler_name(c: &Coupler) -> &'static str {
+    match c {
+        Coupler::Gear(_) => "gear",
+        Coupler::RackPinion(_) => "rack_pinion",
+        Coupler::Screw(_) => "screw",
+    }
 }
 
 /// The oracle name of a primitive variant (exhaustive: a new variant must be named here).
@@ -92,6 +105,8 @@ pub enum Element {
     Joint(Joint),
     /// A driver.
     Driver(Driver),
+    /// A coupler.
+    Coupler(Coupler),
 }
 
 impl Element {
@@ -102,6 +117,7 @@ impl Element {
             Element::Primitive(p) => primitive_name(p),
             Element::Joint(j) => joint_name(j.kind()),
             Element::Driver(d) => driver_name(d),
+            Element::Coupler(c) => coupler_name(c),
         }
     }
 }
@@ -112,6 +128,7 @@ macro_rules! each {
             Element::Primitive($c) => $e,
             Element::Joint($c) => $e,
             Element::Driver($c) => $e,
+            Element::Coupler($c) => $e,
         }
     };
 }
@@ -295,6 +312,33 @@ pub fn build(name: &str, p: &Value) -> Result<Element, ParamError> {
             CoordinateDriver::new(v3(p, "point_i")?, axis, time_function(&p["function"])?)
                 .map(|d| E::Driver(d.into()))
                 .map_err(|e| e.to_string())
+        }
+        "gear" => {
+            let reference = nums(p, "reference")?;
+            let [r_i, r_j] = reference[..] else {
+                return Err("`reference` of a gear has two angles".into());
+            };
+            Ok(E::Coupler(
+                Gear {
+                    marker_i: marker(p, "marker_i")?,
+                    marker_j: marker(p, "marker_j")?,
+                    k_i: num(p, "k_i")?,
+                    k_j: num(p, "k_j")?,
+                    constant: num(p, "constant")?,
+                    reference: [r_i, r_j],
+                }
+                .into(),
+            ))
+        }
+        "rack_pinion" | "screw" => {
+            let (mi, mj) = (marker(p, "marker_i")?, marker(p, "marker_j")?);
+            let (ks, ka) = (num(p, "k_slide")?, num(p, "k_angle")?);
+            let (c, r) = (num(p, "constant")?, num(p, "reference")?);
+            Ok(E::Coupler(if name == "screw" {
+                Screw::new(mi, mj, ks, ka, c, r).into()
+            } else {
+                RackPinion::new(mi, mj, ks, ka, c, r).into()
+            }))
         }
         other => Err(format!(
             "no Rust element is registered under the oracle name `{other}`"
