@@ -9,9 +9,10 @@
 //! unchecked.
 
 use cardan_constraints::{
-    BodyPair, Constraint, CoordinateDriver, Coupler, Gear, RackPinion, Screw, Dimension, Distance, DistanceDriver, Driver, Footprint,
-    Form, Joint, JointKind, Marker, Normalization, P1Perp, P1Select, P2Perp, P2Select, Primitive,
-    RotationDriver, Spherical, TimeFunction, TranslationDriver, KINDS, N1, N2, P1, P2,
+    BodyPair, Constraint, CoordinateDriver, Coupler, Dimension, Distance, DistanceDriver, Driver,
+    Footprint, Form, Gear, Joint, JointKind, Marker, Normalization, P1Perp, P1Select, P2Perp,
+    P2Select, Primitive, RackPinion, RotationDriver, Screw, Spherical, TimeFunction,
+    TranslationDriver, KINDS, N1, N2, P1, P2,
 };
 use nalgebra::{Matrix3, Vector3};
 use serde_json::Value;

@@ -429,6 +429,140 @@ impl ForceSpec {
     }
 }
 
+/// What a coupler relates (see [`CouplerSpec`]).
+#[derive(Debug, Clone, PartialEq)]
+pub enum CouplerKind {
+    /// Two gears on revolute (or cylindrical) joints `joint_i`, `joint_j`:
+    /// θ_j = ratio · θ_i + c.
+    Gear {
+        /// The joint of gear i.
+        joint_i: String,
+        /// The joint of gear j.
+        joint_j: String,
+        /// The speed ratio dθ_j/dθ_i.
+        ratio: GearRatio,
+    },
+    /// A rack on a prismatic (or cylindrical) joint and a pinion on a revolute (or cylindrical)
+    /// joint: s = −radius · θ + c.
+    RackPinion {
+        /// The rack's joint (its slide s).
+        slide_joint: String,
+        /// The pinion's joint (its angle θ).
+        angle_joint: String,
+        /// The pinion's pitch radius (m, > 0).
+        radius: f64,
+    },
+    /// A screw: s = (pitch / 2π) · θ + c, the slide and the angle of one cylindrical joint, or
+    /// of a prismatic and a revolute joint on a common axis.
+    Screw {
+        /// The joint whose slide s advances.
+        slide_joint: String,
+        /// The joint whose angle θ turns (the same cylindrical joint, or a revolute joint).
+        angle_joint: String,
+        /// Advance per revolution (m; negative for a left-hand thread; not zero).
+        pitch: f64,
+    },
+}
+
+/// The ratio of a gear pair.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum GearRatio {
+    /// Pitch radii r_i, r_j (m): ratio = −r_i / r_j (external gears; give a negative radius for
+    /// an internal gear, which turns the same way as its pinion).
+    Radii(f64, f64),
+    /// The signed speed ratio dθ_j/dθ_i itself (not zero).
+    Ratio(f64),
+}
+
+impl GearRatio {
+    /// dθ_j/dθ_i.
+    pub fn value(self) -> f64 {
+        match self {
+            GearRatio::Radii(ri, rj) => -ri / rj,
+            GearRatio::Ratio(k) => k,
+        }
+    }
+}
+
+/// A coupler: one equation between the coordinates of two joints (or the two coordinates of one
+/// cylindrical joint), the constant c from the initial poses unless given.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CouplerSpec {
+    /// Unique name among joints, couplers, drivers and forces.
+    pub name: String,
+    /// What is coupled.
+    pub kind: CouplerKind,
+    /// c (rad for a gear, m for the others); default: its value at the initial poses.
+    pub constant: Option<f64>,
+}
+
+impl CouplerSpec {
+    /// Gears on `joint_i` and `joint_j` with pitch radii `radius_i`, `radius_j`.
+    pub fn gear(name: impl Into<String>, joint_i: &str, joint_j: &str, ratio: GearRatio) -> Self {
+        Self {
+            name: name.into(),
+            kind: CouplerKind::Gear {
+                joint_i: joint_i.into(),
+                joint_j: joint_j.into(),
+                ratio,
+            },
+            constant: None,
+        }
+    }
+
+    /// A rack on `slide_joint` and a pinion of pitch radius `radius` on `angle_joint`.
+    pub fn rack_pinion(
+        name: impl Into<String>,
+        slide_joint: &str,
+        angle_joint: &str,
+        radius: f64,
+    ) -> Self {
+        Self {
+            name: name.into(),
+            kind: CouplerKind::RackPinion {
+                slide_joint: slide_joint.into(),
+                angle_joint: angle_joint.into(),
+                radius,
+            },
+            constant: None,
+        }
+    }
+
+    /// A screw of `pitch` between the slide of `slide_joint` and the angle of `angle_joint`
+    /// (the same cylindrical joint, or a prismatic and a revolute joint on a common axis).
+    pub fn screw(
+        name: impl Into<String>,
+        slide_joint: &str,
+        angle_joint: &str,
+        pitch: f64,
+    ) -> Self {
+        Self {
+            name: name.into(),
+            kind: CouplerKind::Screw {
+                slide_joint: slide_joint.into(),
+                angle_joint: angle_joint.into(),
+                pitch,
+            },
+            constant: None,
+        }
+    }
+
+    /// Sets the constant c.
+    pub fn constant(mut self, c: f64) -> Self {
+        self.constant = Some(c);
+        self
+    }
+
+    /// The kind's name: "gear", "rack_pinion" or "screw".
+    pub fn kind_name(&self) -> &'static str {
+        match self.kind {
+            CouplerKind::Gear { .. } => "gear",
+            CouplerKind::RackPinion { .. } => "rack_pinion",
+            CouplerKind::Screw { .. } => "screw",
+        }
+    }
+}
+
 /// A named point or vector declared on a body, in declaration order.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Feature {
@@ -449,6 +583,7 @@ pub struct MechanismBuilder {
     pub(crate) vectors: Vec<Feature>,
     pub(crate) joints: Vec<JointSpec>,
     pub(crate) drivers: Vec<DriverSpec>,
+    pub(crate) couplers: Vec<CouplerSpec>,
     pub(crate) forces: Vec<ForceSpec>,
 }
 
@@ -488,6 +623,12 @@ impl MechanismBuilder {
     /// Adds a joint.
     pub fn joint(&mut self, joint: JointSpec) -> &mut Self {
         self.joints.push(joint);
+        self
+    }
+
+    /// Adds a coupler (gear, rack and pinion, screw).
+    pub fn coupler(&mut self, coupler: CouplerSpec) -> &mut Self {
+        self.couplers.push(coupler);
         self
     }
 

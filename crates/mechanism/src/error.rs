@@ -297,6 +297,41 @@ pub enum ModelError {
         /// Why.
         reason: String,
     },
+    /// A coupler names a joint of a kind it cannot couple.
+    #[error(
+        "coupler \"{coupler}\" ({coupler_kind}): {role} \"{joint}\" is {kind}; it needs {expected}"
+    )]
+    WrongCouplerJoint {
+        /// The coupler.
+        coupler: String,
+        /// Its kind ("gear", ...).
+        coupler_kind: &'static str,
+        /// The key naming the joint ("joint_i", "slide_joint", ...).
+        role: &'static str,
+        /// The joint.
+        joint: String,
+        /// The joint's kind.
+        kind: &'static str,
+        /// What kinds are accepted.
+        expected: String,
+    },
+    /// A coupler's joints do not share exactly one body.
+    #[error("coupler \"{coupler}\": {reason}")]
+    CouplerBodies {
+        /// The coupler.
+        coupler: String,
+        /// Why.
+        reason: String,
+    },
+    /// A coupler's joint axes are not arranged as it needs (collinear gear axes, a rack not
+    /// across its pinion's axis, a screw's slide not along its axis).
+    #[error("coupler \"{coupler}\": {reason}")]
+    CouplerGeometry {
+        /// The coupler.
+        coupler: String,
+        /// Why.
+        reason: String,
+    },
     /// The mechanism has no moving body.
     #[error("the mechanism has no moving body")]
     NoBodies,
@@ -322,6 +357,8 @@ pub enum ElementKind {
     Joint,
     /// A driver.
     Driver,
+    /// A coupler.
+    Coupler,
     /// A force element.
     Force,
 }
@@ -359,6 +396,7 @@ impl Site {
             "body" | "point" | "vector" => ElementKind::Body,
             "joint" => ElementKind::Joint,
             "driver" => ElementKind::Driver,
+            "coupler" => ElementKind::Coupler,
             "force" => ElementKind::Force,
             _ => return None,
         };
@@ -426,6 +464,12 @@ impl ModelError {
             }
             E::UnusedKey { joint, key, .. } => {
                 Some(Site::new(Joint, joint, key.split_whitespace().next(), None))
+            }
+            E::WrongCouplerJoint { coupler, role, .. } => {
+                Some(Site::new(ElementKind::Coupler, coupler, Some(role), None))
+            }
+            E::CouplerBodies { coupler, .. } | E::CouplerGeometry { coupler, .. } => {
+                Some(Site::new(ElementKind::Coupler, coupler, None, None))
             }
             E::DuplicateElement { .. } | E::EmptyName { .. } | E::NoBodies => None,
         }

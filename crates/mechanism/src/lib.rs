@@ -87,13 +87,14 @@ pub use analysis::position::{
     PositionReport, FAST_RANK_MIN_UNKNOWNS, KINEMATIC_MAX_CHORD_STEPS, SELECTION_PIVOT_TOLERANCE,
 };
 pub use builder::{
-    Axis, Body, DriverSpec, DriverTarget, ForceSpec, JointSpec, MechanismBuilder, Orientation,
-    GROUND,
+    Axis, Body, CouplerKind, CouplerSpec, DriverSpec, DriverTarget, ForceSpec, GearRatio,
+    JointSpec, MechanismBuilder, Orientation, GROUND,
 };
 pub use dof::DofReport;
 pub use error::{AnalysisError, ElementKind, EquationName, Error, ModelError, OpenElement, Site};
 pub use model::{
-    kinds_with, nearest, BodyId, BodyInfo, DriverInfo, FeatureInfo, ForceInfo, JointInfo, Model,
+    kinds_with, nearest, BodyId, BodyInfo, CoupledCoordinate, CouplerInfo, DriverInfo, FeatureInfo,
+    ForceInfo, JointInfo, Model,
 };
 pub use results::{BodyResults, JointResults, Outputs, PointResults, Results};
 pub use sanity::{check_inertia, Quantity};

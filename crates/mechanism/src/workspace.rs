@@ -38,6 +38,10 @@ pub struct Workspace {
     pub(crate) edge_acc_last: Vec<f64>,
     pub(crate) edge_acc_prev: Vec<f64>,
     pub(crate) bodies: Vec<BodyState>,
+    /// Each coupler's angles at the last accepted pose, which its angles are continued from
+    /// ([`Model::accept_turns`]), and their copy for a return to a saved frame.
+    pub(crate) turns: Vec<[f64; 2]>,
+    pub(crate) turns_saved: Vec<[f64; 2]>,
     /// Length m: ν, γ#, Φ.
     pub(crate) rhs: Vec<f64>,
     pub(crate) phi: Vec<f64>,
@@ -106,6 +110,8 @@ impl Workspace {
             edge_acc_last: vec![0.0; 6 * nb],
             edge_acc_prev: vec![0.0; 6 * nb],
             bodies: vec![BodyState::ground(); nb],
+            turns: model.initial_turns(),
+            turns_saved: model.initial_turns(),
             rhs: vec![0.0; m],
             phi: vec![0.0; m],
             x_prev: vec![0.0; 7 * nb],
@@ -135,6 +141,9 @@ impl Workspace {
         }
         self.v.fill(0.0);
         self.vdot.fill(0.0);
+        for (t, c) in self.turns.iter_mut().zip(model.couplers()) {
+            *t = c.coupler.reference();
+        }
         self.sync_poses();
         self.invalidate();
     }
@@ -370,6 +379,7 @@ pub fn apply_rotation_step(x: &mut [f64], dx: &[f64]) {
 pub(crate) struct PositionSystem<'a> {
     pub model: &'a Model,
     pub bodies: &'a mut [BodyState],
+    pub turns: &'a [[f64; 2]],
     pub t: f64,
 }
 
@@ -385,7 +395,7 @@ impl NonlinearSystem for PositionSystem<'_> {
     }
     fn residual(&mut self, x: &[f64], out: &mut [f64]) {
         set_poses(self.bodies, x);
-        self.model.phi_into(self.bodies, self.t, out);
+        self.model.phi_into(self.bodies, self.turns, self.t, out);
     }
     fn jacobian(&mut self, x: &[f64], slots: &mut [f64]) {
         set_poses(self.bodies, x);

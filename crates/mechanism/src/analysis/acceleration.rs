@@ -25,6 +25,7 @@ impl Model {
         let mut sys = PositionSystem {
             model: self,
             bodies: &mut ws.bodies,
+            turns: &ws.turns,
             t,
         };
         let solved = newton.solve_linear_at(&mut sys, &ws.x, &ws.rhs, &mut ws.vdot);

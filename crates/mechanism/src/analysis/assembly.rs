@@ -112,6 +112,7 @@ pub struct AssemblyReport {
 struct AssemblySystem<'a> {
     model: &'a Model,
     bodies: &'a mut [BodyState],
+    turns: &'a [[f64; 2]],
     t: f64,
     m: usize,
     phi: Vec<f64>,
@@ -130,7 +131,8 @@ impl NonlinearSystem for AssemblySystem<'_> {
     }
     fn residual(&mut self, x: &[f64], out: &mut [f64]) {
         set_poses(self.bodies, x);
-        self.model.phi_into(self.bodies, self.t, &mut self.phi);
+        self.model
+            .phi_into(self.bodies, self.turns, self.t, &mut self.phi);
         out.copy_from_slice(&self.phi[..self.m]);
     }
     fn jacobian(&mut self, x: &[f64], slots: &mut [f64]) {
@@ -290,6 +292,7 @@ impl Model {
             let mut sys = AssemblySystem {
                 model: self,
                 bodies: &mut ws.bodies,
+                turns: &ws.turns,
                 t: options.t,
                 m,
                 phi: vec![0.0; self.num_equations()],
@@ -301,6 +304,7 @@ impl Model {
         ws.sync_poses();
         match result {
             Ok(rep) => {
+                self.accept_turns(&ws.bodies, &mut ws.turns);
                 let (mut dt, mut dr) = (0.0f64, 0.0f64);
                 for b in 0..self.num_bodies() {
                     let (g, x) = (&guess[7 * b..7 * b + 7], &ws.x[7 * b..7 * b + 7]);
@@ -333,7 +337,7 @@ impl Model {
 
     /// The elements among the first `m` rows whose scaled residual exceeds `tol`, largest first.
     pub(crate) fn open_elements(&self, ws: &mut Workspace, m: usize, tol: f64) -> Vec<OpenElement> {
-        self.phi_into(&ws.bodies, ws.t, &mut ws.phi);
+        self.phi_into(&ws.bodies, &ws.turns, ws.t, &mut ws.phi);
         let mut open = Vec::new();
         let mut check = |name: &str, rows: &std::ops::Range<usize>| {
             if rows.start >= m {
@@ -360,6 +364,9 @@ impl Model {
         };
         for j in &self.joints {
             check(&j.name, &j.rows);
+        }
+        for c in &self.couplers {
+            check(&c.name, &c.rows);
         }
         for d in &self.drivers {
             check(&d.name, &d.rows);

@@ -410,6 +410,7 @@ impl Model {
     fn save_frame(&self, ws: &mut Workspace) -> SavedFrame {
         ws.v_saved.copy_from_slice(&ws.v);
         ws.vdot_saved.copy_from_slice(&ws.vdot);
+        ws.turns_saved.copy_from_slice(&ws.turns);
         SavedFrame {
             t: ws.t,
             velocity_valid: ws.velocity_valid,
@@ -422,6 +423,7 @@ impl Model {
         ws.x.copy_from_slice(&ws.x_tmp);
         ws.v.copy_from_slice(&ws.v_saved);
         ws.vdot.copy_from_slice(&ws.vdot_saved);
+        ws.turns.copy_from_slice(&ws.turns_saved);
         ws.t = saved.t;
         ws.poses_moved();
         ws.sync_poses();

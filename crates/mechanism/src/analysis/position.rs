@@ -166,6 +166,7 @@ impl Model {
         let mut sys = PositionSystem {
             model: self,
             bodies: &mut ws.bodies,
+            turns: &ws.turns,
             t: ws.t,
         };
         newton.factor_at(&mut sys, &ws.x).ok()?;
@@ -235,7 +236,8 @@ impl Model {
         ws.sync_poses();
         match result {
             Ok(rep) => {
-                self.phi_into(&ws.bodies, t, &mut ws.phi);
+                self.accept_turns(&ws.bodies, &mut ws.turns);
+                self.phi_into(&ws.bodies, &ws.turns, t, &mut ws.phi);
                 let residual = ws.phi.iter().fold(0.0f64, |a, v| a.max(v.abs()));
                 Ok(PositionReport {
                     iterations: rep.iterations,
@@ -265,6 +267,7 @@ impl Model {
         let mut sys = PositionSystem {
             model: self,
             bodies: &mut ws.bodies,
+            turns: &ws.turns,
             t,
         };
         newton.solve(&mut sys, &mut ws.x)

@@ -26,6 +26,7 @@ impl Model {
         let mut sys = PositionSystem {
             model: self,
             bodies: &mut ws.bodies,
+            turns: &ws.turns,
             t,
         };
         newton

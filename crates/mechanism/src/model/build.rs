@@ -1,8 +1,9 @@
 //! [`build`]: a [`MechanismBuilder`] checked and turned into a [`Model`]. Names are resolved
 //! ([`super::resolve`], one function per element kind), then the rows laid out
-//! ([`super::layout`]). Every element name is unique across joints, drivers and forces.
+//! ([`super::layout`]). Every element name is unique across joints, couplers, drivers and
+//! forces.
 
-use super::{layout, resolve, Model};
+use super::{couplers, layout, resolve, Model};
 use crate::builder::MechanismBuilder;
 use crate::error::ModelError;
 use std::collections::HashMap;
@@ -26,6 +27,19 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
         unique(&mut element_names, &spec.name, None, "a driver")?;
         drivers.push(resolve::driver(spec, &names, &joints, &element_names)?);
     }
+    let mut couplers = Vec::with_capacity(b.couplers.len());
+    for spec in &b.couplers {
+        unique(&mut element_names, &spec.name, None, "a coupler")?;
+    }
+    let cx = couplers::Context {
+        joints: &joints,
+        bodies: &bodies,
+        element_names: &element_names,
+        length,
+    };
+    for spec in &b.couplers {
+        couplers.push(couplers::coupler(spec, &cx)?);
+    }
     let mut forces = Vec::with_capacity(b.forces.len());
     for spec in &b.forces {
         let name = spec.name();
@@ -34,7 +48,7 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
     }
 
     let nb = bodies.len();
-    let lay = layout::rows(&mut joints, &mut drivers, nb, length);
+    let lay = layout::rows(&mut joints, &mut couplers, &mut drivers, nb, length);
     let tree = crate::analysis::predictor::PredictorTree::new(nb, &joints);
     Ok(Model {
         tree,
@@ -43,6 +57,7 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
         vectors,
         joints,
         drivers,
+        couplers,
         forces,
         pattern: lay.pattern,
         equation_scales: lay.equation_scales,

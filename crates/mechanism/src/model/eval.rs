@@ -25,6 +25,9 @@ impl Model {
         for j in &self.joints {
             f(&j.joint, j.body_i, j.body_j, &j.rows, &j.map);
         }
+        for c in &self.couplers {
+            f(&c.coupler, c.body_i, c.body_j, &c.rows, &c.map);
+        }
         for d in &self.drivers {
             f(&d.driver, d.body_i, d.body_j, &d.rows, &d.map);
         }
@@ -46,8 +49,49 @@ impl Model {
         });
     }
 
-    pub(crate) fn phi_into(&self, bodies: &[BodyState], t: f64, out: &mut [f64]) {
+    /// Φ, with each coupler's angles continued from `turns` (its references at the last
+    /// accepted pose, [`Model::accept_turns`]; one entry per coupler).
+    pub(crate) fn phi_into(
+        &self,
+        bodies: &[BodyState],
+        turns: &[[f64; 2]],
+        t: f64,
+        out: &mut [f64],
+    ) {
         self.rows_into(bodies, t, out, |e, x, t, o| e.phi_dyn(x, t, o));
+        let g = BodyState::ground();
+        for (c, refs) in self.couplers.iter().zip(turns) {
+            let pair = BodyPair::new(
+                Self::state(bodies, &g, c.body_i),
+                Self::state(bodies, &g, c.body_j),
+            );
+            let e = c.coupler.with_reference(*refs);
+            e.phi(&pair, t, &mut out[c.rows.clone()]);
+        }
+    }
+
+    /// The couplers' references at their initial poses (one per coupler), where a workspace's
+    /// turn counts start.
+    pub fn initial_turns(&self) -> Vec<[f64; 2]> {
+        self.couplers
+            .iter()
+            .map(|c| c.coupler.reference())
+            .collect()
+    }
+
+    /// Accepts the bodies' poses for the couplers: each coupler's references `turns[k]` become
+    /// its angles there, continued from the old ones ([`cardan_constraints::Coupler::accept`]).
+    /// Call at each accepted pose, so that an angle never changes by π or more between two
+    /// calls. No allocation.
+    pub fn accept_turns(&self, bodies: &[BodyState], turns: &mut [[f64; 2]]) {
+        let g = BodyState::ground();
+        for (c, refs) in self.couplers.iter().zip(turns.iter_mut()) {
+            let pair = BodyPair::new(
+                Self::state(bodies, &g, c.body_i),
+                Self::state(bodies, &g, c.body_j),
+            );
+            *refs = c.coupler.with_reference(*refs).angles(&pair);
+        }
     }
 
     pub(crate) fn nu_into(&self, bodies: &[BodyState], t: f64, out: &mut [f64]) {
@@ -83,7 +127,7 @@ impl Model {
     /// Φ at the workspace's poses and time `t` (length [`num_equations`](Self::num_equations)).
     /// No allocation.
     pub fn eval_phi(&self, ws: &Workspace, t: f64, out: &mut [f64]) {
-        self.phi_into(&ws.bodies, t, out)
+        self.phi_into(&ws.bodies, &ws.turns, t, out)
     }
 
     /// Φ_v slot values (pattern [`Model::pattern`]) at the workspace's poses. No allocation.
@@ -102,7 +146,7 @@ impl Model {
     }
 }
 
-/// Object-safe view of a joint or driver (the [`Constraint`] trait has generic methods).
+/// Object-safe view of a joint, coupler or driver (the [`Constraint`] trait has generic methods).
 pub(crate) trait ElementEval {
     fn phi_dyn(&self, x: &BodyPair, t: f64, out: &mut [f64]);
     fn nu_dyn(&self, x: &BodyPair, t: f64, out: &mut [f64]);

@@ -3,7 +3,9 @@
 //! maps from element blocks to pattern slots, and the scales of equations (by their dimension:
 //! 1, L or L²) and unknowns (L for Δr, 1 for Δπ'), with L the characteristic length.
 
-use super::{BodyId, BodyInfo, DriverInfo, FeatureInfo, JointInfo, ScatterMap, NO_SLOT};
+use super::{
+    BodyId, BodyInfo, CouplerInfo, DriverInfo, FeatureInfo, JointInfo, ScatterMap, NO_SLOT,
+};
 use crate::builder::MechanismBuilder;
 use cardan_constraints::{Constraint, Footprint};
 use cardan_solver::SparsityPattern;
@@ -45,10 +47,12 @@ pub(super) fn characteristic_length(
     length
 }
 
-/// Lays out the rows of `joints` then `drivers` (setting their row ranges and scatter maps) for
-/// `nb` moving bodies.
+/// Lays out the rows of `joints`, `couplers`, then `drivers` (setting their row ranges and
+/// scatter maps) for `nb` moving bodies. Joints and couplers are the constraints that fix the
+/// degrees of freedom (the "joint rows"); drivers come last.
 pub(super) fn rows(
     joints: &mut [JointInfo],
+    couplers: &mut [CouplerInfo],
     drivers: &mut [DriverInfo],
     nb: usize,
     length: f64,
@@ -71,6 +75,19 @@ pub(super) fn rows(
         for r in 0..j.joint.rows() {
             equation_scales.push(j.joint.dimension(r).scale(length));
         }
+    }
+    for c in couplers.iter_mut() {
+        let (rows, map) = layout(
+            &mut row,
+            &mut entries,
+            1,
+            c.coupler.footprint(),
+            c.body_i,
+            c.body_j,
+        );
+        c.rows = rows;
+        c.map = map;
+        equation_scales.push(c.coupler.dimension(0).scale(length));
     }
     let joint_rows = row;
     for d in drivers.iter_mut() {

@@ -5,7 +5,7 @@
 //! ## Layout of the global system
 //! Unknowns (6-coordinate form): for moving body k, columns 6k..6k+3 are Δr_k (ṙ_k) and
 //! 6k+3..6k+6 are Δπ'_k (ω'_k). Ground has no columns. Equations: the joints in declaration
-//! order, then the drivers, each a contiguous row range. The pattern holds, for each row, the
+//! order, then the couplers, then the drivers, each a contiguous row range. The pattern holds, for each row, the
 //! declared r and p blocks ([`cardan_constraints::Footprint`]) of each moving body of its
 //! element, so a step only refills values.
 
@@ -16,6 +16,7 @@
 //! scatter maps, scales); [`eval`] evaluates Φ, ν, γ# and Φ_v on body states.
 
 mod build;
+mod couplers;
 mod eval;
 mod layout;
 mod resolve;
@@ -27,7 +28,7 @@ pub use validate::{kinds_with, nearest};
 use crate::builder::GROUND;
 use crate::error::EquationName;
 use crate::workspace::Workspace;
-use cardan_constraints::{Constraint, Driver, Joint};
+use cardan_constraints::{Constraint, Coupler, Driver, Joint};
 use cardan_solver::SparsityPattern;
 use nalgebra::{Matrix3, Vector3, Vector4};
 use std::ops::Range;
@@ -116,6 +117,49 @@ pub struct DriverInfo {
     pub(crate) map: ScatterMap,
 }
 
+/// One joint coordinate a coupler relates.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CoupledCoordinate {
+    /// The joint (index into [`Model::joints`]).
+    pub joint: usize,
+    /// Its slide z_iᵀ(P_j − P_i) (m) when true, else its angle (rad).
+    pub slide: bool,
+}
+
+/// A coupler of the model: one equation between two bodies
+/// ([`cardan_constraints::couplers`]) that is the law a₀ q₀ + a₁ q₁ − c = 0 between two joint
+/// coordinates q₀, q₁ (gear: θ_j − ρ θ_i − c; rack and pinion: s + r θ − c; screw:
+/// s − (pitch/2π) θ − c).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CouplerInfo {
+    /// Name.
+    pub name: String,
+    /// Body i of the equation (a gear, the rack, the nut).
+    pub body_i: BodyId,
+    /// Body j of the equation (the other gear, the pinion, the screw).
+    pub body_j: BodyId,
+    /// The equation, with its angles' references at the initial poses.
+    pub coupler: Coupler,
+    /// q₀ and q₁ (gear: θ_i, θ_j; rack and pinion, screw: s, θ).
+    pub coordinates: [CoupledCoordinate; 2],
+    /// a₀, a₁ = ∂Φ/∂q₀, ∂Φ/∂q₁.
+    pub coefficients: [f64; 2],
+    /// c of the law (rad for a gear, m otherwise).
+    pub constant: f64,
+    /// The pitch radius r_j of gear j, when the gear was given by radii (for the tooth force).
+    pub gear_radius_j: Option<f64>,
+    /// Its row in the global system.
+    pub rows: Range<usize>,
+    pub(crate) map: ScatterMap,
+}
+
+impl CouplerInfo {
+    /// The kind: "gear", "rack_pinion" or "screw".
+    pub fn kind(&self) -> &'static str {
+        self.coupler.name()
+    }
+}
+
 /// A validated force element (see [`crate::ForceSpec`]); points are body-frame vectors.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ForceInfo {
@@ -174,6 +218,7 @@ pub struct Model {
     pub(crate) vectors: Vec<FeatureInfo>,
     pub(crate) joints: Vec<JointInfo>,
     pub(crate) drivers: Vec<DriverInfo>,
+    pub(crate) couplers: Vec<CouplerInfo>,
     pub(crate) forces: Vec<ForceInfo>,
     pub(crate) pattern: SparsityPattern,
     pub(crate) equation_scales: Vec<f64>,
@@ -242,6 +287,11 @@ impl Model {
         &self.drivers
     }
 
+    /// The couplers, in declaration order (rows after the joints, before the drivers).
+    pub fn couplers(&self) -> &[CouplerInfo] {
+        &self.couplers
+    }
+
     /// The force elements, in declaration order (for dynamic analysis).
     pub fn forces(&self) -> &[ForceInfo] {
         &self.forces
@@ -257,7 +307,8 @@ impl Model {
         self.num_rows
     }
 
-    /// Number of joint equations (the first rows).
+    /// Number of joint and coupler equations (the first rows: the constraints that are not
+    /// drivers, which fix the degrees of freedom).
     pub fn num_joint_equations(&self) -> usize {
         self.joint_rows
     }
@@ -299,6 +350,17 @@ impl Model {
                     kind: j.joint.kind().name(),
                     primitive,
                     local_row: local,
+                });
+            }
+        }
+        for c in &self.couplers {
+            if c.rows.contains(&row) {
+                return Some(EquationName {
+                    row,
+                    element: c.name.clone(),
+                    kind: c.kind(),
+                    primitive: c.kind(),
+                    local_row: 0,
                 });
             }
         }
