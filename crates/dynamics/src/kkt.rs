@@ -40,14 +40,45 @@ use cardan_mechanism::{BodyId, Model};
 use cardan_solver::{AutoSolver, LinearSolver, SchurSolver, SolverError, SparsityPattern};
 use std::ops::Range;
 
-/// One joint or driver: its rows, bodies.
+/// One joint, driver or coupler: its rows, bodies.
 #[derive(Debug, Clone)]
 pub(crate) struct Element {
     pub rows: Range<usize>,
     pub bi: BodyId,
     pub bj: BodyId,
-    /// Joint index, or `joints.len() + driver index`.
+    /// Joint index, or `joints.len() + driver index`, or
+    /// `joints.len() + drivers.len() + coupler index`.
     pub index: usize,
+}
+
+/// The constraint of element `e` (a coupler with the model's references: right for Φ_v, ν and
+/// γ#, which do not depend on them; Φ takes the references of the run, see [`eval_rows`]).
+enum Of<'a> {
+    Joint(&'a cardan_constraints::Joint),
+    Driver(&'a cardan_constraints::Driver),
+    Coupler(cardan_constraints::Coupler, usize),
+}
+
+fn of<'a>(model: &'a Model, e: &Element) -> Of<'a> {
+    let (nj, nd) = (model.joints().len(), model.drivers().len());
+    if e.index < nj {
+        Of::Joint(&model.joints()[e.index].joint)
+    } else if e.index < nj + nd {
+        Of::Driver(&model.drivers()[e.index - nj].driver)
+    } else {
+        let k = e.index - nj - nd;
+        Of::Coupler(model.couplers()[k].coupler, k)
+    }
+}
+
+macro_rules! with_constraint {
+    ($of:expr, $c:ident => $e:expr) => {
+        match $of {
+            Of::Joint($c) => $e,
+            Of::Driver($c) => $e,
+            Of::Coupler(ref $c, _) => $e,
+        }
+    };
 }
 
 pub(crate) fn elements(model: &Model) -> Vec<Element> {
@@ -68,6 +99,13 @@ pub(crate) fn elements(model: &Model) -> Vec<Element> {
         bi: d.body_i,
         bj: d.body_j,
         index: nj + k,
+    }));
+    let nd = model.drivers().len();
+    v.extend(model.couplers().iter().enumerate().map(|(k, c)| Element {
+        rows: c.rows.clone(),
+        bi: c.body_i,
+        bj: c.body_j,
+        index: nj + nd + k,
     }));
     v
 }
@@ -91,16 +129,7 @@ pub(crate) fn element_blocks(
     let g = BodyState::ground();
     let pair = BodyPair::new(st(bodies, &g, e.bi), st(bodies, &g, e.bj));
     let n = e.rows.len();
-    let nj = model.joints().len();
-    if e.index < nj {
-        model.joints()[e.index]
-            .joint
-            .phi_v(&pair, t, &mut bi[..n], &mut bj[..n]);
-    } else {
-        model.drivers()[e.index - nj]
-            .driver
-            .phi_v(&pair, t, &mut bi[..n], &mut bj[..n]);
-    }
+    with_constraint!(of(model, e), c => c.phi_v(&pair, t, &mut bi[..n], &mut bj[..n]));
 }
 
 /// Which vector of an element to evaluate.
@@ -111,35 +140,30 @@ pub(crate) enum Rhs {
     Gamma,
 }
 
-/// Φ, ν or γ#_v of all model rows. No allocation.
+/// Φ, ν or γ#_v of all model rows; the couplers' angles continued from `turns` (one entry per
+/// coupler, see [`cardan_mechanism::Model::accept_turns`]). No allocation.
 pub(crate) fn eval_rows(
     model: &Model,
     elements: &[Element],
     bodies: &[BodyState],
+    turns: &[[f64; 2]],
     t: f64,
     what: Rhs,
     out: &mut [f64],
 ) {
     let g = BodyState::ground();
-    let nj = model.joints().len();
     for e in elements {
         let pair = BodyPair::new(st(bodies, &g, e.bi), st(bodies, &g, e.bj));
         let o = &mut out[e.rows.clone()];
-        if e.index < nj {
-            let c = &model.joints()[e.index].joint;
-            match what {
-                Rhs::Phi => c.phi(&pair, t, o),
-                Rhs::Nu => c.nu(&pair, t, o),
-                Rhs::Gamma => c.gamma_sharp_v(&pair, t, o),
-            }
-        } else {
-            let c = &model.drivers()[e.index - nj].driver;
-            match what {
-                Rhs::Phi => c.phi(&pair, t, o),
-                Rhs::Nu => c.nu(&pair, t, o),
-                Rhs::Gamma => c.gamma_sharp_v(&pair, t, o),
-            }
-        }
+        let of = match of(model, e) {
+            Of::Coupler(c, k) => Of::Coupler(c.with_reference(turns[k]), k),
+            other => other,
+        };
+        with_constraint!(of, c => match what {
+            Rhs::Phi => c.phi(&pair, t, o),
+            Rhs::Nu => c.nu(&pair, t, o),
+            Rhs::Gamma => c.gamma_sharp_v(&pair, t, o),
+        });
     }
 }
 

@@ -141,7 +141,8 @@ pub use options::{
     SimulationOptions, Stabilization, StepControl, ATOL_MAX, NEWTON_TOLERANCE_RANGE, RTOL_RANGE,
 };
 pub use results::{
-    DriverEfforts, DynamicResults, EnergyHistory, IntegrationStats, JointReactions, Reaction,
+    CouplerEfforts, DriverEfforts, DynamicResults, EnergyHistory, IntegrationStats, JointReactions,
+    Reaction,
 };
 pub use state::State;
 pub use system::{Dynamics, Energy};

@@ -4,7 +4,7 @@
 
 use crate::kkt::{eval_rows, Rhs};
 use crate::results::{
-    DriverEfforts, DynamicResults, EnergyHistory, IntegrationStats, JointReactions,
+    CouplerEfforts, DriverEfforts, DynamicResults, EnergyHistory, IntegrationStats, JointReactions,
 };
 use crate::state::State;
 use crate::system::Dynamics;
@@ -107,8 +107,26 @@ impl Recorder {
                 },
             })
             .collect();
+        let couplers = model
+            .couplers()
+            .iter()
+            .map(|c| CouplerEfforts {
+                name: c.name.clone(),
+                lambda: Vec::with_capacity(capacity),
+                efforts: Vec::with_capacity(capacity),
+                force: has_force(c).then(|| Vec::with_capacity(capacity)),
+                reactions: JointReactions {
+                    name: c.name.clone(),
+                    body_i: name(c.body_i),
+                    body_j: name(c.body_j),
+                    on_i: Vec::with_capacity(capacity),
+                    on_j: Vec::with_capacity(capacity),
+                },
+            })
+            .collect();
         let e = || Vec::with_capacity(capacity);
         let res = DynamicResults {
+            couplers,
             kinematics: kin,
             lambda: Vec::with_capacity(capacity),
             reactions,
@@ -152,6 +170,7 @@ impl Recorder {
             model,
             &d.elements,
             &d.bodies,
+            &d.turns,
             state.t,
             Rhs::Phi,
             &mut self.phi,
@@ -236,6 +255,7 @@ impl Recorder {
             model,
             &d.elements,
             &d.bodies,
+            &d.turns,
             state.t,
             Rhs::Nu,
             &mut self.phi,
@@ -260,6 +280,30 @@ impl Recorder {
             de.reactions.on_i.push(ri);
             de.reactions.on_j.push(rj);
         }
+        let nd = model.drivers().len();
+        for (k, (ce, c)) in self
+            .res
+            .couplers
+            .iter_mut()
+            .zip(model.couplers())
+            .enumerate()
+        {
+            let (pi, pj) = c.coupler.points();
+            let (ri, rj) =
+                d.element_reaction(&d.elements[nj + nd + k], state.t, &self.lambda, &pi, &pj);
+            ce.reactions.on_i.push(ri);
+            ce.reactions.on_j.push(rj);
+            let l = self.lambda[c.rows.start];
+            let q = [-l * c.coefficients[0], -l * c.coefficients[1]];
+            ce.lambda.push(l);
+            ce.efforts.push(q);
+            if let Some(f) = ce.force.as_mut() {
+                f.push(match c.gear_radius_j {
+                    Some(rj) => q[1] / rj,
+                    None => q[0],
+                });
+            }
+        }
         let en = d.energy(state);
         self.res.energy.kinetic.push(en.kinetic);
         self.res.energy.gravity.push(en.gravity);
@@ -279,4 +323,10 @@ impl Recorder {
         self.res.stats = stats;
         self.res
     }
+}
+
+/// Whether a coupler has a tooth or thread force: every rack and screw, and a gear given by
+/// radii.
+fn has_force(c: &cardan_mechanism::CouplerInfo) -> bool {
+    c.kind() != "gear" || c.gear_radius_j.is_some()
 }

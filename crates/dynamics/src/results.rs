@@ -53,6 +53,32 @@ pub struct DriverEfforts {
     pub reactions: JointReactions,
 }
 
+/// Effort histories of one coupler (gear, rack and pinion, screw; see
+/// [`cardan_mechanism::CouplerInfo`]: its equation is the law a₀ q₀ + a₁ q₁ − c = 0 between two
+/// joint coordinates).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct CouplerEfforts {
+    /// Coupler name.
+    pub name: String,
+    /// Its multiplier λ.
+    pub lambda: Vec<f64>,
+    /// The generalized forces the coupler applies along the two coupled joint coordinates,
+    /// Q_k = −λ a_k: a torque (N m) on an angle, a force (N) on a slide, positive in the sense of
+    /// the increasing coordinate (as a driver's effort). An ideal coupler does no work:
+    /// Q₀ q̇₀ + Q₁ q̇₁ = 0.
+    pub efforts: Vec<[f64; 2]>,
+    /// The tooth or thread force (N): for a gear given by radii, Q₁ / r_j, the tangential force
+    /// on gear j at its pitch circle (none for a gear given by a ratio); for a rack and pinion,
+    /// Q₀, the force along the rack on its slide; for a screw, Q₀, the axial force on the slide.
+    pub force: Option<Vec<f64>>,
+    /// The wrench −Φ_vᵀλ of the coupler's equation on its two bodies (body i and j of
+    /// [`cardan_mechanism::CouplerInfo`]), about its marker points. For a gear the equation
+    /// (orbit angles) puts a force at the centres that differs from the tooth force; only the
+    /// torques about the axes (hence `efforts`) are physical, and the gears' joint reactions
+    /// carry the difference.
+    pub reactions: JointReactions,
+}
+
 /// Energy histories.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct EnergyHistory {
@@ -114,6 +140,8 @@ pub struct DynamicResults {
     pub reactions: Vec<JointReactions>,
     /// Efforts of every driver, in model order.
     pub drivers: Vec<DriverEfforts>,
+    /// Efforts of every coupler, in model order.
+    pub couplers: Vec<CouplerEfforts>,
     /// Energy.
     pub energy: EnergyHistory,
     /// max |Φ_i| (unscaled) per time.
@@ -156,6 +184,11 @@ impl DynamicResults {
     /// The reactions of joint `name`.
     pub fn joint_reactions(&self, name: &str) -> Option<&JointReactions> {
         self.reactions.iter().find(|r| r.name == name)
+    }
+
+    /// The efforts of driver `name`.
+    pub fn coupler(&self, name: &str) -> Option<&CouplerEfforts> {
+        self.couplers.iter().find(|c| c.name == name)
     }
 
     /// The efforts of driver `name`.

@@ -48,6 +48,9 @@ pub struct Dynamics<'m> {
     pub(crate) reselections: usize,
     /// Body states of the last evaluation.
     pub(crate) bodies: Vec<BodyState>,
+    /// Each coupler's angles at the last accepted state, which its angles are continued from
+    /// ([`Model::accept_turns`]).
+    pub(crate) turns: Vec<[f64; 2]>,
     /// Generalized forces h (n).
     pub(crate) h: Vec<f64>,
 }
@@ -96,6 +99,7 @@ impl<'m> Dynamics<'m> {
             redundant: Vec::new(),
             reselections: 0,
             bodies: vec![BodyState::ground(); nb],
+            turns: model.initial_turns(),
             h: vec![0.0; 6 * nb],
         };
         for f in Force::from_model(model) {
@@ -151,6 +155,12 @@ impl<'m> Dynamics<'m> {
         &self.redundant
     }
 
+    /// Accepts the synced bodies' poses for the couplers' turn counts (at each accepted step
+    /// and projection). No allocation.
+    pub(crate) fn accept_turns(&mut self) {
+        self.model.accept_turns(&self.bodies, &mut self.turns);
+    }
+
     pub(crate) fn sync(&mut self, state: &State) {
         for (k, b) in self.bodies.iter_mut().enumerate() {
             *b = state.body_state(k);
@@ -189,6 +199,7 @@ impl<'m> Dynamics<'m> {
             q: ws.state().to_vec(),
             v: guess.v.clone(),
         };
+        self.turns.copy_from_slice(ws.turns());
         self.prepare(&state)?;
         self.project_velocities(&mut state)?;
         let (res, worst) = self.velocity_residual(&state);
@@ -429,6 +440,7 @@ impl<'m> Dynamics<'m> {
             model,
             &self.elements,
             &self.bodies,
+            &self.turns,
             t,
             Rhs::Gamma,
             &mut kkt.full,
@@ -451,6 +463,7 @@ impl<'m> Dynamics<'m> {
                 model,
                 &self.elements,
                 &self.bodies,
+                &self.turns,
                 t,
                 Rhs::Nu,
                 &mut kkt.full,
@@ -462,6 +475,7 @@ impl<'m> Dynamics<'m> {
                 model,
                 &self.elements,
                 &self.bodies,
+                &self.turns,
                 t,
                 Rhs::Phi,
                 &mut kkt.full,
@@ -535,6 +549,7 @@ impl<'m> Dynamics<'m> {
             model,
             &self.elements,
             &self.bodies,
+            &self.turns,
             t,
             Rhs::Nu,
             &mut kkt.full,
@@ -585,6 +600,7 @@ impl<'m> Dynamics<'m> {
                 model,
                 &self.elements,
                 &self.bodies,
+                &self.turns,
                 t,
                 Rhs::Phi,
                 &mut kkt.full,
@@ -610,6 +626,7 @@ impl<'m> Dynamics<'m> {
                 // steps through such a point): choose the rows again and go on projecting.
                 let dropped = dropped_residual(&kkt.active, &kkt.full, scales);
                 if dropped <= tol {
+                    self.accept_turns();
                     return Ok(it);
                 }
                 if polish == POLISH_STEPS {
@@ -617,6 +634,7 @@ impl<'m> Dynamics<'m> {
                         polish = 0;
                         continue;
                     }
+                    self.accept_turns();
                     return Ok(it);
                 }
                 polish += 1;
@@ -655,6 +673,7 @@ impl<'m> Dynamics<'m> {
             model,
             &self.elements,
             &self.bodies,
+            &self.turns,
             state.t,
             Rhs::Nu,
             &mut nu,

@@ -89,6 +89,12 @@ impl Workspace {
         self.reselections
     }
 
+    /// Each coupler's angles at the last accepted pose ([`Model::accept_turns`]): the
+    /// references its angles are continued from.
+    pub fn turns(&self) -> &[[f64; 2]] {
+        &self.turns
+    }
+
     /// The ν and γ# evaluation counts since the workspace was created.
     pub fn evaluation_counts(&self) -> EvaluationCounts {
         self.counts

@@ -106,6 +106,16 @@ impl Coupler {
         *self = self.with_reference(self.angles(x));
     }
 
+    /// The marker points P_i, P_j (body frames): where reactions are reported.
+    pub fn points(&self) -> (nalgebra::Vector3<f64>, nalgebra::Vector3<f64>) {
+        let (mi, mj) = match self {
+            Coupler::Gear(g) => (&g.marker_i, &g.marker_j),
+            Coupler::RackPinion(c) => (&c.inner.marker_i, &c.inner.marker_j),
+            Coupler::Screw(c) => (&c.inner.marker_i, &c.inner.marker_j),
+        };
+        (mi.point, mj.point)
+    }
+
     /// The constant c.
     pub fn constant(&self) -> f64 {
         match self {

@@ -208,7 +208,15 @@ fn attempt(
             }
         }
         kkt.work_n = top;
-        eval_rows(model, &d.elements, &d.bodies, t1, Rhs::Phi, &mut b.phi);
+        eval_rows(
+            model,
+            &d.elements,
+            &d.bodies,
+            &d.turns,
+            t1,
+            Rhs::Phi,
+            &mut b.phi,
+        );
         let mut res_c = 0.0f64;
         for (a, &r) in kkt.active.iter().enumerate() {
             kkt.rhs[n + a] = -b.phi[r] / beta_p;
@@ -311,7 +319,15 @@ fn project_velocities(d: &mut Dynamics, b: &mut Buf) -> Result<(), DynamicsError
     d.sync(&b.s);
     let kkt = d.kkt.as_mut().expect("prepared");
     kkt.eval_jacobian(model, &d.elements, &d.bodies, t);
-    eval_rows(model, &d.elements, &d.bodies, t, Rhs::Nu, &mut kkt.full);
+    eval_rows(
+        model,
+        &d.elements,
+        &d.bodies,
+        &d.turns,
+        t,
+        Rhs::Nu,
+        &mut kkt.full,
+    );
     let n = kkt.n;
     let na = kkt.active.len();
     // e = ν − Φ_v v (the right-hand side), kept in `b.proj_e`.
@@ -496,6 +512,8 @@ pub(crate) fn run(
             }
             // Accept.
             std::mem::swap(&mut b.s, &mut b.t1);
+            d.sync(&b.s);
+            d.accept_turns();
             if (b.s.t - target).abs() <= 1e-12 * (1.0 + target.abs()) {
                 b.s.t = target;
             }
