@@ -3,6 +3,10 @@
 //! self-joints, function parameters. What only the mechanism can judge (DOF, assembly) is
 //! checked later, and mapped back to the element's line through [`Spans`].
 
+mod coupler;
+
+pub use coupler::TYPES as COUPLER_TYPES;
+
 use crate::diag::{did_you_mean, list, Error, Source};
 use crate::model::{
     AnalysisSection, BodySection, DriverSection, ForceSection, FunctionSpec, InertiaSpec,
@@ -34,6 +38,8 @@ pub struct Spans {
     pub joints: HashMap<String, Range<usize>>,
     /// Driver name → span.
     pub drivers: HashMap<String, Range<usize>>,
+    /// Coupler name → span.
+    pub couplers: HashMap<String, Range<usize>>,
     /// Force name → span.
     pub forces: HashMap<String, Range<usize>>,
     /// Span of `[analysis] kind` (or of the file start).
@@ -51,6 +57,7 @@ impl Spans {
             ElementKind::Body => &self.bodies,
             ElementKind::Joint => &self.joints,
             ElementKind::Driver => &self.drivers,
+            ElementKind::Coupler => &self.couplers,
             ElementKind::Force => &self.forces,
         };
         let name = table.get(&site.name)?.clone();
@@ -76,6 +83,7 @@ impl Spans {
         self.joints
             .get(name)
             .or_else(|| self.drivers.get(name))
+            .or_else(|| self.couplers.get(name))
             .or_else(|| self.bodies.get(name))
             .or_else(|| self.forces.get(name))
             .cloned()
@@ -405,6 +413,16 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
         builder.joint(spec);
     }
 
+    // Couplers.
+    for c in &file.coupler {
+        let c = c.get_ref();
+        check_unique_element(&cx, &spans, &c.name, "coupler")?;
+        spans
+            .couplers
+            .insert(c.name.get_ref().clone(), c.name.span());
+        builder.coupler(coupler::load_coupler(&cx, c)?);
+    }
+
     // Drivers.
     let mut drivers = Vec::new();
     let mut driver_functions = Vec::new();
@@ -495,6 +513,7 @@ fn check_unique_element(cx: &Ctx, spans: &Spans, name: &Name, what: &str) -> Res
         .get(n)
         .map(|s| ("joint", s))
         .or_else(|| spans.drivers.get(n).map(|s| ("driver", s)))
+        .or_else(|| spans.couplers.get(n).map(|s| ("coupler", s)))
         .or_else(|| spans.forces.get(n).map(|s| ("force", s)));
     if let Some((kind, s)) = prev {
         let l = cx.src.location(s.start);
@@ -502,7 +521,7 @@ fn check_unique_element(cx: &Ctx, spans: &Spans, name: &Name, what: &str) -> Res
             name.span(),
             format!(
                 "duplicate name \"{n}\": a {kind} of that name is defined at line {} \
-                 (joints, drivers and forces share one namespace)",
+                 (joints, couplers, drivers and forces share one namespace)",
                 l.line
             ),
         ));
@@ -1244,11 +1263,17 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
         if let Some(list_) = &o.reactions {
             let mut v = Vec::new();
             for j in list_ {
-                if !spans.joints.contains_key(j.get_ref()) {
-                    let hint = did_you_mean(j.get_ref(), spans.joints.keys().map(String::as_str));
+                let known =
+                    |n: &String| spans.joints.contains_key(n) || spans.couplers.contains_key(n);
+                if !known(j.get_ref()) {
+                    let names = spans.joints.keys().chain(spans.couplers.keys());
+                    let hint = did_you_mean(j.get_ref(), names.map(String::as_str));
                     return Err(cx.err(
                         j.span(),
-                        format!("outputs.reactions: unknown joint \"{}\"{hint}", j.get_ref()),
+                        format!(
+                            "outputs.reactions: unknown joint or coupler \"{}\"{hint}",
+                            j.get_ref()
+                        ),
                     ));
                 }
                 v.push(j.get_ref().clone());

@@ -34,6 +34,9 @@ pub struct ModelFile {
     /// `[[driver]]`.
     #[serde(default)]
     pub driver: Vec<Spanned<DriverSection>>,
+    /// `[[coupler]]`: gears, racks and pinions, screws.
+    #[serde(default)]
+    pub coupler: Vec<Spanned<CouplerSection>>,
     /// `[[force]]`: force elements (dynamic analysis).
     #[serde(default)]
     pub force: Vec<Spanned<ForceSection>>,
@@ -267,6 +270,50 @@ pub struct DriverSection {
     pub function: Spanned<FunctionSpec>,
 }
 
+/// `[[coupler]]`: one equation between the coordinates of two joints.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CouplerSection {
+    /// Unique name among joints, couplers, drivers and forces.
+    pub name: Name,
+    /// gear, rack_pinion, screw.
+    #[serde(rename = "type")]
+    pub kind: Name,
+    /// gear: the joint of gear i (revolute or cylindrical).
+    #[serde(default)]
+    pub joint_i: Option<Name>,
+    /// gear: the joint of gear j.
+    #[serde(default)]
+    pub joint_j: Option<Name>,
+    /// gear: pitch radius of gear i [m] (negative: internal gear).
+    #[serde(default)]
+    pub radius_i: Option<Num>,
+    /// gear: pitch radius of gear j [m].
+    #[serde(default)]
+    pub radius_j: Option<Num>,
+    /// gear: the signed speed ratio dθ_j/dθ_i instead of the radii.
+    #[serde(default)]
+    pub ratio: Option<Num>,
+    /// rack_pinion, screw: the joint whose slide moves (prismatic or cylindrical).
+    #[serde(default)]
+    pub slide_joint: Option<Name>,
+    /// rack_pinion, screw: the joint whose angle turns (revolute or cylindrical).
+    #[serde(default)]
+    pub angle_joint: Option<Name>,
+    /// screw: one cylindrical joint (slide and angle).
+    #[serde(default)]
+    pub joint: Option<Name>,
+    /// rack_pinion: the pinion's pitch radius [m].
+    #[serde(default)]
+    pub radius: Option<Num>,
+    /// screw: advance per revolution [m] (negative: left-hand thread).
+    #[serde(default)]
+    pub pitch: Option<Num>,
+    /// The law's constant c [rad for a gear, m otherwise] (default: its initial value).
+    #[serde(default)]
+    pub constant: Option<Num>,
+}
+
 /// `[[force]]`: one force element (used by dynamic analysis only).
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -480,10 +527,11 @@ fn prescan(src: &Source) -> Result<(), Error> {
         }
         k += 1;
     }
-    if headers > MAX_BODIES + 3 * MAX_ELEMENTS {
+    if headers > MAX_BODIES + 4 * MAX_ELEMENTS {
         return Err(src.error(format!(
             "the model file declares {headers} [[...]] tables; at most {MAX_BODIES} bodies, \
-             {MAX_ELEMENTS} joints, {MAX_ELEMENTS} drivers and {MAX_ELEMENTS} forces are accepted"
+             {MAX_ELEMENTS} joints, {MAX_ELEMENTS} couplers, {MAX_ELEMENTS} drivers and \
+             {MAX_ELEMENTS} forces are accepted"
         )));
     }
     Ok(())
@@ -503,6 +551,12 @@ fn check_counts(src: &Source, file: &ModelFile) -> Result<(), Error> {
             file.joint.len(),
             MAX_ELEMENTS,
             file.joint.get(MAX_ELEMENTS).map(Spanned::span),
+        ),
+        (
+            "couplers",
+            file.coupler.len(),
+            MAX_ELEMENTS,
+            file.coupler.get(MAX_ELEMENTS).map(Spanned::span),
         ),
         (
             "drivers",
@@ -600,7 +654,7 @@ fn in_context(text: &str, at: usize, message: String) -> String {
         );
     }
     if message.starts_with("invalid type: map, expected a sequence") {
-        for name in ["body", "joint", "driver", "force"] {
+        for name in ["body", "joint", "coupler", "driver", "force"] {
             if text[at..].starts_with(&format!("[{name}]")) {
                 return format!(
                     "[{name}] declares a single table, but a model has a list of them: write \

@@ -399,6 +399,9 @@ fn every_example_checks() {
         "bennett",
         "spatial_fourbar_cylindrical",
         "slider_crank_inverse",
+        "gear_train",
+        "screw_jack",
+        "rack_pinion_steering",
     ] {
         let p = prepare(&example(name)).unwrap();
         let mut out = Vec::new();
@@ -544,4 +547,125 @@ fn eval_json_round_trips_every_float_exactly() {
         let t = v["t"].as_f64().unwrap();
         assert_eq!(t, 0.3);
     }
+}
+
+/// Runs an example and reads one of its tables (before the output directory is removed).
+fn run_with_table(name: &str, table: &str) -> (Prepared, Results, Vec<String>, Vec<Vec<f64>>) {
+    let dir = out_dir(&format!("{name}-{table}"));
+    let o = run_model(&example(name), Some(&dir), false).expect("example runs");
+    assert!(o.error.is_none(), "{name}: {:?}", o.error);
+    let csv = std::fs::read_to_string(dir.join(format!("{table}.csv"))).unwrap();
+    assert!(
+        dir.join(format!("{table}.svg")).exists(),
+        "{name}: {table}.svg"
+    );
+    let (header, rows) = cardan_cli::table::parse_csv(&csv).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    (o.prepared, o.results, header, rows)
+}
+
+fn column(header: &[String], rows: &[Vec<f64>], name: &str) -> Vec<f64> {
+    let k = header
+        .iter()
+        .position(|h| h == name)
+        .unwrap_or_else(|| panic!("no column {name} in {header:?}"));
+    rows.iter().map(|r| r[k]).collect()
+}
+
+/// The two-stage gear train: the output turns exactly 1/6 as far as the input over its 10
+/// turns; each mesh's torques are in the ratio of its radii and do no work; the tooth force is
+/// the torque on gear j over its pitch radius; the motor torque drives the reflected inertias
+/// and the load.
+#[test]
+fn gear_train_ratio_and_tooth_forces() {
+    let (_, r, h, rows) = run_with_table("gear_train", "coupler_efforts");
+    run_example("gear_train");
+    let q = |j: &str, k: usize| r.joint(j).unwrap().values[k][0];
+    let last = r.times.len() - 1;
+    assert!((q("input_shaft", last) - 20.0 * PI).abs() < 1e-9);
+    let mut worst = 0.0f64;
+    for k in 0..r.times.len() {
+        worst = worst.max((q("output_shaft", k) - q("input_shaft", k) / 6.0).abs());
+        worst = worst.max((q("counter_shaft", k) + q("input_shaft", k) / 3.0).abs());
+    }
+    assert!(worst < 1e-9, "ratio error {worst:e}");
+    // θ̈_in = 10π; J and radii of the example.
+    let a_in = 10.0 * PI;
+    let (j_in, j_c, j_out, load) = (6e-5, 2.2e-3, 1.1e-3, 3.0);
+    let (a_c, a_out) = (-a_in / 3.0, a_in / 6.0);
+    let t1_c = column(&h, &rows, "stage1.counter_shaft.torque [N m]");
+    let t1_in = column(&h, &rows, "stage1.input_shaft.torque [N m]");
+    let f1 = column(&h, &rows, "stage1.tooth_force [N]");
+    let t2_out = column(&h, &rows, "stage2.output_shaft.torque [N m]");
+    let f2 = column(&h, &rows, "stage2.tooth_force [N]");
+    for k in 0..rows.len() {
+        // Output gear: mesh torque = J θ̈ + load.
+        assert!(
+            (t2_out[k] - (j_out * a_out + load)).abs() < 1e-9,
+            "{}",
+            t2_out[k]
+        );
+        assert!((f2[k] - t2_out[k] / 0.05).abs() < 1e-9);
+        // No work: Q_in θ̇_in + Q_c θ̇_c = 0 with θ̇_c = −θ̇_in / 3.
+        assert!((t1_in[k] - t1_c[k] / 3.0).abs() < 1e-9);
+        assert!((f1[k] - t1_c[k] / 0.06).abs() < 1e-9);
+    }
+    // Counter shaft: the two meshes' torques on it sum to J_c θ̈_c.
+    let t2_c = column(&h, &rows, "stage2.counter_shaft.torque [N m]");
+    for k in 0..rows.len() {
+        assert!((t1_c[k] + t2_c[k] - j_c * a_c).abs() < 1e-9);
+    }
+    // Motor: J_in θ̈_in minus the mesh torque on the input angle.
+    let (_, _, hd, rd) = run_with_table("gear_train", "driver_efforts");
+    let motor = column(&hd, &rd, "motor.torque [N m]");
+    for k in 0..rd.len() {
+        assert!(
+            (motor[k] - (j_in * a_in - t1_in[k])).abs() < 1e-9,
+            "{}",
+            motor[k]
+        );
+    }
+}
+
+/// The screw jack: the platform rises pitch × turns; the thread's axial force carries the
+/// platform's weight (constant speed) and the crank torque is m g · pitch / 2π.
+#[test]
+fn screw_jack_advance_and_thread_force() {
+    let (_, r, h, rows) = run_with_table("screw_jack", "coupler_efforts");
+    run_example("screw_jack");
+    let s = &r.joint("guide").unwrap().values;
+    let last = r.times.len() - 1;
+    let (pitch, turns, weight) = (0.005, 8.0, 60.0 * 9.81);
+    assert!((s[last][0] - s[0][0] - pitch * turns).abs() < 1e-12);
+    let axial = column(&h, &rows, "thread.axial_force [N]");
+    let (_, _, hd, rd) = run_with_table("screw_jack", "driver_efforts");
+    let crank = column(&hd, &rd, "crank.torque [N m]");
+    for k in 0..rows.len() {
+        assert!((axial[k] - weight).abs() < 1e-9, "{}", axial[k]);
+        assert!(
+            (crank[k] - weight * pitch / (2.0 * PI)).abs() < 1e-9,
+            "{}",
+            crank[k]
+        );
+    }
+}
+
+/// The steering: the rack's slide is −r θ + c of the column angle at every frame; the knuckles
+/// turn both ways; finite differences confirm velocities and accelerations.
+#[test]
+fn rack_pinion_steering_follows_the_pinion() {
+    let (p, r) = run_example("rack_pinion_steering");
+    let radius = 0.008;
+    let s = |k: usize| r.joint("rack_guide").unwrap().values[k][0];
+    let th = |k: usize| r.joint("steering_column").unwrap().values[k][0];
+    let c = s(0) + radius * th(0);
+    for k in 0..r.times.len() {
+        assert!((s(k) + radius * th(k) - c).abs() < 1e-12, "frame {k}");
+    }
+    let left = &r.joint("kingpin_left").unwrap().values;
+    let (lo, hi) = left
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v[0]), b.max(v[0])));
+    assert!(lo < -0.4 && hi > 0.4, "knuckle range {lo}..{hi}");
+    check_fd("rack_pinion_steering", &p, 400, 1e-2, 1.0);
 }

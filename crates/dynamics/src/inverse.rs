@@ -127,6 +127,9 @@ impl Dynamics<'_> {
         let mut done = 0;
         for i in 0..kin.times.len() {
             let s = state_at(i);
+            // The frames are the accepted poses of the kinematics: the couplers' turns follow.
+            self.sync(&s);
+            self.accept_turns();
             rec.record(self, &s, kin.iterations.get(i).copied().unwrap_or(0))?;
             done += 1;
             if progress(i, kin.times[i]).is_break() {

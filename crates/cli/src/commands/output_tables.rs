@@ -142,15 +142,75 @@ pub fn driver_efforts_table(p: &Prepared, r: &DynamicResults) -> Option<Table> {
     Some(t)
 }
 
-/// `reactions` and `reactions_local`: per requested joint (default all) and per body, the
-/// reaction force and its torque about the joint point.
+/// `coupler_efforts`: per coupler, the generalized force it applies along each coupled joint
+/// coordinate, `mesh.j1.torque [N m]` on an angle, `teeth.slide.force [N]` on a slide (−λ a_k,
+/// positive along the coordinate), then its tooth force `mesh.tooth_force [N]` (a gear given by
+/// radii: tangential, at gear j's pitch circle; a rack: along the rack) or thread force
+/// `thread.axial_force [N]` (a screw: along the slide). `None` without couplers.
+pub fn coupler_efforts_table(p: &Prepared, r: &DynamicResults) -> Option<Table> {
+    if r.couplers.is_empty() {
+        return None;
+    }
+    let model = &p.model;
+    let mut cols = Vec::new();
+    for (c, info) in r.couplers.iter().zip(model.couplers()) {
+        for q in info.coordinates {
+            let joint = &model.joints()[q.joint].name;
+            let (what, unit) = if q.slide {
+                ("force", "N")
+            } else {
+                ("torque", "N m")
+            };
+            cols.push(format!("{}.{joint}.{what} [{unit}]", c.name));
+        }
+        if c.force.is_some() {
+            let what = if info.kind() == "screw" {
+                "axial_force"
+            } else {
+                "tooth_force"
+            };
+            cols.push(format!("{}.{what} [N]", c.name));
+        }
+    }
+    let mut t = Table::new(
+        "coupler_efforts",
+        "coupler efforts (positive along the coupled coordinates) and tooth or thread forces",
+        cols,
+    );
+    for (k, time) in r.times().iter().enumerate() {
+        let mut row = vec![*time];
+        for c in &r.couplers {
+            let q = c.efforts.get(k).copied().unwrap_or([f64::NAN; 2]);
+            row.extend(q);
+            if let Some(f) = &c.force {
+                row.push(f.get(k).copied().unwrap_or(f64::NAN));
+            }
+        }
+        t.rows.push(row);
+    }
+    Some(t)
+}
+
+/// `reactions` and `reactions_local`: per requested joint or coupler (default all joints, then
+/// all couplers) and per body, the reaction force and its torque about the joint point (a
+/// coupler's marker point on each body).
 pub fn reaction_tables(r: &DynamicResults, req: &Requested) -> Vec<Table> {
     let mut out = Vec::new();
     let times = r.times();
     let n = times.len();
     let joints: Vec<&cardan_dynamics::JointReactions> = match &req.reactions {
-        Some(list) => list.iter().filter_map(|j| r.joint_reactions(j)).collect(),
-        None => r.reactions.iter().collect(),
+        Some(list) => list
+            .iter()
+            .filter_map(|j| {
+                r.joint_reactions(j)
+                    .or_else(|| r.coupler(j).map(|c| &c.reactions))
+            })
+            .collect(),
+        None => r
+            .reactions
+            .iter()
+            .chain(r.couplers.iter().map(|c| &c.reactions))
+            .collect(),
     };
     let xyz = ["x", "y", "z"];
     for (name, title, local) in [

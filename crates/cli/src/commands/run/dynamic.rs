@@ -9,7 +9,7 @@
 use super::summary::{Analysed, DynamicSummary, RunFlags, Summary};
 use crate::build::Outputs as Requested;
 use crate::commands::output_tables::{
-    driver_efforts_table, peak_efforts, reaction_tables, requested,
+    coupler_efforts_table, driver_efforts_table, peak_efforts, reaction_tables, requested,
 };
 use crate::commands::Prepared;
 use crate::diag::Error;
@@ -185,6 +185,7 @@ pub fn tables(p: &Prepared, r: &DynamicResults, req: &Requested) -> Vec<Table> {
     // The kinematic "residual" group is replaced by the drift group below.
     out.retain(|t| t.name != "residual");
     out.extend(driver_efforts_table(p, r));
+    out.extend(coupler_efforts_table(p, r));
     out.extend(reaction_tables(r, req));
     let times = r.times();
     let n = times.len();

@@ -10,7 +10,7 @@ use super::kinematic;
 use super::summary::{Analysed, Summary};
 use crate::build::Outputs as Requested;
 use crate::commands::output_tables::{
-    driver_efforts_table, peak_efforts, reaction_tables, requested,
+    coupler_efforts_table, driver_efforts_table, peak_efforts, reaction_tables, requested,
 };
 use crate::commands::{analysis_error, Prepared};
 use crate::diag::Error;
@@ -142,6 +142,7 @@ pub fn inverse_dynamics_with(
 pub fn inverse_tables(p: &Prepared, r: &DynamicResults, req: &Requested) -> Vec<Table> {
     let mut out = kinematic::tables(&r.kinematics, req);
     out.extend(driver_efforts_table(p, r));
+    out.extend(coupler_efforts_table(p, r));
     out.extend(reaction_tables(r, req));
     out
 }

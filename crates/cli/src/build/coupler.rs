@@ -1,0 +1,146 @@
+//! `[[coupler]]` sections to [`CouplerSpec`]s: the type, which keys it takes (a key of another
+//! type is refused, not ignored), the numbers. The joints (existence, kinds, a shared body, the
+//! geometry of their axes) and the signs of radii and pitch are checked by the builder, whose
+//! errors [`super::Spans::locate`] places at the key.
+
+use super::{missing, Ctx};
+use crate::diag::{did_you_mean, list, Error};
+use crate::model::{CouplerSection, Name, Num};
+use cardan_mechanism::{CouplerSpec, GearRatio, Quantity};
+
+/// The coupler types of the model file.
+pub const TYPES: [&str; 3] = ["gear", "rack_pinion", "screw"];
+
+pub(super) fn load_coupler(cx: &Ctx, c: &CouplerSection) -> Result<CouplerSpec, Error> {
+    let name = c.name.get_ref().clone();
+    let owner = format!("coupler \"{name}\"");
+    let kind = c.kind.get_ref().as_str();
+    let span = c.name.span();
+    let keys: [(&str, bool); 10] = [
+        ("joint_i", c.joint_i.is_some()),
+        ("joint_j", c.joint_j.is_some()),
+        ("radius_i", c.radius_i.is_some()),
+        ("radius_j", c.radius_j.is_some()),
+        ("ratio", c.ratio.is_some()),
+        ("slide_joint", c.slide_joint.is_some()),
+        ("angle_joint", c.angle_joint.is_some()),
+        ("joint", c.joint.is_some()),
+        ("radius", c.radius.is_some()),
+        ("pitch", c.pitch.is_some()),
+    ];
+    let takes: &[&str] = match kind {
+        "gear" => &["joint_i", "joint_j", "radius_i", "radius_j", "ratio"],
+        "rack_pinion" => &["slide_joint", "angle_joint", "radius"],
+        "screw" => &["slide_joint", "angle_joint", "joint", "pitch"],
+        other => {
+            return Err(cx.err(
+                c.kind.span(),
+                format!(
+                    "{owner}: unknown coupler type \"{other}\"{} (types: {})",
+                    did_you_mean(other, TYPES.iter().copied()),
+                    list(TYPES.iter().copied())
+                ),
+            ))
+        }
+    };
+    if let Some((k, _)) = keys.iter().find(|(k, given)| *given && !takes.contains(k)) {
+        return Err(cx.err(
+            span,
+            format!(
+                "{owner}: a {kind} coupler does not take \"{k}\" (it takes {})",
+                list(takes.iter().copied())
+            ),
+        ));
+    }
+    let need = |v: &Option<Name>, key: &str, why: &str| -> Result<String, Error> {
+        v.as_ref()
+            .map(|n| n.get_ref().clone())
+            .ok_or_else(|| missing(cx, span.clone(), &owner, key, why))
+    };
+    let number = |v: &Option<Num>, key: &str, q: Quantity, why: &str| -> Result<f64, Error> {
+        match v {
+            Some(n) => cx.num(n, &format!("{owner} {key}"), q),
+            None => Err(missing(cx, span.clone(), &owner, key, why)),
+        }
+    };
+    let spec = match kind {
+        "gear" => {
+            let ji = need(&c.joint_i, "joint_i", "the joint of gear i")?;
+            let jj = need(&c.joint_j, "joint_j", "the joint of gear j")?;
+            let ratio = match (&c.radius_i, &c.radius_j, &c.ratio) {
+                (_, _, Some(r)) if c.radius_i.is_some() || c.radius_j.is_some() => {
+                    return Err(cx.err(
+                        r.span(),
+                        format!("{owner}: give radius_i and radius_j, or ratio, not both"),
+                    ))
+                }
+                (_, _, Some(r)) => {
+                    GearRatio::Ratio(cx.num(r, &format!("{owner} ratio"), Quantity::Angle)?)
+                }
+                _ => {
+                    let why = "the pitch radii (or give ratio)";
+                    GearRatio::Radii(
+                        number(&c.radius_i, "radius_i", Quantity::Length, why)?,
+                        number(&c.radius_j, "radius_j", Quantity::Length, why)?,
+                    )
+                }
+            };
+            CouplerSpec::gear(name, &ji, &jj, ratio)
+        }
+        "rack_pinion" => {
+            let s = need(&c.slide_joint, "slide_joint", "the rack's prismatic joint")?;
+            let a = need(&c.angle_joint, "angle_joint", "the pinion's revolute joint")?;
+            let r = number(
+                &c.radius,
+                "radius",
+                Quantity::Length,
+                "the pinion's pitch radius",
+            )?;
+            CouplerSpec::rack_pinion(name, &s, &a, r)
+        }
+        _ => {
+            let p = number(
+                &c.pitch,
+                "pitch",
+                Quantity::Length,
+                "the advance per revolution",
+            )?;
+            let (s, a) = match (&c.joint, &c.slide_joint, &c.angle_joint) {
+                (Some(j), None, None) => (j.get_ref().clone(), j.get_ref().clone()),
+                (None, _, _) => (
+                    need(
+                        &c.slide_joint,
+                        "slide_joint",
+                        "or one cylindrical joint as \"joint\"",
+                    )?,
+                    need(
+                        &c.angle_joint,
+                        "angle_joint",
+                        "or one cylindrical joint as \"joint\"",
+                    )?,
+                ),
+                (Some(j), _, _) => {
+                    return Err(cx.err(
+                        j.span(),
+                        format!(
+                            "{owner}: give \"joint\" (one cylindrical joint) or \"slide_joint\" \
+                             and \"angle_joint\", not both"
+                        ),
+                    ))
+                }
+            };
+            CouplerSpec::screw(name, &s, &a, p)
+        }
+    };
+    Ok(match &c.constant {
+        Some(n) => {
+            let q = if kind == "gear" {
+                Quantity::Angle
+            } else {
+                Quantity::Length
+            };
+            spec.constant(cx.num(n, &format!("{owner} constant"), q)?)
+        }
+        None => spec,
+    })
+}
