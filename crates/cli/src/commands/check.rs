@@ -75,6 +75,28 @@ pub fn check(path: &Path, out: &mut dyn Write) -> Result<(), Error> {
         .collect();
     write_table(out, &["name", "type", "bodies", "equations", "rows"], &rows).map_err(io)?;
 
+    if !model.couplers().is_empty() {
+        writeln!(out, "\ncouplers ({})", model.couplers().len()).map_err(io)?;
+        let rows: Vec<Vec<String>> = model
+            .couplers()
+            .iter()
+            .map(|c| {
+                let joints: Vec<&str> = c
+                    .coordinates
+                    .iter()
+                    .map(|q| model.joints()[q.joint].name.as_str())
+                    .collect();
+                vec![
+                    c.name.clone(),
+                    c.kind().to_string(),
+                    joints.join(" – "),
+                    format!("{}..{}", c.rows.start, c.rows.end),
+                ]
+            })
+            .collect();
+        write_table(out, &["name", "type", "joints", "rows"], &rows).map_err(io)?;
+    }
+
     writeln!(out, "\ndrivers ({})", model.drivers().len()).map_err(io)?;
     let rows: Vec<Vec<String>> = model
         .drivers()
