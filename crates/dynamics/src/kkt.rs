@@ -56,7 +56,7 @@ pub(crate) struct Element {
 enum Of<'a> {
     Joint(&'a cardan_constraints::Joint),
     Driver(&'a cardan_constraints::Driver),
-    Coupler(cardan_constraints::Coupler, usize),
+    Coupler(&'a cardan_constraints::Coupler, usize),
 }
 
 fn of<'a>(model: &'a Model, e: &Element) -> Of<'a> {
@@ -67,7 +67,7 @@ fn of<'a>(model: &'a Model, e: &Element) -> Of<'a> {
         Of::Driver(&model.drivers()[e.index - nj].driver)
     } else {
         let k = e.index - nj - nd;
-        Of::Coupler(model.couplers()[k].coupler, k)
+        Of::Coupler(&model.couplers()[k].coupler, k)
     }
 }
 
@@ -76,7 +76,7 @@ macro_rules! with_constraint {
         match $of {
             Of::Joint($c) => $e,
             Of::Driver($c) => $e,
-            Of::Coupler(ref $c, _) => $e,
+            Of::Coupler($c, _) => $e,
         }
     };
 }
@@ -155,15 +155,19 @@ pub(crate) fn eval_rows(
     for e in elements {
         let pair = BodyPair::new(st(bodies, &g, e.bi), st(bodies, &g, e.bj));
         let o = &mut out[e.rows.clone()];
-        let of = match of(model, e) {
-            Of::Coupler(c, k) => Of::Coupler(c.with_reference(turns[k]), k),
-            other => other,
-        };
-        with_constraint!(of, c => match what {
-            Rhs::Phi => c.phi(&pair, t, o),
-            Rhs::Nu => c.nu(&pair, t, o),
-            Rhs::Gamma => c.gamma_sharp_v(&pair, t, o),
-        });
+        match of(model, e) {
+            Of::Coupler(c, k) => rows(&c.with_reference(turns[k]), &pair, t, what, o),
+            other => with_constraint!(other, c => rows(c, &pair, t, what, o)),
+        }
+    }
+}
+
+/// Φ, ν or γ#_v of one constraint.
+fn rows<C: Constraint>(c: &C, pair: &BodyPair, t: f64, what: Rhs, o: &mut [f64]) {
+    match what {
+        Rhs::Phi => c.phi(pair, t, o),
+        Rhs::Nu => c.nu(pair, t, o),
+        Rhs::Gamma => c.gamma_sharp_v(pair, t, o),
     }
 }
 

@@ -272,14 +272,14 @@ fn dof_and_redundancy_count_couplers() {
     }
     b.coupler(CouplerSpec::gear("m01", "j0", "j1", GearRatio::Ratio(-2.0)));
     let model = b.build().unwrap();
-    let mut ws = model.workspace();
-    assert_eq!(model.dof(&mut ws).unwrap().dof, 2);
+    let ws = model.workspace();
+    assert_eq!(model.dof(&ws).unwrap().dof, 2);
     // θ1 = −2 θ0, θ2 = 0.5 θ1 = −θ0: m12 and m02 are consistent, one redundant.
     b.coupler(CouplerSpec::gear("m12", "j1", "j2", GearRatio::Ratio(0.5)));
     b.coupler(CouplerSpec::gear("m02", "j0", "j2", GearRatio::Ratio(-1.0)));
     let model = b.build().unwrap();
-    let mut ws = model.workspace();
-    let report = model.dof(&mut ws).unwrap();
+    let ws = model.workspace();
+    let report = model.dof(&ws).unwrap();
     assert_eq!(report.dof, 1);
     assert_eq!(report.redundant.len(), 1, "{:?}", report.redundant);
     assert!(["m01", "m12", "m02"].contains(&report.redundant[0].element.as_str()));
