@@ -755,22 +755,28 @@ fn load_joint(r: &Resolver, j: &JointSection) -> Result<JointSpec, Error> {
         (bj, j.point_j.get_ref()),
     );
     let info = kind.info();
-    let needs_axes = info.axes.required();
+    // Which of the axes the kind takes is checked by the builder (located by `Spans::locate`);
+    // here only the pairing: both sides, or axis_i alone for a kind that uses frame i only.
+    let both = info.axes.on_j();
     match (&j.axis_i, &j.axis_j) {
         (Some(ai), Some(aj)) => spec = spec.axes(ai.get_ref(), aj.get_ref()),
-        (None, None) if !needs_axes => {}
-        _ => {
+        (Some(ai), None) if !both => spec = spec.axis_i(ai.get_ref()),
+        (None, None) if !info.axes.required() => {}
+        (None, Some(_)) | (Some(_), None) | (None, None) => {
+            let keys = if both { "axis_i and axis_j" } else { "axis_i" };
             return Err(cx.err(
                 j.name.span(),
                 format!(
-                    "{owner}: a {} joint needs axis_i and axis_j (names of vectors on body \"{bi}\" and body \"{bj}\")",
-                    kind.name()
+                    "{owner}: a {} joint needs {keys} (names of vectors on body \"{bi}\"{})",
+                    kind.name(),
+                    if both { format!(" and body \"{bj}\"") } else { String::new() }
                 ),
-            ))
+            ));
         }
     }
     match (&j.x_axis_i, &j.x_axis_j) {
         (Some(xi), Some(xj)) => spec = spec.x_axes(xi.get_ref(), xj.get_ref()),
+        (Some(xi), None) if !both => spec = spec.x_axis_i(xi.get_ref()),
         (None, None) => {}
         (Some(x), None) | (None, Some(x)) => {
             return Err(cx.err(
@@ -783,6 +789,12 @@ fn load_joint(r: &Resolver, j: &JointSection) -> Result<JointSpec, Error> {
         // Whether the kind takes a length, and its sign: checked by the builder.
         let v = cx.num(l, &format!("{owner} length"), Quantity::Length)?;
         spec = spec.length(v);
+    }
+    if let Some(h) = &j.offset {
+        spec = spec.offset(cx.num(h, &format!("{owner} offset"), Quantity::Length)?);
+    }
+    if let Some(a) = &j.angle {
+        spec = spec.angle(cx.num(a, &format!("{owner} angle"), Quantity::Angle)?);
     }
     Ok(spec)
 }

@@ -157,8 +157,7 @@ pub struct BodySection {
 pub struct JointSection {
     /// Unique name.
     pub name: Name,
-    /// revolute, spherical, universal, cylindrical, prismatic, fixed, planar,
-    /// spherical_spherical (alias distance).
+    /// A kind of the joint table (`cardan_constraints::KINDS`), e.g. revolute.
     #[serde(rename = "type")]
     pub kind: Name,
     /// Body i ("ground" allowed).
@@ -181,9 +180,17 @@ pub struct JointSection {
     /// Reference direction ⟂ axis on body j.
     #[serde(default)]
     pub x_axis_j: Option<Name>,
-    /// Length [m] of a spherical_spherical joint (default: the initial distance).
+    /// Length ℓ [m] of a spherical_spherical, rev_cyl, cyl_sph or rev_rev joint (default: its
+    /// initial value).
     #[serde(default)]
     pub length: Option<Num>,
+    /// Offset h [m] of the plane along axis_i (point_in_plane, line_in_plane, planar, rev_rev;
+    /// default 0).
+    #[serde(default)]
+    pub offset: Option<Num>,
+    /// Angle α [rad] of an angle joint (default: its initial value).
+    #[serde(default)]
+    pub angle: Option<Num>,
 }
 
 /// `function = { kind = ..., ... }`.

@@ -923,7 +923,7 @@ fn a_driver_on_a_joint_it_cannot_drive_is_located_at_its_joint_key() {
         "31:9",
         &[
             "driver \"motor\": joint \"pivot\" is revolute",
-            "a translation driver needs a cylindrical or prismatic joint",
+            "a translation driver needs a cylindrical, prismatic, point_in_line",
         ],
     );
 }

@@ -183,8 +183,14 @@ pub struct JointSpec {
     pub x_axis_i: Option<String>,
     /// Vector on body j: marker x_j.
     pub x_axis_j: Option<String>,
-    /// Length of a spherical-spherical joint (default: the distance at the initial poses).
+    /// Length ℓ of a kind that takes one (spherical_spherical, rev_cyl, cyl_sph, rev_rev;
+    /// default: its value at the initial poses).
     pub length: Option<f64>,
+    /// Offset h of the plane along z_i of a kind that takes one (point_in_plane, line_in_plane,
+    /// planar, rev_rev; default 0).
+    pub offset: Option<f64>,
+    /// Angle α of an angle joint, rad (default: its value at the initial poses).
+    pub angle: Option<f64>,
 }
 
 impl JointSpec {
@@ -207,6 +213,8 @@ impl JointSpec {
             x_axis_i: None,
             x_axis_j: None,
             length: None,
+            offset: None,
+            angle: None,
         }
     }
 
@@ -217,6 +225,13 @@ impl JointSpec {
         self
     }
 
+    /// Sets the joint axis on body i only (kinds that use marker i's frame alone, e.g.
+    /// point_in_plane).
+    pub fn axis_i(mut self, axis_i: &str) -> Self {
+        self.axis_i = Some(axis_i.into());
+        self
+    }
+
     /// Sets the marker x axes (vector names on body i and body j).
     pub fn x_axes(mut self, x_axis_i: &str, x_axis_j: &str) -> Self {
         self.x_axis_i = Some(x_axis_i.into());
@@ -224,9 +239,27 @@ impl JointSpec {
         self
     }
 
-    /// Sets the length of a spherical-spherical joint.
+    /// Sets the marker x axis on body i only.
+    pub fn x_axis_i(mut self, x_axis_i: &str) -> Self {
+        self.x_axis_i = Some(x_axis_i.into());
+        self
+    }
+
+    /// Sets the length ℓ of a kind that takes one.
     pub fn length(mut self, length: f64) -> Self {
         self.length = Some(length);
+        self
+    }
+
+    /// Sets the offset h of a kind that takes one.
+    pub fn offset(mut self, offset: f64) -> Self {
+        self.offset = Some(offset);
+        self
+    }
+
+    /// Sets the angle α (rad) of an angle joint.
+    pub fn angle(mut self, angle: f64) -> Self {
+        self.angle = Some(angle);
         self
     }
 }

@@ -46,7 +46,7 @@ use crate::error::AnalysisError;
 use crate::model::{BodyId, Model};
 use crate::results::{BodyResults, JointResults, Outputs, PointResults, Results};
 use crate::workspace::Workspace;
-use cardan_constraints::joints::CoordinateQuantity;
+use cardan_constraints::joints::{CoordinateQuantity, MAX_COORDINATES};
 use cardan_constraints::{unwrap_angle, BodyPair};
 use cardan_eulerparam::EulerParams;
 use std::ops::ControlFlow;
@@ -235,7 +235,7 @@ impl Model {
             self.prepare_kinematics(ws)?;
         }
         let mut results = self.allocate_results(options);
-        let mut joint_prev = vec![[0.0; 3]; self.joints.len()];
+        let mut joint_prev = vec![[0.0; MAX_COORDINATES]; self.joints.len()];
         let reselections = ws.reselections;
         for k in 0..=options.steps {
             let t = options.time(k);
@@ -260,7 +260,7 @@ impl Model {
         k: usize,
         t: f64,
         results: &mut Results,
-        joint_prev: &mut [[f64; 3]],
+        joint_prev: &mut [[f64; MAX_COORDINATES]],
     ) -> Result<(), AnalysisError> {
         let out = options.outputs;
         let rep = if k == 0 {
@@ -546,7 +546,7 @@ impl Model {
         residual: f64,
         iterations: usize,
         res: &mut Results,
-        joint_prev: &mut [[f64; 3]],
+        joint_prev: &mut [[f64; MAX_COORDINATES]],
     ) {
         let v = out.needs_velocity();
         let a = out.acceleration;
