@@ -243,7 +243,13 @@ pub fn build(name: &str, p: &Value) -> Result<Element, ParamError> {
             Some(_) => (marker(p, "marker_i")?, marker(p, "marker_j")?),
             None => (at("point_i")?, at("point_j")?),
         };
-        let opt = |key| if p.get(key).is_some() { num(p, key) } else { Ok(0.0) };
+        let opt = |key| {
+            if p.get(key).is_some() {
+                num(p, key)
+            } else {
+                Ok(0.0)
+            }
+        };
         let params = JointParams {
             length: opt("length")?,
             offset: opt("offset")?,

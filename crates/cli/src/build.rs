@@ -769,7 +769,11 @@ fn load_joint(r: &Resolver, j: &JointSection) -> Result<JointSpec, Error> {
                 format!(
                     "{owner}: a {} joint needs {keys} (names of vectors on body \"{bi}\"{})",
                     kind.name(),
-                    if both { format!(" and body \"{bj}\"") } else { String::new() }
+                    if both {
+                        format!(" and body \"{bj}\"")
+                    } else {
+                        String::new()
+                    }
                 ),
             ));
         }

@@ -237,6 +237,56 @@ fn universal_joint_follows_cardan_formula() {
     check_fd("universal_drive", &p, 100, 1e-2, 5e-1);
 }
 
+/// The CV driveline: the output shaft's bearing angle equals the input's at every instant, and
+/// so do the speeds (the universal_drive example at the same bend fluctuates).
+#[test]
+fn cv_driveline_turns_the_output_at_the_input_speed() {
+    let (p, r) = run_example("cv_driveline");
+    let beta = PI / 6.0;
+    let a2 = Vector3::new(beta.cos(), beta.sin(), 0.0);
+    let (b1, b2) = (r.joint("bearing1").unwrap(), r.joint("bearing2").unwrap());
+    let (s1, s2) = (r.body("shaft1").unwrap(), r.body("shaft2").unwrap());
+    let (mut e_angle, mut e_rate) = (0.0f64, 0.0f64);
+    for k in 0..r.len() {
+        e_angle = e_angle.max((b2.values[k][0] - b1.values[k][0]).abs());
+        let w1 = s1.omega[k].dot(&Vector3::x());
+        e_rate = e_rate.max((s2.omega[k].dot(&a2) - w1).abs());
+    }
+    eprintln!("cv_driveline: max |φ₂ − φ₁| = {e_angle:.2e} rad, |ω₂ − ω₁| = {e_rate:.2e} rad/s");
+    assert!(e_angle < 1e-10 && e_rate < 1e-9, "{e_angle} {e_rate}");
+    // Two revolute bearings and the CV joint: 14 equations of rank 11 (its point is redundant).
+    let mut ws = p.model.workspace();
+    let opts = AssemblyOptions {
+        include_drivers: false,
+        ..AssemblyOptions::at(0.0)
+    };
+    p.model.assemble(&mut ws, &opts).unwrap();
+    let dof = p.model.dof(&ws).unwrap();
+    // (No finite-difference order check: both shafts turn at constant speed, so the differences
+    // of the accelerations are already at roundoff.)
+    assert_eq!((dof.dof, dof.redundant.len()), (1, 3));
+}
+
+/// The wobble-plate pump: each piston follows z = R tan α sin(φ − θ), θ = 2π t.
+#[test]
+fn wobble_plate_pistons_follow_the_closed_form() {
+    let (p, r) = run_example("wobble_plate_pump");
+    let (alpha, radius, w) = (15f64.to_radians(), 0.1, 2.0 * PI);
+    let c = radius * alpha.tan();
+    let (mut ez, mut ev) = (0.0f64, 0.0f64);
+    for k in 0..3 {
+        let phi = 2.0 * PI * k as f64 / 3.0;
+        let piston = r.body(&format!("piston{k}")).unwrap();
+        for (n, &t) in r.times.iter().enumerate() {
+            ez = ez.max((piston.r[n].z - c * (phi - w * t).sin()).abs());
+            ev = ev.max((piston.r_dot[n].z + c * w * (phi - w * t).cos()).abs());
+        }
+    }
+    eprintln!("wobble_plate_pump: max |z − z(θ)| = {ez:.2e} m, |ż − ż(θ)| = {ev:.2e} m/s");
+    assert!(ez < 1e-12 && ev < 1e-11, "{ez} {ev}");
+    check_fd("wobble_plate_pump", &p, 100, 1e-2, 5e-1);
+}
+
 /// Cubic Hermite interpolation of a point history at time t (positions and velocities).
 fn hermite(r: &Results, x: &[Vector3<f64>], v: &[Vector3<f64>], t: f64) -> Vector3<f64> {
     let k = r.times.partition_point(|&s| s <= t).clamp(1, r.len() - 1) - 1;
@@ -399,6 +449,8 @@ fn every_example_checks() {
         "bennett",
         "spatial_fourbar_cylindrical",
         "slider_crank_inverse",
+        "cv_driveline",
+        "wobble_plate_pump",
     ] {
         let p = prepare(&example(name)).unwrap();
         let mut out = Vec::new();

@@ -99,9 +99,7 @@ pub use drivers::{CoordinateDriver, DistanceDriver, Driver, RotationDriver, Tran
 pub use error::ConstraintError;
 pub use homokinetic::Homokinetic;
 pub use jet::{Form, Q7, V6};
-pub use joints::{
-    unwrap_angle, Joint, JointCoordinates, JointKind, JointParams, KindInfo, KINDS,
-};
+pub use joints::{unwrap_angle, Joint, JointCoordinates, JointKind, JointParams, KindInfo, KINDS};
 pub use marker::Marker;
 pub use n1::N1;
 pub use n2::N2;

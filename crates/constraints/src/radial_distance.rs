@@ -83,7 +83,9 @@ impl Constraint for RadialDistance {
         let d = Grad::between::<F>(x.i, x.j, &self.sp_i, &self.sp_j);
         let u = Grad::dir::<F>(x.i, x.j, Side::I, &self.f_i).dot(&d);
         let w = Grad::dir::<F>(x.i, x.j, Side::I, &self.g_i).dot(&d);
-        u.square().add(&w.square()).write(&mut out_i[0], &mut out_j[0]);
+        u.square()
+            .add(&w.square())
+            .write(&mut out_i[0], &mut out_j[0]);
     }
     fn gamma_sharp<const N: usize, F: Form<N>>(&self, x: &BodyPair, _t: f64, out: &mut [f64]) {
         let d = Motion::between::<N, F>(x.i, x.j, &self.sp_i, &self.sp_j);

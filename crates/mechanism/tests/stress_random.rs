@@ -256,7 +256,13 @@ fn add_joint(
         JointKind::ConstantVelocity => vec![rot(v, at), rot(w, at)],
         // P_j across the axis at distance ℓ: j turns about its own axis, orbits i's, slides.
         JointKind::RevCyl => vec![rot(u, at_j), rot(u, at), tra(u)],
-        JointKind::CylSph => vec![rot(e1, at_j), rot(e2, at_j), rot(e3, at_j), rot(u, at), tra(u)],
+        JointKind::CylSph => vec![
+            rot(e1, at_j),
+            rot(e2, at_j),
+            rot(e3, at_j),
+            rot(u, at),
+            tra(u),
+        ],
         JointKind::RevRev => vec![rot(u, at_j), rot(u, at)],
     };
     (kind, drivers, twists)

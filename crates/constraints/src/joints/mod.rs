@@ -142,7 +142,12 @@ impl Joint {
     }
 
     /// The joint's primitives from its kind's blocks ([`KindInfo::blocks`]).
-    fn from_blocks(kind: JointKind, marker_i: Marker, marker_j: Marker, params: JointParams) -> Self {
+    fn from_blocks(
+        kind: JointKind,
+        marker_i: Marker,
+        marker_j: Marker,
+        params: JointParams,
+    ) -> Self {
         let primitives = kind
             .info()
             .blocks

@@ -234,8 +234,7 @@ pub(super) fn joint(
     let kind = spec.kind;
     let info = kind.info();
     refuse_unused_keys(spec, info)?;
-    let axis = |which: &'static str, needed: bool, body: &str, name: &Option<String>| match name
-    {
+    let axis = |which: &'static str, needed: bool, body: &str, name: &Option<String>| match name {
         Some(n) => names.feature(&el, body, n, true).map(Some),
         None if needed => Err(ModelError::MissingAxis {
             joint: spec.name.clone(),
@@ -288,9 +287,10 @@ fn refuse_unused_keys(spec: &JointSpec, info: &KindInfo) -> Result<(), ModelErro
     if !info.axes.accepted() && (given(&spec.axis_i) || given(&spec.axis_j)) {
         return Err(unused("axis_i and axis_j"));
     }
-    if info.axes.accepted() && !info.axes.on_j() && (given(&spec.axis_j) || given(&spec.x_axis_j))
-    {
-        return Err(unused("axis_j and x_axis_j (the kind uses the frame on body i only)"));
+    if info.axes.accepted() && !info.axes.on_j() && (given(&spec.axis_j) || given(&spec.x_axis_j)) {
+        return Err(unused(
+            "axis_j and x_axis_j (the kind uses the frame on body i only)",
+        ));
     }
     if !info.x_axes && (given(&spec.x_axis_i) || given(&spec.x_axis_j)) {
         return Err(unused("x_axis_i and x_axis_j"));
@@ -314,7 +314,10 @@ fn common_perpendicular(
     zi: Vector3<f64>,
     zj: Vector3<f64>,
 ) -> Option<Vector3<f64>> {
-    let c = si.vector(&zi).normalize().cross(&sj.vector(&zj).normalize());
+    let c = si
+        .vector(&zi)
+        .normalize()
+        .cross(&sj.vector(&zj).normalize());
     (c.norm() > 1e-6).then(|| si.a.transpose() * c)
 }
 
