@@ -130,9 +130,10 @@ def phi_constant_velocity(bi, bj, t, P):
 
 
 def _radial(f, P):
-    """|d|^2 - (z_i . d)^2 - l^2: squared distance of P_j from the line through P_i along z_i."""
-    d = f.pj - f.pi
-    return ca.dot(d, d) - ca.dot(f.zi, d) ** 2 - P["length"] ** 2
+    """(x_i . d)^2 + (y_i . d)^2 - l^2: squared distance of P_j from the line through P_i along
+    z_i (written with x_i, y_i: on unnormalized p, where A(p) is not orthogonal, the form with
+    |d|^2 - (z_i . d)^2 is a different function of q)."""
+    return f.n2(f.xi) ** 2 + f.n2(f.yi) ** 2 - P["length"] ** 2
 
 
 def phi_rev_cyl(bi, bj, t, P):

@@ -16,9 +16,10 @@ from concurrent.futures import ProcessPoolExecutor
 import common
 import gen_drivers
 import gen_joints
+import gen_pose
 import gen_primitives
 
-GENERATORS = {m.__name__: m for m in (gen_primitives, gen_joints, gen_drivers)}
+GENERATORS = {m.__name__: m for m in (gen_primitives, gen_joints, gen_drivers, gen_pose)}
 
 
 def generate_one(module_name, element, outdir):

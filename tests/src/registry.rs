@@ -11,8 +11,8 @@
 use cardan_constraints::{
     BodyPair, Constraint, CoordinateDriver, Dimension, Distance, DistanceDriver, Driver, Footprint,
     Form, Homokinetic, Joint, JointKind, JointParams, Marker, Normalization, P1Perp, P1Select,
-    P2Perp, P2Select, Primitive, RadialDistance, RotationDriver, Spherical, TimeFunction,
-    TranslationDriver, KINDS, N1, N2, P1, P2,
+    P2Perp, P2Select, PoseDriver, Primitive, RadialDistance, RotationDriver, RotationOrder,
+    Spherical, TimeFunction, TranslationDriver, KINDS, N1, N2, P1, P2,
 };
 use nalgebra::{Matrix3, Vector3};
 use serde_json::Value;
@@ -40,6 +40,7 @@ pub const DRIVERS: &[&str] = &[
     "translation_driver",
     "distance_driver",
     "coordinate_driver",
+    "pose_driver",
 ];
 
 /// Every element name the Rust side implements: primitives, the joint kinds of the kind table,
@@ -85,6 +86,7 @@ pub fn driver_name(d: &Driver) -> &'static str {
         Driver::Translation(_) => "translation_driver",
         Driver::Distance(_) => "distance_driver",
         Driver::Coordinate(_) => "coordinate_driver",
+        Driver::Pose(_) => "pose_driver",
     }
 }
 
@@ -324,6 +326,27 @@ pub fn build(name: &str, p: &Value) -> Result<Element, ParamError> {
             CoordinateDriver::new(v3(p, "point_i")?, axis, time_function(&p["function"])?)
                 .map(|d| E::Driver(d.into()))
                 .map_err(|e| e.to_string())
+        }
+        "pose_driver" => {
+            let order = p
+                .get("order")
+                .and_then(Value::as_str)
+                .and_then(RotationOrder::parse)
+                .ok_or("missing or invalid `order`")?;
+            let row = p
+                .get("row")
+                .and_then(Value::as_u64)
+                .filter(|&r| r < 6)
+                .ok_or("missing or invalid `row`")? as usize;
+            let specs = p
+                .get("functions")
+                .and_then(Value::as_array)
+                .filter(|a| a.len() == 6)
+                .ok_or("`functions` must hold six time functions")?;
+            let f: Vec<TimeFunction> = specs.iter().map(time_function).collect::<Result<_, _>>()?;
+            let f: [TimeFunction; 6] = f.try_into().expect("six");
+            let (mi, mj) = (marker(p, "marker_i")?, marker(p, "marker_j")?);
+            Ok(E::Driver(PoseDriver::new(mi, mj, order, f, row).into()))
         }
         other => Err(format!(
             "no Rust element is registered under the oracle name `{other}`"

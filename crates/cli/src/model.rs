@@ -243,22 +243,22 @@ pub struct FunctionSpec {
 pub struct DriverSection {
     /// Unique name.
     pub name: Name,
-    /// rotation, translation, distance, coordinate.
+    /// rotation, translation, distance, coordinate, general_motion.
     #[serde(rename = "type")]
     pub kind: Name,
     /// rotation / translation: the driven joint.
     #[serde(default)]
     pub joint: Option<Name>,
-    /// distance: body i.
+    /// distance, general_motion: body i.
     #[serde(default)]
     pub body_i: Option<Name>,
-    /// distance: point on body i.
+    /// distance: point on body i; general_motion: the origin of frame i.
     #[serde(default)]
     pub point_i: Option<Name>,
-    /// distance: body j.
+    /// distance, general_motion: body j.
     #[serde(default)]
     pub body_j: Option<Name>,
-    /// distance: point on body j.
+    /// distance: point on body j; general_motion: the origin of frame j.
     #[serde(default)]
     pub point_j: Option<Name>,
     /// coordinate: the body.
@@ -270,8 +270,30 @@ pub struct DriverSection {
     /// coordinate: "x", "y" or "z".
     #[serde(default)]
     pub coordinate: Option<Name>,
-    /// The time function.
-    pub function: Spanned<FunctionSpec>,
+    /// general_motion: z of frame i (a vector of body i; default: the body frame).
+    #[serde(default)]
+    pub axis_i: Option<Name>,
+    /// general_motion: x of frame i.
+    #[serde(default)]
+    pub x_axis_i: Option<Name>,
+    /// general_motion: z of frame j.
+    #[serde(default)]
+    pub axis_j: Option<Name>,
+    /// general_motion: x of frame j.
+    #[serde(default)]
+    pub x_axis_j: Option<Name>,
+    /// general_motion: the rotation sequence, e.g. "xyz" (default) or "zxz".
+    #[serde(default)]
+    pub order: Option<Name>,
+    /// general_motion: three functions, the translations along x_i, y_i, z_i [m].
+    #[serde(default)]
+    pub translation: Option<Spanned<Vec<Spanned<FunctionSpec>>>>,
+    /// general_motion: three functions, the angles of the sequence [rad].
+    #[serde(default)]
+    pub rotation: Option<Spanned<Vec<Spanned<FunctionSpec>>>>,
+    /// The time function (every type but general_motion).
+    #[serde(default)]
+    pub function: Option<Spanned<FunctionSpec>>,
 }
 
 /// `[[force]]`: one force element (used by dynamic analysis only).
@@ -550,7 +572,16 @@ fn check_counts(src: &Source, file: &ModelFile) -> Result<(), Error> {
         long(&f.values, "spline values")
     };
     for d in &file.driver {
-        function(d.get_ref().function.get_ref())?;
+        let d = d.get_ref();
+        if let Some(f) = &d.function {
+            function(f.get_ref())?;
+        }
+        for list in [&d.translation, &d.rotation].into_iter().flatten() {
+            // Their count (three) is checked when the driver is read.
+            for f in list.get_ref().iter().take(3) {
+                function(f.get_ref())?;
+            }
+        }
     }
     for f in &file.force {
         let f = f.get_ref();

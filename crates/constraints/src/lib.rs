@@ -95,7 +95,10 @@ pub mod time_function;
 
 pub use constraint::{Constraint, Dimension};
 pub use distance::Distance;
-pub use drivers::{CoordinateDriver, DistanceDriver, Driver, RotationDriver, TranslationDriver};
+pub use drivers::{
+    CoordinateDriver, DistanceDriver, Driver, PoseDriver, RotationDriver, RotationOrder,
+    TranslationDriver,
+};
 pub use error::ConstraintError;
 pub use homokinetic::Homokinetic;
 pub use jet::{Form, Q7, V6};

@@ -34,6 +34,24 @@ fn every_joint_kind() {
     }
 }
 
+/// A random row of a pose driver with a random rotation sequence (all 12 occur).
+fn pose_row(s: &mut Sampler) -> PoseDriver {
+    const ORDERS: [&str; 12] = [
+        "xyz", "xzy", "yxz", "yzx", "zxy", "zyx", "xyx", "xzx", "yxy", "yzy", "zxz", "zyz",
+    ];
+    let order = RotationOrder::parse(ORDERS[s.rng.below(12)]).unwrap();
+    let f = [
+        s.function(),
+        s.function(),
+        s.function(),
+        s.angle_function(),
+        s.angle_function(),
+        s.angle_function(),
+    ];
+    let row = s.rng.below(6);
+    PoseDriver::new(s.marker(), s.marker(), order, f, row)
+}
+
 macro_rules! conformance_tests {
     ($($test:ident: $grounds:expr, $make:expr;)*) => {$(
         #[test]
@@ -60,6 +78,7 @@ conformance_tests! {
     rotation_driver: BOTH, |s: &mut Sampler| RotationDriver::new(s.marker(), s.marker(), s.angle_function());
     translation_driver: BOTH, |s: &mut Sampler| TranslationDriver::new(s.marker(), s.marker(), s.function());
     distance_driver: BOTH, |s: &mut Sampler| DistanceDriver::new(s.point(), s.point(), s.function());
+    pose_driver: BOTH, pose_row;
     coordinate_driver: ONLY_I_MOVES, |s: &mut Sampler| CoordinateDriver::new(s.point(), s.rng.below(3), s.function()).unwrap();
 }
 

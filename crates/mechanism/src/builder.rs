@@ -25,7 +25,8 @@
 
 use crate::error::ModelError;
 use crate::model::Model;
-use cardan_constraints::{JointKind, TimeFunction};
+use cardan_constraints::drivers::POSE_ROWS;
+use cardan_constraints::{JointKind, RotationOrder, TimeFunction};
 use cardan_eulerparam::{
     frame_from_axis, frame_from_two_axes, p_from_euler_123, p_from_euler_313,
     p_from_rotation_matrix, EulerParamError, EulerParams,
@@ -325,6 +326,40 @@ pub enum DriverTarget {
         /// Which coordinate.
         axis: Axis,
     },
+    /// The full pose of a marker frame on body j relative to one on body i (general motion):
+    /// six rows, named `<driver>.x`, `.y`, `.z`, `.angle_1`, `.angle_2`, `.angle_3`.
+    Pose(Box<PoseTarget>),
+}
+
+/// The frames and laws of a pose (general motion) driver: marker frame j = marker frame i
+/// translated by (f₁, f₂, f₃)(t) along its own axes and turned by R_{o1}(a₁) R_{o2}(a₂) R_{o3}(a₃).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PoseTarget {
+    /// Body i (may be ground).
+    pub body_i: String,
+    /// The origin of frame i: a point of body i.
+    pub point_i: String,
+    /// z of frame i (a vector of body i); default: the body frame.
+    pub axis_i: Option<String>,
+    /// x of frame i.
+    pub x_axis_i: Option<String>,
+    /// Body j.
+    pub body_j: String,
+    /// The origin of frame j: a point of body j.
+    pub point_j: String,
+    /// z of frame j (a vector of body j); default: the body frame.
+    pub axis_j: Option<String>,
+    /// x of frame j.
+    pub x_axis_j: Option<String>,
+    /// The rotation sequence.
+    pub order: RotationOrder,
+    /// f₁, f₂, f₃ (m) and a₁, a₂, a₃ (rad).
+    pub functions: [TimeFunction; 6],
+}
+
+/// The name of row `k` (0–5) of pose driver `name`: `name.x`, ..., `name.angle_3`.
+pub fn pose_row_name(name: &str, k: usize) -> String {
+    format!("{name}.{}", POSE_ROWS[k])
 }
 
 /// A driver: a named time law f(t) for a [`DriverTarget`].
@@ -377,6 +412,16 @@ impl DriverSpec {
                 point_j: point_j.into(),
             },
             function,
+        }
+    }
+
+    /// The pose of a frame on body j relative to one on body i follows `target`'s six laws.
+    pub fn pose(name: impl Into<String>, target: PoseTarget) -> Self {
+        Self {
+            name: name.into(),
+            target: DriverTarget::Pose(Box::new(target)),
+            // Unused: the six laws are in the target.
+            function: TimeFunction::Constant(0.0),
         }
     }
 

@@ -57,7 +57,7 @@ pub enum Block {
     /// [x_iᵀ d; y_iᵀ d], d = P_j − P_i: P_j on the line through P_i along z_i (2 rows; [`P2Perp`]).
     OnAxisLine,
     /// a_iᵀ d − h: P_j in the plane through P_i normal to a_i, shifted by the joint's offset h
-    /// along a_i (1 row; [`N2`] from the point P_i + h a_i).
+    /// along a_i (1 row; [`N2`] with its offset).
     InPlane(Axis),
     /// dᵀd − ℓ²: P_j at distance ℓ from P_i (1 row; [`Distance`]).
     Distance,
@@ -107,7 +107,7 @@ impl Block {
             Block::Perpendicular(a, b) => N1::new(a.of(mi), b.of(mj)).into(),
             Block::ParallelAxes => P1Perp::new(mi.x(), mi.y(), mj.z()).into(),
             Block::OnAxisLine => P2Perp::new(mi.x(), mi.y(), pi, pj).into(),
-            Block::InPlane(a) => N2::new(a.of(mi), pi + v.offset * a.of(mi), pj).into(),
+            Block::InPlane(a) => N2::with_offset(a.of(mi), pi, pj, v.offset).into(),
             Block::Distance => Distance::new(pi, pj, v.length).into(),
             Block::RadialDistance => RadialDistance::new(mi.x(), mi.y(), pi, pj, v.length).into(),
             Block::AtAngle => {

@@ -7,13 +7,16 @@ use super::validate::{
     check_number, check_numbers, kinds_with, orientation_p, pair_check, suggest,
 };
 use super::{BodyId, BodyInfo, DriverInfo, FeatureInfo, ForceInfo, JointInfo, ScatterMap};
-use crate::builder::{DriverSpec, DriverTarget, ForceSpec, JointSpec, MechanismBuilder, GROUND};
+use crate::builder::{
+    pose_row_name, DriverSpec, DriverTarget, ForceSpec, JointSpec, MechanismBuilder, PoseTarget,
+    GROUND,
+};
 use crate::error::ModelError;
 use crate::sanity::Quantity;
 use cardan_constraints::joints::Axes;
 use cardan_constraints::{
     BodyState, ConstraintError, CoordinateDriver, DistanceDriver, Driver, Joint, JointKind,
-    JointParams, KindInfo, Marker, RotationDriver, TranslationDriver,
+    JointParams, KindInfo, Marker, PoseDriver, RotationDriver, TranslationDriver,
 };
 use nalgebra::{Matrix3, Vector3};
 use std::collections::HashMap;
@@ -394,9 +397,58 @@ fn marker(
     }
 }
 
-/// One driver: its joint (looked up in `element_names`, which maps every element name to its
-/// joint index, if a joint) or its bodies and points, and its time function checked.
+/// One driver's rows: its joint (looked up in `element_names`, which maps every element name to
+/// its joint index, if a joint) or its bodies and points, and its time function checked. A pose
+/// driver gives six rows, the others one.
 pub(super) fn driver(
+    spec: &DriverSpec,
+    names: &Names,
+    joints: &[JointInfo],
+    element_names: &HashMap<&str, Option<usize>>,
+) -> Result<Vec<DriverInfo>, ModelError> {
+    if let DriverTarget::Pose(target) = &spec.target {
+        return pose_driver(&spec.name, target, names);
+    }
+    single_driver(spec, names, joints, element_names).map(|d| vec![d])
+}
+
+/// The six rows of a pose driver: its two frames resolved like a joint's markers (body frames
+/// when no axes are given), its six laws checked.
+fn pose_driver(name: &str, t: &PoseTarget, names: &Names) -> Result<Vec<DriverInfo>, ModelError> {
+    let el = format!("driver \"{name}\"");
+    for f in &t.functions {
+        f.validate().map_err(|e| ModelError::BadTimeFunction {
+            driver: name.into(),
+            reason: e.to_string(),
+        })?;
+    }
+    let bi = names.body(&el, &t.body_i)?;
+    let bj = names.body(&el, &t.body_j)?;
+    pair_check(&el, bi, bj, &t.body_i)?;
+    let vector = |body: &str, v: &Option<String>| match v {
+        Some(n) => names.feature(&el, body, n, true).map(Some),
+        None => Ok(None),
+    };
+    let frame = |side, body: &str, point: &str, z: &Option<String>, x: &Option<String>| {
+        let p = names.feature(&el, body, point, false)?;
+        marker(name, side, body, p, vector(body, z)?, vector(body, x)?)
+    };
+    let mi = frame("i", &t.body_i, &t.point_i, &t.axis_i, &t.x_axis_i)?;
+    let mj = frame("j", &t.body_j, &t.point_j, &t.axis_j, &t.x_axis_j)?;
+    Ok((0..6)
+        .map(|k| DriverInfo {
+            name: pose_row_name(name, k),
+            body_i: bi,
+            body_j: bj,
+            driver: PoseDriver::new(mi, mj, t.order, t.functions.clone(), k).into(),
+            joint: None,
+            rows: 0..0,
+            map: ScatterMap { slots: Vec::new() },
+        })
+        .collect())
+}
+
+fn single_driver(
     spec: &DriverSpec,
     names: &Names,
     joints: &[JointInfo],
@@ -467,6 +519,7 @@ pub(super) fn driver(
             })?;
             (d.into(), bi, BodyId::Ground, None)
         }
+        DriverTarget::Pose(_) => unreachable!("pose drivers are resolved by pose_driver"),
     };
     Ok(DriverInfo {
         name: spec.name.clone(),
