@@ -597,3 +597,49 @@ fn eval_json_round_trips_every_float_exactly() {
         assert_eq!(t, 0.3);
     }
 }
+
+/// joint_velocities.csv and joint_accelerations.csv (the exact rates of the joint coordinates)
+/// against central differences of joints.csv and of the rates, on kinematic examples of many
+/// joint kinds, and against the body quantities on the slider-crank (crank rate 2π, slide rate =
+/// the slider's ẋ).
+#[test]
+fn joint_rates_match_differences_of_the_joint_coordinates() {
+    for name in [
+        "slider_crank",
+        "bennett",
+        "cv_driveline",
+        "wobble_plate_pump",
+        "universal_drive",
+        "spatial_fourbar_cylindrical",
+    ] {
+        let (_, r) = run_example(name);
+        let h = r.times[1] - r.times[0];
+        let (mut ev, mut ea, mut scale) = (0.0f64, 0.0f64, 1.0f64);
+        for j in &r.joints {
+            assert_eq!(j.rates.len(), r.len(), "{name}");
+            assert_eq!(j.accelerations.len(), r.len(), "{name}");
+            for q in 0..j.coordinates.len() {
+                for k in 1..r.len() - 1 {
+                    let fd = (j.values[k + 1][q] - j.values[k - 1][q]) / (2.0 * h);
+                    let fa = (j.rates[k + 1][q] - j.rates[k - 1][q]) / (2.0 * h);
+                    ev = ev.max((fd - j.rates[k][q]).abs());
+                    ea = ea.max((fa - j.accelerations[k][q]).abs());
+                    scale = scale.max(j.accelerations[k][q].abs());
+                }
+            }
+        }
+        eprintln!(
+            "{name}: |ċ − Δc/2h| ≤ {ev:.1e}, |c̈ − Δċ/2h| ≤ {ea:.1e} (h = {h}, max |c̈| {scale:.1e})"
+        );
+        // Central differences err by h²/6 · (third derivative): small against the scale.
+        assert!(ev < 1e-3 * scale && ea < 1e-2 * scale, "{name}: {ev} {ea}");
+    }
+    let (_, r) = run_example("slider_crank");
+    let (crank, slide) = (r.joint("crank_pin").unwrap(), r.joint("slide").unwrap());
+    let slider = r.body("slider").unwrap();
+    for k in 0..r.len() {
+        assert!((crank.rates[k][0] - 2.0 * PI).abs() < 1e-9);
+        assert!((slide.rates[k][0] - slider.r_dot[k].x).abs() < 1e-12);
+        assert!((slide.accelerations[k][0] - slider.r_ddot[k].x).abs() < 1e-10);
+    }
+}

@@ -9,7 +9,7 @@ use crate::results::{
 use crate::state::State;
 use crate::system::Dynamics;
 use crate::DynamicsError;
-use cardan_constraints::joints::CoordinateQuantity;
+use cardan_constraints::joints::{BodyAcceleration, CoordinateQuantity};
 use cardan_constraints::{unwrap_angle, BodyPair, BodyState, Driver};
 use cardan_eulerparam::{p_ddot_from_local, p_dot_from_local};
 use cardan_mechanism::{BodyId, BodyResults, JointResults, Model, Outputs, PointResults, Results};
@@ -75,6 +75,8 @@ impl Recorder {
                     kind: j.joint.kind(),
                     coordinates: j.joint.kind().info().coordinates,
                     values: Vec::with_capacity(capacity),
+                    rates: Vec::new(),
+                    accelerations: Vec::new(),
                 });
             }
         }
@@ -211,6 +213,25 @@ impl Recorder {
                 }
             }
             jr.values.push(c.values);
+            if vel {
+                let body_acc = |id: BodyId| match id {
+                    BodyId::Moving(k) if acc => BodyAcceleration {
+                        r_ddot: Vector3::from_column_slice(&self.vdot[6 * k..6 * k + 3]),
+                        omega_dot_local: Vector3::from_column_slice(
+                            &self.vdot[6 * k + 3..6 * k + 6],
+                        ),
+                    },
+                    _ => BodyAcceleration::default(),
+                };
+                let pair = BodyPair::new(st(j.body_i), st(j.body_j));
+                let r = j
+                    .joint
+                    .coordinate_rates(&pair, &body_acc(j.body_i), &body_acc(j.body_j));
+                jr.rates.push(r.rates);
+                if acc {
+                    jr.accelerations.push(r.accelerations);
+                }
+            }
         }
         self.res.lambda.push(self.lambda.clone());
         for (ji, (jr, j)) in self

@@ -111,6 +111,10 @@ pub struct JointResults {
     pub coordinates: &'static [cardan_constraints::joints::Coordinate],
     /// Values per time (first `coordinates.len()` entries meaningful); angles unwrapped.
     pub values: Vec<[f64; MAX_COORDINATES]>,
+    /// Rates per time (rad/s, m/s), when velocities were computed (else empty).
+    pub rates: Vec<[f64; MAX_COORDINATES]>,
+    /// Accelerations per time (rad/s², m/s²), when accelerations were computed (else empty).
+    pub accelerations: Vec<[f64; MAX_COORDINATES]>,
 }
 
 /// Everything a kinematic run produced.

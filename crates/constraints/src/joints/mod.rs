@@ -13,16 +13,19 @@
 //! universal joint z_i and z_j are the two arms of the cross (perpendicular); for the planar joint
 //! z is the plane normal; for the prismatic joint the extra n1(x_i, y_j) stops rotation about z.
 //!
-//! [`JointCoordinates`] gives the relative joint coordinates for output.
+//! [`JointCoordinates`] gives the relative joint coordinates for output, [`JointRates`] their
+//! exact rates and accelerations.
 
 mod coordinates;
 mod kinds;
+mod rates;
 
 pub use coordinates::{unwrap_angle, JointCoordinates};
 pub use kinds::{
     markdown_table, Axes, Axis, Block, Coordinate, CoordinateQuantity, JointKind, JointParams,
     KindInfo, Measure, KINDS, MAX_COORDINATES,
 };
+pub use rates::{BodyAcceleration, JointRates};
 
 use crate::constraint::{Constraint, Dimension};
 use crate::error::{finite, ConstraintError};

@@ -519,6 +519,8 @@ impl Model {
                     kind: j.joint.kind(),
                     coordinates: j.joint.kind().info().coordinates,
                     values: Vec::with_capacity(n),
+                    rates: Vec::new(),
+                    accelerations: Vec::new(),
                 })
                 .collect()
         } else {
@@ -595,6 +597,18 @@ impl Model {
                 }
                 *prev = vals;
                 h.values.push(vals);
+                if v {
+                    let acc = |id| ws.acceleration_of(id, a);
+                    let r = j.joint.coordinate_rates(
+                        &BodyPair::new(&si, &sj),
+                        &acc(j.body_i),
+                        &acc(j.body_j),
+                    );
+                    h.rates.push(r.rates);
+                    if a {
+                        h.accelerations.push(r.accelerations);
+                    }
+                }
             }
         }
     }
