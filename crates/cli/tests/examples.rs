@@ -226,6 +226,12 @@ fn universal_joint_follows_cardan_formula() {
     eprintln!("universal_drive: max |φ₂ − φ₂(φ₁)| = {e_angle:.2e} rad, |ω₂ − ratio ω₁| = {e_rate:.2e} rad/s");
     assert!(e_angle < 1e-10 && e_rate < 1e-9, "{e_angle} {e_rate}");
     // Two revolute bearings and the cross: 14 equations of rank 11 for 12 unknowns.
+    assert_eq!(dof_and_redundant(&p), (1, 3));
+    check_fd("universal_drive", &p, 100, 1e-2, 5e-1);
+}
+
+/// DOF and number of redundant equations of the joints, assembled at t = 0 without drivers.
+fn dof_and_redundant(p: &Prepared) -> (usize, usize) {
     let mut ws = p.model.workspace();
     let opts = AssemblyOptions {
         include_drivers: false,
@@ -233,8 +239,7 @@ fn universal_joint_follows_cardan_formula() {
     };
     p.model.assemble(&mut ws, &opts).unwrap();
     let dof = p.model.dof(&ws).unwrap();
-    assert_eq!((dof.dof, dof.redundant.len()), (1, 3));
-    check_fd("universal_drive", &p, 100, 1e-2, 5e-1);
+    (dof.dof, dof.redundant.len())
 }
 
 /// The CV driveline: the output shaft's bearing angle equals the input's at every instant, and
@@ -255,16 +260,9 @@ fn cv_driveline_turns_the_output_at_the_input_speed() {
     eprintln!("cv_driveline: max |φ₂ − φ₁| = {e_angle:.2e} rad, |ω₂ − ω₁| = {e_rate:.2e} rad/s");
     assert!(e_angle < 1e-10 && e_rate < 1e-9, "{e_angle} {e_rate}");
     // Two revolute bearings and the CV joint: 14 equations of rank 11 (its point is redundant).
-    let mut ws = p.model.workspace();
-    let opts = AssemblyOptions {
-        include_drivers: false,
-        ..AssemblyOptions::at(0.0)
-    };
-    p.model.assemble(&mut ws, &opts).unwrap();
-    let dof = p.model.dof(&ws).unwrap();
     // (No finite-difference order check: both shafts turn at constant speed, so the differences
     // of the accelerations are already at roundoff.)
-    assert_eq!((dof.dof, dof.redundant.len()), (1, 3));
+    assert_eq!(dof_and_redundant(&p), (1, 3));
 }
 
 /// The wobble-plate pump: each piston follows z = R tan α sin(φ − θ), θ = 2π t.
