@@ -14,8 +14,8 @@ use cardan_dynamics::{
     Dopri5Options, Force, Frame, GeneralizedAlphaOptions, Integrator, PointRef, VectorFunction,
 };
 use cardan_mechanism::{
-    pose_row_name, Axis, Body, DriverSpec, DriverTarget, ElementKind, JointSpec, MechanismBuilder,
-    Orientation, PoseTarget, Quantity, Site, GROUND,
+    pose_row_name, Axis, Body, DriverSpec, DriverTarget, ElementKind, JointSpec, KinematicOptions,
+    MechanismBuilder, Orientation, PoseTarget, Quantity, Site, GROUND,
 };
 use nalgebra::{Matrix3, Vector3};
 use std::collections::{BTreeMap, HashMap};
@@ -117,6 +117,8 @@ pub struct Analysis {
     /// `kind = "inverse_dynamics"`: driver efforts and reactions of a fully driven mechanism
     /// along its kinematics (`dynamic` is then `None`).
     pub inverse_dynamics: bool,
+    /// Kinematic and inverse dynamics: the position solves' tolerance on the scaled residual.
+    pub tolerance: f64,
 }
 
 impl Analysis {
@@ -1262,7 +1264,17 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
             }
             None
         }
-        "dynamic" => Some(load_integrator(cx, a)?),
+        "dynamic" => {
+            if let Some(t) = &a.tolerance {
+                return Err(cx.err(
+                    t.span(),
+                    "tolerance applies to kind = \"kinematic\" and \"inverse_dynamics\" (a \
+                     dynamic run's accuracy is set by rtol and atol, or newton_tolerance)"
+                        .to_string(),
+                ));
+            }
+            Some(load_integrator(cx, a)?)
+        }
         other => {
             let hint = did_you_mean(other, ["kinematic", "dynamic", "inverse_dynamics"]);
             return Err(cx.err(
@@ -1272,6 +1284,18 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
                      \"dynamic\", \"inverse_dynamics\")"
                 ),
             ));
+        }
+    };
+    let tolerance = match &a.tolerance {
+        None => KinematicOptions::new(0.0, 1.0, 1).tolerance,
+        Some(n) => {
+            let v = cx.num(n, "tolerance", Quantity::Unbounded)?;
+            // The range is the library's; the refusal is placed at the key.
+            KinematicOptions::new(0.0, 1.0, 1)
+                .tolerance(v)
+                .validate()
+                .map_err(|e| cx.err(n.span(), e.to_string()))?;
+            v
         }
     };
     let t_start = match &a.t_start {
@@ -1447,6 +1471,7 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
         plots,
         dynamic,
         inverse_dynamics: kind == "inverse_dynamics",
+        tolerance,
     })
 }
 

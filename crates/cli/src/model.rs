@@ -391,6 +391,10 @@ pub struct AnalysisSection {
     /// dynamic, generalized_alpha: Newton tolerance (default 1e-10).
     #[serde(default)]
     pub newton_tolerance: Option<Num>,
+    /// kinematic, inverse_dynamics: the position solves' tolerance on the scaled residual
+    /// (default 1e-10).
+    #[serde(default)]
+    pub tolerance: Option<Num>,
     /// What to write.
     #[serde(default)]
     pub outputs: Option<Spanned<OutputsSection>>,

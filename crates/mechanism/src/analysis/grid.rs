@@ -49,6 +49,7 @@ use crate::workspace::Workspace;
 use cardan_constraints::joints::{CoordinateQuantity, MAX_COORDINATES};
 use cardan_constraints::{unwrap_angle, BodyPair};
 use cardan_eulerparam::EulerParams;
+use cardan_solver::{NewtonOptions, Tolerances};
 use std::ops::ControlFlow;
 
 /// κ of the branch-jump test: a step whose Newton correction exceeds κ times the predicted
@@ -96,6 +97,10 @@ pub struct KinematicOptions {
     pub steps: usize,
     /// What to compute and store.
     pub outputs: Outputs,
+    /// The position solves' tolerance on the scaled residual, max |Φ_i| / e_i (e_i the
+    /// equation's scale: L, L² or 1), in [1e-14, 1e-6]; default 1e-10. Used when the run
+    /// prepares the workspace (a workspace already prepared keeps its Newton options).
+    pub tolerance: f64,
 }
 
 impl KinematicOptions {
@@ -106,7 +111,14 @@ impl KinematicOptions {
             t_end,
             steps,
             outputs: Outputs::default(),
+            tolerance: Tolerances::default().residual,
         }
+    }
+
+    /// The same options with the position tolerance `tolerance` (see [`KinematicOptions::tolerance`]).
+    pub fn tolerance(mut self, tolerance: f64) -> Self {
+        self.tolerance = tolerance;
+        self
     }
 
     /// Steps of about `dt` from `t0` to `t_end` (the step is adjusted to land on `t_end`). A
@@ -135,7 +147,11 @@ impl KinematicOptions {
         self.t0 + (self.t_end - self.t0) * (k as f64 / self.steps as f64)
     }
 
-    fn validate(&self) -> Result<(), AnalysisError> {
+    /// Checks the times, the step count and the tolerance's range.
+    ///
+    /// # Errors
+    /// [`AnalysisError::Options`] saying which option and why.
+    pub fn validate(&self) -> Result<(), AnalysisError> {
         if !self.t0.is_finite() || !self.t_end.is_finite() {
             return Err(AnalysisError::Options(format!(
                 "times must be finite (t0 = {}, t_end = {})",
@@ -153,7 +169,16 @@ impl KinematicOptions {
                 "at least one step is needed (or dt must be positive)".into(),
             ));
         }
-        Ok(())
+        self.newton_tolerances()
+            .validate()
+            .map_err(AnalysisError::Options)
+    }
+
+    fn newton_tolerances(&self) -> Tolerances {
+        Tolerances {
+            residual: self.tolerance,
+            ..Tolerances::default()
+        }
     }
 }
 
@@ -232,7 +257,11 @@ impl Model {
                 });
             }
             self.assemble(ws, &AssemblyOptions::at(options.t0))?;
-            self.prepare_kinematics(ws)?;
+            let newton = NewtonOptions {
+                tolerances: options.newton_tolerances(),
+                ..Self::kinematic_newton_options()
+            };
+            self.prepare_kinematics_with(ws, newton)?;
         }
         let mut results = self.allocate_results(options);
         let mut joint_prev = vec![[0.0; MAX_COORDINATES]; self.joints.len()];

@@ -20,7 +20,8 @@ pub(super) fn run_kinematic(
     analysis: &crate::build::Analysis,
     progress: bool,
 ) -> Result<Analysed, Error> {
-    let opts = KinematicOptions::new(analysis.t_start, analysis.t_end, analysis.steps);
+    let opts = KinematicOptions::new(analysis.t_start, analysis.t_end, analysis.steps)
+        .tolerance(analysis.tolerance);
     let start = Instant::now();
     let mut bar = crate::progress::Progress::new(progress, opts.steps as u64 + 1);
     let mut ws = p.model.workspace();
