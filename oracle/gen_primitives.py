@@ -1,9 +1,10 @@
 """Oracle for the primitives: n1, n2, p1 (+ _select, _perp), p2 (+ _select, _perp), s, distance,
-normalization. Each is defined by Phi alone (see CONTRACT.md); derivatives come from common.derive.
+normalization, radial_distance, homokinetic. Each is defined by Phi alone (see CONTRACT.md); derivatives come from common.derive.
 
 Usage: python gen_primitives.py OUTDIR
 """
 
+import math
 import sys
 
 import casadi as ca
@@ -81,6 +82,20 @@ def phi_distance(bi, bj, t, P):
     return ca.dot(d, d) - P["length"] ** 2
 
 
+def phi_radial_distance(bi, bj, t, P):
+    """(f_i . d)^2 + (g_i . d)^2 - l^2: P_j at distance l from the line through P_i across f_i, g_i."""
+    d = d_vec(bi, bj, P)
+    u, w = ca.dot(bi.vector(P["f_i"]), d), ca.dot(bi.vector(P["g_i"]), d)
+    return u**2 + w**2 - P["length"] ** 2
+
+
+def phi_homokinetic(bi, bj, t, P):
+    """x_i . y_j - y_i . x_j: no relative twist about z."""
+    xi, yi = bi.vector(P["x_i"]), bi.vector(P["y_i"])
+    xj, yj = bj.vector(P["x_j"]), bj.vector(P["y_j"])
+    return ca.dot(xi, yj) - ca.dot(yi, xj)
+
+
 def phi_normalization(bi, bj, t, P):
     return ca.dot(bi.p, bi.p) - 1
 
@@ -142,6 +157,18 @@ def pr_distance(rng, entry):
     P = pr_points(rng, entry)
     P["length"] = float(entry["scale"] * rng.uniform(0.5, 2.0))
     return P
+
+
+def pr_radial(rng, entry):
+    P = pr_perp2(rng, entry)
+    P["length"] = float(entry["scale"] * rng.uniform(0.5, 2.0))
+    return P
+
+
+def pr_frames(rng, entry):
+    xi, yi = perp_pair(rng, entry)
+    x, y, _ = C.random_frame(rng)
+    return {"x_i": xi, "y_i": yi, "x_j": list(x), "y_j": list(y)}
 
 
 # ---------------------------------------------------------------------------------------------
@@ -220,6 +247,26 @@ def solve_distance(case, rng):
     case["params"]["length"] = float(np.linalg.norm(_d(case)))
 
 
+def solve_radial_distance(case, rng):
+    ai, _, _, _ = _geo(case)
+    P = case["params"]
+    d = _d(case)
+    u, w = (ai @ np.array(P["f_i"])) @ d, (ai @ np.array(P["g_i"])) @ d
+    P["length"] = float(math.hypot(u, w))
+
+
+def solve_homokinetic(case, rng):
+    """Frame j = frame i bent about a random axis in frame i's x-y plane (a pure bend)."""
+    ai, aj, _, _ = _geo(case)
+    P = case["params"]
+    xg, yg = ai @ np.array(P["x_i"]), ai @ np.array(P["y_i"])
+    c = float(rng.uniform(-math.pi, math.pi))
+    n = math.cos(c) * xg + math.sin(c) * yg
+    bend = C.a_num(C.unit(np.concatenate(([math.cos(0.6)], math.sin(0.6) * n))))
+    P["x_j"] = (aj.T @ bend @ xg).tolist()
+    P["y_j"] = (aj.T @ bend @ yg).tolist()
+
+
 def solve_normalization(case, rng):
     pass  # every normalized case is at the solution
 
@@ -247,6 +294,8 @@ ELEMENTS = {
     "p2_perp": (phi_p2_perp, 2, pr_perp2, solve_p2_perp, {}),
     "s": (phi_s, 3, pr_points, solve_s, {}),
     "distance": (phi_distance, 1, pr_distance, solve_distance, {}),
+    "radial_distance": (phi_radial_distance, 1, pr_radial, solve_radial_distance, {}),
+    "homokinetic": (phi_homokinetic, 1, pr_frames, solve_homokinetic, {}),
     "normalization": (
         phi_normalization, 1, lambda rng, entry: {}, solve_normalization,
         {"grounds": ("j",), "extra": NORMALIZATION_EXTRA},

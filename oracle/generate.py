@@ -17,9 +17,12 @@ import common
 import gen_couplers
 import gen_drivers
 import gen_joints
+import gen_pose
 import gen_primitives
 
-GENERATORS = {m.__name__: m for m in (gen_primitives, gen_joints, gen_drivers, gen_couplers)}
+GENERATORS = {
+    m.__name__: m for m in (gen_primitives, gen_joints, gen_drivers, gen_pose, gen_couplers)
+}
 
 
 def generate_one(module_name, element, outdir):

@@ -10,9 +10,10 @@
 
 use cardan_constraints::{
     BodyPair, Constraint, CoordinateDriver, Coupler, Dimension, Distance, DistanceDriver, Driver,
-    Footprint, Form, Gear, Joint, JointKind, Marker, Normalization, P1Perp, P1Select, P2Perp,
-    P2Select, Primitive, RackPinion, RotationDriver, Screw, Spherical, TimeFunction,
-    TranslationDriver, KINDS, N1, N2, P1, P2,
+    Footprint, Form, Gear, Homokinetic, Joint, JointKind, JointParams, Marker, Normalization,
+    P1Perp, P1Select, P2Perp, P2Select, PoseDriver, Primitive, RackPinion, RadialDistance,
+    RotationDriver, RotationOrder, Screw, Spherical, TimeFunction, TranslationDriver, KINDS, N1,
+    N2, P1, P2,
 };
 use nalgebra::{Matrix3, Vector3};
 use serde_json::Value;
@@ -30,6 +31,8 @@ pub const PRIMITIVES: &[&str] = &[
     "s",
     "distance",
     "normalization",
+    "radial_distance",
+    "homokinetic",
 ];
 
 /// Every driver, as the oracle names them (see [`driver_name`]).
@@ -38,6 +41,7 @@ pub const DRIVERS: &[&str] = &[
     "translation_driver",
     "distance_driver",
     "coordinate_driver",
+    "pose_driver",
 ];
 
 /// Every coupler, as the oracle names them (see [`coupler_name`]).
@@ -79,6 +83,8 @@ pub fn primitive_name(p: &Primitive) -> &'static str {
         Primitive::Spherical(_) => "s",
         Primitive::Distance(_) => "distance",
         Primitive::Normalization(_) => "normalization",
+        Primitive::RadialDistance(_) => "radial_distance",
+        Primitive::Homokinetic(_) => "homokinetic",
     }
 }
 
@@ -94,6 +100,7 @@ pub fn driver_name(d: &Driver) -> &'static str {
         Driver::Translation(_) => "translation_driver",
         Driver::Distance(_) => "distance_driver",
         Driver::Coordinate(_) => "coordinate_driver",
+        Driver::Pose(_) => "pose_driver",
     }
 }
 
@@ -246,7 +253,29 @@ pub fn build(name: &str, p: &Value) -> Result<Element, ParamError> {
     use Element as E;
     let prim = |x: Primitive| Ok(E::Primitive(x));
     let joint = |k: JointKind| {
-        Joint::new(k, marker(p, "marker_i")?, marker(p, "marker_j")?)
+        let at = |key| {
+            v3(p, key).map(|point| Marker {
+                point,
+                frame: Matrix3::identity(),
+            })
+        };
+        let (mi, mj) = match p.get("marker_i") {
+            Some(_) => (marker(p, "marker_i")?, marker(p, "marker_j")?),
+            None => (at("point_i")?, at("point_j")?),
+        };
+        let opt = |key| {
+            if p.get(key).is_some() {
+                num(p, key)
+            } else {
+                Ok(0.0)
+            }
+        };
+        let params = JointParams {
+            length: opt("length")?,
+            offset: opt("offset")?,
+            angle: opt("angle")?,
+        };
+        Joint::with_params(k, mi, mj, params)
             .map(E::Joint)
             .map_err(|e| e.to_string())
     };
@@ -264,22 +293,24 @@ pub fn build(name: &str, p: &Value) -> Result<Element, ParamError> {
         "s" => prim(Spherical::new(v3(p, "sp_i")?, v3(p, "sp_j")?).into()),
         "distance" => prim(Distance::new(v3(p, "sp_i")?, v3(p, "sp_j")?, num(p, "length")?).into()),
         "normalization" => prim(Normalization.into()),
-        // A joint kind of the table: markers, or two points and a length.
+        "radial_distance" => prim(
+            RadialDistance::new(
+                v3(p, "f_i")?,
+                v3(p, "g_i")?,
+                v3(p, "sp_i")?,
+                v3(p, "sp_j")?,
+                num(p, "length")?,
+            )
+            .into(),
+        ),
+        "homokinetic" => prim(
+            Homokinetic::new(v3(p, "x_i")?, v3(p, "y_i")?, v3(p, "x_j")?, v3(p, "y_j")?).into(),
+        ),
+        // A joint kind of the table: markers (or, for spherical_spherical, two points) and the
+        // numbers the kind takes.
         _ if JointKind::from_name(name).is_some_and(|k| k.name() == name) => {
             let kind = JointKind::from_name(name).expect("checked");
-            if kind.info().length {
-                let at = |key| {
-                    v3(p, key).map(|point| Marker {
-                        point,
-                        frame: Matrix3::identity(),
-                    })
-                };
-                Joint::with_length(kind, at("point_i")?, at("point_j")?, num(p, "length")?)
-                    .map(E::Joint)
-                    .map_err(|e| e.to_string())
-            } else {
-                joint(kind)
-            }
+            joint(kind)
         }
         "rotation_driver" => Ok(E::Driver(
             RotationDriver::new(
@@ -340,6 +371,27 @@ pub fn build(name: &str, p: &Value) -> Result<Element, ParamError> {
             } else {
                 RackPinion::new(mi, mj, ks, ka, c, r).into()
             }))
+        }
+        "pose_driver" => {
+            let order = p
+                .get("order")
+                .and_then(Value::as_str)
+                .and_then(RotationOrder::parse)
+                .ok_or("missing or invalid `order`")?;
+            let row = p
+                .get("row")
+                .and_then(Value::as_u64)
+                .filter(|&r| r < 6)
+                .ok_or("missing or invalid `row`")? as usize;
+            let specs = p
+                .get("functions")
+                .and_then(Value::as_array)
+                .filter(|a| a.len() == 6)
+                .ok_or("`functions` must hold six time functions")?;
+            let f: Vec<TimeFunction> = specs.iter().map(time_function).collect::<Result<_, _>>()?;
+            let f: [TimeFunction; 6] = f.try_into().expect("six");
+            let (mi, mj) = (marker(p, "marker_i")?, marker(p, "marker_j")?);
+            Ok(E::Driver(PoseDriver::new(mi, mj, order, f, row).into()))
         }
         other => Err(format!(
             "no Rust element is registered under the oracle name `{other}`"

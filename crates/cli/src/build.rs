@@ -12,13 +12,14 @@ use crate::model::{
     AnalysisSection, BodySection, DriverSection, ForceSection, FunctionSpec, InertiaSpec,
     JointSection, ModelFile, Name, Num, OrientationSpec, Vec3,
 };
-use cardan_constraints::{JointKind, TimeFunction, KINDS};
+use cardan_constraints::drivers::POSE_ROWS;
+use cardan_constraints::{JointKind, RotationOrder, TimeFunction, KINDS};
 use cardan_dynamics::{
     Dopri5Options, Force, Frame, GeneralizedAlphaOptions, Integrator, PointRef, VectorFunction,
 };
 use cardan_mechanism::{
-    Axis, Body, DriverSpec, ElementKind, JointSpec, MechanismBuilder, Orientation, Quantity, Site,
-    GROUND,
+    pose_row_name, Axis, Body, DriverSpec, DriverTarget, ElementKind, JointSpec, KinematicOptions,
+    MechanismBuilder, Orientation, PoseTarget, Quantity, Site, GROUND,
 };
 use nalgebra::{Matrix3, Vector3};
 use std::collections::{BTreeMap, HashMap};
@@ -124,6 +125,8 @@ pub struct Analysis {
     /// `kind = "inverse_dynamics"`: driver efforts and reactions of a fully driven mechanism
     /// along its kinematics (`dynamic` is then `None`).
     pub inverse_dynamics: bool,
+    /// Kinematic and inverse dynamics: the position solves' tolerance on the scaled residual.
+    pub tolerance: f64,
 }
 
 impl Analysis {
@@ -285,7 +288,13 @@ fn joint_types() -> impl Iterator<Item = &'static str> + Clone {
         .flat_map(|k| std::iter::once(k.name).chain(k.aliases.iter().copied()))
 }
 
-const DRIVER_TYPES: &[&str] = &["rotation", "translation", "distance", "coordinate"];
+const DRIVER_TYPES: &[&str] = &[
+    "rotation",
+    "translation",
+    "distance",
+    "coordinate",
+    "general_motion",
+];
 const FUNCTION_KINDS: &[&str] = &TimeFunction::KINDS;
 
 /// Turns a parsed file into a builder, checking everything that has a place in the file.
@@ -436,12 +445,30 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
             spans.first_driver = Some(d.name.span());
         }
         let (spec, what) = load_driver(&resolver, d)?;
-        drivers.push((d.name.get_ref().clone(), what));
-        let q = match spec.target {
-            cardan_mechanism::DriverTarget::JointRotation { .. } => Quantity::Angle,
-            _ => Quantity::Length,
-        };
-        driver_functions.push((spec.function.clone(), q));
+        match &spec.target {
+            // A general motion is six driver rows: each is listed, located and checked.
+            DriverTarget::Pose(t) => {
+                for (k, f) in t.functions.iter().enumerate() {
+                    let row = pose_row_name(&spec.name, k);
+                    spans.drivers.insert(row.clone(), d.name.span());
+                    drivers.push((row, format!("{} of the {what}", POSE_ROWS[k])));
+                    let q = if k < 3 {
+                        Quantity::Length
+                    } else {
+                        Quantity::Angle
+                    };
+                    driver_functions.push((f.clone(), q));
+                }
+            }
+            target => {
+                drivers.push((d.name.get_ref().clone(), what));
+                let q = match target {
+                    DriverTarget::JointRotation { .. } => Quantity::Angle,
+                    _ => Quantity::Length,
+                };
+                driver_functions.push((spec.function.clone(), q));
+            }
+        }
         builder.driver(spec);
     }
 
@@ -774,22 +801,32 @@ fn load_joint(r: &Resolver, j: &JointSection) -> Result<JointSpec, Error> {
         (bj, j.point_j.get_ref()),
     );
     let info = kind.info();
-    let needs_axes = info.axes.required();
+    // Which of the axes the kind takes is checked by the builder (located by `Spans::locate`);
+    // here only the pairing: both sides, or axis_i alone for a kind that uses frame i only.
+    let both = info.axes.on_j();
     match (&j.axis_i, &j.axis_j) {
         (Some(ai), Some(aj)) => spec = spec.axes(ai.get_ref(), aj.get_ref()),
-        (None, None) if !needs_axes => {}
-        _ => {
+        (Some(ai), None) if !both => spec = spec.axis_i(ai.get_ref()),
+        (None, None) if !info.axes.required() => {}
+        (None, Some(_)) | (Some(_), None) | (None, None) => {
+            let keys = if both { "axis_i and axis_j" } else { "axis_i" };
             return Err(cx.err(
                 j.name.span(),
                 format!(
-                    "{owner}: a {} joint needs axis_i and axis_j (names of vectors on body \"{bi}\" and body \"{bj}\")",
-                    kind.name()
+                    "{owner}: a {} joint needs {keys} (names of vectors on body \"{bi}\"{})",
+                    kind.name(),
+                    if both {
+                        format!(" and body \"{bj}\"")
+                    } else {
+                        String::new()
+                    }
                 ),
-            ))
+            ));
         }
     }
     match (&j.x_axis_i, &j.x_axis_j) {
         (Some(xi), Some(xj)) => spec = spec.x_axes(xi.get_ref(), xj.get_ref()),
+        (Some(xi), None) if !both => spec = spec.x_axis_i(xi.get_ref()),
         (None, None) => {}
         (Some(x), None) | (None, Some(x)) => {
             return Err(cx.err(
@@ -802,6 +839,12 @@ fn load_joint(r: &Resolver, j: &JointSection) -> Result<JointSpec, Error> {
         // Whether the kind takes a length, and its sign: checked by the builder.
         let v = cx.num(l, &format!("{owner} length"), Quantity::Length)?;
         spec = spec.length(v);
+    }
+    if let Some(h) = &j.offset {
+        spec = spec.offset(cx.num(h, &format!("{owner} offset"), Quantity::Length)?);
+    }
+    if let Some(a) = &j.angle {
+        spec = spec.angle(cx.num(a, &format!("{owner} angle"), Quantity::Angle)?);
     }
     Ok(spec)
 }
@@ -941,6 +984,105 @@ fn load_function(
     Ok(tf)
 }
 
+/// A general_motion driver: frames i and j (bodies, origins, optional axes), the rotation
+/// sequence and the six laws (three translations, three angles).
+fn load_general_motion(r: &Resolver, d: &DriverSection) -> Result<(DriverSpec, String), Error> {
+    let cx = r.cx;
+    let name = d.name.get_ref().clone();
+    let owner = format!("driver \"{name}\"");
+    let span = d.name.span();
+    for (k, given) in [
+        ("joint", d.joint.is_some()),
+        ("body", d.body.is_some()),
+        ("point", d.point.is_some()),
+        ("coordinate", d.coordinate.is_some()),
+        ("function", d.function.is_some()),
+    ] {
+        if given {
+            return Err(cx.err(
+                span,
+                format!(
+                    "{owner}: a general_motion driver does not take \"{k}\" (its laws are \
+                     translation = [three functions] and rotation = [three functions])"
+                ),
+            ));
+        }
+    }
+    let need = |v: &Option<Name>, key: &str| -> Result<String, Error> {
+        v.as_ref().map(|n| n.get_ref().clone()).ok_or_else(|| {
+            missing(
+                cx,
+                span.clone(),
+                &owner,
+                key,
+                "a general motion moves frame j relative to frame i",
+            )
+        })
+    };
+    let order = match &d.order {
+        None => RotationOrder([0, 1, 2]),
+        Some(o) => RotationOrder::parse(o.get_ref()).ok_or_else(|| {
+            cx.err(
+                o.span(),
+                format!(
+                    "{owner}: order must be three axis letters with no axis twice in a row (xyz, \
+                     xzy, yxz, yzx, zxy, zyx, xyx, xzx, yxy, yzy, zxz, zyz), got \"{}\"",
+                    o.get_ref()
+                ),
+            )
+        })?,
+    };
+    let three = |list: &Option<Spanned<Vec<Spanned<FunctionSpec>>>>, key: &str, q: Quantity| {
+        let Some(l) = list else {
+            return Err(missing(
+                cx,
+                span.clone(),
+                &owner,
+                key,
+                "three functions of time",
+            ));
+        };
+        if l.get_ref().len() != 3 {
+            return Err(cx.err(
+                l.span(),
+                format!(
+                    "{owner}: {key} needs three functions, got {}",
+                    l.get_ref().len()
+                ),
+            ));
+        }
+        l.get_ref()
+            .iter()
+            .map(|f| load_function(cx, f, &owner, q))
+            .collect::<Result<Vec<_>, _>>()
+    };
+    let mut f = three(&d.translation, "translation", Quantity::Length)?;
+    f.extend(three(&d.rotation, "rotation", Quantity::Angle)?);
+    let functions: [TimeFunction; 6] = f.try_into().expect("three and three");
+    let opt = |v: &Option<Name>| v.as_ref().map(|n| n.get_ref().clone());
+    let target = PoseTarget {
+        body_i: need(&d.body_i, "body_i")?,
+        point_i: need(&d.point_i, "point_i")?,
+        axis_i: opt(&d.axis_i),
+        x_axis_i: opt(&d.x_axis_i),
+        body_j: need(&d.body_j, "body_j")?,
+        point_j: need(&d.point_j, "point_j")?,
+        axis_j: opt(&d.axis_j),
+        x_axis_j: opt(&d.x_axis_j),
+        order,
+        functions,
+    };
+    let what = format!(
+        "pose of {}.{} in {}.{} ({} angles)",
+        target.body_j,
+        target.point_j,
+        target.body_i,
+        target.point_i,
+        order.name()
+    );
+    Ok((DriverSpec::pose(name, target), what))
+}
+
 fn load_driver(r: &Resolver, d: &DriverSection) -> Result<(DriverSpec, String), Error> {
     let cx = r.cx;
     let name = d.name.get_ref().clone();
@@ -951,8 +1093,35 @@ fn load_driver(r: &Resolver, d: &DriverSection) -> Result<(DriverSpec, String), 
     } else {
         Quantity::Length
     };
-    let function = load_function(cx, &d.function, &owner, value_q)?;
     let span = d.name.span();
+    if kind == "general_motion" {
+        return load_general_motion(r, d);
+    }
+    let pose_keys = [
+        ("axis_i", d.axis_i.is_some()),
+        ("x_axis_i", d.x_axis_i.is_some()),
+        ("axis_j", d.axis_j.is_some()),
+        ("x_axis_j", d.x_axis_j.is_some()),
+        ("order", d.order.is_some()),
+        ("translation", d.translation.is_some()),
+        ("rotation", d.rotation.is_some()),
+    ];
+    if let Some((k, _)) = pose_keys.iter().find(|(_, p)| *p) {
+        return Err(cx.err(
+            span,
+            format!("{owner}: a {kind} driver does not take \"{k}\" (a general_motion key)"),
+        ));
+    }
+    let Some(fspec) = &d.function else {
+        return Err(missing(
+            cx,
+            span,
+            &owner,
+            "function",
+            "the law the driven value follows",
+        ));
+    };
+    let function = load_function(cx, fspec, &owner, value_q)?;
     let stray = |keys: &[(&str, bool)]| -> Result<(), Error> {
         if let Some((k, _)) = keys.iter().find(|(_, p)| *p) {
             return Err(cx.err(
@@ -1114,7 +1283,17 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
             }
             None
         }
-        "dynamic" => Some(load_integrator(cx, a)?),
+        "dynamic" => {
+            if let Some(t) = &a.tolerance {
+                return Err(cx.err(
+                    t.span(),
+                    "tolerance applies to kind = \"kinematic\" and \"inverse_dynamics\" (a \
+                     dynamic run's accuracy is set by rtol and atol, or newton_tolerance)"
+                        .to_string(),
+                ));
+            }
+            Some(load_integrator(cx, a)?)
+        }
         other => {
             let hint = did_you_mean(other, ["kinematic", "dynamic", "inverse_dynamics"]);
             return Err(cx.err(
@@ -1124,6 +1303,18 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
                      \"dynamic\", \"inverse_dynamics\")"
                 ),
             ));
+        }
+    };
+    let tolerance = match &a.tolerance {
+        None => KinematicOptions::new(0.0, 1.0, 1).tolerance,
+        Some(n) => {
+            let v = cx.num(n, "tolerance", Quantity::Unbounded)?;
+            // The range is the library's; the refusal is placed at the key.
+            KinematicOptions::new(0.0, 1.0, 1)
+                .tolerance(v)
+                .validate()
+                .map_err(|e| cx.err(n.span(), e.to_string()))?;
+            v
         }
     };
     let t_start = match &a.t_start {
@@ -1305,6 +1496,7 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
         plots,
         dynamic,
         inverse_dynamics: kind == "inverse_dynamics",
+        tolerance,
     })
 }
 

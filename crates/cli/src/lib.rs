@@ -8,7 +8,7 @@
 //!   file describes; CSV per output group (header with units), SVG plots, `run.json`, a summary
 //!   line with warnings ([`output`]: the directory rule; [`progress`]: progress bar and Ctrl-C).
 //! - `cardan check MODEL.toml`: bodies, joints with equation counts, DOF, redundant equations.
-//! - `cardan eval MODEL.toml [--t T] [--format text|json]`: Φ, the Jacobian (pattern and
+//! - `cardan eval MODEL.toml [--t T] [--format text|json|csv]`: Φ, the Jacobian (pattern and
 //!   values), ν and γ# at the assembled state; JSON at full precision with row and column maps.
 //!
 //! Every failure is an [`Error`] with a one-paragraph message (file:line:column when it comes

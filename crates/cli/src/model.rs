@@ -160,8 +160,7 @@ pub struct BodySection {
 pub struct JointSection {
     /// Unique name.
     pub name: Name,
-    /// revolute, spherical, universal, cylindrical, prismatic, fixed, planar,
-    /// spherical_spherical (alias distance).
+    /// A kind of the joint table (`cardan_constraints::KINDS`), e.g. revolute.
     #[serde(rename = "type")]
     pub kind: Name,
     /// Body i ("ground" allowed).
@@ -184,9 +183,17 @@ pub struct JointSection {
     /// Reference direction ⟂ axis on body j.
     #[serde(default)]
     pub x_axis_j: Option<Name>,
-    /// Length [m] of a spherical_spherical joint (default: the initial distance).
+    /// Length ℓ [m] of a spherical_spherical, rev_cyl, cyl_sph or rev_rev joint (default: its
+    /// initial value).
     #[serde(default)]
     pub length: Option<Num>,
+    /// Offset h [m] of the plane along axis_i (point_in_plane, line_in_plane, planar, rev_rev;
+    /// default 0).
+    #[serde(default)]
+    pub offset: Option<Num>,
+    /// Angle α [rad] of an angle joint (default: its initial value).
+    #[serde(default)]
+    pub angle: Option<Num>,
 }
 
 /// `function = { kind = ..., ... }`.
@@ -239,22 +246,22 @@ pub struct FunctionSpec {
 pub struct DriverSection {
     /// Unique name.
     pub name: Name,
-    /// rotation, translation, distance, coordinate.
+    /// rotation, translation, distance, coordinate, general_motion.
     #[serde(rename = "type")]
     pub kind: Name,
     /// rotation / translation: the driven joint.
     #[serde(default)]
     pub joint: Option<Name>,
-    /// distance: body i.
+    /// distance, general_motion: body i.
     #[serde(default)]
     pub body_i: Option<Name>,
-    /// distance: point on body i.
+    /// distance: point on body i; general_motion: the origin of frame i.
     #[serde(default)]
     pub point_i: Option<Name>,
-    /// distance: body j.
+    /// distance, general_motion: body j.
     #[serde(default)]
     pub body_j: Option<Name>,
-    /// distance: point on body j.
+    /// distance: point on body j; general_motion: the origin of frame j.
     #[serde(default)]
     pub point_j: Option<Name>,
     /// coordinate: the body.
@@ -266,8 +273,30 @@ pub struct DriverSection {
     /// coordinate: "x", "y" or "z".
     #[serde(default)]
     pub coordinate: Option<Name>,
-    /// The time function.
-    pub function: Spanned<FunctionSpec>,
+    /// general_motion: z of frame i (a vector of body i; default: the body frame).
+    #[serde(default)]
+    pub axis_i: Option<Name>,
+    /// general_motion: x of frame i.
+    #[serde(default)]
+    pub x_axis_i: Option<Name>,
+    /// general_motion: z of frame j.
+    #[serde(default)]
+    pub axis_j: Option<Name>,
+    /// general_motion: x of frame j.
+    #[serde(default)]
+    pub x_axis_j: Option<Name>,
+    /// general_motion: the rotation sequence, e.g. "xyz" (default) or "zxz".
+    #[serde(default)]
+    pub order: Option<Name>,
+    /// general_motion: three functions, the translations along x_i, y_i, z_i [m].
+    #[serde(default)]
+    pub translation: Option<Spanned<Vec<Spanned<FunctionSpec>>>>,
+    /// general_motion: three functions, the angles of the sequence [rad].
+    #[serde(default)]
+    pub rotation: Option<Spanned<Vec<Spanned<FunctionSpec>>>>,
+    /// The time function (every type but general_motion).
+    #[serde(default)]
+    pub function: Option<Spanned<FunctionSpec>>,
 }
 
 /// `[[coupler]]`: one equation between the coordinates of two joints.
@@ -409,6 +438,10 @@ pub struct AnalysisSection {
     /// dynamic, generalized_alpha: Newton tolerance (default 1e-10).
     #[serde(default)]
     pub newton_tolerance: Option<Num>,
+    /// kinematic, inverse_dynamics: the position solves' tolerance on the scaled residual
+    /// (default 1e-10).
+    #[serde(default)]
+    pub tolerance: Option<Num>,
     /// What to write.
     #[serde(default)]
     pub outputs: Option<Spanned<OutputsSection>>,
@@ -597,7 +630,16 @@ fn check_counts(src: &Source, file: &ModelFile) -> Result<(), Error> {
         long(&f.values, "spline values")
     };
     for d in &file.driver {
-        function(d.get_ref().function.get_ref())?;
+        let d = d.get_ref();
+        if let Some(f) = &d.function {
+            function(f.get_ref())?;
+        }
+        for list in [&d.translation, &d.rotation].into_iter().flatten() {
+            // Their count (three) is checked when the driver is read.
+            for f in list.get_ref().iter().take(3) {
+                function(f.get_ref())?;
+            }
+        }
     }
     for f in &file.force {
         let f = f.get_ref();

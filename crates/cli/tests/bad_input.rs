@@ -923,7 +923,7 @@ fn a_driver_on_a_joint_it_cannot_drive_is_located_at_its_joint_key() {
         "31:9",
         &[
             "driver \"motor\": joint \"pivot\" is revolute",
-            "a translation driver needs a cylindrical or prismatic joint",
+            "a translation driver needs a cylindrical, prismatic, point_in_line",
         ],
     );
 }
@@ -950,5 +950,29 @@ fn drivers_on_the_ground_or_within_one_body_are_located_at_the_key() {
         "type = \"distance\"\nbody_i = \"ground\"\npoint_i = \"O\"\nbody_j = \"crank\"\npoint_j = \"tpi\"\n",
         "34:11",
         &["body \"crank\" has no point \"tpi\"", "did you mean \"tip\"?"],
+    );
+}
+
+/// `[analysis] tolerance` sets the position solves' tolerance of a kinematic run; outside its
+/// range [1e-14, 1e-6] it is refused at the key, and a dynamic run refuses it (its accuracy is
+/// set by rtol/atol or newton_tolerance).
+#[test]
+fn the_kinematic_tolerance_is_used_and_checked_at_its_key() {
+    let o = run_text(
+        "run",
+        &edited("steps = 10", "steps = 10\ntolerance = 1e-13"),
+    );
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    fails_at(
+        "steps = 10",
+        "steps = 10\ntolerance = 1e-3",
+        "38:13",
+        &["tolerance = 0.001 is outside its sensible range [1e-14, 1e-6]"],
+    );
+    fails_at(
+        "kind = \"kinematic\"",
+        "kind = \"dynamic\"\ntolerance = 1e-10",
+        "36:13",
+        &["tolerance applies to kind = \"kinematic\" and \"inverse_dynamics\""],
     );
 }

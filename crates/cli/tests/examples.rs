@@ -226,6 +226,12 @@ fn universal_joint_follows_cardan_formula() {
     eprintln!("universal_drive: max |φ₂ − φ₂(φ₁)| = {e_angle:.2e} rad, |ω₂ − ratio ω₁| = {e_rate:.2e} rad/s");
     assert!(e_angle < 1e-10 && e_rate < 1e-9, "{e_angle} {e_rate}");
     // Two revolute bearings and the cross: 14 equations of rank 11 for 12 unknowns.
+    assert_eq!(dof_and_redundant(&p), (1, 3));
+    check_fd("universal_drive", &p, 100, 1e-2, 5e-1);
+}
+
+/// DOF and number of redundant equations of the joints, assembled at t = 0 without drivers.
+fn dof_and_redundant(p: &Prepared) -> (usize, usize) {
     let mut ws = p.model.workspace();
     let opts = AssemblyOptions {
         include_drivers: false,
@@ -233,8 +239,50 @@ fn universal_joint_follows_cardan_formula() {
     };
     p.model.assemble(&mut ws, &opts).unwrap();
     let dof = p.model.dof(&ws).unwrap();
-    assert_eq!((dof.dof, dof.redundant.len()), (1, 3));
-    check_fd("universal_drive", &p, 100, 1e-2, 5e-1);
+    (dof.dof, dof.redundant.len())
+}
+
+/// The CV driveline: the output shaft's bearing angle equals the input's at every instant, and
+/// so do the speeds (the universal_drive example at the same bend fluctuates).
+#[test]
+fn cv_driveline_turns_the_output_at_the_input_speed() {
+    let (p, r) = run_example("cv_driveline");
+    let beta = PI / 6.0;
+    let a2 = Vector3::new(beta.cos(), beta.sin(), 0.0);
+    let (b1, b2) = (r.joint("bearing1").unwrap(), r.joint("bearing2").unwrap());
+    let (s1, s2) = (r.body("shaft1").unwrap(), r.body("shaft2").unwrap());
+    let (mut e_angle, mut e_rate) = (0.0f64, 0.0f64);
+    for k in 0..r.len() {
+        e_angle = e_angle.max((b2.values[k][0] - b1.values[k][0]).abs());
+        let w1 = s1.omega[k].dot(&Vector3::x());
+        e_rate = e_rate.max((s2.omega[k].dot(&a2) - w1).abs());
+    }
+    eprintln!("cv_driveline: max |φ₂ − φ₁| = {e_angle:.2e} rad, |ω₂ − ω₁| = {e_rate:.2e} rad/s");
+    assert!(e_angle < 1e-10 && e_rate < 1e-9, "{e_angle} {e_rate}");
+    // Two revolute bearings and the CV joint: 14 equations of rank 11 (its point is redundant).
+    // (No finite-difference order check: both shafts turn at constant speed, so the differences
+    // of the accelerations are already at roundoff.)
+    assert_eq!(dof_and_redundant(&p), (1, 3));
+}
+
+/// The wobble-plate pump: each piston follows z = R tan α sin(φ − θ), θ = 2π t.
+#[test]
+fn wobble_plate_pistons_follow_the_closed_form() {
+    let (p, r) = run_example("wobble_plate_pump");
+    let (alpha, radius, w) = (15f64.to_radians(), 0.1, 2.0 * PI);
+    let c = radius * alpha.tan();
+    let (mut ez, mut ev) = (0.0f64, 0.0f64);
+    for k in 0..3 {
+        let phi = 2.0 * PI * k as f64 / 3.0;
+        let piston = r.body(&format!("piston{k}")).unwrap();
+        for (n, &t) in r.times.iter().enumerate() {
+            ez = ez.max((piston.r[n].z - c * (phi - w * t).sin()).abs());
+            ev = ev.max((piston.r_dot[n].z + c * w * (phi - w * t).cos()).abs());
+        }
+    }
+    eprintln!("wobble_plate_pump: max |z − z(θ)| = {ez:.2e} m, |ż − ż(θ)| = {ev:.2e} m/s");
+    assert!(ez < 1e-12 && ev < 1e-11, "{ez} {ev}");
+    check_fd("wobble_plate_pump", &p, 100, 1e-2, 5e-1);
 }
 
 /// Cubic Hermite interpolation of a point history at time t (positions and velocities).
@@ -402,6 +450,8 @@ fn every_example_checks() {
         "gear_train",
         "screw_jack",
         "rack_pinion_steering",
+        "cv_driveline",
+        "wobble_plate_pump",
     ] {
         let p = prepare(&example(name)).unwrap();
         let mut out = Vec::new();
@@ -668,4 +718,103 @@ fn rack_pinion_steering_follows_the_pinion() {
         .fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v[0]), b.max(v[0])));
     assert!(lo < -0.4 && hi > 0.4, "knuckle range {lo}..{hi}");
     check_fd("rack_pinion_steering", &p, 400, 1e-2, 1.0);
+}
+/// joint_velocities.csv and joint_accelerations.csv (the exact rates of the joint coordinates)
+/// against central differences of joints.csv and of the rates, on kinematic examples of many
+/// joint kinds, and against the body quantities on the slider-crank (crank rate 2π, slide rate =
+/// the slider's ẋ).
+#[test]
+fn joint_rates_match_differences_of_the_joint_coordinates() {
+    for name in [
+        "slider_crank",
+        "bennett",
+        "cv_driveline",
+        "wobble_plate_pump",
+        "universal_drive",
+        "spatial_fourbar_cylindrical",
+    ] {
+        let (_, r) = run_example(name);
+        let h = r.times[1] - r.times[0];
+        let (mut ev, mut ea, mut scale) = (0.0f64, 0.0f64, 1.0f64);
+        for j in &r.joints {
+            assert_eq!(j.rates.len(), r.len(), "{name}");
+            assert_eq!(j.accelerations.len(), r.len(), "{name}");
+            for q in 0..j.coordinates.len() {
+                for k in 1..r.len() - 1 {
+                    let fd = (j.values[k + 1][q] - j.values[k - 1][q]) / (2.0 * h);
+                    let fa = (j.rates[k + 1][q] - j.rates[k - 1][q]) / (2.0 * h);
+                    ev = ev.max((fd - j.rates[k][q]).abs());
+                    ea = ea.max((fa - j.accelerations[k][q]).abs());
+                    scale = scale.max(j.accelerations[k][q].abs());
+                }
+            }
+        }
+        eprintln!(
+            "{name}: |ċ − Δc/2h| ≤ {ev:.1e}, |c̈ − Δċ/2h| ≤ {ea:.1e} (h = {h}, max |c̈| {scale:.1e})"
+        );
+        // Central differences err by h²/6 · (third derivative): small against the scale.
+        assert!(ev < 1e-3 * scale && ea < 1e-2 * scale, "{name}: {ev} {ea}");
+    }
+    let (_, r) = run_example("slider_crank");
+    let (crank, slide) = (r.joint("crank_pin").unwrap(), r.joint("slide").unwrap());
+    let slider = r.body("slider").unwrap();
+    for k in 0..r.len() {
+        assert!((crank.rates[k][0] - 2.0 * PI).abs() < 1e-9);
+        assert!((slide.rates[k][0] - slider.r_dot[k].x).abs() < 1e-12);
+        assert!((slide.accelerations[k][0] - slider.r_ddot[k].x).abs() < 1e-10);
+    }
+}
+
+/// `cardan eval --format csv`: one line per equation with its element and primitive, Φ, ν, γ#
+/// and its dense row of Φ_v; every float reads back to the same f64 as the evaluation's.
+#[test]
+fn eval_csv_round_trips_every_float_exactly() {
+    use cardan_cli::commands::eval::evaluate;
+    for name in ["slider_crank", "wobble_plate_pump"] {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_cardan"))
+            .args(["eval", "--format", "csv", "--t", "0.3"])
+            .arg(example(name))
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let text = String::from_utf8(out.stdout).unwrap();
+        let (_, want) = evaluate(&example(name), Some(0.3)).unwrap();
+        let mut lines = text.lines();
+        let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+        assert_eq!(
+            header[..8],
+            [
+                "row",
+                "element",
+                "kind",
+                "primitive",
+                "local_row",
+                "phi",
+                "nu",
+                "gamma"
+            ]
+        );
+        assert_eq!(header.len(), 8 + want.columns.len());
+        let mut dense = vec![vec![0.0; want.columns.len()]; want.rows.len()];
+        for &(r, c, v) in &want.jacobian {
+            dense[r][c] += v;
+        }
+        let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+        assert_eq!(rows.len(), want.rows.len());
+        for (k, f) in rows.iter().enumerate() {
+            assert_eq!(f[1], want.rows[k].element);
+            assert_eq!(f[3], want.rows[k].primitive);
+            let num = |s: &str| s.parse::<f64>().unwrap().to_bits();
+            assert_eq!(num(f[5]), want.phi[k].to_bits(), "{name} Φ[{k}]");
+            assert_eq!(num(f[6]), want.nu[k].to_bits(), "{name} ν[{k}]");
+            assert_eq!(num(f[7]), want.gamma[k].to_bits(), "{name} γ#[{k}]");
+            for (c, x) in dense[k].iter().enumerate() {
+                assert_eq!(num(f[8 + c]), x.to_bits(), "{name} Φ_v[{k},{c}]");
+            }
+        }
+    }
 }

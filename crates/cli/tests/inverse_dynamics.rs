@@ -360,3 +360,55 @@ fn dynamic_run_writes_driver_efforts() {
     assert!(worst < 1e-9 * scale, "power balance off by {worst:e} W");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The general motion example: the probe's centre follows the prescribed helix, and the six
+/// efforts are the force m (r̈ − g) along ground x, y, z and the torque A (J' ω̇' + ω' × J' ω')
+/// about its centre (ground components): the driver alone moves it.
+#[test]
+fn general_motion_efforts_are_the_newton_euler_force_and_torque() {
+    let dir = common::scratch("general-motion");
+    let o = run_model(&example("general_motion_path"), Some(&dir), false).expect("runs");
+    assert!(o.error.is_none(), "{:?}", o.error);
+    let bodies = Csv::read(&dir, "bodies.csv");
+    let vel = Csv::read(&dir, "body_velocities.csv");
+    let acc = Csv::read(&dir, "body_accelerations.csv");
+    let eff = Csv::read(&dir, "driver_efforts.csv");
+    let (m, j) = (1.5, Matrix3::from_diagonal(&Vector3::new(0.02, 0.03, 0.04)));
+    let g = Vector3::new(0.0, 0.0, -9.81);
+    let (mut e_path, mut e_force, mut e_torque) = (0.0f64, 0.0f64, 0.0f64);
+    for k in 0..eff.rows.len() {
+        let t = eff.rows[k][0];
+        let w = std::f64::consts::PI;
+        let r = Vector3::new(0.3 * (w * t).cos(), 0.3 * (w * t).sin(), 0.1 * t);
+        e_path = e_path.max((bodies.vec3(k, "probe.r", "m") - r).norm());
+        let force = Vector3::new(
+            eff.get(k, "path.x.force [N]"),
+            eff.get(k, "path.y.force [N]"),
+            eff.get(k, "path.z.force [N]"),
+        );
+        let a = acc.vec3(k, "probe.r_ddot", "m/s²");
+        e_force = e_force.max((force - m * (a - g)).norm());
+        let p = Vector4::new(
+            bodies.get(k, "probe.p.e0 [-]"),
+            bodies.get(k, "probe.p.e1 [-]"),
+            bodies.get(k, "probe.p.e2 [-]"),
+            bodies.get(k, "probe.p.e3 [-]"),
+        );
+        let rot = cardan_eulerparam::a(&p);
+        let (wl, dwl) = (
+            rot.transpose() * vel.vec3(k, "probe.omega", "rad/s"),
+            rot.transpose() * acc.vec3(k, "probe.omega_dot", "rad/s²"),
+        );
+        let torque = Vector3::new(
+            eff.get(k, "path.angle_1.torque [N m]"),
+            eff.get(k, "path.angle_2.torque [N m]"),
+            eff.get(k, "path.angle_3.torque [N m]"),
+        );
+        e_torque = e_torque.max((torque - rot * (j * dwl + wl.cross(&(j * wl)))).norm());
+    }
+    eprintln!(
+        "general motion: path {e_path:.1e} m, force {e_force:.1e} N, torque {e_torque:.1e} N m"
+    );
+    assert!(e_path < 1e-12, "{e_path}");
+    assert!(e_force < 1e-9 && e_torque < 1e-9, "{e_force} {e_torque}");
+}

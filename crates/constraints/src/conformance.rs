@@ -20,6 +20,7 @@
 //! seeded random ones. Each mismatch names element, case, quantity, row, column, got and want.
 
 use crate::constraint::Constraint;
+use crate::joints::{Joint, JointKind, JointParams};
 use crate::marker::Marker;
 use crate::state::{BodyPair, BodyState, Footprint};
 use crate::time_function::TimeFunction;
@@ -144,6 +145,24 @@ impl Sampler {
             self.rotation()
         };
         Marker { point, frame }
+    }
+
+    /// A joint of `kind` on sampled markers, with a sampled length, offset and angle when the
+    /// kind takes them.
+    pub fn joint(&mut self, kind: JointKind) -> Joint {
+        let info = kind.info();
+        let (mi, mj) = (self.marker(), self.marker());
+        let mut params = JointParams::default();
+        if info.length {
+            params.length = self.length();
+        }
+        if info.offset {
+            params.offset = self.scale * self.rng.uniform(-1.0, 1.0);
+        }
+        if info.angle {
+            params.angle = self.rng.uniform(-3.2, 3.2);
+        }
+        Joint::with_params(kind, mi, mj, params).expect("sampled markers and numbers are valid")
     }
 
     /// A random rotation matrix.

@@ -197,6 +197,29 @@ impl<const N: usize> ScalarGrad<N> {
         }
     }
 
+    /// self + o.
+    pub fn add(&self, o: &Self) -> Self {
+        Self {
+            v: self.v + o.v,
+            di: self.di + o.di,
+            dj: self.dj + o.dj,
+        }
+    }
+
+    /// self − o.
+    pub fn sub(&self, o: &Self) -> Self {
+        self.add(&o.scale(-1.0))
+    }
+
+    /// self², by the chain rule: ∂(u²) = 2 u ∂u.
+    pub fn square(&self) -> Self {
+        Self {
+            v: self.v * self.v,
+            di: self.di * (2.0 * self.v),
+            dj: self.dj * (2.0 * self.v),
+        }
+    }
+
     /// Writes the gradient rows into one Jacobian row of each body.
     pub fn write(&self, out_i: &mut [f64; N], out_j: &mut [f64; N]) {
         for c in 0..N {
@@ -302,6 +325,35 @@ impl Motion {
             v: self.v.cross(&o.v),
             rate: self.rate.cross(&o.v) + self.v.cross(&o.rate),
             quad: self.quad.cross(&o.v) + 2.0 * self.rate.cross(&o.rate) + self.v.cross(&o.quad),
+        }
+    }
+}
+
+impl ScalarMotion {
+    /// self + o.
+    pub fn add(&self, o: &Self) -> Self {
+        Self {
+            v: self.v + o.v,
+            rate: self.rate + o.rate,
+            quad: self.quad + o.quad,
+        }
+    }
+
+    /// self − o.
+    pub fn sub(&self, o: &Self) -> Self {
+        Self {
+            v: self.v - o.v,
+            rate: self.rate - o.rate,
+            quad: self.quad - o.quad,
+        }
+    }
+
+    /// self²: (u²)¨ = 2 u̇² + 2 u ü.
+    pub fn square(&self) -> Self {
+        Self {
+            v: self.v * self.v,
+            rate: 2.0 * self.v * self.rate,
+            quad: 2.0 * self.rate * self.rate + 2.0 * self.v * self.quad,
         }
     }
 }

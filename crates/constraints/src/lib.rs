@@ -24,7 +24,9 @@
 //! their two-row forms [`P1Perp`] / [`P2Perp`] (body-fixed f_i, g_i ⟂ s_i; always rank 2) and
 //! [`P1Select`] / [`P2Select`] (the seed's choice of two rows, made once in body i's frame so it
 //! never chatters), [`Spherical`] (r^P_i − r^P_j), [`Distance`] (dᵀd − ℓ²) and
-//! [`Normalization`] (pᵀp − 1). [`Primitive`] is the closed enum over them.
+//! [`Normalization`] (pᵀp − 1), [`RadialDistance`] ((f_iᵀd)² + (g_iᵀd)² − ℓ²: a point at a
+//! distance from a line) and [`Homokinetic`] (x_iᵀy_j − y_iᵀx_j: no relative twist about z).
+//! [`Primitive`] is the closed enum over them.
 //!
 //! ## Joints and drivers
 //! [`Joint`]s are lists of primitives built from two [`Marker`]s (see [`joints`] for the table);
@@ -77,6 +79,7 @@ pub mod couplers;
 pub mod distance;
 pub mod drivers;
 pub mod error;
+pub mod homokinetic;
 pub mod jet;
 pub mod joints;
 pub mod marker;
@@ -90,6 +93,7 @@ pub mod p2;
 pub mod p2_perp;
 pub mod p2_select;
 pub mod primitive;
+pub mod radial_distance;
 pub mod spherical;
 pub mod state;
 pub mod time_function;
@@ -97,10 +101,14 @@ pub mod time_function;
 pub use constraint::{Constraint, Dimension};
 pub use couplers::{Coupler, Gear, RackPinion, Screw};
 pub use distance::Distance;
-pub use drivers::{CoordinateDriver, DistanceDriver, Driver, RotationDriver, TranslationDriver};
+pub use drivers::{
+    CoordinateDriver, DistanceDriver, Driver, PoseDriver, RotationDriver, RotationOrder,
+    TranslationDriver,
+};
 pub use error::ConstraintError;
+pub use homokinetic::Homokinetic;
 pub use jet::{Form, Q7, V6};
-pub use joints::{unwrap_angle, Joint, JointCoordinates, JointKind, KindInfo, KINDS};
+pub use joints::{unwrap_angle, Joint, JointCoordinates, JointKind, JointParams, KindInfo, KINDS};
 pub use marker::Marker;
 pub use n1::N1;
 pub use n2::N2;
@@ -112,6 +120,7 @@ pub use p2::P2;
 pub use p2_perp::P2Perp;
 pub use p2_select::P2Select;
 pub use primitive::Primitive;
+pub use radial_distance::RadialDistance;
 pub use spherical::Spherical;
 pub use state::{BlockUse, BodyPair, BodyState, Footprint};
 pub use time_function::{Spline, TimeFunction};

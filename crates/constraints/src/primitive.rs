@@ -1,7 +1,8 @@
 //! [`Primitive`]: the closed set of primitive equations (static dispatch, no `dyn` in hot loops).
 
 use crate::{
-    Distance, Normalization, P1Perp, P1Select, P2Perp, P2Select, Spherical, N1, N2, P1, P2,
+    Distance, Homokinetic, Normalization, P1Perp, P1Select, P2Perp, P2Select, RadialDistance,
+    Spherical, N1, N2, P1, P2,
 };
 
 /// One primitive constraint. Adding a primitive: a file with its struct and `Constraint` impl,
@@ -30,6 +31,10 @@ pub enum Primitive {
     Distance(Distance),
     /// p_iᵀ p_i − 1 (1 row).
     Normalization(Normalization),
+    /// (f_iᵀ d)² + (g_iᵀ d)² − ℓ² (1 row).
+    RadialDistance(RadialDistance),
+    /// x_iᵀ y_j − y_iᵀ x_j (1 row).
+    Homokinetic(Homokinetic),
 }
 
 macro_rules! dispatch {
@@ -46,6 +51,8 @@ macro_rules! dispatch {
             Primitive::Spherical($c) => $e,
             Primitive::Distance($c) => $e,
             Primitive::Normalization($c) => $e,
+            Primitive::RadialDistance($c) => $e,
+            Primitive::Homokinetic($c) => $e,
         }
     };
 }
@@ -72,5 +79,7 @@ from_variant!(
     P2Perp,
     Spherical,
     Distance,
-    Normalization
+    Normalization,
+    RadialDistance,
+    Homokinetic
 );

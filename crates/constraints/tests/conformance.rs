@@ -26,25 +26,30 @@ fn assert_conforms<C: Constraint>(
     );
 }
 
-/// A joint of `kind` on sampled markers (a kind that takes a length gets a sampled one).
-fn joint(kind: JointKind) -> impl Fn(&mut Sampler) -> Joint {
-    move |s| {
-        if kind.info().length {
-            let length = s.length();
-            Joint::with_length(kind, s.marker(), s.marker(), length)
-        } else {
-            Joint::new(kind, s.marker(), s.marker())
-        }
-        .expect("valid markers")
-    }
-}
-
 /// Every joint kind of the table (`KINDS`): a kind added there is checked here with no edit.
 #[test]
 fn every_joint_kind() {
     for info in KINDS {
-        assert_conforms(info.name, BOTH, joint(info.kind));
+        assert_conforms(info.name, BOTH, |s: &mut Sampler| s.joint(info.kind));
     }
+}
+
+/// A random row of a pose driver with a random rotation sequence (all 12 occur).
+fn pose_row(s: &mut Sampler) -> PoseDriver {
+    const ORDERS: [&str; 12] = [
+        "xyz", "xzy", "yxz", "yzx", "zxy", "zyx", "xyx", "xzx", "yxy", "yzy", "zxz", "zyz",
+    ];
+    let order = RotationOrder::parse(ORDERS[s.rng.below(12)]).unwrap();
+    let f = [
+        s.function(),
+        s.function(),
+        s.function(),
+        s.angle_function(),
+        s.angle_function(),
+        s.angle_function(),
+    ];
+    let row = s.rng.below(6);
+    PoseDriver::new(s.marker(), s.marker(), order, f, row)
 }
 
 macro_rules! conformance_tests {
@@ -67,10 +72,13 @@ conformance_tests! {
     p2_perp: BOTH, |s: &mut Sampler| P2Perp::new(s.direction(), s.direction(), s.point(), s.point());
     spherical_primitive: BOTH, |s: &mut Sampler| Spherical::new(s.point(), s.point());
     distance: BOTH, |s: &mut Sampler| Distance::new(s.point(), s.point(), s.length());
+    radial_distance: BOTH, |s: &mut Sampler| RadialDistance::new(s.direction(), s.direction(), s.point(), s.point(), s.length());
+    homokinetic: BOTH, |s: &mut Sampler| Homokinetic::new(s.direction(), s.direction(), s.direction(), s.direction());
     normalization: ONLY_I_MOVES, |_: &mut Sampler| Normalization;
     rotation_driver: BOTH, |s: &mut Sampler| RotationDriver::new(s.marker(), s.marker(), s.angle_function());
     translation_driver: BOTH, |s: &mut Sampler| TranslationDriver::new(s.marker(), s.marker(), s.function());
     distance_driver: BOTH, |s: &mut Sampler| DistanceDriver::new(s.point(), s.point(), s.function());
+    pose_driver: BOTH, pose_row;
     coordinate_driver: ONLY_I_MOVES, |s: &mut Sampler| CoordinateDriver::new(s.point(), s.rng.below(3), s.function()).unwrap();
     gear: BOTH, sample_gear;
     rack_pinion: BOTH, |s: &mut Sampler| RackPinion::new(general(s).marker(), s.marker(), coefficient(s), s.length() * coefficient(s), s.length(), turns(s));
@@ -114,8 +122,10 @@ proptest! {
     #[test]
     fn proptest_random_cases(seed in any::<u64>()) {
         let (case, mut s) = conformance::random_case(seed, BOTH);
-        let mut bad = conformance::check(&Joint::new(JointKind::Fixed, s.marker(), s.marker()).unwrap(), &case);
-        bad.extend(conformance::check(&Joint::new(JointKind::Prismatic, s.marker(), s.marker()).unwrap(), &case));
+        let mut bad = Vec::new();
+        for info in KINDS {
+            bad.extend(conformance::check(&s.joint(info.kind), &case));
+        }
         bad.extend(conformance::check(&RotationDriver::new(s.marker(), s.marker(), s.angle_function()), &case));
         bad.extend(conformance::check(&DistanceDriver::new(s.point(), s.point(), s.function()), &case));
         prop_assert!(bad.is_empty(), "{}", conformance::report(&bad, 10));

@@ -255,11 +255,12 @@ fn markers_and_joints_reject_bad_definitions() {
 fn joint_row_counts_and_origins() {
     let m = Marker::from_axis(Vector3::zeros(), Vector3::z()).unwrap();
     for kind in JointKind::all() {
-        let j = if kind.info().length {
-            Joint::with_length(kind, m, m, 1.0).unwrap()
-        } else {
-            Joint::new(kind, m, m).unwrap()
+        let info = kind.info();
+        let params = JointParams {
+            length: if info.length { 1.0 } else { 0.0 },
+            ..JointParams::default()
         };
+        let j = Joint::with_params(kind, m, m, params).unwrap();
         assert_eq!(j.rows(), kind.rows(), "{kind:?}");
         assert_eq!(j.name(), kind.name());
         assert!(j.row_origin(kind.rows() - 1).is_some() && j.row_origin(kind.rows()).is_none());

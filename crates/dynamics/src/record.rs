@@ -9,10 +9,10 @@ use crate::results::{
 use crate::state::State;
 use crate::system::Dynamics;
 use crate::DynamicsError;
-use cardan_constraints::joints::CoordinateQuantity;
-use cardan_constraints::{unwrap_angle, BodyPair, BodyState};
+use cardan_constraints::joints::{BodyAcceleration, CoordinateQuantity};
+use cardan_constraints::{unwrap_angle, BodyPair, BodyState, Driver};
 use cardan_eulerparam::{p_ddot_from_local, p_dot_from_local};
-use cardan_mechanism::{BodyId, BodyResults, JointResults, Outputs, PointResults, Results};
+use cardan_mechanism::{BodyId, BodyResults, JointResults, Model, Outputs, PointResults, Results};
 use nalgebra::Vector3;
 
 pub(crate) struct Recorder {
@@ -75,6 +75,8 @@ impl Recorder {
                     kind: j.joint.kind(),
                     coordinates: j.joint.kind().info().coordinates,
                     values: Vec::with_capacity(capacity),
+                    rates: Vec::new(),
+                    accelerations: Vec::new(),
                 });
             }
         }
@@ -230,6 +232,25 @@ impl Recorder {
                 }
             }
             jr.values.push(c.values);
+            if vel {
+                let body_acc = |id: BodyId| match id {
+                    BodyId::Moving(k) if acc => BodyAcceleration {
+                        r_ddot: Vector3::from_column_slice(&self.vdot[6 * k..6 * k + 3]),
+                        omega_dot_local: Vector3::from_column_slice(
+                            &self.vdot[6 * k + 3..6 * k + 6],
+                        ),
+                    },
+                    _ => BodyAcceleration::default(),
+                };
+                let pair = BodyPair::new(st(j.body_i), st(j.body_j));
+                let r = j
+                    .joint
+                    .coordinate_rates(&pair, &body_acc(j.body_i), &body_acc(j.body_j));
+                jr.rates.push(r.rates);
+                if acc {
+                    jr.accelerations.push(r.accelerations);
+                }
+            }
         }
         self.res.lambda.push(self.lambda.clone());
         for (ji, (jr, j)) in self
@@ -262,12 +283,13 @@ impl Recorder {
         );
         for (di, (de, dr)) in self.res.drivers.iter_mut().zip(model.drivers()).enumerate() {
             let e = &d.elements[nj + di];
-            let (pi, pj) = match dr.joint {
-                Some(j) => (
+            let (pi, pj) = match (dr.joint, &dr.driver) {
+                (Some(j), _) => (
                     model.joints()[j].joint.marker_i().point,
                     model.joints()[j].joint.marker_j().point,
                 ),
-                None => (Vector3::zeros(), Vector3::zeros()),
+                (None, Driver::Pose(p)) => (p.marker_i.point, p.marker_j.point),
+                (None, _) => (Vector3::zeros(), Vector3::zeros()),
             };
             let (ri, rj) = d.element_reaction(e, state.t, &self.lambda, &pi, &pj);
             let row = dr.rows.start;
@@ -304,6 +326,7 @@ impl Recorder {
                 });
             }
         }
+        pose_torques(&mut self.res.drivers, model, st);
         let en = d.energy(state);
         self.res.energy.kinetic.push(en.kinetic);
         self.res.energy.gravity.push(en.gravity);
@@ -329,4 +352,38 @@ impl Recorder {
 /// radii.
 fn has_force(c: &cardan_mechanism::CouplerInfo) -> bool {
     c.kind() != "gear" || c.gear_radius_j.is_some()
+}
+
+/// The efforts of a pose driver's rotation rows (3–5) as the torque its three rows exert on body
+/// j about P_j, in the components of frame i (x_I, y_I, z_I): the rows' multipliers alone are not
+/// torques about axes (each row is a dot product of the frames), their combined reaction is.
+/// The translation rows' efforts, −λ, are already the force along x_I, y_I, z_I.
+fn pose_torques<'a>(
+    drivers: &mut [DriverEfforts],
+    model: &Model,
+    st: impl Fn(BodyId) -> &'a BodyState,
+) {
+    for (k, dr) in model.drivers().iter().enumerate() {
+        let Driver::Pose(p) = &dr.driver else {
+            continue;
+        };
+        if p.row != 3 || k + 3 > drivers.len() {
+            continue;
+        }
+        let torque: Vector3<f64> = drivers[k..k + 3]
+            .iter()
+            .map(|de| {
+                de.reactions
+                    .on_j
+                    .last()
+                    .map_or(Vector3::zeros(), |r| r.torque)
+            })
+            .sum();
+        let frame = st(dr.body_i).a * p.marker_i.frame;
+        for (m, de) in drivers[k..k + 3].iter_mut().enumerate() {
+            if let Some(e) = de.effort.last_mut() {
+                *e = frame.column(m).dot(&torque);
+            }
+        }
+    }
 }

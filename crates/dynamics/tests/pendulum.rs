@@ -67,3 +67,30 @@ fn a01_generalized_alpha_matches_the_exact_solution() {
     assert!(drift < 1e-3, "energy drift {drift}");
     assert!(terr < 1e-6, "tension error {terr}");
 }
+
+/// The pin's angle rate and acceleration written by a dynamic run are the pendulum's ω_z and
+/// ω̇_z (the joint axis is global z), and its angle is that of the mass about the pivot.
+#[test]
+fn a01_joint_rates_are_the_body_angular_velocity_and_acceleration() {
+    let model = pendulum(1.0, 1e-13, 1.0);
+    let mut d = Dynamics::new(&model).unwrap();
+    d.add_force(Force::gravity(Vector3::new(0.0, -G, 0.0)))
+        .unwrap();
+    let res = d
+        .simulate(&d.initial_guess(), &SimulationOptions::new(2.0, 50))
+        .unwrap();
+    let (pin, body) = (
+        &res.kinematics.joint("pin").unwrap(),
+        res.body("mass").unwrap(),
+    );
+    let mut err: f64 = 0.0;
+    for k in 0..res.len() {
+        let r = body.r[k];
+        let angle = r.y.atan2(r.x);
+        err = err
+            .max((pin.values[k][0] - angle).abs())
+            .max((pin.rates[k][0] - body.omega[k].z).abs())
+            .max((pin.accelerations[k][0] - body.omega_dot[k].z).abs());
+    }
+    assert!(err < 1e-10, "{err}");
+}

@@ -25,7 +25,8 @@
 
 use crate::error::ModelError;
 use crate::model::Model;
-use cardan_constraints::{JointKind, TimeFunction};
+use cardan_constraints::drivers::POSE_ROWS;
+use cardan_constraints::{JointKind, RotationOrder, TimeFunction};
 use cardan_eulerparam::{
     frame_from_axis, frame_from_two_axes, p_from_euler_123, p_from_euler_313,
     p_from_rotation_matrix, EulerParamError, EulerParams,
@@ -183,8 +184,14 @@ pub struct JointSpec {
     pub x_axis_i: Option<String>,
     /// Vector on body j: marker x_j.
     pub x_axis_j: Option<String>,
-    /// Length of a spherical-spherical joint (default: the distance at the initial poses).
+    /// Length ℓ of a kind that takes one (spherical_spherical, rev_cyl, cyl_sph, rev_rev;
+    /// default: its value at the initial poses).
     pub length: Option<f64>,
+    /// Offset h of the plane along z_i of a kind that takes one (point_in_plane, line_in_plane,
+    /// planar, rev_rev; default 0).
+    pub offset: Option<f64>,
+    /// Angle α of an angle joint, rad (default: its value at the initial poses).
+    pub angle: Option<f64>,
 }
 
 impl JointSpec {
@@ -207,6 +214,8 @@ impl JointSpec {
             x_axis_i: None,
             x_axis_j: None,
             length: None,
+            offset: None,
+            angle: None,
         }
     }
 
@@ -217,6 +226,13 @@ impl JointSpec {
         self
     }
 
+    /// Sets the joint axis on body i only (kinds that use marker i's frame alone, e.g.
+    /// point_in_plane).
+    pub fn axis_i(mut self, axis_i: &str) -> Self {
+        self.axis_i = Some(axis_i.into());
+        self
+    }
+
     /// Sets the marker x axes (vector names on body i and body j).
     pub fn x_axes(mut self, x_axis_i: &str, x_axis_j: &str) -> Self {
         self.x_axis_i = Some(x_axis_i.into());
@@ -224,9 +240,27 @@ impl JointSpec {
         self
     }
 
-    /// Sets the length of a spherical-spherical joint.
+    /// Sets the marker x axis on body i only.
+    pub fn x_axis_i(mut self, x_axis_i: &str) -> Self {
+        self.x_axis_i = Some(x_axis_i.into());
+        self
+    }
+
+    /// Sets the length ℓ of a kind that takes one.
     pub fn length(mut self, length: f64) -> Self {
         self.length = Some(length);
+        self
+    }
+
+    /// Sets the offset h of a kind that takes one.
+    pub fn offset(mut self, offset: f64) -> Self {
+        self.offset = Some(offset);
+        self
+    }
+
+    /// Sets the angle α (rad) of an angle joint.
+    pub fn angle(mut self, angle: f64) -> Self {
+        self.angle = Some(angle);
         self
     }
 }
@@ -292,6 +326,40 @@ pub enum DriverTarget {
         /// Which coordinate.
         axis: Axis,
     },
+    /// The full pose of a marker frame on body j relative to one on body i (general motion):
+    /// six rows, named `<driver>.x`, `.y`, `.z`, `.angle_1`, `.angle_2`, `.angle_3`.
+    Pose(Box<PoseTarget>),
+}
+
+/// The frames and laws of a pose (general motion) driver: marker frame j = marker frame i
+/// translated by (f₁, f₂, f₃)(t) along its own axes and turned by R_{o1}(a₁) R_{o2}(a₂) R_{o3}(a₃).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PoseTarget {
+    /// Body i (may be ground).
+    pub body_i: String,
+    /// The origin of frame i: a point of body i.
+    pub point_i: String,
+    /// z of frame i (a vector of body i); default: the body frame.
+    pub axis_i: Option<String>,
+    /// x of frame i.
+    pub x_axis_i: Option<String>,
+    /// Body j.
+    pub body_j: String,
+    /// The origin of frame j: a point of body j.
+    pub point_j: String,
+    /// z of frame j (a vector of body j); default: the body frame.
+    pub axis_j: Option<String>,
+    /// x of frame j.
+    pub x_axis_j: Option<String>,
+    /// The rotation sequence.
+    pub order: RotationOrder,
+    /// f₁, f₂, f₃ (m) and a₁, a₂, a₃ (rad).
+    pub functions: [TimeFunction; 6],
+}
+
+/// The name of row `k` (0–5) of pose driver `name`: `name.x`, ..., `name.angle_3`.
+pub fn pose_row_name(name: &str, k: usize) -> String {
+    format!("{name}.{}", POSE_ROWS[k])
 }
 
 /// A driver: a named time law f(t) for a [`DriverTarget`].
@@ -344,6 +412,16 @@ impl DriverSpec {
                 point_j: point_j.into(),
             },
             function,
+        }
+    }
+
+    /// The pose of a frame on body j relative to one on body i follows `target`'s six laws.
+    pub fn pose(name: impl Into<String>, target: PoseTarget) -> Self {
+        Self {
+            name: name.into(),
+            target: DriverTarget::Pose(Box::new(target)),
+            // Unused: the six laws are in the target.
+            function: TimeFunction::Constant(0.0),
         }
     }
 

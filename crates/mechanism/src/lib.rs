@@ -87,8 +87,8 @@ pub use analysis::position::{
     PositionReport, FAST_RANK_MIN_UNKNOWNS, KINEMATIC_MAX_CHORD_STEPS, SELECTION_PIVOT_TOLERANCE,
 };
 pub use builder::{
-    Axis, Body, CouplerKind, CouplerSpec, DriverSpec, DriverTarget, ForceSpec, GearRatio,
-    JointSpec, MechanismBuilder, Orientation, GROUND,
+    pose_row_name, Axis, Body, CouplerKind, CouplerSpec, DriverSpec, DriverTarget, ForceSpec,
+    GearRatio, JointSpec, MechanismBuilder, Orientation, PoseTarget, GROUND,
 };
 pub use dof::DofReport;
 pub use error::{AnalysisError, ElementKind, EquationName, Error, ModelError, OpenElement, Site};

@@ -4,6 +4,7 @@
 //! vector stays empty, and so on. All vectors that are filled have one entry per time in
 //! [`Results::times`].
 
+use cardan_constraints::joints::MAX_COORDINATES;
 use cardan_constraints::JointKind;
 use nalgebra::{Vector3, Vector4};
 
@@ -109,7 +110,11 @@ pub struct JointResults {
     /// The coordinates (names and measures; see [`cardan_constraints::Joint::coordinates`]).
     pub coordinates: &'static [cardan_constraints::joints::Coordinate],
     /// Values per time (first `coordinates.len()` entries meaningful); angles unwrapped.
-    pub values: Vec<[f64; 3]>,
+    pub values: Vec<[f64; MAX_COORDINATES]>,
+    /// Rates per time (rad/s, m/s), when velocities were computed (else empty).
+    pub rates: Vec<[f64; MAX_COORDINATES]>,
+    /// Accelerations per time (rad/s², m/s²), when accelerations were computed (else empty).
+    pub accelerations: Vec<[f64; MAX_COORDINATES]>,
 }
 
 /// Everything a kinematic run produced.

@@ -12,6 +12,7 @@
 
 use crate::dof::DofReport;
 use crate::model::{BodyId, Model};
+use cardan_constraints::joints::BodyAcceleration;
 use cardan_constraints::BodyState;
 use cardan_eulerparam::{p_ddot_from_local, p_dot_from_local, EulerParams};
 use cardan_solver::{AutoSolver, Newton, NonlinearSystem};
@@ -184,6 +185,18 @@ impl Workspace {
         match id {
             BodyId::Ground => BodyState::ground(),
             BodyId::Moving(k) => self.bodies[k],
+        }
+    }
+
+    /// The accelerations of a body (zero for ground, and for every body unless `valid`: the
+    /// joint rates then use none).
+    pub fn acceleration_of(&self, id: BodyId, valid: bool) -> BodyAcceleration {
+        match id {
+            BodyId::Moving(k) if valid => BodyAcceleration {
+                r_ddot: self.r_ddot(k),
+                omega_dot_local: self.omega_dot_local(k),
+            },
+            _ => BodyAcceleration::default(),
         }
     }
 

@@ -19,6 +19,7 @@
 
 mod stress_common;
 
+use cardan_constraints::joints::Block;
 use cardan_constraints::{KindInfo, KINDS};
 use cardan_mechanism::{
     AnalysisError, AssemblyOptions, Body, DriverSpec, JointKind, JointSpec, KinematicOptions,
@@ -151,7 +152,13 @@ fn add_joint(
             }
         }
     };
-    let at_j = if info.length { at + 0.5 * l * u } else { at };
+    // A length block needs P_j away from P_i: along the axis for a point distance, across it
+    // for a distance from the axis line.
+    let at_j = match (info.length, info.blocks.contains(&Block::RadialDistance)) {
+        (true, true) => at + 0.5 * l * v,
+        (true, false) => at + 0.5 * l * u,
+        _ => at,
+    };
     let (pi, pj) = (format!("{name}_Pi"), format!("{name}_Pj"));
     let (ui, uj, xi, xj) = (
         format!("{name}_ui"),
@@ -162,7 +169,10 @@ fn add_joint(
     b.point(bi, &pi, local(pose_i, at, true));
     b.point(bj, &pj, local(pose_j, at_j, true));
     // Universal and perpendicular: the axes are perpendicular (u on i, v on j).
-    let (arm_j, x_j) = if matches!(kind, JointKind::Universal | JointKind::Perpendicular) {
+    let (arm_j, x_j) = if matches!(
+        kind,
+        JointKind::Universal | JointKind::Perpendicular | JointKind::LineInPlane
+    ) {
         (v, u)
     } else {
         (u, v)
@@ -172,10 +182,15 @@ fn add_joint(
     b.vector(bi, &xi, local(pose_i, v, false));
     b.vector(bj, &xj, local(pose_j, x_j, false));
     let mut js = JointSpec::new(name, kind, (bi, &pi), (bj, &pj));
-    if info.axes.accepted() {
+    if info.axes.on_j() {
         js = js.axes(&ui, &uj);
         if info.x_axes && kind != JointKind::Universal {
             js = js.x_axes(&xi, &xj);
+        }
+    } else if info.axes.accepted() {
+        js = js.axis_i(&ui);
+        if info.x_axes {
+            js = js.x_axis_i(&xi);
         }
     }
     b.joint(js);
@@ -228,6 +243,27 @@ fn add_joint(
         // z_j ⟂ z_i (u on i, v on j, as for the universal arms): every translation, the rotations
         // about the two axes.
         JointKind::Perpendicular => vec![tra(e1), tra(e2), tra(e3), rot(u, at), rot(v, at)],
+        JointKind::PointInLine => vec![rot(e1, at), rot(e2, at), rot(e3, at), tra(u)],
+        JointKind::PointInPlane => vec![rot(e1, at), rot(e2, at), rot(e3, at), tra(v), tra(w)],
+        // Plane normal u on i, line v on j: slide in the plane, turn about the normal and the line.
+        JointKind::LineInPlane => vec![tra(v), tra(w), rot(u, at), rot(v, at)],
+        JointKind::ParallelAxes => vec![tra(e1), tra(e2), tra(e3), rot(u, at)],
+        // Drawn at angle 0 about x_i = v (z_j = z_i = u): z_j may turn in the plane of u and v
+        // (about w) and about itself (u).
+        JointKind::Angle => vec![tra(e1), tra(e2), tra(e3), rot(u, at), rot(w, at)],
+        JointKind::NoRotation => vec![tra(e1), tra(e2), tra(e3)],
+        // Straight shafts along u: bends about the two cross directions, no twist.
+        JointKind::ConstantVelocity => vec![rot(v, at), rot(w, at)],
+        // P_j across the axis at distance ℓ: j turns about its own axis, orbits i's, slides.
+        JointKind::RevCyl => vec![rot(u, at_j), rot(u, at), tra(u)],
+        JointKind::CylSph => vec![
+            rot(e1, at_j),
+            rot(e2, at_j),
+            rot(e3, at_j),
+            rot(u, at),
+            tra(u),
+        ],
+        JointKind::RevRev => vec![rot(u, at_j), rot(u, at)],
     };
     (kind, drivers, twists)
 }

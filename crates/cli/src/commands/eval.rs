@@ -1,8 +1,8 @@
-//! `cardan eval MODEL.toml [--t T] [--format text|json]`: Φ, Φ_v (pattern and values), ν and
-//! γ# at the assembled state, the tool for debugging a model. As text for reading (7
-//! significant digits), or as JSON for programs: every number at full precision (the shortest
-//! decimal that reads back to the same f64), with the map from each row to its element and
-//! primitive and from each column to its body and coordinate.
+//! `cardan eval MODEL.toml [--t T] [--format text|json|csv]`: Φ, Φ_v (pattern and values), ν
+//! and γ# at the assembled state, the tool for debugging a model. As text for reading (7
+//! significant digits), or for programs as JSON or CSV: every number at full precision (the
+//! shortest decimal that reads back to the same f64), with the map from each row to its element
+//! and primitive and from each column to its body and coordinate.
 //!
 //! The form is the 6-coordinate one (`shared/notation.md`): per moving body the unknowns are
 //! Δr (global, m) and Δπ' (body frame, rad), so Φ_v multiplies v = [ṙ; ω'] and
@@ -31,7 +31,13 @@ pub enum Format {
     Text,
     /// One JSON object at full precision (see [`Evaluation`]).
     Json,
+    /// One CSV table at full precision: a line per equation with its element, kind,
+    /// primitive, Φ, ν, γ# and its row of Φ_v (a column per unknown, `body.r.x` ...).
+    Csv,
 }
+
+/// Most unknowns written as dense Jacobian columns by `--format csv` (JSON is sparse).
+pub const CSV_MAX_UNKNOWNS: usize = 3000;
 
 /// The unknowns of one moving body, in column order (6-coordinate form).
 pub const COORDINATES: [&str; 6] = ["r.x", "r.y", "r.z", "ω'.x", "ω'.y", "ω'.z"];
@@ -122,7 +128,68 @@ pub fn eval(path: &Path, t: Option<f64>, format: Format, out: &mut dyn Write) ->
                 .map_err(|e| Error::output(format!("cannot write the JSON: {e}")))?;
             writeln!(out, "{text}").map_err(io)
         }
+        Format::Csv => write_csv(&ev, out),
     }
+}
+
+/// The CSV of `--format csv`: numbers as the shortest decimal that reads back to the same f64
+/// (`1.5e-3`), structural zeros of Φ_v written as 0.
+fn write_csv(ev: &Evaluation, out: &mut dyn Write) -> Result<(), Error> {
+    let n = ev.columns.len();
+    if n > CSV_MAX_UNKNOWNS {
+        return Err(Error::input(format!(
+            "cardan eval --format csv writes the Jacobian densely and the model has {n} unknowns \
+             (at most {CSV_MAX_UNKNOWNS}): use --format json, which lists its nonzeros"
+        )));
+    }
+    let mut header: Vec<String> = [
+        "row",
+        "element",
+        "kind",
+        "primitive",
+        "local_row",
+        "phi",
+        "nu",
+        "gamma",
+    ]
+    .map(String::from)
+    .to_vec();
+    header.extend(
+        ev.columns
+            .iter()
+            .map(|c| format!("{}.{}", c.body, c.coordinate)),
+    );
+    let line = |fields: Vec<String>| -> String {
+        let f: Vec<String> = fields.iter().map(|s| crate::table::csv_field(s)).collect();
+        f.join(",")
+    };
+    writeln!(out, "{}", line(header)).map_err(io)?;
+    let mut by_row = vec![Vec::new(); ev.rows.len()];
+    for &(r, c, v) in &ev.jacobian {
+        by_row[r].push((c, v));
+    }
+    let mut dense = vec![0.0; n];
+    for (k, r) in ev.rows.iter().enumerate() {
+        dense.fill(0.0);
+        for &(c, v) in &by_row[k] {
+            dense[c] += v;
+        }
+        let mut fields = vec![
+            k.to_string(),
+            r.element.clone(),
+            r.kind.clone(),
+            r.primitive.clone(),
+            r.local_row.to_string(),
+        ];
+        fields.extend(
+            [ev.phi[k], ev.nu[k], ev.gamma[k]]
+                .iter()
+                .map(|v| format!("{v:e}")),
+        );
+        fields.extend(dense.iter().map(|v| format!("{v:e}")));
+        writeln!(out, "{}", line(fields)).map_err(io)?;
+    }
+    Ok(())
 }
 
 /// Assembles at time t (default: the analysis start) and evaluates Φ, ν, γ# and Φ_v there.

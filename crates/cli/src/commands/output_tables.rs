@@ -101,10 +101,19 @@ pub(super) fn requested(p: &Prepared, req: &Requested) -> Requested {
     }
 }
 
-/// What a driver exerts and its unit: a torque (N m) for a rotation driver, else a force (N).
+/// What a driver exerts and its unit: a torque (N m) for a rotation driver and a general
+/// motion's angle rows (the torque on body j about P_j, frame-i components), else a force (N).
 pub fn effort_kind(p: &Prepared, driver: &str) -> (&'static str, &'static str) {
-    match p.model.drivers().iter().find(|d| d.name == driver) {
-        Some(d) if matches!(d.driver, cardan_constraints::Driver::Rotation(_)) => ("torque", "N m"),
+    use cardan_constraints::Driver;
+    match p
+        .model
+        .drivers()
+        .iter()
+        .find(|d| d.name == driver)
+        .map(|d| &d.driver)
+    {
+        Some(Driver::Rotation(_)) => ("torque", "N m"),
+        Some(Driver::Pose(pose)) if pose.row >= 3 => ("torque", "N m"),
         _ => ("force", "N"),
     }
 }

@@ -11,14 +11,17 @@
 //! | [`TranslationDriver`] | z_iᵀ d − s(t) |
 //! | [`DistanceDriver`] | dᵀd − ℓ(t)² |
 //! | [`CoordinateDriver`] | (r_i + A_i s'^P_i)[k] − c(t) |
+//! | [`PoseDriver`] | one of six rows: x_Iᵀ d − f_k(t) (k = 1..3), or a fixed-joint row to the frame A_I R(t) |
 
 mod coordinate;
 mod distance;
+mod pose;
 mod rotation;
 mod translation;
 
 pub use coordinate::CoordinateDriver;
 pub use distance::DistanceDriver;
+pub use pose::{PoseDriver, RotationOrder, POSE_ROWS};
 pub use rotation::RotationDriver;
 pub use translation::TranslationDriver;
 
@@ -36,6 +39,8 @@ pub enum Driver {
     Distance(DistanceDriver),
     /// One global coordinate of a body point.
     Coordinate(CoordinateDriver),
+    /// One row of a full pose prescription (general motion).
+    Pose(PoseDriver),
 }
 
 macro_rules! dispatch {
@@ -45,6 +50,7 @@ macro_rules! dispatch {
             Driver::Translation($c) => $e,
             Driver::Distance($c) => $e,
             Driver::Coordinate($c) => $e,
+            Driver::Pose($c) => $e,
         }
     };
 }
@@ -52,18 +58,32 @@ macro_rules! dispatch {
 impl Driver {
     /// The time function.
     pub fn function(&self) -> &TimeFunction {
-        dispatch!(self, c => &c.function)
+        match self {
+            Driver::Pose(p) => &p.functions[p.row],
+            Driver::Rotation(c) => &c.function,
+            Driver::Translation(c) => &c.function,
+            Driver::Distance(c) => &c.function,
+            Driver::Coordinate(c) => &c.function,
+        }
     }
 
     /// Replaces the time function (assembly's continuation holds each driver at intermediate
     /// constant values on the way to f(t)).
     pub fn set_function(&mut self, function: TimeFunction) {
-        dispatch!(self, c => c.function = function)
+        match self {
+            Driver::Pose(p) => p.functions[p.row] = function,
+            Driver::Rotation(c) => c.function = function,
+            Driver::Translation(c) => c.function = function,
+            Driver::Distance(c) => c.function = function,
+            Driver::Coordinate(c) => c.function = function,
+        }
     }
 
     /// The driven coordinate c at the bodies' poses: the joint angle atan2(y_iᵀ x_j, x_iᵀ x_j)
     /// (principal value, rad), the slide z_iᵀ d, the distance |d| (m) or the point's global
-    /// coordinate (m). The driver's equation holds when c = f(t) (mod 2π for an angle).
+    /// coordinate (m), a pose driver's translation x_Iᵀ d (rows 0–2; for its rotation rows the
+    /// angles are not separable: [`PoseDriver::coordinate`]). The driver's equation holds when
+    /// c = f(t) (mod 2π for an angle).
     pub fn coordinate(&self, x: &BodyPair) -> f64 {
         match self {
             Driver::Rotation(d) => {
@@ -78,6 +98,7 @@ impl Driver {
             }
             Driver::Distance(d) => (x.j.point(&d.point_j) - x.i.point(&d.point_i)).norm(),
             Driver::Coordinate(d) => x.i.point(&d.point_i)[d.axis],
+            Driver::Pose(d) => d.coordinate(x),
         }
     }
 
@@ -89,7 +110,10 @@ impl Driver {
     pub fn coordinate_slope(&self, t: f64) -> f64 {
         match self {
             Driver::Distance(d) => 2.0 * d.function.eval(t).0,
-            Driver::Rotation(_) | Driver::Translation(_) | Driver::Coordinate(_) => 1.0,
+            Driver::Rotation(_)
+            | Driver::Translation(_)
+            | Driver::Coordinate(_)
+            | Driver::Pose(_) => 1.0,
         }
     }
 }
@@ -105,4 +129,4 @@ macro_rules! from_variant {
         }
     )*};
 }
-from_variant!(Rotation => RotationDriver, Translation => TranslationDriver, Distance => DistanceDriver, Coordinate => CoordinateDriver);
+from_variant!(Rotation => RotationDriver, Translation => TranslationDriver, Distance => DistanceDriver, Coordinate => CoordinateDriver, Pose => PoseDriver);

@@ -1,6 +1,6 @@
 //! Relative joint coordinates for output: angles and slides measured between the markers.
 
-use super::{Axis, Coordinate, Joint, Measure};
+use super::{Axis, Coordinate, Joint, Measure, MAX_COORDINATES};
 use crate::state::BodyPair;
 use cardan_eulerparam::{euler_123_from_p, p_from_rotation_matrix};
 use std::f64::consts::PI;
@@ -14,7 +14,7 @@ pub struct JointCoordinates {
     /// The coordinates (names and measures; e.g. `angle`, or `angle` and `slide`).
     pub coordinates: &'static [Coordinate],
     /// Their values (the first `names.len()` entries are meaningful).
-    pub values: [f64; 3],
+    pub values: [f64; MAX_COORDINATES],
 }
 
 impl JointCoordinates {
@@ -47,7 +47,10 @@ impl Joint {
     /// - [`Measure::CrossAngleI`]: the universal joint's cross about arm z_i relative to body i,
     ///   atan2(y_iᵀ z_j, x_iᵀ z_j); [`Measure::CrossAngleJ`]: body j about arm z_j relative to
     ///   the cross, atan2(y_jᵀ z_i, x_jᵀ z_i);
-    /// - [`Measure::Bryant`]: Bryant 1-2-3 angles of marker frame j relative to marker frame i.
+    /// - [`Measure::Bryant`]: Bryant 1-2-3 angles of marker frame j relative to marker frame i;
+    /// - [`Measure::AxisAngle`]: z_j from z_i about x_i, atan2(−y_iᵀ z_j, z_iᵀ z_j);
+    /// - [`Measure::Bend`]: the angle between z_i and z_j, atan2(|z_i × z_j|, z_iᵀ z_j);
+    /// - [`Measure::Azimuth`]: the direction of d across z_i, atan2(y_iᵀ d, x_iᵀ d).
     pub fn coordinates(&self, x: &BodyPair) -> JointCoordinates {
         let (mi, mj) = (&self.marker_i, &self.marker_j);
         let fi = x.i.a * mi.frame; // global columns x_i, y_i, z_i
@@ -56,7 +59,7 @@ impl Joint {
         let (xj, yj, zj) = (fj.column(0), fj.column(1), fj.column(2));
         let d = x.j.point(&mj.point) - x.i.point(&mi.point);
         let info = self.kind.info();
-        let mut values = [0.0; 3];
+        let mut values = [0.0; MAX_COORDINATES];
         let mut bryant = None;
         for (v, c) in values.iter_mut().zip(info.coordinates) {
             *v = match c.measure {
@@ -68,6 +71,9 @@ impl Joint {
                 Measure::Distance => d.norm(),
                 Measure::CrossAngleI => yi.dot(&zj).atan2(xi.dot(&zj)),
                 Measure::CrossAngleJ => yj.dot(&zi).atan2(xj.dot(&zi)),
+                Measure::AxisAngle => (-yi.dot(&zj)).atan2(zi.dot(&zj)),
+                Measure::Bend => zi.cross(&zj).norm().atan2(zi.dot(&zj)),
+                Measure::Azimuth => yi.dot(&d).atan2(xi.dot(&d)),
                 Measure::Bryant(k) => {
                     let (a, b, g) = *bryant.get_or_insert_with(|| {
                         p_from_rotation_matrix(&(fi.transpose() * fj))

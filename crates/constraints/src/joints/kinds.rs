@@ -11,7 +11,9 @@
 
 use crate::marker::Marker;
 use crate::primitive::Primitive;
-use crate::{Distance, P1Perp, P2Perp, Spherical, N1, N2};
+use nalgebra::Vector3;
+
+use crate::{Distance, Homokinetic, P1Perp, P2Perp, RadialDistance, Spherical, N1, N2};
 
 /// An axis of a joint marker frame: x, y or the joint axis z.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -25,7 +27,7 @@ pub enum Axis {
 }
 
 impl Axis {
-    fn of(self, m: &Marker) -> nalgebra::Vector3<f64> {
+    fn of(self, m: &Marker) -> Vector3<f64> {
         match self {
             Axis::X => m.x(),
             Axis::Y => m.y(),
@@ -54,10 +56,32 @@ pub enum Block {
     ParallelAxes,
     /// [x_iᵀ d; y_iᵀ d], d = P_j − P_i: P_j on the line through P_i along z_i (2 rows; [`P2Perp`]).
     OnAxisLine,
-    /// a_iᵀ d: P_j in the plane through P_i normal to a_i (1 row; [`N2`]).
+    /// a_iᵀ d − h: P_j in the plane through P_i normal to a_i, shifted by the joint's offset h
+    /// along a_i (1 row; [`N2`] with its offset).
     InPlane(Axis),
     /// dᵀd − ℓ²: P_j at distance ℓ from P_i (1 row; [`Distance`]).
     Distance,
+    /// (x_iᵀ d)² + (y_iᵀ d)² − ℓ²: P_j at distance ℓ from the line through P_i along z_i
+    /// (1 row; [`RadialDistance`]).
+    RadialDistance,
+    /// (cos α y_i + sin α z_i)ᵀ z_j: z_j at the angle α from z_i, measured about x_i
+    /// (1 row; [`N1`]).
+    AtAngle,
+    /// x_iᵀ y_j − y_iᵀ x_j: no relative twist about the z axes, the constant-velocity condition
+    /// (1 row; [`Homokinetic`]).
+    Homokinetic,
+}
+
+/// The numbers a joint takes besides its markers (zero for those its kind does not take;
+/// [`KindInfo::length`], [`KindInfo::offset`], [`KindInfo::angle`]).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct JointParams {
+    /// ℓ of [`Block::Distance`] and [`Block::RadialDistance`], m (> 0).
+    pub length: f64,
+    /// h of [`Block::InPlane`], m.
+    pub offset: f64,
+    /// α of [`Block::AtAngle`], rad.
+    pub angle: f64,
 }
 
 impl Block {
@@ -66,20 +90,31 @@ impl Block {
         match self {
             Block::Coincident => 3,
             Block::ParallelAxes | Block::OnAxisLine => 2,
-            Block::Perpendicular(..) | Block::InPlane(_) | Block::Distance => 1,
+            Block::Perpendicular(..)
+            | Block::InPlane(_)
+            | Block::Distance
+            | Block::RadialDistance
+            | Block::AtAngle
+            | Block::Homokinetic => 1,
         }
     }
 
-    /// The primitive between markers `mi` and `mj` (`length`: ℓ of [`Block::Distance`]).
-    pub fn primitive(self, mi: &Marker, mj: &Marker, length: f64) -> Primitive {
+    /// The primitive between markers `mi` and `mj` with the joint's numbers `v`.
+    pub fn primitive(self, mi: &Marker, mj: &Marker, v: &JointParams) -> Primitive {
         let (pi, pj) = (mi.point, mj.point);
         match self {
             Block::Coincident => Spherical::new(pi, pj).into(),
             Block::Perpendicular(a, b) => N1::new(a.of(mi), b.of(mj)).into(),
             Block::ParallelAxes => P1Perp::new(mi.x(), mi.y(), mj.z()).into(),
             Block::OnAxisLine => P2Perp::new(mi.x(), mi.y(), pi, pj).into(),
-            Block::InPlane(a) => N2::new(a.of(mi), pi, pj).into(),
-            Block::Distance => Distance::new(pi, pj, length).into(),
+            Block::InPlane(a) => N2::with_offset(a.of(mi), pi, pj, v.offset).into(),
+            Block::Distance => Distance::new(pi, pj, v.length).into(),
+            Block::RadialDistance => RadialDistance::new(mi.x(), mi.y(), pi, pj, v.length).into(),
+            Block::AtAngle => {
+                let (s, c) = v.angle.sin_cos();
+                N1::new(c * mi.y() + s * mi.z(), mj.z()).into()
+            }
+            Block::Homokinetic => Homokinetic::new(mi.x(), mi.y(), mj.x(), mj.y()).into(),
         }
     }
 
@@ -90,8 +125,11 @@ impl Block {
             Block::Perpendicular(a, b) => format!("n1({}_i, {}_j)", a.letter(), b.letter()),
             Block::ParallelAxes => "n1(x_i, z_j); n1(y_i, z_j)".into(),
             Block::OnAxisLine => "n2(x_i; P_i, P_j); n2(y_i; P_i, P_j)".into(),
-            Block::InPlane(a) => format!("n2({}_i; P_i, P_j)", a.letter()),
+            Block::InPlane(a) => format!("n2({}_i; P_i, P_j) − h", a.letter()),
             Block::Distance => "distance(P_i, P_j, ℓ)".into(),
+            Block::RadialDistance => "(x_iᵀd)² + (y_iᵀd)² − ℓ²".into(),
+            Block::AtAngle => "n1(cos α y_i + sin α z_i, z_j)".into(),
+            Block::Homokinetic => "x_iᵀy_j − y_iᵀx_j".into(),
         }
     }
 }
@@ -107,12 +145,19 @@ pub enum Measure {
     Offset(Axis),
     /// The current distance |d|, m.
     Distance,
-    /// The universal joint's cross about arm z_i relative to body i, atan2(y_iᵀ z_j, x_iᵀ z_j).
+    /// The direction of z_j in the x–y plane of marker i, atan2(y_iᵀ z_j, x_iᵀ z_j) (for the
+    /// universal joint: its cross about arm z_i relative to body i).
     CrossAngleI,
     /// Body j about arm z_j relative to the cross, atan2(y_jᵀ z_i, x_jᵀ z_i).
     CrossAngleJ,
     /// Bryant 1-2-3 angle k (0, 1, 2) of marker frame j relative to marker frame i.
     Bryant(usize),
+    /// The angle of z_j from z_i about x_i, atan2(−y_iᵀ z_j, z_iᵀ z_j).
+    AxisAngle,
+    /// The angle between z_i and z_j, atan2(|z_i × z_j|, z_iᵀ z_j), in [0, π].
+    Bend,
+    /// The direction of d across z_i, atan2(y_iᵀ d, x_iᵀ d).
+    Azimuth,
 }
 
 /// The physical quantity of a joint coordinate.
@@ -138,13 +183,20 @@ impl Measure {
     /// Angle or length.
     pub fn quantity(self) -> CoordinateQuantity {
         match self {
-            Measure::Angle | Measure::CrossAngleI | Measure::CrossAngleJ | Measure::Bryant(_) => {
-                CoordinateQuantity::Angle
-            }
+            Measure::Angle
+            | Measure::CrossAngleI
+            | Measure::CrossAngleJ
+            | Measure::Bryant(_)
+            | Measure::AxisAngle
+            | Measure::Bend
+            | Measure::Azimuth => CoordinateQuantity::Angle,
             Measure::Slide | Measure::Offset(_) | Measure::Distance => CoordinateQuantity::Length,
         }
     }
 }
+
+/// The most coordinates a kind has.
+pub const MAX_COORDINATES: usize = 4;
 
 /// A named joint coordinate, written to `joints.csv` as `joint.name [unit]`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -167,19 +219,27 @@ pub enum Axes {
     Required(&'static str),
     /// Accepted; their meaning (without them the marker frames are the body frames).
     Optional(&'static str),
+    /// `axis_i` (and `x_axis_i`) required on body i, refused on body j: the kind uses marker i's
+    /// frame only; its meaning.
+    OnlyI(&'static str),
     /// Refused: the kind's equations and coordinates do not use them.
     Unused,
 }
 
 impl Axes {
-    /// Whether the kind requires axes.
+    /// Whether the kind requires `axis_i`.
     pub fn required(self) -> bool {
-        matches!(self, Axes::Required(_))
+        matches!(self, Axes::Required(_) | Axes::OnlyI(_))
     }
 
-    /// Whether the kind accepts axes.
+    /// Whether the kind accepts axes (`axis_i` at least).
     pub fn accepted(self) -> bool {
         !matches!(self, Axes::Unused)
+    }
+
+    /// Whether the kind takes `axis_j` and `x_axis_j` (a frame on body j).
+    pub fn on_j(self) -> bool {
+        matches!(self, Axes::Required(_) | Axes::Optional(_))
     }
 }
 
@@ -199,8 +259,13 @@ pub struct KindInfo {
     /// Whether the kind accepts x axes (`x_axis_i`, `x_axis_j`: the zero of its angles); a kind
     /// that does not refuses them.
     pub x_axes: bool,
-    /// Whether the kind takes a `length` (default: the drawn distance of its points).
+    /// Whether the kind takes a `length` ℓ (default: its drawn value, see
+    /// [`KindInfo::drawn_length`]).
     pub length: bool,
+    /// Whether the kind takes an `offset` h of its plane along z_i (default 0).
+    pub offset: bool,
+    /// Whether the kind takes an `angle` α (default: the drawn angle).
+    pub angle: bool,
     /// Its equations, in row order.
     pub blocks: &'static [Block],
     /// Its relative coordinates, in output order.
@@ -232,6 +297,18 @@ impl KindInfo {
     /// Whether `name` (or an alias) names this kind.
     pub fn is_called(&self, name: &str) -> bool {
         self.name == name || self.aliases.contains(&name)
+    }
+
+    /// The `length` that makes the kind's length block hold at the drawn pose (its default):
+    /// the distance of P_j from the line through P_i along z_i for [`Block::RadialDistance`],
+    /// else |P_j − P_i|. `d` = P_j − P_i and `z_i` in any common frame.
+    pub fn drawn_length(&self, d: &Vector3<f64>, z_i: &Vector3<f64>) -> f64 {
+        if self.blocks.contains(&Block::RadialDistance) {
+            let z = z_i.normalize();
+            (d - z * z.dot(d)).norm()
+        } else {
+            d.norm()
+        }
     }
 
     /// The equations in the notation of the joint docs.
@@ -275,6 +352,8 @@ joint_kinds! {
         axes: Axes::Optional("with the x axes, the frames its Bryant angles are measured between"),
         x_axes: true,
         length: false,
+        offset: false,
+        angle: false,
         blocks: &[Coincident],
         coordinates: &[
             coord("angle_x", Measure::Bryant(0)),
@@ -295,6 +374,8 @@ joint_kinds! {
         ),
         x_axes: true,
         length: false,
+        offset: false,
+        angle: false,
         blocks: &[Coincident, Perpendicular(Z, Z)],
         coordinates: &[
             coord("angle_i", Measure::CrossAngleI),
@@ -311,6 +392,8 @@ joint_kinds! {
         axes: Axes::Required("the common axis"),
         x_axes: true,
         length: false,
+        offset: false,
+        angle: false,
         blocks: &[Coincident, ParallelAxes],
         coordinates: &[ANGLE],
         rotation: Some("angle"),
@@ -324,6 +407,8 @@ joint_kinds! {
         axes: Axes::Required("the common axis"),
         x_axes: true,
         length: false,
+        offset: false,
+        angle: false,
         blocks: &[ParallelAxes, OnAxisLine],
         coordinates: &[ANGLE, SLIDE],
         rotation: Some("angle"),
@@ -337,6 +422,8 @@ joint_kinds! {
         axes: Axes::Required("the common axis"),
         x_axes: true,
         length: false,
+        offset: false,
+        angle: false,
         blocks: &[ParallelAxes, OnAxisLine, Perpendicular(X, Y)],
         coordinates: &[SLIDE],
         rotation: None,
@@ -350,6 +437,8 @@ joint_kinds! {
         axes: Axes::Required("a common axis (and x axes for the twist)"),
         x_axes: true,
         length: false,
+        offset: false,
+        angle: false,
         blocks: &[Coincident, ParallelAxes, Perpendicular(X, Y)],
         coordinates: &[],
         rotation: None,
@@ -363,6 +452,8 @@ joint_kinds! {
         axes: Axes::Unused,
         x_axes: false,
         length: true,
+        offset: false,
+        angle: false,
         blocks: &[Block::Distance],
         coordinates: &[coord("distance", Measure::Distance)],
         rotation: None,
@@ -376,6 +467,8 @@ joint_kinds! {
         axes: Axes::Required("the plane normals"),
         x_axes: true,
         length: false,
+        offset: true,
+        angle: false,
         blocks: &[ParallelAxes, InPlane(Z)],
         coordinates: &[
             coord("x", Measure::Offset(X)),
@@ -393,9 +486,183 @@ joint_kinds! {
         axes: Axes::Required("the two axes held perpendicular"),
         x_axes: false,
         length: false,
+        offset: false,
+        angle: false,
         blocks: &[Perpendicular(Z, Z)],
         coordinates: &[],
         rotation: None,
+        translation: None,
+    },
+    /// P_j on the line through P_i along z_i (2 rows).
+    PointInLine => {
+        name: "point_in_line",
+        aliases: &[],
+        summary: "P_j on the line through P_i along z_i: sliding along it, turning freely",
+        axes: Axes::OnlyI("the line's direction z_i"),
+        x_axes: false,
+        length: false,
+        offset: false,
+        angle: false,
+        blocks: &[OnAxisLine],
+        coordinates: &[SLIDE],
+        rotation: None,
+        translation: Some("slide"),
+    },
+    /// P_j in the plane through P_i normal to z_i, shifted by the offset (1 row).
+    PointInPlane => {
+        name: "point_in_plane",
+        aliases: &[],
+        summary: "P_j in the plane through P_i normal to z_i (moved by `offset` along z_i)",
+        axes: Axes::OnlyI("the plane normal z_i (x_axis_i: the x of the in-plane coordinates)"),
+        x_axes: true,
+        length: false,
+        offset: true,
+        angle: false,
+        blocks: &[InPlane(Z)],
+        coordinates: &[
+            coord("x", Measure::Offset(X)),
+            coord("y", Measure::Offset(Y)),
+        ],
+        rotation: None,
+        translation: None,
+    },
+    /// The line through P_j along z_j in the plane of P_i normal to z_i (2 rows).
+    LineInPlane => {
+        name: "line_in_plane",
+        aliases: &[],
+        summary: "the line through P_j along z_j lies in the plane through P_i normal to z_i \
+                  (moved by `offset` along z_i)",
+        axes: Axes::Required("z_i: the plane normal; z_j: the line's direction"),
+        x_axes: true,
+        length: false,
+        offset: true,
+        angle: false,
+        blocks: &[InPlane(Z), Perpendicular(Z, Z)],
+        coordinates: &[
+            coord("x", Measure::Offset(X)),
+            coord("y", Measure::Offset(Y)),
+            coord("angle", Measure::CrossAngleI),
+        ],
+        rotation: None,
+        translation: None,
+    },
+    /// z_j parallel to z_i, points free (2 rows).
+    ParallelAxes => {
+        name: "parallel_axes",
+        aliases: &[],
+        summary: "the two axes held parallel, z_i ∥ z_j; translation free",
+        axes: Axes::Required("the two axes held parallel"),
+        x_axes: true,
+        length: false,
+        offset: false,
+        angle: false,
+        blocks: &[ParallelAxes],
+        coordinates: &[
+            ANGLE,
+            coord("x", Measure::Offset(X)),
+            coord("y", Measure::Offset(Y)),
+            coord("z", Measure::Slide),
+        ],
+        rotation: Some("angle"),
+        translation: Some("z"),
+    },
+    /// z_j at a fixed angle α from z_i about x_i (1 row).
+    Angle => {
+        name: "angle",
+        aliases: &[],
+        summary: "z_j at the angle α from z_i, measured about x_i (default x_i: the axes' \
+                  common perpendicular as drawn); everything else free",
+        axes: Axes::Required("the two axes whose angle is held"),
+        x_axes: true,
+        length: false,
+        offset: false,
+        angle: true,
+        blocks: &[Block::AtAngle],
+        coordinates: &[coord("angle", Measure::AxisAngle)],
+        rotation: None,
+        translation: None,
+    },
+    /// Marker frames held parallel, translation free (3 rows).
+    NoRotation => {
+        name: "no_rotation",
+        aliases: &[],
+        summary: "no relative rotation; translation free",
+        axes: Axes::Optional("with the x axes, the frames held parallel"),
+        x_axes: true,
+        length: false,
+        offset: false,
+        angle: false,
+        blocks: &[ParallelAxes, Perpendicular(X, Y)],
+        coordinates: &[
+            coord("x", Measure::Offset(X)),
+            coord("y", Measure::Offset(Y)),
+            coord("z", Measure::Slide),
+        ],
+        rotation: None,
+        translation: Some("z"),
+    },
+    /// Coincident points and no relative twist: a constant-velocity joint (4 rows).
+    ConstantVelocity => {
+        name: "constant_velocity",
+        aliases: &["cv"],
+        summary: "coincident points and no relative twist about the shafts: shaft j turns at \
+                  exactly the speed of shaft i at every bend",
+        axes: Axes::Required("the two shaft axes, in the same sense (z_i = z_j when straight)"),
+        x_axes: true,
+        length: false,
+        offset: false,
+        angle: false,
+        blocks: &[Coincident, Block::Homokinetic],
+        coordinates: &[coord("bend", Measure::Bend)],
+        rotation: None,
+        translation: None,
+    },
+    /// Parallel axes at distance ℓ (3 rows).
+    RevCyl => {
+        name: "rev_cyl",
+        aliases: &[],
+        summary: "parallel axes at the distance ℓ: a link with a revolute joint on body i's \
+                  axis and a cylindrical joint on body j's",
+        axes: Axes::Required("the two parallel axes"),
+        x_axes: true,
+        length: true,
+        offset: false,
+        angle: false,
+        blocks: &[ParallelAxes, Block::RadialDistance],
+        coordinates: &[ANGLE, SLIDE, coord("azimuth", Measure::Azimuth)],
+        rotation: Some("angle"),
+        translation: Some("slide"),
+    },
+    /// P_j at distance ℓ from the line through P_i along z_i (1 row).
+    CylSph => {
+        name: "cyl_sph",
+        aliases: &[],
+        summary: "P_j at the distance ℓ from the line through P_i along z_i: a link with a \
+                  cylindrical joint on body i and a spherical joint on body j",
+        axes: Axes::OnlyI("the cylinder's axis z_i (x_axis_i: the zero of the azimuth)"),
+        x_axes: true,
+        length: true,
+        offset: false,
+        angle: false,
+        blocks: &[Block::RadialDistance],
+        coordinates: &[SLIDE, coord("azimuth", Measure::Azimuth)],
+        rotation: None,
+        translation: Some("slide"),
+    },
+    /// Parallel axes at distance ℓ, P_j in the plane of P_i normal to them (4 rows).
+    RevRev => {
+        name: "rev_rev",
+        aliases: &[],
+        summary: "parallel axes at the distance ℓ with P_j in the plane through P_i normal to \
+                  them: a link with revolute joints at both ends",
+        axes: Axes::Required("the two parallel axes"),
+        x_axes: true,
+        length: true,
+        offset: true,
+        angle: false,
+        blocks: &[ParallelAxes, InPlane(Z), Block::RadialDistance],
+        coordinates: &[ANGLE, coord("azimuth", Measure::Azimuth)],
+        rotation: Some("angle"),
         translation: None,
     },
 }
@@ -431,16 +698,31 @@ fn axes_column(a: Axes) -> String {
     match a {
         Axes::Required(m) => m.into(),
         Axes::Optional(m) => format!("optional: {m}"),
+        Axes::OnlyI(m) => format!("axis_i only: {m}"),
         Axes::Unused => "–".into(),
     }
+}
+
+fn numbers_column(k: &KindInfo) -> String {
+    let mut n = Vec::new();
+    if k.length {
+        n.push("`length` ℓ [m] (default: as drawn)");
+    }
+    if k.offset {
+        n.push("`offset` h [m] (default 0)");
+    }
+    if k.angle {
+        n.push("`angle` α [rad] (default: as drawn)");
+    }
+    n.join(", ")
 }
 
 /// The joint table of docs/model-format.md, generated from [`KINDS`] (`cargo xtask docs`
 /// writes it; a test fails when the committed table differs).
 pub fn markdown_table() -> String {
     let mut out = String::from(
-        "| type | equations | rows, in order | axes | joint coordinates written | driven by |\n\
-         |---|---|---|---|---|---|\n",
+        "| type | equations | rows, in order | axes | numbers | joint coordinates written | driven by |\n\
+         |---|---|---|---|---|---|---|\n",
     );
     for k in KINDS {
         let mut name = format!("`{}`", k.name);
@@ -462,11 +744,12 @@ pub fn markdown_table() -> String {
         }
         let or_dash = |s: String| if s.is_empty() { "–".to_string() } else { s };
         out.push_str(&format!(
-            "| {name}: {} | {} | {} | {} | {} | {} |\n",
+            "| {name}: {} | {} | {} | {} | {} | {} | {} |\n",
             k.summary,
             k.rows(),
             k.notation(),
             axes_column(k.axes),
+            or_dash(numbers_column(k)),
             or_dash(coords.join(", ")),
             or_dash(driven.join("; ")),
         ));
@@ -488,6 +771,21 @@ mod tests {
                 assert_eq!(JointKind::from_name(a), Some(info.kind), "{a}");
             }
             assert!(info.rows() >= 1 && info.rows() <= 6, "{}", info.name);
+            assert!(info.coordinates.len() <= MAX_COORDINATES, "{}", info.name);
+            let rows_need = |b: Block| info.blocks.contains(&b);
+            assert_eq!(
+                info.length,
+                rows_need(Block::Distance) || rows_need(Block::RadialDistance),
+                "{}: takes a length exactly when a block uses one",
+                info.name
+            );
+            assert_eq!(info.angle, rows_need(Block::AtAngle), "{}", info.name);
+            assert_eq!(
+                info.offset,
+                info.blocks.iter().any(|b| matches!(b, Block::InPlane(_))),
+                "{}: takes an offset exactly when a block is a plane",
+                info.name
+            );
             for c in [info.rotation, info.translation].into_iter().flatten() {
                 assert!(
                     info.coordinates.iter().any(|x| x.name == c),

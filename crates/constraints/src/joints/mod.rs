@@ -13,16 +13,19 @@
 //! universal joint z_i and z_j are the two arms of the cross (perpendicular); for the planar joint
 //! z is the plane normal; for the prismatic joint the extra n1(x_i, y_j) stops rotation about z.
 //!
-//! [`JointCoordinates`] gives the relative joint coordinates for output.
+//! [`JointCoordinates`] gives the relative joint coordinates for output, [`JointRates`] their
+//! exact rates and accelerations.
 
 mod coordinates;
 mod kinds;
+mod rates;
 
 pub use coordinates::{unwrap_angle, JointCoordinates};
 pub use kinds::{
-    markdown_table, Axis, Block, Coordinate, CoordinateQuantity, JointKind, KindInfo, Measure,
-    KINDS,
+    markdown_table, Axes, Axis, Block, Coordinate, CoordinateQuantity, JointKind, JointParams,
+    KindInfo, Measure, KINDS, MAX_COORDINATES,
 };
+pub use rates::{BodyAcceleration, JointRates};
 
 use crate::constraint::{Constraint, Dimension};
 use crate::error::{finite, ConstraintError};
@@ -37,7 +40,7 @@ pub struct Joint {
     kind: JointKind,
     marker_i: Marker,
     marker_j: Marker,
-    length: f64,
+    params: JointParams,
     primitives: Vec<Primitive>,
     rows: usize,
     footprint: Footprint,
@@ -46,21 +49,22 @@ pub struct Joint {
 impl Joint {
     /// A joint of `kind` between markers on body i and body j.
     ///
-    /// [`JointKind::SphericalSpherical`] needs a length, which markers do not carry: build it
-    /// with [`Joint::spherical_spherical`]; here it is an error.
+    /// A kind that takes a length or an angle ([`KindInfo::length`], [`KindInfo::angle`]) needs
+    /// it: build it with [`Joint::with_params`]; here it is an error.
     pub fn new(
         kind: JointKind,
         marker_i: Marker,
         marker_j: Marker,
     ) -> Result<Self, ConstraintError> {
         let info = kind.info();
-        if info.length {
+        if info.length || info.angle {
             return Err(ConstraintError::Invalid(format!(
-                "a {} joint needs a length: use Joint::with_length",
-                info.name
+                "a {} joint needs a {}: use Joint::with_params",
+                info.name,
+                if info.length { "length" } else { "angle" }
             )));
         }
-        Ok(Self::from_blocks(kind, marker_i, marker_j, 0.0))
+        Self::with_params(kind, marker_i, marker_j, JointParams::default())
     }
 
     /// A joint of a `kind` that takes a length ([`KindInfo::length`]; e.g. spherical-spherical)
@@ -71,21 +75,53 @@ impl Joint {
         marker_j: Marker,
         length: f64,
     ) -> Result<Self, ConstraintError> {
-        let info = kind.info();
-        if !info.length {
+        if !kind.info().length {
             return Err(ConstraintError::Invalid(format!(
                 "a {} joint takes no length: use Joint::new",
-                info.name
+                kind.name()
             )));
         }
-        finite(&format!("{} length", info.name), &[length])?;
-        if length <= 0.0 {
+        let params = JointParams {
+            length,
+            ..JointParams::default()
+        };
+        Self::with_params(kind, marker_i, marker_j, params)
+    }
+
+    /// A joint of `kind` with its numbers: `length` > 0 when the kind takes one, `offset` and
+    /// `angle` finite; a number the kind does not take must be 0.
+    pub fn with_params(
+        kind: JointKind,
+        marker_i: Marker,
+        marker_j: Marker,
+        params: JointParams,
+    ) -> Result<Self, ConstraintError> {
+        let info = kind.info();
+        let JointParams {
+            length,
+            offset,
+            angle,
+        } = params;
+        for (what, value, takes) in [
+            ("length", length, info.length),
+            ("offset", offset, info.offset),
+            ("angle", angle, info.angle),
+        ] {
+            finite(&format!("{} {what}", info.name), &[value])?;
+            if !takes && value != 0.0 {
+                return Err(ConstraintError::Invalid(format!(
+                    "a {} joint takes no {what}",
+                    info.name
+                )));
+            }
+        }
+        if info.length && length <= 0.0 {
             return Err(ConstraintError::NotPositive {
                 what: format!("{} length", info.name),
                 value: length,
             });
         }
-        Ok(Self::from_blocks(kind, marker_i, marker_j, length))
+        Ok(Self::from_blocks(kind, marker_i, marker_j, params))
     }
 
     /// Two points kept at distance `length` > 0 (a massless rod with ball joints at both ends).
@@ -109,21 +145,26 @@ impl Joint {
     }
 
     /// The joint's primitives from its kind's blocks ([`KindInfo::blocks`]).
-    fn from_blocks(kind: JointKind, marker_i: Marker, marker_j: Marker, length: f64) -> Self {
+    fn from_blocks(
+        kind: JointKind,
+        marker_i: Marker,
+        marker_j: Marker,
+        params: JointParams,
+    ) -> Self {
         let primitives = kind
             .info()
             .blocks
             .iter()
-            .map(|b| b.primitive(&marker_i, &marker_j, length))
+            .map(|b| b.primitive(&marker_i, &marker_j, &params))
             .collect();
-        Self::assemble(kind, marker_i, marker_j, length, primitives)
+        Self::assemble(kind, marker_i, marker_j, params, primitives)
     }
 
     fn assemble(
         kind: JointKind,
         marker_i: Marker,
         marker_j: Marker,
-        length: f64,
+        params: JointParams,
         primitives: Vec<Primitive>,
     ) -> Self {
         let rows = primitives.iter().map(|p| p.rows()).sum();
@@ -137,7 +178,7 @@ impl Joint {
             kind,
             marker_i,
             marker_j,
-            length,
+            params,
             primitives,
             rows,
             footprint,
@@ -161,7 +202,12 @@ impl Joint {
 
     /// ℓ of a joint that takes a length (0 for the others).
     pub fn length(&self) -> f64 {
-        self.length
+        self.params.length
+    }
+
+    /// The joint's numbers (length, offset, angle; 0 for those its kind does not take).
+    pub fn params(&self) -> &JointParams {
+        &self.params
     }
 
     /// The primitives, in row order.

@@ -243,6 +243,11 @@ impl Model {
         for k in 1..steps {
             let s = k as f64 / steps as f64;
             for (d, (c0, change)) in held.drivers.iter_mut().zip(&paths) {
+                // A pose driver's three angles are not separable row by row: it holds its
+                // prescription at options.t throughout.
+                if matches!(d.driver, Driver::Pose(_)) {
+                    continue;
+                }
                 d.driver
                     .set_function(TimeFunction::Constant(c0 + s * change));
             }

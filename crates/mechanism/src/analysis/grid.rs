@@ -46,9 +46,10 @@ use crate::error::AnalysisError;
 use crate::model::{BodyId, Model};
 use crate::results::{BodyResults, JointResults, Outputs, PointResults, Results};
 use crate::workspace::Workspace;
-use cardan_constraints::joints::CoordinateQuantity;
+use cardan_constraints::joints::{CoordinateQuantity, MAX_COORDINATES};
 use cardan_constraints::{unwrap_angle, BodyPair};
 use cardan_eulerparam::EulerParams;
+use cardan_solver::{NewtonOptions, Tolerances};
 use std::ops::ControlFlow;
 
 /// κ of the branch-jump test: a step whose Newton correction exceeds κ times the predicted
@@ -96,6 +97,10 @@ pub struct KinematicOptions {
     pub steps: usize,
     /// What to compute and store.
     pub outputs: Outputs,
+    /// The position solves' tolerance on the scaled residual, max |Φ_i| / e_i (e_i the
+    /// equation's scale: L, L² or 1), in [1e-14, 1e-6]; default 1e-10. Used when the run
+    /// prepares the workspace (a workspace already prepared keeps its Newton options).
+    pub tolerance: f64,
 }
 
 impl KinematicOptions {
@@ -106,7 +111,14 @@ impl KinematicOptions {
             t_end,
             steps,
             outputs: Outputs::default(),
+            tolerance: Tolerances::default().residual,
         }
+    }
+
+    /// The same options with the position tolerance `tolerance` (see [`KinematicOptions::tolerance`]).
+    pub fn tolerance(mut self, tolerance: f64) -> Self {
+        self.tolerance = tolerance;
+        self
     }
 
     /// Steps of about `dt` from `t0` to `t_end` (the step is adjusted to land on `t_end`). A
@@ -135,7 +147,11 @@ impl KinematicOptions {
         self.t0 + (self.t_end - self.t0) * (k as f64 / self.steps as f64)
     }
 
-    fn validate(&self) -> Result<(), AnalysisError> {
+    /// Checks the times, the step count and the tolerance's range.
+    ///
+    /// # Errors
+    /// [`AnalysisError::Options`] saying which option and why.
+    pub fn validate(&self) -> Result<(), AnalysisError> {
         if !self.t0.is_finite() || !self.t_end.is_finite() {
             return Err(AnalysisError::Options(format!(
                 "times must be finite (t0 = {}, t_end = {})",
@@ -153,7 +169,16 @@ impl KinematicOptions {
                 "at least one step is needed (or dt must be positive)".into(),
             ));
         }
-        Ok(())
+        self.newton_tolerances()
+            .validate()
+            .map_err(AnalysisError::Options)
+    }
+
+    fn newton_tolerances(&self) -> Tolerances {
+        Tolerances {
+            residual: self.tolerance,
+            ..Tolerances::default()
+        }
     }
 }
 
@@ -232,10 +257,14 @@ impl Model {
                 });
             }
             self.assemble(ws, &AssemblyOptions::at(options.t0))?;
-            self.prepare_kinematics(ws)?;
+            let newton = NewtonOptions {
+                tolerances: options.newton_tolerances(),
+                ..Self::kinematic_newton_options()
+            };
+            self.prepare_kinematics_with(ws, newton)?;
         }
         let mut results = self.allocate_results(options);
-        let mut joint_prev = vec![[0.0; 3]; self.joints.len()];
+        let mut joint_prev = vec![[0.0; MAX_COORDINATES]; self.joints.len()];
         let reselections = ws.reselections;
         for k in 0..=options.steps {
             let t = options.time(k);
@@ -260,7 +289,7 @@ impl Model {
         k: usize,
         t: f64,
         results: &mut Results,
-        joint_prev: &mut [[f64; 3]],
+        joint_prev: &mut [[f64; MAX_COORDINATES]],
     ) -> Result<(), AnalysisError> {
         let out = options.outputs;
         let rep = if k == 0 {
@@ -521,6 +550,8 @@ impl Model {
                     kind: j.joint.kind(),
                     coordinates: j.joint.kind().info().coordinates,
                     values: Vec::with_capacity(n),
+                    rates: Vec::new(),
+                    accelerations: Vec::new(),
                 })
                 .collect()
         } else {
@@ -548,7 +579,7 @@ impl Model {
         residual: f64,
         iterations: usize,
         res: &mut Results,
-        joint_prev: &mut [[f64; 3]],
+        joint_prev: &mut [[f64; MAX_COORDINATES]],
     ) {
         let v = out.needs_velocity();
         let a = out.acceleration;
@@ -597,6 +628,18 @@ impl Model {
                 }
                 *prev = vals;
                 h.values.push(vals);
+                if v {
+                    let acc = |id| ws.acceleration_of(id, a);
+                    let r = j.joint.coordinate_rates(
+                        &BodyPair::new(&si, &sj),
+                        &acc(j.body_i),
+                        &acc(j.body_j),
+                    );
+                    h.rates.push(r.rates);
+                    if a {
+                        h.accelerations.push(r.accelerations);
+                    }
+                }
             }
         }
     }

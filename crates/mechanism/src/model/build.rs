@@ -25,7 +25,7 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
     let mut drivers = Vec::with_capacity(b.drivers.len());
     for spec in &b.drivers {
         unique(&mut element_names, &spec.name, None, "a driver")?;
-        drivers.push(resolve::driver(spec, &names, &joints, &element_names)?);
+        drivers.extend(resolve::driver(spec, &names, &joints, &element_names)?);
     }
     let mut couplers = Vec::with_capacity(b.couplers.len());
     for spec in &b.couplers {

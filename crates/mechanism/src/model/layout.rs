@@ -35,7 +35,7 @@ pub(super) fn characteristic_length(
         length = length.max(p.local.norm());
     }
     for j in &b.joints {
-        if let Some(l) = j.length {
+        for l in [j.length, j.offset].into_iter().flatten() {
             if l.is_finite() {
                 length = length.max(l.abs());
             }

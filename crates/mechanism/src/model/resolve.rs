@@ -7,12 +7,16 @@ use super::validate::{
     check_number, check_numbers, kinds_with, orientation_p, pair_check, suggest,
 };
 use super::{BodyId, BodyInfo, DriverInfo, FeatureInfo, ForceInfo, JointInfo, ScatterMap};
-use crate::builder::{DriverSpec, DriverTarget, ForceSpec, JointSpec, MechanismBuilder, GROUND};
+use crate::builder::{
+    pose_row_name, DriverSpec, DriverTarget, ForceSpec, JointSpec, MechanismBuilder, PoseTarget,
+    GROUND,
+};
 use crate::error::ModelError;
 use crate::sanity::Quantity;
+use cardan_constraints::joints::Axes;
 use cardan_constraints::{
-    BodyState, ConstraintError, CoordinateDriver, DistanceDriver, Driver, Joint, JointKind, Marker,
-    RotationDriver, TranslationDriver,
+    BodyState, ConstraintError, CoordinateDriver, DistanceDriver, Driver, Joint, JointKind,
+    JointParams, KindInfo, Marker, PoseDriver, RotationDriver, TranslationDriver,
 };
 use nalgebra::{Matrix3, Vector3};
 use std::collections::HashMap;
@@ -232,54 +236,34 @@ pub(super) fn joint(
     let pj = names.feature(&el, &spec.body_j, &spec.point_j, false)?;
     let kind = spec.kind;
     let info = kind.info();
-    let needs_axes = info.axes.required();
-    // Keys the kind does not use are refused, not ignored.
-    let unused = |key: &'static str| ModelError::UnusedKey {
-        joint: spec.name.clone(),
-        kind: info.name,
-        key,
-    };
-    if !info.axes.accepted() && (spec.axis_i.is_some() || spec.axis_j.is_some()) {
-        return Err(unused("axis_i and axis_j"));
-    }
-    if !info.x_axes && (spec.x_axis_i.is_some() || spec.x_axis_j.is_some()) {
-        return Err(unused("x_axis_i and x_axis_j"));
-    }
-    if !info.length && spec.length.is_some() {
-        return Err(unused("length"));
-    }
-    let axis = |which: &'static str, body: &str, name: &Option<String>| match name {
+    refuse_unused_keys(spec, info)?;
+    let axis = |which: &'static str, needed: bool, body: &str, name: &Option<String>| match name {
         Some(n) => names.feature(&el, body, n, true).map(Some),
-        None if needs_axes => Err(ModelError::MissingAxis {
+        None if needed => Err(ModelError::MissingAxis {
             joint: spec.name.clone(),
             kind: kind.name(),
             which,
         }),
         None => Ok(None),
     };
-    let zi = axis("axis_i", &spec.body_i, &spec.axis_i)?;
-    let zj = axis("axis_j", &spec.body_j, &spec.axis_j)?;
-    let xi = match &spec.x_axis_i {
-        Some(n) => Some(names.feature(&el, &spec.body_i, n, true)?),
-        None => None,
-    };
-    let xj = match &spec.x_axis_j {
-        Some(n) => Some(names.feature(&el, &spec.body_j, n, true)?),
-        None => None,
+    let zi = axis("axis_i", info.axes.required(), &spec.body_i, &spec.axis_i)?;
+    let needs_j = matches!(info.axes, Axes::Required(_));
+    let zj = axis("axis_j", needs_j, &spec.body_j, &spec.axis_j)?;
+    let xi = axis("x_axis_i", false, &spec.body_i, &spec.x_axis_i)?;
+    let xj = axis("x_axis_j", false, &spec.body_j, &spec.x_axis_j)?;
+    let (si, sj) = (pose(bodies, bi), pose(bodies, bj));
+    let xi = match (xi, zi, zj) {
+        // An angle joint measures about x_i: by default the axes' common perpendicular.
+        (None, Some(zi), Some(zj)) if info.angle => common_perpendicular(&si, &sj, zi, zj),
+        _ => xi,
     };
     let mi = marker(&spec.name, "i", &spec.body_i, pi, zi, xi)?;
     let mj = marker(&spec.name, "j", &spec.body_j, pj, zj, xj)?;
     if let (JointKind::Universal, Some(zi), Some(zj)) = (kind, zi, zj) {
-        let (si, sj) = (pose(bodies, bi).vector(&zi), pose(bodies, bj).vector(&zj));
-        crate::sanity::check_universal_arms(&spec.name, &si, &sj)?;
+        crate::sanity::check_universal_arms(&spec.name, &si.vector(&zi), &sj.vector(&zj))?;
     }
-    let joint = if info.length {
-        let l = joint_length(spec, &el, (pose(bodies, bi), pi), (pose(bodies, bj), pj))?;
-        Joint::with_length(kind, mi, mj, l)
-    } else {
-        Joint::new(kind, mi, mj)
-    }
-    .map_err(|e| ModelError::BadMarker {
+    let params = joint_params(spec, &el, info, (&si, &mi), (&sj, &mj))?;
+    let joint = Joint::with_params(kind, mi, mj, params).map_err(|e| ModelError::BadMarker {
         joint: spec.name.clone(),
         body: spec.body_i.clone(),
         reason: e.to_string(),
@@ -289,10 +273,93 @@ pub(super) fn joint(
         body_i: bi,
         body_j: bj,
         joint,
-        has_x_axes: xi.is_some() && xj.is_some(),
+        has_x_axes: xi.is_some() && (xj.is_some() || !info.axes.on_j()),
         rows: 0..0,
         map: ScatterMap { slots: Vec::new() },
     })
+}
+
+/// Keys the kind does not use are refused, not ignored.
+fn refuse_unused_keys(spec: &JointSpec, info: &KindInfo) -> Result<(), ModelError> {
+    let unused = |key: &'static str| ModelError::UnusedKey {
+        joint: spec.name.clone(),
+        kind: info.name,
+        key,
+    };
+    let given = |k: &Option<String>| k.is_some();
+    if !info.axes.accepted() && (given(&spec.axis_i) || given(&spec.axis_j)) {
+        return Err(unused("axis_i and axis_j"));
+    }
+    if info.axes.accepted() && !info.axes.on_j() && (given(&spec.axis_j) || given(&spec.x_axis_j)) {
+        return Err(unused(
+            "axis_j and x_axis_j (the kind uses the frame on body i only)",
+        ));
+    }
+    if !info.x_axes && (given(&spec.x_axis_i) || given(&spec.x_axis_j)) {
+        return Err(unused("x_axis_i and x_axis_j"));
+    }
+    for (key, takes, value) in [
+        ("length", info.length, spec.length),
+        ("offset", info.offset, spec.offset),
+        ("angle", info.angle, spec.angle),
+    ] {
+        if !takes && value.is_some() {
+            return Err(unused(key));
+        }
+    }
+    Ok(())
+}
+
+/// x_i along z_i × z_j as drawn (body-i components), if the axes are not parallel.
+fn common_perpendicular(
+    si: &BodyState,
+    sj: &BodyState,
+    zi: Vector3<f64>,
+    zj: Vector3<f64>,
+) -> Option<Vector3<f64>> {
+    let c = si
+        .vector(&zi)
+        .normalize()
+        .cross(&sj.vector(&zj).normalize());
+    (c.norm() > 1e-6).then(|| si.a.transpose() * c)
+}
+
+/// A joint's numbers: each as given (finite, within limits) or its default: the drawn length
+/// and angle ([`KindInfo::drawn_length`], the marker angle about x_i), offset 0.
+fn joint_params(
+    spec: &JointSpec,
+    el: &str,
+    info: &KindInfo,
+    (si, mi): (&BodyState, &Marker),
+    (sj, mj): (&BodyState, &Marker),
+) -> Result<JointParams, ModelError> {
+    let given = |what: &str, q: Quantity, v: Option<f64>| match v {
+        Some(v) => check_number(el, what, q, v).map(|_| Some(v)),
+        None => Ok(None),
+    };
+    let d = sj.point(&mj.point) - si.point(&mi.point);
+    let (zi, yi, zj) = (si.vector(&mi.z()), si.vector(&mi.y()), sj.vector(&mj.z()));
+    let mut params = JointParams::default();
+    if info.length {
+        let l = given("length", Quantity::Length, spec.length)?
+            .unwrap_or_else(|| info.drawn_length(&d, &zi));
+        if l <= 0.0 {
+            return Err(ModelError::NonPositive {
+                element: el.into(),
+                what: "length".into(),
+                value: l,
+            });
+        }
+        params.length = l;
+    }
+    if info.offset {
+        params.offset = given("offset", Quantity::Length, spec.offset)?.unwrap_or(0.0);
+    }
+    if info.angle {
+        params.angle = given("angle", Quantity::Angle, spec.angle)?
+            .unwrap_or_else(|| (-yi.dot(&zj)).atan2(zi.dot(&zj)));
+    }
+    Ok(params)
 }
 
 /// The joint frame on side `side` ("i" or "j") of joint `joint`: from its axis and x axis when
@@ -330,34 +397,58 @@ fn marker(
     }
 }
 
-/// The length of a joint kind that takes one: as given (finite, within limits), else the drawn
-/// distance of its points (each body's initial pose and the point on it); positive.
-fn joint_length(
-    spec: &JointSpec,
-    el: &str,
-    (si, pi): (BodyState, Vector3<f64>),
-    (sj, pj): (BodyState, Vector3<f64>),
-) -> Result<f64, ModelError> {
-    let l = match spec.length {
-        Some(l) => {
-            check_number(el, "length", Quantity::Length, l)?;
-            l
-        }
-        None => (sj.point(&pj) - si.point(&pi)).norm(),
-    };
-    if l <= 0.0 {
-        return Err(ModelError::NonPositive {
-            element: el.into(),
-            what: "length".into(),
-            value: l,
-        });
+/// One driver's rows: its joint (looked up in `element_names`, which maps every element name to
+/// its joint index, if a joint) or its bodies and points, and its time function checked. A pose
+/// driver gives six rows, the others one.
+pub(super) fn driver(
+    spec: &DriverSpec,
+    names: &Names,
+    joints: &[JointInfo],
+    element_names: &HashMap<&str, Option<usize>>,
+) -> Result<Vec<DriverInfo>, ModelError> {
+    if let DriverTarget::Pose(target) = &spec.target {
+        return pose_driver(&spec.name, target, names);
     }
-    Ok(l)
+    single_driver(spec, names, joints, element_names).map(|d| vec![d])
 }
 
-/// One driver: its joint (looked up in `element_names`, which maps every element name to its
-/// joint index, if a joint) or its bodies and points, and its time function checked.
-pub(super) fn driver(
+/// The six rows of a pose driver: its two frames resolved like a joint's markers (body frames
+/// when no axes are given), its six laws checked.
+fn pose_driver(name: &str, t: &PoseTarget, names: &Names) -> Result<Vec<DriverInfo>, ModelError> {
+    let el = format!("driver \"{name}\"");
+    for f in &t.functions {
+        f.validate().map_err(|e| ModelError::BadTimeFunction {
+            driver: name.into(),
+            reason: e.to_string(),
+        })?;
+    }
+    let bi = names.body(&el, &t.body_i)?;
+    let bj = names.body(&el, &t.body_j)?;
+    pair_check(&el, bi, bj, &t.body_i)?;
+    let vector = |body: &str, v: &Option<String>| match v {
+        Some(n) => names.feature(&el, body, n, true).map(Some),
+        None => Ok(None),
+    };
+    let frame = |side, body: &str, point: &str, z: &Option<String>, x: &Option<String>| {
+        let p = names.feature(&el, body, point, false)?;
+        marker(name, side, body, p, vector(body, z)?, vector(body, x)?)
+    };
+    let mi = frame("i", &t.body_i, &t.point_i, &t.axis_i, &t.x_axis_i)?;
+    let mj = frame("j", &t.body_j, &t.point_j, &t.axis_j, &t.x_axis_j)?;
+    Ok((0..6)
+        .map(|k| DriverInfo {
+            name: pose_row_name(name, k),
+            body_i: bi,
+            body_j: bj,
+            driver: PoseDriver::new(mi, mj, t.order, t.functions.clone(), k).into(),
+            joint: None,
+            rows: 0..0,
+            map: ScatterMap { slots: Vec::new() },
+        })
+        .collect())
+}
+
+fn single_driver(
     spec: &DriverSpec,
     names: &Names,
     joints: &[JointInfo],
@@ -428,6 +519,7 @@ pub(super) fn driver(
             })?;
             (d.into(), bi, BodyId::Ground, None)
         }
+        DriverTarget::Pose(_) => unreachable!("pose drivers are resolved by pose_driver"),
     };
     Ok(DriverInfo {
         name: spec.name.clone(),

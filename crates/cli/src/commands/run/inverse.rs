@@ -112,7 +112,7 @@ pub fn inverse_dynamics_with(
         return Err(crate::commands::not_fully_driven(p, dof.dof, 0));
     }
     let mut d = dynamics_as(p, WHAT)?;
-    let opts = KinematicOptions::new(a.t_start, a.t_end, a.steps);
+    let opts = KinematicOptions::new(a.t_start, a.t_end, a.steps).tolerance(a.tolerance);
     let e = match d.inverse_dynamics_with_progress(&opts, progress) {
         Ok(r) => return Ok((r, None)),
         Err(e) => e,

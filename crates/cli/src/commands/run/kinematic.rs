@@ -9,6 +9,7 @@ use crate::commands::output_tables::requested;
 use crate::commands::{analysis_error, Prepared};
 use crate::diag::Error;
 use crate::table::Table;
+use cardan_constraints::joints::MAX_COORDINATES;
 use cardan_mechanism::{KinematicOptions, Results};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -19,7 +20,8 @@ pub(super) fn run_kinematic(
     analysis: &crate::build::Analysis,
     progress: bool,
 ) -> Result<Analysed, Error> {
-    let opts = KinematicOptions::new(analysis.t_start, analysis.t_end, analysis.steps);
+    let opts = KinematicOptions::new(analysis.t_start, analysis.t_end, analysis.steps)
+        .tolerance(analysis.tolerance);
     let start = Instant::now();
     let mut bar = crate::progress::Progress::new(progress, opts.steps as u64 + 1);
     let mut ws = p.model.workspace();
@@ -115,27 +117,41 @@ pub fn tables(r: &Results, req: &Requested) -> Vec<Table> {
         ));
     }
     if !req.joints.is_empty() {
-        let mut cols = Vec::new();
-        let mut src = Vec::new();
-        for j in &req.joints {
-            if let Some(h) = r.joint(j) {
+        let joints: Vec<_> = req.joints.iter().filter_map(|j| r.joint(j)).collect();
+        type Pick = fn(&cardan_mechanism::JointResults) -> &Vec<[f64; MAX_COORDINATES]>;
+        let groups: [(&str, &str, &str, Pick); 3] = [
+            ("joints", "joint coordinates", "", |h| &h.values),
+            ("joint_velocities", "joint coordinate rates", "/s", |h| {
+                &h.rates
+            }),
+            (
+                "joint_accelerations",
+                "joint coordinate accelerations",
+                "/s²",
+                |h| &h.accelerations,
+            ),
+        ];
+        for (name, title, per, pick) in groups {
+            let mut cols = Vec::new();
+            let mut src = Vec::new();
+            for h in &joints {
                 for (q, c) in h.coordinates.iter().enumerate() {
                     let unit = c.measure.quantity().unit();
-                    cols.push(format!("{j}.{} [{unit}]", c.name));
-                    src.push((h, q));
+                    cols.push(format!("{}.{} [{unit}{per}]", h.name, c.name));
+                    src.push((pick(h), q));
                 }
             }
+            let mut t = Table::new(name, title, cols);
+            for k in 0..n {
+                let mut row = vec![r.times[k]];
+                row.extend(
+                    src.iter()
+                        .map(|(v, q)| v.get(k).map_or(f64::NAN, |v| v[*q])),
+                );
+                t.rows.push(row);
+            }
+            out.push(t);
         }
-        let mut t = Table::new("joints", "joint coordinates", cols);
-        for k in 0..n {
-            let mut row = vec![r.times[k]];
-            row.extend(
-                src.iter()
-                    .map(|(h, q)| h.values.get(k).map_or(f64::NAN, |v| v[*q])),
-            );
-            t.rows.push(row);
-        }
-        out.push(t);
     }
     if !req.bodies.is_empty() {
         let bodies: Vec<_> = req.bodies.iter().filter_map(|b| r.body(b)).collect();
