@@ -1,0 +1,159 @@
+//! Running a compiled program: a loop over the tape with a fixed-size stack of jets on the
+//! machine stack (no allocation), and the same loop with a check after every operation that
+//! finds where a result first stops being finite ([`Program::diagnose`]).
+
+use super::jet::Jet;
+use super::{Op, Program, STACK};
+use std::ops::Range;
+
+/// Where and why an expression is not finite at some time.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DomainError {
+    /// Byte span in the expression text of the operation whose result is not finite.
+    pub span: Range<usize>,
+    /// What it is and its arguments, e.g. "sqrt of -1 (value NaN, rate NaN, acceleration NaN)".
+    pub message: String,
+}
+
+impl Program {
+    /// (f, ḟ, f̈) at t.
+    pub(crate) fn run(&self, t: f64) -> Jet {
+        let mut stack = [Jet::default(); STACK];
+        let mut sp = 0;
+        let mut pc = 0;
+        while pc < self.ops.len() {
+            pc = self.step(pc, t, &mut stack, &mut sp);
+        }
+        stack[0]
+    }
+
+    /// The first operation whose result is not finite at t, if any.
+    pub(crate) fn diagnose(&self, t: f64) -> Option<DomainError> {
+        let mut stack = [Jet::default(); STACK];
+        let mut sp = 0;
+        let mut pc = 0;
+        while pc < self.ops.len() {
+            let op = self.ops[pc];
+            let pops = op.pops().min(sp);
+            let args: Vec<Jet> = stack[sp - pops..sp].to_vec();
+            let next = self.step(pc, t, &mut stack, &mut sp);
+            if op.pushes() && !stack[sp - 1].is_finite() {
+                return Some(DomainError {
+                    span: self.spans[pc].clone(),
+                    message: describe(op, &args, &stack[sp - 1]),
+                });
+            }
+            pc = next;
+        }
+        None
+    }
+
+    /// Executes the operation at `pc`; returns the next pc.
+    #[inline(always)]
+    fn step(&self, pc: usize, t: f64, s: &mut [Jet; STACK], sp: &mut usize) -> usize {
+        let unary = |s: &mut [Jet; STACK], sp: usize, f: fn(Jet) -> Jet| s[sp - 1] = f(s[sp - 1]);
+        let binary = |s: &mut [Jet; STACK], sp: &mut usize, f: fn(Jet, Jet) -> Jet| {
+            *sp -= 1;
+            s[*sp - 1] = f(s[*sp - 1], s[*sp]);
+        };
+        match self.ops[pc] {
+            Op::Const(c) => {
+                s[*sp] = Jet::constant(c);
+                *sp += 1;
+            }
+            Op::Time => {
+                s[*sp] = Jet::time(t);
+                *sp += 1;
+            }
+            Op::Neg => unary(s, *sp, Jet::neg),
+            Op::Add => binary(s, sp, Jet::add),
+            Op::Sub => binary(s, sp, Jet::sub),
+            Op::Mul => binary(s, sp, Jet::mul),
+            Op::Div => binary(s, sp, Jet::div),
+            Op::Pow => binary(s, sp, Jet::pow),
+            Op::PowC(c) => s[*sp - 1] = s[*sp - 1].powc(c),
+            Op::Sin => unary(s, *sp, Jet::sin),
+            Op::Cos => unary(s, *sp, Jet::cos),
+            Op::Tan => unary(s, *sp, Jet::tan),
+            Op::Asin => unary(s, *sp, Jet::asin),
+            Op::Acos => unary(s, *sp, Jet::acos),
+            Op::Atan => unary(s, *sp, Jet::atan),
+            Op::Atan2 => binary(s, sp, Jet::atan2),
+            Op::Sinh => unary(s, *sp, Jet::sinh),
+            Op::Cosh => unary(s, *sp, Jet::cosh),
+            Op::Tanh => unary(s, *sp, Jet::tanh),
+            Op::Exp => unary(s, *sp, Jet::exp),
+            Op::Log => unary(s, *sp, Jet::ln),
+            Op::Sqrt => unary(s, *sp, Jet::sqrt),
+            Op::Abs => unary(s, *sp, Jet::abs),
+            Op::Sign => unary(s, *sp, Jet::sign),
+            Op::Min => binary(s, sp, Jet::min),
+            Op::Max => binary(s, sp, Jet::max),
+            Op::Step { x0, x1 } => {
+                *sp -= 2;
+                let (x, f0, f1) = (s[*sp - 1], s[*sp], s[*sp + 1]);
+                s[*sp - 1] = f0.add(f1.sub(f0).mul(smooth_step(x, x0, x1)));
+            }
+            Op::Spline(k) => {
+                let x = s[*sp - 1];
+                let (f, g1, g2) = self.splines[k].eval(x.v);
+                s[*sp - 1] = x.chain(f, g1, g2);
+            }
+            Op::Select(k) => {
+                *sp -= 1;
+                let table = &self.tables[k];
+                let x = s[*sp].v;
+                if x.is_nan() {
+                    // No branch is active: the result is NaN (the last branch, made NaN).
+                    s[*sp] = Jet::constant(f64::NAN);
+                    *sp += 1;
+                    return self.ops.len();
+                }
+                let branch = table.breaks.partition_point(|&b| b <= x);
+                return table.targets[branch];
+            }
+            Op::Jump(to) => return to,
+        }
+        pc + 1
+    }
+}
+
+/// The C² quintic step from 0 at x0 to 1 at x1 applied to the jet x: s = 10τ³ − 15τ⁴ + 6τ⁵,
+/// τ = (x − x0)/(x1 − x0), ds/dx = 30τ²(1 − τ)²/h, d²s/dx² = 60τ(1 − τ)(1 − 2τ)/h²; constant
+/// (0 or 1) outside (x0, x1).
+fn smooth_step(x: Jet, x0: f64, x1: f64) -> Jet {
+    let h = x1 - x0;
+    let tau = ((x.v - x0) / h).clamp(0.0, 1.0);
+    let s = tau * tau * tau * (10.0 - 15.0 * tau + 6.0 * tau * tau);
+    if !(x.v > x0 && x.v < x1) {
+        return Jet {
+            v: if x.v.is_nan() { f64::NAN } else { s },
+            d1: 0.0,
+            d2: 0.0,
+        };
+    }
+    let ds = 30.0 * tau * tau * (1.0 - tau) * (1.0 - tau) / h;
+    let dds = 60.0 * tau * (1.0 - tau) * (1.0 - 2.0 * tau) / (h * h);
+    x.chain(s, ds, dds)
+}
+
+/// "sqrt of -1 (value NaN, rate NaN, acceleration NaN)".
+fn describe(op: Op, args: &[Jet], out: &Jet) -> String {
+    let vals: Vec<String> = args.iter().map(|a| format!("{}", a.v)).collect();
+    let what = match (op.name(), vals.len()) {
+        ("division", _) => format!("division of {} by {}", vals[0], vals[1]),
+        ("power", 2) => format!("power {}^{}", vals[0], vals[1]),
+        ("power", _) => format!("power of {}", vals[0]),
+        (name, 0) => name.to_string(),
+        (name, _) => format!("{name} of {}", vals.join(", ")),
+    };
+    let rate = if out.v.is_finite() {
+        " (its value is finite but its derivatives are not)"
+    } else {
+        ""
+    };
+    format!(
+        "{what}{rate}: value {}, rate {}, acceleration {}",
+        out.v, out.d1, out.d2
+    )
+}
