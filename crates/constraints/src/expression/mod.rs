@@ -101,15 +101,16 @@ impl Expression {
     }
 
     /// A one-line description of [`Expression::diagnose`]'s finding at t, quoting the failing
-    /// part of the text, e.g. `sqrt(1 - t) (column 1): sqrt of -1: value NaN, ...`.
+    /// part of the text when it is not the whole, e.g.
+    /// `at "sqrt(1 - t)" (column 7): sqrt of -1: value NaN, rate NaN, acceleration NaN`.
     pub fn domain_message(&self, t: f64) -> Option<String> {
         self.diagnose(t).map(|d| {
-            format!(
-                "\"{}\" (column {}): {}",
-                &self.text[d.span.clone()],
-                d.span.start + 1,
+            let part = &self.text[d.span.clone()];
+            if part.trim() == self.text.trim() {
                 d.message
-            )
+            } else {
+                format!("at \"{part}\" (column {}): {}", d.span.start + 1, d.message)
+            }
         })
     }
 }
