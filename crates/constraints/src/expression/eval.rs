@@ -51,11 +51,18 @@ impl Program {
     /// Executes the operation at `pc`; returns the next pc.
     #[inline(always)]
     fn step(&self, pc: usize, t: f64, s: &mut [Jet; STACK], sp: &mut usize) -> usize {
-        let unary = |s: &mut [Jet; STACK], sp: usize, f: fn(Jet) -> Jet| s[sp - 1] = f(s[sp - 1]);
-        let binary = |s: &mut [Jet; STACK], sp: &mut usize, f: fn(Jet, Jet) -> Jet| {
-            *sp -= 1;
-            s[*sp - 1] = f(s[*sp - 1], s[*sp]);
-        };
+        // The top of the stack (a) and, for binary operations, the value under it.
+        macro_rules! unary {
+            ($f:ident) => {
+                s[*sp - 1] = s[*sp - 1].$f()
+            };
+        }
+        macro_rules! binary {
+            ($f:ident) => {{
+                *sp -= 1;
+                s[*sp - 1] = s[*sp - 1].$f(s[*sp]);
+            }};
+        }
         match self.ops[pc] {
             Op::Const(c) => {
                 s[*sp] = Jet::constant(c);
@@ -65,30 +72,30 @@ impl Program {
                 s[*sp] = Jet::time(t);
                 *sp += 1;
             }
-            Op::Neg => unary(s, *sp, Jet::neg),
-            Op::Add => binary(s, sp, Jet::add),
-            Op::Sub => binary(s, sp, Jet::sub),
-            Op::Mul => binary(s, sp, Jet::mul),
-            Op::Div => binary(s, sp, Jet::div),
-            Op::Pow => binary(s, sp, Jet::pow),
+            Op::Neg => unary!(neg),
+            Op::Add => binary!(add),
+            Op::Sub => binary!(sub),
+            Op::Mul => binary!(mul),
+            Op::Div => binary!(div),
+            Op::Pow => binary!(pow),
             Op::PowC(c) => s[*sp - 1] = s[*sp - 1].powc(c),
-            Op::Sin => unary(s, *sp, Jet::sin),
-            Op::Cos => unary(s, *sp, Jet::cos),
-            Op::Tan => unary(s, *sp, Jet::tan),
-            Op::Asin => unary(s, *sp, Jet::asin),
-            Op::Acos => unary(s, *sp, Jet::acos),
-            Op::Atan => unary(s, *sp, Jet::atan),
-            Op::Atan2 => binary(s, sp, Jet::atan2),
-            Op::Sinh => unary(s, *sp, Jet::sinh),
-            Op::Cosh => unary(s, *sp, Jet::cosh),
-            Op::Tanh => unary(s, *sp, Jet::tanh),
-            Op::Exp => unary(s, *sp, Jet::exp),
-            Op::Log => unary(s, *sp, Jet::ln),
-            Op::Sqrt => unary(s, *sp, Jet::sqrt),
-            Op::Abs => unary(s, *sp, Jet::abs),
-            Op::Sign => unary(s, *sp, Jet::sign),
-            Op::Min => binary(s, sp, Jet::min),
-            Op::Max => binary(s, sp, Jet::max),
+            Op::Sin => unary!(sin),
+            Op::Cos => unary!(cos),
+            Op::Tan => unary!(tan),
+            Op::Asin => unary!(asin),
+            Op::Acos => unary!(acos),
+            Op::Atan => unary!(atan),
+            Op::Atan2 => binary!(atan2),
+            Op::Sinh => unary!(sinh),
+            Op::Cosh => unary!(cosh),
+            Op::Tanh => unary!(tanh),
+            Op::Exp => unary!(exp),
+            Op::Log => unary!(ln),
+            Op::Sqrt => unary!(sqrt),
+            Op::Abs => unary!(abs),
+            Op::Sign => unary!(sign),
+            Op::Min => binary!(min),
+            Op::Max => binary!(max),
             Op::Step { x0, x1 } => {
                 *sp -= 2;
                 let (x, f0, f1) = (s[*sp - 1], s[*sp], s[*sp + 1]);

@@ -105,23 +105,29 @@ impl Jet {
         Self { v: f, d1, d2 }
     }
 
-    /// u^c for a constant c: g′ = c u^(c−1), g″ = c (c − 1) u^(c−2). Integer c accepts u < 0.
+    /// u^c for a constant c: g′ = c u^(c−1), g″ = c (c − 1) u^(c−2). Integer c accepts u < 0
+    /// (and is computed by repeated multiplication when small).
     #[inline]
     pub fn powc(self, c: f64) -> Self {
+        let u = self.v;
         if c == 0.0 {
             return Self::constant(1.0);
         }
-        let g1 = if c == 1.0 {
-            1.0
-        } else {
-            c * self.v.powf(c - 1.0)
-        };
-        let g2 = if c == 1.0 || c == 2.0 {
-            c * (c - 1.0)
-        } else {
-            c * (c - 1.0) * self.v.powf(c - 2.0)
-        };
-        self.chain(self.v.powf(c), g1, g2)
+        if c == 2.0 {
+            return self.chain(u * u, 2.0 * u, 2.0);
+        }
+        if c.fract() == 0.0 && c.abs() <= 64.0 {
+            let n = c as i32;
+            let (g, g1, g2) = (u.powi(n), u.powi(n - 1), u.powi(n - 2));
+            let g1 = if n == 1 { 1.0 } else { c * g1 };
+            let g2 = if n == 1 { 0.0 } else { c * (c - 1.0) * g2 };
+            return self.chain(g, g1, g2);
+        }
+        self.chain(
+            u.powf(c),
+            c * u.powf(c - 1.0),
+            c * (c - 1.0) * u.powf(c - 2.0),
+        )
     }
 
     /// u^v with a time-dependent exponent: exp(v ln u), defined for u > 0.
