@@ -58,7 +58,9 @@ pub fn compare(case: &Case) -> Option<String> {
     let bad: Vec<String> = (0..3)
         .filter(|&k| {
             let (a, b) = (got[k], case.f[k]);
-            !((a - b).abs() <= RTOL * a.abs().max(b.abs()).max(1.0))
+            // Written so that NaN disagrees.
+            let agrees = (a - b).abs() <= RTOL * a.abs().max(b.abs()).max(1.0);
+            !agrees
         })
         .map(|k| format!("f{} = {} vs {}", ["", "'", "''"][k], got[k], case.f[k]))
         .collect();

@@ -96,9 +96,12 @@ fn errors_have_columns() {
     assert!(err(&deep).message.contains("nests"));
 }
 
+/// (f, ḟ, f̈) of t written out by hand.
+type ClosedForm = dyn Fn(f64) -> (f64, f64, f64);
+
 #[test]
 fn derivatives_match_closed_forms() {
-    let cases: Vec<(&str, Box<dyn Fn(f64) -> (f64, f64, f64)>)> = vec![
+    let cases: Vec<(&str, Box<ClosedForm>)> = vec![
         (
             "sin(2*t)",
             Box::new(|t: f64| {

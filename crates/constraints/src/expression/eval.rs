@@ -58,9 +58,10 @@ impl Program {
             };
         }
         macro_rules! binary {
-            ($f:ident) => {{
+            (|$a:ident, $b:ident| $e:expr) => {{
                 *sp -= 1;
-                s[*sp - 1] = s[*sp - 1].$f(s[*sp]);
+                let ($a, $b) = (s[*sp - 1], s[*sp]);
+                s[*sp - 1] = $e;
             }};
         }
         match self.ops[pc] {
@@ -72,12 +73,12 @@ impl Program {
                 s[*sp] = Jet::time(t);
                 *sp += 1;
             }
-            Op::Neg => unary!(neg),
-            Op::Add => binary!(add),
-            Op::Sub => binary!(sub),
-            Op::Mul => binary!(mul),
-            Op::Div => binary!(div),
-            Op::Pow => binary!(pow),
+            Op::Neg => s[*sp - 1] = -s[*sp - 1],
+            Op::Add => binary!(|a, b| a + b),
+            Op::Sub => binary!(|a, b| a - b),
+            Op::Mul => binary!(|a, b| a * b),
+            Op::Div => binary!(|a, b| a / b),
+            Op::Pow => binary!(|a, b| a.pow(b)),
             Op::PowC(c) => s[*sp - 1] = s[*sp - 1].powc(c),
             Op::Sin => unary!(sin),
             Op::Cos => unary!(cos),
@@ -85,7 +86,7 @@ impl Program {
             Op::Asin => unary!(asin),
             Op::Acos => unary!(acos),
             Op::Atan => unary!(atan),
-            Op::Atan2 => binary!(atan2),
+            Op::Atan2 => binary!(|a, b| a.atan2(b)),
             Op::Sinh => unary!(sinh),
             Op::Cosh => unary!(cosh),
             Op::Tanh => unary!(tanh),
@@ -94,12 +95,12 @@ impl Program {
             Op::Sqrt => unary!(sqrt),
             Op::Abs => unary!(abs),
             Op::Sign => unary!(sign),
-            Op::Min => binary!(min),
-            Op::Max => binary!(max),
+            Op::Min => binary!(|a, b| a.min(b)),
+            Op::Max => binary!(|a, b| a.max(b)),
             Op::Step { x0, x1 } => {
                 *sp -= 2;
                 let (x, f0, f1) = (s[*sp - 1], s[*sp], s[*sp + 1]);
-                s[*sp - 1] = f0.add(f1.sub(f0).mul(smooth_step(x, x0, x1)));
+                s[*sp - 1] = f0 + (f1 - f0) * smooth_step(x, x0, x1);
             }
             Op::Spline(k) => {
                 let x = s[*sp - 1];

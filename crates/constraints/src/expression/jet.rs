@@ -11,6 +11,8 @@
 //!
 //! (f = u / v). Nothing is approximated: the derivatives are exact up to rounding.
 
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
 /// (value, first derivative, second derivative) with respect to time.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Jet {
@@ -56,55 +58,6 @@ impl Jet {
         }
     }
 
-    /// −u.
-    #[inline]
-    pub fn neg(self) -> Self {
-        Self {
-            v: -self.v,
-            d1: -self.d1,
-            d2: -self.d2,
-        }
-    }
-
-    /// u + v.
-    #[inline]
-    pub fn add(self, o: Self) -> Self {
-        Self {
-            v: self.v + o.v,
-            d1: self.d1 + o.d1,
-            d2: self.d2 + o.d2,
-        }
-    }
-
-    /// u − v.
-    #[inline]
-    pub fn sub(self, o: Self) -> Self {
-        Self {
-            v: self.v - o.v,
-            d1: self.d1 - o.d1,
-            d2: self.d2 - o.d2,
-        }
-    }
-
-    /// u v: (u v, u̇ v + u v̇, ü v + 2 u̇ v̇ + u v̈).
-    #[inline]
-    pub fn mul(self, o: Self) -> Self {
-        Self {
-            v: self.v * o.v,
-            d1: self.d1 * o.v + self.v * o.d1,
-            d2: self.d2 * o.v + 2.0 * self.d1 * o.d1 + self.v * o.d2,
-        }
-    }
-
-    /// u / v (quotient rule above).
-    #[inline]
-    pub fn div(self, o: Self) -> Self {
-        let f = self.v / o.v;
-        let d1 = (self.d1 - f * o.d1) / o.v;
-        let d2 = (self.d2 - 2.0 * d1 * o.d1 - f * o.d2) / o.v;
-        Self { v: f, d1, d2 }
-    }
-
     /// u^c for a constant c: g′ = c u^(c−1), g″ = c (c − 1) u^(c−2). Integer c accepts u < 0
     /// (and is computed by repeated multiplication when small).
     #[inline]
@@ -133,7 +86,7 @@ impl Jet {
     /// u^v with a time-dependent exponent: exp(v ln u), defined for u > 0.
     #[inline]
     pub fn pow(self, o: Self) -> Self {
-        let w = o.mul(self.ln());
+        let w = o * self.ln();
         let f = self.v.powf(o.v);
         Self {
             v: f,
@@ -266,6 +219,70 @@ impl Jet {
         } else {
             self
         }
+    }
+}
+
+/// −u.
+impl Neg for Jet {
+    type Output = Jet;
+    #[inline]
+    fn neg(self) -> Jet {
+        Jet {
+            v: -self.v,
+            d1: -self.d1,
+            d2: -self.d2,
+        }
+    }
+}
+
+/// u + v.
+impl Add for Jet {
+    type Output = Jet;
+    #[inline]
+    fn add(self, o: Jet) -> Jet {
+        Jet {
+            v: self.v + o.v,
+            d1: self.d1 + o.d1,
+            d2: self.d2 + o.d2,
+        }
+    }
+}
+
+/// u − v.
+impl Sub for Jet {
+    type Output = Jet;
+    #[inline]
+    fn sub(self, o: Jet) -> Jet {
+        Jet {
+            v: self.v - o.v,
+            d1: self.d1 - o.d1,
+            d2: self.d2 - o.d2,
+        }
+    }
+}
+
+/// u v: (u v, u̇ v + u v̇, ü v + 2 u̇ v̇ + u v̈).
+impl Mul for Jet {
+    type Output = Jet;
+    #[inline]
+    fn mul(self, o: Jet) -> Jet {
+        Jet {
+            v: self.v * o.v,
+            d1: self.d1 * o.v + self.v * o.d1,
+            d2: self.d2 * o.v + 2.0 * self.d1 * o.d1 + self.v * o.d2,
+        }
+    }
+}
+
+/// u / v (the quotient rule of the module doc).
+impl Div for Jet {
+    type Output = Jet;
+    #[inline]
+    fn div(self, o: Jet) -> Jet {
+        let f = self.v / o.v;
+        let d1 = (self.d1 - f * o.d1) / o.v;
+        let d2 = (self.d2 - 2.0 * d1 * o.d1 - f * o.d2) / o.v;
+        Jet { v: f, d1, d2 }
     }
 }
 
