@@ -142,3 +142,49 @@ fn a_force_undefined_at_an_output_time_names_force_time_and_function() {
         assert!(o.stderr.contains(n), "{n} in {}", o.stderr);
     }
 }
+
+#[test]
+fn literal_strings_are_located_too_and_long_texts_refused() {
+    // A TOML literal string: the caret is still on the character.
+    let o = run_text(
+        "check",
+        &edited(
+            POLY,
+            r#"function = { kind = "expression", text = '2*t +' }"#,
+        ),
+    );
+    assert_eq!(o.code, 1, "{}", o.stderr);
+    assert!(
+        o.stderr.contains("model.toml:32:48: error:"),
+        "{}",
+        o.stderr
+    );
+    assert!(
+        o.stderr.contains("the end of the expression"),
+        "{}",
+        o.stderr
+    );
+    // Longer than 10 000 bytes: refused before parsing.
+    let long = format!("t{}", " + t".repeat(3000));
+    let o = run_text("check", &with_text(&long));
+    assert_eq!(o.code, 1, "{}", o.stderr);
+    assert!(o.stderr.contains("at most 10000"), "{}", o.stderr);
+}
+
+/// Between output times (a DOPRI5 stage), a non-finite force stops the run with an error that
+/// names the force, the time and the failing part of its expression.
+#[test]
+fn a_force_undefined_between_output_times_is_named_by_the_run_error() {
+    let text = DYNAMIC
+        .replace("TORQUE", "0.1*piecewise(t, 0, 0.02, sqrt(t - 1), 0.08, 0)")
+        .replace("output_dt = 0.1", "output_dt = 0.1\ndt = 0.01");
+    let o = run_text("run", &text);
+    assert_eq!(o.code, 3, "{}", o.stderr);
+    for n in [
+        "model.toml:30:8: error: dynamic analysis: t = 0.02",
+        "the cause: force \"motor\" component z",
+        "at \"sqrt(t - 1)\" (column 27): sqrt of -0.98",
+    ] {
+        assert!(o.stderr.contains(n), "{n} in {}", o.stderr);
+    }
+}
