@@ -91,6 +91,8 @@ def time_function(spec, t, t_num):
         slope_fn = ca.Function("slope", [u], [ca.jacobian(spline_segment(ts, fs, m, k, u), u)])
         slope = float(slope_fn(tk))
         return fk + slope * (t - tk)
+    if kind == "expression":
+        return EXPRESSIONS[spec["text"]](t, t_num)
     raise KeyError(kind)
 
 
@@ -100,7 +102,13 @@ def eval_time_function(spec, t_num):
     return float(ca.Function("f", [t], [time_function(spec, t, t_num)])(t_num))
 
 
-KINDS = ["constant", "polynomial", "harmonic", "ramp", "spline"]
+KINDS = ["constant", "polynomial", "harmonic", "ramp", "spline", "expression"]
+# The first cases cycle through the other kinds (so their data do not depend on the expression
+# cases); the cases from FIRST_EXPRESSION_CASE on are expressions.
+FIRST_EXPRESSION_CASE = 60
+# Expression text -> the same function built with CasADi operations (never by parsing the text),
+# called with the symbol t and the numeric time of the case (which picks a spline's segment).
+EXPRESSIONS = {}
 RAMP_WHERE = ["before", "inside", "after", "inside", "at-t0", "at-t1"]
 SPLINE_WHERE = ["inside", "before", "after", "at-knot", "inside-2-knots", "after-2-knots"]
 
@@ -108,8 +116,11 @@ SPLINE_WHERE = ["inside", "before", "after", "at-knot", "inside-2-knots", "after
 def make_function(rng, index, scale):
     """The time function of case number `index` (kinds cycle) and the case's time t.
     `scale` multiplies the function values (lengths for translation and distance drivers)."""
-    kind = KINDS[index % len(KINDS)]
-    sub = index // len(KINDS)
+    if index >= FIRST_EXPRESSION_CASE:
+        return make_expression(rng, index - FIRST_EXPRESSION_CASE, scale)
+    kinds = KINDS[:-1]
+    kind = kinds[index % len(kinds)]
+    sub = index // len(kinds)
 
     def val(lo=-2.0, hi=2.0):
         return float(scale * rng.uniform(lo, hi))
@@ -151,6 +162,54 @@ def make_function(rng, index, scale):
     return {"kind": "spline", "t": ts, "f": fs}, t, f"spline-{where}"
 
 
+def expression(text, build):
+    """An expression spec: the text for cardan and its CasADi twin, registered by text."""
+    EXPRESSIONS[text] = build
+    return {"kind": "expression", "text": text}
+
+
+EXPRESSION_FORMS = ["harmonic", "damped", "step", "piecewise", "spline"]
+
+
+def make_expression(rng, sub, scale):
+    """Expression number `sub`: a form (cycling) with random parameters, written as cardan text
+    (floats by repr, which round-trips) and as the same CasADi expression."""
+    form = EXPRESSION_FORMS[sub % len(EXPRESSION_FORMS)]
+    a, b, c = (float(scale * rng.uniform(-2.0, 2.0)) for _ in range(3))
+    w, k = float(rng.uniform(0.5, 5.0)), float(rng.uniform(0.1, 1.0))
+    t = float(rng.uniform(-1.0, 3.0))
+    if form == "harmonic":
+        spec = expression(f"{b!r} + {a!r}*sin({w!r}*t + {k!r})",
+                          lambda x, tn: b + a * ca.sin(w * x + k))
+    elif form == "damped":
+        spec = expression(f"{a!r}*exp(-{k!r}*t)*cos({w!r}*t) + {b!r}*t^2 - {c!r}*tanh(t)",
+                          lambda x, tn: a * ca.exp(-(k * x)) * ca.cos(w * x) + b * x**2 - c * ca.tanh(x))
+    elif form == "step":
+        t0, t1 = k, k + float(rng.uniform(0.3, 1.5))
+        spec = expression(f"step(t, {t0!r}, {a!r}, {t1!r}, {b!r}) + {c!r}*atan(t/{w!r})",
+                          lambda x, tn: _step(x, t0, a, t1, b) + c * ca.atan(x / w))
+    elif form == "piecewise":
+        t1, t2 = k - 0.5, k + 1.0
+        spec = expression(
+            f"piecewise(t, {a!r}*t, {t1!r}, {b!r}*sqrt(1 + t^2), {t2!r}, {c!r}*cos({w!r}*t))",
+            lambda x, tn: ca.if_else(x >= t2, c * ca.cos(w * x),
+                                 ca.if_else(x >= t1, b * ca.sqrt(1 + x**2), a * x)))
+    else:
+        ts = [-1.0, -0.2, 0.5, 1.1, 2.0]
+        fs = [float(scale * rng.uniform(-2.0, 2.0)) for _ in ts]
+        knots = ", ".join(repr(x) for x in ts)
+        values = ", ".join(repr(x) for x in fs)
+        spec = expression(f"spline(t, [{knots}], [{values}]) + {a!r}*abs(t - 2.5)",
+                          lambda x, tn: time_function({"kind": "spline", "t": ts, "f": fs}, x, tn)
+                          + a * ca.fabs(x - 2.5))
+    return spec, t, f"expression-{form}"
+
+
+def _step(x, x0, f0, x1, f1):
+    tau = ca.fmin(ca.fmax((x - x0) / (x1 - x0), 0), 1)
+    return f0 + (f1 - f0) * (10 * tau**3 - 15 * tau**4 + 6 * tau**5)
+
+
 def shift_function(spec, delta):
     """Add a constant to a time function (used to place a case on the solution)."""
     kind = spec["kind"]
@@ -163,6 +222,10 @@ def shift_function(spec, delta):
     elif kind == "ramp":
         spec["f0"] += delta
         spec["f1"] += delta
+    elif kind == "expression":
+        old = EXPRESSIONS[spec["text"]]
+        spec["text"] = f"({spec['text']}) + {delta!r}"
+        EXPRESSIONS[spec["text"]] = lambda x, tn: old(x, tn) + delta
     else:
         spec["f"] = [x + delta for x in spec["f"]]
 
@@ -255,7 +318,7 @@ ELEMENTS = {
 }
 
 # More cases than the minimum so that every kind, and every ramp and spline placement, recurs.
-N_DRIVER_CASES = 60
+N_DRIVER_CASES = 72
 
 
 def build_cases(name):

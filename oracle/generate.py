@@ -16,6 +16,7 @@ from concurrent.futures import ProcessPoolExecutor
 import common
 import gen_couplers
 import gen_drivers
+import gen_expressions
 import gen_joints
 import gen_pose
 import gen_primitives
@@ -45,6 +46,8 @@ def main(argv):
     with ProcessPoolExecutor(max_workers=workers) as pool:
         futures = [pool.submit(generate_one, name, element, outdir) for name, element in jobs]
         counts = [f.result() for f in futures]
+    # Expression time functions: one file of (text, t, f, f', f''), not a constraint element.
+    counts.append(gen_expressions.main(outdir))
     print(f"oracle: wrote {len(counts)} files, {sum(counts)} cases to {outdir} "
           f"in {time.time() - start:.1f} s ({workers} processes)")
     return 0

@@ -242,6 +242,10 @@ pub fn time_function(f: &Value) -> Result<TimeFunction, ParamError> {
         "spline" => {
             TimeFunction::spline(nums(f, "t")?, nums(f, "f")?).map_err(|e| e.to_string())?
         }
+        "expression" => {
+            let text = f.get("text").and_then(Value::as_str).ok_or("no `text`")?;
+            TimeFunction::expression(text).map_err(|e| e.to_string())?
+        }
         other => return Err(format!("unknown time function kind `{other}`")),
     };
     tf.validate().map_err(|e| e.to_string())?;

@@ -3,6 +3,7 @@
 //! `cargo xtask oracle --check`). Relative tolerance 1e-12; see `cardan_tests::oracle`.
 
 use cardan_constraints::TimeFunction;
+use cardan_tests::expressions;
 use cardan_tests::oracle::{compare_case, data_dir, function_kinds, load, Mismatch, OracleFile};
 use cardan_tests::registry::{build, elements};
 
@@ -11,6 +12,7 @@ fn oracle_files() -> Vec<std::path::PathBuf> {
         .expect("oracle/data exists")
         .map(|e| e.expect("readable entry").path())
         .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .filter(|p| p.file_name().is_none_or(|n| n != expressions::FILE))
         .collect();
     files.sort();
     files
@@ -121,4 +123,29 @@ fn rust_matches_the_casadi_oracle() {
         "oracle gate: {n_cases} cases agree to relative {:e}",
         cardan_tests::oracle::RTOL
     );
+}
+
+/// Expression time functions: f, ḟ, f̈ of every case of `oracle/data/expressions.json` (each
+/// written both as cardan text and as a CasADi expression) at relative 1e-12; the cases use
+/// every function, constant and operator of the grammar.
+#[test]
+fn expressions_match_the_casadi_oracle() {
+    let cases = expressions::load().expect("oracle/data/expressions.json loads");
+    let bad: Vec<String> = cases.iter().filter_map(expressions::compare).collect();
+    assert!(
+        bad.is_empty(),
+        "{} of {} expression cases disagree:\n{}",
+        bad.len(),
+        cases.len(),
+        bad.join("\n")
+    );
+    let missing = expressions::uncovered(expressions::vocabulary(), &cases);
+    assert!(
+        missing.is_empty(),
+        "parts of the expression grammar without oracle cases: {missing:?}"
+    );
+    // The coverage check can fail.
+    let mut more = expressions::vocabulary();
+    more.push("sawtooth");
+    assert_eq!(expressions::uncovered(more, &cases), ["sawtooth"]);
 }

@@ -6,6 +6,7 @@
 //! cardan-bench --profile <frame EXAMPLE N | kin-chain N FRAMES | chain N STEPS | chain-dopri5 N RTOL>
 //!     (one run for a profiler)
 //! cardan-bench --peers-only PYTHON [--smoke] [kinematics|slider-crank|chain ...]  (peers to stdout)
+//! cardan-bench --drivers [--smoke]    (the driver-function section alone, to stdout)
 //! ```
 //!
 //! Usually run through `cargo xtask bench [--smoke] [--peers]`.
@@ -58,6 +59,16 @@ fn main() {
         cardan_bench_peers::peers_only(&args[1..]);
         return;
     }
+    if args.first().map(String::as_str) == Some("--drivers") {
+        let smoke = args.iter().any(|a| a == "--smoke");
+        let cfg = Cfg {
+            smoke,
+            batch: if smoke { ms(5) } else { ms(200) },
+            batches: if smoke { 1 } else { 7 },
+        };
+        println!("{}", driver_functions_section(&cfg));
+        return;
+    }
     if args.first().map(String::as_str) == Some("--profile") {
         profile(&args[1..]);
         return;
@@ -108,6 +119,8 @@ fn main() {
     let mut svgs: Vec<(String, String)> = Vec::new();
     eprintln!("== kinematic frames of the example mechanisms");
     md.push_str(&frames_section(&cfg));
+    eprintln!("== driver functions");
+    md.push_str(&driver_functions_section(&cfg));
     eprintln!("== Newton tolerance");
     md.push_str(&tolerance_section(&cfg, &mut svgs));
     eprintln!("== scaling");
@@ -402,6 +415,91 @@ fn frames_section(cfg: &Cfg) -> String {
             model.num_unknowns(),
             fmt_time(t_frame),
             fmt_time(t_pos)
+        );
+    }
+    md.push('\n');
+    md
+}
+
+/// The slider-crank example with its driver function (θ = 2πt) written as `function`.
+fn slider_crank_with(function: &str) -> Prepared {
+    let path = root().join("examples/slider_crank.toml");
+    let text = std::fs::read_to_string(&path).expect("examples/slider_crank.toml");
+    let poly = r#"function = { kind = "polynomial", coefficients = [0.0, 6.283185307179586] }"#;
+    assert!(
+        text.contains(poly),
+        "the slider-crank's driver line changed"
+    );
+    let dir = std::env::temp_dir().join(format!("cardan-bench-drivers-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let file = dir.join(format!("{}.toml", function.len()));
+    std::fs::write(&file, text.replace(poly, function)).expect("write model");
+    let p = prepare(&file).expect("the variant prepares");
+    let _ = std::fs::remove_dir_all(&dir);
+    p
+}
+
+/// A kinematic frame of the slider-crank with the same θ(t) as a polynomial and as expressions,
+/// and one evaluation of (f, ḟ, f̈) alone.
+fn driver_functions_section(cfg: &Cfg) -> String {
+    let mut md = String::new();
+    let _ = writeln!(
+        md,
+        "### Driver functions: polynomial against expression\n\n\
+         The slider-crank example (`examples/slider_crank.toml`) with θ(t) = 2πt written as a \
+         polynomial and as expressions; a frame as above (position, velocity, acceleration), \
+         and one evaluation of (f, ḟ, f̈) alone. Target: an expression frame costs at most 2× a \
+         polynomial frame.\n\n\
+         | driver function | frame | ratio to polynomial | f, ḟ, f̈ alone |\n|---|---:|---:|---:|"
+    );
+    let variants = [
+        (
+            "polynomial [0, 2π]",
+            r#"function = { kind = "polynomial", coefficients = [0.0, 6.283185307179586] }"#,
+        ),
+        (
+            "expression `2*pi*t`",
+            r#"function = { kind = "expression", text = "2*pi*t" }"#,
+        ),
+        (
+            "expression `2*pi*t + 0*sin(3*t)^2 + step(t, 5, 0, 6, 1)`",
+            r#"function = { kind = "expression", text = "2*pi*t + 0*sin(3*t)^2 + step(t, 5, 0, 6, 1)" }"#,
+        ),
+    ];
+    let mut base = None;
+    for (label, function) in variants {
+        let p = slider_crank_with(function);
+        let Some(mut run) = FrameRun::new(&p.model, grid(&p), Model::kinematic_newton_options())
+        else {
+            eprintln!("{label}: could not assemble; skipped");
+            continue;
+        };
+        for _ in 0..20 {
+            run.frame(true);
+        }
+        let t_frame = time_per_call(|| run.frame(true), cfg.batch, cfg.batches);
+        let f = &p.loaded.driver_functions[0].0;
+        let mut t = 0.0;
+        let t_eval = time_per_call(
+            || {
+                t += 1e-3;
+                std::hint::black_box(f.eval(std::hint::black_box(t)));
+            },
+            cfg.batch,
+            cfg.batches,
+        );
+        let b = *base.get_or_insert(t_frame);
+        let ratio = t_frame / b;
+        eprintln!(
+            "{label}: {} / frame ({ratio:.2}×), {} / eval",
+            fmt_time(t_frame),
+            fmt_time(t_eval)
+        );
+        let _ = writeln!(
+            md,
+            "| {label} | {} | {ratio:.2} | {} |",
+            fmt_time(t_frame),
+            fmt_time(t_eval)
         );
     }
     md.push('\n');

@@ -13,6 +13,7 @@ use crate::model::{
     JointSection, ModelFile, Name, Num, OrientationSpec, Vec3,
 };
 use cardan_constraints::drivers::POSE_ROWS;
+use cardan_constraints::expression::{self, Expression};
 use cardan_constraints::{JointKind, RotationOrder, TimeFunction, KINDS};
 use cardan_dynamics::{
     Dopri5Options, Force, Frame, GeneralizedAlphaOptions, Integrator, PointRef, VectorFunction,
@@ -915,6 +916,7 @@ fn load_function(
         "harmonic" => &["amplitude", "frequency", "phase", "offset"],
         "ramp" => &["t0", "t1", "f0", "f1"],
         "spline" => &["times", "values"],
+        "expression" => &["text"],
         _ => {
             let hint = did_you_mean(kind, FUNCTION_KINDS.iter().copied());
             return Err(cx.err(
@@ -939,6 +941,7 @@ fn load_function(
         ("f1", s.f1.is_some()),
         ("times", s.times.is_some()),
         ("values", s.values.is_some()),
+        ("text", s.text.is_some()),
     ];
     if let Some((k, _)) = present.iter().find(|(k, p)| *p && !allowed.contains(k)) {
         return Err(cx.err(
@@ -972,6 +975,10 @@ fn load_function(
             t1: req(&s.t1, "t1")?,
             f0: req(&s.f0, "f0")?,
             f1: req(&s.f1, "f1")?,
+        },
+        "expression" => match &s.text {
+            Some(text) => expression(cx, text, owner)?,
+            None => return Err(missing(cx, span, owner, "text", "an expression needs it")),
         },
         _ => {
             let t = list_of(&s.times, "times")?;
@@ -1081,6 +1088,50 @@ fn load_general_motion(r: &Resolver, d: &DriverSection) -> Result<(DriverSpec, S
         order.name()
     );
     Ok((DriverSpec::pose(name, target), what))
+}
+
+/// An expression function; a parse error points at its column inside the TOML string.
+fn expression(cx: &Ctx, text: &Name, owner: &str) -> Result<TimeFunction, Error> {
+    let t = text.get_ref();
+    Expression::parse(t)
+        .map(TimeFunction::Expression)
+        .map_err(|e| {
+            let hint = e
+                .unknown
+                .as_deref()
+                .map(|n| did_you_mean(n, expression::names()))
+                .unwrap_or_default();
+            let span = string_inner_span(&cx.src.text, text.span(), t, e.span.clone());
+            cx.err(
+                span,
+                format!(
+                    "{owner}: expression \"{t}\", column {}: {}{hint}",
+                    e.column(t),
+                    e.message
+                ),
+            )
+        })
+}
+
+/// The file span of `inner` (a byte span of the string's value `value`) when the TOML string at
+/// `span` is written without escapes on one line (`"..."` or `'...'`, the value verbatim); else
+/// the whole string.
+fn string_inner_span(
+    file: &str,
+    span: Range<usize>,
+    value: &str,
+    inner: Range<usize>,
+) -> Range<usize> {
+    let raw = file.get(span.clone()).unwrap_or("");
+    let verbatim = raw.len() == value.len() + 2
+        && (raw.starts_with('"') || raw.starts_with('\''))
+        && &raw[1..raw.len() - 1] == value;
+    if !verbatim {
+        return span;
+    }
+    let start = span.start + 1 + inner.start;
+    // An empty span (the end of the text) underlines the closing quote.
+    start..(span.start + 1 + inner.end).max(start + 1)
 }
 
 fn load_driver(r: &Resolver, d: &DriverSection) -> Result<(DriverSpec, String), Error> {

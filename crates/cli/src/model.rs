@@ -200,8 +200,11 @@ pub struct JointSection {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FunctionSpec {
-    /// constant, polynomial, harmonic, ramp, spline.
+    /// constant, polynomial, harmonic, ramp, spline, expression.
     pub kind: Name,
+    /// expression: the formula of t (`cardan_constraints::expression`).
+    #[serde(default)]
+    pub text: Option<Name>,
     /// constant: the value.
     #[serde(default)]
     pub value: Option<Num>,
@@ -481,6 +484,8 @@ pub const MAX_BODIES: usize = 1_000;
 pub const MAX_ELEMENTS: usize = 5_000;
 /// Longest array accepted (polynomial coefficients, spline knots, output lists).
 pub const MAX_ARRAY_LEN: usize = 10_000;
+/// Longest expression text accepted, in bytes.
+pub const MAX_EXPRESSION_LEN: usize = 10_000;
 /// Deepest nesting of arrays and inline tables accepted (a model file needs 3).
 pub const MAX_NESTING: usize = 32;
 
@@ -627,7 +632,17 @@ fn check_counts(src: &Source, file: &ModelFile) -> Result<(), Error> {
     let function = |f: &FunctionSpec| -> Result<(), Error> {
         long(&f.coefficients, "function coefficients")?;
         long(&f.times, "spline times")?;
-        long(&f.values, "spline values")
+        long(&f.values, "spline values")?;
+        match &f.text {
+            Some(t) if t.get_ref().len() > MAX_EXPRESSION_LEN => Err(src.error_at(
+                t.span(),
+                format!(
+                    "the expression is {} bytes long; at most {MAX_EXPRESSION_LEN} are accepted",
+                    t.get_ref().len()
+                ),
+            )),
+            _ => Ok(()),
+        }
     };
     for d in &file.driver {
         let d = d.get_ref();

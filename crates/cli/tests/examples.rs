@@ -154,6 +154,29 @@ fn slider_crank_matches_closed_form() {
     check_fd("slider_crank", &p, 100, 1e-2, 5e-1);
 }
 
+/// The slider-crank driven by the expression θ(t) = 2πt + 0.3 sin(2πt): the same closed form
+/// with that θ and θ̇ = 2π(1 + 0.3 cos 2πt); accelerations by the finite-difference check.
+#[test]
+fn expression_driver_matches_closed_form() {
+    let (p, r) = run_example("expression_driver");
+    assert_eq!(r.len(), 201);
+    let c = r.point("slider", "C").unwrap();
+    let (mut ex, mut ev) = (0.0f64, 0.0f64);
+    for (k, &t) in r.times.iter().enumerate() {
+        let th = 2.0 * PI * t + 0.3 * (2.0 * PI * t).sin();
+        let w = 2.0 * PI * (1.0 + 0.3 * (2.0 * PI * t).cos());
+        let (by, bz) = (0.1 - 0.08 * th.sin(), 0.12 + 0.08 * th.cos());
+        let (bdy, bdz) = (-0.08 * th.cos() * w, -0.08 * th.sin() * w);
+        let x = (0.09 - by * by - bz * bz).sqrt();
+        let xd = -(by * bdy + bz * bdz) / x;
+        ex = ex.max((c.position[k] - Vector3::new(x, 0.0, 0.0)).amax());
+        ev = ev.max((c.velocity[k] - Vector3::new(xd, 0.0, 0.0)).amax());
+    }
+    eprintln!("expression_driver: max |x − x(θ)| = {ex:.2e} m, |ẋ − ẋ(θ)| = {ev:.2e} m/s");
+    assert!(ex < 1e-10 && ev < 1e-9, "{ex} {ev}");
+    check_fd("expression_driver", &p, 100, 2e-2, 1.0);
+}
+
 /// Spatial RSSR four-bar. The crank tip is P(θ) = (a cos θ, a sin θ, 0), a = 0.1; the rocker turns
 /// about global y through G = (0.3, 0.15, 0.1) and its tip is Q(ψ) = G + b (cos ψ, 0, sin ψ),
 /// b = 0.2; the coupler keeps |Q − P| = L = 0.35. With w = G − P:
@@ -452,6 +475,7 @@ fn every_example_checks() {
         "rack_pinion_steering",
         "cv_driveline",
         "wobble_plate_pump",
+        "expression_driver",
     ] {
         let p = prepare(&example(name)).unwrap();
         let mut out = Vec::new();

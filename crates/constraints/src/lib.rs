@@ -79,6 +79,7 @@ pub mod couplers;
 pub mod distance;
 pub mod drivers;
 pub mod error;
+pub mod expression;
 pub mod homokinetic;
 pub mod jet;
 pub mod joints;
@@ -106,6 +107,7 @@ pub use drivers::{
     TranslationDriver,
 };
 pub use error::ConstraintError;
+pub use expression::Expression;
 pub use homokinetic::Homokinetic;
 pub use jet::{Form, Q7, V6};
 pub use joints::{unwrap_angle, Joint, JointCoordinates, JointKind, JointParams, KindInfo, KINDS};

@@ -7,6 +7,7 @@
 //! | harmonic | b + a sin(ω t + φ) |
 //! | ramp | f0 + (f1 − f0)(10τ³ − 15τ⁴ + 6τ⁵), τ = clamp((t − t0)/(t1 − t0), 0, 1): a C² smooth step |
 //! | spline | natural cubic spline through knots (t_k, f_k); linear extrapolation with the end slopes |
+//! | expression | a formula of t as text ([`Expression`]: grammar, functions, exact derivatives by jets) |
 //!
 //! The spline's second derivatives M_k at the knots solve the tridiagonal system
 //! h_{k−1} M_{k−1} + 2 (h_{k−1} + h_k) M_k + h_k M_{k+1} = 6 (Δ_k − Δ_{k−1}), M_0 = M_n = 0
@@ -14,6 +15,7 @@
 //! allocate (a binary search finds the segment).
 
 use crate::error::{finite, ConstraintError};
+use crate::expression::Expression;
 
 /// A scalar function of time with its first two derivatives.
 #[derive(Debug, Clone, PartialEq)]
@@ -46,6 +48,8 @@ pub enum TimeFunction {
     },
     /// Natural cubic spline (build with [`TimeFunction::spline`]).
     Spline(Spline),
+    /// A formula of t (build with [`Expression::parse`]); not finite where it is undefined.
+    Expression(Expression),
 }
 
 /// A natural cubic spline with precomputed knot second derivatives.
@@ -60,7 +64,14 @@ impl TimeFunction {
     /// Every kind's name, as in model files and oracle data; [`TimeFunction::kind`] (an
     /// exhaustive match) names each variant, and the oracle gate requires reference data for
     /// every name here.
-    pub const KINDS: [&'static str; 5] = ["constant", "polynomial", "harmonic", "ramp", "spline"];
+    pub const KINDS: [&'static str; 6] = [
+        "constant",
+        "polynomial",
+        "harmonic",
+        "ramp",
+        "spline",
+        "expression",
+    ];
 
     /// The kind's name (one of [`TimeFunction::KINDS`]).
     pub fn kind(&self) -> &'static str {
@@ -70,12 +81,20 @@ impl TimeFunction {
             TimeFunction::Harmonic { .. } => "harmonic",
             TimeFunction::Ramp { .. } => "ramp",
             TimeFunction::Spline(_) => "spline",
+            TimeFunction::Expression(_) => "expression",
         }
     }
 
     /// A natural cubic spline through (t_k, f_k); t strictly increasing, at least 2 knots.
     pub fn spline(t: Vec<f64>, f: Vec<f64>) -> Result<Self, ConstraintError> {
         Ok(TimeFunction::Spline(Spline::new(t, f)?))
+    }
+
+    /// An expression function parsed from `text` (see [`crate::expression`]).
+    pub fn expression(text: &str) -> Result<Self, ConstraintError> {
+        Expression::parse(text)
+            .map(TimeFunction::Expression)
+            .map_err(|e| ConstraintError::TimeFunction(format!("expression \"{text}\" {e}")))
     }
 
     /// Checks that every parameter is finite and the shape is valid.
@@ -108,7 +127,7 @@ impl TimeFunction {
                 }
                 Ok(())
             }
-            TimeFunction::Spline(_) => Ok(()),
+            TimeFunction::Spline(_) | TimeFunction::Expression(_) => Ok(()),
         }
     }
 
@@ -149,6 +168,7 @@ impl TimeFunction {
                 (f0 + df * s, df * ds / h, df * dds / (h * h))
             }
             TimeFunction::Spline(s) => s.eval(t),
+            TimeFunction::Expression(e) => e.eval(t),
         }
     }
 }

@@ -3,6 +3,7 @@
 
 pub mod check;
 pub mod eval;
+pub mod functions;
 pub mod output_tables;
 pub mod run;
 
@@ -36,6 +37,9 @@ pub fn prepare(path: &Path) -> Result<Prepared, Error> {
         .map_err(|e| model_error(&source, &loaded, &e))?;
     if let Some(a) = &loaded.analysis {
         check_driver_values(&source, &loaded, &a.times())?;
+        if a.dynamic.is_some() || a.inverse_dynamics {
+            functions::check_force_values(&source, &loaded, &a.times())?;
+        }
     }
     Ok(Prepared {
         source,
@@ -60,18 +64,15 @@ pub fn check_driver_values(src: &Source, loaded: &Loaded, times: &[f64]) -> Resu
             None => src.error(message),
         };
         for &t in times {
-            let (v, rate, acc) = f.eval(t);
-            if !(v.is_finite() && rate.is_finite() && acc.is_finite()) {
+            if let Some(why) = functions::not_finite(f, t) {
                 return Err(located(format!(
-                    "driver \"{name}\": its function is not finite at t = {} s (value {}, rate \
-                     {}, acceleration {}): the prescribed motion overflows there; use another \
-                     time span or change the function",
-                    num(t),
-                    num(v),
-                    num(rate),
-                    num(acc)
+                    "driver \"{name}\": its function is not finite at t = {} s ({why}): the \
+                     prescribed motion is undefined or overflows there; use another time span \
+                     or change the function",
+                    num(t)
                 )));
             }
+            let v = f.eval(t).0;
             q.check(
                 &format!("driver \"{name}\": at t = {} s its value", num(t)),
                 v,
@@ -83,7 +84,7 @@ pub fn check_driver_values(src: &Source, loaded: &Loaded, times: &[f64]) -> Resu
 }
 
 /// A number in plain notation between 1e-4 and 1e9, in scientific notation beyond.
-fn num(x: f64) -> String {
+pub(crate) fn num(x: f64) -> String {
     if x == 0.0 || !x.is_finite() || (1e-4..1e9).contains(&x.abs()) {
         format!("{x}")
     } else {

@@ -160,6 +160,8 @@ pub fn located_as(p: &Prepared, e: &cardan_dynamics::DynamicsError, what: &str) 
     let span = match e.cause() {
         E::MissingInertia { body } => spans.element(body),
         E::BadForce { force, .. } => spans.element(force),
+        E::NonFinite { time, .. } => super::super::functions::first_not_finite(&p.loaded, *time)
+            .and_then(|(_, name)| spans.element(&name)),
         E::InconsistentPositions { open } => open.first().and_then(|o| spans.element(&o.element)),
         E::InconsistentVelocities { equations, .. }
         | E::Singular {
@@ -169,7 +171,13 @@ pub fn located_as(p: &Prepared, e: &cardan_dynamics::DynamicsError, what: &str) 
         _ => None,
     }
     .unwrap_or_else(|| spans.analysis.clone());
-    let mut err = Error::analysis(format!("{what}: {}", e.cause()));
+    let mut message = format!("{what}: {}", e.cause());
+    if let E::NonFinite { time, .. } = e.cause() {
+        if let Some((why, _)) = super::super::functions::first_not_finite(&p.loaded, *time) {
+            message = format!("{message}; the cause: {why}");
+        }
+    }
+    let mut err = Error::analysis(message);
     err.location = Some(p.source.span_location(span));
     if matches!(e.cause(), E::MissingInertia { .. } | E::BadForce { .. }) {
         // The file is incomplete, not the analysis failed.
