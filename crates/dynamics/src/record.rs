@@ -9,8 +9,8 @@ use crate::results::{
 use crate::state::State;
 use crate::system::Dynamics;
 use crate::DynamicsError;
-use cardan_constraints::joints::{BodyAcceleration, CoordinateQuantity};
-use cardan_constraints::{unwrap_angle, BodyPair, BodyState, Driver};
+use cardan_constraints::joints::{continue_angle, BodyAcceleration, CoordinateQuantity};
+use cardan_constraints::{BodyPair, BodyState, Driver};
 use cardan_eulerparam::{p_ddot_from_local, p_dot_from_local};
 use cardan_mechanism::{BodyId, BodyResults, JointResults, Model, Outputs, PointResults, Results};
 use nalgebra::Vector3;
@@ -220,32 +220,38 @@ impl Recorder {
             BodyId::Ground => &g,
             BodyId::Moving(k) => &d.bodies[k],
         };
+        let dt = match kin.times.len() {
+            n if n >= 2 => kin.times[n - 1] - kin.times[n - 2],
+            _ => 0.0,
+        };
+        let body_acc = |id: BodyId| match id {
+            BodyId::Moving(k) if acc => BodyAcceleration {
+                r_ddot: Vector3::from_column_slice(&self.vdot[6 * k..6 * k + 3]),
+                omega_dot_local: Vector3::from_column_slice(&self.vdot[6 * k + 3..6 * k + 6]),
+            },
+            _ => BodyAcceleration::default(),
+        };
         for (jr, j) in kin.joints.iter_mut().zip(model.joints()) {
-            let mut c = j
-                .joint
-                .coordinates(&BodyPair::new(st(j.body_i), st(j.body_j)));
+            let pair = BodyPair::new(st(j.body_i), st(j.body_j));
+            let mut c = j.joint.coordinates(&pair);
+            let rates = vel.then(|| {
+                j.joint
+                    .coordinate_rates(&pair, &body_acc(j.body_i), &body_acc(j.body_j))
+            });
             if let Some(prev) = jr.values.last() {
                 for (i, coord) in c.coordinates.iter().enumerate() {
                     if coord.measure.quantity() == CoordinateQuantity::Angle {
-                        c.values[i] = unwrap_angle(prev[i], c.values[i]);
+                        let w = jr
+                            .rates
+                            .last()
+                            .zip(rates.as_ref())
+                            .map(|(p, r)| (p[i], r.rates[i]));
+                        c.values[i] = continue_angle(prev[i], w, dt, c.values[i]);
                     }
                 }
             }
             jr.values.push(c.values);
-            if vel {
-                let body_acc = |id: BodyId| match id {
-                    BodyId::Moving(k) if acc => BodyAcceleration {
-                        r_ddot: Vector3::from_column_slice(&self.vdot[6 * k..6 * k + 3]),
-                        omega_dot_local: Vector3::from_column_slice(
-                            &self.vdot[6 * k + 3..6 * k + 6],
-                        ),
-                    },
-                    _ => BodyAcceleration::default(),
-                };
-                let pair = BodyPair::new(st(j.body_i), st(j.body_j));
-                let r = j
-                    .joint
-                    .coordinate_rates(&pair, &body_acc(j.body_i), &body_acc(j.body_j));
+            if let Some(r) = rates {
                 jr.rates.push(r.rates);
                 if acc {
                     jr.accelerations.push(r.accelerations);

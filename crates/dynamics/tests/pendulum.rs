@@ -94,3 +94,29 @@ fn a01_joint_rates_are_the_body_angular_velocity_and_acceleration() {
     }
     assert!(err < 1e-10, "{err}");
 }
+
+/// A crank spinning freely at 30 turns/s, written every 0.02 s (0.6 of a turn, more than π,
+/// between outputs): its joint angle is continued with the rates, so it grows as ω t.
+#[test]
+fn a_fast_crank_s_angle_is_continued_over_more_than_half_a_turn_per_output() {
+    let model = crank(1.0, 0.4, None);
+    let mut d = Dynamics::new(&model).unwrap();
+    let w = 2.0 * std::f64::consts::PI * 30.0;
+    let mut s = d.initial_guess();
+    s.set_velocity(
+        0,
+        Vector3::new(0.0, 0.2 * w, 0.0),
+        Vector3::new(0.0, 0.0, w),
+    );
+    let opts = SimulationOptions::new(2.0, 100)
+        .integrator(Integrator::Dopri5(Dopri5Options::tolerances(1e-10, 1e-12)));
+    let res = d.simulate(&s, &opts).unwrap();
+    let pin = res.kinematics.joint("pin").unwrap();
+    for (k, &t) in res.times().iter().enumerate() {
+        assert!(
+            (pin.values[k][0] - w * t).abs() < 1e-6,
+            "t = {t}: {}",
+            pin.values[k][0]
+        );
+    }
+}

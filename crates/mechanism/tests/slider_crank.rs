@@ -228,3 +228,23 @@ fn velocity_only_run_and_dt_grid() {
         .run_kinematics(&KinematicOptions::with_dt(0.0, 1.0, -0.1))
         .is_err());
 }
+
+/// A crank turning 0.6 of a turn (3.8 rad, more than π) between two outputs: the joint angle
+/// written is continued with the rates (trapezoidal prediction), not by the nearest-value rule
+/// that needs less than half a turn per output (which would count the turn backwards).
+#[test]
+fn joint_angles_are_continued_over_more_than_half_a_turn_per_output() {
+    let model = slider_crank_builder(2.0 * PI * 30.0).build().unwrap();
+    let res = model
+        .run_kinematics(&KinematicOptions::new(0.0, 2.0, 100))
+        .unwrap();
+    let crank = &res.joint("A").unwrap().values;
+    for (k, &t) in res.times.iter().enumerate() {
+        let want = 2.0 * PI * 30.0 * t;
+        assert!(
+            (crank[k][0] - want).abs() < 1e-9,
+            "t = {t}: {} vs {want}",
+            crank[k][0]
+        );
+    }
+}

@@ -36,6 +36,21 @@ pub fn unwrap_angle(previous: f64, principal: f64) -> f64 {
     previous + d
 }
 
+/// Continues an angle from its previous output value `previous` to the principal value
+/// `principal` measured `dt` later, with the rates at both ends when they are known: the value
+/// congruent to `principal` nearest to the trapezoidal prediction previous + dt (ω₀ + ω₁)/2.
+/// With rates the angle may turn by many half-turns between outputs (the prediction errs by
+/// O(dt³)); without, it must change by less than π ([`unwrap_angle`]). Rates that differ by
+/// more than π/dt (a rate that jumps, as at a singular configuration) are not trusted: the
+/// nearest-value rule is used.
+pub fn continue_angle(previous: f64, rates: Option<(f64, f64)>, dt: f64, principal: f64) -> f64 {
+    let guess = match rates {
+        Some((w0, w1)) if ((w1 - w0) * dt).abs() < PI => previous + 0.5 * dt * (w0 + w1),
+        _ => previous,
+    };
+    unwrap_angle(guess, principal)
+}
+
 impl Joint {
     /// The joint's relative coordinates at the bodies' current poses: its kind's
     /// [`KindInfo::coordinates`](super::KindInfo::coordinates), each by its [`Measure`] (with

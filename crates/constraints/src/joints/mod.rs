@@ -20,7 +20,7 @@ mod coordinates;
 mod kinds;
 mod rates;
 
-pub use coordinates::{unwrap_angle, JointCoordinates};
+pub use coordinates::{continue_angle, unwrap_angle, JointCoordinates};
 pub use kinds::{
     markdown_table, Axes, Axis, Block, Coordinate, CoordinateQuantity, JointKind, JointParams,
     KindInfo, Measure, KINDS, MAX_COORDINATES,

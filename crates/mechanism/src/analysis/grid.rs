@@ -46,8 +46,9 @@ use crate::error::AnalysisError;
 use crate::model::{BodyId, Model};
 use crate::results::{BodyResults, JointResults, Outputs, PointResults, Results};
 use crate::workspace::Workspace;
+use cardan_constraints::joints::continue_angle;
 use cardan_constraints::joints::{CoordinateQuantity, MAX_COORDINATES};
-use cardan_constraints::{unwrap_angle, BodyPair};
+use cardan_constraints::BodyPair;
 use cardan_eulerparam::EulerParams;
 use cardan_solver::{NewtonOptions, Tolerances};
 use std::ops::ControlFlow;
@@ -616,25 +617,34 @@ impl Model {
             }
         }
         if out.joints {
+            let dt = match res.times.len() {
+                n if n >= 2 => res.times[n - 1] - res.times[n - 2],
+                _ => 0.0,
+            };
             for (idx, (j, h)) in self.joints.iter().zip(res.joints.iter_mut()).enumerate() {
                 let (si, sj) = (ws.state_of(j.body_i), ws.state_of(j.body_j));
-                let c = j.joint.coordinates(&BodyPair::new(&si, &sj));
+                let pair = BodyPair::new(&si, &sj);
+                let c = j.joint.coordinates(&pair);
+                let acc = |id| ws.acceleration_of(id, a);
+                let rates = v.then(|| {
+                    j.joint
+                        .coordinate_rates(&pair, &acc(j.body_i), &acc(j.body_j))
+                });
                 let mut vals = c.values;
                 let prev = &mut joint_prev[idx];
                 for (q, coord) in c.coordinates.iter().enumerate() {
                     if k > 0 && coord.measure.quantity() == CoordinateQuantity::Angle {
-                        vals[q] = unwrap_angle(prev[q], vals[q]);
+                        let w = h
+                            .rates
+                            .last()
+                            .zip(rates.as_ref())
+                            .map(|(p, r)| (p[q], r.rates[q]));
+                        vals[q] = continue_angle(prev[q], w, dt, vals[q]);
                     }
                 }
                 *prev = vals;
                 h.values.push(vals);
-                if v {
-                    let acc = |id| ws.acceleration_of(id, a);
-                    let r = j.joint.coordinate_rates(
-                        &BodyPair::new(&si, &sj),
-                        &acc(j.body_i),
-                        &acc(j.body_j),
-                    );
+                if let Some(r) = rates {
                     h.rates.push(r.rates);
                     if a {
                         h.accelerations.push(r.accelerations);
