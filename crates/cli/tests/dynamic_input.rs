@@ -131,7 +131,7 @@ fn the_dynamic_model_runs_and_writes_its_tables() {
     for (file, header) in [
         ("points.csv", "t [s],rod.tip.x [m]"),
         ("reactions.csv", "pivot.ground.F.x [N]"),
-        ("reactions_local.csv", "pivot.rod.T.z [N m]"),
+        ("reactions_local.csv", "pivot.rod.T@O.z [N m]"),
         (
             "energy.csv",
             "kinetic [J],potential_gravity [J],potential_spring [J],total [J],drift [J]",

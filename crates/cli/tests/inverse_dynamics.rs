@@ -131,17 +131,20 @@ fn slider_crank_inverse_example() {
     let efforts = Csv::read(&dir, "driver_efforts.csv");
     assert_eq!(efforts.header, ["t [s]", "motor.torque [N m]"]);
     let reactions = Csv::read(&dir, "reactions.csv");
-    for j in [
-        "crank_pin.ground",
-        "crank_pin.crank",
-        "ball.conrod",
-        "cross.slider",
-        "slide.slider",
+    // The torque's reference point is named: the joint's point on that body (the prismatic
+    // slide's points differ: O on ground, C on the slider).
+    for (j, point) in [
+        ("crank_pin.ground", "A"),
+        ("crank_pin.crank", "A"),
+        ("ball.conrod", "B"),
+        ("cross.slider", "C"),
+        ("slide.ground", "O"),
+        ("slide.slider", "C"),
     ] {
         reactions.col(&format!("{j}.F.x [N]"));
-        reactions.col(&format!("{j}.T.z [N m]"));
+        reactions.col(&format!("{j}.T@{point}.z [N m]"));
     }
-    Csv::read(&dir, "reactions_local.csv").col("slide.slider.T.y [N m]");
+    Csv::read(&dir, "reactions_local.csv").col("slide.slider.T@C.y [N m]");
 
     // The dynamics API on the same model, gravity added here, on the file's grid.
     let p = prepare(&example("slider_crank_inverse")).unwrap();
@@ -277,7 +280,7 @@ fn driven_pendulum_matches_closed_form() {
         worst_f = worst_f.max((reactions.vec3(k, "pivot.rod.F", "N") - f).amax());
         worst_f = worst_f.max((reactions.vec3(k, "pivot.ground.F", "N") + f).amax());
         assert!(
-            reactions.get(k, "pivot.rod.T.z [N m]").abs() < 1e-9,
+            reactions.get(k, "pivot.rod.T@O.z [N m]").abs() < 1e-9,
             "t = {t}"
         );
     }

@@ -12,7 +12,9 @@ use crate::DynamicsError;
 use cardan_constraints::joints::{continue_angle, BodyAcceleration, CoordinateQuantity};
 use cardan_constraints::{BodyPair, BodyState, Driver};
 use cardan_eulerparam::{p_ddot_from_local, p_dot_from_local};
-use cardan_mechanism::{BodyId, BodyResults, JointResults, Model, Outputs, PointResults, Results};
+use cardan_mechanism::{
+    BodyId, BodyResults, DriverInfo, JointResults, Model, Outputs, PointResults, Results,
+};
 use nalgebra::Vector3;
 
 pub(crate) struct Recorder {
@@ -80,16 +82,24 @@ impl Recorder {
                 });
             }
         }
-        let name = |id: BodyId| model.body_name(id).to_string();
+        let history =
+            |name: &str, (bi, pi): (BodyId, Vector3<f64>), (bj, pj): (BodyId, Vector3<f64>)| {
+                JointReactions {
+                    name: name.to_string(),
+                    body_i: model.body_name(bi).to_string(),
+                    body_j: model.body_name(bj).to_string(),
+                    point_i: point_name(model, bi, &pi),
+                    point_j: point_name(model, bj, &pj),
+                    on_i: Vec::with_capacity(capacity),
+                    on_j: Vec::with_capacity(capacity),
+                }
+            };
         let reactions = model
             .joints()
             .iter()
-            .map(|j| JointReactions {
-                name: j.name.clone(),
-                body_i: name(j.body_i),
-                body_j: name(j.body_j),
-                on_i: Vec::with_capacity(capacity),
-                on_j: Vec::with_capacity(capacity),
+            .map(|j| {
+                let (pi, pj) = (j.joint.marker_i().point, j.joint.marker_j().point);
+                history(&j.name, (j.body_i, pi), (j.body_j, pj))
             })
             .collect();
         let drivers = model
@@ -100,12 +110,9 @@ impl Recorder {
                 lambda: Vec::with_capacity(capacity),
                 effort: Vec::with_capacity(capacity),
                 power: Vec::with_capacity(capacity),
-                reactions: JointReactions {
-                    name: dr.name.clone(),
-                    body_i: name(dr.body_i),
-                    body_j: name(dr.body_j),
-                    on_i: Vec::with_capacity(capacity),
-                    on_j: Vec::with_capacity(capacity),
+                reactions: {
+                    let (pi, pj) = driver_points(model, dr);
+                    history(&dr.name, (dr.body_i, pi), (dr.body_j, pj))
                 },
             })
             .collect();
@@ -117,12 +124,9 @@ impl Recorder {
                 lambda: Vec::with_capacity(capacity),
                 efforts: Vec::with_capacity(capacity),
                 force: has_force(c).then(|| Vec::with_capacity(capacity)),
-                reactions: JointReactions {
-                    name: c.name.clone(),
-                    body_i: name(c.body_i),
-                    body_j: name(c.body_j),
-                    on_i: Vec::with_capacity(capacity),
-                    on_j: Vec::with_capacity(capacity),
+                reactions: {
+                    let (pi, pj) = c.coupler.points();
+                    history(&c.name, (c.body_i, pi), (c.body_j, pj))
                 },
             })
             .collect();
@@ -289,14 +293,7 @@ impl Recorder {
         );
         for (di, (de, dr)) in self.res.drivers.iter_mut().zip(model.drivers()).enumerate() {
             let e = &d.elements[nj + di];
-            let (pi, pj) = match (dr.joint, &dr.driver) {
-                (Some(j), _) => (
-                    model.joints()[j].joint.marker_i().point,
-                    model.joints()[j].joint.marker_j().point,
-                ),
-                (None, Driver::Pose(p)) => (p.marker_i.point, p.marker_j.point),
-                (None, _) => (Vector3::zeros(), Vector3::zeros()),
-            };
+            let (pi, pj) = driver_points(model, dr);
             let (ri, rj) = d.element_reaction(e, state.t, &self.lambda, &pi, &pj);
             let row = dr.rows.start;
             let l = self.lambda[row];
@@ -391,5 +388,32 @@ fn pose_torques<'a>(
                 *e = frame.column(m).dot(&torque);
             }
         }
+    }
+}
+
+/// The points a driver's reaction torques are taken about (body frames): its joint's points,
+/// a general motion's frame origins, else the body frame origins.
+fn driver_points(model: &Model, dr: &DriverInfo) -> (Vector3<f64>, Vector3<f64>) {
+    match (dr.joint, &dr.driver) {
+        (Some(j), _) => (
+            model.joints()[j].joint.marker_i().point,
+            model.joints()[j].joint.marker_j().point,
+        ),
+        (None, Driver::Pose(p)) => (p.marker_i.point, p.marker_j.point),
+        (None, _) => (Vector3::zeros(), Vector3::zeros()),
+    }
+}
+
+/// The name of `body`'s point at `local` (body frame), or `origin` for the body frame origin,
+/// else `P(x;y;z)` (body-frame components, m).
+fn point_name(model: &Model, body: BodyId, local: &Vector3<f64>) -> String {
+    match model
+        .points()
+        .iter()
+        .find(|p| p.body == body && p.local == *local)
+    {
+        Some(p) => p.name.clone(),
+        None if *local == Vector3::zeros() => "origin".into(),
+        None => format!("P({};{};{})", local.x, local.y, local.z),
     }
 }

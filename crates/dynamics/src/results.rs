@@ -28,6 +28,11 @@ pub struct JointReactions {
     pub body_i: String,
     /// Body j.
     pub body_j: String,
+    /// The point of body i the torques on it are taken about: the name of the body's point
+    /// there (P_i of the joint), or `origin` (the body frame origin, the centre of mass).
+    pub point_i: String,
+    /// The same for body j (P_j).
+    pub point_j: String,
     /// On body i, per output time.
     pub on_i: Vec<Reaction>,
     /// On body j, per output time.

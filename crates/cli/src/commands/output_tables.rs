@@ -230,9 +230,10 @@ pub fn reaction_tables(r: &DynamicResults, req: &Requested) -> Vec<Table> {
             break;
         }
         let mut cols = Vec::new();
+        // The torque's reference point is in its header: `joint.body.T@point.x`.
         for j in &joints {
-            for body in [&j.body_i, &j.body_j] {
-                for (q, u) in [("F", "N"), ("T", "N m")] {
+            for (body, point) in [(&j.body_i, &j.point_i), (&j.body_j, &j.point_j)] {
+                for (q, u) in [("F".to_string(), "N"), (format!("T@{point}"), "N m")] {
                     for ax in xyz {
                         cols.push(format!("{}.{body}.{q}.{ax} [{u}]", j.name));
                     }
