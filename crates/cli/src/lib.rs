@@ -19,9 +19,9 @@ pub mod commands;
 pub mod diag;
 pub mod model;
 pub mod output;
+pub mod plot;
 pub mod progress;
 pub mod report;
-pub mod svg;
 pub mod table;
 
 pub use diag::{Error, ErrorKind, Location, Source};

@@ -6,23 +6,41 @@
 //! most 2 points per column remain.
 
 /// The samples of `points` (x ascending or not; x outside [x0, x1] are clamped into the first or
-/// last bucket) kept for drawing on `columns` pixel columns spanning [x0, x1]. Non-finite
-/// samples are dropped. Returns every sample when each bucket holds at most 2.
-pub fn decimate(points: &[(f64, f64)], x0: f64, x1: f64, columns: usize) -> Vec<(f64, f64)> {
-    let finite = |p: &&(f64, f64)| p.0.is_finite() && p.1.is_finite();
+/// last bucket) kept for drawing on `columns` pixel columns spanning [x0, x1]. Samples with a
+/// non-finite x are dropped; a run of samples with a non-finite y becomes one break marker
+/// `(x, NaN)`, so gaps stay gaps. Returns every sample when each bucket holds at most 2.
+pub fn decimate(
+    points: impl IntoIterator<Item = (f64, f64)>,
+    x0: f64,
+    x1: f64,
+    columns: usize,
+) -> Vec<(f64, f64)> {
     let columns = columns.max(1);
     let width = x1 - x0;
-    if !(width > 0.0 && width.is_finite()) {
-        return points.iter().filter(finite).copied().collect();
-    }
-    let bucket =
-        |x: f64| (((x - x0) / width * columns as f64).floor().max(0.0) as usize).min(columns - 1);
+    let spread = width > 0.0 && width.is_finite();
+    let bucket = |x: f64| {
+        let b = if spread {
+            (x - x0) / width * columns as f64
+        } else {
+            0.0
+        };
+        (b.floor().max(0.0) as usize).min(columns - 1)
+    };
     let mut out = Vec::new();
     let mut current: Option<Bucket> = None;
-    for &p in points.iter().filter(finite) {
-        let b = bucket(p.0);
+    for p in points.into_iter().filter(|p| p.0.is_finite()) {
+        if !p.1.is_finite() {
+            if let Some(c) = current.take() {
+                c.emit(&mut out);
+            }
+            if out.last().is_some_and(|q: &(f64, f64)| q.1.is_finite()) {
+                out.push((p.0, f64::NAN));
+            }
+            continue;
+        }
+        let b = if spread { bucket(p.0) } else { usize::MAX };
         match &mut current {
-            Some(c) if c.index == b => c.add(p),
+            Some(c) if c.index == b && spread => c.add(p),
             _ => {
                 if let Some(c) = current.take() {
                     c.emit(&mut out);
@@ -88,7 +106,7 @@ mod tests {
     #[test]
     fn short_series_are_kept_whole() {
         let pts: Vec<_> = (0..10).map(|k| (k as f64, (k * k) as f64)).collect();
-        assert_eq!(decimate(&pts, 0.0, 9.0, 100), pts);
+        assert_eq!(decimate(pts.clone(), 0.0, 9.0, 100), pts);
     }
 
     #[test]
@@ -102,7 +120,7 @@ mod tests {
             .collect();
         pts[123_457].1 = 50.0;
         pts[876_543].1 = -70.0;
-        let d = decimate(&pts, 0.0, 1.0, 400);
+        let d = decimate(pts.iter().copied(), 0.0, 1.0, 400);
         assert!(d.len() <= 2 * 400, "{}", d.len());
         assert!(d.contains(&pts[123_457]) && d.contains(&pts[876_543]));
         assert!(d.windows(2).all(|w| w[0].0 <= w[1].0), "order kept");
@@ -110,10 +128,28 @@ mod tests {
 
     #[test]
     fn odd_input_does_not_panic() {
-        assert!(decimate(&[], 0.0, 1.0, 10).is_empty());
-        assert_eq!(decimate(&[(0.5, 1.0)], 0.5, 0.5, 10), [(0.5, 1.0)]);
-        let nan = decimate(&[(0.0, f64::NAN), (1.0, 2.0)], 0.0, 1.0, 0);
+        assert!(decimate([], 0.0, 1.0, 10).is_empty());
+        assert_eq!(decimate([(0.5, 1.0)], 0.5, 0.5, 10), [(0.5, 1.0)]);
+        let nan = decimate([(0.0, f64::NAN), (1.0, 2.0)], 0.0, 1.0, 0);
         assert_eq!(nan, [(1.0, 2.0)]);
-        assert_eq!(decimate(&[(-5.0, 1.0), (9.0, 2.0)], 0.0, 1.0, 3).len(), 2);
+        assert_eq!(decimate([(-5.0, 1.0), (9.0, 2.0)], 0.0, 1.0, 3).len(), 2);
+        let same_x = decimate([(1.0, 1.0), (1.0, 5.0), (1.0, 2.0)], 1.0, 1.0, 3);
+        assert_eq!(same_x.len(), 3, "no spread: nothing merged");
+    }
+
+    #[test]
+    fn gaps_stay_gaps() {
+        let pts = (0..1000).map(|k| {
+            (
+                k as f64,
+                if (400..500).contains(&k) {
+                    f64::NAN
+                } else {
+                    1.0
+                },
+            )
+        });
+        let d = decimate(pts, 0.0, 999.0, 10);
+        assert_eq!(d.iter().filter(|p| p.1.is_nan()).count(), 1);
     }
 }

@@ -5,7 +5,7 @@
 //! axis), at most a handful of [`Series`] and its legend inside the panel. Panels are laid out in
 //! a grid of [`Figure::columns`] columns.
 //!
-//! Long series are decimated for drawing only ([`decimate`]): per pixel column of the plot area
+//! Long series are decimated for drawing only ([`decimate()`]): per pixel column of the plot area
 //! the first, smallest, largest and last sample are kept in their order, so peaks survive and a
 //! plot's size is bounded by its pixel width, not by the number of samples.
 //!
@@ -13,11 +13,12 @@
 //! ([`Style`]), so one element can keep its colour across panels.
 
 mod axis;
-pub mod decimate;
+mod decimate;
 mod path;
 mod svg;
 mod text;
 
+pub use decimate::decimate;
 pub use svg::render_svg;
 
 /// How an axis maps values to positions.

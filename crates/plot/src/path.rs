@@ -50,7 +50,7 @@ pub fn path(points: &[(f64, f64)], xa: &Axis, ya: &Axis, r: Rect) -> (String, Ve
     let mut drawn = Vec::new();
     let columns = r.w.max(1.0) as usize;
     for run in runs(points, xa, ya, r) {
-        let kept = decimate(&run, r.x, r.x + r.w, columns);
+        let kept = decimate(run, r.x, r.x + r.w, columns);
         write_run(&mut d, &kept);
         drawn.extend(kept);
     }
