@@ -15,6 +15,8 @@
 mod axis;
 mod decimate;
 mod path;
+#[cfg(feature = "png")]
+pub mod png;
 mod svg;
 mod text;
 
