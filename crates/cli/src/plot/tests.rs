@@ -77,3 +77,44 @@ fn long_tables_are_reduced_while_collected() {
     let fig = figure(&t);
     assert!(fig.panels[0].series[0].points.len() <= 2 * PRE_COLUMNS);
 }
+
+/// A deterministic noisy value in [-1, 1] (the worst case for a path: every column spans its
+/// full height).
+fn noise(k: usize, c: usize) -> f64 {
+    let h = (k as u64 ^ ((c as u64) << 40)).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+    (h >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+}
+
+/// A reactions table of `joints` joints (12 columns each) with `rows` noisy samples.
+fn noisy_reactions(joints: usize, rows: usize) -> Table {
+    let mut cols = Vec::new();
+    for j in 0..joints {
+        cols.extend(reaction(&format!("j{j}"), ["a", "b"]));
+    }
+    let refs: Vec<&str> = cols.iter().map(String::as_str).collect();
+    let mut t = table(&refs, 0);
+    t.rows = (0..rows)
+        .map(|k| {
+            let mut row = Vec::with_capacity(cols.len() + 1);
+            row.push(k as f64 * 1e-5);
+            row.extend((0..cols.len()).map(|c| noise(k, c) * (1.0 + c as f64)));
+            row
+        })
+        .collect();
+    t
+}
+
+#[test]
+fn plot_size_is_bounded_for_long_runs() {
+    // 10⁶ samples of 12 noisy columns; the slider crank's reactions table has 36 columns, and a
+    // plot's size grows with the columns, not the samples: 3 × this must stay under 300 KB.
+    let long = noisy_reactions(1, 1_000_000).to_svg();
+    let short = noisy_reactions(1, 20_000).to_svg();
+    assert!(3 * long.len() < 300_000, "{} bytes", long.len());
+    assert!(
+        long.len() < short.len() * 11 / 10,
+        "{} vs {}",
+        long.len(),
+        short.len()
+    );
+}
