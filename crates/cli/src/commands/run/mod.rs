@@ -270,7 +270,7 @@ fn write_outputs(
         ));
     }
     let report = report(p, kind, a, dir.files().to_vec());
-    dir.write("run.json", &report.to_json())?;
+    dir.write("run.json", report.to_json())?;
     let files = dir.files().iter().map(|f| target.join(f)).collect();
     dir.commit()?;
     Ok(files)
