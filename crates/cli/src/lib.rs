@@ -4,7 +4,7 @@
 //! and SVG plots. The binary (`src/main.rs`) only calls [`main_with_args`]; everything else lives
 //! here so that tests can call it.
 //!
-//! - `cardan run MODEL.toml [-o DIR] [--quiet] [--strict] [--allow-long]`: the analysis the
+//! - `cardan run MODEL.toml [-o DIR] [--quiet] [--strict] [--allow-long] [--png]`: the analysis the
 //!   file describes; CSV per output group (header with units), SVG plots, `run.json`, a summary
 //!   line with warnings ([`output`]: the directory rule; [`progress`]: progress bar and Ctrl-C).
 //! - `cardan check MODEL.toml`: bodies, joints with equation counts, DOF, redundant equations.
@@ -19,9 +19,9 @@ pub mod commands;
 pub mod diag;
 pub mod model;
 pub mod output;
+pub mod plot;
 pub mod progress;
 pub mod report;
-pub mod svg;
 pub mod table;
 
 pub use diag::{Error, ErrorKind, Location, Source};
@@ -64,6 +64,9 @@ pub enum Command {
         /// (Ctrl-C stops a run and keeps its results).
         #[arg(long)]
         allow_long: bool,
+        /// Also write each plot as PNG (rendered from its SVG; text needs a system font).
+        #[arg(long)]
+        png: bool,
     },
     /// Validate the model; print bodies, joints, equation counts, DOF and redundant equations.
     Check {
@@ -95,11 +98,13 @@ pub fn run(cli: &Cli, out: &mut dyn std::io::Write) -> Result<(), Error> {
             quiet,
             strict,
             allow_long,
+            png,
         } => {
             let flags = commands::run::RunFlags {
                 progress: !*quiet && std::io::IsTerminal::is_terminal(&std::io::stderr()),
                 strict: *strict,
                 allow_long: *allow_long,
+                png: *png,
             };
             commands::run::run(model, output.as_deref(), &flags, out).map(|_| ())
         }

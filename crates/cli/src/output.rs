@@ -11,7 +11,8 @@
 //! 3. **Rename into place.** The previous `DIR` is renamed aside, the temporary directory renamed
 //!    to `DIR`, then the previous one removed: `DIR` always holds the files of one run, never a
 //!    mix. A directory is only replaced if it holds nothing but what a run writes (`*.csv`,
-//!    `*.svg`, `run.json`); anything else there is refused, so `-o` cannot delete a user's files.
+//!    `*.svg`, `*.png`, `run.json`); anything else there is refused, so `-o` cannot delete a
+//!    user's files.
 //!
 //! A run that produced no result (an input error, an assembly failure) writes nothing: the
 //! previous directory stays. Partial results (a failure mid-run, Ctrl-C) replace it, marked
@@ -97,11 +98,11 @@ impl OutputDir {
         &self.files
     }
 
-    /// Writes `name` into the temporary directory: write, flush, sync to disk.
+    /// Writes `name` (text or bytes) into the temporary directory: write, flush, sync to disk.
     ///
     /// # Errors
     /// An output error naming the file and the cause (a full disk, permissions).
-    pub fn write(&mut self, name: &str, text: &str) -> Result<(), Error> {
+    pub fn write(&mut self, name: &str, data: impl AsRef<[u8]>) -> Result<(), Error> {
         if !self.tmp_created {
             if self.tmp.exists() {
                 // Left by an earlier run with our process id (ids are reused): ours to clear.
@@ -118,7 +119,7 @@ impl OutputDir {
         }
         let path = self.tmp.join(name);
         let written = std::fs::File::create(&path).and_then(|mut f| {
-            f.write_all(text.as_bytes())?;
+            f.write_all(data.as_ref())?;
             f.flush()?;
             f.sync_all()
         });
@@ -294,10 +295,14 @@ fn check_replaceable(target: &Path) -> Result<(), Error> {
     Ok(())
 }
 
-/// A plain file named `*.csv`, `*.svg` or `run.json`.
+/// A plain file named `*.csv`, `*.svg`, `*.png` or `run.json`.
 fn is_run_output(e: &std::fs::DirEntry) -> bool {
     let name = e.file_name();
     let name = name.to_string_lossy();
     let plain = e.file_type().is_ok_and(|t| t.is_file());
-    plain && (name.ends_with(".csv") || name.ends_with(".svg") || name == "run.json")
+    plain
+        && (name.ends_with(".csv")
+            || name.ends_with(".svg")
+            || name.ends_with(".png")
+            || name == "run.json")
 }

@@ -1,4 +1,5 @@
-//! Output groups: a time column and named columns with units, written as CSV and plotted as SVG.
+//! Output groups: a time column and named columns with units, written as CSV and plotted as SVG
+//! (the layout of the plot: [`crate::plot`]).
 
 use std::fmt::Write as _;
 
@@ -46,23 +47,9 @@ impl Table {
         s
     }
 
-    /// An SVG line plot of every column against time.
+    /// The SVG plot of the table: small multiples, one unit per panel ([`crate::plot`]).
     pub fn to_svg(&self) -> String {
-        let series: Vec<(String, Vec<(f64, f64)>)> = self
-            .columns
-            .iter()
-            .enumerate()
-            .map(|(k, c)| {
-                let pts = self
-                    .rows
-                    .iter()
-                    .map(|r| (r[0], r[k + 1]))
-                    .filter(|(t, v)| t.is_finite() && v.is_finite())
-                    .collect();
-                (c.clone(), pts)
-            })
-            .collect();
-        crate::svg::line_plot(&self.title, "t [s]", &series)
+        cardan_plot::render_svg(&crate::plot::figure(self))
     }
 }
 

@@ -16,6 +16,7 @@ use super::{prepare, Prepared};
 use crate::diag::Error;
 use crate::output::OutputDir;
 use crate::report::{ModelRef, RunReport, Status};
+use crate::table::Table;
 use cardan_mechanism::Results;
 use dynamic::run_dynamic;
 use inverse::run_inverse;
@@ -193,7 +194,11 @@ pub fn run_model_with(
     if flags.strict && a.failure.is_none() && !a.summary.warnings.is_empty() {
         a.strict_failure = Some(strict_error(&a.summary.warnings));
     }
-    let files = write_outputs(out_dir, &p, kind, &mut a, analysis.plots)?;
+    let plots = Plots {
+        svg: analysis.plots,
+        png: analysis.plots && flags.png,
+    };
+    let files = write_outputs(out_dir, &p, kind, &mut a, plots)?;
     a.summary.dir = dir;
     a.summary.files = files;
     Ok(RunOutcome {
@@ -215,6 +220,26 @@ fn strict_error(warnings: &[String]) -> Error {
     ))
 }
 
+/// Which plot files to write.
+#[derive(Debug, Clone, Copy)]
+struct Plots {
+    /// An SVG per table (the model file's `plots`).
+    svg: bool,
+    /// A PNG beside each SVG (`--png`).
+    png: bool,
+}
+
+/// Writes the SVG plot of a table and, with `png`, its PNG rendering.
+fn write_plot(dir: &mut OutputDir, t: &Table, png: bool) -> Result<(), Error> {
+    let svg = t.to_svg();
+    if png {
+        let bytes = cardan_plot::png::svg_to_png(&svg)
+            .map_err(|e| Error::output(format!("{}.png: {e}", t.name)))?;
+        dir.write(&format!("{}.png", t.name), bytes)?;
+    }
+    dir.write(&format!("{}.svg", t.name), svg)
+}
+
 /// Writes the tables and `run.json` into the locked directory and renames it into place.
 /// Completes a failure's message with what was written. Returns the paths written.
 fn write_outputs(
@@ -222,12 +247,12 @@ fn write_outputs(
     p: &Prepared,
     kind: &'static str,
     a: &mut Analysed,
-    plots: bool,
+    plots: Plots,
 ) -> Result<Vec<PathBuf>, Error> {
     for t in &a.tables {
-        dir.write(&format!("{}.csv", t.name), &t.to_csv())?;
-        if plots && t.name != "residual" {
-            dir.write(&format!("{}.svg", t.name), &t.to_svg())?;
+        dir.write(&format!("{}.csv", t.name), t.to_csv())?;
+        if plots.svg && t.name != "residual" {
+            write_plot(&mut dir, t, plots.png)?;
         }
     }
     let unit = if kind == "dynamic" {
@@ -245,7 +270,7 @@ fn write_outputs(
         ));
     }
     let report = report(p, kind, a, dir.files().to_vec());
-    dir.write("run.json", &report.to_json())?;
+    dir.write("run.json", report.to_json())?;
     let files = dir.files().iter().map(|f| target.join(f)).collect();
     dir.commit()?;
     Ok(files)

@@ -67,6 +67,8 @@ pub struct RunFlags {
     /// `--allow-long`: run a dynamic analysis beyond [`super::dynamic::MAX_STEPS`] estimated
     /// steps.
     pub allow_long: bool,
+    /// `--png`: write a PNG beside each SVG plot.
+    pub png: bool,
 }
 
 /// An analysis that has run, before anything is written.

@@ -1,0 +1,124 @@
+//! What a column header says about how to plot it.
+//!
+//! Headers read `element[.more].quantity[.component] [unit]`: `crank_pin.ground.F.x [N]`
+//! (a reaction on body `ground` at joint `crank_pin`), `crank.B.x [m]` (point B of body
+//! `crank`), `crank.p.e0 [-]`, `crank_pin.angle [rad]`, `kinetic [J]`.
+
+/// Vector components: the last segment of a header that is one of these is drawn with the dash
+/// of its index (x solid, y dashed, z dotted; e0..e3 likewise).
+const COMPONENTS: [[&str; 4]; 2] = [["x", "y", "z", ""], ["e0", "e1", "e2", "e3"]];
+
+/// A parsed column header.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Header {
+    /// The name without the unit, e.g. `crank_pin.ground.F.x`.
+    pub label: String,
+    /// The unit inside the trailing brackets (empty without brackets), e.g. `N m`.
+    pub unit: String,
+    /// The first segment: the joint, body or quantity the column belongs to.
+    pub element: String,
+    /// What keeps one colour across panels: the body of a reaction (the second segment when
+    /// there are at least three besides the component), else the element.
+    pub colour_key: String,
+    /// The dash index of the component (0 without one).
+    pub dash: usize,
+}
+
+impl Header {
+    /// Parses a header; any text is accepted.
+    pub fn parse(text: &str) -> Self {
+        let (label, unit) = split_unit(text);
+        let mut segs: Vec<&str> = label.split('.').collect();
+        let dash = component(&segs);
+        if dash.is_some() {
+            segs.pop();
+        }
+        let element = segs.first().copied().unwrap_or_default().to_string();
+        let colour_key = if segs.len() >= 3 { segs[1] } else { &element }.to_string();
+        Self {
+            label: label.to_string(),
+            unit: unit.to_string(),
+            element,
+            colour_key,
+            dash: dash.unwrap_or(0),
+        }
+    }
+}
+
+/// `name [unit]` split into its name and unit; without brackets the unit is empty.
+fn split_unit(text: &str) -> (&str, &str) {
+    let t = text.trim();
+    if let (Some(open), true) = (t.rfind('['), t.ends_with(']')) {
+        return (t[..open].trim_end(), &t[open + 1..t.len() - 1]);
+    }
+    (t, "")
+}
+
+/// The dash index of the last segment when it is a vector component (and not the only segment).
+fn component(segs: &[&str]) -> Option<usize> {
+    let last = *segs.last()?;
+    if segs.len() < 2 || last.is_empty() {
+        return None;
+    }
+    COMPONENTS
+        .iter()
+        .find_map(|set| set.iter().position(|c| *c == last))
+}
+
+/// The y label of a panel of `unit`: the quantity it measures and the unit, e.g. `force [N]`.
+pub fn y_label(unit: &str) -> String {
+    let quantity = match unit {
+        "N" => "force",
+        "N m" => "torque",
+        "m" => "length",
+        "rad" => "angle",
+        "m/s" => "velocity",
+        "rad/s" => "angular velocity",
+        "m/s²" => "acceleration",
+        "rad/s²" => "angular acceleration",
+        "J" => "energy",
+        "-" => "dimensionless",
+        _ => "",
+    };
+    match (quantity, unit) {
+        (_, "") => "value".into(),
+        ("", u) => format!("[{u}]"),
+        (q, u) => format!("{q} [{u}]"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn headers_name_unit_element_colour_and_dash() {
+        let h = Header::parse("crank_pin.ground.T.z [N m]");
+        assert_eq!(
+            (h.label.as_str(), h.unit.as_str()),
+            ("crank_pin.ground.T.z", "N m")
+        );
+        assert_eq!(
+            (h.element.as_str(), h.colour_key.as_str(), h.dash),
+            ("crank_pin", "ground", 2)
+        );
+        let h = Header::parse("crank.p.e3 [-]");
+        assert_eq!(
+            (h.element.as_str(), h.colour_key.as_str(), h.dash),
+            ("crank", "crank", 3)
+        );
+        let h = Header::parse("slide.slide [m]");
+        assert_eq!((h.colour_key.as_str(), h.dash), ("slide", 0));
+        let h = Header::parse("x");
+        assert_eq!((h.element.as_str(), h.unit.as_str(), h.dash), ("x", "", 0));
+        assert_eq!(Header::parse("").element, "");
+        assert_eq!(Header::parse("a.b [").unit, "");
+    }
+
+    #[test]
+    fn y_labels_carry_the_unit() {
+        assert_eq!(y_label("N m"), "torque [N m]");
+        assert_eq!(y_label("kg"), "[kg]");
+        assert_eq!(y_label(""), "value");
+    }
+}

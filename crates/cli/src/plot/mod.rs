@@ -1,0 +1,141 @@
+//! How a [`Table`] is drawn: small multiples built from its column headers.
+//!
+//! Each panel holds one unit and the columns of one or a few elements ([`panels`]: reactions
+//! one joint per panel, forces apart from torques; at most 8 series). The colour follows the
+//! element (for reactions: the body the reaction acts on) through all panels of the table, the
+//! dash the vector component (x solid, y dashed, z dotted). Long tables are reduced per column
+//! to [`PRE_COLUMNS`] min/max buckets while the series are collected, so the figure never holds
+//! a copy of every sample; `cardan-plot` then decimates to the panel's pixel width. The CSV keeps
+//! every sample.
+
+mod header;
+mod panels;
+
+use cardan_plot::{decimate, Figure, Panel, Series, Style};
+
+use crate::table::Table;
+use header::{y_label, Header};
+use panels::{panels, PanelSpec};
+
+/// Buckets of the first reduction of a long column (more than any panel is wide).
+pub const PRE_COLUMNS: usize = 2048;
+
+/// The figure of a table: one panel per group of columns, two panels per row.
+pub fn figure(table: &Table) -> Figure {
+    let headers: Vec<Header> = table.columns.iter().map(|c| Header::parse(c)).collect();
+    let keys = colour_keys(&headers);
+    let (t0, t1) = time_range(table);
+    let specs = panels(&headers);
+    let mut fig = Figure::new(&table.title, "t [s]");
+    fig.columns = if specs.len() > 1 { 2 } else { 1 };
+    fig.panels = specs
+        .iter()
+        .map(|spec| panel(table, &headers, &keys, spec, (t0, t1)))
+        .collect();
+    fig
+}
+
+/// The colour keys of the table in order of first appearance: a key's index is its colour.
+fn colour_keys(headers: &[Header]) -> Vec<&str> {
+    let mut keys: Vec<&str> = Vec::new();
+    for h in headers {
+        if !keys.contains(&h.colour_key.as_str()) {
+            keys.push(&h.colour_key);
+        }
+    }
+    keys
+}
+
+/// The finite time range of the rows ((0, 0) without any).
+fn time_range(table: &Table) -> (f64, f64) {
+    let times = table.rows.iter().filter_map(|r| r.first().copied());
+    let (lo, hi) = times
+        .filter(|t| t.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), t| {
+            (a.min(t), b.max(t))
+        });
+    if lo <= hi {
+        (lo, hi)
+    } else {
+        (0.0, 0.0)
+    }
+}
+
+/// One panel of the figure.
+fn panel(
+    table: &Table,
+    headers: &[Header],
+    keys: &[&str],
+    spec: &PanelSpec,
+    t: (f64, f64),
+) -> Panel {
+    let mut title = spec.elements.join(", ");
+    if let Some((k, n)) = spec.part {
+        title.push_str(&format!(" ({k}/{n})"));
+    }
+    let single = (spec.elements.len() == 1).then(|| spec.elements[0].as_str());
+    let mut series: Vec<Series> = spec
+        .columns
+        .iter()
+        .map(|&c| {
+            let h = &headers[c];
+            let colour = keys.iter().position(|k| *k == h.colour_key).unwrap_or(0);
+            Series {
+                label: legend_label(&h.label, single),
+                style: Style {
+                    colour,
+                    dash: h.dash,
+                    markers: false,
+                },
+                points: column(table, c, t),
+            }
+        })
+        .collect();
+    separate_clashes(&mut series);
+    Panel {
+        title,
+        y_label: y_label(&spec.unit),
+        series,
+    }
+}
+
+/// The label in the legend: without the panel's element when the panel shows only that one.
+fn legend_label(label: &str, element: Option<&str>) -> String {
+    element
+        .and_then(|e| label.strip_prefix(e))
+        .and_then(|rest| rest.strip_prefix('.'))
+        .filter(|rest| !rest.is_empty())
+        .unwrap_or(label)
+        .to_string()
+}
+
+/// Column `c` against time, reduced to [`PRE_COLUMNS`] min/max buckets over `t`.
+fn column(table: &Table, c: usize, t: (f64, f64)) -> Vec<(f64, f64)> {
+    let samples = table.rows.iter().map(|r| {
+        let at = |k: usize| r.get(k).copied().unwrap_or(f64::NAN);
+        (at(0), at(c + 1))
+    });
+    decimate(samples, t.0, t.1, PRE_COLUMNS)
+}
+
+/// When two series of a panel would look alike (same colour and dash: two points of one body),
+/// the panel's series are coloured by their position instead.
+fn separate_clashes(series: &mut [Series]) {
+    let looks: Vec<(usize, usize)> = series
+        .iter()
+        .map(|s| (s.style.colour, s.style.dash))
+        .collect();
+    let clash = looks
+        .iter()
+        .enumerate()
+        .any(|(k, l)| looks[..k].contains(l));
+    if clash {
+        for (k, s) in series.iter_mut().enumerate() {
+            s.style.colour = k;
+            s.style.dash = 0;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,120 @@
+//! Tests of the table figures: units per panel, legends, colours, odd tables.
+
+use super::*;
+
+fn table(cols: &[&str], rows: usize) -> Table {
+    let mut t = Table::new("g", "G", cols.iter().map(|c| c.to_string()).collect());
+    for k in 0..rows {
+        let time = k as f64 * 0.01;
+        let mut row = vec![time];
+        row.extend((0..cols.len()).map(|c| (time * (c + 1) as f64).sin()));
+        t.rows.push(row);
+    }
+    t
+}
+
+#[test]
+fn joint_coordinates_do_not_share_an_axis() {
+    let fig = figure(&table(&["crank_pin.angle [rad]", "slide.slide [m]"], 10));
+    let labels: Vec<&str> = fig.panels.iter().map(|p| p.y_label.as_str()).collect();
+    assert_eq!(labels, ["angle [rad]", "length [m]"]);
+}
+
+/// The reaction headers of a joint between two bodies (as in reactions.csv).
+fn reaction(joint: &str, bodies: [&str; 2]) -> Vec<String> {
+    let mut v = Vec::new();
+    for b in bodies {
+        for (q, u) in [("F", "N"), ("T", "N m")] {
+            v.extend(["x", "y", "z"].map(|c| format!("{joint}.{b}.{q}.{c} [{u}]")));
+        }
+    }
+    v
+}
+
+#[test]
+fn a_body_keeps_its_colour_across_panels() {
+    let mut cols = reaction("j1", ["ground", "crank"]);
+    cols.extend(reaction("j2", ["crank", "rod"]));
+    let refs: Vec<&str> = cols.iter().map(String::as_str).collect();
+    let fig = figure(&table(&refs, 5));
+    assert_eq!(fig.panels.len(), 4);
+    let colour_of = |label: &str| -> Vec<usize> {
+        let all = fig.panels.iter().flat_map(|p| p.series.iter());
+        all.filter(|s| s.label == label)
+            .map(|s| s.style.colour)
+            .collect()
+    };
+    let crank: Vec<usize> = ["crank.F.x", "crank.T.y"]
+        .iter()
+        .flat_map(|l| colour_of(l))
+        .collect();
+    assert_eq!(crank.len(), 4);
+    assert!(crank.iter().all(|c| *c == crank[0]));
+    assert_ne!(colour_of("ground.F.x"), colour_of("rod.F.x"));
+}
+
+#[test]
+fn points_of_one_body_are_told_apart() {
+    let fig = figure(&table(&["b.P.x [m]", "b.Q.x [m]"], 3));
+    let s = &fig.panels[0].series;
+    assert_ne!(s[0].style, s[1].style);
+}
+
+#[test]
+fn odd_tables_give_figures() {
+    let empty = table(&[], 0);
+    assert!(figure(&empty).panels.is_empty());
+    let mut t = table(&["a [m]", "b [m]"], 1);
+    t.rows.push(vec![f64::NAN]);
+    t.rows.push(vec![0.5, f64::INFINITY, 2.0]);
+    let svg = t.to_svg();
+    assert!(svg.ends_with("</svg>\n"));
+}
+
+#[test]
+fn long_tables_are_reduced_while_collected() {
+    let t = table(&["a [m]"], 20_000);
+    let fig = figure(&t);
+    assert!(fig.panels[0].series[0].points.len() <= 2 * PRE_COLUMNS);
+}
+
+/// A deterministic noisy value in [-1, 1] (the worst case for a path: every column spans its
+/// full height).
+fn noise(k: usize, c: usize) -> f64 {
+    let h = (k as u64 ^ ((c as u64) << 40)).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+    (h >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+}
+
+/// A reactions table of `joints` joints (12 columns each) with `rows` noisy samples.
+fn noisy_reactions(joints: usize, rows: usize) -> Table {
+    let mut cols = Vec::new();
+    for j in 0..joints {
+        cols.extend(reaction(&format!("j{j}"), ["a", "b"]));
+    }
+    let refs: Vec<&str> = cols.iter().map(String::as_str).collect();
+    let mut t = table(&refs, 0);
+    t.rows = (0..rows)
+        .map(|k| {
+            let mut row = Vec::with_capacity(cols.len() + 1);
+            row.push(k as f64 * 1e-5);
+            row.extend((0..cols.len()).map(|c| noise(k, c) * (1.0 + c as f64)));
+            row
+        })
+        .collect();
+    t
+}
+
+#[test]
+fn plot_size_is_bounded_for_long_runs() {
+    // 10⁶ samples of 12 noisy columns; the slider crank's reactions table has 36 columns, and a
+    // plot's size grows with the columns, not the samples: 3 × this must stay under 300 KB.
+    let long = noisy_reactions(1, 1_000_000).to_svg();
+    let short = noisy_reactions(1, 20_000).to_svg();
+    assert!(3 * long.len() < 300_000, "{} bytes", long.len());
+    assert!(
+        long.len() < short.len() * 11 / 10,
+        "{} vs {}",
+        long.len(),
+        short.len()
+    );
+}

@@ -1,0 +1,121 @@
+//! The SVG path of one series in a plot rectangle: runs of drawable samples mapped to pixels,
+//! decimated per pixel column, written with relative moves of 0.1 px resolution (short text).
+
+use std::fmt::Write as _;
+
+use crate::axis::Axis;
+use crate::decimate::decimate;
+
+/// A plot area in pixels.
+#[derive(Debug, Clone, Copy)]
+pub struct Rect {
+    /// Left edge.
+    pub x: f64,
+    /// Top edge.
+    pub y: f64,
+    /// Width.
+    pub w: f64,
+    /// Height.
+    pub h: f64,
+}
+
+/// Pixel positions of the drawable samples, in runs broken at samples an axis cannot show.
+/// Positions are clamped to a margin around the rectangle (the clip path hides the rest).
+fn runs(points: &[(f64, f64)], xa: &Axis, ya: &Axis, r: Rect) -> Vec<Vec<(f64, f64)>> {
+    let mut out = vec![Vec::new()];
+    for &(x, y) in points {
+        match (xa.frac(x), ya.frac(y)) {
+            (Some(fx), Some(fy)) => {
+                let px = r.x + fx.clamp(-1.0, 2.0) * r.w;
+                let py = r.y + (1.0 - fy.clamp(-1.0, 2.0)) * r.h;
+                if let Some(run) = out.last_mut() {
+                    run.push((px, py));
+                }
+            }
+            _ => {
+                if out.last().is_some_and(|run| !run.is_empty()) {
+                    out.push(Vec::new());
+                }
+            }
+        }
+    }
+    out.retain(|run| !run.is_empty());
+    out
+}
+
+/// The path data (`d` attribute) of the series and its drawn pixel points; empty when nothing
+/// is drawable.
+pub fn path(points: &[(f64, f64)], xa: &Axis, ya: &Axis, r: Rect) -> (String, Vec<(f64, f64)>) {
+    let mut d = String::new();
+    let mut drawn = Vec::new();
+    let columns = r.w.max(1.0) as usize;
+    for run in runs(points, xa, ya, r) {
+        let kept = decimate(run, r.x, r.x + r.w, columns);
+        write_run(&mut d, &kept);
+        drawn.extend(kept);
+    }
+    (d, drawn)
+}
+
+/// Appends `M x,y` and relative line segments, rounding to tenths of a pixel without drift.
+fn write_run(d: &mut String, pts: &[(f64, f64)]) {
+    let tenth = |v: f64| (v * 10.0).round() as i64;
+    let Some(&(x0, y0)) = pts.first() else {
+        return;
+    };
+    let (mut px, mut py) = (tenth(x0), tenth(y0));
+    let _ = write!(d, "M{},{}", Tenths(px), Tenths(py));
+    if pts.len() == 1 {
+        d.push_str("h0.1");
+    }
+    for &(x, y) in &pts[1..] {
+        let (qx, qy) = (tenth(x), tenth(y));
+        if (qx, qy) != (px, py) {
+            let _ = write!(d, "l{},{}", Tenths(qx - px), Tenths(qy - py));
+        }
+        (px, py) = (qx, qy);
+    }
+}
+
+/// A number of tenths written as a short decimal ("12.3", "-0.4", "7").
+struct Tenths(i64);
+
+impl std::fmt::Display for Tenths {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let sign = if self.0 < 0 { "-" } else { "" };
+        let a = self.0.unsigned_abs();
+        match a % 10 {
+            0 => write!(f, "{sign}{}", a / 10),
+            r => write!(f, "{sign}{}.{r}", a / 10),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tenths_are_short() {
+        let s: Vec<String> = [123, -4, 70, 0, -15].map(|v| Tenths(v).to_string()).into();
+        assert_eq!(s, ["12.3", "-0.4", "7", "0", "-1.5"]);
+    }
+
+    #[test]
+    fn gaps_break_the_line() {
+        let mut d = String::new();
+        write_run(&mut d, &[(1.0, 2.0), (1.04, 2.0), (3.0, 1.0)]);
+        assert_eq!(d, "M1,2l2,-1");
+        let ax = Axis::fit([0.0, 1.0].into_iter(), crate::Scale::Linear, 4);
+        let r = Rect {
+            x: 0.0,
+            y: 0.0,
+            w: 100.0,
+            h: 100.0,
+        };
+        let pts = [(0.0, 0.0), (0.5, f64::NAN), (1.0, 1.0)];
+        let (d, drawn) = path(&pts, &ax, &ax, r);
+        assert_eq!(d.matches('M').count(), 2, "{d}");
+        assert_eq!(drawn.len(), 2);
+    }
+}
