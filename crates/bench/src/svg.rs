@@ -33,6 +33,7 @@ pub fn loglog(title: &str, xlabel: &str, ylabel: &str, series: &[Series]) -> Str
             title: String::new(),
             y_label: ylabel.into(),
             series,
+            y_extent: None,
         }],
         ..Figure::new(title, xlabel)
     };

@@ -65,6 +65,9 @@ pub struct Panel {
     pub y_label: String,
     /// The curves.
     pub series: Vec<Series>,
+    /// A y extent the axis covers at least (±this value), e.g. the scale of sibling panels of
+    /// the same unit, so a series of round-off noise is drawn flat instead of magnified.
+    pub y_extent: Option<f64>,
 }
 
 /// A figure: a title, a shared x axis and a grid of panels.

@@ -128,6 +128,7 @@ mod tests {
                     style: Style::default(),
                     points,
                 }],
+                y_extent: None,
             }],
             ..Figure::new("f", "t [s]")
         };

@@ -71,7 +71,12 @@ fn write_panel(s: &mut String, k: usize, fig: &Figure, panel: &Panel, xa: &Axis,
         w: CELL_W - LEFT - RIGHT,
         h: CELL_H - TOP - BOTTOM,
     };
-    let ya = Axis::fit(all(std::iter::once(panel), |p| p.1), fig.y_scale, 5);
+    let extent = panel.y_extent.into_iter().flat_map(|e| [-e, e]);
+    let ya = Axis::fit(
+        all(std::iter::once(panel), |p| p.1).chain(extent),
+        fig.y_scale,
+        5,
+    );
     let _ = writeln!(
         s,
         r#"<text x="{}" y="{}" text-anchor="middle" font-size="12" font-weight="bold">{}</text>"#,
@@ -232,6 +237,7 @@ mod tests {
                 series("one", vec![(1.0, 2.0)]),
                 series("flat", vec![(0.0, 3.0), (1.0, 3.0)]),
             ],
+            y_extent: None,
         });
         fig.columns = 5;
         fig.y_scale = Scale::Log;
@@ -249,6 +255,7 @@ mod tests {
                 title: "t".into(),
                 y_label: "[N]".into(),
                 series: many,
+                y_extent: None,
             }],
             ..Figure::new("f", "t [s]")
         };

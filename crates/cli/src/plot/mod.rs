@@ -32,7 +32,37 @@ pub fn figure(table: &Table) -> Figure {
         .iter()
         .map(|spec| panel(table, &headers, &keys, spec, (t0, t1)))
         .collect();
+    flatten_round_off(&mut fig.panels);
     fig
+}
+
+/// Below this fraction of the largest value of its unit in the figure, a panel shows round-off.
+const ROUND_OFF: f64 = 1e-10;
+
+/// A panel whose values are all round-off next to its siblings of the same unit (the reaction
+/// torques of a spherical joint, say) is drawn on the siblings' scale, where it lies flat at
+/// zero, and its title says so with its largest value; the CSV keeps the values.
+fn flatten_round_off(panels: &mut [Panel]) {
+    let peak = |p: &Panel| {
+        p.series
+            .iter()
+            .flat_map(|s| s.points.iter().map(|q| q.1.abs()))
+            .filter(|v| v.is_finite())
+            .fold(0.0, f64::max)
+    };
+    let peaks: Vec<f64> = panels.iter().map(peak).collect();
+    for k in 0..panels.len() {
+        let scale = (0..panels.len())
+            .filter(|&j| panels[j].y_label == panels[k].y_label)
+            .map(|j| peaks[j])
+            .fold(0.0, f64::max);
+        if scale > 0.0 && peaks[k] <= ROUND_OFF * scale {
+            panels[k].y_extent = Some(scale);
+            panels[k]
+                .title
+                .push_str(&format!(" (round-off only, |max| {:.1e})", peaks[k]));
+        }
+    }
 }
 
 /// The colour keys of the table in order of first appearance: a key's index is its colour.
@@ -96,6 +126,7 @@ fn panel(
         title,
         y_label: y_label(&spec.unit),
         series,
+        y_extent: None,
     }
 }
 

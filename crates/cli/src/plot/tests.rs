@@ -118,3 +118,31 @@ fn plot_size_is_bounded_for_long_runs() {
         short.len()
     );
 }
+
+#[test]
+fn a_panel_of_round_off_is_drawn_flat_on_its_siblings_scale() {
+    let mut cols = reaction("pin", ["ground", "crank"]);
+    cols.extend(reaction("ball", ["crank", "rod"]));
+    let refs: Vec<&str> = cols.iter().map(String::as_str).collect();
+    let mut t = table(&refs, 20);
+    // The ball's torques (row entries 16..19 and 22..25; entry 0 is t) are round-off.
+    for (k, row) in t.rows.iter_mut().enumerate() {
+        for c in (16..19).chain(22..25) {
+            row[c] = 1e-16 * ((k % 3) as f64 - 1.0);
+        }
+    }
+    let fig = figure(&t);
+    let ball_torque = fig
+        .panels
+        .iter()
+        .find(|p| p.title.starts_with("ball") && p.y_label.contains("N m"))
+        .unwrap();
+    assert!(
+        ball_torque.title.contains("round-off only"),
+        "{}",
+        ball_torque.title
+    );
+    assert!(ball_torque.y_extent.unwrap() > 0.5);
+    let normal = fig.panels.iter().filter(|p| p.y_extent.is_some()).count();
+    assert_eq!(normal, 1, "only the round-off panel is flattened");
+}
