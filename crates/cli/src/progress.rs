@@ -45,6 +45,17 @@ pub fn stop_requested() -> bool {
     stop_flag().load(Ordering::Relaxed)
 }
 
+/// Asks the running analyses to stop at their next step and keep their results, as Ctrl-C
+/// does (for hosts with their own interrupt handling, such as the Python bindings).
+pub fn request_stop() {
+    stop_flag().store(true, Ordering::Relaxed);
+}
+
+/// Clears a stop request, so that the next analysis runs (hosts that handled the interrupt).
+pub fn clear_stop() {
+    stop_flag().store(false, Ordering::Relaxed);
+}
+
 /// The progress of one run: `len` units of work (steps, or parts of the time span).
 pub struct Progress {
     show: bool,

@@ -28,7 +28,15 @@ pub struct Prepared {
 /// Unreadable file, TOML syntax, unknown keys, bad values, or a [`ModelError`] from the builder
 /// (located at the element it names).
 pub fn prepare(path: &Path) -> Result<Prepared, Error> {
-    let source = Source::read(path)?;
+    prepare_source(Source::read(path)?)
+}
+
+/// [`prepare`] for a model file already read (or written by a program): `source.path` names it
+/// in messages and anchors the paths the file refers to.
+///
+/// # Errors
+/// As [`prepare`], except reading.
+pub fn prepare_source(source: Source) -> Result<Prepared, Error> {
     let file = crate::model::parse(&source)?;
     let loaded = load(&source, &file)?;
     let model = loaded

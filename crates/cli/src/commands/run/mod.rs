@@ -10,7 +10,7 @@ pub mod inverse;
 pub mod kinematic;
 mod summary;
 
-pub use summary::{DynamicSummary, RunFlags, Summary};
+pub use summary::{Analysed, DynamicSummary, RunFlags, Summary};
 
 use super::{prepare, Prepared};
 use crate::diag::Error;
@@ -23,7 +23,6 @@ use inverse::run_inverse;
 use kinematic::run_kinematic;
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use summary::Analysed;
 
 /// The output of [`run_model`]: the results (complete, or partial with the error).
 pub struct RunOutcome {
@@ -163,7 +162,6 @@ pub fn run_model_with(
     output: Option<&Path>,
     flags: &RunFlags,
 ) -> Result<RunOutcome, Error> {
-    let progress = flags.progress;
     let p = prepare(path)?;
     let Some(analysis) = p.loaded.analysis.clone() else {
         return Err(p.source.error(
@@ -177,23 +175,7 @@ pub fn run_model_with(
     };
     // Locked before the analysis: a concurrent run is refused at once, not after its work.
     let out_dir = OutputDir::lock(&dir)?;
-    let (kind, ran) = if analysis.dynamic.is_some() {
-        ("dynamic", run_dynamic(&p, &analysis, flags))
-    } else if analysis.inverse_dynamics {
-        ("inverse_dynamics", run_inverse(&p, &analysis, progress))
-    } else {
-        ("kinematic", run_kinematic(&p, &analysis, progress))
-    };
-    let mut a = ran?;
-    if a.results.times.is_empty() {
-        // Nothing to write: the previous directory stays as it was.
-        return Err(a.failure.unwrap_or_else(|| {
-            Error::analysis("the analysis stored no result (no time was solved)")
-        }));
-    }
-    if flags.strict && a.failure.is_none() && !a.summary.warnings.is_empty() {
-        a.strict_failure = Some(strict_error(&a.summary.warnings));
-    }
+    let (kind, mut a) = analyse(&p, &analysis, flags)?;
     let plots = Plots {
         svg: analysis.plots,
         png: analysis.plots && flags.png,
@@ -208,6 +190,45 @@ pub fn run_model_with(
         error: a.failure.or(a.strict_failure),
         dynamic: a.dynamic,
     })
+}
+
+/// Runs `analysis` on the prepared model without writing anything: the analysis kind
+/// (`"kinematic"`, `"inverse_dynamics"` or `"dynamic"`) and what it computed, complete or up to
+/// its failure ([`Analysed::failure`]). With `flags.strict`, warnings set
+/// [`Analysed::strict_failure`].
+///
+/// # Errors
+/// Failures before the first stored time (assembly, driver count), or a run that stored no
+/// time at all.
+pub fn analyse(
+    p: &Prepared,
+    analysis: &crate::build::Analysis,
+    flags: &RunFlags,
+) -> Result<(&'static str, Analysed), Error> {
+    let progress = flags.progress;
+    let (kind, ran) = if analysis.dynamic.is_some() {
+        ("dynamic", run_dynamic(p, analysis, flags))
+    } else if analysis.inverse_dynamics {
+        ("inverse_dynamics", run_inverse(p, analysis, progress))
+    } else {
+        ("kinematic", run_kinematic(p, analysis, progress))
+    };
+    let mut a = ran?;
+    if a.results.times.is_empty() {
+        return Err(a.failure.unwrap_or_else(|| {
+            Error::analysis("the analysis stored no result (no time was solved)")
+        }));
+    }
+    if flags.strict && a.failure.is_none() && !a.summary.warnings.is_empty() {
+        a.strict_failure = Some(strict_error(&a.summary.warnings));
+    }
+    Ok((kind, a))
+}
+
+/// The contents `run.json` would have for an analysed run writing `files` (the Python bindings
+/// attach it to their results).
+pub fn run_json(p: &Prepared, kind: &'static str, a: &Analysed, files: Vec<String>) -> String {
+    report(p, kind, a, files).to_json()
 }
 
 /// The error of a `--strict` run with warnings.

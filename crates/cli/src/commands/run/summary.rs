@@ -72,17 +72,17 @@ pub struct RunFlags {
 }
 
 /// An analysis that has run, before anything is written.
-pub(super) struct Analysed {
+pub struct Analysed {
     /// The output groups.
-    pub(super) tables: Vec<Table>,
+    pub tables: Vec<Table>,
     /// The summary (files and directory are filled in when written).
-    pub(super) summary: Summary,
+    pub summary: Summary,
     /// The results (the kinematic part for dynamic runs).
-    pub(super) results: Results,
+    pub results: Results,
     /// Dynamic and inverse dynamics runs: everything they computed.
-    pub(super) dynamic: Option<cardan_dynamics::DynamicResults>,
+    pub dynamic: Option<cardan_dynamics::DynamicResults>,
     /// The failure that stopped the run early; `None` when it reached `t_end`.
-    pub(super) failure: Option<Error>,
+    pub failure: Option<Error>,
     /// `--strict` with warnings: the error to return after writing (the run is complete).
-    pub(super) strict_failure: Option<Error>,
+    pub strict_failure: Option<Error>,
 }
