@@ -1,0 +1,15 @@
+"""Type stub of the native module (crates/python/src/lib.rs)."""
+
+from typing import Any, Dict, List, Optional
+
+__version__: str
+
+def run(
+    text: str,
+    path: str,
+    kind: Optional[str] = None,
+    options: Optional[Dict[str, Any]] = None,
+    strict: bool = False,
+) -> Dict[str, Any]: ...
+def check(text: str, path: str) -> Dict[str, Any]: ...
+def table_csv(name: str, title: str, columns: List[str], data: bytes) -> str: ...

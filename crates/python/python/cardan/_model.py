@@ -1,0 +1,272 @@
+"""Models: a model file's text (TOML, ``docs/model-format.md``) and the analyses run on it."""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from typing import Any, Dict, List, Optional
+
+from . import _cardan
+from ._errors import raise_error
+from ._results import Results
+
+
+@dataclass(frozen=True)
+class Check:
+    """What ``cardan check`` finds: the degrees of freedom of the joints alone (``dof``), the
+    rank of their Jacobian, the redundant joint equations by name, and the element counts.
+    ``drivers_needed`` is the number of drivers a kinematic analysis needs (= ``dof``)."""
+
+    name: str
+    dof: int
+    rank: int
+    redundant: List[str]
+    bodies: List[str]
+    joints: List[str]
+    drivers: List[str]
+    unknowns: int
+    joint_equations: int
+    equations: int
+
+    @property
+    def drivers_needed(self) -> int:
+        """Drivers a kinematic analysis needs: one per degree of freedom."""
+        return self.dof
+
+    @property
+    def fully_driven(self) -> bool:
+        """Whether the drivers fix every degree of freedom (a kinematic analysis can run)."""
+        return len(self.drivers) == self.dof
+
+
+class Model:
+    """A mechanism model: the text of a model file and the path it came from (which names it
+    in error messages and anchors the files it refers to).
+
+    Models are cheap, immutable and picklable (they travel to process pools and Dask workers
+    as their text). Each analysis method runs the whole analysis in Rust with the GIL
+    released; Ctrl-C stops it at its next step and raises ``KeyboardInterrupt`` with the
+    results so far as its ``partial`` attribute."""
+
+    def __init__(self, text: str, path: Optional[str] = None) -> None:
+        self.text = text
+        self.path = path if path is not None else "<model>"
+
+    @classmethod
+    def from_toml(cls, text: str, path: Optional[str] = None) -> "Model":
+        """A model from model-file text. ``path`` (optional) names it in messages; relative
+        file references are taken from the current directory when it is not given."""
+        return cls(text, path if path is not None else os.path.join(os.getcwd(), "<string>.toml"))
+
+    def check(self) -> Check:
+        """Validates the model and analyses its joints: raises :class:`ModelError` for a bad
+        model, :class:`AnalysisError` when it cannot be assembled."""
+        out = _cardan.check(self.text, self.path)
+        if out["error"] is not None:
+            raise_error(out["error"])
+        return Check(
+            name=out["name"],
+            dof=out["dof"],
+            rank=out["rank"],
+            redundant=list(out["redundant"]),
+            bodies=list(out["bodies"]),
+            joints=list(out["joints"]),
+            drivers=list(out["drivers"]),
+            unknowns=out["unknowns"],
+            joint_equations=out["joint_equations"],
+            equations=out["equations"],
+        )
+
+    def run(self, kind: Optional[str] = None, strict: bool = False, **options: Any) -> Results:
+        """Runs the analysis of the model file's ``[analysis]`` table, with ``kind``
+        (``"kinematic"``, ``"inverse_dynamics"`` or ``"dynamic"``) and any ``[analysis]`` keys
+        given here set over the file's (``t_end=2.0, steps=400, outputs={"points": [...]}``;
+        switching the kind drops the file's keys the new kind does not take).
+
+        ``strict=True`` turns warnings about doubtful results into an :class:`AnalysisError`
+        (with the complete results as ``partial``)."""
+        out = _cardan.run(self.text, self.path, kind, options or None, strict)
+        results = Results._from_native(out) if out["tables"] else None
+        if out["interrupted"]:
+            err = KeyboardInterrupt("cardan: analysis stopped by Ctrl-C; its results so far are in .partial")
+            err.partial = results  # type: ignore[attr-defined]
+            raise err
+        if out["error"] is not None:
+            raise_error(out["error"], partial=results)
+        assert results is not None
+        return results
+
+    def kinematics(self, **options: Any) -> Results:
+        """A kinematic analysis: positions, velocities, accelerations of the driven motion."""
+        return self.run("kinematic", **options)
+
+    def inverse_dynamics(self, **options: Any) -> Results:
+        """Inverse dynamics: the driver efforts (motor torques and forces) and joint reactions
+        along the driven motion."""
+        return self.run("inverse_dynamics", **options)
+
+    def dynamics(self, **options: Any) -> Results:
+        """Forward dynamics: the motion under forces, from the assembled state."""
+        return self.run("dynamic", **options)
+
+    def __reduce__(self) -> Any:
+        return (Model, (self.text, self.path))
+
+    def __repr__(self) -> str:
+        return f"<cardan.Model {self.path}>"
+
+
+def load(path: "os.PathLike[str] | str") -> Model:
+    """Reads a model file (TOML)."""
+    path = os.fspath(path)
+    with open(path, encoding="utf-8") as f:
+        text = f.read()
+    return Model(text, os.path.abspath(path))
+
+
+# ---------------------------------------------------------------------------------------------
+# The builder: a model from Python values, written as model-file text.
+
+
+def _toml_value(v: Any) -> str:
+    """A TOML value of a Python or numpy value."""
+    if hasattr(v, "tolist"):  # numpy arrays and scalars
+        v = v.tolist()
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, int):
+        return str(v)
+    if isinstance(v, float):
+        if v != v:
+            return "nan"
+        if v in (float("inf"), float("-inf")):
+            return "inf" if v > 0 else "-inf"
+        return repr(v)
+    if isinstance(v, str):
+        import json
+
+        return json.dumps(v)
+    if isinstance(v, dict):
+        return "{ " + ", ".join(f"{_toml_key(k)} = {_toml_value(x)}" for k, x in v.items()) + " }"
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    raise TypeError(f"{type(v).__name__} cannot be written to a model file: give numbers, strings, lists or dicts")
+
+
+def _toml_key(k: str) -> str:
+    import json
+
+    return k if k.replace("_", "").replace("-", "").isalnum() and k.isascii() else json.dumps(k)
+
+
+@dataclass
+class Builder:
+    """Builds a model from Python values, mirroring the model file's tables (and so the Rust
+    ``MechanismBuilder``): every method takes the keys of its table in
+    ``docs/model-format.md`` as keyword arguments, with floats, lists, dicts or numpy arrays.
+
+    >>> b = Builder("pendulum", gravity=[0, 0, -9.81])
+    >>> b.ground(points={"O": [0, 0, 0]}, vectors={"x": [1, 0, 0]})
+    >>> b.body("rod", mass=1.0, inertia={"diag": [0.1, 0.1, 0.01]}, position=[0, 0, -0.5],
+    ...        points={"O": [0, 0, 0.5]}, vectors={"x": [1, 0, 0]})
+    >>> b.joint("pin", "revolute", body_i="ground", point_i="O", axis_i="x",
+    ...         body_j="rod", point_j="O", axis_j="x")
+    >>> b.analysis("dynamic", t_end=1.0, output_dt=0.01)
+    >>> model = b.build()
+
+    The model is checked when it is analysed (or by :meth:`Model.check`); its errors name
+    the element, and the line of :meth:`to_toml`'s text."""
+
+    name: str
+    gravity: Any = None
+    description: Optional[str] = None
+    _ground: Dict[str, Any] = field(default_factory=dict)
+    _tables: List[tuple] = field(default_factory=list)
+    _analysis: Optional[Dict[str, Any]] = None
+
+    def ground(self, **keys: Any) -> "Builder":
+        """The ground's points and vectors: ``points={"A": [x, y, z]}``, ``vectors={...}``."""
+        self._ground.update(keys)
+        return self
+
+    def body(self, name: str, **keys: Any) -> "Builder":
+        """A body: ``mass``, ``inertia``, ``position``, ``orientation``, ``points``,
+        ``global_points``, ``vectors``, ..."""
+        self._tables.append(("body", {"name": name, **keys}))
+        return self
+
+    def joint(self, name: str, type: str, **keys: Any) -> "Builder":
+        """A joint of a kind (``"revolute"``, ``"spherical"``, ...) between ``body_i`` and
+        ``body_j`` at their points and axes."""
+        self._tables.append(("joint", {"name": name, "type": type, **keys}))
+        return self
+
+    def driver(self, name: str, **keys: Any) -> "Builder":
+        """A driver: ``joint``, ``function`` (see :func:`polynomial`, :func:`harmonic`,
+        :func:`expression`), ..."""
+        self._tables.append(("driver", {"name": name, **keys}))
+        return self
+
+    def force(self, name: str, type: str, **keys: Any) -> "Builder":
+        """A force element (spring, damper, point force, torque, ...)."""
+        self._tables.append(("force", {"name": name, "type": type, **keys}))
+        return self
+
+    def coupler(self, name: str, type: str, **keys: Any) -> "Builder":
+        """A coupler (gear, rack and pinion, screw) between joint coordinates."""
+        self._tables.append(("coupler", {"name": name, "type": type, **keys}))
+        return self
+
+    def analysis(self, kind: str, **keys: Any) -> "Builder":
+        """The ``[analysis]`` table: ``t_end``, ``steps``, ``outputs``, ..."""
+        self._analysis = {"kind": kind, **keys}
+        return self
+
+    def to_toml(self) -> str:
+        """The model file text."""
+        lines = ["[model]", f"name = {_toml_value(self.name)}"]
+        if self.description is not None:
+            lines.append(f"description = {_toml_value(self.description)}")
+        if self.gravity is not None:
+            lines.append(f"gravity = {_toml_value(self.gravity)}")
+        if self._ground:
+            lines += ["", "[ground]"] + [f"{_toml_key(k)} = {_toml_value(v)}" for k, v in self._ground.items()]
+        for table, keys in self._tables:
+            lines += ["", f"[[{table}]]"] + [f"{_toml_key(k)} = {_toml_value(v)}" for k, v in keys.items()]
+        if self._analysis is not None:
+            lines += ["", "[analysis]"] + [f"{_toml_key(k)} = {_toml_value(v)}" for k, v in self._analysis.items()]
+        return "\n".join(lines) + "\n"
+
+    def build(self) -> Model:
+        """The model (its path names the builder in messages)."""
+        return Model(self.to_toml(), f"<builder {self.name}>")
+
+
+def polynomial(coefficients: Any) -> Dict[str, Any]:
+    """Time function c0 + c1 t + c2 t² + ..."""
+    return {"kind": "polynomial", "coefficients": list(coefficients)}
+
+
+def harmonic(amplitude: float, frequency: float, phase: float = 0.0, offset: float = 0.0) -> Dict[str, Any]:
+    """Time function offset + amplitude sin(frequency t + phase) (frequency in rad/s)."""
+    return {"kind": "harmonic", "amplitude": amplitude, "frequency": frequency, "phase": phase, "offset": offset}
+
+
+def constant(value: float) -> Dict[str, Any]:
+    """Time function of one value."""
+    return {"kind": "constant", "value": value}
+
+
+def ramp(t0: float, t1: float, f0: float, f1: float) -> Dict[str, Any]:
+    """Time function stepping smoothly (C² quintic) from f0 (t ≤ t0) to f1 (t ≥ t1)."""
+    return {"kind": "ramp", "t0": t0, "t1": t1, "f0": f0, "f1": f1}
+
+
+def spline(times: Any, values: Any) -> Dict[str, Any]:
+    """Time function: natural cubic spline through the knots (linear beyond them)."""
+    return {"kind": "spline", "times": list(times), "values": list(values)}
+
+
+def expression(text: str) -> Dict[str, Any]:
+    """Time function from an expression in t (``"0.5*sin(2*pi*t)"``)."""
+    return {"kind": "expression", "text": text}

@@ -1,0 +1,207 @@
+"""Results of an analysis as numpy arrays: one :class:`Table` per output file of ``cardan run``."""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+from typing import Any, Dict, Iterator, List, Optional, Tuple
+
+import numpy as np
+
+from . import _cardan
+
+_HEADER = re.compile(r"^(.*?)(?: \[(.*)\])?$")
+
+
+def split_header(header: str) -> Tuple[str, str]:
+    """``"crank.B.x [m]"`` → ``("crank.B.x", "m")``; a header without a unit gives ``""``."""
+    m = _HEADER.match(header)
+    assert m is not None
+    return m.group(1), m.group(2) or ""
+
+
+class Table:
+    """One output group (``points``, ``joints``, ``reactions``, ...), as the CSV file of the
+    same name: ``t`` (the times, s) and ``values`` (one row per time, one column per header).
+
+    ``columns`` are the CSV headers (``"crank.B.x [m]"``), ``names`` the same without units,
+    ``units`` the units. ``table["crank.B.x"]`` (or the full header) is one column."""
+
+    def __init__(self, name: str, title: str, columns: List[str], data: np.ndarray) -> None:
+        self.name = name
+        self.title = title
+        self.columns = list(columns)
+        split = [split_header(c) for c in self.columns]
+        self.names = [s[0] for s in split]
+        self.units = [s[1] for s in split]
+        self._data = data
+        if data.flags.writeable:
+            data.setflags(write=False)
+
+    @classmethod
+    def _from_native(cls, name: str, title: str, columns: List[str], raw: bytes, rows: int) -> "Table":
+        # A read-only view of the bytes the extension made: no copy.
+        data = np.frombuffer(raw, dtype="<f8").reshape(rows, len(columns) + 1)
+        return cls(name, title, columns, data)
+
+    @property
+    def t(self) -> np.ndarray:
+        """The output times [s]."""
+        return self._data[:, 0]
+
+    @property
+    def values(self) -> np.ndarray:
+        """The values: ``values[k, c]`` is column ``c`` at ``t[k]`` (float64, read-only)."""
+        return self._data[:, 1:]
+
+    def __len__(self) -> int:
+        return self._data.shape[0]
+
+    def __getitem__(self, column: str) -> np.ndarray:
+        for k, (full, short) in enumerate(zip(self.columns, self.names)):
+            if column in (full, short):
+                return self._data[:, k + 1]
+        raise KeyError(f"{self.name} has no column {column!r}; its columns are {', '.join(self.names)}")
+
+    def __contains__(self, column: object) -> bool:
+        return column in self.columns or column in self.names
+
+    def unit(self, column: str) -> str:
+        """The unit of a column (by name or full header)."""
+        for full, short, unit in zip(self.columns, self.names, self.units):
+            if column in (full, short):
+                return unit
+        raise KeyError(column)
+
+    def to_csv(self) -> str:
+        """The CSV text, exactly as ``cardan run`` writes ``<name>.csv``."""
+        return _cardan.table_csv(self.name, self.title, self.columns, self._data.astype("<f8").tobytes())
+
+    def to_pandas(self) -> Any:
+        """A pandas DataFrame indexed by ``t [s]``, one column per header (needs pandas)."""
+        import pandas as pd
+
+        index = pd.Index(self.t, name="t [s]")
+        return pd.DataFrame(self.values, index=index, columns=self.columns)
+
+    def __repr__(self) -> str:
+        return f"<cardan.Table {self.name}: {len(self)} times × {len(self.columns)} columns>"
+
+    def __reduce__(self) -> Any:
+        return (Table, (self.name, self.title, self.columns, np.array(self._data)))
+
+
+class Results:
+    """What an analysis computed: its :class:`Table` s by name (``results.points``,
+    ``results["reactions"]``), the run summary (``run``: the contents of ``run.json``) and its
+    ``warnings`` (doubtful results: read them).
+
+    ``status`` is ``"complete"``, or ``"partial"`` for the results of a run that failed or was
+    stopped (attached to the exception)."""
+
+    def __init__(self, kind: str, tables: Dict[str, Table], run: Dict[str, Any], native_seconds: float = 0.0) -> None:
+        self.kind = kind
+        self.tables = tables
+        self.run = run
+        #: Wall time of the Rust side of the run (reading, building, analysing) [s].
+        self.native_seconds = native_seconds
+
+    @classmethod
+    def _from_native(cls, out: dict) -> "Results":
+        tables = {t[0]: Table._from_native(*t) for t in out["tables"]}
+        run = json.loads(out["run_json"]) if out["run_json"] else {}
+        return cls(out["kind"], tables, run, out.get("seconds", 0.0))
+
+    @property
+    def warnings(self) -> List[str]:
+        """Doubtful results, one sentence each (as printed by ``cardan run``)."""
+        return list(self.run.get("warnings", []))
+
+    @property
+    def status(self) -> str:
+        """``"complete"`` or ``"partial"``."""
+        return str(self.run.get("status", "complete"))
+
+    @property
+    def t(self) -> np.ndarray:
+        """The output times [s] (those of the first table)."""
+        return next(iter(self.tables.values())).t
+
+    def __getitem__(self, name: str) -> Table:
+        try:
+            return self.tables[name]
+        except KeyError:
+            raise KeyError(
+                f"no table {name!r}; this {self.kind} run has {', '.join(self.tables)}"
+            ) from None
+
+    def __getattr__(self, name: str) -> Table:
+        if name.startswith("_") or name in ("tables", "kind", "run", "native_seconds"):
+            raise AttributeError(name)
+        try:
+            return self.tables[name]
+        except KeyError:
+            raise AttributeError(
+                f"no table {name!r}; this {self.kind} run has {', '.join(self.tables)}"
+            ) from None
+
+    def __iter__(self) -> Iterator[Table]:
+        return iter(self.tables.values())
+
+    def __dir__(self) -> List[str]:
+        return list(super().__dir__()) + list(self.tables)
+
+    def to_csv(self, directory: "os.PathLike[str] | str") -> List[str]:
+        """Writes ``<name>.csv`` for every table into ``directory`` (created if needed), each
+        byte for byte as ``cardan run`` writes it, and ``run.json``; returns the paths."""
+        os.makedirs(directory, exist_ok=True)
+        paths = []
+        for t in self.tables.values():
+            path = os.path.join(directory, f"{t.name}.csv")
+            with open(path, "w", encoding="utf-8", newline="") as f:
+                f.write(t.to_csv())
+            paths.append(path)
+        path = os.path.join(directory, "run.json")
+        with open(path, "w", encoding="utf-8") as f:
+            json.dump(self.run, f, indent=2)
+        paths.append(path)
+        return paths
+
+    def to_pandas(self, table: Optional[str] = None) -> Any:
+        """One table as a DataFrame, or all of them as a dict of DataFrames (needs pandas)."""
+        if table is not None:
+            return self[table].to_pandas()
+        return {name: t.to_pandas() for name, t in self.tables.items()}
+
+    def plot(self, table: str, columns: Optional[List[str]] = None, ax: Any = None) -> Any:
+        """Plots columns of a table against time with matplotlib, one axis per unit (units
+        never share an axis); returns the figure."""
+        import matplotlib.pyplot as plt
+
+        tab = self[table]
+        chosen = columns or tab.names
+        units: Dict[str, List[str]] = {}
+        for c in chosen:
+            units.setdefault(tab.unit(c), []).append(c)
+        if ax is not None and len(units) == 1:
+            axes = [ax]
+            fig = ax.figure
+        else:
+            fig, axes = plt.subplots(len(units), 1, sharex=True, squeeze=False, figsize=(7, 2.6 * len(units)))
+            axes = list(axes[:, 0])
+        for a, (unit, cols) in zip(axes, units.items()):
+            for c in cols:
+                a.plot(tab.t, tab[c], label=c)
+            a.set_ylabel(f"[{unit}]" if unit else "")
+            a.legend(fontsize="small", loc="best")
+            a.grid(True, alpha=0.3)
+        axes[-1].set_xlabel("t [s]")
+        fig.suptitle(tab.title)
+        return fig
+
+    def __repr__(self) -> str:
+        return f"<cardan.Results {self.kind} ({self.status}): {len(self.t)} times, tables {', '.join(self.tables)}>"
+
+    def __reduce__(self) -> Any:
+        return (Results, (self.kind, self.tables, self.run, self.native_seconds))

@@ -1,0 +1,264 @@
+//! # cardan-python: the native part of the `cardan` Python package
+//!
+//! The extension module `cardan._cardan`, wrapped by the pure-Python package in `python/cardan`
+//! (which users import). It runs a model file's analysis through the same code as the `cardan`
+//! command ([`cardan_cli`]), so the tables, their headers and their CSV text are the command's
+//! own, and hands them to Python as plain data:
+//!
+//! - [`run`]: a model text (with the path it came from, for messages and relative files), an
+//!   optional analysis kind and `[analysis]` keys to set → a dict with every output table as
+//!   packed little-endian `float64` rows (numpy reads them without a copy per value), the
+//!   `run.json` text, and the error if the run failed or stopped early (with its partial
+//!   tables). The analysis runs on its own thread with the GIL released; the calling thread
+//!   polls for Python signals, so Ctrl-C stops the run at its next step and keeps its results.
+//! - [`check`]: degrees of freedom, redundant equations and driver counts.
+//! - [`table_csv`]: a table's CSV text exactly as `cardan run` writes it.
+//!
+//! Errors of the model or the analysis are returned as data (`kind`, `message`, `file`,
+//! `line`, `column`), and the Python layer raises `cardan.ModelError` or
+//! `cardan.AnalysisError` from them.
+
+mod analysis;
+mod convert;
+
+use cardan_cli::commands::run::{analyse, run_json, RunFlags};
+use cardan_cli::commands::{analysis_error, prepare_source};
+use cardan_cli::diag::Source;
+use cardan_cli::progress;
+use cardan_cli::table::Table;
+use cardan_cli::Error;
+use cardan_mechanism::AssemblyOptions;
+use convert::{error_dict, table_tuple, ErrorData};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use std::sync::{mpsc, Mutex};
+use std::time::{Duration, Instant};
+
+/// How often the calling thread looks for Ctrl-C while an analysis runs.
+const SIGNAL_POLL: Duration = Duration::from_millis(50);
+
+/// What a run hands back to Python.
+struct RunData {
+    /// "kinematic", "inverse_dynamics" or "dynamic" (empty when nothing ran).
+    kind: &'static str,
+    /// The output tables (partial when `error` is set).
+    tables: Vec<Table>,
+    /// `run.json` as `cardan run` would write it (empty when nothing ran).
+    run_json: String,
+    /// The failure, if any.
+    error: Option<ErrorData>,
+    /// Wall time of the Rust side: reading, building, analysing [s].
+    seconds: f64,
+}
+
+/// Runs the analysis of the model text `text` (read from `path`), with the analysis `kind`
+/// and `[analysis]` keys `options` set over the file's, and `strict` as `--strict`.
+fn run_text(
+    text: String,
+    path: String,
+    kind: Option<String>,
+    options: Vec<(String, analysis::Value)>,
+    strict: bool,
+) -> RunData {
+    let start = Instant::now();
+    let failed = |e: &Error| RunData {
+        kind: "",
+        tables: Vec::new(),
+        run_json: String::new(),
+        error: Some(ErrorData::from(e)),
+        seconds: start.elapsed().as_secs_f64(),
+    };
+    let text = match analysis::set_analysis(&text, kind.as_deref(), &options) {
+        Ok(t) => t,
+        Err(e) => return failed(&Error::input(e)),
+    };
+    let p = match prepare_source(Source::from_text(path, text)) {
+        Ok(p) => p,
+        Err(e) => return failed(&e),
+    };
+    let Some(a) = p.loaded.analysis.clone() else {
+        return failed(&p.source.error(
+            "the model has no [analysis] table, so there is nothing to run; give the analysis \
+             settings as arguments, e.g. model.kinematics(t_end=1.0, steps=100)",
+        ));
+    };
+    let flags = RunFlags {
+        strict,
+        ..RunFlags::default()
+    };
+    match analyse(&p, &a, &flags) {
+        Err(e) => failed(&e),
+        Ok((kind, analysed)) => {
+            let names = analysed.tables.iter().map(|t| format!("{}.csv", t.name));
+            let json = run_json(&p, kind, &analysed, names.collect());
+            let error = analysed
+                .failure
+                .as_ref()
+                .or(analysed.strict_failure.as_ref())
+                .map(ErrorData::from);
+            RunData {
+                kind,
+                tables: analysed.tables,
+                run_json: json,
+                error,
+                seconds: start.elapsed().as_secs_f64(),
+            }
+        }
+    }
+}
+
+/// Runs a model's analysis (see the module docs). Returns a dict with `kind`, `tables` (a
+/// list of `(name, title, columns, data, rows)`), `run_json`, `error` (a dict or `None`),
+/// `interrupted` (Ctrl-C) and `seconds` (the Rust side's wall time).
+#[pyfunction]
+#[pyo3(signature = (text, path, kind=None, options=None, strict=false))]
+fn run<'py>(
+    py: Python<'py>,
+    text: String,
+    path: String,
+    kind: Option<String>,
+    options: Option<&Bound<'py, PyDict>>,
+    strict: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let options = match options {
+        Some(d) => analysis::options_from_dict(d)?,
+        None => Vec::new(),
+    };
+    let (send, recv) = mpsc::channel();
+    // A Mutex makes the receiver shareable with the GIL-free closure below.
+    let recv = Mutex::new(recv);
+    let worker = std::thread::spawn(move || {
+        let _ = send.send(run_text(text, path, kind, options, strict));
+    });
+    let mut interrupt: Option<PyErr> = None;
+    let data = loop {
+        let wait = || match recv.lock() {
+            Ok(r) => r.recv_timeout(SIGNAL_POLL),
+            Err(_) => Err(mpsc::RecvTimeoutError::Disconnected),
+        };
+        match py.detach(wait) {
+            Ok(data) => break data,
+            Err(mpsc::RecvTimeoutError::Timeout) => {
+                if interrupt.is_none() {
+                    if let Err(e) = py.check_signals() {
+                        progress::request_stop();
+                        interrupt = Some(e);
+                    }
+                }
+            }
+            Err(mpsc::RecvTimeoutError::Disconnected) => {
+                progress::clear_stop();
+                let _ = worker.join();
+                return Err(pyo3::exceptions::PyRuntimeError::new_err(
+                    "the analysis thread ended without a result (a bug in cardan: please report \
+                     it with the model file)",
+                ));
+            }
+        }
+    };
+    progress::clear_stop();
+    let _ = worker.join();
+    let out = PyDict::new(py);
+    out.set_item("kind", data.kind)?;
+    let tables = PyList::empty(py);
+    for t in &data.tables {
+        tables.append(table_tuple(py, t)?)?;
+    }
+    out.set_item("tables", tables)?;
+    out.set_item("run_json", data.run_json)?;
+    match &data.error {
+        Some(e) => out.set_item("error", error_dict(py, e)?)?,
+        None => out.set_item("error", py.None())?,
+    }
+    out.set_item("interrupted", interrupt.is_some())?;
+    out.set_item("seconds", data.seconds)?;
+    Ok(out)
+}
+
+/// Degrees of freedom, redundant equations and element counts of a model text: a dict, or an
+/// error dict under the key `error`.
+#[pyfunction]
+fn check<'py>(py: Python<'py>, text: String, path: String) -> PyResult<Bound<'py, PyDict>> {
+    let out = PyDict::new(py);
+    let p = match prepare_source(Source::from_text(path, text)) {
+        Ok(p) => p,
+        Err(e) => {
+            out.set_item("error", error_dict(py, &ErrorData::from(&e))?)?;
+            return Ok(out);
+        }
+    };
+    let model = &p.model;
+    let t0 = p.loaded.analysis.as_ref().map_or(0.0, |a| a.t_start);
+    let mut ws = model.workspace();
+    let opts = cardan_mechanism_assembly(t0);
+    let dof = model.assemble(&mut ws, &opts).and_then(|_| model.dof(&ws));
+    let dof = match dof {
+        Ok(d) => d,
+        Err(e) => {
+            let err = analysis_error(&p, &e);
+            out.set_item("error", error_dict(py, &ErrorData::from(&err))?)?;
+            return Ok(out);
+        }
+    };
+    out.set_item("name", &p.loaded.name)?;
+    out.set_item(
+        "bodies",
+        model
+            .bodies()
+            .iter()
+            .map(|b| b.name.clone())
+            .collect::<Vec<_>>(),
+    )?;
+    out.set_item(
+        "joints",
+        model
+            .joints()
+            .iter()
+            .map(|j| j.name.clone())
+            .collect::<Vec<_>>(),
+    )?;
+    out.set_item(
+        "drivers",
+        model
+            .drivers()
+            .iter()
+            .map(|d| d.name.clone())
+            .collect::<Vec<_>>(),
+    )?;
+    out.set_item("unknowns", model.num_unknowns())?;
+    out.set_item("joint_equations", model.num_joint_equations())?;
+    out.set_item("equations", model.num_equations())?;
+    out.set_item("rank", dof.rank)?;
+    out.set_item("dof", dof.dof)?;
+    let redundant: Vec<String> = dof.redundant.iter().map(|e| e.to_string()).collect();
+    out.set_item("redundant", redundant)?;
+    out.set_item("error", py.None())?;
+    Ok(out)
+}
+
+/// Assembly options of `cardan check`: the joints alone, at the analysis start time.
+fn cardan_mechanism_assembly(t0: f64) -> AssemblyOptions {
+    AssemblyOptions {
+        include_drivers: false,
+        ..AssemblyOptions::at(t0)
+    }
+}
+
+/// The CSV text of a table as `cardan run` writes it: `data` holds the rows (time first) as
+/// packed little-endian `float64`, `columns` the headers without the time column.
+#[pyfunction]
+fn table_csv(name: String, title: String, columns: Vec<String>, data: &[u8]) -> PyResult<String> {
+    let table = convert::table_from_bytes(name, title, columns, data)
+        .map_err(pyo3::exceptions::PyValueError::new_err)?;
+    Ok(table.to_csv())
+}
+
+/// The extension module `cardan._cardan`.
+#[pymodule]
+fn _cardan(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(run, m)?)?;
+    m.add_function(wrap_pyfunction!(check, m)?)?;
+    m.add_function(wrap_pyfunction!(table_csv, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

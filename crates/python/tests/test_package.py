@@ -1,0 +1,75 @@
+"""Pickling, the type stub, Ctrl-C."""
+
+import inspect
+import os
+import pathlib
+import pickle
+import signal
+import threading
+
+import numpy as np
+import pytest
+
+import cardan
+from cardan import _cardan
+from conftest import EXAMPLES
+
+
+def test_models_and_results_pickle():
+    m = cardan.load(EXAMPLES / "slider_crank_inverse.toml")
+    m2 = pickle.loads(pickle.dumps(m))
+    assert (m2.text, m2.path) == (m.text, m.path)
+    r = m.inverse_dynamics(steps=20)
+    r2 = pickle.loads(pickle.dumps(r))
+    assert r2.tables.keys() == r.tables.keys() and r2.run == r.run
+    for name, t in r.tables.items():
+        np.testing.assert_array_equal(r2[name].values, t.values)
+        assert r2[name].to_csv() == t.to_csv()
+
+
+def test_the_stub_matches_the_native_module():
+    stub = pathlib.Path(cardan.__file__).with_name("_cardan.pyi").read_text()
+    public = sorted(n for n in dir(_cardan) if not n.startswith("_") or n == "__version__")
+    for name in public:
+        assert f"def {name}(" in stub or f"{name}:" in stub, name
+        obj = getattr(_cardan, name)
+        if callable(obj):
+            params = list(inspect.signature(obj).parameters)
+            line = next(l for l in stub.split("def ")[1:] if l.startswith(f"{name}("))
+            for p in params:
+                assert f"{p}:" in line, (name, p)
+    assert (pathlib.Path(cardan.__file__).parent / "py.typed").exists()
+
+
+def test_ctrl_c_stops_a_run_and_keeps_its_results():
+    m = cardan.load(EXAMPLES / "slider_crank.toml")
+    timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt) as e:
+            m.kinematics(t_end=1000.0, steps=1_000_000, outputs={"points": ["slider.C"]})
+    finally:
+        timer.cancel()
+    partial = e.value.partial
+    assert partial is not None and partial.status == "partial"
+    assert 0 < len(partial.t) < 1_000_001
+    # The next run is not stopped by the old request.
+    assert m.kinematics(steps=10).status == "complete"
+
+
+def test_the_gil_is_released_during_a_run():
+    m = cardan.load(EXAMPLES / "slider_crank.toml")
+    ticks = []
+    stop = threading.Event()
+
+    def count():
+        while not stop.is_set():
+            ticks.append(1)
+            stop.wait(0.001)
+
+    t = threading.Thread(target=count)
+    t.start()
+    m.kinematics(t_end=20.0, steps=200_000)
+    stop.set()
+    t.join()
+    assert len(ticks) > 20

@@ -1,0 +1,101 @@
+"""The Python results are the command's: same tables, CSV byte for byte; numpy access."""
+
+import pathlib
+
+import numpy as np
+import pytest
+
+import cardan
+from conftest import EXAMPLES, run_cli
+
+# One of each analysis kind, and the joint vocabulary's larger examples.
+CASES = [
+    "slider_crank.toml",
+    "slider_crank_inverse.toml",
+    "a01_pendulum.toml",
+    "wobble_plate_pump.toml",
+    "gear_train.toml",
+    "expression_driver.toml",
+]
+
+
+@pytest.mark.parametrize("name", CASES)
+def test_csv_files_equal_the_commands_byte_for_byte(name, cardan_bin, tmp_path):
+    model = EXAMPLES / name
+    cli = run_cli(cardan_bin, model, tmp_path / "cli")
+    assert cli.returncode == 0, cli.stderr
+    results = cardan.load(model).run()
+    results.to_csv(tmp_path / "py")
+    cli_csv = sorted(p.name for p in (tmp_path / "cli").glob("*.csv"))
+    py_csv = sorted(p.name for p in (tmp_path / "py").glob("*.csv"))
+    assert cli_csv == py_csv
+    for f in cli_csv:
+        assert (tmp_path / "cli" / f).read_bytes() == (tmp_path / "py" / f).read_bytes(), f
+
+
+def test_tables_are_float64_arrays_with_names_and_units():
+    r = cardan.load(EXAMPLES / "slider_crank.toml").kinematics()
+    pts = r.points
+    assert pts.values.dtype == np.float64 and pts.values.shape == (len(r.t), len(pts.columns))
+    assert r.t[0] == 0.0 and np.all(np.diff(r.t) > 0)
+    x = pts["slider.C.x"]
+    assert pts.unit("slider.C.x") == "m"
+    # Haug's closed form of the slider position (examples/slider_crank.toml's header).
+    th = 2 * np.pi * r.t
+    by, bz = 0.1 - 0.08 * np.sin(th), 0.12 + 0.08 * np.cos(th)
+    np.testing.assert_allclose(x, np.sqrt(0.3**2 - by**2 - bz**2), atol=1e-9)
+    with pytest.raises(KeyError, match="no column"):
+        pts["nothing"]
+    with pytest.raises(AttributeError, match="no table"):
+        r.reactions
+    assert r.status == "complete" and r.warnings == []
+
+
+def test_options_override_the_file_and_switch_the_kind():
+    m = cardan.load(EXAMPLES / "slider_crank_inverse.toml")
+    r = m.kinematics(t_end=0.5, steps=50)
+    assert r.kind == "kinematic" and len(r.t) == 51 and r.t[-1] == 0.5
+    assert "driver_efforts" not in r.tables
+    r = m.inverse_dynamics(t_end=0.5, steps=50, outputs={"points": ["slider.C"]})
+    assert "driver_efforts" in r.tables and list(r.points.names) == ["slider.C.x", "slider.C.y", "slider.C.z"]
+
+
+def test_pandas_frames():
+    r = cardan.load(EXAMPLES / "slider_crank.toml").kinematics(steps=20)
+    df = r.to_pandas("points")
+    assert df.index.name == "t [s]" and list(df.columns) == r.points.columns
+    np.testing.assert_array_equal(df.to_numpy(), r.points.values)
+
+
+def test_plot_puts_each_unit_on_its_own_axis():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    r = cardan.load(EXAMPLES / "slider_crank.toml").kinematics(steps=20)
+    fig = r.plot("joints")
+    units = {a.get_ylabel() for a in fig.axes}
+    assert len(fig.axes) == len(units) >= 2
+
+
+def test_builder_gives_the_same_results_as_the_file(tmp_path):
+    b = cardan.Builder("pendulum", gravity=np.array([0.0, 0.0, -9.81]))
+    b.ground(points={"O": [0.0, 0.0, 0.0]}, vectors={"x": [1.0, 0.0, 0.0]})
+    b.body("rod", mass=1.0, inertia={"diag": [0.1, 0.1, 0.01]}, position=np.array([0.0, 0.0, -0.5]),
+           points={"O": [0.0, 0.0, 0.5]}, vectors={"x": [1.0, 0.0, 0.0]})
+    b.joint("pin", "revolute", body_i="ground", point_i="O", axis_i="x", body_j="rod", point_j="O", axis_j="x")
+    b.analysis("dynamic", t_end=0.5, output_dt=0.01, outputs={"bodies": ["rod"]})
+    model = b.build()
+    assert model.check().dof == 1
+    r = model.dynamics()
+    file = tmp_path / "pendulum.toml"
+    file.write_text(b.to_toml())
+    r2 = cardan.load(file).run()
+    np.testing.assert_array_equal(r.bodies.values, r2.bodies.values)
+    # It hangs at rest, so it stays there.
+    np.testing.assert_allclose(r.bodies["rod.r.z"], -0.5, atol=1e-9)
+
+
+def test_check_reports_dof_and_redundant_equations():
+    c = cardan.load(EXAMPLES / "slider_crank.toml").check()
+    assert c.dof == 1 and c.fully_driven and c.redundant == []
+    assert c.bodies == ["crank", "conrod", "slider"]
