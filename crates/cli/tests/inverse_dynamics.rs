@@ -127,7 +127,32 @@ fn slider_crank_inverse_example() {
         assert!(dir.join(format!("{f}.svg")).exists(), "{f}.svg");
     }
     assert_eq!(Csv::read(&dir, "residual.csv").rows.len(), 201);
-    assert!(!dir.join("energy.csv").exists() && !dir.join("constraint_drift.csv").exists());
+    assert!(!dir.join("constraint_drift.csv").exists());
+    // energy.csv: the motor's power and work along the prescribed motion (trapezoidal rule on
+    // the 200-step grid) explain the energy change; the balance is the quadrature's error.
+    let energy = Csv::read(&dir, "energy.csv");
+    assert_eq!(energy.rows.len(), 201);
+    let col = |name: &str| energy.header.iter().position(|h| h == name).unwrap();
+    let (drift, work, balance) = (col("drift [J]"), col("motor.W [J]"), col("balance [J]"));
+    assert!(col("motor.P [W]") > 0 && col("W_nc [J]") > 0);
+    let peak = energy
+        .rows
+        .iter()
+        .fold(0.0f64, |a, r| a.max(r[drift].abs()));
+    let worst = energy
+        .rows
+        .iter()
+        .fold(0.0f64, |a, r| a.max(r[balance].abs()));
+    let last = energy.rows.last().unwrap();
+    eprintln!(
+        "slider-crank inverse: motor work {:.6e} J, ΔE {:.6e} J, max |ΔE| {peak:.3e} J, balance \
+         {worst:.3e} J",
+        last[work], last[drift]
+    );
+    assert!(
+        worst < 1e-3 * peak.max(1e-9) || worst < 1e-9,
+        "balance {worst:e}, drift {peak:e}"
+    );
     let efforts = Csv::read(&dir, "driver_efforts.csv");
     assert_eq!(efforts.header, ["t [s]", "motor.torque [N m]"]);
     let reactions = Csv::read(&dir, "reactions.csv");
