@@ -14,7 +14,7 @@ use cardan_dynamics::{
     SimulationOptions,
 };
 use cardan_mechanism::{
-    Body, DriverSpec, JointSpec, KinematicOptions, MechanismBuilder, Model, GROUND,
+    Body, BodyId, DriverSpec, JointSpec, KinematicOptions, MechanismBuilder, Model, GROUND,
 };
 use nalgebra::Vector3;
 
@@ -334,4 +334,30 @@ fn inverse_dynamics_driver_work_is_the_energy_change() {
         assert!((motor.power[k] - p).abs() < 1e-9 * p.abs().max(1.0), "{t}");
     }
     assert!(max_abs(&fine.energy.constraint_power) < 1e-8);
+}
+
+/// The user callback's power: gravity applied by a callback is not in the potential, so its
+/// work (the `user` channel) is the whole energy change, and equals m gᵀ (r(t) − r(t₀)) at
+/// every output.
+#[test]
+fn the_user_callback_work_is_counted() {
+    let m = common::pendulum(2.0, 1e-3, 1.0);
+    let mut d = Dynamics::new(&m).unwrap();
+    d.set_user_forces(|_, f| f.add_force(BodyId::Moving(0), &Vector3::new(0.0, -2.0 * 9.81, 0.0)));
+    let opts = SimulationOptions::new(2.0, 200).integrator(dopri5());
+    let s = d.initial_guess();
+    let r = d.simulate(&s, &opts).unwrap();
+    let user = r.energy.element("user").unwrap();
+    assert_eq!(user.kind, "user");
+    let y = &r.body("mass").unwrap().r;
+    let mut worst = 0.0f64;
+    for (k, w) in user.work.iter().enumerate() {
+        let expected = -2.0 * 9.81 * (y[k].y - y[0].y);
+        worst = worst.max((w - expected).abs());
+    }
+    let (drift, balance) = (r.energy.max_drift(), r.energy.max_balance());
+    eprintln!(
+        "user gravity: drift {drift:.3e} J, balance {balance:.3e} J, work error {worst:.1e} J"
+    );
+    assert!(drift > 10.0 && balance < 1e-8 * drift && worst < 1e-8 * drift);
 }
