@@ -440,3 +440,22 @@ fn general_motion_efforts_are_the_newton_euler_force_and_torque() {
     assert!(e_path < 1e-12, "{e_path}");
     assert!(e_force < 1e-9 && e_torque < 1e-9, "{e_force} {e_torque}");
 }
+
+/// `[analysis.outputs] energy = false` is accepted by an inverse dynamics run (it was refused
+/// before energy.csv had the drivers' work) and leaves energy.csv out.
+#[test]
+fn inverse_dynamics_energy_output_can_be_turned_off() {
+    let dir = common::scratch("inverse-no-energy");
+    let text = std::fs::read_to_string(example("slider_crank_inverse")).unwrap();
+    let text = text.replacen(
+        "[analysis.outputs]",
+        "[analysis.outputs]\nenergy = false",
+        1,
+    );
+    assert!(text.contains("energy = false"));
+    std::fs::write(dir.join("model.toml"), text).unwrap();
+    let o = run_model(&dir.join("model.toml"), Some(&dir.join("out")), false).expect("runs");
+    assert!(o.error.is_none(), "{:?}", o.error);
+    assert!(dir.join("out/driver_efforts.csv").exists());
+    assert!(!dir.join("out/energy.csv").exists());
+}
