@@ -103,7 +103,7 @@ pub struct Outputs {
     pub bodies: Vec<String>,
     /// Dynamic: joints whose reactions are written (`None`: all joints).
     pub reactions: Option<Vec<String>>,
-    /// Dynamic: write the energy table.
+    /// Dynamic and inverse dynamics: write the energy table (with power, work and balance).
     pub energy: bool,
 }
 
@@ -1491,15 +1491,8 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
         if kind == "kinematic" && (o.reactions.is_some() || o.energy.is_some()) {
             return Err(cx.err(
                 a.kind.span(),
-                "outputs.reactions and outputs.energy apply only to kind = \"dynamic\" \
-                 (outputs.reactions also to kind = \"inverse_dynamics\")",
-            ));
-        }
-        if kind == "inverse_dynamics" && o.energy.is_some() {
-            return Err(cx.err(
-                a.kind.span(),
-                "outputs.energy applies only to kind = \"dynamic\" (an inverse dynamics run writes \
-                 driver efforts and reactions; the drivers do work, so its energy is not conserved)",
+                "outputs.reactions and outputs.energy apply only to kind = \"dynamic\" and \
+                 kind = \"inverse_dynamics\" (a kinematic run has no forces)",
             ));
         }
         if let Some(list_) = &o.reactions {

@@ -470,7 +470,7 @@ pub struct OutputsSection {
     /// dynamic: joint names whose reactions are written (reactions.csv); default all joints.
     #[serde(default)]
     pub reactions: Option<Vec<Name>>,
-    /// dynamic: write energy.csv (default true).
+    /// dynamic and inverse dynamics: write energy.csv (default true).
     #[serde(default)]
     pub energy: Option<bool>,
 }

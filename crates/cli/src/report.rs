@@ -51,8 +51,15 @@ pub struct RunReport {
     pub largest_residual: f64,
     /// Dynamic: largest constraint drift max |Φ_i| (m or -); `null` otherwise.
     pub constraint_drift: Option<f64>,
-    /// Dynamic: max |E − E(t_start)| (J); `null` otherwise.
+    /// Dynamic: max |E − E(t_start)| (J), the work of drivers and non-conservative forces plus
+    /// the integration error; `null` otherwise.
     pub energy_drift: Option<f64>,
+    /// Dynamic and inverse dynamics: max |E − E(t_start) − W_nc| (J), the integration error
+    /// (inverse dynamics: the error of the work's quadrature on the time grid); `null` otherwise.
+    pub energy_balance: Option<f64>,
+    /// Dynamic and inverse dynamics: the run's energy scale (J), which the balance is judged
+    /// against; `null` otherwise.
+    pub energy_scale: Option<f64>,
     /// Doubtful results and other remarks, one sentence each.
     pub warnings: Vec<String>,
     /// Kinematic and inverse dynamics: grid steps solved in substeps because the full step

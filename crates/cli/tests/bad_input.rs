@@ -610,7 +610,7 @@ fn inverse_dynamics_needs_masses() {
 }
 
 #[test]
-fn inverse_dynamics_rejects_integrator_keys_and_energy() {
+fn inverse_dynamics_rejects_integrator_keys() {
     inverse_fails_at(
         &[("t_end = 1.0", "rtol = 1e-6\nt_end = 1.0")],
         "36:8",
@@ -623,14 +623,6 @@ fn inverse_dynamics_rejects_integrator_keys_and_energy() {
         &[("steps = 10", "output_dt = 0.1")],
         "37:13",
         &["output_dt applies only to kind = \"dynamic\""],
-    );
-    inverse_fails_at(
-        &[(
-            "steps = 10",
-            "steps = 10\n\n[analysis.outputs]\nenergy = true",
-        )],
-        "35:8",
-        &["outputs.energy applies only to kind = \"dynamic\""],
     );
     inverse_fails_at(
         &[("\"inverse_dynamics\"", "\"inverse-dynamics\"")],

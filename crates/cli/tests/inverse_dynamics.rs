@@ -127,7 +127,32 @@ fn slider_crank_inverse_example() {
         assert!(dir.join(format!("{f}.svg")).exists(), "{f}.svg");
     }
     assert_eq!(Csv::read(&dir, "residual.csv").rows.len(), 201);
-    assert!(!dir.join("energy.csv").exists() && !dir.join("constraint_drift.csv").exists());
+    assert!(!dir.join("constraint_drift.csv").exists());
+    // energy.csv: the motor's power and work along the prescribed motion (trapezoidal rule on
+    // the 200-step grid) explain the energy change; the balance is the quadrature's error.
+    let energy = Csv::read(&dir, "energy.csv");
+    assert_eq!(energy.rows.len(), 201);
+    let col = |name: &str| energy.header.iter().position(|h| h == name).unwrap();
+    let (drift, work, balance) = (col("drift [J]"), col("motor.W [J]"), col("balance [J]"));
+    assert!(col("motor.P [W]") > 0 && col("W_nc [J]") > 0);
+    let peak = energy
+        .rows
+        .iter()
+        .fold(0.0f64, |a, r| a.max(r[drift].abs()));
+    let worst = energy
+        .rows
+        .iter()
+        .fold(0.0f64, |a, r| a.max(r[balance].abs()));
+    let last = energy.rows.last().unwrap();
+    eprintln!(
+        "slider-crank inverse: motor work {:.6e} J, ΔE {:.6e} J, max |ΔE| {peak:.3e} J, balance \
+         {worst:.3e} J",
+        last[work], last[drift]
+    );
+    assert!(
+        worst < 1e-3 * peak.max(1e-9) || worst < 1e-9,
+        "balance {worst:e}, drift {peak:e}"
+    );
     let efforts = Csv::read(&dir, "driver_efforts.csv");
     assert_eq!(efforts.header, ["t [s]", "motor.torque [N m]"]);
     let reactions = Csv::read(&dir, "reactions.csv");
@@ -414,4 +439,23 @@ fn general_motion_efforts_are_the_newton_euler_force_and_torque() {
     );
     assert!(e_path < 1e-12, "{e_path}");
     assert!(e_force < 1e-9 && e_torque < 1e-9, "{e_force} {e_torque}");
+}
+
+/// `[analysis.outputs] energy = false` is accepted by an inverse dynamics run (it was refused
+/// before energy.csv had the drivers' work) and leaves energy.csv out.
+#[test]
+fn inverse_dynamics_energy_output_can_be_turned_off() {
+    let dir = common::scratch("inverse-no-energy");
+    let text = std::fs::read_to_string(example("slider_crank_inverse")).unwrap();
+    let text = text.replacen(
+        "[analysis.outputs]",
+        "[analysis.outputs]\nenergy = false",
+        1,
+    );
+    assert!(text.contains("energy = false"));
+    std::fs::write(dir.join("model.toml"), text).unwrap();
+    let o = run_model(&dir.join("model.toml"), Some(&dir.join("out")), false).expect("runs");
+    assert!(o.error.is_none(), "{:?}", o.error);
+    assert!(dir.join("out/driver_efforts.csv").exists());
+    assert!(!dir.join("out/energy.csv").exists());
 }

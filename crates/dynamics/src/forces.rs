@@ -654,6 +654,90 @@ impl Resolved {
         }
     }
 
+    /// Whether the element does work that its potential energy does not account for: a damper
+    /// (c > 0), an actuator, a point force or torque. Gravity and springs are conservative:
+    /// their work is the decrease of the potential in [`crate::Energy`].
+    pub(crate) fn is_non_conservative(&self) -> bool {
+        match self {
+            Resolved::Gravity(_) => false,
+            Resolved::PointForce { .. } | Resolved::Torque { .. } => true,
+            Resolved::Spring { c, actuator, .. } => *c != 0.0 || actuator.is_some(),
+            Resolved::Rotational { c, .. } => *c != 0.0,
+        }
+    }
+
+    /// The power of the element's non-conservative part at the bodies `bodies` and time `t`
+    /// (W; see [`crate::work`]): F · v_P for a point force, T · ω for a torque,
+    /// −(c ℓ̇ + f_a) ℓ̇ for a spring-damper-actuator (its spring part k (ℓ − ℓ0) is in the
+    /// potential), −c θ̇² for a rotational spring-damper; 0 for conservative elements. The same
+    /// forces as [`apply`](Self::apply) puts into h, so their sum is the power vᵀh of the
+    /// non-conservative forces. No allocation.
+    pub(crate) fn non_conservative_power(
+        &self,
+        model: &Model,
+        t: f64,
+        bodies: &[BodyState],
+    ) -> f64 {
+        let ground = BodyState::ground();
+        match self {
+            Resolved::Gravity(_) => 0.0,
+            Resolved::PointForce {
+                body,
+                point,
+                value,
+                frame,
+            } => {
+                let b = state_of(bodies, &ground, *body);
+                let mut f = value.eval(t);
+                if *frame == Frame::Body {
+                    f = b.a * f;
+                }
+                f.dot(&point_velocity(b, point))
+            }
+            Resolved::Torque { body, value, frame } => {
+                let b = state_of(bodies, &ground, *body);
+                let n = value.eval(t);
+                match frame {
+                    Frame::Global => n.dot(&(b.a * b.omega_local)),
+                    Frame::Body => n.dot(&b.omega_local),
+                }
+            }
+            Resolved::Spring {
+                bi,
+                pi,
+                bj,
+                pj,
+                c,
+                actuator,
+                ..
+            } => {
+                let (si, sj) = (
+                    state_of(bodies, &ground, *bi),
+                    state_of(bodies, &ground, *bj),
+                );
+                let d = sj.point(pj) - si.point(pi);
+                let l = d.norm();
+                if l == 0.0 {
+                    // `apply` puts no force there either.
+                    return 0.0;
+                }
+                let ldot = (d / l).dot(&(point_velocity(sj, pj) - point_velocity(si, pi)));
+                let fa = actuator.as_ref().map_or(0.0, |a| a.eval(t).0);
+                -(c * ldot + fa) * ldot
+            }
+            Resolved::Rotational { joint, c, .. } => {
+                let j = &model.joints()[*joint];
+                let (si, sj) = (
+                    state_of(bodies, &ground, j.body_i),
+                    state_of(bodies, &ground, j.body_j),
+                );
+                let z = si.a * j.joint.marker_i().z();
+                let rate = z.dot(&(sj.a * sj.omega_local - si.a * si.omega_local));
+                -c * rate * rate
+            }
+        }
+    }
+
     /// Potential energy of the element: (gravity, spring).
     pub(crate) fn potential(
         &self,

@@ -130,7 +130,7 @@ impl Dynamics<'_> {
             // The frames are the accepted poses of the kinematics: the couplers' turns follow.
             self.sync(&s);
             self.accept_turns();
-            rec.record(self, &s, kin.iterations.get(i).copied().unwrap_or(0))?;
+            rec.record(self, &s, kin.iterations.get(i).copied().unwrap_or(0), None)?;
             done += 1;
             if progress(i, kin.times[i]).is_break() {
                 break;

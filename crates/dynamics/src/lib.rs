@@ -108,6 +108,8 @@
 //!   [`UserForces`].
 //! - [`state`]: [`State`]. [`options`]: [`SimulationOptions`] and the integrator options.
 //! - [`simulate`]: forward dynamics; [`inverse`]: inverse dynamics.
+//! - [`work`]: power and work of drivers and non-conservative forces, the energy balance
+//!   E − E(t₀) − W_nc (the work-energy theorem and the quadratures).
 //! - [`integrators`]: [`integrators::dopri5`], [`integrators::generalized_alpha`].
 //! - `kkt` (private): the laid-out augmented system. [`results`]: [`DynamicResults`].
 //!   [`error`]: [`DynamicsError`].
@@ -133,6 +135,7 @@ pub mod results;
 pub mod simulate;
 pub mod state;
 pub mod system;
+pub mod work;
 
 pub use error::DynamicsError;
 pub use forces::{AppliedForces, Force, Frame, PointRef, UserForces, VectorFunction};
@@ -141,8 +144,8 @@ pub use options::{
     SimulationOptions, Stabilization, StepControl, ATOL_MAX, NEWTON_TOLERANCE_RANGE, RTOL_RANGE,
 };
 pub use results::{
-    CouplerEfforts, DriverEfforts, DynamicResults, EnergyHistory, IntegrationStats, JointReactions,
-    Reaction,
+    CouplerEfforts, DriverEfforts, DynamicResults, ElementWork, EnergyHistory, IntegrationStats,
+    JointReactions, Reaction,
 };
 pub use state::State;
 pub use system::{Dynamics, Energy};

@@ -8,6 +8,7 @@ use crate::results::{
 };
 use crate::state::State;
 use crate::system::Dynamics;
+use crate::work::{trapezoid, Multipliers};
 use crate::DynamicsError;
 use cardan_constraints::joints::{continue_angle, BodyAcceleration, CoordinateQuantity};
 use cardan_constraints::{BodyPair, BodyState, Driver};
@@ -25,6 +26,12 @@ pub(crate) struct Recorder {
     phi: Vec<f64>,
     /// (body index, local point) of every named point of a moving body.
     points: Vec<(usize, Vector3<f64>)>,
+    /// The power of each work channel at the time being recorded ([`crate::work`]).
+    power: Vec<f64>,
+    /// The work of each channel, when the recorder integrates it itself (inverse dynamics).
+    work: Vec<f64>,
+    /// The power of the last recorded time.
+    prev_power: Vec<f64>,
 }
 
 impl Recorder {
@@ -142,6 +149,9 @@ impl Recorder {
                 gravity: e(),
                 spring: e(),
                 total: e(),
+                elements: d.work_channels(capacity),
+                work: e(),
+                constraint_power: e(),
             },
             position_drift: e(),
             velocity_drift: e(),
@@ -157,17 +167,24 @@ impl Recorder {
             lambda: vec![0.0; m],
             phi: vec![0.0; m],
             points,
+            power: vec![0.0; d.num_work_channels()],
+            work: vec![0.0; d.num_work_channels()],
+            prev_power: vec![0.0; d.num_work_channels()],
         }
     }
 
-    /// Records `state` (solving the equations of motion there for v̇ and λ).
+    /// Records `state` (solving the equations of motion there for v̇ and λ). `work`: the
+    /// integrator's work of each channel at this time ([`crate::work`]); `None`: the recorder
+    /// integrates the power over the stored times by the trapezoidal rule (inverse dynamics).
     pub fn record(
         &mut self,
         d: &mut Dynamics,
         state: &State,
         iterations: usize,
+        work: Option<&[f64]>,
     ) -> Result<(), DynamicsError> {
         d.accelerations(state, &mut self.vdot, &mut self.lambda)?;
+        self.record_work(d, state.t, work);
         let model = d.model;
         let kin = &mut self.res.kinematics;
         kin.times.push(state.t);
@@ -338,6 +355,29 @@ impl Recorder {
         let (vd, _) = d.velocity_residual(state);
         self.res.velocity_drift.push(vd);
         Ok(())
+    }
+
+    /// The power and work of each channel and the constraints' power at the synced bodies
+    /// (after the solve of [`record`](Self::record), with its λ).
+    fn record_work(&mut self, d: &mut Dynamics, t: f64, work: Option<&[f64]>) {
+        d.powers(t, Multipliers::Full(&self.lambda), &mut self.power);
+        let en = &mut self.res.energy;
+        en.constraint_power
+            .push(d.constraint_power(t, &self.lambda));
+        match work {
+            Some(w) => self.work.copy_from_slice(w),
+            None => {
+                if let Some(&t0) = self.res.kinematics.times.last() {
+                    trapezoid(&mut self.work, &self.prev_power, &self.power, t - t0);
+                }
+            }
+        }
+        self.prev_power.copy_from_slice(&self.power);
+        for ((c, &p), &w) in en.elements.iter_mut().zip(&self.power).zip(&self.work) {
+            c.power.push(p);
+            c.work.push(w);
+        }
+        en.work.push(self.work.iter().sum());
     }
 
     /// Number of stored times.

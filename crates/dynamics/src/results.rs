@@ -84,7 +84,26 @@ pub struct CouplerEfforts {
     pub reactions: JointReactions,
 }
 
-/// Energy histories.
+/// Power and work of one element that is not conservative: a driver, a damper, an actuator, a
+/// point force or torque, the user callback (see [`crate::work`] for the signs and the
+/// quadratures).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ElementWork {
+    /// The driver's or force element's name (`user` for the user callback).
+    pub name: String,
+    /// What it is: `driver`, `force` or `user`.
+    pub kind: &'static str,
+    /// Power P(t) the element puts into the mechanism (W; negative: it takes energy out).
+    pub power: Vec<f64>,
+    /// Work W(t) = ∫ P dt since the first stored time (J).
+    pub work: Vec<f64>,
+}
+
+/// Energy histories, and the power and work of everything the energy does not hold.
+///
+/// The work-energy theorem (see [`crate::work`]): E(t) − E(t₀) = W_nc(t), the work of the
+/// drivers and of the non-conservative forces. `drift` = E − E(t₀) is therefore physics for a
+/// driven or damped model; `balance` = E − E(t₀) − W_nc is the integration error.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct EnergyHistory {
     /// Kinetic ½ m ṙᵀṙ + ½ ω'ᵀ J' ω'.
@@ -95,10 +114,19 @@ pub struct EnergyHistory {
     pub spring: Vec<f64>,
     /// Sum of the three.
     pub total: Vec<f64>,
+    /// Power and work of each driver (model order), then of each non-conservative force element
+    /// (the order they were added), then of the user callback.
+    pub elements: Vec<ElementWork>,
+    /// W_nc: the sum of the elements' work (J).
+    pub work: Vec<f64>,
+    /// A diagnostic: the power of the joints' and couplers' reactions, −λᵀ Φ_v v over their
+    /// rows (W). Ideal constraints do no work, so this is 0 up to the velocity drift.
+    pub constraint_power: Vec<f64>,
 }
 
 impl EnergyHistory {
-    /// total − total\[0\] per time (meaningful as an error for conservative models).
+    /// total − total\[0\] per time: the integration error for a conservative model, the work
+    /// of drivers and non-conservative forces plus that error otherwise ([`balance`](Self::balance)).
     pub fn drift(&self) -> Vec<f64> {
         let e0 = self.total.first().copied().unwrap_or(0.0);
         self.total.iter().map(|e| e - e0).collect()
@@ -107,6 +135,27 @@ impl EnergyHistory {
     /// max |total − total\[0\]|.
     pub fn max_drift(&self) -> f64 {
         self.drift().iter().fold(0.0, |a, d| a.max(d.abs()))
+    }
+
+    /// E(t) − E(t₀) − W_nc(t) per time: what the work-energy theorem leaves unexplained, the
+    /// integration error (0 for the exact motion).
+    pub fn balance(&self) -> Vec<f64> {
+        let e0 = self.total.first().copied().unwrap_or(0.0);
+        self.total
+            .iter()
+            .zip(&self.work)
+            .map(|(e, w)| e - e0 - w)
+            .collect()
+    }
+
+    /// max |E(t) − E(t₀) − W_nc(t)|.
+    pub fn max_balance(&self) -> f64 {
+        self.balance().iter().fold(0.0, |a, d| a.max(d.abs()))
+    }
+
+    /// The power and work of element `name`.
+    pub fn element(&self, name: &str) -> Option<&ElementWork> {
+        self.elements.iter().find(|e| e.name == name)
     }
 }
 

@@ -40,6 +40,8 @@ pub struct Dynamics<'m> {
     pub(crate) mass: Vec<f64>,
     pub(crate) inertia: Vec<Matrix3<f64>>,
     pub(crate) forces: Vec<Resolved>,
+    /// The name of each element of `forces` (for the work channels, [`crate::work`]).
+    pub(crate) force_names: Vec<String>,
     pub(crate) user: Option<UserForces>,
     pub(crate) elements: Vec<Element>,
     pub(crate) kkt: Option<Kkt>,
@@ -53,6 +55,8 @@ pub struct Dynamics<'m> {
     pub(crate) turns: Vec<[f64; 2]>,
     /// Generalized forces h (n).
     pub(crate) h: Vec<f64>,
+    /// The user callback's generalized forces alone (n), for its power ([`crate::work`]).
+    pub(crate) h_user: Vec<f64>,
 }
 
 impl std::fmt::Debug for Dynamics<'_> {
@@ -93,6 +97,7 @@ impl<'m> Dynamics<'m> {
             mass,
             inertia,
             forces: Vec::new(),
+            force_names: Vec::new(),
             user: None,
             elements: elements(model),
             kkt: None,
@@ -101,6 +106,7 @@ impl<'m> Dynamics<'m> {
             bodies: vec![BodyState::ground(); nb],
             turns: model.initial_turns(),
             h: vec![0.0; 6 * nb],
+            h_user: vec![0.0; 6 * nb],
         };
         for f in Force::from_model(model) {
             d.add_force(f)?;
@@ -121,6 +127,7 @@ impl<'m> Dynamics<'m> {
     pub fn add_force(&mut self, force: Force) -> Result<&mut Self, DynamicsError> {
         let r = Resolved::resolve(self.model, &force)?;
         self.forces.push(r);
+        self.force_names.push(force.name().to_string());
         self.kkt = None;
         Ok(self)
     }

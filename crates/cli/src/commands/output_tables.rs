@@ -261,3 +261,46 @@ pub fn reaction_tables(r: &DynamicResults, req: &Requested) -> Vec<Table> {
     }
     out
 }
+
+/// `energy`: kinetic and potential energy, their sum and its drift E − E(t₀); then, per driver
+/// and non-conservative force element (damper, actuator, point force or torque), its power
+/// `name.P [W]` (positive into the mechanism) and work `name.W [J]`; their sum `W_nc [J]`; the
+/// balance E − E(t₀) − W_nc `balance [J]` (the integration error, [`cardan_dynamics::work`]); and
+/// the power of the joints' reactions `P_joints [W]` (0 up to the velocity drift: a check).
+pub fn energy_table(r: &DynamicResults) -> Table {
+    let e = &r.energy;
+    let mut cols: Vec<String> = [
+        "kinetic [J]",
+        "potential_gravity [J]",
+        "potential_spring [J]",
+        "total [J]",
+        "drift [J]",
+    ]
+    .map(String::from)
+    .to_vec();
+    for w in &e.elements {
+        cols.push(format!("{}.P [W]", w.name));
+        cols.push(format!("{}.W [J]", w.name));
+    }
+    cols.extend(["W_nc [J]", "balance [J]", "P_joints [W]"].map(String::from));
+    let mut t = Table::new("energy", "energy", cols);
+    let (drift, balance) = (e.drift(), e.balance());
+    let g = |v: &[f64], k: usize| v.get(k).copied().unwrap_or(f64::NAN);
+    for (k, time) in r.times().iter().enumerate() {
+        let mut row = vec![
+            *time,
+            g(&e.kinetic, k),
+            g(&e.gravity, k),
+            g(&e.spring, k),
+            g(&e.total, k),
+            g(&drift, k),
+        ];
+        for w in &e.elements {
+            row.push(g(&w.power, k));
+            row.push(g(&w.work, k));
+        }
+        row.extend([g(&e.work, k), g(&balance, k), g(&e.constraint_power, k)]);
+        t.rows.push(row);
+    }
+    t
+}

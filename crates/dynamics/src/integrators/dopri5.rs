@@ -16,6 +16,7 @@ use crate::record::Recorder;
 use crate::results::IntegrationStats;
 use crate::state::State;
 use crate::system::Dynamics;
+use crate::work::Multipliers;
 use crate::DynamicsError;
 use cardan_eulerparam::p_dot_from_local;
 use nalgebra::{Vector3, Vector4};
@@ -79,6 +80,13 @@ struct Buffers {
     yt: Vec<f64>,
     cont: [Vec<f64>; 5],
     scratch: State,
+    /// The work quadrature ([`crate::work`]): the power of each channel at each stage, the
+    /// work at the step's start and end, at an output, and its dense-output coefficients.
+    kw: [Vec<f64>; 7],
+    w0: Vec<f64>,
+    w1: Vec<f64>,
+    wt: Vec<f64>,
+    wcont: [Vec<f64>; 5],
 }
 
 fn to_state(y: &[f64], t: f64, s: &mut State) {
@@ -101,7 +109,8 @@ fn from_state(s: &State, y: &mut [f64]) {
     y[nq..].copy_from_slice(&s.v);
 }
 
-/// dy = f(t, y). No allocation.
+/// dy = f(t, y), and the power of each work channel there into `pw` ([`crate::work`]). No
+/// allocation.
 fn rhs(
     d: &mut Dynamics,
     t: f64,
@@ -109,6 +118,7 @@ fn rhs(
     dy: &mut [f64],
     s: &mut State,
     baum: (f64, f64),
+    pw: &mut [f64],
 ) -> Result<(), DynamicsError> {
     if y.iter().any(|v| !v.is_finite()) {
         return Err(DynamicsError::NonFinite {
@@ -134,6 +144,7 @@ fn rhs(
         }
     }
     dy[nq..].copy_from_slice(&sol[..6 * nb]);
+    d.powers(t, Multipliers::Solution, pw);
     Ok(())
 }
 
@@ -196,7 +207,15 @@ fn starting_step(
             b.yt[i] = b.y0[i] + h * b.k[0][i];
         }
         let (k0, rest) = b.k.split_at_mut(1);
-        match rhs(d, t + h, &b.yt, &mut rest[0], &mut b.scratch, baum) {
+        match rhs(
+            d,
+            t + h,
+            &b.yt,
+            &mut rest[0],
+            &mut b.scratch,
+            baum,
+            &mut b.kw[1],
+        ) {
             Ok(()) => stats.evaluations += 1,
             // A later probe that fails keeps the step already found.
             Err(_) if probe > 0 => return Ok(h),
@@ -226,6 +245,30 @@ fn reselect_at(d: &mut Dynamics, y: &[f64], t: f64, s: &mut State) -> bool {
     to_state(y, t, s);
     d.sync(s);
     d.reselect(t)
+}
+
+/// The work at the end of an accepted step of size `hs` and its dense-output coefficients: the
+/// step's weights and continuous extension applied to the stage powers, as for the state
+/// ([`crate::work`]). No allocation.
+fn work_step(b: &mut Buffers, hs: f64) {
+    for i in 0..b.w0.len() {
+        let mut acc = 0.0;
+        for j in 0..6 {
+            acc += A[6][j] * b.kw[j][i];
+        }
+        b.w1[i] = b.w0[i] + hs * acc;
+        let wdiff = b.w1[i] - b.w0[i];
+        let bspl = hs * b.kw[0][i] - wdiff;
+        let mut dd = 0.0;
+        for j in 0..7 {
+            dd += D[j] * b.kw[j][i];
+        }
+        b.wcont[0][i] = b.w0[i];
+        b.wcont[1][i] = wdiff;
+        b.wcont[2][i] = bspl;
+        b.wcont[3][i] = wdiff - hs * b.kw[6][i] - bspl;
+        b.wcont[4][i] = hs * dd;
+    }
 }
 
 /// Projects the state held in `y` (positions, then velocities); returns Newton iterations.
@@ -278,6 +321,7 @@ pub(crate) fn run(
         }
     }
     let len = state.q.len() + state.v.len();
+    let nw = d.num_work_channels();
     let z = || vec![0.0; len];
     let mut b = Buffers {
         k: [z(), z(), z(), z(), z(), z(), z()],
@@ -286,6 +330,11 @@ pub(crate) fn run(
         yt: z(),
         cont: [z(), z(), z(), z(), z()],
         scratch: state.clone(),
+        kw: std::array::from_fn(|_| vec![0.0; nw]),
+        w0: vec![0.0; nw],
+        w1: vec![0.0; nw],
+        wt: vec![0.0; nw],
+        wcont: std::array::from_fn(|_| vec![0.0; nw]),
     };
     let baum = o.stabilization.baumgarte();
     let projects = o.stabilization.projects();
@@ -296,14 +345,14 @@ pub(crate) fn run(
     let mut next = 0;
     while next < times.len() && times[next] <= t {
         to_state(&b.y0, times[next], &mut b.scratch);
-        rec.record(d, &b.scratch, 0)?;
+        rec.record(d, &b.scratch, 0, Some(&b.w0))?;
         next += 1;
     }
     if next == times.len() || t >= t_end {
         return Ok(());
     }
 
-    rhs(d, t, &b.y0, &mut b.k[0], &mut b.scratch, baum)?;
+    rhs(d, t, &b.y0, &mut b.k[0], &mut b.scratch, baum, &mut b.kw[0])?;
     stats.evaluations += 1;
     let span = t_end - t;
     let mut h = match o.step {
@@ -356,7 +405,15 @@ pub(crate) fn run(
             }
             let (done, rest) = b.k.split_at_mut(s);
             let _ = done;
-            match rhs(d, t + C[s] * hs, &b.yt, &mut rest[0], &mut b.scratch, baum) {
+            match rhs(
+                d,
+                t + C[s] * hs,
+                &b.yt,
+                &mut rest[0],
+                &mut b.scratch,
+                baum,
+                &mut b.kw[s],
+            ) {
                 Ok(()) => stats.evaluations += 1,
                 Err(e) => {
                     failed = Some(e);
@@ -415,12 +472,14 @@ pub(crate) fn run(
                 }
                 b.cont[4][i] = hs * dd;
             }
+            work_step(&mut b, hs);
             stats.steps += 1;
             // Outputs inside (t, t1].
             while next < times.len() && times[next] <= t1 + 1e-12 * hs.abs() {
                 let tt = times[next];
                 if (tt - t1).abs() <= 1e-12 * hs.abs() {
                     b.yt.copy_from_slice(&b.y1);
+                    b.wt.copy_from_slice(&b.w1);
                 } else {
                     let th = (tt - t) / hs;
                     let th1 = 1.0 - th;
@@ -428,6 +487,11 @@ pub(crate) fn run(
                         b.yt[i] = b.cont[0][i]
                             + th * (b.cont[1][i]
                                 + th1 * (b.cont[2][i] + th * (b.cont[3][i] + th1 * b.cont[4][i])));
+                    }
+                    for i in 0..b.wt.len() {
+                        let c = &b.wcont;
+                        b.wt[i] = c[0][i]
+                            + th * (c[1][i] + th1 * (c[2][i] + th * (c[3][i] + th1 * c[4][i])));
                     }
                 }
                 let mut it = 0;
@@ -438,11 +502,12 @@ pub(crate) fn run(
                     to_state(&b.yt, tt, &mut b.scratch);
                 }
                 to_state(&b.yt, tt, &mut b.scratch);
-                rec.record(d, &b.scratch, it + proj_it)?;
+                rec.record(d, &b.scratch, it + proj_it, Some(&b.wt))?;
                 next += 1;
             }
             t = t1;
             b.y0.copy_from_slice(&b.y1);
+            b.w0.copy_from_slice(&b.w1);
             if projects {
                 proj_it = project(d, t, &mut b.y0, &mut b.scratch, o)?;
                 stats.newton_iterations += proj_it;
@@ -450,7 +515,7 @@ pub(crate) fn run(
             if t >= t_end || next == times.len() {
                 break;
             }
-            rhs(d, t, &b.y0, &mut b.k[0], &mut b.scratch, baum)?;
+            rhs(d, t, &b.y0, &mut b.k[0], &mut b.scratch, baum, &mut b.kw[0])?;
             stats.evaluations += 1;
             if !fixed {
                 // PI control: 0.9 err^−(1/5 − 0.75 β) err_old^β.

@@ -46,6 +46,7 @@ use crate::record::Recorder;
 use crate::results::IntegrationStats;
 use crate::state::State;
 use crate::system::Dynamics;
+use crate::work::{trapezoid, Multipliers};
 use crate::DynamicsError;
 use cardan_mechanism::apply_rotation_step;
 use std::ops::ControlFlow;
@@ -78,6 +79,14 @@ struct Buf {
     scale: Vec<f64>,
     /// Velocity projection: right-hand side (m_a) and solution [Δv; μ] (n + m_a).
     proj_e: Vec<f64>,
+    /// The work quadrature ([`crate::work`]): the power of each channel at the step's two
+    /// ends, the work, and v̇ and λ (all rows) of the acceleration solve at the step's end that
+    /// gives the drivers' power (`work_step`).
+    pw0: Vec<f64>,
+    pw1: Vec<f64>,
+    w: Vec<f64>,
+    w_vdot: Vec<f64>,
+    w_lambda: Vec<f64>,
     proj_x: Vec<f64>,
     /// State of the solver's factorization (modified Newton).
     factor: Factor,
@@ -394,6 +403,30 @@ fn project_velocities(d: &mut Dynamics, b: &mut Buf) -> Result<(), DynamicsError
     Ok(())
 }
 
+/// The work after an accepted step of size `h` (ending at `b.s`): the trapezoidal rule,
+/// second order like the scheme ([`crate::work`]). The drivers' power takes λ from the augmented
+/// system solved at the step's end (index 1, as the stored outputs), not the step's own
+/// λ_{n+1}: the index-3 λ_{n+1} is off by O(h) (with it, the balance of a driven crank fell like
+/// h, not h²; so did it with the λ that follows the recursion of a). That solve costs one
+/// factorization per step, for models with drivers only; it leaves [M Φ_vᵀ; Φ_v 0] at the new
+/// state factored, which the next step may reuse. No allocation.
+fn work_step(d: &mut Dynamics, b: &mut Buf, h: f64) -> Result<(), DynamicsError> {
+    if b.w.is_empty() {
+        return Ok(());
+    }
+    if d.model.drivers().is_empty() {
+        d.sync(&b.s);
+        d.powers(b.s.t, Multipliers::Solution, &mut b.pw1);
+    } else {
+        d.accelerations(&b.s, &mut b.w_vdot, &mut b.w_lambda)?;
+        b.factor = Factor::Stale;
+        d.powers(b.s.t, Multipliers::Full(&b.w_lambda), &mut b.pw1);
+    }
+    trapezoid(&mut b.w, &b.pw0, &b.pw1, h);
+    std::mem::swap(&mut b.pw0, &mut b.pw1);
+    Ok(())
+}
+
 pub(crate) fn run(
     d: &mut Dynamics,
     state: State,
@@ -419,6 +452,7 @@ pub(crate) fn run(
     let n = state.v.len();
     let ma = d.kkt.as_ref().expect("prepared").active.len();
     let m = d.model.num_equations();
+    let nw = d.num_work_channels();
     let mut b = Buf {
         s: state.clone(),
         vdot: vec![0.0; n],
@@ -435,6 +469,11 @@ pub(crate) fn run(
         proj_e: vec![0.0; ma],
         proj_x: vec![0.0; n + ma],
         factor: Factor::None,
+        pw0: vec![0.0; nw],
+        pw1: vec![0.0; nw],
+        w: vec![0.0; nw],
+        w_vdot: vec![0.0; n],
+        w_lambda: vec![0.0; m],
     };
     // Consistent accelerations at t0.
     let mut full = vec![0.0; m];
@@ -446,13 +485,14 @@ pub(crate) fn run(
         }
     }
     b.a.copy_from_slice(&b.vdot);
+    d.powers(b.s.t, Multipliers::Full(&full), &mut b.pw0);
     // The acceleration solve left [M Φ_vᵀ; Φ_v 0] at t0 factored.
     b.factor = Factor::Stale;
     let mut next = 0;
     while next < times.len() && times[next] <= b.s.t {
         let mut s0 = b.s.clone();
         s0.t = times[next];
-        rec.record(d, &s0, 0)?;
+        rec.record(d, &s0, 0, Some(&b.w))?;
         next += 1;
     }
     let mut iters_since = 0;
@@ -511,6 +551,7 @@ pub(crate) fn run(
                 h *= 0.5;
             }
             // Accept.
+            let t_before = b.s.t;
             std::mem::swap(&mut b.s, &mut b.t1);
             d.sync(&b.s);
             d.accept_turns();
@@ -527,9 +568,11 @@ pub(crate) fn run(
                     d.project_velocities(&mut b.s)?;
                 }
             }
+            let h_accepted = b.s.t - t_before;
+            work_step(d, &mut b, h_accepted)?;
             stats.steps += 1;
         }
-        rec.record(d, &b.s, iters_since)?;
+        rec.record(d, &b.s, iters_since, Some(&b.w))?;
         // The recorder's acceleration solve refactored [M Φ_vᵀ; Φ_v 0] at the output state.
         b.factor = Factor::Stale;
         iters_since = 0;

@@ -10,7 +10,8 @@ use super::kinematic;
 use super::summary::{Analysed, Summary};
 use crate::build::Outputs as Requested;
 use crate::commands::output_tables::{
-    coupler_efforts_table, driver_efforts_table, peak_efforts, reaction_tables, requested,
+    coupler_efforts_table, driver_efforts_table, energy_table, peak_efforts, reaction_tables,
+    requested,
 };
 use crate::commands::{analysis_error, Prepared};
 use crate::diag::Error;
@@ -47,6 +48,7 @@ pub(super) fn run_inverse(
         dir: PathBuf::new(),
         files: Vec::new(),
         dynamic: None,
+        energy_balance: Some(super::summary::EnergyBalance::of(&r.energy)),
         peak_efforts: peak_efforts(p, &r),
         warnings: Vec::new(),
         subdivided_steps: Some(k.subdivided_steps),
@@ -138,11 +140,16 @@ pub fn inverse_dynamics_with(
 }
 
 /// The output groups of an inverse dynamics run: the kinematic groups (with the residual of the
-/// position analysis), then driver efforts and reactions (global and body components).
+/// position analysis), then driver efforts, reactions (global and body components) and energy
+/// (with the drivers' power and work along the prescribed motion, the work by the trapezoidal
+/// rule on the time grid).
 pub fn inverse_tables(p: &Prepared, r: &DynamicResults, req: &Requested) -> Vec<Table> {
     let mut out = kinematic::tables(&r.kinematics, req);
     out.extend(driver_efforts_table(p, r));
     out.extend(coupler_efforts_table(p, r));
     out.extend(reaction_tables(r, req));
+    if req.energy {
+        out.push(energy_table(r));
+    }
     out
 }

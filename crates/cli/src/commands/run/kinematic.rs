@@ -52,6 +52,7 @@ pub(super) fn run_kinematic(
         dir: PathBuf::new(),
         files: Vec::new(),
         dynamic: None,
+        energy_balance: None,
         peak_efforts: Vec::new(),
         warnings: Vec::new(),
         subdivided_steps: Some(results.subdivided_steps),

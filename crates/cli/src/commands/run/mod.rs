@@ -10,7 +10,7 @@ pub mod inverse;
 pub mod kinematic;
 mod summary;
 
-pub use summary::{Analysed, DynamicSummary, RunFlags, Summary};
+pub use summary::{Analysed, DynamicSummary, EnergyBalance, RunFlags, Summary};
 
 use super::{prepare, Prepared};
 use crate::diag::Error;
@@ -105,10 +105,12 @@ pub fn print_summary(s: &Summary, out: &mut dyn Write) -> Result<(), Error> {
         1 => format!("{efforts}, 1 warning (below)"),
         n => format!("{efforts}, {n} warnings (below)"),
     };
+    let balance = s.energy_balance.map_or(String::new(), |b| b.describe());
     match &s.dynamic {
         None => writeln!(
             out,
-            "{}: {} steps, {} Newton iterations, largest residual {:.3e}{efforts}, wall time {:.3} s",
+            "{}: {} steps, {} Newton iterations, largest residual {:.3e}{balance}{efforts}, wall \
+             time {:.3} s",
             s.name,
             s.steps,
             s.iterations,
@@ -118,7 +120,7 @@ pub fn print_summary(s: &Summary, out: &mut dyn Write) -> Result<(), Error> {
         Some(d) => writeln!(
             out,
             "{}: {} outputs, {} steps ({} rejected), {} Newton iterations, max constraint drift \
-             {:.3e}, energy drift {:.3e} J{efforts}, wall time {:.3} s",
+             {:.3e}, energy drift {:.3e} J{balance}{efforts}, wall time {:.3} s",
             s.name,
             s.steps,
             d.steps,
@@ -326,6 +328,8 @@ fn report(p: &Prepared, kind: &'static str, a: &Analysed, files: Vec<String>) ->
         largest_residual: s.max_residual,
         constraint_drift: d.map(|d| d.max_constraint_drift),
         energy_drift: d.map(|d| d.energy_drift),
+        energy_balance: s.energy_balance.map(|b| b.max_abs),
+        energy_scale: s.energy_balance.map(|b| b.scale),
         warnings: s.warnings.clone(),
         subdivided_steps: s.subdivided_steps,
         row_reselections: s.row_reselections,
