@@ -57,6 +57,11 @@ def test_a_singular_run_raises_analysis_error_with_time_and_partial_results():
     # The tip reached x = 1 (stretched), within the accuracy of a singular root.
     assert err.partial.points["crank.tip.x"][-1] == pytest.approx(1.0, abs=1e-6)
     assert pushed_crank(0.9).run().status == "complete"
+    import pickle
+
+    again = pickle.loads(pickle.dumps(err))
+    assert again.time == err.time and again.equations == err.equations
+    assert len(again.partial.t) == 51
 
 
 def test_errors_pickle():

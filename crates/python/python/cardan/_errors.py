@@ -15,20 +15,9 @@ _TIME = re.compile(r"\bt = (-?[0-9][0-9.eE+-]*)")
 
 class CardanError(Exception):
     """A failure of cardan: ``message`` is the one-paragraph explanation the ``cardan``
-    command prints, ``printed`` the same with its location and source excerpt."""
-
-    def __init__(self, message: str, printed: Optional[str] = None) -> None:
-        super().__init__(printed or message)
-        self.message = message
-        self.printed = printed or message
-
-
-class ModelError(CardanError):
-    """The model cannot be read, parsed or validated.
-
-    ``file``, ``line`` and ``column`` locate the error in the model text (1-based; ``None``
-    when the error has no place), ``element`` names the body, joint, driver or force it
-    concerns when the message names one."""
+    command prints, ``printed`` the same with its location and source excerpt; ``file``,
+    ``line`` and ``column`` locate it in the model text (1-based; ``None`` when it has no
+    place)."""
 
     def __init__(
         self,
@@ -38,15 +27,28 @@ class ModelError(CardanError):
         line: Optional[int] = None,
         column: Optional[int] = None,
     ) -> None:
-        super().__init__(message, printed)
+        super().__init__(printed or message)
+        self.message = message
+        self.printed = printed or message
         self.file = file
         self.line = line
         self.column = column
-        m = _ELEMENT.search(message)
-        self.element: Optional[str] = m.group(1) if m else None
+
+    def _args(self) -> tuple:
+        return (self.message, self.printed, self.file, self.line, self.column)
 
     def __reduce__(self) -> Any:
-        return (type(self), (self.message, self.printed, self.file, self.line, self.column))
+        return (type(self), self._args())
+
+
+class ModelError(CardanError):
+    """The model cannot be read, parsed or validated. ``element`` names the body, joint,
+    driver or force it concerns when the message names one."""
+
+    @property
+    def element(self) -> Optional[str]:
+        m = _ELEMENT.search(self.message)
+        return m.group(1) if m else None
 
 
 class AnalysisError(CardanError):
@@ -57,29 +59,19 @@ class AnalysisError(CardanError):
     quoted element names it lists (the joints or drivers whose equations failed), ``partial``
     the results up to the failure (``None`` when nothing was solved)."""
 
-    def __init__(
-        self,
-        message: str,
-        printed: Optional[str] = None,
-        file: Optional[str] = None,
-        line: Optional[int] = None,
-        column: Optional[int] = None,
-        partial: Optional["Results"] = None,
-    ) -> None:
-        super().__init__(message, printed)
-        self.file = file
-        self.line = line
-        self.column = column
+    def __init__(self, *args: Any, partial: Optional["Results"] = None) -> None:
+        super().__init__(*args)
         self.partial = partial
-        m = _TIME.search(message)
+        m = _TIME.search(self.message)
         self.time: Optional[float] = float(m.group(1).rstrip(".")) if m else None
-        self.equations: List[str] = _QUOTED.findall(message)
+        self.equations: List[str] = _QUOTED.findall(self.message)
 
     def __reduce__(self) -> Any:
-        return (
-            type(self),
-            (self.message, self.printed, self.file, self.line, self.column, self.partial),
-        )
+        return (_analysis_error, (self._args(), self.partial))
+
+
+def _analysis_error(args: tuple, partial: Optional["Results"]) -> AnalysisError:
+    return AnalysisError(*args, partial=partial)
 
 
 def raise_error(err: dict, partial: Optional["Results"] = None) -> None:
@@ -88,5 +80,5 @@ def raise_error(err: dict, partial: Optional["Results"] = None) -> None:
     if err["kind"] == "input":
         raise ModelError(*args)
     if err["kind"] == "output":
-        raise CardanError(err["message"], err["printed"])
+        raise CardanError(*args)
     raise AnalysisError(*args, partial=partial)
