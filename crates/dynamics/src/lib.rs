@@ -127,15 +127,19 @@ pub mod forces;
 pub mod integrators;
 pub mod inverse;
 mod kkt;
+pub mod modal;
 pub mod options;
 mod record;
 pub mod results;
 pub mod simulate;
 pub mod state;
+pub mod statics;
 pub mod system;
+mod tangent;
 
 pub use error::DynamicsError;
 pub use forces::{AppliedForces, Force, Frame, PointRef, UserForces, VectorFunction};
+pub use modal::{BodyShape, Linearization, ModalOptions, ModalResults, Mode, ModeKind};
 pub use options::{
     Dopri5Options, GeneralizedAlphaOptions, Integrator, IterationMatrix, OptionError, OutputTimes,
     SimulationOptions, Stabilization, StepControl, ATOL_MAX, NEWTON_TOLERANCE_RANGE, RTOL_RANGE,
@@ -145,4 +149,5 @@ pub use results::{
     Reaction,
 };
 pub use state::State;
+pub use statics::{Equilibrium, Stability, StaticOptions, StaticResults};
 pub use system::{Dynamics, Energy};
