@@ -120,8 +120,9 @@ pub struct Mode {
     pub damped_frequency: f64,
     /// Damping ratio ζ (0 without damping; 1 for an overdamped mode).
     pub damping_ratio: f64,
-    /// The eigenvalue: ω² (1/s²) without damping; with damping, s = (re, im) of the
-    /// first-order form (1/s), stored as [re, im].
+    /// The eigenvalue s = [re, im] (1/s) of the first-order form ẏ = A y: −ζω_n + iω_d for an
+    /// elastic mode (iω without damping), 0 for a rigid mode, √(−ω²) (real, positive) for an
+    /// unstable one, the real negative root for an overdamped one.
     pub eigenvalue: [f64; 2],
     /// The shape, one entry per moving body (module docs for the scaling).
     pub shape: Vec<BodyShape>,
@@ -248,7 +249,12 @@ impl Dynamics<'_> {
                 w2.abs().sqrt() / two_pi
             };
             let delta = &lin.basis * x.column(i);
-            modes.push(self.mode(state, kind, f, f, 0.0, [w2, 0.0], delta.as_slice()));
+            let s = match kind {
+                ModeKind::Elastic => [0.0, w2.sqrt()],
+                ModeKind::Unstable => [(-w2).sqrt(), 0.0],
+                _ => [0.0, 0.0],
+            };
+            modes.push(self.mode(state, kind, f, f, 0.0, s, delta.as_slice()));
         }
         if damped {
             modes.extend(self.damped_modes(state, lin, thr)?);

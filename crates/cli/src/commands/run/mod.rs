@@ -8,6 +8,7 @@
 pub mod dynamic;
 pub mod inverse;
 pub mod kinematic;
+pub mod statics;
 mod summary;
 
 pub use summary::{DynamicSummary, RunFlags, Summary};
@@ -176,7 +177,9 @@ pub fn run_model_with(
     };
     // Locked before the analysis: a concurrent run is refused at once, not after its work.
     let out_dir = OutputDir::lock(&dir)?;
-    let (kind, ran) = if analysis.dynamic.is_some() {
+    let (kind, ran) = if let Some(k) = analysis.statics {
+        (k.name(), statics::run_statics(&p, &analysis, k))
+    } else if analysis.dynamic.is_some() {
         ("dynamic", run_dynamic(&p, &analysis, flags))
     } else if analysis.inverse_dynamics {
         ("inverse_dynamics", run_inverse(&p, &analysis, progress))
@@ -193,7 +196,12 @@ pub fn run_model_with(
     if flags.strict && a.failure.is_none() && !a.summary.warnings.is_empty() {
         a.strict_failure = Some(strict_error(&a.summary.warnings));
     }
-    let files = write_outputs(out_dir, &p, kind, &mut a, analysis.plots)?;
+    // A static or modal run has one time: nothing to plot against it.
+    let one_time = matches!(
+        analysis.statics,
+        Some(crate::build::StaticKind::Static | crate::build::StaticKind::Modal)
+    );
+    let files = write_outputs(out_dir, &p, kind, &mut a, analysis.plots && !one_time)?;
     a.summary.dir = dir;
     a.summary.files = files;
     Ok(RunOutcome {
