@@ -233,3 +233,19 @@ fn static_driven_crank_holding_torque() {
     let exact = 1.0 * G * 0.5 * (0.7f64).cos();
     assert!((t - exact).abs() < 1e-9 * exact, "{t} vs {exact}");
 }
+
+/// `cardan check` accepts a static model without drivers (its free DOF settle under the loads).
+#[test]
+fn check_accepts_static_models_without_drivers() {
+    for name in ["fourbar_spring_static", "fourbar_spring_modal"] {
+        let dir = common::scratch("check");
+        let path = example(name);
+        let o = common::cardan(&["check", path.to_str().unwrap()], &dir);
+        assert_eq!(o.code, 0, "{name}: {}", o.stderr);
+        assert!(
+            o.stdout.contains("analysis: 1 DOF left free"),
+            "{}",
+            o.stdout
+        );
+    }
+}

@@ -108,6 +108,10 @@
 //!   [`UserForces`].
 //! - [`state`]: [`State`]. [`options`]: [`SimulationOptions`] and the integrator options.
 //! - [`simulate`]: forward dynamics; [`inverse`]: inverse dynamics.
+//! - [`statics`]: static and quasi-static equilibria ([`Dynamics::statics`],
+//!   [`Dynamics::quasi_statics`]) and their stability; [`modal`]: the linearization about an
+//!   equilibrium ([`Linearization`]) and its vibration modes ([`Dynamics::modal`]); `tangent`
+//!   (private): the dense tangent stiffness and damping, the null-space basis.
 //! - [`integrators`]: [`integrators::dopri5`], [`integrators::generalized_alpha`].
 //! - `kkt` (private): the laid-out augmented system. [`results`]: [`DynamicResults`].
 //!   [`error`]: [`DynamicsError`].
