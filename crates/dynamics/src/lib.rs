@@ -111,7 +111,9 @@
 //! - [`statics`]: static and quasi-static equilibria ([`Dynamics::statics`],
 //!   [`Dynamics::quasi_statics`]) and their stability; [`modal`]: the linearization about an
 //!   equilibrium ([`Linearization`]) and its vibration modes ([`Dynamics::modal`]); `tangent`
-//!   (private): the dense tangent stiffness and damping, the null-space basis.
+//!   (private): the dense tangent stiffness and damping, the null-space basis;
+//!   [`state_space`]: A, B, C, D for chosen force inputs and point or joint outputs, and the
+//!   MatrixMarket writer [`matrix_market`].
 //! - [`integrators`]: [`integrators::dopri5`], [`integrators::generalized_alpha`].
 //! - `kkt` (private): the laid-out augmented system. [`results`]: [`DynamicResults`].
 //!   [`error`]: [`DynamicsError`].
@@ -137,6 +139,7 @@ mod record;
 pub mod results;
 pub mod simulate;
 pub mod state;
+pub mod state_space;
 pub mod statics;
 pub mod system;
 mod tangent;
@@ -153,5 +156,6 @@ pub use results::{
     Reaction,
 };
 pub use state::State;
+pub use state_space::{matrix_market, Input, Output, StateSpace};
 pub use statics::{Equilibrium, Stability, StaticOptions, StaticResults};
 pub use system::{Dynamics, Energy};

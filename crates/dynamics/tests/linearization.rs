@@ -11,7 +11,8 @@
 //! velocities ±ε N e_i at q₀ for −M_r⁻¹C_r (the quadratic velocity terms cancel in the
 //! central difference).
 
-use cardan_dynamics::{Dynamics, Force, ModalOptions, State};
+use cardan_constraints::{BodyPair, BodyState};
+use cardan_dynamics::{matrix_market, Dynamics, Force, Frame, Input, ModalOptions, Output, State};
 use cardan_mechanism::{Body, JointKind, JointSpec, MechanismBuilder, Model, Orientation, GROUND};
 use nalgebra::{DMatrix, DVector, Vector3};
 
@@ -66,10 +67,9 @@ fn four_bar() -> Model {
     b.build().unwrap()
 }
 
-#[test]
-fn linearization_matches_differences_of_the_nonlinear_dynamics() {
-    let model = four_bar();
-    let mut d = Dynamics::new(&model).unwrap();
+/// The model's forces, plus a constant force `extra` at the coupler's point "mid" if given.
+fn loaded(model: &Model, extra: Option<Vector3<f64>>) -> Dynamics<'_> {
+    let mut d = Dynamics::new(model).unwrap();
     d.add_force(Force::gravity(Vector3::new(1.5, -9.81, 2.0)))
         .unwrap();
     d.add_force(Force::rotational_spring_damper(
@@ -85,6 +85,23 @@ fn linearization_matches_differences_of_the_nonlinear_dynamics() {
         Some(0.9),
     ))
     .unwrap();
+    if let Some(f) = extra {
+        d.add_force(Force::point_force(
+            "probe",
+            "coupler",
+            "mid",
+            f,
+            Frame::Global,
+        ))
+        .unwrap();
+    }
+    d
+}
+
+#[test]
+fn linearization_matches_differences_of_the_nonlinear_dynamics() {
+    let model = four_bar();
+    let mut d = loaded(&model, None);
     let r = d.modal(&ModalOptions::default()).unwrap();
     let eq = &r.equilibrium.equilibria[0];
     assert!(
@@ -155,4 +172,115 @@ fn linearization_matches_differences_of_the_nonlinear_dynamics() {
         "{} vs {zeta}",
         mode.damping_ratio
     );
+}
+
+/// The state-space model: B against the accelerations a small force at the input produces
+/// (exactly linear at rest), C against central differences of the point coordinate and the
+/// joint angle along the constraint manifold; the MatrixMarket text reads back.
+#[test]
+fn state_space_matches_the_nonlinear_model() {
+    let model = four_bar();
+    let mut d = loaded(&model, None);
+    let r = d.modal(&ModalOptions::default()).unwrap();
+    let eq = &r.equilibrium.equilibria[0];
+    let lin = &r.linearization;
+    let dir = Vector3::new(0.3, -1.0, 0.2).normalize();
+    let mid = Vector3::new(0.0, 0.05, 0.1);
+    let inputs = [Input::Force {
+        body: "coupler".into(),
+        point: mid,
+        direction: dir,
+    }];
+    let outputs = [
+        Output::Point {
+            body: "rocker".into(),
+            point: Vector3::new(0.4, 0.0, 0.0),
+            direction: Vector3::x(),
+        },
+        Output::Joint {
+            joint: "A".into(),
+            index: 0,
+        },
+    ];
+    let ss = d.state_space(&eq.state, lin, &inputs, &outputs).unwrap();
+    let dof = lin.dof();
+    let n = 6 * model.num_bodies();
+    let mut m = DMatrix::zeros(n, n);
+    for k in 0..model.num_bodies() {
+        for a in 0..3 {
+            m[(6 * k + a, 6 * k + a)] = d.mass(k);
+            for b in 0..3 {
+                m[(6 * k + 3 + a, 6 * k + 3 + b)] = d.inertia(k)[(a, b)];
+            }
+        }
+    }
+    let nb = &lin.basis;
+    let mr_inv = (nb.transpose() * &m * nb).try_inverse().unwrap();
+    let acc = |d: &mut Dynamics| {
+        let mut vdot = vec![0.0; n];
+        let mut lambda = vec![0.0; model.num_equations()];
+        d.accelerations(&eq.state, &mut vdot, &mut lambda).unwrap();
+        DVector::from_vec(vdot)
+    };
+    let eps = 1e-3;
+    let v0 = acc(&mut d);
+    let mut d2 = loaded(&model, Some(dir * eps));
+    let v1 = acc(&mut d2);
+    let fd_b = &mr_inv * nb.transpose() * &m * (v1 - v0) / eps;
+    let b = ss.b.view((dof, 0), (dof, 1)).into_owned();
+    let rel_b = (&b - &fd_b).amax() / fd_b.amax();
+    println!("B: {b} vs {fd_b} (rel {rel_b:.2e})");
+    assert!(rel_b < 1e-7, "B rel {rel_b:.3e}");
+    // C by central differences along the manifold.
+    let ys = |s: &State| {
+        let rk = model.body_id("rocker").unwrap();
+        let p = s.point_position(rk, &Vector3::new(0.4, 0.0, 0.0));
+        let j = &model.joints()[model.joint_index("A").unwrap()];
+        let (g, c) = (BodyState::ground(), s.body_state(0));
+        let angle = j.joint.coordinates(&BodyPair::new(&g, &c)).values[0];
+        [p.x, angle]
+    };
+    let e = 1e-5;
+    for i in 0..dof {
+        let mut y = Vec::new();
+        for sign in [1.0, -1.0] {
+            let dz = nb.column(i) * (sign * e);
+            let mut s = eq.state.clone();
+            cardan_mechanism::apply_rotation_step(&mut s.q, dz.as_slice());
+            d.project_positions(&mut s, 1e-15).unwrap();
+            y.push(ys(&s));
+        }
+        for o in 0..2 {
+            let fd = (y[0][o] - y[1][o]) / (2.0 * e);
+            let got = ss.c[(o, i)];
+            println!("C[{o}, {i}]: {got} vs {fd}");
+            assert!(
+                (got - fd).abs() < 1e-7 * fd.abs().max(1e-3),
+                "{got} vs {fd}"
+            );
+        }
+    }
+    assert_eq!(ss.d.shape(), (2, 1));
+    assert!(ss.c.view((0, dof), (2, dof)).iter().all(|&v| v == 0.0));
+    // MatrixMarket round trip.
+    let text = matrix_market(&ss.a);
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some("%%MatrixMarket matrix coordinate real general")
+    );
+    let dims: Vec<usize> = lines
+        .next()
+        .unwrap()
+        .split_whitespace()
+        .map(|x| x.parse().unwrap())
+        .collect();
+    assert_eq!(&dims[..2], &[2 * dof, 2 * dof]);
+    let mut back = DMatrix::zeros(dims[0], dims[1]);
+    for l in lines {
+        let f: Vec<&str> = l.split_whitespace().collect();
+        let (r, c): (usize, usize) = (f[0].parse().unwrap(), f[1].parse().unwrap());
+        back[(r - 1, c - 1)] = f[2].parse::<f64>().unwrap();
+    }
+    assert_eq!(back, ss.a);
 }
