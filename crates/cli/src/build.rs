@@ -134,6 +134,8 @@ pub struct Analysis {
     pub statics: Option<StaticKind>,
     /// Static kinds: equal load increments tried first.
     pub load_steps: usize,
+    /// Modal: the force elements that are the inputs of the state-space model.
+    pub inputs: Vec<String>,
 }
 
 /// The static analyses.
@@ -514,7 +516,9 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
     let analysis = match &file.analysis {
         Some(a) => {
             spans.analysis = a.get_ref().kind.span();
-            Some(load_analysis(&resolver, a.get_ref(), &spans)?)
+            let mut an = load_analysis(&resolver, a.get_ref(), &spans)?;
+            an.inputs = load_inputs(&cx, a.get_ref(), an.statics, &forces)?;
+            Some(an)
         }
         None => None,
     };
@@ -1619,7 +1623,44 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
         tolerance,
         statics,
         load_steps,
+        inputs: Vec::new(),
     })
+}
+
+/// `inputs = [...]` (modal only): point_force and torque elements of the file.
+fn load_inputs(
+    cx: &Ctx,
+    a: &AnalysisSection,
+    statics: Option<StaticKind>,
+    forces: &[Force],
+) -> Result<Vec<String>, Error> {
+    let Some(list_) = &a.inputs else {
+        return Ok(Vec::new());
+    };
+    let mut out = Vec::new();
+    for n in list_ {
+        if statics != Some(StaticKind::Modal) {
+            return Err(cx.err(
+                n.span(),
+                "inputs applies only to kind = \"modal\" (the inputs of the state-space model)",
+            ));
+        }
+        let ok = forces.iter().any(|f| {
+            f.name() == n.get_ref().as_str()
+                && matches!(f, Force::PointForce { .. } | Force::PointTorque { .. })
+        });
+        if !ok {
+            return Err(cx.err(
+                n.span(),
+                format!(
+                    "inputs: \"{}\" is not a [[force]] of type point_force or torque",
+                    n.get_ref()
+                ),
+            ));
+        }
+        out.push(n.get_ref().clone());
+    }
+    Ok(out)
 }
 
 /// The keys of the static kinds: `time` (static and modal only; t_start, t_end, steps and dt

@@ -420,6 +420,10 @@ pub struct AnalysisSection {
     /// static, quasi_static, modal: equal load increments tried first (default 1).
     #[serde(default)]
     pub load_steps: Option<Spanned<i64>>,
+    /// modal: the force elements (point_force, torque) that are the inputs of the state-space
+    /// model written with the modes.
+    #[serde(default)]
+    pub inputs: Option<Vec<Name>>,
     /// Number of steps (the grid has steps + 1 times).
     #[serde(default)]
     pub steps: Option<Spanned<i64>>,

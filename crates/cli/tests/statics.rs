@@ -200,6 +200,17 @@ fn keys_that_do_not_apply_are_refused() {
             "time does not apply",
         ),
         (
+            edited(kind, "kind = \"kinematic\"\ninputs = [\"motor\"]"),
+            "inputs applies only",
+        ),
+        (
+            edited(
+                "kind = \"kinematic\"\nt_end = 1.0\nsteps = 10",
+                "kind = \"modal\"\ninputs = [\"motor\"]",
+            ),
+            "is not a [[force]] of type point_force or torque",
+        ),
+        (
             edited(
                 "kind = \"kinematic\"\nt_end = 1.0\nsteps = 10",
                 "kind = \"stati\"",
@@ -248,4 +259,55 @@ fn check_accepts_static_models_without_drivers() {
             o.stdout
         );
     }
+}
+
+/// The state-space model of the modal run with a torque input on the crank and the crank angle
+/// as output: its static gain −C A⁻¹ B is the compliance 1 / V''(θ*) of the one-coordinate
+/// potential, computed here.
+#[test]
+fn modal_state_space_static_gain_is_the_compliance() {
+    let text = std::fs::read_to_string(example("fourbar_spring_modal")).unwrap();
+    let text = text
+        .replacen(
+            "[analysis]",
+            "[[force]]\nname = \"probe\"\ntype = \"torque\"\nbody = \"crank\"\n\
+             value = [0.0, 0.0, 1e-9]\n\n[analysis]",
+            1,
+        )
+        .replacen(
+            "kind = \"modal\"",
+            "kind = \"modal\"\ninputs = [\"probe\"]",
+            1,
+        );
+    let o = run_text("run", &text);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let dir = o.dir.join("out");
+    let read = |name: &str| {
+        let t = std::fs::read_to_string(dir.join(name)).unwrap();
+        let mut lines = t.lines().filter(|l| !l.starts_with('%'));
+        let dims: Vec<usize> = lines
+            .next()
+            .unwrap()
+            .split_whitespace()
+            .map(|x| x.parse().unwrap())
+            .collect();
+        let mut m = nalgebra::DMatrix::zeros(dims[0], dims[1]);
+        for l in lines {
+            let f: Vec<&str> = l.split_whitespace().collect();
+            let (r, c): (usize, usize) = (f[0].parse().unwrap(), f[1].parse().unwrap());
+            m[(r - 1, c - 1)] = f[2].parse::<f64>().unwrap();
+        }
+        m
+    };
+    let (a, b, c) = (read("ss_A.mtx"), read("ss_B.mtx"), read("ss_C.mtx"));
+    assert_eq!((a.nrows(), b.ncols(), c.nrows()), (2, 1, 2));
+    let gain = -(&c * a.try_inverse().unwrap() * &b);
+    let (_, k_eff) = equilibrium();
+    // Output 1: joint A's angle (the crank), input 1: the torque about z on the crank.
+    let got = gain[(0, 0)];
+    println!("static gain {got} rad/(N m) vs 1/V'' = {}", 1.0 / k_eff);
+    assert!((got * k_eff - 1.0).abs() < 1e-6, "{got} vs {}", 1.0 / k_eff);
+    let signals = std::fs::read_to_string(dir.join("state_space.txt")).unwrap();
+    assert!(signals.contains("input 1: probe [N m]"), "{signals}");
+    assert!(signals.contains("output 1: A.angle [rad]"), "{signals}");
 }

@@ -238,6 +238,9 @@ fn write_outputs(
             dir.write(&format!("{}.svg", t.name), &t.to_svg())?;
         }
     }
+    for (name, text) in &a.files {
+        dir.write(name, text)?;
+    }
     let unit = if kind == "dynamic" {
         "outputs"
     } else {

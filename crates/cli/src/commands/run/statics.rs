@@ -8,15 +8,17 @@
 use super::dynamic::{dynamics_as, located_as};
 use super::inverse::inverse_tables;
 use super::summary::{Analysed, Summary};
+use crate::build::Outputs as Requested;
 use crate::build::{Analysis, StaticKind};
 use crate::commands::output_tables::{peak_efforts, requested};
 use crate::commands::{analysis_error, Prepared};
 use crate::diag::Error;
 use crate::table::Table;
 use cardan_dynamics::{
-    DynamicsError, ModalOptions, ModalResults, ModeKind, Stability, StaticOptions, StaticResults,
+    matrix_market, Dynamics, DynamicsError, Force, Frame, Input, ModalOptions, ModalResults,
+    ModeKind, Output, PointRef, Stability, StaticOptions, StaticResults,
 };
-use cardan_mechanism::Outputs;
+use cardan_mechanism::{BodyId, Outputs};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -91,8 +93,11 @@ pub(super) fn run_statics(
         .collect();
     tables.push(stability_table(&statics));
     let warnings = stability_warnings(&statics);
+    let mut files = Vec::new();
     if let Some(m) = &modal {
         tables.extend(mode_tables(m));
+        files =
+            matrix_files(p, &mut d, m, &req, &analysis.inputs).map_err(|e| error(p, &e, what))?;
     }
     let k = &r.kinematics;
     let summary = Summary {
@@ -116,6 +121,7 @@ pub(super) fn run_statics(
         dynamic: Some(r.clone()),
         failure,
         strict_failure: None,
+        files,
     })
 }
 
@@ -237,4 +243,130 @@ fn mode_tables(m: &ModalResults) -> Vec<Table> {
         shapes.rows.push(row);
     }
     vec![modes, shapes]
+}
+
+/// The modal run's matrices in MatrixMarket form: the linearization (`lin_M.mtx`, `lin_C.mtx`,
+/// `lin_K.mtx`, the basis `lin_N.mtx`) and the state-space model (`ss_A.mtx` … `ss_D.mtx`)
+/// with inputs = the named force elements (a unit force or torque along the element's
+/// direction at the equilibrium) and outputs = the requested points' x, y, z and joint
+/// coordinates, listed in `state_space.txt`.
+fn matrix_files(
+    p: &Prepared,
+    d: &mut Dynamics,
+    m: &ModalResults,
+    req: &Requested,
+    input_names: &[String],
+) -> Result<Vec<(String, String)>, DynamicsError> {
+    let Some(eq) = m.equilibrium.equilibria.first() else {
+        return Ok(Vec::new());
+    };
+    let model = &p.model;
+    let state = &eq.state;
+    let local = |body: &str, pt: &PointRef| match pt {
+        PointRef::Local(v) => *v,
+        PointRef::Named(n) => model
+            .point_index(body, n)
+            .map_or(nalgebra::Vector3::zeros(), |i| model.points()[i].local),
+    };
+    let global =
+        |body: &str, v: nalgebra::Vector3<f64>, frame: Frame| match (frame, model.body_id(body)) {
+            (Frame::Body, Some(BodyId::Moving(k))) => state.body_state(k).a * v,
+            _ => v,
+        };
+    let mut inputs = Vec::new();
+    let mut names = Vec::new();
+    for name in input_names {
+        match p.loaded.forces.iter().find(|f| f.name() == name.as_str()) {
+            Some(Force::PointForce {
+                body,
+                point,
+                value,
+                frame,
+                ..
+            }) => {
+                inputs.push(Input::Force {
+                    body: body.clone(),
+                    point: local(body, point),
+                    direction: global(body, value.eval(state.t), *frame),
+                });
+                names.push(format!("{name} [N]"));
+            }
+            Some(Force::PointTorque {
+                body, value, frame, ..
+            }) => {
+                inputs.push(Input::Torque {
+                    body: body.clone(),
+                    axis: global(body, value.eval(state.t), *frame),
+                });
+                names.push(format!("{name} [N m]"));
+            }
+            _ => {}
+        }
+    }
+    let mut outputs = Vec::new();
+    let mut out_names = Vec::new();
+    for (b, pt) in &req.points {
+        if !matches!(model.body_id(b), Some(BodyId::Moving(_))) {
+            continue;
+        }
+        let s = local(b, &PointRef::Named(pt.clone()));
+        for (ax, dir) in ["x", "y", "z"].iter().zip([
+            nalgebra::Vector3::x(),
+            nalgebra::Vector3::y(),
+            nalgebra::Vector3::z(),
+        ]) {
+            outputs.push(Output::Point {
+                body: b.clone(),
+                point: s,
+                direction: dir,
+            });
+            out_names.push(format!("{b}.{pt}.{ax} [m]"));
+        }
+    }
+    for j in &req.joints {
+        if let Some(ji) = model.joint_index(j) {
+            for (i, c) in model.joints()[ji]
+                .joint
+                .kind()
+                .info()
+                .coordinates
+                .iter()
+                .enumerate()
+            {
+                outputs.push(Output::Joint {
+                    joint: j.clone(),
+                    index: i,
+                });
+                out_names.push(format!("{j}.{} [{}]", c.name, c.measure.quantity().unit()));
+            }
+        }
+    }
+    let lin = &m.linearization;
+    let ss = d.state_space(state, lin, &inputs, &outputs)?;
+    let dof = lin.dof();
+    let mut signals = format!(
+        "# State-space model about the equilibrium at t = {} s (MatrixMarket files, 1-based):\n\
+         # x' = A x + B u, y = C x + D u; x = [z; dz/dt] with {dof} independent coordinates z,\n\
+         # the body increments delta = N z (lin_N.mtx: 6 rows per moving body in file order,\n\
+         # dr.x dr.y dr.z [m] of the centre of mass, then the rotation dpi'.x .y .z [rad] in\n\
+         # body components); M_r z'' + C_r z' + K_r z = Q_u u (lin_M, lin_C, lin_K).\n",
+        state.t
+    );
+    for (i, n) in names.iter().enumerate() {
+        signals.push_str(&format!("input {}: {n}\n", i + 1));
+    }
+    for (i, n) in out_names.iter().enumerate() {
+        signals.push_str(&format!("output {}: {n}\n", i + 1));
+    }
+    Ok(vec![
+        ("lin_M.mtx".into(), matrix_market(&lin.mass)),
+        ("lin_C.mtx".into(), matrix_market(&lin.damping)),
+        ("lin_K.mtx".into(), matrix_market(&lin.stiffness)),
+        ("lin_N.mtx".into(), matrix_market(&lin.basis)),
+        ("ss_A.mtx".into(), matrix_market(&ss.a)),
+        ("ss_B.mtx".into(), matrix_market(&ss.b)),
+        ("ss_C.mtx".into(), matrix_market(&ss.c)),
+        ("ss_D.mtx".into(), matrix_market(&ss.d)),
+        ("state_space.txt".into(), signals),
+    ])
 }

@@ -83,4 +83,6 @@ pub(super) struct Analysed {
     pub(super) failure: Option<Error>,
     /// `--strict` with warnings: the error to return after writing (the run is complete).
     pub(super) strict_failure: Option<Error>,
+    /// Files other than the tables, (name, contents): the modal run's matrices.
+    pub(super) files: Vec<(String, String)>,
 }
