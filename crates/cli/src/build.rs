@@ -126,8 +126,38 @@ pub struct Analysis {
     /// `kind = "inverse_dynamics"`: driver efforts and reactions of a fully driven mechanism
     /// along its kinematics (`dynamic` is then `None`).
     pub inverse_dynamics: bool,
-    /// Kinematic and inverse dynamics: the position solves' tolerance on the scaled residual.
+    /// Kinematic and inverse dynamics: the position solves' tolerance on the scaled residual;
+    /// static kinds: the equilibrium's.
     pub tolerance: f64,
+    /// `kind = "static"`, `"quasi_static"` or `"modal"` (`dynamic` is then `None`). A static or
+    /// modal analysis has one time: t_start = t_end = the time the drivers are held, steps = 0.
+    pub statics: Option<StaticKind>,
+    /// Static kinds: equal load increments tried first.
+    pub load_steps: usize,
+    /// Modal: the force elements that are the inputs of the state-space model.
+    pub inputs: Vec<String>,
+}
+
+/// The static analyses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StaticKind {
+    /// The equilibrium at one time.
+    Static,
+    /// The equilibrium at each time of the grid, drivers moving.
+    QuasiStatic,
+    /// The equilibrium at one time and the vibration modes about it.
+    Modal,
+}
+
+impl StaticKind {
+    /// The kind's name in the model file.
+    pub fn name(self) -> &'static str {
+        match self {
+            StaticKind::Static => "static",
+            StaticKind::QuasiStatic => "quasi_static",
+            StaticKind::Modal => "modal",
+        }
+    }
 }
 
 impl Analysis {
@@ -486,7 +516,9 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
     let analysis = match &file.analysis {
         Some(a) => {
             spans.analysis = a.get_ref().kind.span();
-            Some(load_analysis(&resolver, a.get_ref(), &spans)?)
+            let mut an = load_analysis(&resolver, a.get_ref(), &spans)?;
+            an.inputs = load_inputs(&cx, a.get_ref(), an.statics, &forces)?;
+            Some(an)
         }
         None => None,
     };
@@ -1304,8 +1336,14 @@ fn load_driver(r: &Resolver, d: &DriverSection) -> Result<(DriverSpec, String), 
 fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Analysis, Error> {
     let cx = r.cx;
     let kind = a.kind.get_ref().as_str();
+    let statics = match kind {
+        "static" => Some(StaticKind::Static),
+        "quasi_static" => Some(StaticKind::QuasiStatic),
+        "modal" => Some(StaticKind::Modal),
+        _ => None,
+    };
     let dynamic = match kind {
-        "kinematic" | "inverse_dynamics" => {
+        "kinematic" | "inverse_dynamics" | "static" | "quasi_static" | "modal" => {
             let dynamic_only: [(&str, Option<Range<usize>>); 7] = [
                 ("integrator", a.integrator.as_ref().map(|n| n.span())),
                 ("rtol", a.rtol.as_ref().map(|n| n.span())),
@@ -1319,10 +1357,10 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
                 ("output_dt", a.output_dt.as_ref().map(|n| n.span())),
             ];
             if let Some((k, Some(s))) = dynamic_only.into_iter().find(|(_, s)| s.is_some()) {
-                let this = if kind == "kinematic" {
-                    "a kinematic"
-                } else {
-                    "an inverse dynamics"
+                let this = match kind {
+                    "kinematic" => "a kinematic",
+                    "inverse_dynamics" => "an inverse dynamics",
+                    _ => "a static",
                 };
                 return Err(cx.err(
                     s,
@@ -1346,12 +1384,23 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
             Some(load_integrator(cx, a)?)
         }
         other => {
-            let hint = did_you_mean(other, ["kinematic", "dynamic", "inverse_dynamics"]);
+            let hint = did_you_mean(
+                other,
+                [
+                    "kinematic",
+                    "dynamic",
+                    "inverse_dynamics",
+                    "static",
+                    "quasi_static",
+                    "modal",
+                ],
+            );
             return Err(cx.err(
                 a.kind.span(),
                 format!(
                     "unknown analysis kind \"{other}\"{hint} (kinds: \"kinematic\", \
-                     \"dynamic\", \"inverse_dynamics\")"
+                     \"dynamic\", \"inverse_dynamics\", \"static\", \"quasi_static\", \
+                     \"modal\")"
                 ),
             ));
         }
@@ -1368,14 +1417,30 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
             v
         }
     };
+    let load_steps = load_static_keys(cx, a, kind, statics)?;
+    let one_time = matches!(statics, Some(StaticKind::Static | StaticKind::Modal));
     let t_start = match &a.t_start {
         Some(t) => cx.num(t, "t_start", Quantity::Time)?,
+        None if one_time => match &a.time {
+            Some(t) => cx.num(t, "time", Quantity::Time)?,
+            None => 0.0,
+        },
         None => 0.0,
     };
-    let t_end = cx.num(&a.t_end, "t_end", Quantity::Time)?;
-    if t_end <= t_start {
+    let t_end = match &a.t_end {
+        Some(t) => cx.num(t, "t_end", Quantity::Time)?,
+        None if one_time => t_start,
+        None => {
+            return Err(cx.err(
+                a.kind.span(),
+                format!("[analysis] kind = \"{kind}\" needs t_end (the end time, s)"),
+            ))
+        }
+    };
+    if t_end <= t_start && !one_time {
+        let span = a.t_end.as_ref().map_or(a.kind.span(), |t| t.span());
         return Err(cx.err(
-            a.t_end.span(),
+            span,
             format!("t_end = {t_end} s must be greater than t_start = {t_start} s"),
         ));
     }
@@ -1425,6 +1490,7 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
             }
             (n as usize).max(1)
         }
+        (None, None) if one_time => 0,
         (None, None) => 100,
     };
     // The run stores every moving body and point at every output time: bound the memory.
@@ -1495,6 +1561,13 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
                  kind = \"inverse_dynamics\" (a kinematic run has no forces)",
             ));
         }
+        if statics.is_some() && o.energy.is_some() {
+            return Err(cx.err(
+                a.kind.span(),
+                "outputs.energy applies only to kind = \"dynamic\" and \"inverse_dynamics\" (a static analysis has no \
+                 motion to conserve energy along)",
+            ));
+        }
         if let Some(list_) = &o.reactions {
             let mut v = Vec::new();
             for j in list_ {
@@ -1541,7 +1614,113 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
         dynamic,
         inverse_dynamics: kind == "inverse_dynamics",
         tolerance,
+        statics,
+        load_steps,
+        inputs: Vec::new(),
     })
+}
+
+/// `inputs = [...]` (modal only): point_force and torque elements of the file.
+fn load_inputs(
+    cx: &Ctx,
+    a: &AnalysisSection,
+    statics: Option<StaticKind>,
+    forces: &[Force],
+) -> Result<Vec<String>, Error> {
+    let Some(list_) = &a.inputs else {
+        return Ok(Vec::new());
+    };
+    let mut out = Vec::new();
+    for n in list_ {
+        if statics != Some(StaticKind::Modal) {
+            return Err(cx.err(
+                n.span(),
+                "inputs applies only to kind = \"modal\" (the inputs of the state-space model)",
+            ));
+        }
+        let ok = forces.iter().any(|f| {
+            f.name() == n.get_ref().as_str()
+                && matches!(f, Force::PointForce { .. } | Force::PointTorque { .. })
+        });
+        if !ok {
+            return Err(cx.err(
+                n.span(),
+                format!(
+                    "inputs: \"{}\" is not a [[force]] of type point_force or torque",
+                    n.get_ref()
+                ),
+            ));
+        }
+        out.push(n.get_ref().clone());
+    }
+    Ok(out)
+}
+
+/// The keys of the static kinds: `time` (static and modal only; t_start, t_end, steps and dt
+/// do not apply to them) and `load_steps` (default 1). Returns load_steps.
+fn load_static_keys(
+    cx: &Ctx,
+    a: &AnalysisSection,
+    kind: &str,
+    statics: Option<StaticKind>,
+) -> Result<usize, Error> {
+    match statics {
+        None => {
+            let only: [(&str, Option<Range<usize>>); 2] = [
+                ("time", a.time.as_ref().map(|n| n.span())),
+                ("load_steps", a.load_steps.as_ref().map(|n| n.span())),
+            ];
+            if let Some((k, Some(s))) = only.into_iter().find(|(_, s)| s.is_some()) {
+                return Err(cx.err(
+                    s,
+                    format!(
+                        "{k} applies only to kind = \"static\", \"quasi_static\" and \
+                         \"modal\" (this is a {kind} analysis)"
+                    ),
+                ));
+            }
+        }
+        Some(StaticKind::Static | StaticKind::Modal) => {
+            let grid: [(&str, Option<Range<usize>>); 4] = [
+                ("t_start", a.t_start.as_ref().map(|n| n.span())),
+                ("t_end", a.t_end.as_ref().map(|n| n.span())),
+                ("steps", a.steps.as_ref().map(|n| n.span())),
+                ("dt", a.dt.as_ref().map(|n| n.span())),
+            ];
+            if let Some((k, Some(s))) = grid.into_iter().find(|(_, s)| s.is_some()) {
+                return Err(cx.err(
+                    s,
+                    format!(
+                        "{k} does not apply to kind = \"{kind}\": it has one time, the one the \
+                         drivers are held at (time = ..., default 0); use kind = \
+                         \"quasi_static\" for a time grid"
+                    ),
+                ));
+            }
+        }
+        Some(StaticKind::QuasiStatic) => {
+            if let Some(t) = &a.time {
+                return Err(cx.err(
+                    t.span(),
+                    "time does not apply to kind = \"quasi_static\": its times are the grid \
+                     (t_start, t_end, steps or dt)",
+                ));
+            }
+        }
+    }
+    match &a.load_steps {
+        None => Ok(1),
+        Some(n) => {
+            let v = *n.get_ref();
+            if !(1..=1000).contains(&v) {
+                return Err(cx.err(
+                    n.span(),
+                    format!("load_steps must be between 1 and 1000, got {v}"),
+                ));
+            }
+            Ok(v as usize)
+        }
+    }
 }
 
 /// `velocity`, `angular_velocity` / `angular_velocity_local` of a body, if any is given.

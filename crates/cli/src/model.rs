@@ -406,13 +406,24 @@ pub struct ForceSection {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct AnalysisSection {
-    /// "kinematic" or "dynamic".
+    /// "kinematic", "dynamic", "inverse_dynamics", "static", "quasi_static" or "modal".
     pub kind: Name,
     /// Start time [s] (default 0).
     #[serde(default)]
     pub t_start: Option<Num>,
-    /// End time [s].
-    pub t_end: Num,
+    /// End time [s] (required except by static and modal analyses).
+    #[serde(default)]
+    pub t_end: Option<Num>,
+    /// static, modal: the time at which the drivers are held [s] (default 0).
+    #[serde(default)]
+    pub time: Option<Num>,
+    /// static, quasi_static, modal: equal load increments tried first (default 1).
+    #[serde(default)]
+    pub load_steps: Option<Spanned<i64>>,
+    /// modal: the force elements (point_force, torque) that are the inputs of the state-space
+    /// model written with the modes.
+    #[serde(default)]
+    pub inputs: Option<Vec<Name>>,
     /// Number of steps (the grid has steps + 1 times).
     #[serde(default)]
     pub steps: Option<Spanned<i64>>,

@@ -118,6 +118,26 @@ pub enum DynamicsError {
         /// The results so far.
         partial: Box<DynamicResults>,
     },
+    /// A static analysis found no equilibrium: Newton did not converge even with the load
+    /// steps halved `max_halvings` times (or, quasi-statically, the time interval).
+    #[error("t = {time}: no static equilibrium found; the load factor reached {load_factor} of 1 (scaled residual {residual:.3e})")]
+    NoEquilibrium {
+        /// Time (drivers held there).
+        time: f64,
+        /// The last load factor at which an equilibrium was found (0: none).
+        load_factor: f64,
+        /// The scaled residual of the last failed solve.
+        residual: f64,
+    },
+    /// A static analysis found a degree of freedom without stiffness along which the loads do
+    /// work: there is no equilibrium (a slider under gravity along its slide, with no spring).
+    #[error("t = {time}: no static equilibrium: the mechanism is free to move along {direction} (no stiffness along it) and the loads push it that way; add a spring, a driver or a stop")]
+    FreeDirection {
+        /// Time.
+        time: f64,
+        /// The direction, named by the joint coordinate that moves most along it.
+        direction: String,
+    },
     /// An error of the mechanism layer (assembly, kinematics).
     #[error(transparent)]
     Mechanism(#[from] AnalysisError),

@@ -110,6 +110,12 @@
 //! - [`simulate`]: forward dynamics; [`inverse`]: inverse dynamics.
 //! - [`work`]: power and work of drivers and non-conservative forces, the energy balance
 //!   E − E(t₀) − W_nc (the work-energy theorem and the quadratures).
+//! - [`statics`]: static and quasi-static equilibria ([`Dynamics::statics`],
+//!   [`Dynamics::quasi_statics`]) and their stability; [`modal`]: the linearization about an
+//!   equilibrium ([`Linearization`]) and its vibration modes ([`Dynamics::modal`]); `tangent`
+//!   (private): the dense tangent stiffness and damping, the null-space basis;
+//!   [`state_space`]: A, B, C, D for chosen force inputs and point or joint outputs, and the
+//!   MatrixMarket writer [`matrix_market`].
 //! - [`integrators`]: [`integrators::dopri5`], [`integrators::generalized_alpha`].
 //! - `kkt` (private): the laid-out augmented system. [`results`]: [`DynamicResults`].
 //!   [`error`]: [`DynamicsError`].
@@ -129,16 +135,21 @@ pub mod forces;
 pub mod integrators;
 pub mod inverse;
 mod kkt;
+pub mod modal;
 pub mod options;
 mod record;
 pub mod results;
 pub mod simulate;
 pub mod state;
+pub mod state_space;
+pub mod statics;
 pub mod system;
+mod tangent;
 pub mod work;
 
 pub use error::DynamicsError;
 pub use forces::{AppliedForces, Force, Frame, PointRef, UserForces, VectorFunction};
+pub use modal::{BodyShape, Linearization, ModalOptions, ModalResults, Mode, ModeKind};
 pub use options::{
     Dopri5Options, GeneralizedAlphaOptions, Integrator, IterationMatrix, OptionError, OutputTimes,
     SimulationOptions, Stabilization, StepControl, ATOL_MAX, NEWTON_TOLERANCE_RANGE, RTOL_RANGE,
@@ -148,4 +159,6 @@ pub use results::{
     JointReactions, Reaction,
 };
 pub use state::State;
+pub use state_space::{matrix_market, Input, Output, StateSpace};
+pub use statics::{Equilibrium, Stability, StaticOptions, StaticResults};
 pub use system::{Dynamics, Energy};

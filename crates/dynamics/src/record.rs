@@ -185,6 +185,28 @@ impl Recorder {
     ) -> Result<(), DynamicsError> {
         d.accelerations(state, &mut self.vdot, &mut self.lambda)?;
         self.record_work(d, state.t, work);
+        self.store(d, state, iterations, false);
+        Ok(())
+    }
+
+    /// Records a static equilibrium `state` (velocities zero) with its multipliers `lambda`
+    /// (full rows): accelerations zero, velocity drift 0 (no velocities in statics).
+    pub fn record_static(
+        &mut self,
+        d: &mut Dynamics,
+        state: &State,
+        lambda: &[f64],
+        iterations: usize,
+    ) {
+        d.sync(state);
+        self.vdot.fill(0.0);
+        self.lambda.copy_from_slice(lambda);
+        self.record_work(d, state.t, None);
+        self.store(d, state, iterations, true);
+    }
+
+    /// Stores `state` with `self.vdot` and `self.lambda` at the synced bodies.
+    fn store(&mut self, d: &mut Dynamics, state: &State, iterations: usize, is_static: bool) {
         let model = d.model;
         let kin = &mut self.res.kinematics;
         kin.times.push(state.t);
@@ -352,9 +374,12 @@ impl Recorder {
         self.res.energy.gravity.push(en.gravity);
         self.res.energy.spring.push(en.spring);
         self.res.energy.total.push(en.total());
-        let (vd, _) = d.velocity_residual(state);
+        let vd = if is_static {
+            0.0
+        } else {
+            d.velocity_residual(state).0
+        };
         self.res.velocity_drift.push(vd);
-        Ok(())
     }
 
     /// The power and work of each channel and the constraints' power at the synced bodies

@@ -285,7 +285,7 @@ impl<'m> Dynamics<'m> {
 
     /// The rank analysis of Φ_v (all equations) at the synced bodies and time `t`: the
     /// independent rows (the redundant ones are recorded in `self.redundant`).
-    fn independent_rows(&mut self, t: f64) -> Result<Vec<usize>, DynamicsError> {
+    pub(crate) fn independent_rows(&mut self, t: f64) -> Result<Vec<usize>, DynamicsError> {
         let model = self.model;
         let m = model.num_equations();
         let n = model.num_unknowns();

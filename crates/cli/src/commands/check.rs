@@ -153,6 +153,19 @@ pub fn check(path: &Path, out: &mut dyn Write) -> Result<(), Error> {
             if p.loaded.forces.len() == 1 { "" } else { "s" },
         )
         .map_err(io)?;
+    } else if let Some(k) = p.loaded.analysis.as_ref().and_then(|a| a.statics) {
+        // A static analysis needs no drivers: the free degrees of freedom settle under the loads.
+        writeln!(
+            out,
+            "{} analysis: {} DOF left free by the joints and {} driver{}; {} force element{}",
+            k.name(),
+            dof.dof.saturating_sub(dof.drivers),
+            dof.drivers,
+            if dof.drivers == 1 { "" } else { "s" },
+            p.loaded.forces.len(),
+            if p.loaded.forces.len() == 1 { "" } else { "s" },
+        )
+        .map_err(io)?;
     } else if let Some(a) = &p.loaded.analysis {
         if a.inverse_dynamics && (dof.dof != dof.drivers || dof.drivers == 0) {
             return Err(super::not_fully_driven(&p, dof.dof, dof.drivers));

@@ -83,6 +83,7 @@ pub(super) fn run_dynamic(
         dynamic: Some(r),
         failure,
         strict_failure: None,
+        files: Vec::new(),
     })
 }
 

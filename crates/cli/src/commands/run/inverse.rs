@@ -61,6 +61,7 @@ pub(super) fn run_inverse(
         dynamic: Some(r),
         failure,
         strict_failure: None,
+        files: Vec::new(),
     })
 }
 

@@ -65,6 +65,7 @@ pub(super) fn run_kinematic(
         dynamic: None,
         failure,
         strict_failure: None,
+        files: Vec::new(),
     })
 }
 

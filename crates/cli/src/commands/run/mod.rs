@@ -8,6 +8,7 @@
 pub mod dynamic;
 pub mod inverse;
 pub mod kinematic;
+pub mod statics;
 mod summary;
 
 pub use summary::{Analysed, DynamicSummary, EnergyBalance, RunFlags, Summary};
@@ -178,9 +179,15 @@ pub fn run_model_with(
     // Locked before the analysis: a concurrent run is refused at once, not after its work.
     let out_dir = OutputDir::lock(&dir)?;
     let (kind, mut a) = analyse(&p, &analysis, flags)?;
+    // A static or modal run has one time: nothing to plot against it.
+    let one_time = matches!(
+        analysis.statics,
+        Some(crate::build::StaticKind::Static | crate::build::StaticKind::Modal)
+    );
+    let svg = analysis.plots && !one_time;
     let plots = Plots {
-        svg: analysis.plots,
-        png: analysis.plots && flags.png,
+        svg,
+        png: svg && flags.png,
     };
     let files = write_outputs(out_dir, &p, kind, &mut a, plots)?;
     a.summary.dir = dir;
@@ -208,7 +215,9 @@ pub fn analyse(
     flags: &RunFlags,
 ) -> Result<(&'static str, Analysed), Error> {
     let progress = flags.progress;
-    let (kind, ran) = if analysis.dynamic.is_some() {
+    let (kind, ran) = if let Some(k) = analysis.statics {
+        (k.name(), statics::run_statics(p, analysis, k))
+    } else if analysis.dynamic.is_some() {
         ("dynamic", run_dynamic(p, analysis, flags))
     } else if analysis.inverse_dynamics {
         ("inverse_dynamics", run_inverse(p, analysis, progress))
@@ -277,6 +286,9 @@ fn write_outputs(
         if plots.svg && t.name != "residual" {
             write_plot(&mut dir, t, plots.png)?;
         }
+    }
+    for (name, text) in &a.files {
+        dir.write(name, text)?;
     }
     let unit = if kind == "dynamic" {
         "outputs"

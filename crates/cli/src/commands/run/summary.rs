@@ -120,4 +120,6 @@ pub struct Analysed {
     pub failure: Option<Error>,
     /// `--strict` with warnings: the error to return after writing (the run is complete).
     pub strict_failure: Option<Error>,
+    /// Files other than the tables, (name, contents): the modal run's matrices.
+    pub files: Vec<(String, String)>,
 }

@@ -1,0 +1,373 @@
+//! `kind = "static"`, `"quasi_static"` and `"modal"`: static equilibria under the file's forces
+//! ([`cardan_dynamics::Dynamics::statics`], [`cardan_dynamics::Dynamics::quasi_statics`]) and
+//! the vibration modes about one ([`cardan_dynamics::Dynamics::modal`]). Their output groups are
+//! the pose groups of a kinematic run (no velocities or accelerations: a static analysis has
+//! none), the driver efforts (holding forces and torques), the reactions and `stability.csv`;
+//! a modal run adds `modes.csv` and `mode_shapes.csv`.
+
+use super::dynamic::{dynamics_as, located_as};
+use super::inverse::inverse_tables;
+use super::summary::{Analysed, Summary};
+use crate::build::Outputs as Requested;
+use crate::build::{Analysis, StaticKind};
+use crate::commands::output_tables::{peak_efforts, requested};
+use crate::commands::{analysis_error, Prepared};
+use crate::diag::Error;
+use crate::table::Table;
+use cardan_dynamics::{
+    matrix_market, Dynamics, DynamicsError, Force, Frame, Input, ModalOptions, ModalResults,
+    ModeKind, Output, PointRef, Stability, StaticOptions, StaticResults,
+};
+use cardan_mechanism::{BodyId, Outputs};
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// The groups a static analysis does not write (it has no velocities or accelerations).
+const MOTION_GROUPS: [&str; 6] = [
+    "point_velocities",
+    "point_accelerations",
+    "joint_velocities",
+    "joint_accelerations",
+    "body_velocities",
+    "body_accelerations",
+];
+
+/// Runs a static kind: the equilibria (and modes), the tables, the summary. A quasi-static
+/// failure after the first time keeps the equilibria found before it.
+pub(super) fn run_statics(
+    p: &Prepared,
+    analysis: &Analysis,
+    kind: StaticKind,
+) -> Result<Analysed, Error> {
+    let what = match kind {
+        StaticKind::Static => "static analysis",
+        StaticKind::QuasiStatic => "quasi-static analysis",
+        StaticKind::Modal => "modal analysis",
+    };
+    let start = Instant::now();
+    let mut d = dynamics_as(p, what)?;
+    let options = StaticOptions {
+        time: analysis.t_start,
+        tolerance: analysis.tolerance,
+        load_steps: analysis.load_steps,
+        outputs: Outputs {
+            velocity: false,
+            acceleration: false,
+            points: true,
+            joints: true,
+        },
+        ..StaticOptions::default()
+    };
+    let mut failure = None;
+    let (statics, modal) = match kind {
+        StaticKind::Static => (d.statics(&options).map_err(|e| error(p, &e, what))?, None),
+        StaticKind::QuasiStatic => match d.quasi_statics(&analysis.times(), &options) {
+            Ok(r) => (r, None),
+            Err(e) => match &e {
+                DynamicsError::MidRun {
+                    partial, source, ..
+                } => {
+                    failure = Some(error(p, source, what));
+                    let r = StaticResults {
+                        results: (**partial).clone(),
+                        equilibria: Vec::new(),
+                    };
+                    (r, None)
+                }
+                _ => return Err(error(p, &e, what)),
+            },
+        },
+        StaticKind::Modal => {
+            let m = d
+                .modal(&ModalOptions { statics: options })
+                .map_err(|e| error(p, &e, what))?;
+            (m.equilibrium.clone(), Some(m))
+        }
+    };
+    let wall = start.elapsed();
+    let r = &statics.results;
+    let req = requested(p, &analysis.outputs);
+    let mut tables: Vec<Table> = inverse_tables(p, r, &req)
+        .into_iter()
+        .filter(|t| !MOTION_GROUPS.contains(&t.name.as_str()))
+        .collect();
+    tables.push(stability_table(&statics));
+    let warnings = stability_warnings(&statics);
+    let mut files = Vec::new();
+    if let Some(m) = &modal {
+        tables.extend(mode_tables(m));
+        files =
+            matrix_files(p, &mut d, m, &req, &analysis.inputs).map_err(|e| error(p, &e, what))?;
+    }
+    let k = &r.kinematics;
+    let summary = Summary {
+        name: p.loaded.name.clone(),
+        steps: k.len(),
+        iterations: statics.equilibria.iter().map(|e| e.iterations).sum(),
+        max_residual: k.residual.iter().fold(0.0, |a: f64, &b| a.max(b)),
+        wall,
+        dir: PathBuf::new(),
+        files: Vec::new(),
+        dynamic: None,
+        energy_balance: None,
+        peak_efforts: peak_efforts(p, r),
+        warnings,
+        subdivided_steps: None,
+        row_reselections: r.stats.row_reselections,
+    };
+    Ok(Analysed {
+        tables,
+        summary,
+        results: r.kinematics.clone(),
+        dynamic: Some(r.clone()),
+        failure,
+        strict_failure: None,
+        files,
+    })
+}
+
+/// A dynamics error located in the file (a mechanism error as the kinematic runs say it).
+fn error(p: &Prepared, e: &DynamicsError, what: &str) -> Error {
+    match e.cause() {
+        DynamicsError::Mechanism(ae) => analysis_error(p, ae),
+        _ => located_as(p, e, what),
+    }
+}
+
+/// `stability.csv`: per time, the stability (1 stable, 0 neutral, −1 unstable), the smallest
+/// eigenvalue ω² of the reduced stiffness, the Newton iterations and load steps.
+fn stability_table(s: &StaticResults) -> Table {
+    let mut t = Table::new(
+        "stability",
+        "equilibrium stability",
+        vec![
+            "stability [-]".into(),
+            "lowest_eigenvalue [1/s^2]".into(),
+            "newton_iterations [-]".into(),
+            "load_steps [-]".into(),
+        ],
+    );
+    for e in &s.equilibria {
+        let code = match e.stability {
+            Stability::Stable => 1.0,
+            Stability::Neutral => 0.0,
+            Stability::Unstable => -1.0,
+        };
+        let lowest = e.eigenvalues.first().copied().unwrap_or(f64::NAN);
+        t.rows.push(vec![
+            e.state.t,
+            code,
+            lowest,
+            e.iterations as f64,
+            e.load_steps as f64,
+        ]);
+    }
+    t
+}
+
+/// Unstable equilibria, as warnings (named directions). A neutral equilibrium (a free
+/// direction without stiffness: rigid-body modes) is not doubtful and not warned about;
+/// `stability.csv` and `modes.csv` report it.
+fn stability_warnings(s: &StaticResults) -> Vec<String> {
+    let mut out = Vec::new();
+    for e in &s.equilibria {
+        match e.stability {
+            Stability::Stable | Stability::Neutral => {}
+            Stability::Unstable => out.push(format!(
+                "t = {} s: the equilibrium is unstable (negative stiffness along {}): a small \
+                 disturbance moves the mechanism away from it",
+                e.state.t,
+                e.soft_directions.join(", ")
+            )),
+        }
+    }
+    out
+}
+
+/// `modes.csv` (one row per mode: its number, kind, frequencies, damping ratio, eigenvalue of
+/// the first-order form) and `mode_shapes.csv` (one row per mode: each body's δr and δθ).
+fn mode_tables(m: &ModalResults) -> Vec<Table> {
+    let t = m.equilibrium.equilibria.first().map_or(0.0, |e| e.state.t);
+    let mut modes = Table::new(
+        "modes",
+        "vibration modes",
+        vec![
+            "mode [-]".into(),
+            "kind [-]".into(),
+            "frequency [Hz]".into(),
+            "damped_frequency [Hz]".into(),
+            "damping_ratio [-]".into(),
+            "eigenvalue.re [1/s]".into(),
+            "eigenvalue.im [1/s]".into(),
+        ],
+    );
+    let bodies: Vec<&str> = m
+        .equilibrium
+        .results
+        .kinematics
+        .bodies
+        .iter()
+        .map(|b| b.name.as_str())
+        .collect();
+    let mut cols = vec!["mode [-]".to_string()];
+    for b in &bodies {
+        for ax in ["x", "y", "z"] {
+            cols.push(format!("{b}.dr.{ax} [m]"));
+        }
+        for ax in ["x", "y", "z"] {
+            cols.push(format!("{b}.dtheta.{ax} [rad]"));
+        }
+    }
+    let mut shapes = Table::new("mode_shapes", "mode shapes", cols);
+    for (i, mode) in m.modes.iter().enumerate() {
+        let kind = match mode.kind {
+            ModeKind::Elastic => 0.0,
+            ModeKind::Rigid => 1.0,
+            ModeKind::Unstable => 2.0,
+            ModeKind::Overdamped => 3.0,
+        };
+        modes.rows.push(vec![
+            t,
+            (i + 1) as f64,
+            kind,
+            mode.frequency,
+            mode.damped_frequency,
+            mode.damping_ratio,
+            mode.eigenvalue[0],
+            mode.eigenvalue[1],
+        ]);
+        let mut row = vec![t, (i + 1) as f64];
+        for s in &mode.shape {
+            row.extend(s.translation.iter());
+            row.extend(s.rotation.iter());
+        }
+        shapes.rows.push(row);
+    }
+    vec![modes, shapes]
+}
+
+/// The modal run's matrices in MatrixMarket form: the linearization (`lin_M.mtx`, `lin_C.mtx`,
+/// `lin_K.mtx`, the basis `lin_N.mtx`) and the state-space model (`ss_A.mtx` … `ss_D.mtx`)
+/// with inputs = the named force elements (a unit force or torque along the element's
+/// direction at the equilibrium) and outputs = the requested points' x, y, z and joint
+/// coordinates, listed in `state_space.txt`.
+fn matrix_files(
+    p: &Prepared,
+    d: &mut Dynamics,
+    m: &ModalResults,
+    req: &Requested,
+    input_names: &[String],
+) -> Result<Vec<(String, String)>, DynamicsError> {
+    let Some(eq) = m.equilibrium.equilibria.first() else {
+        return Ok(Vec::new());
+    };
+    let model = &p.model;
+    let state = &eq.state;
+    let local = |body: &str, pt: &PointRef| match pt {
+        PointRef::Local(v) => *v,
+        PointRef::Named(n) => model
+            .point_index(body, n)
+            .map_or(nalgebra::Vector3::zeros(), |i| model.points()[i].local),
+    };
+    let global =
+        |body: &str, v: nalgebra::Vector3<f64>, frame: Frame| match (frame, model.body_id(body)) {
+            (Frame::Body, Some(BodyId::Moving(k))) => state.body_state(k).a * v,
+            _ => v,
+        };
+    let mut inputs = Vec::new();
+    let mut names = Vec::new();
+    for name in input_names {
+        match p.loaded.forces.iter().find(|f| f.name() == name.as_str()) {
+            Some(Force::PointForce {
+                body,
+                point,
+                value,
+                frame,
+                ..
+            }) => {
+                inputs.push(Input::Force {
+                    body: body.clone(),
+                    point: local(body, point),
+                    direction: global(body, value.eval(state.t), *frame),
+                });
+                names.push(format!("{name} [N]"));
+            }
+            Some(Force::PointTorque {
+                body, value, frame, ..
+            }) => {
+                inputs.push(Input::Torque {
+                    body: body.clone(),
+                    axis: global(body, value.eval(state.t), *frame),
+                });
+                names.push(format!("{name} [N m]"));
+            }
+            _ => {}
+        }
+    }
+    let mut outputs = Vec::new();
+    let mut out_names = Vec::new();
+    for (b, pt) in &req.points {
+        if !matches!(model.body_id(b), Some(BodyId::Moving(_))) {
+            continue;
+        }
+        let s = local(b, &PointRef::Named(pt.clone()));
+        for (ax, dir) in ["x", "y", "z"].iter().zip([
+            nalgebra::Vector3::x(),
+            nalgebra::Vector3::y(),
+            nalgebra::Vector3::z(),
+        ]) {
+            outputs.push(Output::Point {
+                body: b.clone(),
+                point: s,
+                direction: dir,
+            });
+            out_names.push(format!("{b}.{pt}.{ax} [m]"));
+        }
+    }
+    for j in &req.joints {
+        if let Some(ji) = model.joint_index(j) {
+            for (i, c) in model.joints()[ji]
+                .joint
+                .kind()
+                .info()
+                .coordinates
+                .iter()
+                .enumerate()
+            {
+                outputs.push(Output::Joint {
+                    joint: j.clone(),
+                    index: i,
+                });
+                out_names.push(format!("{j}.{} [{}]", c.name, c.measure.quantity().unit()));
+            }
+        }
+    }
+    let lin = &m.linearization;
+    let ss = d.state_space(state, lin, &inputs, &outputs)?;
+    let dof = lin.dof();
+    let mut signals = format!(
+        "# State-space model about the equilibrium at t = {} s (MatrixMarket files, 1-based):\n\
+         # x' = A x + B u, y = C x + D u; x = [z; dz/dt] with {dof} independent coordinates z,\n\
+         # the body increments delta = N z (lin_N.mtx: 6 rows per moving body in file order,\n\
+         # dr.x dr.y dr.z [m] of the centre of mass, then the rotation dpi'.x .y .z [rad] in\n\
+         # body components); M_r z'' + C_r z' + K_r z = Q_u u (lin_M, lin_C, lin_K).\n",
+        state.t
+    );
+    for (i, n) in names.iter().enumerate() {
+        signals.push_str(&format!("input {}: {n}\n", i + 1));
+    }
+    for (i, n) in out_names.iter().enumerate() {
+        signals.push_str(&format!("output {}: {n}\n", i + 1));
+    }
+    Ok(vec![
+        ("lin_M.mtx".into(), matrix_market(&lin.mass)),
+        ("lin_C.mtx".into(), matrix_market(&lin.damping)),
+        ("lin_K.mtx".into(), matrix_market(&lin.stiffness)),
+        ("lin_N.mtx".into(), matrix_market(&lin.basis)),
+        ("ss_A.mtx".into(), matrix_market(&ss.a)),
+        ("ss_B.mtx".into(), matrix_market(&ss.b)),
+        ("ss_C.mtx".into(), matrix_market(&ss.c)),
+        ("ss_D.mtx".into(), matrix_market(&ss.d)),
+        ("state_space.txt".into(), signals),
+    ])
+}
