@@ -261,6 +261,77 @@ impl Document {
     pub fn written_by_freecad(&self) -> bool {
         self.header.starts_with("OndselSolver")
     }
+
+    /// The largest distance of a part frame or marker from the assembly origin, in the file's
+    /// units.
+    pub fn size(&self) -> f64 {
+        let mut size: f64 = 0.0;
+        for m in &self.ground {
+            size = size.max(m.frame.position.norm());
+        }
+        for p in &self.parts {
+            size = size.max(p.frame.position.norm());
+            for m in &p.markers {
+                size = size.max(p.frame.then(&m.frame).position.norm());
+            }
+        }
+        size
+    }
+
+    /// Whether the file looks like a FreeCAD export in millimetres: written by OndselSolver's
+    /// C++ code with parts or markers more than 10 length units from the origin (FreeCAD's
+    /// positions are 13–1900 mm in OndselSolver's examples; SI mechanisms of that size are
+    /// rare).
+    pub fn looks_like_millimetres(&self) -> bool {
+        self.written_by_freecad() && self.size() > 10.0
+    }
+
+    /// The document with every length multiplied by `s` (e.g. 1e-3 for a file in millimetres
+    /// read as SI): positions, velocities, gravity, joint lengths, offsets, pitches and radii,
+    /// translational motion expressions (wrapped as `s*(…)`); inertias by s². Masses, angles
+    /// and times are unchanged; the TimeSeries is dropped (it is in the file's units).
+    pub fn scaled(&self, s: f64) -> Document {
+        let mut d = self.clone();
+        let frame = |f: &mut Frame| f.position *= s;
+        frame(&mut d.frame);
+        for m in &mut d.ground {
+            frame(&mut m.frame);
+        }
+        for p in &mut d.parts {
+            frame(&mut p.frame);
+            frame(&mut p.mass.frame);
+            p.velocity *= s;
+            for i in &mut p.mass.inertias {
+                *i *= s * s;
+            }
+            for m in &mut p.markers {
+                frame(&mut m.frame);
+            }
+        }
+        for j in &mut d.joints {
+            for (name, v, _) in &mut j.numbers {
+                if matches!(
+                    name.as_str(),
+                    "distanceIJ" | "offset" | "pitch" | "pitchRadius" | "radiusI" | "radiusJ"
+                ) {
+                    *v *= s;
+                }
+            }
+        }
+        for m in &mut d.motions {
+            for (field, text, _) in &mut m.expressions {
+                let length = field == "TranslationZ" || field.starts_with("rIJI");
+                if length && !text.trim().is_empty() {
+                    *text = format!("{s:?}*({text})");
+                }
+            }
+        }
+        if let Some((g, _)) = &mut d.gravity {
+            *g *= s;
+        }
+        d.series = None;
+        d
+    }
 }
 
 /// Reads an ASMT text.

@@ -155,6 +155,9 @@ pub struct Import {
     pub settings: Option<Settings>,
     /// What was read and not used, or used with a caveat.
     pub warnings: Vec<Warning>,
+    /// Whether the model file written by [`crate::toml_out`] asks for inverse dynamics instead
+    /// of kinematics (the file's time grid either way).
+    pub inverse_dynamics: bool,
 }
 
 impl Import {
@@ -314,6 +317,7 @@ pub fn import(doc: &Document) -> Result<Import> {
             gravity: None,
             settings: None,
             warnings: Vec::new(),
+            inverse_dynamics: false,
         },
     };
     cx.ground()?;

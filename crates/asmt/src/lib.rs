@@ -23,6 +23,7 @@
 //! - [`series`]: the `TimeSeries` table.
 //! - [`expr`]: ASMT motion expressions → cardan's expression grammar.
 //! - [`import`]: [`Document`] → [`Import`] (frames, markers, joints, couplers, motions, names).
+//! - [`toml_out`]: [`Import`] → a cardan model file (TOML) with comments tracing each element.
 //! - [`solved`]: cardan results → an OndselSolver `TimeSeries` (part-frame origin, Bryant angles,
 //!   velocities, accelerations).
 //!
@@ -35,6 +36,7 @@ pub mod expr;
 pub mod import;
 pub mod series;
 pub mod solved;
+pub mod toml_out;
 pub mod tree;
 
 pub use document::{read, Document};

@@ -44,7 +44,15 @@ fn v3(item: &cardan_asmt::series::Item, labels: [&str; 3], k: usize) -> Vector3<
 
 fn solve(name: &str) -> (cardan_asmt::Document, cardan_asmt::Import, Results) {
     let text = data(&format!("{name}.asmt"));
-    let (doc, import) = cardan_asmt::load(&text).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let doc = cardan_asmt::read(&text).unwrap_or_else(|e| panic!("{name}: {e}"));
+    solve_doc(name, doc)
+}
+
+fn solve_doc(
+    name: &str,
+    doc: cardan_asmt::Document,
+) -> (cardan_asmt::Document, cardan_asmt::Import, Results) {
+    let import = cardan_asmt::import(&doc).unwrap_or_else(|e| panic!("{name}: {e}"));
     let model = import
         .builder()
         .build()
@@ -59,7 +67,13 @@ fn solve(name: &str) -> (cardan_asmt::Document, cardan_asmt::Import, Results) {
 
 /// Relative errors of cardan against the reference series.
 fn compare(name: &str) -> Errors {
-    let (doc, import, results) = solve(name);
+    compare_solution(name, solve(name))
+}
+
+fn compare_solution(
+    name: &str,
+    (doc, import, results): (cardan_asmt::Document, cardan_asmt::Import, Results),
+) -> Errors {
     let ours = solved::time_series(&doc, &import, &results);
     let reference: TimeSeries =
         cardan_asmt::read_time_series(&data(&format!("{name}.solved.asmt")))
@@ -258,4 +272,26 @@ fn solved_file_round_trip() {
         assert_eq!(back.parts, doc.parts, "{name}");
         assert_eq!(back.joints, doc.joints, "{name}");
     }
+}
+
+/// A FreeCAD-style file in millimetres (every length of 00backhoe, whose three hydraulic
+/// jacks are translational motions, ×1000) read with the mm conversion reproduces the SI
+/// reference: lengths, inertias and the translation expressions are all converted.
+#[test]
+fn millimetre_file_converted_to_si() {
+    let doc = cardan_asmt::read(&data("00backhoe.asmt")).unwrap();
+    let mut mm = doc.scaled(1000.0);
+    assert!(
+        !mm.looks_like_millimetres(),
+        "a Smalltalk file is not a FreeCAD export"
+    );
+    mm.header = "OndselSolver".into();
+    assert!(mm.looks_like_millimetres());
+    assert!(!doc.looks_like_millimetres());
+    let e = compare_solution("00backhoe", solve_doc("00backhoe", mm.scaled(1e-3)));
+    assert!(e.position <= 1e-9 && e.rotation <= 1e-9, "{e:?}");
+    assert!(
+        e.velocity.max(e.acceleration).max(e.omega).max(e.alpha) <= 1e-8,
+        "{e:?}"
+    );
 }
