@@ -8,6 +8,8 @@
 //!   file describes; CSV per output group (header with units), SVG plots, `run.json`, a summary
 //!   line with warnings ([`output`]: the directory rule; [`progress`]: progress bar and Ctrl-C).
 //! - `cardan check MODEL.toml`: bodies, joints with equation counts, DOF, redundant equations.
+//! - `cardan import MODEL.asmt [-o MODEL.toml]`: an ASMT file (OndselSolver / FreeCAD Assembly)
+//!   as a cardan model; `run` and `check` also take `.asmt` files directly.
 //! - `cardan eval MODEL.toml [--t T] [--format text|json|csv]`: Φ, the Jacobian (pattern and
 //!   values), ν and γ# at the assembled state; JSON at full precision with row and column maps.
 //!
@@ -73,6 +75,22 @@ pub enum Command {
         /// The model file (TOML).
         model: PathBuf,
     },
+    /// Write the cardan model (TOML) equivalent to an ASMT file (OndselSolver / FreeCAD
+    /// Assembly), with comments tracing each element to its ASMT path.
+    Import {
+        /// The ASMT file.
+        model: PathBuf,
+        /// The TOML file to write (default: standard output).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// The units of the file's numbers: SI (m, kg, s) or mm (FreeCAD exports; converted
+        /// to SI).
+        #[arg(long, value_enum, default_value_t = commands::asmt::Units::Si)]
+        units: commands::asmt::Units,
+        /// The analysis the model file asks for (default: the ASMT file's kinematics).
+        #[arg(long, value_enum, default_value_t = commands::asmt::Analysis::Kinematic)]
+        analysis: commands::asmt::Analysis,
+    },
     /// Print Φ, the Jacobian (pattern and values), ν and γ# at the assembled state.
     Eval {
         /// The model file (TOML).
@@ -109,6 +127,12 @@ pub fn run(cli: &Cli, out: &mut dyn std::io::Write) -> Result<(), Error> {
             commands::run::run(model, output.as_deref(), &flags, out).map(|_| ())
         }
         Command::Check { model } => commands::check::check(model, out),
+        Command::Import {
+            model,
+            output,
+            units,
+            analysis,
+        } => commands::asmt::import(model, output.as_deref(), *units, *analysis, out),
         Command::Eval { model, t, format } => commands::eval::eval(model, *t, *format, out),
     }
 }

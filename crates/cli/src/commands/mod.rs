@@ -1,6 +1,7 @@
 //! The subcommands and what they share: loading a model file into a [`Model`] and turning
 //! mechanism errors into located, one-paragraph messages.
 
+pub mod asmt;
 pub mod check;
 pub mod eval;
 pub mod functions;
@@ -28,7 +29,7 @@ pub struct Prepared {
 /// Unreadable file, TOML syntax, unknown keys, bad values, or a [`ModelError`] from the builder
 /// (located at the element it names).
 pub fn prepare(path: &Path) -> Result<Prepared, Error> {
-    prepare_source(Source::read(path)?)
+    prepare_source(asmt::read_model(path)?)
 }
 
 /// [`prepare`] for a model file already read (or written by a program): `source.path` names it

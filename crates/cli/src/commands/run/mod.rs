@@ -52,7 +52,11 @@ pub fn run(
     out: &mut dyn Write,
 ) -> Result<Summary, Error> {
     crate::progress::catch_ctrl_c();
-    let o = run_model_with(path, output, flags)?;
+    let mut o = run_model_with(path, output, flags)?;
+    if super::asmt::is_asmt(path) {
+        let solved = super::asmt::write_solved(path, &o.summary.dir, &o.results)?;
+        o.summary.files.push(solved);
+    }
     print_summary(&o.summary, out)?;
     match o.error {
         Some(e) => Err(e),

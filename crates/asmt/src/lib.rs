@@ -1,0 +1,68 @@
+//! # cardan-asmt: FreeCAD / OndselSolver assemblies (ASMT) for cardan
+//!
+//! ASMT is the text format of OndselSolver, the solver of FreeCAD's Assembly workbench. This
+//! crate reads it into a typed [`Document`] (every element with its file line), maps the document
+//! to cardan's elements ([`Import`], each with its ASMT path) and from there to a
+//! [`cardan_mechanism::MechanismBuilder`]; and it writes results back as an OndselSolver
+//! `TimeSeries` ([`solved`]).
+//!
+//! ```no_run
+//! let text = std::fs::read_to_string("crank_slider.asmt").unwrap();
+//! let (doc, import) = cardan_asmt::load(&text)?;
+//! for w in &import.warnings {
+//!     eprintln!("warning: {w}");
+//! }
+//! let model = import.builder().build().expect("a valid mechanism");
+//! # let _ = (doc, model);
+//! # Ok::<(), cardan_asmt::AsmtError>(())
+//! ```
+//!
+//! ## Layers
+//! - [`tree`]: lines → a tree by TAB depth (layout errors: spaces, jumps).
+//! - [`document`]: the tree → [`Document`] (sections, fields, numbers, joint kinds).
+//! - [`series`]: the `TimeSeries` table.
+//! - [`expr`]: ASMT motion expressions → cardan's expression grammar.
+//! - [`import`]: [`Document`] → [`Import`] (frames, markers, joints, couplers, motions, names).
+//! - [`toml_out`]: [`Import`] → a cardan model file (TOML) with comments tracing each element.
+//! - [`solved`]: cardan results → an OndselSolver `TimeSeries` (part-frame origin, Bryant angles,
+//!   velocities, accelerations).
+//!
+//! The format and OndselSolver's behaviour are described in `docs/asmt.md`.
+//! Bad input never panics: every problem is an [`AsmtError`] with the file line.
+
+pub mod document;
+pub mod error;
+pub mod expr;
+pub mod import;
+pub mod series;
+pub mod solved;
+pub mod toml_out;
+pub mod tree;
+
+pub use document::{read, Document};
+pub use error::{AsmtError, Warning};
+pub use import::{import, sanitize, BodyMap, Element, Import, Settings};
+pub use series::TimeSeries;
+
+/// Reads and maps an ASMT text.
+///
+/// # Errors
+/// The first problem, at its file line.
+pub fn load(text: &str) -> Result<(Document, Import), AsmtError> {
+    let doc = read(text)?;
+    let import = import(&doc)?;
+    Ok((doc, import))
+}
+
+/// Reads only the `TimeSeries` of an ASMT text (the rest is checked for layout only), e.g. of
+/// a file written by OndselSolver's C++ writer, whose joint labels are mangled (`luteJointE`
+/// for `RevoluteJoint`; notes §1.8).
+///
+/// # Errors
+/// A layout error or a bad TimeSeries row, at its line.
+pub fn read_time_series(text: &str) -> Result<Option<TimeSeries>, AsmtError> {
+    let tree = tree::parse(text)?;
+    tree.series
+        .map(|(line, rows)| series::parse(line, &rows))
+        .transpose()
+}

@@ -1,0 +1,297 @@
+//! Validation against OndselSolver: the ten testapp assemblies in `tests/data` (see NOTICE),
+//! solved by cardan over each file's time span and compared with OndselSolver's own solution
+//! (`<name>.solved.asmt`, pyondsel 0.0.3) frame by frame.
+//!
+//! Compared per part: the part-frame origin (≤ 1e-9 of the mechanism's size), the rotation as a
+//! matrix (≤ 1e-9; frames where OndselSolver's writer clamps the Bryant angles, |A₀₂| > 0.9999,
+//! are skipped for rotations only), velocity and angular velocity, acceleration and angular
+//! acceleration (≤ 1e-8 of the largest value of the quantity in the reference).
+
+use cardan_asmt::series::TimeSeries;
+use cardan_asmt::solved;
+use cardan_eulerparam::p_from_euler_123;
+use cardan_mechanism::{KinematicOptions, Results};
+use nalgebra::{Matrix3, Vector3};
+use std::path::PathBuf;
+
+fn data(name: &str) -> String {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(name);
+    std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+/// Max errors of one file.
+#[derive(Debug, Default, Clone, Copy)]
+struct Errors {
+    position: f64,
+    rotation: f64,
+    velocity: f64,
+    omega: f64,
+    acceleration: f64,
+    alpha: f64,
+    frames: usize,
+    clamped: usize,
+}
+
+fn v3(item: &cardan_asmt::series::Item, labels: [&str; 3], k: usize) -> Vector3<f64> {
+    Vector3::new(
+        item.row(labels[0]).unwrap()[k],
+        item.row(labels[1]).unwrap()[k],
+        item.row(labels[2]).unwrap()[k],
+    )
+}
+
+fn solve(name: &str) -> (cardan_asmt::Document, cardan_asmt::Import, Results) {
+    let text = data(&format!("{name}.asmt"));
+    let doc = cardan_asmt::read(&text).unwrap_or_else(|e| panic!("{name}: {e}"));
+    solve_doc(name, doc)
+}
+
+fn solve_doc(
+    name: &str,
+    doc: cardan_asmt::Document,
+) -> (cardan_asmt::Document, cardan_asmt::Import, Results) {
+    let import = cardan_asmt::import(&doc).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let model = import
+        .builder()
+        .build()
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
+    let s = import.settings.expect("simulation parameters");
+    let options = KinematicOptions::new(s.t_start, s.t_end, s.steps());
+    let results = model
+        .run_kinematics(&options)
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
+    (doc, import, results)
+}
+
+/// Relative errors of cardan against the reference series.
+fn compare(name: &str) -> Errors {
+    compare_solution(name, solve(name))
+}
+
+fn compare_solution(
+    name: &str,
+    (doc, import, results): (cardan_asmt::Document, cardan_asmt::Import, Results),
+) -> Errors {
+    let ours = solved::time_series(&doc, &import, &results);
+    let reference: TimeSeries =
+        cardan_asmt::read_time_series(&data(&format!("{name}.solved.asmt")))
+            .unwrap()
+            .expect("a TimeSeries");
+    assert_eq!(ours.times.len(), reference.times.len(), "{name}: frames");
+    for (a, b) in ours.times.iter().zip(&reference.times) {
+        assert!((a - b).abs() < 1e-12, "{name}: times {a} vs {b}");
+    }
+    // Scales: the mechanism's size (largest distance of a part origin or marker from the
+    // origin) and the largest magnitude of each rate in the reference.
+    let mut size: f64 = 0.0;
+    for p in &doc.parts {
+        size = size.max(p.frame.position.norm());
+        for m in &p.markers {
+            size = size.max((p.frame.position + p.frame.rotation * m.frame.position).norm());
+        }
+    }
+    let mut peak = [0.0f64; 4];
+    let groups = [
+        ["VX", "VY", "VZ"],
+        ["OmegaX", "OmegaY", "OmegaZ"],
+        ["AX", "AY", "AZ"],
+        ["AlphaX", "AlphaY", "AlphaZ"],
+    ];
+    for item in reference.items.iter().filter(|i| i.kind == "PartSeries") {
+        for k in 0..reference.times.len() {
+            for (g, labels) in groups.iter().enumerate() {
+                peak[g] = peak[g].max(v3(item, *labels, k).norm());
+            }
+        }
+    }
+    // Dimensionally consistent scales (a part whose origin stays on its axis has v_P = 0, a
+    // rotor at constant speed α = 0): V = max(|v|, |ω| L), W = V / L, A = max(|a|, |α| L, W² L),
+    // Α = A / L.
+    let v = peak[0].max(peak[1] * size);
+    let a = peak[2].max(peak[3] * size).max(v * v / size);
+    let scale = [v, v / size, a, a / size];
+    let mut e = Errors {
+        frames: reference.times.len(),
+        ..Errors::default()
+    };
+    for item in ours.items.iter().filter(|i| i.kind == "PartSeries") {
+        let r = reference
+            .item(&item.path)
+            .unwrap_or_else(|| panic!("{name}: {} not in the reference", item.path));
+        for k in 0..reference.times.len() {
+            let d = v3(item, ["X", "Y", "Z"], k) - v3(r, ["X", "Y", "Z"], k);
+            e.position = e.position.max(d.norm() / size);
+            let b = v3(r, ["Bryantx", "Bryanty", "Bryantz"], k);
+            let ar = p_from_euler_123(b.x, b.y, b.z).unwrap().a();
+            if ar[(0, 2)].abs() > 0.9999 {
+                e.clamped += 1;
+            } else {
+                let b = v3(item, ["Bryantx", "Bryanty", "Bryantz"], k);
+                let ao: Matrix3<f64> = p_from_euler_123(b.x, b.y, b.z).unwrap().a();
+                e.rotation = e.rotation.max((ao - ar).abs().max());
+            }
+            let err = |labels: [&str; 3], g: usize| {
+                (v3(item, labels, k) - v3(r, labels, k)).norm() / scale[g].max(1e-300)
+            };
+            e.velocity = e.velocity.max(err(groups[0], 0));
+            e.omega = e.omega.max(err(groups[1], 1));
+            e.acceleration = e.acceleration.max(err(groups[2], 2));
+            e.alpha = e.alpha.max(err(groups[3], 3));
+        }
+    }
+    e
+}
+
+const FILES: [&str; 10] = [
+    "crank_slider",
+    "fourbar",
+    "piston",
+    "00backhoe",
+    "parm",
+    "dxfmotion",
+    "circular",
+    "wobpump",
+    "rackscrew",
+    "Gears",
+];
+
+/// Checks one file: positions and rotations within `tol`, rates within `rate_tol`.
+fn check(name: &str, tol: f64, rate_tol: f64) {
+    let e = compare(name);
+    println!("{name}: {e:?}");
+    assert!(
+        e.position <= tol,
+        "{name}: position error {:.2e}",
+        e.position
+    );
+    assert!(
+        e.rotation <= tol,
+        "{name}: rotation error {:.2e}",
+        e.rotation
+    );
+    for (what, x) in [
+        ("velocity", e.velocity),
+        ("angular velocity", e.omega),
+        ("acceleration", e.acceleration),
+        ("angular acceleration", e.alpha),
+    ] {
+        assert!(x <= rate_tol, "{name}: {what} error {x:.2e}");
+    }
+}
+
+#[test]
+fn crank_slider() {
+    check("crank_slider", 1e-9, 1e-8);
+}
+
+#[test]
+fn fourbar() {
+    check("fourbar", 1e-9, 1e-8);
+}
+
+#[test]
+fn piston() {
+    check("piston", 1e-9, 1e-8);
+}
+
+#[test]
+fn backhoe() {
+    check("00backhoe", 1e-9, 1e-8);
+}
+
+#[test]
+fn parm() {
+    check("parm", 1e-9, 1e-8);
+}
+
+/// OndselSolver's own solution of dxfmotion leaves its TranslationalMotion row violated by
+/// 2.2e-9 (Newton stops at its 1e-6 default tolerance; project notes §3), so the reference
+/// itself is only that exact: cardan differs by 1.9e-9 (positions, relative) and 1.1e-8
+/// (rates). Compared at 1e-8 and 1e-7 instead of 1e-9 and 1e-8, on purpose.
+#[test]
+fn dxfmotion() {
+    check("dxfmotion", 1e-8, 1e-7);
+}
+
+#[test]
+fn circular() {
+    check("circular", 1e-9, 1e-8);
+}
+
+#[test]
+fn wobpump() {
+    check("wobpump", 1e-9, 1e-8);
+}
+
+#[test]
+fn rackscrew() {
+    check("rackscrew", 1e-9, 1e-8);
+}
+
+#[test]
+fn gears() {
+    check("Gears", 1e-9, 1e-8);
+}
+
+#[test]
+#[ignore = "prints the table of errors; run with --ignored --nocapture"]
+fn table() {
+    println!("| file | frames | position | rotation | velocity | ω | acceleration | α | clamped |");
+    for f in FILES {
+        let e = compare(f);
+        println!(
+            "| {f} | {} | {:.1e} | {:.1e} | {:.1e} | {:.1e} | {:.1e} | {:.1e} | {} |",
+            e.frames,
+            e.position,
+            e.rotation,
+            e.velocity,
+            e.omega,
+            e.acceleration,
+            e.alpha,
+            e.clamped
+        );
+    }
+}
+
+/// The `.solved.asmt` text cardan writes reads back with cardan's reader: the same document and
+/// the same series to the last bit.
+#[test]
+fn solved_file_round_trip() {
+    for name in ["wobpump", "00backhoe"] {
+        let (doc, import, results) = solve(name);
+        let series = solved::time_series(&doc, &import, &results);
+        let text = solved::solved_text(&data(&format!("{name}.asmt")), &series);
+        let back = cardan_asmt::read(&text).unwrap();
+        let mut got = back.series.clone().expect("a TimeSeries");
+        for item in &mut got.items {
+            item.line = 0;
+        }
+        assert_eq!(got, series, "{name}");
+        assert_eq!(back.parts, doc.parts, "{name}");
+        assert_eq!(back.joints, doc.joints, "{name}");
+    }
+}
+
+/// A FreeCAD-style file in millimetres (every length of 00backhoe, whose three hydraulic
+/// jacks are translational motions, ×1000) read with the mm conversion reproduces the SI
+/// reference: lengths, inertias and the translation expressions are all converted.
+#[test]
+fn millimetre_file_converted_to_si() {
+    let doc = cardan_asmt::read(&data("00backhoe.asmt")).unwrap();
+    let mut mm = doc.scaled(1000.0);
+    assert!(
+        !mm.looks_like_millimetres(),
+        "a Smalltalk file is not a FreeCAD export"
+    );
+    mm.header = "OndselSolver".into();
+    assert!(mm.looks_like_millimetres());
+    assert!(!doc.looks_like_millimetres());
+    let e = compare_solution("00backhoe", solve_doc("00backhoe", mm.scaled(1e-3)));
+    assert!(e.position <= 1e-9 && e.rotation <= 1e-9, "{e:?}");
+    assert!(
+        e.velocity.max(e.acceleration).max(e.omega).max(e.alpha) <= 1e-8,
+        "{e:?}"
+    );
+}

@@ -1,0 +1,181 @@
+//! ASMT files (OndselSolver / FreeCAD Assembly) on the command line: `cardan import` and the
+//! `.asmt` input of `run` and `check` ([`cardan_asmt`]).
+//!
+//! An ASMT file is read and mapped by `cardan-asmt` (errors at the ASMT line), then written as a
+//! cardan model ([`cardan_asmt::toml_out`]) that goes through the same validation and analysis
+//! as a TOML model: one path for both. Messages about the model after the import refer to the
+//! imported model as `<file>.asmt.toml`, the text `cardan import` writes. Elements the import
+//! ignores (limits, AllowRotation, force elements) are reported as warnings on stderr and as
+//! comments at the top of the imported model.
+
+use crate::diag::{Error, Location, Source};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// Whether `path` names an ASMT file (extension `.asmt`, any case).
+pub fn is_asmt(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("asmt"))
+}
+
+/// The imported model's name for messages: `<file>.asmt.toml`.
+fn imported_path(path: &Path) -> PathBuf {
+    let mut s = path.as_os_str().to_owned();
+    s.push(".toml");
+    PathBuf::from(s)
+}
+
+/// The units of an ASMT file's numbers (ASMT has no unit fields).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum Units {
+    /// m, kg, s, N (the Smalltalk examples).
+    #[default]
+    Si,
+    /// mm, kg, s, N·mm (FreeCAD exports): lengths are converted to m (×1e-3), inertias to
+    /// kg m² (×1e-6).
+    Mm,
+}
+
+/// The analysis an imported model asks for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum Analysis {
+    /// The file's: kinematics over tstart..tend by hout.
+    #[default]
+    Kinematic,
+    /// Inverse dynamics on the same time grid (driver efforts, reactions; needs masses).
+    #[value(name = "inverse_dynamics")]
+    InverseDynamics,
+}
+
+/// Reads an ASMT source and returns the imported cardan model text (as a [`Source`] named
+/// `<file>.asmt.toml`, in SI units) and the import's warnings.
+///
+/// # Errors
+/// The reader's first problem, located at the ASMT file's line.
+pub fn import_source(
+    src: &Source,
+    units: Units,
+    analysis: Analysis,
+) -> Result<(Source, Vec<String>), Error> {
+    let located = |e: cardan_asmt::AsmtError| Error {
+        location: Some(Location {
+            file: src.path.clone(),
+            line: e.line,
+            column: 1,
+            excerpt: None,
+        }),
+        ..Error::input(e.message.clone())
+    };
+    let doc = cardan_asmt::read(&src.text).map_err(located)?;
+    let mut warnings = Vec::new();
+    let doc = match units {
+        Units::Mm => doc.scaled(1e-3),
+        Units::Si => {
+            if doc.looks_like_millimetres() {
+                warnings.push(format!(
+                    "{}:1: warning: the file was written by FreeCAD and reaches {:.0} length units from the origin: it looks like millimetres, but is read as SI (m, kg, s); `cardan import --units mm` converts it",
+                    src.path.display(),
+                    doc.size()
+                ));
+            }
+            doc
+        }
+    };
+    let mut import = cardan_asmt::import(&doc).map_err(located)?;
+    // Named after the file (most assemblies are called "Assembly1"): out/<file stem>/.
+    if let Some(stem) = src.path.file_stem() {
+        import.name = cardan_asmt::sanitize(&stem.to_string_lossy());
+    }
+    if analysis == Analysis::InverseDynamics {
+        import.inverse_dynamics = true;
+    }
+    let name = src
+        .path
+        .file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    let mut text = cardan_asmt::toml_out::to_toml(&import, &name);
+    if units == Units::Mm {
+        text.insert_str(
+            0,
+            "# Read in millimetres (--units mm): lengths converted to m, inertias to kg m².\n",
+        );
+    }
+    warnings.extend(
+        import
+            .warnings
+            .iter()
+            .map(|w| format!("{}:{}: warning: {}", src.path.display(), w.line, w.message)),
+    );
+    Ok((Source::from_text(imported_path(&src.path), text), warnings))
+}
+
+/// Reads `path`: a TOML model as it is, an ASMT file imported (its warnings printed to stderr).
+///
+/// # Errors
+/// Unreadable file, or an ASMT reader error.
+pub fn read_model(path: &Path) -> Result<Source, Error> {
+    let src = Source::read(path)?;
+    if !is_asmt(path) {
+        return Ok(src);
+    }
+    let (model, warnings) = import_source(&src, Units::Si, Analysis::Kinematic)?;
+    for w in warnings {
+        eprintln!("{w}");
+    }
+    Ok(model)
+}
+
+/// `cardan import MODEL.asmt [-o MODEL.toml] [--units si|mm]`: writes the equivalent cardan model (to stdout
+/// without `-o`).
+///
+/// # Errors
+/// Unreadable or bad ASMT file, unwritable output.
+pub fn import(
+    path: &Path,
+    output: Option<&Path>,
+    units: Units,
+    analysis: Analysis,
+    out: &mut dyn Write,
+) -> Result<(), Error> {
+    let src = Source::read(path)?;
+    let (model, warnings) = import_source(&src, units, analysis)?;
+    for w in &warnings {
+        eprintln!("{w}");
+    }
+    match output {
+        Some(o) => {
+            std::fs::write(o, &model.text)
+                .map_err(|e| Error::output(format!("cannot write {}: {e}", o.display())))?;
+            writeln!(out, "wrote {} ({} warnings)", o.display(), warnings.len())
+                .map_err(|e| Error::output(e.to_string()))?;
+        }
+        None => out
+            .write_all(model.text.as_bytes())
+            .map_err(|e| Error::output(e.to_string()))?,
+    }
+    Ok(())
+}
+
+/// Writes `<dir>/<stem>.solved.asmt`: the ASMT input with a TimeSeries of `results` in
+/// OndselSolver's conventions ([`cardan_asmt::solved`]: part-frame origins, exact Bryant
+/// angles, velocities and accelerations; no joint reactions). Returns the path written.
+///
+/// # Errors
+/// Unreadable input or unwritable output.
+pub fn write_solved(
+    path: &Path,
+    dir: &Path,
+    results: &cardan_mechanism::Results,
+) -> Result<PathBuf, Error> {
+    let src = Source::read(path)?;
+    let (doc, import) = cardan_asmt::load(&src.text).map_err(|e| Error::input(e.to_string()))?;
+    let series = cardan_asmt::solved::time_series(&doc, &import, results);
+    let text = cardan_asmt::solved::solved_text(&src.text, &series);
+    let stem = path
+        .file_stem()
+        .map_or_else(|| "model".into(), |s| s.to_string_lossy().into_owned());
+    let file = dir.join(format!("{stem}.solved.asmt"));
+    std::fs::write(&file, text)
+        .map_err(|e| Error::output(format!("cannot write {}: {e}", file.display())))?;
+    Ok(file)
+}
