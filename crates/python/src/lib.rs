@@ -253,12 +253,54 @@ fn table_csv(name: String, title: String, columns: Vec<String>, data: &[u8]) -> 
     Ok(table.to_csv())
 }
 
+/// An ASMT assembly (OndselSolver / FreeCAD) as cardan model text: a dict with `text` (the
+/// imported model, SI units), `path` (its name, `<file>.asmt.toml`) and `warnings` (the
+/// elements read but ignored, a millimetre file read as SI), or `error`. `units` is `"si"` or
+/// `"mm"` (lengths converted to m).
+#[pyfunction]
+#[pyo3(signature = (text, path, units="si", inverse_dynamics=false))]
+fn import_asmt<'py>(
+    py: Python<'py>,
+    text: String,
+    path: String,
+    units: &str,
+    inverse_dynamics: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    use cardan_cli::commands::asmt::{import_source, Analysis, Units};
+    let units = match units {
+        "si" | "SI" => Units::Si,
+        "mm" => Units::Mm,
+        other => {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "units {other:?}: use \"si\" (m, kg, s) or \"mm\" (FreeCAD's millimetres)"
+            )))
+        }
+    };
+    let analysis = if inverse_dynamics {
+        Analysis::InverseDynamics
+    } else {
+        Analysis::Kinematic
+    };
+    let out = PyDict::new(py);
+    match import_source(&Source::from_text(path, text), units, analysis) {
+        Ok((model, warnings)) => {
+            out.set_item("text", model.text)?;
+            out.set_item("path", model.path.display().to_string())?;
+            out.set_item("warnings", warnings)?;
+            out.set_item("error", py.None())?;
+        }
+        Err(e) => out.set_item("error", error_dict(py, &ErrorData::from(&e))?)?,
+    }
+    Ok(out)
+}
+
 /// The extension module `cardan._cardan`.
 #[pymodule]
 fn _cardan(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run, m)?)?;
     m.add_function(wrap_pyfunction!(check, m)?)?;
     m.add_function(wrap_pyfunction!(table_csv, m)?)?;
+    m.add_function(wrap_pyfunction!(import_asmt, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

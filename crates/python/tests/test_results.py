@@ -99,3 +99,25 @@ def test_check_reports_dof_and_redundant_equations():
     c = cardan.load(EXAMPLES / "slider_crank.toml").check()
     assert c.dof == 1 and c.fully_driven and c.redundant == []
     assert c.bodies == ["crank", "conrod", "slider"]
+
+
+ASMT = EXAMPLES.parent / "crates" / "asmt" / "tests" / "data"
+
+
+def test_asmt_assemblies_load_and_equal_the_commands_run(cardan_bin, tmp_path):
+    model = ASMT / "fourbar.asmt"
+    r = cardan.load(model).run()
+    cli = run_cli(cardan_bin, model, tmp_path / "cli")
+    assert cli.returncode == 0, cli.stderr
+    r.to_csv(tmp_path / "py")
+    for f in (tmp_path / "cli").glob("*.csv"):
+        assert f.read_bytes() == (tmp_path / "py" / f.name).read_bytes(), f.name
+
+
+def test_a_bad_asmt_file_is_a_model_error_at_its_line(tmp_path):
+    text = (ASMT / "fourbar.asmt").read_text().replace("\t", "    ", 1)
+    bad = tmp_path / "bad.asmt"
+    bad.write_text(text)
+    with pytest.raises(cardan.ModelError) as e:
+        cardan.load(bad)
+    assert e.value.line is not None and e.value.file.endswith("bad.asmt")

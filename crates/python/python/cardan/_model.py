@@ -116,12 +116,24 @@ class Model:
         return f"<cardan.Model {self.path}>"
 
 
-def load(path: "os.PathLike[str] | str") -> Model:
-    """Reads a model file (TOML)."""
-    path = os.fspath(path)
+def load(path: "os.PathLike[str] | str", units: str = "si") -> Model:
+    """Reads a model file: TOML, or an ASMT assembly (``.asmt``, OndselSolver / FreeCAD),
+    imported as cardan does for ``cardan run model.asmt``. ``units="mm"`` reads an ASMT file in
+    FreeCAD's millimetres (converted to SI). The import's warnings (elements read but ignored)
+    are issued as Python warnings."""
+    path = os.path.abspath(os.fspath(path))
     with open(path, encoding="utf-8") as f:
         text = f.read()
-    return Model(text, os.path.abspath(path))
+    if path.lower().endswith(".asmt"):
+        out = _cardan.import_asmt(text, path, units)
+        if out["error"] is not None:
+            raise_error(out["error"])
+        import warnings
+
+        for w in out["warnings"]:
+            warnings.warn(w, stacklevel=2)
+        return Model(out["text"], out["path"])
+    return Model(text, path)
 
 
 # ---------------------------------------------------------------------------------------------
