@@ -125,6 +125,12 @@ fn main() {
     md.push_str(&tolerance_section(&cfg, &mut svgs));
     eprintln!("== scaling");
     md.push_str(&scaling_section(&cfg, &mut svgs));
+    eprintln!("== animation and report");
+    md.push_str(&cardan_bench::animation::section(
+        cfg.smoke,
+        cfg.batch,
+        cfg.batches,
+    ));
     eprintln!("== work-precision");
     md.push_str(&work_precision_section(&cfg, &mut svgs));
     if let Some(py) = &peers {
