@@ -132,15 +132,15 @@ pub fn write_html(scene: &Scene, glb: &[u8], page: &Page) -> Result<String, crat
 
 /// Records errors into `#errors` from the very start (before three.js runs).
 const RECORDER: &str = r#"(function(){
-var list=[];window.__cardanErrors=list;
-function add(m){list.push(String(m));var e=document.getElementById('errors');
-if(e){var li=document.createElement('li');li.textContent=String(m);e.appendChild(li);e.hidden=false;}}
+var list=[],shown=0;window.__cardanErrors=list;
+function show(){var e=document.getElementById('errors');if(!e)return;
+for(;shown<list.length;shown++){var li=document.createElement('li');li.textContent=list[shown];e.appendChild(li);e.hidden=false;}}
+function add(m){list.push(String(m));show();}
 window.__cardanError=add;
 window.onerror=function(msg,src,line,col){add('error: '+msg+' ('+src+':'+line+':'+col+')');};
 window.addEventListener('unhandledrejection',function(ev){add('unhandled rejection: '+ev.reason);});
 var ce=console.error;console.error=function(){add('console.error: '+Array.prototype.join.call(arguments,' '));return ce.apply(console,arguments);};
-document.addEventListener('DOMContentLoaded',function(){var e=document.getElementById('errors');
-list.forEach(function(m){var li=document.createElement('li');li.textContent=m;e.appendChild(li);e.hidden=false;});});
+document.addEventListener('DOMContentLoaded',show);
 })();"#;
 
 /// The 3D view and its controls.
