@@ -123,7 +123,7 @@ fn check_mesh(m: &Mesh, body: &str, item: usize) -> Result<(), Error> {
             item + 1
         )))
     };
-    if m.indices.len() % 3 != 0 || m.indices.iter().any(|&i| i as usize >= n) {
+    if !m.indices.len().is_multiple_of(3) || m.indices.iter().any(|&i| i as usize >= n) {
         return bad("a triangle index is out of range");
     }
     if m.normals.len() != n {
@@ -338,10 +338,10 @@ impl Writer {
             .root
             .to_vec()
             .map_err(|e| Error::Scene(format!("glTF JSON: {e}")))?;
-        while text.len() % 4 != 0 {
+        while !text.len().is_multiple_of(4) {
             text.push(b' ');
         }
-        while self.bin.len() % 4 != 0 {
+        while !self.bin.len().is_multiple_of(4) {
             self.bin.push(0);
         }
         let bin_chunk = if self.bin.is_empty() {

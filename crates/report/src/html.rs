@@ -108,9 +108,9 @@ pub fn write_html(scene: &Scene, glb: &[u8], page: &Page) -> Result<String, crat
             Some(rest) => rest.split_once("?>").map_or(rest, |(_, s)| s),
             None => svg,
         };
-        let _ = write!(
+        let _ = writeln!(
             html,
-            "<figure><figcaption>{}</figcaption>{svg}</figure>\n",
+            "<figure><figcaption>{}</figcaption>{svg}</figure>",
             escape(name)
         );
     }

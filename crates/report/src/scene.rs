@@ -145,8 +145,12 @@ impl Scene {
     /// [`Error::Scene`] naming the body, the time or the axis.
     pub fn validate(&self) -> Result<(), Error> {
         let bad = |m: String| Err(Error::Scene(m));
+        if let Some(t) = self.times.iter().find(|t| !t.is_finite()) {
+            return bad(format!("an output time is not finite ({t})"));
+        }
+        let increasing = |a: f64, b: f64| a < b && (a as f32) < (b as f32);
         for (k, w) in self.times.windows(2).enumerate() {
-            if !(w[1] > w[0]) || !((w[1] as f32) > (w[0] as f32)) {
+            if !increasing(w[0], w[1]) {
                 return bad(format!(
                     "output times {} and {} (numbers {k} and {}) are not strictly increasing \
                      in single precision, which glTF keyframes need",
@@ -155,9 +159,6 @@ impl Scene {
                     k + 1
                 ));
             }
-        }
-        if let Some(t) = self.times.iter().find(|t| !t.is_finite()) {
-            return bad(format!("an output time is not finite ({t})"));
         }
         for (i, b) in self.bodies.iter().enumerate() {
             if self.bodies[..i].iter().any(|o| o.name == b.name) {
