@@ -127,3 +127,91 @@ pub fn section(smoke: bool, batch: Duration, batches: usize) -> String {
     );
     md
 }
+
+/// Per bundled example: the wall time of a whole `cardan run` (analysis and every file, into a
+/// temporary directory) and of writing its animation and page alone (scene, glb, html: what
+/// the run adds for them), median of `repeats` runs, with the file sizes.
+pub fn examples_section(examples: &std::path::Path, smoke: bool) -> String {
+    let mut files: Vec<std::path::PathBuf> = std::fs::read_dir(examples)
+        .map(|d| d.filter_map(|e| e.ok().map(|e| e.path())).collect())
+        .unwrap_or_default();
+    files.retain(|p| p.extension().is_some_and(|e| e == "toml"));
+    files.sort();
+    if smoke {
+        files.retain(|p| p.ends_with("slider_crank.toml"));
+    }
+    let repeats = if smoke { 1 } else { 5 };
+    let mut md = String::from(
+        "Bundled examples (`cardan run`, release build): the whole run (analysis, CSV, SVG, \
+         animation, page, run.json) against writing the animation and the page alone (building \
+         the scene, `write_glb`, `write_html`), medians of repeated runs.\n\n\
+         | example | bodies | frames | whole run | animation + page | share | glb size | page size |\n\
+         |---|---:|---:|---:|---:|---:|---:|---:|\n",
+    );
+    let tmp = std::env::temp_dir().join(format!("cardan-bench-anim-{}", std::process::id()));
+    for path in files {
+        let name = path
+            .file_stem()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .to_string();
+        let mut whole = Vec::new();
+        let mut write = Vec::new();
+        let mut sizes = (0, 0, 0, 0);
+        for _ in 0..repeats {
+            let _ = std::fs::remove_dir_all(&tmp);
+            let t0 = std::time::Instant::now();
+            let Ok(o) = cardan_cli::commands::run::run_model(&path, Some(&tmp), false) else {
+                break;
+            };
+            whole.push(t0.elapsed().as_secs_f64());
+            let t1 = std::time::Instant::now();
+            let Ok(declared) = cardan_cli::geometry::load(&o.prepared.source) else {
+                break;
+            };
+            let scene = cardan_cli::scene::scene(
+                &o.prepared.loaded.name,
+                &o.prepared.model,
+                &o.results,
+                &declared,
+            );
+            let glb = write_glb(&scene).unwrap_or_default();
+            let html = write_html(&scene, &glb, &Page::default()).unwrap_or_default();
+            write.push(t1.elapsed().as_secs_f64());
+            sizes = (
+                scene.bodies.len() - 1,
+                scene.times.len(),
+                glb.len(),
+                html.len(),
+            );
+        }
+        let _ = std::fs::remove_dir_all(&tmp);
+        if whole.is_empty() || write.is_empty() {
+            eprintln!("{name}: did not run; skipped");
+            continue;
+        }
+        let (w, a) = (
+            crate::measure::median(&mut whole),
+            crate::measure::median(&mut write),
+        );
+        eprintln!(
+            "{name}: run {}, animation + page {} ({:.1} %)",
+            fmt_time(w),
+            fmt_time(a),
+            100.0 * a / w
+        );
+        let _ = writeln!(
+            md,
+            "| {name} | {} | {} | {} | {} | {:.1} % | {} | {} |",
+            sizes.0,
+            sizes.1,
+            fmt_time(w),
+            fmt_time(a),
+            100.0 * a / w,
+            fmt_bytes(sizes.2 as u64),
+            fmt_bytes(sizes.3 as u64)
+        );
+    }
+    md.push('\n');
+    md
+}

@@ -7,6 +7,7 @@
 //!     (one run for a profiler)
 //! cardan-bench --peers-only PYTHON [--smoke] [kinematics|slider-crank|chain ...]  (peers to stdout)
 //! cardan-bench --drivers [--smoke]    (the driver-function section alone, to stdout)
+//! cardan-bench --animation [--smoke]  (the animation and report section alone, to stdout)
 //! ```
 //!
 //! Usually run through `cargo xtask bench [--smoke] [--peers]`.
@@ -67,6 +68,16 @@ fn main() {
             batches: if smoke { 1 } else { 7 },
         };
         println!("{}", driver_functions_section(&cfg));
+        return;
+    }
+    if args.first().map(String::as_str) == Some("--animation") {
+        let smoke = args.iter().any(|a| a == "--smoke");
+        let (batch, batches) = if smoke { (ms(5), 1) } else { (ms(200), 7) };
+        println!(
+            "{}{}",
+            cardan_bench::animation::section(smoke, batch, batches),
+            cardan_bench::animation::examples_section(&root().join("examples"), smoke)
+        );
         return;
     }
     if args.first().map(String::as_str) == Some("--profile") {
@@ -130,6 +141,10 @@ fn main() {
         cfg.smoke,
         cfg.batch,
         cfg.batches,
+    ));
+    md.push_str(&cardan_bench::animation::examples_section(
+        &root().join("examples"),
+        cfg.smoke,
     ));
     eprintln!("== work-precision");
     md.push_str(&work_precision_section(&cfg, &mut svgs));
