@@ -374,6 +374,10 @@ fn a_missing_mesh_file_is_refused_with_body_and_line() {
     let dir = scratch("anim-missing");
     let m = with_geometry(r#"{ shape = "mesh", file = "nowhere.stl" }"#);
     assert_refused(&dir, &m, &["nowhere.stl", "cannot open"]);
+    // `cardan check` refuses it too.
+    let o = cardan(&["check", "model.toml"], &dir);
+    assert_eq!(o.code, 1, "{}", o.stderr);
+    assert!(o.stderr.contains("nowhere.stl"), "{}", o.stderr);
 }
 
 #[test]
@@ -387,6 +391,7 @@ fn a_mesh_of_ten_million_triangles_is_refused_before_it_is_read() {
     f.set_len(84 + 50 * 10_000_000).unwrap();
     let m = with_geometry(r#"{ shape = "mesh", file = "huge.stl" }"#);
     assert_refused(&dir, &m, &["10000000 triangles", "at most 2000000"]);
+    std::fs::remove_file(dir.join("huge.stl")).unwrap();
 }
 
 #[test]

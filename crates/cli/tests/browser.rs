@@ -120,6 +120,12 @@ fn browse(chromium: &Path, profile: &Path, url: &str, extra: &[&str]) -> (String
             "--virtual-time-budget=8000",
             "--enable-logging=stderr",
             "--v=0",
+            // No connections of its own: the machine's network is closed, and the page needs none.
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+            "--disable-quic",
+            "--no-first-run",
         ])
         .arg(format!("--user-data-dir={}", profile.display()))
         .args(extra)
