@@ -179,7 +179,7 @@
   if (!trails.length) trailBox.textContent = 'no named points on moving bodies';
 
   // Orbit: spherical coordinates about the target, around the up direction.
-  var target = centre.clone(), radius = 1.6 * size, azimuth = 0.6, elevation = 0.45;
+  var target = centre.clone(), radius = 1.25 * size, azimuth = 0.6, elevation = 0.45;
   var basisX = new T.Vector3(), basisY = new T.Vector3();
   (function () {
     var ref = Math.abs(up.z) < 0.9 ? new T.Vector3(0, 0, 1) : new T.Vector3(1, 0, 0);
