@@ -23,12 +23,18 @@ use nalgebra::{Matrix3, Vector3, Vector4};
 /// The scene of a run of `model` with `results`.
 pub fn scene(name: &str, model: &Model, results: &Results, declared: &Declared) -> Scene {
     let extent = extent(model, results);
+    let mut points = points_by_body(model);
+    let histories: std::collections::HashMap<&str, &cardan_mechanism::BodyResults> = results
+        .bodies
+        .iter()
+        .map(|b| (b.name.as_str(), b))
+        .collect();
     let mut bodies: Vec<Body> = model
         .bodies()
         .iter()
         .enumerate()
         .map(|(k, info)| {
-            let (positions, rotations) = match results.body(&info.name) {
+            let (positions, rotations) = match histories.get(info.name.as_str()) {
                 Some(h) => (
                     h.r.iter().map(|r| [r.x, r.y, r.z]).collect(),
                     h.p.iter().map(|p| [p[0], p[1], p[2], p[3]]).collect(),
@@ -39,7 +45,7 @@ pub fn scene(name: &str, model: &Model, results: &Results, declared: &Declared) 
                 name: info.name.clone(),
                 colour: cardan_report::palette_colour(k),
                 geometry: Vec::new(),
-                points: points_of(model, BodyId::Moving(k)),
+                points: std::mem::take(&mut points[k]),
                 positions,
                 rotations,
             }
@@ -50,7 +56,7 @@ pub fn scene(name: &str, model: &Model, results: &Results, declared: &Declared) 
         name: cardan_mechanism::GROUND.into(),
         colour: [0.35, 0.35, 0.37],
         geometry: Vec::new(),
-        points: points_of(model, BodyId::Ground),
+        points: points.pop().unwrap_or_default(),
         positions: vec![],
         rotations: vec![],
     });
@@ -115,17 +121,22 @@ pub fn scene(name: &str, model: &Model, results: &Results, declared: &Declared) 
     }
 }
 
-/// The named points of body `id`, in its coordinates.
-fn points_of(model: &Model, id: BodyId) -> Vec<NamedPoint> {
-    model
-        .points()
-        .iter()
-        .filter(|f| f.body == id)
-        .map(|f| NamedPoint {
+/// The named points of each moving body (by index), then of the ground (last), in body
+/// coordinates.
+fn points_by_body(model: &Model) -> Vec<Vec<NamedPoint>> {
+    let n = model.bodies().len();
+    let mut out = vec![Vec::new(); n + 1];
+    for f in model.points() {
+        let k = match f.body {
+            BodyId::Ground => n,
+            BodyId::Moving(k) => k,
+        };
+        out[k].push(NamedPoint {
             name: f.name.clone(),
             local: [f.local.x, f.local.y, f.local.z],
-        })
-        .collect()
+        });
+    }
+    out
 }
 
 /// The diagonal of the box around the ground points and every body origin and point over the
@@ -142,16 +153,17 @@ fn extent(model: &Model, results: &Results) -> f64 {
             add(f.local);
         }
     }
+    let by_body = points_by_body(model);
+    let histories: std::collections::HashMap<&str, &cardan_mechanism::BodyResults> = results
+        .bodies
+        .iter()
+        .map(|b| (b.name.as_str(), b))
+        .collect();
     for (k, info) in model.bodies().iter().enumerate() {
-        let Some(h) = results.body(&info.name) else {
+        let Some(h) = histories.get(info.name.as_str()) else {
             continue;
         };
-        let pts: Vec<Vector3<f64>> = model
-            .points()
-            .iter()
-            .filter(|f| f.body == BodyId::Moving(k))
-            .map(|f| f.local)
-            .collect();
+        let pts: Vec<Vector3<f64>> = by_body[k].iter().map(|p| Vector3::from(p.local)).collect();
         for (r, p) in h.r.iter().zip(&h.p) {
             add(*r);
             if pts.is_empty() {
