@@ -198,17 +198,8 @@ impl Item<'_> {
                     None => 1.0,
                 };
                 let path = dir.join(file.get_ref());
-                let mesh = read_mesh(&path, scale, *budget).map_err(|e| {
-                    let why = e.to_string();
-                    let why = if why.contains("at most") && why.contains("triangles") {
-                        format!(
-                            "{why}; the model's meshes together may have at most {MAX_TRIANGLES}"
-                        )
-                    } else {
-                        why
-                    };
-                    self.err(file.span(), why)
-                })?;
+                let mesh =
+                    read_mesh(&path, scale, *budget).map_err(|e| self.err(file.span(), e))?;
                 *budget -= mesh.triangles();
                 Shape::Mesh(mesh)
             }

@@ -121,8 +121,8 @@ fn binary_stl_count(file: &mut std::fs::File, bytes: u64) -> Option<usize> {
 fn check_count(n: usize, max: usize) -> Result<(), String> {
     if n > max {
         Err(format!(
-            "it has {n} triangles; at most {max} are accepted (2·10⁶ per model: simplify the \
-             mesh, e.g. with a decimate modifier)"
+            "it has {n} triangles; at most {max} are accepted (the meshes of a model may have \
+             2·10⁶ triangles together: simplify the mesh, e.g. with a decimate modifier)"
         ))
     } else {
         Ok(())
