@@ -7,6 +7,7 @@
 //!     (one run for a profiler)
 //! cardan-bench --peers-only PYTHON [--smoke] [kinematics|slider-crank|chain ...]  (peers to stdout)
 //! cardan-bench --drivers [--smoke]    (the driver-function section alone, to stdout)
+//! cardan-bench --animation [--smoke]  (the animation and report section alone, to stdout)
 //! ```
 //!
 //! Usually run through `cargo xtask bench [--smoke] [--peers]`.
@@ -69,6 +70,16 @@ fn main() {
         println!("{}", driver_functions_section(&cfg));
         return;
     }
+    if args.first().map(String::as_str) == Some("--animation") {
+        let smoke = args.iter().any(|a| a == "--smoke");
+        let (batch, batches) = if smoke { (ms(5), 1) } else { (ms(200), 7) };
+        println!(
+            "{}{}",
+            cardan_bench::animation::section(smoke, batch, batches),
+            cardan_bench::animation::examples_section(&root().join("examples"), smoke)
+        );
+        return;
+    }
     if args.first().map(String::as_str) == Some("--profile") {
         profile(&args[1..]);
         return;
@@ -125,6 +136,16 @@ fn main() {
     md.push_str(&tolerance_section(&cfg, &mut svgs));
     eprintln!("== scaling");
     md.push_str(&scaling_section(&cfg, &mut svgs));
+    eprintln!("== animation and report");
+    md.push_str(&cardan_bench::animation::section(
+        cfg.smoke,
+        cfg.batch,
+        cfg.batches,
+    ));
+    md.push_str(&cardan_bench::animation::examples_section(
+        &root().join("examples"),
+        cfg.smoke,
+    ));
     eprintln!("== work-precision");
     md.push_str(&work_precision_section(&cfg, &mut svgs));
     if let Some(py) = &peers {

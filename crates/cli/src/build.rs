@@ -589,6 +589,18 @@ fn check_unique_element(cx: &Ctx, spans: &Spans, name: &Name, what: &str) -> Res
     Ok(())
 }
 
+/// The rotation matrix of an `orientation = { ... }` table (for the animation's geometry items),
+/// with the checks and messages of a body's orientation.
+///
+/// # Errors
+/// An input error located at the table (no or several forms, zero axes, bad numbers).
+pub(crate) fn orientation_matrix(
+    src: &Source,
+    o: &Spanned<OrientationSpec>,
+) -> Result<Matrix3<f64>, Error> {
+    orientation(&Ctx { src }, o).map(|(_, a)| a)
+}
+
 fn orientation(
     cx: &Ctx,
     o: &Spanned<OrientationSpec>,

@@ -19,11 +19,13 @@
 pub mod build;
 pub mod commands;
 pub mod diag;
+pub mod geometry;
 pub mod model;
 pub mod output;
 pub mod plot;
 pub mod progress;
 pub mod report;
+pub mod scene;
 pub mod table;
 
 pub use diag::{Error, ErrorKind, Location, Source};

@@ -152,6 +152,42 @@ pub struct BodySection {
     /// Initial angular velocity, body components [rad/s] (dynamic analysis).
     #[serde(default)]
     pub angular_velocity_local: Option<Vec3>,
+    /// What the animation draws for this body (derived from its points and joints if absent).
+    #[serde(default)]
+    pub geometry: Option<Spanned<Vec<Spanned<GeometrySpec>>>>,
+}
+
+/// One item of a body's `geometry = [...]`: a primitive or a mesh file, placed in the body
+/// frame (crates/cli/src/geometry.rs reads it; docs/animation.md describes it).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GeometrySpec {
+    /// "box", "cylinder", "sphere" or "mesh".
+    pub shape: Name,
+    /// Box edge lengths [m].
+    #[serde(default)]
+    pub size: Option<Vec3>,
+    /// Cylinder or sphere radius [m].
+    #[serde(default)]
+    pub radius: Option<Num>,
+    /// Cylinder length [m].
+    #[serde(default)]
+    pub length: Option<Num>,
+    /// Cylinder axis in the item's frame (default z).
+    #[serde(default)]
+    pub axis: Option<Vec3>,
+    /// Origin of the item in body coordinates [m] (default the body origin).
+    #[serde(default)]
+    pub position: Option<Vec3>,
+    /// Orientation of the item relative to the body frame (the forms of a body's orientation).
+    #[serde(default)]
+    pub orientation: Option<Spanned<OrientationSpec>>,
+    /// Mesh file (.stl or .obj), relative to the model file.
+    #[serde(default)]
+    pub file: Option<Name>,
+    /// Factor from the mesh file's coordinates to metres (default 1; 0.001 for millimetres).
+    #[serde(default)]
+    pub scale: Option<Num>,
 }
 
 /// `[[joint]]`.

@@ -14,6 +14,8 @@ use std::path::Path;
 /// of a kinematic analysis (after printing the description).
 pub fn check(path: &Path, out: &mut dyn Write) -> Result<(), Error> {
     let p = prepare(path)?;
+    // The animation's geometry (mesh files included), as `cardan run` checks it.
+    crate::geometry::load(&p.source)?;
     let model = &p.model;
     let t0 = p.loaded.analysis.as_ref().map_or(0.0, |a| a.t_start);
     let mut ws = model.workspace();

@@ -176,6 +176,8 @@ pub fn run_model_with(
              [analysis]\nkind = \"kinematic\"\nt_end = 1.0\nsteps = 100\n(`cardan check` validates a model without running it)",
         ));
     };
+    // The animation's geometry (mesh files included) is checked before any work is done.
+    let declared = crate::geometry::load(&p.source)?;
     let dir = match output {
         Some(d) => d.to_path_buf(),
         None => Path::new("out").join(&p.loaded.name),
@@ -193,7 +195,7 @@ pub fn run_model_with(
         svg,
         png: svg && flags.png,
     };
-    let files = write_outputs(out_dir, &p, kind, &mut a, plots)?;
+    let files = write_outputs(out_dir, &p, kind, &mut a, plots, &declared)?;
     a.summary.dir = dir;
     a.summary.files = files;
     Ok(RunOutcome {
@@ -265,15 +267,16 @@ struct Plots {
     png: bool,
 }
 
-/// Writes the SVG plot of a table and, with `png`, its PNG rendering.
-fn write_plot(dir: &mut OutputDir, t: &Table, png: bool) -> Result<(), Error> {
+/// Writes the SVG plot of a table and, with `png`, its PNG rendering; returns the SVG.
+fn write_plot(dir: &mut OutputDir, t: &Table, png: bool) -> Result<String, Error> {
     let svg = t.to_svg();
     if png {
         let bytes = cardan_plot::png::svg_to_png(&svg)
             .map_err(|e| Error::output(format!("{}.png: {e}", t.name)))?;
         dir.write(&format!("{}.png", t.name), bytes)?;
     }
-    dir.write(&format!("{}.svg", t.name), svg)
+    dir.write(&format!("{}.svg", t.name), &svg)?;
+    Ok(svg)
 }
 
 /// Writes the tables and `run.json` into the locked directory and renames it into place.
@@ -284,11 +287,13 @@ fn write_outputs(
     kind: &'static str,
     a: &mut Analysed,
     plots: Plots,
+    declared: &crate::geometry::Declared,
 ) -> Result<Vec<PathBuf>, Error> {
+    let mut svgs = Vec::new();
     for t in &a.tables {
         dir.write(&format!("{}.csv", t.name), t.to_csv())?;
         if plots.svg && t.name != "residual" {
-            write_plot(&mut dir, t, plots.png)?;
+            svgs.push((t.name.clone(), write_plot(&mut dir, t, plots.png)?));
         }
     }
     for (name, text) in &a.files {
@@ -308,11 +313,46 @@ fn write_outputs(
             target.display()
         ));
     }
+    write_animation(&mut dir, p, kind, a, declared, svgs)?;
     let report = report(p, kind, a, dir.files().to_vec());
     dir.write("run.json", report.to_json())?;
     let files = dir.files().iter().map(|f| target.join(f)).collect();
     dir.commit()?;
     Ok(files)
+}
+
+/// Writes `animation.glb` and `index.html` (crates/report; the scene from [`crate::scene`]),
+/// the page showing the plots `svgs` and the run summary. A scene the writers refuse (output
+/// times that single precision cannot order) is a warning, not a failure of the run.
+fn write_animation(
+    dir: &mut OutputDir,
+    p: &Prepared,
+    kind: &'static str,
+    a: &mut Analysed,
+    declared: &crate::geometry::Declared,
+    svgs: Vec<(String, String)>,
+) -> Result<(), Error> {
+    let scene = crate::scene::scene(&p.loaded.name, &p.model, &a.results, declared);
+    let glb = match cardan_report::write_glb(&scene) {
+        Ok(g) => g,
+        Err(e) => {
+            a.summary.warnings.push(format!(
+                "animation.glb and index.html were not written: {e}"
+            ));
+            return Ok(());
+        }
+    };
+    let mut files = dir.files().to_vec();
+    files.extend(["animation.glb".to_string(), "index.html".to_string()]);
+    let page = cardan_report::Page {
+        plots: svgs,
+        summary: serde_json::from_str(&report(p, kind, a, files).to_json()).ok(),
+        up: declared.up,
+    };
+    let html = cardan_report::write_html(&scene, &glb, &page)
+        .map_err(|e| Error::output(format!("index.html: {e}")))?;
+    dir.write("animation.glb", glb)?;
+    dir.write("index.html", html)
 }
 
 /// The contents of `run.json` for an analysed run whose tables are `files`.

@@ -1,0 +1,310 @@
+//! `index.html`: one self-contained page that works offline from `file://`.
+//!
+//! Its scripts, in order: the error recorder (`window.onerror`, `unhandledrejection` and a
+//! `console.error` wrapper write into `#errors`), three.js 0.160.1 as a classic script
+//! ([`classic_three`]), the data (the `.glb` in base64 and a small JSON of what the `.glb` does
+//! not hold: named points, joint axes, the view's centre and size), then the viewer
+//! (`viewer.js`): it reads the `.glb` itself (nodes, meshes with POSITION, NORMAL and indices,
+//! materials, the animation's channels), so the page shows exactly the file. Below the view:
+//! the plots (the SVGs inline) and the run summary (run.json as a table).
+//!
+//! `?t=<seconds>` sets the time and pauses; the body gets `data-ready="1"` after the first
+//! frame is drawn (for screenshot tests).
+
+use crate::base64::encode_into;
+use crate::scene::Scene;
+use std::fmt::Write as _;
+use std::sync::OnceLock;
+
+/// three.js 0.160.1, `build/three.module.min.js` of the npm package (vendor/three-0.160.1).
+const THREE_MODULE: &str = include_str!("../vendor/three-0.160.1/three.module.min.js");
+/// The page's own script.
+const VIEWER: &str = include_str!("viewer.js");
+/// The page's style.
+const STYLE: &str = include_str!("viewer.css");
+
+/// What the page shows besides the scene.
+#[derive(Debug, Clone, Default)]
+pub struct Page {
+    /// Plots: (name, SVG text), shown in this order.
+    pub plots: Vec<(String, String)>,
+    /// The run summary (run.json), shown as a table.
+    pub summary: Option<serde_json::Value>,
+    /// The direction drawn upwards (e.g. against gravity); +z if zero.
+    pub up: [f64; 3],
+}
+
+/// three.js as a classic script: the module's final `export{a as B,...};` becomes
+/// `window.THREE={B:a,...};` and the whole runs inside a strict-mode function, so its
+/// top-level names stay private. `None` if the module is not of that form (one export
+/// statement, at the end, no import) or would end the page's script element early.
+pub fn classic_three() -> Option<&'static str> {
+    static CLASSIC: OnceLock<Option<String>> = OnceLock::new();
+    CLASSIC.get_or_init(|| to_classic(THREE_MODULE)).as_deref()
+}
+
+fn to_classic(module: &str) -> Option<String> {
+    let at = module.rfind("export{")?;
+    let tail = module[at + "export{".len()..].trim_end();
+    let list = tail.strip_suffix("};").or_else(|| tail.strip_suffix('}'))?;
+    if list.contains(['{', '}', ';']) || module[..at].contains("export{") {
+        return None;
+    }
+    let mut members = Vec::new();
+    for item in list.split(',') {
+        let mut words = item.split(" as ");
+        let local = words.next()?.trim();
+        let exported = words.next().unwrap_or(local).trim();
+        let ident = |s: &str| {
+            !s.is_empty()
+                && s.chars()
+                    .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '$')
+        };
+        if !ident(local) || !ident(exported) || words.next().is_some() {
+            return None;
+        }
+        members.push(format!("{exported}:{local}"));
+    }
+    let body = &module[..at];
+    if ["import{", "import*", "import\"", "import \""]
+        .iter()
+        .any(|i| body.contains(i))
+    {
+        return None;
+    }
+    let out = format!(
+        "(function(){{\"use strict\";\n{body}\nwindow.THREE={{{}}};\n}})();",
+        members.join(",")
+    );
+    (!out.to_ascii_lowercase().contains("</script")).then_some(out)
+}
+
+/// The page for `scene` whose animation is `glb`.
+///
+/// # Errors
+/// [`crate::Error::Scene`] if the vendored three.js cannot be turned into a classic script
+/// (a build defect: a unit test checks it).
+pub fn write_html(scene: &Scene, glb: &[u8], page: &Page) -> Result<String, crate::Error> {
+    let three = classic_three().ok_or_else(|| {
+        crate::Error::Scene(
+            "the embedded three.js is not a single ES module with one export".into(),
+        )
+    })?;
+    let mut html = String::with_capacity(three.len() + glb.len() * 4 / 3 + 200_000);
+    let title = escape(&scene.name);
+    let _ = write!(
+        html,
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\
+         <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\
+         <title>{title} — cardan</title><style>{STYLE}</style>\n\
+         <script>{RECORDER}</script>\n</head><body>\n\
+         <header><h1>{title}</h1><ul id=\"errors\" hidden></ul></header>\n"
+    );
+    html.push_str(CONTROLS);
+    html.push_str("<section id=\"plots\"><h2>Plots</h2>\n");
+    for (name, svg) in &page.plots {
+        let svg = svg.trim_start();
+        let svg = match svg.strip_prefix("<?xml") {
+            Some(rest) => rest.split_once("?>").map_or(rest, |(_, s)| s),
+            None => svg,
+        };
+        let _ = writeln!(
+            html,
+            "<figure><figcaption>{}</figcaption>{svg}</figure>",
+            escape(name)
+        );
+    }
+    html.push_str("</section>\n<section id=\"summary\"><h2>Run summary</h2>\n");
+    if let Some(s) = &page.summary {
+        summary_table(s, &mut html);
+    }
+    html.push_str("</section>\n<script>");
+    html.push_str(three);
+    html.push_str("</script>\n<script id=\"glb\" type=\"application/octet-stream\">");
+    encode_into(glb, &mut html);
+    html.push_str("</script>\n<script id=\"meta\" type=\"application/json\">");
+    html.push_str(&script_safe(&meta(scene, page.up).to_string()));
+    html.push_str("</script>\n<script>");
+    html.push_str(VIEWER);
+    html.push_str("</script>\n</body></html>\n");
+    Ok(html)
+}
+
+/// Records errors into `#errors` from the very start (before three.js runs).
+const RECORDER: &str = r#"(function(){
+var list=[],shown=0;window.__cardanErrors=list;
+function show(){var e=document.getElementById('errors');if(!e)return;
+for(;shown<list.length;shown++){var li=document.createElement('li');li.textContent=list[shown];e.appendChild(li);e.hidden=false;}}
+function add(m){list.push(String(m));show();}
+window.__cardanError=add;
+window.onerror=function(msg,src,line,col){add('error: '+msg+' ('+src+':'+line+':'+col+')');};
+window.addEventListener('unhandledrejection',function(ev){add('unhandled rejection: '+ev.reason);});
+var ce=console.error;console.error=function(){add('console.error: '+Array.prototype.join.call(arguments,' '));return ce.apply(console,arguments);};
+document.addEventListener('DOMContentLoaded',show);
+})();"#;
+
+/// The 3D view and its controls.
+const CONTROLS: &str = r#"<section id="viewer">
+<div id="view"><canvas id="canvas"></canvas></div>
+<div id="controls">
+<button id="play" type="button">pause</button>
+<input id="scrub" type="range" min="0" max="1" step="any" value="0" aria-label="time">
+<span id="time">t = 0 s</span>
+<label>speed <select id="speed"><option>0.1</option><option>0.25</option><option>0.5</option><option selected>1</option><option>2</option><option>4</option></select></label>
+<label><input id="frames" type="checkbox"> body frames</label>
+<label><input id="axes" type="checkbox"> joint axes</label>
+</div>
+<details id="trails-box"><summary>trails of points</summary><div id="trails"></div></details>
+<p class="hint">drag: rotate · wheel: zoom · right-drag or shift-drag: pan</p>
+</section>
+"#;
+
+/// What the viewer needs beyond the `.glb`: points and axes per body, the view's centre,
+/// size and up direction.
+fn meta(scene: &Scene, up: [f64; 3]) -> serde_json::Value {
+    let (centre, size) = bounds(scene);
+    let up = if up.iter().all(|x| *x == 0.0) {
+        [0.0, 0.0, 1.0]
+    } else {
+        up
+    };
+    serde_json::json!({
+        "name": scene.name,
+        "centre": centre,
+        "size": size.max(scene.extent).max(1e-9),
+        "extent": scene.extent,
+        "up": up,
+        "bodies": scene.bodies.iter().map(|b| serde_json::json!({
+            "name": b.name,
+            "points": b.points.iter().map(|p| serde_json::json!({"name": p.name, "local": p.local})).collect::<Vec<_>>(),
+        })).collect::<Vec<_>>(),
+        "axes": scene.axes.iter().map(|a| serde_json::json!({
+            "name": a.name, "body": a.body, "point": a.point, "direction": a.direction,
+        })).collect::<Vec<_>>(),
+    })
+}
+
+/// Centre and diagonal of the box around every body origin and named point over the run
+/// (a fixed body: its points).
+fn bounds(scene: &Scene) -> ([f64; 3], f64) {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    let mut add = |p: [f64; 3]| {
+        for c in 0..3 {
+            lo[c] = lo[c].min(p[c]);
+            hi[c] = hi[c].max(p[c]);
+        }
+    };
+    for b in &scene.bodies {
+        if !b.moves() {
+            b.points.iter().for_each(|p| add(p.local));
+            continue;
+        }
+        for (r, q) in b.positions.iter().zip(&b.rotations) {
+            add(*r);
+            for p in &b.points {
+                add(rotate(q, p.local, r));
+            }
+        }
+    }
+    if lo[0] > hi[0] {
+        return ([0.0; 3], 1.0);
+    }
+    let centre = [0, 1, 2].map(|c| (lo[c] + hi[c]) / 2.0);
+    let size = (0..3).map(|c| (hi[c] - lo[c]).powi(2)).sum::<f64>().sqrt();
+    (centre, size)
+}
+
+/// r + A(p) s', A(p) = (2e0² − 1) I + 2(e eᵀ + e0 ẽ) with p normalized.
+pub(crate) fn rotate(p: &[f64; 4], s: [f64; 3], r: &[f64; 3]) -> [f64; 3] {
+    let n = p.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let [e0, e1, e2, e3] = p.map(|x| x / n);
+    let e = [e1, e2, e3];
+    let es = e[0] * s[0] + e[1] * s[1] + e[2] * s[2];
+    let cross = [
+        e[1] * s[2] - e[2] * s[1],
+        e[2] * s[0] - e[0] * s[2],
+        e[0] * s[1] - e[1] * s[0],
+    ];
+    [0, 1, 2].map(|c| r[c] + (2.0 * e0 * e0 - 1.0) * s[c] + 2.0 * (e[c] * es + e0 * cross[c]))
+}
+
+/// The run summary as a two-column table (nested values as compact JSON).
+fn summary_table(v: &serde_json::Value, html: &mut String) {
+    html.push_str("<table>");
+    if let Some(map) = v.as_object() {
+        for (k, val) in map {
+            let shown = match val {
+                serde_json::Value::String(s) => s.clone(),
+                serde_json::Value::Array(a) if a.iter().all(|x| x.is_string()) => a
+                    .iter()
+                    .filter_map(|x| x.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                serde_json::Value::Null => "—".into(),
+                other => other.to_string(),
+            };
+            let _ = write!(
+                html,
+                "<tr><th>{}</th><td>{}</td></tr>",
+                escape(&k.replace('_', " ")),
+                escape(&shown)
+            );
+        }
+    }
+    html.push_str("</table>\n");
+}
+
+/// Text for HTML content and attributes.
+fn escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// JSON safe inside a script element (`<` as its JSON escape).
+fn script_safe(json: &str) -> String {
+    json.replace('<', "\\u003c")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn three_becomes_a_classic_script_exporting_its_names() {
+        let c = classic_three().expect("the vendored module converts");
+        assert!(c.starts_with("(function(){\"use strict\";"));
+        assert!(c.contains("window.THREE={"));
+        for name in [
+            "WebGLRenderer:",
+            "PerspectiveCamera:",
+            "Quaternion:",
+            "BufferGeometry:",
+        ] {
+            assert!(c.contains(name), "{name}");
+        }
+        assert!(!c.contains("export{"));
+        assert!(!c.to_ascii_lowercase().contains("</script"));
+    }
+
+    #[test]
+    fn modules_of_another_form_are_refused() {
+        assert_eq!(to_classic("const a=1;"), None);
+        assert_eq!(to_classic("export{a as A};const b=2;export{b as B};"), None);
+        assert_eq!(to_classic("const a=\"</script>\";export{a as A};"), None);
+        assert_eq!(
+            to_classic("const a=1;export{a as A,a};").as_deref(),
+            Some("(function(){\"use strict\";\nconst a=1;\nwindow.THREE={A:a,a:a};\n})();")
+        );
+    }
+
+    #[test]
+    fn rotate_is_a_of_p() {
+        // A quarter turn about z takes x to y.
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        let v = rotate(&[h, 0.0, 0.0, h], [1.0, 0.0, 0.0], &[0.0, 0.0, 1.0]);
+        assert!((v[0]).abs() < 1e-15 && (v[1] - 1.0).abs() < 1e-15 && (v[2] - 1.0).abs() < 1e-15);
+    }
+}

@@ -1,0 +1,272 @@
+// cardan report viewer: reads the embedded .glb (nodes, meshes, materials, animation) and plays
+// it with three.js. No network, no modules: runs from file://.
+(function () {
+  'use strict';
+  var T = window.THREE;
+
+  // --- the .glb -----------------------------------------------------------------------------
+  function fromBase64(s) {
+    var bin = atob(s.trim());
+    var bytes = new Uint8Array(bin.length);
+    for (var i = 0; i < bin.length; i++) bytes[i] = bin.charCodeAt(i);
+    return bytes.buffer;
+  }
+
+  function parseGlb(buf) {
+    var dv = new DataView(buf);
+    if (dv.getUint32(0, true) !== 0x46546c67) throw new Error('the embedded animation is not a .glb');
+    var json = null, bin = -1, off = 12;
+    while (off + 8 <= dv.byteLength) {
+      var len = dv.getUint32(off, true), type = dv.getUint32(off + 4, true);
+      if (type === 0x4e4f534a) json = JSON.parse(new TextDecoder().decode(new Uint8Array(buf, off + 8, len)));
+      else if (type === 0x004e4942) bin = off + 8;
+      off += 8 + len;
+    }
+    if (!json) throw new Error('the .glb has no JSON chunk');
+    return { json: json, buf: buf, bin: bin };
+  }
+
+  var WIDTH = { SCALAR: 1, VEC2: 2, VEC3: 3, VEC4: 4 };
+  function accessor(g, i) {
+    var a = g.json.accessors[i], v = g.json.bufferViews[a.bufferView];
+    var off = g.bin + (v.byteOffset || 0) + (a.byteOffset || 0), n = a.count * WIDTH[a.type];
+    if (a.componentType === 5126) return new Float32Array(g.buf, off, n);
+    if (a.componentType === 5125) return new Uint32Array(g.buf, off, n);
+    if (a.componentType === 5123) return new Uint16Array(g.buf, off, n);
+    throw new Error('unsupported accessor component type ' + a.componentType);
+  }
+
+  function buildScene(g) {
+    var j = g.json;
+    var materials = (j.materials || []).map(function (m) {
+      var pbr = m.pbrMetallicRoughness || {};
+      var c = pbr.baseColorFactor || [1, 1, 1, 1];
+      return new T.MeshStandardMaterial({
+        color: new T.Color().setRGB(c[0], c[1], c[2]),
+        metalness: pbr.metallicFactor === undefined ? 1 : pbr.metallicFactor,
+        roughness: pbr.roughnessFactor === undefined ? 1 : pbr.roughnessFactor
+      });
+    });
+    var meshes = (j.meshes || []).map(function (m) {
+      var group = new T.Group();
+      m.primitives.forEach(function (p) {
+        var geo = new T.BufferGeometry();
+        geo.setAttribute('position', new T.BufferAttribute(accessor(g, p.attributes.POSITION), 3));
+        if (p.attributes.NORMAL !== undefined) geo.setAttribute('normal', new T.BufferAttribute(accessor(g, p.attributes.NORMAL), 3));
+        else geo.computeVertexNormals();
+        if (p.indices !== undefined) geo.setIndex(new T.BufferAttribute(accessor(g, p.indices), 1));
+        var mat = p.material === undefined ? new T.MeshStandardMaterial() : materials[p.material];
+        group.add(new T.Mesh(geo, mat));
+      });
+      return group;
+    });
+    var nodes = j.nodes.map(function (n) {
+      var o = new T.Group();
+      o.name = n.name || '';
+      if (n.translation) o.position.fromArray(n.translation);
+      if (n.rotation) o.quaternion.fromArray(n.rotation);
+      if (n.scale) o.scale.fromArray(n.scale);
+      if (n.mesh !== undefined) o.add(meshes[n.mesh].clone());
+      return o;
+    });
+    j.nodes.forEach(function (n, i) {
+      (n.children || []).forEach(function (c) { nodes[i].add(nodes[c]); });
+    });
+    var roots = j.scenes[j.scene || 0].nodes.map(function (i) { return nodes[i]; });
+    var tracks = [], times = null;
+    (j.animations || []).slice(0, 1).forEach(function (an) {
+      an.channels.forEach(function (ch) {
+        var s = an.samplers[ch.sampler];
+        var input = accessor(g, s.input);
+        times = times || input;
+        tracks.push({ node: nodes[ch.target.node], path: ch.target.path, times: input, values: accessor(g, s.output) });
+      });
+    });
+    return { roots: roots, tracks: tracks, times: times || new Float32Array([0]) };
+  }
+
+  // --- interpolation ----------------------------------------------------------------------
+  function findFrame(times, t) {
+    var lo = 0, hi = times.length - 1;
+    if (t <= times[0]) return [0, 0];
+    if (t >= times[hi]) return [hi, 0];
+    while (hi - lo > 1) { var mid = (lo + hi) >> 1; if (times[mid] <= t) lo = mid; else hi = mid; }
+    return [lo, (t - times[lo]) / (times[lo + 1] - times[lo])];
+  }
+  var tmp = new Float32Array(4);
+  function applyTracks(tracks, t) {
+    tracks.forEach(function (tr) {
+      var f = findFrame(tr.times, t), k = f[0], a = f[1], v = tr.values;
+      var k1 = Math.min(k + 1, tr.times.length - 1);
+      if (tr.path === 'translation') {
+        tr.node.position.set(
+          v[3 * k] + a * (v[3 * k1] - v[3 * k]),
+          v[3 * k + 1] + a * (v[3 * k1 + 1] - v[3 * k + 1]),
+          v[3 * k + 2] + a * (v[3 * k1 + 2] - v[3 * k + 2]));
+      } else if (tr.path === 'rotation') {
+        T.Quaternion.slerpFlat(tmp, 0, v, 4 * k, v, 4 * k1, a);
+        tr.node.quaternion.fromArray(tmp);
+      }
+    });
+  }
+
+  // --- page -------------------------------------------------------------------------------
+  var meta = JSON.parse(document.getElementById('meta').textContent);
+  var glb = parseGlb(fromBase64(document.getElementById('glb').textContent));
+  var built = buildScene(glb);
+  var canvas = document.getElementById('canvas');
+  var renderer = new T.WebGLRenderer({ canvas: canvas, antialias: true, preserveDrawingBuffer: true });
+  renderer.setPixelRatio(window.devicePixelRatio || 1);
+  var scene = new T.Scene();
+  scene.background = new T.Color(0xf4f5f7);
+  scene.add(new T.HemisphereLight(0xffffff, 0x888899, 2.0));
+  var sun = new T.DirectionalLight(0xffffff, 1.5);
+  scene.add(sun);
+  built.roots.forEach(function (r) { scene.add(r); });
+
+  var size = meta.size, centre = new T.Vector3().fromArray(meta.centre);
+  var up = new T.Vector3().fromArray(meta.up).normalize();
+  var camera = new T.PerspectiveCamera(40, 1, size * 1e-3, size * 1e3);
+  camera.up.copy(up);
+
+  // Body frames and joint axes (hidden until toggled).
+  var frameHelpers = [], axisHelpers = [];
+  var armLength = 0.15 * size;
+  built.roots.forEach(function (r) {
+    var h = new T.AxesHelper(armLength); h.visible = false; r.add(h); frameHelpers.push(h);
+  });
+  (meta.axes || []).forEach(function (a) {
+    var root = built.roots[a.body]; if (!root) return;
+    var d = new T.Vector3().fromArray(a.direction).normalize();
+    var p = new T.Vector3().fromArray(a.point);
+    var half = 0.2 * size;
+    var geo = new T.BufferGeometry().setFromPoints([p.clone().addScaledVector(d, -half), p.clone().addScaledVector(d, half)]);
+    var line = new T.Line(geo, new T.LineBasicMaterial({ color: 0xd4a017 }));
+    line.visible = false; root.add(line); axisHelpers.push(line);
+  });
+
+  // Trails: each named point's path over the keyframes, drawn up to the current time.
+  var trails = [];
+  var trailBox = document.getElementById('trails');
+  var palette = [0x0072b2, 0xd55e00, 0x009e73, 0xcc79a7, 0xe69f00, 0x56b4e9, 0x8c564b];
+  (meta.bodies || []).forEach(function (b, bi) {
+    var root = built.roots[bi];
+    var tr = built.tracks.filter(function (t) { return t.node === root; });
+    if (!tr.length) return;
+    b.points.forEach(function (pt) {
+      var times = built.times, n = times.length;
+      var stride = Math.max(1, Math.ceil(n / 20000));
+      var pts = [], sampleTimes = [];
+      var saved = [root.position.clone(), root.quaternion.clone()];
+      for (var k = 0; k < n; k += stride) {
+        applyTracks(tr, times[k]);
+        root.updateMatrix();
+        pts.push(new T.Vector3().fromArray(pt.local).applyMatrix4(root.matrix));
+        sampleTimes.push(times[k]);
+      }
+      root.position.copy(saved[0]); root.quaternion.copy(saved[1]);
+      var geo = new T.BufferGeometry().setFromPoints(pts);
+      var line = new T.Line(geo, new T.LineBasicMaterial({ color: palette[trails.length % palette.length] }));
+      line.visible = false; line.frustumCulled = false; scene.add(line);
+      var label = document.createElement('label');
+      var box = document.createElement('input'); box.type = 'checkbox';
+      box.addEventListener('change', function () { line.visible = box.checked; draw(); });
+      label.appendChild(box); label.appendChild(document.createTextNode(' ' + b.name + '.' + pt.name));
+      trailBox.appendChild(label);
+      trails.push({ line: line, times: sampleTimes });
+    });
+  });
+  if (!trails.length) trailBox.textContent = 'no named points on moving bodies';
+
+  // Orbit: spherical coordinates about the target, around the up direction.
+  var target = centre.clone(), radius = 1.25 * size, azimuth = 0.6, elevation = 0.45;
+  var basisX = new T.Vector3(), basisY = new T.Vector3();
+  (function () {
+    var ref = Math.abs(up.z) < 0.9 ? new T.Vector3(0, 0, 1) : new T.Vector3(1, 0, 0);
+    basisY.crossVectors(up, ref).normalize();
+    basisX.crossVectors(basisY, up).normalize();
+  })();
+  function placeCamera() {
+    var ce = Math.cos(elevation);
+    var dir = basisX.clone().multiplyScalar(ce * Math.cos(azimuth))
+      .addScaledVector(basisY, ce * Math.sin(azimuth)).addScaledVector(up, Math.sin(elevation));
+    camera.position.copy(target).addScaledVector(dir, radius);
+    camera.lookAt(target);
+    sun.position.copy(camera.position).addScaledVector(up, size);
+  }
+  var drag = null;
+  canvas.addEventListener('contextmenu', function (e) { e.preventDefault(); });
+  canvas.addEventListener('pointerdown', function (e) {
+    drag = { x: e.clientX, y: e.clientY, pan: e.button === 2 || e.shiftKey };
+    canvas.setPointerCapture(e.pointerId);
+  });
+  canvas.addEventListener('pointerup', function () { drag = null; });
+  canvas.addEventListener('pointermove', function (e) {
+    if (!drag) return;
+    var dx = e.clientX - drag.x, dy = e.clientY - drag.y;
+    drag.x = e.clientX; drag.y = e.clientY;
+    if (drag.pan) {
+      var s = radius / canvas.clientHeight;
+      var right = new T.Vector3().setFromMatrixColumn(camera.matrix, 0);
+      var camUp = new T.Vector3().setFromMatrixColumn(camera.matrix, 1);
+      target.addScaledVector(right, -dx * s).addScaledVector(camUp, dy * s);
+    } else {
+      azimuth -= dx * 0.01;
+      elevation = Math.max(-1.55, Math.min(1.55, elevation + dy * 0.01));
+    }
+    placeCamera(); draw();
+  });
+  canvas.addEventListener('wheel', function (e) {
+    e.preventDefault();
+    radius = Math.max(size * 0.01, Math.min(size * 100, radius * Math.exp(e.deltaY * 0.001)));
+    placeCamera(); draw();
+  }, { passive: false });
+
+  // Playback.
+  var t0 = built.times[0], t1 = built.times[built.times.length - 1];
+  var t = t0, playing = t1 > t0, speed = 1, last = null;
+  var playBtn = document.getElementById('play'), scrub = document.getElementById('scrub');
+  var timeLabel = document.getElementById('time');
+  scrub.min = t0; scrub.max = t1; scrub.step = 'any';
+  var query = new URLSearchParams(window.location.search).get('t');
+  if (query !== null && isFinite(parseFloat(query))) {
+    t = Math.max(t0, Math.min(t1, parseFloat(query))); playing = false;
+  }
+  function setPlaying(p) { playing = p && t1 > t0; playBtn.textContent = playing ? 'pause' : 'play'; last = null; }
+  playBtn.addEventListener('click', function () { setPlaying(!playing); if (playing) requestAnimationFrame(tick); });
+  scrub.addEventListener('input', function () { t = parseFloat(scrub.value); setPlaying(false); draw(); });
+  document.getElementById('speed').addEventListener('change', function (e) { speed = parseFloat(e.target.value); });
+  document.getElementById('frames').addEventListener('change', function (e) {
+    frameHelpers.forEach(function (h) { h.visible = e.target.checked; }); draw();
+  });
+  document.getElementById('axes').addEventListener('change', function (e) {
+    axisHelpers.forEach(function (h) { h.visible = e.target.checked; }); draw();
+  });
+
+  function resize() {
+    var w = canvas.clientWidth || 800, h = canvas.clientHeight || 480;
+    renderer.setSize(w, h, false);
+    camera.aspect = w / h; camera.updateProjectionMatrix();
+  }
+  function draw() {
+    applyTracks(built.tracks, t);
+    trails.forEach(function (tr) { tr.line.geometry.setDrawRange(0, findFrame(tr.times, t)[0] + 1); });
+    scrub.value = t;
+    timeLabel.textContent = 't = ' + t.toFixed(4) + ' s';
+    renderer.render(scene, camera);
+  }
+  function tick(now) {
+    if (!playing) return;
+    if (last !== null) {
+      t += (now - last) / 1000 * speed;
+      if (t > t1) t = t0 + (t - t0) % (t1 - t0);
+    }
+    last = now;
+    draw();
+    requestAnimationFrame(tick);
+  }
+  window.addEventListener('resize', function () { resize(); draw(); });
+  resize(); placeCamera(); setPlaying(playing); draw();
+  document.body.setAttribute('data-ready', '1');
+  if (playing) requestAnimationFrame(tick);
+})();
