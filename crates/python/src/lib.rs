@@ -21,7 +21,7 @@
 mod analysis;
 mod convert;
 
-use cardan_cli::commands::run::{analyse, run_json, RunFlags};
+use cardan_cli::commands::run::{analyse, animation, run_json, RunFlags};
 use cardan_cli::commands::{analysis_error, prepare_source};
 use cardan_cli::diag::Source;
 use cardan_cli::progress;
@@ -49,6 +49,10 @@ struct RunData {
     error: Option<ErrorData>,
     /// Wall time of the Rust side: reading, building, analysing [s].
     seconds: f64,
+    /// With `report`: `animation.glb` and `index.html`.
+    report: Option<(Vec<u8>, String)>,
+    /// Files other than the tables (name, text): a modal run's matrices.
+    files: Vec<(String, String)>,
 }
 
 /// Runs the analysis of the model text `text` (read from `path`), with the analysis `kind`
@@ -59,6 +63,7 @@ fn run_text(
     kind: Option<String>,
     options: Vec<(String, analysis::Value)>,
     strict: bool,
+    report: bool,
 ) -> RunData {
     let start = Instant::now();
     let failed = |e: &Error| RunData {
@@ -67,6 +72,8 @@ fn run_text(
         run_json: String::new(),
         error: Some(ErrorData::from(e)),
         seconds: start.elapsed().as_secs_f64(),
+        report: None,
+        files: Vec::new(),
     };
     let text = match analysis::set_analysis(&text, kind.as_deref(), &options) {
         Ok(t) => t,
@@ -86,11 +93,38 @@ fn run_text(
         strict,
         ..RunFlags::default()
     };
+    // The geometry is checked before the analysis, as `cardan run` does.
+    let declared = match report
+        .then(|| cardan_cli::geometry::load(&p.source))
+        .transpose()
+    {
+        Ok(d) => d,
+        Err(e) => return failed(&e),
+    };
     match analyse(&p, &a, &flags) {
         Err(e) => failed(&e),
-        Ok((kind, analysed)) => {
-            let names = analysed.tables.iter().map(|t| format!("{}.csv", t.name));
-            let json = run_json(&p, kind, &analysed, names.collect());
+        Ok((kind, mut analysed)) => {
+            let names: Vec<String> = analysed
+                .tables
+                .iter()
+                .map(|t| format!("{}.csv", t.name))
+                .collect();
+            let page = match &declared {
+                Some(d) => {
+                    let svgs = analysed
+                        .tables
+                        .iter()
+                        .filter(|t| a.plots && t.name != "residual")
+                        .map(|t| (t.name.clone(), t.to_svg()))
+                        .collect();
+                    match animation(&p, kind, &mut analysed, d, svgs, names.clone()) {
+                        Ok(page) => page,
+                        Err(e) => return failed(&e),
+                    }
+                }
+                None => None,
+            };
+            let json = run_json(&p, kind, &analysed, names);
             let error = analysed
                 .failure
                 .as_ref()
@@ -102,6 +136,8 @@ fn run_text(
                 run_json: json,
                 error,
                 seconds: start.elapsed().as_secs_f64(),
+                report: page,
+                files: std::mem::take(&mut analysed.files),
             }
         }
     }
@@ -109,9 +145,11 @@ fn run_text(
 
 /// Runs a model's analysis (see the module docs). Returns a dict with `kind`, `tables` (a
 /// list of `(name, title, columns, data, rows)`), `run_json`, `error` (a dict or `None`),
-/// `interrupted` (Ctrl-C) and `seconds` (the Rust side's wall time).
+/// `interrupted` (Ctrl-C), `seconds` (the Rust side's wall time), `glb` and `html` (the
+/// animation and the report page, with `report`; else `None`) and `files` (other output
+/// files as `(name, text)`: a modal run's matrices).
 #[pyfunction]
-#[pyo3(signature = (text, path, kind=None, options=None, strict=false))]
+#[pyo3(signature = (text, path, kind=None, options=None, strict=false, report=false))]
 fn run<'py>(
     py: Python<'py>,
     text: String,
@@ -119,6 +157,7 @@ fn run<'py>(
     kind: Option<String>,
     options: Option<&Bound<'py, PyDict>>,
     strict: bool,
+    report: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let options = match options {
         Some(d) => analysis::options_from_dict(d)?,
@@ -128,7 +167,7 @@ fn run<'py>(
     // A Mutex makes the receiver shareable with the GIL-free closure below.
     let recv = Mutex::new(recv);
     let worker = std::thread::spawn(move || {
-        let _ = send.send(run_text(text, path, kind, options, strict));
+        let _ = send.send(run_text(text, path, kind, options, strict, report));
     });
     let mut interrupt: Option<PyErr> = None;
     let data = loop {
@@ -172,6 +211,17 @@ fn run<'py>(
     }
     out.set_item("interrupted", interrupt.is_some())?;
     out.set_item("seconds", data.seconds)?;
+    match data.report {
+        Some((glb, html)) => {
+            out.set_item("glb", pyo3::types::PyBytes::new(py, &glb))?;
+            out.set_item("html", html)?;
+        }
+        None => {
+            out.set_item("glb", py.None())?;
+            out.set_item("html", py.None())?;
+        }
+    }
+    out.set_item("files", data.files)?;
     Ok(out)
 }
 

@@ -121,3 +121,24 @@ def test_a_bad_asmt_file_is_a_model_error_at_its_line(tmp_path):
     with pytest.raises(cardan.ModelError) as e:
         cardan.load(bad)
     assert e.value.line is not None and e.value.file.endswith("bad.asmt")
+
+
+def test_a_report_run_gives_the_commands_animation_and_page(tmp_path):
+    r = cardan.load(EXAMPLES / "slider_crank.toml").kinematics(report=True)
+    assert r.glb[:4] == b"glTF"
+    assert r.html.startswith("<!DOCTYPE html>") and "window.THREE" in r.html
+    assert r._repr_html_().startswith("<iframe srcdoc=")
+    paths = r.save_report(tmp_path)
+    assert [pathlib.Path(p).name for p in paths] == ["animation.glb", "index.html"]
+    plain = cardan.load(EXAMPLES / "slider_crank.toml").kinematics()
+    assert plain.glb is None and plain._repr_html_() is None
+    with pytest.raises(ValueError, match="report=True"):
+        plain.save_report(tmp_path)
+
+
+def test_static_and_modal_runs():
+    m = cardan.load(EXAMPLES / "fourbar_spring_modal.toml")
+    r = m.modal()
+    assert "modes" in r.tables and any(n.endswith(".mtx") for n in r.files)
+    s = m.statics()
+    assert "stability" in s.tables

@@ -77,15 +77,17 @@ class Model:
             equations=out["equations"],
         )
 
-    def run(self, kind: Optional[str] = None, strict: bool = False, **options: Any) -> Results:
+    def run(self, kind: Optional[str] = None, strict: bool = False, report: bool = False, **options: Any) -> Results:
         """Runs the analysis of the model file's ``[analysis]`` table, with ``kind``
         (``"kinematic"``, ``"inverse_dynamics"`` or ``"dynamic"``) and any ``[analysis]`` keys
         given here set over the file's (``t_end=2.0, steps=400, outputs={"points": [...]}``;
         switching the kind drops the file's keys the new kind does not take).
 
         ``strict=True`` turns warnings about doubtful results into an :class:`AnalysisError`
-        (with the complete results as ``partial``)."""
-        out = _cardan.run(self.text, self.path, kind, options or None, strict)
+        (with the complete results as ``partial``). ``report=True`` also makes the 3D
+        animation and the report page of ``cardan run`` (``Results.glb``, ``Results.html``;
+        shown inline in Jupyter, saved by :meth:`Results.save_report`)."""
+        out = _cardan.run(self.text, self.path, kind, options or None, strict, report)
         results = Results._from_native(out) if out["tables"] else None
         if out["interrupted"]:
             err = KeyboardInterrupt("cardan: analysis stopped by Ctrl-C; its results so far are in .partial")
@@ -108,6 +110,20 @@ class Model:
     def dynamics(self, **options: Any) -> Results:
         """Forward dynamics: the motion under forces, from the assembled state."""
         return self.run("dynamic", **options)
+
+    def statics(self, **options: Any) -> Results:
+        """The static equilibrium under the loads, drivers held at their value at ``time``:
+        pose, holding efforts, reactions and stability."""
+        return self.run("static", **options)
+
+    def quasi_statics(self, **options: Any) -> Results:
+        """The equilibrium at each output time, drivers following their functions."""
+        return self.run("quasi_static", **options)
+
+    def modal(self, **options: Any) -> Results:
+        """Vibration modes about the equilibrium: ``results.modes`` (frequencies, damping),
+        ``results.mode_shapes``, and the linearized model's matrices in ``results.files``."""
+        return self.run("modal", **options)
 
     def __reduce__(self) -> Any:
         return (Model, (self.text, self.path))

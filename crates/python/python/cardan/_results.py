@@ -100,18 +100,33 @@ class Results:
     ``status`` is ``"complete"``, or ``"partial"`` for the results of a run that failed or was
     stopped (attached to the exception)."""
 
-    def __init__(self, kind: str, tables: Dict[str, Table], run: Dict[str, Any], native_seconds: float = 0.0) -> None:
+    def __init__(
+        self,
+        kind: str,
+        tables: Dict[str, Table],
+        run: Dict[str, Any],
+        native_seconds: float = 0.0,
+        glb: Optional[bytes] = None,
+        html: Optional[str] = None,
+        files: Optional[Dict[str, str]] = None,
+    ) -> None:
         self.kind = kind
         self.tables = tables
         self.run = run
         #: Wall time of the Rust side of the run (reading, building, analysing) [s].
         self.native_seconds = native_seconds
+        #: The 3D animation (glTF binary) of a run with ``report=True``.
+        self.glb = glb
+        #: The report page (one self-contained HTML file) of a run with ``report=True``.
+        self.html = html
+        #: Other output files by name (a modal run's MatrixMarket matrices), as text.
+        self.files = dict(files or {})
 
     @classmethod
     def _from_native(cls, out: dict) -> "Results":
         tables = {t[0]: Table._from_native(*t) for t in out["tables"]}
         run = json.loads(out["run_json"]) if out["run_json"] else {}
-        return cls(out["kind"], tables, run, out.get("seconds", 0.0))
+        return cls(out["kind"], tables, run, out.get("seconds", 0.0), out.get("glb"), out.get("html"), dict(out.get("files", [])))
 
     @property
     def warnings(self) -> List[str]:
@@ -137,7 +152,7 @@ class Results:
             ) from None
 
     def __getattr__(self, name: str) -> Table:
-        if name.startswith("_") or name in ("tables", "kind", "run", "native_seconds"):
+        if name.startswith("_") or name in ("tables", "kind", "run", "native_seconds", "glb", "html", "files"):
             raise AttributeError(name)
         try:
             return self.tables[name]
@@ -162,11 +177,40 @@ class Results:
             with open(path, "w", encoding="utf-8", newline="") as f:
                 f.write(t.to_csv())
             paths.append(path)
+        for name, text in self.files.items():
+            path = os.path.join(directory, name)
+            with open(path, "w", encoding="utf-8", newline="") as f:
+                f.write(text)
+            paths.append(path)
         path = os.path.join(directory, "run.json")
         with open(path, "w", encoding="utf-8") as f:
             json.dump(self.run, f, indent=2)
         paths.append(path)
         return paths
+
+    def save_report(self, directory: "os.PathLike[str] | str") -> List[str]:
+        """Writes ``animation.glb`` and ``index.html`` (a run with ``report=True``) into
+        ``directory``; returns the paths."""
+        if self.glb is None or self.html is None:
+            raise ValueError("this run made no report: run it with report=True")
+        os.makedirs(directory, exist_ok=True)
+        glb, page = os.path.join(directory, "animation.glb"), os.path.join(directory, "index.html")
+        with open(glb, "wb") as f:
+            f.write(self.glb)
+        with open(page, "w", encoding="utf-8") as f:
+            f.write(self.html)
+        return [glb, page]
+
+    def _repr_html_(self) -> Optional[str]:
+        """Jupyter: the report page (3D view, plots, summary) inline, for a run with
+        ``report=True``; else the default representation."""
+        if self.html is None:
+            return None
+        import html as html_escape
+
+        doc = html_escape.escape(self.html, quote=True)
+        return f'<iframe srcdoc="{doc}" style="width:100%;height:720px;border:0" sandbox="allow-scripts"></iframe>'
+
 
     def to_pandas(self, table: Optional[str] = None) -> Any:
         """One table as a DataFrame, or all of them as a dict of DataFrames (needs pandas)."""
@@ -204,4 +248,4 @@ class Results:
         return f"<cardan.Results {self.kind} ({self.status}): {len(self.t)} times, tables {', '.join(self.tables)}>"
 
     def __reduce__(self) -> Any:
-        return (Results, (self.kind, self.tables, self.run, self.native_seconds))
+        return (Results, (self.kind, self.tables, self.run, self.native_seconds, self.glb, self.html, self.files))

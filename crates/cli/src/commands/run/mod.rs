@@ -332,6 +332,31 @@ fn write_animation(
     declared: &crate::geometry::Declared,
     svgs: Vec<(String, String)>,
 ) -> Result<(), Error> {
+    let mut files = dir.files().to_vec();
+    files.extend(["animation.glb".to_string(), "index.html".to_string()]);
+    match animation(p, kind, a, declared, svgs, files)? {
+        Some((glb, html)) => {
+            dir.write("animation.glb", glb)?;
+            dir.write("index.html", html)
+        }
+        None => Ok(()),
+    }
+}
+
+/// The animation (`animation.glb`) and the report page (`index.html`) of an analysed run whose
+/// output files are `files`, the page showing the plots `svgs` (name, SVG) and the run
+/// summary. `None` (with a warning in the summary) when the scene cannot be written as glTF.
+///
+/// # Errors
+/// The page cannot be written.
+pub fn animation(
+    p: &Prepared,
+    kind: &'static str,
+    a: &mut Analysed,
+    declared: &crate::geometry::Declared,
+    svgs: Vec<(String, String)>,
+    files: Vec<String>,
+) -> Result<Option<(Vec<u8>, String)>, Error> {
     let scene = crate::scene::scene(&p.loaded.name, &p.model, &a.results, declared);
     let glb = match cardan_report::write_glb(&scene) {
         Ok(g) => g,
@@ -339,11 +364,9 @@ fn write_animation(
             a.summary.warnings.push(format!(
                 "animation.glb and index.html were not written: {e}"
             ));
-            return Ok(());
+            return Ok(None);
         }
     };
-    let mut files = dir.files().to_vec();
-    files.extend(["animation.glb".to_string(), "index.html".to_string()]);
     let page = cardan_report::Page {
         plots: svgs,
         summary: serde_json::from_str(&report(p, kind, a, files).to_json()).ok(),
@@ -351,8 +374,7 @@ fn write_animation(
     };
     let html = cardan_report::write_html(&scene, &glb, &page)
         .map_err(|e| Error::output(format!("index.html: {e}")))?;
-    dir.write("animation.glb", glb)?;
-    dir.write("index.html", html)
+    Ok(Some((glb, html)))
 }
 
 /// The contents of `run.json` for an analysed run whose tables are `files`.
