@@ -273,18 +273,7 @@ impl Dynamics<'_> {
                 }
             }
         }
-        let residual = self.scaled_residual(&state, &lambda, 1.0);
-        let (eigenvalues, stability, soft_directions) = self.stability(&state, &lambda)?;
-        Ok(Equilibrium {
-            state,
-            lambda,
-            iterations,
-            load_steps: steps,
-            residual,
-            eigenvalues,
-            stability,
-            soft_directions,
-        })
+        self.equilibrium(state, lambda, iterations, steps)
     }
 
     /// Static analysis from the model's drawn poses: [`static_equilibrium`] at
@@ -406,13 +395,24 @@ impl Dynamics<'_> {
                 }
             }
         }
+        self.equilibrium(state, lambda, iterations, 1)
+    }
+
+    /// The [`Equilibrium`] found at `state` with multipliers `lambda`: its residual and stability.
+    fn equilibrium(
+        &mut self,
+        state: State,
+        lambda: Vec<f64>,
+        iterations: usize,
+        load_steps: usize,
+    ) -> Result<Equilibrium, DynamicsError> {
         let residual = self.scaled_residual(&state, &lambda, 1.0);
         let (eigenvalues, stability, soft_directions) = self.stability(&state, &lambda)?;
         Ok(Equilibrium {
             state,
             lambda,
             iterations,
-            load_steps: 1,
+            load_steps,
             residual,
             eigenvalues,
             stability,
