@@ -6,8 +6,8 @@
 //!    says so and the benchmarks run without peers (the report says why).
 //! 3. Runs `target/release/cardan-bench`, which measures kinematic frames, scaling to 10,000
 //!    bodies, work-precision of the dynamics benchmark problems, Newton tolerance, and (with
-//!    peers) Exudyn / OndselSolver side by side, then writes the marked performance section of
-//!    `docs/benchmarks.md` and the SVG plots under `docs/benchmarks/`.
+//!    peers) Exudyn / OndselSolver side by side, then writes the marked section of
+//!    `docs/performance.md` and the SVG plots under `docs/performance/`.
 //!
 //! `--smoke` runs a few iterations of everything (about half a minute after the build) and writes
 //! to `target/bench/` instead of `docs/`, so CI can prove that the benchmarks build and run.
@@ -78,8 +78,8 @@ pub fn run(smoke: bool, peers: bool) -> Result<(), String> {
         (dir.join("benchmarks-smoke.md"), dir.join("plots"))
     } else {
         (
-            root.join("docs/benchmarks.md"),
-            root.join("docs/benchmarks"),
+            root.join("docs/performance.md"),
+            root.join("docs/performance"),
         )
     };
     let mut cmd = Command::new(root.join("target/release/cardan-bench"));

@@ -3,7 +3,7 @@
 //! - `cargo xtask oracle`: regenerate `oracle/data/` with the CasADi oracle (see `oracle/README.md`).
 //! - `cargo xtask oracle --check`: fail when the committed `oracle/data/` are stale.
 //! - `cargo xtask stress [--quick]`: the numerical stability stress suite (docs/stress.md).
-//! - `cargo xtask bench [--smoke] [--peers]`: performance benchmarks → docs/benchmarks.md.
+//! - `cargo xtask bench [--smoke] [--peers]`: performance benchmarks → docs/performance.md.
 //! - `cargo xtask bench --peers-only [kinematics|slider-crank|chain ...]`: the peer comparisons
 //!   alone, tables to stdout.
 //! - `cargo xtask docs`: regenerate the tables of docs/ that come from code (the joint table).
@@ -27,7 +27,7 @@ tasks:
   oracle --check    regenerate into target/ and fail if oracle/data/ differs (CI)
   stress            stress suites with many cases (release), 10^6-frame and 10^5-step runs
   stress --quick    the stress subset that cargo test --workspace runs (CI)
-  bench             performance benchmarks; writes docs/benchmarks.md (performance section) and plots
+  bench             performance benchmarks; writes docs/performance.md (generated section) and plots
   bench --smoke     a few iterations of every benchmark (CI); writes target/bench/
   bench --peers     also Exudyn and OndselSolver side by side (PyPI, venv in target/)
   bench --peers-only [NAME ...]

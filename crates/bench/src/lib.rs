@@ -7,7 +7,7 @@
 //! - [`svg`]: minimal log-log line plots.
 //!
 //! The binary `cardan-bench` (src/main.rs) runs the measurements and writes the report section of
-//! `docs/benchmarks.md` and the plots under `docs/benchmarks/`; `benches/frame.rs` is a criterion
+//! the generated section of `docs/performance.md` and the plots under `docs/performance/`; `benches/frame.rs` is a criterion
 //! benchmark of the same kinematic frames.
 
 pub mod animation;

@@ -1,7 +1,7 @@
 //! `cardan-bench`: runs the benchmarks and writes the performance report.
 //!
 //! ```text
-//! cardan-bench [--smoke] [--report docs/benchmarks.md] [--plots docs/benchmarks] [--peers PYTHON]
+//! cardan-bench [--smoke] [--report docs/performance.md] [--plots docs/performance] [--peers PYTHON]
 //! cardan-bench --point <kin|dyn> <chain|ladder> N     (one scaling point; used internally)
 //! cardan-bench --profile <frame EXAMPLE N | kin-chain N FRAMES | chain N STEPS | chain-dopri5 N RTOL>
 //!     (one run for a profiler)
@@ -110,7 +110,7 @@ fn main() {
     };
     let started = Instant::now();
     let mut md = String::new();
-    let _ = writeln!(md, "{BEGIN}\n## Performance\n");
+    let _ = writeln!(md, "{BEGIN}\n## Measurements\n");
     let _ = writeln!(
         md,
         "Written by `cargo xtask bench{}` ({}); do not edit by hand. Machine: {}. \
@@ -124,9 +124,6 @@ fn main() {
         },
         measure::machine()
     );
-    // Hand-written notes (targets, optimizations with their measured gains) go here, read at
-    // the end of the run.
-    md.push_str("@@NOTES@@");
     let mut svgs: Vec<(String, String)> = Vec::new();
     eprintln!("== kinematic frames of the example mechanisms");
     md.push_str(&frames_section(&cfg));
@@ -161,10 +158,6 @@ fn main() {
         "Total benchmark time: {:.0} s.\n\n{END}",
         started.elapsed().as_secs_f64()
     );
-    let notes = std::fs::read_to_string(root().join("bench/report-notes.md"))
-        .map(|n| format!("{}\n\n", n.trim_end()))
-        .unwrap_or_default();
-    let md = md.replace("@@NOTES@@", &notes);
     if let Some(dir) = &plots {
         std::fs::create_dir_all(dir).expect("plot directory");
         for (name, text) in &svgs {
@@ -189,7 +182,7 @@ fn write_section(path: &Path, section: &str) {
                 &old[b + END.len()..]
             )
         }
-        _ if old.trim().is_empty() => format!("# Benchmarks\n\n{}\n", section.trim_end()),
+        _ if old.trim().is_empty() => format!("# Performance\n\n{}\n", section.trim_end()),
         _ => format!("{}\n\n{}\n", old.trim_end(), section.trim_end()),
     };
     if let Some(dir) = path.parent() {
@@ -604,7 +597,7 @@ fn tolerance_section(cfg: &Cfg, svgs: &mut Vec<(String, String)>) -> String {
             &series,
         ),
     ));
-    md.push_str("\n![Newton tolerance](benchmarks/newton_tolerance.svg)\n\n");
+    md.push_str("\n![Newton tolerance](performance/newton_tolerance.svg)\n\n");
     md
 }
 
@@ -869,7 +862,7 @@ fn scaling_section(cfg: &Cfg, svgs: &mut Vec<(String, String)>) -> String {
          frame, *per iteration* the step time by the Newton iterations per step: the cost of one \
          unit of the solver's work.\n\n\
          | model | kinematic frame | … per factorization | gen-α M step | … per iteration | DOPRI5 step | peak memory (kin) | peak memory (dyn) |\n\
-         |---|---:|---:|---:|---:|---:|---:|---:|\n{fits}\n![Scaling](benchmarks/scaling.svg)\n"
+         |---|---:|---:|---:|---:|---:|---:|---:|\n{fits}\n![Scaling](performance/scaling.svg)\n"
     );
     svgs.push((
         "scaling.svg".into(),
@@ -1147,7 +1140,7 @@ fn work_precision_section(cfg: &Cfg, svgs: &mut Vec<(String, String)>) -> String
                 ],
             ),
         ));
-        let _ = writeln!(md, "\n![{}](benchmarks/wp_{stem}.svg)\n", pr.title);
+        let _ = writeln!(md, "\n![{}](performance/wp_{stem}.svg)\n", pr.title);
         eprintln!("work-precision {} done", pr.file);
     }
     let _ = writeln!(

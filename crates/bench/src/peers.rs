@@ -9,7 +9,7 @@
 // generalized-α (mass-only and tangent iteration matrix) and DOPRI5 runs reaching Exudyn's max
 // position error), `chain` (N-link spherical chain vs Exudyn).
 //
-// To rerun the peers alone (no other benchmark, docs/benchmarks.md untouched; the markdown goes
+// To rerun the peers alone (no other benchmark, docs/performance.md untouched; the markdown goes
 // to stdout, progress to stderr):
 //
 //   cargo build --release -p cardan-bench

@@ -1,7 +1,7 @@
 //! Shared by the `benchmark_*` tests: load an example model file through cardan-cli's library
 //! (so the committed file is what is tested), run it with the file's settings or with other
 //! integrator settings, read the reference tables in `tests/data/benchmarks/` (subsampled copies
-//! of `shared/benchmarks/*.csv`), and print one row of the docs/benchmarks.md tables.
+//! of `shared/benchmarks/*.csv`), and print one row of the docs/validation.md tables.
 //!
 //! Run with `--nocapture` to see the rows:
 //! `cargo test -p cardan-tests --release --test benchmark_a01_pendulum -- --nocapture`.
