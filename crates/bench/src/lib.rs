@@ -11,6 +11,7 @@
 //! benchmark of the same kinematic frames.
 
 pub mod animation;
+pub mod genalpha;
 pub mod measure;
 pub mod models;
 pub mod svg;
