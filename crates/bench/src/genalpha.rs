@@ -183,7 +183,7 @@ pub fn slider_crank(args: &[String], root: &std::path::Path) {
         .filter(|l| !l.trim().is_empty() && !l.starts_with('#'))
         .filter_map(|l| {
             let v: Vec<f64> = l.split(',').filter_map(|x| x.trim().parse().ok()).collect();
-            (v.len() >= 3).then(|| [v[0], v[1], v[2]])
+            v.get(..3).map(|r| [r[0], r[1], r[2]])
         })
         .filter(|r| r[0] <= t_end + 1e-9)
         .collect();

@@ -378,7 +378,7 @@ impl Kkt {
             top_stale: false,
             tangent: false,
             schur: None,
-            path: SolvePath::new(),
+            path: SolvePath::default(),
             factored: None,
             rhs: vec![0.0; size],
             sol: vec![0.0; size],

@@ -13,10 +13,11 @@
 use super::SCHUR_BACKOFF;
 
 /// Which factorization [`Kkt::factor`](super::Kkt::factor) uses.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub(crate) enum KktSolve {
     /// Schur complement when the top-left is block diagonal, with the LU as fallback; LU
     /// otherwise.
+    #[default]
     Auto,
     /// Always the LU of the full matrix.
     #[allow(dead_code)]
@@ -27,8 +28,9 @@ pub(crate) enum KktSolve {
     Schur,
 }
 
-/// The path policy: the forced mode and the back-off state of the Schur path.
-#[derive(Debug, Clone)]
+/// The path policy: the forced mode and the back-off state of the Schur path (`Default`: the
+/// automatic choice, nothing refused yet).
+#[derive(Debug, Clone, Default)]
 pub(crate) struct SolvePath {
     mode: KktSolve,
     /// The Schur solver refused the mass blocks (see the module docs).
@@ -40,15 +42,6 @@ pub(crate) struct SolvePath {
 }
 
 impl SolvePath {
-    pub fn new() -> Self {
-        Self {
-            mode: KktSolve::Auto,
-            mass_refused: false,
-            refusals: 0,
-            skip_left: 0,
-        }
-    }
-
     pub fn set_mode(&mut self, mode: KktSolve) {
         self.mode = mode;
     }
@@ -85,5 +78,39 @@ impl SolvePath {
                 self.skip_left = SCHUR_BACKOFF.1;
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn three_refusals_skip_the_schur_path_for_fifteen_factorizations() {
+        let mut p = SolvePath::default();
+        for _ in 0..SCHUR_BACKOFF.0 {
+            assert!(p.try_schur(false));
+            p.refused(false);
+        }
+        let skipped = (0..100).take_while(|_| !p.try_schur(false)).count();
+        assert_eq!(skipped, SCHUR_BACKOFF.1);
+        // An accepted S resets the count: two more refusals do not back off.
+        p.accepted();
+        for _ in 0..SCHUR_BACKOFF.0 - 1 {
+            p.refused(false);
+            assert!(p.try_schur(false));
+        }
+    }
+
+    #[test]
+    fn a_refused_mass_block_sends_mass_only_matrices_to_the_lu() {
+        let mut p = SolvePath::default();
+        p.refused(true);
+        assert!(!p.try_schur(false));
+        assert!(p.try_schur(true), "a tangent matrix has other blocks");
+        p.set_mode(KktSolve::Lu);
+        assert!(!p.try_schur(true));
+        p.set_mode(KktSolve::Schur);
+        assert!(p.strict());
     }
 }
