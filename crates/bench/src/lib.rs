@@ -3,6 +3,8 @@
 //! - [`models`]: generated mechanisms of any size (driven revolute chains, closed-loop ladders,
 //!   spherical-joint chains) and the example files of `examples/`.
 //! - [`animation`]: writing the animation and the report at several sizes (cardan-report).
+//! - [`genalpha`]: generalized-α over a developing motion (chain cost and iterations per slice of
+//!   a run, slider-crank error), `cardan-bench --genalpha` / `--genalpha-sc`.
 //! - [`measure`]: timing helpers (median of repeated batches), peak memory (`VmHWM`).
 //! - [`svg`]: minimal log-log line plots.
 //!
@@ -11,6 +13,7 @@
 //! benchmark of the same kinematic frames.
 
 pub mod animation;
+pub mod genalpha;
 pub mod measure;
 pub mod models;
 pub mod svg;

@@ -6,6 +6,9 @@
 //! cardan-bench --profile <frame EXAMPLE N | kin-chain N FRAMES | chain N STEPS | chain-dopri5 N RTOL>
 //!     (one run for a profiler)
 //! cardan-bench --peers-only PYTHON [--smoke] [kinematics|slider-crank|chain ...]  (peers to stdout)
+//! cardan-bench --genalpha N T_END H [mass|tangent] [INTERVALS] [--no-reference]
+//!     (generalized-α on the N-link chain: cost, iterations and error per slice of the run)
+//! cardan-bench --genalpha-sc H T_END [RHO] [noproj] [mass]  (generalized-α on the slider-crank)
 //! cardan-bench --drivers [--smoke]    (the driver-function section alone, to stdout)
 //! cardan-bench --animation [--smoke]  (the animation and report section alone, to stdout)
 //! ```
@@ -78,6 +81,14 @@ fn main() {
             cardan_bench::animation::section(smoke, batch, batches),
             cardan_bench::animation::examples_section(&root().join("examples"), smoke)
         );
+        return;
+    }
+    if args.first().map(String::as_str) == Some("--genalpha") {
+        cardan_bench::genalpha::main(&args[1..]);
+        return;
+    }
+    if args.first().map(String::as_str) == Some("--genalpha-sc") {
+        cardan_bench::genalpha::slider_crank(&args[1..], &root());
         return;
     }
     if args.first().map(String::as_str) == Some("--profile") {

@@ -40,6 +40,10 @@ use cardan_mechanism::{BodyId, Model};
 use cardan_solver::{AutoSolver, LinearSolver, SchurSolver, SolverError, SparsityPattern};
 use std::ops::Range;
 
+mod path;
+pub(crate) use path::KktSolve;
+use path::SolvePath;
+
 /// One joint, driver or coupler: its rows, bodies.
 #[derive(Debug, Clone)]
 pub(crate) struct Element {
@@ -223,21 +227,6 @@ pub(crate) fn refine_ratio_for(rtol: f64) -> f64 {
     (f64::EPSILON / (1e-3 * rtol)).min(SCHUR_REFINE_RATIO)
 }
 
-/// Which factorization [`Kkt::factor`] uses.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum KktSolve {
-    /// Schur complement when the top-left is block diagonal, with the LU as fallback; LU
-    /// otherwise.
-    Auto,
-    /// Always the LU of the full matrix.
-    #[allow(dead_code)]
-    Lu,
-    /// The Schur complement whenever the top-left is block diagonal, and no fallback (its error
-    /// is returned); LU otherwise.
-    #[allow(dead_code)]
-    Schur,
-}
-
 /// The factorization held for [`Kkt::solve`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Factored {
@@ -280,15 +269,8 @@ pub(crate) struct Kkt {
     /// add_top added terms since the last set_mass (the top-left is in the slots).
     tangent: bool,
     schur: Option<SchurSolver>,
-    /// The Schur solver refused the mass blocks (condition beyond 1e8: a point mass with a
-    /// negligible inertia). The owner's mass matrix is constant, so later mass-only
-    /// factorizations go to the LU directly (in `Auto`).
-    mass_refused: bool,
-    /// Consecutive factorizations whose S the Schur solver refused (small pivot ratio), and
-    /// the factorizations left before it is tried again (see [`SCHUR_BACKOFF`]).
-    refusals: usize,
-    skip_left: usize,
-    mode: KktSolve,
+    /// Schur complement or LU, and the back-off from the Schur path ([`path`]).
+    path: SolvePath,
     factored: Option<Factored>,
     pub rhs: Vec<f64>,
     pub sol: Vec<f64>,
@@ -396,10 +378,7 @@ impl Kkt {
             top_stale: false,
             tangent: false,
             schur: None,
-            mass_refused: false,
-            refusals: 0,
-            skip_left: 0,
-            mode: KktSolve::Auto,
+            path: SolvePath::default(),
             factored: None,
             rhs: vec![0.0; size],
             sol: vec![0.0; size],
@@ -452,7 +431,7 @@ impl Kkt {
     /// Forces a factorization path (tests and measurements).
     #[allow(dead_code)]
     pub fn set_solve_path(&mut self, mode: KktSolve) {
-        self.mode = mode;
+        self.path.set_mode(mode);
         self.factored = None;
     }
 
@@ -579,21 +558,16 @@ impl Kkt {
         }
         self.factorizations += 1;
         self.factored = None;
-        let auto = self.mode == KktSolve::Auto;
-        let skip = self.mode == KktSolve::Lu
-            || (auto && self.mass_refused && !self.tangent)
-            || (auto && self.skip_left > 0);
-        self.skip_left = self.skip_left.saturating_sub(1);
-        if !skip && self.schur.is_some() && self.schur_applies() {
+        if self.path.try_schur(self.tangent) && self.schur.is_some() && self.schur_applies() {
             let schur = self.schur.as_mut().expect("checked");
             match schur.factor(&self.blocks, &self.jac) {
                 Ok(()) => {
-                    self.refusals = 0;
+                    self.path.accepted();
                     self.factored = Some(Factored::Schur);
                     self.remember_factored();
                     return Ok(());
                 }
-                Err(e) if self.mode == KktSolve::Schur => {
+                Err(e) if self.path.strict() => {
                     // Rows of S are active rows: KKT rows n + a.
                     return Err(match e {
                         SolverError::Singular {
@@ -610,16 +584,10 @@ impl Kkt {
                 Err(e) => {
                     self.fallbacks += 1;
                     // A block failure lists no equations.
-                    if !self.tangent
-                        && matches!(&e, SolverError::Singular { dependent_equations } if dependent_equations.is_empty())
-                    {
-                        self.mass_refused = true;
-                    } else {
-                        self.refusals += 1;
-                        if self.refusals >= SCHUR_BACKOFF.0 {
-                            self.skip_left = SCHUR_BACKOFF.1;
-                        }
-                    }
+                    self.path.refused(
+                        !self.tangent
+                            && matches!(&e, SolverError::Singular { dependent_equations } if dependent_equations.is_empty()),
+                    );
                 }
             }
         }

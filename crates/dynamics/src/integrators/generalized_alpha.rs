@@ -317,6 +317,10 @@ fn attempt(
 /// state, is solved by iterative refinement with the factored nearby matrix K̃ (residual with
 /// the exact K, correction with K̃⁻¹), which converges at the rate ‖K̃⁻¹(K − K̃)‖; a fresh
 /// factorization when it does not contract fast enough.
+///
+/// Called right after a step is accepted: the bodies and Φ_v in the solver are those of the
+/// step's last iterate, which is `b.s` (`attempt` converges on the residual it evaluated
+/// there), so neither is evaluated again.
 fn project_velocities(d: &mut Dynamics, b: &mut Buf) -> Result<(), DynamicsError> {
     if b.factor == Factor::None {
         d.project_velocities(&mut b.s)?;
@@ -325,9 +329,7 @@ fn project_velocities(d: &mut Dynamics, b: &mut Buf) -> Result<(), DynamicsError
     }
     let model = d.model;
     let t = b.s.t;
-    d.sync(&b.s);
     let kkt = d.kkt.as_mut().expect("prepared");
-    kkt.eval_jacobian(model, &d.elements, &d.bodies, t);
     eval_rows(
         model,
         &d.elements,
@@ -550,10 +552,10 @@ pub(crate) fn run(
                 }
                 h *= 0.5;
             }
-            // Accept.
+            // Accept. The bodies hold the trial already: `attempt` converged on the residual
+            // it evaluated there.
             let t_before = b.s.t;
             std::mem::swap(&mut b.s, &mut b.t1);
-            d.sync(&b.s);
             d.accept_turns();
             if (b.s.t - target).abs() <= 1e-12 * (1.0 + target.abs()) {
                 b.s.t = target;
