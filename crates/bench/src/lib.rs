@@ -3,6 +3,7 @@
 //! - [`models`]: generated mechanisms of any size (driven revolute chains, closed-loop ladders,
 //!   spherical-joint chains) and the example files of `examples/`.
 //! - [`animation`]: writing the animation and the report at several sizes (cardan-report).
+//! - [`large`]: `cardan check` and run setup of 10³–10⁵-body chains (time, peak memory).
 //! - [`measure`]: timing helpers (median of repeated batches), peak memory (`VmHWM`).
 //! - [`svg`]: minimal log-log line plots.
 //!
@@ -11,6 +12,7 @@
 //! benchmark of the same kinematic frames.
 
 pub mod animation;
+pub mod large;
 pub mod measure;
 pub mod models;
 pub mod svg;

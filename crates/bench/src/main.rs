@@ -8,6 +8,7 @@
 //! cardan-bench --peers-only PYTHON [--smoke] [kinematics|slider-crank|chain ...]  (peers to stdout)
 //! cardan-bench --drivers [--smoke]    (the driver-function section alone, to stdout)
 //! cardan-bench --animation [--smoke]  (the animation and report section alone, to stdout)
+//! cardan-bench --large [--smoke]      (check and run setup of 10³–10⁵-body chains, to stdout)
 //! ```
 //!
 //! Usually run through `cargo xtask bench [--smoke] [--peers]`.
@@ -54,6 +55,17 @@ fn main() {
         let n: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(10);
         let smoke = args.iter().any(|a| a == "--smoke");
         scaling_point(&kind, &family, n, smoke);
+        return;
+    }
+    if args.first().map(String::as_str) == Some("--large-point") {
+        cardan_bench::large::point(&args[1..]);
+        return;
+    }
+    if args.first().map(String::as_str) == Some("--large") {
+        println!(
+            "{}",
+            cardan_bench::large::section(args.iter().any(|a| a == "--smoke"))
+        );
         return;
     }
     if args.first().map(String::as_str) == Some("--peers-only") {
@@ -136,6 +148,8 @@ fn main() {
     md.push_str(&tolerance_section(&cfg, &mut svgs));
     eprintln!("== scaling");
     md.push_str(&scaling_section(&cfg, &mut svgs));
+    eprintln!("== large models");
+    md.push_str(&cardan_bench::large::section(cfg.smoke));
     eprintln!("== animation and report");
     md.push_str(&cardan_bench::animation::section(
         cfg.smoke,
