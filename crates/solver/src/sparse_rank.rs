@@ -267,11 +267,12 @@ impl Elimination {
                 continue;
             }
             self.l[i].push((k, mult));
-            for idx in 0..self.accepted[k].entries.len() {
-                let (c, v) = self.accepted[k].entries[idx];
+            let entries = std::mem::take(&mut self.accepted[k].entries);
+            for &(c, v) in &entries {
                 self.touch(c, &mut heap);
                 self.w[c] -= mult * v;
             }
+            self.accepted[k].entries = entries;
             self.w[piv] = 0.0;
         }
         self.heap = heap;
