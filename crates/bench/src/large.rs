@@ -113,8 +113,10 @@ fn run_child(what: &str, path: &Path) -> Option<(f64, f64)> {
 
 /// The markdown section: a table of sizes and the fitted exponents.
 pub fn section(smoke: bool) -> String {
+    // `cardan run` of the 10,000-body chain took over 8 minutes on the loaded 2-core VM (a
+    // super-linear step after the setup, not yet found): the smoke run stays at 10³.
     let sizes: &[usize] = if smoke {
-        &[1_000, 10_000]
+        &[1_000]
     } else {
         &[1_000, 10_000, 100_000]
     };

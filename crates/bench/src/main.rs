@@ -148,8 +148,6 @@ fn main() {
     md.push_str(&tolerance_section(&cfg, &mut svgs));
     eprintln!("== scaling");
     md.push_str(&scaling_section(&cfg, &mut svgs));
-    eprintln!("== large models");
-    md.push_str(&cardan_bench::large::section(cfg.smoke));
     eprintln!("== animation and report");
     md.push_str(&cardan_bench::animation::section(
         cfg.smoke,
