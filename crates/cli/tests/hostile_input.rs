@@ -5,7 +5,7 @@
 //! committed. The limits are `cardan_cli::model::{MAX_FILE_BYTES, MAX_BODIES, MAX_ELEMENTS,
 //! MAX_ARRAY_LEN, MAX_NESTING}` (docs/model-format.md, "Limits").
 
-use cardan_cli::model::{MAX_BODIES, MAX_ELEMENTS, MAX_FILE_BYTES};
+use cardan_cli::model::{MAX_BODIES, MAX_FILE_BYTES};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
@@ -75,7 +75,6 @@ fn file_over_the_size_limit_is_refused_before_reading() {
 fn million_body_tables_are_refused_before_parsing() {
     // 10⁶ [[body]] tables fit in the size limit (about 18 MB); the header count stops them
     // before the parser.
-    assert!(1_000_000 > MAX_BODIES + 4 * MAX_ELEMENTS);
     let mut text = String::from("[model]\nname = \"many\"\n");
     for k in 0..1_000_000 {
         text.push_str(&format!("[[body]]\nname=\"{k}\"\n"));

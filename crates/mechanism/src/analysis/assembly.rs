@@ -30,15 +30,18 @@ use cardan_solver::{
     SolverError, SparseMinNorm, SparsityPattern, Tolerances, SPARSE_RANK_MIN_UNKNOWNS,
 };
 
+/// A Newton solve's outcome: its report and the rank of the last factorization.
+type Solved = Result<Option<(NewtonReport, Option<usize>)>, SolverError>;
+
 /// Newton with a minimum-norm linear solver: `Err` only when the solver cannot be set up; the
-/// inner result is the solve's (report and the rank of the last factorization).
+/// inner result is the solve's.
 fn min_norm_newton<S: LinearSolver>(
     pattern: &SparsityPattern,
     solver: S,
     options: NewtonOptions,
     sys: &mut impl NonlinearSystem,
     x: &mut [f64],
-) -> Result<Result<Option<(NewtonReport, Option<usize>)>, SolverError>, SolverError> {
+) -> Result<Solved, SolverError> {
     let mut newton = Newton::new(pattern, solver, options)?;
     let r = newton.solve(sys, x);
     Ok(r.map(|rep| Some((rep, newton.linear_solver().rank()))))
