@@ -5,6 +5,7 @@
 //! - [`animation`]: writing the animation and the report at several sizes (cardan-report).
 //! - [`genalpha`]: generalized-α over a developing motion (chain cost and iterations per slice of
 //!   a run, slider-crank error), `cardan-bench --genalpha` / `--genalpha-sc`.
+//! - [`large`]: `cardan check` and run setup of 10³–10⁵-body chains (time, peak memory).
 //! - [`measure`]: timing helpers (median of repeated batches), peak memory (`VmHWM`).
 //! - [`svg`]: minimal log-log line plots.
 //!
@@ -14,6 +15,7 @@
 
 pub mod animation;
 pub mod genalpha;
+pub mod large;
 pub mod measure;
 pub mod models;
 pub mod svg;

@@ -11,6 +11,7 @@
 //! cardan-bench --genalpha-sc H T_END [RHO] [noproj] [mass]  (generalized-α on the slider-crank)
 //! cardan-bench --drivers [--smoke]    (the driver-function section alone, to stdout)
 //! cardan-bench --animation [--smoke]  (the animation and report section alone, to stdout)
+//! cardan-bench --large [--smoke]      (check and run setup of 10³–10⁵-body chains, to stdout)
 //! ```
 //!
 //! Usually run through `cargo xtask bench [--smoke] [--peers]`.
@@ -57,6 +58,17 @@ fn main() {
         let n: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(10);
         let smoke = args.iter().any(|a| a == "--smoke");
         scaling_point(&kind, &family, n, smoke);
+        return;
+    }
+    if args.first().map(String::as_str) == Some("--large-point") {
+        cardan_bench::large::point(&args[1..]);
+        return;
+    }
+    if args.first().map(String::as_str) == Some("--large") {
+        println!(
+            "{}",
+            cardan_bench::large::section(args.iter().any(|a| a == "--smoke"))
+        );
         return;
     }
     if args.first().map(String::as_str) == Some("--peers-only") {

@@ -196,9 +196,10 @@ impl Source {
         if let Ok(meta) = std::fs::metadata(path) {
             if meta.is_file() && meta.len() > limit {
                 return Err(Error::input(format!(
-                    "the model file {} is {} bytes long; at most {limit} bytes (4 MiB) are accepted",
+                    "the model file {} is {} bytes long; at most {limit} bytes ({} MiB) are accepted",
                     path.display(),
-                    meta.len()
+                    meta.len(),
+                    limit >> 20
                 )));
             }
         }

@@ -522,13 +522,15 @@ pub struct OutputsSection {
     pub energy: Option<bool>,
 }
 
-/// Largest model file accepted, in bytes (4 MiB; real models are a few kB to tens of kB).
-pub const MAX_FILE_BYTES: usize = 4 << 20;
-/// Most `[[body]]` entries. The degrees-of-freedom analysis (a dense rank-revealing QR) grows
-/// as the cube of the body count: about 10 s for 300 bodies in a release build.
-pub const MAX_BODIES: usize = 1_000;
+/// Largest model file accepted, in bytes (128 MiB; real models are a few kB to tens of kB, a
+/// generated 100,000-body chain about 60 MB).
+pub const MAX_FILE_BYTES: usize = 128 << 20;
+/// Most `[[body]]` entries. Checking and preparing a model costs about linear time and memory
+/// in the body count (the sparse rank analysis of cardan-solver); see
+/// docs/model-format.md, "Limits", for the measured memory per body.
+pub const MAX_BODIES: usize = 100_000;
 /// Most `[[joint]]`, `[[driver]]` or `[[force]]` entries of each kind.
-pub const MAX_ELEMENTS: usize = 5_000;
+pub const MAX_ELEMENTS: usize = 200_000;
 /// Longest array accepted (polynomial coefficients, spline knots, output lists).
 pub const MAX_ARRAY_LEN: usize = 10_000;
 /// Longest expression text accepted, in bytes.
@@ -560,7 +562,7 @@ fn prescan(src: &Source) -> Result<(), Error> {
     let text = &src.text;
     if text.len() > MAX_FILE_BYTES {
         return Err(src.error(format!(
-            "the model file is {} bytes long; at most {MAX_FILE_BYTES} bytes (4 MiB) are accepted",
+            "the model file is {} bytes long; at most {MAX_FILE_BYTES} bytes (128 MiB) are accepted",
             text.len()
         )));
     }

@@ -292,8 +292,9 @@ impl<'m> Dynamics<'m> {
         let active: Vec<usize> = if m == 0 {
             Vec::new()
         } else {
-            let pattern = SparsityPattern::dense(m, n);
-            let mut slots = vec![0.0; m * n];
+            // Φ_v on its block pattern (two 6-column blocks per element row).
+            let mut entries = Vec::new();
+            let mut slots = Vec::new();
             let mut bi = [[0.0; 6]; 6];
             let mut bj = [[0.0; 6]; 6];
             for e in &self.elements {
@@ -302,13 +303,16 @@ impl<'m> Dynamics<'m> {
                     for (id, blk) in [(e.bi, &bi), (e.bj, &bj)] {
                         if let BodyId::Moving(k) = id {
                             for c in 0..6 {
-                                slots[(6 * k + c) * m + r] += blk[lr][c];
+                                entries.push((r, 6 * k + c));
+                                slots.push(blk[lr][c]);
                             }
                         }
                     }
                 }
             }
-            let ra = RankAnalysis::compute(&pattern, &slots, RankOptions::default())
+            let pattern =
+                SparsityPattern::new(m, n, &entries).map_err(|e| self.solver_error(t, e))?;
+            let ra = RankAnalysis::compute_auto(&pattern, &slots, RankOptions::default())
                 .map_err(|e| self.solver_error(t, e))?;
             self.redundant = ra
                 .dependent_rows()

@@ -75,7 +75,7 @@ impl Model {
             });
             let entries: Vec<(usize, usize)> = self.pattern.entries().take(k).collect();
             let sub = SparsityPattern::new(mj, n, &entries).map_err(|e| solver(ws.t, e))?;
-            let ra = RankAnalysis::compute(&sub, &slots[..k], RankOptions::default())
+            let ra = RankAnalysis::compute_auto(&sub, &slots[..k], RankOptions::default())
                 .map_err(|e| solver(ws.t, e))?;
             let red = ra
                 .dependent_rows()

@@ -7,6 +7,7 @@
 //! computed from it, so the initial pose is assembled. The poses are then perturbed and the
 //! mechanism reassembled. Checked:
 //! - `build` succeeds; assembly converges (scaled residual < 1e-9) or returns a typed error;
+//! - the sparse rank analysis reports the dense one's redundant equations;
 //! - the DOF is the one expected (chains: the sum of the joints' relative DOF; single loops in
 //!   the sum of the joints' freedoms minus the rank of their twists, computed independently
 //!   from the constructed configuration);
@@ -25,6 +26,7 @@ use cardan_mechanism::{
     AnalysisError, AssemblyOptions, Body, DriverSpec, JointKind, JointSpec, KinematicOptions,
     MechanismBuilder, Model, Orientation, Results, TimeFunction, GROUND,
 };
+use cardan_solver::{RankAnalysis, RankOptions};
 use nalgebra::{Matrix3, UnitQuaternion, Vector3, Vector4};
 use proptest::prelude::*;
 use std::sync::LazyLock;
@@ -490,6 +492,13 @@ fn check(d: &Drawn, shake: &[f64], must_run: bool) -> Result<(), TestCaseError> 
         .dof(&ws)
         .map_err(|e| TestCaseError::fail(e.to_string()))?;
     prop_assert_eq!(dof.dof, d.expected_dof, "{}", dof);
+    // The sparse rank analysis finds the dense one's redundant equations (joints and drivers).
+    let mut slots = vec![0.0; model.pattern().num_slots()];
+    model.eval_jacobian(&ws, 0.0, &mut slots);
+    let dense = RankAnalysis::compute(model.pattern(), &slots, RankOptions::default()).unwrap();
+    let sparse =
+        RankAnalysis::compute_sparse(model.pattern(), &slots, RankOptions::default()).unwrap();
+    prop_assert_eq!(dense.dependent_rows(), sparse.dependent_rows());
     if d.drivers == dof.dof && d.drivers > 0 {
         let run = model.run_kinematics(&KinematicOptions::new(0.0, 1.0, 20));
         let check_results = |r: &Results| -> Result<(), TestCaseError> {

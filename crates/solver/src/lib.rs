@@ -55,7 +55,9 @@
 //! * [`pattern`] — [`SparsityPattern`] (fixed structure, values in a caller-owned slot array) and
 //!   [`RowSelection`].
 //! * [`linear`] — the [`LinearSolver`] trait (analyze / factor / solve) and [`AutoSolver`].
-//! * [`dense`] — [`DenseLu`]; [`sparse`] — [`SparseLu`]; [`rank`] — [`RankAnalysis`], [`MinNormQr`].
+//! * [`dense`] — [`DenseLu`]; [`sparse`] — [`SparseLu`]; [`rank`] — [`RankAnalysis`], [`MinNormQr`];
+//!   [`sparse_rank`] — the sparse rank analysis for large models; [`sparse_min_norm`] —
+//!   [`SparseMinNorm`], the minimum-norm step of large assemblies.
 //! * [`schur`] — [`SchurSolver`]: saddle-point systems `[A Bᵀ; B 0]` with a block-diagonal SPD
 //!   `A` (the equations of motion with a mass-only matrix) by the Schur complement and a sparse
 //!   Cholesky.
@@ -125,6 +127,8 @@ pub mod pattern;
 pub mod rank;
 pub mod schur;
 pub mod sparse;
+pub mod sparse_min_norm;
+pub mod sparse_rank;
 
 pub use convergence::Tolerances;
 pub use dense::DenseLu;
@@ -137,6 +141,7 @@ pub use newton::{
     REFINE_BACKWARD_ERROR, REFINE_MAX_CORRECTIONS, REFINE_MAX_DRIFT,
 };
 pub use pattern::{RowSelection, SparsityPattern};
-pub use rank::{MinNormQr, RankAnalysis, RankOptions};
+pub use rank::{MinNormQr, RankAnalysis, RankOptions, SPARSE_RANK_MIN_UNKNOWNS};
 pub use schur::{SchurSolver, DEFAULT_BLOCK_PIVOT_TOLERANCE, DEFAULT_SCHUR_PIVOT_TOLERANCE};
 pub use sparse::SparseLu;
+pub use sparse_min_norm::SparseMinNorm;

@@ -82,6 +82,10 @@ impl Default for RankOptions {
     }
 }
 
+/// Matrices with at least this many columns (unknowns) are analyzed by the sparse method in
+/// [`RankAnalysis::compute_auto`]; below it the dense QR is as fast.
+pub const SPARSE_RANK_MIN_UNKNOWNS: usize = 300;
+
 /// Result of a rank analysis of an `m × n` Jacobian.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RankAnalysis {
@@ -108,6 +112,56 @@ impl RankAnalysis {
         let mut qr = PivotedQr::new(pattern.nrows(), pattern.ncols());
         qr.factor(pattern, slots, options)?;
         Ok(qr.analysis())
+    }
+
+    /// The sparse analysis ([`crate::sparse_rank`]): the same rows as [`compute`](Self::compute)
+    /// (the dense analysis decides inside each group of dependent rows), in about linear time
+    /// and memory for chains, trees and loops of bounded size.
+    ///
+    /// # Errors
+    /// [`SolverError::DimensionMismatch`], [`SolverError::NonFinite`].
+    pub fn compute_sparse(
+        pattern: &SparsityPattern,
+        slots: &[f64],
+        options: RankOptions,
+    ) -> Result<Self, SolverError> {
+        crate::sparse_rank::analyze(pattern, slots, options)
+    }
+
+    /// The dense analysis below [`SPARSE_RANK_MIN_UNKNOWNS`] unknowns, the sparse one from there
+    /// on: the one switch point for callers that analyze models of any size.
+    ///
+    /// # Errors
+    /// [`SolverError::DimensionMismatch`], [`SolverError::NonFinite`].
+    pub fn compute_auto(
+        pattern: &SparsityPattern,
+        slots: &[f64],
+        options: RankOptions,
+    ) -> Result<Self, SolverError> {
+        if pattern.ncols() >= SPARSE_RANK_MIN_UNKNOWNS {
+            Self::compute_sparse(pattern, slots, options)
+        } else {
+            Self::compute(pattern, slots, options)
+        }
+    }
+
+    /// Assembles a result (for the sparse analysis).
+    pub(crate) fn from_parts(
+        (nrows, ncols): (usize, usize),
+        independent_rows: Vec<usize>,
+        dependent_rows: Vec<usize>,
+        tolerance: f64,
+        pivots: Vec<f64>,
+    ) -> Self {
+        Self {
+            nrows,
+            ncols,
+            rank: independent_rows.len(),
+            independent_rows,
+            dependent_rows,
+            tolerance,
+            pivots,
+        }
     }
 
     /// Rows (equations) of the matrix.

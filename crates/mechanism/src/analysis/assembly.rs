@@ -1,7 +1,8 @@
 //! Assembly: consistent poses from a rough initial guess.
 //!
 //! The constraint equations (joints, and the drivers at `t` unless excluded) are solved by
-//! Newton-Raphson with the minimum-norm step of a rank-revealing QR ([`cardan_solver::MinNormQr`]):
+//! Newton-Raphson with the minimum-norm step of a rank-revealing QR ([`cardan_solver::MinNormQr`];
+//! [`cardan_solver::SparseMinNorm`] from [`cardan_solver::SPARSE_RANK_MIN_UNKNOWNS`] unknowns on):
 //! with fewer independent equations than unknowns (a mechanism with free degrees of freedom), each
 //! step is the smallest correction (in the scaled norm ‖Δr‖/L, ‖Δπ'‖) that satisfies the
 //! linearized equations, so the bodies move as little as possible and the free coordinates keep
@@ -25,9 +26,26 @@ use crate::model::Model;
 use crate::workspace::{apply_rotation_step, set_poses, Workspace};
 use cardan_constraints::{unwrap_angle, BodyPair, BodyState, Driver, TimeFunction};
 use cardan_solver::{
-    LineSearch, MinNormQr, Newton, NewtonOptions, NonlinearSystem, SolverError, SparsityPattern,
-    Tolerances,
+    LineSearch, LinearSolver, MinNormQr, Newton, NewtonOptions, NewtonReport, NonlinearSystem,
+    SolverError, SparseMinNorm, SparsityPattern, Tolerances, SPARSE_RANK_MIN_UNKNOWNS,
 };
+
+/// A Newton solve's outcome: its report and the rank of the last factorization.
+type Solved = Result<Option<(NewtonReport, Option<usize>)>, SolverError>;
+
+/// Newton with a minimum-norm linear solver: `Err` only when the solver cannot be set up; the
+/// inner result is the solve's.
+fn min_norm_newton<S: LinearSolver>(
+    pattern: &SparsityPattern,
+    solver: S,
+    options: NewtonOptions,
+    sys: &mut impl NonlinearSystem,
+    x: &mut [f64],
+) -> Result<Solved, SolverError> {
+    let mut newton = Newton::new(pattern, solver, options)?;
+    let r = newton.solve(sys, x);
+    Ok(r.map(|rep| Some((rep, newton.linear_solver().rank()))))
+}
 
 /// Largest change of a driven angle per continuation step of the assembly (rad, 22.5°): well
 /// inside the 90° basin of the driven branch.
@@ -292,8 +310,6 @@ impl Model {
         let result = if m == 0 {
             Ok(None)
         } else {
-            let mut newton = Newton::new(&pattern, MinNormQr::new(), nopts)
-                .map_err(|e| crate::dof::solver(options.t, e))?;
             let mut sys = AssemblySystem {
                 model: self,
                 bodies: &mut ws.bodies,
@@ -303,8 +319,12 @@ impl Model {
                 phi: vec![0.0; self.num_equations()],
                 slots: vec![0.0; self.pattern.num_slots()],
             };
-            let r = newton.solve(&mut sys, &mut ws.x);
-            r.map(|rep| Some((rep, newton.linear_solver().analysis().map(|a| a.rank()))))
+            if n >= SPARSE_RANK_MIN_UNKNOWNS {
+                min_norm_newton(&pattern, SparseMinNorm::new(), nopts, &mut sys, &mut ws.x)
+            } else {
+                min_norm_newton(&pattern, MinNormQr::new(), nopts, &mut sys, &mut ws.x)
+            }
+            .map_err(|e| crate::dof::solver(options.t, e))?
         };
         ws.sync_poses();
         match result {

@@ -121,7 +121,7 @@ impl Model {
         }
         let mut slots = vec![0.0; self.pattern.num_slots()];
         self.jacobian_into(&ws.bodies, ws.t, &mut slots);
-        let ra = RankAnalysis::compute(&self.pattern, &slots, RankOptions::default())
+        let ra = RankAnalysis::compute_auto(&self.pattern, &slots, RankOptions::default())
             .map_err(|e| solver(ws.t, e))?;
         if ra.rank() < self.num_unknowns() {
             let dependent = ra

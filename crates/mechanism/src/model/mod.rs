@@ -340,40 +340,38 @@ impl Model {
 
     /// The name of global equation `row` (element, kind, primitive).
     pub fn equation(&self, row: usize) -> Option<EquationName> {
-        for j in &self.joints {
-            if j.rows.contains(&row) {
-                let local = row - j.rows.start;
-                let primitive = j.joint.row_origin(local).map_or("?", |(_, n)| n);
-                return Some(EquationName {
-                    row,
-                    element: j.name.clone(),
-                    kind: j.joint.kind().name(),
-                    primitive,
-                    local_row: local,
-                });
-            }
+        // Elements own consecutive row ranges in declaration order: a binary search each.
+        let k = self.joints.partition_point(|j| j.rows.end <= row);
+        if let Some(j) = self.joints.get(k).filter(|j| j.rows.contains(&row)) {
+            let local = row - j.rows.start;
+            let primitive = j.joint.row_origin(local).map_or("?", |(_, n)| n);
+            return Some(EquationName {
+                row,
+                element: j.name.clone(),
+                kind: j.joint.kind().name(),
+                primitive,
+                local_row: local,
+            });
         }
-        for c in &self.couplers {
-            if c.rows.contains(&row) {
-                return Some(EquationName {
-                    row,
-                    element: c.name.clone(),
-                    kind: c.kind(),
-                    primitive: c.kind(),
-                    local_row: 0,
-                });
-            }
+        let k = self.couplers.partition_point(|c| c.rows.end <= row);
+        if let Some(c) = self.couplers.get(k).filter(|c| c.rows.contains(&row)) {
+            return Some(EquationName {
+                row,
+                element: c.name.clone(),
+                kind: c.kind(),
+                primitive: c.kind(),
+                local_row: 0,
+            });
         }
-        for d in &self.drivers {
-            if d.rows.contains(&row) {
-                return Some(EquationName {
-                    row,
-                    element: d.name.clone(),
-                    kind: d.driver.name(),
-                    primitive: d.driver.name(),
-                    local_row: row - d.rows.start,
-                });
-            }
+        let k = self.drivers.partition_point(|d| d.rows.end <= row);
+        if let Some(d) = self.drivers.get(k).filter(|d| d.rows.contains(&row)) {
+            return Some(EquationName {
+                row,
+                element: d.name.clone(),
+                kind: d.driver.name(),
+                primitive: d.driver.name(),
+                local_row: row - d.rows.start,
+            });
         }
         None
     }
