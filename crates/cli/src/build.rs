@@ -727,12 +727,13 @@ fn load_body(cx: &Ctx, b: &BodySection) -> Result<(Body, Features), Error> {
         body = body.mass(m_v);
     }
     if let Some(i) = &b.inertia {
-        let j = match i.get_ref() {
+        let mut j = match i.get_ref() {
             InertiaSpec::Matrix(m) => Matrix3::from_fn(|r, c| m[r][c]),
             InertiaSpec::Diag { diag } => Matrix3::from_diagonal(&Vector3::from(*diag)),
         };
-        for v in j.iter() {
-            cx.raw_num(
+        for v in j.iter_mut() {
+            // Checked and converted to SI (kg m²).
+            *v = cx.raw_num(
                 i.span(),
                 *v,
                 &format!("inertia of body \"{name}\""),
