@@ -117,6 +117,11 @@ pub struct Settings {
     pub t_end: f64,
     /// Output interval.
     pub dt: f64,
+    /// Largest integration step (`hmax`; a dynamic analysis's `h_max`).
+    pub h_max: f64,
+    /// The integrator's error tolerance (`errorTol`; a dynamic analysis's `rtol` when cardan
+    /// accepts it).
+    pub error_tol: f64,
 }
 
 impl Settings {
@@ -155,9 +160,40 @@ pub struct Import {
     pub settings: Option<Settings>,
     /// What was read and not used, or used with a caveat.
     pub warnings: Vec<Warning>,
-    /// Whether the model file written by [`crate::toml_out`] asks for inverse dynamics instead
-    /// of kinematics (the file's time grid either way).
-    pub inverse_dynamics: bool,
+    /// The analysis the model file written by [`crate::toml_out`] asks for (the file's time
+    /// grid in every case).
+    pub analysis: AnalysisKind,
+    /// The units of the numbers, written as the model file's `[model] units`: `"SI"`, or
+    /// `"mm"` for a document read in millimetres (not converted: the model file converts).
+    pub units: &'static str,
+}
+
+/// The analysis of an imported model: the file's kinematics (OndselSolver's own), or more.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum AnalysisKind {
+    /// Kinematics over tstart..tend by hout.
+    #[default]
+    Kinematic,
+    /// Inverse dynamics on the same grid (driver efforts, reactions; needs masses).
+    InverseDynamics,
+    /// Forward dynamics from the input pose at rest, output every hout (needs masses).
+    Dynamic,
+}
+
+impl AnalysisKind {
+    /// The model file's `[analysis] kind`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Kinematic => "kinematic",
+            Self::InverseDynamics => "inverse_dynamics",
+            Self::Dynamic => "dynamic",
+        }
+    }
+
+    /// Whether the analysis needs a mass on every part.
+    pub fn needs_masses(self) -> bool {
+        self != Self::Kinematic
+    }
 }
 
 impl Import {
@@ -317,7 +353,8 @@ pub fn import(doc: &Document) -> Result<Import> {
             gravity: None,
             settings: None,
             warnings: Vec::new(),
-            inverse_dynamics: false,
+            analysis: AnalysisKind::Kinematic,
+            units: "SI",
         },
     };
     cx.ground()?;
@@ -366,6 +403,8 @@ pub fn import(doc: &Document) -> Result<Import> {
             t_start: s.tstart,
             t_end: s.tend,
             dt: s.hout,
+            h_max: s.hmax,
+            error_tol: s.error_tol,
         });
     }
     Ok(cx.import)

@@ -41,7 +41,7 @@ pub mod tree;
 
 pub use document::{read, Document};
 pub use error::{AsmtError, Warning};
-pub use import::{import, sanitize, BodyMap, Element, Import, Settings};
+pub use import::{import, sanitize, AnalysisKind, BodyMap, Element, Import, Settings};
 pub use series::TimeSeries;
 
 /// Reads and maps an ASMT text.

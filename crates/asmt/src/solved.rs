@@ -114,6 +114,22 @@ pub fn time_series(doc: &Document, import: &Import, results: &Results) -> TimeSe
     }
 }
 
+/// Scales the length rows of `series` (X Y Z, VX VY VZ, AX AY AZ of every part and of the
+/// assembly; angles and angular rates are unit-free) by `factor`: e.g. 1000 to write a series
+/// computed in SI into a file in millimetres.
+pub fn scale_lengths(series: &mut TimeSeries, factor: f64) {
+    const LENGTHS: [&str; 9] = ["X", "Y", "Z", "VX", "VY", "VZ", "AX", "AY", "AZ"];
+    for row in series
+        .items
+        .iter_mut()
+        .flat_map(|i| i.rows.iter_mut())
+        .filter(|r| LENGTHS.contains(&r.label.as_str()))
+    {
+        row.input *= factor;
+        row.values.iter_mut().for_each(|v| *v *= factor);
+    }
+}
+
 /// The input text with its `TimeSeries` (if any) replaced by `series`.
 pub fn solved_text(input: &str, series: &TimeSeries) -> String {
     let mut out = String::with_capacity(input.len() * 2);

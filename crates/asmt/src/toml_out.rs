@@ -2,7 +2,7 @@
 //! tracing every element to its ASMT path and line. Numbers are written in full (shortest
 //! round-trip form), so the file builds the same mechanism as the ASMT file.
 
-use crate::import::{Feature, Import};
+use crate::import::{Feature, Import, Settings};
 use cardan_mechanism::{CouplerKind, DriverTarget, GearRatio, TimeFunction, GROUND};
 use nalgebra::Vector3;
 use std::fmt::Write as _;
@@ -92,7 +92,7 @@ pub fn to_toml(import: &Import, source: &str) -> String {
         string(&import.name),
         comment(&import.asmt_name)
     );
-    o.push_str("units = \"SI\"\n");
+    let _ = writeln!(o, "units = {}", string(import.units));
     if let Some(g) = import.gravity {
         let _ = writeln!(o, "gravity = {}", vec3(&g));
     }
@@ -308,16 +308,29 @@ pub fn to_toml(import: &Import, source: &str) -> String {
             let _ = writeln!(
                 o,
                 "\n[analysis]   # SimulationParameters: tstart, tend, hout\nkind = \"{}\"\nt_start = {}\nt_end = {}\nsteps = {}",
-                if import.inverse_dynamics {
-                    "inverse_dynamics"
-                } else {
-                    "kinematic"
-                },
+                import.analysis.name(),
                 num(st.t_start),
                 num(st.t_end),
                 st.steps()
             );
+            if import.analysis == crate::AnalysisKind::Dynamic {
+                dynamic_settings(&mut o, st);
+            }
         }
     }
     o
+}
+
+/// The integrator settings of a dynamic analysis from SimulationParameters: DOPRI5 (cardan's
+/// default integrator) with `h_max = hmax` and `rtol = errorTol` where cardan accepts them
+/// (h_max > 0, rtol in [1e-14, 1e-2]); otherwise cardan's defaults. `hmin` has no counterpart
+/// (DOPRI5 fails with a message when its step underflows).
+fn dynamic_settings(o: &mut String, st: &Settings) {
+    o.push_str("# the file's start pose at rest; DOPRI5 with the file's hmax and errorTol\n");
+    if st.h_max.is_finite() && st.h_max > 0.0 {
+        let _ = writeln!(o, "h_max = {}   # hmax", num(st.h_max));
+    }
+    if (1e-14..=1e-2).contains(&st.error_tol) {
+        let _ = writeln!(o, "rtol = {}   # errorTol", num(st.error_tol));
+    }
 }

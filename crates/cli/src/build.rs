@@ -12,6 +12,7 @@ use crate::model::{
     AnalysisSection, BodySection, DriverSection, ForceSection, FunctionSpec, InertiaSpec,
     JointSection, ModelFile, Name, Num, OrientationSpec, Vec3,
 };
+use crate::units::UnitSystem;
 use cardan_constraints::drivers::POSE_ROWS;
 use cardan_constraints::expression::{self, Expression};
 use cardan_constraints::{JointKind, RotationOrder, TimeFunction, KINDS};
@@ -181,6 +182,8 @@ impl Analysis {
 pub struct Loaded {
     /// `[model] name`.
     pub name: String,
+    /// `[model] units`: the inputs were converted from them, the outputs are written in them.
+    pub units: UnitSystem,
     /// The mechanism.
     pub builder: MechanismBuilder,
     /// Element locations.
@@ -225,6 +228,8 @@ struct Features {
 
 struct Ctx<'a> {
     src: &'a Source,
+    /// The file's `[model] units`: every number is converted to SI as it is read.
+    units: UnitSystem,
 }
 
 impl Ctx<'_> {
@@ -233,7 +238,8 @@ impl Ctx<'_> {
     }
 
     /// A finite, not subnormal number within the SI magnitude limit of its quantity
-    /// (`cardan_mechanism::sanity::Quantity`, the builder's limits).
+    /// (`cardan_mechanism::sanity::Quantity`, the builder's limits), converted to SI from the
+    /// file's units (the limit applies to the SI value).
     fn num(&self, n: &Num, what: &str, q: Quantity) -> Result<f64, Error> {
         let v = *n.get_ref();
         if v != 0.0 && v.abs() < f64::MIN_POSITIVE {
@@ -246,8 +252,21 @@ impl Ctx<'_> {
                 ),
             ));
         }
-        q.check(what, v).map_err(|m| self.err(n.span(), m))?;
-        Ok(v)
+        let factor = self.units.to_si(q);
+        if factor == 1.0 {
+            q.check(what, v).map_err(|m| self.err(n.span(), m))?;
+            return Ok(v);
+        }
+        let si = v * factor;
+        if q.check(what, si).is_err() {
+            let (unit, _) = self.units.unit(q.unit());
+            let what = format!(
+                "{what} ({} {unit})",
+                cardan_mechanism::sanity::scientific(v)
+            );
+            q.check(&what, si).map_err(|m| self.err(n.span(), m))?;
+        }
+        Ok(si)
     }
 
     fn vec3(&self, v: &Vec3, what: &str, q: Quantity) -> Result<Vector3<f64>, Error> {
@@ -276,6 +295,26 @@ impl Ctx<'_> {
     fn raw_num(&self, span: Range<usize>, v: f64, what: &str, q: Quantity) -> Result<f64, Error> {
         self.num(&Spanned::new(span, v), what, q)
     }
+}
+
+/// The file's `[model] units` (default SI).
+///
+/// # Errors
+/// A unit system cardan does not have, at the key.
+pub fn model_units(src: &Source, file: &ModelFile) -> Result<UnitSystem, Error> {
+    let Some(u) = &file.model.get_ref().units else {
+        return Ok(UnitSystem::Si);
+    };
+    UnitSystem::parse(u.get_ref()).ok_or_else(|| {
+        src.error_at(
+            u.span(),
+            format!(
+                "units = \"{}\" is not a unit system of cardan: write units = \"SI\" (m, kg, s, \
+                 N, N m) or units = \"mm\" (mm, kg, s, N, N mm)",
+                u.get_ref()
+            ),
+        )
+    })
 }
 
 /// The span of the value of `key = value` on a line of `section` (up to a comment or the end of
@@ -330,7 +369,8 @@ const FUNCTION_KINDS: &[&str] = &TimeFunction::KINDS;
 
 /// Turns a parsed file into a builder, checking everything that has a place in the file.
 pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
-    let cx = Ctx { src };
+    let units = model_units(src, file)?;
+    let cx = Ctx { src, units };
     let mut spans = Spans::default();
     let mut builder = MechanismBuilder::new();
 
@@ -341,18 +381,6 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
             model.name.span(),
             format!("model name {why}; it names the output directory out/<name>/"),
         ));
-    }
-    if let Some(u) = &model.units {
-        let s = u.get_ref().to_ascii_lowercase();
-        if !s.starts_with("si") {
-            return Err(cx.err(
-                u.span(),
-                format!(
-                    "units = \"{}\" is not supported: model files are in SI units (m, kg, s, rad); write units = \"SI\"",
-                    u.get_ref()
-                ),
-            ));
-        }
     }
     let mut forces = Vec::new();
     if let Some(g) = &model.gravity {
@@ -525,6 +553,7 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
 
     Ok(Loaded {
         name,
+        units,
         builder,
         spans,
         analysis,
@@ -598,7 +627,12 @@ pub(crate) fn orientation_matrix(
     src: &Source,
     o: &Spanned<OrientationSpec>,
 ) -> Result<Matrix3<f64>, Error> {
-    orientation(&Ctx { src }, o).map(|(_, a)| a)
+    // Angles and directions only: the same in every unit system.
+    let cx = Ctx {
+        src,
+        units: UnitSystem::Si,
+    };
+    orientation(&cx, o).map(|(_, a)| a)
 }
 
 fn orientation(
@@ -693,12 +727,13 @@ fn load_body(cx: &Ctx, b: &BodySection) -> Result<(Body, Features), Error> {
         body = body.mass(m_v);
     }
     if let Some(i) = &b.inertia {
-        let j = match i.get_ref() {
+        let mut j = match i.get_ref() {
             InertiaSpec::Matrix(m) => Matrix3::from_fn(|r, c| m[r][c]),
             InertiaSpec::Diag { diag } => Matrix3::from_diagonal(&Vector3::from(*diag)),
         };
-        for v in j.iter() {
-            cx.raw_num(
+        for v in j.iter_mut() {
+            // Checked and converted to SI (kg m²).
+            *v = cx.raw_num(
                 i.span(),
                 *v,
                 &format!("inertia of body \"{name}\""),
@@ -942,7 +977,15 @@ fn load_function(
                 .get_ref()
                 .iter()
                 .enumerate()
-                .map(|(k, n)| cx.num(n, &format!("{owner}: function {key}[{k}]"), quantity(key)))
+                .map(|(k, n)| {
+                    let v = cx.num(n, &format!("{owner}: function {key}[{k}]"), quantity(key))?;
+                    // c_k has the unit of the value / s^k: converted as the value.
+                    Ok(if key == "coefficients" {
+                        v * cx.units.to_si(value_q)
+                    } else {
+                        v
+                    })
+                })
                 .collect(),
             None => Err(missing(
                 cx,
@@ -1021,7 +1064,7 @@ fn load_function(
             f1: req(&s.f1, "f1")?,
         },
         "expression" => match &s.text {
-            Some(text) => expression(cx, text, owner)?,
+            Some(text) => in_si(expression(cx, text, owner)?, cx.units.to_si(value_q)),
             None => return Err(missing(cx, span, owner, "text", "an expression needs it")),
         },
         _ => {
@@ -1155,6 +1198,20 @@ fn expression(cx: &Ctx, text: &Name, owner: &str) -> Result<TimeFunction, Error>
                 ),
             )
         })
+}
+
+/// An expression in the file's units as a function of SI value: `factor·(f)` (`f` itself in
+/// SI). The text parsed first, so that errors point into the file's string.
+fn in_si(f: TimeFunction, factor: f64) -> TimeFunction {
+    match f {
+        TimeFunction::Expression(e) if factor != 1.0 => {
+            match Expression::parse(&format!("{factor:?}*({})", e.text())) {
+                Ok(scaled) => TimeFunction::Expression(scaled),
+                Err(_) => TimeFunction::Expression(e),
+            }
+        }
+        other => other,
+    }
 }
 
 /// The file span of `inner` (a byte span of the string's value `value`) when the TOML string at

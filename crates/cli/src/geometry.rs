@@ -6,7 +6,8 @@
 //! "part.stl", scale = 0.001 }` (STL or OBJ, the path relative to the model file, `scale` from
 //! the file's coordinates to metres), each with an optional `position = [..]` (body
 //! coordinates, m) and `orientation = { ... }` (the forms of a body's orientation, relative to
-//! the body frame). Model files are in SI units, so lengths are metres as written.
+//! the body frame). Lengths are in the model's units (`[model] units`; a mesh's `scale` goes
+//! from the file's coordinates to them) and converted to metres.
 //!
 //! Errors name the body, the item and the line: an unknown shape or a key the shape does not
 //! take, a missing or non-positive size, a missing or unreadable mesh file, a malformed mesh,
@@ -43,6 +44,7 @@ pub struct Declared {
 /// An input error naming the body, the item and the line (module docs).
 pub fn load(src: &Source) -> Result<Declared, Error> {
     let file = crate::model::parse(src)?;
+    let length = crate::build::model_units(src, &file)?.length();
     let mut out = Declared::default();
     if let Some(g) = &file.model.get_ref().gravity {
         let g = g.get_ref();
@@ -61,6 +63,7 @@ pub fn load(src: &Source) -> Result<Declared, Error> {
                 src,
                 body: name,
                 number: k + 1,
+                length,
             };
             let g = cx.geometry(item, dir, &mut budget)?;
             list.push(g);
@@ -75,6 +78,8 @@ struct Item<'a> {
     src: &'a Source,
     body: &'a str,
     number: usize,
+    /// The model's length unit in metres.
+    length: f64,
 }
 
 impl Item<'_> {
@@ -166,6 +171,7 @@ impl Item<'_> {
                 if v.iter().any(|c| *c <= 0.0) {
                     return Err(self.err(size.span(), "size must be positive along every axis"));
                 }
+                let v = v * self.length;
                 Shape::Box {
                     size: [v.x, v.y, v.z],
                 }
@@ -180,12 +186,15 @@ impl Item<'_> {
                         .map_err(|e| self.err(a.span(), format!("axis: {e}")))?;
                     frame *= f;
                 }
-                Shape::Cylinder { radius, length }
+                Shape::Cylinder {
+                    radius: radius * self.length,
+                    length: length * self.length,
+                }
             }
             "sphere" => {
                 self.only(s, "sphere", &["radius"])?;
                 Shape::Sphere {
-                    radius: self.positive(&g.radius, "radius", s)?,
+                    radius: self.positive(&g.radius, "radius", s)? * self.length,
                 }
             }
             "mesh" => {
@@ -198,8 +207,8 @@ impl Item<'_> {
                     None => 1.0,
                 };
                 let path = dir.join(file.get_ref());
-                let mesh =
-                    read_mesh(&path, scale, *budget).map_err(|e| self.err(file.span(), e))?;
+                let mesh = read_mesh(&path, scale * self.length, *budget)
+                    .map_err(|e| self.err(file.span(), e))?;
                 *budget -= mesh.triangles();
                 Shape::Mesh(mesh)
             }
@@ -211,7 +220,7 @@ impl Item<'_> {
             }
         };
         let position = match &g.position {
-            Some(p) => self.vec3(p, "position")?,
+            Some(p) => self.vec3(p, "position")? * self.length,
             None => Vector3::zeros(),
         };
         let p = EulerParams::from_rotation_matrix(&frame)

@@ -9,7 +9,8 @@
 //!   line with warnings ([`output`]: the directory rule; [`progress`]: progress bar and Ctrl-C).
 //! - `cardan check MODEL.toml`: bodies, joints with equation counts, DOF, redundant equations.
 //! - `cardan import MODEL.asmt [-o MODEL.toml]`: an ASMT file (OndselSolver / FreeCAD Assembly)
-//!   as a cardan model; `run` and `check` also take `.asmt` files directly.
+//!   as a cardan model; `run` and `check` also take `.asmt` files directly (`--units si|mm`,
+//!   `--analysis kinematic|inverse_dynamics|dynamic`).
 //! - `cardan eval MODEL.toml [--t T] [--format text|json|csv]`: Φ, the Jacobian (pattern and
 //!   values), ν and γ# at the assembled state; JSON at full precision with row and column maps.
 //!
@@ -27,6 +28,7 @@ pub mod progress;
 pub mod report;
 pub mod scene;
 pub mod table;
+pub mod units;
 
 pub use diag::{Error, ErrorKind, Location, Source};
 
@@ -71,11 +73,17 @@ pub enum Command {
         /// Also write each plot as PNG (rendered from its SVG; text needs a system font).
         #[arg(long)]
         png: bool,
+        /// How an ASMT model file is read.
+        #[command(flatten)]
+        asmt: AsmtArgs,
     },
     /// Validate the model; print bodies, joints, equation counts, DOF and redundant equations.
     Check {
         /// The model file (TOML).
         model: PathBuf,
+        /// How an ASMT model file is read.
+        #[command(flatten)]
+        asmt: AsmtArgs,
     },
     /// Write the cardan model (TOML) equivalent to an ASMT file (OndselSolver / FreeCAD
     /// Assembly), with comments tracing each element to its ASMT path.
@@ -106,6 +114,35 @@ pub enum Command {
     },
 }
 
+/// `--units` and `--analysis` of `run` and `check`: how an ASMT file is read (a TOML model
+/// says both itself, and refuses them).
+#[derive(Debug, Clone, Copy, clap::Args)]
+pub struct AsmtArgs {
+    /// ASMT files: the units of the file's numbers, SI (m, kg, s) or mm (FreeCAD exports).
+    #[arg(long, value_enum)]
+    pub units: Option<commands::asmt::Units>,
+    /// ASMT files: the analysis to run (default: the file's kinematics).
+    #[arg(long, value_enum)]
+    pub analysis: Option<commands::asmt::Analysis>,
+}
+
+impl AsmtArgs {
+    /// The options, or an error for a TOML model given either flag.
+    fn options(&self, model: &std::path::Path) -> Result<commands::asmt::AsmtOptions, Error> {
+        if !commands::asmt::is_asmt(model) && (self.units.is_some() || self.analysis.is_some()) {
+            return Err(Error::input(format!(
+                "--units and --analysis apply to ASMT files (.asmt); {} is a cardan model, \
+                 which gives its units in [model] units and its analysis in [analysis] kind",
+                model.display()
+            )));
+        }
+        Ok(commands::asmt::AsmtOptions {
+            units: self.units.unwrap_or_default(),
+            analysis: self.analysis.unwrap_or_default(),
+        })
+    }
+}
+
 /// Runs a parsed command line, writing reports to `out`.
 ///
 /// # Errors
@@ -119,16 +156,20 @@ pub fn run(cli: &Cli, out: &mut dyn std::io::Write) -> Result<(), Error> {
             strict,
             allow_long,
             png,
+            asmt,
         } => {
             let flags = commands::run::RunFlags {
                 progress: !*quiet && std::io::IsTerminal::is_terminal(&std::io::stderr()),
                 strict: *strict,
                 allow_long: *allow_long,
                 png: *png,
+                asmt: asmt.options(model)?,
             };
             commands::run::run(model, output.as_deref(), &flags, out).map(|_| ())
         }
-        Command::Check { model } => commands::check::check(model, out),
+        Command::Check { model, asmt } => {
+            commands::check::check_with(model, asmt.options(model)?, out)
+        }
         Command::Import {
             model,
             output,

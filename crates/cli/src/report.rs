@@ -30,6 +30,9 @@ pub struct RunReport {
     pub model: ModelRef,
     /// `"kinematic"`, `"dynamic"` or `"inverse_dynamics"`.
     pub analysis: &'static str,
+    /// The units of the output tables: `"SI"`, or `"mm"` (mm, kg, s, N, N mm; `--units mm`
+    /// of an ASMT file). The numbers of this file (drifts, energies, residuals) are SI.
+    pub units: &'static str,
     /// Complete or partial.
     pub status: Status,
     /// Why a partial run stopped (the error message); `null` when complete.

@@ -114,3 +114,221 @@ fn import_for_inverse_dynamics() {
     assert_eq!(run.code, 0, "{}{}", run.stdout, run.stderr);
     assert!(dir.join("out/driver_efforts.csv").exists());
 }
+
+/// Piston with a rotation limit and a force element: both are read and ignored.
+fn piston_with_ignored_elements() -> String {
+    std::fs::read_to_string(asmt("piston"))
+        .unwrap()
+        .replacen(
+            "\t\tGeneralConstraintSets\n",
+            "\t\tLimits\n\t\t\tRotationLimit\n\t\t\t\tName\n\t\t\t\t\tStop\n\t\tGeneralConstraintSets\n",
+            1,
+        )
+        .replacen(
+            "\tForceTorques\n",
+            "\tForceTorques\n\t\tForceTorque\n\t\t\tName\n\t\t\t\tSpring\n",
+            1,
+        )
+}
+
+/// The import's warnings (ignored limits and force elements) reach the run's summary and
+/// `run.json`, and `check`'s report, each with the ASMT line.
+#[test]
+fn import_warnings_reach_the_summary_and_run_json() {
+    let dir = scratch("asmt-warnings");
+    let text = piston_with_ignored_elements();
+    let line = text
+        .lines()
+        .position(|l| l == "\t\t\tRotationLimit")
+        .unwrap()
+        + 1;
+    std::fs::write(dir.join("p.asmt"), &text).unwrap();
+    let run = cardan(&["run", "p.asmt", "-o", "out", "--quiet"], &dir);
+    assert_eq!(run.code, 0, "{}{}", run.stdout, run.stderr);
+    let expected = format!("p.asmt:{line}: RotationLimit \"Stop\"");
+    assert!(
+        run.stdout.contains(&format!("warning: {expected}")),
+        "{}",
+        run.stdout
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("out/run.json")).unwrap()).unwrap();
+    let warnings: Vec<&str> = json["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|w| w.as_str())
+        .collect();
+    assert!(
+        warnings.iter().any(|w| w.contains(&expected)),
+        "{warnings:?}"
+    );
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.contains("ForceTorque \"Spring\"")),
+        "{warnings:?}"
+    );
+    let check = cardan(&["check", "p.asmt"], &dir);
+    assert_eq!(check.code, 0, "{}", check.stderr);
+    assert!(check.stdout.contains(&expected), "{}", check.stdout);
+    // --strict counts them: the file's ignored elements make its results doubtful.
+    let strict = cardan(
+        &["run", "p.asmt", "-o", "out2", "--quiet", "--strict"],
+        &dir,
+    );
+    assert_eq!(strict.code, 3, "{}", strict.stderr);
+}
+
+/// `--units` and `--analysis` belong to ASMT files: a TOML model is refused with them.
+#[test]
+fn asmt_flags_are_refused_for_a_toml_model() {
+    let dir = scratch("asmt-flags");
+    let import = cardan(
+        &["import", asmt("piston").to_str().unwrap(), "-o", "p.toml"],
+        &dir,
+    );
+    assert_eq!(import.code, 0, "{}", import.stderr);
+    for flag in ["--units", "--analysis"] {
+        let value = if flag == "--units" { "mm" } else { "dynamic" };
+        let out = cardan(&["check", "p.toml", flag, value], &dir);
+        assert_eq!(out.code, 1, "{flag}: {}", out.stderr);
+        assert!(out.stderr.contains("apply to ASMT files"), "{}", out.stderr);
+    }
+}
+
+/// The largest |a − b| over two CSV files of the same shape, relative to the largest |a|.
+fn csv_difference(a: &str, b: &str) -> f64 {
+    let (_, ra) = cardan_cli::table::parse_csv(a).unwrap();
+    let (_, rb) = cardan_cli::table::parse_csv(b).unwrap();
+    assert_eq!(ra.len(), rb.len());
+    let (mut diff, mut size) = (0.0f64, 0.0f64);
+    for (x, y) in ra.iter().flatten().zip(rb.iter().flatten()) {
+        diff = diff.max((x - y).abs());
+        size = size.max(x.abs());
+    }
+    diff / size.max(f64::MIN_POSITIVE)
+}
+
+/// `--units mm`: the file's numbers are millimetres, the analysis works in SI and the outputs
+/// are in millimetres. The same numbers read as SI and as mm describe mechanisms 1000 times
+/// apart, so their outputs in their own units are the same numbers, with mm headers.
+#[test]
+fn a_millimetre_run_writes_millimetres() {
+    let dir = scratch("asmt-mm");
+    let file = asmt("crank_slider");
+    let file = file.to_str().unwrap();
+    let si = cardan(&["run", file, "-o", "si", "--quiet"], &dir);
+    assert_eq!(si.code, 0, "{}{}", si.stdout, si.stderr);
+    let mm = cardan(&["run", file, "-o", "mm", "--quiet", "--units", "mm"], &dir);
+    assert_eq!(mm.code, 0, "{}{}", mm.stdout, mm.stderr);
+    for name in ["bodies.csv", "points.csv", "point_velocities.csv"] {
+        let (a, b) = (
+            std::fs::read_to_string(dir.join("si").join(name)),
+            std::fs::read_to_string(dir.join("mm").join(name)),
+        );
+        let (Ok(a), Ok(b)) = (a, b) else { continue };
+        let header_si = a.lines().next().unwrap().to_string();
+        let header_mm = b.lines().next().unwrap().to_string();
+        assert!(
+            header_si.contains(" [m]") || header_si.contains(" [m/s]"),
+            "{header_si}"
+        );
+        assert!(
+            !header_mm.contains(" [m]") && !header_mm.contains(" [m/s]"),
+            "{header_mm}"
+        );
+        assert_eq!(
+            header_si
+                .replace(" [m]", " [mm]")
+                .replace(" [m/s", " [mm/s"),
+            header_mm
+        );
+        let d = csv_difference(&a, &b);
+        assert!(d < 1e-9, "{name}: {d:e}");
+    }
+    let json = std::fs::read_to_string(dir.join("mm/run.json")).unwrap();
+    assert!(json.contains("\"units\": \"mm\""), "{json}");
+    // The solved file is in the file's units too: the same part positions as the SI run.
+    let solved = |d: &str| {
+        let text = std::fs::read_to_string(dir.join(d).join("crank_slider.solved.asmt")).unwrap();
+        cardan_asmt::read(&text).unwrap().series.unwrap()
+    };
+    let (a, b) = (solved("si"), solved("mm"));
+    for label in ["X", "Y", "VX", "AX", "Bryantz"] {
+        // Relative to the largest value of the row over all parts.
+        let scale = a
+            .items
+            .iter()
+            .flat_map(|i| i.row(label).unwrap())
+            .fold(1e-300f64, |m, v| m.max(v.abs()));
+        for (ia, ib) in a.items.iter().zip(&b.items) {
+            let (x, y) = (ia.row(label).unwrap(), ib.row(label).unwrap());
+            for (u, v) in x.iter().zip(y) {
+                assert!(
+                    (u - v).abs() <= 1e-9 * scale,
+                    "{} {label}: {u} {v}",
+                    ia.path
+                );
+            }
+        }
+    }
+}
+
+/// `--analysis dynamic`: forward dynamics on the file's time grid. fourbar is driven by its
+/// motion, so the dynamic run (DOPRI5, rtol = the file's errorTol 1e-6) follows the kinematic
+/// one; its driver efforts are written.
+#[test]
+fn dynamic_analysis_of_an_asmt_file() {
+    let dir = scratch("asmt-dynamic");
+    let file = asmt("fourbar");
+    let file = file.to_str().unwrap();
+    let kin = cardan(&["run", file, "-o", "kin", "--quiet"], &dir);
+    assert_eq!(kin.code, 0, "{}{}", kin.stdout, kin.stderr);
+    let dynamic = cardan(
+        &["run", file, "-o", "dyn", "--quiet", "--analysis", "dynamic"],
+        &dir,
+    );
+    assert_eq!(dynamic.code, 0, "{}{}", dynamic.stdout, dynamic.stderr);
+    let json = std::fs::read_to_string(dir.join("dyn/run.json")).unwrap();
+    assert!(json.contains("\"analysis\": \"dynamic\""), "{json}");
+    assert!(dir.join("dyn/driver_efforts.csv").exists());
+    assert!(dir.join("dyn/fourbar.solved.asmt").exists());
+    let read = |d: &str| std::fs::read_to_string(dir.join(d).join("bodies.csv")).unwrap();
+    let d = csv_difference(&read("kin"), &read("dyn"));
+    assert!(d < 1e-4, "dynamic vs kinematic positions: {d:e}");
+    let import = cardan(&["import", file, "--analysis", "dynamic"], &dir);
+    assert!(
+        import.stdout.contains("kind = \"dynamic\""),
+        "{}",
+        import.stdout
+    );
+    assert!(import.stdout.contains("rtol = 1e-6"), "{}", import.stdout);
+}
+
+/// Dynamics of a file with parts of mass 0: refused, naming every such part and what to do.
+#[test]
+fn dynamics_of_massless_parts_is_refused_by_name() {
+    let dir = scratch("asmt-massless");
+    let file = asmt("Gears");
+    for analysis in ["dynamic", "inverse_dynamics"] {
+        let out = cardan(
+            &[
+                "run",
+                file.to_str().unwrap(),
+                "--quiet",
+                "--analysis",
+                analysis,
+            ],
+            &dir,
+        );
+        assert_eq!(out.code, 1, "{analysis}: {}", out.stderr);
+        assert!(out.stderr.contains("mass 0: /"), "{}", out.stderr);
+        assert!(
+            out.stderr.contains("--analysis kinematic"),
+            "{}",
+            out.stderr
+        );
+        assert!(!dir.join("out").exists());
+    }
+}

@@ -231,3 +231,162 @@ fn a_write_error_leaves_the_previous_directory_intact() {
     assert!(snapshot(&out) == before, "changed: {:?}", names(&out));
     assert_eq!(names(&o.dir), ["model.toml", "out"]);
 }
+
+/// The factor from a SI column unit to the mm system's, or 1 (an independent table, not the
+/// command's).
+fn mm_factor(header: &str) -> f64 {
+    let unit = header
+        .rsplit_once(" [")
+        .map_or("", |(_, u)| u.trim_end_matches(']'));
+    match unit {
+        "m" | "m/s" | "m/s²" | "N m" | "J" | "W" => 1e3,
+        _ => 1.0,
+    }
+}
+
+/// slider_crank_dynamic in millimetres: lengths, velocities and gravity ×1000, inertias ×1e6.
+fn slider_crank_in_mm(si: &str) -> String {
+    let scale_numbers = |line: &str, f: f64| -> String {
+        let mut out = String::new();
+        let mut num = String::new();
+        let flush = |num: &mut String, out: &mut String| {
+            if !num.is_empty() {
+                let v: f64 = num.parse().unwrap();
+                out.push_str(&format!("{:?}", v * f));
+                num.clear();
+            }
+        };
+        for c in line.chars() {
+            let starts = c.is_ascii_digit() || c == '-' || c == '.';
+            let continues = !num.is_empty()
+                && (c.is_ascii_digit() || c == '.' || c == 'e' || (c == '-' && num.ends_with('e')));
+            if (num.is_empty() && starts) || continues {
+                num.push(c);
+            } else {
+                flush(&mut num, &mut out);
+                out.push(c);
+            }
+        }
+        flush(&mut num, &mut out);
+        out
+    };
+    si.lines()
+        .map(|l| {
+            let l = l.split('#').next().unwrap_or("");
+            let (key, rest) = l.split_once(" = ").unwrap_or((l, ""));
+            match key {
+                "units" => "units = \"mm\"".to_string(),
+                "t_end" => "t_end = 0.5".to_string(),
+                // (Not [analysis.outputs] points = ["crank.B", ...].)
+                "gravity" | "position" | "points" | "global_points" | "velocity"
+                    if !rest.contains('"') =>
+                {
+                    format!("{key} = {}", scale_numbers(rest, 1e3))
+                }
+                "inertia" => format!("{key} = {}", scale_numbers(rest, 1e6)),
+                _ => l.to_string(),
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// `[model] units = "mm"`: the same mechanism written in SI and in millimetres gives the same
+/// outputs after scaling (a dynamic run: positions, velocities, reactions, energy), with the
+/// headers in mm, N mm and mJ; run.json says so.
+#[test]
+fn a_model_in_millimetres_writes_millimetres() {
+    let dir = scratch("units-mm");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+    let si = std::fs::read_to_string(root.join("slider_crank_dynamic.toml"))
+        .unwrap()
+        .replace("t_end = 5.0", "t_end = 0.5");
+    std::fs::write(dir.join("si.toml"), &si).unwrap();
+    std::fs::write(dir.join("mm.toml"), slider_crank_in_mm(&si)).unwrap();
+    for (model, out) in [("si.toml", "si"), ("mm.toml", "mm")] {
+        let r = cardan(&["run", model, "-o", out, "--quiet"], &dir);
+        assert_eq!(r.code, 0, "{model}: {}{}", r.stdout, r.stderr);
+    }
+    assert_eq!(run_json(&dir.join("mm"))["units"], "mm");
+    assert_eq!(run_json(&dir.join("si"))["units"], "SI");
+    let mut compared = 0;
+    for name in names(&dir.join("si")) {
+        let Some(stem) = name.strip_suffix(".csv") else {
+            continue;
+        };
+        let read = |d: &str| std::fs::read_to_string(dir.join(d).join(&name)).unwrap();
+        let (ha, ra) = cardan_cli::table::parse_csv(&read("si")).unwrap();
+        let (hb, rb) = cardan_cli::table::parse_csv(&read("mm")).unwrap();
+        let factors: Vec<f64> = ha.iter().map(|h| mm_factor(h)).collect();
+        for (a, b) in ha.iter().zip(&hb) {
+            // Mixed units ("m or -": constraint_drift) stay SI.
+            if a.contains(" or ") {
+                assert_eq!(a, b);
+                continue;
+            }
+            let expected = a
+                .replace(" [m]", " [mm]")
+                .replace(" [m/s", " [mm/s")
+                .replace(" [N m]", " [N mm]")
+                .replace(" [J]", " [mJ]")
+                .replace(" [W]", " [mW]");
+            assert_eq!(&expected, b, "{stem}");
+        }
+        assert_eq!(ra.len(), rb.len(), "{stem}");
+        // Columns that are zero but for rounding (the power of ideal joints) are compared
+        // with the table's largest value.
+        let table = ra
+            .iter()
+            .flat_map(|r| &r[1..])
+            .fold(0.0f64, |m, v| m.max(v.abs()));
+        for k in 0..factors.len() {
+            let size = ra.iter().fold(1e-6 * table, |m, r| m.max(r[k].abs()));
+            for (x, y) in ra.iter().zip(&rb) {
+                let d = (x[k] * factors[k] - y[k]).abs() / (size * factors[k]);
+                // Residuals and drifts are rounding-level numbers: not compared.
+                assert!(
+                    d < 1e-6 || stem == "residual" || stem == "constraint_drift",
+                    "{stem} {}: {} vs {}",
+                    ha[k],
+                    x[k],
+                    y[k]
+                );
+            }
+        }
+        compared += 1;
+    }
+    assert!(compared >= 4, "{compared} tables");
+}
+
+/// The magnitude limits apply to SI values: 5e9 mm (5000 km) is within the length limit of
+/// 1e7 m, 5e9 m is not; and a 5 mm link is no more suspicious than a 5 m one.
+#[test]
+fn magnitude_checks_see_si_values() {
+    let mm = edited("[model]\n", "[model]\nunits = \"mm\"\n");
+    let far = |text: &str| text.replacen("[0.0, 0.0, 0.0]", "[5e9, 0.0, 0.0]", 1);
+    let si_far = run_text("check", &far(&edited("", "")));
+    assert_eq!(si_far.code, 1, "{}", si_far.stderr);
+    assert!(
+        si_far.stderr.contains("absurdly large"),
+        "{}",
+        si_far.stderr
+    );
+    let mm_far = run_text("check", &far(&mm));
+    assert!(!mm_far.stderr.contains("absurdly"), "{}", mm_far.stderr);
+    // 5e10 mm is 5e7 m: beyond the limit, said in both units.
+    let mm_too_far = run_text(
+        "check",
+        &mm.replacen("[0.0, 0.0, 0.0]", "[5e10, 0.0, 0.0]", 1),
+    );
+    assert_eq!(mm_too_far.code, 1, "{}", mm_too_far.stderr);
+    assert!(
+        mm_too_far
+            .stderr
+            .contains("(5e10 mm) = 5e7 m is absurdly large"),
+        "{}",
+        mm_too_far.stderr
+    );
+    let bad = run_text("check", &edited("[model]\n", "[model]\nunits = \"inch\"\n"));
+    assert_eq!(bad.code, 1);
+    assert!(bad.stderr.contains("units = \"mm\""), "{}", bad.stderr);
+}

@@ -250,7 +250,7 @@ impl Quantity {
 }
 
 /// `x` in scientific notation with at most six significant digits ("1e298", "2.5e10").
-fn scientific(x: f64) -> String {
+pub fn scientific(x: f64) -> String {
     let s = format!("{x:.5e}");
     match s.split_once('e') {
         Some((m, e)) if m.contains('.') => {

@@ -304,9 +304,9 @@ fn table_csv(name: String, title: String, columns: Vec<String>, data: &[u8]) -> 
 }
 
 /// An ASMT assembly (OndselSolver / FreeCAD) as cardan model text: a dict with `text` (the
-/// imported model, SI units), `path` (its name, `<file>.asmt.toml`) and `warnings` (the
-/// elements read but ignored, a millimetre file read as SI), or `error`. `units` is `"si"` or
-/// `"mm"` (lengths converted to m).
+/// imported model in the file's units, `[model] units`), `path` (its name, `<file>.asmt.toml`)
+/// and `warnings` (the elements read but ignored, a millimetre file read as SI), or `error`.
+/// `units` is `"si"` or `"mm"` (`[model] units = "mm"`: results in mm).
 #[pyfunction]
 #[pyo3(signature = (text, path, units="si", inverse_dynamics=false))]
 fn import_asmt<'py>(

@@ -1,6 +1,7 @@
 """The Python results are the command's: same tables, CSV byte for byte; numpy access."""
 
 import pathlib
+import subprocess
 
 import numpy as np
 import pytest
@@ -112,6 +113,24 @@ def test_asmt_assemblies_load_and_equal_the_commands_run(cardan_bin, tmp_path):
     r.to_csv(tmp_path / "py")
     for f in (tmp_path / "cli").glob("*.csv"):
         assert f.read_bytes() == (tmp_path / "py" / f.name).read_bytes(), f.name
+
+
+def test_asmt_in_millimetres_equals_the_commands_run(cardan_bin, tmp_path):
+    model = ASMT / "crank_slider.asmt"
+    r = cardan.load(model, units="mm").run()
+    assert any(u == "mm" for t in r.tables.values() for u in t.units)
+    cli = subprocess.run(
+        [cardan_bin, "run", str(model), "-o", str(tmp_path / "cli"), "--quiet", "--units", "mm"],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert cli.returncode == 0, cli.stderr
+    r.to_csv(tmp_path / "py")
+    for f in (tmp_path / "cli").glob("*.csv"):
+        assert f.read_bytes() == (tmp_path / "py" / f.name).read_bytes(), f.name
+    with pytest.raises(ValueError, match="ASMT files"):
+        cardan.load(EXAMPLES / "slider_crank.toml", units="mm")
 
 
 def test_a_bad_asmt_file_is_a_model_error_at_its_line(tmp_path):

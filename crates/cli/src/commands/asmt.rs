@@ -5,8 +5,10 @@
 //! cardan model ([`cardan_asmt::toml_out`]) that goes through the same validation and analysis
 //! as a TOML model: one path for both. Messages about the model after the import refer to the
 //! imported model as `<file>.asmt.toml`, the text `cardan import` writes. Elements the import
-//! ignores (limits, AllowRotation, force elements) are reported as warnings on stderr and as
-//! comments at the top of the imported model.
+//! ignores (limits, AllowRotation, force elements) are warnings: in the summary and `run.json`
+//! of a run ([`crate::commands::Prepared::warnings`]), after `check`'s report, on stderr for
+//! `import`, and as comments at the top of the imported model. `--units mm` keeps the file's
+//! numbers and writes `[model] units = "mm"`: the model converts them ([`crate::units`]).
 
 use crate::diag::{Error, Location, Source};
 use std::io::Write;
@@ -45,10 +47,34 @@ pub enum Analysis {
     /// Inverse dynamics on the same time grid (driver efforts, reactions; needs masses).
     #[value(name = "inverse_dynamics")]
     InverseDynamics,
+    /// Forward dynamics from the file's pose at rest, output every hout (DOPRI5 with the
+    /// file's hmax and errorTol; needs masses).
+    Dynamic,
+}
+
+impl Analysis {
+    /// The importer's analysis kind.
+    fn kind(self) -> cardan_asmt::AnalysisKind {
+        match self {
+            Self::Kinematic => cardan_asmt::AnalysisKind::Kinematic,
+            Self::InverseDynamics => cardan_asmt::AnalysisKind::InverseDynamics,
+            Self::Dynamic => cardan_asmt::AnalysisKind::Dynamic,
+        }
+    }
+}
+
+/// How `run` and `check` read an ASMT file (`--units`, `--analysis`); TOML models ignore it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct AsmtOptions {
+    /// The units of the file's numbers.
+    pub units: Units,
+    /// The analysis to run.
+    pub analysis: Analysis,
 }
 
 /// Reads an ASMT source and returns the imported cardan model text (as a [`Source`] named
-/// `<file>.asmt.toml`, in SI units) and the import's warnings.
+/// `<file>.asmt.toml`, in the file's units: `[model] units = "SI"` or `"mm"`) and the import's
+/// warnings (`<file>:<line>: <sentence>`).
 ///
 /// # Errors
 /// The reader's first problem, located at the ASMT file's line.
@@ -69,11 +95,11 @@ pub fn import_source(
     let doc = cardan_asmt::read(&src.text).map_err(located)?;
     let mut warnings = Vec::new();
     let doc = match units {
-        Units::Mm => doc.scaled(1e-3),
+        Units::Mm => doc,
         Units::Si => {
             if doc.looks_like_millimetres() {
                 warnings.push(format!(
-                    "{}:1: warning: the file was written by FreeCAD and reaches {:.0} length units from the origin: it looks like millimetres, but is read as SI (m, kg, s); `cardan import --units mm` converts it",
+                    "{}:1: the file was written by FreeCAD and reaches {:.0} length units from the origin: it looks like millimetres, but is read as SI (m, kg, s); `--units mm` reads it in millimetres",
                     src.path.display(),
                     doc.size()
                 ));
@@ -86,8 +112,12 @@ pub fn import_source(
     if let Some(stem) = src.path.file_stem() {
         import.name = cardan_asmt::sanitize(&stem.to_string_lossy());
     }
-    if analysis == Analysis::InverseDynamics {
-        import.inverse_dynamics = true;
+    import.analysis = analysis.kind();
+    if units == Units::Mm {
+        import.units = "mm";
+    }
+    if import.analysis.needs_masses() {
+        refuse_massless(&import, &src.path)?;
     }
     let name = src
         .path
@@ -97,32 +127,54 @@ pub fn import_source(
     if units == Units::Mm {
         text.insert_str(
             0,
-            "# Read in millimetres (--units mm): lengths converted to m, inertias to kg m².\n",
+            "# Read in millimetres (--units mm): the file's numbers, [model] units = \"mm\".\n",
         );
     }
     warnings.extend(
         import
             .warnings
             .iter()
-            .map(|w| format!("{}:{}: warning: {}", src.path.display(), w.line, w.message)),
+            .map(|w| format!("{}:{}: {}", src.path.display(), w.line, w.message)),
     );
     Ok((Source::from_text(imported_path(&src.path), text), warnings))
 }
 
-/// Reads `path`: a TOML model as it is, an ASMT file imported (its warnings printed to stderr).
+/// Refuses a dynamic or inverse dynamics analysis of a file with parts of mass 0, naming them.
+fn refuse_massless(import: &cardan_asmt::Import, path: &Path) -> Result<(), Error> {
+    let massless: Vec<String> = import
+        .bodies
+        .iter()
+        .filter(|b| b.body.mass.is_none())
+        .map(|b| format!("{} (line {})", b.path, b.line))
+        .collect();
+    if massless.is_empty() {
+        return Ok(());
+    }
+    let n = massless.len();
+    Err(Error::input(format!(
+        "{}: --analysis {} needs a mass and inertia on every part, and {n} part{} {} mass 0: {}. \
+         Give {} a mass in FreeCAD (or in the model `cardan import` writes: `mass` and \
+         `inertia` of the body) and run again, or run the kinematics (--analysis kinematic)",
+        path.display(),
+        import.analysis.name(),
+        if n == 1 { "" } else { "s" },
+        if n == 1 { "has" } else { "have" },
+        massless.join(", "),
+        if n == 1 { "it" } else { "each" },
+    )))
+}
+
+/// Reads `path`: a TOML model as it is (no warnings), an ASMT file imported as `options` say
+/// (with the import's warnings, each a sentence with the ASMT line).
 ///
 /// # Errors
 /// Unreadable file, or an ASMT reader error.
-pub fn read_model(path: &Path) -> Result<Source, Error> {
+pub fn read_model(path: &Path, options: AsmtOptions) -> Result<(Source, Vec<String>), Error> {
     let src = Source::read(path)?;
     if !is_asmt(path) {
-        return Ok(src);
+        return Ok((src, Vec::new()));
     }
-    let (model, warnings) = import_source(&src, Units::Si, Analysis::Kinematic)?;
-    for w in warnings {
-        eprintln!("{w}");
-    }
-    Ok(model)
+    import_source(&src, options.units, options.analysis)
 }
 
 /// `cardan import MODEL.asmt [-o MODEL.toml] [--units si|mm]`: writes the equivalent cardan model (to stdout
@@ -140,7 +192,7 @@ pub fn import(
     let src = Source::read(path)?;
     let (model, warnings) = import_source(&src, units, analysis)?;
     for w in &warnings {
-        eprintln!("{w}");
+        eprintln!("warning: {w}");
     }
     match output {
         Some(o) => {
@@ -156,20 +208,30 @@ pub fn import(
     Ok(())
 }
 
-/// Writes `<dir>/<stem>.solved.asmt`: the ASMT input with a TimeSeries of `results` in
+/// Writes `<dir>/<stem>.solved.asmt`: the ASMT input with a TimeSeries of `results` (SI) in
 /// OndselSolver's conventions ([`cardan_asmt::solved`]: part-frame origins, exact Bryant
-/// angles, velocities and accelerations; no joint reactions). Returns the path written.
+/// angles, velocities and accelerations; no joint reactions), in the file's `units`. Returns
+/// the path written.
 ///
 /// # Errors
 /// Unreadable input or unwritable output.
 pub fn write_solved(
     path: &Path,
     dir: &Path,
+    units: Units,
     results: &cardan_mechanism::Results,
 ) -> Result<PathBuf, Error> {
     let src = Source::read(path)?;
-    let (doc, import) = cardan_asmt::load(&src.text).map_err(|e| Error::input(e.to_string()))?;
-    let series = cardan_asmt::solved::time_series(&doc, &import, results);
+    let doc = cardan_asmt::read(&src.text).map_err(|e| Error::input(e.to_string()))?;
+    let doc = match units {
+        Units::Si => doc,
+        Units::Mm => doc.scaled(1e-3),
+    };
+    let import = cardan_asmt::import(&doc).map_err(|e| Error::input(e.to_string()))?;
+    let mut series = cardan_asmt::solved::time_series(&doc, &import, results);
+    if units == Units::Mm {
+        cardan_asmt::solved::scale_lengths(&mut series, 1e3);
+    }
     let text = cardan_asmt::solved::solved_text(&src.text, &series);
     let stem = path
         .file_stem()

@@ -1,7 +1,7 @@
 //! `cardan check MODEL.toml`: validate and describe a model.
 
 use super::output_tables::{g, io, write_table};
-use super::{analysis_error, prepare};
+use super::{analysis_error, prepare_with};
 use crate::diag::Error;
 use cardan_mechanism::{AnalysisError, AssemblyOptions};
 use std::io::Write;
@@ -13,7 +13,29 @@ use std::path::Path;
 /// Any input error; an assembly that cannot close; a driver count that does not match the DOF
 /// of a kinematic analysis (after printing the description).
 pub fn check(path: &Path, out: &mut dyn Write) -> Result<(), Error> {
-    let p = prepare(path)?;
+    check_with(path, super::asmt::AsmtOptions::default(), out)
+}
+
+/// [`check`] reading an ASMT file as `options` say; the import's warnings follow the
+/// description (`warning: <file>:<line>: …`, as in a run's summary).
+///
+/// # Errors
+/// As [`check`].
+pub fn check_with(
+    path: &Path,
+    options: super::asmt::AsmtOptions,
+    out: &mut dyn Write,
+) -> Result<(), Error> {
+    let p = prepare_with(path, options)?;
+    describe(&p, path, out)?;
+    for w in &p.warnings {
+        writeln!(out, "warning: {w}").map_err(io)?;
+    }
+    Ok(())
+}
+
+/// The description `check` prints, and its refusals.
+fn describe(p: &super::Prepared, path: &Path, out: &mut dyn Write) -> Result<(), Error> {
     // The animation's geometry (mesh files included), as `cardan run` checks it.
     crate::geometry::load(&p.source)?;
     let model = &p.model;
@@ -25,23 +47,26 @@ pub fn check(path: &Path, out: &mut dyn Write) -> Result<(), Error> {
     };
     model
         .assemble(&mut ws, &opts)
-        .map_err(|e| analysis_error(&p, &e))?;
-    let dof = model.dof(&ws).map_err(|e| analysis_error(&p, &e))?;
+        .map_err(|e| analysis_error(p, &e))?;
+    let dof = model.dof(&ws).map_err(|e| analysis_error(p, &e))?;
 
     writeln!(
         out,
-        "model \"{}\" ({}): SI units (m, kg, s, rad)",
+        "model \"{}\" ({}): {}",
         p.loaded.name,
-        path.display()
+        path.display(),
+        p.units.describe()
     )
     .map_err(io)?;
     writeln!(out, "\nbodies ({} moving, plus ground)", model.num_bodies()).map_err(io)?;
+    let (unit, length) = p.units.unit("m");
+    let position = format!("assembled position [{unit}]");
     let rows: Vec<Vec<String>> = model
         .bodies()
         .iter()
         .enumerate()
         .map(|(k, b)| {
-            let r = ws.r(k);
+            let r = ws.r(k) * length;
             vec![
                 b.name.clone(),
                 b.mass.map_or("-".into(), g),
@@ -52,7 +77,7 @@ pub fn check(path: &Path, out: &mut dyn Write) -> Result<(), Error> {
         .collect();
     write_table(
         out,
-        &["name", "mass [kg]", "assembled position [m]", "columns"],
+        &["name", "mass [kg]", position.as_str(), "columns"],
         &rows,
     )
     .map_err(io)?;
@@ -170,13 +195,13 @@ pub fn check(path: &Path, out: &mut dyn Write) -> Result<(), Error> {
         .map_err(io)?;
     } else if let Some(a) = &p.loaded.analysis {
         if a.inverse_dynamics && (dof.dof != dof.drivers || dof.drivers == 0) {
-            return Err(super::not_fully_driven(&p, dof.dof, dof.drivers));
+            return Err(super::not_fully_driven(p, dof.dof, dof.drivers));
         }
         if dof.dof == dof.drivers {
             // What `run` refuses next: drivers that depend on the joints or on each other.
             model
                 .prepare_kinematics(&mut ws)
-                .map_err(|e| analysis_error(&p, &e))?;
+                .map_err(|e| analysis_error(p, &e))?;
             writeln!(
                 out,
                 "{}: {} driver{} for {} DOF: ok{}",
@@ -201,7 +226,7 @@ pub fn check(path: &Path, out: &mut dyn Write) -> Result<(), Error> {
             .map_err(io)?;
         } else {
             return Err(analysis_error(
-                &p,
+                p,
                 &AnalysisError::DriverCount {
                     dof: dof.dof,
                     drivers: dof.drivers,

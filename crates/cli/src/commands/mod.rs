@@ -21,6 +21,12 @@ pub struct Prepared {
     pub loaded: Loaded,
     /// The built mechanism.
     pub model: Model,
+    /// Warnings about the model itself, before any analysis: an ASMT file's elements read and
+    /// ignored (`<file>:<line>: <sentence>`). A run puts them first in its summary's warnings.
+    pub warnings: Vec<String>,
+    /// The model's units (`[model] units`), in which the outputs are written (the analyses
+    /// work in SI).
+    pub units: crate::units::UnitSystem,
 }
 
 /// Reads, parses, checks and builds a model file.
@@ -29,7 +35,19 @@ pub struct Prepared {
 /// Unreadable file, TOML syntax, unknown keys, bad values, or a [`ModelError`] from the builder
 /// (located at the element it names).
 pub fn prepare(path: &Path) -> Result<Prepared, Error> {
-    prepare_source(asmt::read_model(path)?)
+    prepare_with(path, asmt::AsmtOptions::default())
+}
+
+/// [`prepare`] reading an ASMT file as `options` say (`--units`, `--analysis`), with the
+/// import's warnings in [`Prepared::warnings`].
+///
+/// # Errors
+/// As [`prepare`].
+pub fn prepare_with(path: &Path, options: asmt::AsmtOptions) -> Result<Prepared, Error> {
+    let (source, warnings) = asmt::read_model(path, options)?;
+    let mut p = prepare_source(source)?;
+    p.warnings = warnings;
+    Ok(p)
 }
 
 /// [`prepare`] for a model file already read (or written by a program): `source.path` names it
@@ -50,10 +68,13 @@ pub fn prepare_source(source: Source) -> Result<Prepared, Error> {
             functions::check_force_values(&source, &loaded, &a.times())?;
         }
     }
+    let units = loaded.units;
     Ok(Prepared {
         source,
         loaded,
         model,
+        warnings: Vec::new(),
+        units,
     })
 }
 

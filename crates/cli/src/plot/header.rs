@@ -69,14 +69,14 @@ fn component(segs: &[&str]) -> Option<usize> {
 pub fn y_label(unit: &str) -> String {
     let quantity = match unit {
         "N" => "force",
-        "N m" => "torque",
-        "m" => "length",
+        "N m" | "N mm" => "torque",
+        "m" | "mm" => "length",
         "rad" => "angle",
-        "m/s" => "velocity",
+        "m/s" | "mm/s" => "velocity",
         "rad/s" => "angular velocity",
-        "m/s²" => "acceleration",
+        "m/s²" | "mm/s²" => "acceleration",
         "rad/s²" => "angular acceleration",
-        "J" => "energy",
+        "J" | "mJ" => "energy",
         "-" => "dimensionless",
         _ => "",
     };

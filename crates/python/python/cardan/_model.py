@@ -132,16 +132,18 @@ class Model:
         return f"<cardan.Model {self.path}>"
 
 
-def load(path: "os.PathLike[str] | str", units: str = "si") -> Model:
+def load(path: "os.PathLike[str] | str", units: "str | None" = None) -> Model:
     """Reads a model file: TOML, or an ASMT assembly (``.asmt``, OndselSolver / FreeCAD),
-    imported as cardan does for ``cardan run model.asmt``. ``units="mm"`` reads an ASMT file in
-    FreeCAD's millimetres (converted to SI). The import's warnings (elements read but ignored)
-    are issued as Python warnings."""
+    imported as cardan does for ``cardan run model.asmt``. ``units`` is for ASMT files, as
+    ``--units`` of the command: ``"si"`` (default) or ``"mm"`` (FreeCAD's millimetres: the model
+    says ``[model] units = "mm"`` and its results are in mm). A TOML model gives its units in
+    ``[model] units``, and ``units=`` is refused for it. The import's warnings (elements read
+    but ignored) are issued as Python warnings."""
     path = os.path.abspath(os.fspath(path))
     with open(path, encoding="utf-8") as f:
         text = f.read()
     if path.lower().endswith(".asmt"):
-        out = _cardan.import_asmt(text, path, units)
+        out = _cardan.import_asmt(text, path, units or "si")
         if out["error"] is not None:
             raise_error(out["error"])
         import warnings
@@ -149,6 +151,10 @@ def load(path: "os.PathLike[str] | str", units: str = "si") -> Model:
         for w in out["warnings"]:
             warnings.warn(w, stacklevel=2)
         return Model(out["text"], out["path"])
+    if units is not None:
+        raise ValueError(
+            f"units={units!r} applies to ASMT files; {path} gives its units in [model] units"
+        )
     return Model(text, path)
 
 

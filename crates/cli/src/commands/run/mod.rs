@@ -13,7 +13,7 @@ mod summary;
 
 pub use summary::{Analysed, DynamicSummary, EnergyBalance, RunFlags, Summary};
 
-use super::{prepare, Prepared};
+use super::{prepare_with, Prepared};
 use crate::diag::Error;
 use crate::output::OutputDir;
 use crate::report::{ModelRef, RunReport, Status};
@@ -54,7 +54,7 @@ pub fn run(
     crate::progress::catch_ctrl_c();
     let mut o = run_model_with(path, output, flags)?;
     if super::asmt::is_asmt(path) {
-        let solved = super::asmt::write_solved(path, &o.summary.dir, &o.results)?;
+        let solved = super::asmt::write_solved(path, &o.summary.dir, flags.asmt.units, &o.results)?;
         o.summary.files.push(solved);
     }
     print_summary(&o.summary, out)?;
@@ -169,7 +169,7 @@ pub fn run_model_with(
     output: Option<&Path>,
     flags: &RunFlags,
 ) -> Result<RunOutcome, Error> {
-    let p = prepare(path)?;
+    let p = prepare_with(path, flags.asmt)?;
     let Some(analysis) = p.loaded.analysis.clone() else {
         return Err(p.source.error(
             "the model file has no [analysis] table, so there is nothing to run; add e.g.\n\
@@ -231,6 +231,8 @@ pub fn analyse(
         ("kinematic", run_kinematic(p, analysis, progress))
     };
     let mut a = ran?;
+    a.summary.warnings.splice(0..0, p.warnings.iter().cloned());
+    in_units(p.units, &mut a);
     if a.results.times.is_empty() {
         return Err(a.failure.unwrap_or_else(|| {
             Error::analysis("the analysis stored no result (no time was solved)")
@@ -240,6 +242,18 @@ pub fn analyse(
         a.strict_failure = Some(strict_error(&a.summary.warnings));
     }
     Ok((kind, a))
+}
+
+/// The outputs of a run in the model's units (the analyses work in SI): tables and peak efforts.
+fn in_units(units: crate::units::UnitSystem, a: &mut Analysed) {
+    for t in &mut a.tables {
+        units.convert_table(t);
+    }
+    for (_, v, u) in &mut a.summary.peak_efforts {
+        let (unit, factor) = units.unit(u);
+        *v *= factor;
+        *u = if unit == "N mm" { "N mm" } else { *u };
+    }
 }
 
 /// The contents `run.json` would have for an analysed run writing `files` (the Python bindings
@@ -387,6 +401,10 @@ fn report(p: &Prepared, kind: &'static str, a: &Analysed, files: Vec<String>) ->
             name: s.name.clone(),
         },
         analysis: kind,
+        units: match p.units {
+            crate::units::UnitSystem::Si => "SI",
+            crate::units::UnitSystem::Mm => "mm",
+        },
         status: if a.failure.is_some() {
             Status::Partial
         } else {

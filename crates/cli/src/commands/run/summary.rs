@@ -104,6 +104,8 @@ pub struct RunFlags {
     pub allow_long: bool,
     /// `--png`: write a PNG beside each SVG plot.
     pub png: bool,
+    /// `--units`, `--analysis`: how an ASMT file is read.
+    pub asmt: crate::commands::asmt::AsmtOptions,
 }
 
 /// An analysis that has run, before anything is written.
