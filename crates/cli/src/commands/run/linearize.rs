@@ -15,6 +15,9 @@ use crate::table::Table;
 use cardan_dynamics::{SimulationOptions, State};
 use cardan_mechanism::Outputs;
 
+/// Output tables and named files (name, text).
+type Written = (Vec<Table>, Vec<(String, String)>);
+
 /// The tables and files of the linearization about the state at `t` of the run with options
 /// `opts`: the modes and the matrices.
 ///
@@ -26,7 +29,7 @@ pub(super) fn about_dynamic(
     t: f64,
     req: &Requested,
     inputs: &[String],
-) -> Result<(Vec<Table>, Vec<(String, String)>), Error> {
+) -> Result<Written, Error> {
     let mut d = dynamics(p)?;
     let initial = initial_state(p);
     let state = if t > initial.t {
