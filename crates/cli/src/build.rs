@@ -135,8 +135,11 @@ pub struct Analysis {
     pub statics: Option<StaticKind>,
     /// Static kinds: equal load increments tried first.
     pub load_steps: usize,
-    /// Modal: the force elements that are the inputs of the state-space model.
+    /// Modal, and dynamic with `linearize_at`: the force elements that are the inputs of the
+    /// state-space model.
     pub inputs: Vec<String>,
+    /// Dynamic: the time of the state about which the run is linearized (in [t_start, t_end]).
+    pub linearize_at: Option<f64>,
 }
 
 /// The static analyses.
@@ -545,7 +548,7 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
         Some(a) => {
             spans.analysis = a.get_ref().kind.span();
             let mut an = load_analysis(&resolver, a.get_ref(), &spans)?;
-            an.inputs = load_inputs(&cx, a.get_ref(), an.statics, &forces)?;
+            an.inputs = load_inputs(&cx, a.get_ref(), &an, &forces, &drivers)?;
             Some(an)
         }
         None => None,
@@ -1661,6 +1664,31 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
     } else {
         outputs.energy = true;
     }
+    let linearize_at = match &a.linearize_at {
+        None => None,
+        Some(n) => {
+            let t = cx.num(n, "linearize_at", Quantity::Time)?;
+            if dynamic.is_none() {
+                return Err(cx.err(
+                    n.span(),
+                    format!(
+                        "linearize_at applies only to kind = \"dynamic\" (this is a {kind} \
+                         analysis; kind = \"modal\" linearizes about an equilibrium)"
+                    ),
+                ));
+            }
+            if !(t_start..=t_end).contains(&t) {
+                return Err(cx.err(
+                    n.span(),
+                    format!(
+                        "linearize_at = {t} s must lie between t_start = {t_start} s and \
+                         t_end = {t_end} s"
+                    ),
+                ));
+            }
+            Some(t)
+        }
+    };
     let plots = match &a.plots {
         None => true,
         Some(p) => match p.get_ref().as_str() {
@@ -1686,36 +1714,51 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
         statics,
         load_steps,
         inputs: Vec::new(),
+        linearize_at,
     })
 }
 
-/// `inputs = [...]` (modal only): point_force and torque elements of the file.
+/// `inputs = [...]` (modal, dynamic with linearize_at): drivers (modal) and point_force and torque elements of the file.
 fn load_inputs(
     cx: &Ctx,
     a: &AnalysisSection,
-    statics: Option<StaticKind>,
+    an: &Analysis,
     forces: &[Force],
+    drivers: &[(String, String)],
 ) -> Result<Vec<String>, Error> {
     let Some(list_) = &a.inputs else {
         return Ok(Vec::new());
     };
     let mut out = Vec::new();
     for n in list_ {
-        if statics != Some(StaticKind::Modal) {
+        if an.statics != Some(StaticKind::Modal) && an.linearize_at.is_none() {
             return Err(cx.err(
                 n.span(),
-                "inputs applies only to kind = \"modal\" (the inputs of the state-space model)",
+                "inputs applies only to kind = \"modal\" and to kind = \"dynamic\" with \
+                 linearize_at (the inputs of the state-space model)",
             ));
         }
-        let ok = forces.iter().any(|f| {
+        let force = forces.iter().any(|f| {
             f.name() == n.get_ref().as_str()
                 && matches!(f, Force::PointForce { .. } | Force::PointTorque { .. })
         });
-        if !ok {
+        let driver = drivers.iter().any(|(d, _)| d == n.get_ref());
+        if driver && an.statics != Some(StaticKind::Modal) {
             return Err(cx.err(
                 n.span(),
                 format!(
-                    "inputs: \"{}\" is not a [[force]] of type point_force or torque",
+                    "inputs: driver \"{}\": driver efforts are inputs of kind = \"modal\" only \
+                     (about a moving state the driver prescribes the motion)",
+                    n.get_ref()
+                ),
+            ));
+        }
+        if !force && !driver {
+            return Err(cx.err(
+                n.span(),
+                format!(
+                    "inputs: \"{}\" is not a [[force]] of type point_force or torque, nor a \
+                     one-coordinate [[driver]]",
                     n.get_ref()
                 ),
             ));

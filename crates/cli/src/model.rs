@@ -456,10 +456,14 @@ pub struct AnalysisSection {
     /// static, quasi_static, modal: equal load increments tried first (default 1).
     #[serde(default)]
     pub load_steps: Option<Spanned<i64>>,
-    /// modal: the force elements (point_force, torque) that are the inputs of the state-space
-    /// model written with the modes.
+    /// modal, and dynamic with linearize_at: the force elements (point_force, torque) that are
+    /// the inputs of the state-space model written with the modes.
     #[serde(default)]
     pub inputs: Option<Vec<Name>>,
+    /// dynamic: the time [s] of the state about which the run is linearized (modes and
+    /// state-space matrices written with the run's outputs).
+    #[serde(default)]
+    pub linearize_at: Option<Num>,
     /// Number of steps (the grid has steps + 1 times).
     #[serde(default)]
     pub steps: Option<Spanned<i64>>,

@@ -206,9 +206,9 @@ fn keys_that_do_not_apply_are_refused() {
         (
             edited(
                 "kind = \"kinematic\"\nt_end = 1.0\nsteps = 10",
-                "kind = \"modal\"\ninputs = [\"motor\"]",
+                "kind = \"modal\"\ninputs = [\"pivot\"]",
             ),
-            "is not a [[force]] of type point_force or torque",
+            "is not a [[force]] of type point_force or torque, nor a one-coordinate [[driver]]",
         ),
         (
             edited(
@@ -239,6 +239,7 @@ fn static_driven_crank_holding_torque() {
     );
     let o = run_text("run", &text);
     assert_eq!(o.code, 0, "{}", o.stderr);
+    assert!(o.stdout.contains(": 1 equilibrium, "), "{}", o.stdout);
     let (h, rows) = csv(&o.dir.join("out"), "driver_efforts.csv");
     let t = rows[0][col(&h, "motor.torque [N m]")];
     let exact = 1.0 * G * 0.5 * (0.7f64).cos();
@@ -310,4 +311,136 @@ fn modal_state_space_static_gain_is_the_compliance() {
     let signals = std::fs::read_to_string(dir.join("state_space.txt")).unwrap();
     assert!(signals.contains("input 1: probe [N m]"), "{signals}");
     assert!(signals.contains("output 1: A.angle [rad]"), "{signals}");
+}
+
+/// The crank of the common model held under gravity by its driver at θ = −0.7 rad; with the
+/// driver as the state-space input (released), the static gain from its effort to the joint
+/// angle is the compliance 1 / (−m g l_c sin θ), and the natural frequency of the released
+/// crank √(K / J_O) follows from lin_K / lin_M.
+#[test]
+fn modal_driver_effort_input_static_gain() {
+    let text = edited(
+        "[analysis]\nkind = \"kinematic\"\nt_end = 1.0\nsteps = 10",
+        "[analysis]\nkind = \"modal\"\ntime = -0.7\ninputs = [\"motor\"]\n\
+         [analysis.outputs]\njoints = [\"pivot\"]",
+    )
+    .replacen(
+        "name = \"crank\"\n",
+        "name = \"crank\"\ngravity = [0.0, -9.81, 0.0]\n",
+        1,
+    );
+    let o = run_text("run", &text);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let dir = o.dir.join("out");
+    let read = |name: &str| {
+        let t = std::fs::read_to_string(dir.join(name)).unwrap();
+        let mut lines = t.lines().filter(|l| !l.starts_with('%'));
+        let dims: Vec<usize> = lines
+            .next()
+            .unwrap()
+            .split_whitespace()
+            .map(|x| x.parse().unwrap())
+            .collect();
+        let mut m = nalgebra::DMatrix::zeros(dims[0], dims[1]);
+        for l in lines {
+            let f: Vec<&str> = l.split_whitespace().collect();
+            let (r, c): (usize, usize) = (f[0].parse().unwrap(), f[1].parse().unwrap());
+            m[(r - 1, c - 1)] = f[2].parse::<f64>().unwrap();
+        }
+        m
+    };
+    let (a, b, c) = (read("ss_A.mtx"), read("ss_B.mtx"), read("ss_C.mtx"));
+    assert_eq!((a.nrows(), b.ncols(), c.nrows()), (2, 1, 1));
+    let gain = -(&c * a.try_inverse().unwrap() * &b)[(0, 0)];
+    let k = -G * 0.5 * (-0.7f64).sin();
+    println!("static gain {gain} vs {}", 1.0 / k);
+    assert!((gain * k - 1.0).abs() < 1e-7, "{gain} vs {}", 1.0 / k);
+    let w2 = read("lin_K.mtx")[(0, 0)] / read("lin_M.mtx")[(0, 0)];
+    let j_o = 0.1 + 0.25;
+    assert!((w2 * j_o / k - 1.0).abs() < 1e-7, "{w2} vs {}", k / j_o);
+    let signals = std::fs::read_to_string(dir.join("state_space.txt")).unwrap();
+    assert!(signals.contains("input 1: motor [N m]"), "{signals}");
+}
+
+/// `linearize_at` in a dynamic run: the crank of the common model released and swinging under
+/// gravity, linearized at t = 0.3 (not an output time): modes.csv at that time with the
+/// frequency of the joint angle's linearization √(−m g l_c sin θ / J_O) (θ from the run's
+/// bodies.csv would need t = 0.3 as an output: here it is checked against a run with 0.3 as
+/// the end time), the matrices written; refused outside [t_start, t_end] and in other kinds.
+#[test]
+fn dynamic_linearize_at_writes_modes_and_matrices() {
+    let base = common::BASE
+        .replacen(
+            "name = \"crank\"\n",
+            "name = \"crank\"\ngravity = [0.0, -9.81, 0.0]\n",
+            1,
+        )
+        .replacen(
+            "[[driver]]\nname = \"motor\"\ntype = \"rotation\"\njoint = \"pivot\"\n\
+             function = { kind = \"polynomial\", coefficients = [0.0, 1.0] }\n",
+            "",
+            1,
+        );
+    let model = |analysis: &str| {
+        base.replacen(
+            "[analysis]\nkind = \"kinematic\"\nt_end = 1.0\nsteps = 10",
+            analysis,
+            1,
+        )
+    };
+    let o = run_text(
+        "run",
+        &model(
+            "[analysis]\nkind = \"dynamic\"\nt_end = 0.5\nsteps = 4\nlinearize_at = 0.3\n\
+             rtol = 1e-10\natol = 1e-12",
+        ),
+    );
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let dir = o.dir.join("out");
+    for f in [
+        "lin_M.mtx",
+        "lin_K.mtx",
+        "lin_G.mtx",
+        "ss_A.mtx",
+        "state_space.txt",
+    ] {
+        assert!(dir.join(f).exists(), "{f}");
+    }
+    let (h, rows) = csv(&dir, "modes.csv");
+    assert_eq!(rows.len(), 1);
+    assert_eq!(rows[0][0], 0.3);
+    let f = rows[0][col(&h, "frequency [Hz]")];
+    // The angle at 0.3 s from a run that ends there.
+    let o2 = run_text(
+        "run",
+        &model(
+            "[analysis]\nkind = \"dynamic\"\nt_end = 0.3\nsteps = 1\nrtol = 1e-10\n\
+             atol = 1e-12\n[analysis.outputs]\nbodies = [\"crank\"]",
+        ),
+    );
+    assert_eq!(o2.code, 0, "{}", o2.stderr);
+    let (h2, rows2) = csv(&o2.dir.join("out"), "bodies.csv");
+    let (x, y) = (
+        rows2[1][col(&h2, "crank.r.x [m]")],
+        rows2[1][col(&h2, "crank.r.y [m]")],
+    );
+    let th = y.atan2(x);
+    let k = -G * 0.5 * th.sin();
+    let want = (k / 0.35).abs().sqrt() / (2.0 * PI);
+    println!("f {f} vs {want} (θ = {th})");
+    assert!((f - want).abs() < 1e-6 * want, "{f} vs {want}");
+    for (analysis, msg) in [
+        (
+            "[analysis]\nkind = \"dynamic\"\nt_end = 0.5\nlinearize_at = 0.7",
+            "must lie between",
+        ),
+        (
+            "[analysis]\nkind = \"modal\"\nlinearize_at = 0.1",
+            "linearize_at applies only to kind = \"dynamic\"",
+        ),
+    ] {
+        let o = run_text("run", &model(analysis));
+        assert_ne!(o.code, 0);
+        assert!(o.stderr.contains(msg), "{}", o.stderr);
+    }
 }

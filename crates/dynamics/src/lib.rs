@@ -112,7 +112,8 @@
 //!   E − E(t₀) − W_nc (the work-energy theorem and the quadratures).
 //! - [`statics`]: static and quasi-static equilibria ([`Dynamics::statics`],
 //!   [`Dynamics::quasi_statics`]) and their stability; [`modal`]: the linearization about an
-//!   equilibrium ([`Linearization`]) and its vibration modes ([`Dynamics::modal`]); `tangent`
+//!   equilibrium ([`Linearization`]) and its vibration modes ([`Dynamics::modal`]); [`moving`]:
+//!   the linearization about a moving state ([`Dynamics::linearize_moving`]); `tangent`
 //!   (private): the dense tangent stiffness and damping, the null-space basis;
 //!   [`state_space`]: A, B, C, D for chosen force inputs and point or joint outputs, and the
 //!   MatrixMarket writer [`matrix_market`].
@@ -136,6 +137,7 @@ pub mod integrators;
 pub mod inverse;
 mod kkt;
 pub mod modal;
+pub mod moving;
 pub mod options;
 mod record;
 pub mod results;

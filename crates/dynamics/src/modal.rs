@@ -39,7 +39,7 @@ use crate::statics::{
     generalized_symmetric, soft_threshold, Equilibrium, StaticOptions, StaticResults,
 };
 use crate::system::Dynamics;
-use crate::tangent::null_space;
+use crate::tangent::{null_space, Load};
 use crate::DynamicsError;
 use nalgebra::{Complex, DMatrix, DVector, Vector3};
 
@@ -59,6 +59,9 @@ pub struct Linearization {
     pub full_stiffness: DMatrix<f64>,
     /// C_t = −∂h/∂v (n × n).
     pub full_damping: DMatrix<f64>,
+    /// G = P W N (d × d): the rates of the rotation increments relative to a moving reference,
+    /// ż = w − G z with w = P δv ([`crate::moving`]); zero about an equilibrium.
+    pub transport: DMatrix<f64>,
 }
 
 impl Linearization {
@@ -71,6 +74,13 @@ impl Linearization {
     pub fn is_damped(&self) -> bool {
         let big = self.stiffness.amax().max(self.mass.amax());
         self.damping.amax() > 1e-12 * big
+    }
+
+    /// Whether K_r is not symmetric (max |K_r − K_rᵀ| > 1e-9 max |K_r|): a linearization about
+    /// a moving state, whose modes come from the first-order form only.
+    pub fn is_general(&self) -> bool {
+        let k = &self.stiffness;
+        (k - k.transpose()).amax() > 1e-9 * k.amax() || self.transport.amax() > 0.0
     }
 }
 
@@ -172,17 +182,44 @@ impl Dynamics<'_> {
     /// # Errors
     /// [`DynamicsError::NonFinite`] for non-finite tangents.
     pub fn linearize(&mut self, eq: &Equilibrium) -> Result<Linearization, DynamicsError> {
+        self.linearize_released(eq, &[])
+    }
+
+    /// As [`Dynamics::linearize`] with the equations of the drivers `released` left out: their
+    /// coordinates become free (d grows by one per driver), held by the efforts at the
+    /// equilibrium, whose changes are then inputs ([`crate::Input::Driver`]). K_t keeps the
+    /// geometric stiffness of the released rows (the effort stays applied along the coordinate).
+    ///
+    /// # Errors
+    /// As [`Dynamics::linearize`]; [`DynamicsError::BadForce`] naming an unknown driver, one
+    /// of more than one equation (a pose driver) or one whose equation was dropped as
+    /// redundant.
+    pub fn linearize_released(
+        &mut self,
+        eq: &Equilibrium,
+        released: &[String],
+    ) -> Result<Linearization, DynamicsError> {
         let state = &eq.state;
         if self.kkt.is_none() {
             self.prepare(state)?;
         }
-        let active = self
+        let mut active = self
             .kkt
             .as_ref()
             .map(|k| k.active.clone())
             .unwrap_or_default();
+        for name in released {
+            let row = self.driver_row(name)?;
+            let Some(i) = active.iter().position(|&r| r == row) else {
+                return Err(DynamicsError::BadForce {
+                    force: name.clone(),
+                    reason: format!("the equation of driver \"{name}\" was dropped as redundant"),
+                });
+            };
+            active.remove(i);
+        }
         let full_stiffness = self.static_tangent(state, &eq.lambda, 1.0);
-        let full_damping = self.damping_tangent(state);
+        let full_damping = self.damping_tangent(state, Load::Static(1.0));
         self.sync(state);
         let j = self.phi_v_dense(state.t, &active);
         let model = self.model;
@@ -204,7 +241,9 @@ impl Dynamics<'_> {
         }
         let m = self.mass_matrix();
         let bt = basis.transpose();
+        let d = basis.ncols();
         Ok(Linearization {
+            transport: DMatrix::zeros(d, d),
             mass: &bt * m * &basis,
             damping: &bt * &full_damping * &basis,
             stiffness: &bt * &full_stiffness * &basis,
@@ -212,6 +251,27 @@ impl Dynamics<'_> {
             full_stiffness,
             full_damping,
         })
+    }
+
+    /// The model row of the one-equation driver `name`.
+    pub(crate) fn driver_row(&self, name: &str) -> Result<usize, DynamicsError> {
+        let bad = |reason: String| DynamicsError::BadForce {
+            force: name.to_string(),
+            reason,
+        };
+        let dr = self
+            .model
+            .drivers()
+            .iter()
+            .find(|d| d.name == name)
+            .ok_or_else(|| bad(format!("unknown driver \"{name}\"")))?;
+        if dr.rows.len() != 1 {
+            return Err(bad(format!(
+                "driver \"{name}\" has {} equations; only one-coordinate drivers can be inputs",
+                dr.rows.len()
+            )));
+        }
+        Ok(dr.rows.start)
     }
 
     /// The modes of the linearization `lin` about the equilibrium pose `state` (module docs).
@@ -227,6 +287,9 @@ impl Dynamics<'_> {
             time: state.t,
             what: "the reduced mass matrix",
         };
+        if lin.is_general() {
+            return self.general_modes(state, lin);
+        }
         let (values, x) = generalized_symmetric(&lin.stiffness, &lin.mass).ok_or(bad)?;
         let thr = soft_threshold(&values);
         let two_pi = 2.0 * std::f64::consts::PI;
@@ -259,15 +322,56 @@ impl Dynamics<'_> {
         if damped {
             modes.extend(self.damped_modes(state, lin, thr)?);
         }
-        modes.sort_by(|a, b| {
-            let key = |m: &Mode| match m.kind {
-                ModeKind::Unstable => (0, m.frequency),
-                ModeKind::Rigid => (1, 0.0),
-                _ => (2, m.frequency),
-            };
-            let (ka, kb) = (key(a), key(b));
-            ka.0.cmp(&kb.0).then(ka.1.total_cmp(&kb.1))
-        });
+        sort_modes(&mut modes);
+        Ok(modes)
+    }
+
+    /// The modes of a linearization about a moving state (K_r not symmetric, gyroscopic C_r):
+    /// all from the first-order form; the zero roots (two per free direction without
+    /// stiffness) are reported as rigid modes, their shapes the right singular vectors of K_r
+    /// with the smallest singular values.
+    fn general_modes(
+        &mut self,
+        state: &State,
+        lin: &Linearization,
+    ) -> Result<Vec<Mode>, DynamicsError> {
+        let chol = lin
+            .mass
+            .clone()
+            .cholesky()
+            .ok_or(DynamicsError::NonFinite {
+                time: state.t,
+                what: "the reduced mass matrix",
+            })?;
+        let mk = chol.solve(&lin.stiffness);
+        let mags: Vec<f64> = mk.complex_eigenvalues().iter().map(|s| s.norm()).collect();
+        let thr = soft_threshold(&mags);
+        let mut modes = self.damped_modes(state, lin, thr)?;
+        let found: usize = modes
+            .iter()
+            .map(|m| if m.kind == ModeKind::Elastic { 2 } else { 1 })
+            .sum();
+        let rigid = (2 * lin.dof()).saturating_sub(found).div_ceil(2);
+        if rigid > 0 {
+            let svd = lin.stiffness.clone().svd(false, true);
+            let v_t = svd.v_t.expect("requested");
+            let mut order: Vec<usize> = (0..svd.singular_values.len()).collect();
+            order.sort_by(|&i, &j| svd.singular_values[i].total_cmp(&svd.singular_values[j]));
+            for &i in order.iter().take(rigid) {
+                let z = v_t.row(i).transpose();
+                let delta = &lin.basis * z;
+                modes.push(self.mode(
+                    state,
+                    ModeKind::Rigid,
+                    0.0,
+                    0.0,
+                    0.0,
+                    [0.0, 0.0],
+                    delta.as_slice(),
+                ));
+            }
+        }
+        sort_modes(&mut modes);
         Ok(modes)
     }
 
@@ -377,6 +481,19 @@ impl Dynamics<'_> {
             direction,
         }
     }
+}
+
+/// Sorts modes: unstable first, then rigid, then by increasing frequency.
+fn sort_modes(modes: &mut [Mode]) {
+    modes.sort_by(|a, b| {
+        let key = |m: &Mode| match m.kind {
+            ModeKind::Unstable => (0, m.frequency),
+            ModeKind::Rigid => (1, 0.0),
+            _ => (2, m.frequency),
+        };
+        let (ka, kb) = (key(a), key(b));
+        ka.0.cmp(&kb.0).then(ka.1.total_cmp(&kb.1))
+    });
 }
 
 /// An eigenvector of `a` for the eigenvalue `s` by inverse iteration with a slightly shifted

@@ -13,7 +13,10 @@
 //! Q_u (n × inputs) holds the generalized forces of unit inputs: a force along the global
 //! direction d at the body point s' of body k contributes d to the force rows of k and
 //! s' × Aᵀd to its body-frame torque rows; a torque about the global axis a contributes Aᵀa
-//! to the torque rows. C_y (outputs × n) holds the gradients of the outputs: the coordinate
+//! to the torque rows. The effort e of a released one-coordinate driver Φ_d = c(q) − f(t) (or
+//! the distance driver's dᵀd − ℓ², ∂Φ_d/∂c = 2ℓ) acts along its coordinate: its generalized
+//! force is −Φ_d,vᵀλ_d = Φ_d,vᵀ e / (∂Φ_d/∂c) (the sign convention of the crate docs, e =
+//! −λ ∂Φ_d/∂c), so its column is Φ_d,vᵀ / (∂Φ_d/∂c). C_y (outputs × n) holds the gradients of the outputs: the coordinate
 //! dᵀr_P of a body point P along d has the gradient [dᵀ, (s' × Aᵀd)ᵀ] (the same row as the
 //! force: reciprocity), a joint coordinate the rates of that coordinate for the velocities
 //! δ = N e_i (the joint's own exact rate formula). D = 0: no input reaches an output
@@ -46,6 +49,13 @@ pub enum Input {
         body: String,
         /// The axis, global.
         axis: Vector3<f64>,
+    },
+    /// The effort (N or N m) of a one-coordinate driver along its coordinate, the driver
+    /// released ([`Dynamics::linearize_released`]): the change of the effort that held the
+    /// equilibrium.
+    Driver {
+        /// The driver.
+        driver: String,
     },
 }
 
@@ -139,6 +149,23 @@ impl Dynamics<'_> {
                     for i in 0..3 {
                         q[(6 * k + 3 + i, c)] = t[i];
                     }
+                }
+                Input::Driver { .. } => {}
+            }
+        }
+        for (c, u) in inputs.iter().enumerate() {
+            if let Input::Driver { driver } = u {
+                let row = self.driver_row(driver)?;
+                let slope = self
+                    .model
+                    .drivers()
+                    .iter()
+                    .find(|d| &d.name == driver)
+                    .map_or(1.0, |d| d.driver.coordinate_slope(state.t));
+                self.sync(state);
+                let j = self.phi_v_dense(state.t, &[row]);
+                for i in 0..n {
+                    q[(i, c)] = j[(0, i)] / slope;
                 }
             }
         }

@@ -39,6 +39,15 @@ use nalgebra::{DMatrix, DVector};
 /// Relative finite-difference step of the tangents (times L for translations; rad).
 const FD_STEP: f64 = 1e-6;
 
+/// Which generalized forces h a tangent differentiates.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Load {
+    /// h_s of the static equations (module docs) under the load factor s; no inertial term.
+    Static(f64),
+    /// The full h = [f; n' − ω̃'J'ω'] of the equations of motion, velocities as given.
+    Dynamic,
+}
+
 impl Dynamics<'_> {
     /// h_s = s h_loads + h_elements at the synced bodies (velocities as synced), time t, into
     /// `self.h`. Loads: gravity, point forces and torques, the user callback; elements: springs.
@@ -156,8 +165,26 @@ impl Dynamics<'_> {
         lambda: &[f64],
         s: f64,
     ) -> (DVector<f64>, DVector<f64>) {
+        self.force_residual(state, lambda, Load::Static(s))
+    }
+
+    /// h of `load` at the synced bodies, time t, into `self.h`.
+    fn eval_load(&mut self, t: f64, load: Load) {
+        match load {
+            Load::Static(s) => self.eval_static_forces(t, s),
+            Load::Dynamic => self.eval_forces(t),
+        }
+    }
+
+    /// r₁ = Φ_vᵀλ − h at `state` with h of `load`, and the size of its terms.
+    pub(crate) fn force_residual(
+        &mut self,
+        state: &State,
+        lambda: &[f64],
+        load: Load,
+    ) -> (DVector<f64>, DVector<f64>) {
         self.sync(state);
-        self.eval_static_forces(state.t, s);
+        self.eval_load(state.t, load);
         let (mut r, mut size) = self.constraint_forces(state.t, lambda);
         for c in 0..r.len() {
             r[c] -= self.h[c];
@@ -168,6 +195,17 @@ impl Dynamics<'_> {
 
     /// K_t = ∂r₁/∂δ at fixed λ by central differences (module docs), n × n.
     pub(crate) fn static_tangent(&mut self, state: &State, lambda: &[f64], s: f64) -> DMatrix<f64> {
+        self.stiffness_tangent(state, lambda, Load::Static(s))
+    }
+
+    /// K_t = ∂(Φ_vᵀλ − h)/∂δ at fixed λ and fixed v (body-frame ω') for h of `load`, by central
+    /// differences (module docs), n × n.
+    pub(crate) fn stiffness_tangent(
+        &mut self,
+        state: &State,
+        lambda: &[f64],
+        load: Load,
+    ) -> DMatrix<f64> {
         let n = state.v.len();
         let l = self.model.characteristic_length();
         let mut k = DMatrix::zeros(n, n);
@@ -181,7 +219,7 @@ impl Dynamics<'_> {
                 dq.fill(0.0);
                 dq[c] = sign * e;
                 apply_rotation_step(&mut p.q, &dq);
-                col[i] = self.static_residual(&p, lambda, s).0;
+                col[i] = self.force_residual(&p, lambda, load).0;
             }
             let d = (&col[0] - &col[1]) / (2.0 * e);
             k.set_column(c, &d);
@@ -190,9 +228,10 @@ impl Dynamics<'_> {
         k
     }
 
-    /// C_t = −∂h/∂v at `state` (v = 0 expected) by central differences, n × n (all forces at
-    /// full load).
-    pub(crate) fn damping_tangent(&mut self, state: &State) -> DMatrix<f64> {
+    /// C_t = −∂h/∂v at `state` by central differences, n × n, with h of `load` (at full load
+    /// for statics; with the inertial term −ω̃'J'ω', whose derivative is the gyroscopic matrix,
+    /// for a moving state).
+    pub(crate) fn damping_tangent(&mut self, state: &State, load: Load) -> DMatrix<f64> {
         let n = state.v.len();
         let mut c = DMatrix::zeros(n, n);
         let mut p = state.clone();
@@ -203,7 +242,7 @@ impl Dynamics<'_> {
                 p.v.copy_from_slice(&state.v);
                 p.v[col] += sign * e;
                 self.sync(&p);
-                self.eval_static_forces(state.t, 1.0);
+                self.eval_load(state.t, load);
                 h[i] = DVector::from_column_slice(&self.h);
             }
             c.set_column(col, &(-(&h[0] - &h[1]) / (2.0 * e)));

@@ -53,11 +53,18 @@ pub(super) fn run_dynamic(
         },
     };
     let req = requested(p, &analysis.outputs);
-    let tables = tables(p, &r, &req);
+    let mut tables = tables(p, &r, &req);
+    let mut files = Vec::new();
+    if let (Some(t), None) = (analysis.linearize_at, &failure) {
+        let (lt, lf) = super::linearize::about_dynamic(p, &opts, t, &req, &analysis.inputs)?;
+        tables.extend(lt);
+        files = lf;
+    }
     let drift = r.position_drift.iter().fold(0.0, |a: f64, &b| a.max(b));
     let summary = Summary {
         name: p.loaded.name.clone(),
         steps: r.len(),
+        noun: ["step", "steps"],
         iterations: r.stats.newton_iterations,
         max_residual: drift,
         wall,
@@ -83,7 +90,7 @@ pub(super) fn run_dynamic(
         dynamic: Some(r),
         failure,
         strict_failure: None,
-        files: Vec::new(),
+        files,
     })
 }
 

@@ -42,6 +42,7 @@ pub(super) fn run_inverse(
     let summary = Summary {
         name: p.loaded.name.clone(),
         steps: k.len(),
+        noun: ["step", "steps"],
         iterations: k.iterations.iter().sum(),
         max_residual: k.residual.iter().fold(0.0, |a: f64, &b| a.max(b)),
         wall,

@@ -46,6 +46,7 @@ pub(super) fn run_kinematic(
     let summary = Summary {
         name: p.loaded.name.clone(),
         steps: results.len(),
+        noun: ["step", "steps"],
         iterations: results.iterations.iter().sum(),
         max_residual: results.residual.iter().fold(0.0, |a: f64, &b| a.max(b)),
         wall,

@@ -8,6 +8,7 @@
 pub mod dynamic;
 pub mod inverse;
 pub mod kinematic;
+mod linearize;
 pub mod statics;
 mod summary;
 
@@ -114,10 +115,11 @@ pub fn print_summary(s: &Summary, out: &mut dyn Write) -> Result<(), Error> {
     match &s.dynamic {
         None => writeln!(
             out,
-            "{}: {} steps, {} Newton iterations, largest residual {:.3e}{balance}{efforts}, wall \
+            "{}: {} {}, {} Newton iterations, largest residual {:.3e}{balance}{efforts}, wall \
              time {:.3} s",
             s.name,
             s.steps,
+            s.noun[usize::from(s.steps != 1)],
             s.iterations,
             s.max_residual,
             s.wall.as_secs_f64()
@@ -313,10 +315,10 @@ fn write_outputs(
     for (name, text) in &a.files {
         dir.write(name, text)?;
     }
-    let unit = if kind == "dynamic" {
-        "outputs"
-    } else {
-        "steps"
+    let unit = match kind {
+        "dynamic" => "outputs",
+        "static" | "quasi_static" | "modal" => "equilibria",
+        _ => "steps",
     };
     let target = dir.target().to_path_buf();
     if let Some(err) = &mut a.failure {

@@ -15,8 +15,8 @@ use crate::commands::{analysis_error, Prepared};
 use crate::diag::Error;
 use crate::table::Table;
 use cardan_dynamics::{
-    matrix_market, Dynamics, DynamicsError, Force, Frame, Input, ModalOptions, ModalResults,
-    ModeKind, Output, PointRef, Stability, StaticOptions, StaticResults,
+    matrix_market, Dynamics, DynamicsError, Force, Frame, Input, Linearization, ModalOptions, Mode,
+    ModeKind, Output, PointRef, Stability, State, StaticOptions, StaticResults,
 };
 use cardan_mechanism::{BodyId, Outputs};
 use std::path::PathBuf;
@@ -95,14 +95,45 @@ pub(super) fn run_statics(
     let warnings = stability_warnings(&statics);
     let mut files = Vec::new();
     if let Some(m) = &modal {
-        tables.extend(mode_tables(m));
-        files =
-            matrix_files(p, &mut d, m, &req, &analysis.inputs).map_err(|e| error(p, &e, what))?;
+        if let Some(eq) = m.equilibrium.equilibria.first() {
+            let bodies: Vec<&str> = r
+                .kinematics
+                .bodies
+                .iter()
+                .map(|b| b.name.as_str())
+                .collect();
+            tables.extend(mode_tables(eq.state.t, &bodies, &m.modes));
+            let about = format!("the equilibrium at t = {} s", eq.state.t);
+            let released: Vec<String> = analysis
+                .inputs
+                .iter()
+                .filter(|n| p.model.drivers().iter().any(|d| &d.name == *n))
+                .cloned()
+                .collect();
+            let lin = if released.is_empty() {
+                m.linearization.clone()
+            } else {
+                d.linearize_released(eq, &released)
+                    .map_err(|e| error(p, &e, what))?
+            };
+            files = matrix_files(
+                p,
+                &mut d,
+                &eq.state,
+                &lin,
+                &req,
+                &analysis.inputs,
+                &about,
+                false,
+            )
+            .map_err(|e| error(p, &e, what))?;
+        }
     }
     let k = &r.kinematics;
     let summary = Summary {
         name: p.loaded.name.clone(),
         steps: k.len(),
+        noun: ["equilibrium", "equilibria"],
         iterations: statics.equilibria.iter().map(|e| e.iterations).sum(),
         max_residual: k.residual.iter().fold(0.0, |a: f64, &b| a.max(b)),
         wall,
@@ -185,9 +216,9 @@ fn stability_warnings(s: &StaticResults) -> Vec<String> {
 }
 
 /// `modes.csv` (one row per mode: its number, kind, frequencies, damping ratio, eigenvalue of
-/// the first-order form) and `mode_shapes.csv` (one row per mode: each body's δr and δθ).
-fn mode_tables(m: &ModalResults) -> Vec<Table> {
-    let t = m.equilibrium.equilibria.first().map_or(0.0, |e| e.state.t);
+/// the first-order form) and `mode_shapes.csv` (one row per mode: each body's δr and δθ), at
+/// time `t` with the moving `bodies` in file order.
+pub(super) fn mode_tables(t: f64, bodies: &[&str], list: &[Mode]) -> Vec<Table> {
     let mut modes = Table::new(
         "modes",
         "vibration modes",
@@ -201,16 +232,8 @@ fn mode_tables(m: &ModalResults) -> Vec<Table> {
             "eigenvalue.im [1/s]".into(),
         ],
     );
-    let bodies: Vec<&str> = m
-        .equilibrium
-        .results
-        .kinematics
-        .bodies
-        .iter()
-        .map(|b| b.name.as_str())
-        .collect();
     let mut cols = vec!["mode [-]".to_string()];
-    for b in &bodies {
+    for b in bodies {
         for ax in ["x", "y", "z"] {
             cols.push(format!("{b}.dr.{ax} [m]"));
         }
@@ -219,7 +242,7 @@ fn mode_tables(m: &ModalResults) -> Vec<Table> {
         }
     }
     let mut shapes = Table::new("mode_shapes", "mode shapes", cols);
-    for (i, mode) in m.modes.iter().enumerate() {
+    for (i, mode) in list.iter().enumerate() {
         let kind = match mode.kind {
             ModeKind::Elastic => 0.0,
             ModeKind::Rigid => 1.0,
@@ -246,23 +269,24 @@ fn mode_tables(m: &ModalResults) -> Vec<Table> {
     vec![modes, shapes]
 }
 
-/// The modal run's matrices in MatrixMarket form: the linearization (`lin_M.mtx`, `lin_C.mtx`,
-/// `lin_K.mtx`, the basis `lin_N.mtx`) and the state-space model (`ss_A.mtx` … `ss_D.mtx`)
-/// with inputs = the named force elements (a unit force or torque along the element's
-/// direction at the equilibrium) and outputs = the requested points' x, y, z and joint
-/// coordinates, listed in `state_space.txt`.
-fn matrix_files(
+/// The linearization's matrices in MatrixMarket form: `lin_M.mtx`, `lin_C.mtx`, `lin_K.mtx`,
+/// the basis `lin_N.mtx` (and `lin_G.mtx` about a moving state) and the state-space model
+/// (`ss_A.mtx` … `ss_D.mtx`) with inputs = the named force elements (a unit force or torque
+/// along the element's direction at `state`) and outputs = the requested points' x, y, z and
+/// joint coordinates, listed in `state_space.txt`. `about` names the linearization point;
+/// `moving`: about a state of a dynamic run (`lin_G.mtx` written).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn matrix_files(
     p: &Prepared,
     d: &mut Dynamics,
-    m: &ModalResults,
+    state: &State,
+    lin: &Linearization,
     req: &Requested,
     input_names: &[String],
+    about: &str,
+    moving: bool,
 ) -> Result<Vec<(String, String)>, DynamicsError> {
-    let Some(eq) = m.equilibrium.equilibria.first() else {
-        return Ok(Vec::new());
-    };
     let model = &p.model;
-    let state = &eq.state;
     let local = |body: &str, pt: &PointRef| match pt {
         PointRef::Local(v) => *v,
         PointRef::Named(n) => model
@@ -277,6 +301,19 @@ fn matrix_files(
     let mut inputs = Vec::new();
     let mut names = Vec::new();
     for name in input_names {
+        if let Some(dr) = model.drivers().iter().find(|d| &d.name == name) {
+            inputs.push(Input::Driver {
+                driver: name.clone(),
+            });
+            let unit = match dr.driver {
+                cardan_constraints::Driver::Rotation(_) => "N m",
+                _ => "N",
+            };
+            names.push(format!(
+                "{name} [{unit}] (driver effort, the driver released)"
+            ));
+            continue;
+        }
         match p.loaded.forces.iter().find(|f| f.name() == name.as_str()) {
             Some(Force::PointForce {
                 body,
@@ -342,24 +379,28 @@ fn matrix_files(
             }
         }
     }
-    let lin = &m.linearization;
     let ss = d.state_space(state, lin, &inputs, &outputs)?;
     let dof = lin.dof();
     let mut signals = format!(
-        "# State-space model about the equilibrium at t = {} s (MatrixMarket files, 1-based):\n\
+        "# State-space model about {about} (MatrixMarket files, 1-based):\n\
          # x' = A x + B u, y = C x + D u; x = [z; dz/dt] with {dof} independent coordinates z,\n\
          # the body increments delta = N z (lin_N.mtx: 6 rows per moving body in file order,\n\
          # dr.x dr.y dr.z [m] of the centre of mass, then the rotation dpi'.x .y .z [rad] in\n\
-         # body components); M_r z'' + C_r z' + K_r z = Q_u u (lin_M, lin_C, lin_K).\n",
-        state.t
+         # body components); M_r z'' + C_r z' + K_r z = Q_u u (lin_M, lin_C, lin_K).\n"
     );
+    if moving {
+        signals.push_str(
+            "# About a moving state: z' = w - G z with w = P dv the independent velocities\n\
+             # (lin_G.mtx); the matrices are frozen at this time (docs/model-format.md).\n",
+        );
+    }
     for (i, n) in names.iter().enumerate() {
         signals.push_str(&format!("input {}: {n}\n", i + 1));
     }
     for (i, n) in out_names.iter().enumerate() {
         signals.push_str(&format!("output {}: {n}\n", i + 1));
     }
-    Ok(vec![
+    let mut files = vec![
         ("lin_M.mtx".into(), matrix_market(&lin.mass)),
         ("lin_C.mtx".into(), matrix_market(&lin.damping)),
         ("lin_K.mtx".into(), matrix_market(&lin.stiffness)),
@@ -369,5 +410,9 @@ fn matrix_files(
         ("ss_C.mtx".into(), matrix_market(&ss.c)),
         ("ss_D.mtx".into(), matrix_market(&ss.d)),
         ("state_space.txt".into(), signals),
-    ])
+    ];
+    if moving {
+        files.push(("lin_G.mtx".into(), matrix_market(&lin.transport)));
+    }
+    Ok(files)
 }

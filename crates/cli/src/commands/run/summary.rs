@@ -14,8 +14,11 @@ use std::time::Duration;
 pub struct Summary {
     /// The model name.
     pub name: String,
-    /// Stored time steps.
+    /// Stored time steps (static kinds: equilibria).
     pub steps: usize,
+    /// What `steps` counts in the summary line, singular and plural: `["step", "steps"]`, or
+    /// `["equilibrium", "equilibria"]` for the static kinds.
+    pub noun: [&'static str; 2],
     /// Total Newton iterations.
     pub iterations: usize,
     /// Largest max |Φ_i| over the run.
