@@ -12,5 +12,6 @@
 
 pub mod animation;
 pub mod measure;
+pub mod modal_sparse;
 pub mod models;
 pub mod svg;

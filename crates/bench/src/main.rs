@@ -8,6 +8,7 @@
 //! cardan-bench --peers-only PYTHON [--smoke] [kinematics|slider-crank|chain ...]  (peers to stdout)
 //! cardan-bench --drivers [--smoke]    (the driver-function section alone, to stdout)
 //! cardan-bench --animation [--smoke]  (the animation and report section alone, to stdout)
+//! cardan-bench --modal [--smoke]      (the sparse modal analysis section alone, to stdout)
 //! ```
 //!
 //! Usually run through `cargo xtask bench [--smoke] [--peers]`.
@@ -68,6 +69,11 @@ fn main() {
             batches: if smoke { 1 } else { 7 },
         };
         println!("{}", driver_functions_section(&cfg));
+        return;
+    }
+    if args.first().map(String::as_str) == Some("--modal") {
+        let smoke = args.iter().any(|a| a == "--smoke");
+        println!("{}", cardan_bench::modal_sparse::section(smoke));
         return;
     }
     if args.first().map(String::as_str) == Some("--animation") {
@@ -136,6 +142,8 @@ fn main() {
     md.push_str(&tolerance_section(&cfg, &mut svgs));
     eprintln!("== scaling");
     md.push_str(&scaling_section(&cfg, &mut svgs));
+    eprintln!("== modal analysis, sparse path");
+    md.push_str(&cardan_bench::modal_sparse::section(cfg.smoke));
     eprintln!("== animation and report");
     md.push_str(&cardan_bench::animation::section(
         cfg.smoke,
