@@ -56,7 +56,7 @@ pub fn hanging_chain(n: usize) -> Model {
         };
         b.joint(
             JointSpec::new(
-                &format!("j{k}"),
+                format!("j{k}"),
                 JointKind::Revolute,
                 (&pb, pp),
                 (&name, "a"),

@@ -519,7 +519,7 @@ fn lanczos(
             beta.push(b);
         }
         let m = vs.len();
-        let check = m >= nev && (m % 5 == 0 || m >= max_steps || breakdown);
+        let check = m >= nev && (m.is_multiple_of(5) || m >= max_steps || breakdown);
         if check {
             let r = ritz(&vs, &alpha, &beta, b, nev, breakdown);
             if r.2 || m >= max_steps || breakdown {

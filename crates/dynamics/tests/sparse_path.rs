@@ -37,7 +37,7 @@ fn coupled_pendulums(n: usize, m: f64, j: f64, l: f64, a: f64) -> Model {
             .vector(&name, "x", Vector3::x());
         b.joint(
             JointSpec::new(
-                &format!("pin{i}"),
+                format!("pin{i}"),
                 JointKind::Revolute,
                 (GROUND, &format!("O{i}")),
                 (&name, "O"),
