@@ -17,5 +17,6 @@ pub mod animation;
 pub mod genalpha;
 pub mod large;
 pub mod measure;
+pub mod modal_sparse;
 pub mod models;
 pub mod svg;

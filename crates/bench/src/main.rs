@@ -12,6 +12,7 @@
 //! cardan-bench --drivers [--smoke]    (the driver-function section alone, to stdout)
 //! cardan-bench --animation [--smoke]  (the animation and report section alone, to stdout)
 //! cardan-bench --large [--smoke]      (check and run setup of 10³–10⁵-body chains, to stdout)
+//! cardan-bench --modal [--smoke]      (the sparse modal analysis section alone, to stdout)
 //! ```
 //!
 //! Usually run through `cargo xtask bench [--smoke] [--peers]`.
@@ -85,6 +86,11 @@ fn main() {
         println!("{}", driver_functions_section(&cfg));
         return;
     }
+    if args.first().map(String::as_str) == Some("--modal") {
+        let smoke = args.iter().any(|a| a == "--smoke");
+        println!("{}", cardan_bench::modal_sparse::section(smoke));
+        return;
+    }
     if args.first().map(String::as_str) == Some("--animation") {
         let smoke = args.iter().any(|a| a == "--smoke");
         let (batch, batches) = if smoke { (ms(5), 1) } else { (ms(200), 7) };
@@ -156,6 +162,8 @@ fn main() {
     md.push_str(&tolerance_section(&cfg, &mut svgs));
     eprintln!("== scaling");
     md.push_str(&scaling_section(&cfg, &mut svgs));
+    eprintln!("== modal analysis, sparse path");
+    md.push_str(&cardan_bench::modal_sparse::section(cfg.smoke));
     eprintln!("== animation and report");
     md.push_str(&cardan_bench::animation::section(
         cfg.smoke,

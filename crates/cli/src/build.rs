@@ -140,7 +140,13 @@ pub struct Analysis {
     pub inputs: Vec<String>,
     /// Dynamic: the time of the state about which the run is linearized (in [t_start, t_end]).
     pub linearize_at: Option<f64>,
+    /// Modal: how many of the lowest modes (`None`: all on the dense path,
+    /// [`DEFAULT_SPARSE_MODES`] on the sparse path).
+    pub modes: Option<usize>,
 }
+
+/// Modes of a modal analysis on the sparse path (large models) without `modes = ...`.
+pub const DEFAULT_SPARSE_MODES: usize = 10;
 
 /// The static analyses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -1490,6 +1496,7 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
         }
     };
     let load_steps = load_static_keys(cx, a, kind, statics)?;
+    let modes = load_modes(cx, a, statics)?;
     let one_time = matches!(statics, Some(StaticKind::Static | StaticKind::Modal));
     let t_start = match &a.t_start {
         Some(t) => cx.num(t, "t_start", Quantity::Time)?,
@@ -1715,7 +1722,33 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
         load_steps,
         inputs: Vec::new(),
         linearize_at,
+        modes,
     })
+}
+
+/// `modes = n` (modal only, 1 to 10,000): the number of lowest modes.
+fn load_modes(
+    cx: &Ctx,
+    a: &AnalysisSection,
+    statics: Option<StaticKind>,
+) -> Result<Option<usize>, Error> {
+    let Some(n) = &a.modes else {
+        return Ok(None);
+    };
+    if statics != Some(StaticKind::Modal) {
+        return Err(cx.err(
+            n.span(),
+            "modes applies only to kind = \"modal\" (how many of the lowest modes)",
+        ));
+    }
+    let v = *n.get_ref();
+    if !(1..=10_000).contains(&v) {
+        return Err(cx.err(
+            n.span(),
+            format!("modes must be between 1 and 10000, got {v}"),
+        ));
+    }
+    Ok(Some(v as usize))
 }
 
 /// `inputs = [...]` (modal, dynamic with linearize_at): drivers (modal) and point_force and torque elements of the file.

@@ -456,6 +456,10 @@ pub struct AnalysisSection {
     /// static, quasi_static, modal: equal load increments tried first (default 1).
     #[serde(default)]
     pub load_steps: Option<Spanned<i64>>,
+    /// modal: how many of the lowest modes to compute (default all on the dense path, 10 on
+    /// the sparse path of large models).
+    #[serde(default)]
+    pub modes: Option<Spanned<i64>>,
     /// modal, and dynamic with linearize_at: the force elements (point_force, torque) that are
     /// the inputs of the state-space model written with the modes.
     #[serde(default)]

@@ -142,6 +142,8 @@ pub mod options;
 mod record;
 pub mod results;
 pub mod simulate;
+pub mod sparse_modal;
+pub mod sparse_tangent;
 pub mod state;
 pub mod state_space;
 pub mod statics;
@@ -160,6 +162,8 @@ pub use results::{
     CouplerEfforts, DriverEfforts, DynamicResults, ElementWork, EnergyHistory, IntegrationStats,
     JointReactions, Reaction,
 };
+pub use sparse_modal::SparseModalResults;
+pub use sparse_tangent::{SparseMatrix, SPARSE_MIN_BODIES};
 pub use state::State;
 pub use state_space::{matrix_market, Input, Output, StateSpace};
 pub use statics::{Equilibrium, Stability, StaticOptions, StaticResults};

@@ -426,7 +426,7 @@ impl Dynamics<'_> {
 
     /// A [`Mode`] from its numbers and its direction δ (n).
     #[allow(clippy::too_many_arguments)]
-    fn mode(
+    pub(crate) fn mode(
         &mut self,
         state: &State,
         kind: ModeKind,

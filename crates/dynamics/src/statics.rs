@@ -179,7 +179,8 @@ pub struct Equilibrium {
     /// Final scaled residual (module docs).
     pub residual: f64,
     /// Eigenvalues ω² (1/s²) of K_r x = ω² M_r x, ascending: the reduced stiffness per unit
-    /// modal mass; one per degree of freedom.
+    /// modal mass; one per degree of freedom (on the sparse path of large models, only the
+    /// [`STABILITY_MODES`] lowest).
     pub eigenvalues: Vec<f64>,
     /// Stable, neutral or unstable.
     pub stability: Stability,
@@ -214,6 +215,10 @@ const MU_MAX_FACTOR: f64 = 1e12;
 /// needs a step shorter than 1/8 is poor (near a minimum of the merit that is not a solution,
 /// where plain Newton would creep), and the shifted step is the better move.
 const LINE_SEARCH_HALVINGS: usize = 4;
+
+/// On the sparse path ([`crate::sparse_tangent::SPARSE_MIN_BODIES`]) the stability test and
+/// the named soft directions use this many lowest eigenvalues (shift-invert Lanczos), not all.
+pub const STABILITY_MODES: usize = 6;
 
 /// Largest scaled increment (|δr| / L, |δπ'| in rad) of one Newton step.
 const MAX_STEP: f64 = 0.5;
@@ -487,6 +492,9 @@ impl Dynamics<'_> {
     /// rows): the least-squares balance λ = (Φ_v M⁻¹Φ_vᵀ)⁻¹Φ_v M⁻¹h_s, the start of Newton.
     fn rest_multipliers(&mut self, state: &State, s: f64) -> Vec<f64> {
         let active = self.active_rows();
+        if self.sparse_path() {
+            return self.rest_multipliers_sparse(state, s, &active);
+        }
         self.sync(state);
         self.eval_static_forces(state.t, s);
         let h = DVector::from_column_slice(&self.h);
@@ -549,7 +557,13 @@ impl Dynamics<'_> {
         let n = state.v.len();
         let model = self.model;
         let w = self.residual_weights();
-        let m = self.mass_matrix();
+        let sparse = self.sparse_path();
+        let graph = sparse.then(|| self.body_graph());
+        let m = if sparse {
+            DMatrix::zeros(0, 0)
+        } else {
+            self.mass_matrix()
+        };
         let uscale = model.unknown_scales().to_vec();
         let rest = self.rest_multipliers(state, s);
         lambda.copy_from_slice(&rest);
@@ -593,11 +607,26 @@ impl Dynamics<'_> {
                 return Err(Fail::Stalled(worst));
             }
             it += 1;
-            let k = self.static_tangent(state, lambda, s);
-            self.sync(state);
-            let j = self.phi_v_dense(t, &active);
+            // The sparse path (large models): sparse tangent and saddle-point LU.
+            let mut newton = match &graph {
+                Some(g) => Some(
+                    self.sparse_newton(g, state, lambda, s, &active, f)
+                        .map_err(Fail::Error)?,
+                ),
+                None => None,
+            };
+            let (k, j) = if newton.is_some() {
+                (DMatrix::zeros(0, 0), DMatrix::zeros(0, 0))
+            } else {
+                let k = self.static_tangent(state, lambda, s);
+                self.sync(state);
+                (k, self.phi_v_dense(t, &active))
+            };
             if mu0 == 0.0 {
-                mu0 = shift_scale(&k, &m, f, model.characteristic_length());
+                mu0 = match &newton {
+                    Some(nw) => nw.shift_scale,
+                    None => shift_scale(&k, &m, f, model.characteristic_length()),
+                };
             }
             let ma = active.len();
             let mut rhs = DVector::zeros(n + ma);
@@ -607,14 +636,17 @@ impl Dynamics<'_> {
             }
             // Shift loop: plain Newton first, then μ M growing until a step decreases ψ.
             let accepted = loop {
-                let mut a = DMatrix::zeros(n + ma, n + ma);
-                a.view_mut((0, 0), (n, n)).copy_from(&(&k + &m * mu));
-                a.view_mut((n, 0), (ma, n)).copy_from(&j);
-                a.view_mut((0, n), (n, ma)).copy_from(&j.transpose());
-                let sol = a
-                    .lu()
-                    .solve(&rhs)
-                    .filter(|x| x.iter().all(|v| v.is_finite()));
+                let sol = match &mut newton {
+                    Some(nw) => nw.solve_shifted(mu, &rhs),
+                    None => {
+                        let mut a = DMatrix::zeros(n + ma, n + ma);
+                        a.view_mut((0, 0), (n, n)).copy_from(&(&k + &m * mu));
+                        a.view_mut((n, 0), (ma, n)).copy_from(&j);
+                        a.view_mut((0, n), (n, ma)).copy_from(&j.transpose());
+                        a.lu().solve(&rhs)
+                    }
+                }
+                .filter(|x| x.iter().all(|v| v.is_finite()));
                 if let Some(mut x) = sol {
                     let big = (0..n).fold(0.0f64, |b, c| b.max((x[c] / uscale[c]).abs()));
                     if big > MAX_STEP {
@@ -640,7 +672,7 @@ impl Dynamics<'_> {
                     if let Some(f) = found {
                         break Some(f);
                     }
-                } else if mu == 0.0 {
+                } else if mu == 0.0 && newton.is_none() {
                     // Singular Newton matrix: a singular configuration, or a reduced stiffness
                     // that is singular here (shifted below).
                     let (_, ratio) = null_space(
@@ -714,6 +746,9 @@ impl Dynamics<'_> {
         s: f64,
     ) -> Result<(Vec<f64>, DMatrix<f64>), DynamicsError> {
         let active = self.active_rows();
+        if self.sparse_path() {
+            return self.reduced_eigen_sparse(state, lambda, s, &active, STABILITY_MODES);
+        }
         let k = self.static_tangent(state, lambda, s);
         self.sync(state);
         let j = self.phi_v_dense(state.t, &active);

@@ -62,6 +62,7 @@ fn pendulum_equilibrium_and_frequency() {
         d.add_force(Force::gravity(Vector3::new(0.0, -G, 0.0)))
             .unwrap();
         let r = d.modal(&ModalOptions::default()).unwrap();
+        common::assert_sparse_modal_matches(&mut d, &r);
         let eq = &r.equilibrium.equilibria[0];
         let pos = eq.state.r(0);
         assert!(
@@ -162,6 +163,7 @@ fn double_pendulum_frequencies() {
     d.add_force(Force::gravity(Vector3::new(0.0, -G, 0.0)))
         .unwrap();
     let r = d.modal(&ModalOptions::default()).unwrap();
+    common::assert_sparse_modal_matches(&mut d, &r);
     let mm = Matrix2::new(
         j1 + m1 * c1 * c1 + m2 * l1 * l1,
         m2 * l1 * c2,
@@ -249,6 +251,7 @@ fn spring_mass_chain_frequencies() {
         .unwrap();
     }
     let r = d.modal(&ModalOptions::default()).unwrap();
+    common::assert_sparse_modal_matches(&mut d, &r);
     assert_eq!(r.modes.len(), n);
     for (j, mode) in r.modes.iter().enumerate() {
         let w2 = 2.0 * k / m * (1.0 - ((j + 1) as f64 * PI / (n + 1) as f64).cos());
@@ -375,6 +378,7 @@ fn four_bar_torsion_spring_equilibrium_and_frequency() {
     d.add_force(Force::rotational_spring_damper("spring", "A", k, 0.0, th0))
         .unwrap();
     let r = d.modal(&ModalOptions::default()).unwrap();
+    common::assert_sparse_modal_matches(&mut d, &r);
     let (v, inertia) = four_bar_lagrangian(k, th0);
     let h = 1e-4;
     let dv = |th: f64| (v(th + h) - v(th - h)) / (2.0 * h);
@@ -563,6 +567,7 @@ fn free_slide_under_load_is_named() {
     d.add_force(Force::gravity(Vector3::new(0.0, -G, 0.0)))
         .unwrap();
     let r = d.modal(&ModalOptions::default()).unwrap();
+    common::assert_sparse_modal_matches(&mut d, &r);
     assert_eq!(r.equilibrium.equilibria[0].stability, Stability::Neutral);
     assert_eq!(r.modes.len(), 1);
     assert_eq!(r.modes[0].kind, ModeKind::Rigid);

@@ -116,3 +116,42 @@ pub fn spherical_chain(n: usize) -> Model {
     }
     b.build().unwrap()
 }
+
+/// The sparse path of the modal analysis ([`cardan_dynamics::Dynamics::modal_sparse`]) against
+/// the dense one on the same model: the sparse tangents K_t and C_t equal the dense ones (the
+/// same central differences, grouped), and, without damping, the same modes (kind and
+/// frequency to 1e-8 relative, rigid ones as rigid).
+pub fn assert_sparse_modal_matches(
+    d: &mut cardan_dynamics::Dynamics,
+    dense: &cardan_dynamics::ModalResults,
+) {
+    let sparse = d
+        .modal_sparse(
+            &cardan_dynamics::StaticOptions::default(),
+            dense.modes.len(),
+        )
+        .unwrap();
+    assert!(sparse.converged);
+    let close = |a: &nalgebra::DMatrix<f64>, b: &nalgebra::DMatrix<f64>, what: &str| {
+        let big = b.amax().max(1e-300);
+        let err = (a - b).amax();
+        assert!(err <= 1e-9 * big, "{what}: {err:.3e} of {big:.3e}");
+    };
+    let lin = &dense.linearization;
+    close(&sparse.stiffness.to_dense(), &lin.full_stiffness, "K_t");
+    close(&sparse.damping.to_dense(), &lin.full_damping, "C_t");
+    if lin.is_damped() {
+        return;
+    }
+    assert_eq!(sparse.modes.len(), dense.modes.len());
+    for (s, m) in sparse.modes.iter().zip(&dense.modes) {
+        assert_eq!(s.kind, m.kind);
+        let rel = (s.frequency - m.frequency).abs() / m.frequency.max(1e-300);
+        assert!(
+            rel < 1e-8 || s.frequency == m.frequency,
+            "{} vs {} Hz",
+            s.frequency,
+            m.frequency
+        );
+    }
+}

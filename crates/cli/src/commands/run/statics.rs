@@ -9,14 +9,14 @@ use super::dynamic::{dynamics_as, located_as};
 use super::inverse::inverse_tables;
 use super::summary::{Analysed, Summary};
 use crate::build::Outputs as Requested;
-use crate::build::{Analysis, StaticKind};
+use crate::build::{Analysis, StaticKind, DEFAULT_SPARSE_MODES};
 use crate::commands::output_tables::{peak_efforts, requested};
 use crate::commands::{analysis_error, Prepared};
 use crate::diag::Error;
 use crate::table::Table;
 use cardan_dynamics::{
     matrix_market, Dynamics, DynamicsError, Force, Frame, Input, Linearization, ModalOptions, Mode,
-    ModeKind, Output, PointRef, Stability, State, StaticOptions, StaticResults,
+    ModeKind, Output, PointRef, SparseModalResults, Stability, State, StaticOptions, StaticResults,
 };
 use cardan_mechanism::{BodyId, Outputs};
 use std::path::PathBuf;
@@ -59,6 +59,7 @@ pub(super) fn run_statics(
         ..StaticOptions::default()
     };
     let mut failure = None;
+    let mut sparse: Option<SparseModalResults> = None;
     let (statics, modal) = match kind {
         StaticKind::Static => (d.statics(&options).map_err(|e| error(p, &e, what))?, None),
         StaticKind::QuasiStatic => match d.quasi_statics(&analysis.times(), &options) {
@@ -77,10 +78,23 @@ pub(super) fn run_statics(
                 _ => return Err(error(p, &e, what)),
             },
         },
-        StaticKind::Modal => {
+        // Large models: the sparse path, a few lowest modes (docs/model-format.md).
+        StaticKind::Modal if d.sparse_path() => {
+            let count = analysis.modes.unwrap_or(DEFAULT_SPARSE_MODES);
             let m = d
+                .modal_sparse(&options, count)
+                .map_err(|e| error(p, &e, what))?;
+            let eq = m.equilibrium.clone();
+            sparse = Some(m);
+            (eq, None)
+        }
+        StaticKind::Modal => {
+            let mut m = d
                 .modal(&ModalOptions { statics: options })
                 .map_err(|e| error(p, &e, what))?;
+            if let Some(count) = analysis.modes {
+                m.modes.truncate(count);
+            }
             (m.equilibrium.clone(), Some(m))
         }
     };
@@ -92,8 +106,26 @@ pub(super) fn run_statics(
         .filter(|t| !MOTION_GROUPS.contains(&t.name.as_str()))
         .collect();
     tables.push(stability_table(&statics));
-    let warnings = stability_warnings(&statics);
+    let mut warnings = stability_warnings(&statics);
     let mut files = Vec::new();
+    if let Some(s) = &sparse {
+        let t = s.equilibrium.equilibria.first().map_or(0.0, |e| e.state.t);
+        let bodies: Vec<&str> = r
+            .kinematics
+            .bodies
+            .iter()
+            .map(|b| b.name.as_str())
+            .collect();
+        tables.extend(mode_tables(t, &bodies, &s.modes));
+        if !s.converged {
+            warnings.push(format!(
+                "the {} lowest modes did not all converge in {} Lanczos steps: their \
+                 frequencies are doubtful",
+                s.modes.len(),
+                s.lanczos_steps
+            ));
+        }
+    }
     if let Some(m) = &modal {
         if let Some(eq) = m.equilibrium.equilibria.first() {
             let bodies: Vec<&str> = r
