@@ -2,6 +2,7 @@
 //!
 //! - [`models`]: generated mechanisms of any size (driven revolute chains, closed-loop ladders,
 //!   spherical-joint chains) and the example files of `examples/`.
+//! - [`asmt`]: cardan against OndselSolver on the ten ASMT files (reading included).
 //! - [`animation`]: writing the animation and the report at several sizes (cardan-report).
 //! - [`measure`]: timing helpers (median of repeated batches), peak memory (`VmHWM`).
 //! - [`svg`]: minimal log-log line plots.
@@ -11,6 +12,7 @@
 //! benchmark of the same kinematic frames.
 
 pub mod animation;
+pub mod asmt;
 pub mod measure;
 pub mod models;
 pub mod svg;

@@ -8,6 +8,7 @@
 //! cardan-bench --peers-only PYTHON [--smoke] [kinematics|slider-crank|chain ...]  (peers to stdout)
 //! cardan-bench --drivers [--smoke]    (the driver-function section alone, to stdout)
 //! cardan-bench --animation [--smoke]  (the animation and report section alone, to stdout)
+//! cardan-bench --asmt [--smoke] [--peers PYTHON]  (ASMT files against OndselSolver, to stdout)
 //! ```
 //!
 //! Usually run through `cargo xtask bench [--smoke] [--peers]`.
@@ -80,6 +81,18 @@ fn main() {
         );
         return;
     }
+    if args.first().map(String::as_str) == Some("--asmt") {
+        let smoke = args.iter().any(|a| a == "--smoke");
+        let python = args
+            .iter()
+            .position(|a| a == "--peers")
+            .and_then(|k| args.get(k + 1));
+        println!(
+            "{}",
+            cardan_bench::asmt::section(smoke, python.map(String::as_str), &root())
+        );
+        return;
+    }
     if args.first().map(String::as_str) == Some("--profile") {
         profile(&args[1..]);
         return;
@@ -148,6 +161,12 @@ fn main() {
     ));
     eprintln!("== work-precision");
     md.push_str(&work_precision_section(&cfg, &mut svgs));
+    eprintln!("== ASMT files against OndselSolver");
+    md.push_str(&cardan_bench::asmt::section(
+        cfg.smoke,
+        peers.as_deref(),
+        &root(),
+    ));
     if let Some(py) = &peers {
         eprintln!("== peers");
         md.push_str(&peers_section(&cfg, py));
