@@ -39,7 +39,10 @@
 //! screw  2π z_Iᵀd − p θz(I→J) = c                      ⇒  s = (p/2π) u_S u_R θ + c
 //! ```
 //!
-//! The constants come from the input pose, as in OndselSolver.
+//! The constants come from the input pose, as in OndselSolver. A screw whose two parts are held
+//! by one joint that turns and slides (a cylindrical joint) becomes cardan's one-joint screw
+//! s − (p/2π) θ = c on that joint. Couplers whose parts are held neither way (a gear or rack whose
+//! joints share no body) are refused at their line: cardan's couplers relate joint coordinates.
 //!
 //! ## Names
 //! cardan names are ASCII letters, digits and `_`: every other character becomes `_`, a leading
@@ -724,6 +727,15 @@ impl Ctx<'_> {
                     GearRatio::Ratio(-(ri / rj) * ua * ub),
                 )
             }
+            "ScrewJoint" if self.direct(&mi.body, &mj.body).is_some() => {
+                // One joint both turns and slides between the two parts (a cylindrical joint):
+                // cardan's one-joint screw s − (p/2π) θ = c. Whichever way the joint and the
+                // marker axes point, 2π z_Iᵀd − p θz(I→J) changes by u (2π Δs − p Δθ), u = ±1,
+                // so the pitch carries over unchanged.
+                let c = self.direct(&mi.body, &mj.body).expect("checked");
+                sign(&zi, &c, 1.0)?;
+                CouplerSpec::screw(name, &c.name, &c.name, need("pitch")?)
+            }
             "RackPinionJoint" | "ScrewJoint" => {
                 let rack = j.kind == "RackPinionJoint";
                 // Which part slides: marker I's or marker J's (the other turns).
@@ -758,6 +770,21 @@ impl Ctx<'_> {
             line: j.line,
         });
         Ok(())
+    }
+
+    /// The first joint (file order) between bodies `a` and `b` that both turns and slides (a
+    /// cylindrical joint): the one joint of a screw.
+    fn direct(&self, a: &str, b: &str) -> Option<JointRef> {
+        self.joint_order
+            .iter()
+            .map(|p| &self.joints[p])
+            .find(|j| {
+                let info = j.kind.info();
+                info.rotation.is_some()
+                    && info.translation.is_some()
+                    && ((j.body_i == a && j.body_j == b) || (j.body_i == b && j.body_j == a))
+            })
+            .cloned()
     }
 
     /// Two joints, one holding `body_a` (of kind `able_a`) and one holding `body_b`, with one

@@ -10,13 +10,24 @@
 //! and the Bryant angles of A_P = R_x(b_x) R_y(b_y) R_z(b_z):
 //! b_x = atan2(−A₁₂, A₂₂), b_y = atan2(A₀₂, √(A₀₀² + A₀₁²)), b_z = atan2(−A₀₁, A₀₀), exact at
 //! every attitude (OndselSolver's writer clamps b_y to ±π/2 when |A₀₂| > 0.9999; this one does not).
-//! The `Input` column is the pose as read. Joint and motion series (reactions) are written only
-//! when reactions were computed; a kinematic run writes parts only.
+//! The `Input` column is the pose as read.
+//!
+//! Joint and motion series are written when the run computed reactions (inverse dynamics or
+//! dynamics: [`add_reactions`]), in OndselSolver's conventions: `FXonI FYonI FZonI` the force the
+//! joint (or motion) exerts on the part that carries MarkerI, `TXonI TYonI TZonI` the torque on
+//! that part about MarkerI's origin, global components. cardan's reaction on body i of a joint
+//! (body i = MarkerI's part, [`crate::import`]) is taken about the joint's point P_i; when P_i is
+//! not MarkerI's origin m, the torque is moved there: T_m = T_P + (r_P − r_m) × F. Couplers
+//! (gear, rack and pinion, screw) get no series: cardan writes their law in joint coordinates, so
+//! the wrench of their equation is split between the coupled joints differently from OndselSolver's
+//! (only the efforts about the axes are physical; the gears' joint series carry the rest).
 
 use crate::document::Document;
 use crate::import::Import;
+use crate::series::REACTION_ROWS;
 use crate::series::{Item, Row, TimeSeries, PART_ROWS};
-use cardan_mechanism::Results;
+use cardan_dynamics::{DynamicResults, JointReactions};
+use cardan_mechanism::{Results, GROUND};
 use nalgebra::{Matrix3, Vector3};
 
 /// Bryant angles (x-y-z) of a rotation matrix, exact (no clamping near b_y = ±π/2):
@@ -114,11 +125,14 @@ pub fn time_series(doc: &Document, import: &Import, results: &Results) -> TimeSe
     }
 }
 
-/// Scales the length rows of `series` (X Y Z, VX VY VZ, AX AY AZ of every part and of the
-/// assembly; angles and angular rates are unit-free) by `factor`: e.g. 1000 to write a series
+/// Scales the rows of `series` that carry one length (X Y Z, VX VY VZ, AX AY AZ of every part and
+/// of the assembly, and the reaction torques TXonI TYonI TZonI; angles, angular rates and forces
+/// carry none) by `factor`: e.g. 1000 to write a series
 /// computed in SI into a file in millimetres.
 pub fn scale_lengths(series: &mut TimeSeries, factor: f64) {
-    const LENGTHS: [&str; 9] = ["X", "Y", "Z", "VX", "VY", "VZ", "AX", "AY", "AZ"];
+    const LENGTHS: [&str; 12] = [
+        "X", "Y", "Z", "VX", "VY", "VZ", "AX", "AY", "AZ", "TXonI", "TYonI", "TZonI",
+    ];
     for row in series
         .items
         .iter_mut()
@@ -127,6 +141,154 @@ pub fn scale_lengths(series: &mut TimeSeries, factor: f64) {
     {
         row.input *= factor;
         row.values.iter_mut().for_each(|v| *v *= factor);
+    }
+}
+
+/// Appends to `series` the reaction series of every joint and motion of `doc` (file order:
+/// joints, then motions) computed by a dynamic or inverse dynamics run (`dynamics`, on the
+/// same output times as `series`). Elements without reactions (couplers, elements cardan does not
+/// have) are left out.
+pub fn add_reactions(
+    series: &mut TimeSeries,
+    doc: &Document,
+    import: &Import,
+    dynamics: &DynamicResults,
+) {
+    let path = |name: &str| format!("/{}/{name}", doc.name);
+    for j in &doc.joints {
+        let p = path(&j.name);
+        let Some(el) = import.joints.iter().find(|e| e.path == p) else {
+            continue;
+        };
+        let Some(r) = dynamics.reactions.iter().find(|r| r.name == el.spec.name) else {
+            continue;
+        };
+        series.items.push(reaction_item(
+            format!("{}Series", j.kind),
+            p,
+            import,
+            dynamics,
+            r,
+            &el.spec.point_i,
+        ));
+    }
+    for m in &doc.motions {
+        let p = path(&m.name);
+        let Some(el) = import.drivers.iter().find(|e| e.path == p) else {
+            continue;
+        };
+        // A general motion is six driver rows (`<name>.x`, …): their wrenches add up.
+        let name = &el.spec.name;
+        let prefix = format!("{name}.");
+        let mut rows = dynamics
+            .drivers
+            .iter()
+            .filter(|d| &d.name == name || d.name.starts_with(&prefix))
+            .map(|d| &d.reactions);
+        let Some(first) = rows.next() else {
+            continue;
+        };
+        let mut total = first.clone();
+        for r in rows {
+            for (sum, w) in total.on_i.iter_mut().zip(&r.on_i) {
+                sum.force += w.force;
+                sum.torque += w.torque;
+            }
+        }
+        // MarkerI of a motion is its joint's MarkerI (checked by the import), or the pose
+        // driver's point i.
+        let point_i = match &el.spec.target {
+            cardan_mechanism::DriverTarget::JointRotation { joint }
+            | cardan_mechanism::DriverTarget::JointTranslation { joint } => import
+                .joints
+                .iter()
+                .find(|j| &j.spec.name == joint)
+                .map(|j| j.spec.point_i.clone()),
+            cardan_mechanism::DriverTarget::Pose(t) => Some(t.point_i.clone()),
+            _ => None,
+        };
+        let Some(point_i) = point_i else {
+            continue;
+        };
+        let kind = match m.kind {
+            crate::document::MotionKind::Rotational => "RotationalMotionSeries",
+            crate::document::MotionKind::Translational => "TranslationalMotionSeries",
+            crate::document::MotionKind::General => "GeneralMotionSeries",
+        };
+        series.items.push(reaction_item(
+            kind.into(),
+            p,
+            import,
+            dynamics,
+            &total,
+            &point_i,
+        ));
+    }
+}
+
+/// The local coordinates of point `name` of `body`: a named point, `origin` (the body frame's
+/// origin) or `P(x;y;z)` (cardan-dynamics' name of an unnamed point).
+fn local_point(import: &Import, body: &str, name: &str) -> Vector3<f64> {
+    if let Some(p) = import
+        .points
+        .iter()
+        .find(|p| p.body == body && p.name == name)
+    {
+        return p.value;
+    }
+    let xyz: Vec<f64> = name
+        .strip_prefix("P(")
+        .and_then(|s| s.strip_suffix(')'))
+        .map(|s| s.split(';').filter_map(|c| c.parse().ok()).collect())
+        .unwrap_or_default();
+    match xyz[..] {
+        [x, y, z] => Vector3::new(x, y, z),
+        _ => Vector3::zeros(),
+    }
+}
+
+/// The 6 rows of one joint or motion: the wrench on body i about its point `marker_i`.
+fn reaction_item(
+    kind: String,
+    path: String,
+    import: &Import,
+    dynamics: &DynamicResults,
+    r: &JointReactions,
+    marker_i: &str,
+) -> Item {
+    let n = r.on_i.len();
+    let mut rows: Vec<Row> = REACTION_ROWS
+        .iter()
+        .map(|l| Row {
+            label: (*l).into(),
+            input: 0.0,
+            values: Vec::with_capacity(n),
+        })
+        .collect();
+    // r_P − r_m in body i's frame (zero when the torque is already about MarkerI's origin).
+    let offset = if r.point_i == marker_i {
+        Vector3::zeros()
+    } else {
+        local_point(import, &r.body_i, &r.point_i) - local_point(import, &r.body_i, marker_i)
+    };
+    let body = (r.body_i != GROUND)
+        .then(|| dynamics.kinematics.body(&r.body_i))
+        .flatten();
+    for (k, w) in r.on_i.iter().enumerate() {
+        let a = body.map_or_else(Matrix3::identity, |b| cardan_eulerparam::a(&b.p[k]));
+        let torque = w.torque + (a * offset).cross(&w.force);
+        let values = [
+            w.force.x, w.force.y, w.force.z, torque.x, torque.y, torque.z,
+        ];
+        for (row, x) in rows.iter_mut().zip(values) {
+            row.values.push(x);
+        }
+    }
+    Item {
+        kind,
+        path,
+        line: 0,
+        rows,
     }
 }
 

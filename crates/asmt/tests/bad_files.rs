@@ -156,3 +156,24 @@ fn arbitrary_edits_never_panic() {
         }
     }
 }
+
+/// A rack and pinion whose joints share no body (the pinion's revolute moved from the ground to
+/// another part): cardan's couplers relate two joints on a common body, so the file is refused
+/// at the coupler's line, naming it.
+#[test]
+fn coupler_whose_joints_share_no_body() {
+    let text = piston().replacen(
+        "\t\t\t\t\t/Assembly1/Assembly1Marker2\n",
+        "\t\t\t\t\t/Assembly1/Assembly1Part1/Assembly1Part1Marker1\n",
+        1,
+    );
+    assert_ne!(text, piston());
+    let e = error(&text);
+    assert_eq!(e.line, line_of(&piston(), "\t\t\tRackPinionJoint"));
+    assert!(
+        e.message
+            .contains("RackPinionJoint /Assembly1/Assembly1Joint3")
+            && e.message.contains("common body"),
+        "{e}"
+    );
+}

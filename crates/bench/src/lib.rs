@@ -2,6 +2,7 @@
 //!
 //! - [`models`]: generated mechanisms of any size (driven revolute chains, closed-loop ladders,
 //!   spherical-joint chains) and the example files of `examples/`.
+//! - [`asmt`]: cardan against OndselSolver on the ten ASMT files (reading included).
 //! - [`animation`]: writing the animation and the report at several sizes (cardan-report).
 //! - [`genalpha`]: generalized-α over a developing motion (chain cost and iterations per slice of
 //!   a run, slider-crank error), `cardan-bench --genalpha` / `--genalpha-sc`.
@@ -16,6 +17,7 @@
 pub mod animation;
 pub mod genalpha;
 pub mod large;
+pub mod asmt;
 pub mod measure;
 pub mod modal_sparse;
 pub mod models;

@@ -13,6 +13,7 @@
 //! cardan-bench --animation [--smoke]  (the animation and report section alone, to stdout)
 //! cardan-bench --large [--smoke]      (check and run setup of 10³–10⁵-body chains, to stdout)
 //! cardan-bench --modal [--smoke]      (the sparse modal analysis section alone, to stdout)
+//! cardan-bench --asmt [--smoke] [--peers PYTHON]  (ASMT files against OndselSolver, to stdout)
 //! ```
 //!
 //! Usually run through `cargo xtask bench [--smoke] [--peers]`.
@@ -107,6 +108,16 @@ fn main() {
     }
     if args.first().map(String::as_str) == Some("--genalpha-sc") {
         cardan_bench::genalpha::slider_crank(&args[1..], &root());
+    if args.first().map(String::as_str) == Some("--asmt") {
+        let smoke = args.iter().any(|a| a == "--smoke");
+        let python = args
+            .iter()
+            .position(|a| a == "--peers")
+            .and_then(|k| args.get(k + 1));
+        println!(
+            "{}",
+            cardan_bench::asmt::section(smoke, python.map(String::as_str), &root())
+        );
         return;
     }
     if args.first().map(String::as_str) == Some("--profile") {
@@ -176,6 +187,12 @@ fn main() {
     ));
     eprintln!("== work-precision");
     md.push_str(&work_precision_section(&cfg, &mut svgs));
+    eprintln!("== ASMT files against OndselSolver");
+    md.push_str(&cardan_bench::asmt::section(
+        cfg.smoke,
+        peers.as_deref(),
+        &root(),
+    ));
     if let Some(py) = &peers {
         eprintln!("== peers");
         md.push_str(&peers_section(&cfg, py));

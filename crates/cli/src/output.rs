@@ -11,7 +11,7 @@
 //! 3. **Rename into place.** The previous `DIR` is renamed aside, the temporary directory renamed
 //!    to `DIR`, then the previous one removed: `DIR` always holds the files of one run, never a
 //!    mix. A directory is only replaced if it holds nothing but what a run writes (`*.csv`,
-//!    `*.svg`, `*.png`, `run.json`, `animation.glb`, `index.html`); anything else there is refused, so `-o` cannot delete a
+//!    `*.svg`, `*.png`, `*.solved.asmt`, `run.json`, `animation.glb`, `index.html`); anything else there is refused, so `-o` cannot delete a
 //!    user's files.
 //!
 //! A run that produced no result (an input error, an assembly failure) writes nothing: the
@@ -295,7 +295,8 @@ fn check_replaceable(target: &Path) -> Result<(), Error> {
     Ok(())
 }
 
-/// A plain file named `*.csv`, `*.svg`, `*.png`, `run.json`, `animation.glb` or `index.html`.
+/// A plain file named `*.csv`, `*.svg`, `*.png`, `*.solved.asmt` (a run of an ASMT file),
+/// `run.json`, `animation.glb` or `index.html`.
 fn is_run_output(e: &std::fs::DirEntry) -> bool {
     let name = e.file_name();
     let name = name.to_string_lossy();
@@ -304,6 +305,7 @@ fn is_run_output(e: &std::fs::DirEntry) -> bool {
         && (name.ends_with(".csv")
             || name.ends_with(".svg")
             || name.ends_with(".png")
+            || name.ends_with(".solved.asmt")
             || name == "run.json"
             || name == "animation.glb"
             || name == "index.html")

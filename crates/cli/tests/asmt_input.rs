@@ -67,6 +67,16 @@ fn run_takes_an_asmt_file() {
     let series = doc.series.unwrap();
     assert_eq!(series.times.len(), 101);
     assert_eq!(series.items.len(), 1 + doc.parts.len());
+    // Written inside the directory's atomic commit: listed in run.json with the other outputs.
+    let report = std::fs::read_to_string(dir.join("out/run.json")).unwrap();
+    assert!(report.contains("crank_slider.solved.asmt"), "{report}");
+    // A second run replaces the directory (the solved file is a run's own output).
+    let again = cardan(
+        &["run", file.to_str().unwrap(), "-o", "out", "--quiet"],
+        &dir,
+    );
+    assert_eq!(again.code, 0, "{}{}", again.stdout, again.stderr);
+    assert!(dir.join("out/crank_slider.solved.asmt").exists());
 }
 
 #[test]

@@ -208,19 +208,21 @@ pub fn import(
     Ok(())
 }
 
-/// Writes `<dir>/<stem>.solved.asmt`: the ASMT input with a TimeSeries of `results` (SI) in
-/// OndselSolver's conventions ([`cardan_asmt::solved`]: part-frame origins, exact Bryant
-/// angles, velocities and accelerations; no joint reactions), in the file's `units`. Returns
-/// the path written.
+/// The file `<stem>.solved.asmt` of a run of the ASMT file `path`: its name and its text, the
+/// input with a TimeSeries of `results` in OndselSolver's conventions ([`cardan_asmt::solved`]:
+/// part-frame origins, exact Bryant angles, velocities and accelerations) and, when the run
+/// computed reactions (`dynamics`: inverse dynamics or dynamics), the reaction series of every
+/// joint and motion, in the file's `units`. `cardan run` writes it with the other outputs,
+/// inside the output directory's atomic commit ([`crate::output`]).
 ///
 /// # Errors
-/// Unreadable input or unwritable output.
-pub fn write_solved(
+/// Unreadable or bad input.
+pub fn solved_file(
     path: &Path,
-    dir: &Path,
     units: Units,
     results: &cardan_mechanism::Results,
-) -> Result<PathBuf, Error> {
+    dynamics: Option<&cardan_dynamics::DynamicResults>,
+) -> Result<(String, String), Error> {
     let src = Source::read(path)?;
     let doc = cardan_asmt::read(&src.text).map_err(|e| Error::input(e.to_string()))?;
     let doc = match units {
@@ -229,6 +231,9 @@ pub fn write_solved(
     };
     let import = cardan_asmt::import(&doc).map_err(|e| Error::input(e.to_string()))?;
     let mut series = cardan_asmt::solved::time_series(&doc, &import, results);
+    if let Some(d) = dynamics {
+        cardan_asmt::solved::add_reactions(&mut series, &doc, &import, d);
+    }
     if units == Units::Mm {
         cardan_asmt::solved::scale_lengths(&mut series, 1e3);
     }
@@ -236,8 +241,5 @@ pub fn write_solved(
     let stem = path
         .file_stem()
         .map_or_else(|| "model".into(), |s| s.to_string_lossy().into_owned());
-    let file = dir.join(format!("{stem}.solved.asmt"));
-    std::fs::write(&file, text)
-        .map_err(|e| Error::output(format!("cannot write {}: {e}", file.display())))?;
-    Ok(file)
+    Ok((format!("{stem}.solved.asmt"), text))
 }

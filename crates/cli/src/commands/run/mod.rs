@@ -53,11 +53,7 @@ pub fn run(
     out: &mut dyn Write,
 ) -> Result<Summary, Error> {
     crate::progress::catch_ctrl_c();
-    let mut o = run_model_with(path, output, flags)?;
-    if super::asmt::is_asmt(path) {
-        let solved = super::asmt::write_solved(path, &o.summary.dir, flags.asmt.units, &o.results)?;
-        o.summary.files.push(solved);
-    }
+    let o = run_model_with(path, output, flags)?;
     print_summary(&o.summary, out)?;
     match o.error {
         Some(e) => Err(e),
@@ -187,6 +183,15 @@ pub fn run_model_with(
     // Locked before the analysis: a concurrent run is refused at once, not after its work.
     let out_dir = OutputDir::lock(&dir)?;
     let (kind, mut a) = analyse(&p, &analysis, flags)?;
+    if super::asmt::is_asmt(path) {
+        // The results back in ASMT, written and committed with the other outputs.
+        a.files.push(super::asmt::solved_file(
+            path,
+            flags.asmt.units,
+            &a.results,
+            a.dynamic.as_ref(),
+        )?);
+    }
     // A static or modal run has one time: nothing to plot against it.
     let one_time = matches!(
         analysis.statics,

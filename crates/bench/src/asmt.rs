@@ -1,0 +1,283 @@
+//! cardan against OndselSolver on ASMT files (issue 22): the ten assemblies of OndselSolver's
+//! `testapp` folder (`crates/asmt/tests/data`), each solved over its whole time span, reading
+//! included on both sides, back to back on the same machine.
+//!
+//! - **OndselSolver** (pyondsel, `bench/peers/asmt.py solve`): the file read from disk, parsed,
+//!   assembled, solved over tstart..tend by hout and written back as text with its TimeSeries
+//!   (the C++ extension in-process), best of N.
+//! - **cardan**: the file read from disk, read and mapped (`cardan_asmt::load`), the mechanism
+//!   built (redundancy analysis included), kinematics over the same grid
+//!   (`Model::run_kinematics`: position, velocity, acceleration at every output time), and the
+//!   `.solved.asmt` text written ([`cardan_asmt::solved`]), best of N; also per stage.
+//! - **Read-back**: every `.solved.asmt` cardan writes is read by OndselSolver's C++ reader (which
+//!   solves it again: same number of frames) and by pyondsel's TimeSeries reader (every part,
+//!   one pose per time) (`bench/peers/asmt.py readback`).
+//!
+//! `cardan-bench --asmt [--smoke] [--peers PYTHON]` prints the section alone; without a Python
+//! with pyondsel only cardan's times are given.
+
+use crate::measure::fmt_time;
+use std::fmt::Write as _;
+use std::path::Path;
+use std::process::Command;
+use std::time::Instant;
+
+/// The ten files, in the order of docs/asmt.md.
+pub const FILES: [&str; 10] = [
+    "crank_slider",
+    "fourbar",
+    "piston",
+    "00backhoe",
+    "parm",
+    "dxfmotion",
+    "circular",
+    "wobpump",
+    "rackscrew",
+    "Gears",
+];
+
+/// The target: cardan at least this many times faster than OndselSolver on every file.
+pub const TARGET: f64 = 50.0;
+
+/// Seconds of each stage of one cardan solve of a file.
+#[derive(Debug, Clone, Copy)]
+pub struct Stages {
+    /// Reading the file and mapping it (`cardan_asmt::load`).
+    pub read: f64,
+    /// Building the mechanism (`MechanismBuilder::build`).
+    pub build: f64,
+    /// Kinematics over the file's time span (assembly, redundant rows, every frame).
+    pub solve: f64,
+    /// The `.solved.asmt` text (series and text).
+    pub write: f64,
+}
+
+impl Stages {
+    /// The whole solve.
+    pub fn total(&self) -> f64 {
+        self.read + self.build + self.solve + self.write
+    }
+
+    fn min(self, o: Stages) -> Stages {
+        Stages {
+            read: self.read.min(o.read),
+            build: self.build.min(o.build),
+            solve: self.solve.min(o.solve),
+            write: self.write.min(o.write),
+        }
+    }
+}
+
+/// One cardan solve of the ASMT file `path`: its stages, the `.solved.asmt` text and the
+/// number of output times.
+///
+/// # Panics
+/// If the file does not read or solve (the ten files do).
+pub fn cardan_solve(path: &Path) -> (Stages, String, usize) {
+    let t0 = Instant::now();
+    let text = std::fs::read_to_string(path).expect("the ASMT file");
+    let (doc, import) = cardan_asmt::load(&text).expect("a readable ASMT file");
+    let t1 = Instant::now();
+    let model = import.builder().build().expect("a valid mechanism");
+    let t2 = Instant::now();
+    let s = import.settings.expect("simulation parameters");
+    let options = cardan_mechanism::KinematicOptions::new(s.t_start, s.t_end, s.steps());
+    let results = model.run_kinematics(&options).expect("kinematics");
+    let t3 = Instant::now();
+    let series = cardan_asmt::solved::time_series(&doc, &import, &results);
+    let solved = cardan_asmt::solved::solved_text(&text, &series);
+    let t4 = Instant::now();
+    let stages = Stages {
+        read: (t1 - t0).as_secs_f64(),
+        build: (t2 - t1).as_secs_f64(),
+        solve: (t3 - t2).as_secs_f64(),
+        write: (t4 - t3).as_secs_f64(),
+    };
+    (stages, solved, results.times.len())
+}
+
+/// Best of `n` cardan solves (the whole, and each stage on its own).
+pub fn cardan_best(path: &Path, n: usize) -> (f64, Stages, String, usize) {
+    let (mut stages, text, frames) = cardan_solve(path);
+    let mut best = stages.total();
+    for _ in 1..n {
+        let (s, _, _) = cardan_solve(path);
+        best = best.min(s.total());
+        stages = stages.min(s);
+    }
+    (best, stages, text, frames)
+}
+
+/// The `RESULT key=value ...` lines of `python bench/peers/asmt.py args...`, as string maps.
+fn peer(
+    python: &str,
+    script: &Path,
+    args: &[String],
+) -> Result<Vec<Vec<(String, String)>>, String> {
+    let o = Command::new(python)
+        .arg(script)
+        .args(args)
+        .output()
+        .map_err(|e| format!("cannot start {python}: {e}"))?;
+    let out = String::from_utf8_lossy(&o.stdout);
+    let lines: Vec<Vec<(String, String)>> = out
+        .lines()
+        .filter_map(|l| l.strip_prefix("RESULT "))
+        .map(|l| {
+            l.split_whitespace()
+                .filter_map(|kv| kv.split_once('='))
+                .map(|(k, v)| (k.to_string(), v.to_string()))
+                .collect()
+        })
+        .collect();
+    if lines.is_empty() || !o.status.success() {
+        let err = String::from_utf8_lossy(&o.stderr);
+        return Err(format!(
+            "`bench/peers/asmt.py {}` failed: {}",
+            args.first().map_or("", String::as_str),
+            err.lines().last().unwrap_or("no output")
+        ));
+    }
+    Ok(lines)
+}
+
+fn value<'a>(r: &'a [(String, String)], k: &str) -> &'a str {
+    r.iter()
+        .find(|(key, _)| key == k)
+        .map_or("", |(_, v)| v.as_str())
+}
+
+/// The markdown section: a table per file (pyondsel, cardan, ratio, read-back), cardan's
+/// stages. `python`: a Python with pyondsel (none: cardan only). `smoke`: one run of each.
+pub fn section(smoke: bool, python: Option<&str>, root: &Path) -> String {
+    let data = root.join("crates/asmt/tests/data");
+    let script = root.join("bench/peers/asmt.py");
+    let (n_cardan, n_peer) = if smoke { (1, 1) } else { (20, 3) };
+    let out_dir = std::env::temp_dir().join(format!("cardan-bench-asmt-{}", std::process::id()));
+    let _ = std::fs::create_dir_all(&out_dir);
+    let mut md = String::from("### ASMT files: cardan against OndselSolver\n\n");
+    let _ = writeln!(
+        md,
+        "The ten assemblies of OndselSolver's testapp (`crates/asmt/tests/data`), each solved over \
+         its whole time span with reading included on both sides, back to back per file \
+         (OndselSolver, then cardan). OndselSolver: pyondsel 0.0.3 in-process (`solve_asmt_raw`: \
+         read, assemble, solve, write the solved text), best of {n_peer}. cardan: read and map \
+         (`cardan_asmt::load`), build, kinematics over the same grid, write the `.solved.asmt` \
+         text, best of {n_cardan}. Read-back: cardan's `.solved.asmt` read by OndselSolver's C++ \
+         reader (it solves the file again: same frames) and by pyondsel's TimeSeries reader \
+         (every part, one pose per time). Sources: `crates/bench/src/asmt.rs`, \
+         `bench/peers/asmt.py`.\n"
+    );
+    let _ = writeln!(
+        md,
+        "| file | frames | OndselSolver | cardan | ratio | target ≥ {TARGET:.0}× | OndselSolver reads cardan's file |\n\
+         |---|---:|---:|---:|---:|---|---|"
+    );
+    let mut stages_md = String::from(
+        "\ncardan by stage (best of each): read and map, build (with the redundancy analysis), \
+         kinematics, `.solved.asmt` text.\n\n| file | read | build | kinematics | write | total |\n\
+         |---|---:|---:|---:|---:|---:|\n",
+    );
+    let mut written = Vec::new();
+    let mut rows = Vec::new();
+    let mut peer_error = None;
+    for f in FILES {
+        let path = data.join(format!("{f}.asmt"));
+        eprintln!("asmt: {f}");
+        // Back to back: OndselSolver, then cardan.
+        let theirs = match (python, &peer_error) {
+            (Some(py), None) => {
+                match peer(
+                    py,
+                    &script,
+                    &[
+                        "solve".into(),
+                        n_peer.to_string(),
+                        path.display().to_string(),
+                    ],
+                ) {
+                    Ok(r) => value(&r[0], "best").parse::<f64>().ok(),
+                    Err(e) => {
+                        peer_error = Some(e);
+                        None
+                    }
+                }
+            }
+            _ => None,
+        };
+        let (best, st, text, frames) = cardan_best(&path, n_cardan);
+        let file = out_dir.join(format!("{f}.solved.asmt"));
+        if std::fs::write(&file, text).is_ok() {
+            written.push(file);
+        }
+        let _ = writeln!(
+            stages_md,
+            "| {f} | {} | {} | {} | {} | {} |",
+            fmt_time(st.read),
+            fmt_time(st.build),
+            fmt_time(st.solve),
+            fmt_time(st.write),
+            fmt_time(best)
+        );
+        rows.push((f, frames, theirs, best));
+    }
+    // OndselSolver reads the files cardan wrote.
+    let mut readback: Vec<String> = vec!["not run".into(); rows.len()];
+    if let (Some(py), None) = (python, &peer_error) {
+        let mut args = vec!["readback".to_string()];
+        args.extend(written.iter().map(|p| p.display().to_string()));
+        match peer(py, &script, &args) {
+            Ok(r) => {
+                for (k, line) in r.iter().enumerate().take(readback.len()) {
+                    let (cpp, py) = (value(line, "cpp"), value(line, "python"));
+                    readback[k] = if cpp == "ok" && py == "ok" {
+                        "yes (C++ reader and pyondsel)".into()
+                    } else {
+                        format!("**no**: C++ {cpp}, pyondsel {py}")
+                    };
+                }
+            }
+            Err(e) => peer_error = Some(e),
+        }
+    }
+    let mut worst: Option<f64> = None;
+    for ((f, frames, theirs, ours), back) in rows.iter().zip(&readback) {
+        let (t, ratio, met) = match theirs {
+            Some(t) => {
+                let r = t / ours;
+                worst = Some(worst.map_or(r, |w: f64| w.min(r)));
+                (
+                    fmt_time(*t),
+                    format!("{r:.0}×"),
+                    if r >= TARGET { "met" } else { "**missed**" },
+                )
+            }
+            None => ("–".into(), "–".into(), "–"),
+        };
+        let _ = writeln!(
+            md,
+            "| {f} | {frames} | {t} | {} | {ratio} | {met} | {back} |",
+            fmt_time(*ours)
+        );
+    }
+    if let Some(w) = worst {
+        let _ = writeln!(
+            md,
+            "\nSmallest ratio: {w:.0}× (target ≥ {TARGET:.0}× on every file)."
+        );
+    }
+    match (python, peer_error) {
+        (None, _) => md.push_str(
+            "\nOndselSolver not run (`cargo xtask bench --peers` installs pyondsel; \
+             `cardan-bench --asmt --peers target/peers-venv/bin/python`).\n",
+        ),
+        (Some(_), Some(e)) => {
+            let _ = writeln!(md, "\nOndselSolver failed: {e}");
+        }
+        _ => {}
+    }
+    md.push_str(&stages_md);
+    md.push('\n');
+    let _ = std::fs::remove_dir_all(&out_dir);
+    md
+}
