@@ -11,6 +11,8 @@
 //! benchmark of the same kinematic frames.
 
 pub mod animation;
+pub mod kinematic_accuracy;
 pub mod measure;
 pub mod models;
+pub mod run_memory;
 pub mod svg;
