@@ -108,6 +108,8 @@ fn main() {
     }
     if args.first().map(String::as_str) == Some("--genalpha-sc") {
         cardan_bench::genalpha::slider_crank(&args[1..], &root());
+        return;
+    }
     if args.first().map(String::as_str) == Some("--asmt") {
         let smoke = args.iter().any(|a| a == "--smoke");
         let python = args
@@ -118,6 +120,14 @@ fn main() {
             "{}",
             cardan_bench::asmt::section(smoke, python.map(String::as_str), &root())
         );
+        return;
+    }
+    if args.first().map(String::as_str) == Some("--kinematic-accuracy") {
+        kinematic_accuracy(&args[1..]);
+        return;
+    }
+    if args.first().map(String::as_str) == Some("--run-memory") {
+        run_memory(&args[1..]);
         return;
     }
     if args.first().map(String::as_str) == Some("--profile") {
@@ -1207,4 +1217,49 @@ fn peers_section(cfg: &Cfg, python: &str) -> String {
 
 mod cardan_bench_peers {
     include!("peers.rs");
+}
+
+/// `--kinematic-accuracy PYTHON [--smoke] [--svg FILE]`: the work–precision table against
+/// OndselSolver to stdout, the plot to FILE (module `kinematic_accuracy`).
+fn kinematic_accuracy(args: &[String]) {
+    let python = args
+        .first()
+        .filter(|a| !a.starts_with("--"))
+        .map(String::as_str);
+    let smoke = args.iter().any(|a| a == "--smoke");
+    let (md, svg) = cardan_bench::kinematic_accuracy::work_precision(&root(), python, smoke);
+    print!("{md}");
+    if let Some(file) = args
+        .iter()
+        .position(|a| a == "--svg")
+        .and_then(|i| args.get(i + 1))
+    {
+        if let Err(e) = std::fs::write(file, svg) {
+            eprintln!("cannot write {file}: {e}");
+            std::process::exit(1);
+        }
+    }
+}
+
+/// `--run-memory [--smoke] [--cardan PATH] [STEPS ...]`: peak memory and time of long
+/// `cardan run`s (module `run_memory`).
+fn run_memory(args: &[String]) {
+    let smoke = args.iter().any(|a| a == "--smoke");
+    let cardan = args
+        .iter()
+        .position(|a| a == "--cardan")
+        .and_then(|i| args.get(i + 1))
+        .map_or_else(cardan_bench::run_memory::default_cardan, PathBuf::from);
+    let mut steps: Vec<usize> = args.iter().filter_map(|a| a.parse().ok()).collect();
+    if steps.is_empty() {
+        steps = if smoke {
+            vec![10_000]
+        } else {
+            vec![10_000, 100_000, 1_000_000]
+        };
+    }
+    print!(
+        "{}",
+        cardan_bench::run_memory::section(&cardan, &root(), &steps)
+    );
 }

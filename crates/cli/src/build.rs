@@ -1411,6 +1411,32 @@ fn load_driver(r: &Resolver, d: &DriverSection) -> Result<(DriverSpec, String), 
     }
 }
 
+/// The key that sets a kinematic or inverse dynamics run's position tolerance and its value:
+/// `position_tolerance`, or `tolerance`, its older name with the same meaning (a static kind's
+/// `tolerance` is its equilibrium's). Both at once, or `position_tolerance` in a static kind,
+/// is an error at the key.
+fn position_tolerance<'a>(
+    cx: &Ctx,
+    a: &'a AnalysisSection,
+    statics: bool,
+) -> Result<(&'static str, Option<&'a Num>), Error> {
+    match (&a.position_tolerance, &a.tolerance) {
+        (Some(p), _) if statics => Err(cx.err(
+            p.span(),
+            "position_tolerance applies to kind = \"kinematic\" and \"inverse_dynamics\" (a \
+             static, quasi-static or modal analysis sets its equilibrium's tolerance with \
+             tolerance)",
+        )),
+        (Some(p), Some(_)) => Err(cx.err(
+            p.span(),
+            "give position_tolerance or tolerance, not both (tolerance is the older name of \
+             position_tolerance)",
+        )),
+        (Some(p), None) => Ok(("position_tolerance", Some(p))),
+        (None, t) => Ok(("tolerance", t.as_ref())),
+    }
+}
+
 fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Analysis, Error> {
     let cx = r.cx;
     let kind = a.kind.get_ref().as_str();
@@ -1451,13 +1477,20 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
             None
         }
         "dynamic" => {
-            if let Some(t) = &a.tolerance {
-                return Err(cx.err(
-                    t.span(),
-                    "tolerance applies to kind = \"kinematic\" and \"inverse_dynamics\" (a \
-                     dynamic run's accuracy is set by rtol and atol, or newton_tolerance)"
-                        .to_string(),
-                ));
+            for (key, value) in [
+                ("tolerance", &a.tolerance),
+                ("position_tolerance", &a.position_tolerance),
+            ] {
+                if let Some(t) = value {
+                    return Err(cx.err(
+                        t.span(),
+                        format!(
+                            "{key} applies to kind = \"kinematic\" and \"inverse_dynamics\" \
+                             (a dynamic run's accuracy is set by rtol and atol, or \
+                             newton_tolerance)"
+                        ),
+                    ));
+                }
             }
             Some(load_integrator(cx, a)?)
         }
@@ -1483,10 +1516,11 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
             ));
         }
     };
-    let tolerance = match &a.tolerance {
+    let (key, given) = position_tolerance(cx, a, statics.is_some())?;
+    let tolerance = match given {
         None => KinematicOptions::new(0.0, 1.0, 1).tolerance,
         Some(n) => {
-            let v = cx.num(n, "tolerance", Quantity::Unbounded)?;
+            let v = cx.num(n, key, Quantity::Unbounded)?;
             // The range is the library's; the refusal is placed at the key.
             KinematicOptions::new(0.0, 1.0, 1)
                 .tolerance(v)

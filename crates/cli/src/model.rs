@@ -497,9 +497,13 @@ pub struct AnalysisSection {
     #[serde(default)]
     pub newton_tolerance: Option<Num>,
     /// kinematic, inverse_dynamics: the position solves' tolerance on the scaled residual
-    /// (default 1e-10).
+    /// (default 1e-10); static kinds: the equilibrium's tolerance.
     #[serde(default)]
     pub tolerance: Option<Num>,
+    /// kinematic, inverse_dynamics: the position solves' tolerance on the scaled residual
+    /// (default 1e-10); `tolerance` is its older name, with the same meaning.
+    #[serde(default)]
+    pub position_tolerance: Option<Num>,
     /// What to write.
     #[serde(default)]
     pub outputs: Option<Spanned<OutputsSection>>,

@@ -968,3 +968,40 @@ fn the_kinematic_tolerance_is_used_and_checked_at_its_key() {
         &["tolerance applies to kind = \"kinematic\" and \"inverse_dynamics\""],
     );
 }
+
+/// `[analysis] position_tolerance` is the documented name of the kinematic position tolerance
+/// (`tolerance` stays accepted with the same meaning): it is checked at its key like
+/// `tolerance`, both at once are refused, and so is `position_tolerance` in a dynamic or a
+/// static run (a static run's equilibrium tolerance is `tolerance`).
+#[test]
+fn position_tolerance_is_the_kinematic_tolerance_and_checked_at_its_key() {
+    let o = run_text(
+        "run",
+        &edited("steps = 10", "steps = 10\nposition_tolerance = 1e-14"),
+    );
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    fails_at(
+        "steps = 10",
+        "steps = 10\nposition_tolerance = 1e-3",
+        "38:22",
+        &["residual tolerance = 0.001 is outside its sensible range [1e-14, 1e-6]"],
+    );
+    fails_at(
+        "steps = 10",
+        "steps = 10\nposition_tolerance = 1e-12\ntolerance = 1e-12",
+        "38:22",
+        &["give position_tolerance or tolerance, not both"],
+    );
+    fails_at(
+        "kind = \"kinematic\"",
+        "kind = \"dynamic\"\nposition_tolerance = 1e-10",
+        "36:22",
+        &["position_tolerance applies to kind = \"kinematic\" and \"inverse_dynamics\""],
+    );
+    fails_at(
+        "kind = \"kinematic\"",
+        "kind = \"static\"\nposition_tolerance = 1e-10",
+        "36:22",
+        &["static, quasi-static or modal analysis sets its equilibrium's tolerance with tolerance"],
+    );
+}

@@ -154,6 +154,62 @@ fn slider_crank_matches_closed_form() {
     check_fd("slider_crank", &p, 100, 1e-2, 5e-1);
 }
 
+/// Issue 25: `position_tolerance = 1e-14` gives positions within 1e-14 m of the closed form
+/// (the error itself, not the residual), and the tolerance is what sets it: at 1e-6 the same
+/// run is measurably less accurate. The closed form is that of `slider_crank_matches_closed_form`.
+#[test]
+fn position_tolerance_sets_the_position_error() {
+    let text = std::fs::read_to_string(example("slider_crank")).unwrap();
+    let error_at = |tol: &str| {
+        let path = std::env::temp_dir().join(format!(
+            "cardan-position-tolerance-{tol}-{}.toml",
+            std::process::id()
+        ));
+        let edited = text.replace(
+            "[analysis]",
+            &format!("[analysis]\nposition_tolerance = {tol}"),
+        );
+        assert_ne!(edited, text);
+        std::fs::write(&path, edited).unwrap();
+        let p = prepare(&path).expect("prepares");
+        let _ = std::fs::remove_file(&path);
+        let a = p.loaded.analysis.as_ref().unwrap();
+        assert_eq!(a.tolerance, tol.parse::<f64>().unwrap());
+        let r = p
+            .model
+            .run_kinematics(
+                &KinematicOptions::new(a.t_start, a.t_end, a.steps).tolerance(a.tolerance),
+            )
+            .expect("runs");
+        let (c, b) = (
+            r.point("slider", "C").unwrap(),
+            r.point("crank", "B").unwrap(),
+        );
+        let mut e = 0.0f64;
+        for (k, &t) in r.times.iter().enumerate() {
+            let th = 2.0 * PI * t;
+            let (by, bz) = (0.1 - 0.08 * th.sin(), 0.12 + 0.08 * th.cos());
+            let x = (0.09 - by * by - bz * bz).sqrt();
+            e = e.max((c.position[k] - Vector3::new(x, 0.0, 0.0)).amax());
+            e = e.max((b.position[k] - Vector3::new(0.0, by, bz)).amax());
+        }
+        e
+    };
+    let (tight, loose) = (error_at("1e-14"), error_at("1e-6"));
+    eprintln!(
+        "slider_crank: position error {loose:.2e} m at 1e-6, {:.2e} m at 1e-8, {:.2e} m at \
+         1e-10, {:.2e} m at 1e-12, {tight:.2e} m at 1e-14",
+        error_at("1e-8"),
+        error_at("1e-10"),
+        error_at("1e-12")
+    );
+    assert!(
+        tight <= 1e-14,
+        "position error {tight:e} m at position_tolerance = 1e-14"
+    );
+    assert!(loose > 10.0 * tight, "{loose:e} vs {tight:e}");
+}
+
 /// The slider-crank driven by the expression θ(t) = 2πt + 0.3 sin(2πt): the same closed form
 /// with that θ and θ̇ = 2π(1 + 0.3 cos 2πt); accelerations by the finite-difference check.
 #[test]

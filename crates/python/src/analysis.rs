@@ -30,7 +30,7 @@ pub enum Value {
 /// Keys every analysis kind takes.
 const COMMON: [&str; 6] = ["kind", "t_start", "t_end", "steps", "outputs", "plots"];
 /// Keys of the kinematic and inverse dynamics analyses.
-const KINEMATIC: [&str; 2] = ["dt", "tolerance"];
+const KINEMATIC: [&str; 3] = ["dt", "tolerance", "position_tolerance"];
 /// Keys of the dynamic analysis.
 const DYNAMIC: [&str; 8] = [
     "dt",
@@ -145,6 +145,16 @@ pub fn set_analysis(
         table.insert("kind", toml_edit::value(kind));
     }
     for (key, value) in options {
+        // `tolerance` is the older name of `position_tolerance`: the one given replaces both.
+        match key.as_str() {
+            "tolerance" => {
+                table.remove("position_tolerance");
+            }
+            "position_tolerance" => {
+                table.remove("tolerance");
+            }
+            _ => {}
+        }
         table.insert(key, Item::Value(to_toml(value)));
     }
     Ok(doc.to_string())
@@ -167,6 +177,9 @@ fn drop_foreign_keys(table: &mut dyn toml_edit::TableLike, kind: &str) {
     }
     // `dt` is the output step of a kinematic run but the integration step of a dynamic one.
     table.remove("dt");
+    if !matches!(kind, "kinematic" | "inverse_dynamics") {
+        table.remove("position_tolerance");
+    }
     if kind != "dynamic" {
         if let Some(outputs) = table.get_mut("outputs").and_then(|o| o.as_table_like_mut()) {
             for k in DYNAMIC_OUTPUTS {

@@ -61,6 +61,20 @@ def test_options_override_the_file_and_switch_the_kind():
     assert "driver_efforts" in r.tables and list(r.points.names) == ["slider.C.x", "slider.C.y", "slider.C.z"]
 
 
+def test_position_tolerance_and_its_older_name(tmp_path):
+    """`position_tolerance` (and `tolerance`, its older name) set the kinematic position
+    tolerance; the one given replaces the file's other one instead of clashing with it."""
+    text = (EXAMPLES / "slider_crank.toml").read_text()
+    file = tmp_path / "tolerance.toml"
+    file.write_text(text.replace("[analysis]", "[analysis]\ntolerance = 1e-12"))
+    m = cardan.load(file)
+    tight = m.kinematics(steps=20, position_tolerance=1e-14)
+    old = m.kinematics(steps=20, tolerance=1e-14)
+    np.testing.assert_array_equal(tight.points.values, old.points.values)
+    with pytest.raises(cardan.ModelError, match="tolerance = 0.001 is outside"):
+        m.kinematics(steps=20, position_tolerance=1e-3)
+
+
 def test_pandas_frames():
     r = cardan.load(EXAMPLES / "slider_crank.toml").kinematics(steps=20)
     df = r.to_pandas("points")
