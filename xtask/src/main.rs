@@ -18,7 +18,8 @@ mod stress;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 
-const USAGE: &str = "usage: cargo xtask oracle [--check] | stress [--quick] | bench [--smoke] [--peers]
+const USAGE: &str =
+    "usage: cargo xtask oracle [--check] | stress [--quick] | bench [--smoke] [--peers]
        cargo xtask bench --peers-only [kinematics|slider-crank|chain ...]
        cargo xtask docs | compare-outputs REV
 

@@ -15,10 +15,10 @@
 //! benchmark of the same kinematic frames.
 
 pub mod animation;
-pub mod genalpha;
-pub mod large;
 pub mod asmt;
+pub mod genalpha;
 pub mod kinematic_accuracy;
+pub mod large;
 pub mod measure;
 pub mod modal_sparse;
 pub mod models;
