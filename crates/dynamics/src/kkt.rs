@@ -19,10 +19,7 @@
 //!   With A = the top-left, S = Φ_v A⁻¹ Φ_vᵀ (m_a × m_a, SPD when Φ_v has full row rank) is
 //!   assembled body by body and factored by a sparse Cholesky; λ = S⁻¹(Φ_v A⁻¹ h − γ#),
 //!   v̇ = A⁻¹(h − Φ_vᵀ λ). Used at every size: it is faster than the dense LU even on
-//!   the smallest models (2-core VM, 2026-11-22, per step with the mass-only generalized-α /
-//!   fixed-step DOPRI5: slider-crank 21.4 → 14.7 µs / 69.8 → 27.7 µs, A02 four-bar 23.4 →
-//!   14.8 µs / 170 → 52 µs, 2-link chain 4.3 → 3.4 µs / 16.7 → 10.2 µs, 10 links 56 → 17 µs /
-//!   349 → 52 µs, 1,000 links 5.9 → 2.6 ms).
+//!   the smallest models (measurements: docs/dev/performance-log.md, optimization 8).
 //! * **LU of the full matrix** ([`cardan_solver::AutoSolver`]: dense LU for small models, sparse
 //!   LU for large) otherwise, and as the fallback when the Cholesky fails: S squares the
 //!   conditioning of Φ_v, so near a singular configuration (a four-bar passing a dead-centre
