@@ -41,7 +41,7 @@ use crate::statics::{
 use crate::system::Dynamics;
 use crate::tangent::{null_space, Load};
 use crate::DynamicsError;
-use nalgebra::{Complex, DMatrix, DVector, Vector3};
+use nalgebra::{Cholesky, Complex, DMatrix, DVector, Dyn, Vector3};
 
 /// The linearized equations M_r z̈ + C_r ż + K_r z = 0 about an equilibrium (module docs).
 #[derive(Debug, Clone, PartialEq)]
@@ -68,6 +68,18 @@ impl Linearization {
     /// Degrees of freedom d.
     pub fn dof(&self) -> usize {
         self.basis.ncols()
+    }
+
+    /// The Cholesky factor of the reduced mass matrix M_r (symmetric positive definite for a
+    /// mechanism whose every free direction carries mass); an error at time `t` otherwise.
+    pub(crate) fn mass_cholesky(&self, t: f64) -> Result<Cholesky<f64, Dyn>, DynamicsError> {
+        self.mass
+            .clone()
+            .cholesky()
+            .ok_or(DynamicsError::NonFinite {
+                time: t,
+                what: "the reduced mass matrix",
+            })
     }
 
     /// Whether the force elements damp: max |C_r| > 1e-12 max(|K_r|, |M_r|).
@@ -335,14 +347,7 @@ impl Dynamics<'_> {
         state: &State,
         lin: &Linearization,
     ) -> Result<Vec<Mode>, DynamicsError> {
-        let chol = lin
-            .mass
-            .clone()
-            .cholesky()
-            .ok_or(DynamicsError::NonFinite {
-                time: state.t,
-                what: "the reduced mass matrix",
-            })?;
+        let chol = lin.mass_cholesky(state.t)?;
         let mk = chol.solve(&lin.stiffness);
         let mags: Vec<f64> = mk.complex_eigenvalues().iter().map(|s| s.norm()).collect();
         let thr = soft_threshold(&mags);
@@ -384,14 +389,7 @@ impl Dynamics<'_> {
     ) -> Result<Vec<Mode>, DynamicsError> {
         let d = lin.dof();
         let two_pi = 2.0 * std::f64::consts::PI;
-        let chol = lin
-            .mass
-            .clone()
-            .cholesky()
-            .ok_or(DynamicsError::NonFinite {
-                time: state.t,
-                what: "the reduced mass matrix",
-            })?;
+        let chol = lin.mass_cholesky(state.t)?;
         let mk = chol.solve(&lin.stiffness);
         let mc = chol.solve(&lin.damping);
         let mut a = DMatrix::zeros(2 * d, 2 * d);

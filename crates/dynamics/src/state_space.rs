@@ -220,14 +220,7 @@ impl Dynamics<'_> {
                 }
             }
         }
-        let chol = lin
-            .mass
-            .clone()
-            .cholesky()
-            .ok_or(DynamicsError::NonFinite {
-                time: state.t,
-                what: "the reduced mass matrix",
-            })?;
+        let chol = lin.mass_cholesky(state.t)?;
         let mut a = DMatrix::zeros(2 * dof, 2 * dof);
         for i in 0..dof {
             a[(i, dof + i)] = 1.0;

@@ -108,14 +108,14 @@ pub(super) fn run_statics(
     tables.push(stability_table(&statics));
     let mut warnings = stability_warnings(&statics);
     let mut files = Vec::new();
+    let bodies: Vec<&str> = r
+        .kinematics
+        .bodies
+        .iter()
+        .map(|b| b.name.as_str())
+        .collect();
     if let Some(s) = &sparse {
         let t = s.equilibrium.equilibria.first().map_or(0.0, |e| e.state.t);
-        let bodies: Vec<&str> = r
-            .kinematics
-            .bodies
-            .iter()
-            .map(|b| b.name.as_str())
-            .collect();
         tables.extend(mode_tables(t, &bodies, &s.modes));
         if !s.converged {
             warnings.push(format!(
@@ -128,12 +128,6 @@ pub(super) fn run_statics(
     }
     if let Some(m) = &modal {
         if let Some(eq) = m.equilibrium.equilibria.first() {
-            let bodies: Vec<&str> = r
-                .kinematics
-                .bodies
-                .iter()
-                .map(|b| b.name.as_str())
-                .collect();
             tables.extend(mode_tables(eq.state.t, &bodies, &m.modes));
             let about = format!("the equilibrium at t = {} s", eq.state.t);
             let released: Vec<String> = analysis
