@@ -296,7 +296,8 @@ fn check_replaceable(target: &Path) -> Result<(), Error> {
 }
 
 /// A plain file named `*.csv`, `*.svg`, `*.png`, `*.solved.asmt` (a run of an ASMT file),
-/// `run.json`, `animation.glb` or `index.html`.
+/// `*.mtx` and `state_space.txt` (linearized models), `run.json`, `animation.glb` or
+/// `index.html`.
 fn is_run_output(e: &std::fs::DirEntry) -> bool {
     let name = e.file_name();
     let name = name.to_string_lossy();
@@ -306,6 +307,8 @@ fn is_run_output(e: &std::fs::DirEntry) -> bool {
             || name.ends_with(".svg")
             || name.ends_with(".png")
             || name.ends_with(".solved.asmt")
+            || name.ends_with(".mtx")
+            || name == "state_space.txt"
             || name == "run.json"
             || name == "animation.glb"
             || name == "index.html")

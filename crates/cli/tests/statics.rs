@@ -444,3 +444,16 @@ fn dynamic_linearize_at_writes_modes_and_matrices() {
         assert!(o.stderr.contains(msg), "{}", o.stderr);
     }
 }
+
+/// A modal run writes MatrixMarket files and `state_space.txt`; a second run into the same
+/// directory replaces them (they are outputs of a run, not foreign files).
+#[test]
+fn a_modal_run_replaces_its_own_matrix_files() {
+    let dir = run_example("fourbar_spring_modal");
+    for f in ["lin_K.mtx", "ss_A.mtx", "state_space.txt"] {
+        assert!(dir.join(f).is_file(), "{f} not written");
+    }
+    let again = run_model(&example("fourbar_spring_modal"), Some(&dir), false);
+    let o = again.expect("a second modal run into the same directory");
+    assert!(o.error.is_none(), "{:?}", o.error);
+}
