@@ -43,13 +43,30 @@ def test_the_stub_matches_the_native_module():
 
 def test_ctrl_c_stops_a_run_and_keeps_its_results():
     m = cardan.load(EXAMPLES / "slider_crank.toml")
-    timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
-    timer.start()
+    # Python raises KeyboardInterrupt on SIGINT only with its default handler, which it does
+    # not install when started with SIGINT ignored (a job started in the background by a
+    # non-interactive shell, as CI scripts may be): install it, as an interactive session has it.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    # Ctrl-C after 0.5 s, pressed again every 0.5 s while the run goes on (a user does that too;
+    # once, a single press was not seen in a CI run and the run went on to its end).
+    started = threading.Event()
+    finished = threading.Event()
+
+    def press():
+        started.wait()
+        while not finished.wait(0.5):
+            os.kill(os.getpid(), signal.SIGINT)
+
+    presser = threading.Thread(target=press, daemon=True)
+    presser.start()
     try:
         with pytest.raises(KeyboardInterrupt) as e:
+            started.set()
             m.kinematics(t_end=1000.0, steps=1_000_000, outputs={"points": ["slider.C"]})
     finally:
-        timer.cancel()
+        finished.set()
+        presser.join()
+        signal.signal(signal.SIGINT, previous)
     partial = e.value.partial
     assert partial is not None and partial.status == "partial"
     assert 0 < len(partial.t) < 1_000_001
