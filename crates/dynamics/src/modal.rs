@@ -39,7 +39,7 @@ use crate::statics::{
     generalized_symmetric, soft_threshold, Equilibrium, StaticOptions, StaticResults,
 };
 use crate::system::Dynamics;
-use crate::tangent::{null_space, Load};
+use crate::tangent::Load;
 use crate::DynamicsError;
 use nalgebra::{Cholesky, Complex, DMatrix, DVector, Dyn, Vector3};
 
@@ -232,15 +232,7 @@ impl Dynamics<'_> {
         }
         let full_stiffness = self.static_tangent(state, &eq.lambda, 1.0);
         let full_damping = self.damping_tangent(state, Load::Static(1.0));
-        self.sync(state);
-        let j = self.phi_v_dense(state.t, &active);
-        let model = self.model;
-        let (basis, _) = null_space(
-            &j,
-            model.equation_scales(),
-            &active,
-            model.characteristic_length(),
-        );
+        let basis = self.constraint_null_space(state, &active);
         if full_stiffness
             .iter()
             .chain(full_damping.iter())

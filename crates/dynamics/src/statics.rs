@@ -750,15 +750,7 @@ impl Dynamics<'_> {
             return self.reduced_eigen_sparse(state, lambda, s, &active, STABILITY_MODES);
         }
         let k = self.static_tangent(state, lambda, s);
-        self.sync(state);
-        let j = self.phi_v_dense(state.t, &active);
-        let model = self.model;
-        let (basis, _) = null_space(
-            &j,
-            model.equation_scales(),
-            &active,
-            model.characteristic_length(),
-        );
+        let basis = self.constraint_null_space(state, &active);
         let m = self.mass_matrix();
         let mr = basis.transpose() * &m * &basis;
         let kr = basis.transpose() * &k * &basis;

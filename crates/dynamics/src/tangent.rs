@@ -112,6 +112,25 @@ impl Dynamics<'_> {
         (y, size)
     }
 
+    /// A basis N of the null space of Φ_v on the rows `active` at `state` (bodies synced to it):
+    /// the independent coordinates of the linearizations ([`null_space`]).
+    pub(crate) fn constraint_null_space(
+        &mut self,
+        state: &State,
+        active: &[usize],
+    ) -> DMatrix<f64> {
+        self.sync(state);
+        let j = self.phi_v_dense(state.t, active);
+        let model = self.model;
+        null_space(
+            &j,
+            model.equation_scales(),
+            active,
+            model.characteristic_length(),
+        )
+        .0
+    }
+
     /// Φ_v on the rows `active` (dense m_a × n) at the synced bodies.
     pub(crate) fn phi_v_dense(&self, t: f64, active: &[usize]) -> DMatrix<f64> {
         let model = self.model;
