@@ -334,11 +334,25 @@ impl Document {
     }
 }
 
-/// Reads an ASMT text.
+/// Reads an ASMT text, its stored `TimeSeries` included.
 ///
 /// # Errors
 /// The first problem, located at its line.
 pub fn read(text: &str) -> Result<Document> {
+    read_with(text, true)
+}
+
+/// Reads the model of an ASMT text: everything but the rows of a stored `TimeSeries`
+/// ([`Document::series`] is `None`), which a run replaces (in a solved file they are 95 % of the
+/// text).
+///
+/// # Errors
+/// The first problem, located at its line.
+pub fn read_model(text: &str) -> Result<Document> {
+    read_with(text, false)
+}
+
+fn read_with(text: &str, with_series: bool) -> Result<Document> {
     let tree = tree::parse(text)?;
     let header = tree.header.text.clone();
     if !(header.starts_with("OndselSolver") || header.starts_with("freeCAD")) {
@@ -379,8 +393,8 @@ pub fn read(text: &str) -> Result<Document> {
         }
     };
     let mut doc = assembly(asm, header, end)?;
-    if let Some((line, rows)) = &tree.series {
-        doc.series = Some(series::parse(*line, rows)?);
+    if let Some(block) = tree.series.filter(|_| with_series) {
+        doc.series = Some(series::parse(block.line, block.rows(text))?);
     }
     Ok(doc)
 }

@@ -39,17 +39,18 @@ pub mod solved;
 pub mod toml_out;
 pub mod tree;
 
-pub use document::{read, Document};
+pub use document::{read, read_model, Document};
 pub use error::{AsmtError, Warning};
 pub use import::{import, sanitize, AnalysisKind, BodyMap, Element, Import, Settings};
 pub use series::TimeSeries;
 
-/// Reads and maps an ASMT text.
+/// Reads and maps an ASMT text (its model: a stored `TimeSeries` is not read, see
+/// [`read_model`]).
 ///
 /// # Errors
 /// The first problem, at its file line.
 pub fn load(text: &str) -> Result<(Document, Import), AsmtError> {
-    let doc = read(text)?;
+    let doc = read_model(text)?;
     let import = import(&doc)?;
     Ok((doc, import))
 }
@@ -63,6 +64,6 @@ pub fn load(text: &str) -> Result<(Document, Import), AsmtError> {
 pub fn read_time_series(text: &str) -> Result<Option<TimeSeries>, AsmtError> {
     let tree = tree::parse(text)?;
     tree.series
-        .map(|(line, rows)| series::parse(line, &rows))
+        .map(|block| series::parse(block.line, block.rows(text)))
         .transpose()
 }

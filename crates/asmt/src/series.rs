@@ -77,21 +77,27 @@ impl TimeSeries {
     /// Writes the block (from the `TimeSeries` line) in the C++ writer's layout, full precision.
     pub fn write(&self, out: &mut String) {
         use std::fmt::Write as _;
+        let mut buf = ryu::Buffer::new();
+        let mut number = |out: &mut String, v: f64| {
+            out.push('\t');
+            out.push_str(buf.format(v));
+        };
         out.push_str("TimeSeries\nNumber\tInput");
         for k in 1..=self.times.len() {
             let _ = write!(out, "\t{k}");
         }
         out.push_str("\t\nTime\tInput");
         for t in &self.times {
-            let _ = write!(out, "\t{t:?}");
+            number(out, *t);
         }
         out.push_str("\t\n");
         for item in &self.items {
             let _ = writeln!(out, "{}\t{}", item.kind, item.path);
             for r in &item.rows {
-                let _ = write!(out, "{}\t{:?}", r.label, r.input);
+                out.push_str(&r.label);
+                number(out, r.input);
                 for v in &r.values {
-                    let _ = write!(out, "\t{v:?}");
+                    number(out, *v);
                 }
                 out.push_str("\t\n");
             }
@@ -103,7 +109,10 @@ impl TimeSeries {
 ///
 /// # Errors
 /// A missing `Time` row, a row of the wrong length, or a value that is not a finite number.
-pub fn parse(line: usize, rows: &[(usize, String)]) -> Result<TimeSeries> {
+pub fn parse<'a>(
+    line: usize,
+    rows: impl IntoIterator<Item = (usize, &'a str)>,
+) -> Result<TimeSeries> {
     let mut series = TimeSeries::default();
     let mut have_time = false;
     for (n, raw) in rows {
@@ -113,7 +122,7 @@ pub fn parse(line: usize, rows: &[(usize, String)]) -> Result<TimeSeries> {
             series.items.push(Item {
                 kind,
                 path,
-                line: *n,
+                line: n,
                 rows: Vec::new(),
             });
             continue;
@@ -129,23 +138,23 @@ pub fn parse(line: usize, rows: &[(usize, String)]) -> Result<TimeSeries> {
             "Time" => {
                 if values.first() != Some(&"Input") {
                     return Err(AsmtError::new(
-                        *n,
+                        n,
                         "the Time row of the TimeSeries must start with \"Input\"",
                     ));
                 }
                 series.times = values[1..]
                     .iter()
-                    .map(|v| number(v, *n, "a time of the TimeSeries"))
+                    .map(|v| number(v, n, "a time of the TimeSeries"))
                     .collect::<Result<_>>()?;
                 have_time = true;
             }
             label => {
                 if !have_time {
-                    return Err(AsmtError::new(*n, "a TimeSeries row before the Time row"));
+                    return Err(AsmtError::new(n, "a TimeSeries row before the Time row"));
                 }
                 let Some(item) = series.items.last_mut() else {
                     return Err(AsmtError::new(
-                        *n,
+                        n,
                         format!(
                             "TimeSeries row \"{}\" before any item header (\"PartSeries /…\")",
                             clip(label)
@@ -154,7 +163,7 @@ pub fn parse(line: usize, rows: &[(usize, String)]) -> Result<TimeSeries> {
                 };
                 if values.len() != series.times.len() + 1 {
                     return Err(AsmtError::new(
-                        *n,
+                        n,
                         format!(
                             "TimeSeries row \"{}\" of {} has {} values; expected {} (Input and one per time)",
                             clip(label),
@@ -167,7 +176,7 @@ pub fn parse(line: usize, rows: &[(usize, String)]) -> Result<TimeSeries> {
                 let what = format!("row \"{}\" of {}", clip(label), item.path);
                 let nums = values
                     .iter()
-                    .map(|v| number(v, *n, &what))
+                    .map(|v| number(v, n, &what))
                     .collect::<Result<Vec<f64>>>()?;
                 item.rows.push(Row {
                     label: label.to_string(),
@@ -216,24 +225,19 @@ mod tests {
         };
         let mut text = String::new();
         s.write(&mut text);
-        let rows: Vec<(usize, String)> = text
-            .lines()
-            .skip(1)
-            .enumerate()
-            .map(|(k, l)| (k + 2, l.to_string()))
-            .collect();
-        let mut back = parse(1, &rows).unwrap();
+        let rows = text.lines().skip(1).enumerate().map(|(k, l)| (k + 2, l));
+        let mut back = parse(1, rows).unwrap();
         back.items[0].line = 0;
         assert_eq!(back, s);
     }
 
     #[test]
     fn short_row_is_an_error_with_its_line() {
-        let rows = vec![
-            (2, "Time\tInput\t0\t1".to_string()),
-            (3, "PartSeries /A/P".to_string()),
-            (4, "X\t0\t1".to_string()),
+        let rows = [
+            (2, "Time\tInput\t0\t1"),
+            (3, "PartSeries /A/P"),
+            (4, "X\t0\t1"),
         ];
-        assert_eq!(parse(1, &rows).unwrap_err().line, 4);
+        assert_eq!(parse(1, rows).unwrap_err().line, 4);
     }
 }

@@ -4,7 +4,9 @@
 //! n has its values and sub-labels on the following lines at depth n + 1. This pass knows nothing
 //! of the sections; it checks the layout (tabs, no jump of more than one level) and keeps the file
 //! line of every node, so every later error can name it. The `TimeSeries` block at the end (depth
-//! 0, tab-separated table rows) is cut off here and kept as raw lines ([`Tree::series`]).
+//! 0, tab-separated table rows) is cut off here: [`Tree::series`] says where it starts, and
+//! [`SeriesBlock::rows`] reads its lines only when someone needs them (a run replaces it; in a
+//! solved file it is 95 % of the text).
 
 use crate::error::{AsmtError, Result};
 
@@ -34,10 +36,32 @@ pub struct Tree {
     pub header: Node,
     /// The top-level nodes after the header (normally one: `Assembly`).
     pub roots: Vec<Node>,
-    /// The `TimeSeries` line and the table lines after it, raw, if present.
-    pub series: Option<(usize, Vec<(usize, String)>)>,
+    /// Where the `TimeSeries` block starts, if the file has one.
+    pub series: Option<SeriesBlock>,
     /// Number of lines in the file.
     pub lines: usize,
+}
+
+/// The position of the `TimeSeries` block in the text it was parsed from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SeriesBlock {
+    /// The file line of the `TimeSeries` label.
+    pub line: usize,
+    /// The byte offset of the line after the label.
+    pub start: usize,
+}
+
+impl SeriesBlock {
+    /// The nonblank table lines of the block in `text` (the text the tree was parsed from),
+    /// with their file lines.
+    pub fn rows<'a>(&self, text: &'a str) -> impl Iterator<Item = (usize, &'a str)> + 'a {
+        let first = self.line + 1;
+        text[self.start..]
+            .lines()
+            .enumerate()
+            .map(move |(k, l)| (first + k, l))
+            .filter(|(_, l)| !l.trim().is_empty())
+    }
 }
 
 /// Splits `text` into the tree.
@@ -46,11 +70,15 @@ pub struct Tree {
 /// Empty file, a line indented with spaces, a line more than one level deeper than the line
 /// before it, or a NUL character.
 pub fn parse(text: &str) -> Result<Tree> {
-    let mut lines = text.lines().enumerate().map(|(k, l)| (k + 1, l));
+    // (line number, byte offset, text) of each line.
+    let mut lines = text.lines().enumerate().map(|(k, l)| {
+        let offset = l.as_ptr() as usize - text.as_ptr() as usize;
+        (k + 1, offset, l)
+    });
     let (first_line, header) = loop {
         match lines.next() {
             None => return Err(AsmtError::new(1, "the file is empty; an ASMT file starts with a header line (\"OndselSolver\" or the askoh.com banner) and \"Assembly\"")),
-            Some((n, l)) if !l.trim().is_empty() => break (n, l),
+            Some((n, _, l)) if !l.trim().is_empty() => break (n, l),
             Some(_) => {}
         }
     };
@@ -65,7 +93,7 @@ pub fn parse(text: &str) -> Result<Tree> {
     let mut series = None;
     let mut count = first_line;
     let mut rest = lines.by_ref();
-    for (n, raw) in &mut rest {
+    for (n, offset, raw) in &mut rest {
         count = n;
         if raw.contains('\0') {
             return Err(AsmtError::new(
@@ -85,7 +113,10 @@ pub fn parse(text: &str) -> Result<Tree> {
             ));
         }
         if depth == 0 && body.trim_end() == "TimeSeries" {
-            series = Some((n, Vec::new()));
+            let start = (offset + raw.len()).min(text.len());
+            let ending = text[start..].find('\n').map_or(0, |k| k + 1); // "\n" or "\r\n"
+            let start = start + ending;
+            series = Some(SeriesBlock { line: n, start });
             break;
         }
         if depth > stack.len() {
@@ -104,13 +135,8 @@ pub fn parse(text: &str) -> Result<Tree> {
             children: Vec::new(),
         });
     }
-    if let Some((_, rows)) = &mut series {
-        for (n, raw) in rest {
-            count = n;
-            if !raw.trim().is_empty() {
-                rows.push((n, raw.to_string()));
-            }
-        }
+    if let Some(block) = &series {
+        count = block.line + text[block.start..].lines().count();
     }
     close_to(&mut stack, &mut roots, 0);
     Ok(Tree {
@@ -158,9 +184,12 @@ mod tests {
 
     #[test]
     fn time_series_is_cut_off() {
-        let t = parse("H\nAssembly\n\tName\n\t\tA\nTimeSeries\nNumber\tInput\t1\n").unwrap();
-        let (n, rows) = t.series.unwrap();
-        assert_eq!(n, 5);
-        assert_eq!(rows, vec![(6, "Number\tInput\t1".to_string())]);
+        let text = "H\nAssembly\n\tName\n\t\tA\nTimeSeries\r\nNumber\tInput\t1\n\nX\n";
+        let t = parse(text).unwrap();
+        let block = t.series.unwrap();
+        assert_eq!(block.line, 5);
+        let rows: Vec<_> = block.rows(text).collect();
+        assert_eq!(rows, vec![(6, "Number\tInput\t1"), (8, "X")]);
+        assert_eq!(t.lines, 8);
     }
 }

@@ -329,3 +329,21 @@ fn millimetre_file_converted_to_si() {
         "{e:?}"
     );
 }
+
+/// `read_model` (what runs use) reads the same model as `read` and skips only the stored
+/// TimeSeries, which a run replaces: on each file the documents differ in `series` alone.
+#[test]
+fn read_model_reads_everything_but_the_stored_series() {
+    for name in FILES {
+        let text = data(&format!("{name}.asmt"));
+        let mut full = cardan_asmt::read(&text).unwrap();
+        let model = cardan_asmt::read_model(&text).unwrap();
+        assert!(
+            full.series.is_some(),
+            "{name}: the file stores a TimeSeries"
+        );
+        assert!(model.series.is_none(), "{name}");
+        full.series = None;
+        assert_eq!(full, model, "{name}");
+    }
+}

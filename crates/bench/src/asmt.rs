@@ -7,7 +7,8 @@
 //!   (the C++ extension in-process), best of N.
 //! - **cardan**: the file read from disk, read and mapped (`cardan_asmt::load`), the mechanism
 //!   built (redundancy analysis included), kinematics over the same grid
-//!   (`Model::run_kinematics`: position, velocity, acceleration at every output time), and the
+//!   (`Model::run_kinematics`: position, velocity, acceleration of every part at every output
+//!   time: what the solved file holds), and the
 //!   `.solved.asmt` text written ([`cardan_asmt::solved`]), best of N; also per stage.
 //! - **Read-back**: every `.solved.asmt` cardan writes is read by OndselSolver's C++ reader (which
 //!   solves it again: same number of frames) and by pyondsel's TimeSeries reader (every part,
@@ -81,7 +82,15 @@ pub fn cardan_solve(path: &Path) -> (Stages, String, usize) {
     let model = import.builder().build().expect("a valid mechanism");
     let t2 = Instant::now();
     let s = import.settings.expect("simulation parameters");
-    let options = cardan_mechanism::KinematicOptions::new(s.t_start, s.t_end, s.steps());
+    // What the `.solved.asmt` holds: part poses, velocities and accelerations (no joint
+    // coordinates or point histories, which the CLI computes for its own tables).
+    let outputs = cardan_mechanism::Outputs {
+        points: false,
+        joints: false,
+        ..cardan_mechanism::Outputs::default()
+    };
+    let options =
+        cardan_mechanism::KinematicOptions::new(s.t_start, s.t_end, s.steps()).outputs(outputs);
     let results = model.run_kinematics(&options).expect("kinematics");
     let t3 = Instant::now();
     let series = cardan_asmt::solved::time_series(&doc, &import, &results);

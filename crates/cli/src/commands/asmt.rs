@@ -92,7 +92,7 @@ pub fn import_source(
         }),
         ..Error::input(e.message.clone())
     };
-    let doc = cardan_asmt::read(&src.text).map_err(located)?;
+    let doc = cardan_asmt::read_model(&src.text).map_err(located)?;
     let mut warnings = Vec::new();
     let doc = match units {
         Units::Mm => doc,
@@ -224,7 +224,7 @@ pub fn solved_file(
     dynamics: Option<&cardan_dynamics::DynamicResults>,
 ) -> Result<(String, String), Error> {
     let src = Source::read(path)?;
-    let doc = cardan_asmt::read(&src.text).map_err(|e| Error::input(e.to_string()))?;
+    let doc = cardan_asmt::read_model(&src.text).map_err(|e| Error::input(e.to_string()))?;
     let doc = match units {
         Units::Si => doc,
         Units::Mm => doc.scaled(1e-3),
