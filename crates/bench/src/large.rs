@@ -1,5 +1,6 @@
-//! Large models through the command line's library: `cardan check` and the setup of a kinematic
-//! run (one step) of driven revolute chains of 10³, 10⁴ and 10⁵ bodies, each in its own process
+//! Large models through the command line's library: `cardan check`, the setup of a kinematic
+//! run (one step) and the whole `cardan run` with its outputs, of driven revolute chains of 10³,
+//! 10⁴ and 10⁵ bodies, each in its own process
 //! (time and peak resident memory, `VmHWM`), with the fitted cost exponent.
 //!
 //! The model files are generated into the system's temporary directory (never into the
@@ -61,13 +62,20 @@ fn model_path(n: usize) -> PathBuf {
     ))
 }
 
-/// Child mode (`cardan-bench --large-point check|run FILE`): runs the command's library entry
+/// Child mode (`cardan-bench --large-point check|run|whole FILE`): runs the command's library entry
 /// once and prints `RESULT seconds=… peak=…`.
 pub fn point(args: &[String]) {
     let what = args.first().map(String::as_str).unwrap_or("check");
     let path = Path::new(args.get(1).map(String::as_str).unwrap_or(""));
     let t0 = Instant::now();
     let ok = match what {
+        "whole" => {
+            let out = path.with_extension("out");
+            let flags = cardan_cli::commands::run::RunFlags::default();
+            let r = cardan_cli::commands::run::run(path, Some(&out), &flags, &mut std::io::sink());
+            let _ = std::fs::remove_dir_all(&out);
+            r.map(|_| ())
+        }
         "run" => cardan_cli::commands::prepare(path).and_then(|p| {
             let analysis = p.loaded.analysis.clone().expect("the file has [analysis]");
             let flags = cardan_cli::commands::run::RunFlags::default();
@@ -113,8 +121,6 @@ fn run_child(what: &str, path: &Path) -> Option<(f64, f64)> {
 
 /// The markdown section: a table of sizes and the fitted exponents.
 pub fn section(smoke: bool) -> String {
-    // `cardan run` of the 10,000-body chain took over 8 minutes on the loaded 2-core VM (a
-    // super-linear step after the setup, not yet found): the smoke run stays at 10³.
     let sizes: &[usize] = if smoke {
         &[1_000]
     } else {
@@ -126,13 +132,16 @@ pub fn section(smoke: bool) -> String {
          z and y, every joint driven), model file generated in the temporary directory. *check* \
          is `cardan check` (parse, model checks, assembly, degrees of freedom and redundant \
          equations by the sparse rank analysis, kinematic preparation); *run setup* is \
-         `cardan run`'s analysis of one kinematic step without writing outputs. Each point runs in \
+         `cardan run`'s analysis of one kinematic step without writing outputs; *whole run* is \
+         `cardan run` with every output written (tables, plots, animation, report, run.json; \
+         into the temporary directory, removed after). Each point runs in \
          its own process; *peak* is its peak resident memory (VmHWM).\n\n\
-         | bodies | file | check | peak (check) | peak / body | run setup + 1 step | peak (run) |\n\
-         |---:|---:|---:|---:|---:|---:|---:|\n",
+         | bodies | file | check | peak (check) | peak / body | run setup + 1 step | peak (run) | whole run | peak (whole) |\n\
+         |---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
     );
     let mut check_pts = Vec::new();
     let mut run_pts = Vec::new();
+    let mut whole_pts = Vec::new();
     for &n in sizes {
         let path = model_path(n);
         let text = chain_toml(n);
@@ -142,19 +151,22 @@ pub fn section(smoke: bool) -> String {
         }
         let c = run_child("check", &path);
         let r = run_child("run", &path);
+        let w = run_child("whole", &path);
         let _ = std::fs::remove_file(&path);
         let cell = |v: Option<(f64, f64)>, f: &dyn Fn((f64, f64)) -> String| {
             v.map_or("failed".to_string(), f)
         };
         let _ = writeln!(
             md,
-            "| {n} | {} | {} | {} | {} | {} | {} |",
+            "| {n} | {} | {} | {} | {} | {} | {} | {} | {} |",
             fmt_bytes(text.len() as u64),
             cell(c, &|(t, _)| fmt_time(t)),
             cell(c, &|(_, p)| fmt_bytes(p as u64)),
             cell(c, &|(_, p)| fmt_bytes((p / n as f64) as u64)),
             cell(r, &|(t, _)| fmt_time(t)),
             cell(r, &|(_, p)| fmt_bytes(p as u64)),
+            cell(w, &|(t, _)| fmt_time(t)),
+            cell(w, &|(_, p)| fmt_bytes(p as u64)),
         );
         if let Some((t, _)) = c {
             check_pts.push((n as f64, t));
@@ -162,12 +174,16 @@ pub fn section(smoke: bool) -> String {
         if let Some((t, _)) = r {
             run_pts.push((n as f64, t));
         }
+        if let Some((t, _)) = w {
+            whole_pts.push((n as f64, t));
+        }
     }
     let _ = writeln!(
         md,
-        "\nFitted exponents p of t ∝ n^p: check {:.2}, run setup {:.2}.\n",
+        "\nFitted exponents p of t ∝ n^p: check {:.2}, run setup {:.2}, whole run {:.2}.\n",
         loglog_slope(&check_pts),
-        loglog_slope(&run_pts)
+        loglog_slope(&run_pts),
+        loglog_slope(&whole_pts)
     );
     md
 }

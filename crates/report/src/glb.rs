@@ -7,19 +7,20 @@
 //! moving body a translation and a rotation channel (LINEAR: linear interpolation of the
 //! position, spherical of the rotation), all sharing one time accessor with its min and max.
 //! Rotations are the Euler parameters as [x, y, z, w] = [e1, e2, e3, e0], normalized in double
-//! precision before rounding to single. The buffer: per mesh POSITION (with min/max), NORMAL
-//! and u32 indices; then the times, then per moving body its translations and rotations. Every
+//! precision before rounding to single. The buffer: per distinct shape POSITION (with min/max),
+//! NORMAL and u32 indices (bodies with equal box, cylinder or sphere dimensions share them; each
+//! body's mesh still has its own material); then the times, then per moving body its translations and rotations. Every
 //! component is 4 bytes, so every view is 4-byte aligned.
 //!
 //! The GLB container (glTF 2.0 spec., §4.4): a 12-byte header (magic `glTF`, version 2, total
 //! length), the JSON chunk padded with spaces and the BIN chunk padded with zeros to 4 bytes.
 
-use crate::scene::{gltf_rotation, Mesh, Scene};
+use crate::scene::{gltf_rotation, Mesh, Scene, Shape};
 use crate::tessellate::mesh_of;
 use crate::Error;
 use gltf_json as json;
 use json::validation::{Checked::Valid, USize64};
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
 
 /// The `.glb` file of `scene`.
 ///
@@ -36,9 +37,8 @@ pub fn write_glb(scene: &Scene) -> Result<Vec<u8>, Error> {
         let material = w.root.push(material(&body.name, body.colour));
         let mut children = Vec::with_capacity(body.geometry.len());
         for (k, g) in body.geometry.iter().enumerate() {
-            let m = mesh_of(&g.shape);
-            check_mesh(&m, &body.name, k)?;
-            let mesh = w.mesh(&format!("{}.{k}", body.name), &m, material);
+            let data = w.shape(&g.shape, &body.name, k)?;
+            let mesh = w.mesh(&format!("{}.{k}", body.name), data, material);
             children.push(w.root.push(json::Node {
                 mesh: Some(mesh),
                 name: Some(format!("{}.geometry.{k}", body.name)),
@@ -159,6 +159,33 @@ fn material(name: &str, rgb: [f32; 3]) -> json::Material {
 struct Writer {
     root: json::Root,
     bin: Vec<u8>,
+    /// The vertex data of each primitive shape written so far, by [`shape_key`]: bodies with
+    /// equal shapes share it (a chain of 10⁴ equal rods stores one rod).
+    shapes: HashMap<Vec<u64>, MeshData>,
+}
+
+/// The accessors of one tessellated shape: positions, normals, triangle indices.
+#[derive(Clone, Copy)]
+struct MeshData {
+    positions: json::Index<json::Accessor>,
+    normals: json::Index<json::Accessor>,
+    indices: json::Index<json::Accessor>,
+}
+
+/// A key equal for equal primitive shapes (their variant and dimensions, bit for bit); `None`
+/// for meshes from files (written once per use).
+fn shape_key(shape: &Shape) -> Option<Vec<u64>> {
+    let bits = |tag: u64, v: &[f64]| {
+        let mut key = vec![tag];
+        key.extend(v.iter().map(|x| x.to_bits()));
+        key
+    };
+    match shape {
+        Shape::Box { size } => Some(bits(0, size)),
+        Shape::Cylinder { radius, length } => Some(bits(1, &[*radius, *length])),
+        Shape::Sphere { radius } => Some(bits(2, &[*radius])),
+        Shape::Mesh(_) => None,
+    }
 }
 
 impl Writer {
@@ -255,13 +282,54 @@ impl Writer {
         )
     }
 
+    /// The vertex data of `shape` (item `item` of `body`, for messages): written on its first
+    /// use, shared after.
+    ///
+    /// # Errors
+    /// A mesh with bad indices or non-finite vertices.
+    fn shape(&mut self, shape: &Shape, body: &str, item: usize) -> Result<MeshData, Error> {
+        let key = shape_key(shape);
+        if let Some(data) = key.as_ref().and_then(|k| self.shapes.get(k)) {
+            return Ok(*data);
+        }
+        let m = mesh_of(shape);
+        check_mesh(&m, body, item)?;
+        let data = self.mesh_data(&m);
+        if let Some(k) = key {
+            self.shapes.insert(k, data);
+        }
+        Ok(data)
+    }
+
     /// A mesh of one triangle primitive with `material`.
     fn mesh(
         &mut self,
         name: &str,
-        m: &Mesh,
+        data: MeshData,
         material: json::Index<json::Material>,
     ) -> json::Index<json::Mesh> {
+        let mut attributes = BTreeMap::new();
+        attributes.insert(Valid(json::mesh::Semantic::Positions), data.positions);
+        attributes.insert(Valid(json::mesh::Semantic::Normals), data.normals);
+        self.root.push(json::Mesh {
+            name: Some(name.to_string()),
+            primitives: vec![json::mesh::Primitive {
+                attributes,
+                indices: Some(data.indices),
+                material: Some(material),
+                mode: Valid(json::mesh::Mode::Triangles),
+                targets: None,
+                extensions: None,
+                extras: Default::default(),
+            }],
+            weights: None,
+            extensions: None,
+            extras: Default::default(),
+        })
+    }
+
+    /// Writes the vertex data of `m`.
+    fn mesh_data(&mut self, m: &Mesh) -> MeshData {
         let array = Some(json::buffer::Target::ArrayBuffer);
         let mut lo = [f32::INFINITY; 3];
         let mut hi = [f32::NEG_INFINITY; 3];
@@ -299,24 +367,11 @@ impl Writer {
             json::accessor::Type::Scalar,
             None,
         );
-        let mut attributes = BTreeMap::new();
-        attributes.insert(Valid(json::mesh::Semantic::Positions), position);
-        attributes.insert(Valid(json::mesh::Semantic::Normals), normal);
-        self.root.push(json::Mesh {
-            name: Some(name.to_string()),
-            primitives: vec![json::mesh::Primitive {
-                attributes,
-                indices: Some(indices),
-                material: Some(material),
-                mode: Valid(json::mesh::Mode::Triangles),
-                targets: None,
-                extensions: None,
-                extras: Default::default(),
-            }],
-            weights: None,
-            extensions: None,
-            extras: Default::default(),
-        })
+        MeshData {
+            positions: position,
+            normals: normal,
+            indices,
+        }
     }
 
     /// The buffer, the asset, then the GLB container.
@@ -368,5 +423,58 @@ impl Writer {
             out.extend_from_slice(&self.bin);
         }
         Ok(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Body, Geometry};
+
+    fn body(name: &str, radius: f64) -> Body {
+        Body {
+            name: name.into(),
+            colour: [0.5, 0.5, 0.5],
+            geometry: vec![
+                Geometry::at(Shape::Sphere { radius }, [0.0; 3]),
+                Geometry::at(
+                    Shape::Box {
+                        size: [1.0, 0.1, 0.1],
+                    },
+                    [0.5, 0.0, 0.0],
+                ),
+            ],
+            points: Vec::new(),
+            positions: vec![[0.0; 3], [0.1, 0.0, 0.0]],
+            rotations: vec![[1.0, 0.0, 0.0, 0.0]; 2],
+        }
+    }
+
+    /// Bodies with equal shapes share their vertex data (one accessor set per distinct shape)
+    /// and keep their own meshes and materials.
+    #[test]
+    fn equal_shapes_share_their_vertex_data() {
+        let scene = Scene {
+            name: "s".into(),
+            times: vec![0.0, 1.0],
+            bodies: vec![body("a", 0.05), body("b", 0.05), body("c", 0.07)],
+            axes: Vec::new(),
+            extent: 1.0,
+        };
+        let g = gltf::Gltf::from_slice(&write_glb(&scene).unwrap()).unwrap();
+        let position = |body: &str, item: usize| {
+            let node = g.nodes().find(|n| n.name() == Some(body)).unwrap();
+            let child = node.children().nth(item).unwrap();
+            let p = child.mesh().unwrap().primitives().next().unwrap();
+            let material = p.material().index();
+            (p.get(&gltf::Semantic::Positions).unwrap().index(), material)
+        };
+        assert_eq!(position("a", 0).0, position("b", 0).0, "equal spheres");
+        assert_ne!(position("a", 0).0, position("c", 0).0, "another radius");
+        assert_eq!(position("a", 1).0, position("c", 1).0, "equal boxes");
+        assert_ne!(position("a", 0).1, position("b", 0).1, "own materials");
+        assert_eq!(g.meshes().count(), 6);
+        // 2 spheres' and 1 box's positions, normals and indices, 1 time accessor, 3 × 2 tracks.
+        assert_eq!(g.accessors().count(), 3 * 3 + 1 + 6);
     }
 }

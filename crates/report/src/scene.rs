@@ -160,8 +160,9 @@ impl Scene {
                 ));
             }
         }
-        for (i, b) in self.bodies.iter().enumerate() {
-            if self.bodies[..i].iter().any(|o| o.name == b.name) {
+        let mut names = std::collections::HashSet::with_capacity(self.bodies.len());
+        for b in &self.bodies {
+            if !names.insert(b.name.as_str()) {
                 return bad(format!("two bodies are named \"{}\"", b.name));
             }
             if b.moves()
@@ -216,4 +217,35 @@ pub fn gltf_rotation(p: &[f64; 4]) -> [f32; 4] {
         (p[3] / n) as f32,
         (p[0] / n) as f32,
     ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn body(name: &str) -> Body {
+        Body {
+            name: name.into(),
+            colour: [0.5; 3],
+            geometry: Vec::new(),
+            points: Vec::new(),
+            positions: vec![[0.0; 3]],
+            rotations: vec![[1.0, 0.0, 0.0, 0.0]],
+        }
+    }
+
+    #[test]
+    fn a_repeated_body_name_is_refused_by_name() {
+        let mut scene = Scene {
+            name: "s".into(),
+            times: vec![0.0],
+            bodies: (0..1000).map(|k| body(&format!("b{k}"))).collect(),
+            axes: Vec::new(),
+            extent: 1.0,
+        };
+        assert!(scene.validate().is_ok());
+        scene.bodies.push(body("b7"));
+        let e = scene.validate().unwrap_err().to_string();
+        assert!(e.contains("two bodies are named \"b7\""), "{e}");
+    }
 }

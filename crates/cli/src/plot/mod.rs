@@ -16,17 +16,30 @@ use cardan_plot::{decimate, Figure, Panel, Series, Style};
 use crate::table::Table;
 use header::{y_label, Header};
 use panels::{panels, PanelSpec};
+use std::collections::HashMap;
 
 /// Buckets of the first reduction of a long column (more than any panel is wide).
 pub const PRE_COLUMNS: usize = 2048;
+
+/// The most panels one figure draws. A table of a large model (10⁴ bodies: 10⁴ panels) shows the
+/// panels whose series change most; the title says how many there are, the CSV keeps them all.
+pub const MAX_PANELS: usize = 24;
 
 /// The figure of a table: one panel per group of columns, two panels per row.
 pub fn figure(table: &Table) -> Figure {
     let headers: Vec<Header> = table.columns.iter().map(|c| Header::parse(c)).collect();
     let keys = colour_keys(&headers);
     let (t0, t1) = time_range(table);
-    let specs = panels(&headers);
-    let mut fig = Figure::new(&table.title, "t [s]");
+    let mut specs = panels(&headers);
+    let mut title = table.title.clone();
+    if specs.len() > MAX_PANELS {
+        let total = specs.len();
+        specs = most_changing(table, specs, MAX_PANELS);
+        title.push_str(&format!(
+            " ({MAX_PANELS} of {total} panels: those that change most; the CSV has every column)"
+        ));
+    }
+    let mut fig = Figure::new(&title, "t [s]");
     fig.columns = if specs.len() > 1 { 2 } else { 1 };
     fig.panels = specs
         .iter()
@@ -34,6 +47,53 @@ pub fn figure(table: &Table) -> Figure {
         .collect();
     flatten_round_off(&mut fig.panels);
     fig
+}
+
+/// The `keep` panels of `specs` whose largest peak-to-peak change, relative to the largest of
+/// their unit, is greatest (ties: the earlier), in their original order.
+fn most_changing(table: &Table, specs: Vec<PanelSpec>, keep: usize) -> Vec<PanelSpec> {
+    let width = table.columns.len();
+    let (mut lo, mut hi) = (vec![f64::INFINITY; width], vec![f64::NEG_INFINITY; width]);
+    for row in &table.rows {
+        for (c, v) in row.iter().skip(1).enumerate().take(width) {
+            if v.is_finite() {
+                lo[c] = lo[c].min(*v);
+                hi[c] = hi[c].max(*v);
+            }
+        }
+    }
+    let change = |s: &PanelSpec| {
+        s.columns
+            .iter()
+            .map(|&c| hi[c] - lo[c])
+            .filter(|d| d.is_finite())
+            .fold(0.0, f64::max)
+    };
+    let changes: Vec<f64> = specs.iter().map(change).collect();
+    let mut unit_max: HashMap<&str, f64> = HashMap::new();
+    for (s, &d) in specs.iter().zip(&changes) {
+        let m = unit_max.entry(s.unit.as_str()).or_insert(0.0);
+        *m = m.max(d);
+    }
+    let score: Vec<f64> = specs
+        .iter()
+        .zip(&changes)
+        .map(|(s, &d)| match unit_max[s.unit.as_str()] {
+            m if m > 0.0 => d / m,
+            _ => 0.0,
+        })
+        .collect();
+    let mut order: Vec<usize> = (0..specs.len()).collect();
+    order.sort_by(|&a, &b| score[b].total_cmp(&score[a]).then(a.cmp(&b)));
+    let mut chosen = vec![false; specs.len()];
+    for &k in order.iter().take(keep) {
+        chosen[k] = true;
+    }
+    specs
+        .into_iter()
+        .zip(chosen)
+        .filter_map(|(s, c)| c.then_some(s))
+        .collect()
 }
 
 /// Below this fraction of the largest value of its unit in the figure, a panel shows round-off.
@@ -51,11 +111,13 @@ fn flatten_round_off(panels: &mut [Panel]) {
             .fold(0.0, f64::max)
     };
     let peaks: Vec<f64> = panels.iter().map(peak).collect();
+    let mut scales: HashMap<String, f64> = HashMap::new();
+    for (p, &v) in panels.iter().zip(&peaks) {
+        let s = scales.entry(p.y_label.clone()).or_insert(0.0);
+        *s = s.max(v);
+    }
     for k in 0..panels.len() {
-        let scale = (0..panels.len())
-            .filter(|&j| panels[j].y_label == panels[k].y_label)
-            .map(|j| peaks[j])
-            .fold(0.0, f64::max);
+        let scale = scales[&panels[k].y_label];
         if scale > 0.0 && peaks[k] <= ROUND_OFF * scale {
             panels[k].y_extent = Some(scale);
             panels[k]
@@ -65,13 +127,12 @@ fn flatten_round_off(panels: &mut [Panel]) {
     }
 }
 
-/// The colour keys of the table in order of first appearance: a key's index is its colour.
-fn colour_keys(headers: &[Header]) -> Vec<&str> {
-    let mut keys: Vec<&str> = Vec::new();
+/// The colour of each key of the table: its index in order of first appearance.
+fn colour_keys(headers: &[Header]) -> HashMap<&str, usize> {
+    let mut keys: HashMap<&str, usize> = HashMap::new();
     for h in headers {
-        if !keys.contains(&h.colour_key.as_str()) {
-            keys.push(&h.colour_key);
-        }
+        let next = keys.len();
+        keys.entry(h.colour_key.as_str()).or_insert(next);
     }
     keys
 }
@@ -95,7 +156,7 @@ fn time_range(table: &Table) -> (f64, f64) {
 fn panel(
     table: &Table,
     headers: &[Header],
-    keys: &[&str],
+    keys: &HashMap<&str, usize>,
     spec: &PanelSpec,
     t: (f64, f64),
 ) -> Panel {
@@ -109,7 +170,7 @@ fn panel(
         .iter()
         .map(|&c| {
             let h = &headers[c];
-            let colour = keys.iter().position(|k| *k == h.colour_key).unwrap_or(0);
+            let colour = keys.get(h.colour_key.as_str()).copied().unwrap_or(0);
             Series {
                 label: legend_label(&h.label, single),
                 style: Style {

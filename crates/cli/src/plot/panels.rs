@@ -7,6 +7,7 @@
 //! ordered by their first column, so a joint's force and torque panels sit side by side.
 
 use super::header::Header;
+use std::collections::HashMap;
 
 /// The most series drawn in one panel.
 pub const MAX_SERIES: usize = 8;
@@ -26,40 +27,46 @@ pub struct PanelSpec {
 
 /// The panels of a table with these headers; every column is in exactly one panel.
 pub fn panels(headers: &[Header]) -> Vec<PanelSpec> {
+    // Column groups by unit, then by element, each in order of first appearance (one pass:
+    // tables of 10⁴ bodies have 10⁵ columns).
+    let mut units: Vec<(&str, Vec<Group>)> = Vec::new();
+    let mut unit_at: HashMap<&str, usize> = HashMap::new();
+    let mut group_at: HashMap<(&str, &str), usize> = HashMap::new();
+    for (k, h) in headers.iter().enumerate() {
+        let u = *unit_at.entry(h.unit.as_str()).or_insert_with(|| {
+            units.push((h.unit.as_str(), Vec::new()));
+            units.len() - 1
+        });
+        let groups = &mut units[u].1;
+        let g = *group_at
+            .entry((h.unit.as_str(), h.element.as_str()))
+            .or_insert_with(|| {
+                groups.push((h.element.as_str(), Vec::new()));
+                groups.len() - 1
+            });
+        groups[g].1.push(k);
+    }
     let mut out = Vec::new();
-    for unit in first_seen(headers.iter().map(|h| h.unit.as_str())) {
-        pack(headers, &unit, &mut out);
+    for (unit, groups) in units {
+        pack(unit, groups, &mut out);
     }
     out.sort_by_key(|p| p.columns.first().copied());
     out
 }
 
-/// Distinct values in order of first appearance.
-fn first_seen<'a>(items: impl Iterator<Item = &'a str>) -> Vec<String> {
-    let mut seen: Vec<String> = Vec::new();
-    for i in items {
-        if !seen.iter().any(|s| s == i) {
-            seen.push(i.to_string());
-        }
-    }
-    seen
-}
+/// One element's columns of one unit: (element, column indices).
+type Group<'a> = (&'a str, Vec<usize>);
 
-/// Packs the element groups of `unit` into panels appended to `out`.
-fn pack(headers: &[Header], unit: &str, out: &mut Vec<PanelSpec>) {
-    let of_unit = || headers.iter().enumerate().filter(|(_, h)| h.unit == unit);
+/// Packs the element groups of `unit` (in order) into panels appended to `out`.
+fn pack(unit: &str, groups: Vec<Group>, out: &mut Vec<PanelSpec>) {
     let mut current: Option<PanelSpec> = None;
-    for element in first_seen(of_unit().map(|(_, h)| h.element.as_str())) {
-        let cols: Vec<usize> = of_unit()
-            .filter(|(_, h)| h.element == element)
-            .map(|(k, _)| k)
-            .collect();
+    for (element, cols) in groups {
         let fits = current
             .as_ref()
             .is_some_and(|p| p.columns.len() + cols.len() <= MAX_SERIES);
         if fits {
             if let Some(p) = current.as_mut() {
-                p.elements.push(element);
+                p.elements.push(element.to_string());
                 p.columns.extend(cols);
             }
             continue;
@@ -69,7 +76,7 @@ fn pack(headers: &[Header], unit: &str, out: &mut Vec<PanelSpec>) {
         for (k, chunk) in cols.chunks(MAX_SERIES).enumerate() {
             let spec = PanelSpec {
                 unit: unit.to_string(),
-                elements: vec![element.clone()],
+                elements: vec![element.to_string()],
                 columns: chunk.to_vec(),
                 part: (parts > 1).then_some((k + 1, parts)),
             };

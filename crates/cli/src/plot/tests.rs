@@ -146,3 +146,41 @@ fn a_panel_of_round_off_is_drawn_flat_on_its_siblings_scale() {
     let normal = fig.panels.iter().filter(|p| p.y_extent.is_some()).count();
     assert_eq!(normal, 1, "only the round-off panel is flattened");
 }
+
+/// A table of a large model (here 2,000 bodies, two to a panel) draws the `MAX_PANELS` panels
+/// that change most, in table order, and its title says how many there were; a small table is
+/// drawn whole under its own title.
+#[test]
+fn a_large_table_draws_the_panels_that_change_most() {
+    let n = 2_000;
+    let cols: Vec<String> = (0..n)
+        .flat_map(|b| ["x", "y", "z"].map(|c| format!("b{b}.r.{c} [m]")))
+        .collect();
+    let mut t = Table::new("bodies", "Bodies", cols);
+    for k in 0..4 {
+        let time = k as f64 * 0.1;
+        let mut row = vec![time];
+        // Body b moves by (b mod 100) · t: the panels of bodies 99, 199, …, 1999 most (20
+        // panels, each with the body before), then those of 97, 197, … (the first 4 of them).
+        row.extend((0..3 * n).map(|c| time * ((c / 3) % 100) as f64));
+        t.rows.push(row);
+    }
+    let fig = figure(&t);
+    assert_eq!(fig.panels.len(), MAX_PANELS);
+    assert!(
+        fig.title.starts_with("Bodies (24 of 1000 panels"),
+        "{}",
+        fig.title
+    );
+    let titles: Vec<&str> = fig.panels.iter().map(|p| p.title.as_str()).collect();
+    let pair = |b: usize| (b, format!("b{}, b{}", b - 1, b));
+    let mut want: Vec<(usize, String)> = (0..20).map(|k| pair(100 * k + 99)).collect();
+    want.extend((0..4).map(|k| pair(100 * k + 97)));
+    want.sort();
+    assert_eq!(
+        titles,
+        want.iter().map(|w| w.1.as_str()).collect::<Vec<_>>()
+    );
+    let small = figure(&table(&["b.r.x [m]"], 3));
+    assert_eq!(small.title, "G");
+}

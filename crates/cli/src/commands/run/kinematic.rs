@@ -11,6 +11,7 @@ use crate::diag::Error;
 use crate::table::Table;
 use cardan_constraints::joints::MAX_COORDINATES;
 use cardan_mechanism::{KinematicOptions, Results};
+use std::collections::HashMap;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -75,6 +76,14 @@ pub fn tables(r: &Results, req: &Requested) -> Vec<Table> {
     let n = r.len();
     let xyz = ["x", "y", "z"];
     let mut out = Vec::new();
+    // Histories by name, looked up once per requested element (models of 10⁴ bodies).
+    let points: HashMap<(&str, &str), &cardan_mechanism::PointResults> = r
+        .points
+        .iter()
+        .map(|p| ((p.body.as_str(), p.name.as_str()), p))
+        .collect();
+    let joint_of: HashMap<&str, _> = r.joints.iter().map(|j| (j.name.as_str(), j)).collect();
+    let body_of: HashMap<&str, _> = r.bodies.iter().map(|b| (b.name.as_str(), b)).collect();
     let vec_table =
         |name: &str,
          title: &str,
@@ -83,7 +92,7 @@ pub fn tables(r: &Results, req: &Requested) -> Vec<Table> {
             let mut cols = Vec::new();
             let mut series = Vec::new();
             for (b, pt) in &req.points {
-                if let Some(h) = r.point(b, pt) {
+                if let Some(h) = points.get(&(b.as_str(), pt.as_str())) {
                     for (c, ax) in xyz.iter().enumerate() {
                         cols.push(format!("{b}.{pt}.{ax} [{unit}]"));
                         series.push((pick(h), c));
@@ -120,7 +129,11 @@ pub fn tables(r: &Results, req: &Requested) -> Vec<Table> {
         ));
     }
     if !req.joints.is_empty() {
-        let joints: Vec<_> = req.joints.iter().filter_map(|j| r.joint(j)).collect();
+        let joints: Vec<_> = req
+            .joints
+            .iter()
+            .filter_map(|j| joint_of.get(j.as_str()))
+            .collect();
         type Pick = fn(&cardan_mechanism::JointResults) -> &Vec<[f64; MAX_COORDINATES]>;
         let groups: [(&str, &str, &str, Pick); 3] = [
             ("joints", "joint coordinates", "", |h| &h.values),
@@ -157,7 +170,11 @@ pub fn tables(r: &Results, req: &Requested) -> Vec<Table> {
         }
     }
     if !req.bodies.is_empty() {
-        let bodies: Vec<_> = req.bodies.iter().filter_map(|b| r.body(b)).collect();
+        let bodies: Vec<_> = req
+            .bodies
+            .iter()
+            .filter_map(|b| body_of.get(b.as_str()))
+            .collect();
         let mut cols = Vec::new();
         for b in &bodies {
             for ax in xyz {
