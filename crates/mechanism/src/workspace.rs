@@ -211,7 +211,10 @@ impl Workspace {
         };
         self.x[7 * k..7 * k + 3].copy_from_slice(r.as_slice());
         self.x[7 * k + 3..7 * k + 7].copy_from_slice(p.as_slice());
-        self.sync_poses();
+        // Body k only (setting every pose of a 10⁴-body model one by one stays linear).
+        let rd = Vector3::from_column_slice(&self.v[6 * k..6 * k + 3]);
+        let w = Vector3::from_column_slice(&self.v[6 * k + 3..6 * k + 6]);
+        self.bodies[k] = BodyState::at(r, p).with_v(rd, w);
         self.invalidate();
     }
 
