@@ -50,8 +50,17 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
     let nb = bodies.len();
     let lay = layout::rows(&mut joints, &mut couplers, &mut drivers, nb, length);
     let tree = crate::analysis::predictor::PredictorTree::new(nb, &joints);
+    let index = |names: Vec<&str>| -> HashMap<String, usize> {
+        names
+            .into_iter()
+            .enumerate()
+            .map(|(k, n)| (n.to_string(), k))
+            .collect()
+    };
     Ok(Model {
         tree,
+        body_at: index(bodies.iter().map(|b| b.name.as_str()).collect()),
+        joint_at: index(joints.iter().map(|j| j.name.as_str()).collect()),
         bodies,
         points,
         vectors,

@@ -228,6 +228,10 @@ pub struct Model {
     pub(crate) joint_rows: usize,
     /// The kinematic predictor's spanning tree.
     pub(crate) tree: crate::analysis::predictor::PredictorTree,
+    /// Body index by name (names are unique).
+    pub(crate) body_at: std::collections::HashMap<String, usize>,
+    /// Joint index by name.
+    pub(crate) joint_at: std::collections::HashMap<String, usize>,
 }
 
 impl Model {
@@ -246,10 +250,7 @@ impl Model {
         if name == GROUND {
             return Some(BodyId::Ground);
         }
-        self.bodies
-            .iter()
-            .position(|b| b.name == name)
-            .map(BodyId::Moving)
+        self.body_at.get(name).map(|&k| BodyId::Moving(k))
     }
 
     /// The name of a body.
@@ -299,7 +300,7 @@ impl Model {
 
     /// Index of joint `name`.
     pub fn joint_index(&self, name: &str) -> Option<usize> {
-        self.joints.iter().position(|j| j.name == name)
+        self.joint_at.get(name).copied()
     }
 
     /// Total number of equations m (joints + drivers).
