@@ -67,6 +67,7 @@ pub(super) fn run_kinematic(
         failure,
         strict_failure: None,
         files: Vec::new(),
+        modes: Vec::new(),
     })
 }
 

@@ -392,6 +392,7 @@ pub fn animation(
         plots: svgs,
         summary: serde_json::from_str(&report(p, kind, a, files).to_json()).ok(),
         up: declared.up,
+        modes: crate::scene::mode_shapes(&p.model, &a.results, &a.modes),
     };
     let html = cardan_report::write_html(&scene, &glb, &page)
         .map_err(|e| Error::output(format!("index.html: {e}")))?;
