@@ -282,11 +282,20 @@ fn the_modal_report_animates_mode_2() {
             assert!(got.is_null());
             continue;
         }
-        let phi: Vec<f64> = mode["shape"][k].as_array().unwrap().iter().map(num).collect();
+        let phi: Vec<f64> = mode["shape"][k]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(num)
+            .collect();
         let got: Vec<f64> = got.as_array().unwrap().iter().map(num).collect();
         for c in 0..3 {
             let want = num(&q0[0][c]) + a * phi[c];
-            assert!((got[c] - want).abs() < 1e-12, "body {k} r{c}: {} vs {want}", got[c]);
+            assert!(
+                (got[c] - want).abs() < 1e-12,
+                "body {k} r{c}: {} vs {want}",
+                got[c]
+            );
             moved = moved.max((got[c] - num(&q0[0][c])).abs());
         }
         let q: Vec<f64> = (0..4).map(|c| num(&q0[1][c]) + a * phi[3 + c]).collect();

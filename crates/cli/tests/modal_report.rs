@@ -78,7 +78,10 @@ fn check_modes_match_the_tables(out: &Path, bodies: &[String]) -> serde_json::Va
     for (i, (mode, row)) in list.iter().zip(&rows).enumerate() {
         assert_eq!(mode["number"].as_u64(), Some(i as u64 + 1));
         assert_eq!(f(&mode["frequency"]), row[col(&hm, "frequency [Hz]")]);
-        assert_eq!(f(&mode["damping_ratio"]), row[col(&hm, "damping_ratio [-]")]);
+        assert_eq!(
+            f(&mode["damping_ratio"]),
+            row[col(&hm, "damping_ratio [-]")]
+        );
         let rigid = row[col(&hm, "kind [-]")] == 1.0;
         assert_eq!(mode["kind"] == "rigid", rigid);
         let label = mode["label"].as_str().unwrap();
@@ -107,7 +110,10 @@ fn check_modes_match_the_tables(out: &Path, bodies: &[String]) -> serde_json::Va
                 assert!((phi[c] - dr[c]).abs() <= 1e-6 * (1.0 + dr[c].abs()), "{b}");
             }
             for c in 0..4 {
-                assert!((phi[3 + c] - dp[c]).abs() <= 1e-6 * (1.0 + dp[c].abs()), "{b}");
+                assert!(
+                    (phi[3 + c] - dp[c]).abs() <= 1e-6 * (1.0 + dp[c].abs()),
+                    "{b}"
+                );
             }
         }
     }
@@ -121,8 +127,8 @@ fn at(r: &Vector3<f64>, p: &Vector4<f64>, s: &Vector3<f64>) -> Vector3<f64> {
 
 #[test]
 fn modal_report_animates_each_mode_about_the_rest_pose() {
-    let model = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../examples/turntable_pendulum_modal.toml");
+    let model =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/turntable_pendulum_modal.toml");
     let out = run(&model);
     let bodies = ["arm".to_string(), "bob".to_string()];
     let modes = check_modes_match_the_tables(&out, &bodies);
@@ -181,7 +187,10 @@ fn modal_report_animates_each_mode_about_the_rest_pose() {
         }
         // A tenth of the model's size (to second order in the rotation a|δθ|).
         let ratio = largest / extent;
-        println!("mode {}: a = {a:.4e}, largest motion {ratio:.4} L", mode["number"]);
+        println!(
+            "mode {}: a = {a:.4e}, largest motion {ratio:.4} L",
+            mode["number"]
+        );
         assert!((ratio - 0.1).abs() < 0.005, "{ratio}");
     }
     let _ = std::fs::remove_dir_all(out.parent().unwrap());
@@ -211,7 +220,9 @@ fn chain(n: usize, modes: usize) -> String {
              \"{pi}\"\naxis_i = \"z\"\nbody_j = \"b{k}\"\npoint_j = \"top\"\naxis_j = \"z\"\n"
         ));
     }
-    s.push_str(&format!("\n[analysis]\nkind = \"modal\"\nmodes = {modes}\n"));
+    s.push_str(&format!(
+        "\n[analysis]\nkind = \"modal\"\nmodes = {modes}\n"
+    ));
     s
 }
 
@@ -227,7 +238,10 @@ fn sparse_path_modes_reach_the_report() {
     let list = modes["list"].as_array().unwrap();
     assert_eq!(list.len(), 3);
     let freqs: Vec<f64> = list.iter().map(|m| f(&m["frequency"])).collect();
-    assert!(freqs[0] > 0.0 && freqs[0] < freqs[1] && freqs[1] < freqs[2], "{freqs:?}");
+    assert!(
+        freqs[0] > 0.0 && freqs[0] < freqs[1] && freqs[1] < freqs[2],
+        "{freqs:?}"
+    );
     for m in list {
         assert!(f(&m["amplitude"]) > 0.0);
     }

@@ -237,11 +237,7 @@ mod tests {
         let dtheta = [0.3, -0.2, 0.7];
         // ½ Gᵀ δθ with G = [−e, ẽ + e0 I] (Nikravesh: ω = 2 G ṗ).
         let [e0, e1, e2, e3] = p0;
-        let g = [
-            [-e1, e0, -e3, e2],
-            [-e2, e3, e0, -e1],
-            [-e3, -e2, e1, e0],
-        ];
+        let g = [[-e1, e0, -e3, e2], [-e2, e3, e0, -e1], [-e3, -e2, e1, e0]];
         let dp = [0, 1, 2, 3].map(|c| 0.5 * (0..3).map(|r| g[r][c] * dtheta[r]).sum::<f64>());
         let back = small_rotation(&p0, &dp);
         for c in 0..3 {
