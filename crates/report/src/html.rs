@@ -195,10 +195,10 @@ fn mode_controls(modes: &[ModeShape], html: &mut String) {
          <span id=\"amplitude-value\"></span>\n",
     );
     if modes.len() > MAX_ANIMATED_MODES {
-        let _ = write!(
+        let _ = writeln!(
             html,
             "<span class=\"hint\">the lowest {MAX_ANIMATED_MODES} of {} modes are animated; \
-             mode_shapes.csv holds all</span>\n",
+             mode_shapes.csv holds all</span>",
             modes.len()
         );
     }

@@ -275,7 +275,7 @@ mod tests {
             bodies: vec![],
         };
         assert_eq!(m("rigid", 0.0).label(), "2 · rigid");
-        assert_eq!(m("elastic", 3.14159).label(), "2 · 3.142 Hz · ζ 0.0500");
+        assert_eq!(m("elastic", 3.45678).label(), "2 · 3.457 Hz · ζ 0.0500");
         assert_eq!(m("elastic", 0.0192).label(), "2 · 0.01920 Hz · ζ 0.0500");
         assert_eq!(m("elastic", 1234.4).label(), "2 · 1234 Hz · ζ 0.0500");
         assert_eq!(m("unstable", 0.5).label(), "2 · unstable · 0.5000 Hz");
