@@ -2,7 +2,7 @@
 //! validator (npm package gltf-validator, run by node) on a bundled example's `animation.glb`,
 //! and headless Chromium on its `index.html` from `file://`: no recorded error and no console
 //! message, `data-ready` set, a non-blank canvas, and two screenshots at different `?t=` that
-//! differ where a body moved.
+//! differ where a body moved; a modal run's report opened at mode 2 draws q₀ + a φ₂.
 //!
 //! `scripts/test` installs the tools and points these tests to them: `CARDAN_CHROMIUM` (the
 //! browser) and `CARDAN_NODE_MODULES` (a node_modules with gltf-validator). Without them the
@@ -236,9 +236,10 @@ fn element_text<'a>(dom: &'a str, tag: &str, id: &str) -> &'a str {
 }
 
 /// A modal run's report (issue 26) opened at mode 2, a quarter period (`?mode=2&tau=0.25`): no
-/// error and no console message, the poses the page drew (`#mode-poses`) are q₀ + a φ₂ with
-/// unit Euler parameters, computed here from the embedded data, and the picture differs from
-/// the one at τ = 0 where the pendulum swung.
+/// error and no console message, and the poses the page drew (`#mode-poses`, the poses it gave
+/// the body nodes) are q₀ + a φ₂ with unit Euler parameters, computed here from the embedded
+/// data, the pendulum moved from its rest pose. One browser launch (about 5 s): the rendering
+/// itself is checked by `the_report_renders_in_headless_chromium`.
 #[test]
 fn the_modal_report_animates_mode_2() {
     let Some(chromium) = chromium() else {
@@ -307,20 +308,4 @@ fn the_modal_report_animates_mode_2() {
         assert!((unit - 1.0).abs() < 1e-12);
     }
     assert!(moved > 0.01, "mode 2 moves no body ({moved} m)");
-
-    // The picture changes between τ = 0 (the rest pose) and a quarter period.
-    let shot = |tau: f64| {
-        let png = out.join(format!("../modal-{tau}.png"));
-        let arg = format!("--screenshot={}", png.display());
-        browse(&chromium, &profile, &url(tau), &[&arg]);
-        grey(&png)
-    };
-    let (w, h, a0) = shot(0.0);
-    let (_, _, a1) = shot(0.25);
-    let changed = (60..(h * 6 / 10).min(h))
-        .flat_map(|y| (20..w - 20).map(move |x| y * w + x))
-        .filter(|&i| (a0[i] - a1[i]).abs() > 30.0)
-        .count();
-    eprintln!("modal report: {changed} view pixels differ between τ = 0 and τ = 0.25 of mode 2");
-    assert!(changed > 100, "the bodies did not move ({changed} pixels)");
 }
