@@ -17,7 +17,9 @@ use crate::geometry::Declared;
 use cardan_constraints::joints::Axes;
 use cardan_constraints::JointKind;
 use cardan_mechanism::{BodyId, Model, Results};
-use cardan_report::{Body, Geometry, JointAxis, NamedPoint, Scene, Shape};
+use cardan_report::{
+    Body, BodyIncrement, Geometry, JointAxis, ModeShape, NamedPoint, Scene, Shape,
+};
 use nalgebra::{Matrix3, Vector3, Vector4};
 
 /// The scene of a run of `model` with `results`.
@@ -119,6 +121,53 @@ pub fn scene(name: &str, model: &Model, results: &Results, declared: &Declared) 
         axes,
         extent,
     }
+}
+
+/// A modal run's `modes` as the report animates them: per body of the scene (the moving
+/// bodies in file order, then the ground, which does not move) the increment [δr; δp] of its
+/// body coordinates, δp = ½ Gᵀ(p₀) δθ at the equilibrium's Euler parameters p₀ (the first time
+/// of `results`).
+pub fn mode_shapes(
+    model: &Model,
+    results: &Results,
+    modes: &[cardan_dynamics::Mode],
+) -> Vec<ModeShape> {
+    let rest: Vec<Option<Vector4<f64>>> = model
+        .bodies()
+        .iter()
+        .map(|info| {
+            results
+                .bodies
+                .iter()
+                .find(|b| b.name == info.name)
+                .and_then(|b| b.p.first().copied())
+        })
+        .collect();
+    modes
+        .iter()
+        .enumerate()
+        .map(|(i, m)| {
+            let mut bodies: Vec<BodyIncrement> = rest
+                .iter()
+                .zip(&m.shape)
+                .map(|(p0, s)| match p0 {
+                    Some(p0) => BodyIncrement {
+                        dr: s.translation.into(),
+                        dp: crate::commands::run::statics::euler_increment(p0, &s.rotation).into(),
+                    },
+                    None => BodyIncrement::default(),
+                })
+                .collect();
+            bodies.resize(rest.len() + 1, BodyIncrement::default());
+            ModeShape {
+                number: i + 1,
+                kind: m.kind.name().to_string(),
+                frequency: m.frequency,
+                damping_ratio: m.damping_ratio,
+                bodies,
+            }
+        })
+        .collect()
 }
 
 /// The named points of each moving body (by index), then of the ground (last), in body

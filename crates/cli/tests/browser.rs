@@ -2,7 +2,7 @@
 //! validator (npm package gltf-validator, run by node) on a bundled example's `animation.glb`,
 //! and headless Chromium on its `index.html` from `file://`: no recorded error and no console
 //! message, `data-ready` set, a non-blank canvas, and two screenshots at different `?t=` that
-//! differ where a body moved.
+//! differ where a body moved; a modal run's report opened at mode 2 draws q₀ + a φ₂.
 //!
 //! `scripts/test` installs the tools and points these tests to them: `CARDAN_CHROMIUM` (the
 //! browser) and `CARDAN_NODE_MODULES` (a node_modules with gltf-validator). Without them the
@@ -223,4 +223,89 @@ fn the_report_renders_in_headless_chromium() {
         changed > 200,
         "the bodies did not move between the screenshots ({changed} pixels)"
     );
+}
+
+/// The text of the element `<{tag} id="{id}" …>…</{tag}>` in a dumped DOM.
+fn element_text<'a>(dom: &'a str, tag: &str, id: &str) -> &'a str {
+    let start = dom
+        .find(&format!("<{tag} id=\"{id}\""))
+        .unwrap_or_else(|| panic!("no #{id} in the page"));
+    let open = start + dom[start..].find('>').unwrap() + 1;
+    let close = open + dom[open..].find(&format!("</{tag}>")).unwrap();
+    &dom[open..close]
+}
+
+/// A modal run's report (issue 26) opened at mode 2, a quarter period (`?mode=2&tau=0.25`): no
+/// error and no console message, and the poses the page drew (`#mode-poses`, the poses it gave
+/// the body nodes) are q₀ + a φ₂ with unit Euler parameters, computed here from the embedded
+/// data, the pendulum moved from its rest pose. One browser launch (about 5 s): the rendering
+/// itself is checked by `the_report_renders_in_headless_chromium`.
+#[test]
+fn the_modal_report_animates_mode_2() {
+    let Some(chromium) = chromium() else {
+        return;
+    };
+    let out = example("turntable_pendulum_modal.toml");
+    let page = out.join("index.html").canonicalize().unwrap();
+    let url = |tau: f64| format!("file://{}?mode=2&tau={tau}", page.display());
+    let profile = out.join("../chromium-profile");
+
+    let (dom, log) = browse(&chromium, &profile, &url(0.25), &["--dump-dom"]);
+    assert!(
+        dom.contains("data-ready=\"1\""),
+        "the page never finished its first frame:\n{log}"
+    );
+    assert!(dom.contains("data-mode=\"2\""), "mode 2 not selected");
+    let errors = element_text(&dom, "ul", "errors");
+    assert!(
+        !errors.contains("<li"),
+        "errors recorded by the page: {errors}"
+    );
+    let console: Vec<&str> = log.lines().filter(|l| l.contains("CONSOLE")).collect();
+    assert!(console.is_empty(), "console output: {console:#?}");
+
+    // The drawn poses against q₀ + a φ₂ from the page's own data.
+    let html = std::fs::read_to_string(&page).unwrap();
+    let meta: serde_json::Value =
+        serde_json::from_str(element_text(&html, "script", "meta")).unwrap();
+    let drawn: serde_json::Value =
+        serde_json::from_str(&element_text(&dom, "output", "mode-poses").replace("&amp;", "&"))
+            .unwrap();
+    assert_eq!(drawn["mode"], 2);
+    let modes = &meta["modes"];
+    let mode = &modes["list"][1];
+    let a = mode["amplitude"].as_f64().unwrap();
+    let num = |v: &serde_json::Value| v.as_f64().unwrap();
+    let mut moved: f64 = 0.0;
+    for (k, q0) in modes["rest"].as_array().unwrap().iter().enumerate() {
+        let got = &drawn["bodies"][k];
+        if q0.is_null() {
+            assert!(got.is_null());
+            continue;
+        }
+        let phi: Vec<f64> = mode["shape"][k]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(num)
+            .collect();
+        let got: Vec<f64> = got.as_array().unwrap().iter().map(num).collect();
+        for c in 0..3 {
+            let want = num(&q0[0][c]) + a * phi[c];
+            assert!(
+                (got[c] - want).abs() < 1e-12,
+                "body {k} r{c}: {} vs {want}",
+                got[c]
+            );
+            moved = moved.max((got[c] - num(&q0[0][c])).abs());
+        }
+        let q: Vec<f64> = (0..4).map(|c| num(&q0[1][c]) + a * phi[3 + c]).collect();
+        let n = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+        for c in 0..4 {
+            assert!((got[3 + c] - q[c] / n).abs() < 1e-12, "body {k} e{c}");
+        }
+        let unit: f64 = got[3..7].iter().map(|x| x * x).sum();
+        assert!((unit - 1.0).abs() < 1e-12);
+    }
+    assert!(moved > 0.01, "mode 2 moves no body ({moved} m)");
 }

@@ -12,6 +12,7 @@
 //! frame is drawn (for screenshot tests).
 
 use crate::base64::encode_into;
+use crate::modes::{modes_json, validate_modes, ModeShape, MAX_ANIMATED_MODES};
 use crate::scene::Scene;
 use std::fmt::Write as _;
 use std::sync::OnceLock;
@@ -32,6 +33,9 @@ pub struct Page {
     pub summary: Option<serde_json::Value>,
     /// The direction drawn upwards (e.g. against gravity); +z if zero.
     pub up: [f64; 3],
+    /// A modal run's modes: the page animates them about the scene's first pose (a mode
+    /// selector and an amplitude slider replace the time slider). Empty for other runs.
+    pub modes: Vec<ModeShape>,
 }
 
 /// three.js as a classic script: the module's final `export{a as B,...};` becomes
@@ -83,8 +87,10 @@ fn to_classic(module: &str) -> Option<String> {
 ///
 /// # Errors
 /// [`crate::Error::Scene`] if the vendored three.js cannot be turned into a classic script
-/// (a build defect: a unit test checks it).
+/// (a build defect: a unit test checks it), or the modes do not fit the scene
+/// ([`validate_modes`]).
 pub fn write_html(scene: &Scene, glb: &[u8], page: &Page) -> Result<String, crate::Error> {
+    validate_modes(scene, &page.modes)?;
     let three = classic_three().ok_or_else(|| {
         crate::Error::Scene(
             "the embedded three.js is not a single ES module with one export".into(),
@@ -100,7 +106,13 @@ pub fn write_html(scene: &Scene, glb: &[u8], page: &Page) -> Result<String, crat
          <script>{RECORDER}</script>\n</head><body>\n\
          <header><h1>{title}</h1><ul id=\"errors\" hidden></ul></header>\n"
     );
-    html.push_str(CONTROLS);
+    let (controls, end) = CONTROLS.rsplit_once("</section>").unwrap_or((CONTROLS, ""));
+    html.push_str(controls);
+    if !page.modes.is_empty() {
+        mode_controls(&page.modes, &mut html);
+    }
+    html.push_str("</section>");
+    html.push_str(end);
     html.push_str("<section id=\"plots\"><h2>Plots</h2>\n");
     for (name, svg) in &page.plots {
         let svg = svg.trim_start();
@@ -123,7 +135,11 @@ pub fn write_html(scene: &Scene, glb: &[u8], page: &Page) -> Result<String, crat
     html.push_str("</script>\n<script id=\"glb\" type=\"application/octet-stream\">");
     encode_into(glb, &mut html);
     html.push_str("</script>\n<script id=\"meta\" type=\"application/json\">");
-    html.push_str(&script_safe(&meta(scene, page.up).to_string()));
+    let mut meta = meta(scene, page.up);
+    if !page.modes.is_empty() {
+        meta["modes"] = modes_json(scene, &page.modes);
+    }
+    html.push_str(&script_safe(&meta.to_string()));
     html.push_str("</script>\n<script>");
     html.push_str(VIEWER);
     html.push_str("</script>\n</body></html>\n");
@@ -158,6 +174,36 @@ const CONTROLS: &str = r#"<section id="viewer">
 <p class="hint">drag: rotate · wheel: zoom · right-drag or shift-drag: pan</p>
 </section>
 "#;
+
+/// A modal run's controls: the mode list (number, frequency, damping ratio; "rigid"), the
+/// amplitude slider (a factor on the default amplitude), a note when not every mode is
+/// animated, and `#mode-poses` (filled for scripts when the page is opened at a phase, `?tau=`).
+fn mode_controls(modes: &[ModeShape], html: &mut String) {
+    html.push_str(
+        "<div id=\"mode-controls\">\n<label>mode <select id=\"mode\" aria-label=\"mode\">",
+    );
+    for (i, m) in modes.iter().take(MAX_ANIMATED_MODES).enumerate() {
+        let _ = write!(
+            html,
+            "<option value=\"{i}\">{}</option>",
+            escape(&m.label())
+        );
+    }
+    html.push_str(
+        "</select></label>\n<label>amplitude <input id=\"amplitude\" type=\"range\" \
+         min=\"0\" max=\"5\" step=\"0.05\" value=\"1\" aria-label=\"amplitude\"></label>\n\
+         <span id=\"amplitude-value\"></span>\n",
+    );
+    if modes.len() > MAX_ANIMATED_MODES {
+        let _ = writeln!(
+            html,
+            "<span class=\"hint\">the lowest {MAX_ANIMATED_MODES} of {} modes are animated; \
+             mode_shapes.csv holds all</span>",
+            modes.len()
+        );
+    }
+    html.push_str("<output id=\"mode-poses\" hidden></output>\n</div>\n");
+}
 
 /// What the viewer needs beyond the `.glb`: points and axes per body, the view's centre,
 /// size and up direction.

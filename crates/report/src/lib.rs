@@ -10,6 +10,9 @@
 //!   0.160.1 (vendored, embedded in the binary), the `.glb` embedded and read by a small
 //!   JavaScript reader, playback controls, trails of chosen points, body frames and joint
 //!   axes, then the plots and the run summary.
+//! - [`ModeShape`]: the vibration modes of a modal run, which the page animates about the
+//!   scene's one pose (a mode selector, play/pause and an amplitude slider) instead of playing
+//!   the `.glb`'s keyframes ([`mode_pose`] is the pose the page draws).
 //! - [`read_mesh`]: STL (binary or ASCII) and OBJ files as triangle meshes, with a triangle cap
 //!   checked before the file is read in full.
 
@@ -17,12 +20,17 @@ mod base64;
 mod glb;
 mod html;
 mod mesh_file;
+mod modes;
 mod scene;
 mod tessellate;
 
 pub use glb::write_glb;
 pub use html::{classic_three, write_html, Page};
 pub use mesh_file::{read_mesh, MeshFormat};
+pub use modes::{
+    amplitude, mode_pose, small_rotation, validate_modes, BodyIncrement, ModeShape,
+    MAX_ANIMATED_MODES, MODE_FRACTION,
+};
 pub use scene::{gltf_rotation, Body, Geometry, JointAxis, Mesh, NamedPoint, Scene, Shape};
 pub use tessellate::mesh_of;
 

@@ -222,15 +222,66 @@
     placeCamera(); draw();
   }, { passive: false });
 
-  // Playback.
+  // Vibration modes (a modal run): each body at r0 + s dr, p ∝ p0 + s dp with
+  // s = g a sin(2πτ), τ the phase in periods (crates/report/src/modes.rs).
+  var modes = meta.modes || null;
+  var mode = null, gain = 1;
+  var modeSelect = document.getElementById('mode');
+  var gainInput = document.getElementById('amplitude');
+  var gainLabel = document.getElementById('amplitude-value');
+  var posesOut = document.getElementById('mode-poses');
+  function selectMode(i) {
+    mode = modes.list[Math.max(0, Math.min(modes.list.length - 1, i))];
+    modeSelect.value = String(modes.list.indexOf(mode));
+    document.body.setAttribute('data-mode', String(mode.number));
+  }
+  function showGain() {
+    var pct = 100 * gain * modes.fraction;
+    gainLabel.textContent = '×' + gain.toFixed(2) + ' (largest motion ' + pct.toFixed(0) + ' % of the model size)';
+  }
+  var modeQuat = new T.Quaternion();
+  function applyMode(tau) {
+    var s = gain * mode.amplitude * Math.sin(2 * Math.PI * tau);
+    var poses = posesOut && recordPoses ? [] : null;
+    modes.rest.forEach(function (q0, bi) {
+      var phi = mode.shape[bi], root = built.roots[bi];
+      if (!q0 || !phi || !root) { if (poses) poses.push(null); return; }
+      var r = q0[0], p = q0[1];
+      var e = [p[0] + s * phi[3], p[1] + s * phi[4], p[2] + s * phi[5], p[3] + s * phi[6]];
+      var n = Math.sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2] + e[3] * e[3]);
+      var x = r[0] + s * phi[0], y = r[1] + s * phi[1], z = r[2] + s * phi[2];
+      root.position.set(x, y, z);
+      root.quaternion.copy(modeQuat.set(e[1] / n, e[2] / n, e[3] / n, e[0] / n));
+      if (poses) poses.push([x, y, z, e[0] / n, e[1] / n, e[2] / n, e[3] / n]);
+    });
+    if (poses) posesOut.textContent = JSON.stringify({ mode: mode.number, tau: tau, s: s, bodies: poses });
+  }
+  var recordPoses = false;
+  if (modes && modes.list.length) {
+    var q = new URLSearchParams(window.location.search);
+    var wanted = parseInt(q.get('mode'), 10);
+    selectMode(isFinite(wanted) ? wanted - 1 : 0);
+    var given = parseFloat(q.get('amplitude'));
+    if (isFinite(given) && given >= 0) { gain = given; gainInput.value = String(given); }
+    showGain();
+    document.getElementById('trails-box').hidden = true;
+    modeSelect.addEventListener('change', function () { selectMode(parseInt(modeSelect.value, 10)); draw(); });
+    gainInput.addEventListener('input', function () { gain = parseFloat(gainInput.value); showGain(); draw(); });
+  } else {
+    modes = null;
+  }
+
+  // Playback (a modal run: the phase τ over one period, a period per second at speed 1).
   var t0 = built.times[0], t1 = built.times[built.times.length - 1];
+  if (modes) { t0 = 0; t1 = 1; document.getElementById('scrub').setAttribute('aria-label', 'phase'); }
   var t = t0, playing = t1 > t0, speed = 1, last = null;
   var playBtn = document.getElementById('play'), scrub = document.getElementById('scrub');
   var timeLabel = document.getElementById('time');
   scrub.min = t0; scrub.max = t1; scrub.step = 'any';
-  var query = new URLSearchParams(window.location.search).get('t');
+  var query = new URLSearchParams(window.location.search).get(modes ? 'tau' : 't');
   if (query !== null && isFinite(parseFloat(query))) {
     t = Math.max(t0, Math.min(t1, parseFloat(query))); playing = false;
+    recordPoses = !!modes;
   }
   function setPlaying(p) { playing = p && t1 > t0; playBtn.textContent = playing ? 'pause' : 'play'; last = null; }
   playBtn.addEventListener('click', function () { setPlaying(!playing); if (playing) requestAnimationFrame(tick); });
@@ -249,10 +300,15 @@
     camera.aspect = w / h; camera.updateProjectionMatrix();
   }
   function draw() {
-    applyTracks(built.tracks, t);
-    trails.forEach(function (tr) { tr.line.geometry.setDrawRange(0, findFrame(tr.times, t)[0] + 1); });
+    if (modes) {
+      applyMode(t);
+      timeLabel.textContent = 'mode ' + mode.number + ', τ = ' + t.toFixed(3) + ' T';
+    } else {
+      applyTracks(built.tracks, t);
+      trails.forEach(function (tr) { tr.line.geometry.setDrawRange(0, findFrame(tr.times, t)[0] + 1); });
+      timeLabel.textContent = 't = ' + t.toFixed(4) + ' s';
+    }
     scrub.value = t;
-    timeLabel.textContent = 't = ' + t.toFixed(4) + ' s';
     renderer.render(scene, camera);
   }
   function tick(now) {

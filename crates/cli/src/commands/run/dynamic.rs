@@ -91,6 +91,7 @@ pub(super) fn run_dynamic(
         failure,
         strict_failure: None,
         files,
+        modes: Vec::new(),
     })
 }
 

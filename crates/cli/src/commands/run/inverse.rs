@@ -63,6 +63,7 @@ pub(super) fn run_inverse(
         failure,
         strict_failure: None,
         files: Vec::new(),
+        modes: Vec::new(),
     })
 }
 

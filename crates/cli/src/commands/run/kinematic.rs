@@ -68,6 +68,7 @@ pub(super) fn run_kinematic(
         failure,
         strict_failure: None,
         files: Vec::new(),
+        modes: Vec::new(),
     })
 }
 

@@ -56,7 +56,8 @@ pub(super) fn about_dynamic(
     let lin = d.linearize_moving(&state).map_err(|e| located(p, &e))?;
     let modes = d.modes(&state, &lin).map_err(|e| located(p, &e))?;
     let bodies: Vec<&str> = p.model.bodies().iter().map(|b| b.name.as_str()).collect();
-    let tables = mode_tables(t, &bodies, &modes);
+    let rest: Vec<_> = (0..bodies.len()).map(|k| state.p(k)).collect();
+    let tables = mode_tables(t, &bodies, &rest, &modes);
     let about = format!("the state of the dynamic run at t = {t} s");
     let files = matrix_files(p, &mut d, &state, &lin, req, inputs, &about, true)
         .map_err(|e| located(p, &e))?;

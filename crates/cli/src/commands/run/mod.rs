@@ -366,7 +366,8 @@ fn write_animation(
 
 /// The animation (`animation.glb`) and the report page (`index.html`) of an analysed run whose
 /// output files are `files`, the page showing the plots `svgs` (name, SVG) and the run
-/// summary. `None` (with a warning in the summary) when the scene cannot be written as glTF.
+/// summary. `None` (with a warning in the summary) when the scene cannot be written as glTF;
+/// modes the page cannot animate (not finite) are left out of it with a warning.
 ///
 /// # Errors
 /// The page cannot be written.
@@ -388,10 +389,18 @@ pub fn animation(
             return Ok(None);
         }
     };
+    let mut modes = crate::scene::mode_shapes(&p.model, &a.results, &a.modes);
+    if let Err(e) = cardan_report::validate_modes(&scene, &modes) {
+        a.summary
+            .warnings
+            .push(format!("index.html does not animate the modes: {e}"));
+        modes.clear();
+    }
     let page = cardan_report::Page {
         plots: svgs,
         summary: serde_json::from_str(&report(p, kind, a, files).to_json()).ok(),
         up: declared.up,
+        modes,
     };
     let html = cardan_report::write_html(&scene, &glb, &page)
         .map_err(|e| Error::output(format!("index.html: {e}")))?;

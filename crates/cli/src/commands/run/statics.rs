@@ -19,6 +19,7 @@ use cardan_dynamics::{
     ModeKind, Output, PointRef, SparseModalResults, Stability, State, StaticOptions, StaticResults,
 };
 use cardan_mechanism::{BodyId, Outputs};
+use nalgebra::{Vector3, Vector4};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -114,9 +115,17 @@ pub(super) fn run_statics(
         .iter()
         .map(|b| b.name.as_str())
         .collect();
+    // The Euler parameters at the (first) equilibrium, about which the modes are; a failed
+    // quasi-static run may have none, and no modes either.
+    let rest: Vec<Vector4<f64>> = r
+        .kinematics
+        .bodies
+        .iter()
+        .map(|b| b.p.first().copied().unwrap_or_else(Vector4::x))
+        .collect();
     if let Some(s) = &sparse {
         let t = s.equilibrium.equilibria.first().map_or(0.0, |e| e.state.t);
-        tables.extend(mode_tables(t, &bodies, &s.modes));
+        tables.extend(mode_tables(t, &bodies, &rest, &s.modes));
         if !s.converged {
             warnings.push(format!(
                 "the {} lowest modes did not all converge in {} Lanczos steps: their \
@@ -128,7 +137,7 @@ pub(super) fn run_statics(
     }
     if let Some(m) = &modal {
         if let Some(eq) = m.equilibrium.equilibria.first() {
-            tables.extend(mode_tables(eq.state.t, &bodies, &m.modes));
+            tables.extend(mode_tables(eq.state.t, &bodies, &rest, &m.modes));
             let about = format!("the equilibrium at t = {} s", eq.state.t);
             let released: Vec<String> = analysis
                 .inputs
@@ -180,6 +189,11 @@ pub(super) fn run_statics(
         failure,
         strict_failure: None,
         files,
+        modes: match (sparse, modal) {
+            (Some(s), _) => s.modes,
+            (None, Some(m)) => m.modes,
+            (None, None) => Vec::new(),
+        },
     })
 }
 
@@ -242,9 +256,15 @@ fn stability_warnings(s: &StaticResults) -> Vec<String> {
 }
 
 /// `modes.csv` (one row per mode: its number, kind, frequencies, damping ratio, eigenvalue of
-/// the first-order form) and `mode_shapes.csv` (one row per mode: each body's δr and δθ), at
-/// time `t` with the moving `bodies` in file order.
-pub(super) fn mode_tables(t: f64, bodies: &[&str], list: &[Mode]) -> Vec<Table> {
+/// the first-order form) and `mode_shapes.csv` (one row per mode: each body's δr, δθ and the
+/// increment δp = ½ Gᵀ(p₀) δθ of its Euler parameters p₀ in `rest`), at time `t` with the
+/// moving `bodies` in file order.
+pub(super) fn mode_tables(
+    t: f64,
+    bodies: &[&str],
+    rest: &[Vector4<f64>],
+    list: &[Mode],
+) -> Vec<Table> {
     let mut modes = Table::new(
         "modes",
         "vibration modes",
@@ -266,6 +286,9 @@ pub(super) fn mode_tables(t: f64, bodies: &[&str], list: &[Mode]) -> Vec<Table> 
         for ax in ["x", "y", "z"] {
             cols.push(format!("{b}.dtheta.{ax} [rad]"));
         }
+        for e in ["e0", "e1", "e2", "e3"] {
+            cols.push(format!("{b}.dp.{e} [-]"));
+        }
     }
     let mut shapes = Table::new("mode_shapes", "mode shapes", cols);
     for (i, mode) in list.iter().enumerate() {
@@ -286,13 +309,20 @@ pub(super) fn mode_tables(t: f64, bodies: &[&str], list: &[Mode]) -> Vec<Table> 
             mode.eigenvalue[1],
         ]);
         let mut row = vec![t, (i + 1) as f64];
-        for s in &mode.shape {
+        for (s, p0) in mode.shape.iter().zip(rest) {
             row.extend(s.translation.iter());
             row.extend(s.rotation.iter());
+            row.extend(euler_increment(p0, &s.rotation).iter());
         }
         shapes.rows.push(row);
     }
     vec![modes, shapes]
+}
+
+/// δp = ½ Gᵀ(p₀) δθ: the increment of unit Euler parameters p₀ (normalized here) for a small
+/// rotation δθ in global components (Nikravesh 1988 ch. 6, ṗ = ½ Gᵀ ω); p₀ᵀδp = 0.
+pub(crate) fn euler_increment(p0: &Vector4<f64>, dtheta: &Vector3<f64>) -> Vector4<f64> {
+    cardan_eulerparam::velocity::p_dot_from_global(&(p0 / p0.norm()), dtheta)
 }
 
 /// The linearization's matrices in MatrixMarket form: `lin_M.mtx`, `lin_C.mtx`, `lin_K.mtx`,

@@ -127,4 +127,6 @@ pub struct Analysed {
     pub strict_failure: Option<Error>,
     /// Files other than the tables, (name, contents): the modal run's matrices.
     pub files: Vec<(String, String)>,
+    /// A modal run's modes (the report animates them); empty for the other kinds.
+    pub modes: Vec<cardan_dynamics::Mode>,
 }
