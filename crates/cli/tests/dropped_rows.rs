@@ -15,7 +15,9 @@ use std::path::Path;
 /// the last revolute's spherical part, "s") stays off by |Φ| = `dz` (the
 /// kept rows hold exactly). `kind`: the analysis.
 fn fourbar(dz: &str, kind: &str) -> String {
-    MODEL.replace("{DZ}", dz).replace("kind = \"kinematic\"", &format!("kind = \"{kind}\""))
+    MODEL
+        .replace("{DZ}", dz)
+        .replace("kind = \"kinematic\"", &format!("kind = \"{kind}\""))
 }
 
 const MODEL: &str = r#"
@@ -157,10 +159,8 @@ fn inverse_dynamics_of_the_slightly_inconsistent_fourbar_warns_too() {
 #[test]
 fn a_dynamic_run_of_the_slightly_inconsistent_fourbar_warns_at_the_output_times() {
     let dir = scratch("dropped-slight-dynamic");
-    let text = fourbar("1e-7", "dynamic").replace(
-        "steps = 10",
-        "integrator = \"dopri5\"\noutput_dt = 0.1",
-    );
+    let text = fourbar("1e-7", "dynamic")
+        .replace("steps = 10", "integrator = \"dopri5\"\noutput_dt = 0.1");
     let o = run(&dir, &text);
     // One warning: the dropped row's, not also a constraint drift it explains.
     one_dropped_row_warning(&dir, &o);
@@ -189,6 +189,10 @@ fn a_grossly_inconsistent_redundant_fourbar_fails_naming_the_joints() {
         "stays off by",
         "cylindrical",
     ] {
-        assert!(o.stderr.contains(needle), "missing {needle:?}: {}", o.stderr);
+        assert!(
+            o.stderr.contains(needle),
+            "missing {needle:?}: {}",
+            o.stderr
+        );
     }
 }

@@ -422,8 +422,8 @@ impl Model {
         let rank_options = self.rank_options_for(&ws.phi, m);
         let mut slots = vec![0.0; self.pattern.num_slots()];
         self.jacobian_into(&ws.bodies, t, &mut slots);
-        let ra =
-            RankAnalysis::compute_auto(pattern, &slots[..pattern.num_slots()], rank_options).ok()?;
+        let ra = RankAnalysis::compute_auto(pattern, &slots[..pattern.num_slots()], rank_options)
+            .ok()?;
         if ra.dependent_rows().is_empty() {
             return None;
         }
@@ -438,9 +438,23 @@ impl Model {
             slots: vec![0.0; self.pattern.num_slots()],
         };
         let solved = if self.num_unknowns() >= SPARSE_RANK_MIN_UNKNOWNS {
-            kept_rows_newton(pattern, selection, SparseMinNorm::new(), nopts, &mut sys, &mut ws.x)
+            kept_rows_newton(
+                pattern,
+                selection,
+                SparseMinNorm::new(),
+                nopts,
+                &mut sys,
+                &mut ws.x,
+            )
         } else {
-            kept_rows_newton(pattern, selection, MinNormQr::new(), nopts, &mut sys, &mut ws.x)
+            kept_rows_newton(
+                pattern,
+                selection,
+                MinNormQr::new(),
+                nopts,
+                &mut sys,
+                &mut ws.x,
+            )
         };
         ws.sync_poses();
         let rep = solved.ok()?;

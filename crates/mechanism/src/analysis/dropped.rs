@@ -120,8 +120,14 @@ impl Model {
     /// since the kinematic solver was prepared: one per element (its worst row), in model
     /// order. Empty for a consistent model (see the module docs). Allocates.
     pub fn dropped_row_residuals(&self, ws: &Workspace, tol: f64) -> Vec<DroppedRowResidual> {
-        let rows = (0..ws.dropped_worst.len())
-            .map(|r| (r, ws.dropped_worst[r], ws.dropped_value[r], ws.dropped_time[r]));
+        let rows = (0..ws.dropped_worst.len()).map(|r| {
+            (
+                r,
+                ws.dropped_worst[r],
+                ws.dropped_value[r],
+                ws.dropped_time[r],
+            )
+        });
         self.worst_dropped_rows(rows, tol)
     }
 

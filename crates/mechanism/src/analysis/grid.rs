@@ -289,12 +289,9 @@ impl Model {
         &self,
         ws: &Workspace,
     ) -> Vec<crate::analysis::dropped::DroppedRowResidual> {
-        let tol = ws
-            .kin
-            .as_ref()
-            .map_or(Tolerances::default().residual, |n| {
-                n.options().tolerances.residual
-            });
+        let tol = ws.kin.as_ref().map_or(Tolerances::default().residual, |n| {
+            n.options().tolerances.residual
+        });
         self.dropped_row_residuals(ws, tol)
     }
 

@@ -291,7 +291,10 @@ pub fn doubtful_results(p: &Prepared, r: &DynamicResults, integrator: &Integrato
             100.0 * ENERGY_BALANCE_BOUND
         ));
     }
-    warnings.extend(super::kinematic::dropped_row_warnings(p, &r.kinematics.dropped_rows));
+    warnings.extend(super::kinematic::dropped_row_warnings(
+        p,
+        &r.kinematics.dropped_rows,
+    ));
     let worst = r.position_drift.iter().fold(0.0f64, |a, &d| a.max(d));
     let bound = drift_bound(p, integrator);
     // A drift no larger than the dropped rows' disagreement is that disagreement (warned above),
