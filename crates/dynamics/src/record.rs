@@ -462,7 +462,9 @@ fn record_dropped_rows(
             continue;
         }
         let v = (phi[r] / scales[r]).abs();
-        if (v > bound || v.is_nan()) && !(v <= slot.0) {
+        // A NaN, once recorded, stays.
+        let worse = !slot.0.is_nan() && (v.is_nan() || v > slot.0);
+        if (v > bound || v.is_nan()) && worse {
             *slot = (v, phi[r], t);
         }
     }

@@ -31,8 +31,12 @@ use cardan_solver::{
     SPARSE_RANK_MIN_UNKNOWNS,
 };
 
+/// A minimum-norm Newton solve's report and the rank of its last factorization (`None`: no
+/// equation to solve).
+type MinNormSolve = Option<(NewtonReport, Option<usize>)>;
+
 /// A Newton solve's outcome: its report and the rank of the last factorization.
-type Solved = Result<Option<(NewtonReport, Option<usize>)>, SolverError>;
+type Solved = Result<MinNormSolve, SolverError>;
 
 /// Newton with a minimum-norm linear solver: `Err` only when the solver cannot be set up; the
 /// inner result is the solve's.
@@ -377,7 +381,7 @@ impl Model {
         &self,
         ws: &mut Workspace,
         guess: &[f64],
-        rep: Option<(NewtonReport, Option<usize>)>,
+        rep: MinNormSolve,
         dropped_residual: f64,
     ) -> AssemblyReport {
         self.accept_turns(&ws.bodies, &mut ws.turns);
@@ -413,7 +417,7 @@ impl Model {
         options: &AssemblyOptions,
         pattern: &SparsityPattern,
         nopts: NewtonOptions,
-    ) -> Option<Result<(Option<(NewtonReport, Option<usize>)>, f64), AnalysisError>> {
+    ) -> Option<Result<(MinNormSolve, f64), AnalysisError>> {
         let (m, t) = (pattern.nrows(), options.t);
         self.phi_into(&ws.bodies, &ws.turns, t, &mut ws.phi);
         if !ws.phi.iter().all(|v| v.is_finite()) {
