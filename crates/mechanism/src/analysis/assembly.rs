@@ -407,7 +407,9 @@ impl Model {
     /// last iterate of a minimum-norm solve of all `pattern.nrows()` equations that did not
     /// converge (`analysis::dropped`): the rank analysis there, with the tolerance widened by
     /// the residual, picks the independent rows, and Newton solves those exactly. `None` when
-    /// no row is redundant there or the kept rows do not converge (the caller reports the
+    /// the iterate is off by more than
+    /// [`LEAST_SQUARES_MAX_RESIDUAL`](crate::analysis::dropped::LEAST_SQUARES_MAX_RESIDUAL), no
+    /// row is redundant there or the kept rows do not converge (the caller reports the
     /// original failure); otherwise the solve and the largest scaled residual of the dropped
     /// rows, or [`AnalysisError::InconsistentJoints`] when it exceeds
     /// [`gross_inconsistency`](crate::analysis::dropped::gross_inconsistency).
@@ -420,7 +422,9 @@ impl Model {
     ) -> Option<Result<(MinNormSolve, f64), AnalysisError>> {
         let (m, t) = (pattern.nrows(), options.t);
         self.phi_into(&ws.bodies, &ws.turns, t, &mut ws.phi);
-        if !ws.phi.iter().all(|v| v.is_finite()) {
+        let off = self.scaled_residual(&ws.phi, m);
+        if !(off <= crate::analysis::dropped::LEAST_SQUARES_MAX_RESIDUAL) {
+            // Not close: a model that cannot close (or a non-finite iterate).
             return None;
         }
         let rank_options = self.rank_options_for(&ws.phi, m);

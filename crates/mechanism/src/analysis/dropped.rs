@@ -17,8 +17,9 @@
 //! joints disagree relative to the mechanism's size.
 //!
 //! * **Assembly** ([`Model::assemble`]) first solves all equations at once (minimum-norm
-//!   Newton). When that does not converge, the last iterate is close to the least-squares pose
-//!   of an inconsistent redundant system; the rank analysis there, with its tolerance widened to
+//!   Newton). When that does not converge and the last iterate is off by at most
+//!   [`LEAST_SQUARES_MAX_RESIDUAL`], it is close to the least-squares pose of an inconsistent
+//!   redundant system; the rank analysis there, with its tolerance widened to
 //!   [`RANK_TOLERANCE_PER_RESIDUAL`] times the residual (the inconsistency perturbs the
 //!   Jacobian by about as much), finds the redundant rows, and Newton solves the kept rows
 //!   exactly from there: the *least-squares-consistent pose*. Dropped rows off by more than
@@ -45,6 +46,13 @@ use cardan_solver::RankOptions;
 /// [`MAX_RANK_TOLERANCE`]): an inconsistency of `r` moves the dependent rows of a redundant
 /// set apart by about `r`, so the default 1e-9 would call them independent.
 pub const RANK_TOLERANCE_PER_RESIDUAL: f64 = 1e3;
+
+/// Assembly looks for the least-squares-consistent pose only when the failed solve's last
+/// iterate is off by at most this scaled residual: joints that disagree by more than 1 % of the
+/// model's size are a model that cannot close (a link too short, a wrong point), reported as
+/// such ([`crate::AnalysisError::AssemblyFailed`]), not a redundancy; at such a stretched pose
+/// the Jacobian is singular and a widened rank test would mistake that for redundancy.
+pub const LEAST_SQUARES_MAX_RESIDUAL: f64 = 1e-2;
 
 /// The widest relative rank tolerance [`RANK_TOLERANCE_PER_RESIDUAL`] may give.
 pub const MAX_RANK_TOLERANCE: f64 = 1e-3;
@@ -73,14 +81,19 @@ pub struct DroppedRowResidual {
 }
 
 impl Model {
-    /// The relative rank tolerance at poses whose first `m` equations (`phi`, unscaled) are off:
-    /// see [`RANK_TOLERANCE_PER_RESIDUAL`].
-    pub(crate) fn rank_options_for(&self, phi: &[f64], m: usize) -> RankOptions {
-        let r = phi[..m]
+    /// The largest scaled residual |Φ_r| / e_r of the first `m` equations in `phi` (unscaled).
+    pub(crate) fn scaled_residual(&self, phi: &[f64], m: usize) -> f64 {
+        phi[..m]
             .iter()
             .zip(&self.equation_scales)
             .map(|(v, e)| (v / e).abs())
-            .fold(0.0f64, f64::max);
+            .fold(0.0f64, f64::max)
+    }
+
+    /// The relative rank tolerance at poses whose first `m` equations (`phi`, unscaled) are off:
+    /// see [`RANK_TOLERANCE_PER_RESIDUAL`].
+    pub(crate) fn rank_options_for(&self, phi: &[f64], m: usize) -> RankOptions {
+        let r = self.scaled_residual(phi, m);
         let default = RankOptions::default();
         let widened = (RANK_TOLERANCE_PER_RESIDUAL * r).min(MAX_RANK_TOLERANCE);
         RankOptions {
