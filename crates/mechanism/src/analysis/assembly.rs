@@ -423,7 +423,7 @@ impl Model {
         let (m, t) = (pattern.nrows(), options.t);
         self.phi_into(&ws.bodies, &ws.turns, t, &mut ws.phi);
         let off = self.scaled_residual(&ws.phi, m);
-        if !(off <= crate::analysis::dropped::LEAST_SQUARES_MAX_RESIDUAL) {
+        if off > crate::analysis::dropped::LEAST_SQUARES_MAX_RESIDUAL || off.is_nan() {
             // Not close: a model that cannot close (or a non-finite iterate).
             return None;
         }
