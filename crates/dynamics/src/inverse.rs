@@ -143,10 +143,11 @@ impl Dynamics<'_> {
             wall_time: start.elapsed().as_secs_f64(),
             ..IntegrationStats::default()
         };
-        let mut r = rec.finish(stats);
-        // What the kinematic pass counted.
+        let mut r = rec.finish(self, stats);
+        // What the kinematic pass counted and found.
         r.kinematics.subdivided_steps = kin.subdivided_steps;
         r.kinematics.row_reselections = kin.row_reselections;
+        r.kinematics.dropped_rows = kin.dropped_rows.clone();
         Ok(r)
     }
 }

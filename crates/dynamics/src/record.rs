@@ -32,7 +32,16 @@ pub(crate) struct Recorder {
     work: Vec<f64>,
     /// The power of the last recorded time.
     prev_power: Vec<f64>,
+    /// Per row: the worst scaled residual while dropped as redundant and off by more than the
+    /// kept rows explain ([`DROPPED_ROW_DRIFT_FACTOR`]), its value and time (NaN: never).
+    dropped: Vec<(f64, f64, f64)>,
 }
+
+/// A row dropped as redundant is reported when its scaled residual at an output time exceeds
+/// both the position tolerance and this multiple of the kept rows' largest scaled residual
+/// there: it is then off by more than the drift the kept rows share (the model's redundant
+/// joints disagree; `cardan_mechanism::analysis::dropped`).
+pub const DROPPED_ROW_DRIFT_FACTOR: f64 = 10.0;
 
 impl Recorder {
     pub fn new(d: &Dynamics, capacity: usize, outputs: Outputs) -> Self {
@@ -170,6 +179,7 @@ impl Recorder {
             power: vec![0.0; d.num_work_channels()],
             work: vec![0.0; d.num_work_channels()],
             prev_power: vec![0.0; d.num_work_channels()],
+            dropped: vec![(0.0, 0.0, f64::NAN); m],
         }
     }
 
@@ -223,6 +233,9 @@ impl Recorder {
         let res = self.phi.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         kin.residual.push(res);
         self.res.position_drift.push(res);
+        if let Some(kkt) = d.kkt.as_ref() {
+            record_dropped_rows(model, &kkt.active, &self.phi, state.t, &mut self.dropped);
+        }
         let vel = self.outputs.needs_velocity();
         let acc = self.outputs.acceleration;
         for (k, b) in kin.bodies.iter_mut().enumerate() {
@@ -410,9 +423,50 @@ impl Recorder {
         self.res.kinematics.times.len()
     }
 
-    pub fn finish(mut self, stats: IntegrationStats) -> DynamicResults {
+    pub fn finish(mut self, d: &Dynamics, stats: IntegrationStats) -> DynamicResults {
         self.res.stats = stats;
+        let rows = self
+            .dropped
+            .iter()
+            .enumerate()
+            .map(|(r, &(worst, value, time))| (r, worst, value, time));
+        self.res.kinematics.dropped_rows = d.model.worst_dropped_rows(rows, 0.0);
         self.res
+    }
+}
+
+/// Updates each dropped row's worst scaled residual (see [`DROPPED_ROW_DRIFT_FACTOR`]) from Φ
+/// = `phi` at time `t`, `active` the kept rows (increasing). No allocation.
+fn record_dropped_rows(
+    model: &Model,
+    active: &[usize],
+    phi: &[f64],
+    t: f64,
+    dropped: &mut [(f64, f64, f64)],
+) {
+    if active.len() == phi.len() {
+        return;
+    }
+    let scales = model.equation_scales();
+    let kept_max = active
+        .iter()
+        .map(|&r| (phi[r] / scales[r]).abs())
+        .fold(0.0f64, f64::max);
+    let bound = cardan_solver::Tolerances::default()
+        .residual
+        .max(DROPPED_ROW_DRIFT_FACTOR * kept_max);
+    let mut kept = active.iter().peekable();
+    for (r, slot) in dropped.iter_mut().enumerate() {
+        if kept.peek() == Some(&&r) {
+            kept.next();
+            continue;
+        }
+        let v = (phi[r] / scales[r]).abs();
+        // A NaN, once recorded, stays.
+        let worse = !slot.0.is_nan() && (v.is_nan() || v > slot.0);
+        if (v > bound || v.is_nan()) && worse {
+            *slot = (v, phi[r], t);
+        }
     }
 }
 

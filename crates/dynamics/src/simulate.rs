@@ -117,9 +117,9 @@ impl Dynamics<'_> {
         }
         stats.wall_time = start.elapsed().as_secs_f64();
         match r {
-            Ok(()) => Ok(rec.finish(stats)),
+            Ok(()) => Ok(rec.finish(self, stats)),
             Err(e) if rec.len() > 0 => {
-                let partial = rec.finish(stats);
+                let partial = rec.finish(self, stats);
                 Err(DynamicsError::MidRun {
                     last_time: partial.times().last().copied().unwrap_or(f64::NAN),
                     source: Box::new(e),

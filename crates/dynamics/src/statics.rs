@@ -450,7 +450,7 @@ impl Dynamics<'_> {
             ..IntegrationStats::default()
         };
         StaticResults {
-            results: rec.finish(stats),
+            results: rec.finish(self, stats),
             equilibria: eqs,
         }
     }

@@ -17,7 +17,7 @@
 use crate::error::{AnalysisError, EquationName};
 use crate::model::Model;
 use crate::workspace::Workspace;
-use cardan_solver::{RankAnalysis, RankOptions, SparsityPattern};
+use cardan_solver::{RankAnalysis, SparsityPattern};
 
 /// The result of a degrees-of-freedom analysis.
 #[derive(Debug, Clone, PartialEq)]
@@ -75,7 +75,12 @@ impl Model {
             });
             let entries: Vec<(usize, usize)> = self.pattern.entries().take(k).collect();
             let sub = SparsityPattern::new(mj, n, &entries).map_err(|e| solver(ws.t, e))?;
-            let ra = RankAnalysis::compute_auto(&sub, &slots[..k], RankOptions::default())
+            // A slightly inconsistent model assembled to its least-squares pose: the tolerance
+            // widens with its residual (`analysis::dropped`).
+            let mut phi = vec![0.0; self.num_equations()];
+            self.phi_into(&ws.bodies, &ws.turns, ws.t, &mut phi);
+            let options = self.rank_options_for(&phi, mj);
+            let ra = RankAnalysis::compute_auto(&sub, &slots[..k], options)
                 .map_err(|e| solver(ws.t, e))?;
             let red = ra
                 .dependent_rows()

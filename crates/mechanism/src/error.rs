@@ -558,6 +558,27 @@ pub enum AnalysisError {
         /// Newton iterations made.
         iterations: usize,
     },
+    /// A redundant model whose joints disagree grossly: with the kept equations satisfied, the
+    /// equations dropped as redundant stay off by more than `limit` of the model's size
+    /// (`analysis::dropped`).
+    #[error(
+        "at t = {time}: the redundant joints disagree: with the other equations satisfied, {} \
+         (relative to the model's size; more than {limit:.0e} is not rounding). The joints of \
+         the loop through {} do not fit together: check that their axes are parallel (or \
+         perpendicular) and their points agree as drawn, or replace one of them by a joint with \
+         fewer equations (a revolute by a cylindrical, a spherical by a point_in_plane) so the \
+         loop is no longer over-constrained",
+        fmt_dropped(.dropped),
+        fmt_elements(.dropped)
+    )]
+    InconsistentJoints {
+        /// The time.
+        time: f64,
+        /// The scaled residual above which a dropped row is a gross disagreement.
+        limit: f64,
+        /// The dropped rows that stay off, one per element (its worst row).
+        dropped: Vec<crate::analysis::dropped::DroppedRowResidual>,
+    },
     /// A rotation driver could only be assembled on the spurious branch φ = θ(t) ± π of its
     /// equation sin(φ − θ(t)) = 0, even by continuation from the drawn pose.
     #[error(
@@ -612,6 +633,28 @@ pub enum AnalysisError {
         /// Results up to (not including) `time`.
         partial: Option<Box<Results>>,
     },
+}
+
+fn fmt_dropped(v: &[crate::analysis::dropped::DroppedRowResidual]) -> String {
+    v.iter()
+        .map(|d| {
+            format!(
+                "{} (dropped as redundant) stays off by {:.3e}",
+                d.equation, d.residual
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+fn fmt_elements(v: &[crate::analysis::dropped::DroppedRowResidual]) -> String {
+    let mut names: Vec<&str> = v.iter().map(|d| d.equation.element.as_str()).collect();
+    names.dedup();
+    names
+        .iter()
+        .map(|n| format!("\"{n}\""))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 fn fmt_worst(v: &[(EquationName, f64)]) -> String {

@@ -82,6 +82,7 @@ pub mod sanity;
 pub mod workspace;
 
 pub use analysis::assembly::{AssemblyOptions, AssemblyReport};
+pub use analysis::dropped::{gross_inconsistency, DroppedRowResidual};
 pub use analysis::grid::KinematicOptions;
 pub use analysis::position::{
     PositionReport, FAST_RANK_MIN_UNKNOWNS, KINEMATIC_MAX_CHORD_STEPS, SELECTION_PIVOT_TOLERANCE,

@@ -143,6 +143,11 @@ pub struct Results {
     /// again during the run because the kept ones lost rank where the full set has not
     /// (see `Workspace::row_reselections`); 0 without redundant equations.
     pub row_reselections: usize,
+    /// The rows dropped as redundant that were not satisfied at the solution (scaled residual
+    /// above the position tolerance at some step): one per element, its worst row, value and
+    /// time ([`Model::dropped_row_residuals`](crate::Model::dropped_row_residuals)). Empty for a
+    /// consistent model; otherwise its joints disagree slightly and a front end should say so.
+    pub dropped_rows: Vec<crate::analysis::dropped::DroppedRowResidual>,
 }
 
 impl Results {

@@ -54,6 +54,13 @@ pub struct Workspace {
     pub(crate) x_start: Vec<f64>,
     /// Times the kinematic solver re-selected its independent rows.
     pub(crate) reselections: usize,
+    /// Length m: whether the kinematic solver keeps each row (false: dropped as redundant), and
+    /// each row's worst scaled residual while dropped, its value and time
+    /// (`analysis::dropped`).
+    pub(crate) kept: Vec<bool>,
+    pub(crate) dropped_worst: Vec<f64>,
+    pub(crate) dropped_value: Vec<f64>,
+    pub(crate) dropped_time: Vec<f64>,
     /// The predicted relative poses [p_rel; e] (7 per body).
     pub(crate) pred: Vec<f64>,
     /// Whether the predictor took a body's absolute motion (it turns faster relative to its
@@ -125,6 +132,10 @@ impl Workspace {
             x_tmp: vec![0.0; 7 * nb],
             x_start: vec![0.0; 7 * nb],
             reselections: 0,
+            kept: vec![true; m],
+            dropped_worst: vec![0.0; m],
+            dropped_value: vec![0.0; m],
+            dropped_time: vec![f64::NAN; m],
             pred: vec![0.0; 7 * nb],
             pred_absolute: vec![false; nb],
             x_pred: vec![0.0; 7 * nb],

@@ -213,6 +213,11 @@ pub struct NewtonReport {
 pub struct Newton<S: LinearSolver = AutoSolver> {
     pattern: SparsityPattern,
     selection: Option<RowSelection>,
+    /// With a row selection: judge convergence (and the line search's merit) on the kept rows
+    /// only, the dropped ones being the caller's to check ([`Newton::judge_kept_rows_only`]).
+    kept_rows_only: bool,
+    /// The rows the selection drops (empty without one).
+    dropped_rows: Vec<usize>,
     solver: S,
     options: NewtonOptions,
     m: usize,
@@ -356,9 +361,16 @@ impl<S: LinearSolver> Newton<S> {
             Vec::new()
         };
         let rm = solve_rows.len();
+        let mut kept = vec![false; m];
+        for &r in &solve_rows {
+            kept[r] = true;
+        }
+        let dropped_rows = (0..m).filter(|&r| !kept[r]).collect();
         Self {
             pattern: pattern.clone(),
             selection,
+            kept_rows_only: false,
+            dropped_rows,
             solver,
             options,
             m,
@@ -396,6 +408,26 @@ impl<S: LinearSolver> Newton<S> {
             refine_s: vec![0.0; m],
             refine_dy: vec![0.0; n],
         }
+    }
+
+    /// With a row selection, whether the convergence test and the line search's merit see the
+    /// kept rows only (`true`) or all equations (`false`, the default: the dropped rows of a
+    /// consistent redundant system are then satisfied too). `true` is for a redundant system
+    /// that is slightly inconsistent, where the dropped rows cannot vanish with the kept ones:
+    /// Newton then solves the kept rows exactly and the caller checks the dropped rows'
+    /// residuals. No effect without a row selection.
+    pub fn judge_kept_rows_only(&mut self, yes: bool) {
+        if self.kept_rows_only != yes {
+            self.kept_rows_only = yes;
+            // Recompute the weights at the next solve.
+            self.eq_scales.fill(f64::NAN);
+        }
+    }
+
+    /// Whether convergence is judged on the kept rows only (see
+    /// [`judge_kept_rows_only`](Self::judge_kept_rows_only)).
+    pub fn judges_kept_rows_only(&self) -> bool {
+        self.kept_rows_only && self.selection.is_some()
     }
 
     /// The options.
@@ -509,6 +541,12 @@ impl<S: LinearSolver> Newton<S> {
             .copy_from_slice(&self.new_unknown_weights);
         reciprocal_in_place(&mut self.new_eq_weights);
         reciprocal_in_place(&mut self.new_unknown_weights);
+        if self.judges_kept_rows_only() {
+            // Weight 0 takes the dropped rows out of the residual norm and the merit.
+            for &r in &self.dropped_rows {
+                self.new_eq_weights[r] = 0.0;
+            }
+        }
         if self.new_eq_weights != self.eq_weights
             || self.new_unknown_weights != self.unknown_weights
         {

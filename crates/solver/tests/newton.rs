@@ -936,3 +936,49 @@ fn solve_linear_at_accepts_a_backward_stable_refinement_of_an_ill_conditioned_sy
         assert!((a - b).abs() <= 1e-9 * scale, "{a} {b} (scale {scale})");
     }
 }
+
+/// x = 1, y = 2, x + y = 3 + ε: redundant and slightly inconsistent (issue 22).
+struct Inconsistent(f64);
+impl NonlinearSystem for Inconsistent {
+    fn num_equations(&self) -> usize {
+        3
+    }
+    fn num_unknowns(&self) -> usize {
+        2
+    }
+    fn residual(&mut self, x: &[f64], out: &mut [f64]) {
+        out[0] = x[0] - 1.0;
+        out[1] = x[1] - 2.0;
+        out[2] = x[0] + x[1] - 3.0 - self.0;
+    }
+    // slots: (0,0), (1,1), (2,0), (2,1)
+    fn jacobian(&mut self, _x: &[f64], s: &mut [f64]) {
+        s.copy_from_slice(&[1.0, 1.0, 1.0, 1.0]);
+    }
+}
+
+/// With the last row dropped, Newton judges all rows by default (the dropped row of a
+/// consistent system holds too), so an inconsistency of 1e-7 does not converge; judged on the
+/// kept rows it solves them exactly and leaves the dropped row its 1e-7.
+#[test]
+fn kept_rows_only_solves_an_inconsistent_redundant_system_on_its_kept_rows() {
+    let p = SparsityPattern::new(3, 2, &[(0, 0), (1, 1), (2, 0), (2, 1)]).unwrap();
+    let sel = p.select_rows(&[0, 1]).unwrap();
+    let mut newton =
+        Newton::with_row_selection(&p, sel, DenseLu::new(), NewtonOptions::default()).unwrap();
+    let mut x = [0.5, 0.5];
+    assert!(matches!(
+        newton.solve(&mut Inconsistent(1e-7), &mut x),
+        Err(SolverError::NotConverged { .. })
+    ));
+    assert!(!newton.judges_kept_rows_only());
+    newton.judge_kept_rows_only(true);
+    assert!(newton.judges_kept_rows_only());
+    let mut x = [0.5, 0.5];
+    let rep = newton.solve(&mut Inconsistent(1e-7), &mut x).unwrap();
+    assert_eq!(x, [1.0, 2.0]);
+    assert_eq!(rep.residual_norm, 0.0);
+    let mut out = [0.0; 3];
+    Inconsistent(1e-7).residual(&x, &mut out);
+    assert!((out[2] + 1e-7).abs() < 1e-15, "{out:?}");
+}

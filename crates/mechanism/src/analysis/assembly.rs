@@ -27,11 +27,16 @@ use crate::workspace::{apply_rotation_step, set_poses, Workspace};
 use cardan_constraints::{unwrap_angle, BodyPair, BodyState, Driver, TimeFunction};
 use cardan_solver::{
     LineSearch, LinearSolver, MinNormQr, Newton, NewtonOptions, NewtonReport, NonlinearSystem,
-    SolverError, SparseMinNorm, SparsityPattern, Tolerances, SPARSE_RANK_MIN_UNKNOWNS,
+    RankAnalysis, RowSelection, SolverError, SparseMinNorm, SparsityPattern, Tolerances,
+    SPARSE_RANK_MIN_UNKNOWNS,
 };
 
+/// A minimum-norm Newton solve's report and the rank of its last factorization (`None`: no
+/// equation to solve).
+type MinNormSolve = Option<(NewtonReport, Option<usize>)>;
+
 /// A Newton solve's outcome: its report and the rank of the last factorization.
-type Solved = Result<Option<(NewtonReport, Option<usize>)>, SolverError>;
+type Solved = Result<MinNormSolve, SolverError>;
 
 /// Newton with a minimum-norm linear solver: `Err` only when the solver cannot be set up; the
 /// inner result is the solve's.
@@ -45,6 +50,22 @@ fn min_norm_newton<S: LinearSolver>(
     let mut newton = Newton::new(pattern, solver, options)?;
     let r = newton.solve(sys, x);
     Ok(r.map(|rep| Some((rep, newton.linear_solver().rank()))))
+}
+
+/// Newton on the rows `selection` keeps, judged on them only (the dropped rows of an
+/// inconsistent redundant model cannot vanish), with a minimum-norm linear solver.
+fn kept_rows_newton<S: LinearSolver>(
+    pattern: &SparsityPattern,
+    selection: RowSelection,
+    solver: S,
+    options: NewtonOptions,
+    sys: &mut impl NonlinearSystem,
+    x: &mut [f64],
+) -> Result<(NewtonReport, Option<usize>), SolverError> {
+    let mut newton = Newton::with_row_selection(pattern, selection, solver, options)?;
+    newton.judge_kept_rows_only(true);
+    let rep = newton.solve(sys, x)?;
+    Ok((rep, newton.linear_solver().rank()))
 }
 
 /// Largest change of a driven angle per continuation step of the assembly (rad, 22.5°): well
@@ -124,6 +145,11 @@ pub struct AssemblyReport {
     pub max_rotation: f64,
     /// Rank of the last Jacobian (equations included).
     pub rank: Option<usize>,
+    /// The largest scaled residual |Φ_r| / e_r of the equations dropped as redundant: 0 when
+    /// every equation holds (a consistent model); positive for a slightly inconsistent
+    /// redundant model assembled at its least-squares-consistent pose (kept rows exact, see
+    /// `analysis::dropped`).
+    pub dropped_residual: f64,
 }
 
 /// The equations of the first `m` rows (joints, or joints + drivers).
@@ -328,36 +354,133 @@ impl Model {
         };
         ws.sync_poses();
         match result {
-            Ok(rep) => {
-                self.accept_turns(&ws.bodies, &mut ws.turns);
-                let (mut dt, mut dr) = (0.0f64, 0.0f64);
-                for b in 0..self.num_bodies() {
-                    let (g, x) = (&guess[7 * b..7 * b + 7], &ws.x[7 * b..7 * b + 7]);
-                    let d = ((x[0] - g[0]).powi(2) + (x[1] - g[1]).powi(2) + (x[2] - g[2]).powi(2))
-                        .sqrt();
-                    dt = dt.max(d);
-                    let dot: f64 = (3..7).map(|c| x[c] * g[c]).sum();
-                    dr = dr.max(2.0 * dot.abs().min(1.0).acos());
-                }
-                Ok(AssemblyReport {
-                    iterations: rep.map_or(0, |r| r.0.iterations),
-                    residual: rep.map_or(0.0, |r| r.0.residual_norm),
-                    max_translation: dt,
-                    max_rotation: dr,
-                    rank: rep.and_then(|r| r.1),
-                })
-            }
+            Ok(rep) => Ok(self.assembled(ws, &guess, rep, 0.0)),
             Err(e) => {
                 let iterations = match &e {
                     SolverError::NotConverged { iterations, .. } => *iterations,
                     _ => 0,
                 };
+                if iterations > 0 {
+                    // A slightly inconsistent redundant model: the iterate is near its
+                    // least-squares pose, where the kept rows can be solved exactly.
+                    if let Some(kept) = self.assemble_kept_rows(ws, options, &pattern, nopts) {
+                        return kept.map(|(rep, dropped)| self.assembled(ws, &guess, rep, dropped));
+                    }
+                }
                 Err(AnalysisError::AssemblyFailed {
                     open: self.open_elements(ws, m, options.tolerances.residual.max(1e-8)),
                     iterations,
                 })
             }
         }
+    }
+
+    /// The report of an assembly that reached the workspace's poses from `guess` (the turns of
+    /// its couplers accepted).
+    fn assembled(
+        &self,
+        ws: &mut Workspace,
+        guess: &[f64],
+        rep: MinNormSolve,
+        dropped_residual: f64,
+    ) -> AssemblyReport {
+        self.accept_turns(&ws.bodies, &mut ws.turns);
+        let (mut dt, mut dr) = (0.0f64, 0.0f64);
+        for b in 0..self.num_bodies() {
+            let (g, x) = (&guess[7 * b..7 * b + 7], &ws.x[7 * b..7 * b + 7]);
+            let d = ((x[0] - g[0]).powi(2) + (x[1] - g[1]).powi(2) + (x[2] - g[2]).powi(2)).sqrt();
+            dt = dt.max(d);
+            let dot: f64 = (3..7).map(|c| x[c] * g[c]).sum();
+            dr = dr.max(2.0 * dot.abs().min(1.0).acos());
+        }
+        AssemblyReport {
+            iterations: rep.map_or(0, |r| r.0.iterations),
+            residual: rep.map_or(0.0, |r| r.0.residual_norm),
+            max_translation: dt,
+            max_rotation: dr,
+            rank: rep.and_then(|r| r.1),
+            dropped_residual,
+        }
+    }
+
+    /// The least-squares-consistent pose of a slightly inconsistent redundant model, from the
+    /// last iterate of a minimum-norm solve of all `pattern.nrows()` equations that did not
+    /// converge (`analysis::dropped`): the rank analysis there, with the tolerance widened by
+    /// the residual, picks the independent rows, and Newton solves those exactly. `None` when
+    /// the iterate is off by more than
+    /// [`LEAST_SQUARES_MAX_RESIDUAL`](crate::analysis::dropped::LEAST_SQUARES_MAX_RESIDUAL), no
+    /// row is redundant there or the kept rows do not converge (the caller reports the
+    /// original failure); otherwise the solve and the largest scaled residual of the dropped
+    /// rows, or [`AnalysisError::InconsistentJoints`] when it exceeds
+    /// [`gross_inconsistency`](crate::analysis::dropped::gross_inconsistency).
+    fn assemble_kept_rows(
+        &self,
+        ws: &mut Workspace,
+        options: &AssemblyOptions,
+        pattern: &SparsityPattern,
+        nopts: NewtonOptions,
+    ) -> Option<Result<(MinNormSolve, f64), AnalysisError>> {
+        let (m, t) = (pattern.nrows(), options.t);
+        self.phi_into(&ws.bodies, &ws.turns, t, &mut ws.phi);
+        let off = self.scaled_residual(&ws.phi, m);
+        if off > crate::analysis::dropped::LEAST_SQUARES_MAX_RESIDUAL || off.is_nan() {
+            // Not close: a model that cannot close (or a non-finite iterate).
+            return None;
+        }
+        let rank_options = self.rank_options_for(&ws.phi, m);
+        let mut slots = vec![0.0; self.pattern.num_slots()];
+        self.jacobian_into(&ws.bodies, t, &mut slots);
+        let ra = RankAnalysis::compute_auto(pattern, &slots[..pattern.num_slots()], rank_options)
+            .ok()?;
+        if ra.dependent_rows().is_empty() {
+            return None;
+        }
+        let selection = pattern.select_rows(ra.independent_rows()).ok()?;
+        let mut sys = AssemblySystem {
+            model: self,
+            bodies: &mut ws.bodies,
+            turns: &ws.turns,
+            t,
+            m,
+            phi: vec![0.0; self.num_equations()],
+            slots: vec![0.0; self.pattern.num_slots()],
+        };
+        let solved = if self.num_unknowns() >= SPARSE_RANK_MIN_UNKNOWNS {
+            kept_rows_newton(
+                pattern,
+                selection,
+                SparseMinNorm::new(),
+                nopts,
+                &mut sys,
+                &mut ws.x,
+            )
+        } else {
+            kept_rows_newton(
+                pattern,
+                selection,
+                MinNormQr::new(),
+                nopts,
+                &mut sys,
+                &mut ws.x,
+            )
+        };
+        ws.sync_poses();
+        let rep = solved.ok()?;
+        self.phi_into(&ws.bodies, &ws.turns, t, &mut ws.phi);
+        let mut kept = vec![false; m];
+        for &r in ra.independent_rows() {
+            kept[r] = true;
+        }
+        let dropped = self.dropped_residual(&ws.phi[..m], &kept);
+        if dropped > crate::analysis::dropped::gross_inconsistency(options.tolerances.residual) {
+            let rows = self.dropped_rows_at(&ws.phi[..m], &kept, t, options.tolerances.residual);
+            return Some(Err(AnalysisError::InconsistentJoints {
+                time: t,
+                limit: crate::analysis::dropped::gross_inconsistency(options.tolerances.residual),
+                dropped: rows,
+            }));
+        }
+        Some(Ok((Some(rep), dropped)))
     }
 
     /// The elements among the first `m` rows whose scaled residual exceeds `tol`, largest first.

@@ -272,13 +272,27 @@ impl Model {
             let step = self.step(ws, options, k, t, &mut results, &mut joint_prev);
             results.row_reselections = ws.reselections - reselections;
             if let Err(e) = step {
+                results.dropped_rows = self.dropped_rows_of_run(ws);
                 return Err(e.with_partial(results));
             }
             if progress(k, t).is_break() {
                 break;
             }
         }
+        results.dropped_rows = self.dropped_rows_of_run(ws);
         Ok(results)
+    }
+
+    /// The dropped rows off by more than the kinematic solver's residual tolerance during the
+    /// run (`analysis::dropped`).
+    fn dropped_rows_of_run(
+        &self,
+        ws: &Workspace,
+    ) -> Vec<crate::analysis::dropped::DroppedRowResidual> {
+        let tol = ws.kin.as_ref().map_or(Tolerances::default().residual, |n| {
+            n.options().tolerances.residual
+        });
+        self.dropped_row_residuals(ws, tol)
     }
 
     /// One step of the grid (no allocation after warm-up): the position at t_k (subdivided when
@@ -568,6 +582,7 @@ impl Model {
             iterations: Vec::with_capacity(n),
             subdivided_steps: 0,
             row_reselections: 0,
+            dropped_rows: Vec::new(),
         }
     }
 

@@ -2,6 +2,7 @@
 //! acceleration at one time, and runs over a time grid.
 //!
 //! - [`assembly`]: consistent initial poses from a rough guess (minimum-norm Newton).
+//! - [`dropped`]: the residuals of the rows dropped as redundant, checked at the solution.
 //! - [`position`]: the square kinematic Newton (redundant rows dropped once) at one time.
 //! - [`velocity`]: Φ_v v = ν with the position factorization.
 //! - [`acceleration`]: Φ_v v̇ = γ#_v with the same factorization.
@@ -11,6 +12,7 @@
 
 pub mod acceleration;
 pub mod assembly;
+pub mod dropped;
 pub mod grid;
 pub mod position;
 pub(crate) mod predictor;

@@ -98,20 +98,25 @@ impl Model {
         ws: &mut Workspace,
         options: NewtonOptions,
     ) -> Result<DofReport, AnalysisError> {
+        ws.reset_dropped_rows();
         if let Some(report) = self.prepare_square_fast(ws, options) {
             return Ok(report);
         }
         let report = self.dof(ws)?;
-        self.select_rows(ws, report, options)
+        self.select_rows(ws, report, options, None)
     }
 
     /// Checks the drivers against the DOF report, picks the independent rows at the workspace's
-    /// poses and builds the square kinematic Newton on them.
+    /// poses and builds the square kinematic Newton on them. `kept_rows_only`: whether Newton
+    /// judges the kept rows only ([`cardan_solver::Newton::judge_kept_rows_only`]); `None` at a
+    /// solved pose decides it there (dropped rows already off: a slightly inconsistent model,
+    /// `analysis::dropped`), and widens the rank tolerance by the pose's residual.
     fn select_rows(
         &self,
         ws: &mut Workspace,
         report: DofReport,
         options: NewtonOptions,
+        kept_rows_only: Option<bool>,
     ) -> Result<DofReport, AnalysisError> {
         if report.dof != report.drivers {
             return Err(AnalysisError::DriverCount {
@@ -121,7 +126,12 @@ impl Model {
         }
         let mut slots = vec![0.0; self.pattern.num_slots()];
         self.jacobian_into(&ws.bodies, ws.t, &mut slots);
-        let ra = RankAnalysis::compute_auto(&self.pattern, &slots, RankOptions::default())
+        self.phi_into(&ws.bodies, &ws.turns, ws.t, &mut ws.phi);
+        let rank_options = match kept_rows_only {
+            None => self.rank_options_for(&ws.phi, self.num_equations()),
+            Some(_) => RankOptions::default(),
+        };
+        let ra = RankAnalysis::compute_auto(&self.pattern, &slots, rank_options)
             .map_err(|e| solver(ws.t, e))?;
         if ra.rank() < self.num_unknowns() {
             let dependent = ra
@@ -141,8 +151,15 @@ impl Model {
         } else {
             AutoSolver::default()
         };
-        let newton = Newton::with_row_selection(&self.pattern, selection, lu, options)
+        let mut newton = Newton::with_row_selection(&self.pattern, selection, lu, options)
             .map_err(|e| solver(ws.t, e))?;
+        ws.set_kept_rows(ra.independent_rows());
+        // Dropped rows already off at this (assembled or accepted) pose belong to a slightly
+        // inconsistent model: they cannot vanish with the kept ones, so Newton judges the kept
+        // rows and the dropped ones are recorded (`analysis::dropped`).
+        newton.judge_kept_rows_only(kept_rows_only.unwrap_or_else(|| {
+            self.dropped_residual(&ws.phi, &ws.kept) > options.tolerances.residual
+        }));
         ws.kin = Some(newton);
         ws.dof = Some(report.clone());
         ws.invalidate();
@@ -217,10 +234,11 @@ impl Model {
             ws.sync_poses();
             let newton = ws.kin.as_ref().expect("prepared above");
             let (options, old) = (*newton.options(), newton.row_selection().cloned());
+            let kept_rows_only = newton.judges_kept_rows_only();
             let report = ws.dof.clone().expect("prepared with a DOF report");
             let t_prepared = ws.t;
             ws.t = t;
-            self.select_rows(ws, report, options)?;
+            self.select_rows(ws, report, options, Some(kept_rows_only))?;
             ws.t = t_prepared;
             ws.x.copy_from_slice(&ws.x_start);
             ws.sync_poses();
@@ -238,6 +256,9 @@ impl Model {
             Ok(rep) => {
                 self.accept_turns(&ws.bodies, &mut ws.turns);
                 self.phi_into(&ws.bodies, &ws.turns, t, &mut ws.phi);
+                if selected {
+                    self.record_dropped_rows(ws, t);
+                }
                 let residual = ws.phi.iter().fold(0.0f64, |a, v| a.max(v.abs()));
                 Ok(PositionReport {
                     iterations: rep.iterations,

@@ -157,6 +157,14 @@ fn link(
 /// The planar four-bar as four spatial revolute joints (3 redundant equations), crank driven
 /// with θ(t) = θ0 + ω t.
 pub fn four_bar_builder(theta0: f64, omega: f64) -> MechanismBuilder {
+    four_bar_builder_off_plane(theta0, omega, 0.0)
+}
+
+/// [`four_bar_builder`] with the ground pivot O4 drawn `dz` out of the plane (the rocker
+/// drawn in the plane): the loop cannot close for dz ≠ 0 (the revolute axes are parallel), a
+/// redundant model whose joints disagree by |dz|.
+#[allow(dead_code)]
+pub fn four_bar_builder_off_plane(theta0: f64, omega: f64, dz: f64) -> MechanismBuilder {
     let (d, a, _, _) = FOUR_BAR;
     let mut b = MechanismBuilder::new();
     let pa = Vector3::new(a * theta0.cos(), a * theta0.sin(), 0.0);
@@ -166,7 +174,7 @@ pub fn four_bar_builder(theta0: f64, omega: f64) -> MechanismBuilder {
     link(&mut b, "coupler", pa, pb, ("A", "B"));
     link(&mut b, "rocker", o4, pb, ("O", "B"));
     b.point(GROUND, "O2", Vector3::zeros())
-        .point(GROUND, "O4", o4)
+        .point(GROUND, "O4", o4 + Vector3::new(0.0, 0.0, dz))
         .vector(GROUND, "z", Vector3::z())
         .vector(GROUND, "x", Vector3::x());
     let rev = |n: &str, i: (&str, &str), j: (&str, &str)| {

@@ -274,7 +274,8 @@ pub fn drift_bound(p: &Prepared, integrator: &Integrator) -> f64 {
 /// Warnings about doubtful results of a dynamic run: an energy balance beyond
 /// [`ENERGY_BALANCE_BOUND`] of the energy scale (the energy change that the work of the
 /// drivers and non-conservative forces does not explain: checked for every model, driven,
-/// damped or conservative), a constraint drift beyond [`drift_bound`].
+/// damped or conservative), a row dropped as redundant that stays off by more than the kept
+/// rows drift (the redundant joints disagree), a constraint drift beyond [`drift_bound`].
 pub fn doubtful_results(p: &Prepared, r: &DynamicResults, integrator: &Integrator) -> Vec<String> {
     let mut warnings = Vec::new();
     let balance = r.energy.max_balance();
@@ -291,9 +292,20 @@ pub fn doubtful_results(p: &Prepared, r: &DynamicResults, integrator: &Integrato
             100.0 * ENERGY_BALANCE_BOUND
         ));
     }
+    warnings.extend(super::kinematic::dropped_row_warnings(
+        p,
+        &r.kinematics.dropped_rows,
+    ));
     let worst = r.position_drift.iter().fold(0.0f64, |a, &d| a.max(d));
     let bound = drift_bound(p, integrator);
-    if worst > bound || worst.is_nan() {
+    // A drift no larger than the dropped rows' disagreement is that disagreement (warned above),
+    // not an integration error.
+    let disagreement = r
+        .kinematics
+        .dropped_rows
+        .iter()
+        .fold(0.0f64, |a, d| a.max(d.value.abs()));
+    if (worst > bound && worst > disagreement) || worst.is_nan() {
         warnings.push(format!(
             "constraint drift {worst:.3e} (largest |Φ_i|, m or -) exceeds the tolerance \
              {bound:.3e} (the integrator's tolerance times the model's length scale): the \

@@ -51,7 +51,7 @@ pub(super) fn run_inverse(
         dynamic: None,
         energy_balance: Some(super::summary::EnergyBalance::of(&r.energy)),
         peak_efforts: peak_efforts(p, &r),
-        warnings: Vec::new(),
+        warnings: kinematic::dropped_row_warnings(p, &k.dropped_rows),
         subdivided_steps: Some(k.subdivided_steps),
         row_reselections: k.row_reselections + r.stats.row_reselections,
     };

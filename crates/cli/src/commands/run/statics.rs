@@ -108,6 +108,10 @@ pub(super) fn run_statics(
         .collect();
     tables.push(stability_table(&statics));
     let mut warnings = stability_warnings(&statics);
+    warnings.extend(super::kinematic::dropped_row_warnings(
+        p,
+        &r.kinematics.dropped_rows,
+    ));
     let mut files = Vec::new();
     let bodies: Vec<&str> = r
         .kinematics
