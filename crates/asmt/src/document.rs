@@ -450,14 +450,17 @@ impl<'a> Block<'a> {
         Ok(self.value(label)?.text.trim_start().to_string())
     }
 
+    // The element's description is formatted only for a message (a file has hundreds of
+    // numbers and no error, usually).
     fn number(&self, label: &str) -> Result<f64> {
         let v = self.value(label)?;
-        number(v.label(), v.line, &format!("\"{label}\" of {}", self.what))
+        number(v.label(), v.line, "")
+            .or_else(|_| number(v.label(), v.line, &format!("\"{label}\" of {}", self.what)))
     }
 
     fn vector(&self, label: &str) -> Result<Vector3<f64>> {
         let v = self.value(label)?;
-        vector(v, &format!("\"{label}\" of {}", self.what))
+        vector(v, "").or_else(|_| vector(v, &format!("\"{label}\" of {}", self.what)))
     }
 
     fn matrix(&self, label: &str) -> Result<Matrix3<f64>> {
@@ -474,13 +477,16 @@ impl<'a> Block<'a> {
         }
         let mut m = Matrix3::zeros();
         for (i, row) in f.children.iter().enumerate() {
-            let r = vector(
-                row,
-                &format!("row {} of \"{label}\" of {}", i + 1, self.what),
-            )?;
+            let r = vector(row, "").or_else(|_| {
+                vector(
+                    row,
+                    &format!("row {} of \"{label}\" of {}", i + 1, self.what),
+                )
+            })?;
             m.set_row(i, &r.transpose());
         }
-        check_rotation(&m, f.line, &format!("\"{label}\" of {}", self.what))
+        check_rotation(&m, f.line, "")
+            .or_else(|_| check_rotation(&m, f.line, &format!("\"{label}\" of {}", self.what)))
     }
 
     fn frame(&self) -> Result<Frame> {
