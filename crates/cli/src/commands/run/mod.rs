@@ -61,6 +61,29 @@ pub fn run(
     }
 }
 
+/// Drivers the summary line names at most; a larger model's line names the largest efforts and
+/// says how many more `driver_efforts.csv` holds.
+const MAX_LISTED_EFFORTS: usize = 8;
+
+/// `name value unit` of each driver, in model order, or of the [`MAX_LISTED_EFFORTS`] largest.
+fn effort_list(efforts: &[(String, f64, &str)]) -> String {
+    let item = |(n, v, u): &(String, f64, &str)| format!("{n} {v:.4e} {u}");
+    if efforts.len() <= MAX_LISTED_EFFORTS {
+        return efforts.iter().map(item).collect::<Vec<_>>().join(", ");
+    }
+    let mut order: Vec<usize> = (0..efforts.len()).collect();
+    order.sort_by(|&a, &b| efforts[b].1.abs().total_cmp(&efforts[a].1.abs()));
+    let largest: Vec<String> = order[..MAX_LISTED_EFFORTS]
+        .iter()
+        .map(|&k| item(&efforts[k]))
+        .collect();
+    format!(
+        "{} (the {MAX_LISTED_EFFORTS} largest; {} more drivers in driver_efforts.csv)",
+        largest.join(", "),
+        efforts.len() - MAX_LISTED_EFFORTS
+    )
+}
+
 /// The summary: the files written, one line of numbers, then one line per warning.
 pub fn print_summary(s: &Summary, out: &mut dyn Write) -> Result<(), Error> {
     let written: Vec<String> = s
@@ -83,12 +106,7 @@ pub fn print_summary(s: &Summary, out: &mut dyn Write) -> Result<(), Error> {
     let efforts = if s.peak_efforts.is_empty() {
         String::new()
     } else {
-        let list: Vec<String> = s
-            .peak_efforts
-            .iter()
-            .map(|(n, v, u)| format!("{n} {v:.4e} {u}"))
-            .collect();
-        format!(", peak |driver effort| {}", list.join(", "))
+        format!(", peak |driver effort| {}", effort_list(&s.peak_efforts))
     };
     let efforts = match s.subdivided_steps {
         Some(1) => format!("{efforts}, 1 step subdivided to stay on the assembly branch"),
@@ -447,5 +465,29 @@ fn report(p: &Prepared, kind: &'static str, a: &Analysed, files: Vec<String>) ->
         row_reselections: s.row_reselections,
         files,
         wall_time_s: s.wall.as_secs_f64(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_summary_names_every_driver_of_a_small_model_and_the_largest_of_a_large_one() {
+        let few = vec![
+            ("motor".to_string(), -2.5, "N m"),
+            ("jack".to_string(), 10.0, "N"),
+        ];
+        assert_eq!(effort_list(&few), "motor -2.5000e0 N m, jack 1.0000e1 N");
+        let many: Vec<(String, f64, &str)> = (0..1000)
+            .map(|k| (format!("d{k}"), (k as f64 - 500.0).abs(), "N m"))
+            .collect();
+        let line = effort_list(&many);
+        assert!(
+            line.starts_with("d0 5.0000e2 N m, d1 4.9900e2 N m, d999 4.9900e2 N m"),
+            "{line}"
+        );
+        assert!(line.ends_with("(the 8 largest; 992 more drivers in driver_efforts.csv)"));
+        assert_eq!(line.matches(" N m").count(), 8);
     }
 }
