@@ -309,6 +309,18 @@ pub fn exudyn(python: &str, script: &Path) -> Result<PeerResult, String> {
     Ok(r)
 }
 
+/// The largest relative difference of two frequency lists, mode by mode (infinite when their
+/// lengths differ).
+pub fn worst_difference(ours: &[f64], theirs: &[f64]) -> f64 {
+    if ours.len() != theirs.len() {
+        return f64::INFINITY;
+    }
+    ours.iter()
+        .zip(theirs)
+        .map(|(a, b)| (a - b).abs() / b.abs())
+        .fold(0.0f64, f64::max)
+}
+
 /// The markdown section and whether the check passed (every frequency within [`TOLERANCE`],
 /// the same equilibrium and frames).
 pub fn section(python: &str, root: &Path) -> (String, bool) {
@@ -342,7 +354,7 @@ pub fn section(python: &str, root: &Path) -> (String, bool) {
         "| mode | cardan (Hz) | Exudyn {} (Hz) | relative difference |\n|---|---|---|---|",
         theirs.version
     );
-    let mut worst = 0.0f64;
+    let worst = worst_difference(&ours, &theirs.frequencies);
     let n = ours.len().max(theirs.frequencies.len());
     for i in 0..n {
         let (a, b) = (ours.get(i), theirs.frequencies.get(i));
@@ -350,7 +362,6 @@ pub fn section(python: &str, root: &Path) -> (String, bool) {
             (Some(a), Some(b)) => (a - b).abs() / b.abs(),
             _ => f64::INFINITY,
         };
-        worst = worst.max(rel);
         let show = |x: Option<&f64>| x.map_or("–".to_string(), |x| format!("{x:.12}"));
         let _ = writeln!(md, "| {} | {} | {} | {rel:.1e} |", i + 1, show(a), show(b));
     }
@@ -377,6 +388,15 @@ mod tests {
         assert_eq!(f.len(), 3, "{f:?}");
         assert!(iterations <= 1, "{iterations} Newton iterations");
         assert!(f.iter().all(|x| *x > 0.1 && *x < 10.0), "{f:?}");
+    }
+
+    #[test]
+    fn a_difference_above_the_tolerance_or_a_missing_mode_fails() {
+        let f = [0.4395, 0.6603, 1.4013];
+        assert_eq!(worst_difference(&f, &f), 0.0);
+        let off = [0.4395 * (1.0 + 7e-6), 0.6603, 1.4013];
+        assert!(worst_difference(&f, &off) > TOLERANCE);
+        assert!(worst_difference(&f, &f[..2]).is_infinite());
     }
 
     #[test]
