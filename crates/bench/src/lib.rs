@@ -7,6 +7,7 @@
 //! - [`genalpha`]: generalized-α over a developing motion (chain cost and iterations per slice of
 //!   a run, slider-crank error), `cardan-bench --genalpha` / `--genalpha-sc`.
 //! - [`large`]: `cardan check` and run setup of 10³–10⁵-body chains (time, peak memory).
+//! - [`modal_peer`]: eigenfrequencies of a 3D model against Exudyn (`cardan-bench --modal --peers`).
 //! - [`measure`]: timing helpers (median of repeated batches), peak memory (`VmHWM`).
 //! - [`svg`]: minimal log-log line plots.
 //!
@@ -20,6 +21,7 @@ pub mod genalpha;
 pub mod kinematic_accuracy;
 pub mod large;
 pub mod measure;
+pub mod modal_peer;
 pub mod modal_sparse;
 pub mod models;
 pub mod run_memory;

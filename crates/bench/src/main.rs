@@ -12,7 +12,8 @@
 //! cardan-bench --drivers [--smoke]    (the driver-function section alone, to stdout)
 //! cardan-bench --animation [--smoke]  (the animation and report section alone, to stdout)
 //! cardan-bench --large [--smoke]      (check and run setup of 10³–10⁵-body chains, to stdout)
-//! cardan-bench --modal [--smoke]      (the sparse modal analysis section alone, to stdout)
+//! cardan-bench --modal [--smoke] [--peers PYTHON]  (the modal sections alone, to stdout; with
+//!     --peers also the frequencies against Exudyn, exit status 1 above 1e-6 relative)
 //! cardan-bench --asmt [--smoke] [--peers PYTHON]  (ASMT files against OndselSolver, to stdout)
 //! ```
 //!
@@ -90,6 +91,14 @@ fn main() {
     if args.first().map(String::as_str) == Some("--modal") {
         let smoke = args.iter().any(|a| a == "--smoke");
         println!("{}", cardan_bench::modal_sparse::section(smoke));
+        if let Some(k) = args.iter().position(|a| a == "--peers") {
+            let py = args.get(k + 1).map_or("python3", String::as_str);
+            let (md, ok) = cardan_bench::modal_peer::section(py, &root());
+            println!("{md}");
+            if !ok {
+                std::process::exit(1);
+            }
+        }
         return;
     }
     if args.first().map(String::as_str) == Some("--animation") {
@@ -206,6 +215,7 @@ fn main() {
     if let Some(py) = &peers {
         eprintln!("== peers");
         md.push_str(&peers_section(&cfg, py));
+        md.push_str(&cardan_bench::modal_peer::section(py, &root()).0);
     } else if let Some(e) = &peers_error {
         let _ = writeln!(md, "### Peers\n\nPeers could not be installed: {e}\n");
     } else {

@@ -1530,7 +1530,7 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
         }
     };
     let load_steps = load_static_keys(cx, a, kind, statics)?;
-    let modes = load_modes(cx, a, statics)?;
+    let modes = load_modes(cx, a, statics, 6 * r.order.len().saturating_sub(1))?;
     let one_time = matches!(statics, Some(StaticKind::Static | StaticKind::Modal));
     let t_start = match &a.t_start {
         Some(t) => cx.num(t, "t_start", Quantity::Time)?,
@@ -1760,11 +1760,13 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
     })
 }
 
-/// `modes = n` (modal only, 1 to 10,000): the number of lowest modes.
+/// `modes = n` (modal only, 1 to 10,000 and at most the model's `unknowns`, 6 per moving
+/// body): the number of lowest modes.
 fn load_modes(
     cx: &Ctx,
     a: &AnalysisSection,
     statics: Option<StaticKind>,
+    unknowns: usize,
 ) -> Result<Option<usize>, Error> {
     let Some(n) = &a.modes else {
         return Ok(None);
@@ -1780,6 +1782,15 @@ fn load_modes(
         return Err(cx.err(
             n.span(),
             format!("modes must be between 1 and 10000, got {v}"),
+        ));
+    }
+    if v as usize > unknowns {
+        return Err(cx.err(
+            n.span(),
+            format!(
+                "modes = {v} is more than the model's {unknowns} unknowns (6 per moving body): \
+                 it has at most that many modes"
+            ),
         ));
     }
     Ok(Some(v as usize))

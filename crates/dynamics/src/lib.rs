@@ -142,6 +142,7 @@ pub mod options;
 mod record;
 pub mod results;
 pub mod simulate;
+pub mod sparse_linearization;
 pub mod sparse_modal;
 pub mod sparse_tangent;
 pub mod state;
@@ -162,9 +163,13 @@ pub use results::{
     CouplerEfforts, DriverEfforts, DynamicResults, ElementWork, EnergyHistory, IntegrationStats,
     JointReactions, Reaction,
 };
+pub use sparse_linearization::{
+    LinearizationMatrices, SparseTriplets, SPARSE_LINEARIZATION_MAX_DOF,
+    SPARSE_LINEARIZATION_MAX_UNKNOWNS,
+};
 pub use sparse_modal::SparseModalResults;
 pub use sparse_tangent::{SparseMatrix, SPARSE_MIN_BODIES};
 pub use state::State;
-pub use state_space::{matrix_market, Input, Output, StateSpace};
+pub use state_space::{matrix_market, matrix_market_sparse, Input, Output, StateSpace};
 pub use statics::{Equilibrium, Stability, StaticOptions, StaticResults};
 pub use system::{Dynamics, Energy};

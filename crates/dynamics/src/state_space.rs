@@ -259,3 +259,17 @@ pub fn matrix_market(m: &DMatrix<f64>) -> String {
     }
     s
 }
+
+/// The sparse `rows` × `cols` matrix of the triplets `entries` (no duplicates) in the format of
+/// [`matrix_market`] (the same text as the dense matrix would give: nonzeros by column, then
+/// row).
+pub fn matrix_market_sparse(rows: usize, cols: usize, entries: &[(usize, usize, f64)]) -> String {
+    let mut nz: Vec<(usize, usize, f64)> = entries.iter().copied().filter(|e| e.2 != 0.0).collect();
+    nz.sort_by_key(|e| (e.1, e.0));
+    let mut s = String::from("%%MatrixMarket matrix coordinate real general\n");
+    let _ = writeln!(s, "{rows} {cols} {}", nz.len());
+    for (r, c, v) in nz {
+        let _ = writeln!(s, "{} {} {:.17e}", r + 1, c + 1, v);
+    }
+    s
+}

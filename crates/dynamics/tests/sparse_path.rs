@@ -107,3 +107,99 @@ fn coupled_pendulums_equilibrium_and_lowest_frequencies_on_the_sparse_path() {
         eq.iterations, r.lanczos_steps
     );
 }
+
+/// The sparse path's linearization (M-orthonormal basis from the saddle-point factorization)
+/// against the dense one (SVD basis) on a small row of coupled pendulums: a different basis,
+/// the same physics. N spans the null space of Φ_v (Φ_v N = 0, NᵀMN = I), the eigenvalues
+/// of (K_r, M_r) are the dense path's, and so is the static gain −C A⁻¹ B of a state-space
+/// model (force on the first pendulum, displacement of the fourth), which does not depend on
+/// the basis.
+#[test]
+fn sparse_linearization_is_the_dense_one_in_another_basis() {
+    use cardan_dynamics::{Input, ModalOptions, Output};
+    let (n, m, j, l, a, k) = (6, 1.0, 0.01, 0.5, 1.0, 50.0);
+    let model = coupled_pendulums(n, m, j, l, a);
+    let forces = |d: &mut Dynamics| {
+        d.add_force(Force::gravity(Vector3::new(0.0, -G, 0.0)))
+            .unwrap();
+        for i in 0..n - 1 {
+            d.add_force(Force::spring_damper(
+                &format!("s{i}"),
+                (&format!("p{i}"), "C"),
+                (&format!("p{}", i + 1), "C"),
+                k,
+                0.3,
+                Some(a),
+            ))
+            .unwrap();
+        }
+    };
+    let mut ds = Dynamics::new(&model).unwrap();
+    forces(&mut ds);
+    let r = ds.modal_sparse(&StaticOptions::default(), n).unwrap();
+    let eq = r.equilibrium.equilibria[0].clone();
+    let lin = ds.linearize_sparse(&eq, &r.stiffness, &r.damping).unwrap();
+    let full = ds.linearization_matrices(&eq.state).unwrap();
+    assert_eq!(lin.dof(), n);
+    assert_eq!(full.jacobian.rows, 5 * n);
+    let jn = {
+        let mut jd = nalgebra::DMatrix::zeros(full.jacobian.rows, full.jacobian.cols);
+        for &(r, c, v) in &full.jacobian.entries {
+            jd[(r, c)] = v;
+        }
+        jd * &lin.basis
+    };
+    assert!(jn.amax() < 1e-12, "Φ_v N: {}", jn.amax());
+    let eye = nalgebra::DMatrix::<f64>::identity(n, n);
+    assert!((&lin.mass - eye).amax() < 1e-12, "NᵀMN − I");
+    let mt = full.mass.to_dense();
+    let mn = lin.basis.transpose() * mt * &lin.basis;
+    assert!(
+        (&mn - &lin.mass).amax() < 1e-12,
+        "M of linearization_matrices"
+    );
+
+    let mut dd = Dynamics::new(&model).unwrap();
+    forces(&mut dd);
+    let dense = dd.modal(&ModalOptions::default()).unwrap();
+    let deq = &dense.equilibrium.equilibria[0];
+    // Undamped eigenvalues of both reduced pencils.
+    let eig = |lin: &cardan_dynamics::Linearization| {
+        let l = lin.mass.clone().cholesky().unwrap().l();
+        let li = l.clone().try_inverse().unwrap();
+        let mut w: Vec<f64> = (&li * &lin.stiffness * li.transpose())
+            .symmetric_eigen()
+            .eigenvalues
+            .iter()
+            .copied()
+            .collect();
+        w.sort_by(f64::total_cmp);
+        w
+    };
+    let (ws, wd) = (eig(&lin), eig(&dense.linearization));
+    for (a, b) in ws.iter().zip(&wd) {
+        assert!((a - b).abs() < 1e-8 * b.abs(), "ω² {a} vs {b}");
+    }
+    let input = [Input::Force {
+        body: "p0".into(),
+        point: Vector3::zeros(),
+        direction: Vector3::x(),
+    }];
+    let output = [Output::Point {
+        body: "p3".into(),
+        point: Vector3::zeros(),
+        direction: Vector3::x(),
+    }];
+    let gain = |d: &mut Dynamics, state, lin| {
+        let ss = d.state_space(state, lin, &input, &output).unwrap();
+        let x = ss.a.clone().lu().solve(&ss.b).unwrap();
+        -(&ss.c * x)[(0, 0)]
+    };
+    let gs = gain(&mut ds, &eq.state, &lin);
+    let gd = gain(&mut dd, &deq.state, &dense.linearization);
+    println!("static gain: sparse {gs:e}, dense {gd:e}");
+    assert!(
+        gd.abs() > 1e-6 && (gs - gd).abs() < 1e-8 * gd.abs(),
+        "{gs} vs {gd}"
+    );
+}

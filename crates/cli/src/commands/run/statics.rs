@@ -15,8 +15,10 @@ use crate::commands::{analysis_error, Prepared};
 use crate::diag::Error;
 use crate::table::Table;
 use cardan_dynamics::{
-    matrix_market, Dynamics, DynamicsError, Force, Frame, Input, Linearization, ModalOptions, Mode,
-    ModeKind, Output, PointRef, SparseModalResults, Stability, State, StaticOptions, StaticResults,
+    matrix_market, matrix_market_sparse, Dynamics, DynamicsError, Equilibrium, Force, Frame, Input,
+    Linearization, ModalOptions, Mode, ModeKind, Output, PointRef, SparseMatrix,
+    SparseModalResults, Stability, State, StaticOptions, StaticResults,
+    SPARSE_LINEARIZATION_MAX_DOF, SPARSE_LINEARIZATION_MAX_UNKNOWNS,
 };
 use cardan_mechanism::{BodyId, Outputs};
 use nalgebra::{Vector3, Vector4};
@@ -138,6 +140,10 @@ pub(super) fn run_statics(
                 s.lanczos_steps
             ));
         }
+        if let Some(eq) = s.equilibrium.equilibria.first() {
+            files = sparse_matrix_files(p, &mut d, eq, s, &req, &analysis.inputs, &mut warnings)
+                .map_err(|e| error(p, &e, what))?;
+        }
     }
     if let Some(m) = &modal {
         if let Some(eq) = m.equilibrium.equilibria.first() {
@@ -155,17 +161,26 @@ pub(super) fn run_statics(
                 d.linearize_released(eq, &released)
                     .map_err(|e| error(p, &e, what))?
             };
-            files = matrix_files(
-                p,
+            files = full_matrix_files(
                 &mut d,
                 &eq.state,
-                &lin,
-                &req,
-                &analysis.inputs,
-                &about,
-                false,
+                &m.linearization.full_stiffness,
+                &m.linearization.full_damping,
             )
             .map_err(|e| error(p, &e, what))?;
+            files.extend(
+                matrix_files(
+                    p,
+                    &mut d,
+                    &eq.state,
+                    &lin,
+                    &req,
+                    &analysis.inputs,
+                    &about,
+                    false,
+                )
+                .map_err(|e| error(p, &e, what))?,
+            );
         }
     }
     let k = &r.kinematics;
@@ -327,6 +342,106 @@ pub(super) fn mode_tables(
 /// rotation δθ in global components (Nikravesh 1988 ch. 6, ṗ = ½ Gᵀ ω); p₀ᵀδp = 0.
 pub(crate) fn euler_increment(p0: &Vector4<f64>, dtheta: &Vector3<f64>) -> Vector4<f64> {
     cardan_eulerparam::velocity::p_dot_from_global(&(p0 / p0.norm()), dtheta)
+}
+
+/// The full linearized matrices about the equilibrium `state` (MatrixMarket, sparse):
+/// `lin_M_full.mtx` (M), `lin_C_full.mtx` (C_t), `lin_K_full.mtx` (K_t), n × n in the body
+/// increments δ, and `lin_Phi_v.mtx` (Φ_v, the independent constraint rows × n).
+fn full_matrix_files(
+    d: &mut Dynamics,
+    state: &State,
+    stiffness: &nalgebra::DMatrix<f64>,
+    damping: &nalgebra::DMatrix<f64>,
+) -> Result<Vec<(String, String)>, DynamicsError> {
+    let full = d.linearization_matrices(state)?;
+    let sparse = |m: &SparseMatrix| matrix_market_sparse(m.n, m.n, &m.entries);
+    Ok(vec![
+        ("lin_M_full.mtx".into(), sparse(&full.mass)),
+        ("lin_C_full.mtx".into(), matrix_market(damping)),
+        ("lin_K_full.mtx".into(), matrix_market(stiffness)),
+        (
+            "lin_Phi_v.mtx".into(),
+            matrix_market_sparse(
+                full.jacobian.rows,
+                full.jacobian.cols,
+                &full.jacobian.entries,
+            ),
+        ),
+    ])
+}
+
+/// The matrix files of the sparse path: the full matrices (as [`full_matrix_files`], from the
+/// sparse tangents), and, when the model is of moderate size and no driver is an input, the
+/// reduced matrices and the state-space model of [`matrix_files`] (a basis from the sparse
+/// factorization, [`Dynamics::linearize_sparse`]); otherwise a warning saying why not.
+fn sparse_matrix_files(
+    p: &Prepared,
+    d: &mut Dynamics,
+    eq: &Equilibrium,
+    s: &SparseModalResults,
+    req: &Requested,
+    input_names: &[String],
+    warnings: &mut Vec<String>,
+) -> Result<Vec<(String, String)>, DynamicsError> {
+    let full = d.linearization_matrices(&eq.state)?;
+    let sparse = |m: &SparseMatrix| matrix_market_sparse(m.n, m.n, &m.entries);
+    let n = full.mass.n;
+    let dof = n.saturating_sub(full.jacobian.rows);
+    let mut files = vec![
+        ("lin_M_full.mtx".into(), sparse(&full.mass)),
+        ("lin_C_full.mtx".into(), sparse(&s.damping)),
+        ("lin_K_full.mtx".into(), sparse(&s.stiffness)),
+        (
+            "lin_Phi_v.mtx".into(),
+            matrix_market_sparse(
+                full.jacobian.rows,
+                full.jacobian.cols,
+                &full.jacobian.entries,
+            ),
+        ),
+    ];
+    let skipped = "the reduced matrices and the state-space model (lin_M, lin_C, lin_K, lin_N, \
+                   ss_A … ss_D .mtx, state_space.txt) were not written";
+    let drivers: Vec<&String> = input_names
+        .iter()
+        .filter(|n| p.model.drivers().iter().any(|d| &d.name == *n))
+        .collect();
+    if !drivers.is_empty() {
+        warnings.push(format!(
+            "{skipped}: driver efforts as inputs ({}) need the dense path (fewer than {} \
+             moving bodies); lin_M_full, lin_C_full, lin_K_full and lin_Phi_v .mtx hold the \
+             linearized model",
+            drivers
+                .iter()
+                .map(|s| format!("\"{s}\""))
+                .collect::<Vec<_>>()
+                .join(", "),
+            cardan_dynamics::SPARSE_MIN_BODIES
+        ));
+        return Ok(files);
+    }
+    if dof > SPARSE_LINEARIZATION_MAX_DOF || n > SPARSE_LINEARIZATION_MAX_UNKNOWNS {
+        warnings.push(format!(
+            "{skipped}: they are dense, and this model has {dof} independent coordinates and \
+             {n} unknowns, beyond the sparse path's {SPARSE_LINEARIZATION_MAX_DOF} and \
+             {SPARSE_LINEARIZATION_MAX_UNKNOWNS}; lin_M_full, lin_C_full, lin_K_full and \
+             lin_Phi_v .mtx (sparse) hold the linearized model"
+        ));
+        return Ok(files);
+    }
+    let lin = d.linearize_sparse(eq, &s.stiffness, &s.damping)?;
+    let about = format!("the equilibrium at t = {} s", eq.state.t);
+    files.extend(matrix_files(
+        p,
+        d,
+        &eq.state,
+        &lin,
+        req,
+        input_names,
+        &about,
+        false,
+    )?);
+    Ok(files)
 }
 
 /// The linearization's matrices in MatrixMarket form: `lin_M.mtx`, `lin_C.mtx`, `lin_K.mtx`,
