@@ -243,21 +243,29 @@ impl Model {
     ) -> Result<Results, AnalysisError> {
         options.validate()?;
         if ws.kin.is_none() {
-            // Joints first: the driver count is checked before the drivers can make the
-            // assembly fail (an over-driven mechanism gets "superfluous", not "open").
+            // Joints first, then the drivers. The preparation below checks the driver count
+            // (one rank analysis); when the drivers make the assembly fail, the count is
+            // checked at the joints' pose first (an over-driven mechanism gets "superfluous",
+            // not "open").
             let joints_only = AssemblyOptions {
                 include_drivers: false,
                 ..AssemblyOptions::at(options.t0)
             };
             self.assemble(ws, &joints_only)?;
-            let dof = self.dof(ws)?;
-            if dof.dof != dof.drivers {
-                return Err(AnalysisError::DriverCount {
-                    dof: dof.dof,
-                    drivers: dof.drivers,
-                });
+            ws.x_tmp.copy_from_slice(&ws.x);
+            if let Err(e) = self.assemble(ws, &AssemblyOptions::at(options.t0)) {
+                ws.x.copy_from_slice(&ws.x_tmp);
+                ws.sync_poses();
+                ws.invalidate();
+                let dof = self.dof(ws)?;
+                if dof.dof != dof.drivers {
+                    return Err(AnalysisError::DriverCount {
+                        dof: dof.dof,
+                        drivers: dof.drivers,
+                    });
+                }
+                return Err(e);
             }
-            self.assemble(ws, &AssemblyOptions::at(options.t0))?;
             let newton = NewtonOptions {
                 tolerances: options.newton_tolerances(),
                 ..Self::kinematic_newton_options()
