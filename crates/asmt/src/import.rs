@@ -566,7 +566,7 @@ impl Ctx<'_> {
             "NoRotationJoint" => JointKind::NoRotation,
             "ParallelAxesJoint" => JointKind::ParallelAxes,
             "PerpendicularJoint" => JointKind::Perpendicular,
-            "AngleJoint" => JointKind::Angle,
+            "AngleJoint" => JointKind::Cone,
             "ConstantVelocityJoint" => JointKind::ConstantVelocity,
             "CylSphJoint" => JointKind::CylSph,
             "RevCylJoint" => JointKind::RevCyl,
@@ -602,7 +602,7 @@ impl Ctx<'_> {
         match info.axes {
             Axes::Required(_) | Axes::Optional(_) => {
                 spec = spec.axes(&mi.z, &zj);
-                if info.x_axes && kind != JointKind::Angle {
+                if info.x_axes {
                     spec = spec.x_axes(&mi.x, &mj.x);
                 }
             }
@@ -630,15 +630,9 @@ impl Ctx<'_> {
                 spec = spec.offset(h);
             }
         }
-        if kind == JointKind::Angle {
-            let a = j.number("theIzJz").unwrap_or(0.0);
-            spec = spec.angle(a);
-            self.import.warnings.push(Warning {
-                line: j.line,
-                message: format!(
-                    "{what}: cardan holds the angle {a} rad between the z axes about their common perpendicular as drawn; OndselSolver's row z_I·z_J − cos θ loses rank where the axes are parallel and is left unenforced in its own examples, so results may differ"
-                ),
-            });
+        if kind == JointKind::Cone {
+            // OndselSolver's AngleJoint: z_I·z_J − cos θ, cardan's cone (θ = 0 when absent).
+            spec = spec.angle(j.number("theIzJz").unwrap_or(0.0));
         }
         self.import.joints.push(Element {
             spec,
