@@ -598,7 +598,8 @@ joint_kinds! {
     Cone => {
         name: "cone",
         aliases: &[],
-        summary: "z_j on the cone of half-angle α about z_i, z_iᵀz_j = cos α (α from 0.001 to                   π − 0.001 rad); everything else free",
+        summary: "z_j on the cone of half-angle α about z_i, z_iᵀz_j = cos α (α from 0.001 to \
+                  π − 0.001 rad); everything else free",
         axes: Axes::Required("the cone's axis z_i and the axis z_j held on it"),
         x_axes: false,
         length: false,
