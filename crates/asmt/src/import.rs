@@ -19,7 +19,7 @@
 //! Spherical → spherical, Universal → universal, Planar → planar, SphSph → spherical_spherical,
 //! PointInPlane → point_in_plane, PointInLine → point_in_line, LineInPlane → line_in_plane,
 //! NoRotation → no_rotation, ParallelAxes → parallel_axes, Perpendicular → perpendicular,
-//! Angle → angle, ConstantVelocity → constant_velocity (marker J's z reversed: OndselSolver's
+//! Angle → cone, ConstantVelocity → constant_velocity (marker J's z reversed: OndselSolver's
 //! markers face each other, x_Iᵀy_J + y_Iᵀx_J, cardan's point the same way, x_iᵀy_j − y_iᵀx_j),
 //! CylSph → cyl_sph, RevCyl → rev_cyl, RevRev → rev_rev.
 //!
