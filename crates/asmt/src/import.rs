@@ -632,7 +632,24 @@ impl Ctx<'_> {
         }
         if kind == JointKind::Cone {
             // OndselSolver's AngleJoint: z_I·z_J − cos θ, cardan's cone (θ = 0 when absent).
-            spec = spec.angle(j.number("theIzJz").unwrap_or(0.0));
+            let (a, line) = j
+                .numbers
+                .iter()
+                .find(|(n, _, _)| n == "theIzJz")
+                .map_or((0.0, j.line), |&(_, v, l)| (v, l));
+            let m = cardan_constraints::joints::CONE_MARGIN;
+            if !(m..=std::f64::consts::PI - m).contains(&a) {
+                return Err(AsmtError::new(
+                    line,
+                    format!(
+                        "{what}: theIzJz = {a} rad; cardan's cone joint (z_I·z_J − cos θ) \
+                         needs θ from 0.001 to π − 0.001 rad: nearer 0 or π the row loses rank \
+                         (OndselSolver leaves it unenforced). For parallel axes use a \
+                         ParallelAxesJoint"
+                    ),
+                ));
+            }
+            spec = spec.angle(a);
         }
         self.import.joints.push(Element {
             spec,
