@@ -118,6 +118,12 @@ def phi_angle(bi, bj, t, P):
     return f.n1(math.cos(a) * f.yi + math.sin(a) * f.zi, f.zj)
 
 
+def phi_cone(bi, bj, t, P):
+    """z_i . z_j - cos(angle): z_j on the cone of half-angle `angle` about z_i."""
+    f = Frames(bi, bj, P)
+    return f.n1(f.zi, f.zj) - math.cos(P["angle"])
+
+
 def phi_no_rotation(bi, bj, t, P):
     f = Frames(bi, bj, P)
     return ca.vertcat(f.n1(f.xi, f.zj), f.n1(f.yi, f.zj), f.n1(f.xi, f.yj))
@@ -158,6 +164,7 @@ NUMBERS = {
     "line_in_plane": ("offset",),
     "planar": ("offset",),
     "angle": ("angle",),
+    "cone": ("cone_angle",),
     "rev_cyl": ("length",),
     "cyl_sph": ("length",),
     "rev_rev": ("length", "offset"),
@@ -176,6 +183,9 @@ def pr_numbers(name):
                 P[key] = float(entry["scale"] * rng.uniform(0.5, 2.0))
             elif key == "offset":
                 P[key] = float(entry["scale"] * rng.uniform(-1.0, 1.0))
+            elif key == "cone_angle":
+                # Away from 0 and pi, where the row loses rank (refused at model build).
+                P["angle"] = float(rng.uniform(0.1, math.pi - 0.1))
             else:
                 P[key] = _angle(rng)
         return P
@@ -220,6 +230,9 @@ def relative_motion(name, rng, scale, P=None):
         return C.rot_axis(2, _angle(rng)), [free(), free(), free()]
     if name == "angle":
         r = C.rot_axis(0, P["angle"]) @ C.rot_axis(1, _angle(rng)) @ C.rot_axis(2, _angle(rng))
+        return r, [free(), free(), free()]
+    if name == "cone":
+        r = C.rot_axis(2, _angle(rng)) @ C.rot_axis(0, P["angle"]) @ C.rot_axis(2, _angle(rng))
         return r, [free(), free(), free()]
     if name == "no_rotation":
         return np.eye(3), [free(), free(), free()]
@@ -287,6 +300,7 @@ ELEMENTS = {
     ),
     "parallel_axes": (phi_parallel_axes, 2, pr_markers, solve_markers("parallel_axes")),
     "angle": (phi_angle, 1, pr_numbers("angle"), solve_markers("angle")),
+    "cone": (phi_cone, 1, pr_numbers("cone"), solve_markers("cone")),
     "no_rotation": (phi_no_rotation, 3, pr_markers, solve_markers("no_rotation")),
     "constant_velocity": (
         phi_constant_velocity, 4, pr_markers, solve_markers("constant_velocity"),

@@ -19,7 +19,7 @@
 //! Spherical → spherical, Universal → universal, Planar → planar, SphSph → spherical_spherical,
 //! PointInPlane → point_in_plane, PointInLine → point_in_line, LineInPlane → line_in_plane,
 //! NoRotation → no_rotation, ParallelAxes → parallel_axes, Perpendicular → perpendicular,
-//! Angle → angle, ConstantVelocity → constant_velocity (marker J's z reversed: OndselSolver's
+//! Angle → cone, ConstantVelocity → constant_velocity (marker J's z reversed: OndselSolver's
 //! markers face each other, x_Iᵀy_J + y_Iᵀx_J, cardan's point the same way, x_iᵀy_j − y_iᵀx_j),
 //! CylSph → cyl_sph, RevCyl → rev_cyl, RevRev → rev_rev.
 //!
@@ -566,7 +566,7 @@ impl Ctx<'_> {
             "NoRotationJoint" => JointKind::NoRotation,
             "ParallelAxesJoint" => JointKind::ParallelAxes,
             "PerpendicularJoint" => JointKind::Perpendicular,
-            "AngleJoint" => JointKind::Angle,
+            "AngleJoint" => JointKind::Cone,
             "ConstantVelocityJoint" => JointKind::ConstantVelocity,
             "CylSphJoint" => JointKind::CylSph,
             "RevCylJoint" => JointKind::RevCyl,
@@ -602,7 +602,7 @@ impl Ctx<'_> {
         match info.axes {
             Axes::Required(_) | Axes::Optional(_) => {
                 spec = spec.axes(&mi.z, &zj);
-                if info.x_axes && kind != JointKind::Angle {
+                if info.x_axes {
                     spec = spec.x_axes(&mi.x, &mj.x);
                 }
             }
@@ -630,15 +630,26 @@ impl Ctx<'_> {
                 spec = spec.offset(h);
             }
         }
-        if kind == JointKind::Angle {
-            let a = j.number("theIzJz").unwrap_or(0.0);
+        if kind == JointKind::Cone {
+            // OndselSolver's AngleJoint: z_I·z_J − cos θ, cardan's cone (θ = 0 when absent).
+            let (a, line) = j
+                .numbers
+                .iter()
+                .find(|(n, _, _)| n == "theIzJz")
+                .map_or((0.0, j.line), |&(_, v, l)| (v, l));
+            let m = cardan_constraints::joints::CONE_MARGIN;
+            if !(m..=std::f64::consts::PI - m).contains(&a) {
+                return Err(AsmtError::new(
+                    line,
+                    format!(
+                        "{what}: theIzJz = {a} rad; cardan's cone joint (z_I·z_J − cos θ) \
+                         needs θ from 0.001 to π − 0.001 rad: nearer 0 or π the row loses rank \
+                         (OndselSolver leaves it unenforced). For parallel axes use a \
+                         ParallelAxesJoint"
+                    ),
+                ));
+            }
             spec = spec.angle(a);
-            self.import.warnings.push(Warning {
-                line: j.line,
-                message: format!(
-                    "{what}: cardan holds the angle {a} rad between the z axes about their common perpendicular as drawn; OndselSolver's row z_I·z_J − cos θ loses rank where the axes are parallel and is left unenforced in its own examples, so results may differ"
-                ),
-            });
         }
         self.import.joints.push(Element {
             spec,

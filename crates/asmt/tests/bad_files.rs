@@ -177,3 +177,21 @@ fn coupler_whose_joints_share_no_body() {
         "{e}"
     );
 }
+
+/// An AngleJoint at θ = 0 (or near π): its row z_I·z_J − cos θ loses rank, refused at its
+/// theIzJz line.
+#[test]
+fn angle_joint_near_parallel_axes() {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/small/angle.asmt");
+    let text = std::fs::read_to_string(p).unwrap();
+    for theta in ["0.0", "3.1412", "-0.3"] {
+        let bad = text.replacen(
+            "\t\t\t\t\t1.0471975511965976",
+            &format!("\t\t\t\t\t{theta}"),
+            1,
+        );
+        let e = error(&bad);
+        assert_eq!(e.line, line_of(&bad, &format!("\t\t\t\t\t{theta}")), "{e}");
+        assert!(e.to_string().contains("loses rank"), "{e}");
+    }
+}

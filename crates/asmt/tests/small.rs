@@ -83,16 +83,10 @@ fn compare(name: &str) -> (f64, f64) {
     (pose, rate)
 }
 
-/// An AngleJoint held away from parallel axes (where OndselSolver's row z_I·z_J − cos θ keeps
-/// its rank). **Known difference, not fixed:** OndselSolver holds z_J on a cone about z_I;
-/// cardan's `angle` joint holds z_j in the plane through x_i at the angle from z_i
-/// ((cos α y_i + sin α z_i)ᵀ z_j = 0, x_i = the common perpendicular as drawn, fixed in body i),
-/// so the two agree only while z_J stays in that plane. Here z_B leaves it and the poses differ
-/// by 6.2e-3 (rates 5.3e-2), while OndselSolver's solution holds z_A·z_B = cos 60° to 1e-11.
-/// The import warns on every AngleJoint. A cone constraint (one row, z_iᵀz_j − cos α) is not in
-/// cardan's vocabulary yet.
+/// An AngleJoint at 60° between two shafts, imported as cardan's `cone` joint (the same row,
+/// z_iᵀz_j − cos θ). With the former `angle` joint (z_j in a plane through x_i) the poses differed
+/// by 6.2e-3 (rates 5.3e-2), since z_B leaves that plane while staying on the cone.
 #[test]
-#[ignore = "known difference: cardan's angle joint is a plane, OndselSolver's a cone (6e-3)"]
 fn angle_joint() {
     let (pose, rate) = compare("angle");
     assert!(

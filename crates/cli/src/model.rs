@@ -227,7 +227,7 @@ pub struct JointSection {
     /// default 0).
     #[serde(default)]
     pub offset: Option<Num>,
-    /// Angle α [rad] of an angle joint (default: its initial value).
+    /// Angle α [rad] of an angle or cone joint (default: its initial value).
     #[serde(default)]
     pub angle: Option<Num>,
 }

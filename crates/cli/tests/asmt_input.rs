@@ -342,3 +342,21 @@ fn dynamics_of_massless_parts_is_refused_by_name() {
         assert!(!dir.join("out").exists());
     }
 }
+
+/// An AngleJoint imports as a `cone` joint (no warning about it), and the written TOML runs.
+#[test]
+fn an_angle_joint_imports_as_a_cone_and_runs() {
+    let dir = scratch("asmt-cone");
+    let file =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../asmt/tests/data/small/angle.asmt");
+    let import = cardan(
+        &["import", file.to_str().unwrap(), "-o", "model.toml"],
+        &dir,
+    );
+    assert_eq!(import.code, 0, "{}", import.stderr);
+    assert!(!import.stderr.contains("AngleJoint"), "{}", import.stderr);
+    let text = std::fs::read_to_string(dir.join("model.toml")).unwrap();
+    assert!(text.contains("type = \"cone\""), "{text}");
+    let run = cardan(&["run", "model.toml", "-o", "out", "--quiet"], &dir);
+    assert_eq!(run.code, 0, "{}{}", run.stdout, run.stderr);
+}

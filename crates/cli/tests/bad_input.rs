@@ -1005,3 +1005,32 @@ fn position_tolerance_is_the_kinematic_tolerance_and_checked_at_its_key() {
         &["static, quasi-static or modal analysis sets its equilibrium's tolerance with tolerance"],
     );
 }
+
+/// A cone joint's angle near 0 (where its row z_iᵀz_j − cos α loses rank) is refused at its
+/// `angle` key (radians), as is one near π; a valid one runs.
+#[test]
+fn a_cone_angle_near_0_is_refused_at_its_key() {
+    let cone = |angle: &str| {
+        format!(
+            "{BASE}\n[[joint]]\nname = \"tilt\"\ntype = \"cone\"\nbody_i = \"ground\"\n\
+             point_i = \"O\"\naxis_i = \"x\"\nbody_j = \"crank\"\npoint_j = \"O\"\n\
+             axis_j = \"z\"\nangle = {angle}\n"
+        )
+    };
+    let ok = run_text("run", &cone("1.5707963267948966"));
+    assert_eq!(ok.code, 0, "{}", ok.stderr);
+    for bad in ["0.0005", "3.1412"] {
+        let text = cone(bad);
+        let line = 1 + text.lines().position(|l| l.starts_with("angle =")).unwrap();
+        let o = run_text("check", &text);
+        assert_eq!(o.code, 1, "{}", o.stdout);
+        assert!(
+            o.stderr
+                .starts_with(&format!("model.toml:{line}:9: error: "))
+                && o.stderr.contains("joint \"tilt\" (cone)")
+                && o.stderr.contains("loses rank"),
+            "{bad}: {}",
+            o.stderr
+        );
+    }
+}

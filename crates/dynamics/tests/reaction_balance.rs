@@ -27,8 +27,8 @@ fn inertia() -> Matrix3<f64> {
 }
 
 /// Body `b` at the origin hanging from ground by a joint of `kind` at POINT (axes along z, or
-/// z and x for the kinds whose axes are drawn perpendicular). Returns the model and P_j on the
-/// body.
+/// z and x for the kinds whose axes are drawn perpendicular, tilted for the cone). Returns the
+/// model and P_j on the body.
 fn hanging(kind: JointKind) -> (Model, Vector3<f64>) {
     let info = kind.info();
     let p = Vector3::from(POINT);
@@ -46,6 +46,9 @@ fn hanging(kind: JointKind) -> (Model, Vector3<f64>) {
     );
     let (zj, xj) = if crossed {
         (Vector3::x(), Vector3::y())
+    } else if kind == JointKind::Cone {
+        // A cone is refused at α = 0: its axes drawn at acos 0.8 ≈ 37°.
+        (Vector3::new(0.0, 0.6, 0.8), Vector3::x())
     } else {
         (Vector3::z(), Vector3::x())
     };

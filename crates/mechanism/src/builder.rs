@@ -190,7 +190,8 @@ pub struct JointSpec {
     /// Offset h of the plane along z_i of a kind that takes one (point_in_plane, line_in_plane,
     /// planar, rev_rev; default 0).
     pub offset: Option<f64>,
-    /// Angle α of an angle joint, rad (default: its value at the initial poses).
+    /// Angle α of an angle or cone joint, rad (default: its value at the initial poses; a cone
+    /// refuses α within 0.001 rad of 0 or π).
     pub angle: Option<f64>,
 }
 

@@ -263,6 +263,17 @@ pub enum ModelError {
         /// The angle between the arms at the drawn pose, in degrees (0 to 90).
         angle_deg: f64,
     },
+    /// A cone joint's half-angle α is within [`cardan_constraints::joints::CONE_MARGIN`] of 0 or
+    /// π (or outside [0, π]): its row z_iᵀz_j − cos α loses rank there.
+    #[error("{element} (cone): angle {value} rad {} must lie from 0.001 to π − 0.001 rad; near 0 or π the row z_i·z_j − cos α loses rank (its gradient vanishes where the axes are parallel): for parallel axes use a parallel_axes joint (or revolute / cylindrical, which hold them parallel with full-rank rows)", if *given { "(as given)" } else { "(as drawn, no angle given)" })]
+    ConeAngle {
+        /// The joint.
+        element: String,
+        /// α, rad.
+        value: f64,
+        /// Whether the model gave it (else it is the drawn angle).
+        given: bool,
+    },
     /// A length that must be positive is not.
     #[error("{element}: {what} must be positive, got {value}")]
     NonPositive {
@@ -455,6 +466,9 @@ impl ModelError {
                 Some(Site::new(Joint, joint, None, None))
             }
             E::UniversalArms { joint, .. } => Some(Site::new(Joint, joint, Some("axis_j"), None)),
+            E::ConeAngle { element, given, .. } => {
+                Site::parse(element, Some(if *given { "angle" } else { "axis_j" }), None)
+            }
             E::AngleWithoutXAxes { element, .. } => Site::parse(element, Some("joint"), None),
             E::WrongJointKind { driver, .. } => {
                 Some(Site::new(Driver, driver, Some("joint"), None))

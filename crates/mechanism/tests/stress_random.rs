@@ -176,6 +176,9 @@ fn add_joint(
         JointKind::Universal | JointKind::Perpendicular | JointKind::LineInPlane
     ) {
         (v, u)
+    } else if kind == JointKind::Cone {
+        // A cone is refused at α = 0: z_j drawn 45° from z_i, in the plane of u and v.
+        ((u + v).normalize(), u.cross(&v))
     } else {
         (u, v)
     };
@@ -253,6 +256,9 @@ fn add_joint(
         // Drawn at angle 0 about x_i = v (z_j = z_i = u): z_j may turn in the plane of u and v
         // (about w) and about itself (u).
         JointKind::Angle => vec![tra(e1), tra(e2), tra(e3), rot(u, at), rot(w, at)],
+        // z_j 45° from z_i = u in the plane of u and v: every translation, the rotations that
+        // keep z_iᵀz_j (ω ⟂ z_j × z_i ∥ w).
+        JointKind::Cone => vec![tra(e1), tra(e2), tra(e3), rot(u, at), rot(v, at)],
         JointKind::NoRotation => vec![tra(e1), tra(e2), tra(e3)],
         // Straight shafts along u: bends about the two cross directions, no twist.
         JointKind::ConstantVelocity => vec![rot(v, at), rot(w, at)],

@@ -1,7 +1,8 @@
 //! The joint vocabulary against closed forms: a constant-velocity joint turns its output shaft
 //! at exactly the input speed at every bend (a universal joint does not), a point_in_plane
 //! joint drives the pistons of a wobble-plate pump along R tan α sin(φ − θ), and an angle joint
-//! holds its angle at 0°, 90° and 180° without losing rank.
+//! holds its angle at 0°, 90° and 180° without losing rank; a cone joint keeps z_iᵀz_j = cos α
+//! while its body is driven around z_i, and refuses α near 0 or π.
 
 use cardan_constraints::{JointKind, TimeFunction};
 use cardan_mechanism::{
@@ -274,5 +275,103 @@ fn angle_joint_holds_its_angle_at_0_90_and_180_degrees_with_full_rank() {
         }
         eprintln!("angle joint at {deg}°: held to {err:.1e} rad");
         assert!(err < 1e-7, "{deg}°: {err:e}");
+    }
+}
+
+/// A carrier on a revolute joint about ground z, driven at ω; a top hinged to it about the
+/// carrier's x axis (free), held by a cone joint at `alpha` between ground z and the top's z.
+/// Drawn 0.2 rad off the cone; `angle` is the cone's angle key (None: as drawn).
+fn top_on_cone(drawn: f64, angle: Option<f64>) -> Result<Model, String> {
+    let mut b = MechanismBuilder::new();
+    b.body(shaft("carrier"));
+    b.body(shaft("top").orientation(about_x(drawn)));
+    b.point(GROUND, "O", Vector3::zeros())
+        .vector(GROUND, "x", Vector3::x())
+        .vector(GROUND, "z", Vector3::z());
+    for body in ["carrier", "top"] {
+        b.point(body, "O", Vector3::zeros())
+            .vector(body, "x", Vector3::x())
+            .vector(body, "y", Vector3::y())
+            .vector(body, "z", Vector3::z());
+    }
+    b.joint(
+        JointSpec::new("spin", JointKind::Revolute, (GROUND, "O"), ("carrier", "O"))
+            .axes("z", "z")
+            .x_axes("x", "x"),
+    );
+    b.joint(
+        JointSpec::new("hinge", JointKind::Revolute, ("carrier", "O"), ("top", "O"))
+            .axes("x", "x")
+            .x_axes("y", "y"),
+    );
+    let mut cone =
+        JointSpec::new("cone", JointKind::Cone, (GROUND, "O"), ("top", "O")).axes("z", "z");
+    if let Some(a) = angle {
+        cone = cone.angle(a);
+    }
+    b.joint(cone);
+    b.driver(DriverSpec::rotation(
+        "motor",
+        "spin",
+        TimeFunction::Polynomial(vec![0.0, 1.5]),
+    ));
+    b.build().map_err(|e| e.to_string())
+}
+
+#[test]
+fn cone_joint_keeps_its_angle_while_driven_about_its_axis() {
+    let w = 1.5;
+    for deg in [20.0, 60.0, 120.0] {
+        let alpha = f64::to_radians(deg);
+        let model = top_on_cone(alpha + 0.2, Some(alpha)).unwrap();
+        let dof = model.dof(&model.workspace()).unwrap();
+        assert_eq!((dof.dof, dof.redundant.len()), (1, 0), "{deg}°: {dof}");
+        let res = model
+            .run_kinematics(&KinematicOptions::new(0.0, 2.0, 40))
+            .unwrap();
+        let top = res.body("top").unwrap();
+        let cone = res.joint("cone").unwrap();
+        let (mut ez, mut ew, mut eb): (f64, f64, f64) = (0.0, 0.0, 0.0);
+        for (k, &t) in res.times.iter().enumerate() {
+            // z_j = R_z(ωt) (0, −sin α, cos α); the hinge stays at α, so ω = ω e_z.
+            let (s, c) = (w * t).sin_cos();
+            let want = Vector3::new(alpha.sin() * s, -alpha.sin() * c, alpha.cos());
+            let zj = cardan_eulerparam::a(&top.p[k]) * Vector3::z();
+            ez = ez.max((zj - want).norm());
+            ez = ez.max((zj.z - alpha.cos()).abs());
+            ew = ew.max((top.omega[k] - Vector3::new(0.0, 0.0, w)).norm());
+            eb = eb.max((cone.values[k][0] - alpha).abs());
+            eb = eb.max(cone.rates[k][0].abs());
+        }
+        eprintln!("cone at {deg}°: |z_j − exact| ≤ {ez:.1e}, |ω − exact| ≤ {ew:.1e} rad/s, bend ≤ {eb:.1e}");
+        assert!(
+            ez < 1e-10 && ew < 1e-9 && eb < 1e-9,
+            "{deg}°: {ez:e} {ew:e} {eb:e}"
+        );
+    }
+}
+
+#[test]
+fn cone_joint_refuses_angles_near_0_and_pi() {
+    for (drawn, angle) in [
+        (0.5, Some(5e-4)),
+        (0.5, Some(PI - 5e-4)),
+        (0.5, Some(-0.5)),
+        (0.5, Some(PI + 0.1)),
+        // No angle given: the drawn one, here z_j ∥ z_i.
+        (0.0, None),
+    ] {
+        let e = top_on_cone(drawn, angle).unwrap_err();
+        assert!(
+            e.contains("joint \"cone\" (cone)")
+                && e.contains("loses rank")
+                && e.contains("parallel_axes"),
+            "{angle:?}: {e}"
+        );
+        assert_eq!(e.contains("as drawn"), angle.is_none(), "{e}");
+    }
+    // Just inside the margin: accepted.
+    for a in [1.5e-3, PI - 1.5e-3] {
+        top_on_cone(0.5, Some(a)).unwrap();
     }
 }

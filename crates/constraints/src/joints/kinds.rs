@@ -67,6 +67,9 @@ pub enum Block {
     /// (cos α y_i + sin α z_i)ᵀ z_j: z_j at the angle α from z_i, measured about x_i
     /// (1 row; [`N1`]).
     AtAngle,
+    /// z_iᵀ z_j − cos α: z_j on the cone of half-angle α about z_i (1 row; [`N1`] with the
+    /// value cos α). Singular where z_i ∥ z_j, so α near 0 or π is refused at model build.
+    Cone,
     /// x_iᵀ y_j − y_iᵀ x_j: no relative twist about the z axes, the constant-velocity condition
     /// (1 row; [`Homokinetic`]).
     Homokinetic,
@@ -80,7 +83,7 @@ pub struct JointParams {
     pub length: f64,
     /// h of [`Block::InPlane`], m.
     pub offset: f64,
-    /// α of [`Block::AtAngle`], rad.
+    /// α of [`Block::AtAngle`] and [`Block::Cone`], rad.
     pub angle: f64,
 }
 
@@ -95,6 +98,7 @@ impl Block {
             | Block::Distance
             | Block::RadialDistance
             | Block::AtAngle
+            | Block::Cone
             | Block::Homokinetic => 1,
         }
     }
@@ -114,6 +118,7 @@ impl Block {
                 let (s, c) = v.angle.sin_cos();
                 N1::new(c * mi.y() + s * mi.z(), mj.z()).into()
             }
+            Block::Cone => N1::with_value(mi.z(), mj.z(), v.angle.cos()).into(),
             Block::Homokinetic => Homokinetic::new(mi.x(), mi.y(), mj.x(), mj.y()).into(),
         }
     }
@@ -129,6 +134,7 @@ impl Block {
             Block::Distance => "distance(P_i, P_j, ℓ)".into(),
             Block::RadialDistance => "(x_iᵀd)² + (y_iᵀd)² − ℓ²".into(),
             Block::AtAngle => "n1(cos α y_i + sin α z_i, z_j)".into(),
+            Block::Cone => "n1(z_i, z_j) − cos α".into(),
             Block::Homokinetic => "x_iᵀy_j − y_iᵀx_j".into(),
         }
     }
@@ -194,6 +200,10 @@ impl Measure {
         }
     }
 }
+
+/// How far (rad) a cone joint's α must stay from 0 and π: there z_iᵀz_j − cos α has a zero
+/// gradient at the solution (the row loses rank).
+pub const CONE_MARGIN: f64 = 1e-3;
 
 /// The most coordinates a kind has.
 pub const MAX_COORDINATES: usize = 4;
@@ -582,6 +592,24 @@ joint_kinds! {
         rotation: None,
         translation: None,
     },
+    /// z_j on the cone of half-angle α about z_i: z_iᵀ z_j = cos α (1 row). OndselSolver's
+    /// AngleJoint. The row loses rank where z_i ∥ z_j, so α within [`CONE_MARGIN`] of 0 or π
+    /// is refused (use `parallel_axes`, or a `revolute`-style joint, for parallel axes).
+    Cone => {
+        name: "cone",
+        aliases: &[],
+        summary: "z_j on the cone of half-angle α about z_i, z_iᵀz_j = cos α (α from 0.001 to \
+                  π − 0.001 rad); everything else free",
+        axes: Axes::Required("the cone's axis z_i and the axis z_j held on it"),
+        x_axes: false,
+        length: false,
+        offset: false,
+        angle: true,
+        blocks: &[Block::Cone],
+        coordinates: &[coord("bend", Measure::Bend)],
+        rotation: None,
+        translation: None,
+    },
     /// Marker frames held parallel, translation free (3 rows).
     NoRotation => {
         name: "no_rotation",
@@ -779,7 +807,12 @@ mod tests {
                 "{}: takes a length exactly when a block uses one",
                 info.name
             );
-            assert_eq!(info.angle, rows_need(Block::AtAngle), "{}", info.name);
+            assert_eq!(
+                info.angle,
+                rows_need(Block::AtAngle) || rows_need(Block::Cone),
+                "{}",
+                info.name
+            );
             assert_eq!(
                 info.offset,
                 info.blocks.iter().any(|b| matches!(b, Block::InPlane(_))),

@@ -23,7 +23,7 @@ mod rates;
 pub use coordinates::{continue_angle, unwrap_angle, JointCoordinates};
 pub use kinds::{
     markdown_table, Axes, Axis, Block, Coordinate, CoordinateQuantity, JointKind, JointParams,
-    KindInfo, Measure, KINDS, MAX_COORDINATES,
+    KindInfo, Measure, CONE_MARGIN, KINDS, MAX_COORDINATES,
 };
 pub use rates::{BodyAcceleration, JointRates};
 

@@ -13,7 +13,7 @@ use crate::builder::{
 };
 use crate::error::ModelError;
 use crate::sanity::Quantity;
-use cardan_constraints::joints::Axes;
+use cardan_constraints::joints::{Axes, Block, CONE_MARGIN};
 use cardan_constraints::{
     BodyState, ConstraintError, CoordinateDriver, DistanceDriver, Driver, Joint, JointKind,
     JointParams, KindInfo, Marker, PoseDriver, RotationDriver, TranslationDriver,
@@ -254,7 +254,9 @@ pub(super) fn joint(
     let (si, sj) = (pose(bodies, bi), pose(bodies, bj));
     let xi = match (xi, zi, zj) {
         // An angle joint measures about x_i: by default the axes' common perpendicular.
-        (None, Some(zi), Some(zj)) if info.angle => common_perpendicular(&si, &sj, zi, zj),
+        (None, Some(zi), Some(zj)) if info.blocks.contains(&Block::AtAngle) => {
+            common_perpendicular(&si, &sj, zi, zj)
+        }
         _ => xi,
     };
     let mi = marker(&spec.name, "i", &spec.body_i, pi, zi, xi)?;
@@ -355,11 +357,29 @@ fn joint_params(
     if info.offset {
         params.offset = given("offset", Quantity::Length, spec.offset)?.unwrap_or(0.0);
     }
-    if info.angle {
+    if info.blocks.contains(&Block::Cone) {
+        let drawn = || zi.cross(&zj).norm().atan2(zi.dot(&zj));
+        let a = given("angle", Quantity::Angle, spec.angle)?.unwrap_or_else(drawn);
+        cone_angle(el, a, spec.angle.is_some())?;
+        params.angle = a;
+    } else if info.angle {
         params.angle = given("angle", Quantity::Angle, spec.angle)?
             .unwrap_or_else(|| (-yi.dot(&zj)).atan2(zi.dot(&zj)));
     }
     Ok(params)
+}
+
+/// A cone's half-angle α must lie in [CONE_MARGIN, π − CONE_MARGIN]: at 0 or π the row
+/// z_iᵀz_j − cos α has a zero gradient at its solution (it loses rank).
+fn cone_angle(el: &str, a: f64, given: bool) -> Result<(), ModelError> {
+    if (CONE_MARGIN..=std::f64::consts::PI - CONE_MARGIN).contains(&a) {
+        return Ok(());
+    }
+    Err(ModelError::ConeAngle {
+        element: el.into(),
+        value: a,
+        given,
+    })
 }
 
 /// The joint frame on side `side` ("i" or "j") of joint `joint`: from its axis and x axis when
