@@ -251,7 +251,7 @@ pub struct Document {
     pub simulation: Option<Simulation>,
     /// The stored `TimeSeries`, if any.
     pub series: Option<TimeSeries>,
-    /// Number of lines of the file.
+    /// The last line of the model: the file's last line, or the `TimeSeries` label's line.
     pub lines: usize,
 }
 

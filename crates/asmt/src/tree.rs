@@ -38,7 +38,8 @@ pub struct Tree {
     pub roots: Vec<Node>,
     /// Where the `TimeSeries` block starts, if the file has one.
     pub series: Option<SeriesBlock>,
-    /// Number of lines in the file.
+    /// The last line of the model: the file's last line, or the `TimeSeries` label's when the
+    /// file has one (the table after it, most of a solved file, is not scanned here).
     pub lines: usize,
 }
 
@@ -135,13 +136,6 @@ pub fn parse(text: &str) -> Result<Tree> {
             children: Vec::new(),
         });
     }
-    if let Some(block) = &series {
-        // As `lines().count()` of the tail, a byte count (vectorized; the tail is most of a
-        // solved file).
-        let tail = &text.as_bytes()[block.start..];
-        let breaks = tail.iter().filter(|&&b| b == b'\n').count();
-        count = block.line + breaks + usize::from(tail.last().is_some_and(|&b| b != b'\n'));
-    }
     close_to(&mut stack, &mut roots, 0);
     Ok(Tree {
         header,
@@ -194,8 +188,7 @@ mod tests {
         assert_eq!(block.line, 5);
         let rows: Vec<_> = block.rows(text).collect();
         assert_eq!(rows, vec![(6, "Number\tInput\t1"), (8, "X")]);
-        assert_eq!(t.lines, 8);
-        let unterminated = parse("H\nAssembly\nTimeSeries\nA\nB").unwrap();
-        assert_eq!(unterminated.lines, 5);
+        assert_eq!(t.lines, 5);
+        assert_eq!(parse("H\nAssembly\n\tName\n").unwrap().lines, 3);
     }
 }
