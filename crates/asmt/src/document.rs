@@ -354,7 +354,7 @@ pub fn read_model(text: &str) -> Result<Document> {
 
 fn read_with(text: &str, with_series: bool) -> Result<Document> {
     let tree = tree::parse(text)?;
-    let header = tree.header.text.clone();
+    let header = tree.header.text.to_string();
     if !(header.starts_with("OndselSolver") || header.starts_with("freeCAD")) {
         return Err(AsmtError::new(
             tree.header.line,
@@ -410,23 +410,23 @@ pub(crate) fn clip(s: &str) -> String {
 
 /// The fields of a block: its child labels, looked up by name.
 struct Block<'a> {
-    node: &'a Node,
+    node: &'a Node<'a>,
     what: String,
 }
 
 impl<'a> Block<'a> {
-    fn new(node: &'a Node, what: impl Into<String>) -> Self {
+    fn new(node: &'a Node<'a>, what: impl Into<String>) -> Self {
         Self {
             node,
             what: what.into(),
         }
     }
 
-    fn get(&self, label: &str) -> Option<&'a Node> {
+    fn get(&self, label: &str) -> Option<&'a Node<'a>> {
         self.node.children.iter().find(|c| c.label() == label)
     }
 
-    fn require(&self, label: &str) -> Result<&'a Node> {
+    fn require(&self, label: &str) -> Result<&'a Node<'a>> {
         self.get(label).ok_or_else(|| {
             AsmtError::new(
                 self.node.line,
@@ -436,7 +436,7 @@ impl<'a> Block<'a> {
     }
 
     /// The first value line under field `label`.
-    fn value(&self, label: &str) -> Result<&'a Node> {
+    fn value(&self, label: &str) -> Result<&'a Node<'a>> {
         let f = self.require(label)?;
         f.children.first().ok_or_else(|| {
             AsmtError::new(
@@ -599,7 +599,7 @@ fn assembly(asm: &Node, header: String, end: usize) -> Result<Document> {
     let notes = b
         .get("Notes")
         .and_then(|n| n.children.first())
-        .map(|n| n.text.clone())
+        .map(|n| n.text.to_string())
         .unwrap_or_default();
     let frame = Frame {
         position: b

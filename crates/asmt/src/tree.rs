@@ -10,19 +10,20 @@
 
 use crate::error::{AsmtError, Result};
 
-/// One line of the file and the lines nested under it.
+/// One line of the file and the lines nested under it (borrowing the text it was parsed
+/// from: no copy per line).
 #[derive(Debug, Clone, PartialEq)]
-pub struct Node {
+pub struct Node<'a> {
     /// The line's text without its leading tabs (trailing blanks kept, as OndselSolver does for
     /// names).
-    pub text: String,
+    pub text: &'a str,
     /// 1-based line number in the file.
     pub line: usize,
     /// The lines one level deeper, in order.
-    pub children: Vec<Node>,
+    pub children: Vec<Node<'a>>,
 }
 
-impl Node {
+impl Node<'_> {
     /// The text with surrounding whitespace removed (labels and numbers).
     pub fn label(&self) -> &str {
         self.text.trim()
@@ -31,11 +32,11 @@ impl Node {
 
 /// The whole file as a tree.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Tree {
+pub struct Tree<'a> {
     /// Line 1 (the writer: `OndselSolver` or the askoh.com Smalltalk banner).
-    pub header: Node,
+    pub header: Node<'a>,
     /// The top-level nodes after the header (normally one: `Assembly`).
-    pub roots: Vec<Node>,
+    pub roots: Vec<Node<'a>>,
     /// Where the `TimeSeries` block starts, if the file has one.
     pub series: Option<SeriesBlock>,
     /// The last line of the model: the file's last line, or the `TimeSeries` label's when the
@@ -70,7 +71,7 @@ impl SeriesBlock {
 /// # Errors
 /// Empty file, a line indented with spaces, a line more than one level deeper than the line
 /// before it, or a NUL character.
-pub fn parse(text: &str) -> Result<Tree> {
+pub fn parse(text: &str) -> Result<Tree<'_>> {
     // (line number, byte offset, text) of each line.
     let mut lines = text.lines().enumerate().map(|(k, l)| {
         let offset = l.as_ptr() as usize - text.as_ptr() as usize;
@@ -84,7 +85,7 @@ pub fn parse(text: &str) -> Result<Tree> {
         }
     };
     let header = Node {
-        text: header.trim().to_string(),
+        text: header.trim(),
         line: first_line,
         children: Vec::new(),
     };
@@ -131,7 +132,7 @@ pub fn parse(text: &str) -> Result<Tree> {
         }
         close_to(&mut stack, &mut roots, depth);
         stack.push(Node {
-            text: body.to_string(),
+            text: body,
             line: n,
             children: Vec::new(),
         });
@@ -146,7 +147,7 @@ pub fn parse(text: &str) -> Result<Tree> {
 }
 
 /// Pops the stack down to `depth` open nodes, attaching each popped node to its parent.
-fn close_to(stack: &mut Vec<Node>, roots: &mut Vec<Node>, depth: usize) {
+fn close_to<'a>(stack: &mut Vec<Node<'a>>, roots: &mut Vec<Node<'a>>, depth: usize) {
     while stack.len() > depth {
         let node = stack.pop().expect("nonempty");
         match stack.last_mut() {
