@@ -7,7 +7,6 @@ use cardan_cli::table::parse_csv;
 use nalgebra::DMatrix;
 use std::f64::consts::PI;
 use std::fmt::Write as _;
-use std::path::Path;
 
 mod common;
 use common::run_text;
@@ -66,28 +65,6 @@ fn exact(j: usize) -> f64 {
     (M * G * L + 2.0 * K * L * L * s) / (J + M * L * L)
 }
 
-/// A written MatrixMarket coordinate file: (rows, columns, triplets with 0-based indices).
-fn triplets(path: &Path) -> (usize, usize, Vec<(usize, usize, f64)>) {
-    let t = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    assert!(t.starts_with("%%MatrixMarket matrix coordinate real general\n"));
-    let mut lines = t.lines().filter(|l| !l.starts_with('%'));
-    let dims: Vec<usize> = lines
-        .next()
-        .unwrap()
-        .split_whitespace()
-        .map(|x| x.parse().unwrap())
-        .collect();
-    let e: Vec<(usize, usize, f64)> = lines
-        .map(|l| {
-            let f: Vec<&str> = l.split_whitespace().collect();
-            let (r, c): (usize, usize) = (f[0].parse().unwrap(), f[1].parse().unwrap());
-            (r - 1, c - 1, f[2].parse().unwrap())
-        })
-        .collect();
-    assert_eq!(e.len(), dims[2], "{}: entry count", path.display());
-    (dims[0], dims[1], e)
-}
-
 /// y = A x for triplets.
 fn mul(e: &[(usize, usize, f64)], rows: usize, x: &DMatrix<f64>) -> DMatrix<f64> {
     let mut y = DMatrix::zeros(rows, x.ncols());
@@ -97,29 +74,6 @@ fn mul(e: &[(usize, usize, f64)], rows: usize, x: &DMatrix<f64>) -> DMatrix<f64>
         }
     }
     y
-}
-
-/// A written MatrixMarket coordinate file as a dense matrix (entries summed).
-fn matrix_market(path: &Path) -> DMatrix<f64> {
-    let t = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    assert!(t.starts_with("%%MatrixMarket matrix coordinate real general\n"));
-    let mut lines = t.lines().filter(|l| !l.starts_with('%'));
-    let dims: Vec<usize> = lines
-        .next()
-        .unwrap()
-        .split_whitespace()
-        .map(|x| x.parse().unwrap())
-        .collect();
-    let mut m = DMatrix::zeros(dims[0], dims[1]);
-    let mut count = 0;
-    for l in lines {
-        let f: Vec<&str> = l.split_whitespace().collect();
-        let (r, c): (usize, usize) = (f[0].parse().unwrap(), f[1].parse().unwrap());
-        m[(r - 1, c - 1)] += f[2].parse::<f64>().unwrap();
-        count += 1;
-    }
-    assert_eq!(count, dims[2], "{}: entry count", path.display());
-    m
 }
 
 /// The lowest 4 modes of the 100-pendulum row on the sparse path match the closed form; the
@@ -146,10 +100,10 @@ fn sparse_modal_run_writes_the_lowest_modes_and_the_linearized_model() {
     }
     let n = 6 * N;
     let (mf, k_full, c_full, phi) = (
-        triplets(&out.join("lin_M_full.mtx")),
-        triplets(&out.join("lin_K_full.mtx")),
-        triplets(&out.join("lin_C_full.mtx")),
-        triplets(&out.join("lin_Phi_v.mtx")),
+        common::matrix_market_triplets(&out.join("lin_M_full.mtx")),
+        common::matrix_market_triplets(&out.join("lin_K_full.mtx")),
+        common::matrix_market_triplets(&out.join("lin_C_full.mtx")),
+        common::matrix_market_triplets(&out.join("lin_Phi_v.mtx")),
     );
     for (what, (r, c, _)) in [("M", &mf), ("K", &k_full), ("C", &c_full)] {
         assert_eq!((*r, *c), (n, n), "{what}");
@@ -157,9 +111,9 @@ fn sparse_modal_run_writes_the_lowest_modes_and_the_linearized_model() {
     assert_eq!((phi.0, phi.1), (5 * N, n));
     assert!(mf.2.contains(&(0, 0, M)) && mf.2.contains(&(5, 5, J)), "M");
     assert!(c_full.2.is_empty(), "no dampers: C = 0");
-    let basis = matrix_market(&out.join("lin_N.mtx"));
-    let mr = matrix_market(&out.join("lin_M.mtx"));
-    let kr = matrix_market(&out.join("lin_K.mtx"));
+    let basis = common::matrix_market_dense(&out.join("lin_N.mtx"));
+    let mr = common::matrix_market_dense(&out.join("lin_M.mtx"));
+    let kr = common::matrix_market_dense(&out.join("lin_K.mtx"));
     assert_eq!(basis.shape(), (n, N));
     assert!(mul(&phi.2, phi.0, &basis).amax() < 1e-10, "Φ_v N");
     let knr = basis.transpose() * mul(&k_full.2, n, &basis);
@@ -180,7 +134,7 @@ fn sparse_modal_run_writes_the_lowest_modes_and_the_linearized_model() {
     for (j, w) in w2.iter().enumerate() {
         assert!((w - exact(j)).abs() < 1e-6 * exact(j), "ω²_{j}: {w}");
     }
-    let a = matrix_market(&out.join("ss_A.mtx"));
+    let a = common::matrix_market_dense(&out.join("ss_A.mtx"));
     assert_eq!(a.shape(), (2 * N, 2 * N));
     assert!((a.view((N, 0), (N, N)) + &kr).amax() < 1e-8 * kr.amax());
     for f in [

@@ -37,25 +37,6 @@ fn csv(dir: &Path, name: &str) -> (Vec<String>, Vec<Vec<f64>>) {
     (h, r)
 }
 
-/// A written MatrixMarket coordinate file as a dense matrix.
-fn matrix_market(path: &Path) -> nalgebra::DMatrix<f64> {
-    let t = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut lines = t.lines().filter(|l| !l.starts_with('%'));
-    let dims: Vec<usize> = lines
-        .next()
-        .unwrap()
-        .split_whitespace()
-        .map(|x| x.parse().unwrap())
-        .collect();
-    let mut m = nalgebra::DMatrix::zeros(dims[0], dims[1]);
-    for l in lines {
-        let f: Vec<&str> = l.split_whitespace().collect();
-        let (r, c): (usize, usize) = (f[0].parse().unwrap(), f[1].parse().unwrap());
-        m[(r - 1, c - 1)] = f[2].parse::<f64>().unwrap();
-    }
-    m
-}
-
 fn col(h: &[String], name: &str) -> usize {
     h.iter()
         .position(|c| c == name)
@@ -302,7 +283,7 @@ fn modal_state_space_static_gain_is_the_compliance() {
     let o = run_text("run", &text);
     assert_eq!(o.code, 0, "{}", o.stderr);
     let dir = o.dir.join("out");
-    let read = |name: &str| matrix_market(&dir.join(name));
+    let read = |name: &str| common::matrix_market_dense(&dir.join(name));
     let (a, b, c) = (read("ss_A.mtx"), read("ss_B.mtx"), read("ss_C.mtx"));
     assert_eq!((a.nrows(), b.ncols(), c.nrows()), (2, 1, 2));
     let gain = -(&c * a.try_inverse().unwrap() * &b);
@@ -335,7 +316,7 @@ fn modal_driver_effort_input_static_gain() {
     let o = run_text("run", &text);
     assert_eq!(o.code, 0, "{}", o.stderr);
     let dir = o.dir.join("out");
-    let read = |name: &str| matrix_market(&dir.join(name));
+    let read = |name: &str| common::matrix_market_dense(&dir.join(name));
     let (a, b, c) = (read("ss_A.mtx"), read("ss_B.mtx"), read("ss_C.mtx"));
     assert_eq!((a.nrows(), b.ncols(), c.nrows()), (2, 1, 1));
     let gain = -(&c * a.try_inverse().unwrap() * &b)[(0, 0)];

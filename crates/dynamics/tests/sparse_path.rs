@@ -52,12 +52,9 @@ fn coupled_pendulums(n: usize, m: f64, j: f64, l: f64, a: f64) -> Model {
 /// Hanging straight, the springs at their free length: small swings θ_i obey
 /// (J + m l²) θ̈_i = −m g l θ_i − k l² (2θ_i − θ_{i−1} − θ_{i+1}) (free ends), so
 /// ω_j² = (m g l + 2 k l² (1 − cos(jπ/n))) / (J + m l²), j = 0, 1, …
-#[test]
-fn coupled_pendulums_equilibrium_and_lowest_frequencies_on_the_sparse_path() {
-    let (n, m, j, l, a, k) = (SPARSE_MIN_BODIES, 1.0, 0.01, 0.5, 1.0, 1e4);
-    let model = coupled_pendulums(n, m, j, l, a);
-    let mut d = Dynamics::new(&model).unwrap();
-    assert!(d.sparse_path());
+/// Gravity along −y and springs (stiffness `k`, damping `c`, free length `a`) between the
+/// neighbouring bobs of `coupled_pendulums(n, …, a)`.
+fn load_pendulums(d: &mut Dynamics, n: usize, a: f64, k: f64, c: f64) {
     d.add_force(Force::gravity(Vector3::new(0.0, -G, 0.0)))
         .unwrap();
     for i in 0..n - 1 {
@@ -66,11 +63,20 @@ fn coupled_pendulums_equilibrium_and_lowest_frequencies_on_the_sparse_path() {
             (&format!("p{i}"), "C"),
             (&format!("p{}", i + 1), "C"),
             k,
-            0.0,
+            c,
             Some(a),
         ))
         .unwrap();
     }
+}
+
+#[test]
+fn coupled_pendulums_equilibrium_and_lowest_frequencies_on_the_sparse_path() {
+    let (n, m, j, l, a, k) = (SPARSE_MIN_BODIES, 1.0, 0.01, 0.5, 1.0, 1e4);
+    let model = coupled_pendulums(n, m, j, l, a);
+    let mut d = Dynamics::new(&model).unwrap();
+    assert!(d.sparse_path());
+    load_pendulums(&mut d, n, a, k, 0.0);
     let exact: Vec<f64> = (0..6)
         .map(|i| {
             let s = 1.0 - (i as f64 * PI / n as f64).cos();
@@ -119,21 +125,7 @@ fn sparse_linearization_is_the_dense_one_in_another_basis() {
     use cardan_dynamics::{Input, ModalOptions, Output};
     let (n, m, j, l, a, k) = (6, 1.0, 0.01, 0.5, 1.0, 50.0);
     let model = coupled_pendulums(n, m, j, l, a);
-    let forces = |d: &mut Dynamics| {
-        d.add_force(Force::gravity(Vector3::new(0.0, -G, 0.0)))
-            .unwrap();
-        for i in 0..n - 1 {
-            d.add_force(Force::spring_damper(
-                &format!("s{i}"),
-                (&format!("p{i}"), "C"),
-                (&format!("p{}", i + 1), "C"),
-                k,
-                0.3,
-                Some(a),
-            ))
-            .unwrap();
-        }
-    };
+    let forces = |d: &mut Dynamics| load_pendulums(d, n, a, k, 0.3);
     let mut ds = Dynamics::new(&model).unwrap();
     forces(&mut ds);
     let r = ds.modal_sparse(&StaticOptions::default(), n).unwrap();

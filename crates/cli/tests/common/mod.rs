@@ -103,3 +103,40 @@ pub fn run_text(cmd: &str, text: &str) -> Outcome {
         other => cardan(&[other, "model.toml"], &dir),
     }
 }
+
+/// A written MatrixMarket coordinate file (`%%MatrixMarket matrix coordinate real general`):
+/// rows, columns and the entries with 0-based indices; the header's entry count is checked.
+pub fn matrix_market_triplets(path: &Path) -> (usize, usize, Vec<(usize, usize, f64)>) {
+    let t = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    assert!(
+        t.starts_with("%%MatrixMarket matrix coordinate real general\n"),
+        "{}: header",
+        path.display()
+    );
+    let mut lines = t.lines().filter(|l| !l.starts_with('%'));
+    let dims: Vec<usize> = lines
+        .next()
+        .unwrap()
+        .split_whitespace()
+        .map(|x| x.parse().unwrap())
+        .collect();
+    let e: Vec<(usize, usize, f64)> = lines
+        .map(|l| {
+            let f: Vec<&str> = l.split_whitespace().collect();
+            let (r, c): (usize, usize) = (f[0].parse().unwrap(), f[1].parse().unwrap());
+            (r - 1, c - 1, f[2].parse().unwrap())
+        })
+        .collect();
+    assert_eq!(e.len(), dims[2], "{}: entry count", path.display());
+    (dims[0], dims[1], e)
+}
+
+/// A written MatrixMarket coordinate file as a dense matrix (repeated entries summed).
+pub fn matrix_market_dense(path: &Path) -> nalgebra::DMatrix<f64> {
+    let (rows, cols, entries) = matrix_market_triplets(path);
+    let mut m = nalgebra::DMatrix::zeros(rows, cols);
+    for (r, c, v) in entries {
+        m[(r, c)] += v;
+    }
+    m
+}
