@@ -223,9 +223,7 @@ impl Workspace {
         self.x[7 * k..7 * k + 3].copy_from_slice(r.as_slice());
         self.x[7 * k + 3..7 * k + 7].copy_from_slice(p.as_slice());
         // Body k only (setting every pose of a 10⁴-body model one by one stays linear).
-        let rd = Vector3::from_column_slice(&self.v[6 * k..6 * k + 3]);
-        let w = Vector3::from_column_slice(&self.v[6 * k + 3..6 * k + 6]);
-        self.bodies[k] = BodyState::at(r, p).with_v(rd, w);
+        self.refresh_body(k);
         self.invalidate();
     }
 
@@ -372,12 +370,18 @@ impl Workspace {
 
     /// Refreshes the body states (A, p) from the Newton state; keeps ω' from `v`.
     pub(crate) fn sync_poses(&mut self) {
-        set_poses(&mut self.bodies, &self.x);
-        for (k, b) in self.bodies.iter_mut().enumerate() {
-            let rd = Vector3::from_column_slice(&self.v[6 * k..6 * k + 3]);
-            let w = Vector3::from_column_slice(&self.v[6 * k + 3..6 * k + 6]);
-            *b = b.with_v(rd, w);
+        for k in 0..self.bodies.len() {
+            self.refresh_body(k);
         }
+    }
+
+    /// Refreshes body k's state (A, p) from the Newton state, with ṙ and ω' from `v`.
+    fn refresh_body(&mut self, k: usize) {
+        let r = Vector3::from_column_slice(&self.x[7 * k..7 * k + 3]);
+        let p = Vector4::from_column_slice(&self.x[7 * k + 3..7 * k + 7]);
+        let rd = Vector3::from_column_slice(&self.v[6 * k..6 * k + 3]);
+        let w = Vector3::from_column_slice(&self.v[6 * k + 3..6 * k + 6]);
+        self.bodies[k] = BodyState::at(r, p).with_v(rd, w);
     }
 }
 
