@@ -159,6 +159,12 @@ fn value<'a>(r: &'a [(String, String)], k: &str) -> &'a str {
 /// The markdown section: a table per file (pyondsel, cardan, ratio, read-back), cardan's
 /// stages. `python`: a Python with pyondsel (none: cardan only). `smoke`: one run of each.
 pub fn section(smoke: bool, python: Option<&str>, root: &Path) -> String {
+    section_of(smoke, python, None, root)
+}
+
+/// [`section`] for one file only (`only`: its name without `.asmt`, e.g. `wobpump`; for
+/// profiling one file), or all ten with `None`.
+pub fn section_of(smoke: bool, python: Option<&str>, only: Option<&str>, root: &Path) -> String {
     let data = root.join("crates/asmt/tests/data");
     let script = root.join("bench/peers/asmt.py");
     let (n_cardan, n_peer) = if smoke { (1, 1) } else { (20, 3) };
@@ -190,7 +196,7 @@ pub fn section(smoke: bool, python: Option<&str>, root: &Path) -> String {
     let mut written = Vec::new();
     let mut rows = Vec::new();
     let mut peer_error = None;
-    for f in FILES {
+    for f in FILES.iter().filter(|f| only.is_none_or(|o| o == **f)) {
         let path = data.join(format!("{f}.asmt"));
         eprintln!("asmt: {f}");
         // Back to back: OndselSolver, then cardan.

@@ -14,7 +14,7 @@
 //! cardan-bench --large [--smoke]      (check and run setup of 10³–10⁵-body chains, to stdout)
 //! cardan-bench --modal [--smoke] [--peers PYTHON]  (the modal sections alone, to stdout; with
 //!     --peers also the frequencies against Exudyn, exit status 1 above 1e-6 relative)
-//! cardan-bench --asmt [--smoke] [--peers PYTHON]  (ASMT files against OndselSolver, to stdout)
+//! cardan-bench --asmt [--smoke] [--peers PYTHON] [--only FILE]  (ASMT files against OndselSolver, to stdout)
 //! ```
 //!
 //! Usually run through `cargo xtask bench [--smoke] [--peers]`.
@@ -125,9 +125,18 @@ fn main() {
             .iter()
             .position(|a| a == "--peers")
             .and_then(|k| args.get(k + 1));
+        let only = args
+            .iter()
+            .position(|a| a == "--only")
+            .and_then(|k| args.get(k + 1));
         println!(
             "{}",
-            cardan_bench::asmt::section(smoke, python.map(String::as_str), &root())
+            cardan_bench::asmt::section_of(
+                smoke,
+                python.map(String::as_str),
+                only.map(String::as_str),
+                &root()
+            )
         );
         return;
     }

@@ -129,6 +129,7 @@ pub mod schur;
 pub mod sparse;
 pub mod sparse_min_norm;
 pub mod sparse_rank;
+pub mod sparse_refactor;
 
 pub use convergence::Tolerances;
 pub use dense::DenseLu;

@@ -97,13 +97,17 @@ impl Default for SolverChoice {
 /// Dense LU is chosen when `n ≤ dense_max_dim`, or when `n ≤ dense_density_max_dim` and the
 /// density is at least `dense_min_density`; sparse LU otherwise.
 ///
-/// The size threshold comes from `benches/linear.rs` on a 2-core VM (see `BENCHMARKS.md`): on
-/// mechanism-like patterns (7 × 7 blocks; a body chain, a ladder of closed loops) factor + solve
-/// costs the same with both at about 100 unknowns (chain: dense 80 µs vs sparse 59 µs at 105;
-/// ladder: 79 µs vs 99 µs at 105, 153 µs vs 141 µs at 140), and the dense LU is 10–60× slower
-/// from 700 unknowns on. Hence `dense_max_dim = 100`. The density rule (dense up to 1000
-/// unknowns at ≥ 20 % density, where fill makes the sparse factors dense anyway) is a judgement,
-/// not a measurement.
+/// The size threshold: [`SparseLu`] refactors with the pivots of the previous factorization
+/// while they stay acceptable ([`crate::sparse_refactor`]), so in a sequence of factorizations
+/// (Newton iterations, frames of a motion) it costs the floating-point work of the sparse
+/// factors alone. Measured as instructions (callgrind) of whole kinematic runs of FreeCAD
+/// assemblies (`cardan-bench --asmt --smoke --only FILE`), sparse against dense: 98 unknowns
+/// −29 %, 70 unknowns −14 %, 28 unknowns −4.5 % and +8 % (two files), 21 unknowns +4 % to
+/// +5 % (sparse's setup: ordering and presizing). Hence `dense_max_dim = 48`. Without the
+/// pivot reuse the crossing was at about 100 unknowns (`benches/linear.rs`), and the dense LU
+/// is 10–60× slower from 700 unknowns on. The density rule (dense up to 1000 unknowns at
+/// ≥ 20 % density, where fill makes the sparse factors dense anyway) is a judgement, not a
+/// measurement.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AutoPolicy {
     /// Dense at or below this many unknowns, whatever the density.
@@ -117,7 +121,7 @@ pub struct AutoPolicy {
 impl Default for AutoPolicy {
     fn default() -> Self {
         Self {
-            dense_max_dim: 100,
+            dense_max_dim: 48,
             dense_min_density: 0.2,
             dense_density_max_dim: 1000,
         }

@@ -36,6 +36,7 @@ use crate::linear::{
     singular_error, Equilibration, LinearSolver, Scratch, DEFAULT_PIVOT_TOLERANCE,
 };
 use crate::pattern::{check_len, SparsityPattern};
+use crate::sparse_refactor::Refactor;
 use faer::dyn_stack::StackReq;
 use faer::perm::PermRef;
 use faer::sparse::linalg::lu::{factorize_symbolic_lu, simplicial, LuSymbolicParams, SymbolicLu};
@@ -62,6 +63,9 @@ struct Indexed<I: Index> {
     lu: simplicial::SimplicialLu<I, f64>,
     row_perm: Vec<I>,
     row_perm_inv: Vec<I>,
+    /// The factors of the last factorization, refactored with the same pivots when they still
+    /// pass the threshold check ([`crate::sparse_refactor`]).
+    refactor: Refactor<I>,
 }
 
 /// The index width chosen at analysis.
@@ -113,6 +117,7 @@ impl<I: Index> Indexed<I> {
             lu: simplicial::SimplicialLu::new(),
             row_perm: vec![I::truncate(0); n],
             row_perm_inv: vec![I::truncate(0); n],
+            refactor: Refactor::new(),
         };
         Ok((indexed, mem))
     }
@@ -148,9 +153,24 @@ impl<I: Index> Indexed<I> {
             }
             if self.factor_values(values, mem).is_ok() {
                 largest = largest.max(self.factor_nnz());
+                self.capture();
             }
         }
+        self.refactor.invalidate();
         largest
+    }
+
+    /// Keeps faer's last factorization for refactoring with its pivots.
+    fn capture(&mut self) {
+        self.refactor
+            .capture(&self.lu, &self.row_perm_inv, self.symbolic.col_perm());
+    }
+
+    /// Refactors the equilibrated `values` with the pivots of the last factorization; `false`
+    /// if there is none or a pivot is no longer acceptable.
+    fn try_refactor(&mut self, values: &[f64], tol: f64) -> bool {
+        self.refactor
+            .refactor(self.csc.col_ptr(), self.csc.row_idx(), values, tol)
     }
 
     fn factor_nnz(&self) -> usize {
@@ -213,7 +233,11 @@ impl<I: Index> Indexed<I> {
         }
     }
 
-    fn solve_in_place(&self, x: &mut [f64], mem: &mut Scratch) {
+    fn solve_in_place(&mut self, x: &mut [f64], mem: &mut Scratch) {
+        if self.refactor.is_valid() {
+            self.refactor.solve_in_place(x);
+            return;
+        }
         let n = self.row_perm.len();
         self.lu.solve_in_place_with_conj(
             PermRef::new_checked(&self.row_perm, &self.row_perm_inv, n),
@@ -240,6 +264,10 @@ pub struct SparseLu {
     factored: bool,
     pivot_rows: Vec<usize>,
     equil: Equilibration,
+    /// Whether factorizations after the first reuse its pivots when they pass the check.
+    reuse_pivots: bool,
+    /// Factorizations that chose their pivots afresh, and those that reused the last ones.
+    counts: [usize; 2],
 }
 
 impl Default for SparseLu {
@@ -261,7 +289,23 @@ impl SparseLu {
             factored: false,
             pivot_rows: Vec::new(),
             equil: Equilibration::default(),
+            reuse_pivots: true,
+            counts: [0; 2],
         }
+    }
+
+    /// Successful factorizations so far: `(pivoted, refactored)`, those that chose their pivots
+    /// afresh and those that reused the previous pivot sequence.
+    pub fn factorization_counts(&self) -> (usize, usize) {
+        (self.counts[0], self.counts[1])
+    }
+
+    /// Whether a factorization reuses the pivot sequence of the previous one while its pivots
+    /// pass the threshold check ([`crate::sparse_refactor`]; on by default). Off: every
+    /// factorization pivots afresh (faer's simplicial LU), as a reference.
+    pub fn with_pivot_reuse(mut self, reuse: bool) -> Self {
+        self.reuse_pivots = reuse;
+        self
     }
 
     /// Sets the pivot tolerance (singular if a pivot of the equilibrated matrix is `≤ tol`).
@@ -336,6 +380,13 @@ impl LinearSolver for SparseLu {
             // Name the first offending slot.
             pattern.check_finite(slots)?;
         }
+        let tol = self.pivot_tolerance;
+        if self.reuse_pivots && with_width!(indexed, x => x.try_refactor(values, tol)) {
+            self.counts[1] += 1;
+            self.factored = true;
+            return Ok(());
+        }
+        with_width!(indexed, x => x.refactor.invalidate());
         match with_width!(indexed, x => x.factor_values(values, mem)) {
             Ok(()) => {}
             Err(LuError::SymbolicSingular { .. }) => {
@@ -345,11 +396,14 @@ impl LinearSolver for SparseLu {
             }
             Err(e) => return Err(SolverError::Backend(format!("numeric LU: {e:?}"))),
         }
-        let tol = self.pivot_tolerance;
         with_width!(&*indexed, x => x.small_pivots(tol, &mut self.pivot_rows));
         if !self.pivot_rows.is_empty() {
             return Err(singular_error(pattern, slots, &self.pivot_rows));
         }
+        if self.reuse_pivots {
+            with_width!(indexed, x => x.capture());
+        }
+        self.counts[0] += 1;
         self.factored = true;
         Ok(())
     }
@@ -358,7 +412,7 @@ impl LinearSolver for SparseLu {
         if !self.factored {
             return Err(SolverError::NotReady { missing: "factor" });
         }
-        let Some(indexed) = self.indexed.as_ref() else {
+        let Some(indexed) = self.indexed.as_mut() else {
             return Err(SolverError::NotReady { missing: "analyze" });
         };
         let n = self.equil.col.len();
@@ -446,6 +500,96 @@ mod tests {
             .zip(&x_w)
             .all(|(a, b)| a.to_bits() == b.to_bits()));
         assert!(x_n.iter().any(|v| *v != 0.0));
+    }
+
+    /// Solves with pivot reuse and with fresh pivoting; the largest difference relative to
+    /// the solution's size.
+    fn reuse_vs_fresh(
+        reuse: &mut SparseLu,
+        fresh: &mut SparseLu,
+        slots: &[f64],
+        b: &[f64],
+    ) -> Result<f64, SolverError> {
+        let n = b.len();
+        let (mut x_r, mut x_f) = (vec![0.0; n], vec![0.0; n]);
+        reuse.factor(slots)?;
+        reuse.solve(b, &mut x_r)?;
+        fresh.factor(slots)?;
+        fresh.solve(b, &mut x_f)?;
+        let scale = x_f.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        Ok(x_r
+            .iter()
+            .zip(&x_f)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
+            / scale)
+    }
+
+    #[test]
+    fn refactoring_with_kept_pivots_solves_as_fresh_pivoting_does() {
+        let (p, slots, b) = system(120);
+        let mut reuse = SparseLu::new();
+        reuse.analyze(&p).unwrap();
+        let mut fresh = SparseLu::new().with_pivot_reuse(false);
+        fresh.analyze(&p).unwrap();
+        // A smooth drift of the values, as from frame to frame of a motion.
+        for step in 0..20 {
+            let t = f64::from(step) * 0.05;
+            let moved: Vec<f64> = slots
+                .iter()
+                .enumerate()
+                .map(|(k, v)| v * (1.0 + 0.2 * (t + k as f64).sin()))
+                .collect();
+            let diff = reuse_vs_fresh(&mut reuse, &mut fresh, &moved, &b).unwrap();
+            assert!(diff < 1e-12, "step {step}: {diff:e}");
+        }
+        let (pivoted, refactored) = reuse.factorization_counts();
+        assert_eq!(pivoted + refactored, 20);
+        assert!(
+            refactored >= 15,
+            "{pivoted} pivoted, {refactored} refactored"
+        );
+        assert_eq!(fresh.factorization_counts(), (20, 0));
+    }
+
+    #[test]
+    fn a_kept_pivot_that_became_small_is_chosen_again() {
+        // [[a, 1], [1, 1]] with a from 2 to 1e-6: partial pivoting first takes row 0, and row
+        // 1 once a < 0.1 (the threshold); a kept pivot of 1e-6 would lose six digits.
+        let p = SparsityPattern::new(2, 2, &[(0, 0), (0, 1), (1, 0), (1, 1)]).unwrap();
+        let mut reuse = SparseLu::new();
+        reuse.analyze(&p).unwrap();
+        let mut fresh = SparseLu::new().with_pivot_reuse(false);
+        fresh.analyze(&p).unwrap();
+        let b = [1.0, 2.0];
+        for a in [2.0, 1.0, 0.5, 0.2, 1e-3, 1e-6] {
+            let diff = reuse_vs_fresh(&mut reuse, &mut fresh, &[a, 1.0, 1.0, 3.0], &b).unwrap();
+            assert!(diff < 1e-15, "a = {a}: {diff:e}");
+        }
+        let (pivoted, refactored) = reuse.factorization_counts();
+        assert!(pivoted >= 2 && refactored >= 2, "{pivoted}, {refactored}");
+    }
+
+    #[test]
+    fn a_singular_matrix_after_a_regular_one_is_reported_as_singular() {
+        let p = SparsityPattern::new(2, 2, &[(0, 0), (0, 1), (1, 0), (1, 1)]).unwrap();
+        let mut s = SparseLu::new();
+        s.analyze(&p).unwrap();
+        s.factor(&[2.0, 1.0, 1.0, 3.0]).unwrap();
+        assert!(matches!(
+            s.factor(&[1.0, 2.0, 2.0, 4.0]),
+            Err(SolverError::Singular { .. })
+        ));
+        let mut x = [0.0; 2];
+        assert!(matches!(
+            s.solve(&[1.0, 1.0], &mut x),
+            Err(SolverError::NotReady { .. })
+        ));
+        s.factor(&[2.0, 1.0, 1.0, 3.0]).unwrap();
+        s.solve(&[3.0, 4.0], &mut x).unwrap();
+        assert!(
+            (x[0] - 1.0).abs() < 1e-15 && (x[1] - 1.0).abs() < 1e-15,
+            "{x:?}"
+        );
     }
 
     #[test]
