@@ -60,6 +60,12 @@ pub struct Refactor<I: Index> {
     valid: bool,
 }
 
+impl<I: Index> Default for Refactor<I> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl<I: Index> Refactor<I> {
     /// An empty refactorization (nothing captured).
     pub fn new() -> Self {
