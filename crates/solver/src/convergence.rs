@@ -67,6 +67,25 @@ impl Tolerances {
     }
 }
 
+impl Tolerances {
+    /// The convergence test of Newton-Raphson: the residual test holds, and either no step has
+    /// been taken (`first`) or the estimated error left by the last step is `≤ τ_step²`.
+    pub(crate) fn converged(&self, residual_norm: f64, first: bool, step_error: f64) -> bool {
+        residual_norm <= self.residual && (first || step_error <= self.step * self.step)
+    }
+
+    /// The error estimate of a Newton step of scaled length `step` (factors made where it
+    /// starts), for [`converged`](Self::converged): it leaves about `step²`, which passes when
+    /// `step ≤ τ_step` (0) and does not otherwise (∞).
+    pub(crate) fn newton_step_error(&self, step: f64) -> f64 {
+        if step <= self.step {
+            0.0
+        } else {
+            f64::INFINITY
+        }
+    }
+}
+
 /// `max_i |v_i| · w_i` and its index (weights are reciprocal scales). No allocation.
 pub fn weighted_inf_norm(v: &[f64], weights: &[f64]) -> (f64, usize) {
     let mut best = 0.0;
