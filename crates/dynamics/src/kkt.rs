@@ -31,167 +31,36 @@
 //! [`Kkt::solve`] uses whichever factored last. The slots of the full matrix are written only
 //! when the LU path factors (Φ_v lives in `jac`, the mass blocks in their own array), so the
 //! Schur path never touches them.
+//!
+//! The parts, one job each: [`elements`] (the constraint elements and their row blocks),
+//! [`layout`] (where each value goes), [`phi_v`] (products with Φ_v), [`top_left`] (the values
+//! of A), [`full_lu`] (the LU of the full matrix), [`path`] (which factorization to try, and
+//! the back-off from the Schur path), [`last`] (what the last factorization holds),
+//! [`refine`] (the refinement of a Schur solve). [`Kkt`] ties them together.
 
-use cardan_constraints::{BodyPair, BodyState, Constraint};
-use cardan_mechanism::{BodyId, Model};
-use cardan_solver::{AutoSolver, LinearSolver, SchurSolver, SolverError, SparsityPattern};
-use std::ops::Range;
+use cardan_mechanism::Model;
+use cardan_solver::{SchurSolver, SolverError};
 
+mod elements;
+mod full_lu;
+mod last;
+mod layout;
 mod path;
+mod phi_v;
+mod refine;
+mod top_left;
+
+pub(crate) use elements::{element_blocks, elements, eval_rows, Element, Rhs};
+use full_lu::LU_EAGER_MAX_SIZE;
+pub(crate) use last::Factored;
 pub(crate) use path::KktSolve;
+
+use full_lu::FullLu;
+use last::LastFactorization;
+use layout::Layout;
 use path::SolvePath;
-
-/// One joint, driver or coupler: its rows, bodies.
-#[derive(Debug, Clone)]
-pub(crate) struct Element {
-    pub rows: Range<usize>,
-    pub bi: BodyId,
-    pub bj: BodyId,
-    /// Joint index, or `joints.len() + driver index`, or
-    /// `joints.len() + drivers.len() + coupler index`.
-    pub index: usize,
-}
-
-/// The constraint of element `e` (a coupler with the model's references: right for Φ_v, ν and
-/// γ#, which do not depend on them; Φ takes the references of the run, see [`eval_rows`]).
-enum Of<'a> {
-    Joint(&'a cardan_constraints::Joint),
-    Driver(&'a cardan_constraints::Driver),
-    Coupler(&'a cardan_constraints::Coupler, usize),
-}
-
-fn of<'a>(model: &'a Model, e: &Element) -> Of<'a> {
-    let (nj, nd) = (model.joints().len(), model.drivers().len());
-    if e.index < nj {
-        Of::Joint(&model.joints()[e.index].joint)
-    } else if e.index < nj + nd {
-        Of::Driver(&model.drivers()[e.index - nj].driver)
-    } else {
-        let k = e.index - nj - nd;
-        Of::Coupler(&model.couplers()[k].coupler, k)
-    }
-}
-
-macro_rules! with_constraint {
-    ($of:expr, $c:ident => $e:expr) => {
-        match $of {
-            Of::Joint($c) => $e,
-            Of::Driver($c) => $e,
-            Of::Coupler($c, _) => $e,
-        }
-    };
-}
-
-pub(crate) fn elements(model: &Model) -> Vec<Element> {
-    let nj = model.joints().len();
-    let mut v: Vec<Element> = model
-        .joints()
-        .iter()
-        .enumerate()
-        .map(|(k, j)| Element {
-            rows: j.rows.clone(),
-            bi: j.body_i,
-            bj: j.body_j,
-            index: k,
-        })
-        .collect();
-    v.extend(model.drivers().iter().enumerate().map(|(k, d)| Element {
-        rows: d.rows.clone(),
-        bi: d.body_i,
-        bj: d.body_j,
-        index: nj + k,
-    }));
-    let nd = model.drivers().len();
-    v.extend(model.couplers().iter().enumerate().map(|(k, c)| Element {
-        rows: c.rows.clone(),
-        bi: c.body_i,
-        bj: c.body_j,
-        index: nj + nd + k,
-    }));
-    v
-}
-
-fn st<'a>(bodies: &'a [BodyState], g: &'a BodyState, id: BodyId) -> &'a BodyState {
-    match id {
-        BodyId::Ground => g,
-        BodyId::Moving(k) => &bodies[k],
-    }
-}
-
-/// Evaluates one element's Φ_v blocks (rows × 6 for body i and j).
-pub(crate) fn element_blocks(
-    model: &Model,
-    e: &Element,
-    bodies: &[BodyState],
-    t: f64,
-    bi: &mut [[f64; 6]; 6],
-    bj: &mut [[f64; 6]; 6],
-) {
-    let g = BodyState::ground();
-    let pair = BodyPair::new(st(bodies, &g, e.bi), st(bodies, &g, e.bj));
-    let n = e.rows.len();
-    with_constraint!(of(model, e), c => c.phi_v(&pair, t, &mut bi[..n], &mut bj[..n]));
-}
-
-/// Which vector of an element to evaluate.
-#[derive(Clone, Copy)]
-pub(crate) enum Rhs {
-    Phi,
-    Nu,
-    Gamma,
-}
-
-/// Φ, ν or γ#_v of all model rows; the couplers' angles continued from `turns` (one entry per
-/// coupler, see [`cardan_mechanism::Model::accept_turns`]). No allocation.
-pub(crate) fn eval_rows(
-    model: &Model,
-    elements: &[Element],
-    bodies: &[BodyState],
-    turns: &[[f64; 2]],
-    t: f64,
-    what: Rhs,
-    out: &mut [f64],
-) {
-    let g = BodyState::ground();
-    for e in elements {
-        let pair = BodyPair::new(st(bodies, &g, e.bi), st(bodies, &g, e.bj));
-        let o = &mut out[e.rows.clone()];
-        match of(model, e) {
-            Of::Coupler(c, k) => rows(&c.with_reference(turns[k]), &pair, t, what, o),
-            other => with_constraint!(other, c => rows(c, &pair, t, what, o)),
-        }
-    }
-}
-
-/// Φ, ν or γ#_v of one constraint.
-fn rows<C: Constraint>(c: &C, pair: &BodyPair, t: f64, what: Rhs, o: &mut [f64]) {
-    match what {
-        Rhs::Phi => c.phi(pair, t, o),
-        Rhs::Nu => c.nu(pair, t, o),
-        Rhs::Gamma => c.gamma_sharp_v(pair, t, o),
-    }
-}
-
-/// Six Φ_v entries: active row a, the six columns c..c+6 of one moving body (values
-/// `jac[6 g..6 g + 6]` for group g).
-#[derive(Debug, Clone, Copy)]
-struct Group {
-    row: usize,
-    col: usize,
-}
-
-/// Size n + m_a up to which the LU of the full matrix is analyzed with the layout. Beyond it,
-/// and without coupling blocks (so that the Schur complement is the usual path), the analysis
-/// (a fill-reducing ordering and trial factorizations, 25 ms at 1,000 bodies: more than ten
-/// steps) waits for the first LU factorization, a fallback near a singular configuration; that
-/// step allocates, once.
-pub(crate) const LU_EAGER_MAX_SIZE: usize = 2000;
-
-/// After this many consecutive refusals of S (`.0`), the Schur complement is skipped for the
-/// next `.1` factorizations: a model whose S is always refused (a mechanism held in a
-/// near-singular configuration) pays for the attempt once in 16 factorizations instead of at
-/// each, and a singular passage returns to the Schur path at most 15 factorizations after it.
-pub(crate) const SCHUR_BACKOFF: (usize, usize) = (3, 15);
+use refine::{Factors, Refinement};
+use top_left::TopLeft;
 
 /// Relative pivot tolerance τ of S for m active rows: τ = min(1e-4, 0.1/m). Below it the
 /// Schur complement is refused and the LU takes over. The solver's 1e-4 (see
@@ -224,13 +93,6 @@ pub(crate) fn refine_ratio_for(rtol: f64) -> f64 {
     (f64::EPSILON / (1e-3 * rtol)).min(SCHUR_REFINE_RATIO)
 }
 
-/// The factorization held for [`Kkt::solve`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Factored {
-    Schur,
-    Lu,
-}
-
 /// The laid-out KKT system and its solver.
 #[derive(Debug)]
 pub(crate) struct Kkt {
@@ -239,52 +101,24 @@ pub(crate) struct Kkt {
     pub active: Vec<usize>,
     /// Position of each model row among the active rows (usize::MAX if dropped).
     pub active_of: Vec<usize>,
-    /// LU of the full matrix; `None` until its first use for large systems without coupling
-    /// blocks (see [`LU_EAGER_MAX_SIZE`]).
-    solver: Option<AutoSolver>,
-    /// Entries of the full matrix in slot order, kept for a deferred LU analysis.
-    lu_entries: Vec<(usize, usize)>,
-    /// Slots of the full matrix (LU path only; written by `factor` when it takes that path).
-    pub slots: Vec<f64>,
-    /// Top-left block slots: (row, col, slot); the 36 nb diagonal-block entries first (body,
-    /// row, column order), then the coupling blocks.
-    top: Vec<(usize, usize, usize)>,
-    /// Coupling blocks were laid out (a force element joins two moving bodies).
-    coupled: bool,
-    /// Φ_v by groups of six entries, in evaluation order.
-    groups: Vec<Group>,
-    /// Φ_v values, six per group.
+    layout: Layout,
+    /// Φ_v values, six per group of the layout.
     pub jac: Vec<f64>,
-    /// KKT slots (Φ_v, Φ_vᵀ) of each `jac` value (LU path).
-    jac_slots: Vec<(usize, usize)>,
-    /// Diagonal blocks of the top-left, column-major 6×6 per body (36 nb).
-    blocks: Vec<f64>,
-    /// Slot of each `blocks` entry.
-    block_slots: Vec<usize>,
-    /// The top-left slots are behind `blocks` (set_mass wrote only `blocks`).
-    top_stale: bool,
-    /// add_top added terms since the last set_mass (the top-left is in the slots).
-    tangent: bool,
-    schur: Option<SchurSolver>,
-    /// Schur complement or LU, and the back-off from the Schur path ([`path`]).
+    top_left: TopLeft,
+    lu: FullLu,
+    schur: SchurSolver,
+    /// Schur complement or LU, and the back-off from the Schur path.
     path: SolvePath,
-    factored: Option<Factored>,
+    last: LastFactorization,
+    refinement: Refinement,
+    /// Pivot ratio below which a Schur solve is refined ([`SCHUR_REFINE_RATIO`]).
+    pub(crate) refine_below: f64,
     pub rhs: Vec<f64>,
     pub sol: Vec<f64>,
     /// All-row buffers (m).
     pub full: Vec<f64>,
     /// Scratch of length n.
     pub work_n: Vec<f64>,
-    /// Pivot ratio below which a Schur solve is refined ([`SCHUR_REFINE_RATIO`]).
-    pub(crate) refine_below: f64,
-    /// Φ_v values of the last factorization (for the Schur refinement, and to recognize an
-    /// unchanged matrix).
-    jac_factored: Vec<f64>,
-    /// The last factorization was of a mass-only matrix, and `blocks` has not changed since.
-    factored_mass_only: bool,
-    /// Scratch of the Schur refinement (n + m_a each).
-    refine_r: Vec<f64>,
-    refine_d: Vec<f64>,
     /// Scratch of length m_a.
     pub work_a: Vec<f64>,
     pub factorizations: usize,
@@ -303,139 +137,54 @@ impl Kkt {
         let nb = model.num_bodies();
         let n = 6 * nb;
         let m = model.num_equations();
+        let na = active.len();
         let mut active_of = vec![usize::MAX; m];
         for (a, &r) in active.iter().enumerate() {
             active_of[r] = a;
         }
-        let mut pos: Vec<(usize, usize)> = Vec::new();
-        let mut top = Vec::new();
-        let mut block = |bi: usize, bj: usize, pos: &mut Vec<(usize, usize)>| {
-            for r in 0..6 {
-                for c in 0..6 {
-                    top.push((6 * bi + r, 6 * bj + c, pos.len()));
-                    pos.push((6 * bi + r, 6 * bj + c));
-                }
-            }
-        };
-        for k in 0..nb {
-            block(k, k, &mut pos);
+        let (layout, entries) = Layout::new(model, elements, &active_of, pairs);
+        let size = n + na;
+        let ne = 6 * layout.groups.len();
+        let mut schur = SchurSolver::new().with_pivot_tolerance(schur_pivot_tolerance(na));
+        schur.analyze(6, nb, na, &layout.phi_v_entries())?;
+        let mut lu = FullLu::new(entries, size);
+        if size <= LU_EAGER_MAX_SIZE || layout.coupled {
+            lu.solver()?;
         }
-        let mut seen: Vec<(usize, usize)> = Vec::new();
-        for &(i, j) in pairs {
-            let key = (i.min(j), i.max(j));
-            if i != j && !seen.contains(&key) {
-                seen.push(key);
-                block(i, j, &mut pos);
-                block(j, i, &mut pos);
-            }
-        }
-        let mut groups = Vec::new();
-        let mut jac_slots = Vec::new();
-        for e in elements {
-            for r in e.rows.clone() {
-                let a = active_of[r];
-                if a == usize::MAX {
-                    continue;
-                }
-                for id in [e.bi, e.bj] {
-                    if let BodyId::Moving(k) = id {
-                        groups.push(Group { row: a, col: 6 * k });
-                        for c in 0..6 {
-                            let col = 6 * k + c;
-                            jac_slots.push((pos.len(), pos.len() + 1));
-                            pos.push((n + a, col));
-                            pos.push((col, n + a));
-                        }
-                    }
-                }
-            }
-        }
-        let size = n + active.len();
-        let coupled = top.len() > 36 * nb;
-        let ns = pos.len();
-        let ne = jac_slots.len();
-        // `blocks` is column-major per body; `top` lists the diagonal blocks row by row.
-        let mut block_slots = vec![0; 36 * nb];
-        for &(r, c, s) in &top[..36 * nb] {
-            block_slots[36 * (r / 6) + 6 * (c % 6) + r % 6] = s;
-        }
-        let mut kkt = Self {
+        Ok(Self {
             n,
+            active,
             active_of,
-            solver: None,
-            lu_entries: pos,
-            slots: vec![0.0; ns],
-            coupled,
-            top,
-            groups,
             jac: vec![0.0; ne],
-            jac_slots,
-            blocks: vec![0.0; 36 * nb],
-            block_slots,
-            top_stale: false,
-            tangent: false,
-            schur: None,
+            layout,
+            top_left: TopLeft::new(nb),
+            lu,
+            schur,
             path: SolvePath::default(),
-            factored: None,
+            last: LastFactorization::new(ne),
+            refinement: Refinement::new(size),
+            refine_below: SCHUR_REFINE_RATIO,
             rhs: vec![0.0; size],
             sol: vec![0.0; size],
             full: vec![0.0; m],
             work_n: vec![0.0; n],
-            refine_below: SCHUR_REFINE_RATIO,
-            jac_factored: vec![0.0; ne],
-            factored_mass_only: false,
-            refine_r: vec![0.0; n + active.len()],
-            refine_d: vec![0.0; n + active.len()],
-            work_a: vec![0.0; active.len()],
-            active,
+            work_a: vec![0.0; na],
             factorizations: 0,
             fallbacks: 0,
-        };
-        kkt.analyze_schur()?;
-        if size <= LU_EAGER_MAX_SIZE || coupled {
-            kkt.lu()?;
-        }
-        Ok(kkt)
-    }
-
-    /// The LU of the full matrix, analyzed on first use.
-    fn lu(&mut self) -> Result<&mut AutoSolver, SolverError> {
-        if self.solver.is_none() {
-            let size = self.rhs.len();
-            let pattern = SparsityPattern::new(size, size, &self.lu_entries)?;
-            let mut solver = AutoSolver::default();
-            solver.analyze(&pattern)?;
-            self.solver = Some(solver);
-            self.lu_entries = Vec::new();
-        }
-        Ok(self.solver.as_mut().expect("analyzed"))
-    }
-
-    /// Lays out the Schur-complement solver (entries of Φ_v in `jac` order).
-    fn analyze_schur(&mut self) -> Result<(), SolverError> {
-        let b: Vec<(usize, usize)> = self
-            .groups
-            .iter()
-            .flat_map(|g| (0..6).map(move |c| (g.row, g.col + c)))
-            .collect();
-        let mut schur =
-            SchurSolver::new().with_pivot_tolerance(schur_pivot_tolerance(self.active.len()));
-        schur.analyze(6, self.n / 6, self.active.len(), &b)?;
-        self.schur = Some(schur);
-        Ok(())
+        })
     }
 
     /// Forces a factorization path (tests and measurements).
     #[allow(dead_code)]
     pub fn set_solve_path(&mut self, mode: KktSolve) {
         self.path.set_mode(mode);
-        self.factored = None;
+        self.last.clear();
     }
 
     /// The factorization the last successful [`factor`](Self::factor) made.
     #[allow(dead_code)]
     pub fn factored(&self) -> Option<Factored> {
-        self.factored
+        self.last.kind()
     }
 
     /// Evaluates Φ_v at the bodies' poses into `jac`. No allocation.
@@ -443,7 +192,7 @@ impl Kkt {
         &mut self,
         model: &Model,
         elements: &[Element],
-        bodies: &[BodyState],
+        bodies: &[cardan_constraints::BodyState],
         t: f64,
     ) {
         let mut bi = [[0.0; 6]; 6];
@@ -460,11 +209,9 @@ impl Kkt {
                     continue;
                 }
                 for (id, blk) in [(e.bi, &bi), (e.bj, &bj)] {
-                    if let BodyId::Moving(_) = id {
-                        for c in 0..6 {
-                            self.jac[cursor] = blk[lr][c];
-                            cursor += 1;
-                        }
+                    if let cardan_mechanism::BodyId::Moving(_) = id {
+                        self.jac[cursor..cursor + 6].copy_from_slice(&blk[lr]);
+                        cursor += 6;
                     }
                 }
             }
@@ -476,152 +223,73 @@ impl Kkt {
     /// When the values written differ from the blocks held (a tangent iteration matrix was
     /// there, or other masses), the last factorization no longer counts as this matrix's.
     pub fn set_mass(&mut self, mass: &[f64], inertia: &[nalgebra::Matrix3<f64>]) {
-        let mut changed = self.tangent;
-        for (k, blk) in self.blocks.chunks_exact_mut(36).enumerate() {
-            let mut set = |i: usize, v: f64| {
-                changed |= blk[i].to_bits() != v.to_bits();
-                blk[i] = v;
-            };
-            for c in 0..6 {
-                for r in 0..6 {
-                    let v = match (r < 3, c < 3) {
-                        (true, true) if r == c => mass[k],
-                        (false, false) => inertia[k][(r - 3, c - 3)],
-                        _ => 0.0,
-                    };
-                    set(6 * c + r, v);
-                }
-            }
+        if self.top_left.set_mass(mass, inertia) {
+            self.last.mass_changed();
         }
-        if changed {
-            self.factored_mass_only = false;
-        }
-        self.top_stale = true;
-        self.tangent = false;
     }
 
     /// Adds `f(row, col)` to the top-left entries (for tangent terms).
-    pub fn add_top(&mut self, mut f: impl FnMut(usize, usize) -> f64) {
-        self.write_top();
-        for &(r, c, s) in &self.top {
-            self.slots[s] += f(r, c);
-        }
-        self.tangent = true;
-    }
-
-    /// Brings the top-left slots up to `blocks` (coupling blocks zero) after a set_mass.
-    fn write_top(&mut self) {
-        if !self.top_stale {
-            return;
-        }
-        for (&s, &v) in self.block_slots.iter().zip(&self.blocks) {
-            self.slots[s] = v;
-        }
-        for &(_, _, s) in &self.top[self.blocks.len()..] {
-            self.slots[s] = 0.0;
-        }
-        self.top_stale = false;
-    }
-
-    /// The top-left is block diagonal and symmetric, so the Schur complement applies: mass only,
-    /// or tangent terms on a layout without coupling blocks whose diagonal blocks are symmetric
-    /// (then copied from the slots into `blocks`).
-    fn schur_applies(&mut self) -> bool {
-        if !self.tangent {
-            return true;
-        }
-        if self.coupled {
-            return false;
-        }
-        for (v, &s) in self.blocks.iter_mut().zip(&self.block_slots) {
-            *v = self.slots[s];
-        }
-        self.blocks.chunks_exact(36).all(|b| {
-            let size = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            (0..6).all(|c| (0..c).all(|r| (b[6 * c + r] - b[6 * r + c]).abs() <= 1e-14 * size))
-        })
+    pub fn add_top(&mut self, f: impl FnMut(usize, usize) -> f64) {
+        self.top_left.add(&self.layout, &mut self.lu.slots, f);
     }
 
     /// Factors the current matrix: the Schur complement when it applies (see the module docs),
     /// else, or when its Cholesky fails, the LU of the full matrix.
     ///
     /// A mass-only matrix equal to the one factored last (same Φ_v values, same mass blocks) is
-    /// not factored again: DOPRI5's velocity projection of a step end whose positions did not
-    /// move, the evaluation of the equations of motion there and the recording of an output
-    /// time all share the factorization of the step's last stage.
+    /// not factored again (see [`last`]).
     pub fn factor(&mut self) -> Result<(), SolverError> {
-        if self.unchanged() {
+        let tangent = self.top_left.tangent();
+        if self.last.unchanged(&self.jac, tangent) {
             return Ok(());
         }
         self.factorizations += 1;
-        self.factored = None;
-        if self.path.try_schur(self.tangent) && self.schur.is_some() && self.schur_applies() {
-            let schur = self.schur.as_mut().expect("checked");
-            match schur.factor(&self.blocks, &self.jac) {
+        self.last.clear();
+        if self.path.try_schur(tangent) && self.top_left.schur_blocks(&self.layout, &self.lu.slots)
+        {
+            match self.schur.factor(self.top_left.blocks(), &self.jac) {
                 Ok(()) => {
                     self.path.accepted();
-                    self.factored = Some(Factored::Schur);
-                    self.remember_factored();
+                    self.last.remember(Factored::Schur, &self.jac, tangent);
                     return Ok(());
                 }
-                Err(e) if self.path.strict() => {
-                    // Rows of S are active rows: KKT rows n + a.
-                    return Err(match e {
-                        SolverError::Singular {
-                            dependent_equations,
-                        } => SolverError::Singular {
-                            dependent_equations: dependent_equations
-                                .into_iter()
-                                .map(|a| self.n + a)
-                                .collect(),
-                        },
-                        e => e,
-                    });
-                }
+                Err(e) if self.path.strict() => return Err(self.kkt_rows(e)),
                 Err(e) => {
                     self.fallbacks += 1;
                     // A block failure lists no equations.
                     self.path.refused(
-                        !self.tangent
+                        !tangent
                             && matches!(&e, SolverError::Singular { dependent_equations } if dependent_equations.is_empty()),
                     );
                 }
             }
         }
-        self.write_top();
-        for (&(s, st), &v) in self.jac_slots.iter().zip(&self.jac) {
-            self.slots[s] = v;
-            self.slots[st] = v;
-        }
-        let slots = std::mem::take(&mut self.slots);
-        let r = self.lu().and_then(|lu| lu.factor(&slots));
-        self.slots = slots;
-        r?;
-        self.factored = Some(Factored::Lu);
-        self.remember_factored();
+        self.top_left.write(&self.layout, &mut self.lu.slots);
+        self.lu.write_phi_v(&self.layout, &self.jac);
+        self.lu.factor()?;
+        self.last.remember(Factored::Lu, &self.jac, tangent);
         Ok(())
     }
 
-    /// The last factorization holds this mass-only matrix (see [`factor`](Self::factor)).
-    fn unchanged(&self) -> bool {
-        self.factored.is_some()
-            && self.factored_mass_only
-            && !self.tangent
-            && self.jac == self.jac_factored
-    }
-
-    /// Keeps what [`unchanged`](Self::unchanged) compares with.
-    fn remember_factored(&mut self) {
-        self.jac_factored.copy_from_slice(&self.jac);
-        self.factored_mass_only = !self.tangent;
+    /// A Schur solver's error with its equations renumbered as KKT rows (rows of S are active
+    /// rows: KKT rows n + a).
+    fn kkt_rows(&self, e: SolverError) -> SolverError {
+        match e {
+            SolverError::Singular {
+                dependent_equations,
+            } => SolverError::Singular {
+                dependent_equations: dependent_equations
+                    .into_iter()
+                    .map(|a| self.n + a)
+                    .collect(),
+            },
+            e => e,
+        }
     }
 
     /// Solves with `rhs` into `sol`, with the last factorization. A Schur solve whose smallest
     /// pivot ratio is below `refine_below` ([`SCHUR_REFINE_RATIO`], or [`refine_ratio_for`]
-    /// DOPRI5's tolerance) is refined once against the full system
-    /// (residual with K, correction with the Schur factors): S squares the conditioning of Φ_v,
-    /// and near a singular configuration (A02's horizontal positions) the plain solve is less
-    /// accurate than the LU of K would be.
+    /// DOPRI5's tolerance) is refined once against the full system ([`refine`]).
     pub fn solve(&mut self) -> Result<(), SolverError> {
         self.solve_refined(true)
     }
@@ -638,101 +306,38 @@ impl Kkt {
     }
 
     fn solve_refined(&mut self, refine: bool) -> Result<(), SolverError> {
-        match self.factored {
+        match self.last.kind() {
             Some(Factored::Schur) => {
-                let schur = self.schur.as_mut().expect("factored");
-                schur.solve(&self.rhs, &mut self.sol)?;
-                if refine && schur.min_pivot_ratio() < self.refine_below {
-                    self.refine_schur()?;
+                self.schur.solve(&self.rhs, &mut self.sol)?;
+                if refine && self.schur.min_pivot_ratio() < self.refine_below {
+                    let k = Factors {
+                        blocks: self.top_left.blocks(),
+                        groups: &self.layout.groups,
+                        jac: self.last.jac(),
+                        schur: &mut self.schur,
+                    };
+                    self.refinement.refine(k, &self.rhs, &mut self.sol)?;
                 }
                 Ok(())
             }
-            Some(Factored::Lu) => self
-                .solver
-                .as_mut()
-                .expect("factored")
-                .solve(&self.rhs, &mut self.sol),
+            Some(Factored::Lu) => self.lu.solve(&self.rhs, &mut self.sol),
             None => Err(SolverError::NotReady { missing: "factor" }),
         }
     }
 
-    /// One step of iterative refinement of `sol` on the Schur path: r = rhs − K sol with
-    /// K = [A Φ_vᵀ; Φ_v 0] the factored matrix (A the block-diagonal top-left held in
-    /// `blocks`, Φ_v as it was at the factorization: a modified Newton iteration solves with a
-    /// matrix older than the current `jac`), sol += K⁻¹ r by the Schur factors. No allocation.
-    fn refine_schur(&mut self) -> Result<(), SolverError> {
-        let n = self.n;
-        let mut r = std::mem::take(&mut self.refine_r);
-        r.copy_from_slice(&self.rhs);
-        let (xv, xl) = self.sol.split_at(n);
-        for (k, a) in self.blocks.chunks_exact(36).enumerate() {
-            let x = &xv[6 * k..6 * k + 6];
-            for i in 0..6 {
-                let mut s = 0.0;
-                for j in 0..6 {
-                    s += a[6 * j + i] * x[j];
-                }
-                r[6 * k + i] -= s;
-            }
-        }
-        for (g, v) in self.groups.iter().zip(self.jac_factored.chunks_exact(6)) {
-            let l = xl[g.row];
-            let mut s = 0.0;
-            for c in 0..6 {
-                r[g.col + c] -= v[c] * l;
-                s += v[c] * xv[g.col + c];
-            }
-            r[n + g.row] -= s;
-        }
-        let mut d = std::mem::take(&mut self.refine_d);
-        let solved = self.schur.as_mut().expect("factored").solve(&r, &mut d);
-        if solved.is_ok() {
-            for (x, dx) in self.sol.iter_mut().zip(&d) {
-                *x += dx;
-            }
-        }
-        self.refine_r = r;
-        self.refine_d = d;
-        solved
-    }
-
     /// y (active rows) = Φ_v x.
     pub fn phi_v_mul(&self, x: &[f64], y: &mut [f64]) {
-        y.fill(0.0);
-        for (g, v) in self.groups.iter().zip(self.jac.chunks_exact(6)) {
-            let x = &x[g.col..g.col + 6];
-            let mut s = y[g.row];
-            for c in 0..6 {
-                s += v[c] * x[c];
-            }
-            y[g.row] = s;
-        }
+        phi_v::mul(&self.layout.groups, &self.jac, x, y);
     }
 
-    /// y (n) += Φ_vᵀ λ and size (n) += |Φ_vᵀ| |λ| (entrywise absolute values: the size of the
-    /// terms of Φ_vᵀλ), in one pass over Φ_v.
+    /// y (n) += Φ_vᵀ λ and size (n) += |Φ_vᵀ| |λ| (see [`phi_v::t_mul_add_with_size`]).
     pub fn phi_v_t_mul_add_with_size(&self, lambda: &[f64], y: &mut [f64], size: &mut [f64]) {
-        for (g, v) in self.groups.iter().zip(self.jac.chunks_exact(6)) {
-            let l = lambda[g.row];
-            let y = &mut y[g.col..g.col + 6];
-            let size = &mut size[g.col..g.col + 6];
-            for c in 0..6 {
-                let t = v[c] * l;
-                y[c] += t;
-                size[c] += t.abs();
-            }
-        }
+        phi_v::t_mul_add_with_size(&self.layout.groups, &self.jac, lambda, y, size);
     }
 
     /// y (n) += Φ_vᵀ λ (λ over active rows).
     pub fn phi_v_t_mul_add(&self, lambda: &[f64], y: &mut [f64]) {
-        for (g, v) in self.groups.iter().zip(self.jac.chunks_exact(6)) {
-            let l = lambda[g.row];
-            let y = &mut y[g.col..g.col + 6];
-            for c in 0..6 {
-                y[c] += v[c] * l;
-            }
-        }
+        phi_v::t_mul_add(&self.layout.groups, &self.jac, lambda, y);
     }
 }
 

@@ -8,8 +8,8 @@
 //! that failed (a configuration singular to working precision is stepped over).
 //!
 //! Iteration matrix [M + γ' C_t + β' K_t, Φ_vᵀ; Φ_v, 0]: Φ_v and M exact, the force tangents
-//! by finite differences once per step attempt, at the predictor (block-sparse and coloured,
-//! see `tangents`: 12 evaluations of h per colour of the force-coupling graph). With
+//! by finite differences at the iterate where the matrix is factored (block-sparse and
+//! coloured, see `tangents`: 12 evaluations of h per colour of the force-coupling graph). With
 //! [`GeneralizedAlphaOptions::reuse_factorization`] (the default) the iteration is a modified
 //! Newton: the last factorization (of an earlier iteration or step, or of the velocity
 //! projection or output solve, all of the same layout) is kept while the residual contracts by
@@ -17,6 +17,14 @@
 //! velocity projection after a step solves its exact system by iterative refinement on that
 //! same factorization. Mass-only steps of a smooth model then cost one factorization every
 //! few steps instead of two per step (A02 N = 2 at h = 0.1 ms: 0.14 per step instead of 2).
+//! Tangent steps keep their factorization across steps the same way, as long as it is a
+//! tangent matrix for the same h, or any held one when the tangent terms are small against M
+//! (`TANGENT_SMALL`: a chain's gyroscopic terms); before, every tangent step factored at least
+//! once (a 200-link chain: 1.05 factorizations per step, each a sparse LU, since the
+//! gyroscopic blocks are unsymmetric and the Schur path needs symmetric ones).
+//!
+//! Predictor: v̇ and λ extrapolated linearly from the last two steps (`predict`), whose error
+//! O(h² x⃛) does not grow with the motion as the constant predictor's h ẍ did.
 //!
 //! Convergence (`attempt`): the constraint residual, and one of: the residual of the equations
 //! of motion relative to the size of their terms; for a matrix factored in the current step,
@@ -72,6 +80,11 @@ struct Buf {
     a1: Vec<f64>,
     lambda1: Vec<f64>,
     dq: Vec<f64>,
+    /// v̇ and λ of the step before the accepted one, and that step's size (0 when there is no
+    /// such step: the start, or the active rows were chosen again), for the predictor.
+    vdot_prev: Vec<f64>,
+    lambda_prev: Vec<f64>,
+    h_prev: f64,
     /// Force tangents (iteration matrices with tangent terms).
     tan: Option<Tangents>,
     phi: Vec<f64>,
@@ -90,7 +103,23 @@ struct Buf {
     proj_x: Vec<f64>,
     /// State of the solver's factorization (modified Newton).
     factor: Factor,
+    /// The step size of the tangent iteration matrix the solver holds, 0 when it holds
+    /// another matrix (see `attempt`).
+    tangent_h: f64,
+    /// The tangent terms of the last tangent evaluation were small against M
+    /// ([`TANGENT_SMALL`]), so a held mass-only matrix serves the iteration as well.
+    tangent_small: bool,
 }
+
+/// Size of the tangent terms γ' C_t + β' K_t relative to M ([`Tangents::relative_size`]) up to
+/// which the modified Newton of a tangent iteration uses M instead: a held mass-only
+/// factorization (of a velocity projection or an output's acceleration solve) serves, and a
+/// refactorization factors M alone. The chord iteration with M then contracts at about this
+/// rate, well within the modified Newton's refactoring bound [`THETA_REFACTOR`]. A chain
+/// under gravity (gyroscopic terms only, γ'|ω| ≈ 1e-3) is far below; a stiff spring is above
+/// and keeps its tangent matrix. The tangents are evaluated again at every refactorization,
+/// so a motion that makes them grow brings them back.
+const TANGENT_SMALL: f64 = 0.05;
 
 /// out = M x with M = diag(m_k I, J'_k) per body (6 entries per body).
 fn mass_mul(mass: &[f64], inertia: &[nalgebra::Matrix3<f64>], x: &[f64], out: &mut [f64]) {
@@ -114,6 +143,30 @@ fn trial(b: &mut Buf, h: f64, p: (f64, f64, f64, f64)) {
     }
     b.t1.q.copy_from_slice(&b.s.q);
     apply_rotation_step(&mut b.t1.q, &b.dq);
+}
+
+/// The Newton start: v̇ and λ extrapolated linearly from the last two steps,
+/// x_{n+1} ≈ x_n + (h / h_{n−1})(x_n − x_{n−1}), or held constant when there is no step
+/// before (the start, or after the active rows were chosen again). Its error is
+/// O(h² x⃛) instead of the constant predictor's h ẍ, which grows as the motion develops
+/// (a swinging chain: h v̈ of the links' accelerations) and decides how many Newton updates
+/// a step needs before its acceptance test β'|Δv̇| ≤ tol passes.
+fn predict(b: &mut Buf, h: f64) {
+    b.vdot1.copy_from_slice(&b.vdot);
+    b.lambda1.copy_from_slice(&b.lambda);
+    if b.h_prev > 0.0 {
+        let r = h / b.h_prev;
+        for (x, (v, p)) in b.vdot1.iter_mut().zip(b.vdot.iter().zip(&b.vdot_prev)) {
+            *x += r * (v - p);
+        }
+        for (x, (v, p)) in b
+            .lambda1
+            .iter_mut()
+            .zip(b.lambda.iter().zip(&b.lambda_prev))
+        {
+            *x += r * (v - p);
+        }
+    }
 }
 
 /// Whether the KKT solver holds a factorization that may serve as the (approximate) iteration
@@ -165,8 +218,7 @@ fn attempt(
     let gamma_p = h * g * (1.0 - af) / (1.0 - am);
     let t1 = b.s.t + h;
     b.t1.t = t1;
-    b.vdot1.copy_from_slice(&b.vdot);
-    b.lambda1.copy_from_slice(&b.lambda);
+    predict(b, h);
     let model = d.model;
     let escale = model.equation_scales();
     let n = b.a.len();
@@ -179,17 +231,17 @@ fn attempt(
     // largest scaled |v̇|.
     let (mut dv, mut dv_prev, mut acc) = (f64::INFINITY, f64::INFINITY, 0.0f64);
     let uscale = model.unknown_scales();
-    let mut refactor = !o.reuse_factorization || b.factor == Factor::None || tangent;
+    // A tangent iteration matrix is kept across steps like the mass-only one, as long as it
+    // is one (not the mass-only matrix of a projection or an output solve) for this h (γ' and
+    // β' depend on h).
+    let mut refactor = !o.reuse_factorization
+        || b.factor == Factor::None
+        || (tangent && b.tangent_h.to_bits() != h.to_bits() && !b.tangent_small);
     if b.factor == Factor::Fresh {
         b.factor = Factor::Stale;
     }
     for it in 0..o.max_iterations {
         trial(b, h, p);
-        if it == 0 && tangent {
-            if let Some(tan) = b.tan.as_mut() {
-                tan.eval(d, &b.t1);
-            }
-        }
         d.sync(&b.t1);
         d.eval_forces(t1);
         let kkt = d.kkt.as_mut().expect("prepared");
@@ -278,20 +330,40 @@ fn attempt(
             refactor = true;
         }
         if refactor {
-            // The top-left only when factoring: M + γ' C_t + β' K_t.
+            // The top-left only when factoring: M + γ' C_t + β' K_t, the tangents at this
+            // iterate (full Newton: at the predictor, once per attempt).
+            // Modified Newton factors M alone when the tangent terms are small against it
+            // (`TANGENT_SMALL`): the chord iteration contracts as fast, and the Schur path,
+            // which needs symmetric blocks, takes M where the gyroscopic terms would send the
+            // matrix to the LU of the full system (a 200-link chain: 8.2 → 2.3 ms per step).
+            let tangents = b.tan.as_mut().filter(|_| tangent);
+            let mut with_tangents = false;
+            if let Some(tan) = tangents {
+                if o.reuse_factorization || it == 0 {
+                    tan.eval(d, &b.t1);
+                    b.tangent_small =
+                        tan.relative_size(gamma_p, beta_p, &d.mass, &d.inertia) <= TANGENT_SMALL;
+                }
+                with_tangents = !(o.reuse_factorization && b.tangent_small);
+            }
+            let kkt = d.kkt.as_mut().expect("prepared");
             kkt.set_mass(&d.mass, &d.inertia);
-            if let (true, Some(tan)) = (tangent, b.tan.as_ref()) {
+            if let (true, Some(tan)) = (with_tangents, b.tan.as_ref()) {
                 kkt.add_top(|r, c| tan.entry(r, c, gamma_p, beta_p));
             }
             if kkt.factor().is_err() {
                 b.factor = Factor::None;
+                b.tangent_h = 0.0;
                 return Ok(false);
             }
             b.factor = Factor::Fresh;
+            b.tangent_h = if with_tangents { h } else { 0.0 };
             refactor = false;
         }
+        let kkt = d.kkt.as_mut().expect("prepared");
         if kkt.solve_unrefined().is_err() {
             b.factor = Factor::None;
+            b.tangent_h = 0.0;
             return Ok(false);
         }
         stats.newton_iterations += 1;
@@ -325,6 +397,7 @@ fn project_velocities(d: &mut Dynamics, b: &mut Buf) -> Result<(), DynamicsError
     if b.factor == Factor::None {
         d.project_velocities(&mut b.s)?;
         b.factor = Factor::Fresh;
+        b.tangent_h = 0.0;
         return Ok(());
     }
     let model = d.model;
@@ -401,6 +474,7 @@ fn project_velocities(d: &mut Dynamics, b: &mut Buf) -> Result<(), DynamicsError
     } else {
         d.project_velocities(&mut b.s)?;
         b.factor = Factor::Fresh;
+        b.tangent_h = 0.0;
     }
     Ok(())
 }
@@ -422,6 +496,7 @@ fn work_step(d: &mut Dynamics, b: &mut Buf, h: f64) -> Result<(), DynamicsError>
     } else {
         d.accelerations(&b.s, &mut b.w_vdot, &mut b.w_lambda)?;
         b.factor = Factor::Stale;
+        b.tangent_h = 0.0;
         d.powers(b.s.t, Multipliers::Full(&b.w_lambda), &mut b.pw1);
     }
     trapezoid(&mut b.w, &b.pw0, &b.pw1, h);
@@ -471,6 +546,11 @@ pub(crate) fn run(
         proj_e: vec![0.0; ma],
         proj_x: vec![0.0; n + ma],
         factor: Factor::None,
+        tangent_h: 0.0,
+        tangent_small: false,
+        vdot_prev: vec![0.0; n],
+        lambda_prev: vec![0.0; ma],
+        h_prev: 0.0,
         pw0: vec![0.0; nw],
         pw1: vec![0.0; nw],
         w: vec![0.0; nw],
@@ -538,6 +618,8 @@ pub(crate) fn run(
                 if b.t1.q.iter().all(|v| v.is_finite()) {
                     d.sync(&b.t1);
                     if d.reselect(b.t1.t) {
+                        // λ is over the new active rows: no history for the predictor.
+                        b.h_prev = 0.0;
                         continue;
                     }
                 }
@@ -563,6 +645,9 @@ pub(crate) fn run(
             std::mem::swap(&mut b.vdot, &mut b.vdot1);
             std::mem::swap(&mut b.a, &mut b.a1);
             std::mem::swap(&mut b.lambda, &mut b.lambda1);
+            // The step before, for the predictor (the trial buffers are written anew).
+            std::mem::swap(&mut b.vdot_prev, &mut b.vdot1);
+            std::mem::swap(&mut b.lambda_prev, &mut b.lambda1);
             if o.project_velocities {
                 if o.reuse_factorization {
                     project_velocities(d, &mut b)?;
@@ -571,14 +656,20 @@ pub(crate) fn run(
                 }
             }
             let h_accepted = b.s.t - t_before;
+            b.h_prev = h_accepted;
             work_step(d, &mut b, h_accepted)?;
             stats.steps += 1;
         }
         rec.record(d, &b.s, iters_since, Some(&b.w))?;
         // The recorder's acceleration solve refactored [M Φ_vᵀ; Φ_v 0] at the output state.
         b.factor = Factor::Stale;
+        b.tangent_h = 0.0;
         iters_since = 0;
         next += 1;
     }
     Ok(())
 }
+
+#[cfg(test)]
+#[path = "generalized_alpha_tests.rs"]
+mod tests;

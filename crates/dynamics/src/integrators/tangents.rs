@@ -129,6 +129,39 @@ impl Tangents {
         }
     }
 
+    /// The size of γ' C_t + β' K_t against the mass matrix M = diag(m_k I, J'_k):
+    /// max |(γ' C_t + β' K_t)_rc| / √(M_rr M_cc) over the stored entries, a bound (up to the
+    /// block size) on ‖M^(−1/2)(γ' C_t + β' K_t)M^(−1/2)‖ that does not depend on units. A
+    /// chord iteration with M instead of M + γ' C_t + β' K_t contracts at about this rate.
+    pub fn relative_size(
+        &self,
+        gamma_p: f64,
+        beta_p: f64,
+        mass: &[f64],
+        inertia: &[nalgebra::Matrix3<f64>],
+    ) -> f64 {
+        let diag = |k: usize, i: usize| {
+            if i < 3 {
+                mass[k]
+            } else {
+                inertia[k][(i - 3, i - 3)]
+            }
+        };
+        let mut size = 0.0f64;
+        for (j, row) in self.rows.iter().enumerate() {
+            for &(k, b) in row {
+                for r in 0..6 {
+                    for c in 0..6 {
+                        let e = r * 6 + c;
+                        let t = gamma_p * self.ct[b][e] + beta_p * self.kt[b][e];
+                        size = size.max(t.abs() / (diag(j, r) * diag(k, c)).sqrt());
+                    }
+                }
+            }
+        }
+        size
+    }
+
     /// Entry (r, c) of γ' C_t + β' K_t (zero outside the stored blocks).
     pub fn entry(&self, r: usize, c: usize, gamma_p: f64, beta_p: f64) -> f64 {
         let (j, k) = (r / 6, c / 6);

@@ -10,7 +10,11 @@
 //! 1e8: a point mass with a negligible inertia) is constant, so every later mass-only
 //! factorization goes to the LU directly.
 
-use super::SCHUR_BACKOFF;
+/// After this many consecutive refusals of S (`.0`), the Schur complement is skipped for the
+/// next `.1` factorizations: a model whose S is always refused (a mechanism held in a
+/// near-singular configuration) pays for the attempt once in 16 factorizations instead of at
+/// each, and a singular passage returns to the Schur path at most 15 factorizations after it.
+pub(crate) const SCHUR_BACKOFF: (usize, usize) = (3, 15);
 
 /// Which factorization [`Kkt::factor`](super::Kkt::factor) uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
