@@ -167,7 +167,7 @@ pub fn section(smoke: bool, python: Option<&str>, root: &Path) -> String {
 pub fn section_of(smoke: bool, python: Option<&str>, only: Option<&str>, root: &Path) -> String {
     let data = root.join("crates/asmt/tests/data");
     let script = root.join("bench/peers/asmt.py");
-    let (n_cardan, n_peer) = if smoke { (1, 1) } else { (20, 3) };
+    let (n_cardan, n_peer) = if smoke { (1, 1) } else { (50, 5) };
     let out_dir = std::env::temp_dir().join(format!("cardan-bench-asmt-{}", std::process::id()));
     let _ = std::fs::create_dir_all(&out_dir);
     let mut md = String::from("### ASMT files: cardan against OndselSolver\n\n");
