@@ -166,7 +166,7 @@ impl<'a> Recorder<'a> {
             .iter()
             .fold(self.max_residual, |a, &b| a.max(b));
         self.last_time = frame.times.last().copied().or(self.last_time);
-        let keep = self.keep_all || self.frames % s.stride == 0;
+        let keep = self.keep_all || self.frames.is_multiple_of(s.stride);
         if keep {
             s.kept.extend_from(frame);
         } else {
