@@ -48,16 +48,21 @@ pub(super) fn run_kinematic(
     let (totals, failure) = match run {
         Ok(t) if bar.stopped() => {
             let e = crate::progress::interrupted(rec.last_time().as_slice());
-            (t, Some(e))
+            (t, Some(Failure::Stopped(e)))
         }
         Ok(t) => (t, None),
         Err(e) => match e.partial_results() {
-            Some(r) => (r.totals(), Some(analysis_error(p, &e))),
+            Some(r) => (r.totals(), Some(Failure::Analysis(e))),
             None => return Err(analysis_error(p, &e)),
         },
     };
     drop(bar);
     let rec = rec.finish()?;
+    // The error's diagnosis reads the last solved frame: the kept copy ends with it.
+    let failure = failure.map(|f| match f {
+        Failure::Analysis(e) => analysis_error(p, &e.with_partial(rec.results.clone())),
+        Failure::Stopped(e) => e,
+    });
     let mut results = rec.results;
     results.set_totals(totals.clone());
     let summary = Summary {
@@ -87,6 +92,12 @@ pub(super) fn run_kinematic(
         modes: Vec::new(),
         streamed: rec.streamed,
     })
+}
+
+/// Why a run stopped early, before its diagnosis.
+enum Failure {
+    Analysis(cardan_mechanism::AnalysisError),
+    Stopped(Error),
 }
 
 /// One warning per joint whose equation was dropped as redundant but not satisfied at the
