@@ -98,11 +98,8 @@ impl OutputDir {
         &self.files
     }
 
-    /// Writes `name` (text or bytes) into the temporary directory: write, flush, sync to disk.
-    ///
-    /// # Errors
-    /// An output error naming the file and the cause (a full disk, permissions).
-    pub fn write(&mut self, name: &str, data: impl AsRef<[u8]>) -> Result<(), Error> {
+    /// Creates the temporary directory on the first file.
+    fn ensure_tmp(&mut self) -> Result<(), Error> {
         if !self.tmp_created {
             if self.tmp.exists() {
                 // Left by an earlier run with our process id (ids are reused): ours to clear.
@@ -117,23 +114,67 @@ impl OutputDir {
             })?;
             self.tmp_created = true;
         }
+        Ok(())
+    }
+
+    /// Writes `name` (text or bytes) into the temporary directory: write, flush, sync to disk.
+    ///
+    /// # Errors
+    /// An output error naming the file and the cause (a full disk, permissions).
+    pub fn write(&mut self, name: &str, data: impl AsRef<[u8]>) -> Result<(), Error> {
+        self.ensure_tmp()?;
         let path = self.tmp.join(name);
         let written = std::fs::File::create(&path).and_then(|mut f| {
             f.write_all(data.as_ref())?;
             f.flush()?;
             f.sync_all()
         });
-        written.map_err(|e| {
-            Error::output(format!(
-                "cannot write {} (for {}): {}; the previous contents of {} are unchanged",
-                name,
-                self.target.display(),
-                describe_io(&e),
-                self.target.display()
-            ))
-        })?;
+        written.map_err(|e| self.write_error(name, &e))?;
         self.files.push(name.to_string());
         Ok(())
+    }
+
+    /// Opens `name` in the temporary directory for a file written piece by piece while the run
+    /// goes on (a streamed CSV): a buffered writer. Once complete, [`OutputDir::finish`] flushes
+    /// and syncs it and counts it among the files written.
+    ///
+    /// # Errors
+    /// An output error naming the file and the cause.
+    pub fn create(&mut self, name: &str) -> Result<std::io::BufWriter<std::fs::File>, Error> {
+        self.ensure_tmp()?;
+        let file = std::fs::File::create(self.tmp.join(name));
+        let file = file.map_err(|e| self.write_error(name, &e))?;
+        Ok(std::io::BufWriter::with_capacity(1 << 16, file))
+    }
+
+    /// Completes a file opened by [`OutputDir::create`]: flush, sync to disk, and record it in
+    /// [`OutputDir::files`].
+    ///
+    /// # Errors
+    /// An output error naming the file and the cause.
+    pub fn finish(
+        &mut self,
+        name: &str,
+        writer: std::io::BufWriter<std::fs::File>,
+    ) -> Result<(), Error> {
+        let done = writer
+            .into_inner()
+            .map_err(|e| std::io::Error::new(e.error().kind(), e.error().to_string()))
+            .and_then(|f| f.sync_all());
+        done.map_err(|e| self.write_error(name, &e))?;
+        self.files.push(name.to_string());
+        Ok(())
+    }
+
+    /// The error of a failed write of `name`.
+    pub fn write_error(&self, name: &str, e: &std::io::Error) -> Error {
+        Error::output(format!(
+            "cannot write {} (for {}): {}; the previous contents of {} are unchanged",
+            name,
+            self.target.display(),
+            describe_io(e),
+            self.target.display()
+        ))
     }
 
     /// Renames the temporary directory into place, replacing the previous run's directory as a

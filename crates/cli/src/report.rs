@@ -23,6 +23,17 @@ pub struct ModelRef {
     pub name: String,
 }
 
+/// The frames a long run's plots, animation and report show.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct PlottedFrames {
+    /// Frames shown: the first, every `every`-th, and the last.
+    pub kept: usize,
+    /// Frames the run stored (all in the CSV files).
+    pub of: usize,
+    /// The decimation step.
+    pub every: usize,
+}
+
 /// The contents of `run.json`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct RunReport {
@@ -72,6 +83,9 @@ pub struct RunReport {
     /// Times the independent equations of a model with redundant equations were chosen again
     /// because the kept ones lost rank where the full set has not (a note, not a warning).
     pub row_reselections: usize,
+    /// A run whose plots, animation and report show a decimated copy of its frames (the CSV
+    /// files hold every frame): how; `null` when they show every frame.
+    pub plotted_frames: Option<PlottedFrames>,
     /// The files written besides `run.json`, in the order written.
     pub files: Vec<String>,
     /// Wall time of the analysis, without the writing (s).

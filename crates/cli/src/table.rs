@@ -29,21 +29,21 @@ impl Table {
 
     /// The CSV text: header `t [s],<columns>`, then one row per time (17 significant digits).
     pub fn to_csv(&self) -> String {
+        let mut s = self.csv_header();
+        for row in &self.rows {
+            push_csv_row(&mut s, row);
+        }
+        s
+    }
+
+    /// The CSV header line `t [s],<columns>` with its line break.
+    pub fn csv_header(&self) -> String {
         let mut s = String::from("t [s]");
         for c in &self.columns {
             s.push(',');
             s.push_str(&csv_field(c));
         }
         s.push('\n');
-        for row in &self.rows {
-            for (k, v) in row.iter().enumerate() {
-                if k > 0 {
-                    s.push(',');
-                }
-                let _ = write!(s, "{v:e}");
-            }
-            s.push('\n');
-        }
         s
     }
 
@@ -51,6 +51,17 @@ impl Table {
     pub fn to_svg(&self) -> String {
         cardan_plot::render_svg(&crate::plot::figure(self))
     }
+}
+
+/// Appends one CSV row (shortest round-trip exponent form of each value) and its line break.
+pub fn push_csv_row(s: &mut String, row: &[f64]) {
+    for (k, v) in row.iter().enumerate() {
+        if k > 0 {
+            s.push(',');
+        }
+        let _ = write!(s, "{v:e}");
+    }
+    s.push('\n');
 }
 
 /// A CSV field, quoted when it holds a comma, a quote or a line break.

@@ -90,8 +90,18 @@ impl UnitSystem {
         if self == Self::Si {
             return;
         }
-        let factors: Vec<f64> = table
-            .columns
+        let factors = self.convert_columns(&mut table.columns);
+        for row in &mut table.rows {
+            self.convert_row(row, &factors);
+        }
+    }
+
+    /// Headers `name [unit]` in this system; returns each column's factor from SI.
+    pub fn convert_columns(self, columns: &mut [String]) -> Vec<f64> {
+        if self == Self::Si {
+            return vec![1.0; columns.len()];
+        }
+        columns
             .iter_mut()
             .map(|c| {
                 let Some((name, unit)) = c
@@ -105,12 +115,18 @@ impl UnitSystem {
                 *c = format!("{name} [{unit}]");
                 factor
             })
-            .collect();
-        for row in &mut table.rows {
-            // Time first.
-            for (v, f) in row.iter_mut().skip(1).zip(&factors) {
-                *v *= f;
-            }
+            .collect()
+    }
+
+    /// A row (time first, then the columns with `factors` from [`Self::convert_columns`]) in
+    /// this system.
+    pub fn convert_row(self, row: &mut [f64], factors: &[f64]) {
+        if self == Self::Si {
+            return;
+        }
+        // Time first.
+        for (v, f) in row.iter_mut().skip(1).zip(factors) {
+            *v *= f;
         }
     }
 

@@ -699,7 +699,8 @@ impl AnalysisError {
         }
     }
 
-    pub(crate) fn with_partial(mut self, results: Results) -> Self {
+    /// The error with `results` as its partial results (e.g. a front end's copy of a streamed run).
+    pub fn with_partial(mut self, results: Results) -> Self {
         match &mut self {
             AnalysisError::Singular { partial, .. }
             | AnalysisError::NotConverged { partial, .. }

@@ -97,7 +97,9 @@ pub use model::{
     kinds_with, nearest, BodyId, BodyInfo, CoupledCoordinate, CouplerInfo, DriverInfo, FeatureInfo,
     ForceInfo, JointInfo, Model,
 };
-pub use results::{BodyResults, JointResults, Outputs, PointResults, Results};
+pub use results::{
+    BodyResults, FrameSink, JointResults, Outputs, PointResults, Results, RunTotals,
+};
 pub use sanity::{check_inertia, Quantity};
 pub use workspace::{apply_rotation_step, EvaluationCounts, Workspace};
 

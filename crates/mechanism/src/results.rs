@@ -3,10 +3,46 @@
 //! Only what the run asked for is filled: with `outputs.velocity == false` every velocity
 //! vector stays empty, and so on. All vectors that are filled have one entry per time in
 //! [`Results::times`].
+//!
+//! The same type carries one frame at a time to a [`FrameSink`] (a streamed run,
+//! [`Model::kinematics_into`](crate::Model::kinematics_into)): a `Results` holding exactly the
+//! time just solved, whose storage is reused from frame to frame. A run that returns all its
+//! frames is such a sink that appends each frame ([`Results::extend_from`]).
 
 use cardan_constraints::joints::MAX_COORDINATES;
 use cardan_constraints::JointKind;
 use nalgebra::{Vector3, Vector4};
+use std::ops::ControlFlow;
+
+/// The consumer of a streamed run's frames: called once per stored time, in order, with the
+/// grid index k and a [`Results`] holding that one time (the counters
+/// [`Results::subdivided_steps`] and [`Results::row_reselections`] are the run's totals so far).
+/// [`ControlFlow::Break`] stops the run after this frame (e.g. Ctrl-C in the command line).
+///
+/// Closures `FnMut(usize, &Results) -> ControlFlow<()>` are sinks.
+pub trait FrameSink {
+    /// Takes frame `k`.
+    fn frame(&mut self, k: usize, frame: &Results) -> ControlFlow<()>;
+}
+
+impl<F: FnMut(usize, &Results) -> ControlFlow<()>> FrameSink for F {
+    fn frame(&mut self, k: usize, frame: &Results) -> ControlFlow<()> {
+        self(k, frame)
+    }
+}
+
+/// What a streamed run tells at its end beside its frames.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct RunTotals {
+    /// Frames handed to the sink.
+    pub frames: usize,
+    /// As [`Results::subdivided_steps`].
+    pub subdivided_steps: usize,
+    /// As [`Results::row_reselections`].
+    pub row_reselections: usize,
+    /// As [`Results::dropped_rows`].
+    pub dropped_rows: Vec<crate::analysis::dropped::DroppedRowResidual>,
+}
 
 /// Which quantities a run computes and stores.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -176,5 +212,134 @@ impl Results {
     /// The coordinate history of joint `name`.
     pub fn joint(&self, name: &str) -> Option<&JointResults> {
         self.joints.iter().find(|j| j.name == name)
+    }
+
+    /// The same names, outputs and counters without any frame, with room for `capacity` frames
+    /// in every history this one fills (a copy of a run's layout, e.g. for a decimated copy of
+    /// a streamed run).
+    pub fn empty_like(&self, capacity: usize) -> Results {
+        fn room<T>(v: &[T], capacity: usize) -> Vec<T> {
+            Vec::with_capacity(if v.is_empty() { 0 } else { capacity })
+        }
+        let n = capacity;
+        Results {
+            outputs: self.outputs,
+            times: Vec::with_capacity(n),
+            bodies: (self.bodies.iter())
+                .map(|b| BodyResults {
+                    name: b.name.clone(),
+                    r: room(&b.r, n),
+                    p: room(&b.p, n),
+                    r_dot: room(&b.r_dot, n),
+                    p_dot: room(&b.p_dot, n),
+                    omega: room(&b.omega, n),
+                    omega_local: room(&b.omega_local, n),
+                    r_ddot: room(&b.r_ddot, n),
+                    p_ddot: room(&b.p_ddot, n),
+                    omega_dot: room(&b.omega_dot, n),
+                    omega_dot_local: room(&b.omega_dot_local, n),
+                })
+                .collect(),
+            points: (self.points.iter())
+                .map(|p| PointResults {
+                    body: p.body.clone(),
+                    name: p.name.clone(),
+                    position: room(&p.position, n),
+                    velocity: room(&p.velocity, n),
+                    acceleration: room(&p.acceleration, n),
+                })
+                .collect(),
+            joints: (self.joints.iter())
+                .map(|j| JointResults {
+                    name: j.name.clone(),
+                    kind: j.kind,
+                    coordinates: j.coordinates,
+                    values: room(&j.values, n),
+                    rates: room(&j.rates, n),
+                    accelerations: room(&j.accelerations, n),
+                })
+                .collect(),
+            residual: room(&self.residual, n),
+            iterations: room(&self.iterations, n),
+            subdivided_steps: self.subdivided_steps,
+            row_reselections: self.row_reselections,
+            dropped_rows: self.dropped_rows.clone(),
+        }
+    }
+
+    /// Removes every frame, keeping the storage (no allocation when filled again) and the
+    /// counters.
+    pub fn clear_frames(&mut self) {
+        self.times.clear();
+        self.residual.clear();
+        self.iterations.clear();
+        for b in &mut self.bodies {
+            for v in [&mut b.r, &mut b.r_dot, &mut b.omega, &mut b.omega_local] {
+                v.clear();
+            }
+            for v in [&mut b.r_ddot, &mut b.omega_dot, &mut b.omega_dot_local] {
+                v.clear();
+            }
+            for v in [&mut b.p, &mut b.p_dot, &mut b.p_ddot] {
+                v.clear();
+            }
+        }
+        for p in &mut self.points {
+            for v in [&mut p.position, &mut p.velocity, &mut p.acceleration] {
+                v.clear();
+            }
+        }
+        for j in &mut self.joints {
+            for v in [&mut j.values, &mut j.rates, &mut j.accelerations] {
+                v.clear();
+            }
+        }
+    }
+
+    /// Appends the frames of `other`, which has the same layout (e.g. made by
+    /// [`Results::empty_like`] or by the same run); no allocation within the reserved room.
+    pub fn extend_from(&mut self, other: &Results) {
+        self.times.extend_from_slice(&other.times);
+        self.residual.extend_from_slice(&other.residual);
+        self.iterations.extend_from_slice(&other.iterations);
+        for (a, b) in self.bodies.iter_mut().zip(&other.bodies) {
+            a.r.extend_from_slice(&b.r);
+            a.p.extend_from_slice(&b.p);
+            a.r_dot.extend_from_slice(&b.r_dot);
+            a.p_dot.extend_from_slice(&b.p_dot);
+            a.omega.extend_from_slice(&b.omega);
+            a.omega_local.extend_from_slice(&b.omega_local);
+            a.r_ddot.extend_from_slice(&b.r_ddot);
+            a.p_ddot.extend_from_slice(&b.p_ddot);
+            a.omega_dot.extend_from_slice(&b.omega_dot);
+            a.omega_dot_local.extend_from_slice(&b.omega_dot_local);
+        }
+        for (a, b) in self.points.iter_mut().zip(&other.points) {
+            a.position.extend_from_slice(&b.position);
+            a.velocity.extend_from_slice(&b.velocity);
+            a.acceleration.extend_from_slice(&b.acceleration);
+        }
+        for (a, b) in self.joints.iter_mut().zip(&other.joints) {
+            a.values.extend_from_slice(&b.values);
+            a.rates.extend_from_slice(&b.rates);
+            a.accelerations.extend_from_slice(&b.accelerations);
+        }
+    }
+
+    /// Takes the counters and dropped rows of a streamed run.
+    pub fn set_totals(&mut self, totals: RunTotals) {
+        self.subdivided_steps = totals.subdivided_steps;
+        self.row_reselections = totals.row_reselections;
+        self.dropped_rows = totals.dropped_rows;
+    }
+
+    /// The counters and dropped rows (and the number of frames).
+    pub fn totals(&self) -> RunTotals {
+        RunTotals {
+            frames: self.len(),
+            subdivided_steps: self.subdivided_steps,
+            row_reselections: self.row_reselections,
+            dropped_rows: self.dropped_rows.clone(),
+        }
     }
 }

@@ -59,9 +59,35 @@ fn frames_do_not_allocate(model: &Model, label: &str) {
     eprintln!("{label}: 0 allocations in 200 frames");
 }
 
+/// A streamed run (`Model::kinematics_into`) allocates the same for 50 and for 500 steps: its
+/// setup, never per step (the frame handed to the sink is reused).
+fn streamed_runs_do_not_allocate_per_step(model: &Model, label: &str) {
+    let run = |steps: usize| {
+        let opts = cardan_mechanism::KinematicOptions::new(0.0, 0.5, steps);
+        let mut ws = model.workspace();
+        let mut frames = 0usize;
+        let mut sink = |_: usize, f: &cardan_mechanism::Results| {
+            frames += f.len();
+            std::ops::ControlFlow::Continue(())
+        };
+        let count = allocations(|| {
+            model.kinematics_into(&mut ws, &opts, &mut sink).unwrap();
+        });
+        assert_eq!(frames, steps + 1);
+        count
+    };
+    let (short, long) = (run(50), run(500));
+    assert_eq!(
+        short, long,
+        "{label}: {short} allocations for 50 steps, {long} for 500"
+    );
+    eprintln!("{label}: {short} allocations for 50 streamed steps, {long} for 500");
+}
+
 fn main() {
     kinematic_frames_do_not_allocate();
-    println!("no_alloc: 1 passed, 0 failed");
+    streamed_runs_do_not_allocate_per_step(&common::slider_crank(), "slider-crank");
+    println!("no_alloc: 2 passed, 0 failed");
 }
 
 fn kinematic_frames_do_not_allocate() {

@@ -44,7 +44,9 @@ use crate::analysis::assembly::AssemblyOptions;
 use crate::analysis::position::PositionReport;
 use crate::error::AnalysisError;
 use crate::model::{BodyId, Model};
-use crate::results::{BodyResults, JointResults, Outputs, PointResults, Results};
+use crate::results::{
+    BodyResults, FrameSink, JointResults, Outputs, PointResults, Results, RunTotals,
+};
 use crate::workspace::Workspace;
 use cardan_constraints::joints::continue_angle;
 use cardan_constraints::joints::{CoordinateQuantity, MAX_COORDINATES};
@@ -233,6 +235,9 @@ impl Model {
     /// run: when `progress(k, t_k)` returns [`ControlFlow::Break`], the results of steps 0..=k
     /// are returned (fewer than `steps + 1` times; e.g. Ctrl-C in the command line).
     ///
+    /// The results are collected by a [`FrameSink`] over [`kinematics_into`](Self::kinematics_into)
+    /// that appends each frame to storage reserved at the first frame.
+    ///
     /// # Errors
     /// As [`kinematics`](Self::kinematics).
     pub fn kinematics_with_control(
@@ -241,54 +246,111 @@ impl Model {
         options: &KinematicOptions,
         mut progress: impl FnMut(usize, f64) -> ControlFlow<()>,
     ) -> Result<Results, AnalysisError> {
+        let mut all: Option<Results> = None;
+        let run = self.kinematics_into(ws, options, &mut |k: usize, frame: &Results| {
+            all.get_or_insert_with(|| frame.empty_like(options.steps + 1))
+                .extend_from(frame);
+            progress(k, frame.times[0])
+        });
+        let mut results = all.unwrap_or_default();
+        match run {
+            Ok(totals) => {
+                results.set_totals(totals);
+                Ok(results)
+            }
+            Err(e) => match e.partial_results() {
+                Some(totals) => {
+                    results.set_totals(totals.totals());
+                    Err(e.with_partial(results))
+                }
+                None => Err(e),
+            },
+        }
+    }
+
+    /// The time grid of [`kinematics`](Self::kinematics), streamed: each solved frame goes to
+    /// `sink` as it is computed, in storage reserved for one frame and reused, so memory does
+    /// not grow with the steps and a step does not allocate. Returns the run's counters and the
+    /// dropped rows not satisfied ([`RunTotals`]); the sink stops the run early with
+    /// [`ControlFlow::Break`].
+    ///
+    /// # Errors
+    /// As [`kinematics`](Self::kinematics); a failure at a step carries as its
+    /// [`partial_results`](AnalysisError::partial_results) a [`Results`] without frames (those
+    /// went to the sink) holding the run's counters and dropped rows.
+    pub fn kinematics_into(
+        &self,
+        ws: &mut Workspace,
+        options: &KinematicOptions,
+        sink: &mut impl FrameSink,
+    ) -> Result<RunTotals, AnalysisError> {
         options.validate()?;
         if ws.kin.is_none() {
-            // Joints first, then the drivers. The preparation below checks the driver count
-            // (one rank analysis); when the drivers make the assembly fail, the count is
-            // checked at the joints' pose first (an over-driven mechanism gets "superfluous",
-            // not "open").
-            let joints_only = AssemblyOptions {
-                include_drivers: false,
-                ..AssemblyOptions::at(options.t0)
-            };
-            self.assemble(ws, &joints_only)?;
-            ws.x_tmp.copy_from_slice(&ws.x);
-            if let Err(e) = self.assemble(ws, &AssemblyOptions::at(options.t0)) {
-                ws.x.copy_from_slice(&ws.x_tmp);
-                ws.sync_poses();
-                ws.invalidate();
-                let dof = self.dof(ws)?;
-                if dof.dof != dof.drivers {
-                    return Err(AnalysisError::DriverCount {
-                        dof: dof.dof,
-                        drivers: dof.drivers,
-                    });
-                }
-                return Err(e);
-            }
-            let newton = NewtonOptions {
-                tolerances: options.newton_tolerances(),
-                ..Self::kinematic_newton_options()
-            };
-            self.prepare_kinematics_with(ws, newton)?;
+            self.prepare_run(ws, options)?;
         }
-        let mut results = self.allocate_results(options);
-        let mut joint_prev = vec![[0.0; MAX_COORDINATES]; self.joints.len()];
+        let mut frame = self.allocate_results(options, 1);
+        let mut memory = JointMemory::new(self.joints.len());
         let reselections = ws.reselections;
+        let mut frames = 0;
         for k in 0..=options.steps {
             let t = options.time(k);
-            let step = self.step(ws, options, k, t, &mut results, &mut joint_prev);
-            results.row_reselections = ws.reselections - reselections;
+            frame.clear_frames();
+            let step = self.step(ws, options, k, t, &mut frame, &mut memory);
+            frame.row_reselections = ws.reselections - reselections;
             if let Err(e) = step {
-                results.dropped_rows = self.dropped_rows_of_run(ws);
-                return Err(e.with_partial(results));
+                frame.clear_frames();
+                frame.dropped_rows = self.dropped_rows_of_run(ws);
+                return Err(e.with_partial(frame));
             }
-            if progress(k, t).is_break() {
+            frames += 1;
+            if sink.frame(k, &frame).is_break() {
                 break;
             }
         }
-        results.dropped_rows = self.dropped_rows_of_run(ws);
-        Ok(results)
+        Ok(RunTotals {
+            frames,
+            subdivided_steps: frame.subdivided_steps,
+            row_reselections: frame.row_reselections,
+            dropped_rows: self.dropped_rows_of_run(ws),
+        })
+    }
+
+    /// Assembles an unprepared workspace for a run (joints, the driver count, then the drivers
+    /// at t0) and prepares the kinematic solver with the run's tolerance.
+    fn prepare_run(
+        &self,
+        ws: &mut Workspace,
+        options: &KinematicOptions,
+    ) -> Result<(), AnalysisError> {
+        // Joints first, then the drivers. The preparation below checks the driver count
+        // (one rank analysis); when the drivers make the assembly fail, the count is
+        // checked at the joints' pose first (an over-driven mechanism gets "superfluous",
+        // not "open").
+        let joints_only = AssemblyOptions {
+            include_drivers: false,
+            ..AssemblyOptions::at(options.t0)
+        };
+        self.assemble(ws, &joints_only)?;
+        ws.x_tmp.copy_from_slice(&ws.x);
+        if let Err(e) = self.assemble(ws, &AssemblyOptions::at(options.t0)) {
+            ws.x.copy_from_slice(&ws.x_tmp);
+            ws.sync_poses();
+            ws.invalidate();
+            let dof = self.dof(ws)?;
+            if dof.dof != dof.drivers {
+                return Err(AnalysisError::DriverCount {
+                    dof: dof.dof,
+                    drivers: dof.drivers,
+                });
+            }
+            return Err(e);
+        }
+        let newton = NewtonOptions {
+            tolerances: options.newton_tolerances(),
+            ..Self::kinematic_newton_options()
+        };
+        self.prepare_kinematics_with(ws, newton)?;
+        Ok(())
     }
 
     /// The dropped rows off by more than the kinematic solver's residual tolerance during the
@@ -312,7 +374,7 @@ impl Model {
         k: usize,
         t: f64,
         results: &mut Results,
-        joint_prev: &mut [[f64; MAX_COORDINATES]],
+        joint_prev: &mut JointMemory,
     ) -> Result<(), AnalysisError> {
         let out = options.outputs;
         let rep = if k == 0 {
@@ -527,8 +589,8 @@ impl Model {
         true
     }
 
-    fn allocate_results(&self, options: &KinematicOptions) -> Results {
-        let n = options.steps + 1;
+    /// Empty results for the run's outputs with room for `n` frames.
+    fn allocate_results(&self, options: &KinematicOptions, n: usize) -> Results {
         let out = options.outputs;
         let v = out.needs_velocity();
         let a = out.acceleration;
@@ -573,8 +635,8 @@ impl Model {
                     kind: j.joint.kind(),
                     coordinates: j.joint.kind().info().coordinates,
                     values: Vec::with_capacity(n),
-                    rates: Vec::new(),
-                    accelerations: Vec::new(),
+                    rates: Vec::with_capacity(cap(v)),
+                    accelerations: Vec::with_capacity(cap(a)),
                 })
                 .collect()
         } else {
@@ -603,7 +665,7 @@ impl Model {
         residual: f64,
         iterations: usize,
         res: &mut Results,
-        joint_prev: &mut [[f64; MAX_COORDINATES]],
+        memory: &mut JointMemory,
     ) {
         let v = out.needs_velocity();
         let a = out.acceleration;
@@ -639,11 +701,9 @@ impl Model {
                 }
             }
         }
+        let dt = memory.t.map_or(0.0, |t_prev| ws.t - t_prev);
+        memory.t = Some(ws.t);
         if out.joints {
-            let dt = match res.times.len() {
-                n if n >= 2 => res.times[n - 1] - res.times[n - 2],
-                _ => 0.0,
-            };
             for (idx, (j, h)) in self.joints.iter().zip(res.joints.iter_mut()).enumerate() {
                 let (si, sj) = (ws.state_of(j.body_i), ws.state_of(j.body_j));
                 let pair = BodyPair::new(&si, &sj);
@@ -654,12 +714,11 @@ impl Model {
                         .coordinate_rates(&pair, &acc(j.body_i), &acc(j.body_j))
                 });
                 let mut vals = c.values;
-                let prev = &mut joint_prev[idx];
+                let prev = &mut memory.values[idx];
+                let prev_rates = memory.rates_valid.then_some(&memory.rates[idx]);
                 for (q, coord) in c.coordinates.iter().enumerate() {
                     if k > 0 && coord.measure.quantity() == CoordinateQuantity::Angle {
-                        let w = h
-                            .rates
-                            .last()
+                        let w = prev_rates
                             .zip(rates.as_ref())
                             .map(|(p, r)| (p[q], r.rates[q]));
                         vals[q] = continue_angle(prev[q], w, dt, vals[q]);
@@ -668,12 +727,34 @@ impl Model {
                 *prev = vals;
                 h.values.push(vals);
                 if let Some(r) = rates {
+                    memory.rates[idx] = r.rates;
                     h.rates.push(r.rates);
                     if a {
                         h.accelerations.push(r.accelerations);
                     }
                 }
             }
+            memory.rates_valid = v;
+        }
+    }
+}
+
+/// What the joint coordinates of the next frame are continued from (angles over turns): the
+/// last frame's values, rates (when computed) and time.
+pub(crate) struct JointMemory {
+    values: Vec<[f64; MAX_COORDINATES]>,
+    rates: Vec<[f64; MAX_COORDINATES]>,
+    rates_valid: bool,
+    t: Option<f64>,
+}
+
+impl JointMemory {
+    fn new(joints: usize) -> Self {
+        Self {
+            values: vec![[0.0; MAX_COORDINATES]; joints],
+            rates: vec![[0.0; MAX_COORDINATES]; joints],
+            rates_valid: false,
+            t: None,
         }
     }
 }

@@ -92,6 +92,7 @@ pub(super) fn run_dynamic(
         strict_failure: None,
         files,
         modes: Vec::new(),
+        streamed: None,
     })
 }
 

@@ -64,6 +64,7 @@ pub(super) fn run_inverse(
         strict_failure: None,
         files: Vec::new(),
         modes: Vec::new(),
+        streamed: None,
     })
 }
 

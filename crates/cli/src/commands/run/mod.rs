@@ -8,8 +8,10 @@
 pub mod dynamic;
 pub mod inverse;
 pub mod kinematic;
+mod layout;
 mod linearize;
 pub mod statics;
+pub mod stream;
 mod summary;
 
 pub use summary::{Analysed, DynamicSummary, EnergyBalance, RunFlags, Summary};
@@ -199,9 +201,11 @@ pub fn run_model_with(
         None => Path::new("out").join(&p.loaded.name),
     };
     // Locked before the analysis: a concurrent run is refused at once, not after its work.
-    let out_dir = OutputDir::lock(&dir)?;
-    let (kind, mut a) = analyse(&p, &analysis, flags)?;
-    if super::asmt::is_asmt(path) {
+    let mut out_dir = OutputDir::lock(&dir)?;
+    // The ASMT file's TimeSeries holds every frame: such a run keeps them all.
+    let asmt = super::asmt::is_asmt(path);
+    let (kind, mut a) = analyse_into(&p, &analysis, flags, Some(&mut out_dir), asmt)?;
+    if asmt {
         // The results back in ASMT, written and committed with the other outputs.
         a.files.push(super::asmt::solved_file(
             path,
@@ -245,6 +249,23 @@ pub fn analyse(
     analysis: &crate::build::Analysis,
     flags: &RunFlags,
 ) -> Result<(&'static str, Analysed), Error> {
+    analyse_into(p, analysis, flags, None, true)
+}
+
+/// [`analyse`], writing into `dir` what the analysis streams as it runs (a kinematic run's CSV
+/// files, [`stream`]) and keeping a decimated copy of the results for the plots, the animation
+/// and the report unless `keep_all` ([`Analysed::streamed`] says which). Without `dir`,
+/// nothing is written and every frame is kept.
+///
+/// # Errors
+/// As [`analyse`]; a write error of a streamed file.
+pub fn analyse_into(
+    p: &Prepared,
+    analysis: &crate::build::Analysis,
+    flags: &RunFlags,
+    dir: Option<&mut OutputDir>,
+    keep_all: bool,
+) -> Result<(&'static str, Analysed), Error> {
     let progress = flags.progress;
     let (kind, ran) = if let Some(k) = analysis.statics {
         (k.name(), statics::run_statics(p, analysis, k))
@@ -253,7 +274,8 @@ pub fn analyse(
     } else if analysis.inverse_dynamics {
         ("inverse_dynamics", run_inverse(p, analysis, progress))
     } else {
-        ("kinematic", run_kinematic(p, analysis, progress))
+        let ran = run_kinematic(p, analysis, progress, dir, keep_all);
+        ("kinematic", ran)
     };
     let mut a = ran?;
     a.summary.warnings.splice(0..0, p.warnings.iter().cloned());
@@ -329,8 +351,19 @@ fn write_outputs(
     declared: &crate::geometry::Declared,
 ) -> Result<Vec<PathBuf>, Error> {
     let mut svgs = Vec::new();
+    let (mut streams, frames) = match a.streamed.as_mut() {
+        Some(s) => (std::mem::take(&mut s.csv), s.frames),
+        None => (Vec::new(), a.results.len()),
+    };
     for t in &a.tables {
-        dir.write(&format!("{}.csv", t.name), t.to_csv())?;
+        let name = format!("{}.csv", t.name);
+        match streams.iter().position(|(n, _)| *n == name) {
+            Some(i) => {
+                let (name, writer) = streams.swap_remove(i);
+                dir.finish(&name, writer)?;
+            }
+            None => dir.write(&name, t.to_csv())?,
+        }
         if plots.svg && t.name != "residual" {
             svgs.push((t.name.clone(), write_plot(&mut dir, t, plots.png)?));
         }
@@ -348,7 +381,7 @@ fn write_outputs(
         err.message.push_str(&format!(
             ". The results up to t = {} s ({} {unit}) were written to {}",
             a.results.times.last().copied().unwrap_or(f64::NAN),
-            a.results.len(),
+            frames,
             target.display()
         ));
     }
@@ -463,6 +496,13 @@ fn report(p: &Prepared, kind: &'static str, a: &Analysed, files: Vec<String>) ->
         warnings: s.warnings.clone(),
         subdivided_steps: s.subdivided_steps,
         row_reselections: s.row_reselections,
+        plotted_frames: (a.streamed.as_ref()).filter(|d| d.stride > 1).map(|d| {
+            crate::report::PlottedFrames {
+                kept: d.kept,
+                of: d.frames,
+                every: d.stride,
+            }
+        }),
         files,
         wall_time_s: s.wall.as_secs_f64(),
     }

@@ -213,6 +213,7 @@ pub(super) fn run_statics(
             (None, Some(m)) => m.modes,
             (None, None) => Vec::new(),
         },
+        streamed: None,
     })
 }
 

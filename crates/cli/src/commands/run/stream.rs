@@ -1,0 +1,395 @@
+//! A run's frames as they are computed: the [`Recorder`] is the
+//! [`FrameSink`](cardan_mechanism::FrameSink) of `cardan run`'s kinematic analysis.
+//!
+//! Each frame's rows go straight to the CSV files (buffered writers in the output directory's
+//! temporary sibling, [`crate::output::OutputDir::create`]), in the model's units, with the
+//! same text as a table written whole ([`crate::table::Table::to_csv`]). What is drawn from
+//! the results afterwards (the SVG plots, the animation, the report, the Python package's
+//! tables) reads a copy kept in memory: every frame when the run writes nothing (the Python
+//! package) or has to write every frame again (the `*.solved.asmt` TimeSeries of an ASMT run),
+//! otherwise a decimated copy: every s-th frame, s chosen at the start so that at most
+//! [`MAX_PLOTTED_FRAMES`] frames and about [`KEPT_VALUES_BUDGET`] values are kept, plus the last
+//! frame, whichever it is (a run stopped by Ctrl-C or a failure included). Peak memory is then
+//! bounded by the model's size, not by the number of steps.
+//!
+//! The summary's numbers (steps, Newton iterations, the largest residual) are taken over every
+//! frame as it passes, never from the decimated copy: a residual spike between two kept frames
+//! is still the run's largest residual.
+
+use super::layout::Layout;
+use crate::build::Outputs as Requested;
+use crate::diag::Error;
+use crate::output::OutputDir;
+use crate::table::{push_csv_row, Table};
+use crate::units::UnitSystem;
+use cardan_mechanism::Results;
+use std::fs::File;
+use std::io::{BufWriter, Write as _};
+use std::ops::ControlFlow;
+
+/// At most this many frames are kept for the plots, the animation and the report (a plot is
+/// about 1,000 pixels wide: the plots draw min/max per pixel column either way).
+pub const MAX_PLOTTED_FRAMES: usize = 2_000;
+
+/// About this many numbers (8 bytes each) are kept in memory for the plots of a large model:
+/// fewer frames for more columns, at least 2 (the first and the last).
+pub const KEPT_VALUES_BUDGET: usize = 4_000_000;
+
+/// The CSV files a run wrote frame by frame and how its kept copy was decimated.
+pub struct Streamed {
+    /// Each streamed CSV file's name and its writer (flushed and synced by
+    /// [`OutputDir::finish`] when the outputs are written).
+    pub csv: Vec<(String, BufWriter<File>)>,
+    /// Frames the run stored (every one is in the CSV files).
+    pub frames: usize,
+    /// Frames kept in memory (in the plots, the animation and the report).
+    pub kept: usize,
+    /// Every `stride`-th frame was kept (1: all), plus the last.
+    pub stride: usize,
+}
+
+/// The frames to keep for the plots: every `stride`-th of `planned` (module docs).
+fn stride(planned: usize, values_per_frame: usize) -> usize {
+    let by_memory = KEPT_VALUES_BUDGET / values_per_frame.max(1);
+    let keep = MAX_PLOTTED_FRAMES.min(by_memory).max(2);
+    // Frames 0, s, 2s, … ≤ planned − 1, then the last: at most `keep` in all.
+    planned.saturating_sub(2) / (keep - 1).max(1) + 1
+}
+
+/// "1st", "2nd", "3rd", "11th", "501st".
+fn ordinal(n: usize) -> String {
+    let suffix = match (n % 10, n % 100) {
+        (_, 11..=13) => "th",
+        (1, _) => "st",
+        (2, _) => "nd",
+        (3, _) => "rd",
+        _ => "th",
+    };
+    format!("{n}{suffix}")
+}
+
+/// What [`Recorder::finish`] returns: the kept copy and the run's numbers over every frame.
+pub struct Recorded {
+    /// The kept frames (all, or the decimated copy).
+    pub results: Results,
+    /// The output groups with the kept frames (in SI units), titled as decimated when they are.
+    pub tables: Vec<Table>,
+    /// The streamed files (`None` when nothing was written during the run).
+    pub streamed: Option<Streamed>,
+    /// Frames the run stored.
+    pub frames: usize,
+    /// Newton iterations over every frame.
+    pub iterations: usize,
+    /// The largest position residual over every frame.
+    pub max_residual: f64,
+    /// The time of the last frame.
+    pub last_time: Option<f64>,
+}
+
+/// Built at the first frame, when the histories' names are known.
+struct Started {
+    layout: Layout,
+    stride: usize,
+    kept: Results,
+    /// The latest frame when it was not kept (appended at the end).
+    last: Results,
+    last_kept: bool,
+    /// Per group: the CSV writer and the columns' factors to the model's units.
+    csv: Vec<(String, BufWriter<File>, Vec<f64>)>,
+    row: Vec<f64>,
+    text: String,
+}
+
+/// The sink of a streamed kinematic run (module docs).
+pub struct Recorder<'a> {
+    req: Requested,
+    units: UnitSystem,
+    /// Frames the run will store when it completes.
+    planned: usize,
+    /// Where the CSV files go; `None`: nothing is written, every frame is kept.
+    dir: Option<&'a mut OutputDir>,
+    keep_all: bool,
+    started: Option<Started>,
+    /// A write error that stopped the run.
+    error: Option<Error>,
+    frames: usize,
+    iterations: usize,
+    max_residual: f64,
+    last_time: Option<f64>,
+}
+
+impl<'a> Recorder<'a> {
+    /// A recorder of a run of `planned` frames writing the groups `req` asks for into `dir`
+    /// (in `units`). Every frame is kept without a directory or with `keep_all`.
+    pub fn new(
+        req: Requested,
+        units: UnitSystem,
+        planned: usize,
+        dir: Option<&'a mut OutputDir>,
+        keep_all: bool,
+    ) -> Self {
+        let keep_all = keep_all || dir.is_none();
+        Self {
+            req,
+            units,
+            planned,
+            dir,
+            keep_all,
+            started: None,
+            error: None,
+            frames: 0,
+            iterations: 0,
+            max_residual: 0.0,
+            last_time: None,
+        }
+    }
+
+    /// Takes one frame (a [`Results`] holding one time): the summary's numbers, the CSV rows,
+    /// the kept copy. A write error stops the run ([`ControlFlow::Break`]; [`Recorder::finish`]
+    /// returns it).
+    pub fn frame(&mut self, frame: &Results) -> ControlFlow<()> {
+        if self.started.is_none() {
+            match self.start(frame) {
+                Ok(s) => self.started = Some(s),
+                Err(e) => {
+                    self.error = Some(e);
+                    return ControlFlow::Break(());
+                }
+            }
+        }
+        let Some(s) = self.started.as_mut() else {
+            return ControlFlow::Break(());
+        };
+        self.iterations += frame.iterations.iter().sum::<usize>();
+        self.max_residual = frame
+            .residual
+            .iter()
+            .fold(self.max_residual, |a, &b| a.max(b));
+        self.last_time = frame.times.last().copied().or(self.last_time);
+        let keep = self.keep_all || self.frames.is_multiple_of(s.stride);
+        if keep {
+            s.kept.extend_from(frame);
+        } else {
+            s.last.clear_frames();
+            s.last.extend_from(frame);
+        }
+        s.last_kept = keep;
+        self.frames += 1;
+        if let Err((name, e)) = write_rows(s, self.units, frame) {
+            let dir = self.dir.as_deref();
+            self.error = Some(dir.map_or_else(
+                || Error::output(format!("cannot write {name}: {e}")),
+                |d| d.write_error(&name, &e),
+            ));
+            return ControlFlow::Break(());
+        }
+        ControlFlow::Continue(())
+    }
+
+    /// The layout, the decimation, the kept copy's storage and the CSV files with their headers.
+    fn start(&mut self, frame: &Results) -> Result<Started, Error> {
+        let layout = Layout::new(frame, &self.req);
+        let stride = match self.keep_all {
+            true => 1,
+            false => stride(self.planned, layout.values_per_frame()),
+        };
+        let capacity = self.planned.div_ceil(stride) + 1;
+        let mut csv = Vec::new();
+        if let Some(dir) = self.dir.as_deref_mut() {
+            for mut t in layout.empty_tables() {
+                let name = format!("{}.csv", t.name);
+                let factors = self.units.convert_columns(&mut t.columns);
+                let mut w = dir.create(&name)?;
+                w.write_all(t.csv_header().as_bytes())
+                    .map_err(|e| dir.write_error(&name, &e))?;
+                csv.push((name, w, factors));
+            }
+        }
+        Ok(Started {
+            kept: frame.empty_like(capacity),
+            last: frame.empty_like(1),
+            last_kept: true,
+            layout,
+            stride,
+            csv,
+            row: Vec::new(),
+            text: String::new(),
+        })
+    }
+
+    /// The time of the last frame taken.
+    pub fn last_time(&self) -> Option<f64> {
+        self.last_time
+    }
+
+    /// The kept copy with the last frame, its tables, the streamed files and the numbers.
+    ///
+    /// # Errors
+    /// A write error during the run.
+    pub fn finish(self) -> Result<Recorded, Error> {
+        if let Some(e) = self.error {
+            return Err(e);
+        }
+        let Some(mut s) = self.started else {
+            return Ok(Recorded {
+                results: Results::default(),
+                tables: Vec::new(),
+                streamed: None,
+                frames: 0,
+                iterations: 0,
+                max_residual: 0.0,
+                last_time: None,
+            });
+        };
+        if !s.last_kept {
+            s.kept.extend_from(&s.last);
+        }
+        let mut tables = s.layout.tables(&s.kept);
+        if s.stride > 1 {
+            for t in &mut tables {
+                t.title = format!(
+                    "{} (every {} of {} frames)",
+                    t.title,
+                    ordinal(s.stride),
+                    self.frames
+                );
+            }
+        }
+        let streamed = self.dir.is_some().then(|| Streamed {
+            csv: s.csv.into_iter().map(|(n, w, _)| (n, w)).collect(),
+            frames: self.frames,
+            kept: s.kept.len(),
+            stride: s.stride,
+        });
+        Ok(Recorded {
+            results: s.kept,
+            tables,
+            streamed,
+            frames: self.frames,
+            iterations: self.iterations,
+            max_residual: self.max_residual,
+            last_time: self.last_time,
+        })
+    }
+}
+
+/// Appends the frame's row to each CSV file, in the model's units.
+fn write_rows(
+    s: &mut Started,
+    units: UnitSystem,
+    frame: &Results,
+) -> Result<(), (String, std::io::Error)> {
+    for (g, (name, w, factors)) in s.csv.iter_mut().enumerate() {
+        for k in 0..frame.len() {
+            s.layout.row(g, frame, k, &mut s.row);
+            units.convert_row(&mut s.row, factors);
+            s.text.clear();
+            push_csv_row(&mut s.text, &s.row);
+            w.write_all(s.text.as_bytes())
+                .map_err(|e| (name.clone(), e))?;
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_stride_keeps_at_most_the_limit_with_the_first_and_last_frame() {
+        assert_eq!(stride(1, 10), 1);
+        assert_eq!(stride(2, 10), 1);
+        assert_eq!(stride(MAX_PLOTTED_FRAMES, 10), 1);
+        for planned in [MAX_PLOTTED_FRAMES + 1, 10_001, 1_000_001] {
+            let s = stride(planned, 10);
+            // 0, s, 2s, … below the last, and the last.
+            let kept = (planned - 2) / s + 2;
+            assert!(
+                kept <= MAX_PLOTTED_FRAMES,
+                "{planned}: {kept} kept, stride {s}"
+            );
+            assert!(kept > MAX_PLOTTED_FRAMES / 2, "{planned}: only {kept} kept");
+        }
+        // A model of many columns keeps fewer frames, never fewer than the first and last.
+        let s = stride(1_001, KEPT_VALUES_BUDGET / 10);
+        assert_eq!((1_001 - 2) / s + 2, 10);
+        assert_eq!(stride(1_001, usize::MAX), 1_000);
+    }
+
+    /// A one-body frame at time t with residual `res` and `it` Newton iterations.
+    fn frame(t: f64, res: f64, it: usize) -> Results {
+        let mut r = Results {
+            times: vec![t],
+            residual: vec![res],
+            iterations: vec![it],
+            ..Results::default()
+        };
+        r.bodies.push(cardan_mechanism::BodyResults {
+            name: "b".into(),
+            r: vec![nalgebra::Vector3::new(t, 0.0, 0.0)],
+            p: vec![nalgebra::Vector4::new(1.0, 0.0, 0.0, 0.0)],
+            ..Default::default()
+        });
+        r
+    }
+
+    /// Feeds `n` frames (residual 1e-12, a spike of 1e-3 at frame `spike`) to a recorder
+    /// keeping a decimated copy.
+    fn record(n: usize, spike: usize) -> Recorded {
+        let req = Requested {
+            bodies: vec!["b".into()],
+            ..Requested::default()
+        };
+        let mut dir = OutputDir::lock(&std::env::temp_dir().join(format!(
+            "cardan-stream-test-{}-{n}-{spike}",
+            std::process::id()
+        )))
+        .unwrap();
+        let mut rec = Recorder::new(req, UnitSystem::Si, n, Some(&mut dir), false);
+        for k in 0..n {
+            let res = if k == spike { 1e-3 } else { 1e-12 };
+            assert!(rec.frame(&frame(k as f64, res, 2)).is_continue());
+        }
+        rec.finish().unwrap()
+    }
+
+    #[test]
+    fn the_summary_counts_every_frame_and_the_copy_keeps_the_first_and_last() {
+        let n = 10 * MAX_PLOTTED_FRAMES + 7;
+        let s = stride(n, 9);
+        assert!(s > 1);
+        // The spike falls between two kept frames.
+        let spike = 3 * s + s / 2;
+        let rec = record(n, spike);
+        assert_eq!(rec.frames, n);
+        assert_eq!(rec.iterations, 2 * n);
+        assert_eq!(rec.max_residual, 1e-3, "the spike at frame {spike} is lost");
+        let kept = &rec.results;
+        assert!(kept.len() <= MAX_PLOTTED_FRAMES);
+        assert!(!kept.times.contains(&(spike as f64)));
+        assert_eq!(kept.times.first(), Some(&0.0));
+        assert_eq!(kept.times.last(), Some(&((n - 1) as f64)));
+        assert_eq!(kept.bodies[0].r.last().unwrap().x, (n - 1) as f64);
+        // The tables say so in their titles and hold the kept frames.
+        let t = &rec.tables[0];
+        assert_eq!(t.name, "bodies");
+        assert_eq!(t.rows.len(), kept.len());
+        let note = format!("(every {} of {n} frames)", ordinal(s));
+        assert!(t.title.ends_with(&note), "{}", t.title);
+        let streamed = rec.streamed.unwrap();
+        assert_eq!(
+            (streamed.frames, streamed.kept, streamed.stride),
+            (n, kept.len(), s)
+        );
+    }
+
+    #[test]
+    fn ordinals() {
+        let got: Vec<String> = [1, 2, 3, 4, 11, 12, 13, 21, 501, 512].map(ordinal).into();
+        assert_eq!(
+            got,
+            ["1st", "2nd", "3rd", "4th", "11th", "12th", "13th", "21st", "501st", "512th"]
+        );
+    }
+}
