@@ -167,18 +167,19 @@ pub fn section(smoke: bool, python: Option<&str>, root: &Path) -> String {
 pub fn section_of(smoke: bool, python: Option<&str>, only: Option<&str>, root: &Path) -> String {
     let data = root.join("crates/asmt/tests/data");
     let script = root.join("bench/peers/asmt.py");
-    let (n_cardan, n_peer) = if smoke { (1, 1) } else { (50, 5) };
+    let (n_cardan, n_peer, rounds) = if smoke { (1, 1, 1) } else { (20, 3, 3) };
     let out_dir = std::env::temp_dir().join(format!("cardan-bench-asmt-{}", std::process::id()));
     let _ = std::fs::create_dir_all(&out_dir);
     let mut md = String::from("### ASMT files: cardan against OndselSolver\n\n");
     let _ = writeln!(
         md,
         "The ten assemblies of OndselSolver's testapp (`crates/asmt/tests/data`), each solved over \
-         its whole time span with reading included on both sides, back to back per file \
-         (OndselSolver, then cardan). OndselSolver: pyondsel 0.0.3 in-process (`solve_asmt_raw`: \
-         read, assemble, solve, write the solved text), best of {n_peer}. cardan: read and map \
+         its whole time span with reading included on both sides, back to back per file in \
+         {rounds} rounds (OndselSolver, then cardan, in each), the best of each over all rounds. \
+         OndselSolver: pyondsel 0.0.3 in-process (`solve_asmt_raw`: read, assemble, solve, write \
+         the solved text), best of {n_peer} per round. cardan: read and map \
          (`cardan_asmt::load`), build, kinematics over the same grid, write the `.solved.asmt` \
-         text, best of {n_cardan}. Read-back: cardan's `.solved.asmt` read by OndselSolver's C++ \
+         text, best of {n_cardan} per round. Read-back: cardan's `.solved.asmt` read by OndselSolver's C++ \
          reader (it solves the file again: same frames) and by pyondsel's TimeSeries reader \
          (every part, one pose per time). Sources: `crates/bench/src/asmt.rs`, \
          `bench/peers/asmt.py`.\n"
@@ -199,28 +200,34 @@ pub fn section_of(smoke: bool, python: Option<&str>, only: Option<&str>, root: &
     for f in FILES.iter().filter(|f| only.is_none_or(|o| o == **f)) {
         let path = data.join(format!("{f}.asmt"));
         eprintln!("asmt: {f}");
-        // Back to back: OndselSolver, then cardan.
-        let theirs = match (python, &peer_error) {
-            (Some(py), None) => {
-                match peer(
-                    py,
-                    &script,
-                    &[
-                        "solve".into(),
-                        n_peer.to_string(),
-                        path.display().to_string(),
-                    ],
-                ) {
-                    Ok(r) => value(&r[0], "best").parse::<f64>().ok(),
-                    Err(e) => {
-                        peer_error = Some(e);
-                        None
+        // Back to back, in rounds (OndselSolver, then cardan, `rounds` times), the best of each
+        // over all rounds: a noisy moment of the machine then hits both, not one.
+        let mut theirs: Option<f64> = None;
+        let mut ours: Option<(f64, Stages, String, usize)> = None;
+        for _ in 0..rounds {
+            if let (Some(py), None) = (python, &peer_error) {
+                let args = [
+                    "solve".into(),
+                    n_peer.to_string(),
+                    path.display().to_string(),
+                ];
+                match peer(py, &script, &args) {
+                    Ok(r) => {
+                        if let Ok(t) = value(&r[0], "best").parse::<f64>() {
+                            theirs = Some(theirs.map_or(t, |b| b.min(t)));
+                        }
                     }
+                    Err(e) => peer_error = Some(e),
                 }
             }
-            _ => None,
-        };
-        let (best, st, text, frames) = cardan_best(&path, n_cardan);
+            let run = cardan_best(&path, n_cardan);
+            ours = Some(match ours {
+                Some(o) if o.0 <= run.0 => (o.0, o.1.min(run.1), o.2, o.3),
+                Some(o) => (run.0, run.1.min(o.1), run.2, run.3),
+                None => run,
+            });
+        }
+        let (best, st, text, frames) = ours.expect("at least one round");
         let file = out_dir.join(format!("{f}.solved.asmt"));
         if std::fs::write(&file, text).is_ok() {
             written.push(file);
