@@ -669,7 +669,3 @@ pub(crate) fn run(
     }
     Ok(())
 }
-
-#[cfg(test)]
-#[path = "generalized_alpha_tests.rs"]
-mod tests;

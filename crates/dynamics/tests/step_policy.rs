@@ -1,50 +1,19 @@
 //! The step's cost policy: tangent factorizations kept across steps, and a predictor whose
 //! iteration count does not grow as the motion develops. Cheap runs (5 links, 0.3 s).
 
-use crate::{
+mod common;
+
+use cardan_dynamics::{
     Dynamics, Force, GeneralizedAlphaOptions, Integrator, IterationMatrix, SimulationOptions, State,
 };
-use cardan_constraints::JointKind;
-use cardan_mechanism::{Body, JointSpec, MechanismBuilder, Model, Outputs, GROUND};
+use cardan_mechanism::Outputs;
+use common::spherical_chain;
 use nalgebra::Vector3;
-
-/// `n` unit rods along +x joined by spherical joints, the first to the ground at the origin
-/// (the benchmark's spherical chain).
-fn chain(n: usize) -> Model {
-    let mut b = MechanismBuilder::new();
-    b.point(GROUND, "O", Vector3::zeros());
-    for k in 0..n {
-        let name = format!("b{k}");
-        b.body(
-            Body::new(&name)
-                .mass(1.0)
-                .inertia_diagonal(0.001, 1.0 / 12.0, 1.0 / 12.0)
-                .position(Vector3::new(k as f64 + 0.5, 0.0, 0.0)),
-        );
-        b.point(&name, "a", Vector3::new(-0.5, 0.0, 0.0)).point(
-            &name,
-            "b",
-            Vector3::new(0.5, 0.0, 0.0),
-        );
-        let prev = if k == 0 {
-            (GROUND.to_string(), "O")
-        } else {
-            (format!("b{}", k - 1), "b")
-        };
-        b.joint(JointSpec::new(
-            format!("s{k}"),
-            JointKind::Spherical,
-            (&prev.0, prev.1),
-            (&name, "a"),
-        ));
-    }
-    b.build().unwrap()
-}
 
 /// Newton iterations per output interval, factorizations, steps and the last link's tip at
 /// the end, for a 0.3 s swing of the 5-link chain in three output intervals.
 fn swing(matrix: IterationMatrix, reuse: bool) -> (Vec<usize>, usize, usize, Vector3<f64>) {
-    let model = chain(5);
+    let model = spherical_chain(5);
     let mut d = Dynamics::new(&model).unwrap();
     d.add_force(Force::gravity(Vector3::new(0.0, 0.0, -9.81)))
         .unwrap();
