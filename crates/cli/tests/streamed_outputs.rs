@@ -1,5 +1,5 @@
-//! A kinematic `cardan run` writes its CSV files frame by frame and keeps only a decimated copy
-//! for the plots, the animation and the report (issue 25, target 4). The files it streams must
+//! A kinematic, dynamic or inverse dynamics `cardan run` writes its CSV files frame by frame and
+//! keeps only a decimated copy for the plots, the animation and the report (issue 25, target 4). The files it streams must
 //! be the files a table held whole writes (the Python package's path, `analyse`, which keeps
 //! every frame), byte for byte; a long run's plots say they are decimated, its kept copy has
 //! the first and the last frame, and its summary is taken over every frame.
@@ -19,13 +19,18 @@ fn root() -> PathBuf {
 /// with the CSV text of the same table computed whole (every frame kept, nothing streamed).
 /// Returns the output directory.
 fn streamed_equals_whole(model: &Path) -> PathBuf {
+    streamed_equals_whole_of(model, "kinematic")
+}
+
+/// [`streamed_equals_whole`] of a run of `kind`.
+fn streamed_equals_whole_of(model: &Path, kind: &str) -> PathBuf {
     let dir = scratch("streamed").join("out");
     let outcome = run_model(model, Some(&dir), false).unwrap();
     assert!(outcome.error.is_none(), "{:?}", outcome.error);
     let p = prepare(model).unwrap();
     let analysis = p.loaded.analysis.clone().unwrap();
-    let (kind, whole) = analyse(&p, &analysis, &RunFlags::default()).unwrap();
-    assert_eq!(kind, "kinematic");
+    let (ran, whole) = analyse(&p, &analysis, &RunFlags::default()).unwrap();
+    assert_eq!(ran, kind);
     assert!(whole.streamed.is_none());
     assert_eq!(whole.results.len(), outcome.summary.steps);
     for t in &whole.tables {
@@ -91,4 +96,63 @@ fn a_long_run_plots_a_decimated_copy_with_its_first_and_last_frames() {
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(short.join("run.json")).unwrap()).unwrap();
     assert!(json["plotted_frames"].is_null());
+}
+
+#[test]
+fn streamed_dynamic_and_inverse_csv_files_equal_the_whole_tables_on_the_examples() {
+    // Forward dynamics, plain and with redundant joints (dropped rows).
+    for name in ["slider_crank_dynamic", "a04_bricard"] {
+        let model = root().join(format!("examples/{name}.toml"));
+        streamed_equals_whole_of(&model, "dynamic");
+    }
+    // Inverse dynamics: plain, couplers (angles over turns), a general motion (pose torques).
+    for name in ["slider_crank_inverse", "gear_train", "general_motion_path"] {
+        let model = root().join(format!("examples/{name}.toml"));
+        streamed_equals_whole_of(&model, "inverse_dynamics");
+    }
+}
+
+/// The largest value of column `col` of a CSV file's text.
+fn column_max(csv: &str, col: usize) -> f64 {
+    (csv.lines().skip(1))
+        .map(|l| l.split(',').nth(col).unwrap().parse::<f64>().unwrap())
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn a_long_dynamic_run_streams_every_output_and_sums_up_every_output() {
+    let dir = scratch("decimated-dynamic");
+    let model = dir.join("long.toml");
+    let text = std::fs::read_to_string(root().join("examples/slider_crank_dynamic.toml")).unwrap();
+    // 4,001 outputs: every 3rd is kept for the plots.
+    let text = text
+        .replace("t_end = 5.0", "t_end = 2.0")
+        .replace("output_dt = 0.01", "output_dt = 0.0005");
+    std::fs::write(&model, text).unwrap();
+    let out = streamed_equals_whole_of(&model, "dynamic");
+    let drift = std::fs::read_to_string(out.join("constraint_drift.csv")).unwrap();
+    assert_eq!(drift.lines().count(), 1 + 4001);
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("run.json")).unwrap()).unwrap();
+    assert_eq!(json["plotted_frames"]["of"], 4001);
+    assert_eq!(json["plotted_frames"]["every"], 3);
+    assert_eq!(json["steps"], 4001);
+    // The summary's numbers are the largest over every output the files hold.
+    assert_eq!(json["constraint_drift"], column_max(&drift, 1));
+    let energy = std::fs::read_to_string(out.join("energy.csv")).unwrap();
+    let header: Vec<&str> = energy.lines().next().unwrap().split(',').collect();
+    let balance = header.iter().position(|h| *h == "balance [J]").unwrap();
+    let drift_col = header.iter().position(|h| *h == "drift [J]").unwrap();
+    let abs_max = |col: usize| {
+        (energy.lines().skip(1))
+            .map(|l| l.split(',').nth(col).unwrap().parse::<f64>().unwrap().abs())
+            .fold(0.0, f64::max)
+    };
+    assert_eq!(json["energy_balance"], abs_max(balance));
+    assert_eq!(json["energy_drift"], abs_max(drift_col));
+    let svg = std::fs::read_to_string(out.join("energy.svg")).unwrap();
+    assert!(
+        svg.contains("(every 3rd of 4001 frames)"),
+        "no note in the plot"
+    );
 }

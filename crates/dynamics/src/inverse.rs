@@ -1,11 +1,11 @@
 //! Inverse dynamics of a kinematically driven mechanism: [`Dynamics::inverse_dynamics`].
 
 use crate::record::Recorder;
-use crate::results::{DynamicResults, IntegrationStats};
+use crate::results::{DynamicResults, DynamicSink, IntegrationStats};
 use crate::state::State;
 use crate::system::Dynamics;
 use crate::DynamicsError;
-use cardan_mechanism::{AnalysisError, KinematicOptions, Outputs, Results};
+use cardan_mechanism::{AnalysisError, KinematicOptions, Outputs, Results, RunTotals};
 use std::ops::ControlFlow;
 
 impl Dynamics<'_> {
@@ -30,11 +30,10 @@ impl Dynamics<'_> {
         self.inverse_dynamics_with_progress(options, |_, _| ControlFlow::Continue(()))
     }
 
-    /// [`inverse_dynamics`](Self::inverse_dynamics), calling `progress(done, t)` after each
-    /// frame of its two passes: the kinematics (done = 0..=steps), then the efforts (done =
-    /// steps + 1 ..= 2 steps + 1). When it returns [`ControlFlow::Break`], the run stops with
-    /// [`DynamicsError::Stopped`] in [`DynamicsError::MidRun`], with the efforts of the frames
-    /// done so far.
+    /// [`inverse_dynamics`](Self::inverse_dynamics), calling `progress(k, t_k)` after each
+    /// time k of the grid is solved (kinematics, then efforts and reactions). When it returns
+    /// [`ControlFlow::Break`], the run stops with [`DynamicsError::Stopped`] in
+    /// [`DynamicsError::MidRun`], with the times done so far.
     ///
     /// # Errors
     /// As [`inverse_dynamics`](Self::inverse_dynamics); [`DynamicsError::Stopped`].
@@ -43,6 +42,50 @@ impl Dynamics<'_> {
         options: &KinematicOptions,
         mut progress: impl FnMut(usize, f64) -> ControlFlow<()>,
     ) -> Result<DynamicResults, DynamicsError> {
+        let mut all: Option<DynamicResults> = None;
+        let mut keep = |k: usize, frame: &DynamicResults| {
+            all.get_or_insert_with(|| frame.empty_like(options.steps + 1))
+                .extend_from(frame);
+            progress(k, frame.times()[0])
+        };
+        let run = self.inverse_dynamics_into(options, &mut keep);
+        let with_times = |totals: &DynamicResults, all: Option<DynamicResults>| {
+            let mut r = all.unwrap_or_default();
+            r.stats = totals.stats;
+            r.redundant.clone_from(&totals.redundant);
+            r.kinematics.set_totals(totals.kinematics.totals());
+            r
+        };
+        match run {
+            Ok(totals) => Ok(with_times(&totals, all)),
+            Err(DynamicsError::MidRun {
+                source,
+                last_time,
+                partial,
+            }) => Err(DynamicsError::MidRun {
+                source,
+                last_time,
+                partial: Box::new(with_times(&partial, all)),
+            }),
+            Err(e) => Err(e),
+        }
+    }
+
+    /// [`inverse_dynamics`](Self::inverse_dynamics), streamed: one pass over the grid, each
+    /// time's kinematics (mechanism crate, [`cardan_mechanism::Model::kinematics_into`]), then
+    /// its efforts and reactions, handed to `sink` ([`DynamicSink`]) in storage reused from one
+    /// time to the next, none kept. Returns the run's counters and dropped rows in a
+    /// [`DynamicResults`] without times. When the sink breaks, the run stops with
+    /// [`DynamicsError::Stopped`] in [`DynamicsError::MidRun`].
+    ///
+    /// # Errors
+    /// As [`inverse_dynamics`](Self::inverse_dynamics); the partial results of
+    /// [`DynamicsError::MidRun`] hold no time (they went to the sink).
+    pub fn inverse_dynamics_into(
+        &mut self,
+        options: &KinematicOptions,
+        sink: &mut dyn DynamicSink,
+    ) -> Result<DynamicResults, DynamicsError> {
         let start = std::time::Instant::now();
         let kopts = options.outputs(Outputs {
             velocity: true,
@@ -50,104 +93,140 @@ impl Dynamics<'_> {
             points: false,
             joints: false,
         });
-        let mut stopped = false;
-        let mut ws = self.model.workspace();
-        let kin = self.model.kinematics_with_control(&mut ws, &kopts, |k, t| {
-            let flow = progress(k, t);
-            stopped = flow.is_break();
-            flow
+        let model = self.model;
+        let mut ws = model.workspace();
+        let mut pass = EffortPass::new(self, sink);
+        let kin = model.kinematics_into(&mut ws, &kopts, &mut |_: usize, frame: &Results| {
+            pass.frame(self, options.outputs, frame)
         });
-        let offset = options.steps + 1;
+        let stopped = pass.stopped;
+        let failure = pass.failure.take();
+        let last_time = pass.last_time();
+        let frames = pass.frames();
+        let finish = |pass: EffortPass, d: &mut Self, totals: RunTotals| {
+            let mut r = pass.finish(d, start);
+            r.kinematics.set_totals(totals);
+            r
+        };
+        let mid_run = |source: DynamicsError, partial: DynamicResults| DynamicsError::MidRun {
+            last_time: last_time.unwrap_or(f64::NAN),
+            source: Box::new(source),
+            partial: Box::new(partial),
+        };
+        if let Some(e) = failure {
+            // The efforts failed: the error alone (the times before it went to the sink).
+            return Err(e);
+        }
         match kin {
-            Ok(kin) => {
-                let r = self.efforts_along(&kin, options.outputs, start, &mut |i, t| {
-                    let flow = progress(offset + i, t);
-                    stopped |= flow.is_break();
-                    flow
-                })?;
-                if stopped {
-                    return Err(DynamicsError::MidRun {
-                        last_time: r.times().last().copied().unwrap_or(f64::NAN),
-                        source: Box::new(DynamicsError::Stopped {
-                            time: r.times().last().copied().unwrap_or(f64::NAN),
-                        }),
-                        partial: Box::new(r),
-                    });
-                }
-                Ok(r)
+            Ok(totals) if stopped => {
+                let time = last_time.unwrap_or(f64::NAN);
+                let r = finish(pass, self, totals);
+                Err(mid_run(DynamicsError::Stopped { time }, r))
             }
+            Ok(totals) => Ok(finish(pass, self, totals)),
             Err(AnalysisError::DriverCount { dof, drivers }) => {
                 Err(DynamicsError::NotFullyDriven { dof, drivers })
             }
+            Err(e) if frames == 0 => Err(e.into()),
             Err(e) => {
-                let partial = match e.partial_results() {
-                    Some(kin) if !kin.times.is_empty() => {
-                        self.efforts_along(kin, options.outputs, start, &mut |i, t| {
-                            progress(offset + i, t)
-                        })?
-                    }
-                    _ => return Err(e.into()),
-                };
-                Err(DynamicsError::MidRun {
-                    last_time: partial.times().last().copied().unwrap_or(f64::NAN),
-                    source: Box::new(e.into()),
-                    partial: Box::new(partial),
-                })
+                let totals = e.partial_results().map(Results::totals).unwrap_or_default();
+                let r = finish(pass, self, totals);
+                Err(mid_run(e.into(), r))
+            }
+        }
+    }
+}
+
+/// The efforts and reactions of an inverse dynamics run, time by time along its kinematics.
+struct EffortPass<'s> {
+    /// Where the times go, until the recorder takes it at the first time.
+    sink: Option<&'s mut dyn DynamicSink>,
+    /// Built at the first time (the augmented system is prepared at its state).
+    rec: Option<Recorder<'s>>,
+    /// The row reselections counted before the run.
+    reselections: usize,
+    /// The sink asked to stop.
+    stopped: bool,
+    /// A failure of the efforts.
+    failure: Option<DynamicsError>,
+    /// The state of the time being solved (storage reused).
+    state: State,
+}
+
+impl<'s> EffortPass<'s> {
+    fn new(d: &Dynamics, sink: &'s mut dyn DynamicSink) -> Self {
+        Self {
+            sink: Some(sink),
+            rec: None,
+            reselections: d.reselections,
+            stopped: false,
+            failure: None,
+            state: State::initial(d.model, 0.0),
+        }
+    }
+
+    /// The efforts at the kinematic `frame` (one time), handed to the sink; a break stops the
+    /// kinematics.
+    fn frame(&mut self, d: &mut Dynamics, outputs: Outputs, frame: &Results) -> ControlFlow<()> {
+        let s = &mut self.state;
+        s.t = frame.times[0];
+        for (k, b) in frame.bodies.iter().enumerate() {
+            s.set_pose(k, b.r[0], b.p[0]);
+            s.set_velocity(k, b.r_dot[0], b.omega_local[0]);
+        }
+        let rec = match (self.rec.as_mut(), self.sink.take()) {
+            (Some(rec), _) => rec,
+            (None, Some(sink)) => {
+                if let Err(e) = d.prepare(&self.state) {
+                    self.failure = Some(e);
+                    return ControlFlow::Break(());
+                }
+                self.reselections = d.reselections;
+                self.rec.insert(Recorder::streamed(d, outputs, sink))
+            }
+            (None, None) => return ControlFlow::Break(()),
+        };
+        // The frames are the accepted poses of the kinematics: the couplers' turns follow.
+        d.sync(&self.state);
+        d.accept_turns();
+        let iterations = frame.iterations.first().copied().unwrap_or(0);
+        match rec.record(d, &self.state, iterations, None) {
+            Ok(()) => ControlFlow::Continue(()),
+            Err(DynamicsError::Stopped { .. }) => {
+                self.stopped = true;
+                ControlFlow::Break(())
+            }
+            Err(e) => {
+                self.failure = Some(e);
+                ControlFlow::Break(())
             }
         }
     }
 
-    /// Driver efforts and reactions at every frame of the kinematic results `kin`.
-    /// `progress(i, t_i)` after each frame; a break keeps the frames done.
-    fn efforts_along(
-        &mut self,
-        kin: &Results,
-        outputs: Outputs,
-        start: std::time::Instant,
-        progress: &mut dyn FnMut(usize, f64) -> ControlFlow<()>,
-    ) -> Result<DynamicResults, DynamicsError> {
-        let model = self.model;
-        let nb = model.num_bodies();
-        let state_at = |i: usize| {
-            let mut s = State::initial(model, kin.times[i]);
-            for k in 0..nb {
-                let b = &kin.bodies[k];
-                s.set_pose(k, b.r[i], b.p[i]);
-                s.set_velocity(k, b.r_dot[i], b.omega_local[i]);
-            }
-            s
-        };
-        if kin.times.is_empty() {
-            return Ok(DynamicResults::default());
-        }
-        let s0 = state_at(0);
-        self.prepare(&s0)?;
-        let reselections = self.reselections;
-        let mut rec = Recorder::new(self, kin.times.len(), outputs);
-        let mut done = 0;
-        for i in 0..kin.times.len() {
-            let s = state_at(i);
-            // The frames are the accepted poses of the kinematics: the couplers' turns follow.
-            self.sync(&s);
-            self.accept_turns();
-            rec.record(self, &s, kin.iterations.get(i).copied().unwrap_or(0), None)?;
-            done += 1;
-            if progress(i, kin.times[i]).is_break() {
-                break;
-            }
-        }
+    fn frames(&self) -> usize {
+        self.rec.as_ref().map_or(0, Recorder::len)
+    }
+
+    fn last_time(&self) -> Option<f64> {
+        self.rec.as_ref().and_then(Recorder::last_time)
+    }
+
+    /// The run's counters in results without times.
+    fn finish(self, d: &Dynamics, start: std::time::Instant) -> DynamicResults {
+        let done = self.frames();
         let stats = IntegrationStats {
             steps: done,
             evaluations: done,
-            row_reselections: self.reselections - reselections,
+            row_reselections: d.reselections - self.reselections,
             wall_time: start.elapsed().as_secs_f64(),
             ..IntegrationStats::default()
         };
-        let mut r = rec.finish(self, stats);
-        // What the kinematic pass counted and found.
-        r.kinematics.subdivided_steps = kin.subdivided_steps;
-        r.kinematics.row_reselections = kin.row_reselections;
-        r.kinematics.dropped_rows = kin.dropped_rows.clone();
-        Ok(r)
+        match self.rec {
+            Some(rec) => rec.finish(d, stats),
+            None => DynamicResults {
+                stats,
+                ..DynamicResults::default()
+            },
+        }
     }
 }

@@ -160,8 +160,8 @@ pub use options::{
     SimulationOptions, Stabilization, StepControl, ATOL_MAX, NEWTON_TOLERANCE_RANGE, RTOL_RANGE,
 };
 pub use results::{
-    CouplerEfforts, DriverEfforts, DynamicResults, ElementWork, EnergyHistory, IntegrationStats,
-    JointReactions, Reaction,
+    CouplerEfforts, DriverEfforts, DynamicResults, DynamicSink, ElementWork, EnergyHistory,
+    IntegrationStats, JointReactions, Reaction,
 };
 pub use sparse_linearization::{
     LinearizationMatrices, SparseTriplets, SPARSE_LINEARIZATION_MAX_DOF,

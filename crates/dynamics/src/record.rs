@@ -1,16 +1,21 @@
 //! Storing results at output times: poses, velocities, accelerations, points, joint
 //! coordinates, λ, reactions, driver efforts, energy and drift. Storage is reserved up front;
-//! each record allocates only the λ vector of that time.
+//! each record allocates only the λ vector of that time. A streamed recorder
+//! ([`Recorder::streamed`]) holds one time, hands it to a [`DynamicSink`] and reuses its storage
+//! (λ included) for the next: it allocates nothing per time.
 
 use crate::kkt::{eval_rows, Rhs};
 use crate::results::{
-    CouplerEfforts, DriverEfforts, DynamicResults, EnergyHistory, IntegrationStats, JointReactions,
+    CouplerEfforts, DriverEfforts, DynamicResults, DynamicSink, EnergyHistory, IntegrationStats,
+    JointReactions,
 };
 use crate::state::State;
 use crate::system::Dynamics;
 use crate::work::{trapezoid, Multipliers};
 use crate::DynamicsError;
-use cardan_constraints::joints::{continue_angle, BodyAcceleration, CoordinateQuantity};
+use cardan_constraints::joints::{
+    continue_angle, BodyAcceleration, CoordinateQuantity, MAX_COORDINATES,
+};
 use cardan_constraints::{BodyPair, BodyState, Driver};
 use cardan_eulerparam::{p_ddot_from_local, p_dot_from_local};
 use cardan_mechanism::{
@@ -18,8 +23,20 @@ use cardan_mechanism::{
 };
 use nalgebra::Vector3;
 
-pub(crate) struct Recorder {
+pub(crate) struct Recorder<'s> {
+    /// The stored times (streamed: the one being handed to the sink).
     res: DynamicResults,
+    /// Where a streamed run's times go; `None`: every time stays in `res`.
+    sink: Option<&'s mut dyn DynamicSink>,
+    /// Times recorded.
+    frames: usize,
+    /// The time recorded last.
+    last_t: Option<f64>,
+    /// Per joint: its coordinates and their rates at the time recorded last (angles continue
+    /// from them over turns).
+    last_joint: Vec<([f64; MAX_COORDINATES], [f64; MAX_COORDINATES])>,
+    /// A streamed recorder's λ vector, reused from one time to the next.
+    spare_lambda: Option<Vec<f64>>,
     outputs: Outputs,
     vdot: Vec<f64>,
     lambda: Vec<f64>,
@@ -43,8 +60,23 @@ pub(crate) struct Recorder {
 /// joints disagree; `cardan_mechanism::analysis::dropped`).
 pub const DROPPED_ROW_DRIFT_FACTOR: f64 = 10.0;
 
-impl Recorder {
+impl<'s> Recorder<'s> {
+    /// A recorder keeping every time (room reserved for `capacity` times).
     pub fn new(d: &Dynamics, capacity: usize, outputs: Outputs) -> Self {
+        Self::with_sink(d, capacity, outputs, None)
+    }
+
+    /// A recorder handing each time to `sink` as it is recorded, keeping none.
+    pub fn streamed(d: &Dynamics, outputs: Outputs, sink: &'s mut dyn DynamicSink) -> Self {
+        Self::with_sink(d, 1, outputs, Some(sink))
+    }
+
+    fn with_sink(
+        d: &Dynamics,
+        capacity: usize,
+        outputs: Outputs,
+        sink: Option<&'s mut dyn DynamicSink>,
+    ) -> Self {
         let model = d.model;
         let mut kin = Results {
             outputs: Some(outputs),
@@ -171,6 +203,14 @@ impl Recorder {
         let m = model.num_equations();
         Self {
             res,
+            sink,
+            frames: 0,
+            last_t: None,
+            last_joint: vec![
+                ([0.0; MAX_COORDINATES], [0.0; MAX_COORDINATES]);
+                model.joints().len()
+            ],
+            spare_lambda: None,
             outputs,
             vdot: vec![0.0; n],
             lambda: vec![0.0; m],
@@ -194,9 +234,33 @@ impl Recorder {
         work: Option<&[f64]>,
     ) -> Result<(), DynamicsError> {
         d.accelerations(state, &mut self.vdot, &mut self.lambda)?;
+        self.begin();
         self.record_work(d, state.t, work);
         self.store(d, state, iterations, false);
-        Ok(())
+        self.hand_over(state.t)
+    }
+
+    /// A streamed recorder empties its one time before the next (keeping λ's storage).
+    fn begin(&mut self) {
+        if self.sink.is_some() {
+            self.spare_lambda = self.res.lambda.pop();
+            self.res.clear_frames();
+        }
+    }
+
+    /// Counts the time just stored and hands it to the sink, if any.
+    ///
+    /// # Errors
+    /// [`DynamicsError::Stopped`] when the sink breaks.
+    fn hand_over(&mut self, t: f64) -> Result<(), DynamicsError> {
+        let k = self.frames;
+        self.frames += 1;
+        self.last_t = Some(t);
+        let stop = (self.sink.as_mut()).is_some_and(|sink| sink.frame(k, &self.res).is_break());
+        match stop {
+            true => Err(DynamicsError::Stopped { time: t }),
+            false => Ok(()),
+        }
     }
 
     /// Records a static equilibrium `state` (velocities zero) with its multipliers `lambda`
@@ -211,8 +275,11 @@ impl Recorder {
         d.sync(state);
         self.vdot.fill(0.0);
         self.lambda.copy_from_slice(lambda);
+        self.begin();
         self.record_work(d, state.t, None);
         self.store(d, state, iterations, true);
+        // Statics keeps every time: no sink to stop it.
+        let _ = self.hand_over(state.t);
     }
 
     /// Stores `state` with `self.vdot` and `self.lambda` at the synced bodies.
@@ -276,10 +343,7 @@ impl Recorder {
             BodyId::Ground => &g,
             BodyId::Moving(k) => &d.bodies[k],
         };
-        let dt = match kin.times.len() {
-            n if n >= 2 => kin.times[n - 1] - kin.times[n - 2],
-            _ => 0.0,
-        };
+        let dt = self.last_t.map_or(0.0, |t0| state.t - t0);
         let body_acc = |id: BodyId| match id {
             BodyId::Moving(k) if acc => BodyAcceleration {
                 r_ddot: Vector3::from_column_slice(&self.vdot[6 * k..6 * k + 3]),
@@ -287,34 +351,45 @@ impl Recorder {
             },
             _ => BodyAcceleration::default(),
         };
-        for (jr, j) in kin.joints.iter_mut().zip(model.joints()) {
+        for ((jr, j), last) in kin
+            .joints
+            .iter_mut()
+            .zip(model.joints())
+            .zip(&mut self.last_joint)
+        {
             let pair = BodyPair::new(st(j.body_i), st(j.body_j));
             let mut c = j.joint.coordinates(&pair);
             let rates = vel.then(|| {
                 j.joint
                     .coordinate_rates(&pair, &body_acc(j.body_i), &body_acc(j.body_j))
             });
-            if let Some(prev) = jr.values.last() {
+            if self.last_t.is_some() {
+                let (prev, prev_rates) = (last.0, last.1);
                 for (i, coord) in c.coordinates.iter().enumerate() {
                     if coord.measure.quantity() == CoordinateQuantity::Angle {
-                        let w = jr
-                            .rates
-                            .last()
-                            .zip(rates.as_ref())
-                            .map(|(p, r)| (p[i], r.rates[i]));
+                        let w = rates.as_ref().map(|r| (prev_rates[i], r.rates[i]));
                         c.values[i] = continue_angle(prev[i], w, dt, c.values[i]);
                     }
                 }
             }
+            last.0 = c.values;
             jr.values.push(c.values);
             if let Some(r) = rates {
+                last.1 = r.rates;
                 jr.rates.push(r.rates);
                 if acc {
                     jr.accelerations.push(r.accelerations);
                 }
             }
         }
-        self.res.lambda.push(self.lambda.clone());
+        let lambda = match self.spare_lambda.take() {
+            Some(mut l) => {
+                l.copy_from_slice(&self.lambda);
+                l
+            }
+            None => self.lambda.clone(),
+        };
+        self.res.lambda.push(lambda);
         for (ji, (jr, j)) in self
             .res
             .reactions
@@ -405,7 +480,7 @@ impl Recorder {
         match work {
             Some(w) => self.work.copy_from_slice(w),
             None => {
-                if let Some(&t0) = self.res.kinematics.times.last() {
+                if let Some(t0) = self.last_t {
                     trapezoid(&mut self.work, &self.prev_power, &self.power, t - t0);
                 }
             }
@@ -418,12 +493,22 @@ impl Recorder {
         en.work.push(self.work.iter().sum());
     }
 
-    /// Number of stored times.
+    /// Number of recorded times (streamed: handed to the sink).
     pub fn len(&self) -> usize {
-        self.res.kinematics.times.len()
+        self.frames
     }
 
+    /// The time recorded last.
+    pub fn last_time(&self) -> Option<f64> {
+        self.last_t
+    }
+
+    /// The results with the run's counters and dropped rows: every time, or none when
+    /// streamed (they went to the sink).
     pub fn finish(mut self, d: &Dynamics, stats: IntegrationStats) -> DynamicResults {
+        if self.sink.is_some() {
+            self.res.clear_frames();
+        }
         self.res.stats = stats;
         let rows = self
             .dropped

@@ -1,8 +1,33 @@
 //! [`DynamicResults`]: the kinematic histories (the mechanism's [`Results`]) extended with
 //! multipliers, joint reactions, driver efforts, energy and constraint drift.
+//!
+//! The same type carries one stored time at a time to a [`DynamicSink`] (a streamed run,
+//! [`Dynamics::simulate_into`](crate::Dynamics::simulate_into),
+//! [`Dynamics::inverse_dynamics_into`](crate::Dynamics::inverse_dynamics_into)): a
+//! `DynamicResults` holding exactly that time, its storage reused from one time to the next, as
+//! the mechanism's [`FrameSink`](cardan_mechanism::FrameSink) does for kinematic frames.
 
 use cardan_mechanism::{BodyResults, EquationName, PointResults, Results};
 use nalgebra::Vector3;
+use std::ops::ControlFlow;
+
+/// The consumer of a streamed dynamic run's stored times: called once per output time, in
+/// order, with its index k and a [`DynamicResults`] holding that one time (its histories, λ,
+/// reactions, efforts, energy and drift rows; the counters are filled only in what the run
+/// returns at its end). [`ControlFlow::Break`] stops the run after this time
+/// ([`crate::DynamicsError::Stopped`]).
+///
+/// Closures `FnMut(usize, &DynamicResults) -> ControlFlow<()>` are sinks.
+pub trait DynamicSink {
+    /// Takes the output time k.
+    fn frame(&mut self, k: usize, frame: &DynamicResults) -> ControlFlow<()>;
+}
+
+impl<F: FnMut(usize, &DynamicResults) -> ControlFlow<()>> DynamicSink for F {
+    fn frame(&mut self, k: usize, frame: &DynamicResults) -> ControlFlow<()> {
+        self(k, frame)
+    }
+}
 
 /// A reaction on one body at a joint point: force and torque about the joint point, in global
 /// and body components.
@@ -153,6 +178,59 @@ impl EnergyHistory {
         self.balance().iter().fold(0.0, |a, d| a.max(d.abs()))
     }
 
+    /// The same channels without any time, with room for `capacity` times.
+    fn empty_like(&self, capacity: usize) -> Self {
+        let e = || Vec::with_capacity(capacity);
+        Self {
+            kinetic: e(),
+            gravity: e(),
+            spring: e(),
+            total: e(),
+            elements: (self.elements.iter())
+                .map(|w| ElementWork {
+                    name: w.name.clone(),
+                    kind: w.kind,
+                    power: e(),
+                    work: e(),
+                })
+                .collect(),
+            work: e(),
+            constraint_power: e(),
+        }
+    }
+
+    /// Removes every time, keeping the storage.
+    fn clear(&mut self) {
+        for v in [
+            &mut self.kinetic,
+            &mut self.gravity,
+            &mut self.spring,
+            &mut self.total,
+            &mut self.work,
+            &mut self.constraint_power,
+        ] {
+            v.clear();
+        }
+        for w in &mut self.elements {
+            w.power.clear();
+            w.work.clear();
+        }
+    }
+
+    /// Appends the times of `o` (same channels).
+    fn extend_from(&mut self, o: &Self) {
+        self.kinetic.extend_from_slice(&o.kinetic);
+        self.gravity.extend_from_slice(&o.gravity);
+        self.spring.extend_from_slice(&o.spring);
+        self.total.extend_from_slice(&o.total);
+        self.work.extend_from_slice(&o.work);
+        self.constraint_power.extend_from_slice(&o.constraint_power);
+        for (a, b) in self.elements.iter_mut().zip(&o.elements) {
+            a.power.extend_from_slice(&b.power);
+            a.work.extend_from_slice(&b.work);
+        }
+    }
+
     /// The power and work of element `name`.
     pub fn element(&self, name: &str) -> Option<&ElementWork> {
         self.elements.iter().find(|e| e.name == name)
@@ -240,7 +318,7 @@ impl DynamicResults {
         self.reactions.iter().find(|r| r.name == name)
     }
 
-    /// The efforts of driver `name`.
+    /// The efforts of coupler `name`.
     pub fn coupler(&self, name: &str) -> Option<&CouplerEfforts> {
         self.couplers.iter().find(|c| c.name == name)
     }
@@ -248,5 +326,124 @@ impl DynamicResults {
     /// The efforts of driver `name`.
     pub fn driver(&self, name: &str) -> Option<&DriverEfforts> {
         self.drivers.iter().find(|d| d.name == name)
+    }
+
+    /// The same names, outputs and counters without any time, with room for `capacity` times
+    /// in every history this one fills (e.g. for a decimated copy of a streamed run).
+    pub fn empty_like(&self, capacity: usize) -> Self {
+        let n = capacity;
+        fn room<T>(n: usize) -> Vec<T> {
+            Vec::with_capacity(n)
+        }
+        let e = || room::<f64>(n);
+        let reactions = |r: &JointReactions| JointReactions {
+            on_i: room(n),
+            on_j: room(n),
+            ..r.empty()
+        };
+        Self {
+            kinematics: self.kinematics.empty_like(n),
+            lambda: room(n),
+            reactions: self.reactions.iter().map(reactions).collect(),
+            drivers: (self.drivers.iter())
+                .map(|d| DriverEfforts {
+                    name: d.name.clone(),
+                    lambda: e(),
+                    effort: e(),
+                    power: e(),
+                    reactions: reactions(&d.reactions),
+                })
+                .collect(),
+            couplers: (self.couplers.iter())
+                .map(|c| CouplerEfforts {
+                    name: c.name.clone(),
+                    lambda: e(),
+                    efforts: Vec::with_capacity(n),
+                    force: c.force.as_ref().map(|_| e()),
+                    reactions: reactions(&c.reactions),
+                })
+                .collect(),
+            energy: self.energy.empty_like(n),
+            position_drift: e(),
+            velocity_drift: e(),
+            redundant: self.redundant.clone(),
+            stats: self.stats,
+        }
+    }
+
+    /// Removes every time, keeping the storage (no allocation when filled again, but for the
+    /// λ vectors, which are dropped) and the counters.
+    pub fn clear_frames(&mut self) {
+        self.kinematics.clear_frames();
+        self.lambda.clear();
+        let clear = |r: &mut JointReactions| {
+            r.on_i.clear();
+            r.on_j.clear();
+        };
+        self.reactions.iter_mut().for_each(clear);
+        for d in &mut self.drivers {
+            d.lambda.clear();
+            d.effort.clear();
+            d.power.clear();
+            clear(&mut d.reactions);
+        }
+        for c in &mut self.couplers {
+            c.lambda.clear();
+            c.efforts.clear();
+            if let Some(f) = c.force.as_mut() {
+                f.clear();
+            }
+            clear(&mut c.reactions);
+        }
+        self.energy.clear();
+        self.position_drift.clear();
+        self.velocity_drift.clear();
+    }
+
+    /// Appends the times of `other`, which has the same layout (made by
+    /// [`DynamicResults::empty_like`] or by the same run); within the reserved room, only the
+    /// λ vectors are allocated.
+    pub fn extend_from(&mut self, other: &Self) {
+        self.kinematics.extend_from(&other.kinematics);
+        self.lambda.extend(other.lambda.iter().cloned());
+        let extend = |a: &mut JointReactions, b: &JointReactions| {
+            a.on_i.extend_from_slice(&b.on_i);
+            a.on_j.extend_from_slice(&b.on_j);
+        };
+        for (a, b) in self.reactions.iter_mut().zip(&other.reactions) {
+            extend(a, b);
+        }
+        for (a, b) in self.drivers.iter_mut().zip(&other.drivers) {
+            a.lambda.extend_from_slice(&b.lambda);
+            a.effort.extend_from_slice(&b.effort);
+            a.power.extend_from_slice(&b.power);
+            extend(&mut a.reactions, &b.reactions);
+        }
+        for (a, b) in self.couplers.iter_mut().zip(&other.couplers) {
+            a.lambda.extend_from_slice(&b.lambda);
+            a.efforts.extend_from_slice(&b.efforts);
+            if let (Some(fa), Some(fb)) = (a.force.as_mut(), b.force.as_ref()) {
+                fa.extend_from_slice(fb);
+            }
+            extend(&mut a.reactions, &b.reactions);
+        }
+        self.energy.extend_from(&other.energy);
+        self.position_drift.extend_from_slice(&other.position_drift);
+        self.velocity_drift.extend_from_slice(&other.velocity_drift);
+    }
+}
+
+impl JointReactions {
+    /// The names without any time.
+    fn empty(&self) -> Self {
+        Self {
+            name: self.name.clone(),
+            body_i: self.body_i.clone(),
+            body_j: self.body_j.clone(),
+            point_i: self.point_i.clone(),
+            point_j: self.point_j.clone(),
+            on_i: Vec::new(),
+            on_j: Vec::new(),
+        }
     }
 }

@@ -1,8 +1,9 @@
-//! Forward dynamics over time: [`Dynamics::simulate`].
+//! Forward dynamics over time: [`Dynamics::simulate`], and streamed to a [`DynamicSink`]
+//! ([`Dynamics::simulate_into`]) so that memory does not grow with the output times.
 
 use crate::options::{Integrator, SimulationOptions};
 use crate::record::Recorder;
-use crate::results::{DynamicResults, IntegrationStats};
+use crate::results::{DynamicResults, DynamicSink, IntegrationStats};
 use crate::state::State;
 use crate::system::Dynamics;
 use crate::DynamicsError;
@@ -68,6 +69,51 @@ impl Dynamics<'_> {
         options: &SimulationOptions,
         mut progress: impl FnMut(f64) -> ControlFlow<()>,
     ) -> Result<DynamicResults, DynamicsError> {
+        self.run(state, options, None, &mut progress)
+    }
+
+    /// [`simulate_with_progress`](Self::simulate_with_progress), streamed: each output time
+    /// goes to `sink` as it is recorded ([`DynamicSink`]), in storage reused from one time to
+    /// the next, and none is kept. Returns the run's counters, redundant equations and dropped
+    /// rows in a [`DynamicResults`] without times. When the sink breaks, the run stops there
+    /// with [`DynamicsError::Stopped`] (in [`DynamicsError::MidRun`], as a break of `progress`).
+    ///
+    /// # Errors
+    /// As [`simulate_with_progress`](Self::simulate_with_progress); the partial results of
+    /// [`DynamicsError::MidRun`] hold no time either (they went to the sink).
+    pub fn simulate_into(
+        &mut self,
+        initial: &State,
+        options: &SimulationOptions,
+        sink: &mut dyn DynamicSink,
+        mut progress: impl FnMut(f64) -> ControlFlow<()>,
+    ) -> Result<DynamicResults, DynamicsError> {
+        let state = self.consistent_state(initial)?;
+        self.run(state, options, Some(sink), &mut progress)
+    }
+
+    /// [`simulate_into`](Self::simulate_into) from a state that is already consistent.
+    ///
+    /// # Errors
+    /// As [`simulate_into`](Self::simulate_into).
+    pub fn simulate_consistent_into(
+        &mut self,
+        state: State,
+        options: &SimulationOptions,
+        sink: &mut dyn DynamicSink,
+        mut progress: impl FnMut(f64) -> ControlFlow<()>,
+    ) -> Result<DynamicResults, DynamicsError> {
+        self.run(state, options, Some(sink), &mut progress)
+    }
+
+    /// The integration loop, the times kept (`sink` `None`) or streamed.
+    fn run(
+        &mut self,
+        state: State,
+        options: &SimulationOptions,
+        sink: Option<&mut dyn DynamicSink>,
+        progress: &mut dyn FnMut(f64) -> ControlFlow<()>,
+    ) -> Result<DynamicResults, DynamicsError> {
         let times = options.times(state.t);
         check_times(state.t, options.t_end, &times)?;
         options
@@ -77,7 +123,10 @@ impl Dynamics<'_> {
         if self.kkt.is_none() {
             self.prepare(&state)?;
         }
-        let mut rec = Recorder::new(self, times.len(), options.outputs);
+        let mut rec = match sink {
+            Some(sink) => Recorder::streamed(self, options.outputs, sink),
+            None => Recorder::new(self, times.len(), options.outputs),
+        };
         let mut stats = IntegrationStats::default();
         let f0 = self.kkt.as_ref().map_or(0, |k| k.factorizations);
         let reselections = self.reselections;
@@ -90,24 +139,10 @@ impl Dynamics<'_> {
         }
         let r = match options.integrator {
             Integrator::Dopri5(o) => crate::integrators::dopri5::run(
-                self,
-                state,
-                &times,
-                &o,
-                options,
-                &mut rec,
-                &mut stats,
-                &mut progress,
+                self, state, &times, &o, options, &mut rec, &mut stats, progress,
             ),
             Integrator::GeneralizedAlpha(o) => crate::integrators::generalized_alpha::run(
-                self,
-                state,
-                &times,
-                &o,
-                options,
-                &mut rec,
-                &mut stats,
-                &mut progress,
+                self, state, &times, &o, options, &mut rec, &mut stats, progress,
             ),
         };
         stats.factorizations = self.kkt.as_ref().map_or(0, |k| k.factorizations) - f0;
@@ -119,9 +154,10 @@ impl Dynamics<'_> {
         match r {
             Ok(()) => Ok(rec.finish(self, stats)),
             Err(e) if rec.len() > 0 => {
+                let last_time = rec.last_time().unwrap_or(f64::NAN);
                 let partial = rec.finish(self, stats);
                 Err(DynamicsError::MidRun {
-                    last_time: partial.times().last().copied().unwrap_or(f64::NAN),
+                    last_time,
                     source: Box::new(e),
                     partial: Box::new(partial),
                 })

@@ -72,12 +72,28 @@ pub(super) fn peak_efforts(
     p: &Prepared,
     r: &cardan_dynamics::DynamicResults,
 ) -> Vec<(String, f64, &'static str)> {
-    r.drivers
-        .iter()
-        .map(|d| {
-            let peak = d.effort.iter().fold(0.0f64, |a, e| a.max(e.abs()));
-            (d.name.clone(), peak, effort_kind(p, &d.name).1)
-        })
+    let mut peaks = vec![0.0; r.drivers.len()];
+    fold_peak_efforts(r, &mut peaks);
+    peak_efforts_of(p, r, &peaks)
+}
+
+/// Takes the largest |effort| of each driver over the times of `r` into `peaks`.
+pub(super) fn fold_peak_efforts(r: &DynamicResults, peaks: &mut [f64]) {
+    for (peak, d) in peaks.iter_mut().zip(&r.drivers) {
+        *peak = d.effort.iter().fold(*peak, |a, e| a.max(e.abs()));
+    }
+}
+
+/// Per driver of `r`: name, its peak |effort| from `peaks` ([`fold_peak_efforts`] over every
+/// time of the run), unit.
+pub(super) fn peak_efforts_of(
+    p: &Prepared,
+    r: &DynamicResults,
+    peaks: &[f64],
+) -> Vec<(String, f64, &'static str)> {
+    (r.drivers.iter())
+        .zip(peaks)
+        .map(|(d, &peak)| (d.name.clone(), peak, effort_kind(p, &d.name).1))
         .collect()
 }
 
@@ -141,14 +157,19 @@ pub fn driver_efforts_table(p: &Prepared, r: &DynamicResults) -> Option<Table> {
     );
     for (k, time) in r.times().iter().enumerate() {
         let mut row = vec![*time];
-        row.extend(
-            r.drivers
-                .iter()
-                .map(|d| d.effort.get(k).copied().unwrap_or(f64::NAN)),
-        );
+        driver_efforts_row(r, k, &mut row);
         t.rows.push(row);
     }
     Some(t)
+}
+
+/// Appends the driver efforts at time k to `row`.
+pub(super) fn driver_efforts_row(r: &DynamicResults, k: usize, row: &mut Vec<f64>) {
+    row.extend(
+        r.drivers
+            .iter()
+            .map(|d| d.effort.get(k).copied().unwrap_or(f64::NAN)),
+    );
 }
 
 /// `coupler_efforts`: per coupler, the generalized force it applies along each coupled joint
@@ -188,16 +209,84 @@ pub fn coupler_efforts_table(p: &Prepared, r: &DynamicResults) -> Option<Table> 
     );
     for (k, time) in r.times().iter().enumerate() {
         let mut row = vec![*time];
-        for c in &r.couplers {
-            let q = c.efforts.get(k).copied().unwrap_or([f64::NAN; 2]);
-            row.extend(q);
-            if let Some(f) = &c.force {
-                row.push(f.get(k).copied().unwrap_or(f64::NAN));
-            }
-        }
+        coupler_efforts_row(r, k, &mut row);
         t.rows.push(row);
     }
     Some(t)
+}
+
+/// Appends the coupler efforts (and tooth or thread forces) at time k to `row`.
+pub(super) fn coupler_efforts_row(r: &DynamicResults, k: usize, row: &mut Vec<f64>) {
+    for c in &r.couplers {
+        let q = c.efforts.get(k).copied().unwrap_or([f64::NAN; 2]);
+        row.extend(q);
+        if let Some(f) = &c.force {
+            row.push(f.get(k).copied().unwrap_or(f64::NAN));
+        }
+    }
+}
+
+/// A reaction history of a [`DynamicResults`]: a joint's or a coupler's.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum ReactionRef {
+    /// `reactions[i]`.
+    Joint(usize),
+    /// `couplers[i].reactions`.
+    Coupler(usize),
+}
+
+impl ReactionRef {
+    fn of(self, r: &DynamicResults) -> &cardan_dynamics::JointReactions {
+        match self {
+            ReactionRef::Joint(i) => &r.reactions[i],
+            ReactionRef::Coupler(i) => &r.couplers[i].reactions,
+        }
+    }
+}
+
+/// The reaction histories the reaction tables hold: the requested joints or couplers (default
+/// all joints, then all couplers).
+pub(super) fn reaction_selection(r: &DynamicResults, req: &Requested) -> Vec<ReactionRef> {
+    match &req.reactions {
+        Some(list) => list
+            .iter()
+            .filter_map(|j| {
+                (r.reactions.iter().position(|x| x.name == *j))
+                    .map(ReactionRef::Joint)
+                    .or_else(|| {
+                        (r.couplers.iter().position(|c| c.name == *j)).map(ReactionRef::Coupler)
+                    })
+            })
+            .collect(),
+        None => (0..r.reactions.len())
+            .map(ReactionRef::Joint)
+            .chain((0..r.couplers.len()).map(ReactionRef::Coupler))
+            .collect(),
+    }
+}
+
+/// Appends the reactions of the `selected` histories at time k to `row` (body components if
+/// `local`).
+pub(super) fn reactions_row(
+    r: &DynamicResults,
+    selected: &[ReactionRef],
+    local: bool,
+    k: usize,
+    row: &mut Vec<f64>,
+) {
+    for j in selected {
+        let j = j.of(r);
+        for side in [&j.on_i, &j.on_j] {
+            let rc = side.get(k).copied().unwrap_or_default();
+            let (f, m) = if local {
+                (rc.force_local, rc.torque_local)
+            } else {
+                (rc.force, rc.torque)
+            };
+            row.extend(f.iter().copied());
+            row.extend(m.iter().copied());
+        }
+    }
 }
 
 /// `reactions` and `reactions_local`: per requested joint or coupler (default all joints, then
@@ -207,20 +296,8 @@ pub fn reaction_tables(r: &DynamicResults, req: &Requested) -> Vec<Table> {
     let mut out = Vec::new();
     let times = r.times();
     let n = times.len();
-    let joints: Vec<&cardan_dynamics::JointReactions> = match &req.reactions {
-        Some(list) => list
-            .iter()
-            .filter_map(|j| {
-                r.joint_reactions(j)
-                    .or_else(|| r.coupler(j).map(|c| &c.reactions))
-            })
-            .collect(),
-        None => r
-            .reactions
-            .iter()
-            .chain(r.couplers.iter().map(|c| &c.reactions))
-            .collect(),
-    };
+    let selected = reaction_selection(r, req);
+    let joints: Vec<&cardan_dynamics::JointReactions> = selected.iter().map(|j| j.of(r)).collect();
     let xyz = ["x", "y", "z"];
     for (name, title, local) in [
         ("reactions", "joint reactions (global components)", false),
@@ -243,18 +320,7 @@ pub fn reaction_tables(r: &DynamicResults, req: &Requested) -> Vec<Table> {
         let mut t = Table::new(name, title, cols);
         for k in 0..n {
             let mut row = vec![times[k]];
-            for j in &joints {
-                for side in [&j.on_i, &j.on_j] {
-                    let rc = side.get(k).copied().unwrap_or_default();
-                    let (f, m) = if local {
-                        (rc.force_local, rc.torque_local)
-                    } else {
-                        (rc.force, rc.torque)
-                    };
-                    row.extend(f.iter().copied());
-                    row.extend(m.iter().copied());
-                }
-            }
+            reactions_row(r, &selected, local, k, &mut row);
             t.rows.push(row);
         }
         out.push(t);
@@ -284,23 +350,41 @@ pub fn energy_table(r: &DynamicResults) -> Table {
     }
     cols.extend(["W_nc [J]", "balance [J]", "P_joints [W]"].map(String::from));
     let mut t = Table::new("energy", "energy", cols);
-    let (drift, balance) = (e.drift(), e.balance());
-    let g = |v: &[f64], k: usize| v.get(k).copied().unwrap_or(f64::NAN);
+    let e0 = e.total.first().copied().unwrap_or(0.0);
     for (k, time) in r.times().iter().enumerate() {
-        let mut row = vec![
-            *time,
-            g(&e.kinetic, k),
-            g(&e.gravity, k),
-            g(&e.spring, k),
-            g(&e.total, k),
-            g(&drift, k),
-        ];
-        for w in &e.elements {
-            row.push(g(&w.power, k));
-            row.push(g(&w.work, k));
-        }
-        row.extend([g(&e.work, k), g(&balance, k), g(&e.constraint_power, k)]);
+        let mut row = vec![*time];
+        energy_row(e, e0, k, &mut row);
         t.rows.push(row);
     }
     t
+}
+
+/// Appends the energy row at time k to `row`, `e0` the total energy at the run's first time
+/// (the drift E − E(t₀) and the balance E − E(t₀) − W_nc of
+/// [`cardan_dynamics::EnergyHistory::drift`] and [`balance`](cardan_dynamics::EnergyHistory::balance)).
+pub(super) fn energy_row(
+    e: &cardan_dynamics::EnergyHistory,
+    e0: f64,
+    k: usize,
+    row: &mut Vec<f64>,
+) {
+    let g = |v: &[f64]| v.get(k).copied().unwrap_or(f64::NAN);
+    // As EnergyHistory::drift and ::balance: the same operations, the same numbers.
+    let (drift, balance) = match (e.total.get(k), e.work.get(k)) {
+        (Some(&t), Some(&w)) => (t - e0, t - e0 - w),
+        (Some(&t), None) => (t - e0, f64::NAN),
+        _ => (f64::NAN, f64::NAN),
+    };
+    row.extend([
+        g(&e.kinetic),
+        g(&e.gravity),
+        g(&e.spring),
+        g(&e.total),
+        drift,
+    ]);
+    for w in &e.elements {
+        row.push(g(&w.power));
+        row.push(g(&w.work));
+    }
+    row.extend([g(&e.work), balance, g(&e.constraint_power)]);
 }

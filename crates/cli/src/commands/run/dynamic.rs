@@ -7,66 +7,84 @@
 //!
 //! The benchmark tests call [`simulate`] directly, so what is tested is the model file itself.
 
+use super::dynamic_layout::{DynamicLayout, DynamicTally, Kind};
+use super::stream::Recorder;
 use super::summary::{Analysed, DynamicSummary, RunFlags, Summary};
 use crate::build::Outputs as Requested;
 use crate::commands::output_tables::{
-    coupler_efforts_table, driver_efforts_table, energy_table, peak_efforts, reaction_tables,
+    coupler_efforts_table, driver_efforts_table, energy_table, peak_efforts_of, reaction_tables,
     requested,
 };
 use crate::commands::Prepared;
 use crate::diag::Error;
+use crate::output::OutputDir;
 use crate::table::Table;
 use cardan_dynamics::{DynamicResults, Dynamics, Integrator, SimulationOptions, State};
 use std::path::PathBuf;
 use std::time::Instant;
 
 /// `kind = "dynamic"`: simulate, the tables, the summary. A failure mid-run keeps the results
-/// so far with the error.
+/// so far with the error. With `dir`, the CSV files are written there output by output and only
+/// a decimated copy of the results is kept (all with `keep_all`); without, every output is kept
+/// ([`super::stream`]). The summary and the warnings are taken over every output.
 pub(super) fn run_dynamic(
     p: &Prepared,
     analysis: &crate::build::Analysis,
     flags: &RunFlags,
+    dir: Option<&mut OutputDir>,
+    keep_all: bool,
 ) -> Result<Analysed, Error> {
     let mut opts = options(p, None)?;
     check_length(p, &mut opts, flags.allow_long)?;
     let mut d = dynamics(p)?;
     let initial = initial_state(p);
+    let req = requested(p, &analysis.outputs);
+    let planned = opts.times(initial.t).len();
+    let make = |f: &DynamicResults| DynamicLayout::new(p, f, &req, Kind::Dynamic);
+    let mut rec = Recorder::new(p.units, planned, dir, keep_all, make);
     let start = Instant::now();
     // Progress in parts of the time span (the number of adaptive steps is not known).
     const PARTS: f64 = 10_000.0;
     let (t0, span) = (analysis.t_start, analysis.t_end - analysis.t_start);
     let mut bar = crate::progress::Progress::new(flags.progress, PARTS as u64);
-    let outcome = d.simulate_with_progress(&initial, &opts, |t| {
+    let mut sink = |_: usize, frame: &DynamicResults| rec.frame(frame);
+    let outcome = d.simulate_into(&initial, &opts, &mut sink, |t| {
         bar.tick(((t - t0) / span * PARTS) as u64, t)
     });
     drop(bar);
     let wall = start.elapsed();
     drop(d);
-    let (r, failure) = match outcome {
+    let (totals, failure) = match outcome {
         Ok(r) => (r, None),
         Err(e) => match e.partial_results() {
-            Some(r) if matches!(e.cause(), cardan_dynamics::DynamicsError::Stopped { .. }) => {
-                (r.clone(), Some(crate::progress::interrupted(r.times())))
-            }
+            Some(r) if matches!(e.cause(), cardan_dynamics::DynamicsError::Stopped { .. }) => (
+                r.clone(),
+                Some(crate::progress::interrupted(rec.last_time().as_slice())),
+            ),
             Some(r) => (r.clone(), Some(located(p, &e))),
             None => return Err(located(p, &e)),
         },
     };
-    let req = requested(p, &analysis.outputs);
-    let mut tables = tables(p, &r, &req);
+    // A write error stopped the run: it is the error.
+    let rec = rec.finish()?;
+    let mut r = rec.results;
+    r.stats = totals.stats;
+    r.redundant = totals.redundant;
+    r.kinematics.set_totals(totals.kinematics.totals());
+    let mut tables = rec.tables;
     let mut files = Vec::new();
     if let (Some(t), None) = (analysis.linearize_at, &failure) {
         let (lt, lf) = super::linearize::about_dynamic(p, &opts, t, &req, &analysis.inputs)?;
         tables.extend(lt);
         files = lf;
     }
-    let drift = r.position_drift.iter().fold(0.0, |a: f64, &b| a.max(b));
+    let tally = rec.tally;
     let summary = Summary {
         name: p.loaded.name.clone(),
-        steps: r.len(),
+        steps: rec.frames,
         noun: ["step", "steps"],
         iterations: r.stats.newton_iterations,
-        max_residual: drift,
+        max_residual: tally.max_drift,
         wall,
         dir: PathBuf::new(),
         files: Vec::new(),
@@ -74,12 +92,12 @@ pub(super) fn run_dynamic(
             steps: r.stats.steps,
             rejected: r.stats.rejected,
             newton_iterations: r.stats.newton_iterations,
-            max_constraint_drift: drift,
-            energy_drift: r.energy.max_drift(),
+            max_constraint_drift: tally.max_drift,
+            energy_drift: tally.max_energy_drift,
         }),
-        energy_balance: Some(super::summary::EnergyBalance::of(&r.energy)),
-        peak_efforts: peak_efforts(p, &r),
-        warnings: doubtful_results(p, &r, &opts.integrator),
+        energy_balance: Some(tally.energy_balance()),
+        peak_efforts: peak_efforts_of(p, &r, &tally.peak_efforts),
+        warnings: doubtful(p, &tally, &r.kinematics.dropped_rows, &opts.integrator),
         subdivided_steps: None,
         row_reselections: r.stats.row_reselections,
     };
@@ -92,7 +110,7 @@ pub(super) fn run_dynamic(
         strict_failure: None,
         files,
         modes: Vec::new(),
-        streamed: None,
+        streamed: rec.streamed,
     })
 }
 
@@ -278,9 +296,21 @@ pub fn drift_bound(p: &Prepared, integrator: &Integrator) -> f64 {
 /// damped or conservative), a row dropped as redundant that stays off by more than the kept
 /// rows drift (the redundant joints disagree), a constraint drift beyond [`drift_bound`].
 pub fn doubtful_results(p: &Prepared, r: &DynamicResults, integrator: &Integrator) -> Vec<String> {
+    let tally = DynamicTally::of(r);
+    doubtful(p, &tally, &r.kinematics.dropped_rows, integrator)
+}
+
+/// [`doubtful_results`] from the run's numbers over every stored time (`tally`, taken as the
+/// times were streamed, not from a decimated copy) and its dropped rows.
+pub fn doubtful(
+    p: &Prepared,
+    tally: &DynamicTally,
+    dropped_rows: &[cardan_mechanism::DroppedRowResidual],
+    integrator: &Integrator,
+) -> Vec<String> {
     let mut warnings = Vec::new();
-    let balance = r.energy.max_balance();
-    let scale = energy_scale(&r.energy);
+    let balance = tally.max_balance;
+    let scale = tally.energy_scale();
     if balance > ENERGY_BALANCE_BOUND * scale {
         warnings.push(format!(
             "energy balance {balance:.3e} J (the energy change less the work of the drivers and \
@@ -293,17 +323,12 @@ pub fn doubtful_results(p: &Prepared, r: &DynamicResults, integrator: &Integrato
             100.0 * ENERGY_BALANCE_BOUND
         ));
     }
-    warnings.extend(super::kinematic::dropped_row_warnings(
-        p,
-        &r.kinematics.dropped_rows,
-    ));
-    let worst = r.position_drift.iter().fold(0.0f64, |a, &d| a.max(d));
+    warnings.extend(super::kinematic::dropped_row_warnings(p, dropped_rows));
+    let worst = tally.max_drift;
     let bound = drift_bound(p, integrator);
     // A drift no larger than the dropped rows' disagreement is that disagreement (warned above),
     // not an integration error.
-    let disagreement = r
-        .kinematics
-        .dropped_rows
+    let disagreement = dropped_rows
         .iter()
         .fold(0.0f64, |a, d| a.max(d.value.abs()));
     if (worst > bound && worst > disagreement) || worst.is_nan() {
@@ -368,5 +393,73 @@ pub fn check_length(
             ),
         )),
         _ => Ok(()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::commands::run::stream::MAX_PLOTTED_FRAMES;
+    use cardan_dynamics::DynamicsError;
+    use std::ops::ControlFlow;
+
+    /// A constraint drift and an energy balance spike at one output that the decimated copy
+    /// does not keep: the summary and the warnings, taken over every output, still report them;
+    /// the same checks over the kept copy (what the summary was made from before the run
+    /// streamed) miss them.
+    #[test]
+    fn a_spike_between_two_kept_frames_is_still_summed_up_and_warned_about() {
+        let model = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../examples/slider_crank_dynamic.toml");
+        let p = crate::commands::prepare(&model).unwrap();
+        let analysis = p.loaded.analysis.clone().unwrap();
+        let opts = options(&p, None).unwrap();
+        let req = requested(&p, &analysis.outputs);
+        let mut dir = OutputDir::lock(
+            &std::env::temp_dir().join(format!("cardan-dynamic-spike-{}", std::process::id())),
+        )
+        .unwrap();
+        // As planned for 20 × the plotted frames: every 11th of the 501 outputs is kept.
+        let planned = 20 * MAX_PLOTTED_FRAMES;
+        let make = |f: &DynamicResults| DynamicLayout::new(&p, f, &req, Kind::Dynamic);
+        let mut rec = Recorder::new(p.units, planned, Some(&mut dir), false, make);
+        let bound = drift_bound(&p, &opts.integrator);
+        let spike = 3 * 11 + 5;
+        let mut spike_time = f64::NAN;
+        let mut sink = |k: usize, frame: &DynamicResults| {
+            if k != spike {
+                return rec.frame(frame);
+            }
+            let mut f = frame.clone();
+            f.position_drift[0] = 100.0 * bound;
+            f.energy.total[0] += 1e6;
+            spike_time = f.times()[0];
+            rec.frame(&f)
+        };
+        let mut d = dynamics(&p).unwrap();
+        let run = d.simulate_into(&initial_state(&p), &opts, &mut sink, |_| {
+            ControlFlow::<()>::Continue(())
+        });
+        run.map_err(|e: DynamicsError| e.to_string()).unwrap();
+        let rec = rec.finish().unwrap();
+        assert_eq!(rec.frames, 501);
+        assert!(rec.streamed.as_ref().is_some_and(|s| s.stride == 11));
+        assert!(!rec.results.times().contains(&spike_time));
+        // Over every output.
+        assert_eq!(rec.tally.max_drift, 100.0 * bound);
+        assert!(rec.tally.max_balance >= 1e6 - 1.0);
+        let every = doubtful(&p, &rec.tally, &[], &opts.integrator);
+        assert!(
+            every.iter().any(|w| w.starts_with("constraint drift")),
+            "{every:?}"
+        );
+        assert!(
+            every.iter().any(|w| w.starts_with("energy balance")),
+            "{every:?}"
+        );
+        // Over the kept copy: both lost.
+        let kept = doubtful_results(&p, &rec.results, &opts.integrator);
+        assert!(kept.is_empty(), "{kept:?}");
+        assert!(DynamicTally::of(&rec.results).max_drift < bound);
     }
 }

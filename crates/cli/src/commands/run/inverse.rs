@@ -6,15 +6,18 @@
 //! `cardan check` uses it too).
 
 use super::dynamic::{dynamics_as, located_as};
+use super::dynamic_layout::{DynamicLayout, Kind};
 use super::kinematic;
+use super::stream::Recorder;
 use super::summary::{Analysed, Summary};
 use crate::build::Outputs as Requested;
 use crate::commands::output_tables::{
-    coupler_efforts_table, driver_efforts_table, energy_table, peak_efforts, reaction_tables,
+    coupler_efforts_table, driver_efforts_table, energy_table, peak_efforts_of, reaction_tables,
     requested,
 };
 use crate::commands::{analysis_error, Prepared};
 use crate::diag::Error;
+use crate::output::OutputDir;
 use crate::table::Table;
 use cardan_dynamics::{DynamicResults, DynamicsError};
 use cardan_mechanism::{AssemblyOptions, KinematicOptions};
@@ -23,40 +26,69 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 /// `kind = "inverse_dynamics"`: kinematics with driver efforts and reactions, the tables, the
-/// summary. A kinematic failure mid-run keeps the results so far with the error.
+/// summary. A kinematic failure mid-run keeps the results so far with the error. With `dir`,
+/// the CSV files are written there frame by frame and only a decimated copy of the results is
+/// kept (all with `keep_all`); without, every frame is kept ([`super::stream`]). The summary is
+/// taken over every frame.
 pub(super) fn run_inverse(
     p: &Prepared,
     analysis: &crate::build::Analysis,
     progress: bool,
+    dir: Option<&mut OutputDir>,
+    keep_all: bool,
 ) -> Result<Analysed, Error> {
+    let (mut d, opts) = setup(p)?;
+    let req = requested(p, &analysis.outputs);
+    let make = |f: &DynamicResults| DynamicLayout::new(p, f, &req, Kind::Inverse);
+    let mut rec = Recorder::new(p.units, opts.steps + 1, dir, keep_all, make);
     let start = Instant::now();
-    // Two passes over the grid: the kinematics, then the efforts.
-    let frames = 2 * (analysis.steps as u64 + 1);
-    let mut bar = crate::progress::Progress::new(progress, frames);
-    let (r, failure) = inverse_dynamics_with(p, |k, t| bar.tick(k as u64 + 1, t))?;
+    let mut bar = crate::progress::Progress::new(progress, opts.steps as u64 + 1);
+    let mut sink = |k: usize, frame: &DynamicResults| {
+        if rec.frame(frame).is_break() {
+            return ControlFlow::Break(());
+        }
+        bar.tick(k as u64 + 1, frame.times()[0])
+    };
+    let run = d.inverse_dynamics_into(&opts, &mut sink);
+    let stopped = bar.stopped();
     drop(bar);
     let wall = start.elapsed();
-    let req = requested(p, &analysis.outputs);
-    let tables = inverse_tables(p, &r, &req);
+    let outcome = match run {
+        Ok(totals) => Ok((totals, None)),
+        Err(e) => failure(p, e, stopped, rec.last_time()),
+    };
+    // A write error stopped the run: it is the error.
+    let rec = rec.finish()?;
+    let (totals, failure) = outcome?;
+    let mut r = rec.results;
+    r.stats = totals.stats;
+    r.redundant = totals.redundant;
+    r.kinematics.set_totals(totals.kinematics.totals());
+    // The error's diagnosis reads the last solved frame: the kept copy ends with it.
+    let failure = failure.map(|f| match f {
+        Failure::Analysis(e) => analysis_error(p, &e.with_partial(r.kinematics.clone())),
+        Failure::Other(e) => e,
+    });
     let k = &r.kinematics;
+    let tally = rec.tally;
     let summary = Summary {
         name: p.loaded.name.clone(),
-        steps: k.len(),
+        steps: rec.frames,
         noun: ["step", "steps"],
-        iterations: k.iterations.iter().sum(),
-        max_residual: k.residual.iter().fold(0.0, |a: f64, &b| a.max(b)),
+        iterations: tally.iterations,
+        max_residual: tally.max_drift,
         wall,
         dir: PathBuf::new(),
         files: Vec::new(),
         dynamic: None,
-        energy_balance: Some(super::summary::EnergyBalance::of(&r.energy)),
-        peak_efforts: peak_efforts(p, &r),
+        energy_balance: Some(tally.energy_balance()),
+        peak_efforts: peak_efforts_of(p, &r, &tally.peak_efforts),
         warnings: kinematic::dropped_row_warnings(p, &k.dropped_rows),
         subdivided_steps: Some(k.subdivided_steps),
         row_reselections: k.row_reselections + r.stats.row_reselections,
     };
     Ok(Analysed {
-        tables,
+        tables: rec.tables,
         summary,
         results: r.kinematics.clone(),
         dynamic: Some(r),
@@ -64,8 +96,84 @@ pub(super) fn run_inverse(
         strict_failure: None,
         files: Vec::new(),
         modes: Vec::new(),
-        streamed: None,
+        streamed: rec.streamed,
     })
+}
+
+/// Why an inverse dynamics run stopped early, before its diagnosis.
+enum Failure {
+    /// The kinematics failed (diagnosed at the last solved frame).
+    Analysis(cardan_mechanism::AnalysisError),
+    /// Stopped, or another error.
+    Other(Error),
+}
+
+/// The counters of a run that stopped mid-run and why; the error of one that stored nothing.
+/// `stopped`: the progress bar asked to stop (Ctrl-C); `last_time`: the last time streamed.
+fn failure(
+    p: &Prepared,
+    e: DynamicsError,
+    stopped: bool,
+    last_time: Option<f64>,
+) -> Result<(DynamicResults, Option<Failure>), Error> {
+    let Some(partial) = e.partial_results().cloned() else {
+        return Err(error(p, &e));
+    };
+    let why = match e.cause() {
+        DynamicsError::Stopped { .. } if stopped => {
+            Failure::Other(crate::progress::interrupted(last_time.as_slice()))
+        }
+        DynamicsError::Mechanism(ae) => Failure::Analysis(ae.clone()),
+        _ => Failure::Other(error(p, &e)),
+    };
+    Ok((partial, Some(why)))
+}
+
+/// The error of an inverse dynamics run that stored nothing (or failed in its efforts).
+fn error(p: &Prepared, e: &DynamicsError) -> Error {
+    match e.cause() {
+        DynamicsError::NotFullyDriven { dof, drivers } => {
+            crate::commands::not_fully_driven(p, *dof, *drivers)
+        }
+        DynamicsError::Mechanism(ae) => analysis_error(p, ae),
+        _ => located_as(p, e, WHAT),
+    }
+}
+
+const WHAT: &str = "inverse dynamics";
+
+/// The file's inverse dynamics analysis ready to run: the dynamics with the file's forces and
+/// the kinematic options of its grid.
+///
+/// # Errors
+/// As [`inverse_dynamics`], before the run.
+fn setup(p: &Prepared) -> Result<(cardan_dynamics::Dynamics<'_>, KinematicOptions), Error> {
+    let a = p
+        .loaded
+        .analysis
+        .as_ref()
+        .filter(|a| a.inverse_dynamics)
+        .ok_or_else(|| {
+            p.source
+                .error("the model file has no [analysis] with kind = \"inverse_dynamics\"")
+        })?;
+    if p.model.drivers().is_empty() {
+        // Without drivers the run would succeed on a structure and compute nothing useful; say
+        // how many DOF the joints leave (assembling without drivers, as `cardan check` does).
+        let mut ws = p.model.workspace();
+        let opts = AssemblyOptions {
+            include_drivers: false,
+            ..AssemblyOptions::at(a.t_start)
+        };
+        p.model
+            .assemble(&mut ws, &opts)
+            .map_err(|e| analysis_error(p, &e))?;
+        let dof = p.model.dof(&ws).map_err(|e| analysis_error(p, &e))?;
+        return Err(crate::commands::not_fully_driven(p, dof.dof, 0));
+    }
+    let d = dynamics_as(p, WHAT)?;
+    let opts = KinematicOptions::new(a.t_start, a.t_end, a.steps).tolerance(a.tolerance);
+    Ok((d, opts))
 }
 
 /// Runs the file's `kind = "inverse_dynamics"` analysis: the kinematics on the file's time grid
@@ -93,32 +201,7 @@ pub fn inverse_dynamics_with(
     p: &Prepared,
     progress: impl FnMut(usize, f64) -> ControlFlow<()>,
 ) -> Result<(DynamicResults, Option<Error>), Error> {
-    const WHAT: &str = "inverse dynamics";
-    let a = p
-        .loaded
-        .analysis
-        .as_ref()
-        .filter(|a| a.inverse_dynamics)
-        .ok_or_else(|| {
-            p.source
-                .error("the model file has no [analysis] with kind = \"inverse_dynamics\"")
-        })?;
-    if p.model.drivers().is_empty() {
-        // Without drivers the run would succeed on a structure and compute nothing useful; say
-        // how many DOF the joints leave (assembling without drivers, as `cardan check` does).
-        let mut ws = p.model.workspace();
-        let opts = AssemblyOptions {
-            include_drivers: false,
-            ..AssemblyOptions::at(a.t_start)
-        };
-        p.model
-            .assemble(&mut ws, &opts)
-            .map_err(|e| analysis_error(p, &e))?;
-        let dof = p.model.dof(&ws).map_err(|e| analysis_error(p, &e))?;
-        return Err(crate::commands::not_fully_driven(p, dof.dof, 0));
-    }
-    let mut d = dynamics_as(p, WHAT)?;
-    let opts = KinematicOptions::new(a.t_start, a.t_end, a.steps).tolerance(a.tolerance);
+    let (mut d, opts) = setup(p)?;
     let e = match d.inverse_dynamics_with_progress(&opts, progress) {
         Ok(r) => return Ok((r, None)),
         Err(e) => e,
@@ -128,18 +211,16 @@ pub fn inverse_dynamics_with(
             Some(r) => Ok((r.clone(), Some(crate::progress::interrupted(r.times())))),
             None => Err(located_as(p, &e, WHAT)),
         },
-        DynamicsError::NotFullyDriven { dof, drivers } => {
-            Err(crate::commands::not_fully_driven(p, *dof, *drivers))
-        }
-        DynamicsError::Mechanism(ae) => {
-            let err = analysis_error(p, ae);
-            match e.partial_results() {
-                // The kinematics stopped mid-run: the results so far, and the error.
-                Some(r) => Ok((r.clone(), Some(err))),
-                None => Err(err),
+        DynamicsError::Mechanism(ae) => match e.partial_results() {
+            // The kinematics stopped mid-run: the results so far, and the error (diagnosed
+            // at the last solved frame).
+            Some(r) => {
+                let ae = ae.clone().with_partial(r.kinematics.clone());
+                Ok((r.clone(), Some(analysis_error(p, &ae))))
             }
-        }
-        _ => Err(located_as(p, &e, WHAT)),
+            None => Err(analysis_error(p, ae)),
+        },
+        _ => Err(error(p, &e)),
     }
 }
 

@@ -35,7 +35,8 @@ pub(super) fn run_kinematic(
     let mut bar = crate::progress::Progress::new(progress, opts.steps as u64 + 1);
     let mut ws = p.model.workspace();
     let req = requested(p, &analysis.outputs);
-    let mut rec = Recorder::new(req, p.units, opts.steps + 1, dir, keep_all);
+    let make = move |f: &Results| Layout::new(f, &req);
+    let mut rec = Recorder::new(p.units, opts.steps + 1, dir, keep_all, make);
     let run = p
         .model
         .kinematics_into(&mut ws, &opts, &mut |k: usize, frame: &Results| {
@@ -69,8 +70,8 @@ pub(super) fn run_kinematic(
         name: p.loaded.name.clone(),
         steps: rec.frames,
         noun: ["step", "steps"],
-        iterations: rec.iterations,
-        max_residual: rec.max_residual,
+        iterations: rec.tally.iterations,
+        max_residual: rec.tally.max_residual,
         wall,
         dir: PathBuf::new(),
         files: Vec::new(),

@@ -6,6 +6,7 @@
 //! summary line with the warnings.
 
 pub mod dynamic;
+pub mod dynamic_layout;
 pub mod inverse;
 pub mod kinematic;
 mod layout;
@@ -252,8 +253,8 @@ pub fn analyse(
     analyse_into(p, analysis, flags, None, true)
 }
 
-/// [`analyse`], writing into `dir` what the analysis streams as it runs (a kinematic run's CSV
-/// files, [`stream`]) and keeping a decimated copy of the results for the plots, the animation
+/// [`analyse`], writing into `dir` what the analysis streams as it runs (the CSV files of a
+/// kinematic, dynamic or inverse dynamics run, [`stream`]) and keeping a decimated copy of the results for the plots, the animation
 /// and the report unless `keep_all` ([`Analysed::streamed`] says which). Without `dir`,
 /// nothing is written and every frame is kept.
 ///
@@ -270,9 +271,10 @@ pub fn analyse_into(
     let (kind, ran) = if let Some(k) = analysis.statics {
         (k.name(), statics::run_statics(p, analysis, k))
     } else if analysis.dynamic.is_some() {
-        ("dynamic", run_dynamic(p, analysis, flags))
+        ("dynamic", run_dynamic(p, analysis, flags, dir, keep_all))
     } else if analysis.inverse_dynamics {
-        ("inverse_dynamics", run_inverse(p, analysis, progress))
+        let ran = run_inverse(p, analysis, progress, dir, keep_all);
+        ("inverse_dynamics", ran)
     } else {
         let ran = run_kinematic(p, analysis, progress, dir, keep_all);
         ("kinematic", ran)

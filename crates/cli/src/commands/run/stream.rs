@@ -1,5 +1,7 @@
 //! A run's frames as they are computed: the [`Recorder`] is the
-//! [`FrameSink`](cardan_mechanism::FrameSink) of `cardan run`'s kinematic analysis.
+//! [`FrameSink`](cardan_mechanism::FrameSink) of `cardan run`'s kinematic analysis and the
+//! [`DynamicSink`](cardan_dynamics::DynamicSink) of its dynamic and inverse dynamics analyses
+//! (one [`Frame`] type each, written by its [`FrameLayout`]).
 //!
 //! Each frame's rows go straight to the CSV files (buffered writers in the output directory's
 //! temporary sibling, [`crate::output::OutputDir::create`]), in the model's units, with the
@@ -12,16 +14,18 @@
 //! frame, whichever it is (a run stopped by Ctrl-C or a failure included). Peak memory is then
 //! bounded by the model's size, not by the number of steps.
 //!
-//! The summary's numbers (steps, Newton iterations, the largest residual) are taken over every
-//! frame as it passes, never from the decimated copy: a residual spike between two kept frames
-//! is still the run's largest residual.
+//! The summary's numbers (steps, Newton iterations, the largest residual; for the dynamic runs
+//! the constraint drift, the energy balance and its scale, the peak driver efforts: the
+//! layout's [`FrameLayout::Tally`]) are taken over every frame as it passes, never from the
+//! decimated copy: a residual spike between two kept frames is still the run's largest
+//! residual.
 
 use super::layout::Layout;
-use crate::build::Outputs as Requested;
 use crate::diag::Error;
 use crate::output::OutputDir;
 use crate::table::{push_csv_row, Table};
 use crate::units::UnitSystem;
+use cardan_dynamics::DynamicResults;
 use cardan_mechanism::Results;
 use std::fs::File;
 use std::io::{BufWriter, Write as _};
@@ -68,31 +72,141 @@ fn ordinal(n: usize) -> String {
     format!("{n}{suffix}")
 }
 
+/// What a run streams: results holding one frame at a time, which a copy made by
+/// [`Frame::empty_like`] can collect.
+pub trait Frame: Default {
+    /// The same layout without frames, with room for `capacity`.
+    fn empty_like(&self, capacity: usize) -> Self;
+    /// Appends the frames of `other` (same layout).
+    fn extend_from(&mut self, other: &Self);
+    /// Removes every frame, keeping the storage.
+    fn clear_frames(&mut self);
+    /// The frames' times.
+    fn times(&self) -> &[f64];
+}
+
+impl Frame for Results {
+    fn empty_like(&self, capacity: usize) -> Self {
+        Results::empty_like(self, capacity)
+    }
+    fn extend_from(&mut self, other: &Self) {
+        Results::extend_from(self, other);
+    }
+    fn clear_frames(&mut self) {
+        Results::clear_frames(self);
+    }
+    fn times(&self) -> &[f64] {
+        &self.times
+    }
+}
+
+impl Frame for DynamicResults {
+    fn empty_like(&self, capacity: usize) -> Self {
+        DynamicResults::empty_like(self, capacity)
+    }
+    fn extend_from(&mut self, other: &Self) {
+        DynamicResults::extend_from(self, other);
+    }
+    fn clear_frames(&mut self) {
+        DynamicResults::clear_frames(self);
+    }
+    fn times(&self) -> &[f64] {
+        DynamicResults::times(self)
+    }
+}
+
+/// The output groups of a run's frames: each group's empty table and the row of any frame, so
+/// that the streamed rows and the tables of the kept copy come from one code path; and what the
+/// summary takes from every frame.
+pub trait FrameLayout {
+    /// What the run streams.
+    type Frame: Frame;
+    /// The summary's numbers over every frame.
+    type Tally: Default;
+    /// The tables without rows, in output order.
+    fn empty_tables(&self) -> Vec<Table>;
+    /// Fills `row` with the row of group `g` at frame k of `r`: the time, then each column.
+    fn row(&self, g: usize, r: &Self::Frame, k: usize, row: &mut Vec<f64>);
+    /// Takes every frame of `frame` into `tally`.
+    fn tally(tally: &mut Self::Tally, frame: &Self::Frame);
+
+    /// Values per frame over all groups (time columns included).
+    fn values_per_frame(&self) -> usize {
+        self.empty_tables()
+            .iter()
+            .map(|t| t.columns.len() + 1)
+            .sum()
+    }
+
+    /// The groups with every frame of `r`.
+    fn tables(&self, r: &Self::Frame) -> Vec<Table> {
+        let mut out = self.empty_tables();
+        let n = r.times().len();
+        for (g, t) in out.iter_mut().enumerate() {
+            t.rows.reserve(n);
+            for k in 0..n {
+                let mut row = Vec::with_capacity(t.columns.len() + 1);
+                self.row(g, r, k, &mut row);
+                t.rows.push(row);
+            }
+        }
+        out
+    }
+}
+
+/// The numbers a kinematic run's summary takes over every frame.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct KinematicTally {
+    /// Newton iterations.
+    pub iterations: usize,
+    /// The largest position residual.
+    pub max_residual: f64,
+}
+
+impl FrameLayout for Layout {
+    type Frame = Results;
+    type Tally = KinematicTally;
+    fn empty_tables(&self) -> Vec<Table> {
+        Layout::empty_tables(self)
+    }
+    fn row(&self, g: usize, r: &Results, k: usize, row: &mut Vec<f64>) {
+        Layout::row(self, g, r, k, row);
+    }
+    fn tally(tally: &mut KinematicTally, frame: &Results) {
+        tally.iterations += frame.iterations.iter().sum::<usize>();
+        tally.max_residual = (frame.residual.iter()).fold(tally.max_residual, |a, &b| a.max(b));
+    }
+    fn values_per_frame(&self) -> usize {
+        Layout::values_per_frame(self)
+    }
+    fn tables(&self, r: &Results) -> Vec<Table> {
+        Layout::tables(self, r)
+    }
+}
+
 /// What [`Recorder::finish`] returns: the kept copy and the run's numbers over every frame.
-pub struct Recorded {
+pub struct Recorded<L: FrameLayout> {
     /// The kept frames (all, or the decimated copy).
-    pub results: Results,
+    pub results: L::Frame,
     /// The output groups with the kept frames (in SI units), titled as decimated when they are.
     pub tables: Vec<Table>,
     /// The streamed files (`None` when nothing was written during the run).
     pub streamed: Option<Streamed>,
     /// Frames the run stored.
     pub frames: usize,
-    /// Newton iterations over every frame.
-    pub iterations: usize,
-    /// The largest position residual over every frame.
-    pub max_residual: f64,
+    /// The summary's numbers over every frame.
+    pub tally: L::Tally,
     /// The time of the last frame.
     pub last_time: Option<f64>,
 }
 
 /// Built at the first frame, when the histories' names are known.
-struct Started {
-    layout: Layout,
+struct Started<L: FrameLayout> {
+    layout: L,
     stride: usize,
-    kept: Results,
+    kept: L::Frame,
     /// The latest frame when it was not kept (appended at the end).
-    last: Results,
+    last: L::Frame,
     last_kept: bool,
     /// Per group: the CSV writer and the columns' factors to the model's units.
     csv: Vec<(String, BufWriter<File>, Vec<f64>)>,
@@ -100,37 +214,40 @@ struct Started {
     text: String,
 }
 
-/// The sink of a streamed kinematic run (module docs).
-pub struct Recorder<'a> {
-    req: Requested,
+/// Makes a run's layout from its first frame.
+type MakeLayout<'a, L> = Box<dyn FnOnce(&<L as FrameLayout>::Frame) -> L + 'a>;
+
+/// The sink of a streamed run (module docs).
+pub struct Recorder<'a, L: FrameLayout> {
+    make: Option<MakeLayout<'a, L>>,
     units: UnitSystem,
     /// Frames the run will store when it completes.
     planned: usize,
     /// Where the CSV files go; `None`: nothing is written, every frame is kept.
     dir: Option<&'a mut OutputDir>,
     keep_all: bool,
-    started: Option<Started>,
+    started: Option<Started<L>>,
     /// A write error that stopped the run.
     error: Option<Error>,
     frames: usize,
-    iterations: usize,
-    max_residual: f64,
+    tally: L::Tally,
     last_time: Option<f64>,
 }
 
-impl<'a> Recorder<'a> {
-    /// A recorder of a run of `planned` frames writing the groups `req` asks for into `dir`
-    /// (in `units`). Every frame is kept without a directory or with `keep_all`.
+impl<'a, L: FrameLayout> Recorder<'a, L> {
+    /// A recorder of a run of `planned` frames writing the groups of the layout `make` builds
+    /// at the first frame into `dir` (in `units`). Every frame is kept without a directory or
+    /// with `keep_all`.
     pub fn new(
-        req: Requested,
         units: UnitSystem,
         planned: usize,
         dir: Option<&'a mut OutputDir>,
         keep_all: bool,
+        make: impl FnOnce(&L::Frame) -> L + 'a,
     ) -> Self {
         let keep_all = keep_all || dir.is_none();
         Self {
-            req,
+            make: Some(Box::new(make)),
             units,
             planned,
             dir,
@@ -138,16 +255,15 @@ impl<'a> Recorder<'a> {
             started: None,
             error: None,
             frames: 0,
-            iterations: 0,
-            max_residual: 0.0,
+            tally: L::Tally::default(),
             last_time: None,
         }
     }
 
-    /// Takes one frame (a [`Results`] holding one time): the summary's numbers, the CSV rows,
-    /// the kept copy. A write error stops the run ([`ControlFlow::Break`]; [`Recorder::finish`]
+    /// Takes one frame (results holding one time): the summary's numbers, the CSV rows, the
+    /// kept copy. A write error stops the run ([`ControlFlow::Break`]; [`Recorder::finish`]
     /// returns it).
-    pub fn frame(&mut self, frame: &Results) -> ControlFlow<()> {
+    pub fn frame(&mut self, frame: &L::Frame) -> ControlFlow<()> {
         if self.started.is_none() {
             match self.start(frame) {
                 Ok(s) => self.started = Some(s),
@@ -160,12 +276,8 @@ impl<'a> Recorder<'a> {
         let Some(s) = self.started.as_mut() else {
             return ControlFlow::Break(());
         };
-        self.iterations += frame.iterations.iter().sum::<usize>();
-        self.max_residual = frame
-            .residual
-            .iter()
-            .fold(self.max_residual, |a, &b| a.max(b));
-        self.last_time = frame.times.last().copied().or(self.last_time);
+        L::tally(&mut self.tally, frame);
+        self.last_time = frame.times().last().copied().or(self.last_time);
         let keep = self.keep_all || self.frames.is_multiple_of(s.stride);
         if keep {
             s.kept.extend_from(frame);
@@ -187,8 +299,12 @@ impl<'a> Recorder<'a> {
     }
 
     /// The layout, the decimation, the kept copy's storage and the CSV files with their headers.
-    fn start(&mut self, frame: &Results) -> Result<Started, Error> {
-        let layout = Layout::new(frame, &self.req);
+    fn start(&mut self, frame: &L::Frame) -> Result<Started<L>, Error> {
+        let make = self
+            .make
+            .take()
+            .ok_or_else(|| Error::output("the run restarted"))?;
+        let layout = make(frame);
         let stride = match self.keep_all {
             true => 1,
             false => stride(self.planned, layout.values_per_frame()),
@@ -226,18 +342,17 @@ impl<'a> Recorder<'a> {
     ///
     /// # Errors
     /// A write error during the run.
-    pub fn finish(self) -> Result<Recorded, Error> {
+    pub fn finish(self) -> Result<Recorded<L>, Error> {
         if let Some(e) = self.error {
             return Err(e);
         }
         let Some(mut s) = self.started else {
             return Ok(Recorded {
-                results: Results::default(),
+                results: L::Frame::default(),
                 tables: Vec::new(),
                 streamed: None,
                 frames: 0,
-                iterations: 0,
-                max_residual: 0.0,
+                tally: self.tally,
                 last_time: None,
             });
         };
@@ -258,7 +373,7 @@ impl<'a> Recorder<'a> {
         let streamed = self.dir.is_some().then(|| Streamed {
             csv: s.csv.into_iter().map(|(n, w, _)| (n, w)).collect(),
             frames: self.frames,
-            kept: s.kept.len(),
+            kept: s.kept.times().len(),
             stride: s.stride,
         });
         Ok(Recorded {
@@ -266,21 +381,20 @@ impl<'a> Recorder<'a> {
             tables,
             streamed,
             frames: self.frames,
-            iterations: self.iterations,
-            max_residual: self.max_residual,
+            tally: self.tally,
             last_time: self.last_time,
         })
     }
 }
 
 /// Appends the frame's row to each CSV file, in the model's units.
-fn write_rows(
-    s: &mut Started,
+fn write_rows<L: FrameLayout>(
+    s: &mut Started<L>,
     units: UnitSystem,
-    frame: &Results,
+    frame: &L::Frame,
 ) -> Result<(), (String, std::io::Error)> {
     for (g, (name, w, factors)) in s.csv.iter_mut().enumerate() {
-        for k in 0..frame.len() {
+        for k in 0..frame.times().len() {
             s.layout.row(g, frame, k, &mut s.row);
             units.convert_row(&mut s.row, factors);
             s.text.clear();
@@ -336,17 +450,18 @@ mod tests {
 
     /// Feeds `n` frames (residual 1e-12, a spike of 1e-3 at frame `spike`) to a recorder
     /// keeping a decimated copy.
-    fn record(n: usize, spike: usize) -> Recorded {
-        let req = Requested {
+    fn record(n: usize, spike: usize) -> Recorded<Layout> {
+        let req = crate::build::Outputs {
             bodies: vec!["b".into()],
-            ..Requested::default()
+            ..crate::build::Outputs::default()
         };
         let mut dir = OutputDir::lock(&std::env::temp_dir().join(format!(
             "cardan-stream-test-{}-{n}-{spike}",
             std::process::id()
         )))
         .unwrap();
-        let mut rec = Recorder::new(req, UnitSystem::Si, n, Some(&mut dir), false);
+        let make = move |f: &Results| Layout::new(f, &req);
+        let mut rec = Recorder::new(UnitSystem::Si, n, Some(&mut dir), false, make);
         for k in 0..n {
             let res = if k == spike { 1e-3 } else { 1e-12 };
             assert!(rec.frame(&frame(k as f64, res, 2)).is_continue());
@@ -363,8 +478,11 @@ mod tests {
         let spike = 3 * s + s / 2;
         let rec = record(n, spike);
         assert_eq!(rec.frames, n);
-        assert_eq!(rec.iterations, 2 * n);
-        assert_eq!(rec.max_residual, 1e-3, "the spike at frame {spike} is lost");
+        assert_eq!(rec.tally.iterations, 2 * n);
+        assert_eq!(
+            rec.tally.max_residual, 1e-3,
+            "the spike at frame {spike} is lost"
+        );
         let kept = &rec.results;
         assert!(kept.len() <= MAX_PLOTTED_FRAMES);
         assert!(!kept.times.contains(&(spike as f64)));

@@ -129,7 +129,8 @@ pub struct Analysed {
     pub files: Vec<(String, String)>,
     /// A modal run's modes (the report animates them); empty for the other kinds.
     pub modes: Vec<cardan_dynamics::Mode>,
-    /// A streamed run (`cardan run` of a kinematic analysis): the CSV files already written
+    /// A streamed run (`cardan run` of a kinematic, dynamic or inverse dynamics analysis): the
+    /// CSV files already written
     /// frame by frame, and how `results` and `tables` were decimated. `None`: `results` and
     /// `tables` hold every frame and nothing was written yet.
     pub streamed: Option<super::stream::Streamed>,
