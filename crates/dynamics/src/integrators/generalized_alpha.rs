@@ -187,6 +187,10 @@ enum Factor {
 /// (N = 40); a mass-only matrix diverging on a stiff spring stays far above.
 const STAGNATION_MAX_RESIDUAL: f64 = 1e-2;
 
+/// Fraction of the step's truncation error (estimated by the first Newton update, the distance
+/// from the predictor to the solution) that the Newton error left in v̇ may reach.
+const NEWTON_FRACTION: f64 = 1e-4;
+
 /// Consecutive non-contracting iterations of a fresh matrix after which a step attempt fails.
 const STALLED_MAX: usize = 4;
 
@@ -230,6 +234,9 @@ fn attempt(
     // Largest increment of v̇ (scaled by the unknown scales) of the last two updates, and the
     // largest scaled |v̇|.
     let (mut dv, mut dv_prev, mut acc) = (f64::INFINITY, f64::INFINITY, 0.0f64);
+    // The first update's size: how far the predictor was from the step's solution, the
+    // measure of the step's truncation error that the Newton error is held below.
+    let mut dv_first = f64::INFINITY;
     let uscale = model.unknown_scales();
     // A tangent iteration matrix is kept across steps like the mass-only one, as long as it
     // is one (not the mass-only matrix of a projection or an output solve) for this h (γ' and
@@ -311,8 +318,9 @@ fn attempt(
         // position level: an error e in v̇ left at every step grows into a position error of
         // about e t²/4 over a run, whatever h.
         let theta_dv = dv / dv_prev;
-        let chord_small =
-            it >= 2 && theta_dv < 1.0 && theta_dv / (1.0 - theta_dv) * dv <= tol * acc;
+        let chord_small = it >= 2
+            && theta_dv < 1.0
+            && theta_dv / (1.0 - theta_dv) * dv <= (tol * acc).max(NEWTON_FRACTION * dv_first);
         if (constraints_ok && (res_v <= tol || fresh_small || chord_small)) || stagnated {
             return Ok(true);
         }
@@ -376,6 +384,9 @@ fn attempt(
             acc = acc.max((b.vdot1[i] / uscale[i]).abs());
         }
         inc = beta_p * dv;
+        if it == 0 {
+            dv_first = dv;
+        }
         for a in 0..b.lambda1.len() {
             b.lambda1[a] += kkt.sol[n + a];
         }
