@@ -31,7 +31,8 @@
 //! the scaled position increment (as full Newton); for a stale matrix, the contraction
 //! estimate of the remaining error in v̇ relative to the largest acceleration, or relative to
 //! the first update (the predictor's distance from the step's solution: `NEWTON_FRACTION`),
-//! whichever is looser. Near singular
+//! whichever is looser (the latter only when no redundant row is dropped: a dropped row is
+//! held through the accelerations alone). Near singular
 //! configurations, roundoff stagnation of a fresh matrix within bounds. The iteration's
 //! solves are not refined (`Kkt::solve_unrefined`): each residual is of the exact system, so
 //! the next iteration corrects a solve's error, and a Schur solve's backward error is a few
@@ -194,7 +195,7 @@ const STAGNATION_MAX_RESIDUAL: f64 = 1e-2;
 /// error of a stale matrix is systematic, so it accumulates over the steps: on the
 /// slider-crank (h = 1, 0.5, 0.25 ms, 5 s) 1e-2 raised the position error by up to 1.8×,
 /// 1e-3 by up to 1.4×, 1e-4 left it as with the tolerance alone (within 6 %) with 3.0 instead
-/// of 3.9 iterations per step.
+/// of 3.9 iterations per step. Used only when no row is dropped (see `attempt`).
 const NEWTON_FRACTION: f64 = 1e-4;
 
 /// Consecutive non-contracting iterations of a fresh matrix after which a step attempt fails.
@@ -323,10 +324,19 @@ fn attempt(
         // relative to the largest acceleration. At the acceleration level, not the β'-scaled
         // position level: an error e in v̇ left at every step grows into a position error of
         // about e t²/4 over a run, whatever h.
+        // The fraction of the first update only without dropped (redundant) rows: the kept
+        // rows hold to the tolerance at every iterate, but a dropped row is held only through
+        // the accelerations, and near a singular configuration an error of κ·|Δv̇₀| in v̇
+        // drifts it (2e-8 m on the re-selection test's gen-α run, against 8e-13 m).
+        let fraction = if kkt.active.len() == b.phi.len() {
+            NEWTON_FRACTION
+        } else {
+            0.0
+        };
         let theta_dv = dv / dv_prev;
         let chord_small = it >= 2
             && theta_dv < 1.0
-            && theta_dv / (1.0 - theta_dv) * dv <= (tol * acc).max(NEWTON_FRACTION * dv_first);
+            && theta_dv / (1.0 - theta_dv) * dv <= (tol * acc).max(fraction * dv_first);
         if (constraints_ok && (res_v <= tol || fresh_small || chord_small)) || stagnated {
             return Ok(true);
         }
