@@ -152,8 +152,17 @@ pub fn main(args: &[String]) {
         "\nmax error {emax:.2e} m; mean {:.3} ms per step",
         1e3 * ga.wall / ga.steps as f64
     );
+    let at_end = |r: &Run| {
+        let (b0, tip) = (r.b0[intervals - 1], r.tip[intervals - 1]);
+        format!(
+            "b0 end ({:.12}, {:.12}, {:.12}), tip ({:.12}, {:.12}, {:.12})",
+            b0.x, b0.y, b0.z, tip.x, tip.y, tip.z
+        )
+    };
+    let _ = writeln!(md, "gen-α at {t_end} s: {}", at_end(&ga));
     if let Some(r) = refr {
         let _ = writeln!(md, "(reference: DOPRI5 rtol 1e-10, {:.1} s)", r.wall);
+        let _ = writeln!(md, "reference at {t_end} s: {}", at_end(&r));
     }
     println!("{md}");
 }

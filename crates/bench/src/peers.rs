@@ -83,7 +83,7 @@ pub fn peers_only(args: &[String]) {
     print!("{}", run_parts(smoke, python, &super::root(), &parts));
 }
 
-const PARTS: &[&str] = &["kinematics", "slider-crank", "chain"];
+const PARTS: &[&str] = &["kinematics", "slider-crank", "chain", "cli-genalpha"];
 
 /// The peers section of the report.
 pub fn run(smoke: bool, python: &str, root: &Path) -> String {
@@ -143,6 +143,9 @@ fn run_parts(smoke: bool, python: &str, root: &Path, parts: &[&str]) -> String {
     }
     if want("chain") {
         md.push_str(&chain_dynamics(smoke, python, &script));
+    }
+    if want("cli-genalpha") {
+        md.push_str(&cli_genalpha(smoke, python, &script, root));
     }
     md
 }
@@ -737,6 +740,276 @@ fn slider_crank_dynamics(smoke: bool, python: &str, script: &Path, root: &Path) 
             .collect();
         let _ = writeln!(md, "- {}: {}", l.name, tried.join("; "));
     }
+    md.push('\n');
+    md
+}
+
+/// The `cardan` binary beside this one (`cargo build --release -p cardan-cli`).
+fn cardan_binary() -> std::path::PathBuf {
+    std::env::current_exe()
+        .map(|p| p.with_file_name("cardan"))
+        .unwrap_or_else(|_| "cardan".into())
+}
+
+/// A whole `cardan run MODEL -o OUT` in its own process: wall time (reading the model, assembly,
+/// the integration and every output file), or why it failed.
+fn cardan_run(model: &Path, out: &Path) -> Result<f64, String> {
+    let _ = std::fs::remove_dir_all(out);
+    let t0 = Instant::now();
+    let o = Command::new(cardan_binary())
+        .arg("run")
+        .arg(model)
+        .arg("-o")
+        .arg(out)
+        .output()
+        .map_err(|e| format!("cannot start {}: {e}", cardan_binary().display()))?;
+    let wall = t0.elapsed().as_secs_f64();
+    if !o.status.success() {
+        return Err(String::from_utf8_lossy(&o.stderr).into_owned());
+    }
+    Ok(wall)
+}
+
+/// The rows of a CSV file written by `cardan run` (header skipped).
+fn csv_rows(path: &Path) -> Vec<Vec<f64>> {
+    std::fs::read_to_string(path)
+        .unwrap_or_default()
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').filter_map(|x| x.parse().ok()).collect())
+        .collect()
+}
+
+/// The N-link spherical chain of [`models::spherical_chain`] as a model file: gravity −z,
+/// generalized-α with step `h` and ρ∞ 0.8 for `t_end`, ten output times, the far ends of the
+/// first and last links as outputs.
+fn spherical_chain_toml(n: usize, h: f64, t_end: f64) -> String {
+    let mut s = String::from(
+        "[model]\nname = \"spherical_chain\"\nunits = \"SI\"\ngravity = [0.0, 0.0, -9.81]\n\n\
+         [ground]\npoints = { O = [0.0, 0.0, 0.0] }\n",
+    );
+    for k in 0..n {
+        let _ = write!(
+            s,
+            "\n[[body]]\nname = \"b{k}\"\nmass = 1.0\n\
+             inertia = {{ diag = [0.001, 0.08333333333333333, 0.08333333333333333] }}\n\
+             position = [{}, 0.0, 0.0]\npoints = {{ a = [-0.5, 0.0, 0.0], b = [0.5, 0.0, 0.0] }}\n",
+            k as f64 + 0.5
+        );
+    }
+    for k in 0..n {
+        let (prev, point) = if k == 0 {
+            ("ground".to_string(), "O")
+        } else {
+            (format!("b{}", k - 1), "b")
+        };
+        let _ = write!(
+            s,
+            "\n[[joint]]\nname = \"s{k}\"\ntype = \"spherical\"\nbody_i = \"{prev}\"\n\
+             point_i = \"{point}\"\nbody_j = \"b{k}\"\npoint_j = \"a\"\n"
+        );
+    }
+    let _ = write!(
+        s,
+        "\n[analysis]\nkind = \"dynamic\"\nintegrator = \"generalized_alpha\"\ndt = {h:e}\n\
+         rho_inf = 0.8\nt_end = {t_end:e}\noutput_dt = {:e}\n\n[analysis.outputs]\n\
+         points = [\"b0.b\", \"b{}.b\"]\n",
+        t_end / 10.0,
+        n - 1
+    );
+    s
+}
+
+/// `examples/slider_crank_dynamic.toml` with generalized-α (step `h`, ρ∞ 0.9, Exudyn's default)
+/// for `t_end`, its outputs unchanged.
+fn slider_crank_genalpha_toml(root: &Path, h: f64, t_end: f64) -> String {
+    let text = std::fs::read_to_string(root.join("examples/slider_crank_dynamic.toml"))
+        .expect("examples/slider_crank_dynamic.toml");
+    text.lines()
+        .filter(|l| !l.starts_with("rtol") && !l.starts_with("atol"))
+        .map(|l| match l {
+            l if l.starts_with("integrator") => {
+                format!("integrator = \"generalized_alpha\"\ndt = {h:e}\nrho_inf = 0.9")
+            }
+            l if l.starts_with("t_end") => format!("t_end = {t_end:e}"),
+            l => l.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// Max over the reference samples of |B − B_ref| and |C − C_ref| from a run's `points.csv`
+/// (columns t, crank.B xyz, slider.C xyz), as `exudyn-slider-crank` measures Exudyn's.
+fn slider_crank_csv_error(points: &Path, reference: &[[f64; 3]]) -> f64 {
+    let rows = csv_rows(points);
+    let mut err = 0.0f64;
+    for &[t, x, th] in reference {
+        let Some(r) = rows.iter().find(|r| r.len() >= 7 && (r[0] - t).abs() < 1e-9) else {
+            return f64::NAN;
+        };
+        let b_ref = Vector3::new(0.0, 0.1 - 0.08 * th.sin(), 0.12 + 0.08 * th.cos());
+        err = err
+            .max((Vector3::new(r[1], r[2], r[3]) - b_ref).norm())
+            .max((Vector3::new(r[4], r[5], r[6]) - Vector3::new(x, 0.0, 0.0)).norm());
+    }
+    err
+}
+
+/// One row of the whole-run comparison: a code's step, its error and its best wall time.
+struct WholeRun {
+    h: f64,
+    err: f64,
+    wall: f64,
+}
+
+/// Rows of the whole-run table and the ratio at equal error for each Exudyn run.
+fn whole_run_table(md: &mut String, what: &str, cardan: &[WholeRun], exudyn: &[WholeRun]) {
+    let curve: Vec<(f64, f64)> = cardan.iter().map(|r| (r.err, r.wall)).collect();
+    for r in cardan {
+        let _ = writeln!(
+            md,
+            "| {what} | cardan | {:.2} | {:.2e} | {} | |",
+            r.h * 1e3,
+            r.err,
+            fmt_time(r.wall)
+        );
+    }
+    for r in exudyn {
+        let _ = writeln!(
+            md,
+            "| {what} | Exudyn | {:.2} | {:.2e} | {} | {} |",
+            r.h * 1e3,
+            r.err,
+            fmt_time(r.wall),
+            bold_ratio(r.wall / time_at(&curve, r.err))
+        );
+    }
+}
+
+/// `cli-genalpha`: generalized-α whole runs through the command (reading, assembly, the
+/// integration and every output file, each its own process) against Exudyn's solver call, at
+/// equal error, on the slider-crank (5 s and 1 s) and the 1,000-link spherical chain.
+fn cli_genalpha(smoke: bool, python: &str, script: &Path, root: &Path) -> String {
+    let mut md = String::new();
+    let _ = writeln!(
+        md,
+        "**Generalized-α whole runs through the command, Exudyn.** cardan: `cardan run` in its \
+         own process, wall time of the whole run (reading the model, assembly, consistent \
+         initial accelerations, the integration, and every output file: CSV, SVG plots, \
+         animation, report). Exudyn: its `SolveDynamic` call only (model building and Python \
+         start-up excluded), its generalized-α defaults. Both ρ∞ as stated, fixed step h. \
+         Slider-crank: `examples/slider_crank_dynamic.toml` with generalized-α (ρ∞ 0.9, \
+         Exudyn's default), error = max over the IFToMM reference samples of the crank-pin and \
+         slider position errors. Chain: N spherical-joint links (ρ∞ 0.8), error at t_end of the \
+         far ends of the first and last links against a cardan DOPRI5 reference (rtol 1e-10). \
+         Best of the rounds (slider-crank 3, chain 1), cardan and Exudyn alternating. *Ratio*: \
+         Exudyn's time over cardan's at Exudyn's error (log-log interpolation between \
+         cardan's runs; — outside them).\n\n\
+         | problem | code | h [ms] | error [m] | time | ratio at equal error |\n\
+         |---|---|---:|---:|---:|---:|"
+    );
+    let tmp = std::env::temp_dir().join(format!("cardan-bench-cli-genalpha-{}", std::process::id()));
+    let _ = std::fs::create_dir_all(&tmp);
+    let out = tmp.join("out");
+    let reference_rows: Vec<[f64; 3]> = std::fs::read_to_string(
+        root.join("tests/data/benchmarks/spatial_slider_crank_crankCoM_mid.csv"),
+    )
+    .unwrap_or_default()
+    .lines()
+    .filter(|l| !l.trim().is_empty() && !l.starts_with('#'))
+    .filter_map(|l| {
+        let v: Vec<f64> = l.split(',').filter_map(|x| x.trim().parse().ok()).collect();
+        v.get(..3).map(|r| [r[0], r[1], r[2]])
+    })
+    .collect();
+    let (spans, rounds): (&[f64], usize) = if smoke { (&[0.2], 1) } else { (&[5.0, 1.0], 3) };
+    let (cardan_h, exudyn_h): (&[f64], &[f64]) = if smoke {
+        (&[1e-3, 5e-4], &[1e-3])
+    } else {
+        (&[1e-3, 5e-4, 2.5e-4, 1.25e-4], &[1e-3, 5e-4])
+    };
+    for &t_end in spans {
+        let reference: Vec<[f64; 3]> = reference_rows
+            .iter()
+            .copied()
+            .filter(|r| r[0] <= t_end + 1e-9)
+            .collect();
+        let mut c: Vec<WholeRun> = cardan_h
+            .iter()
+            .map(|&h| WholeRun { h, err: f64::NAN, wall: f64::INFINITY })
+            .collect();
+        let mut x: Vec<WholeRun> = exudyn_h
+            .iter()
+            .map(|&h| WholeRun { h, err: f64::NAN, wall: f64::INFINITY })
+            .collect();
+        for _ in 0..rounds {
+            for r in c.iter_mut() {
+                let file = tmp.join("slider_crank.toml");
+                let _ = std::fs::write(&file, slider_crank_genalpha_toml(root, r.h, t_end));
+                match cardan_run(&file, &out) {
+                    Ok(w) => {
+                        r.wall = r.wall.min(w);
+                        r.err = slider_crank_csv_error(&out.join("points.csv"), &reference);
+                    }
+                    Err(e) => eprintln!("cardan slider-crank h {}: {e}", r.h),
+                }
+            }
+            for r in x.iter_mut() {
+                let args = ["exudyn-slider-crank", &r.h.to_string(), &t_end.to_string()];
+                match call(python, script, &args) {
+                    Ok(v) => {
+                        r.wall = r.wall.min(get(&v, "wall"));
+                        r.err = get(&v, "err");
+                    }
+                    Err(e) => eprintln!("{e}"),
+                }
+            }
+        }
+        whole_run_table(&mut md, &format!("slider-crank {t_end} s"), &c, &x);
+    }
+    let n = if smoke { 20 } else { 1000 };
+    let chain_spans: &[f64] = if smoke { &[0.05] } else { &[1.0, 5.0] };
+    let model = models::spherical_chain(n);
+    for &t_end in chain_spans {
+        let reference = cardan_chain(
+            &model,
+            0.0,
+            t_end,
+            Some(Integrator::Dopri5(cardan_dynamics::Dopri5Options::tolerances(
+                1e-10, 1e-12,
+            ))),
+        );
+        let err = |tip: Vector3<f64>, b0: Vector3<f64>| {
+            (tip - reference.tip).norm().max((b0 - reference.b0).norm())
+        };
+        let mut c = Vec::new();
+        for &h in &[2e-3, 1e-3, 5e-4] {
+            let file = tmp.join("chain.toml");
+            let _ = std::fs::write(&file, spherical_chain_toml(n, h, t_end));
+            match cardan_run(&file, &out) {
+                Ok(wall) => {
+                    let rows = csv_rows(&out.join("points.csv"));
+                    let e = rows.last().filter(|r| r.len() >= 7).map_or(f64::NAN, |r| {
+                        err(Vector3::new(r[4], r[5], r[6]), Vector3::new(r[1], r[2], r[3]))
+                    });
+                    c.push(WholeRun { h, err: e, wall });
+                }
+                Err(e) => eprintln!("cardan chain h {h}: {e}"),
+            }
+        }
+        let mut x = Vec::new();
+        let args = ["exudyn-chain", &n.to_string(), "0.001", &t_end.to_string()];
+        match call(python, script, &args) {
+            Ok(v) => {
+                let tip = Vector3::new(get(&v, "tip_x"), get(&v, "tip_y"), get(&v, "tip_z"));
+                let b0 = Vector3::new(get(&v, "b0_x"), get(&v, "b0_y"), get(&v, "b0_z"));
+                x.push(WholeRun { h: 1e-3, err: err(tip, b0), wall: get(&v, "wall") });
+            }
+            Err(e) => eprintln!("{e}"),
+        }
+        whole_run_table(&mut md, &format!("chain N = {n}, {t_end} s"), &c, &x);
+    }
+    let _ = std::fs::remove_dir_all(&tmp);
     md.push('\n');
     md
 }

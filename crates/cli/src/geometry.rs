@@ -43,8 +43,15 @@ pub struct Declared {
 /// # Errors
 /// An input error naming the body, the item and the line (module docs).
 pub fn load(src: &Source) -> Result<Declared, Error> {
-    let file = crate::model::parse(src)?;
-    let length = crate::build::model_units(src, &file)?.length();
+    load_parsed(src, &crate::model::parse(src)?)
+}
+
+/// [`load`] from the file already parsed (a large model's file is parsed once: `Prepared`).
+///
+/// # Errors
+/// As [`load`].
+pub fn load_parsed(src: &Source, file: &crate::model::ModelFile) -> Result<Declared, Error> {
+    let length = crate::build::model_units(src, file)?.length();
     let mut out = Declared::default();
     if let Some(g) = &file.model.get_ref().gravity {
         let g = g.get_ref();

@@ -160,46 +160,55 @@ fn flyball_governor_is_stable_with_generalized_alpha() {
 
 /// Modified Newton (the default: factorizations kept across iterations, steps and velocity
 /// projections while the iteration contracts) reaches the same motion as full Newton (a
-/// factorization at every iteration) to the Newton tolerance, with far fewer factorizations, on
-/// a stiff model with the tangent iteration matrix and with the mass-only-then-tangent one.
+/// factorization at every iteration) with far fewer factorizations, on a stiff model with the
+/// tangent iteration matrix and with the mass-only-then-tangent one. "The same" means: the two
+/// differ by less than 2 % of the step's own discretization error (estimated against a run at
+/// h/2), so the Newton stopping test never decides the accuracy of a run.
 #[test]
 fn modified_newton_matches_full_newton_with_fewer_factorizations() {
     use cardan_dynamics::IterationMatrix;
     let model = flyball();
     let (mut d, s) = loaded(&model);
-    for matrix in [
-        IterationMatrix::Tangent,
-        IterationMatrix::MassOnlyThenTangent,
-    ] {
-        let mut run = |reuse: bool| {
-            let opts = SimulationOptions::new(0.3, 30).integrator(Integrator::GeneralizedAlpha(
-                GeneralizedAlphaOptions {
-                    iteration_matrix: matrix,
-                    reuse_factorization: reuse,
-                    ..GeneralizedAlphaOptions::with_step(1e-3)
-                },
-            ));
-            d.simulate(&s, &opts).unwrap()
-        };
-        let full = run(false);
-        let modified = run(true);
+    let bodies = ["slider", "rodA", "rodB"];
+    let max_diff = |a: &cardan_dynamics::DynamicResults, b: &cardan_dynamics::DynamicResults| {
         let mut diff: f64 = 0.0;
-        for name in ["slider", "rodA", "rodB"] {
-            let (a, b) = (full.body(name).unwrap(), modified.body(name).unwrap());
+        for name in bodies {
+            let (a, b) = (a.body(name).unwrap(), b.body(name).unwrap());
             for (x, y) in a.r.iter().zip(&b.r) {
                 diff = diff.max((x - y).norm());
             }
         }
+        diff
+    };
+    for matrix in [
+        IterationMatrix::Tangent,
+        IterationMatrix::MassOnlyThenTangent,
+    ] {
+        let mut run = |reuse: bool, h: f64| {
+            let opts = SimulationOptions::new(0.3, 30).integrator(Integrator::GeneralizedAlpha(
+                GeneralizedAlphaOptions {
+                    iteration_matrix: matrix,
+                    reuse_factorization: reuse,
+                    ..GeneralizedAlphaOptions::with_step(h)
+                },
+            ));
+            d.simulate(&s, &opts).unwrap()
+        };
+        let full = run(false, 1e-3);
+        let modified = run(true, 1e-3);
+        let half = run(false, 5e-4);
+        let diff = max_diff(&full, &modified);
+        let step_error = max_diff(&full, &half);
         eprintln!(
-            "flyball {matrix:?}: full Newton {} factorizations, modified {} ({} iterations vs {}), max position difference {diff:.2e} m",
+            "flyball {matrix:?}: full Newton {} factorizations, modified {} ({} iterations vs {}), max position difference {diff:.2e} m, discretization error {step_error:.2e} m",
             full.stats.factorizations,
             modified.stats.factorizations,
             full.stats.newton_iterations,
             modified.stats.newton_iterations
         );
         assert!(
-            diff < 1e-9,
-            "{matrix:?}: modified Newton differs by {diff:e} m"
+            diff < 0.02 * step_error,
+            "{matrix:?}: modified Newton differs by {diff:e} m, discretization error {step_error:e} m"
         );
         assert_eq!(modified.stats.rejected, 0);
         assert!(modified.stats.factorizations < full.stats.factorizations);

@@ -94,10 +94,7 @@ fn run_text(
         ..RunFlags::default()
     };
     // The geometry is checked before the analysis, as `cardan run` does.
-    let declared = match report
-        .then(|| cardan_cli::geometry::load(&p.source))
-        .transpose()
-    {
+    let declared = match report.then(|| p.geometry.clone()).transpose() {
         Ok(d) => d,
         Err(e) => return failed(&e),
     };

@@ -27,6 +27,10 @@ pub struct Prepared {
     /// The model's units (`[model] units`), in which the outputs are written (the analyses
     /// work in SI).
     pub units: crate::units::UnitSystem,
+    /// The animation's declared geometry (mesh files read), or why it cannot be used: read
+    /// with the model, so the file is parsed once, and refused only by the commands that draw
+    /// or check it (`run`, `check`).
+    pub geometry: Result<crate::geometry::Declared, Error>,
 }
 
 /// Reads, parses, checks and builds a model file.
@@ -58,6 +62,8 @@ pub fn prepare_with(path: &Path, options: asmt::AsmtOptions) -> Result<Prepared,
 pub fn prepare_source(source: Source) -> Result<Prepared, Error> {
     let file = crate::model::parse(&source)?;
     let loaded = load(&source, &file)?;
+    let geometry = crate::geometry::load_parsed(&source, &file);
+    drop(file);
     let model = loaded
         .builder
         .build()
@@ -75,6 +81,7 @@ pub fn prepare_source(source: Source) -> Result<Prepared, Error> {
         model,
         warnings: Vec::new(),
         units,
+        geometry,
     })
 }
 

@@ -196,7 +196,7 @@ pub fn run_model_with(
         ));
     };
     // The animation's geometry (mesh files included) is checked before any work is done.
-    let declared = crate::geometry::load(&p.source)?;
+    let declared = p.geometry.clone()?;
     let dir = match output {
         Some(d) => d.to_path_buf(),
         None => Path::new("out").join(&p.loaded.name),
