@@ -419,8 +419,9 @@ mod tests {
             &std::env::temp_dir().join(format!("cardan-dynamic-spike-{}", std::process::id())),
         )
         .unwrap();
-        // As planned for 20 × the plotted frames: every 11th of the 501 outputs is kept.
-        let planned = 20 * MAX_PLOTTED_FRAMES;
+        // As planned for 10 × (the plotted frames − 1) + 2 outputs: every 11th of the 501
+        // outputs is kept (the stride keeps the first, every s-th and the last frame).
+        let planned = 10 * (MAX_PLOTTED_FRAMES - 1) + 2;
         let make = |f: &DynamicResults| DynamicLayout::new(&p, f, &req, Kind::Dynamic);
         let mut rec = Recorder::new(p.units, planned, Some(&mut dir), false, make);
         let bound = drift_bound(&p, &opts.integrator);
