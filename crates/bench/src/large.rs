@@ -12,6 +12,21 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+/// Appends the `[[body]]` tables of `n` unit rods b0 … b(n−1) along x (mass 1 kg, principal
+/// moments `inertia`, centres at x = k + ½, points `a` and `b` at their ends), each followed by
+/// the TOML lines `extra`.
+pub fn push_rods(s: &mut String, n: usize, inertia: [f64; 3], extra: &str) {
+    for k in 0..n {
+        let _ = write!(
+            s,
+            "\n[[body]]\nname = \"b{k}\"\nmass = 1.0\ninertia = {{ diag = {inertia:?} }}\n\
+             position = [{}, 0.0, 0.0]\n\
+             points = {{ a = [-0.5, 0.0, 0.0], b = [0.5, 0.0, 0.0] }}\n{extra}",
+            k as f64 + 0.5
+        );
+    }
+}
+
 /// The model file of the driven revolute chain of `n` bodies.
 pub fn chain_toml(n: usize) -> String {
     let mut s = String::with_capacity(700 * n + 400);
@@ -20,16 +35,12 @@ pub fn chain_toml(n: usize) -> String {
          points = { O = [0.0, 0.0, 0.0] }\n\
          vectors = { x = [1.0, 0.0, 0.0], y = [0.0, 1.0, 0.0], z = [0.0, 0.0, 1.0] }\n",
     );
-    for k in 0..n {
-        let _ = write!(
-            s,
-            "\n[[body]]\nname = \"b{k}\"\nmass = 1.0\ninertia = {{ diag = [0.01, 0.1, 0.1] }}\n\
-             position = [{}, 0.0, 0.0]\n\
-             points = {{ a = [-0.5, 0.0, 0.0], b = [0.5, 0.0, 0.0] }}\n\
-             vectors = {{ x = [1.0, 0.0, 0.0], y = [0.0, 1.0, 0.0], z = [0.0, 0.0, 1.0] }}\n",
-            k as f64 + 0.5
-        );
-    }
+    push_rods(
+        &mut s,
+        n,
+        [0.01, 0.1, 0.1],
+        "vectors = { x = [1.0, 0.0, 0.0], y = [0.0, 1.0, 0.0], z = [0.0, 0.0, 1.0] }\n",
+    );
     for k in 0..n {
         let (prev, point) = if k == 0 {
             ("ground".to_string(), "O")

@@ -788,15 +788,7 @@ fn spherical_chain_toml(n: usize, h: f64, t_end: f64) -> String {
         "[model]\nname = \"spherical_chain\"\nunits = \"SI\"\ngravity = [0.0, 0.0, -9.81]\n\n\
          [ground]\npoints = { O = [0.0, 0.0, 0.0] }\n",
     );
-    for k in 0..n {
-        let _ = write!(
-            s,
-            "\n[[body]]\nname = \"b{k}\"\nmass = 1.0\n\
-             inertia = {{ diag = [0.001, 0.08333333333333333, 0.08333333333333333] }}\n\
-             position = [{}, 0.0, 0.0]\npoints = {{ a = [-0.5, 0.0, 0.0], b = [0.5, 0.0, 0.0] }}\n",
-            k as f64 + 0.5
-        );
-    }
+    cardan_bench::large::push_rods(&mut s, n, [0.001, 1.0 / 12.0, 1.0 / 12.0], "");
     for k in 0..n {
         let (prev, point) = if k == 0 {
             ("ground".to_string(), "O")
@@ -865,24 +857,15 @@ struct WholeRun {
 /// Rows of the whole-run table and the ratio at equal error for each Exudyn run.
 fn whole_run_table(md: &mut String, what: &str, cardan: &[WholeRun], exudyn: &[WholeRun]) {
     let curve: Vec<(f64, f64)> = cardan.iter().map(|r| (r.err, r.wall)).collect();
+    let mut row = |code: &str, r: &WholeRun, ratio: String| {
+        let (h, err, wall) = (r.h * 1e3, r.err, fmt_time(r.wall));
+        let _ = writeln!(md, "| {what} | {code} | {h:.2} | {err:.2e} | {wall} | {ratio} |");
+    };
     for r in cardan {
-        let _ = writeln!(
-            md,
-            "| {what} | cardan | {:.2} | {:.2e} | {} | |",
-            r.h * 1e3,
-            r.err,
-            fmt_time(r.wall)
-        );
+        row("cardan", r, String::new());
     }
     for r in exudyn {
-        let _ = writeln!(
-            md,
-            "| {what} | Exudyn | {:.2} | {:.2e} | {} | {} |",
-            r.h * 1e3,
-            r.err,
-            fmt_time(r.wall),
-            bold_ratio(r.wall / time_at(&curve, r.err))
-        );
+        row("Exudyn", r, bold_ratio(r.wall / time_at(&curve, r.err)));
     }
 }
 
