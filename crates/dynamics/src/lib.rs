@@ -6,7 +6,10 @@
 //! [`Integrator`]), [`Dynamics::inverse_dynamics`] computes driver efforts and reactions of a
 //! driven mechanism. Both return [`DynamicResults`]: the mechanism's kinematic [`Results`]
 //! (poses, velocities, accelerations, points, joint coordinates) plus λ, joint reactions,
-//! driver efforts, energy and constraint drift. Symbols follow `shared/notation.md`.
+//! driver efforts, energy and constraint drift. For long runs, [`Dynamics::simulate_into`] and
+//! [`Dynamics::inverse_dynamics_into`] hand each output time to a [`DynamicSink`] as it is
+//! computed and keep none, so memory does not grow with the number of output times.
+//! Symbols follow `shared/notation.md`.
 //!
 //! [`Results`]: cardan_mechanism::Results
 //!
