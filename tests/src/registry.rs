@@ -119,7 +119,7 @@ pub enum Element {
 
 impl Element {
     /// The oracle name (from the exhaustive name functions, not from the element's own `name`,
-    /// so that a mislabelled element is caught by [`Element::check_name`]).
+    /// so that a mislabelled element is caught by `Element::check_name`).
     pub fn oracle_name(&self) -> &'static str {
         match self {
             Element::Primitive(p) => primitive_name(p),

@@ -22,7 +22,8 @@
 //! - [`document`]: the tree → [`Document`] (sections, fields, numbers, joint kinds).
 //! - [`series`]: the `TimeSeries` table.
 //! - [`expr`]: ASMT motion expressions → cardan's expression grammar.
-//! - [`import`]: [`Document`] → [`Import`] (frames, markers, joints, couplers, motions, names).
+//! - [`mod@import`]: [`Document`] → [`Import`] (frames, markers, joints, couplers, motions,
+//!   names).
 //! - [`toml_out`]: [`Import`] → a cardan model file (TOML) with comments tracing each element.
 //! - [`solved`]: cardan results → an OndselSolver `TimeSeries` (part-frame origin, Bryant angles,
 //!   velocities, accelerations).

@@ -16,8 +16,8 @@
 //! dynamics: [`add_reactions`]), in OndselSolver's conventions: `FXonI FYonI FZonI` the force the
 //! joint (or motion) exerts on the part that carries MarkerI, `TXonI TYonI TZonI` the torque on
 //! that part about MarkerI's origin, global components. cardan's reaction on body i of a joint
-//! (body i = MarkerI's part, [`crate::import`]) is taken about the joint's point P_i; when P_i is
-//! not MarkerI's origin m, the torque is moved there: T_m = T_P + (r_P − r_m) × F. Couplers
+//! (body i = MarkerI's part, [`fn@crate::import`]) is taken about the joint's point P_i; when
+//! P_i is not MarkerI's origin m, the torque is moved there: T_m = T_P + (r_P − r_m) × F. Couplers
 //! (gear, rack and pinion, screw) get no series: cardan writes their law in joint coordinates, so
 //! the wrench of their equation is split between the coupled joints differently from OndselSolver's
 //! (only the efforts about the axes are physical; the gears' joint series carry the rest).

@@ -3,7 +3,7 @@
 //! (`examples/slider_crank.toml`, the model of `bench/peers/peers.py`).
 //!
 //! **Error** is the distance from the closed form, not a residual: the largest component error
-//! [m] of the slider point C and of the crank's centre of mass over all frames, with
+//! \[m\] of the slider point C and of the crank's centre of mass over all frames, with
 //!
 //! ```text
 //! B(θ) = (0, 0.1 − 0.08 sin θ, 0.12 + 0.08 cos θ),   x_C = √(0.09 − B_y² − B_z²),
@@ -42,7 +42,7 @@ pub const TOLERANCES: [f64; 5] = [1e-6, 1e-8, 1e-10, 1e-12, 1e-14];
 pub struct Point {
     /// The tolerance asked for.
     pub tolerance: f64,
-    /// Largest position error against the closed form [m].
+    /// Largest position error against the closed form \[m\].
     pub error: f64,
     /// Seconds per frame.
     pub per_frame: f64,

@@ -18,7 +18,7 @@ use cardan_constraints::{JointKind, TimeFunction};
 use cardan_mechanism::{Body, DriverSpec, JointSpec, MechanismBuilder, Model, GROUND};
 use nalgebra::Vector3;
 
-/// Link length [m].
+/// Link length \[m\].
 pub const L: f64 = 1.0;
 
 fn rod_x(name: &str, centre: Vector3<f64>) -> Body {

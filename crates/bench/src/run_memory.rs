@@ -22,14 +22,14 @@ use std::time::Instant;
 pub struct RunMemory {
     /// Grid steps of the run.
     pub steps: usize,
-    /// Peak resident set of the child [bytes].
+    /// Peak resident set of the child \[bytes\].
     pub peak_rss: u64,
-    /// Wall time from spawn to exit [s].
+    /// Wall time from spawn to exit \[s\].
     pub wall: f64,
-    /// Processor time of the child, user + system [s] (what a busy shared machine changes
+    /// Processor time of the child, user + system \[s\] (what a busy shared machine changes
     /// least).
     pub cpu: f64,
-    /// Total size of the output directory [bytes].
+    /// Total size of the output directory \[bytes\].
     pub output_bytes: u64,
 }
 

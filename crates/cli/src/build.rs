@@ -111,9 +111,9 @@ pub struct Outputs {
 /// The analysis requested.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Analysis {
-    /// Start time [s].
+    /// Start time \[s\].
     pub t_start: f64,
-    /// End time [s].
+    /// End time \[s\].
     pub t_end: f64,
     /// Number of steps.
     pub steps: usize,

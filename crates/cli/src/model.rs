@@ -65,7 +65,7 @@ pub struct ModelSection {
 #[derive(Debug, Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 pub struct GroundSection {
-    /// Named points in global coordinates [m].
+    /// Named points in global coordinates \[m\].
     #[serde(default)]
     pub points: BTreeMap<Name, Vec3>,
     /// Named direction vectors in global coordinates.
@@ -96,13 +96,13 @@ pub struct OrientationSpec {
     /// Rotation axis (global), with `angle`.
     #[serde(default)]
     pub axis: Option<Vec3>,
-    /// Rotation angle [rad], with `axis`.
+    /// Rotation angle \[rad\], with `axis`.
     #[serde(default)]
     pub angle: Option<Num>,
-    /// z-x-z Euler angles [rad].
+    /// z-x-z Euler angles \[rad\].
     #[serde(default)]
     pub euler313: Option<Vec3>,
-    /// x-y-z (Bryant) angles [rad].
+    /// x-y-z (Bryant) angles \[rad\].
     #[serde(default)]
     pub euler123: Option<Vec3>,
     /// The body z axis in global coordinates (with `x`).
@@ -119,22 +119,22 @@ pub struct OrientationSpec {
 pub struct BodySection {
     /// Unique name ("ground" is reserved).
     pub name: Name,
-    /// [kg].
+    /// \[kg\].
     #[serde(default)]
     pub mass: Option<Num>,
     /// [kg m²] about the body origin (the centre of mass), body axes.
     #[serde(default)]
     pub inertia: Option<Spanned<InertiaSpec>>,
-    /// Initial (estimated) position of the body origin [m].
+    /// Initial (estimated) position of the body origin \[m\].
     #[serde(default)]
     pub position: Option<Vec3>,
     /// Initial (estimated) orientation; identity if absent.
     #[serde(default)]
     pub orientation: Option<Spanned<OrientationSpec>>,
-    /// Named points in body coordinates [m].
+    /// Named points in body coordinates \[m\].
     #[serde(default)]
     pub points: BTreeMap<Name, Vec3>,
-    /// Named points given in global coordinates at the initial pose [m].
+    /// Named points given in global coordinates at the initial pose \[m\].
     #[serde(default)]
     pub global_points: BTreeMap<Name, Vec3>,
     /// Named directions in body coordinates.
@@ -164,19 +164,19 @@ pub struct BodySection {
 pub struct GeometrySpec {
     /// "box", "cylinder", "sphere" or "mesh".
     pub shape: Name,
-    /// Box edge lengths [m].
+    /// Box edge lengths \[m\].
     #[serde(default)]
     pub size: Option<Vec3>,
-    /// Cylinder or sphere radius [m].
+    /// Cylinder or sphere radius \[m\].
     #[serde(default)]
     pub radius: Option<Num>,
-    /// Cylinder length [m].
+    /// Cylinder length \[m\].
     #[serde(default)]
     pub length: Option<Num>,
     /// Cylinder axis in the item's frame (default z).
     #[serde(default)]
     pub axis: Option<Vec3>,
-    /// Origin of the item in body coordinates [m] (default the body origin).
+    /// Origin of the item in body coordinates \[m\] (default the body origin).
     #[serde(default)]
     pub position: Option<Vec3>,
     /// Orientation of the item relative to the body frame (the forms of a body's orientation).
@@ -219,15 +219,15 @@ pub struct JointSection {
     /// Reference direction ⟂ axis on body j.
     #[serde(default)]
     pub x_axis_j: Option<Name>,
-    /// Length ℓ [m] of a spherical_spherical, rev_cyl, cyl_sph or rev_rev joint (default: its
+    /// Length ℓ \[m\] of a spherical_spherical, rev_cyl, cyl_sph or rev_rev joint (default: its
     /// initial value).
     #[serde(default)]
     pub length: Option<Num>,
-    /// Offset h [m] of the plane along axis_i (point_in_plane, line_in_plane, planar, rev_rev;
+    /// Offset h \[m\] of the plane along axis_i (point_in_plane, line_in_plane, planar, rev_rev;
     /// default 0).
     #[serde(default)]
     pub offset: Option<Num>,
-    /// Angle α [rad] of an angle or cone joint (default: its initial value).
+    /// Angle α \[rad\] of an angle or cone joint (default: its initial value).
     #[serde(default)]
     pub angle: Option<Num>,
 }
@@ -253,16 +253,16 @@ pub struct FunctionSpec {
     /// harmonic: ω [rad/s].
     #[serde(default)]
     pub frequency: Option<Num>,
-    /// harmonic: φ [rad].
+    /// harmonic: φ \[rad\].
     #[serde(default)]
     pub phase: Option<Num>,
     /// harmonic: b.
     #[serde(default)]
     pub offset: Option<Num>,
-    /// ramp: start time [s].
+    /// ramp: start time \[s\].
     #[serde(default)]
     pub t0: Option<Num>,
-    /// ramp: end time [s].
+    /// ramp: end time \[s\].
     #[serde(default)]
     pub t1: Option<Num>,
     /// ramp: value before t0.
@@ -271,7 +271,7 @@ pub struct FunctionSpec {
     /// ramp: value after t1.
     #[serde(default)]
     pub f1: Option<Num>,
-    /// spline: knot times [s].
+    /// spline: knot times \[s\].
     #[serde(default)]
     pub times: Option<Spanned<Vec<Num>>>,
     /// spline: knot values.
@@ -327,10 +327,10 @@ pub struct DriverSection {
     /// general_motion: the rotation sequence, e.g. "xyz" (default) or "zxz".
     #[serde(default)]
     pub order: Option<Name>,
-    /// general_motion: three functions, the translations along x_i, y_i, z_i [m].
+    /// general_motion: three functions, the translations along x_i, y_i, z_i \[m\].
     #[serde(default)]
     pub translation: Option<Spanned<Vec<Spanned<FunctionSpec>>>>,
-    /// general_motion: three functions, the angles of the sequence [rad].
+    /// general_motion: three functions, the angles of the sequence \[rad\].
     #[serde(default)]
     pub rotation: Option<Spanned<Vec<Spanned<FunctionSpec>>>>,
     /// The time function (every type but general_motion).
@@ -353,10 +353,10 @@ pub struct CouplerSection {
     /// gear: the joint of gear j.
     #[serde(default)]
     pub joint_j: Option<Name>,
-    /// gear: pitch radius of gear i [m] (negative: internal gear).
+    /// gear: pitch radius of gear i \[m\] (negative: internal gear).
     #[serde(default)]
     pub radius_i: Option<Num>,
-    /// gear: pitch radius of gear j [m].
+    /// gear: pitch radius of gear j \[m\].
     #[serde(default)]
     pub radius_j: Option<Num>,
     /// gear: the signed speed ratio dθ_j/dθ_i instead of the radii.
@@ -371,10 +371,10 @@ pub struct CouplerSection {
     /// screw: one cylindrical joint (slide and angle).
     #[serde(default)]
     pub joint: Option<Name>,
-    /// rack_pinion: the pinion's pitch radius [m].
+    /// rack_pinion: the pinion's pitch radius \[m\].
     #[serde(default)]
     pub radius: Option<Num>,
-    /// screw: advance per revolution [m] (negative: left-hand thread).
+    /// screw: advance per revolution \[m\] (negative: left-hand thread).
     #[serde(default)]
     pub pitch: Option<Num>,
     /// The law's constant c [rad for a gear, m otherwise] (default: its initial value).
@@ -424,16 +424,16 @@ pub struct ForceSection {
     /// spring_damper [N s/m] / rotational_spring_damper [N m s/rad]: c ≥ 0.
     #[serde(default)]
     pub damping: Option<Num>,
-    /// spring_damper: free length ℓ0 [m] (default: the initial distance).
+    /// spring_damper: free length ℓ0 \[m\] (default: the initial distance).
     #[serde(default)]
     pub free_length: Option<Num>,
-    /// spring_damper: actuator tension f_a(t) [N], added to the spring-damper tension.
+    /// spring_damper: actuator tension f_a(t) \[N\], added to the spring-damper tension.
     #[serde(default)]
     pub actuator: Option<Spanned<FunctionSpec>>,
     /// rotational_spring_damper: the revolute or cylindrical joint.
     #[serde(default)]
     pub joint: Option<Name>,
-    /// rotational_spring_damper: rest angle θ0 [rad] (default 0).
+    /// rotational_spring_damper: rest angle θ0 \[rad\] (default 0).
     #[serde(default)]
     pub rest_angle: Option<Num>,
 }
@@ -444,13 +444,13 @@ pub struct ForceSection {
 pub struct AnalysisSection {
     /// "kinematic", "dynamic", "inverse_dynamics", "static", "quasi_static" or "modal".
     pub kind: Name,
-    /// Start time [s] (default 0).
+    /// Start time \[s\] (default 0).
     #[serde(default)]
     pub t_start: Option<Num>,
-    /// End time [s] (required except by static and modal analyses).
+    /// End time \[s\] (required except by static and modal analyses).
     #[serde(default)]
     pub t_end: Option<Num>,
-    /// static, modal: the time at which the drivers are held [s] (default 0).
+    /// static, modal: the time at which the drivers are held \[s\] (default 0).
     #[serde(default)]
     pub time: Option<Num>,
     /// static, quasi_static, modal: equal load increments tried first (default 1).
@@ -464,18 +464,18 @@ pub struct AnalysisSection {
     /// the inputs of the state-space model written with the modes.
     #[serde(default)]
     pub inputs: Option<Vec<Name>>,
-    /// dynamic: the time [s] of the state about which the run is linearized (modes and
+    /// dynamic: the time \[s\] of the state about which the run is linearized (modes and
     /// state-space matrices written with the run's outputs).
     #[serde(default)]
     pub linearize_at: Option<Num>,
     /// Number of steps (the grid has steps + 1 times).
     #[serde(default)]
     pub steps: Option<Spanned<i64>>,
-    /// kinematic: output step [s] (alternative to steps); dynamic: the integration step [s]
+    /// kinematic: output step \[s\] (alternative to steps); dynamic: the integration step \[s\]
     /// (generalized-α; DOPRI5 with fixed steps).
     #[serde(default)]
     pub dt: Option<Num>,
-    /// dynamic: output step [s] (alternative to steps).
+    /// dynamic: output step \[s\] (alternative to steps).
     #[serde(default)]
     pub output_dt: Option<Num>,
     /// dynamic: "dopri5" (default) or "generalized_alpha".
@@ -487,7 +487,7 @@ pub struct AnalysisSection {
     /// dynamic, dopri5: absolute tolerance (default 1e-8).
     #[serde(default)]
     pub atol: Option<Num>,
-    /// dynamic, dopri5: largest step [s].
+    /// dynamic, dopri5: largest step \[s\].
     #[serde(default)]
     pub h_max: Option<Num>,
     /// dynamic, generalized_alpha: spectral radius at infinity ρ∞ ∈ [0, 1] (default 0.8).

@@ -10,7 +10,7 @@ pub struct Table {
     pub name: String,
     /// Plot title.
     pub title: String,
-    /// Column headers without the time column, e.g. "crank.B.x [m]".
+    /// Column headers without the time column, e.g. `"crank.B.x [m]"`.
     pub columns: Vec<String>,
     /// Rows: time first, then one value per column.
     pub rows: Vec<Vec<f64>>,

@@ -10,7 +10,7 @@
 //! A_iᵀ (s̃_i s_j) = s̃'_i (A_iᵀ s_j)
 //! ```
 //!
-//! (the same three equations, expressed in body i's frame), and the row k = argmax |s'_i[k]| is
+//! (the same three equations, expressed in body i's frame), and the row k = argmax |s'_i\[k\]| is
 //! dropped. Since s'_i is constant, the choice is fixed once at construction. Row k of s̃'_i y is
 //! yᵀ (e_k × s'_i), so each kept row is an n1 with the body-fixed vector u'_k = e_k × s'_i:
 //!
@@ -19,14 +19,14 @@
 //! ```
 //!
 //! u'_a, u'_b are perpendicular to s'_i and independent of each other (their cross product is
-//! s'_i[k] s'_i, nonzero), so the two rows have rank 2 whenever s_j ∥ s_i, in every orientation
+//! s'_i\[k\] s'_i, nonzero), so the two rows have rank 2 whenever s_j ∥ s_i, in every orientation
 //! of both bodies. Evaluation is that of [`crate::P1Perp`] with f' = u'_a, g' = u'_b.
 
 use crate::p1_perp::P1Perp;
 use nalgebra::Vector3;
 
 /// The kept rows {a, b} (increasing) and their body-fixed vectors e_a × s', e_b × s'.
-/// The dropped row is the first index of the largest |s'[k]|.
+/// The dropped row is the first index of the largest |s'\[k\]|.
 pub fn select_rows(s_local: &Vector3<f64>) -> ([usize; 2], [Vector3<f64>; 2]) {
     let k = s_local.iamax();
     let kept = match k {

@@ -3,7 +3,7 @@
 //! ```text
 //! Φ = two rows of s̃'_i (A_iᵀ d) = [u_aᵀ d; u_bᵀ d],   u_k = A_i (e_k × s'_i)
 //! ```
-//! with the row k = argmax |s'_i[k]| dropped, fixed at construction (no chatter, always rank 2).
+//! with the row k = argmax |s'_i\[k\]| dropped, fixed at construction (no chatter, always rank 2).
 //! Evaluation is that of [`crate::P2Perp`] with f' = u'_a, g' = u'_b.
 
 use crate::p1_select::select_rows;

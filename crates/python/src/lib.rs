@@ -5,14 +5,14 @@
 //! command ([`cardan_cli`]), so the tables, their headers and their CSV text are the command's
 //! own, and hands them to Python as plain data:
 //!
-//! - [`run`]: a model text (with the path it came from, for messages and relative files), an
+//! - `run`: a model text (with the path it came from, for messages and relative files), an
 //!   optional analysis kind and `[analysis]` keys to set → a dict with every output table as
 //!   packed little-endian `float64` rows (numpy reads them without a copy per value), the
 //!   `run.json` text, and the error if the run failed or stopped early (with its partial
 //!   tables). The analysis runs on its own thread with the GIL released; the calling thread
 //!   polls for Python signals, so Ctrl-C stops the run at its next step and keeps its results.
-//! - [`check`]: degrees of freedom, redundant equations and driver counts.
-//! - [`table_csv`]: a table's CSV text exactly as `cardan run` writes it.
+//! - `check`: degrees of freedom, redundant equations and driver counts.
+//! - `table_csv`: a table's CSV text exactly as `cardan run` writes it.
 //!
 //! Errors of the model or the analysis are returned as data (`kind`, `message`, `file`,
 //! `line`, `column`), and the Python layer raises `cardan.ModelError` or

@@ -50,7 +50,7 @@ pub struct ModeShape {
     pub number: usize,
     /// `"elastic"`, `"rigid"`, `"unstable"` or `"overdamped"`.
     pub kind: String,
-    /// Natural frequency [Hz] (0 for a rigid mode).
+    /// Natural frequency \[Hz\] (0 for a rigid mode).
     pub frequency: f64,
     /// Damping ratio ζ [-].
     pub damping_ratio: f64,

@@ -31,19 +31,19 @@ impl Mesh {
 pub enum Shape {
     /// A box centred at the origin with edge lengths `size` along x, y, z.
     Box {
-        /// Edge lengths [m].
+        /// Edge lengths \[m\].
         size: [f64; 3],
     },
     /// A cylinder centred at the origin, its axis along z.
     Cylinder {
-        /// Radius [m].
+        /// Radius \[m\].
         radius: f64,
-        /// Length along z [m].
+        /// Length along z \[m\].
         length: f64,
     },
     /// A sphere centred at the origin.
     Sphere {
-        /// Radius [m].
+        /// Radius \[m\].
         radius: f64,
     },
     /// A triangle mesh (from a mesh file, already scaled to metres).
@@ -55,7 +55,7 @@ pub enum Shape {
 pub struct Geometry {
     /// The shape in its own frame.
     pub shape: Shape,
-    /// Origin of the item's frame in body coordinates [m].
+    /// Origin of the item's frame in body coordinates \[m\].
     pub position: [f64; 3],
     /// Euler parameters of the item's frame relative to the body frame.
     pub rotation: [f64; 4],
@@ -72,12 +72,12 @@ impl Geometry {
     }
 }
 
-/// A named point of a body, in body coordinates [m] (a trail can follow it).
+/// A named point of a body, in body coordinates \[m\] (a trail can follow it).
 #[derive(Debug, Clone, PartialEq)]
 pub struct NamedPoint {
     /// The point's name.
     pub name: String,
-    /// Body coordinates [m].
+    /// Body coordinates \[m\].
     pub local: [f64; 3],
 }
 
@@ -92,7 +92,7 @@ pub struct Body {
     pub geometry: Vec<Geometry>,
     /// Named points in body coordinates.
     pub points: Vec<NamedPoint>,
-    /// Position of the body frame's origin at each of [`Scene::times`] [m]; empty for a fixed
+    /// Position of the body frame's origin at each of [`Scene::times`] \[m\]; empty for a fixed
     /// body (the ground), which stays at the global frame.
     pub positions: Vec<[f64; 3]>,
     /// Euler parameters [e0, e1, e2, e3] at each of [`Scene::times`]; empty for a fixed body.
@@ -114,7 +114,7 @@ pub struct JointAxis {
     pub name: String,
     /// Index into [`Scene::bodies`].
     pub body: usize,
-    /// A point of the axis, body coordinates [m].
+    /// A point of the axis, body coordinates \[m\].
     pub point: [f64; 3],
     /// Its direction, body coordinates (need not be unit).
     pub direction: [f64; 3],
@@ -125,13 +125,13 @@ pub struct JointAxis {
 pub struct Scene {
     /// The model's name (the glTF scene's name, the page title).
     pub name: String,
-    /// Output times [s], strictly increasing.
+    /// Output times \[s\], strictly increasing.
     pub times: Vec<f64>,
     /// The bodies, each with a pose per time (or none for a fixed body).
     pub bodies: Vec<Body>,
     /// Joint axes for the axis toggle.
     pub axes: Vec<JointAxis>,
-    /// Size of the mechanism [m] (the diagonal of the box around its points over the run): the
+    /// Size of the mechanism \[m\] (the diagonal of the box around its points over the run): the
     /// length of the body-frame arrows and the camera's distance scale.
     pub extent: f64,
 }

@@ -1,6 +1,6 @@
 //! How a [`Table`] is drawn: small multiples built from its column headers.
 //!
-//! Each panel holds one unit and the columns of one or a few elements ([`panels`]: reactions
+//! Each panel holds one unit and the columns of one or a few elements (`panels`: reactions
 //! one joint per panel, forces apart from torques; at most 8 series). The colour follows the
 //! element (for reactions: the body the reaction acts on) through all panels of the table, the
 //! dash the vector component (x solid, y dashed, z dotted). Long tables are reduced per column

@@ -13,7 +13,7 @@ use crate::state::{BlockUse, BodyPair, Footprint};
 use crate::time_function::TimeFunction;
 use nalgebra::Vector3;
 
-/// (r_i + A_i s'^P_i)[axis] = c(t).
+/// (r_i + A_i s'^P_i)\[axis\] = c(t).
 #[derive(Debug, Clone, PartialEq)]
 pub struct CoordinateDriver {
     /// s'^P_i (zero for the body reference point).

@@ -10,7 +10,7 @@
 //! | [`RotationDriver`] | cos θ(t) · (y_iᵀ x_j) − sin θ(t) · (x_iᵀ x_j) = sin(φ − θ(t)) |
 //! | [`TranslationDriver`] | z_iᵀ d − s(t) |
 //! | [`DistanceDriver`] | dᵀd − ℓ(t)² |
-//! | [`CoordinateDriver`] | (r_i + A_i s'^P_i)[k] − c(t) |
+//! | [`CoordinateDriver`] | (r_i + A_i s'^P_i)\[k\] − c(t) |
 //! | [`PoseDriver`] | one of six rows: x_Iᵀ d − f_k(t) (k = 1..3), or a fixed-joint row to the frame A_I R(t) |
 
 mod coordinate;

@@ -32,9 +32,9 @@
 //!   function through constant knots, linear beyond them.
 //!
 //! ## Derivatives
-//! The text is parsed once ([`parser`]), compiled to a flat tape of stack operations with the
-//! constant parts evaluated ([`compile`]), and run over [`jet::Jet`]s (u, u̇, ü) on a fixed-size
-//! stack ([`eval`]): second-order forward-mode differentiation, exact up to rounding. For g(u),
+//! The text is parsed once (`parser`), compiled to a flat tape of stack operations with the
+//! constant parts evaluated (`compile`), and run over [`jet::Jet`]s (u, u̇, ü) on a fixed-size
+//! stack (`eval`): second-order forward-mode differentiation, exact up to rounding. For g(u),
 //! (g(u))˙ = g′ u̇ and (g(u))¨ = g″ u̇² + g′ ü; products and quotients by their rules. abs, sign,
 //! min, max, step and piecewise take the derivatives of the active branch (sign: zero).
 //! Evaluation does not allocate.

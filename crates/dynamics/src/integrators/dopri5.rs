@@ -7,7 +7,7 @@
 //! 0.9 err^(−0.17) err_old^0.04 within [0.2, 10] (no growth right after a rejection), or
 //! Gustafsson's predictive factor when that is smaller (a rising error trend), a last
 //! step stretched by up to 10 % to land on t_end, and a starting step from repeated Euler probes
-//! ([`starting_step`]). Output times inside a step come from the dense
+//! (`starting_step`). Output times inside a step come from the dense
 //! output (then projected, like every accepted step end). Projection breaks FSAL, so a step costs
 //! seven evaluations. Euler parameters are normalized whenever the state is evaluated.
 

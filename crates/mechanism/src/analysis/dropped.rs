@@ -23,8 +23,8 @@
 //!   [`RANK_TOLERANCE_PER_RESIDUAL`] times the residual (the inconsistency perturbs the
 //!   Jacobian by about as much), finds the redundant rows, and Newton solves the kept rows
 //!   exactly from there: the *least-squares-consistent pose*. Dropped rows off by more than
-//!   [`gross_inconsistency`] make it an [`AnalysisError::InconsistentJoints`] error that names
-//!   the joints; below it the pose is accepted and the residuals are reported.
+//!   [`gross_inconsistency`] make it an [`crate::AnalysisError::InconsistentJoints`] error that
+//!   names the joints; below it the pose is accepted and the residuals are reported.
 //! * **Kinematics** ([`Model::position`]) evaluates Φ at every solved frame anyway; the dropped
 //!   rows' d_r are read from it (no extra factorization) and the worst per row is kept with its
 //!   time ([`Model::dropped_row_residuals`]). When the dropped rows are off at the prepared pose,

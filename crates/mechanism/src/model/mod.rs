@@ -11,9 +11,9 @@
 
 //!
 //! The module is laid out by responsibility: this file holds the model and its accessors;
-//! [`build`] checks a builder and assembles a model from [`resolve`] (name resolution, one
-//! function per element kind, with the checks of [`validate`]) and [`layout`] (rows, pattern,
-//! scatter maps, scales); [`eval`] evaluates Φ, ν, γ# and Φ_v on body states.
+//! `build` checks a builder and assembles a model from `resolve` (name resolution, one
+//! function per element kind, with the checks of `validate`) and `layout` (rows, pattern,
+//! scatter maps, scales); `eval` evaluates Φ, ν, γ# and Φ_v on body states.
 
 mod build;
 mod couplers;

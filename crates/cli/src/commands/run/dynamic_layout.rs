@@ -1,6 +1,6 @@
 //! The output groups of a dynamic or inverse dynamics run as a layout over its frames
 //! ([`DynamicResults`] holding one time, streamed by [`super::stream::Recorder`]): the kinematic
-//! groups ([`Layout`]), then driver efforts, coupler efforts, reactions, energy and (dynamic
+//! groups (`Layout`), then driver efforts, coupler efforts, reactions, energy and (dynamic
 //! runs) constraint drift. Each group's header is the header of the table written whole
 //! ([`super::dynamic::tables`], [`super::inverse::inverse_tables`]) and each row comes from the
 //! same row functions, so a streamed file and a table held whole have the same text.

@@ -125,7 +125,7 @@ pub(super) fn dropped_row_warnings(p: &Prepared, rows: &[DroppedRowResidual]) ->
         .collect()
 }
 
-/// Builds the output groups from the results (every frame; [`Layout`]).
+/// Builds the output groups from the results (every frame; `Layout`).
 pub fn tables(r: &Results, req: &Requested) -> Vec<Table> {
     Layout::new(r, req).tables(r)
 }
