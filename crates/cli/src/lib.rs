@@ -56,7 +56,7 @@ pub enum Command {
     Run {
         /// The model file (TOML).
         model: PathBuf,
-        /// Output directory (default: out/<model name>/).
+        /// Output directory (default: out/NAME/, NAME the model's name).
         #[arg(short, long)]
         output: Option<PathBuf>,
         /// Do not show a progress bar.
@@ -105,7 +105,7 @@ pub enum Command {
     Eval {
         /// The model file (TOML).
         model: PathBuf,
-        /// Time at which to assemble and evaluate [s] (default: the analysis start time).
+        /// Time in seconds at which to assemble and evaluate (default: the analysis start time).
         #[arg(long = "t", allow_negative_numbers = true)]
         t: Option<f64>,
         /// Output format: tables to read, or JSON at full precision with the row and column maps.
