@@ -5,9 +5,12 @@
 //!    other run's process id and the lock file. A lock whose process no longer exists (a run
 //!    that was killed) is stale and taken over.
 //! 2. **Temporary sibling.** The files are written into `DIR.tmp-<pid>` next to the target (the
-//!    same file system, so the final rename is atomic), each one written, flushed and synced
-//!    to disk before the next; a write error (a full disk) removes the temporary directory and
-//!    leaves the previous run's directory as it was: no truncated file is ever in `DIR`.
+//!    same file system, so the final rename is atomic), each one written and flushed before
+//!    the next; a write error (a full disk) removes the temporary directory and leaves the
+//!    previous run's directory as it was: no truncated file is ever in `DIR`. The files are
+//!    not synced to disk: outputs can be computed again, and a sync per file cost about
+//!    10 ms per run (half of a small model's whole run), so only a power failure right after
+//!    a run can lose them.
 //! 3. **Rename into place.** The previous `DIR` is renamed aside, the temporary directory renamed
 //!    to `DIR`, then the previous one removed: `DIR` always holds the files of one run, never a
 //!    mix. A directory is only replaced if it holds nothing but what a run writes (`*.csv`,
@@ -117,7 +120,7 @@ impl OutputDir {
         Ok(())
     }
 
-    /// Writes `name` (text or bytes) into the temporary directory: write, flush, sync to disk.
+    /// Writes `name` (text or bytes) into the temporary directory: write and flush.
     ///
     /// # Errors
     /// An output error naming the file and the cause (a full disk, permissions).
@@ -126,8 +129,7 @@ impl OutputDir {
         let path = self.tmp.join(name);
         let written = std::fs::File::create(&path).and_then(|mut f| {
             f.write_all(data.as_ref())?;
-            f.flush()?;
-            f.sync_all()
+            f.flush()
         });
         written.map_err(|e| self.write_error(name, &e))?;
         self.files.push(name.to_string());
@@ -136,7 +138,7 @@ impl OutputDir {
 
     /// Opens `name` in the temporary directory for a file written piece by piece while the run
     /// goes on (a streamed CSV): a buffered writer. Once complete, [`OutputDir::finish`] flushes
-    /// and syncs it and counts it among the files written.
+    /// it and counts it among the files written.
     ///
     /// # Errors
     /// An output error naming the file and the cause.
@@ -147,7 +149,7 @@ impl OutputDir {
         Ok(std::io::BufWriter::with_capacity(1 << 16, file))
     }
 
-    /// Completes a file opened by [`OutputDir::create`]: flush, sync to disk, and record it in
+    /// Completes a file opened by [`OutputDir::create`]: flush and record it in
     /// [`OutputDir::files`].
     ///
     /// # Errors
@@ -159,8 +161,8 @@ impl OutputDir {
     ) -> Result<(), Error> {
         let done = writer
             .into_inner()
-            .map_err(|e| std::io::Error::new(e.error().kind(), e.error().to_string()))
-            .and_then(|f| f.sync_all());
+            .map(drop)
+            .map_err(|e| std::io::Error::new(e.error().kind(), e.error().to_string()));
         done.map_err(|e| self.write_error(name, &e))?;
         self.files.push(name.to_string());
         Ok(())
@@ -183,10 +185,6 @@ impl OutputDir {
     /// # Errors
     /// An output error if a rename fails (the previous directory is then put back).
     pub fn commit(mut self) -> Result<(), Error> {
-        if let Ok(d) = std::fs::File::open(&self.tmp) {
-            // The directory entries themselves reach the disk before the rename.
-            let _ = d.sync_all();
-        }
         let old = sibling(&self.target, &format!(".old-{}", std::process::id()));
         let had_previous = std::fs::symlink_metadata(&self.target).is_ok();
         if had_previous {
