@@ -123,6 +123,7 @@ pub struct ScalarGrad<const N: usize> {
 
 impl<const N: usize> Grad<N> {
     /// s = A_k s' for a direction fixed in body `side`.
+    #[inline]
     pub fn dir<F: Form<N>>(i: &BodyState, j: &BodyState, side: Side, s: &Vector3<f64>) -> Self {
         let b = pick(i, j, side);
         let g = F::dir_grad(b, s);
@@ -135,6 +136,7 @@ impl<const N: usize> Grad<N> {
     }
 
     /// r^P = r_k + A_k s'^P for a point fixed in body `side`.
+    #[inline]
     pub fn point<F: Form<N>>(i: &BodyState, j: &BodyState, side: Side, s: &Vector3<f64>) -> Self {
         let mut g = Self::dir::<F>(i, j, side, s);
         g.v += pick(i, j, side).r;
@@ -149,6 +151,7 @@ impl<const N: usize> Grad<N> {
     }
 
     /// d = r^P_j − r^P_i.
+    #[inline]
     pub fn between<F: Form<N>>(
         i: &BodyState,
         j: &BodyState,
@@ -159,6 +162,7 @@ impl<const N: usize> Grad<N> {
     }
 
     /// self − o.
+    #[inline]
     pub fn sub(&self, o: &Self) -> Self {
         Self {
             v: self.v - o.v,
@@ -168,6 +172,7 @@ impl<const N: usize> Grad<N> {
     }
 
     /// selfᵀ o, by the product rule.
+    #[inline]
     pub fn dot(&self, o: &Self) -> ScalarGrad<N> {
         ScalarGrad {
             v: self.v.dot(&o.v),
@@ -177,6 +182,7 @@ impl<const N: usize> Grad<N> {
     }
 
     /// self × o = s̃ o, by the product rule: ∂(a × b) = ã ∂b − b̃ ∂a.
+    #[inline]
     pub fn cross(&self, o: &Self) -> Self {
         let (ta, tb) = (skew(&self.v), skew(&o.v));
         Self {
@@ -189,6 +195,7 @@ impl<const N: usize> Grad<N> {
 
 impl<const N: usize> ScalarGrad<N> {
     /// Scales value and gradient.
+    #[inline]
     pub fn scale(&self, c: f64) -> Self {
         Self {
             v: self.v * c,
@@ -198,6 +205,7 @@ impl<const N: usize> ScalarGrad<N> {
     }
 
     /// self + o.
+    #[inline]
     pub fn add(&self, o: &Self) -> Self {
         Self {
             v: self.v + o.v,
@@ -207,11 +215,13 @@ impl<const N: usize> ScalarGrad<N> {
     }
 
     /// self − o.
+    #[inline]
     pub fn sub(&self, o: &Self) -> Self {
         self.add(&o.scale(-1.0))
     }
 
     /// self², by the chain rule: ∂(u²) = 2 u ∂u.
+    #[inline]
     pub fn square(&self) -> Self {
         Self {
             v: self.v * self.v,
@@ -221,6 +231,7 @@ impl<const N: usize> ScalarGrad<N> {
     }
 
     /// Writes the gradient rows into one Jacobian row of each body.
+    #[inline]
     pub fn write(&self, out_i: &mut [f64; N], out_j: &mut [f64; N]) {
         for c in 0..N {
             out_i[c] = self.di[c];
