@@ -246,6 +246,15 @@ def exudyn_slider_crank(h, t_end, csv=None):
                                    storeInternal=True, outputVariableType=pos))
     s_c = mbs.AddSensor(SensorBody(bodyNumber=slider, localPosition=[0.0, 0.0, 0.0],
                                    storeInternal=True, outputVariableType=pos))
+    # Energy: each body's centre-of-mass position and velocity and its body-frame angular
+    # velocity (the bodies' reference points are their centres of mass).
+    energy_sensors = []
+    for body, m, j in [(crank, 0.12, [1e-4, 1e-4, 1e-5]), (rod, 0.5, [4e-4, 4e-3, 4e-3]),
+                       (slider, 2.0, [1e-4, 1e-4, 1e-4])]:
+        kinds = [pos, exu.OutputVariableType.Velocity,
+                 exu.OutputVariableType.AngularVelocityLocal]
+        energy_sensors.append((m, np.array(j), [mbs.AddSensor(SensorBody(
+            bodyNumber=body, storeInternal=True, outputVariableType=k)) for k in kinds]))
     mbs.Assemble()
 
     s = exu.SimulationSettings()
@@ -273,7 +282,18 @@ def exudyn_slider_crank(h, t_end, csv=None):
         b_ref = np.array([0.0, 0.1 - 0.08 * math.sin(th), 0.12 + 0.08 * math.cos(th)])
         err = max(err, float(np.linalg.norm(b[k, 1:4] - b_ref)),
                   float(np.linalg.norm(c[k, 1:4] - np.array([x, 0.0, 0.0]))))
-    result(wall=wall, steps=steps, err=err, samples=len(rows), newton=it.newtonStepsCount,
+    energy = 0.0
+    for m, j, (sp, sv, sw) in energy_sensors:
+        p, v, w = (mbs.GetSensorStoredData(x) for x in (sp, sv, sw))
+        energy = energy + 0.5 * m * np.sum(v[:, 1:4] ** 2, axis=1) \
+            + 0.5 * np.sum(j * w[:, 1:4] ** 2, axis=1) + m * 9.81 * p[:, 3]
+    times = b[:, 0]
+    at_rows = [int(np.argmin(np.abs(times - r[0]))) for r in rows]
+    energy_err = float(np.max(np.abs(energy[at_rows] - energy[0])))
+    energy_end = float(energy[at_rows[-1]] - energy[0])
+    result(wall=wall, steps=steps, err=err, energy_err=energy_err, energy_end=energy_end,
+           samples=len(rows),
+           newton=it.newtonStepsCount,
            jacobians=it.newtonJacobiCount, x_end=float(c[-1, 1]))
 
 

@@ -83,7 +83,14 @@ pub fn peers_only(args: &[String]) {
     print!("{}", run_parts(smoke, python, &super::root(), &parts));
 }
 
-const PARTS: &[&str] = &["kinematics", "slider-crank", "chain", "cli-genalpha"];
+const PARTS: &[&str] = &[
+    "kinematics",
+    "slider-crank",
+    "chain",
+    "cli-genalpha",
+    "cli-genalpha-slider-crank",
+    "cli-genalpha-chain",
+];
 
 /// The peers section of the report.
 pub fn run(smoke: bool, python: &str, root: &Path) -> String {
@@ -144,8 +151,12 @@ fn run_parts(smoke: bool, python: &str, root: &Path, parts: &[&str]) -> String {
     if want("chain") {
         md.push_str(&chain_dynamics(smoke, python, &script));
     }
-    if want("cli-genalpha") {
-        md.push_str(&cli_genalpha(smoke, python, &script, root));
+    let (sc, chain) = (
+        want("cli-genalpha") || want("cli-genalpha-slider-crank"),
+        want("cli-genalpha") || want("cli-genalpha-chain"),
+    );
+    if sc || chain {
+        md.push_str(&cli_genalpha(smoke, python, &script, root, sc, chain));
     }
     md
 }
@@ -830,6 +841,28 @@ fn slider_crank_genalpha_toml(root: &Path, h: f64, t_end: f64) -> String {
         .join("\n")
 }
 
+/// Max over the reference samples of |E − E(0)| and E − E(0) at the last one, from a run's
+/// `energy.csv` (its `drift` column), as `exudyn-slider-crank` measures Exudyn's.
+fn slider_crank_energy_error(energy: &Path, reference: &[[f64; 3]]) -> (f64, f64) {
+    let text = std::fs::read_to_string(energy).unwrap_or_default();
+    let Some(col) = text
+        .lines()
+        .next()
+        .and_then(|h| h.split(',').position(|c| c.starts_with("drift")))
+    else {
+        return (f64::NAN, f64::NAN);
+    };
+    let rows = csv_rows(energy);
+    let (mut err, mut last) = (0.0f64, f64::NAN);
+    for &[t, ..] in reference {
+        match rows.iter().find(|r| r.len() > col && (r[0] - t).abs() < 1e-9) {
+            Some(r) => (err, last) = (err.max(r[col].abs()), r[col]),
+            None => return (f64::NAN, f64::NAN),
+        }
+    }
+    (err, last)
+}
+
 /// Max over the reference samples of |B − B_ref| and |C − C_ref| from a run's `points.csv`
 /// (columns t, crank.B xyz, slider.C xyz), as `exudyn-slider-crank` measures Exudyn's.
 fn slider_crank_csv_error(points: &Path, reference: &[[f64; 3]]) -> f64 {
@@ -851,6 +884,8 @@ fn slider_crank_csv_error(points: &Path, reference: &[[f64; 3]]) -> f64 {
 struct WholeRun {
     h: f64,
     err: f64,
+    /// Max |E − E(0)| over the same samples and E − E(0) at the last (NaN: not measured).
+    energy: (f64, f64),
     wall: f64,
 }
 
@@ -859,7 +894,15 @@ fn whole_run_table(md: &mut String, what: &str, cardan: &[WholeRun], exudyn: &[W
     let curve: Vec<(f64, f64)> = cardan.iter().map(|r| (r.err, r.wall)).collect();
     let mut row = |code: &str, r: &WholeRun, ratio: String| {
         let (h, err, wall) = (r.h * 1e3, r.err, fmt_time(r.wall));
-        let _ = writeln!(md, "| {what} | {code} | {h:.2} | {err:.2e} | {wall} | {ratio} |");
+        let energy = if r.energy.0.is_nan() {
+            "—".to_string()
+        } else {
+            format!("{:.1e} / {:+.1e}", r.energy.0, r.energy.1)
+        };
+        let _ = writeln!(
+            md,
+            "| {what} | {code} | {h:.2} | {err:.2e} | {energy} | {wall} | {ratio} |"
+        );
     };
     for r in cardan {
         row("cardan", r, String::new());
@@ -872,7 +915,14 @@ fn whole_run_table(md: &mut String, what: &str, cardan: &[WholeRun], exudyn: &[W
 /// `cli-genalpha`: generalized-α whole runs through the command (reading, assembly, the
 /// integration and every output file, each its own process) against Exudyn's solver call, at
 /// equal error, on the slider-crank (5 s and 1 s) and the 1,000-link spherical chain.
-fn cli_genalpha(smoke: bool, python: &str, script: &Path, root: &Path) -> String {
+fn cli_genalpha(
+    smoke: bool,
+    python: &str,
+    script: &Path,
+    root: &Path,
+    slider_crank: bool,
+    chain: bool,
+) -> String {
     let mut md = String::new();
     let _ = writeln!(
         md,
@@ -883,13 +933,14 @@ fn cli_genalpha(smoke: bool, python: &str, script: &Path, root: &Path) -> String
          start-up excluded), its generalized-α defaults. Both ρ∞ as stated, fixed step h. \
          Slider-crank: `examples/slider_crank_dynamic.toml` with generalized-α (ρ∞ 0.9, \
          Exudyn's default), error = max over the IFToMM reference samples of the crank-pin and \
-         slider position errors. Chain: N spherical-joint links (ρ∞ 0.8), error at t_end of the \
+         slider position errors; *energy error* = max over the same samples of |E − E(0)| / \
+         E − E(0) at t_end (the motion is conservative). Chain: N spherical-joint links (ρ∞ 0.8), error at t_end of the \
          far ends of the first and last links against a cardan DOPRI5 reference (rtol 1e-10). \
          Best of the rounds (slider-crank 3, chain 1), cardan and Exudyn alternating. *Ratio*: \
          Exudyn's time over cardan's at Exudyn's error (log-log interpolation between \
          cardan's runs; — outside them).\n\n\
-         | problem | code | h [ms] | error [m] | time | ratio at equal error |\n\
-         |---|---|---:|---:|---:|---:|"
+         | problem | code | h [ms] | error [m] | energy error [J], max / end | time | ratio at equal error |\n\
+         |---|---|---:|---:|---:|---:|---:|"
     );
     let tmp = std::env::temp_dir().join(format!("cardan-bench-cli-genalpha-{}", std::process::id()));
     let _ = std::fs::create_dir_all(&tmp);
@@ -911,7 +962,7 @@ fn cli_genalpha(smoke: bool, python: &str, script: &Path, root: &Path) -> String
     } else {
         (&[1e-3, 5e-4, 2.5e-4, 1.25e-4], &[1e-3, 5e-4])
     };
-    for &t_end in spans {
+    for &t_end in spans.iter().filter(|_| slider_crank) {
         let reference: Vec<[f64; 3]> = reference_rows
             .iter()
             .copied()
@@ -919,11 +970,21 @@ fn cli_genalpha(smoke: bool, python: &str, script: &Path, root: &Path) -> String
             .collect();
         let mut c: Vec<WholeRun> = cardan_h
             .iter()
-            .map(|&h| WholeRun { h, err: f64::NAN, wall: f64::INFINITY })
+            .map(|&h| WholeRun {
+                h,
+                err: f64::NAN,
+                energy: (f64::NAN, f64::NAN),
+                wall: f64::INFINITY,
+            })
             .collect();
         let mut x: Vec<WholeRun> = exudyn_h
             .iter()
-            .map(|&h| WholeRun { h, err: f64::NAN, wall: f64::INFINITY })
+            .map(|&h| WholeRun {
+                h,
+                err: f64::NAN,
+                energy: (f64::NAN, f64::NAN),
+                wall: f64::INFINITY,
+            })
             .collect();
         for _ in 0..rounds {
             for r in c.iter_mut() {
@@ -933,6 +994,8 @@ fn cli_genalpha(smoke: bool, python: &str, script: &Path, root: &Path) -> String
                     Ok(w) => {
                         r.wall = r.wall.min(w);
                         r.err = slider_crank_csv_error(&out.join("points.csv"), &reference);
+                        r.energy =
+                            slider_crank_energy_error(&out.join("energy.csv"), &reference);
                     }
                     Err(e) => eprintln!("cardan slider-crank h {}: {e}", r.h),
                 }
@@ -943,6 +1006,7 @@ fn cli_genalpha(smoke: bool, python: &str, script: &Path, root: &Path) -> String
                     Ok(v) => {
                         r.wall = r.wall.min(get(&v, "wall"));
                         r.err = get(&v, "err");
+                        r.energy = (get(&v, "energy_err"), get(&v, "energy_end"));
                     }
                     Err(e) => eprintln!("{e}"),
                 }
@@ -953,7 +1017,7 @@ fn cli_genalpha(smoke: bool, python: &str, script: &Path, root: &Path) -> String
     let n = if smoke { 20 } else { 1000 };
     let chain_spans: &[f64] = if smoke { &[0.05] } else { &[1.0, 5.0] };
     let model = models::spherical_chain(n);
-    for &t_end in chain_spans {
+    for &t_end in chain_spans.iter().filter(|_| chain) {
         let reference = cardan_chain(
             &model,
             0.0,
@@ -975,7 +1039,12 @@ fn cli_genalpha(smoke: bool, python: &str, script: &Path, root: &Path) -> String
                     let e = rows.last().filter(|r| r.len() >= 7).map_or(f64::NAN, |r| {
                         err(Vector3::new(r[4], r[5], r[6]), Vector3::new(r[1], r[2], r[3]))
                     });
-                    c.push(WholeRun { h, err: e, wall });
+                    c.push(WholeRun {
+                        h,
+                        err: e,
+                        energy: (f64::NAN, f64::NAN),
+                        wall,
+                    });
                 }
                 Err(e) => eprintln!("cardan chain h {h}: {e}"),
             }
@@ -986,7 +1055,12 @@ fn cli_genalpha(smoke: bool, python: &str, script: &Path, root: &Path) -> String
             Ok(v) => {
                 let tip = Vector3::new(get(&v, "tip_x"), get(&v, "tip_y"), get(&v, "tip_z"));
                 let b0 = Vector3::new(get(&v, "b0_x"), get(&v, "b0_y"), get(&v, "b0_z"));
-                x.push(WholeRun { h: 1e-3, err: err(tip, b0), wall: get(&v, "wall") });
+                x.push(WholeRun {
+                    h: 1e-3,
+                    err: err(tip, b0),
+                    energy: (f64::NAN, f64::NAN),
+                    wall: get(&v, "wall"),
+                });
             }
             Err(e) => eprintln!("{e}"),
         }
