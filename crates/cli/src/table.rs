@@ -1,7 +1,6 @@
 //! Output groups: a time column and named columns with units, written as CSV and plotted as SVG
 //! (the layout of the plot: [`crate::plot`]).
 
-use std::fmt::Write as _;
 
 /// One output group (one CSV file, one plot).
 #[derive(Debug, Clone, PartialEq)]
@@ -53,13 +52,16 @@ impl Table {
     }
 }
 
-/// Appends one CSV row (shortest round-trip exponent form of each value) and its line break.
+/// Appends one CSV row and its line break: each value in the shortest form that reads back to
+/// it exactly ("0.25", "1e-7", "-3.5e20", "NaN", "inf"; ryu's, about three times faster than
+/// the standard library's `{:e}`: a long run's rows were a tenth of its time).
 pub fn push_csv_row(s: &mut String, row: &[f64]) {
-    for (k, v) in row.iter().enumerate() {
+    let mut buf = ryu::Buffer::new();
+    for (k, &v) in row.iter().enumerate() {
         if k > 0 {
             s.push(',');
         }
-        let _ = write!(s, "{v:e}");
+        s.push_str(buf.format(v));
     }
     s.push('\n');
 }
@@ -97,5 +99,30 @@ mod tests {
         assert_eq!(h, ["t [s]", "a.x [m]", "b [rad]"]);
         assert_eq!(rows[0], t.rows[0]);
         assert!(rows[1][1].is_nan());
+    }
+
+    /// Every value reads back exactly, the special ones included.
+    #[test]
+    fn csv_numbers_read_back_exactly() {
+        let mut row = vec![0.0, -0.0, 0.1, 1.0 / 3.0, 123456.0, 1e16, 1e-7, -2.5e-17];
+        row.extend([f64::MAX, f64::MIN_POSITIVE, 5e-324, f64::INFINITY, f64::NEG_INFINITY]);
+        let mut x: u64 = 0x9e37_79b9_7f4a_7c15;
+        for _ in 0..10_000 {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            row.push(f64::from_bits(x));
+        }
+        row.retain(|v| !v.is_nan());
+        let mut s = String::new();
+        push_csv_row(&mut s, &row);
+        let back: Vec<f64> = s.trim_end().split(',').map(|v| v.parse().unwrap()).collect();
+        assert_eq!(back.len(), row.len());
+        for (a, b) in back.iter().zip(&row) {
+            assert_eq!(a.to_bits(), b.to_bits(), "{a} read back from {b}");
+        }
+        let mut s = String::new();
+        push_csv_row(&mut s, &[f64::NAN]);
+        assert!(s.trim_end().parse::<f64>().unwrap().is_nan());
     }
 }
