@@ -15,10 +15,10 @@ use crate::base64::encode_into;
 use crate::modes::{modes_json, validate_modes, ModeShape, MAX_ANIMATED_MODES};
 use crate::scene::Scene;
 use std::fmt::Write as _;
-use std::sync::OnceLock;
 
-/// three.js 0.160.1, `build/three.module.min.js` of the npm package (vendor/three-0.160.1).
-const THREE_MODULE: &str = include_str!("../vendor/three-0.160.1/three.module.min.js");
+/// three.js 0.160.1, `build/three.module.min.js` of the npm package (vendor/three-0.160.1), as
+/// a classic script (converted by `build.rs`).
+const THREE_CLASSIC: &str = include_str!(concat!(env!("OUT_DIR"), "/three.classic.js"));
 /// The page's own script.
 const VIEWER: &str = include_str!("viewer.js");
 /// The page's style.
@@ -38,49 +38,13 @@ pub struct Page {
     pub modes: Vec<ModeShape>,
 }
 
-/// three.js as a classic script: the module's final `export{a as B,...};` becomes
-/// `window.THREE={B:a,...};` and the whole runs inside a strict-mode function, so its
-/// top-level names stay private. `None` if the module is not of that form (one export
-/// statement, at the end, no import) or would end the page's script element early.
+/// three.js as a classic script (`src/classic.rs` applied to the vendored module), made
+/// once when the crate is built (`build.rs`): converting the 700 kB module took a quarter of a
+/// small model's whole `cardan run`. The build fails if the module is not of the expected
+/// form, so this is never `None`; the `Option` is kept for callers written against the
+/// run-time conversion.
 pub fn classic_three() -> Option<&'static str> {
-    static CLASSIC: OnceLock<Option<String>> = OnceLock::new();
-    CLASSIC.get_or_init(|| to_classic(THREE_MODULE)).as_deref()
-}
-
-fn to_classic(module: &str) -> Option<String> {
-    let at = module.rfind("export{")?;
-    let tail = module[at + "export{".len()..].trim_end();
-    let list = tail.strip_suffix("};").or_else(|| tail.strip_suffix('}'))?;
-    if list.contains(['{', '}', ';']) || module[..at].contains("export{") {
-        return None;
-    }
-    let mut members = Vec::new();
-    for item in list.split(',') {
-        let mut words = item.split(" as ");
-        let local = words.next()?.trim();
-        let exported = words.next().unwrap_or(local).trim();
-        let ident = |s: &str| {
-            !s.is_empty()
-                && s.chars()
-                    .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '$')
-        };
-        if !ident(local) || !ident(exported) || words.next().is_some() {
-            return None;
-        }
-        members.push(format!("{exported}:{local}"));
-    }
-    let body = &module[..at];
-    if ["import{", "import*", "import\"", "import \""]
-        .iter()
-        .any(|i| body.contains(i))
-    {
-        return None;
-    }
-    let out = format!(
-        "(function(){{\"use strict\";\n{body}\nwindow.THREE={{{}}};\n}})();",
-        members.join(",")
-    );
-    (!out.to_ascii_lowercase().contains("</script")).then_some(out)
+    Some(THREE_CLASSIC)
 }
 
 /// The page for `scene` whose animation is `glb`.
@@ -337,11 +301,17 @@ mod tests {
 
     #[test]
     fn modules_of_another_form_are_refused() {
-        assert_eq!(to_classic("const a=1;"), None);
-        assert_eq!(to_classic("export{a as A};const b=2;export{b as B};"), None);
-        assert_eq!(to_classic("const a=\"</script>\";export{a as A};"), None);
+        assert_eq!(crate::classic::to_classic("const a=1;"), None);
         assert_eq!(
-            to_classic("const a=1;export{a as A,a};").as_deref(),
+            crate::classic::to_classic("export{a as A};const b=2;export{b as B};"),
+            None
+        );
+        assert_eq!(
+            crate::classic::to_classic("const a=\"</script>\";export{a as A};"),
+            None
+        );
+        assert_eq!(
+            crate::classic::to_classic("const a=1;export{a as A,a};").as_deref(),
             Some("(function(){\"use strict\";\nconst a=1;\nwindow.THREE={A:a,a:a};\n})();")
         );
     }

@@ -17,6 +17,9 @@
 //!   checked before the file is read in full.
 
 mod base64;
+/// The conversion `build.rs` runs (compiled here for its unit tests).
+#[cfg(test)]
+mod classic;
 mod glb;
 mod html;
 mod mesh_file;
