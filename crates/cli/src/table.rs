@@ -1,7 +1,6 @@
 //! Output groups: a time column and named columns with units, written as CSV and plotted as SVG
 //! (the layout of the plot: [`crate::plot`]).
 
-
 /// One output group (one CSV file, one plot).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Table {
@@ -105,7 +104,13 @@ mod tests {
     #[test]
     fn csv_numbers_read_back_exactly() {
         let mut row = vec![0.0, -0.0, 0.1, 1.0 / 3.0, 123456.0, 1e16, 1e-7, -2.5e-17];
-        row.extend([f64::MAX, f64::MIN_POSITIVE, 5e-324, f64::INFINITY, f64::NEG_INFINITY]);
+        row.extend([
+            f64::MAX,
+            f64::MIN_POSITIVE,
+            5e-324,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ]);
         let mut x: u64 = 0x9e37_79b9_7f4a_7c15;
         for _ in 0..10_000 {
             x ^= x << 13;
@@ -116,7 +121,11 @@ mod tests {
         row.retain(|v| !v.is_nan());
         let mut s = String::new();
         push_csv_row(&mut s, &row);
-        let back: Vec<f64> = s.trim_end().split(',').map(|v| v.parse().unwrap()).collect();
+        let back: Vec<f64> = s
+            .trim_end()
+            .split(',')
+            .map(|v| v.parse().unwrap())
+            .collect();
         assert_eq!(back.len(), row.len());
         for (a, b) in back.iter().zip(&row) {
             assert_eq!(a.to_bits(), b.to_bits(), "{a} read back from {b}");
