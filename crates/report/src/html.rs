@@ -39,27 +39,19 @@ pub struct Page {
 }
 
 /// three.js as a classic script (`src/classic.rs` applied to the vendored module), made
-/// once when the crate is built (`build.rs`): converting the 700 kB module took a quarter of a
-/// small model's whole `cardan run`. The build fails if the module is not of the expected
-/// form, so this is never `None`; the `Option` is kept for callers written against the
-/// run-time conversion.
-pub fn classic_three() -> Option<&'static str> {
-    Some(THREE_CLASSIC)
+/// once when the crate is built (`build.rs`, which fails if the module is not of the expected
+/// form): converting the 700 kB module took a quarter of a small model's whole `cardan run`.
+pub fn classic_three() -> &'static str {
+    THREE_CLASSIC
 }
 
 /// The page for `scene` whose animation is `glb`.
 ///
 /// # Errors
-/// [`crate::Error::Scene`] if the vendored three.js cannot be turned into a classic script
-/// (a build defect: a unit test checks it), or the modes do not fit the scene
-/// ([`validate_modes`]).
+/// [`crate::Error::Scene`] if the modes do not fit the scene ([`validate_modes`]).
 pub fn write_html(scene: &Scene, glb: &[u8], page: &Page) -> Result<String, crate::Error> {
     validate_modes(scene, &page.modes)?;
-    let three = classic_three().ok_or_else(|| {
-        crate::Error::Scene(
-            "the embedded three.js is not a single ES module with one export".into(),
-        )
-    })?;
+    let three = classic_three();
     let mut html = String::with_capacity(three.len() + glb.len() * 4 / 3 + 200_000);
     let title = escape(&scene.name);
     let _ = write!(
@@ -284,7 +276,7 @@ mod tests {
 
     #[test]
     fn three_becomes_a_classic_script_exporting_its_names() {
-        let c = classic_three().expect("the vendored module converts");
+        let c = classic_three();
         assert!(c.starts_with("(function(){\"use strict\";"));
         assert!(c.contains("window.THREE={"));
         for name in [
