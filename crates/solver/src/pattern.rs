@@ -56,8 +56,7 @@ impl SparsityPattern {
                 });
             }
         }
-        let mut order: Vec<usize> = (0..entries.len()).collect();
-        order.sort_unstable_by_key(|&k| (entries[k].1, entries[k].0));
+        let order = column_major_order(ncols, entries);
         let mut col_ptr = vec![0usize; ncols + 1];
         let mut row_idx = Vec::with_capacity(entries.len());
         let mut slot_to_csc = vec![0usize; entries.len()];
@@ -369,6 +368,30 @@ pub(crate) fn check_len(
     }
 }
 
+/// The slots ordered by column, then row: a counting sort by column (slot order kept within a
+/// column), then each column's few slots sorted by row. Linear in the entries where a
+/// comparison sort of them all is not: building the patterns was a sixth of `cardan check` on a
+/// 10,000-body chain (three patterns of 740,000 entries).
+fn column_major_order(ncols: usize, entries: &[(usize, usize)]) -> Vec<usize> {
+    let mut start = vec![0usize; ncols + 1];
+    for &(_, c) in entries {
+        start[c + 1] += 1;
+    }
+    for c in 0..ncols {
+        start[c + 1] += start[c];
+    }
+    let mut next = start.clone();
+    let mut order = vec![0usize; entries.len()];
+    for (k, &(_, c)) in entries.iter().enumerate() {
+        order[next[c]] = k;
+        next[c] += 1;
+    }
+    for c in 0..ncols {
+        order[start[c]..start[c + 1]].sort_unstable_by_key(|&k| entries[k].0);
+    }
+    order
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -389,6 +412,35 @@ mod tests {
         let mut csc = [0.0; 3];
         p.scatter_csc(&[1.0, 2.0, 10.0, 3.0], &mut csc).unwrap();
         assert_eq!(csc, [2.0, 3.0, 11.0]);
+    }
+
+    proptest::proptest! {
+        /// The compressed columns and slot map agree with a plain sort of the entries by
+        /// (column, row), duplicates included.
+        #[test]
+        fn pattern_matches_a_sort_by_column_then_row(
+            nrows in 1usize..12,
+            ncols in 1usize..12,
+            raw in proptest::collection::vec((0usize..12, 0usize..12), 0..80),
+        ) {
+            let entries: Vec<(usize, usize)> =
+                raw.iter().map(|&(r, c)| (r % nrows, c % ncols)).collect();
+            let p = SparsityPattern::new(nrows, ncols, &entries).unwrap();
+            let mut distinct: Vec<(usize, usize)> =
+                entries.iter().map(|&(r, c)| (c, r)).collect();
+            distinct.sort_unstable();
+            distinct.dedup();
+            let sym = p.symbolic();
+            let mut csc: Vec<(usize, usize)> = Vec::new();
+            for c in 0..ncols {
+                let (a, b) = (sym.col_ptr()[c], sym.col_ptr()[c + 1]);
+                csc.extend(sym.row_idx()[a..b].iter().map(|&r| (c, r)));
+            }
+            proptest::prop_assert_eq!(&csc, &distinct);
+            for (k, &(r, c)) in entries.iter().enumerate() {
+                proptest::prop_assert_eq!(csc[p.slot_to_csc[k]], (c, r));
+            }
+        }
     }
 
     #[test]
