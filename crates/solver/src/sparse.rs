@@ -136,28 +136,27 @@ impl<I: Index> Indexed<I> {
 
     /// Sizes the factor storage at analysis: faer's simplicial LU grows its `L`/`U` vectors
     /// when a factorization produces more fill than every earlier one, which depends on the
-    /// pivot sequence. Factoring a few matrices with the pattern and random values (pivots all
-    /// over the place, hence more fill than a mechanism's usual near-diagonal pivoting) leaves
-    /// enough capacity, with the amortized doubling of `Vec`, that later factorizations do not
-    /// allocate in practice. Errors here are ignored (a structurally singular pattern fails
-    /// later, with the real values). Returns the largest `L + U` seen.
+    /// pivot sequence. One factorization of the pattern with random values leaves capacity
+    /// (with the amortized doubling of `Vec`) for the fill of later ones in practice. One, not
+    /// several: on a 10,000-body chain three random matrices gave fills within 0.02 % of each
+    /// other (and 0.9 % below the real matrix's), and the two extra factorizations were a
+    /// ninth of `cardan check`. Errors here are ignored (a structurally singular pattern fails
+    /// later, with the real values). Returns the fill `L + U` (0 if the factorization failed).
     fn presize(&mut self, values: &mut [f64], mem: &mut Scratch) -> usize {
         let mut state = 0x9E37_79B9_7F4A_7C15u64;
-        let mut largest = 0;
-        for _ in 0..3 {
-            for v in values.iter_mut() {
-                state ^= state << 13;
-                state ^= state >> 7;
-                state ^= state << 17;
-                *v = (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
-            }
-            if self.factor_values(values, mem).is_ok() {
-                largest = largest.max(self.factor_nnz());
-                self.capture();
-            }
+        for v in values.iter_mut() {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            *v = (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+        }
+        let mut fill = 0;
+        if self.factor_values(values, mem).is_ok() {
+            fill = self.factor_nnz();
+            self.capture();
         }
         self.refactor.invalidate();
-        largest
+        fill
     }
 
     /// Keeps faer's last factorization for refactoring with its pivots.
