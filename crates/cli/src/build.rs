@@ -25,6 +25,7 @@ use cardan_mechanism::{
 };
 use nalgebra::{Matrix3, Vector3};
 use std::collections::{BTreeMap, HashMap};
+use std::fmt::Display;
 use std::ops::Range;
 use toml::Spanned;
 
@@ -249,7 +250,7 @@ impl Ctx<'_> {
     /// A finite, not subnormal number within the SI magnitude limit of its quantity
     /// (`cardan_mechanism::sanity::Quantity`, the builder's limits), converted to SI from the
     /// file's units (the limit applies to the SI value).
-    fn num(&self, n: &Num, what: &str, q: Quantity) -> Result<f64, Error> {
+    fn num(&self, n: &Num, what: impl Display, q: Quantity) -> Result<f64, Error> {
         let v = *n.get_ref();
         if v != 0.0 && v.abs() < f64::MIN_POSITIVE {
             return Err(self.err(
@@ -263,11 +264,11 @@ impl Ctx<'_> {
         }
         let factor = self.units.to_si(q);
         if factor == 1.0 {
-            q.check(what, v).map_err(|m| self.err(n.span(), m))?;
+            q.check(&what, v).map_err(|m| self.err(n.span(), m))?;
             return Ok(v);
         }
         let si = v * factor;
-        if q.check(what, si).is_err() {
+        if q.check(&what, si).is_err() {
             let (unit, _) = self.units.unit(q.unit());
             let what = format!(
                 "{what} ({} {unit})",
@@ -278,17 +279,18 @@ impl Ctx<'_> {
         Ok(si)
     }
 
-    fn vec3(&self, v: &Vec3, what: &str, q: Quantity) -> Result<Vector3<f64>, Error> {
+    /// The three components of `v`; `what` names the vector in a message (formatted only then).
+    fn vec3(&self, v: &Vec3, what: impl Display, q: Quantity) -> Result<Vector3<f64>, Error> {
         let a = v.get_ref();
         Ok(Vector3::new(
-            self.num(&a[0], &format!("{what} x"), q)?,
-            self.num(&a[1], &format!("{what} y"), q)?,
-            self.num(&a[2], &format!("{what} z"), q)?,
+            self.num(&a[0], format_args!("{what} x"), q)?,
+            self.num(&a[1], format_args!("{what} y"), q)?,
+            self.num(&a[2], format_args!("{what} z"), q)?,
         ))
     }
 
-    fn direction(&self, v: &Vec3, what: &str) -> Result<Vector3<f64>, Error> {
-        let d = self.vec3(v, what, Quantity::Direction)?;
+    fn direction(&self, v: &Vec3, what: impl Display) -> Result<Vector3<f64>, Error> {
+        let d = self.vec3(v, &what, Quantity::Direction)?;
         if d.norm() < 1e-12 {
             return Err(self.err(
                 v.span(),
@@ -301,7 +303,13 @@ impl Ctx<'_> {
         Ok(d)
     }
 
-    fn raw_num(&self, span: Range<usize>, v: f64, what: &str, q: Quantity) -> Result<f64, Error> {
+    fn raw_num(
+        &self,
+        span: Range<usize>,
+        v: f64,
+        what: impl Display,
+        q: Quantity,
+    ) -> Result<f64, Error> {
         self.num(&Spanned::new(span, v), what, q)
     }
 }
@@ -407,14 +415,14 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
         for (k, v) in &g.get_ref().points {
             let p = cx.vec3(
                 v,
-                &format!("ground point \"{}\"", k.get_ref()),
+                format_args!("ground point \"{}\"", k.get_ref()),
                 Quantity::Length,
             )?;
             ground.points.insert(k.get_ref().clone(), (k.span(), p));
             builder.point(GROUND, k.get_ref(), p);
         }
         for (k, v) in &g.get_ref().vectors {
-            let d = cx.direction(v, &format!("ground vector \"{}\"", k.get_ref()))?;
+            let d = cx.direction(v, format_args!("ground vector \"{}\"", k.get_ref()))?;
             ground.vectors.insert(k.get_ref().clone(), (k.span(), d));
             builder.vector(GROUND, k.get_ref(), d);
         }
@@ -678,7 +686,7 @@ fn orientation(
         for k in 0..4 {
             v[k] = cx.num(
                 &a[k],
-                &format!("euler_parameters[{k}]"),
+                format_args!("euler_parameters[{k}]"),
                 Quantity::Direction,
             )?;
         }
@@ -732,7 +740,7 @@ fn load_body(cx: &Ctx, b: &BodySection) -> Result<(Body, Features), Error> {
     let mut body = Body::new(name.clone());
     if let Some(m) = &b.mass {
         // Positive: checked by the builder (located here through its error's site).
-        let m_v = cx.num(m, &format!("mass of body \"{name}\""), Quantity::Mass)?;
+        let m_v = cx.num(m, format_args!("mass of body \"{name}\""), Quantity::Mass)?;
         body = body.mass(m_v);
     }
     if let Some(i) = &b.inertia {
@@ -745,7 +753,7 @@ fn load_body(cx: &Ctx, b: &BodySection) -> Result<(Body, Features), Error> {
             *v = cx.raw_num(
                 i.span(),
                 *v,
-                &format!("inertia of body \"{name}\""),
+                format_args!("inertia of body \"{name}\""),
                 Quantity::Inertia,
             )?;
         }
@@ -753,7 +761,11 @@ fn load_body(cx: &Ctx, b: &BodySection) -> Result<(Body, Features), Error> {
         body = body.inertia(j);
     }
     let position = match &b.position {
-        Some(p) => cx.vec3(p, &format!("position of body \"{name}\""), Quantity::Length)?,
+        Some(p) => cx.vec3(
+            p,
+            format_args!("position of body \"{name}\""),
+            Quantity::Length,
+        )?,
         None => Vector3::zeros(),
     };
     body = body.position(position);
@@ -790,7 +802,7 @@ fn load_body(cx: &Ctx, b: &BodySection) -> Result<(Body, Features), Error> {
     for (k, v) in &b.points {
         let p = cx.vec3(
             v,
-            &format!("point \"{}\" of body \"{name}\"", k.get_ref()),
+            format_args!("point \"{}\" of body \"{name}\"", k.get_ref()),
             Quantity::Length,
         )?;
         add("point", &mut f.points, k, p)?;
@@ -798,17 +810,23 @@ fn load_body(cx: &Ctx, b: &BodySection) -> Result<(Body, Features), Error> {
     for (k, v) in &b.global_points {
         let g = cx.vec3(
             v,
-            &format!("point \"{}\" of body \"{name}\"", k.get_ref()),
+            format_args!("point \"{}\" of body \"{name}\"", k.get_ref()),
             Quantity::Length,
         )?;
         add("point", &mut f.points, k, at * (g - position))?;
     }
     for (k, v) in &b.vectors {
-        let d = cx.direction(v, &format!("vector \"{}\" of body \"{name}\"", k.get_ref()))?;
+        let d = cx.direction(
+            v,
+            format_args!("vector \"{}\" of body \"{name}\"", k.get_ref()),
+        )?;
         add("vector", &mut f.vectors, k, d)?;
     }
     for (k, v) in &b.global_vectors {
-        let d = cx.direction(v, &format!("vector \"{}\" of body \"{name}\"", k.get_ref()))?;
+        let d = cx.direction(
+            v,
+            format_args!("vector \"{}\" of body \"{name}\"", k.get_ref()),
+        )?;
         add("vector", &mut f.vectors, k, at * d)?;
     }
     Ok((body, f))
@@ -926,14 +944,14 @@ fn load_joint(r: &Resolver, j: &JointSection) -> Result<JointSpec, Error> {
     }
     if let Some(l) = &j.length {
         // Whether the kind takes a length, and its sign: checked by the builder.
-        let v = cx.num(l, &format!("{owner} length"), Quantity::Length)?;
+        let v = cx.num(l, format_args!("{owner} length"), Quantity::Length)?;
         spec = spec.length(v);
     }
     if let Some(h) = &j.offset {
-        spec = spec.offset(cx.num(h, &format!("{owner} offset"), Quantity::Length)?);
+        spec = spec.offset(cx.num(h, format_args!("{owner} offset"), Quantity::Length)?);
     }
     if let Some(a) = &j.angle {
-        spec = spec.angle(cx.num(a, &format!("{owner} angle"), Quantity::Angle)?);
+        spec = spec.angle(cx.num(a, format_args!("{owner} angle"), Quantity::Angle)?);
     }
     Ok(spec)
 }
@@ -964,7 +982,7 @@ fn load_function(
     let span = f.span();
     let req = |v: &Option<Num>, key: &str| -> Result<f64, Error> {
         match v {
-            Some(n) => cx.num(n, &format!("{owner}: function {key}"), quantity(key)),
+            Some(n) => cx.num(n, format_args!("{owner}: function {key}"), quantity(key)),
             None => Err(missing(
                 cx,
                 span.clone(),
@@ -976,7 +994,7 @@ fn load_function(
     };
     let opt = |v: &Option<Num>, key: &str, d: f64| -> Result<f64, Error> {
         match v {
-            Some(n) => cx.num(n, &format!("{owner}: function {key}"), quantity(key)),
+            Some(n) => cx.num(n, format_args!("{owner}: function {key}"), quantity(key)),
             None => Ok(d),
         }
     };
@@ -987,7 +1005,11 @@ fn load_function(
                 .iter()
                 .enumerate()
                 .map(|(k, n)| {
-                    let v = cx.num(n, &format!("{owner}: function {key}[{k}]"), quantity(key))?;
+                    let v = cx.num(
+                        n,
+                        format_args!("{owner}: function {key}[{k}]"),
+                        quantity(key),
+                    )?;
                     // c_k has the unit of the value / s^k: converted as the value.
                     Ok(if key == "coefficients" {
                         v * cx.units.to_si(value_q)
@@ -1931,7 +1953,7 @@ fn body_velocity(cx: &Ctx, b: &BodySection) -> Result<Option<BodyVelocity>, Erro
     let velocity = match &b.velocity {
         Some(v) => cx.vec3(
             v,
-            &format!("velocity of body \"{name}\""),
+            format_args!("velocity of body \"{name}\""),
             Quantity::Velocity,
         )?,
         None => Vector3::zeros(),
@@ -1940,7 +1962,7 @@ fn body_velocity(cx: &Ctx, b: &BodySection) -> Result<Option<BodyVelocity>, Erro
         (Some(w), _) => (
             cx.vec3(
                 w,
-                &format!("angular_velocity of body \"{name}\""),
+                format_args!("angular_velocity of body \"{name}\""),
                 Quantity::AngularVelocity,
             )?,
             false,
@@ -1948,7 +1970,7 @@ fn body_velocity(cx: &Ctx, b: &BodySection) -> Result<Option<BodyVelocity>, Erro
         (None, Some(w)) => (
             cx.vec3(
                 w,
-                &format!("angular_velocity_local of body \"{name}\""),
+                format_args!("angular_velocity_local of body \"{name}\""),
                 Quantity::AngularVelocity,
             )?,
             true,
@@ -2047,7 +2069,7 @@ fn load_force(
         let unit = q.unit();
         match v {
             Some(n) => {
-                let x = cx.num(n, &format!("{owner}: {key}"), q)?;
+                let x = cx.num(n, format_args!("{owner}: {key}"), q)?;
                 if x < 0.0 {
                     return Err(cx.err(
                         n.span(),
@@ -2075,7 +2097,7 @@ fn load_force(
                 ));
             }
             let value = match (&f.value, &f.components) {
-                (Some(v), None) => VectorFunction::Constant(cx.vec3(v, &format!("{owner}: value"), value_q)?),
+                (Some(v), None) => VectorFunction::Constant(cx.vec3(v, format_args!("{owner}: value"), value_q)?),
                 (None, Some(c)) => {
                     let list_ = c.get_ref();
                     if list_.len() != 3 {
@@ -2221,7 +2243,7 @@ fn load_force(
             let stiffness = coefficient(&f.stiffness, "stiffness", Quantity::RotationalStiffness)?;
             let damping = coefficient(&f.damping, "damping", Quantity::RotationalDamping)?;
             let rest_angle = match &f.rest_angle {
-                Some(n) => cx.num(n, &format!("{owner}: rest_angle"), Quantity::Angle)?,
+                Some(n) => cx.num(n, format_args!("{owner}: rest_angle"), Quantity::Angle)?,
                 None => 0.0,
             };
             Ok(Force::rotational_spring_damper(

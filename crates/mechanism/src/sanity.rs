@@ -225,11 +225,7 @@ impl Quantity {
     ///
     /// # Errors
     /// The message, for the caller to wrap with the element and place.
-    pub fn check(self, what: &str, value: f64) -> Result<(), String> {
-        let unit = match self.unit() {
-            "" => String::new(),
-            u => format!(" {u}"),
-        };
+    pub fn check(self, what: impl std::fmt::Display, value: f64) -> Result<(), String> {
         if value.is_nan() {
             return Err(format!("{what} is NaN; a finite number is needed"));
         }
@@ -237,6 +233,10 @@ impl Quantity {
             return Err(format!("{what} is infinite; a finite number is needed"));
         }
         if value.abs() > self.limit() {
+            let unit = match self.unit() {
+                "" => String::new(),
+                u => format!(" {u}"),
+            };
             return Err(format!(
                 "{what} = {}{unit} is absurdly large for {} (limit {:e}{unit}; model \
                  values are in SI units); check the exponent and the unit",

@@ -59,7 +59,7 @@ pub(super) fn load_coupler(cx: &Ctx, c: &CouplerSection) -> Result<CouplerSpec, 
     };
     let number = |v: &Option<Num>, key: &str, q: Quantity, why: &str| -> Result<f64, Error> {
         match v {
-            Some(n) => cx.num(n, &format!("{owner} {key}"), q),
+            Some(n) => cx.num(n, format_args!("{owner} {key}"), q),
             None => Err(missing(cx, span.clone(), &owner, key, why)),
         }
     };
@@ -75,7 +75,7 @@ pub(super) fn load_coupler(cx: &Ctx, c: &CouplerSection) -> Result<CouplerSpec, 
                     ))
                 }
                 (_, _, Some(r)) => {
-                    GearRatio::Ratio(cx.num(r, &format!("{owner} ratio"), Quantity::Angle)?)
+                    GearRatio::Ratio(cx.num(r, format_args!("{owner} ratio"), Quantity::Angle)?)
                 }
                 _ => {
                     let why = "the pitch radii (or give ratio)";
@@ -139,7 +139,7 @@ pub(super) fn load_coupler(cx: &Ctx, c: &CouplerSection) -> Result<CouplerSpec, 
             } else {
                 Quantity::Length
             };
-            spec.constant(cx.num(n, &format!("{owner} constant"), q)?)
+            spec.constant(cx.num(n, format_args!("{owner} constant"), q)?)
         }
         None => spec,
     })

@@ -111,7 +111,7 @@ pub fn check_driver_values(src: &Source, loaded: &Loaded, times: &[f64]) -> Resu
             }
             let v = f.eval(t).0;
             q.check(
-                &format!("driver \"{name}\": at t = {} s its value", num(t)),
+                format_args!("driver \"{name}\": at t = {} s its value", num(t)),
                 v,
             )
             .map_err(located)?;

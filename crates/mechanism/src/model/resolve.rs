@@ -33,12 +33,16 @@ pub(super) struct Names<'a> {
 }
 
 impl<'a> Names<'a> {
-    pub(super) fn body(&self, element: &str, name: &str) -> Result<BodyId, ModelError> {
+    pub(super) fn body(
+        &self,
+        element: impl std::fmt::Display,
+        name: &str,
+    ) -> Result<BodyId, ModelError> {
         self.bodies
             .get(name)
             .copied()
             .ok_or_else(|| ModelError::UnknownBody {
-                element: element.into(),
+                element: element.to_string(),
                 name: name.into(),
                 suggestion: suggest(name, self.body_list.iter().copied()),
                 known: self.body_list.iter().map(|b| b.to_string()).collect(),
@@ -175,20 +179,20 @@ pub(super) fn features<'a>(
     ] {
         let what = if is_vec { "vector" } else { "point" };
         for f in list {
-            let el = format!("{what} \"{}\"", f.name);
-            let id = names.body(&el, &f.body)?;
+            let id = names.body(format_args!("{what} \"{}\"", f.name), &f.body)?;
             if f.name.is_empty() {
                 return Err(ModelError::EmptyName {
                     what: format!("a {what} on body \"{}\"", f.body),
                 });
             }
-            let el = format!("{what} \"{}\" on body \"{}\"", f.name, f.body);
             let q = if is_vec {
                 Quantity::Direction
             } else {
                 Quantity::Length
             };
-            check_numbers(&el, "components", q, f.value.as_slice())?;
+            // The element is named (formatted) only in an error.
+            let el = format_args!("{what} \"{}\" on body \"{}\"", f.name, f.body);
+            check_numbers(el, "components", q, f.value.as_slice())?;
             if is_vec && (f.value.amax() == 0.0 || !f.value.amax().is_normal()) {
                 return Err(ModelError::ZeroVector {
                     body: f.body.clone(),

@@ -33,21 +33,21 @@ pub(super) fn suggest<'a>(name: &str, candidates: impl Iterator<Item = &'a str>)
 
 /// A finite number within the SI magnitude limit of its quantity ([`crate::sanity`]).
 pub(super) fn check_number(
-    element: &str,
+    element: impl std::fmt::Display,
     what: &str,
     q: Quantity,
     v: f64,
 ) -> Result<(), ModelError> {
     if !v.is_finite() {
         return Err(ModelError::NotFinite {
-            element: element.into(),
+            element: element.to_string(),
             what: what.into(),
             value: v,
         });
     }
     if v.abs() > q.limit() {
         return Err(ModelError::Absurd {
-            element: element.into(),
+            element: element.to_string(),
             what: what.into(),
             value: v,
             limit: q.limit(),
@@ -58,13 +58,13 @@ pub(super) fn check_number(
 }
 
 pub(super) fn check_numbers(
-    element: &str,
+    element: impl std::fmt::Display,
     what: &str,
     q: Quantity,
     v: &[f64],
 ) -> Result<(), ModelError> {
     v.iter()
-        .try_for_each(|&x| check_number(element, what, q, x))
+        .try_for_each(|&x| check_number(&element, what, q, x))
 }
 
 pub(super) fn orientation_p(body: &str, o: &Orientation) -> Result<Vector4<f64>, ModelError> {
