@@ -1,5 +1,6 @@
 //! "No allocation per solve after setup": a counting global allocator wraps the system one, and
-//! repeated factor + solve and Newton-Raphson runs after warm-up must not allocate at all.
+//! repeated factor + solve and Newton-Raphson runs after warm-up must not allocate at all; the
+//! linear solvers' first factor + solve right after `analyze` must not either.
 //!
 //! The counter is process-wide, so this test runs without the libtest harness (`harness = false`
 //! in Cargo.toml): libtest's main thread, waiting for the test thread, allocated now and then
@@ -58,6 +59,28 @@ fn linear_solver_does_not_allocate(solver: &mut dyn LinearSolver, slots: &[f64],
     assert_eq!(count, 0, "{label}: {count} allocations in 100 factor+solve");
 }
 
+/// The first factorization and solve right after `analyze`, without warm-up: the storage sized
+/// at analysis (`SparseLu` presizes its factors with a random matrix of the pattern) must hold
+/// the real matrix's factors.
+fn first_factorization_does_not_allocate(
+    solver: &mut dyn LinearSolver,
+    slots: &[f64],
+    label: &str,
+) {
+    let b: Vec<f64> = (0..solver.nrows())
+        .map(|i| (i as f64 * 0.7).sin())
+        .collect();
+    let mut x = vec![0.0; solver.ncols()];
+    let count = allocations(|| {
+        solver.factor(slots).unwrap();
+        solver.solve(&b, &mut x).unwrap();
+    });
+    assert_eq!(
+        count, 0,
+        "{label}: {count} allocations in the first factor+solve"
+    );
+}
+
 fn main() {
     no_allocation_after_setup();
     println!("no_alloc: 1 passed, 0 failed");
@@ -66,16 +89,23 @@ fn main() {
 fn no_allocation_after_setup() {
     let mut rng = Rng(2024);
 
-    // Linear solvers on a ladder of closed loops (700 unknowns) and a chain.
+    // Linear solvers on a ladder of closed loops (700 unknowns) and a chain. faer allocates once
+    // per process in its first dense LU (a global it keeps), so one dense LU is factored first.
+    let (pattern, slots) = common::chain(10, &mut rng);
+    let mut dense = DenseLu::new();
+    dense.analyze(&pattern).unwrap();
+    dense.factor(&slots).unwrap();
     for (label, (pattern, slots)) in [
         ("ladder", common::ladder(100, &mut rng)),
         ("chain", common::chain(60, &mut rng)),
     ] {
         let mut sparse = SparseLu::new();
         sparse.analyze(&pattern).unwrap();
+        first_factorization_does_not_allocate(&mut sparse, &slots, &format!("sparse LU, {label}"));
         linear_solver_does_not_allocate(&mut sparse, &slots, &format!("sparse LU, {label}"));
         let mut dense = DenseLu::new();
         dense.analyze(&pattern).unwrap();
+        first_factorization_does_not_allocate(&mut dense, &slots, &format!("dense LU, {label}"));
         linear_solver_does_not_allocate(&mut dense, &slots, &format!("dense LU, {label}"));
     }
 
