@@ -8,36 +8,42 @@
 /// of its index (x solid, y dashed, z dotted; e0..e3 likewise).
 const COMPONENTS: [[&str; 4]; 2] = [["x", "y", "z", ""], ["e0", "e1", "e2", "e3"]];
 
-/// A parsed column header.
+/// A parsed column header: slices of the header's text (a large model's tables have 10⁵
+/// columns, each parsed for the plots).
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Header {
+pub struct Header<'a> {
     /// The name without the unit, e.g. `crank_pin.ground.F.x`.
-    pub label: String,
+    pub label: &'a str,
     /// The unit inside the trailing brackets (empty without brackets), e.g. `N m`.
-    pub unit: String,
+    pub unit: &'a str,
     /// The first segment: the joint, body or quantity the column belongs to.
-    pub element: String,
+    pub element: &'a str,
     /// What keeps one colour across panels: the body of a reaction (the second segment when
     /// there are at least three besides the component), else the element.
-    pub colour_key: String,
+    pub colour_key: &'a str,
     /// The dash index of the component (0 without one).
     pub dash: usize,
 }
 
-impl Header {
+impl<'a> Header<'a> {
     /// Parses a header; any text is accepted.
-    pub fn parse(text: &str) -> Self {
+    pub fn parse(text: &'a str) -> Self {
         let (label, unit) = split_unit(text);
-        let mut segs: Vec<&str> = label.split('.').collect();
-        let dash = component(&segs);
-        if dash.is_some() {
-            segs.pop();
-        }
-        let element = segs.first().copied().unwrap_or_default().to_string();
-        let colour_key = if segs.len() >= 3 { segs[1] } else { &element }.to_string();
+        let mut segs = label.split('.');
+        let element = segs.next().unwrap_or_default();
+        let second = segs.next();
+        let last = label.rsplit('.').next().unwrap_or_default();
+        let count = 2 + segs.count() - usize::from(second.is_none());
+        let dash = component(last, count);
+        // Segments besides the component.
+        let kept = count - usize::from(dash.is_some());
+        let colour_key = match second {
+            Some(s) if kept >= 3 => s,
+            _ => element,
+        };
         Self {
-            label: label.to_string(),
-            unit: unit.to_string(),
+            label,
+            unit,
             element,
             colour_key,
             dash: dash.unwrap_or(0),
@@ -54,10 +60,10 @@ fn split_unit(text: &str) -> (&str, &str) {
     (t, "")
 }
 
-/// The dash index of the last segment when it is a vector component (and not the only segment).
-fn component(segs: &[&str]) -> Option<usize> {
-    let last = *segs.last()?;
-    if segs.len() < 2 || last.is_empty() {
+/// The dash index of the last of `count` segments when it is a vector component (and not the
+/// only segment).
+fn component(last: &str, count: usize) -> Option<usize> {
+    if count < 2 || last.is_empty() {
         return None;
     }
     COMPONENTS
@@ -94,23 +100,28 @@ mod tests {
     #[test]
     fn headers_name_unit_element_colour_and_dash() {
         let h = Header::parse("crank_pin.ground.T.z [N m]");
+        assert_eq!((h.label, h.unit), ("crank_pin.ground.T.z", "N m"));
         assert_eq!(
-            (h.label.as_str(), h.unit.as_str()),
-            ("crank_pin.ground.T.z", "N m")
-        );
-        assert_eq!(
-            (h.element.as_str(), h.colour_key.as_str(), h.dash),
+            (h.element, h.colour_key, h.dash),
             ("crank_pin", "ground", 2)
         );
         let h = Header::parse("crank.p.e3 [-]");
-        assert_eq!(
-            (h.element.as_str(), h.colour_key.as_str(), h.dash),
-            ("crank", "crank", 3)
-        );
+        assert_eq!((h.element, h.colour_key, h.dash), ("crank", "crank", 3));
         let h = Header::parse("slide.slide [m]");
-        assert_eq!((h.colour_key.as_str(), h.dash), ("slide", 0));
+        assert_eq!((h.colour_key, h.dash), ("slide", 0));
+        // A component needs a segment before it; three segments besides it name the body.
         let h = Header::parse("x");
-        assert_eq!((h.element.as_str(), h.unit.as_str(), h.dash), ("x", "", 0));
+        assert_eq!((h.element, h.unit, h.dash), ("x", "", 0));
+        let h = Header::parse("b.x [m]");
+        assert_eq!((h.element, h.colour_key, h.dash), ("b", "b", 0));
+        let h = Header::parse("j.b.F [N]");
+        assert_eq!((h.element, h.colour_key, h.dash), ("j", "b", 0));
+        let h = Header::parse("j.b.y [m]");
+        assert_eq!((h.element, h.colour_key, h.dash), ("j", "j", 1));
+        let h = Header::parse("a..z [m]");
+        assert_eq!((h.element, h.colour_key, h.dash), ("a", "a", 2));
+        let h = Header::parse("a.b. [m]");
+        assert_eq!((h.element, h.colour_key, h.dash), ("a", "b", 0));
         assert_eq!(Header::parse("").element, "");
         assert_eq!(Header::parse("a.b [").unit, "");
     }

@@ -128,11 +128,11 @@ fn flatten_round_off(panels: &mut [Panel]) {
 }
 
 /// The colour of each key of the table: its index in order of first appearance.
-fn colour_keys(headers: &[Header]) -> HashMap<&str, usize> {
+fn colour_keys<'a>(headers: &[Header<'a>]) -> HashMap<&'a str, usize> {
     let mut keys: HashMap<&str, usize> = HashMap::new();
     for h in headers {
         let next = keys.len();
-        keys.entry(h.colour_key.as_str()).or_insert(next);
+        keys.entry(h.colour_key).or_insert(next);
     }
     keys
 }
@@ -170,9 +170,9 @@ fn panel(
         .iter()
         .map(|&c| {
             let h = &headers[c];
-            let colour = keys.get(h.colour_key.as_str()).copied().unwrap_or(0);
+            let colour = keys.get(h.colour_key).copied().unwrap_or(0);
             Series {
-                label: legend_label(&h.label, single),
+                label: legend_label(h.label, single),
                 style: Style {
                     colour,
                     dash: h.dash,

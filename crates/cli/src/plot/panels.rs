@@ -33,17 +33,15 @@ pub fn panels(headers: &[Header]) -> Vec<PanelSpec> {
     let mut unit_at: HashMap<&str, usize> = HashMap::new();
     let mut group_at: HashMap<(&str, &str), usize> = HashMap::new();
     for (k, h) in headers.iter().enumerate() {
-        let u = *unit_at.entry(h.unit.as_str()).or_insert_with(|| {
-            units.push((h.unit.as_str(), Vec::new()));
+        let u = *unit_at.entry(h.unit).or_insert_with(|| {
+            units.push((h.unit, Vec::new()));
             units.len() - 1
         });
         let groups = &mut units[u].1;
-        let g = *group_at
-            .entry((h.unit.as_str(), h.element.as_str()))
-            .or_insert_with(|| {
-                groups.push((h.element.as_str(), Vec::new()));
-                groups.len() - 1
-            });
+        let g = *group_at.entry((h.unit, h.element)).or_insert_with(|| {
+            groups.push((h.element, Vec::new()));
+            groups.len() - 1
+        });
         groups[g].1.push(k);
     }
     let mut out = Vec::new();
