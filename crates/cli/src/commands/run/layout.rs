@@ -109,6 +109,23 @@ pub struct Layout {
 
 const XYZ: [&str; 3] = ["x", "y", "z"];
 
+/// The header `a.b.c [unit]` of a column: its dotted `parts`, then the pieces of its unit. Built
+/// directly rather than through `format!`: a large model's tables have 10⁵ columns.
+fn header(parts: &[&str], unit: &[&str]) -> String {
+    let len: usize = parts.iter().chain(unit).map(|p| p.len() + 1).sum();
+    let mut s = String::with_capacity(len + 2);
+    for (k, p) in parts.iter().enumerate() {
+        if k > 0 {
+            s.push('.');
+        }
+        s.push_str(p);
+    }
+    s.push_str(" [");
+    unit.iter().for_each(|u| s.push_str(u));
+    s.push(']');
+    s
+}
+
 impl Layout {
     /// The groups `req` asks for, with the histories of `r` (any number of frames: only the
     /// names are read).
@@ -179,10 +196,7 @@ fn point_groups(r: &Results, req: &Requested, groups: &mut Vec<Group>) {
             if let Some(&i) = index.get(&(b.as_str(), pt.as_str())) {
                 for (c, ax) in XYZ.iter().enumerate() {
                     let which = which as u8;
-                    g.column(
-                        format!("{b}.{pt}.{ax} [{unit}]"),
-                        Source::Point { i, which, c },
-                    );
+                    g.column(header(&[b, pt, ax], &[unit]), Source::Point { i, which, c });
                 }
             }
         }
@@ -215,7 +229,7 @@ fn joint_groups(r: &Results, req: &Requested, groups: &mut Vec<Group>) {
                 let unit = c.measure.quantity().unit();
                 let which = which as u8;
                 g.column(
-                    format!("{}.{} [{unit}{per}]", h.name, c.name),
+                    header(&[&h.name, &c.name], &[unit, per]),
                     Source::Joint { i, which, q },
                 );
             }
@@ -237,10 +251,10 @@ fn body_groups(r: &Results, req: &Requested, groups: &mut Vec<Group>) {
         let name = &r.bodies[i].name;
         for (c, ax) in XYZ.iter().enumerate() {
             let vec = BodyVec::R;
-            g.column(format!("{name}.r.{ax} [m]"), Source::Body { i, vec, c });
+            g.column(header(&[name, "r", ax], &["m"]), Source::Body { i, vec, c });
         }
         for (c, e) in ["e0", "e1", "e2", "e3"].iter().enumerate() {
-            g.column(format!("{name}.p.{e} [-]"), Source::Euler { i, c });
+            g.column(header(&[name, "p", e], &["-"]), Source::Euler { i, c });
         }
     }
     groups.push(g);
@@ -265,7 +279,7 @@ fn body_groups(r: &Results, req: &Requested, groups: &mut Vec<Group>) {
             for (label, unit, vec) in [first, second] {
                 for (c, ax) in XYZ.iter().enumerate() {
                     g.column(
-                        format!("{body}.{label}.{ax} [{unit}]"),
+                        header(&[body, label, ax], &[unit]),
                         Source::Body { i, vec, c },
                     );
                 }
