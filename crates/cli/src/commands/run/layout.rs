@@ -229,7 +229,7 @@ fn joint_groups(r: &Results, req: &Requested, groups: &mut Vec<Group>) {
                 let unit = c.measure.quantity().unit();
                 let which = which as u8;
                 g.column(
-                    header(&[&h.name, &c.name], &[unit, per]),
+                    header(&[&h.name, c.name], &[unit, per]),
                     Source::Joint { i, which, q },
                 );
             }
