@@ -60,7 +60,7 @@ mod tests {
                 }
                 expected.push(char::from(super::ALPHABET[v]));
             }
-            while expected.len() % 4 != 0 {
+            while !expected.len().is_multiple_of(4) {
                 expected.push('=');
             }
             let mut s = String::from("prefix:");
