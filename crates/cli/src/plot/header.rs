@@ -105,23 +105,26 @@ mod tests {
             (h.element, h.colour_key, h.dash),
             ("crank_pin", "ground", 2)
         );
-        let h = Header::parse("crank.p.e3 [-]");
-        assert_eq!((h.element, h.colour_key, h.dash), ("crank", "crank", 3));
-        let h = Header::parse("slide.slide [m]");
-        assert_eq!((h.colour_key, h.dash), ("slide", 0));
-        // A component needs a segment before it; three segments besides it name the body.
-        let h = Header::parse("x");
-        assert_eq!((h.element, h.unit, h.dash), ("x", "", 0));
-        let h = Header::parse("b.x [m]");
-        assert_eq!((h.element, h.colour_key, h.dash), ("b", "b", 0));
-        let h = Header::parse("j.b.F [N]");
-        assert_eq!((h.element, h.colour_key, h.dash), ("j", "b", 0));
-        let h = Header::parse("j.b.y [m]");
-        assert_eq!((h.element, h.colour_key, h.dash), ("j", "j", 1));
-        let h = Header::parse("a..z [m]");
-        assert_eq!((h.element, h.colour_key, h.dash), ("a", "a", 2));
-        let h = Header::parse("a.b. [m]");
-        assert_eq!((h.element, h.colour_key, h.dash), ("a", "b", 0));
+        // (header, element, colour key, dash). A component needs a segment before it; three
+        // segments besides the component name the body as the colour key.
+        for (text, element, colour, dash) in [
+            ("crank.p.e3 [-]", "crank", "crank", 3),
+            ("slide.slide [m]", "slide", "slide", 0),
+            ("x", "x", "x", 0),
+            ("b.x [m]", "b", "b", 0),
+            ("j.b.F [N]", "j", "b", 0),
+            ("j.b.y [m]", "j", "j", 1),
+            ("a..z [m]", "a", "a", 2),
+            ("a.b. [m]", "a", "b", 0),
+        ] {
+            let h = Header::parse(text);
+            assert_eq!(
+                (h.element, h.colour_key, h.dash),
+                (element, colour, dash),
+                "{text}"
+            );
+        }
+        assert_eq!(Header::parse("x").unit, "");
         assert_eq!(Header::parse("").element, "");
         assert_eq!(Header::parse("a.b [").unit, "");
     }
