@@ -33,7 +33,7 @@ impl<'a> Header<'a> {
         let element = segs.next().unwrap_or_default();
         let second = segs.next();
         let last = label.rsplit('.').next().unwrap_or_default();
-        let count = 2 + segs.count() - usize::from(second.is_none());
+        let count = label.matches('.').count() + 1;
         let dash = component(last, count);
         // Segments besides the component.
         let kept = count - usize::from(dash.is_some());
