@@ -26,7 +26,9 @@
 //!   names).
 //! - [`toml_out`]: [`Import`] → a cardan model file (TOML) with comments tracing each element.
 //! - [`solved`]: cardan results → an OndselSolver `TimeSeries` (part-frame origin, Bryant angles,
-//!   velocities, accelerations).
+//!   velocities, accelerations), whole or frame by frame ([`solved::SeriesPlan`]).
+//! - [`transpose`]: frames in, rows out, spilled to a file in blocks: the `TimeSeries` of a
+//!   run longer than memory.
 //!
 //! The format and OndselSolver's behaviour are described in `docs/asmt.md`.
 //! Bad input never panics: every problem is an [`AsmtError`] with the file line.
@@ -38,6 +40,7 @@ pub mod import;
 pub mod series;
 pub mod solved;
 pub mod toml_out;
+pub mod transpose;
 pub mod tree;
 
 pub use document::{read, read_model, Document};

@@ -76,33 +76,75 @@ impl TimeSeries {
 
     /// Writes the block (from the `TimeSeries` line) in the C++ writer's layout, full precision.
     pub fn write(&self, out: &mut String) {
-        use std::fmt::Write as _;
-        let mut buf = ryu::Buffer::new();
-        let mut number = |out: &mut String, v: f64| {
-            out.push('\t');
-            out.push_str(buf.format(v));
-        };
-        out.push_str("TimeSeries\nNumber\tInput");
-        for k in 1..=self.times.len() {
-            let _ = write!(out, "\t{k}");
-        }
-        out.push_str("\t\nTime\tInput");
-        for t in &self.times {
-            number(out, *t);
-        }
-        out.push_str("\t\n");
-        for item in &self.items {
-            let _ = writeln!(out, "{}\t{}", item.kind, item.path);
-            for r in &item.rows {
-                out.push_str(&r.label);
-                number(out, r.input);
-                for v in &r.values {
-                    number(out, *v);
-                }
-                out.push_str("\t\n");
-            }
+        let rows: Vec<&[f64]> = (self.items.iter())
+            .flat_map(|i| i.rows.iter().map(|r| r.values.as_slice()))
+            .collect();
+        let mut text = Vec::new();
+        let written = write_block(&mut text, self.times.len(), &self.items, &mut |i, emit| {
+            emit(if i == 0 { &self.times } else { rows[i - 1] })
+        });
+        // Writing to memory cannot fail, and every byte written is ASCII or the items' text.
+        if written.is_ok() {
+            out.push_str(&String::from_utf8_lossy(&text));
         }
     }
+}
+
+/// Passes row i's values of a block (0: the times; then the items' rows in order) to `emit`,
+/// in time order, in one or more pieces.
+pub type RowValues<'a> =
+    dyn FnMut(usize, &mut dyn FnMut(&[f64]) -> std::io::Result<()>) -> std::io::Result<()> + 'a;
+
+/// Writes a `TimeSeries` block (from the `TimeSeries` line) of `times` times in the C++
+/// writer's layout, full precision: the items' kinds, paths, row labels and inputs from `items`
+/// (their rows' values are not read), the values from `values`, one row at a time, so that a
+/// block larger than memory can be written from a [`crate::transpose::Transposer`].
+///
+/// # Errors
+/// A write error of `out` or an error of `values`.
+pub fn write_block(
+    out: &mut dyn std::io::Write,
+    times: usize,
+    items: &[Item],
+    values: &mut RowValues<'_>,
+) -> std::io::Result<()> {
+    use std::fmt::Write as _;
+    let mut text = String::with_capacity(1 << 16);
+    let mut buf = ryu::Buffer::new();
+    let mut numbers = |text: &mut String, out: &mut dyn std::io::Write, v: &[f64]| {
+        for &x in v {
+            text.push('\t');
+            text.push_str(buf.format(x));
+            if text.len() >= 1 << 16 {
+                out.write_all(text.as_bytes())?;
+                text.clear();
+            }
+        }
+        Ok::<(), std::io::Error>(())
+    };
+    text.push_str("TimeSeries\nNumber\tInput");
+    for k in 1..=times {
+        let _ = write!(text, "\t{k}");
+        if text.len() >= 1 << 16 {
+            out.write_all(text.as_bytes())?;
+            text.clear();
+        }
+    }
+    text.push_str("\t\nTime\tInput");
+    values(0, &mut |v| numbers(&mut text, out, v))?;
+    text.push_str("\t\n");
+    let mut i = 0;
+    for item in items {
+        let _ = writeln!(text, "{}\t{}", item.kind, item.path);
+        for r in &item.rows {
+            i += 1;
+            text.push_str(&r.label);
+            numbers(&mut text, out, &[r.input])?;
+            values(i, &mut |v| numbers(&mut text, out, v))?;
+            text.push_str("\t\n");
+        }
+    }
+    out.write_all(text.as_bytes())
 }
 
 /// Parses the lines after `TimeSeries` (`line` is that label's line).

@@ -23,11 +23,11 @@
 //! (only the efforts about the axes are physical; the gears' joint series carry the rest).
 
 use crate::document::Document;
-use crate::import::Import;
+use crate::import::{BodyMap, Import};
 use crate::series::REACTION_ROWS;
 use crate::series::{Item, Row, TimeSeries, PART_ROWS};
 use cardan_dynamics::{DynamicResults, JointReactions};
-use cardan_mechanism::{Results, GROUND};
+use cardan_mechanism::{BodyResults, Results, GROUND};
 use nalgebra::{Matrix3, Vector3};
 
 /// Bryant angles (x-y-z) of a rotation matrix, exact (no clamping near b_y = ±π/2):
@@ -59,118 +59,259 @@ fn part_values(
     ]
 }
 
-/// The TimeSeries of a kinematic run: the assembly (zeros) and every part.
-pub fn time_series(doc: &Document, import: &Import, results: &Results) -> TimeSeries {
-    let n = results.times.len();
-    let mut items = vec![Item {
-        kind: "AssemblySeries".into(),
-        path: format!("/{}", doc.name),
-        line: 0,
-        rows: PART_ROWS
-            .iter()
-            .map(|l| Row {
-                label: (*l).into(),
-                input: 0.0,
-                values: vec![0.0; n],
-            })
-            .collect(),
-    }];
-    for (part, map) in doc.parts.iter().zip(&import.bodies) {
-        let Some(body) = results.body(&map.body.name) else {
-            continue;
+/// The rows that carry one length (X Y Z, VX VY VZ, AX AY AZ of every part and of the
+/// assembly, and the reaction torques TXonI TYonI TZonI; angles, angular rates and forces carry
+/// none): [`SeriesPlan::new`]'s `length_factor` scales them, e.g. 1000 to write a series
+/// computed in SI into a file in millimetres.
+const LENGTHS: [&str; 12] = [
+    "X", "Y", "Z", "VX", "VY", "VZ", "AX", "AY", "AZ", "TXonI", "TYonI", "TZonI",
+];
+
+/// Where an item's values come from.
+enum Source {
+    /// The assembly: zeros.
+    Ground,
+    /// A part: body `body` of the results, through the part frame of `map`.
+    Part { body: usize, map: Box<BodyMap> },
+    /// A joint or motion: the sum of the wrenches on body i of the reactions `joints` and the
+    /// driver rows `drivers`, the torque moved to MarkerI's origin: T_m = T_P + (A_i o) × F,
+    /// o = r_P − r_m in body i's frame; `body`: body i in the results (`None`: ground).
+    Wrench {
+        joints: Vec<usize>,
+        drivers: Vec<usize>,
+        body: Option<usize>,
+        offset: Vector3<f64>,
+    },
+}
+
+/// A solved `TimeSeries` before its values: the items (kinds, paths, row labels and inputs;
+/// the rows' values empty) and how to compute every row at any time of a run's results, so
+/// that the series can be built whole ([`SeriesPlan::series`]) or frame by frame as a run
+/// streams ([`SeriesPlan::frame`]).
+pub struct SeriesPlan {
+    items: Vec<Item>,
+    sources: Vec<Source>,
+    /// Per data row: the factor of its values and input (`length_factor` or 1).
+    factors: Vec<f64>,
+}
+
+impl SeriesPlan {
+    /// The series of `doc` imported as `import` for results laid out as `results` (any frame
+    /// of the run): the assembly and every part; with `dynamics` (a dynamic or inverse dynamics
+    /// run), also the reactions of every joint and motion ([`reaction_sources`]). Lengths are
+    /// multiplied by `length_factor` ([`LENGTHS`]).
+    pub fn new(
+        doc: &Document,
+        import: &Import,
+        results: &Results,
+        dynamics: Option<&DynamicResults>,
+        length_factor: f64,
+    ) -> Self {
+        let rows = |labels: &[&str], inputs: &[f64]| -> Vec<Row> {
+            (labels.iter().zip(inputs))
+                .map(|(l, &input)| Row {
+                    label: (*l).into(),
+                    input,
+                    values: Vec::new(),
+                })
+                .collect()
         };
-        let input_frame = doc.frame.then(&part.frame);
-        let input = part_values(
-            input_frame.position,
-            &input_frame.rotation,
-            part.velocity,
-            part.omega,
-            Vector3::zeros(),
-            Vector3::zeros(),
-        );
-        let mut rows: Vec<Row> = PART_ROWS
-            .iter()
-            .zip(input)
-            .map(|(l, i)| Row {
-                label: (*l).into(),
-                input: i,
-                values: Vec::with_capacity(n),
-            })
-            .collect();
-        for k in 0..n {
-            let a_cm = cardan_eulerparam::a(&body.p[k]);
-            let f = map.part_frame(&body.r[k], &a_cm);
-            let s = f.position - body.r[k];
-            let pick = |v: &Vec<Vector3<f64>>| v.get(k).copied().unwrap_or_else(Vector3::zeros);
-            let (w, al) = (pick(&body.omega), pick(&body.omega_dot));
-            let vel = pick(&body.r_dot) + w.cross(&s);
-            let acc = pick(&body.r_ddot) + al.cross(&s) + w.cross(&w.cross(&s));
-            for (row, x) in
-                rows.iter_mut()
-                    .zip(part_values(f.position, &f.rotation, vel, w, acc, al))
-            {
-                row.values.push(x);
+        let mut items = vec![Item {
+            kind: "AssemblySeries".into(),
+            path: format!("/{}", doc.name),
+            line: 0,
+            rows: rows(&PART_ROWS, &[0.0; 18]),
+        }];
+        let mut sources = vec![Source::Ground];
+        for (part, map) in doc.parts.iter().zip(&import.bodies) {
+            let Some(body) = body_index(results, &map.body.name) else {
+                continue;
+            };
+            let input_frame = doc.frame.then(&part.frame);
+            let input = part_values(
+                input_frame.position,
+                &input_frame.rotation,
+                part.velocity,
+                part.omega,
+                Vector3::zeros(),
+                Vector3::zeros(),
+            );
+            items.push(Item {
+                kind: "PartSeries".into(),
+                path: map.path.clone(),
+                line: 0,
+                rows: rows(&PART_ROWS, &input),
+            });
+            sources.push(Source::Part {
+                body,
+                map: Box::new(map.clone()),
+            });
+        }
+        if let Some(d) = dynamics {
+            for (kind, path, source) in reaction_sources(doc, import, d) {
+                items.push(Item {
+                    kind,
+                    path,
+                    line: 0,
+                    rows: rows(&REACTION_ROWS, &[0.0; 6]),
+                });
+                sources.push(source);
             }
         }
-        items.push(Item {
-            kind: "PartSeries".into(),
-            path: map.path.clone(),
-            line: 0,
-            rows,
-        });
+        let factors: Vec<f64> = (items.iter().flat_map(|i| &i.rows))
+            .map(|r| match LENGTHS.contains(&r.label.as_str()) {
+                true => length_factor,
+                false => 1.0,
+            })
+            .collect();
+        let mut row = factors.iter();
+        for r in items.iter_mut().flat_map(|i| i.rows.iter_mut()) {
+            r.input *= row.next().copied().unwrap_or(1.0);
+        }
+        Self {
+            items,
+            sources,
+            factors,
+        }
     }
-    TimeSeries {
-        times: results.times.clone(),
-        items,
+
+    /// The items: kinds, paths, row labels and inputs (no values).
+    pub fn items(&self) -> &[Item] {
+        &self.items
+    }
+
+    /// Data rows (all items').
+    pub fn rows(&self) -> usize {
+        self.factors.len()
+    }
+
+    /// Appends every row's value at frame `k` of `results` (with `dynamics`, its reactions;
+    /// `results` is then `dynamics.kinematics`) to `out`, in item order.
+    pub fn frame(
+        &self,
+        results: &Results,
+        dynamics: Option<&DynamicResults>,
+        k: usize,
+        out: &mut Vec<f64>,
+    ) {
+        let first = out.len();
+        for source in &self.sources {
+            match source {
+                Source::Ground => out.extend([0.0; 18]),
+                Source::Part { body, map } => {
+                    out.extend(part_at(&results.bodies[*body], map, k));
+                }
+                Source::Wrench { .. } => out.extend(wrench_at(source, results, dynamics, k)),
+            }
+        }
+        for (v, f) in out[first..].iter_mut().zip(&self.factors) {
+            *v *= f;
+        }
+    }
+
+    /// The whole series of a run's results (every frame).
+    pub fn series(&self, results: &Results, dynamics: Option<&DynamicResults>) -> TimeSeries {
+        let n = results.times.len();
+        let mut items = self.items.clone();
+        for r in items.iter_mut().flat_map(|i| i.rows.iter_mut()) {
+            r.values.reserve_exact(n);
+        }
+        let mut values = Vec::with_capacity(self.rows());
+        for k in 0..n {
+            values.clear();
+            self.frame(results, dynamics, k, &mut values);
+            let rows = items.iter_mut().flat_map(|i| i.rows.iter_mut());
+            for (row, &v) in rows.zip(&values) {
+                row.values.push(v);
+            }
+        }
+        TimeSeries {
+            times: results.times.clone(),
+            items,
+        }
     }
 }
 
-/// Scales the rows of `series` that carry one length (X Y Z, VX VY VZ, AX AY AZ of every part and
-/// of the assembly, and the reaction torques TXonI TYonI TZonI; angles, angular rates and forces
-/// carry none) by `factor`: e.g. 1000 to write a series
-/// computed in SI into a file in millimetres.
-pub fn scale_lengths(series: &mut TimeSeries, factor: f64) {
-    const LENGTHS: [&str; 12] = [
-        "X", "Y", "Z", "VX", "VY", "VZ", "AX", "AY", "AZ", "TXonI", "TYonI", "TZonI",
-    ];
-    for row in series
-        .items
-        .iter_mut()
-        .flat_map(|i| i.rows.iter_mut())
-        .filter(|r| LENGTHS.contains(&r.label.as_str()))
-    {
-        row.input *= factor;
-        row.values.iter_mut().for_each(|v| *v *= factor);
-    }
+/// The index of body `name` in the results.
+fn body_index(results: &Results, name: &str) -> Option<usize> {
+    results.bodies.iter().position(|b| b.name == name)
 }
 
-/// Appends to `series` the reaction series of every joint and motion of `doc` (file order:
-/// joints, then motions) computed by a dynamic or inverse dynamics run (`dynamics`, on the
-/// same output times as `series`). Elements without reactions (couplers, elements cardan does not
-/// have) are left out.
-pub fn add_reactions(
-    series: &mut TimeSeries,
+/// A part's 18 values at frame k: its part frame's origin P and Bryant angles, v_P, ω, a_P, α
+/// (module docs).
+fn part_at(body: &BodyResults, map: &BodyMap, k: usize) -> [f64; 18] {
+    let a_cm = cardan_eulerparam::a(&body.p[k]);
+    let f = map.part_frame(&body.r[k], &a_cm);
+    let s = f.position - body.r[k];
+    let pick = |v: &Vec<Vector3<f64>>| v.get(k).copied().unwrap_or_else(Vector3::zeros);
+    let (w, al) = (pick(&body.omega), pick(&body.omega_dot));
+    let vel = pick(&body.r_dot) + w.cross(&s);
+    let acc = pick(&body.r_ddot) + al.cross(&s) + w.cross(&w.cross(&s));
+    part_values(f.position, &f.rotation, vel, w, acc, al)
+}
+
+/// The 6 values of a [`Source::Wrench`] at frame k (zeros without `dynamics`).
+fn wrench_at(
+    source: &Source,
+    results: &Results,
+    dynamics: Option<&DynamicResults>,
+    k: usize,
+) -> [f64; 6] {
+    let (
+        Source::Wrench {
+            joints,
+            drivers,
+            body,
+            offset,
+        },
+        Some(d),
+    ) = (source, dynamics)
+    else {
+        return [0.0; 6];
+    };
+    let mut on_i = (joints.iter().map(|&j| &d.reactions[j].on_i[k]))
+        .chain(drivers.iter().map(|&i| &d.drivers[i].reactions.on_i[k]));
+    let Some(first) = on_i.next() else {
+        return [0.0; 6];
+    };
+    let (mut force, mut torque) = (first.force, first.torque);
+    for w in on_i {
+        force += w.force;
+        torque += w.torque;
+    }
+    let a = body.map_or_else(Matrix3::identity, |b| {
+        cardan_eulerparam::a(&results.bodies[b].p[k])
+    });
+    let torque = torque + (a * offset).cross(&force);
+    [force.x, force.y, force.z, torque.x, torque.y, torque.z]
+}
+
+/// The series of a kinematic run: the assembly (zeros) and every part.
+pub fn time_series(doc: &Document, import: &Import, results: &Results) -> TimeSeries {
+    SeriesPlan::new(doc, import, results, None, 1.0).series(results, None)
+}
+
+/// The reaction items of every joint and motion of `doc` (file order: joints, then motions)
+/// that `dynamics` has reactions of: kind, path and source. Elements without reactions
+/// (couplers, elements cardan does not have) are left out.
+fn reaction_sources(
     doc: &Document,
     import: &Import,
     dynamics: &DynamicResults,
-) {
+) -> Vec<(String, String, Source)> {
     let path = |name: &str| format!("/{}/{name}", doc.name);
+    let mut out = Vec::new();
     for j in &doc.joints {
         let p = path(&j.name);
         let Some(el) = import.joints.iter().find(|e| e.path == p) else {
             continue;
         };
-        let Some(r) = dynamics.reactions.iter().find(|r| r.name == el.spec.name) else {
+        let Some(i) = (dynamics.reactions.iter()).position(|r| r.name == el.spec.name) else {
             continue;
         };
-        series.items.push(reaction_item(
-            format!("{}Series", j.kind),
-            p,
-            import,
-            dynamics,
-            r,
-            &el.spec.point_i,
-        ));
+        let r = &dynamics.reactions[i];
+        let source = wrench(import, dynamics, r, &el.spec.point_i, vec![i], Vec::new());
+        out.push((format!("{}Series", j.kind), p, source));
     }
     for m in &doc.motions {
         let p = path(&m.name);
@@ -180,21 +321,13 @@ pub fn add_reactions(
         // A general motion is six driver rows (`<name>.x`, …): their wrenches add up.
         let name = &el.spec.name;
         let prefix = format!("{name}.");
-        let mut rows = dynamics
-            .drivers
-            .iter()
-            .filter(|d| &d.name == name || d.name.starts_with(&prefix))
-            .map(|d| &d.reactions);
-        let Some(first) = rows.next() else {
+        let rows: Vec<usize> = (dynamics.drivers.iter().enumerate())
+            .filter(|(_, d)| &d.name == name || d.name.starts_with(&prefix))
+            .map(|(i, _)| i)
+            .collect();
+        let Some(&first) = rows.first() else {
             continue;
         };
-        let mut total = first.clone();
-        for r in rows {
-            for (sum, w) in total.on_i.iter_mut().zip(&r.on_i) {
-                sum.force += w.force;
-                sum.torque += w.torque;
-            }
-        }
         // MarkerI of a motion is its joint's MarkerI (checked by the import), or the pose
         // driver's point i.
         let point_i = match &el.spec.target {
@@ -215,15 +348,11 @@ pub fn add_reactions(
             crate::document::MotionKind::Translational => "TranslationalMotionSeries",
             crate::document::MotionKind::General => "GeneralMotionSeries",
         };
-        series.items.push(reaction_item(
-            kind.into(),
-            p,
-            import,
-            dynamics,
-            &total,
-            &point_i,
-        ));
+        let r = &dynamics.drivers[first].reactions;
+        let source = wrench(import, dynamics, r, &point_i, Vec::new(), rows);
+        out.push((kind.into(), p, source));
     }
+    out
 }
 
 /// The local coordinates of point `name` of `body`: a named point, `origin` (the body frame's
@@ -247,24 +376,16 @@ fn local_point(import: &Import, body: &str, name: &str) -> Vector3<f64> {
     }
 }
 
-/// The 6 rows of one joint or motion: the wrench on body i about its point `marker_i`.
-fn reaction_item(
-    kind: String,
-    path: String,
+/// The source of a joint's or motion's 6 rows: the wrench of the reactions `joints` and driver
+/// rows `drivers` on body i (`r`'s, about its point P_i) moved to MarkerI's origin `marker_i`.
+fn wrench(
     import: &Import,
     dynamics: &DynamicResults,
     r: &JointReactions,
     marker_i: &str,
-) -> Item {
-    let n = r.on_i.len();
-    let mut rows: Vec<Row> = REACTION_ROWS
-        .iter()
-        .map(|l| Row {
-            label: (*l).into(),
-            input: 0.0,
-            values: Vec::with_capacity(n),
-        })
-        .collect();
+    joints: Vec<usize>,
+    drivers: Vec<usize>,
+) -> Source {
     // r_P − r_m in body i's frame (zero when the torque is already about MarkerI's origin).
     let offset = if r.point_i == marker_i {
         Vector3::zeros()
@@ -272,29 +393,20 @@ fn reaction_item(
         local_point(import, &r.body_i, &r.point_i) - local_point(import, &r.body_i, marker_i)
     };
     let body = (r.body_i != GROUND)
-        .then(|| dynamics.kinematics.body(&r.body_i))
+        .then(|| body_index(&dynamics.kinematics, &r.body_i))
         .flatten();
-    for (k, w) in r.on_i.iter().enumerate() {
-        let a = body.map_or_else(Matrix3::identity, |b| cardan_eulerparam::a(&b.p[k]));
-        let torque = w.torque + (a * offset).cross(&w.force);
-        let values = [
-            w.force.x, w.force.y, w.force.z, torque.x, torque.y, torque.z,
-        ];
-        for (row, x) in rows.iter_mut().zip(values) {
-            row.values.push(x);
-        }
-    }
-    Item {
-        kind,
-        path,
-        line: 0,
-        rows,
+    Source::Wrench {
+        joints,
+        drivers,
+        body,
+        offset,
     }
 }
 
-/// The input text with its `TimeSeries` (if any) replaced by `series`.
-pub fn solved_text(input: &str, series: &TimeSeries) -> String {
-    let mut out = String::with_capacity(input.len() * 2);
+/// The input text's lines before its `TimeSeries` (all of them if it has none), each ended
+/// by a newline: the start of a solved file.
+pub fn before_time_series(input: &str) -> String {
+    let mut out = String::with_capacity(input.len());
     for line in input.lines() {
         if line.trim_end() == "TimeSeries" {
             break;
@@ -302,6 +414,12 @@ pub fn solved_text(input: &str, series: &TimeSeries) -> String {
         out.push_str(line);
         out.push('\n');
     }
+    out
+}
+
+/// The input text with its `TimeSeries` (if any) replaced by `series`.
+pub fn solved_text(input: &str, series: &TimeSeries) -> String {
+    let mut out = before_time_series(input);
     series.write(&mut out);
     out
 }

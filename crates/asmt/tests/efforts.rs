@@ -122,8 +122,8 @@ fn written_series(name: &str) -> (cardan_asmt::Document, TimeSeries, TimeSeries,
         .unwrap()
         .inverse_dynamics(&options)
         .unwrap();
-    let mut ours = solved::time_series(&doc, &import, &res.kinematics);
-    solved::add_reactions(&mut ours, &doc, &import, &res);
+    let plan = solved::SeriesPlan::new(&doc, &import, &res.kinematics, Some(&res), 1.0);
+    let ours = plan.series(&res.kinematics, Some(&res));
     // The text written reads back to the same series, reactions included.
     let back = cardan_asmt::read(&solved::solved_text(&text, &ours))
         .unwrap()

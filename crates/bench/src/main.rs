@@ -1260,10 +1260,14 @@ fn kinematic_accuracy(args: &[String]) {
     }
 }
 
-/// `--run-memory [--smoke] [--cardan PATH] [STEPS ...]`: peak memory and time of long
-/// `cardan run`s (module `run_memory`).
+/// `--run-memory [--smoke] [--asmt] [--cardan PATH] [STEPS ...]`: peak memory and time of
+/// long `cardan run`s (module `run_memory`).
 fn run_memory(args: &[String]) {
     let smoke = args.iter().any(|a| a == "--smoke");
+    let subject = match args.iter().any(|a| a == "--asmt") {
+        true => cardan_bench::run_memory::Subject::CrankSliderAsmt,
+        false => cardan_bench::run_memory::Subject::SliderCrank,
+    };
     let cardan = args
         .iter()
         .position(|a| a == "--cardan")
@@ -1279,6 +1283,6 @@ fn run_memory(args: &[String]) {
     }
     print!(
         "{}",
-        cardan_bench::run_memory::section(&cardan, &root(), &steps)
+        cardan_bench::run_memory::section(&cardan, &root(), subject, &steps)
     );
 }

@@ -6,10 +6,12 @@
 //! Peak memory is the child's peak resident set (`VmHWM`, polled every 2 ms until it exits);
 //! wall time is from spawn to exit, processor time from `/proc/PID/stat`.
 //!
-//! `cardan-bench --run-memory [--smoke] [--cardan PATH] [STEPS ...]`: one table row per step
-//! count (default 10⁴ 10⁵ 10⁶; `--smoke`: 10⁴ only). `--cardan` measures another build of
-//! the binary (e.g. the main branch's, for a before/after comparison); by default the
-//! `cardan` next to `cardan-bench`.
+//! `cardan-bench --run-memory [--smoke] [--asmt] [--cardan PATH] [STEPS ...]`: one table row
+//! per step count (default 10⁴ 10⁵ 10⁶; `--smoke`: 10⁴ only). `--asmt` runs the FreeCAD
+//! assembly `crates/asmt/tests/data/crank_slider.asmt` instead, with `hout` = 1 s / STEPS (its
+//! `.solved.asmt` TimeSeries written too). `--cardan` measures another build of the binary
+//! (e.g. the main branch's, for a before/after comparison); by default the `cardan` next to
+//! `cardan-bench`.
 
 use crate::measure::{fmt_bytes, fmt_time};
 use std::fmt::Write as _;
@@ -41,26 +43,60 @@ pub fn default_cardan() -> PathBuf {
         .unwrap_or_else(|| PathBuf::from("cardan"))
 }
 
-/// The slider-crank model text with `steps` grid steps.
-fn model_text(root: &Path, steps: usize) -> String {
-    let text = std::fs::read_to_string(root.join("examples/slider_crank.toml"))
-        .expect("examples/slider_crank.toml");
-    let edited = text.replace("steps = 200", &format!("steps = {steps}"));
-    assert_ne!(edited, text, "slider_crank.toml no longer has steps = 200");
-    edited
+/// The model a run measures.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Subject {
+    /// `examples/slider_crank.toml`, kinematic.
+    SliderCrank,
+    /// `crates/asmt/tests/data/crank_slider.asmt` (t = 0 … 1 s), kinematic.
+    CrankSliderAsmt,
 }
 
-/// Runs `cardan run` on the slider-crank with `steps` steps and measures it.
+impl Subject {
+    /// The model's file path relative to the repository and its file name.
+    fn file(self) -> (&'static str, &'static str) {
+        match self {
+            Self::SliderCrank => ("examples/slider_crank.toml", "slider_crank.toml"),
+            Self::CrankSliderAsmt => (
+                "crates/asmt/tests/data/crank_slider.asmt",
+                "crank_slider.asmt",
+            ),
+        }
+    }
+
+    /// The model text with `steps` grid steps.
+    fn text(self, root: &Path, steps: usize) -> String {
+        let (path, _) = self.file();
+        let text = std::fs::read_to_string(root.join(path)).expect(path);
+        let edited = match self {
+            Self::SliderCrank => text.replace("steps = 200", &format!("steps = {steps}")),
+            Self::CrankSliderAsmt => text.replacen(
+                "\t\thout\n\t\t\t0.01 \n",
+                &format!("\t\thout\n\t\t\t{:e}\n", 1.0 / steps as f64),
+                1,
+            ),
+        };
+        assert_ne!(edited, text, "{path} no longer has its step");
+        edited
+    }
+}
+
+/// Runs `cardan run` on `subject` with `steps` steps and measures it.
 ///
 /// # Errors
 /// The child could not start or failed (its stderr's last line).
-pub fn measure(cardan: &Path, root: &Path, steps: usize) -> Result<RunMemory, String> {
+pub fn measure(
+    cardan: &Path,
+    root: &Path,
+    subject: Subject,
+    steps: usize,
+) -> Result<RunMemory, String> {
     let dir =
         std::env::temp_dir().join(format!("cardan-run-memory-{}-{steps}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
-    let model = dir.join("slider_crank.toml");
-    std::fs::write(&model, model_text(root, steps)).map_err(|e| e.to_string())?;
+    let model = dir.join(subject.file().1);
+    std::fs::write(&model, subject.text(root, steps)).map_err(|e| e.to_string())?;
     let out = dir.join("out");
     let log = dir.join("stderr.txt");
     let stderr_file = std::fs::File::create(&log).map_err(|e| e.to_string())?;
@@ -134,20 +170,26 @@ fn wait_with_usage(mut child: std::process::Child) -> Result<(i32, u64, f64), St
 }
 
 /// The markdown table of the runs of `steps` (one process each).
-pub fn section(cardan: &Path, root: &Path, steps: &[usize]) -> String {
+pub fn section(cardan: &Path, root: &Path, subject: Subject, steps: &[usize]) -> String {
+    let what = match subject {
+        Subject::SliderCrank => "`examples/slider_crank.toml` with `steps` set",
+        Subject::CrankSliderAsmt => {
+            "`crates/asmt/tests/data/crank_slider.asmt` with `hout` = 1 s / steps (its \
+             `.solved.asmt` too)"
+        }
+    };
     let mut md = format!(
-        "**Peak memory of a long kinematic run** (`{}`): `cardan run` of \
-         `examples/slider_crank.toml` with `steps` set, all outputs written (CSV, SVG plots, \
-         run.json, animation.glb, index.html); peak resident set of the child process \
-         (`VmHWM`, polled), wall time from spawn to exit, processor time (user + system) of \
-         the child.\n\n\
+        "**Peak memory of a long kinematic run** (`{}`): `cardan run` of {what}, all outputs \
+         written (CSV, SVG plots, run.json, animation.glb, index.html); peak resident set of \
+         the child process (`VmHWM`, polled), wall time from spawn to exit, processor time \
+         (user + system) of the child.\n\n\
          | steps | peak memory | wall time | processor time | per step (processor) | output files |\n\
          |---:|---:|---:|---:|---:|---:|\n",
         cardan.display()
     );
     for &n in steps {
         eprintln!("run-memory: {n} steps");
-        match measure(cardan, root, n) {
+        match measure(cardan, root, subject, n) {
             Ok(m) => {
                 let _ = writeln!(
                     md,

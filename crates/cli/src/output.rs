@@ -149,6 +149,18 @@ impl OutputDir {
         Ok(std::io::BufWriter::with_capacity(1 << 16, file))
     }
 
+    /// The path of a scratch file `name` in the temporary directory: a file the run reads and
+    /// writes while it goes on and removes before [`OutputDir::commit`] (the spill file of an
+    /// ASMT run's TimeSeries, [`crate::commands::asmt::SolvedSeries`]). If the run fails, it
+    /// goes with the temporary directory.
+    ///
+    /// # Errors
+    /// The temporary directory cannot be created.
+    pub fn scratch(&mut self, name: &str) -> Result<PathBuf, Error> {
+        self.ensure_tmp()?;
+        Ok(self.tmp.join(name))
+    }
+
     /// Completes a file opened by [`OutputDir::create`]: flush and record it in
     /// [`OutputDir::files`].
     ///

@@ -2,12 +2,15 @@
 //! keeps only a decimated copy for the plots, the animation and the report (issue 25, target 4). The files it streams must
 //! be the files a table held whole writes (the Python package's path, `analyse`, which keeps
 //! every frame), byte for byte; a long run's plots say they are decimated, its kept copy has
-//! the first and the last frame, and its summary is taken over every frame.
+//! the first and the last frame, and its summary is taken over every frame. The TimeSeries of
+//! an ASMT run's `*.solved.asmt` streams too, and must equal the series built whole.
 
 mod common;
 
-use cardan_cli::commands::prepare;
-use cardan_cli::commands::run::{analyse, run_model, RunFlags};
+use cardan_asmt::solved::{self, SeriesPlan};
+use cardan_cli::commands::asmt::{Analysis, AsmtOptions, Units};
+use cardan_cli::commands::run::{analyse, run_model, run_model_with, RunFlags};
+use cardan_cli::commands::{prepare, prepare_with};
 use common::{edited, scratch};
 use std::path::{Path, PathBuf};
 
@@ -155,4 +158,69 @@ fn a_long_dynamic_run_streams_every_output_and_sums_up_every_output() {
         svg.contains("(every 3rd of 4001 frames)"),
         "no note in the plot"
     );
+}
+
+/// An ASMT file in `data` with `hout` (its output step) replaced by `hout`.
+fn asmt_with_hout(name: &str, hout: &str) -> PathBuf {
+    let file = root().join(format!("crates/asmt/tests/data/{name}.asmt"));
+    let text = std::fs::read_to_string(file).unwrap();
+    let mut lines: Vec<&str> = text.lines().collect();
+    let at = lines.iter().position(|l| l.trim() == "hout").unwrap() + 1;
+    lines[at] = hout;
+    let out = scratch("streamed-asmt").join(format!("{name}.asmt"));
+    std::fs::write(&out, lines.join("\n") + "\n").unwrap();
+    out
+}
+
+/// Runs the ASMT file `file` with `cardan run` as `asmt` says and compares its
+/// `*.solved.asmt`, whose TimeSeries is written a quantity per row from frames that streamed a
+/// time at a time (through a spill file when they exceed memory), with the series built from
+/// every frame kept (`analyse`), byte for byte.
+fn solved_equals_whole(file: &Path, asmt: AsmtOptions) {
+    let dir = scratch("streamed-asmt-out").join("out");
+    let flags = RunFlags {
+        asmt,
+        ..RunFlags::default()
+    };
+    let outcome = run_model_with(file, Some(&dir), &flags).unwrap();
+    assert!(outcome.error.is_none(), "{:?}", outcome.error);
+    let p = prepare_with(file, asmt).unwrap();
+    let analysis = p.loaded.analysis.clone().unwrap();
+    let (_, whole) = analyse(&p, &analysis, &flags).unwrap();
+    let text = std::fs::read_to_string(file).unwrap();
+    let doc = cardan_asmt::read_model(&text).unwrap();
+    let (doc, factor) = match asmt.units {
+        Units::Si => (doc, 1.0),
+        Units::Mm => (doc.scaled(1e-3), 1e3),
+    };
+    let import = cardan_asmt::import(&doc).unwrap();
+    let dynamics = whole.dynamic.as_ref();
+    let plan = SeriesPlan::new(&doc, &import, &whole.results, dynamics, factor);
+    let series = plan.series(&whole.results, dynamics);
+    assert_eq!(series.times.len(), outcome.summary.steps);
+    let want = solved::solved_text(&text, &series);
+    let stem = file.file_stem().unwrap().to_string_lossy();
+    let got = std::fs::read_to_string(dir.join(format!("{stem}.solved.asmt"))).unwrap();
+    assert!(got == want, "{}: the solved file differs", file.display());
+    // The spill file is gone: the directory holds what run.json lists, and run.json.
+    let listed = std::fs::read_to_string(dir.join("run.json")).unwrap();
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let name = entry.unwrap().file_name().to_string_lossy().into_owned();
+        assert!(
+            name == "run.json" || listed.contains(&format!("\"{name}\"")),
+            "{name}"
+        );
+    }
+}
+
+#[test]
+fn an_asmt_runs_solved_series_streams_the_whole_series() {
+    let asmt = |units, analysis| AsmtOptions { units, analysis };
+    // 10,001 frames of 91 rows: past the memory budget, so the frames spill to disk.
+    let long = asmt_with_hout("crank_slider", "\t\t\t1.0e-4 ");
+    solved_equals_whole(&long, asmt(Units::Si, Analysis::Kinematic));
+    // Reactions, in millimetres; and a dynamic run's output times.
+    let fourbar = root().join("crates/asmt/tests/data/fourbar.asmt");
+    solved_equals_whole(&fourbar, asmt(Units::Mm, Analysis::InverseDynamics));
+    solved_equals_whole(&fourbar, asmt(Units::Si, Analysis::Dynamic));
 }

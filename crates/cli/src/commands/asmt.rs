@@ -10,7 +10,12 @@
 //! `import`, and as comments at the top of the imported model. `--units mm` keeps the file's
 //! numbers and writes `[model] units = "mm"`: the model converts them ([`crate::units`]).
 
+use crate::commands::run::stream::Tap;
 use crate::diag::{Error, Location, Source};
+use crate::output::OutputDir;
+use cardan_asmt::series::write_block;
+use cardan_asmt::solved::SeriesPlan;
+use cardan_asmt::transpose::Transposer;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -208,38 +213,126 @@ pub fn import(
     Ok(())
 }
 
-/// The file `<stem>.solved.asmt` of a run of the ASMT file `path`: its name and its text, the
-/// input with a TimeSeries of `results` in OndselSolver's conventions ([`cardan_asmt::solved`]:
-/// part-frame origins, exact Bryant angles, velocities and accelerations) and, when the run
-/// computed reactions (`dynamics`: inverse dynamics or dynamics), the reaction series of every
-/// joint and motion, in the file's `units`. `cardan run` writes it with the other outputs,
+/// Values of the solved TimeSeries held in memory (8 bytes each) before its frames spill to a
+/// scratch file ([`cardan_asmt::transpose`]): a few megabytes, whatever the run's length.
+const SERIES_BUDGET: usize = 1 << 19;
+
+/// The file `<stem>.solved.asmt` of a run of an ASMT file, written as the run goes: the input
+/// with a TimeSeries of the run's frames in OndselSolver's conventions
+/// ([`cardan_asmt::solved`]: part-frame origins, exact Bryant angles, velocities and
+/// accelerations) and, when the run computes reactions (inverse dynamics or dynamics), the
+/// reaction series of every joint and motion, in the file's units. The TimeSeries is written a
+/// quantity per row, a run computes a time per frame: the frames go through a
+/// [`Transposer`](cardan_asmt::transpose::Transposer) that spills them to a scratch file in the
+/// output directory, so memory is bounded whatever the run's length. `cardan run` takes every
+/// frame into it ([`crate::commands::run::stream::Tap`]) and writes it with the other outputs,
 /// inside the output directory's atomic commit ([`crate::output`]).
-///
-/// # Errors
-/// Unreadable or bad input.
-pub fn solved_file(
-    path: &Path,
-    units: Units,
-    results: &cardan_mechanism::Results,
-    dynamics: Option<&cardan_dynamics::DynamicResults>,
-) -> Result<(String, String), Error> {
-    let src = Source::read(path)?;
-    let doc = cardan_asmt::read_model(&src.text).map_err(|e| Error::input(e.to_string()))?;
-    let doc = match units {
-        Units::Si => doc,
-        Units::Mm => doc.scaled(1e-3),
-    };
-    let import = cardan_asmt::import(&doc).map_err(|e| Error::input(e.to_string()))?;
-    let mut series = cardan_asmt::solved::time_series(&doc, &import, results);
-    if let Some(d) = dynamics {
-        cardan_asmt::solved::add_reactions(&mut series, &doc, &import, d);
+pub struct SolvedSeries {
+    /// `<stem>.solved.asmt`.
+    name: String,
+    /// The input up to its TimeSeries (if any).
+    prefix: String,
+    doc: cardan_asmt::Document,
+    import: cardan_asmt::Import,
+    /// Lengths from the analysis's SI to the file's units.
+    length_factor: f64,
+    /// Where the frames spill.
+    spill: PathBuf,
+    /// The plan and the frames, from the first frame on.
+    started: Option<(SeriesPlan, Transposer)>,
+    values: Vec<f64>,
+}
+
+impl SolvedSeries {
+    /// The solved file of a run of the ASMT file `path` read in `units`, spilling into `dir`.
+    ///
+    /// # Errors
+    /// Unreadable or bad input, or the output directory cannot be created.
+    pub fn new(path: &Path, units: Units, dir: &mut OutputDir) -> Result<Self, Error> {
+        let src = Source::read(path)?;
+        let doc = cardan_asmt::read_model(&src.text).map_err(|e| Error::input(e.to_string()))?;
+        let (doc, length_factor) = match units {
+            Units::Si => (doc, 1.0),
+            Units::Mm => (doc.scaled(1e-3), 1e3),
+        };
+        let import = cardan_asmt::import(&doc).map_err(|e| Error::input(e.to_string()))?;
+        let stem = path
+            .file_stem()
+            .map_or_else(|| "model".into(), |s| s.to_string_lossy().into_owned());
+        let name = format!("{stem}.solved.asmt");
+        Ok(Self {
+            spill: dir.scratch(&format!("{name}.spill"))?,
+            prefix: cardan_asmt::solved::before_time_series(&src.text),
+            name,
+            doc,
+            import,
+            length_factor,
+            started: None,
+            values: Vec::new(),
+        })
     }
-    if units == Units::Mm {
-        cardan_asmt::solved::scale_lengths(&mut series, 1e3);
+
+    /// Takes every time of `results` (with `dynamics`, its reactions too).
+    fn take(
+        &mut self,
+        results: &cardan_mechanism::Results,
+        dynamics: Option<&cardan_dynamics::DynamicResults>,
+    ) -> std::io::Result<()> {
+        let (plan, frames) = self.started.get_or_insert_with(|| {
+            let plan = SeriesPlan::new(
+                &self.doc,
+                &self.import,
+                results,
+                dynamics,
+                self.length_factor,
+            );
+            let rows = 1 + plan.rows();
+            (
+                plan,
+                Transposer::new(rows, SERIES_BUDGET, self.spill.clone()),
+            )
+        });
+        for (k, &t) in results.times.iter().enumerate() {
+            self.values.clear();
+            self.values.push(t);
+            plan.frame(results, dynamics, k, &mut self.values);
+            frames.push(&self.values)?;
+        }
+        Ok(())
     }
-    let text = cardan_asmt::solved::solved_text(&src.text, &series);
-    let stem = path
-        .file_stem()
-        .map_or_else(|| "model".into(), |s| s.to_string_lossy().into_owned());
-    Ok((format!("{stem}.solved.asmt"), text))
+
+    /// Writes the file into `dir` (the spill file is removed).
+    ///
+    /// # Errors
+    /// A write error.
+    pub fn write(self, dir: &mut OutputDir) -> Result<(), Error> {
+        let mut w = dir.create(&self.name)?;
+        let written = w.write_all(self.prefix.as_bytes()).and_then(|()| {
+            let Some((plan, mut frames)) = self.started else {
+                return Ok(());
+            };
+            let n = frames.frames();
+            write_block(&mut w, n, plan.items(), &mut |i, emit| frames.row(i, emit))
+        });
+        written.map_err(|e| dir.write_error(&self.name, &e))?;
+        dir.finish(&self.name, w)
+    }
+}
+
+impl Tap<cardan_mechanism::Results> for SolvedSeries {
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn frame(&mut self, frame: &cardan_mechanism::Results) -> std::io::Result<()> {
+        self.take(frame, None)
+    }
+}
+
+impl Tap<cardan_dynamics::DynamicResults> for SolvedSeries {
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn frame(&mut self, frame: &cardan_dynamics::DynamicResults) -> std::io::Result<()> {
+        self.take(&frame.kinematics, Some(frame))
+    }
 }

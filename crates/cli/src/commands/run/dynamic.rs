@@ -8,9 +8,10 @@
 //! The benchmark tests call [`simulate`] directly, so what is tested is the model file itself.
 
 use super::dynamic_layout::{DynamicLayout, DynamicTally, Kind};
-use super::stream::Recorder;
+use super::stream::{Recorder, Tap};
 use super::summary::{Analysed, DynamicSummary, RunFlags, Summary};
 use crate::build::Outputs as Requested;
+use crate::commands::asmt::SolvedSeries;
 use crate::commands::output_tables::{
     coupler_efforts_table, driver_efforts_table, energy_table, peak_efforts_of, reaction_tables,
     requested,
@@ -25,14 +26,15 @@ use std::time::Instant;
 
 /// `kind = "dynamic"`: simulate, the tables, the summary. A failure mid-run keeps the results
 /// so far with the error. With `dir`, the CSV files are written there output by output and only
-/// a decimated copy of the results is kept (all with `keep_all`); without, every output is kept
+/// a decimated copy of the results is kept (every output goes to `solved`, an ASMT run's
+/// TimeSeries); without, every output is kept
 /// ([`super::stream`]). The summary and the warnings are taken over every output.
 pub(super) fn run_dynamic(
     p: &Prepared,
     analysis: &crate::build::Analysis,
     flags: &RunFlags,
     dir: Option<&mut OutputDir>,
-    keep_all: bool,
+    solved: Option<&mut SolvedSeries>,
 ) -> Result<Analysed, Error> {
     let mut opts = options(p, None)?;
     check_length(p, &mut opts, flags.allow_long)?;
@@ -41,7 +43,8 @@ pub(super) fn run_dynamic(
     let req = requested(p, &analysis.outputs);
     let planned = opts.times(initial.t).len();
     let make = |f: &DynamicResults| DynamicLayout::new(p, f, &req, Kind::Dynamic);
-    let mut rec = Recorder::new(p.units, planned, dir, keep_all, make);
+    let tap = solved.map(|s| s as &mut dyn Tap<DynamicResults>);
+    let mut rec = Recorder::new(p.units, planned, dir, tap, make);
     let start = Instant::now();
     // Progress in parts of the time span (the number of adaptive steps is not known).
     const PARTS: f64 = 10_000.0;
@@ -423,7 +426,7 @@ mod tests {
         // outputs is kept (the stride keeps the first, every s-th and the last frame).
         let planned = 10 * (MAX_PLOTTED_FRAMES - 1) + 2;
         let make = |f: &DynamicResults| DynamicLayout::new(&p, f, &req, Kind::Dynamic);
-        let mut rec = Recorder::new(p.units, planned, Some(&mut dir), false, make);
+        let mut rec = Recorder::new(p.units, planned, Some(&mut dir), None, make);
         let bound = drift_bound(&p, &opts.integrator);
         let spike = 3 * 11 + 5;
         let mut spike_time = f64::NAN;

@@ -8,9 +8,10 @@
 use super::dynamic::{dynamics_as, located_as};
 use super::dynamic_layout::{DynamicLayout, Kind};
 use super::kinematic;
-use super::stream::Recorder;
+use super::stream::{Recorder, Tap};
 use super::summary::{Analysed, Summary};
 use crate::build::Outputs as Requested;
+use crate::commands::asmt::SolvedSeries;
 use crate::commands::output_tables::{
     coupler_efforts_table, driver_efforts_table, energy_table, peak_efforts_of, reaction_tables,
     requested,
@@ -28,19 +29,21 @@ use std::time::Instant;
 /// `kind = "inverse_dynamics"`: kinematics with driver efforts and reactions, the tables, the
 /// summary. A kinematic failure mid-run keeps the results so far with the error. With `dir`,
 /// the CSV files are written there frame by frame and only a decimated copy of the results is
-/// kept (all with `keep_all`); without, every frame is kept ([`super::stream`]). The summary is
+/// kept (every frame goes to `solved`, an ASMT run's TimeSeries); without, every frame is
+/// kept ([`super::stream`]). The summary is
 /// taken over every frame.
 pub(super) fn run_inverse(
     p: &Prepared,
     analysis: &crate::build::Analysis,
     progress: bool,
     dir: Option<&mut OutputDir>,
-    keep_all: bool,
+    solved: Option<&mut SolvedSeries>,
 ) -> Result<Analysed, Error> {
     let (mut d, opts) = setup(p)?;
     let req = requested(p, &analysis.outputs);
     let make = |f: &DynamicResults| DynamicLayout::new(p, f, &req, Kind::Inverse);
-    let mut rec = Recorder::new(p.units, opts.steps + 1, dir, keep_all, make);
+    let tap = solved.map(|s| s as &mut dyn Tap<DynamicResults>);
+    let mut rec = Recorder::new(p.units, opts.steps + 1, dir, tap, make);
     let start = Instant::now();
     let mut bar = crate::progress::Progress::new(progress, opts.steps as u64 + 1);
     let mut sink = |k: usize, frame: &DynamicResults| {

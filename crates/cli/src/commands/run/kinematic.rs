@@ -5,9 +5,10 @@
 //! The frames stream to the CSV files as they are solved ([`super::stream`]).
 
 use super::layout::Layout;
-use super::stream::Recorder;
+use super::stream::{Recorder, Tap};
 use super::summary::{Analysed, Summary};
 use crate::build::Outputs as Requested;
+use crate::commands::asmt::SolvedSeries;
 use crate::commands::output_tables::requested;
 use crate::commands::{analysis_error, Prepared};
 use crate::diag::Error;
@@ -20,14 +21,15 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 /// `kind = "kinematic"`: the kinematics over the file's grid and its tables. With `dir`, the
-/// CSV files are written there frame by frame and only a decimated copy of the results is kept
-/// (all frames with `keep_all`); without, every frame is kept ([`super::stream`]).
+/// CSV files are written there frame by frame (and every frame goes to `solved`, an ASMT run's
+/// TimeSeries) and only a decimated copy of the results is kept; without, every frame is kept
+/// ([`super::stream`]).
 pub(super) fn run_kinematic(
     p: &Prepared,
     analysis: &crate::build::Analysis,
     progress: bool,
     dir: Option<&mut OutputDir>,
-    keep_all: bool,
+    solved: Option<&mut SolvedSeries>,
 ) -> Result<Analysed, Error> {
     let opts = KinematicOptions::new(analysis.t_start, analysis.t_end, analysis.steps)
         .tolerance(analysis.tolerance);
@@ -36,7 +38,8 @@ pub(super) fn run_kinematic(
     let mut ws = p.model.workspace();
     let req = requested(p, &analysis.outputs);
     let make = move |f: &Results| Layout::new(f, &req);
-    let mut rec = Recorder::new(p.units, opts.steps + 1, dir, keep_all, make);
+    let tap = solved.map(|s| s as &mut dyn Tap<Results>);
+    let mut rec = Recorder::new(p.units, opts.steps + 1, dir, tap, make);
     let run = p
         .model
         .kinematics_into(&mut ws, &opts, &mut |k: usize, frame: &Results| {

@@ -17,6 +17,7 @@ mod summary;
 
 pub use summary::{Analysed, DynamicSummary, EnergyBalance, RunFlags, Summary};
 
+use super::asmt::SolvedSeries;
 use super::{prepare_with, Prepared};
 use crate::diag::Error;
 use crate::output::OutputDir;
@@ -203,18 +204,13 @@ pub fn run_model_with(
     };
     // Locked before the analysis: a concurrent run is refused at once, not after its work.
     let mut out_dir = OutputDir::lock(&dir)?;
-    // The ASMT file's TimeSeries holds every frame: such a run keeps them all.
-    let asmt = super::asmt::is_asmt(path);
-    let (kind, mut a) = analyse_into(&p, &analysis, flags, Some(&mut out_dir), asmt)?;
-    if asmt {
-        // The results back in ASMT, written and committed with the other outputs.
-        a.files.push(super::asmt::solved_file(
-            path,
-            flags.asmt.units,
-            &a.results,
-            a.dynamic.as_ref(),
-        )?);
-    }
+    // The results of an ASMT file back in ASMT, streamed as the CSV files are and committed
+    // with the other outputs.
+    let mut solved = match super::asmt::is_asmt(path) {
+        true => Some(SolvedSeries::new(path, flags.asmt.units, &mut out_dir)?),
+        false => None,
+    };
+    let (kind, mut a) = analyse_into(&p, &analysis, flags, Some(&mut out_dir), solved.as_mut())?;
     // A static or modal run has one time: nothing to plot against it.
     let one_time = matches!(
         analysis.statics,
@@ -225,7 +221,7 @@ pub fn run_model_with(
         svg,
         png: svg && flags.png,
     };
-    let files = write_outputs(out_dir, &p, kind, &mut a, plots, &declared)?;
+    let files = write_outputs(out_dir, &p, kind, &mut a, plots, &declared, solved)?;
     a.summary.dir = dir;
     a.summary.files = files;
     Ok(RunOutcome {
@@ -250,12 +246,13 @@ pub fn analyse(
     analysis: &crate::build::Analysis,
     flags: &RunFlags,
 ) -> Result<(&'static str, Analysed), Error> {
-    analyse_into(p, analysis, flags, None, true)
+    analyse_into(p, analysis, flags, None, None)
 }
 
 /// [`analyse`], writing into `dir` what the analysis streams as it runs (the CSV files of a
-/// kinematic, dynamic or inverse dynamics run, [`stream`]) and keeping a decimated copy of the results for the plots, the animation
-/// and the report unless `keep_all` ([`Analysed::streamed`] says which). Without `dir`,
+/// kinematic, dynamic or inverse dynamics run, [`stream`], and every frame to `solved`, the
+/// TimeSeries of an ASMT run) and keeping a decimated copy of the results for the plots, the
+/// animation and the report ([`Analysed::streamed`] says how decimated). Without `dir`,
 /// nothing is written and every frame is kept.
 ///
 /// # Errors
@@ -265,18 +262,18 @@ pub fn analyse_into(
     analysis: &crate::build::Analysis,
     flags: &RunFlags,
     dir: Option<&mut OutputDir>,
-    keep_all: bool,
+    solved: Option<&mut SolvedSeries>,
 ) -> Result<(&'static str, Analysed), Error> {
     let progress = flags.progress;
     let (kind, ran) = if let Some(k) = analysis.statics {
         (k.name(), statics::run_statics(p, analysis, k))
     } else if analysis.dynamic.is_some() {
-        ("dynamic", run_dynamic(p, analysis, flags, dir, keep_all))
+        ("dynamic", run_dynamic(p, analysis, flags, dir, solved))
     } else if analysis.inverse_dynamics {
-        let ran = run_inverse(p, analysis, progress, dir, keep_all);
+        let ran = run_inverse(p, analysis, progress, dir, solved);
         ("inverse_dynamics", ran)
     } else {
-        let ran = run_kinematic(p, analysis, progress, dir, keep_all);
+        let ran = run_kinematic(p, analysis, progress, dir, solved);
         ("kinematic", ran)
     };
     let mut a = ran?;
@@ -342,7 +339,8 @@ fn write_plot(dir: &mut OutputDir, t: &Table, png: bool) -> Result<String, Error
     Ok(svg)
 }
 
-/// Writes the tables and `run.json` into the locked directory and renames it into place.
+/// Writes the tables, `solved` (an ASMT run's `*.solved.asmt`) and `run.json` into the locked
+/// directory and renames it into place.
 /// Completes a failure's message with what was written. Returns the paths written.
 fn write_outputs(
     mut dir: OutputDir,
@@ -351,6 +349,7 @@ fn write_outputs(
     a: &mut Analysed,
     plots: Plots,
     declared: &crate::geometry::Declared,
+    solved: Option<SolvedSeries>,
 ) -> Result<Vec<PathBuf>, Error> {
     let mut svgs = Vec::new();
     let (mut streams, frames) = match a.streamed.as_mut() {
@@ -372,6 +371,9 @@ fn write_outputs(
     }
     for (name, text) in &a.files {
         dir.write(name, text)?;
+    }
+    if let Some(s) = solved {
+        s.write(&mut dir)?;
     }
     let unit = match kind {
         "dynamic" => "outputs",

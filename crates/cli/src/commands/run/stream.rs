@@ -8,11 +8,12 @@
 //! same text as a table written whole ([`crate::table::Table::to_csv`]). What is drawn from
 //! the results afterwards (the SVG plots, the animation, the report, the Python package's
 //! tables) reads a copy kept in memory: every frame when the run writes nothing (the Python
-//! package) or has to write every frame again (the `*.solved.asmt` TimeSeries of an ASMT run),
-//! otherwise a decimated copy: every s-th frame, s chosen at the start so that at most
+//! package), otherwise a decimated copy: every s-th frame, s chosen at the start so that at most
 //! [`MAX_PLOTTED_FRAMES`] frames and about [`KEPT_VALUES_BUDGET`] values are kept, plus the last
-//! frame, whichever it is (a run stopped by Ctrl-C or a failure included). Peak memory is then
-//! bounded by the model's size, not by the number of steps.
+//! frame, whichever it is (a run stopped by Ctrl-C or a failure included). A further file
+//! written from every frame (the `*.solved.asmt` TimeSeries of an ASMT run) takes each frame
+//! as it passes too, through a [`Tap`]. Peak memory is then bounded by the model's size, not
+//! by the number of steps.
 //!
 //! The summary's numbers (steps, Newton iterations, the largest residual; for the dynamic runs
 //! the constraint drift, the energy balance and its scale, the peak driver efforts: the
@@ -113,6 +114,18 @@ impl Frame for DynamicResults {
     fn times(&self) -> &[f64] {
         DynamicResults::times(self)
     }
+}
+
+/// A file written from every frame besides the CSV files: the `TimeSeries` of an ASMT run's
+/// `*.solved.asmt` ([`crate::commands::asmt::SolvedSeries`]).
+pub trait Tap<F> {
+    /// The file's name (for a write error).
+    fn name(&self) -> &str;
+    /// Takes one frame (results holding one time).
+    ///
+    /// # Errors
+    /// A write error.
+    fn frame(&mut self, frame: &F) -> std::io::Result<()>;
 }
 
 /// The output groups of a run's frames: each group's empty table and the row of any frame, so
@@ -225,7 +238,8 @@ pub struct Recorder<'a, L: FrameLayout> {
     planned: usize,
     /// Where the CSV files go; `None`: nothing is written, every frame is kept.
     dir: Option<&'a mut OutputDir>,
-    keep_all: bool,
+    /// A further file written from every frame.
+    tap: Option<&'a mut dyn Tap<L::Frame>>,
     started: Option<Started<L>>,
     /// A write error that stopped the run.
     error: Option<Error>,
@@ -236,22 +250,21 @@ pub struct Recorder<'a, L: FrameLayout> {
 
 impl<'a, L: FrameLayout> Recorder<'a, L> {
     /// A recorder of a run of `planned` frames writing the groups of the layout `make` builds
-    /// at the first frame into `dir` (in `units`). Every frame is kept without a directory or
-    /// with `keep_all`.
+    /// at the first frame into `dir` (in `units`), and every frame to `tap`. Every frame is
+    /// kept without a directory.
     pub fn new(
         units: UnitSystem,
         planned: usize,
         dir: Option<&'a mut OutputDir>,
-        keep_all: bool,
+        tap: Option<&'a mut dyn Tap<L::Frame>>,
         make: impl FnOnce(&L::Frame) -> L + 'a,
     ) -> Self {
-        let keep_all = keep_all || dir.is_none();
         Self {
             make: Some(Box::new(make)),
             units,
             planned,
             dir,
-            keep_all,
+            tap,
             started: None,
             error: None,
             frames: 0,
@@ -278,7 +291,7 @@ impl<'a, L: FrameLayout> Recorder<'a, L> {
         };
         L::tally(&mut self.tally, frame);
         self.last_time = frame.times().last().copied().or(self.last_time);
-        let keep = self.keep_all || self.frames.is_multiple_of(s.stride);
+        let keep = self.frames.is_multiple_of(s.stride);
         if keep {
             s.kept.extend_from(frame);
         } else {
@@ -287,7 +300,11 @@ impl<'a, L: FrameLayout> Recorder<'a, L> {
         }
         s.last_kept = keep;
         self.frames += 1;
-        if let Err((name, e)) = write_rows(s, self.units, frame) {
+        let mut written = write_rows(s, self.units, frame);
+        if let (true, Some(t)) = (written.is_ok(), self.tap.as_deref_mut()) {
+            written = t.frame(frame).map_err(|e| (t.name().to_string(), e));
+        }
+        if let Err((name, e)) = written {
             let dir = self.dir.as_deref();
             self.error = Some(dir.map_or_else(
                 || Error::output(format!("cannot write {name}: {e}")),
@@ -305,9 +322,9 @@ impl<'a, L: FrameLayout> Recorder<'a, L> {
             .take()
             .ok_or_else(|| Error::output("the run restarted"))?;
         let layout = make(frame);
-        let stride = match self.keep_all {
-            true => 1,
-            false => stride(self.planned, layout.values_per_frame()),
+        let stride = match self.dir {
+            None => 1,
+            Some(_) => stride(self.planned, layout.values_per_frame()),
         };
         let capacity = self.planned.div_ceil(stride) + 1;
         let mut csv = Vec::new();
@@ -461,7 +478,7 @@ mod tests {
         )))
         .unwrap();
         let make = move |f: &Results| Layout::new(f, &req);
-        let mut rec = Recorder::new(UnitSystem::Si, n, Some(&mut dir), false, make);
+        let mut rec = Recorder::new(UnitSystem::Si, n, Some(&mut dir), None, make);
         for k in 0..n {
             let res = if k == spike { 1e-3 } else { 1e-12 };
             assert!(rec.frame(&frame(k as f64, res, 2)).is_continue());
