@@ -1,5 +1,6 @@
 //! "No allocation inside a step": a counting global allocator wraps the system one; after
-//! warm-up, kinematic frames (position Newton + velocity + acceleration) must not allocate.
+//! setup (`prepare_kinematics`), kinematic frames (position Newton + velocity + acceleration)
+//! must not allocate, the first one included.
 //!
 //! The counter is process-wide, so this test runs without the libtest harness (`harness = false`
 //! in Cargo.toml): libtest's main thread, waiting for the test thread, allocated now and then
@@ -36,6 +37,10 @@ fn frames_do_not_allocate(model: &Model, label: &str) {
         model.velocity(ws).unwrap();
         model.acceleration(ws).unwrap();
     };
+    // The first frame after setup too: nothing is sized lazily at the first solve.
+    t += dt;
+    let first = allocations(|| frame(&mut ws, t));
+    assert_eq!(first, 0, "{label}: {first} allocations in the first frame");
     for _ in 0..20 {
         t += dt;
         frame(&mut ws, t);

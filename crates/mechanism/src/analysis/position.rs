@@ -153,6 +153,7 @@ impl Model {
         };
         let mut newton = Newton::with_row_selection(&self.pattern, selection, lu, options)
             .map_err(|e| solver(ws.t, e))?;
+        newton.fit_state(ws.x.len());
         ws.set_kept_rows(ra.independent_rows());
         // Dropped rows already off at this (assembled or accepted) pose belong to a slightly
         // inconsistent model: they cannot vanish with the kept ones, so Newton judges the kept

@@ -318,6 +318,16 @@ impl<S: LinearSolver> Newton<S> {
         self.fact.invalidate();
     }
 
+    /// Sizes the buffers that hold a state (the line search's trial state, the last solved
+    /// state) for states of `len` values, which the pattern does not tell (a body's Euler
+    /// parameters are four values for three unknowns). Call it at setup with the system's
+    /// [`NonlinearSystem::state_len`]: otherwise the first solve sizes them (allocates).
+    pub fn fit_state(&mut self, len: usize) {
+        if self.trial.fit_state(len) {
+            self.x_last = vec![f64::NAN; len];
+        }
+    }
+
     fn check_system<N: NonlinearSystem + ?Sized>(
         &mut self,
         system: &N,
@@ -326,10 +336,8 @@ impl<S: LinearSolver> Newton<S> {
         check_len("equations of the system", self.m, system.num_equations())?;
         check_len("unknowns of the system", self.n, system.num_unknowns())?;
         check_len("state vector", system.state_len(), x.len())?;
-        // Allocates only the first time (or if the state length changes).
-        if self.trial.fit_state(x.len()) {
-            self.x_last = vec![f64::NAN; x.len()];
-        }
+        // Allocates only if not sized at setup (or if the state length changes).
+        self.fit_state(x.len());
         Ok(())
     }
 
