@@ -936,7 +936,7 @@ fn cli_genalpha(
          slider position errors; *energy error* = max over the same samples of |E − E(0)| / \
          E − E(0) at t_end (the motion is conservative). Chain: N spherical-joint links (ρ∞ 0.8), error at t_end of the \
          far ends of the first and last links against a cardan DOPRI5 reference (rtol 1e-10). \
-         Best of the rounds (slider-crank 3, chain 1), cardan and Exudyn alternating. *Ratio*: \
+         Best of the rounds (slider-crank 9, chain 1), cardan and Exudyn alternating. *Ratio*: \
          Exudyn's time over cardan's at Exudyn's error (log-log interpolation between \
          cardan's runs; — outside them).\n\n\
          | problem | code | h [ms] | error [m] | energy error [J], max / end | time | ratio at equal error |\n\
@@ -956,7 +956,7 @@ fn cli_genalpha(
         v.get(..3).map(|r| [r[0], r[1], r[2]])
     })
     .collect();
-    let (spans, rounds): (&[f64], usize) = if smoke { (&[0.2], 1) } else { (&[5.0, 1.0], 3) };
+    let (spans, rounds): (&[f64], usize) = if smoke { (&[0.2], 1) } else { (&[5.0, 1.0], 9) };
     let (cardan_h, exudyn_h): (&[f64], &[f64]) = if smoke {
         (&[1e-3, 5e-4], &[1e-3])
     } else {
