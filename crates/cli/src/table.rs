@@ -36,13 +36,7 @@ impl Table {
 
     /// The CSV header line `t [s],<columns>` with its line break.
     pub fn csv_header(&self) -> String {
-        let mut s = String::from("t [s]");
-        for c in &self.columns {
-            s.push(',');
-            s.push_str(&csv_field(c));
-        }
-        s.push('\n');
-        s
+        csv_header(&self.columns)
     }
 
     /// The SVG plot of the table: small multiples, one unit per panel ([`crate::plot`]).
@@ -66,12 +60,24 @@ pub fn push_csv_row(s: &mut String, row: &[f64]) {
 }
 
 /// A CSV field, quoted when it holds a comma, a quote or a line break.
-pub(crate) fn csv_field(s: &str) -> String {
+pub(crate) fn csv_field(s: &str) -> std::borrow::Cow<'_, str> {
     if s.contains([',', '"', '\n']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
+        format!("\"{}\"", s.replace('"', "\"\"")).into()
     } else {
-        s.to_string()
+        s.into()
     }
+}
+
+/// The CSV header line of a table of `columns`: the time, then each column.
+pub fn csv_header(columns: &[String]) -> String {
+    let mut s = String::with_capacity(columns.iter().map(|c| c.len() + 1).sum::<usize>() + 8);
+    s.push_str("t [s]");
+    for c in columns {
+        s.push(',');
+        s.push_str(&csv_field(c));
+    }
+    s.push('\n');
+    s
 }
 
 /// Parses a CSV written by [`Table::to_csv`] (tests and tools): header and rows.

@@ -160,7 +160,10 @@ fn write_csv(ev: &Evaluation, out: &mut dyn Write) -> Result<(), Error> {
             .map(|c| format!("{}.{}", c.body, c.coordinate)),
     );
     let line = |fields: Vec<String>| -> String {
-        let f: Vec<String> = fields.iter().map(|s| crate::table::csv_field(s)).collect();
+        let f: Vec<String> = fields
+            .iter()
+            .map(|s| crate::table::csv_field(s).into_owned())
+            .collect();
         f.join(",")
     };
     writeln!(out, "{}", line(header)).map_err(io)?;

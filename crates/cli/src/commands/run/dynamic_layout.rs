@@ -61,8 +61,8 @@ impl DynamicLayout {
             Kind::Inverse => super::inverse::inverse_tables(p, first, req),
         };
         let kinematic = Layout::new(&first.kinematics, req);
-        let names: Vec<String> = (kinematic.empty_tables().into_iter())
-            .map(|t| t.name)
+        let names: Vec<String> = (0..kinematic.groups())
+            .map(|g| kinematic.empty_table(g).name.clone())
             .collect();
         let groups = empty
             .iter_mut()
@@ -93,8 +93,16 @@ impl FrameLayout for DynamicLayout {
     type Frame = DynamicResults;
     type Tally = DynamicTally;
 
-    fn empty_tables(&self) -> Vec<Table> {
-        self.empty.clone()
+    fn groups(&self) -> usize {
+        self.empty.len()
+    }
+
+    fn empty_table(&self, g: usize) -> &Table {
+        &self.empty[g]
+    }
+
+    fn into_empty_tables(self) -> Vec<Table> {
+        self.empty
     }
 
     fn values_per_frame(&self) -> usize {

@@ -5,7 +5,7 @@
 //! The frames stream to the CSV files as they are solved ([`super::stream`]).
 
 use super::layout::Layout;
-use super::stream::{Recorder, Tap};
+use super::stream::{FrameLayout, Recorder, Tap};
 use super::summary::{Analysed, Summary};
 use crate::build::Outputs as Requested;
 use crate::commands::asmt::SolvedSeries;
@@ -130,5 +130,5 @@ pub(super) fn dropped_row_warnings(p: &Prepared, rows: &[DroppedRowResidual]) ->
 
 /// Builds the output groups from the results (every frame; `Layout`).
 pub fn tables(r: &Results, req: &Requested) -> Vec<Table> {
-    Layout::new(r, req).tables(r)
+    Layout::new(r, req).into_tables(r)
 }

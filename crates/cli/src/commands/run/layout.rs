@@ -147,9 +147,19 @@ impl Layout {
         Self { groups }
     }
 
+    /// The number of groups.
+    pub fn groups(&self) -> usize {
+        self.groups.len()
+    }
+
+    /// Group `g`'s table without rows.
+    pub fn empty_table(&self, g: usize) -> &Table {
+        &self.groups[g].table
+    }
+
     /// The tables without rows, in output order.
-    pub fn empty_tables(&self) -> Vec<Table> {
-        self.groups.iter().map(|g| g.table.clone()).collect()
+    pub fn into_empty_tables(self) -> Vec<Table> {
+        self.groups.into_iter().map(|g| g.table).collect()
     }
 
     /// Values per frame over all groups (time columns included).
@@ -162,20 +172,6 @@ impl Layout {
         row.clear();
         row.push(r.times[k]);
         row.extend(self.groups[g].sources.iter().map(|s| s.value(r, k)));
-    }
-
-    /// The groups with every frame of `r`.
-    pub fn tables(&self, r: &Results) -> Vec<Table> {
-        let mut out = self.empty_tables();
-        for (g, t) in out.iter_mut().enumerate() {
-            t.rows.reserve(r.len());
-            for k in 0..r.len() {
-                let mut row = Vec::with_capacity(t.columns.len() + 1);
-                self.row(g, r, k, &mut row);
-                t.rows.push(row);
-            }
-        }
-        out
     }
 }
 

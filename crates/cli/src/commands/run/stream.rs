@@ -24,7 +24,7 @@
 use super::layout::Layout;
 use crate::diag::Error;
 use crate::output::OutputDir;
-use crate::table::{push_csv_row, Table};
+use crate::table::{csv_header, push_csv_row, Table};
 use crate::units::UnitSystem;
 use cardan_dynamics::DynamicResults;
 use cardan_mechanism::Results;
@@ -136,8 +136,13 @@ pub trait FrameLayout {
     type Frame: Frame;
     /// The summary's numbers over every frame.
     type Tally: Default;
-    /// The tables without rows, in output order.
-    fn empty_tables(&self) -> Vec<Table>;
+    /// The number of groups.
+    fn groups(&self) -> usize;
+    /// Group `g`'s table without rows.
+    fn empty_table(&self, g: usize) -> &Table;
+    /// The tables without rows, in output order (the layout's own: no copy of the columns,
+    /// which a model of 10⁴ bodies has 4 × 10⁵ of).
+    fn into_empty_tables(self) -> Vec<Table>;
     /// Fills `row` with the row of group `g` at frame k of `r`: the time, then each column.
     fn row(&self, g: usize, r: &Self::Frame, k: usize, row: &mut Vec<f64>);
     /// Takes every frame of `frame` into `tally`.
@@ -145,23 +150,32 @@ pub trait FrameLayout {
 
     /// Values per frame over all groups (time columns included).
     fn values_per_frame(&self) -> usize {
-        self.empty_tables()
-            .iter()
-            .map(|t| t.columns.len() + 1)
+        (0..self.groups())
+            .map(|g| self.empty_table(g).columns.len() + 1)
             .sum()
     }
 
     /// The groups with every frame of `r`.
-    fn tables(&self, r: &Self::Frame) -> Vec<Table> {
-        let mut out = self.empty_tables();
+    fn into_tables(self, r: &Self::Frame) -> Vec<Table>
+    where
+        Self: Sized,
+    {
         let n = r.times().len();
-        for (g, t) in out.iter_mut().enumerate() {
-            t.rows.reserve(n);
-            for k in 0..n {
-                let mut row = Vec::with_capacity(t.columns.len() + 1);
-                self.row(g, r, k, &mut row);
-                t.rows.push(row);
-            }
+        let rows: Vec<Vec<Vec<f64>>> = (0..self.groups())
+            .map(|g| {
+                let width = self.empty_table(g).columns.len() + 1;
+                (0..n)
+                    .map(|k| {
+                        let mut row = Vec::with_capacity(width);
+                        self.row(g, r, k, &mut row);
+                        row
+                    })
+                    .collect()
+            })
+            .collect();
+        let mut out = self.into_empty_tables();
+        for (t, rows) in out.iter_mut().zip(rows) {
+            t.rows = rows;
         }
         out
     }
@@ -179,8 +193,14 @@ pub struct KinematicTally {
 impl FrameLayout for Layout {
     type Frame = Results;
     type Tally = KinematicTally;
-    fn empty_tables(&self) -> Vec<Table> {
-        Layout::empty_tables(self)
+    fn groups(&self) -> usize {
+        Layout::groups(self)
+    }
+    fn empty_table(&self, g: usize) -> &Table {
+        Layout::empty_table(self, g)
+    }
+    fn into_empty_tables(self) -> Vec<Table> {
+        Layout::into_empty_tables(self)
     }
     fn row(&self, g: usize, r: &Results, k: usize, row: &mut Vec<f64>) {
         Layout::row(self, g, r, k, row);
@@ -191,9 +211,6 @@ impl FrameLayout for Layout {
     }
     fn values_per_frame(&self) -> usize {
         Layout::values_per_frame(self)
-    }
-    fn tables(&self, r: &Results) -> Vec<Table> {
-        Layout::tables(self, r)
     }
 }
 
@@ -329,11 +346,12 @@ impl<'a, L: FrameLayout> Recorder<'a, L> {
         let capacity = self.planned.div_ceil(stride) + 1;
         let mut csv = Vec::new();
         if let Some(dir) = self.dir.as_deref_mut() {
-            for mut t in layout.empty_tables() {
+            for g in 0..layout.groups() {
+                let t = layout.empty_table(g);
                 let name = format!("{}.csv", t.name);
-                let factors = self.units.convert_columns(&mut t.columns);
+                let (header, factors) = header_in(self.units, &t.columns);
                 let mut w = dir.create(&name)?;
-                w.write_all(t.csv_header().as_bytes())
+                w.write_all(header.as_bytes())
                     .map_err(|e| dir.write_error(&name, &e))?;
                 csv.push((name, w, factors));
             }
@@ -376,7 +394,7 @@ impl<'a, L: FrameLayout> Recorder<'a, L> {
         if !s.last_kept {
             s.kept.extend_from(&s.last);
         }
-        let mut tables = s.layout.tables(&s.kept);
+        let mut tables = s.layout.into_tables(&s.kept);
         if s.stride > 1 {
             for t in &mut tables {
                 t.title = format!(
@@ -402,6 +420,16 @@ impl<'a, L: FrameLayout> Recorder<'a, L> {
             last_time: self.last_time,
         })
     }
+}
+
+/// The CSV header of columns `columns` (SI) in `units`, and the columns' factors from SI.
+fn header_in(units: UnitSystem, columns: &[String]) -> (String, Vec<f64>) {
+    if units == UnitSystem::Si {
+        return (csv_header(columns), vec![1.0; columns.len()]);
+    }
+    let mut columns = columns.to_vec();
+    let factors = units.convert_columns(&mut columns);
+    (csv_header(&columns), factors)
 }
 
 /// Appends the frame's row to each CSV file, in the model's units.
