@@ -64,6 +64,20 @@ fn streamed_csv_files_equal_the_whole_tables_on_the_examples() {
     assert!(points.starts_with("t [s],crank.O.x [mm]"), "{points}");
 }
 
+/// A long run formats and writes its rows on a second thread (10,001 frames of 55 values, past
+/// `csv_files::THREAD_MIN_VALUES`): the files are the tables written whole all the same.
+#[test]
+fn rows_written_on_a_second_thread_equal_the_whole_tables() {
+    let text = std::fs::read_to_string(root().join("examples/slider_crank.toml")).unwrap();
+    let long = text.replacen("steps = 200", "steps = 10000", 1);
+    assert_ne!(long, text);
+    let model = scratch("threaded").join("slider_crank.toml");
+    std::fs::write(&model, long).unwrap();
+    let out = streamed_equals_whole(&model);
+    let bodies = std::fs::read_to_string(out.join("bodies.csv")).unwrap();
+    assert_eq!(bodies.lines().count(), 1 + 10_001);
+}
+
 #[test]
 fn a_long_run_plots_a_decimated_copy_with_its_first_and_last_frames() {
     let steps = 2_500;

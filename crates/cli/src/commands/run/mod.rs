@@ -5,6 +5,7 @@
 //! returns its output groups and summary), writes the outputs and `run.json`, and prints the
 //! summary line with the warnings.
 
+mod csv_files;
 pub mod dynamic;
 pub mod dynamic_layout;
 pub mod inverse;

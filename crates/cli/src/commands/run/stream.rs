@@ -5,7 +5,8 @@
 //!
 //! Each frame's rows go straight to the CSV files (buffered writers in the output directory's
 //! temporary sibling, [`crate::output::OutputDir::create`]), in the model's units, with the
-//! same text as a table written whole ([`crate::table::Table::to_csv`]). What is drawn from
+//! same text as a table written whole ([`crate::table::Table::to_csv`]); a long run formats and
+//! writes them on a second thread ([`super::csv_files`]). What is drawn from
 //! the results afterwards (the SVG plots, the animation, the report, the Python package's
 //! tables) reads a copy kept in memory: every frame when the run writes nothing (the Python
 //! package), otherwise a decimated copy: every s-th frame, s chosen at the start so that at most
@@ -21,10 +22,11 @@
 //! decimated copy: a residual spike between two kept frames is still the run's largest
 //! residual.
 
+use super::csv_files::{CsvFile, CsvFiles};
 use super::layout::Layout;
 use crate::diag::Error;
 use crate::output::OutputDir;
-use crate::table::{csv_header, push_csv_row, Table};
+use crate::table::{csv_header, Table};
 use crate::units::UnitSystem;
 use cardan_dynamics::DynamicResults;
 use cardan_mechanism::Results;
@@ -238,10 +240,12 @@ struct Started<L: FrameLayout> {
     /// The latest frame when it was not kept (appended at the end).
     last: L::Frame,
     last_kept: bool,
-    /// Per group: the CSV writer and the columns' factors to the model's units.
-    csv: Vec<(String, BufWriter<File>, Vec<f64>)>,
+    /// The CSV files, one per group (`None`: nothing is written).
+    csv: Option<CsvFiles>,
+    /// One group's row.
     row: Vec<f64>,
-    text: String,
+    /// A frame's rows, every group's.
+    rows: Vec<f64>,
 }
 
 /// Makes a run's layout from its first frame.
@@ -317,7 +321,7 @@ impl<'a, L: FrameLayout> Recorder<'a, L> {
         }
         s.last_kept = keep;
         self.frames += 1;
-        let mut written = write_rows(s, self.units, frame);
+        let mut written = write_rows(s, frame);
         if let (true, Some(t)) = (written.is_ok(), self.tap.as_deref_mut()) {
             written = t.frame(frame).map_err(|e| (t.name().to_string(), e));
         }
@@ -344,17 +348,23 @@ impl<'a, L: FrameLayout> Recorder<'a, L> {
             Some(_) => stride(self.planned, layout.values_per_frame()),
         };
         let capacity = self.planned.div_ceil(stride) + 1;
-        let mut csv = Vec::new();
+        let mut csv = None;
         if let Some(dir) = self.dir.as_deref_mut() {
+            let mut files = Vec::new();
             for g in 0..layout.groups() {
                 let t = layout.empty_table(g);
                 let name = format!("{}.csv", t.name);
                 let (header, factors) = header_in(self.units, &t.columns);
-                let mut w = dir.create(&name)?;
-                w.write_all(header.as_bytes())
-                    .map_err(|e| dir.write_error(&name, &e))?;
-                csv.push((name, w, factors));
+                let mut writer = dir.create(&name)?;
+                (writer.write_all(header.as_bytes())).map_err(|e| dir.write_error(&name, &e))?;
+                files.push(CsvFile {
+                    name,
+                    writer,
+                    factors,
+                });
             }
+            let threaded = CsvFiles::should_thread(self.planned, layout.values_per_frame());
+            csv = Some(CsvFiles::new(files, self.units, threaded));
         }
         Ok(Started {
             kept: frame.empty_like(capacity),
@@ -364,7 +374,7 @@ impl<'a, L: FrameLayout> Recorder<'a, L> {
             stride,
             csv,
             row: Vec::new(),
-            text: String::new(),
+            rows: Vec::new(),
         })
     }
 
@@ -405,8 +415,18 @@ impl<'a, L: FrameLayout> Recorder<'a, L> {
                 );
             }
         }
-        let streamed = self.dir.is_some().then(|| Streamed {
-            csv: s.csv.into_iter().map(|(n, w, _)| (n, w)).collect(),
+        let csv = match s.csv.map(CsvFiles::finish).transpose() {
+            Ok(csv) => csv,
+            Err((name, e)) => {
+                let dir = self.dir.as_deref();
+                return Err(dir.map_or_else(
+                    || Error::output(format!("cannot write {name}: {e}")),
+                    |d| d.write_error(&name, &e),
+                ));
+            }
+        };
+        let streamed = csv.map(|csv| Streamed {
+            csv,
             frames: self.frames,
             kept: s.kept.times().len(),
             stride: s.stride,
@@ -432,21 +452,21 @@ fn header_in(units: UnitSystem, columns: &[String]) -> (String, Vec<f64>) {
     (csv_header(&columns), factors)
 }
 
-/// Appends the frame's row to each CSV file, in the model's units.
+/// Hands the frame's rows (every group's, in SI) to the CSV files.
 fn write_rows<L: FrameLayout>(
     s: &mut Started<L>,
-    units: UnitSystem,
     frame: &L::Frame,
 ) -> Result<(), (String, std::io::Error)> {
-    for (g, (name, w, factors)) in s.csv.iter_mut().enumerate() {
-        for k in 0..frame.times().len() {
+    let Some(csv) = s.csv.as_mut() else {
+        return Ok(());
+    };
+    for k in 0..frame.times().len() {
+        s.rows.clear();
+        for g in 0..s.layout.groups() {
             s.layout.row(g, frame, k, &mut s.row);
-            units.convert_row(&mut s.row, factors);
-            s.text.clear();
-            push_csv_row(&mut s.text, &s.row);
-            w.write_all(s.text.as_bytes())
-                .map_err(|e| (name.clone(), e))?;
+            s.rows.extend_from_slice(&s.row);
         }
+        csv.frame(&mut s.rows)?;
     }
     Ok(())
 }
