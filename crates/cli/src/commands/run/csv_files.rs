@@ -239,6 +239,33 @@ mod tests {
         texts
     }
 
+    /// A file the thread cannot write (opened read-only): its error, with the file's name,
+    /// reaches the solver's thread, at a later frame or at the end; nothing is lost silently.
+    #[test]
+    fn a_write_error_on_the_second_thread_reaches_the_run() {
+        let path = std::env::temp_dir().join(format!("cardan-csv-ro-{}", std::process::id()));
+        std::fs::write(&path, "").unwrap();
+        let file = CsvFile {
+            name: "points.csv".into(),
+            writer: BufWriter::new(File::open(&path).unwrap()),
+            factors: vec![1.0],
+        };
+        let mut csv = CsvFiles::new(vec![file], UnitSystem::Si, true);
+        let mut failed = None;
+        for k in 0..200_000 {
+            if let Err(e) = csv.frame(&mut [k as f64, 1.0]) {
+                failed = Some(e);
+                break;
+            }
+        }
+        let (name, _) = match failed {
+            Some(e) => e,
+            None => csv.finish().err().expect("a write error"),
+        };
+        assert_eq!(name, "points.csv");
+        let _ = std::fs::remove_file(&path);
+    }
+
     #[test]
     fn the_second_thread_writes_the_same_files() {
         // Several batches (5 values a frame), in SI and converted.
