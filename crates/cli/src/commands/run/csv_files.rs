@@ -260,7 +260,7 @@ mod tests {
         }
         let (name, _) = match failed {
             Some(e) => e,
-            None => csv.finish().err().expect("a write error"),
+            None => csv.finish().map(drop).expect_err("a write error"),
         };
         assert_eq!(name, "points.csv");
         let _ = std::fs::remove_file(&path);
