@@ -109,26 +109,29 @@ pub fn write_block(
     values: &mut RowValues<'_>,
 ) -> std::io::Result<()> {
     use std::fmt::Write as _;
-    let mut text = String::with_capacity(1 << 16);
+    const CHUNK: usize = 1 << 16;
+    // Written out whenever the text reaches CHUNK bytes.
+    let spill = |text: &mut String, out: &mut dyn std::io::Write| {
+        if text.len() >= CHUNK {
+            out.write_all(text.as_bytes())?;
+            text.clear();
+        }
+        Ok::<(), std::io::Error>(())
+    };
+    let mut text = String::with_capacity(CHUNK);
     let mut buf = ryu::Buffer::new();
     let mut numbers = |text: &mut String, out: &mut dyn std::io::Write, v: &[f64]| {
         for &x in v {
             text.push('\t');
             text.push_str(buf.format(x));
-            if text.len() >= 1 << 16 {
-                out.write_all(text.as_bytes())?;
-                text.clear();
-            }
+            spill(text, out)?;
         }
         Ok::<(), std::io::Error>(())
     };
     text.push_str("TimeSeries\nNumber\tInput");
     for k in 1..=times {
         let _ = write!(text, "\t{k}");
-        if text.len() >= 1 << 16 {
-            out.write_all(text.as_bytes())?;
-            text.clear();
-        }
+        spill(&mut text, out)?;
     }
     text.push_str("\t\nTime\tInput");
     values(0, &mut |v| numbers(&mut text, out, v))?;

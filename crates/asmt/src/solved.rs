@@ -73,15 +73,19 @@ enum Source {
     Ground,
     /// A part: body `body` of the results, through the part frame of `map`.
     Part { body: usize, map: Box<BodyMap> },
-    /// A joint or motion: the sum of the wrenches on body i of the reactions `joints` and the
-    /// driver rows `drivers`, the torque moved to MarkerI's origin: T_m = T_P + (A_i o) × F,
-    /// o = r_P − r_m in body i's frame; `body`: body i in the results (`None`: ground).
-    Wrench {
-        joints: Vec<usize>,
-        drivers: Vec<usize>,
-        body: Option<usize>,
-        offset: Vector3<f64>,
-    },
+    /// A joint or motion.
+    Wrench(Wrench),
+}
+
+/// The reaction of a joint or motion: the sum of the wrenches on body i of the reactions
+/// `joints` and the driver rows `drivers`, the torque moved to MarkerI's origin:
+/// T_m = T_P + (A_i o) × F, o = r_P − r_m in body i's frame; `body`: body i in the results
+/// (`None`: ground).
+struct Wrench {
+    joints: Vec<usize>,
+    drivers: Vec<usize>,
+    body: Option<usize>,
+    offset: Vector3<f64>,
 }
 
 /// A solved `TimeSeries` before its values: the items (kinds, paths, row labels and inputs;
@@ -201,7 +205,7 @@ impl SeriesPlan {
                 Source::Part { body, map } => {
                     out.extend(part_at(&results.bodies[*body], map, k));
                 }
-                Source::Wrench { .. } => out.extend(wrench_at(source, results, dynamics, k)),
+                Source::Wrench(w) => out.extend(w.at(results, dynamics, k)),
             }
         }
         for (v, f) in out[first..].iter_mut().zip(&self.factors) {
@@ -250,40 +254,31 @@ fn part_at(body: &BodyResults, map: &BodyMap, k: usize) -> [f64; 18] {
     part_values(f.position, &f.rotation, vel, w, acc, al)
 }
 
-/// The 6 values of a [`Source::Wrench`] at frame k (zeros without `dynamics`).
-fn wrench_at(
-    source: &Source,
-    results: &Results,
-    dynamics: Option<&DynamicResults>,
-    k: usize,
-) -> [f64; 6] {
-    let (
-        Source::Wrench {
-            joints,
-            drivers,
-            body,
-            offset,
-        },
-        Some(d),
-    ) = (source, dynamics)
-    else {
-        return [0.0; 6];
-    };
-    let mut on_i = (joints.iter().map(|&j| &d.reactions[j].on_i[k]))
-        .chain(drivers.iter().map(|&i| &d.drivers[i].reactions.on_i[k]));
-    let Some(first) = on_i.next() else {
-        return [0.0; 6];
-    };
-    let (mut force, mut torque) = (first.force, first.torque);
-    for w in on_i {
-        force += w.force;
-        torque += w.torque;
+impl Wrench {
+    /// The 6 values at frame k of `results` (zeros without `dynamics`).
+    fn at(&self, results: &Results, dynamics: Option<&DynamicResults>, k: usize) -> [f64; 6] {
+        let Some(d) = dynamics else {
+            return [0.0; 6];
+        };
+        let mut on_i = (self.joints.iter().map(|&j| &d.reactions[j].on_i[k])).chain(
+            self.drivers
+                .iter()
+                .map(|&i| &d.drivers[i].reactions.on_i[k]),
+        );
+        let Some(first) = on_i.next() else {
+            return [0.0; 6];
+        };
+        let (mut force, mut torque) = (first.force, first.torque);
+        for w in on_i {
+            force += w.force;
+            torque += w.torque;
+        }
+        let a = self.body.map_or_else(Matrix3::identity, |b| {
+            cardan_eulerparam::a(&results.bodies[b].p[k])
+        });
+        let torque = torque + (a * self.offset).cross(&force);
+        [force.x, force.y, force.z, torque.x, torque.y, torque.z]
     }
-    let a = body.map_or_else(Matrix3::identity, |b| {
-        cardan_eulerparam::a(&results.bodies[b].p[k])
-    });
-    let torque = torque + (a * offset).cross(&force);
-    [force.x, force.y, force.z, torque.x, torque.y, torque.z]
 }
 
 /// The series of a kinematic run: the assembly (zeros) and every part.
@@ -395,12 +390,12 @@ fn wrench(
     let body = (r.body_i != GROUND)
         .then(|| body_index(&dynamics.kinematics, &r.body_i))
         .flatten();
-    Source::Wrench {
+    Source::Wrench(Wrench {
         joints,
         drivers,
         body,
         offset,
-    }
+    })
 }
 
 /// The input text's lines before its `TimeSeries` (all of them if it has none), each ended

@@ -90,8 +90,8 @@ pub struct CsvFiles {
 }
 
 impl CsvFiles {
-    /// Files `files` of a run of `planned` frames, rows in `units`: written on a second thread
-    /// when `threaded` (see [`CsvFiles::should_thread`]).
+    /// Files `files`, rows in `units`: written on a second thread when `threaded` (see
+    /// [`CsvFiles::should_thread`]).
     pub fn new(files: Vec<CsvFile>, units: UnitSystem, threaded: bool) -> Self {
         let formatter = Formatter {
             files,
@@ -141,6 +141,7 @@ impl CsvFiles {
             Mode::Here(f) => f.write(rows),
             Mode::Thread(w) => {
                 w.batch.extend_from_slice(rows);
+                // Sent when the next frame of the same size would not fit.
                 if w.batch.len() + rows.len() > BATCH_VALUES {
                     w.send()?;
                 }

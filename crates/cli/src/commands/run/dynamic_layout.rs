@@ -105,10 +105,6 @@ impl FrameLayout for DynamicLayout {
         self.empty
     }
 
-    fn values_per_frame(&self) -> usize {
-        self.empty.iter().map(|t| t.columns.len() + 1).sum()
-    }
-
     fn row(&self, g: usize, r: &DynamicResults, k: usize, row: &mut Vec<f64>) {
         if let Group::Kinematic(i) = self.groups[g] {
             return self.kinematic.row(i, &r.kinematics, k, row);

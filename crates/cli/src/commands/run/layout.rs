@@ -162,11 +162,6 @@ impl Layout {
         self.groups.into_iter().map(|g| g.table).collect()
     }
 
-    /// Values per frame over all groups (time columns included).
-    pub fn values_per_frame(&self) -> usize {
-        self.groups.iter().map(|g| g.sources.len() + 1).sum()
-    }
-
     /// Fills `row` with the row of group `g` at frame k of `r`: the time, then each column.
     pub fn row(&self, g: usize, r: &Results, k: usize, row: &mut Vec<f64>) {
         row.clear();

@@ -211,9 +211,6 @@ impl FrameLayout for Layout {
         tally.iterations += frame.iterations.iter().sum::<usize>();
         tally.max_residual = (frame.residual.iter()).fold(tally.max_residual, |a, &b| a.max(b));
     }
-    fn values_per_frame(&self) -> usize {
-        Layout::values_per_frame(self)
-    }
 }
 
 /// What [`Recorder::finish`] returns: the kept copy and the run's numbers over every frame.
@@ -326,11 +323,7 @@ impl<'a, L: FrameLayout> Recorder<'a, L> {
             written = t.frame(frame).map_err(|e| (t.name().to_string(), e));
         }
         if let Err((name, e)) = written {
-            let dir = self.dir.as_deref();
-            self.error = Some(dir.map_or_else(
-                || Error::output(format!("cannot write {name}: {e}")),
-                |d| d.write_error(&name, &e),
-            ));
+            self.error = Some(write_error(self.dir.as_deref(), &name, &e));
             return ControlFlow::Break(());
         }
         ControlFlow::Continue(())
@@ -415,16 +408,8 @@ impl<'a, L: FrameLayout> Recorder<'a, L> {
                 );
             }
         }
-        let csv = match s.csv.map(CsvFiles::finish).transpose() {
-            Ok(csv) => csv,
-            Err((name, e)) => {
-                let dir = self.dir.as_deref();
-                return Err(dir.map_or_else(
-                    || Error::output(format!("cannot write {name}: {e}")),
-                    |d| d.write_error(&name, &e),
-                ));
-            }
-        };
+        let csv = (s.csv.map(CsvFiles::finish).transpose())
+            .map_err(|(name, e)| write_error(self.dir.as_deref(), &name, &e))?;
         let streamed = csv.map(|csv| Streamed {
             csv,
             frames: self.frames,
@@ -440,6 +425,14 @@ impl<'a, L: FrameLayout> Recorder<'a, L> {
             last_time: self.last_time,
         })
     }
+}
+
+/// The error of a failed write of `name` (into `dir`, when the run writes one).
+fn write_error(dir: Option<&OutputDir>, name: &str, e: &std::io::Error) -> Error {
+    dir.map_or_else(
+        || Error::output(format!("cannot write {name}: {e}")),
+        |d| d.write_error(name, e),
+    )
 }
 
 /// The CSV header of columns `columns` (SI) in `units`, and the columns' factors from SI.
