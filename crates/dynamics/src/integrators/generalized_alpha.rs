@@ -104,6 +104,12 @@ struct Buf {
     w_vdot: Vec<f64>,
     w_lambda: Vec<f64>,
     proj_x: Vec<f64>,
+    /// The projection's solutions of the two steps before `proj_x`'s (its warm start
+    /// extrapolates from them), and how many of them (0–2) count: steps of the same size as
+    /// the last, each projected by refinement.
+    proj_x_prev: Vec<f64>,
+    proj_x_prev2: Vec<f64>,
+    proj_history: usize,
     /// State of the solver's factorization (modified Newton).
     factor: Factor,
     /// The step size of the tangent iteration matrix the solver holds, 0 when it holds
@@ -427,7 +433,24 @@ fn attempt(
 /// [`PROJECTION_FRACTION`] of the total: what is left, a fraction of one step's drift, is
 /// removed with the next step's drift by the next projection (each projection corrects the
 /// whole residual ν − Φ_v v), so it does not accumulate.
-fn project_velocities(d: &mut Dynamics, b: &mut Buf, exact: bool) -> Result<(), DynamicsError> {
+fn project_velocities(
+    d: &mut Dynamics,
+    b: &mut Buf,
+    h: f64,
+    exact: bool,
+) -> Result<(), DynamicsError> {
+    // The warm start extrapolates only over equal steps (the step before of the same size, up
+    // to the roundoff of the steps that divide an output interval), and only when no redundant
+    // row is dropped: near a configuration where the kept rows lose rank the corrections jump,
+    // and an extrapolated start sent the refinement of the Bennett linkage in
+    // `tests/reselection.rs` to 1e8 m/s (its steps land on such configurations).
+    let same = (h - b.h_prev).abs() <= 1e-9 * h;
+    let all_rows = d
+        .kkt
+        .as_ref()
+        .is_some_and(|k| k.active.len() == b.phi.len());
+    let history = if same && all_rows { b.proj_history } else { 0 };
+    b.proj_history = 0;
     if b.factor == Factor::None {
         d.project_velocities(&mut b.s)?;
         b.factor = Factor::Fresh;
@@ -457,9 +480,27 @@ fn project_velocities(d: &mut Dynamics, b: &mut Buf, exact: bool) -> Result<(), 
     if e_max == 0.0 {
         return Ok(());
     }
-    // Started from the last step's correction: the drift a step leaves changes slowly (the
-    // slider-crank: 5.89e-5, 5.92e-5, 5.95e-5 m/s in three steps), so the first residual is
-    // about 1 % of the whole (−5 % instructions per step there).
+    // Started from the last steps' corrections, extrapolated (quadratically from three equal
+    // steps, linearly from two): the drift a step leaves changes slowly and smoothly (the
+    // slider-crank: 5.89e-5, 5.92e-5, 5.95e-5 m/s in three steps), so the first residual is a
+    // small fraction of the whole and the first refinement usually ends it. The last
+    // correction alone left about 1 %, and a second refinement was needed (the slider-crank
+    // at h = 1 ms: 1.8 instead of 2.5 solves per step, −7.5 % instructions of a whole run).
+    for ((x, p), p2) in b
+        .proj_x
+        .iter_mut()
+        .zip(b.proj_x_prev.iter_mut())
+        .zip(b.proj_x_prev2.iter_mut())
+    {
+        let last = *x;
+        if history >= 2 {
+            *x = 3.0 * last - 3.0 * *p + *p2;
+        } else if history == 1 {
+            *x = 2.0 * last - *p;
+        }
+        *p2 = *p;
+        *p = last;
+    }
     // Converged: the last correction is below 1e-6 of the total (itself a small drift
     // correction) or below 1e-10 of the largest velocity.
     let vmax = b.s.v.iter().fold(0.0f64, |m, v| m.max(v.abs()));
@@ -508,7 +549,13 @@ fn project_velocities(d: &mut Dynamics, b: &mut Buf, exact: bool) -> Result<(), 
         for c in 0..n {
             b.s.v[c] += b.proj_x[c];
         }
+        // The solutions before count for the next step if this step had their size.
+        b.proj_history = if same { (history + 1).min(2) } else { 0 };
     } else {
+        // The refinement's last iterate is no warm start for the next step: near a singular
+        // configuration it can be far off (the Bennett linkage of the re-selection test:
+        // 1e8 m/s, and the steps after it diverged).
+        b.proj_x.fill(0.0);
         d.project_velocities(&mut b.s)?;
         b.factor = Factor::Fresh;
         b.tangent_h = 0.0;
@@ -592,6 +639,9 @@ pub(crate) fn run(
         scale: vec![0.0; n],
         proj_e: vec![0.0; ma],
         proj_x: vec![0.0; n + ma],
+        proj_x_prev: vec![0.0; n + ma],
+        proj_x_prev2: vec![0.0; n + ma],
+        proj_history: 0,
         factor: Factor::None,
         tangent_h: 0.0,
         tangent_small: false,
@@ -698,7 +748,8 @@ pub(crate) fn run(
             if o.project_velocities {
                 if o.reuse_factorization {
                     let at_output = b.s.t == target;
-                    project_velocities(d, &mut b, at_output)?;
+                    let h_step = b.s.t - t_before;
+                    project_velocities(d, &mut b, h_step, at_output)?;
                 } else {
                     d.project_velocities(&mut b.s)?;
                 }
