@@ -1,14 +1,27 @@
 //! Text for SVG: escaping and fitting a label into a width (an estimate: no font metrics).
 
+use std::borrow::Cow;
+
 /// Average glyph width of the sans-serif font, as a fraction of the font size.
 const GLYPH: f64 = 0.6;
 
-/// `s` with the XML special characters escaped.
-pub fn esc(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
+/// `s` with the XML special characters escaped (borrowed when it has none, as labels and
+/// tick values mostly do).
+pub fn esc(s: &str) -> Cow<'_, str> {
+    if !s.contains(['&', '<', '>', '"']) {
+        return Cow::Borrowed(s);
+    }
+    let mut out = String::with_capacity(s.len() + 16);
+    for c in s.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            c => out.push(c),
+        }
+    }
+    Cow::Owned(out)
 }
 
 /// `s` shortened with a middle ellipsis so that it fits `width` pixels at `font` size.
