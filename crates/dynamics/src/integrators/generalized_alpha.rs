@@ -32,7 +32,8 @@
 //! estimate of the remaining error in v̇ relative to the largest acceleration, or relative to
 //! the first update (the predictor's distance from the step's solution: `NEWTON_FRACTION`),
 //! whichever is looser (the latter only when no redundant row is dropped: a dropped row is
-//! held through the accelerations alone). Near singular
+//! held through the accelerations alone). The increment tests need only the updates, so they
+//! are decided before the residual of the equations of motion is evaluated. Near singular
 //! configurations, roundoff stagnation of a fresh matrix within bounds. The iteration's
 //! solves are not refined (`Kkt::solve_unrefined`): each residual is of the exact system, so
 //! the next iteration corrects a solve's error, and a Schur solve's backward error is a few
@@ -308,7 +309,9 @@ fn attempt(
             && theta_dv / (1.0 - theta_dv) * dv <= (tol * acc).max(fraction * dv_first);
         // Both increment tests are decided by the updates alone: the residual of the equations
         // of motion is not needed then (the slider-crank: 1.5 % of a whole run's instructions).
-        if constraints_ok && (fresh_small || chord_small) && d.h.iter().all(|v| v.is_finite()) {
+        // A non-finite force or multiplier, which that residual would show, still rejects.
+        let finite = d.h.iter().chain(&b.lambda1).all(|v| v.is_finite());
+        if constraints_ok && (fresh_small || chord_small) && finite {
             return Ok(true);
         }
         // The residual of the equations of motion r_v = M v̇ + Φ_vᵀλ − h (into rhs, negated);
