@@ -187,6 +187,11 @@ impl Kkt {
         self.last.kind()
     }
 
+    /// Whether every row is active (no redundant row dropped).
+    pub fn keeps_all_rows(&self) -> bool {
+        self.active.len() == self.full.len()
+    }
+
     /// Evaluates Φ_v at the bodies' poses into `jac`. No allocation.
     pub fn eval_jacobian(
         &mut self,

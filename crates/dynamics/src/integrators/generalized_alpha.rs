@@ -52,7 +52,7 @@
 //! layout reserves (O(n) memory).
 
 use super::tangents::Tangents;
-use crate::kkt::{eval_rows, Rhs};
+use crate::kkt::{eval_rows, Kkt, Rhs};
 use crate::options::{GeneralizedAlphaOptions, IterationMatrix, SimulationOptions};
 use crate::record::Recorder;
 use crate::results::IntegrationStats;
@@ -261,6 +261,16 @@ fn attempt(
     if b.factor == Factor::Fresh {
         b.factor = Factor::Stale;
     }
+    let tol = o.tolerance.max(1e-14);
+    // The fraction of the first update (see `chord_small` below) only without dropped
+    // (redundant) rows: the kept rows hold to the tolerance at every iterate, but a dropped row
+    // is held only through the accelerations, and near a singular configuration an error of
+    // κ·|Δv̇₀| in v̇ drifts it (2e-8 m on the re-selection test's gen-α run, against 8e-13 m).
+    let fraction = if d.kkt.as_ref().is_some_and(Kkt::keeps_all_rows) {
+        NEWTON_FRACTION
+    } else {
+        0.0
+    };
     for it in 0..o.max_iterations {
         trial(b, h, p);
         d.sync(&b.t1);
@@ -283,7 +293,6 @@ fn attempt(
             kkt.rhs[n + a] = -b.phi[r] / beta_p;
             res_c = res_c.max((b.phi[r] / escale[r]).abs());
         }
-        let tol = o.tolerance.max(1e-14);
         // Converged: the constraints hold and either the equations of motion hold to the
         // tolerance, or the last update of a matrix factored in this step (Newton, or a chord
         // iteration on it) moved the positions by less than the tolerance (scaled).
@@ -294,15 +303,6 @@ fn attempt(
         // relative to the largest acceleration. At the acceleration level, not the β'-scaled
         // position level: an error e in v̇ left at every step grows into a position error of
         // about e t²/4 over a run, whatever h.
-        // The fraction of the first update only without dropped (redundant) rows: the kept
-        // rows hold to the tolerance at every iterate, but a dropped row is held only through
-        // the accelerations, and near a singular configuration an error of κ·|Δv̇₀| in v̇
-        // drifts it (2e-8 m on the re-selection test's gen-α run, against 8e-13 m).
-        let fraction = if kkt.active.len() == b.phi.len() {
-            NEWTON_FRACTION
-        } else {
-            0.0
-        };
         let theta_dv = dv / dv_prev;
         let chord_small = it >= 2
             && theta_dv < 1.0
@@ -310,8 +310,10 @@ fn attempt(
         // Both increment tests are decided by the updates alone: the residual of the equations
         // of motion is not needed then (the slider-crank: 1.5 % of a whole run's instructions).
         // A non-finite force or multiplier, which that residual would show, still rejects.
-        let finite = d.h.iter().chain(&b.lambda1).all(|v| v.is_finite());
-        if constraints_ok && (fresh_small || chord_small) && finite {
+        if constraints_ok
+            && (fresh_small || chord_small)
+            && d.h.iter().chain(&b.lambda1).all(|v| v.is_finite())
+        {
             return Ok(true);
         }
         // The residual of the equations of motion r_v = M v̇ + Φ_vᵀλ − h (into rhs, negated);
@@ -454,10 +456,7 @@ fn project_velocities(
     // and an extrapolated start sent the refinement of the Bennett linkage in
     // `tests/reselection.rs` to 1e8 m/s (its steps land on such configurations).
     let same = (h - b.h_prev).abs() <= 1e-9 * h;
-    let all_rows = d
-        .kkt
-        .as_ref()
-        .is_some_and(|k| k.active.len() == b.phi.len());
+    let all_rows = d.kkt.as_ref().is_some_and(Kkt::keeps_all_rows);
     let history = if same && all_rows { b.proj_history } else { 0 };
     b.proj_history = 0;
     if b.factor == Factor::None {
