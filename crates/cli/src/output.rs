@@ -10,7 +10,9 @@
 //!    previous run's directory as it was: no truncated file is ever in `DIR`. The files are
 //!    not synced to disk: outputs can be computed again, and a sync per file cost about
 //!    10 ms per run (half of a small model's whole run), so only a power failure right after
-//!    a run can lose them.
+//!    a run can lose them. Files the run announces ([`OutputDir::announce`],
+//!    [`OutputDir::announce_plots_of`]) are created on a second thread while the analysis runs
+//!    ([`opener`]); one announced but never written is removed before the rename.
 //! 3. **Rename into place.** The previous `DIR` is renamed aside, the temporary directory renamed
 //!    to `DIR`, then the previous one removed: `DIR` always holds the files of one run, never a
 //!    mix. A directory is only replaced if it holds nothing but what a run writes (`*.csv`,
@@ -21,10 +23,41 @@
 //! previous directory stays. Partial results (a failure mid-run, Ctrl-C) replace it, marked
 //! `"partial"` in `run.json`.
 
+pub mod opener;
+
 use crate::diag::{describe_io, Error};
+use opener::{Opener, PendingFile};
 use std::ffi::OsString;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
+
+/// The plot files a run writes beside a table's CSV file.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct PlotFiles {
+    /// An SVG per table (the model file's `plots`), except the Newton residual's.
+    pub svg: bool,
+    /// A PNG beside each SVG (`--png`).
+    pub png: bool,
+}
+
+impl PlotFiles {
+    /// Whether the table `name` is plotted.
+    pub fn plots(&self, name: &str) -> bool {
+        self.svg && name != "residual"
+    }
+
+    /// The plot files of the table `name`.
+    pub fn of(&self, name: &str) -> Vec<String> {
+        let mut files = Vec::new();
+        if self.plots(name) {
+            if self.png {
+                files.push(format!("{name}.png"));
+            }
+            files.push(format!("{name}.svg"));
+        }
+        files
+    }
+}
 
 /// A locked output directory being written: files go to the temporary sibling until
 /// [`OutputDir::commit`]. Dropping it without committing removes the temporary directory and
@@ -42,6 +75,12 @@ pub struct OutputDir {
     /// The temporary directory exists and is ours to remove.
     tmp_created: bool,
     committed: bool,
+    /// Creates announced and streamed files on a second thread.
+    opener: Opener,
+    /// Files announced and not yet written: name and the file being created.
+    announced: Vec<(String, PendingFile)>,
+    /// The plots written beside each table.
+    plots: PlotFiles,
 }
 
 /// `path` with `suffix` appended to its last component (`out` → `out.lock`).
@@ -86,6 +125,9 @@ impl OutputDir {
             files: Vec::new(),
             tmp_created: false,
             committed: false,
+            opener: Opener::default(),
+            announced: Vec::new(),
+            plots: PlotFiles::default(),
         };
         check_replaceable(&dir.target)?;
         Ok(dir)
@@ -120,32 +162,71 @@ impl OutputDir {
         Ok(())
     }
 
+    /// Says which files the run will write, so that they are created on a second thread while
+    /// it goes on ([`opener`]). A name announced twice is created once.
+    ///
+    /// # Errors
+    /// The temporary directory cannot be created.
+    pub fn announce<S: Into<String>>(
+        &mut self,
+        names: impl IntoIterator<Item = S>,
+    ) -> Result<(), Error> {
+        self.ensure_tmp()?;
+        for name in names {
+            let name = name.into();
+            if !self.announced.iter().any(|(n, _)| *n == name) {
+                let file = self.opener.open(self.tmp.join(&name));
+                self.announced.push((name, file));
+            }
+        }
+        Ok(())
+    }
+
+    /// The plots to be written beside each table ([`OutputDir::announce_plots_of`]).
+    pub fn set_plots(&mut self, plots: PlotFiles) {
+        self.plots = plots;
+    }
+
+    /// Announces the plot files of the table `name` ([`OutputDir::set_plots`]).
+    ///
+    /// # Errors
+    /// As [`OutputDir::announce`].
+    pub fn announce_plots_of(&mut self, name: &str) -> Result<(), Error> {
+        self.announce(self.plots.of(name))
+    }
+
+    /// The file `name` in the temporary directory: the announced one, or one created on the
+    /// second thread (`later`, for a file whose first bytes come later) or here.
+    fn file(&mut self, name: &str, later: bool) -> Result<PendingFile, Error> {
+        self.ensure_tmp()?;
+        Ok(match self.announced.iter().position(|(n, _)| n == name) {
+            Some(i) => self.announced.swap_remove(i).1,
+            None if later => self.opener.open(self.tmp.join(name)),
+            None => PendingFile::create_now(&self.tmp.join(name)),
+        })
+    }
+
     /// Writes `name` (text or bytes) into the temporary directory: write and flush.
     ///
     /// # Errors
     /// An output error naming the file and the cause (a full disk, permissions).
     pub fn write(&mut self, name: &str, data: impl AsRef<[u8]>) -> Result<(), Error> {
-        self.ensure_tmp()?;
-        let path = self.tmp.join(name);
-        let written = std::fs::File::create(&path).and_then(|mut f| {
-            f.write_all(data.as_ref())?;
-            f.flush()
-        });
+        let mut file = self.file(name, false)?;
+        let written = file.write_all(data.as_ref()).and_then(|()| file.flush());
         written.map_err(|e| self.write_error(name, &e))?;
         self.files.push(name.to_string());
         Ok(())
     }
 
     /// Opens `name` in the temporary directory for a file written piece by piece while the run
-    /// goes on (a streamed CSV): a buffered writer. Once complete, [`OutputDir::finish`] flushes
-    /// it and counts it among the files written.
+    /// goes on (a streamed CSV): a buffered writer, the file created on the second thread.
+    /// Once complete, [`OutputDir::finish`] flushes it and counts it among the files written.
     ///
     /// # Errors
-    /// An output error naming the file and the cause.
-    pub fn create(&mut self, name: &str) -> Result<std::io::BufWriter<std::fs::File>, Error> {
-        self.ensure_tmp()?;
-        let file = std::fs::File::create(self.tmp.join(name));
-        let file = file.map_err(|e| self.write_error(name, &e))?;
+    /// An output error naming the file and the cause (the temporary directory cannot be
+    /// created; a file that cannot be created is an error of its first write).
+    pub fn create(&mut self, name: &str) -> Result<std::io::BufWriter<PendingFile>, Error> {
+        let file = self.file(name, true)?;
         Ok(std::io::BufWriter::with_capacity(1 << 16, file))
     }
 
@@ -169,12 +250,13 @@ impl OutputDir {
     pub fn finish(
         &mut self,
         name: &str,
-        writer: std::io::BufWriter<std::fs::File>,
+        writer: std::io::BufWriter<PendingFile>,
     ) -> Result<(), Error> {
         let done = writer
             .into_inner()
-            .map(drop)
-            .map_err(|e| std::io::Error::new(e.error().kind(), e.error().to_string()));
+            .map_err(|e| std::io::Error::new(e.error().kind(), e.error().to_string()))
+            // Created even if nothing was written: its creation error is this file's error.
+            .and_then(|mut f| f.file().map(drop));
         done.map_err(|e| self.write_error(name, &e))?;
         self.files.push(name.to_string());
         Ok(())
@@ -197,6 +279,10 @@ impl OutputDir {
     /// # Errors
     /// An output error if a rename fails (the previous directory is then put back).
     pub fn commit(mut self) -> Result<(), Error> {
+        self.opener.stop();
+        for (name, _) in std::mem::take(&mut self.announced) {
+            let _ = std::fs::remove_file(self.tmp.join(name));
+        }
         let old = sibling(&self.target, &format!(".old-{}", std::process::id()));
         let had_previous = std::fs::symlink_metadata(&self.target).is_ok();
         if had_previous {
@@ -227,6 +313,8 @@ impl OutputDir {
 
 impl Drop for OutputDir {
     fn drop(&mut self) {
+        // No file is being created in the temporary directory while it is removed.
+        self.opener.stop();
         if self.tmp_created && !self.committed {
             let _ = std::fs::remove_dir_all(&self.tmp);
         }
@@ -363,4 +451,77 @@ fn is_run_output(e: &std::fs::DirEntry) -> bool {
             || name == "run.json"
             || name == "animation.glb"
             || name == "index.html")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn target(tag: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("cardan-outdir-{tag}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        d
+    }
+
+    fn names(dir: &Path) -> Vec<String> {
+        let mut v: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    }
+
+    /// Announced files are created ahead (here with their plots) and hold what was written;
+    /// one announced but never written (the animation of a run whose scene failed) is not left
+    /// behind.
+    #[test]
+    fn announced_files_hold_what_was_written_and_unwritten_ones_go() {
+        let t = target("announce");
+        let mut dir = OutputDir::lock(&t).unwrap();
+        dir.set_plots(PlotFiles {
+            svg: true,
+            png: false,
+        });
+        dir.announce(["animation.glb", "run.json"]).unwrap();
+        let mut csv = dir.create("points.csv").unwrap();
+        dir.announce_plots_of("points").unwrap();
+        dir.announce_plots_of("residual").unwrap();
+        csv.write_all(b"t,x\n0,1\n").unwrap();
+        dir.finish("points.csv", csv).unwrap();
+        dir.write("points.svg", "<svg/>").unwrap();
+        dir.write("run.json", "{}").unwrap();
+        dir.commit().unwrap();
+        assert_eq!(names(&t), ["points.csv", "points.svg", "run.json"]);
+        assert_eq!(
+            std::fs::read_to_string(t.join("points.csv")).unwrap(),
+            "t,x\n0,1\n"
+        );
+        assert_eq!(
+            std::fs::read_to_string(t.join("points.svg")).unwrap(),
+            "<svg/>"
+        );
+        let _ = std::fs::remove_dir_all(&t);
+    }
+
+    /// A streamed file that cannot be created (its name is taken by a directory) is an error
+    /// naming it when it is completed, even if nothing was written into it; the previous
+    /// directory stays.
+    #[test]
+    fn a_file_that_cannot_be_created_is_an_error_naming_it() {
+        let t = target("uncreatable");
+        let mut dir = OutputDir::lock(&t).unwrap();
+        dir.scratch("x").unwrap();
+        std::fs::create_dir(dir.tmp.join("points.csv")).unwrap();
+        let csv = dir.create("points.csv").unwrap();
+        let e = dir.finish("points.csv", csv).unwrap_err();
+        assert!(
+            e.message.contains("cannot write points.csv"),
+            "{}",
+            e.message
+        );
+        drop(dir);
+        assert!(!t.exists());
+        let _ = std::fs::remove_dir_all(&t);
+    }
 }

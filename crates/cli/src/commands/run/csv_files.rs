@@ -10,9 +10,9 @@
 //! all) or a one-core machine writes on the solver's thread: starting a thread would cost more
 //! than it saves.
 
+use crate::output::opener::PendingFile;
 use crate::table::push_csv_row;
 use crate::units::UnitSystem;
-use std::fs::File;
 use std::io::{BufWriter, Write as _};
 use std::sync::mpsc::{sync_channel, Receiver, SyncSender};
 use std::thread::JoinHandle;
@@ -34,7 +34,7 @@ pub struct CsvFile {
     /// Its name (`points.csv`).
     pub name: String,
     /// Its writer, header written.
-    pub writer: BufWriter<File>,
+    pub writer: BufWriter<PendingFile>,
     /// The columns' factors from SI to the model's units ([`UnitSystem::convert_columns`]).
     pub factors: Vec<f64>,
 }
@@ -154,7 +154,7 @@ impl CsvFiles {
     ///
     /// # Errors
     /// A write error.
-    pub fn finish(self) -> Result<Vec<(String, BufWriter<File>)>, WriteError> {
+    pub fn finish(self) -> Result<Vec<(String, BufWriter<PendingFile>)>, WriteError> {
         let files = match self.mode {
             Mode::Here(f) => f.files,
             Mode::Thread(mut w) => {
@@ -217,7 +217,7 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let file = |name: &str, factors: Vec<f64>| CsvFile {
             name: name.into(),
-            writer: BufWriter::new(File::create(dir.join(name)).unwrap()),
+            writer: BufWriter::new(PendingFile::create_now(&dir.join(name))),
             factors,
         };
         let files = vec![file("a.csv", vec![1.0, 1e3]), file("b.csv", vec![1e3])];
@@ -248,7 +248,7 @@ mod tests {
         std::fs::write(&path, "").unwrap();
         let file = CsvFile {
             name: "points.csv".into(),
-            writer: BufWriter::new(File::open(&path).unwrap()),
+            writer: BufWriter::new(std::fs::File::open(&path).unwrap().into()),
             factors: vec![1.0],
         };
         let mut csv = CsvFiles::new(vec![file], UnitSystem::Si, true);

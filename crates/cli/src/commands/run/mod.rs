@@ -21,7 +21,7 @@ pub use summary::{Analysed, DynamicSummary, EnergyBalance, RunFlags, Summary};
 use super::asmt::SolvedSeries;
 use super::{prepare_with, Prepared};
 use crate::diag::Error;
-use crate::output::OutputDir;
+use crate::output::{OutputDir, PlotFiles};
 use crate::report::{ModelRef, RunReport, Status};
 use crate::table::Table;
 use cardan_mechanism::Results;
@@ -211,17 +211,21 @@ pub fn run_model_with(
         true => Some(SolvedSeries::new(path, flags.asmt.units, &mut out_dir)?),
         false => None,
     };
-    let (kind, mut a) = analyse_into(&p, &analysis, flags, Some(&mut out_dir), solved.as_mut())?;
     // A static or modal run has one time: nothing to plot against it.
     let one_time = matches!(
         analysis.statics,
         Some(crate::build::StaticKind::Static | crate::build::StaticKind::Modal)
     );
     let svg = analysis.plots && !one_time;
-    let plots = Plots {
+    let plots = PlotFiles {
         svg,
         png: svg && flags.png,
     };
+    // Created while the analysis runs (crate::output::opener), with the streamed CSV files and
+    // their plots.
+    out_dir.set_plots(plots);
+    out_dir.announce(["animation.glb", "index.html", "run.json"])?;
+    let (kind, mut a) = analyse_into(&p, &analysis, flags, Some(&mut out_dir), solved.as_mut())?;
     let files = write_outputs(out_dir, &p, kind, &mut a, plots, &declared, solved)?;
     a.summary.dir = dir;
     a.summary.files = files;
@@ -319,15 +323,6 @@ fn strict_error(warnings: &[String]) -> Error {
     ))
 }
 
-/// Which plot files to write.
-#[derive(Debug, Clone, Copy)]
-struct Plots {
-    /// An SVG per table (the model file's `plots`).
-    svg: bool,
-    /// A PNG beside each SVG (`--png`).
-    png: bool,
-}
-
 /// Writes the SVG plot of a table and, with `png`, its PNG rendering; returns the SVG.
 fn write_plot(dir: &mut OutputDir, t: &Table, png: bool) -> Result<String, Error> {
     let svg = t.to_svg();
@@ -348,7 +343,7 @@ fn write_outputs(
     p: &Prepared,
     kind: &'static str,
     a: &mut Analysed,
-    plots: Plots,
+    plots: PlotFiles,
     declared: &crate::geometry::Declared,
     solved: Option<SolvedSeries>,
 ) -> Result<Vec<PathBuf>, Error> {
@@ -366,7 +361,7 @@ fn write_outputs(
             }
             None => dir.write(&name, t.to_csv())?,
         }
-        if plots.svg && t.name != "residual" {
+        if plots.plots(&t.name) {
             svgs.push((t.name.clone(), write_plot(&mut dir, t, plots.png)?));
         }
     }

@@ -25,12 +25,12 @@
 use super::csv_files::{CsvFile, CsvFiles};
 use super::layout::Layout;
 use crate::diag::Error;
+use crate::output::opener::PendingFile;
 use crate::output::OutputDir;
 use crate::table::{csv_header, Table};
 use crate::units::UnitSystem;
 use cardan_dynamics::DynamicResults;
 use cardan_mechanism::Results;
-use std::fs::File;
 use std::io::{BufWriter, Write as _};
 use std::ops::ControlFlow;
 
@@ -46,7 +46,7 @@ pub const KEPT_VALUES_BUDGET: usize = 4_000_000;
 pub struct Streamed {
     /// Each streamed CSV file's name and its writer (flushed and synced by
     /// [`OutputDir::finish`] when the outputs are written).
-    pub csv: Vec<(String, BufWriter<File>)>,
+    pub csv: Vec<(String, BufWriter<PendingFile>)>,
     /// Frames the run stored (every one is in the CSV files).
     pub frames: usize,
     /// Frames kept in memory (in the plots, the animation and the report).
@@ -350,6 +350,7 @@ impl<'a, L: FrameLayout> Recorder<'a, L> {
                 let (header, factors) = header_in(self.units, &t.columns);
                 let mut writer = dir.create(&name)?;
                 (writer.write_all(header.as_bytes())).map_err(|e| dir.write_error(&name, &e))?;
+                dir.announce_plots_of(&t.name)?;
                 files.push(CsvFile {
                     name,
                     writer,
