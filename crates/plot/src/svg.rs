@@ -5,7 +5,7 @@
 use std::fmt::Write as _;
 
 use crate::axis::Axis;
-use crate::path::{path, Rect};
+use crate::path::{path, Px, Rect};
 use crate::text::{esc, fit};
 use crate::{Figure, Panel, Series, DASHES, PALETTE};
 
@@ -38,7 +38,7 @@ pub fn render_svg(fig: &Figure) -> String {
     let _ = writeln!(
         s,
         r#"<text x="{}" y="22" text-anchor="middle" font-size="15">{}</text>"#,
-        w / 2.0,
+        Px(w / 2.0),
         esc(&fit(&fig.title, w - 20.0, 15.0))
     );
     for (k, panel) in fig.panels.iter().enumerate() {
@@ -80,8 +80,8 @@ fn write_panel(s: &mut String, k: usize, fig: &Figure, panel: &Panel, xa: &Axis,
     let _ = writeln!(
         s,
         r#"<text x="{}" y="{}" text-anchor="middle" font-size="12" font-weight="bold">{}</text>"#,
-        r.x + r.w / 2.0,
-        cy + 18.0,
+        Px(r.x + r.w / 2.0),
+        Px(cy + 18.0),
         esc(&fit(&panel.title, r.w + RIGHT - 10.0, 12.0))
     );
     write_grid(s, xa, &ya, r);
@@ -89,7 +89,10 @@ fn write_panel(s: &mut String, k: usize, fig: &Figure, panel: &Panel, xa: &Axis,
     let _ = writeln!(
         s,
         r#"<clipPath id="c{k}"><rect x="{}" y="{}" width="{}" height="{}"/></clipPath>"#,
-        r.x, r.y, r.w, r.h
+        Px(r.x),
+        Px(r.y),
+        Px(r.w),
+        Px(r.h)
     );
     let _ = writeln!(
         s,
@@ -106,13 +109,13 @@ fn write_panel(s: &mut String, k: usize, fig: &Figure, panel: &Panel, xa: &Axis,
 fn write_grid(s: &mut String, xa: &Axis, ya: &Axis, r: Rect) {
     for (v, label) in &xa.ticks {
         let Some(f) = xa.frac(*v) else { continue };
-        let x = r.x + f * r.w;
+        let x = Px(r.x + f * r.w);
         let _ = writeln!(
             s,
-            r##"<line x1="{x:.1}" y1="{}" x2="{x:.1}" y2="{}" stroke="#e4e4e4"/><text x="{x:.1}" y="{}" text-anchor="middle">{}</text>"##,
-            r.y,
-            r.y + r.h,
-            r.y + r.h + 14.0,
+            r##"<line x1="{x}" y1="{}" x2="{x}" y2="{}" stroke="#e4e4e4"/><text x="{x}" y="{}" text-anchor="middle">{}</text>"##,
+            Px(r.y),
+            Px(r.y + r.h),
+            Px(r.y + r.h + 14.0),
             esc(label)
         );
     }
@@ -121,18 +124,23 @@ fn write_grid(s: &mut String, xa: &Axis, ya: &Axis, r: Rect) {
         let y = r.y + (1.0 - f) * r.h;
         let _ = writeln!(
             s,
-            r##"<line x1="{}" y1="{y:.1}" x2="{}" y2="{y:.1}" stroke="#e4e4e4"/><text x="{}" y="{:.1}" text-anchor="end">{}</text>"##,
-            r.x,
-            r.x + r.w,
-            r.x - 5.0,
-            y + 4.0,
+            r##"<line x1="{}" y1="{}" x2="{}" y2="{}" stroke="#e4e4e4"/><text x="{}" y="{}" text-anchor="end">{}</text>"##,
+            Px(r.x),
+            Px(y),
+            Px(r.x + r.w),
+            Px(y),
+            Px(r.x - 5.0),
+            Px(y + 4.0),
             esc(label)
         );
     }
     let _ = writeln!(
         s,
         r##"<rect x="{}" y="{}" width="{}" height="{}" fill="none" stroke="#333"/>"##,
-        r.x, r.y, r.w, r.h
+        Px(r.x),
+        Px(r.y),
+        Px(r.w),
+        Px(r.h)
     );
 }
 
@@ -141,11 +149,11 @@ fn write_labels(s: &mut String, x_label: &str, y_label: &str, r: Rect, cx: f64) 
     let _ = writeln!(
         s,
         r#"<text x="{}" y="{}" text-anchor="middle">{}</text>"#,
-        r.x + r.w / 2.0,
-        r.y + r.h + 32.0,
+        Px(r.x + r.w / 2.0),
+        Px(r.y + r.h + 32.0),
         esc(&fit(x_label, r.w, FONT))
     );
-    let (lx, ly) = (cx + 14.0, r.y + r.h / 2.0);
+    let (lx, ly) = (Px(cx + 14.0), Px(r.y + r.h / 2.0));
     let _ = writeln!(
         s,
         r#"<text x="{lx}" y="{ly}" text-anchor="middle" transform="rotate(-90 {lx} {ly})">{}</text>"#,
@@ -172,10 +180,8 @@ fn write_series(s: &mut String, series: &Series, xa: &Axis, ya: &Axis, r: Rect) 
     if series.style.markers {
         let colour = PALETTE[series.style.colour % PALETTE.len()];
         for (x, y) in drawn {
-            let _ = writeln!(
-                s,
-                r#"<circle cx="{x:.1}" cy="{y:.1}" r="2.5" fill="{colour}"/>"#
-            );
+            let (x, y) = (Px(x), Px(y));
+            let _ = writeln!(s, r#"<circle cx="{x}" cy="{y}" r="2.5" fill="{colour}"/>"#);
         }
     }
 }
@@ -194,18 +200,21 @@ fn write_legend(s: &mut String, series: &[Series], r: Rect) {
         let y = r.y + 6.0 + ROW * k as f64;
         let _ = writeln!(
             s,
-            r#"<path {} stroke-width="2" d="M{x},{y}h22"/><text x="{}" y="{}">{}</text>"#,
+            r#"<path {} stroke-width="2" d="M{},{}h22"/><text x="{}" y="{}">{}</text>"#,
             stroke(item.style),
-            x + 27.0,
-            y + 4.0,
+            Px(x),
+            Px(y),
+            Px(x + 27.0),
+            Px(y + 4.0),
             esc(&fit(&item.label, RIGHT - 40.0, FONT))
         );
     }
     if shown < series.len() {
         let _ = writeln!(
             s,
-            r#"<text x="{x}" y="{}">+ {} more</text>"#,
-            r.y + 10.0 + ROW * shown as f64,
+            r#"<text x="{}" y="{}">+ {} more</text>"#,
+            Px(x),
+            Px(r.y + 10.0 + ROW * shown as f64),
             series.len() - shown
         );
     }
