@@ -211,8 +211,18 @@ impl OutputDir {
     /// # Errors
     /// An output error naming the file and the cause (a full disk, permissions).
     pub fn write(&mut self, name: &str, data: impl AsRef<[u8]>) -> Result<(), Error> {
+        self.write_parts(name, &[data.as_ref()])
+    }
+
+    /// Writes `name` from `parts`, one after the other (a text too large to copy into one, the
+    /// report page around three.js): write and flush.
+    ///
+    /// # Errors
+    /// As [`OutputDir::write`].
+    pub fn write_parts(&mut self, name: &str, parts: &[&[u8]]) -> Result<(), Error> {
         let mut file = self.file(name, false)?;
-        let written = file.write_all(data.as_ref()).and_then(|()| file.flush());
+        let written =
+            (parts.iter().try_for_each(|p| file.write_all(p))).and_then(|()| file.flush());
         written.map_err(|e| self.write_error(name, &e))?;
         self.files.push(name.to_string());
         Ok(())

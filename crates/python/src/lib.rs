@@ -24,6 +24,7 @@ mod convert;
 use cardan_cli::commands::run::{analyse, animation, run_json, RunFlags};
 use cardan_cli::commands::{analysis_error, prepare_source};
 use cardan_cli::diag::Source;
+use cardan_cli::output::PlotFiles;
 use cardan_cli::progress;
 use cardan_cli::table::Table;
 use cardan_cli::Error;
@@ -111,11 +112,17 @@ fn run_text(
                     let svgs = analysed
                         .tables
                         .iter()
-                        .filter(|t| a.plots && t.name != "residual")
+                        .filter(|t| {
+                            PlotFiles {
+                                svg: a.plots,
+                                png: false,
+                            }
+                            .plots(&t.name)
+                        })
                         .map(|t| (t.name.clone(), t.to_svg()))
                         .collect();
                     match animation(&p, kind, &mut analysed, d, svgs, names.clone()) {
-                        Ok(page) => page,
+                        Ok(page) => page.map(|(glb, html)| (glb, html.to_string())),
                         Err(e) => return failed(&e),
                     }
                 }

@@ -45,14 +45,47 @@ pub fn classic_three() -> &'static str {
     THREE_CLASSIC
 }
 
+/// The text of a page in three parts, three.js (a constant of 0.67 MB) in the middle: written
+/// to its file part by part, the page is never copied into one string (the copy and the fresh
+/// memory for it cost a small model's run a few percent).
+#[derive(Debug, Clone, Default)]
+pub struct Html {
+    head: String,
+    three: &'static str,
+    tail: String,
+}
+
+impl Html {
+    /// The parts, in order.
+    pub fn parts(&self) -> [&str; 3] {
+        [&self.head, self.three, &self.tail]
+    }
+
+    /// Its length in bytes.
+    pub fn len(&self) -> usize {
+        self.parts().iter().map(|p| p.len()).sum()
+    }
+
+    /// Whether it is empty (the default).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+impl std::fmt::Display for Html {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.parts().iter().try_for_each(|p| f.write_str(p))
+    }
+}
+
 /// The page for `scene` whose animation is `glb`.
 ///
 /// # Errors
 /// [`crate::Error::Scene`] if the modes do not fit the scene ([`validate_modes`]).
-pub fn write_html(scene: &Scene, glb: &[u8], page: &Page) -> Result<String, crate::Error> {
+pub fn write_html(scene: &Scene, glb: &[u8], page: &Page) -> Result<Html, crate::Error> {
     validate_modes(scene, &page.modes)?;
-    let three = classic_three();
-    let mut html = String::with_capacity(three.len() + glb.len() * 4 / 3 + 200_000);
+    let mut html =
+        String::with_capacity(page.plots.iter().map(|p| p.1.len()).sum::<usize>() + 20_000);
     let title = escape(&scene.name);
     let _ = write!(
         html,
@@ -87,7 +120,7 @@ pub fn write_html(scene: &Scene, glb: &[u8], page: &Page) -> Result<String, crat
         summary_table(s, &mut html);
     }
     html.push_str("</section>\n<script>");
-    html.push_str(three);
+    let head = std::mem::replace(&mut html, String::with_capacity(glb.len() * 4 / 3 + 50_000));
     html.push_str("</script>\n<script id=\"glb\" type=\"application/octet-stream\">");
     encode_into(glb, &mut html);
     html.push_str("</script>\n<script id=\"meta\" type=\"application/json\">");
@@ -99,7 +132,11 @@ pub fn write_html(scene: &Scene, glb: &[u8], page: &Page) -> Result<String, crat
     html.push_str("</script>\n<script>");
     html.push_str(VIEWER);
     html.push_str("</script>\n</body></html>\n");
-    Ok(html)
+    Ok(Html {
+        head,
+        three: classic_three(),
+        tail: html,
+    })
 }
 
 /// Records errors into `#errors` from the very start (before three.js runs).

@@ -28,7 +28,7 @@ mod scene;
 mod tessellate;
 
 pub use glb::write_glb;
-pub use html::{classic_three, write_html, Page};
+pub use html::{classic_three, write_html, Html, Page};
 pub use mesh_file::{read_mesh, MeshFormat};
 pub use modes::{
     amplitude, mode_pose, small_rotation, validate_modes, BodyIncrement, ModeShape,

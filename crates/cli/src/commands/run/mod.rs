@@ -409,7 +409,7 @@ fn write_animation(
     match animation(p, kind, a, declared, svgs, files)? {
         Some((glb, html)) => {
             dir.write("animation.glb", glb)?;
-            dir.write("index.html", html)
+            dir.write_parts("index.html", &html.parts().map(str::as_bytes))
         }
         None => Ok(()),
     }
@@ -429,7 +429,7 @@ pub fn animation(
     declared: &crate::geometry::Declared,
     svgs: Vec<(String, String)>,
     files: Vec<String>,
-) -> Result<Option<(Vec<u8>, String)>, Error> {
+) -> Result<Option<(Vec<u8>, cardan_report::Html)>, Error> {
     let scene = crate::scene::scene(&p.loaded.name, &p.model, &a.results, declared);
     let glb = match cardan_report::write_glb(&scene) {
         Ok(g) => g,
