@@ -24,11 +24,17 @@ pub fn decimate(
         } else {
             0.0
         };
-        (b.floor().max(0.0) as usize).min(columns - 1)
+        // The column left of x (truncation is the floor above 0; NaN and below 0: the first).
+        if b > 0.0 {
+            (b as usize).min(columns - 1)
+        } else {
+            0
+        }
     };
-    let mut out = Vec::new();
+    let points = points.into_iter();
+    let mut out = Vec::with_capacity(points.size_hint().0.min(2 * columns + 2));
     let mut current: Option<Bucket> = None;
-    for p in points.into_iter().filter(|p| p.0.is_finite()) {
+    for p in points.filter(|p| p.0.is_finite()) {
         if !p.1.is_finite() {
             if let Some(c) = current.take() {
                 c.emit(&mut out);
