@@ -45,12 +45,12 @@ impl Opener {
             Some(to) => to.send(request).map_err(|e| e.0),
             None => Err(request),
         };
-        if let Err(r) = sent {
+        match sent {
+            Ok(()) => PendingFile {
+                state: State::Waiting(created),
+            },
             // No thread (or it is gone): create it here.
-            let _ = r.reply.send(File::create(&r.path));
-        }
-        PendingFile {
-            state: State::Waiting(created),
+            Err(r) => PendingFile::create_now(&r.path),
         }
     }
 

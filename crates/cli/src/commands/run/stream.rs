@@ -44,8 +44,8 @@ pub const KEPT_VALUES_BUDGET: usize = 4_000_000;
 
 /// The CSV files a run wrote frame by frame and how its kept copy was decimated.
 pub struct Streamed {
-    /// Each streamed CSV file's name and its writer (flushed and synced by
-    /// [`OutputDir::finish`] when the outputs are written).
+    /// Each streamed CSV file's name and its writer (flushed by [`OutputDir::finish`] when the
+    /// outputs are written).
     pub csv: Vec<(String, BufWriter<PendingFile>)>,
     /// Frames the run stored (every one is in the CSV files).
     pub frames: usize,
