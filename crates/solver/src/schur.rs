@@ -17,7 +17,9 @@
 //! ```
 //!
 //! with B_k the b columns of block k. S is m × m, symmetric positive definite exactly when B has
-//! full row rank, and factored by a sparse Cholesky S = L Lᵀ (faer, AMD ordering). Each A_k is
+//! full row rank, and factored by a sparse Cholesky S = L Lᵀ (AMD ordering and symbolic
+//! analysis by faer at [`analyze`](SchurSolver::analyze); the numeric factorization up-looking on
+//! that fixed pattern, each row's pattern precomputed). Each A_k is
 //! factored densely, A_k = L_k L_kᵀ; with W_k = L_k⁻¹ B_kᵀ (one column w_r per row r of B that
 //! touches block k) every contribution is a Gram matrix, S += W_kᵀ W_k, so the assembled S is
 //! exactly symmetric. Rows r and s are coupled in S when they touch a common block; the pattern
@@ -61,20 +63,18 @@
 //!
 //! # Allocation
 //! [`analyze`](SchurSolver::analyze) allocates everything; [`factor`](SchurSolver::factor) and
-//! [`solve`](SchurSolver::solve) do not (faer's simplicial Cholesky works in a preallocated
-//! `MemBuffer`; only error values allocate).
+//! [`solve`](SchurSolver::solve) do not (the numeric factorization works in a preallocated
+//! dense vector of length m; only error values allocate).
 
 use crate::error::{NonFiniteLocation, SolverError};
-use crate::linear::Scratch;
 use crate::pattern::check_len;
-use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw,
     SymmetricOrdering,
 };
 use faer::sparse::linalg::SupernodalThreshold;
-use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
-use faer::{Par, Side};
+use faer::sparse::SymbolicSparseColMat;
+use faer::Side;
 
 /// Default relative pivot tolerance τ of S in [`SchurSolver`] (see the module docs).
 pub const DEFAULT_SCHUR_PIVOT_TOLERANCE: f64 = 1e-4;
@@ -136,7 +136,13 @@ pub struct SchurSolver {
     perm_inv: Vec<usize>,
     /// λ in the permuted numbering (solve scratch).
     lambda: Vec<f64>,
-    mem: Scratch,
+    /// Row pattern of L: for row k, the columns i < k with L_ki ≠ 0 in increasing order, each
+    /// with the slot of L_ki in `l_values` (rows `row_start[k]..row_start[k + 1]`).
+    row_start: Vec<usize>,
+    row_col: Vec<usize>,
+    row_slot: Vec<usize>,
+    /// Dense scratch of the numeric factorization (m, zero between uses).
+    x: Vec<f64>,
     pivot_tolerance: f64,
     block_tolerance: f64,
     min_pivot_ratio: f64,
@@ -179,7 +185,10 @@ impl SchurSolver {
             perm_fwd: Vec::new(),
             perm_inv: Vec::new(),
             lambda: Vec::new(),
-            mem: Scratch::empty(),
+            row_start: vec![0],
+            row_col: Vec::new(),
+            row_slot: Vec::new(),
+            x: Vec::new(),
             pivot_tolerance: DEFAULT_SCHUR_PIVOT_TOLERANCE,
             block_tolerance: DEFAULT_BLOCK_PIVOT_TOLERANCE,
             min_pivot_ratio: f64::NAN,
@@ -329,9 +338,9 @@ impl SchurSolver {
         };
         self.l_col_ptr = simplicial.col_ptr().to_vec();
         self.l_row_idx = simplicial.row_idx().to_vec();
-        self.mem = Scratch::try_new(
-            cholesky.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
-        )?;
+        (self.row_start, self.row_col, self.row_slot) =
+            row_pattern(m, &self.l_col_ptr, &self.l_row_idx);
+        self.x = vec![0.0; m];
         self.l_values = vec![0.0; cholesky.len_val()];
         self.l_inv_diag = vec![0.0; m];
         self.s_values = vec![0.0; symbolic.row_idx().len()];
@@ -420,32 +429,16 @@ impl SchurSolver {
                     dependent_equations: Vec::new(),
                 }));
         }
-        let (Some(s_symbolic), Some(cholesky)) = (self.s_symbolic.as_ref(), self.cholesky.as_ref())
-        else {
-            return Err(SolverError::NotReady { missing: "analyze" });
-        };
-        let s = SparseColMatRef::new(s_symbolic.as_ref(), &self.s_values);
-        let result = cholesky.factorize_numeric_llt(
-            &mut self.l_values,
-            s,
-            Side::Upper,
-            LltRegularization::default(),
-            Par::Seq,
-            self.mem.stack(),
-            Default::default(),
-        );
-        let perm_fwd = &self.perm_fwd;
-        if let Err(LltError::NonPositivePivot { index }) = result {
+        if let Err(j) = self.numeric_cholesky() {
             self.min_pivot_ratio = 0.0;
-            // faer reports the pivot one-based.
-            let j = index.saturating_sub(1).min(self.m.saturating_sub(1));
-            let row = perm_fwd[j];
+            let row = self.perm_fwd[j];
             return Err(self
                 .non_finite_input(a, b)
                 .unwrap_or(SolverError::Singular {
                     dependent_equations: vec![row],
                 }));
         }
+        let perm_fwd = &self.perm_fwd;
         // Relative pivots: the diagonal of L is the first stored entry of each column.
         let mut min_ratio = f64::INFINITY;
         let mut failed = false;
@@ -454,7 +447,6 @@ impl SchurSolver {
             let sjj = self.s_values[self.s_diag[j]];
             min_ratio = min_ratio.min(l * l / sjj);
             failed |= !pivot_ok(l * l, sjj, tol);
-            self.l_inv_diag[j] = 1.0 / l;
         }
         self.min_pivot_ratio = min_ratio;
         if failed {
@@ -590,6 +582,50 @@ impl SchurSolver {
             },
             iteration: None,
         })
+    }
+
+    /// The numeric Cholesky factorization S = L Lᵀ on the pattern of L fixed at `analyze`,
+    /// up-looking (row k of L from column k of S's upper triangle, Davis, *Direct Methods for
+    /// Sparse Linear Systems* §4.2): row k's pattern and the slots its entries go to are
+    /// precomputed (`row_pattern`), so nothing symbolic is redone per factorization (faer's
+    /// numeric factorization recomputed each row's reach: a quarter of its cost on the
+    /// slider-crank). Columns i of row k in increasing order are a topological order (every
+    /// column that updates x_i is a smaller one). `Err(j)`: the pivot of row j (permuted
+    /// numbering) is not positive (or not a number).
+    fn numeric_cholesky(&mut self) -> Result<(), usize> {
+        let Some(sym) = self.s_symbolic.as_ref() else {
+            return Err(0);
+        };
+        let (scp, sri) = (sym.col_ptr(), sym.row_idx());
+        let (cp, ri) = (&self.l_col_ptr, &self.l_row_idx);
+        let lv = &mut self.l_values;
+        let x = &mut self.x;
+        for k in 0..self.m {
+            for p in scp[k]..scp[k + 1] {
+                x[sri[p]] = self.s_values[p];
+            }
+            let mut d = x[k];
+            x[k] = 0.0;
+            for r in self.row_start[k]..self.row_start[k + 1] {
+                let (i, slot) = (self.row_col[r], self.row_slot[r]);
+                let lki = x[i] * self.l_inv_diag[i];
+                x[i] = 0.0;
+                // Column i's rows between i and k, computed before row k.
+                for p in cp[i] + 1..slot {
+                    x[ri[p]] -= lv[p] * lki;
+                }
+                d -= lki * lki;
+                lv[slot] = lki;
+            }
+            if d.is_nan() || d <= 0.0 {
+                x.fill(0.0);
+                return Err(k);
+            }
+            let l = d.sqrt();
+            lv[cp[k]] = l;
+            self.l_inv_diag[k] = 1.0 / l;
+        }
+        Ok(())
     }
 
     /// Block size: `B` when it is not 0 (a compile-time size, loops unrolled), else the
@@ -730,6 +766,38 @@ fn csc(
         SymbolicSparseColMat::new_checked(m, m, col_ptr, None, row_idx),
         slot,
     )
+}
+
+/// The row pattern of L from its columns (`col_ptr`, `row_idx`: diagonal first, then the rows
+/// below in increasing order): for each row k, the columns i < k holding an entry of row k, in
+/// increasing order, and that entry's slot.
+fn row_pattern(
+    m: usize,
+    col_ptr: &[usize],
+    row_idx: &[usize],
+) -> (Vec<usize>, Vec<usize>, Vec<usize>) {
+    let mut start = vec![0usize; m + 1];
+    for i in 0..m {
+        for &r in &row_idx[col_ptr[i] + 1..col_ptr[i + 1]] {
+            start[r + 1] += 1;
+        }
+    }
+    for k in 0..m {
+        start[k + 1] += start[k];
+    }
+    let mut next = start.clone();
+    let mut cols = vec![0usize; start[m]];
+    let mut slots = vec![0usize; start[m]];
+    // Columns visited in increasing order, so each row's list comes out increasing.
+    for i in 0..m {
+        for p in col_ptr[i] + 1..col_ptr[i + 1] {
+            let r = row_idx[p];
+            cols[next[r]] = i;
+            slots[next[r]] = p;
+            next[r] += 1;
+        }
+    }
+    (start, cols, slots)
 }
 
 /// The indices 0..len ordered by `key` (< `buckets`), stably: a counting sort.
