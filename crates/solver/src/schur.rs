@@ -215,7 +215,7 @@ impl SchurSolver {
     ///
     /// # Errors
     /// [`SolverError::EntryOutOfBounds`] for an entry outside B; [`SolverError::Backend`] if
-    /// faer's symbolic analysis or the scratch allocation fails.
+    /// faer's symbolic analysis fails.
     pub fn analyze(
         &mut self,
         block: usize,
