@@ -124,7 +124,8 @@ struct Buf {
     tangent_small: bool,
     /// Contraction of the chord iteration in the last step that measured it (the ratio of its
     /// second update to its first, both with the matrix held at its start), and in the last
-    /// step whose matrix was refreshed at its start (see [`THETA_REFRESH`]).
+    /// step whose matrix was refreshed at its start (0 after any other factorization of an
+    /// iteration; see [`THETA_REFRESH`]).
     chord_theta: f64,
     fresh_theta: f64,
 }
@@ -232,7 +233,9 @@ const THETA_REFACTOR: f64 = 0.25;
 
 /// Contraction rate of the chord iteration above which the next step refactors its matrix at
 /// the predictor, before its first update ("refresh"), when that rate is also at least twice
-/// the rate of the last refreshed matrix (so that refreshing pays).
+/// the rate of the last refreshed matrix (so that refreshing pays) and the refreshed matrix is
+/// mass-only (M, or small tangents: a tangent matrix of a stiff force may be an LU of the
+/// full system, dearer than the updates it saves).
 ///
 /// The chord test accepts after two updates while θ²/(1 − θ) ≤ [`NEWTON_FRACTION`], θ ≲ 0.01.
 /// A held matrix ages: the iteration matrix misses the Jacobian of the rotation update
@@ -244,7 +247,12 @@ const THETA_REFACTOR: f64 = 0.25;
 /// Newton update in each of the next steps: 2.2 updates and 0.44 factorizations per step,
 /// −17 % instructions of the 5 s run; h = 0.5 ms −20 %, the error within 4 %. 0.004 and
 /// 0.008 did as well within 3 %. The factor 2 keeps a matrix that cannot be refreshed to
-/// below the bound (a fast spin, h|ω| ≫ 0.01) from being refactored at every step.
+/// below the bound (a fast spin, h|ω| ≫ 0.01, when the matrix ages slowly) from being
+/// refactored at every step for nothing; the fresh rate is forgotten at every other
+/// factorization of an iteration (the bound's), so a motion that slows down brings the refresh
+/// back. (On the slider-crank at h = 2, 4, 8 ms and the 5-link chain up to 16 ms the matrix ages
+/// fast enough that the factor 2 never holds a refresh back: at h = 8 ms every step refactors,
+/// 1.02 factorizations per step, as the bound made it do before.)
 const THETA_REFRESH: f64 = 0.006;
 
 /// One step attempt of size h from `b.s`; on success the trial holds the new state.
@@ -294,9 +302,11 @@ fn attempt(
     let mut refactor = !o.reuse_factorization
         || b.factor == Factor::None
         || (tangent && b.tangent_h.to_bits() != h.to_bits() && !b.tangent_small);
-    // A held matrix that has aged (see `THETA_REFRESH`) is refreshed at the predictor.
+    // A held matrix that has aged (see `THETA_REFRESH`) is refreshed at the predictor, when
+    // the refreshed matrix is mass-only (a tangent one may be an LU of the full system).
     let mut refresh = o.reuse_factorization
         && !refactor
+        && (!tangent || b.tangent_small)
         && b.chord_theta > THETA_REFRESH.max(2.0 * b.fresh_theta);
     refactor |= refresh;
     if refresh {
@@ -457,6 +467,9 @@ fn attempt(
             b.tangent_h = if with_tangents { h } else { 0.0 };
             factored_at = it;
             refreshed = refresh;
+            if !refresh {
+                b.fresh_theta = 0.0;
+            }
             refactor = false;
             refresh = false;
         }
