@@ -778,7 +778,12 @@ fn row_pattern(
 ) -> (Vec<usize>, Vec<usize>, Vec<usize>) {
     let mut start = vec![0usize; m + 1];
     for i in 0..m {
-        for &r in &row_idx[col_ptr[i] + 1..col_ptr[i + 1]] {
+        let below = &row_idx[col_ptr[i] + 1..col_ptr[i + 1]];
+        debug_assert!(
+            below.windows(2).all(|w| w[0] < w[1]) && below.first().is_none_or(|&r| r > i),
+            "column {i} of L: rows below the diagonal, increasing"
+        );
+        for &r in below {
             start[r + 1] += 1;
         }
     }
