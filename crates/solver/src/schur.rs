@@ -69,8 +69,7 @@
 use crate::error::{NonFiniteLocation, SolverError};
 use crate::pattern::check_len;
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw,
-    SymmetricOrdering,
+    factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholeskyRaw, SymmetricOrdering,
 };
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::SymbolicSparseColMat;
@@ -124,7 +123,6 @@ pub struct SchurSolver {
     s_values: Vec<f64>,
     /// Slot of S_jj in `s_values`, per (permuted) row.
     s_diag: Vec<usize>,
-    cholesky: Option<SymbolicCholesky<usize>>,
     /// Structure of L (compressed columns, diagonal first) and its values.
     l_col_ptr: Vec<usize>,
     l_row_idx: Vec<usize>,
@@ -177,7 +175,6 @@ impl SchurSolver {
             s_symbolic: None,
             s_values: Vec::new(),
             s_diag: Vec::new(),
-            cholesky: None,
             l_col_ptr: Vec::new(),
             l_row_idx: Vec::new(),
             l_values: Vec::new(),
@@ -348,7 +345,6 @@ impl SchurSolver {
         self.perm_fwd = perm_fwd;
         self.perm_inv = perm_inv;
         self.s_symbolic = Some(symbolic);
-        self.cholesky = Some(cholesky);
         self.block = block;
         self.nblocks = nblocks;
         self.m = m;
@@ -407,7 +403,7 @@ impl SchurSolver {
     /// [`SolverError::DimensionMismatch`]; [`SolverError::NotReady`].
     pub fn factor(&mut self, a: &[f64], b: &[f64]) -> Result<(), SolverError> {
         self.factored = false;
-        if self.cholesky.is_none() {
+        if self.s_symbolic.is_none() {
             return Err(SolverError::NotReady { missing: "analyze" });
         }
         let bs = self.block;
@@ -478,7 +474,7 @@ impl SchurSolver {
         if !self.factored {
             return Err(SolverError::NotReady { missing: "factor" });
         }
-        if self.cholesky.is_none() {
+        if self.s_symbolic.is_none() {
             return Err(SolverError::NotReady { missing: "analyze" });
         }
         let (bs, n, m) = (self.block, self.num_unknowns(), self.m);
