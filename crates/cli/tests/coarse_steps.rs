@@ -130,13 +130,13 @@ fn cardan_run_reports_subdivided_steps_and_strict_accepts_them() {
     assert_eq!(o.code, 0, "--strict: {}", o.stderr);
     assert!(
         o.stdout
-            .contains("1 step subdivided to stay on the assembly branch"),
+            .contains("2 steps subdivided to follow the motion continuously"),
         "{}",
         o.stdout
     );
     let json = std::fs::read_to_string(dir.join("out/run.json")).unwrap();
     let v: serde_json::Value = serde_json::from_str(&json).unwrap();
-    assert_eq!(v["subdivided_steps"], 1, "{json}");
+    assert_eq!(v["subdivided_steps"], 2, "{json}");
     assert_eq!(v["warnings"].as_array().unwrap().len(), 0, "{json}");
     let joints = std::fs::read_to_string(dir.join("out/joints.csv")).unwrap();
     let psi = column(&joints, "rocker_pivot.angle");
@@ -145,7 +145,7 @@ fn cardan_run_reports_subdivided_steps_and_strict_accepts_them() {
 }
 
 /// Inverse dynamics runs on the same grid: the coarse run's motor torque equals the fine run's
-/// at the common times, and the coarse run reports its subdivided step (the inverse run's
+/// at the common times, and the coarse run reports its subdivided steps (the inverse run's
 /// summary and run.json said 0 before the efforts pass passed the kinematic pass's count on).
 #[test]
 fn inverse_dynamics_on_a_coarse_grid_gives_the_fine_torque() {
@@ -156,13 +156,13 @@ fn inverse_dynamics_on_a_coarse_grid_gives_the_fine_torque() {
     assert!(
         coarse
             .stdout
-            .contains("1 step subdivided to stay on the assembly branch"),
+            .contains("2 steps subdivided to follow the motion continuously"),
         "{}",
         coarse.stdout
     );
     let json = std::fs::read_to_string(coarse.dir.join("out/run.json")).unwrap();
     let v: serde_json::Value = serde_json::from_str(&json).unwrap();
-    assert_eq!(v["subdivided_steps"], 1, "{json}");
+    assert_eq!(v["subdivided_steps"], 2, "{json}");
     let read = |o: &common::Outcome| {
         let csv = std::fs::read_to_string(o.dir.join("out/driver_efforts.csv")).unwrap();
         column(&csv, "motor.torque")
@@ -175,5 +175,87 @@ fn inverse_dynamics_on_a_coarse_grid_gives_the_fine_torque() {
             "t = {}: coarse {tc} N m, fine {tf} N m",
             k as f64 / 2.0
         );
+    }
+}
+
+/// The bundled examples whose analysis runs on the kinematic time grid (kinematic and inverse
+/// dynamics), with their analysis span and step count.
+fn grid_examples() -> Vec<(String, f64, f64, usize)> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| {
+            let path = e.unwrap().path();
+            let name = path.file_stem()?.to_str()?.to_string();
+            (path.extension()? == "toml").then_some(name)
+        })
+        .collect();
+    names.sort();
+    names
+        .into_iter()
+        .filter_map(|name| {
+            let p = prepare(&example(&name)).unwrap();
+            let a = p.loaded.analysis.as_ref()?;
+            let grid = a.dynamic.is_none() && a.statics.is_none() && a.steps > 0;
+            grid.then_some((name, a.t_start, a.t_end, a.steps))
+        })
+        .collect()
+}
+
+/// Issue 45: a kinematic run gives the same states at the times it shares with a fine run,
+/// whatever its output grid: the body poses and the joint coordinates (angles continued over
+/// turns), or an error; never a different answer. Every bundled example on the kinematic grid,
+/// with 2, 3, 4, 7 steps and its own count, against a reference whose grid holds all their
+/// times (a multiple of 84 steps).
+#[test]
+fn every_grid_example_gives_the_same_states_on_any_output_grid() {
+    let examples = grid_examples();
+    assert!(examples.len() >= 10, "{examples:?}");
+    for (name, t0, t1, bundled) in examples {
+        let p = prepare(&example(&name)).unwrap();
+        let l = p.model.characteristic_length();
+        let run = |steps: usize| {
+            p.model
+                .run_kinematics(&KinematicOptions::new(t0, t1, steps))
+                .unwrap_or_else(|e| panic!("{name}, {steps} steps: {e}"))
+        };
+        let fine_steps = 84 * bundled.div_ceil(84).max(2);
+        let fine = run(fine_steps);
+        for steps in [2, 3, 4, 7, bundled] {
+            let r = run(steps);
+            // Time k of this run is time k · fine_steps / steps of the reference when that is a
+            // whole number (always for 2, 3, 4 and 7).
+            for k in 0..=steps {
+                if (k * fine_steps) % steps != 0 {
+                    continue;
+                }
+                let kf = k * fine_steps / steps;
+                let what = format!("{name}, {steps} steps, t = {}", r.times[k]);
+                for (b, bf) in r.bodies.iter().zip(&fine.bodies) {
+                    let dr = (b.r[k] - bf.r[kf]).amax() / l;
+                    let dp = (b.p[k] - bf.p[kf]).amax();
+                    assert!(
+                        dr < 1e-8 && dp < 1e-8,
+                        "{what}: body {} off by {dr:e} L, {dp:e}",
+                        b.name
+                    );
+                }
+                for (j, jf) in r.joints.iter().zip(&fine.joints) {
+                    for (q, c) in j.coordinates.iter().enumerate() {
+                        let (v, vf) = (j.values[k][q], jf.values[kf][q]);
+                        let scale = match c.measure.quantity() {
+                            cardan_constraints::joints::CoordinateQuantity::Angle => 1.0,
+                            _ => l,
+                        };
+                        assert!(
+                            (v - vf).abs() < 1e-8 * scale,
+                            "{what}: joint {} {} = {v}, the fine run's {vf}",
+                            j.name,
+                            c.name
+                        );
+                    }
+                }
+            }
+        }
     }
 }

@@ -634,6 +634,17 @@ pub enum AnalysisError {
         /// Results up to (not including) `time`.
         partial: Option<Box<Results>>,
     },
+    /// A step's solution left solved equations open once the couplers' angles were continued
+    /// over turns, even in the finest substep ([`crate::PositionReport::open`]).
+    #[error("the motion could not be followed continuously at t = {time}: once the couplers' angles are continued over turns, {} stay open (the pose solved is a turn or a branch away from the last one); use more output steps", fmt_worst(.worst))]
+    Discontinuous {
+        /// The time.
+        time: f64,
+        /// The open equations and their scaled residuals.
+        worst: Vec<(EquationName, f64)>,
+        /// Results up to (not including) `time`.
+        partial: Option<Box<Results>>,
+    },
     /// Bad analysis options (time grid, ...).
     #[error("invalid analysis options: {0}")]
     Options(String),
@@ -684,6 +695,7 @@ impl AnalysisError {
         match self {
             AnalysisError::Singular { partial, .. }
             | AnalysisError::NotConverged { partial, .. }
+            | AnalysisError::Discontinuous { partial, .. }
             | AnalysisError::Solver { partial, .. } => partial.as_deref(),
             _ => None,
         }
@@ -694,6 +706,7 @@ impl AnalysisError {
         match self {
             AnalysisError::Singular { partial, .. }
             | AnalysisError::NotConverged { partial, .. }
+            | AnalysisError::Discontinuous { partial, .. }
             | AnalysisError::Solver { partial, .. } => partial.map(|b| *b),
             _ => None,
         }
@@ -704,6 +717,7 @@ impl AnalysisError {
         match &mut self {
             AnalysisError::Singular { partial, .. }
             | AnalysisError::NotConverged { partial, .. }
+            | AnalysisError::Discontinuous { partial, .. }
             | AnalysisError::Solver { partial, .. } => *partial = Some(Box::new(results)),
             _ => {}
         }

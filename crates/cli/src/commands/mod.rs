@@ -276,6 +276,10 @@ pub fn analysis_error(p: &Prepared, e: &AnalysisError) -> Error {
                 ),
             )
         }
+        AnalysisError::Discontinuous { worst, .. } => located(
+            worst.first().and_then(|(d, _)| spans.element(&d.element)),
+            format!("{e}"),
+        ),
         AnalysisError::DriverBranch { driver, .. } => {
             located(spans.element(driver), format!("{e}"))
         }

@@ -102,6 +102,28 @@ impl Driver {
         }
     }
 
+    /// How far the bodies' poses are from the branch the prescription means, where the
+    /// driver's equations also hold on a spurious root: 0 on the meant branch, ≥ 1 on a
+    /// spurious one. A rotation driver's sin(φ − θ) = 0 also holds at φ = θ ± π: 1 − cos(φ − θ)
+    /// when cos(φ − θ) ≤ 0; a pose driver's rotation rows also hold on half-turn flips of the
+    /// moved frame ([`PoseDriver::branch_error`]); the other drivers have no spurious roots (a
+    /// distance driver's ℓ ≥ 0 is checked when it is built). For a solver to refuse a pose
+    /// whose equations hold but whose motion is not the one prescribed.
+    pub fn branch_error(&self, x: &BodyPair, t: f64) -> f64 {
+        match self {
+            Driver::Rotation(d) => {
+                let c = (self.coordinate(x) - d.function.eval(t).0).cos();
+                if c > 0.0 {
+                    0.0
+                } else {
+                    1.0 - c
+                }
+            }
+            Driver::Pose(p) => p.branch_error(x, t),
+            Driver::Translation(_) | Driver::Distance(_) | Driver::Coordinate(_) => 0.0,
+        }
+    }
+
     /// ∂Φ/∂c at time `t` on the solution: how fast the driver's equation grows with its driven
     /// coordinate c (the angle, slide, distance or global coordinate). 1 for every driver written
     /// as c − f(t) (rotation: sin(φ − θ) has slope cos 0 = 1 on its branch), 2ℓ(t) for the

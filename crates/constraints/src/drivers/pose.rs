@@ -127,6 +127,31 @@ impl PoseDriver {
         (r.map(|m| li * m.column(ea)), sj)
     }
 
+    /// How far the marker frame J is from the prescribed E(t) in sign (row 3 only; 0 for the
+    /// other rows): the rotation rows also hold on the half-turn flips of A_J about an axis of
+    /// E, where x_Eᵀ x_J or z_Eᵀ z_J is −1 instead of 1. Returns 1 − min(x_Eᵀ x_J, z_Eᵀ z_J)
+    /// when that minimum is not positive (≥ 1: a spurious root), 0 otherwise.
+    pub fn branch_error(&self, x: &BodyPair, t: f64) -> f64 {
+        if self.row != 3 {
+            return 0.0;
+        }
+        let f = &self.functions;
+        let [r, ..] = self
+            .order
+            .rotation([f[3].eval(t), f[4].eval(t), f[5].eval(t)]);
+        let e = x.i.a * self.marker_i.frame * r;
+        let j = x.j.a * self.marker_j.frame;
+        let m = e
+            .column(0)
+            .dot(&j.column(0))
+            .min(e.column(2).dot(&j.column(2)));
+        if m > 0.0 {
+            0.0
+        } else {
+            1.0 - m
+        }
+    }
+
     /// A translation row's coordinate x_Iᵀ d (m); for a rotation row, the angle its function
     /// prescribes (the three angles are not separable row by row, so a rotation row reports
     /// its prescription at t = 0: assembly moves pose drivers in one piece, not by continuation).

@@ -48,11 +48,12 @@ use crate::results::{
     BodyResults, FrameSink, JointResults, Outputs, PointResults, Results, RunTotals,
 };
 use crate::workspace::Workspace;
-use cardan_constraints::joints::continue_angle;
+use cardan_constraints::joints::{continue_angle, unwrap_angle};
 use cardan_constraints::joints::{CoordinateQuantity, MAX_COORDINATES};
 use cardan_constraints::BodyPair;
 use cardan_eulerparam::EulerParams;
 use cardan_solver::{NewtonOptions, Tolerances};
+use nalgebra::Vector3;
 use std::ops::ControlFlow;
 
 /// κ of the branch-jump test: a step whose Newton correction exceeds κ times the predicted
@@ -69,6 +70,31 @@ pub const BRANCH_JUMP_FLOOR: f64 = 1e-2;
 /// At most 2^10 = 1,024 substeps per grid step; a substep of that size that still jumps is
 /// accepted (a branch or limit point: the following solves report it as singular).
 pub const MAX_SUBDIVISION_DEPTH: u32 = 10;
+
+/// The predicted relative rotation of a joint over one step (or substep) above which the step
+/// is solved in substeps: π/3. The couplers' angles and the joint angles of the outputs are
+/// continued over turns from one accepted pose to the next by the nearest value, which needs
+/// each to change by less than π; a Newton start predicted from a step that turns a joint by π
+/// or more may also converge a turn off (a rotation driver holds its angle only modulo 2π).
+pub const MAX_TURN_PER_STEP: f64 = std::f64::consts::FRAC_PI_3;
+
+/// A position-only run predicts a step's joint rotation from the rate of its last step, times
+/// this margin for a motion that speeds up ([`MAX_TURN_PER_STEP`]).
+pub const TURN_RATE_MARGIN: f64 = 1.5;
+
+/// What became of one attempt at a step or substep ([`Model::try_step`]).
+#[derive(Debug)]
+enum Verdict {
+    /// The solution is on the branch of the start and every solved equation holds.
+    Accepted,
+    /// The solution jumped to another assembly branch (module docs).
+    Jumped,
+    /// Newton converged, but once the couplers' angles are continued this solved row is open
+    /// by this scaled residual ([`PositionReport::open`]).
+    Open(usize, f64),
+    /// Newton did not converge.
+    Failed(Box<AnalysisError>),
+}
 
 /// The frame a subdivided step returns to (its poses in `x_tmp`, velocities and accelerations
 /// in `v_saved`, `vdot_saved`).
@@ -384,7 +410,7 @@ impl Model {
             ws.x_prev.copy_from_slice(&ws.x_tmp);
             rep
         } else {
-            self.advance(ws, t, k, out, &mut results.subdivided_steps)?
+            self.advance(ws, t, k, out, &mut results.subdivided_steps, joint_prev)?
         };
         if out.needs_velocity() {
             self.velocity(ws)?;
@@ -405,8 +431,11 @@ impl Model {
     }
 
     /// Solves the position at grid time `t` from the accepted frame in `ws` (step k − 1): the
-    /// full step first; when its solution jumped branches, again from step k − 1 in 2, 4, 8, …
-    /// substeps ([`MAX_SUBDIVISION_DEPTH`] halvings at most), counting the step in `subdivided`.
+    /// full step first when no joint is predicted to turn by more than [`MAX_TURN_PER_STEP`];
+    /// when it is, or when the full step's solution is rejected (a branch jump, equations left
+    /// open once the couplers' turns are continued, or a Newton failure), again from step
+    /// k − 1 in 2^d substeps (halved again on a rejection, [`MAX_SUBDIVISION_DEPTH`] halvings at
+    /// most), counting the step in `subdivided`.
     fn advance(
         &self,
         ws: &mut Workspace,
@@ -414,24 +443,102 @@ impl Model {
         k: usize,
         out: Outputs,
         subdivided: &mut usize,
+        memory: &mut JointMemory,
     ) -> Result<PositionReport, AnalysisError> {
+        let depth = self.motion_depth(ws, t - ws.t, memory);
         let saved = self.save_frame(ws);
-        let (rep, jumped) = self.try_step(ws, t, k, out)?;
-        if !jumped {
-            return Ok(rep);
+        let mut iterations = 0;
+        if depth == 0 {
+            let (rep, verdict) = self.try_step(ws, t, k, out, memory)?;
+            if matches!(verdict, Verdict::Accepted) {
+                return Ok(rep);
+            }
+            self.restore_frame(ws, &saved);
+            // The iterations of the rejected full step count too.
+            iterations = rep.iterations;
         }
         *subdivided += 1;
-        self.restore_frame(ws, &saved);
-        let mut rep_sub = self.substeps(ws, saved, t, k, out)?;
-        // The iterations of the rejected full step count too.
-        rep_sub.iterations += rep.iterations;
+        let mut rep_sub = self.substeps(ws, saved, t, k, out, depth.max(1), memory)?;
+        rep_sub.iterations += iterations;
         Ok(rep_sub)
     }
 
+    /// The substep depth d (2^d substeps) that keeps every joint's predicted relative rotation
+    /// over a substep of `dt` / 2^d within [`MAX_TURN_PER_STEP`]. With velocities (the run's
+    /// outputs need them), from the relative angular velocity ω_rel = ω_j − ω_i (and
+    /// acceleration ω̇_rel when valid) at the step's start: |ω_rel| dt + ½ |ω̇_rel| dt². A
+    /// position-only run takes the largest joint rotation rate of its last accepted (sub)step
+    /// (`memory.turn_rate`, times [`TURN_RATE_MARGIN`] for a motion that speeds up); before its
+    /// first step it solves the velocities once for this alone (the prediction does not use
+    /// them). Where they cannot be solved (a singular pose) no substep is asked for. Capped at
+    /// [`MAX_SUBDIVISION_DEPTH`].
+    fn motion_depth(&self, ws: &mut Workspace, dt: f64, memory: &JointMemory) -> u32 {
+        let turn = match memory.turn_rate {
+            Some(rate) if !ws.velocity_valid => TURN_RATE_MARGIN * rate * dt.abs(),
+            _ => {
+                if !ws.velocity_valid && self.velocity(ws).is_err() {
+                    return 0;
+                }
+                self.predicted_turn(ws, dt)
+            }
+        };
+        if !turn.is_finite() {
+            return 0;
+        }
+        let ratio = turn / MAX_TURN_PER_STEP;
+        if ratio <= 1.0 {
+            return 0;
+        }
+        (ratio.log2().ceil() as u32).min(MAX_SUBDIVISION_DEPTH)
+    }
+
+    /// The largest relative rotation of a joint over `dt` predicted from the bodies' angular
+    /// velocities (and accelerations when valid) in `ws`: |ω_rel| dt + ½ |ω̇_rel| dt².
+    fn predicted_turn(&self, ws: &Workspace, dt: f64) -> f64 {
+        let acc = ws.acceleration_valid;
+        let omega = |id: BodyId| match id {
+            BodyId::Ground => (Vector3::zeros(), Vector3::zeros()),
+            BodyId::Moving(b) => (
+                ws.omega(b),
+                if acc {
+                    ws.omega_dot(b)
+                } else {
+                    Vector3::zeros()
+                },
+            ),
+        };
+        self.joints.iter().fold(0.0f64, |worst, j| {
+            let ((wi, ai), (wj, aj)) = (omega(j.body_i), omega(j.body_j));
+            let turn = (wj - wi).norm() * dt.abs() + 0.5 * (aj - ai).norm() * dt * dt;
+            worst.max(turn)
+        })
+    }
+
+    /// The largest relative rotation of a joint between the poses `x_tmp` (an attempt's start)
+    /// and `x` (its solution) of `ws`: the angle of (p_i* ⊗ p_j)_startᵀ ⊗ (p_i* ⊗ p_j)_end.
+    fn largest_turn(&self, ws: &Workspace) -> f64 {
+        let p = |x: &[f64], id: BodyId| match id {
+            BodyId::Ground => EulerParams::new(1.0, 0.0, 0.0, 0.0),
+            BodyId::Moving(b) => {
+                EulerParams::new(x[7 * b + 3], x[7 * b + 4], x[7 * b + 5], x[7 * b + 6])
+            }
+        };
+        self.joints.iter().fold(0.0f64, |worst, j| {
+            let relative = |x: &[f64]| p(x, j.body_i).conjugate().compose(&p(x, j.body_j));
+            let q = *relative(&ws.x_tmp)
+                .conjugate()
+                .compose(&relative(&ws.x))
+                .as_vector();
+            worst.max(2.0 * q.fixed_rows::<3>(1).norm().atan2(q[0].abs()))
+        })
+    }
+
     /// Marches from the frame in `ws` (time t_a) to `t_b` in substeps of (t_b − t_a) / 2^depth,
-    /// each predicted from the last; a substep that jumps returns to the last accepted substep
-    /// and halves the substep (depth + 1). The substep times are t_a + (t_b − t_a)·i/2^D with
-    /// D = [`MAX_SUBDIVISION_DEPTH`] (the last is t_b itself), so no rounding accumulates.
+    /// each predicted from the last; a substep that is rejected returns to the last accepted
+    /// substep and halves the substep (depth + 1). The substep times are t_a + (t_b − t_a)·i/2^D
+    /// with D = [`MAX_SUBDIVISION_DEPTH`] (the last is t_b itself), so no rounding accumulates.
+    /// At the finest substep a branch jump is accepted (the mechanism is at a branch or limit
+    /// point); equations left open or a Newton failure there end the run with an error.
     fn substeps(
         &self,
         ws: &mut Workspace,
@@ -439,10 +546,12 @@ impl Model {
         t_b: f64,
         k: usize,
         out: Outputs,
+        mut depth: u32,
+        memory: &mut JointMemory,
     ) -> Result<PositionReport, AnalysisError> {
         let t_a = ws.t;
         let full = 1usize << MAX_SUBDIVISION_DEPTH;
-        let (mut done, mut depth) = (0usize, 1u32);
+        let mut done = 0usize;
         let mut iterations = 0;
         loop {
             let next = (done + (full >> depth)).min(full);
@@ -453,15 +562,26 @@ impl Model {
             };
             // After an accepted substep x_prev is the frame before: linear extrapolation works.
             let k_sub = if done > 0 { k.max(2) } else { k };
-            let (rep, jumped) = self.try_step(ws, s, k_sub, out)?;
+            let (rep, verdict) = self.try_step(ws, s, k_sub, out, memory)?;
             iterations += rep.iterations;
-            // At the finest substep a jump is accepted, as a step without the test would be:
-            // the mechanism is at a branch or limit point, where the next steps' solves report
-            // the singular configuration with its equations.
-            let accept = !jumped || depth == MAX_SUBDIVISION_DEPTH;
-            if accept && jumped {
-                ws.x_prev.copy_from_slice(&ws.x_tmp);
-            }
+            let finest = depth == MAX_SUBDIVISION_DEPTH;
+            let accept = match verdict {
+                Verdict::Accepted => true,
+                // The following solves report the singular configuration with its equations.
+                Verdict::Jumped if finest => {
+                    ws.x_prev.copy_from_slice(&ws.x_tmp);
+                    true
+                }
+                Verdict::Open(row, value) if finest => {
+                    return Err(AnalysisError::Discontinuous {
+                        time: s,
+                        worst: self.equation(row).map(|n| (n, value)).into_iter().collect(),
+                        partial: None,
+                    });
+                }
+                Verdict::Failed(e) if finest => return Err(*e),
+                _ => false,
+            };
             match accept {
                 true if next == full => return Ok(PositionReport { iterations, ..rep }),
                 true => {
@@ -472,6 +592,9 @@ impl Model {
                     }
                     if out.acceleration {
                         self.acceleration(ws)?;
+                    }
+                    if out.joints {
+                        self.follow_angles(ws, memory);
                     }
                     saved = self.save_frame(ws);
                     done = next;
@@ -484,25 +607,45 @@ impl Model {
         }
     }
 
-    /// One attempt from the frame in `ws` to time `t`: predict, solve, and test for a branch
-    /// jump. The report and whether the solution jumped (`ws` then holds it; the caller
-    /// restores the frame); otherwise x_prev becomes the frame the step started from.
+    /// One attempt from the frame in `ws` to time `t`: predict, solve, and judge the solution
+    /// ([`Verdict`]). When it is not accepted `ws` holds what the solve left (the caller
+    /// restores the frame); otherwise x_prev becomes the frame the step started from. A Newton
+    /// failure to converge is a verdict (the step can be subdivided); other errors return.
     fn try_step(
         &self,
         ws: &mut Workspace,
         t: f64,
         k: usize,
         out: Outputs,
-    ) -> Result<(PositionReport, bool), AnalysisError> {
+        memory: &mut JointMemory,
+    ) -> Result<(PositionReport, Verdict), AnalysisError> {
+        let dt = t - ws.t;
         ws.x_tmp.copy_from_slice(&ws.x);
         let predicted = self.predict(ws, t - ws.t, k, out);
         ws.x_pred.copy_from_slice(&ws.x);
-        let rep = self.position(ws, t)?;
+        let rep = match self.position(ws, t) {
+            Ok(rep) => rep,
+            Err(e @ AnalysisError::NotConverged { iterations, .. }) => {
+                let rep = PositionReport {
+                    iterations,
+                    residual: f64::NAN,
+                    open: None,
+                };
+                return Ok((rep, Verdict::Failed(Box::new(e))));
+            }
+            Err(e) => return Err(e),
+        };
+        if let Some((row, value)) = rep.open {
+            return Ok((rep, Verdict::Open(row, value)));
+        }
         if predicted && self.jumped(ws) {
-            return Ok((rep, true));
+            return Ok((rep, Verdict::Jumped));
+        }
+        if !out.needs_velocity() && dt != 0.0 {
+            memory.turn_rate = Some(self.largest_turn(ws) / dt.abs());
         }
         ws.x_prev.copy_from_slice(&ws.x_tmp);
-        Ok((rep, false))
+        Ok((rep, Verdict::Accepted))
     }
 
     /// The branch-jump test (module docs): for some body, C_b > κ M_b + ε, with M_b its
@@ -587,6 +730,24 @@ impl Model {
         }
         ws.sync_poses();
         true
+    }
+
+    /// Continues the joint angles of the outputs to an accepted substep (not stored): each by
+    /// the nearest value, valid because a substep turns no joint by more than
+    /// [`MAX_TURN_PER_STEP`]. The next stored frame continues from here by the nearest value
+    /// too (the rates of the last stored frame are for another time). No allocation.
+    fn follow_angles(&self, ws: &Workspace, memory: &mut JointMemory) {
+        for (j, prev) in self.joints.iter().zip(memory.values.iter_mut()) {
+            let (si, sj) = (ws.state_of(j.body_i), ws.state_of(j.body_j));
+            let c = j.joint.coordinates(&BodyPair::new(&si, &sj));
+            for (q, coord) in c.coordinates.iter().enumerate() {
+                if coord.measure.quantity() == CoordinateQuantity::Angle {
+                    prev[q] = unwrap_angle(prev[q], c.values[q]);
+                }
+            }
+        }
+        memory.t = Some(ws.t);
+        memory.rates_valid = false;
     }
 
     /// Empty results for the run's outputs with room for `n` frames.
@@ -746,6 +907,9 @@ pub(crate) struct JointMemory {
     rates: Vec<[f64; MAX_COORDINATES]>,
     rates_valid: bool,
     t: Option<f64>,
+    /// A position-only run's largest joint rotation rate over its last accepted (sub)step
+    /// (rad/s), for the next step's substeps ([`Model::motion_depth`]).
+    turn_rate: Option<f64>,
 }
 
 impl JointMemory {
@@ -755,6 +919,7 @@ impl JointMemory {
             rates: vec![[0.0; MAX_COORDINATES]; joints],
             rates_valid: false,
             t: None,
+            turn_rate: None,
         }
     }
 }

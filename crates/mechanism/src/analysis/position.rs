@@ -30,6 +30,7 @@ use crate::dof::{solver, DofReport};
 use crate::error::{AnalysisError, EquationName};
 use crate::model::Model;
 use crate::workspace::{PositionSystem, Workspace};
+use cardan_constraints::BodyPair;
 use cardan_solver::{
     AutoSolver, JacobianUpdate, Newton, NewtonOptions, RankAnalysis, RankOptions, SolverError,
 };
@@ -57,6 +58,12 @@ pub struct PositionReport {
     pub iterations: usize,
     /// Max |Φ_i| over all equations at the solution (unscaled).
     pub residual: f64,
+    /// The solved row (not dropped as redundant) with the largest scaled residual |Φ_i| / e_i
+    /// after the couplers' turns were accepted, when that exceeds the solve's tolerance: the
+    /// solve converged on equations that no longer hold once the angles are continued (a
+    /// coupler's angle taken a turn off because it changed by π or more since the last accepted
+    /// pose). A caller must not accept such a pose ([`Model::kinematics`] subdivides the step).
+    pub open: Option<(usize, f64)>,
 }
 
 impl Model {
@@ -264,10 +271,43 @@ impl Model {
                 Ok(PositionReport {
                     iterations: rep.iterations,
                     residual,
+                    open: self.open_row(ws, selected),
                 })
             }
             Err(e) => Err(self.map_solver_error(t, e)),
         }
+    }
+
+    /// The solved row with the largest scaled residual |Φ_i| / e_i in `ws.phi` (rows dropped as
+    /// redundant skipped when `selected`), when it exceeds the kinematic solver's residual
+    /// tolerance ([`PositionReport::open`]). No allocation.
+    fn open_row(&self, ws: &Workspace, selected: bool) -> Option<(usize, f64)> {
+        let tol = ws.kin.as_ref()?.options().tolerances.residual;
+        if let Some(open) = self.spurious_driver_row(ws) {
+            return Some(open);
+        }
+        let mut worst: Option<(usize, f64)> = None;
+        for (r, (phi, e)) in ws.phi.iter().zip(&self.equation_scales).enumerate() {
+            if selected && !ws.kept[r] {
+                continue;
+            }
+            let d = (phi / e).abs();
+            if (d > tol || d.is_nan()) && worst.is_none_or(|(_, w)| d > w || d.is_nan()) {
+                worst = Some((r, d));
+            }
+        }
+        worst
+    }
+
+    /// The first row of a driver whose equations hold on a spurious root at the workspace's
+    /// poses and time ([`cardan_constraints::Driver::branch_error`]), with that error (≥ 1).
+    /// No allocation.
+    fn spurious_driver_row(&self, ws: &Workspace) -> Option<(usize, f64)> {
+        self.drivers.iter().find_map(|d| {
+            let (si, sj) = (ws.state_of(d.body_i), ws.state_of(d.body_j));
+            let e = d.driver.branch_error(&BodyPair::new(&si, &sj), ws.t);
+            (e > 0.0).then_some((d.rows.start, e))
+        })
     }
 
     /// Whether the prepared kinematic solver works on a selection of the rows (some dropped as

@@ -114,9 +114,9 @@ pub fn print_summary(s: &Summary, out: &mut dyn Write) -> Result<(), Error> {
         format!(", peak |driver effort| {}", effort_list(&s.peak_efforts))
     };
     let efforts = match s.subdivided_steps {
-        Some(1) => format!("{efforts}, 1 step subdivided to stay on the assembly branch"),
+        Some(1) => format!("{efforts}, 1 step subdivided to follow the motion continuously"),
         Some(n) if n > 1 => {
-            format!("{efforts}, {n} steps subdivided to stay on the assembly branch")
+            format!("{efforts}, {n} steps subdivided to follow the motion continuously")
         }
         _ => efforts,
     };
