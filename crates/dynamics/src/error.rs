@@ -83,6 +83,21 @@ pub enum DynamicsError {
         /// Where.
         what: &'static str,
     },
+    /// A force element's force or torque exceeded the magnitude limit of a constant one, or
+    /// was not finite ([`crate::Dynamics`] checks every force evaluation of a run).
+    #[error("t = {time}: force \"{force}\" reaches {value:e} {unit}, beyond the limit of {limit:e} {unit} that any force element must stay within (a runaway expression, a spring stretched without bound, or a value in the wrong unit?)")]
+    ForceLimit {
+        /// Time.
+        time: f64,
+        /// The force element.
+        force: String,
+        /// Its force's or torque's magnitude.
+        value: f64,
+        /// The limit.
+        limit: f64,
+        /// N or N m.
+        unit: &'static str,
+    },
     /// Inverse dynamics needs a fully driven mechanism (DOF = number of drivers, DOF > 0 or
     /// drivers present).
     #[error("inverse dynamics needs a kinematically driven mechanism: {dof} degrees of freedom, {drivers} drivers")]

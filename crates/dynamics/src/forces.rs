@@ -28,6 +28,7 @@
 
 use crate::DynamicsError;
 use cardan_constraints::{BodyPair, BodyState, TimeFunction};
+use cardan_mechanism::Quantity;
 use cardan_mechanism::{BodyId, ForceInfo, Model};
 use nalgebra::Vector3;
 use std::f64::consts::PI;
@@ -576,14 +577,32 @@ impl Resolved {
         })
     }
 
-    /// Adds this element's generalized forces. No allocation.
-    pub(crate) fn apply(&self, model: &Model, masses: &[f64], t: f64, out: &mut AppliedForces) {
+    /// The quantity whose magnitude limit ([`Quantity::limit`]) bounds this element's force:
+    /// a torque for torques and rotational springs, a force otherwise.
+    pub(crate) fn quantity(&self) -> Quantity {
+        match self {
+            Resolved::Torque { .. } | Resolved::Rotational { .. } => Quantity::Torque,
+            _ => Quantity::Force,
+        }
+    }
+
+    /// Adds this element's generalized forces and returns the magnitude of its force (N) or
+    /// torque (N m), for the limit of [`Resolved::quantity`] (0 for gravity, bounded by the
+    /// masses and g). No allocation.
+    pub(crate) fn apply(
+        &self,
+        model: &Model,
+        masses: &[f64],
+        t: f64,
+        out: &mut AppliedForces,
+    ) -> f64 {
         let ground = BodyState::ground();
         match self {
             Resolved::Gravity(g) => {
                 for (k, m) in masses.iter().enumerate() {
                     out.add_force(BodyId::Moving(k), &(g * *m));
                 }
+                0.0
             }
             Resolved::PointForce {
                 body,
@@ -596,6 +615,7 @@ impl Resolved {
                     f = state_of(out.bodies, &ground, *body).a * f;
                 }
                 out.add_force_at(*body, point, &f);
+                f.norm()
             }
             Resolved::Torque { body, value, frame } => {
                 let n = value.eval(t);
@@ -603,6 +623,7 @@ impl Resolved {
                     Frame::Global => out.add_torque(*body, &n),
                     Frame::Body => out.add_torque_local(*body, &n),
                 }
+                n.norm()
             }
             Resolved::Spring {
                 bi,
@@ -621,7 +642,7 @@ impl Resolved {
                 let d = sj.point(pj) - si.point(pi);
                 let l = d.norm();
                 if l == 0.0 {
-                    return;
+                    return 0.0;
                 }
                 let u = d / l;
                 let ldot = u.dot(&(point_velocity(sj, pj) - point_velocity(si, pi)));
@@ -632,6 +653,7 @@ impl Resolved {
                 let fu = u * f;
                 out.add_force_at(*bi, pi, &fu);
                 out.add_force_at(*bj, pj, &(-fu));
+                f.abs()
             }
             Resolved::Rotational {
                 joint,
@@ -650,6 +672,7 @@ impl Resolved {
                 let tq = z * (-(k * wrap(theta - theta0) + c * rate));
                 out.add_torque(j.body_j, &tq);
                 out.add_torque(j.body_i, &(-tq));
+                tq.norm()
             }
         }
     }

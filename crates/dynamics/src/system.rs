@@ -57,6 +57,9 @@ pub struct Dynamics<'m> {
     pub(crate) h: Vec<f64>,
     /// The user callback's generalized forces alone (n), for its power ([`crate::work`]).
     pub(crate) h_user: Vec<f64>,
+    /// The first force element whose force or torque exceeded its limit (or was not finite) in
+    /// the last [`Dynamics::eval_forces`], and that magnitude ([`Dynamics::check_forces`]).
+    pub(crate) force_excess: Option<(usize, f64)>,
 }
 
 impl std::fmt::Debug for Dynamics<'_> {
@@ -107,6 +110,7 @@ impl<'m> Dynamics<'m> {
             turns: model.initial_turns(),
             h: vec![0.0; 6 * nb],
             h_user: vec![0.0; 6 * nb],
+            force_excess: None,
         };
         for f in Force::from_model(model) {
             d.add_force(f)?;
@@ -416,8 +420,13 @@ impl<'m> Dynamics<'m> {
             h,
             bodies: &self.bodies,
         };
-        for f in &self.forces {
-            f.apply(model, &self.mass, t, &mut acc);
+        self.force_excess = None;
+        for (k, f) in self.forces.iter().enumerate() {
+            let magnitude = f.apply(model, &self.mass, t, &mut acc);
+            let within = magnitude <= f.quantity().limit(); // false for NaN
+            if !within && self.force_excess.is_none() {
+                self.force_excess = Some((k, magnitude));
+            }
         }
         if let Some(u) = &mut self.user {
             u(t, &mut acc);
@@ -427,6 +436,36 @@ impl<'m> Dynamics<'m> {
             let g = w.cross(&(self.inertia[k] * w));
             for c in 0..3 {
                 self.h[6 * k + 3 + c] -= g[c];
+            }
+        }
+    }
+
+    /// Stops a run whose last force evaluation ([`Dynamics::eval_forces`], at time `t`) found
+    /// an element's force or torque beyond the magnitude limit of a constant one
+    /// ([`cardan_mechanism::Quantity::limit`]: 1e12 N, 1e12 N m) or not finite: a runaway
+    /// expression or spring would otherwise drive the step size to nothing over millions of
+    /// steps.
+    ///
+    /// # Errors
+    /// [`DynamicsError::ForceLimit`] naming the element, the time and the value;
+    /// [`DynamicsError::NonFinite`] for a force that is not finite.
+    pub(crate) fn check_forces(&self, t: f64) -> Result<(), DynamicsError> {
+        match self.force_excess {
+            None => Ok(()),
+            // A function undefined there: the front end names it (NonFinite's cause).
+            Some((_, value)) if !value.is_finite() => Err(DynamicsError::NonFinite {
+                time: t,
+                what: "the forces",
+            }),
+            Some((k, value)) => {
+                let q = self.forces[k].quantity();
+                Err(DynamicsError::ForceLimit {
+                    time: t,
+                    force: self.force_names[k].clone(),
+                    value,
+                    limit: q.limit(),
+                    unit: q.unit(),
+                })
             }
         }
     }
@@ -442,6 +481,7 @@ impl<'m> Dynamics<'m> {
     /// `baumgarte` = (α, β) adds −2α(Φ_v v − ν) − β²Φ to γ#. No allocation.
     pub(crate) fn solve_eom(&mut self, t: f64, baumgarte: (f64, f64)) -> Result<(), DynamicsError> {
         self.eval_forces(t);
+        self.check_forces(t)?;
         let model = self.model;
         let kkt = self.kkt.as_mut().expect("prepared");
         kkt.eval_jacobian(model, &self.elements, &self.bodies, t);

@@ -335,6 +335,7 @@ fn attempt(
         trial(b, h, p);
         d.sync(&b.t1);
         d.eval_forces(t1);
+        d.check_forces(t1)?;
         let kkt = d.kkt.as_mut().expect("prepared");
         // Φ_v at the iterate (for Φ_vᵀλ; its slots serve a refactorization below).
         kkt.eval_jacobian(model, &d.elements, &d.bodies, t1);

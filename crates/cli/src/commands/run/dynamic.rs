@@ -193,7 +193,7 @@ pub fn located_as(p: &Prepared, e: &cardan_dynamics::DynamicsError, what: &str) 
     let spans = &p.loaded.spans;
     let span = match e.cause() {
         E::MissingInertia { body } => spans.element(body),
-        E::BadForce { force, .. } => spans.element(force),
+        E::BadForce { force, .. } | E::ForceLimit { force, .. } => spans.element(force),
         E::NonFinite { time, .. } => super::super::functions::first_not_finite(&p.loaded, *time)
             .and_then(|(_, name)| spans.element(&name)),
         E::InconsistentPositions { open } => open.first().and_then(|o| spans.element(&o.element)),
