@@ -191,6 +191,47 @@ fn a_force_beyond_the_limit_between_outputs_stops_the_run_there() {
     assert!((0.48..0.5).contains(&t), "{reason}");
 }
 
+/// Haug's slider-crank (crank driven: no degree of freedom left) with `[analysis]` replaced.
+fn driven_slider_crank(analysis: &str) -> String {
+    let text = example_text("slider_crank");
+    let i = text.find("[analysis]").unwrap();
+    format!("{}[analysis]\n{analysis}\n", &text[..i])
+}
+
+/// Item 3: a modal analysis of a mechanism without free motion has no modes: an input error at
+/// the analysis that says so, never a NaN eigenvalue; a static analysis of it writes
+/// `stability.csv` without the eigenvalue column (and no NaN anywhere).
+#[test]
+fn a_fully_driven_mechanism_has_no_modes_and_no_nan() {
+    let o = run_text("run", &driven_slider_crank("kind = \"modal\""));
+    assert_eq!(o.code, 1, "{}", o.stderr);
+    for needle in [
+        "no free motion and no modes",
+        "kind = \"static\"",
+        "model.toml:",
+    ] {
+        assert!(o.stderr.contains(needle), "{needle:?} in {}", o.stderr);
+    }
+    let o = run_text("run", &driven_slider_crank("kind = \"static\""));
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    for entry in std::fs::read_dir(o.dir.join("out")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "csv" || e == "json") {
+            let text = std::fs::read_to_string(&path).unwrap();
+            assert!(
+                !text.contains("NaN") && !text.contains("nan"),
+                "{}: {text}",
+                path.display()
+            );
+        }
+    }
+    let csv = std::fs::read_to_string(o.dir.join("out/stability.csv")).unwrap();
+    assert!(
+        csv.starts_with("t [s],stability [-],newton_iterations [-]"),
+        "{csv}"
+    );
+}
+
 #[allow(dead_code)]
 fn exists(dir: &Path, name: &str) -> bool {
     dir.join(name).exists()

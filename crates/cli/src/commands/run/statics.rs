@@ -102,6 +102,9 @@ pub(super) fn run_statics(
         }
     };
     let wall = start.elapsed();
+    if kind == StaticKind::Modal && statics.equilibria.iter().all(|e| e.eigenvalues.is_empty()) {
+        return Err(no_modes(p));
+    }
     let r = &statics.results;
     let req = requested(p, &analysis.outputs);
     let mut tables: Vec<Table> = inverse_tables(p, r, &req)
@@ -217,6 +220,20 @@ pub(super) fn run_statics(
     })
 }
 
+/// The error of a modal analysis whose drivers hold every degree of freedom: a mechanism
+/// without free motion has no modes (an input error, at the analysis).
+fn no_modes(p: &Prepared) -> Error {
+    let drivers = p.loaded.drivers.len();
+    let message = format!(
+        "modal analysis: the drivers hold every degree of freedom of the mechanism ({drivers} \
+         driver{}), so it has no free motion and no modes; remove the driver of each coordinate \
+         that should vibrate (a modal analysis holds the remaining drivers at their values), or \
+         use kind = \"static\" for the holding efforts and reactions",
+        if drivers == 1 { "" } else { "s" }
+    );
+    p.source.error_at(p.loaded.spans.analysis.clone(), message)
+}
+
 /// A dynamics error located in the file (a mechanism error as the kinematic runs say it).
 fn error(p: &Prepared, e: &DynamicsError, what: &str) -> Error {
     match e.cause() {
@@ -238,20 +255,23 @@ fn stability_table(s: &StaticResults) -> Table {
             "load_steps [-]".into(),
         ],
     );
+    // A mechanism whose drivers hold every degree of freedom has no eigenvalue: the column is
+    // left out rather than written as NaN (it is stable: nothing can move).
+    let free = s.equilibria.iter().any(|e| !e.eigenvalues.is_empty());
+    if !free {
+        t.columns.remove(1);
+    }
     for e in &s.equilibria {
         let code = match e.stability {
             Stability::Stable => 1.0,
             Stability::Neutral => 0.0,
             Stability::Unstable => -1.0,
         };
-        let lowest = e.eigenvalues.first().copied().unwrap_or(f64::NAN);
-        t.rows.push(vec![
-            e.state.t,
-            code,
-            lowest,
-            e.iterations as f64,
-            e.load_steps as f64,
-        ]);
+        let mut row = vec![e.state.t, code, e.iterations as f64, e.load_steps as f64];
+        if free {
+            row.insert(2, e.eigenvalues.first().copied().unwrap_or(f64::NAN));
+        }
+        t.rows.push(row);
     }
     t
 }
