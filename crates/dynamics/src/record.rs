@@ -11,7 +11,7 @@ use crate::results::{
 };
 use crate::state::State;
 use crate::system::Dynamics;
-use crate::work::{trapezoid, Multipliers};
+use crate::work::{Multipliers, SampledWork};
 use crate::DynamicsError;
 use cardan_constraints::joints::{
     continue_angle, BodyAcceleration, CoordinateQuantity, MAX_COORDINATES,
@@ -47,8 +47,8 @@ pub(crate) struct Recorder<'s> {
     power: Vec<f64>,
     /// The work of each channel, when the recorder integrates it itself (inverse dynamics).
     work: Vec<f64>,
-    /// The power of the last recorded time.
-    prev_power: Vec<f64>,
+    /// The work integrated from the recorded powers (inverse dynamics).
+    sampled: SampledWork,
     /// Per row: the worst scaled residual while dropped as redundant and off by more than the
     /// kept rows explain ([`DROPPED_ROW_DRIFT_FACTOR`]), its value and time (NaN: never).
     dropped: Vec<(f64, f64, f64)>,
@@ -218,14 +218,14 @@ impl<'s> Recorder<'s> {
             points,
             power: vec![0.0; d.num_work_channels()],
             work: vec![0.0; d.num_work_channels()],
-            prev_power: vec![0.0; d.num_work_channels()],
+            sampled: SampledWork::new(d.num_work_channels()),
             dropped: vec![(0.0, 0.0, f64::NAN); m],
         }
     }
 
     /// Records `state` (solving the equations of motion there for v̇ and λ). `work`: the
     /// integrator's work of each channel at this time ([`crate::work`]); `None`: the recorder
-    /// integrates the power over the stored times by the trapezoidal rule (inverse dynamics).
+    /// integrates the power over the stored times (inverse dynamics, [`SampledWork`]).
     pub fn record(
         &mut self,
         d: &mut Dynamics,
@@ -480,17 +480,32 @@ impl<'s> Recorder<'s> {
         match work {
             Some(w) => self.work.copy_from_slice(w),
             None => {
-                if let Some(t0) = self.last_t {
-                    trapezoid(&mut self.work, &self.prev_power, &self.power, t - t0);
-                }
+                let h = self.last_t.map_or(0.0, |t0| t - t0);
+                self.sampled.add(h, &self.power, &mut self.work);
             }
         }
-        self.prev_power.copy_from_slice(&self.power);
         for ((c, &p), &w) in en.elements.iter_mut().zip(&self.power).zip(&self.work) {
             c.power.push(p);
             c.work.push(w);
         }
         en.work.push(self.work.iter().sum());
+    }
+
+    /// The power of each work channel at `state` (its efforts solved there), for the midpoint of
+    /// the first interval of an inverse dynamics run ([`SampledWork::set_first_midpoint`]).
+    /// Syncs `d` to `state` without accepting its couplers' turns.
+    ///
+    /// # Errors
+    /// The failure of the solve at `state`.
+    pub(crate) fn first_midpoint(
+        &mut self,
+        d: &mut Dynamics,
+        state: &State,
+    ) -> Result<(), DynamicsError> {
+        d.accelerations(state, &mut self.vdot, &mut self.lambda)?;
+        d.powers(state.t, Multipliers::Full(&self.lambda), &mut self.power);
+        self.sampled.set_first_midpoint(self.power.clone());
+        Ok(())
     }
 
     /// Number of recorded times (streamed: handed to the sink).

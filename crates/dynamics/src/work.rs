@@ -48,8 +48,9 @@
 //!   off by O(h) and made the balance of a driven model fall like h only (one more
 //!   factorization per step, for models with drivers).
 //! - **Inverse dynamics** (the motion is prescribed on the output grid, there are no steps):
-//!   the trapezoidal rule on the output grid, error −(Δt²/12) ∫ P̈ dt, second order in the
-//!   output step; the balance measures that quadrature error (and the kinematic tolerance).
+//!   the trapezoidal rule on the output grid with Gregory's end corrections ([`SampledWork`]),
+//!   fourth order in the output step; the balance measures that quadrature error (and the
+//!   kinematic tolerance).
 //!
 //! [`EnergyHistory::constraint_power`]: crate::EnergyHistory::constraint_power
 
@@ -191,5 +192,133 @@ impl Dynamics<'_> {
 pub(crate) fn trapezoid(work: &mut [f64], p0: &[f64], p1: &[f64], h: f64) {
     for ((w, a), b) in work.iter_mut().zip(p0).zip(p1) {
         *w += 0.5 * h * (a + b);
+    }
+}
+
+/// The work W(t_n) = ∫_{t₀}^{t_n} P dt of each channel from its power sampled on a uniform grid
+/// of step h, fourth order: the trapezoidal sum T_n with Gregory's end corrections
+/// (Euler–Maclaurin, T_n − ∫ = h²/12 (Ṗ(t_n) − Ṗ(t₀)) + O(h⁴)):
+///
+/// ```text
+/// W_n = T_n − h²/12 (Ṗ_n − Ṗ₀),   Ṗ₀ = (−3P₀ + 4P₁ − P₂)/(2h),   Ṗ_n = (3P_n − 4P_{n−1} + P_{n−2})/(2h)
+/// ```
+///
+/// Causal, so the work streams with the frames: from n = 2 the corrections use the first three
+/// and the last three samples; W₁ is Simpson's rule h/6 (P₀ + 4P_½ + P₁) when the power at the
+/// first interval's midpoint is given ([`SampledWork::set_first_midpoint`]), else the trapezoid
+/// (its O(h³) error, the only one above fourth order, is then the balance's largest). For inverse dynamics, whose motion is given at the output times only; the
+/// trapezoidal rule left the energy balance of the bundled slider-crank (200 steps) at 5e-5 of
+/// its energy scale. Grids that are not uniform (to 1e-9 relative) fall back to the trapezoid.
+/// No allocation after construction.
+#[derive(Debug, Clone)]
+pub(crate) struct SampledWork {
+    /// The trapezoidal sums T_n.
+    trapezoid: Vec<f64>,
+    /// P₀, P₁, P₂ (the start's derivative).
+    first: [Vec<f64>; 3],
+    /// P_{n−2}, P_{n−1} (the end's derivative, with P_n).
+    last: [Vec<f64>; 2],
+    /// The power at the first interval's midpoint, when known.
+    midpoint: Option<Vec<f64>>,
+    /// Samples so far, the step and whether every step had it.
+    count: usize,
+    h: f64,
+    uniform: bool,
+}
+
+impl SampledWork {
+    /// For `channels` channels.
+    pub(crate) fn new(channels: usize) -> Self {
+        let z = || vec![0.0; channels];
+        Self {
+            trapezoid: z(),
+            first: [z(), z(), z()],
+            last: [z(), z()],
+            midpoint: None,
+            count: 0,
+            h: 0.0,
+            uniform: true,
+        }
+    }
+
+    /// The power at t₀ + h/2, for Simpson's rule on the first interval.
+    pub(crate) fn set_first_midpoint(&mut self, power: Vec<f64>) {
+        self.midpoint = Some(power);
+    }
+
+    /// Adds the sample `power` taken `h` after the previous one (ignored for the first) and
+    /// writes each channel's work at its time into `work`.
+    pub(crate) fn add(&mut self, h: f64, power: &[f64], work: &mut [f64]) {
+        let n = self.count;
+        if n > 0 {
+            trapezoid(&mut self.trapezoid, &self.last[1], power, h);
+            if n == 1 {
+                self.h = h;
+            } else if (h - self.h).abs() > 1e-9 * self.h.abs() {
+                self.uniform = false;
+            }
+        }
+        if n < 3 {
+            self.first[n].copy_from_slice(power);
+        }
+        work.copy_from_slice(&self.trapezoid);
+        if let (1, Some(mid)) = (n, &self.midpoint) {
+            for ((w, (p0, p1)), pm) in work
+                .iter_mut()
+                .zip(self.first[0].iter().zip(power))
+                .zip(mid)
+            {
+                *w = h / 6.0 * (p0 + 4.0 * pm + p1);
+            }
+        }
+        if n >= 2 && self.uniform && self.h != 0.0 {
+            let c = self.h / 24.0; // h²/12 · 1/(2h)
+            for (k, w) in work.iter_mut().enumerate() {
+                let [p0, p1, p2] = [self.first[0][k], self.first[1][k], self.first[2][k]];
+                let start = -3.0 * p0 + 4.0 * p1 - p2;
+                let end = 3.0 * power[k] - 4.0 * self.last[1][k] + self.last[0][k];
+                *w -= c * (end - start);
+            }
+        }
+        let [older, newer] = &mut self.last;
+        std::mem::swap(older, newer);
+        newer.copy_from_slice(power);
+        self.count += 1;
+    }
+}
+
+#[cfg(test)]
+mod sampled_work_tests {
+    use super::SampledWork;
+
+    /// ∫₀ᵗ P for P = sin(3t) + t², on n steps to t = 2: the worst error over the grid, with or
+    /// without the first midpoint.
+    fn worst_error(n: usize, midpoint: bool) -> f64 {
+        let p = |t: f64| (3.0 * t).sin() + t * t;
+        let exact = |t: f64| (1.0 - (3.0 * t).cos()) / 3.0 + t * t * t / 3.0;
+        let h = 2.0 / n as f64;
+        let mut q = SampledWork::new(1);
+        if midpoint {
+            q.set_first_midpoint(vec![p(0.5 * h)]);
+        }
+        let mut w = [0.0];
+        let mut worst = 0.0f64;
+        for k in 0..=n {
+            let t = k as f64 * h;
+            q.add(if k == 0 { 0.0 } else { h }, &[p(t)], &mut w);
+            worst = worst.max((w[0] - exact(t)).abs());
+        }
+        worst
+    }
+
+    /// Fourth order with the midpoint (halving h divides the worst error by about 16); the
+    /// trapezoid's first interval alone is third order.
+    #[test]
+    fn gregory_with_a_simpson_start_is_fourth_order() {
+        let (e1, e2) = (worst_error(100, true), worst_error(200, true));
+        assert!(e1 / e2 > 14.0 && e1 < 1e-6, "{e1:e} {e2:e}");
+        let (t1, t2) = (worst_error(100, false), worst_error(200, false));
+        assert!(t1 / t2 > 7.0 && t1 / t2 < 9.0, "{t1:e} {t2:e}");
+        assert!(t1 > 3.0 * e1, "{t1:e} {e1:e}");
     }
 }

@@ -299,9 +299,10 @@ fn a_conservative_model_has_no_work_and_its_balance_is_its_drift() {
     }
 }
 
-/// Inverse dynamics: the motor's work along the prescribed motion (trapezoidal rule on the
-/// output grid) equals the change of kinetic plus potential energy, to the quadrature's
-/// second order.
+/// Inverse dynamics: the motor's work along the prescribed motion (the trapezoidal rule on the
+/// output grid with Gregory's end corrections and a Simpson first interval, `work::SampledWork`)
+/// equals the change of kinetic plus potential energy, to the quadrature's fourth order (the
+/// trapezoid alone was second order: ratio 4 between 100 and 200 steps).
 #[test]
 fn inverse_dynamics_driver_work_is_the_energy_change() {
     let m = common::crank(2.0, 0.5, Some(crank_angle()));
@@ -326,7 +327,7 @@ fn inverse_dynamics_driver_work_is_the_energy_change() {
     );
     assert!(drift > 1.0);
     assert!(bf < 1e-3 * drift, "{bf:e}");
-    assert!((3.5..4.5).contains(&(bc / bf)), "order: {bc:e} / {bf:e}");
+    assert!((13.0..19.0).contains(&(bc / bf)), "order: {bc:e} / {bf:e}");
     // The power is effort × rate at every output.
     let effort = &fine.driver("motor").unwrap().effort;
     for (k, &t) in fine.times().iter().enumerate() {
