@@ -833,8 +833,9 @@ impl Ctx<'_> {
             AsmtError::new(
                 *line,
                 format!(
-                    "{field} of motion \"{}\": the translated expression \"{translated}\" does not parse: {e}",
-                    m.name
+                    "{field} of motion \"{}\": the translated expression \"{}\" does not parse: {e}",
+                    m.name,
+                    cardan_constraints::expression::quoted(&translated)
                 ),
             )
         })?;

@@ -1223,7 +1223,8 @@ fn expression(cx: &Ctx, text: &Name, owner: &str) -> Result<TimeFunction, Error>
             cx.err(
                 span,
                 format!(
-                    "{owner}: expression \"{t}\", column {}: {}{hint}",
+                    "{owner}: expression \"{}\", column {}: {}{hint}",
+                    expression::quoted(t),
                     e.column(t),
                     e.message
                 ),

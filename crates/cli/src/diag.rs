@@ -12,14 +12,22 @@ use std::fmt;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
-/// What kind of failure an [`Error`] is; it selects the exit code.
+/// What kind of failure an [`Error`] is; it selects the exit code, one meaning per code
+/// (docs/cli.md, "Exit codes"): 0 success (warnings allowed), 1 a file problem (the model cannot
+/// be read, parsed or validated, or an output cannot be written), 2 command-line misuse, 3 the
+/// analysis failed (or `--strict` found a warning), 130 stopped by Ctrl-C.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ErrorKind {
     /// The model file cannot be read, parsed or validated (exit code 1).
     Input,
-    /// The model is valid but the analysis failed (assembly, singular configuration; exit 3).
+    /// The command line asks for something that cannot be done: an unknown flag or a bad flag
+    /// value, a flag that does not apply to the model, an output path that is the input or
+    /// cannot be a run's directory (exit code 2, as clap's own errors).
+    Usage,
+    /// The model is valid but the analysis failed (assembly, singular configuration), or
+    /// `--strict` found a warning (exit 3).
     Analysis,
-    /// Writing output failed (exit code 4).
+    /// Writing an output failed: a full disk, no permission, another run's lock (exit code 1).
     Output,
     /// Standard output was closed by its reader (exit code 0, no message).
     BrokenPipe,
@@ -32,9 +40,9 @@ impl ErrorKind {
     /// The process exit code for this kind.
     pub fn exit_code(self) -> i32 {
         match self {
-            ErrorKind::Input => 1,
+            ErrorKind::Input | ErrorKind::Output => 1,
+            ErrorKind::Usage => 2,
             ErrorKind::Analysis => 3,
-            ErrorKind::Output => 4,
             ErrorKind::BrokenPipe => 0,
             ErrorKind::Interrupted => 130,
         }
@@ -123,6 +131,15 @@ impl Error {
     pub fn analysis(message: impl Into<String>) -> Self {
         Self {
             kind: ErrorKind::Analysis,
+            location: None,
+            message: message.into(),
+        }
+    }
+
+    /// A command-line misuse (exit code 2).
+    pub fn usage(message: impl Into<String>) -> Self {
+        Self {
+            kind: ErrorKind::Usage,
             location: None,
             message: message.into(),
         }
@@ -217,9 +234,14 @@ impl Source {
                 }),
                 Err(e) => {
                     let at = e.utf8_error().valid_up_to();
-                    let mut err = Error::input(
-                        "the model file is not valid UTF-8 text (TOML files must be UTF-8)",
-                    );
+                    let kind = if crate::commands::asmt::is_asmt(path) {
+                        "ASMT files are UTF-8 text, as FreeCAD writes them"
+                    } else {
+                        "cardan model files are UTF-8 TOML"
+                    };
+                    let mut err = Error::input(format!(
+                        "the model file is not valid UTF-8 text ({kind}); is it the right file?"
+                    ));
                     let text = String::from_utf8_lossy(e.as_bytes()).into_owned();
                     let src = Self {
                         path: path.to_path_buf(),

@@ -130,7 +130,7 @@ impl AsmtArgs {
     /// The options, or an error for a TOML model given either flag.
     fn options(&self, model: &std::path::Path) -> Result<commands::asmt::AsmtOptions, Error> {
         if !commands::asmt::is_asmt(model) && (self.units.is_some() || self.analysis.is_some()) {
-            return Err(Error::input(format!(
+            return Err(Error::usage(format!(
                 "--units and --analysis apply to ASMT files (.asmt); {} is a cardan model, \
                  which gives its units in [model] units and its analysis in [analysis] kind",
                 model.display()

@@ -771,7 +771,7 @@ fn in_context(text: &str, at: usize, message: String) -> String {
             "duplicate key \"{key}\" in {table}{first}; a key may appear once per table"
         );
     }
-    if message.starts_with("invalid type: map, expected a sequence") {
+    if message.starts_with("invalid value: a table, expected an array") {
         for name in ["body", "joint", "coupler", "driver", "force"] {
             if text[at..].starts_with(&format!("[{name}]")) {
                 return format!(
@@ -869,6 +869,26 @@ fn improve_message(raw: &str) -> String {
             .into();
     }
     let mut m = raw.replace('\n', " ");
+    // serde names Rust types: say what the file needs instead.
+    for (rust, plain) in [
+        ("expected f64", "expected a number"),
+        ("expected f32", "expected a number"),
+        ("expected usize", "expected a whole number ≥ 0"),
+        ("expected u64", "expected a whole number ≥ 0"),
+        ("expected u32", "expected a whole number ≥ 0"),
+        ("expected i64", "expected a whole number"),
+        ("expected a boolean", "expected true or false"),
+        ("invalid type: string", "invalid value: the string"),
+        ("invalid type: integer", "invalid value: the whole number"),
+        ("invalid type: floating point", "invalid value: the number"),
+        ("invalid type: boolean", "invalid value: the boolean"),
+        ("invalid type: sequence", "invalid value: an array"),
+        ("invalid type: map", "invalid value: a table"),
+        ("expected a sequence", "expected an array [...]"),
+        ("expected a map", "expected a table { ... }"),
+    ] {
+        m = m.replace(rust, plain);
+    }
     if let Some(first) = m.get(..1) {
         m = first.to_lowercase() + &m[1..];
     }
@@ -878,6 +898,12 @@ fn improve_message(raw: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn rust_type_names_are_not_shown() {
+        let m = improve_message("invalid type: string \"heavy\", expected f64");
+        assert_eq!(m, "invalid value: the string \"heavy\", expected a number");
+    }
 
     #[test]
     fn unknown_field_message() {

@@ -24,6 +24,7 @@
 //! `"partial"` in `run.json`.
 
 pub mod opener;
+pub mod single;
 
 use crate::diag::{describe_io, Error};
 use opener::{Opener, PendingFile};
@@ -100,7 +101,7 @@ impl OutputDir {
     pub fn lock(target: &Path) -> Result<Self, Error> {
         let named = target.file_name().is_some_and(|n| n != "." && n != "..");
         if !named {
-            return Err(Error::output(format!(
+            return Err(Error::usage(format!(
                 "the output directory {} has no name of its own to replace; give a directory \
                  such as out/run1",
                 target.display()
@@ -413,7 +414,7 @@ fn check_replaceable(target: &Path) -> Result<(), Error> {
         return Ok(());
     };
     if !meta.is_dir() {
-        return Err(Error::output(format!(
+        return Err(Error::usage(format!(
             "the output path {} exists and is not a directory (a file or a link); remove it or \
              write elsewhere with -o DIR",
             target.display()
@@ -433,7 +434,7 @@ fn check_replaceable(target: &Path) -> Result<(), Error> {
         .take(3)
         .collect();
     if !foreign.is_empty() {
-        return Err(Error::output(format!(
+        return Err(Error::usage(format!(
             "the output directory {} holds files a run does not write ({}); a run replaces its \
              directory as a whole, so it will not delete them: move them away or write elsewhere \
              with -o DIR",

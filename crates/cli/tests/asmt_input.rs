@@ -202,7 +202,8 @@ fn asmt_flags_are_refused_for_a_toml_model() {
     for flag in ["--units", "--analysis"] {
         let value = if flag == "--units" { "mm" } else { "dynamic" };
         let out = cardan(&["check", "p.toml", flag, value], &dir);
-        assert_eq!(out.code, 1, "{flag}: {}", out.stderr);
+        // Command-line misuse (docs/cli.md, "Exit codes").
+        assert_eq!(out.code, 2, "{flag}: {}", out.stderr);
         assert!(out.stderr.contains("apply to ASMT files"), "{}", out.stderr);
     }
 }

@@ -60,7 +60,7 @@ fn coupler_mistakes_are_located() {
         "radius_i = 0.02\n",
         "radius_i = 0.0\n",
         "radius_i = 0.0",
-        &[r#"coupler "stage1""#, "radius_i", "≠ 0"],
+        &[r#"coupler "stage1""#, "radius_i", "must be non-zero"],
     );
     fails(
         r#"type = "gear""#,

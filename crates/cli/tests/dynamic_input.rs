@@ -228,7 +228,10 @@ fn large_forces_and_stiffnesses_are_accepted() {
         "stiffness = 1.0",
         "stiffness = 1e20",
         "60:13",
-        &["stiffness = 1e20 N/m", "absurdly large for a stiffness"],
+        &[
+            "stiffness = 1e20 N/m",
+            "beyond the limit of 1e15 N/m for a stiffness",
+        ],
     );
 }
 

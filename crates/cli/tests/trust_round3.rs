@@ -4,7 +4,7 @@
 
 mod common;
 use common::{cardan, run_text, scratch, Outcome};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 fn example_text(name: &str) -> String {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -232,17 +232,274 @@ fn a_fully_driven_mechanism_has_no_modes_and_no_nan() {
     );
 }
 
-#[allow(dead_code)]
-fn exists(dir: &Path, name: &str) -> bool {
-    dir.join(name).exists()
+fn asmt(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../asmt/tests/data")
+        .join(format!("{name}.asmt"))
 }
 
-#[allow(dead_code)]
-fn fresh() -> PathBuf {
-    scratch("trust3")
+/// The names in `dir`, sorted.
+fn names(dir: &std::path::Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
 }
 
-#[allow(dead_code)]
-fn run_in(dir: &Path, args: &[&str]) -> Outcome {
-    cardan(args, dir)
+/// Items 4 and 5: `cardan import` refuses an output that is its own input (by identity: the
+/// same name, another spelling of it, a hard link), exit 2, the input untouched; an import onto
+/// an existing file replaces it whole.
+#[test]
+fn import_never_overwrites_its_input() {
+    let dir = scratch("import-self");
+    let input = dir.join("m.asmt");
+    std::fs::copy(asmt("crank_slider"), &input).unwrap();
+    std::fs::hard_link(&input, dir.join("link.asmt")).unwrap();
+    let original = std::fs::read(&input).unwrap();
+    for output in ["m.asmt", "./m.asmt", "link.asmt"] {
+        let o = cardan(&["import", "m.asmt", "-o", output], &dir);
+        assert_eq!(o.code, 2, "{output}: {}", o.stderr);
+        assert!(o.stderr.contains("is the input file"), "{}", o.stderr);
+        assert_eq!(std::fs::read(&input).unwrap(), original, "{output}");
+    }
+    std::fs::write(dir.join("m.toml"), "old").unwrap();
+    let o = cardan(&["import", "m.asmt", "-o", "m.toml"], &dir);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let text = std::fs::read_to_string(dir.join("m.toml")).unwrap();
+    assert!(text.contains("[analysis]"), "{text}");
+    assert_eq!(names(&dir), ["link.asmt", "m.asmt", "m.toml"]);
+}
+
+/// Item 5: an import that cannot be written whole (a file-size limit, as a full disk) leaves
+/// nothing under the final name and no temporary file, and the previous file unchanged; exit 1.
+#[test]
+fn an_import_that_fails_to_write_leaves_nothing_partial() {
+    let dir = scratch("import-full");
+    std::fs::copy(asmt("00backhoe"), dir.join("m.asmt")).unwrap();
+    for previous in [None, Some("previous contents")] {
+        let _ = std::fs::remove_file(dir.join("m.toml"));
+        if let Some(text) = previous {
+            std::fs::write(dir.join("m.toml"), text).unwrap();
+        }
+        // At most 1 block of 512 bytes per file; the imported backhoe is far larger.
+        let script = format!(
+            "ulimit -f 1; trap '' XFSZ; exec '{}' import m.asmt -o m.toml",
+            env!("CARGO_BIN_EXE_cardan")
+        );
+        let r = std::process::Command::new("sh")
+            .args(["-c", &script])
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&r.stderr);
+        assert_eq!(r.status.code(), Some(1), "{stderr}");
+        assert!(stderr.contains("cannot write m.toml"), "{stderr}");
+        match previous {
+            None => assert!(!dir.join("m.toml").exists()),
+            Some(text) => assert_eq!(std::fs::read_to_string(dir.join("m.toml")).unwrap(), text),
+        }
+        let left: Vec<String> = names(&dir)
+            .into_iter()
+            .filter(|n| n.contains("tmp"))
+            .collect();
+        assert!(left.is_empty(), "{left:?}");
+    }
+}
+
+/// Item 6: `run.json`'s model path names the file that was read (the ASMT file, not the
+/// imported `<file>.asmt.toml` that exists nowhere).
+#[test]
+fn run_json_names_the_file_that_was_read() {
+    let dir = scratch("asmt-path");
+    std::fs::copy(asmt("crank_slider"), dir.join("cs.asmt")).unwrap();
+    let o = cardan(&["run", "cs.asmt", "-o", "out", "--quiet"], &dir);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("out/run.json")).unwrap()).unwrap();
+    let path = json["model"]["path"].as_str().unwrap();
+    assert_eq!(path, "cs.asmt");
+    assert!(dir.join(path).is_file());
+}
+
+/// Item 7: a run that fails before writing anything says that the output directory still holds
+/// an earlier run's results (which are left whole), so they are not taken for its own.
+#[test]
+fn a_run_that_writes_nothing_says_the_directory_holds_an_earlier_run() {
+    let dir = scratch("earlier");
+    std::fs::write(dir.join("model.toml"), example_text("slider_crank")).unwrap();
+    let o = cardan(&["run", "model.toml", "-o", "out", "--quiet"], &dir);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let before = std::fs::read_to_string(dir.join("out/run.json")).unwrap();
+    // An input error, then an assembly failure (the crank's pivot out of the conrod's reach).
+    let broken = [
+        (
+            with(&example_text("slider_crank"), "t_end = 1.0", "t_end = -1.0"),
+            1,
+        ),
+        (
+            with(
+                &example_text("slider_crank"),
+                "A = [0.0, 0.1, 0.12]",
+                "A = [0.0, 5.0, 0.12]",
+            ),
+            3,
+        ),
+    ];
+    for (text, code) in broken {
+        std::fs::write(dir.join("model.toml"), text).unwrap();
+        let o = cardan(&["run", "model.toml", "-o", "out", "--quiet"], &dir);
+        assert_eq!(o.code, code, "{}", o.stderr);
+        assert!(
+            o.stderr
+                .contains("Nothing was written: out still holds the results of an earlier run"),
+            "{}",
+            o.stderr
+        );
+        assert_eq!(
+            std::fs::read_to_string(dir.join("out/run.json")).unwrap(),
+            before
+        );
+    }
+}
+
+/// Item 8: a kinematic (or inverse dynamics) run of a free hub with a torque and no driver names
+/// the free coordinate and says what to add: a driver, or the dynamic analysis.
+#[test]
+fn an_undriven_run_names_what_is_free() {
+    let text = r#"[model]
+name = "hub"
+
+[ground]
+points = { O = [0.0, 0.0, 0.0] }
+vectors = { z = [0.0, 0.0, 1.0], x = [1.0, 0.0, 0.0] }
+
+[[body]]
+name = "hub"
+mass = 1.0
+inertia = { diag = [0.01, 0.01, 0.02] }
+position = [0.0, 0.0, 0.0]
+points = { O = [0.0, 0.0, 0.0] }
+vectors = { z = [0.0, 0.0, 1.0], x = [1.0, 0.0, 0.0] }
+
+[[joint]]
+name = "bearing"
+type = "revolute"
+body_i = "ground"
+point_i = "O"
+axis_i = "z"
+x_axis_i = "x"
+body_j = "hub"
+point_j = "O"
+axis_j = "z"
+x_axis_j = "x"
+
+[[force]]
+name = "spin"
+type = "torque"
+body = "hub"
+value = [0.0, 0.0, 1.0]
+
+[analysis]
+kind = "kinematic"
+t_end = 1.0
+steps = 10
+"#;
+    for kind in ["kinematic", "inverse_dynamics"] {
+        let o = run_text(
+            "run",
+            &text.replace("\"kinematic\"", &format!("\"{kind}\"")),
+        );
+        assert_eq!(o.code, 1, "{}", o.stderr);
+        for needle in [
+            "the joints leave 1 DOF",
+            "joint \"bearing\" angle free",
+            "add 1 driver",
+            "kind = \"dynamic\"",
+        ] {
+            assert!(
+                o.stderr.contains(needle),
+                "{kind}: {needle:?} in {}",
+                o.stderr
+            );
+        }
+    }
+}
+
+/// Item 10: messages that said something other than the truth.
+#[test]
+fn messages_say_what_is_wrong() {
+    let gear = |ratio: &str| {
+        with(
+            &example_text("gear_train"),
+            "radius_i = 0.02\nradius_j = 0.06",
+            &format!("ratio = {ratio}"),
+        )
+    };
+    let cases: Vec<(String, Vec<&str>)> = vec![
+        // A negative ratio is accepted (the sense of rotation): zero is what is refused.
+        (gear("0.0"), vec!["ratio must be non-zero", "got 0"]),
+        (gear("-3.0"), vec![]),
+        // The limit of a ratio, not of an angle.
+        (gear("1e20"), vec!["beyond the limit of 1e6 for a ratio"]),
+        // serde's Rust type names.
+        (
+            with(
+                &example_text("screw_jack"),
+                "mass = 1.5",
+                "mass = \"heavy\"",
+            ),
+            vec!["the string \"heavy\", expected a number"],
+        ),
+        // A 4,900-term expression: refused without a stack overflow, quoted in 80 characters.
+        (
+            with(
+                &example_text("expression_driver"),
+                "text = \"2*pi*t + 0.3*sin(2*pi*t)\"",
+                &format!("text = \"2*pi*t{}\"", "+t".repeat(4900)),
+            ),
+            vec!["chains more than 512 operations", "t+t+t…\", column"],
+        ),
+    ];
+    for (text, needles) in cases {
+        let o = run_text("check", &text);
+        let first = o.stderr.lines().next().unwrap_or("").to_string();
+        if needles.is_empty() {
+            assert_eq!(o.code, 0, "{}", o.stderr);
+            continue;
+        }
+        assert_eq!(o.code, 1, "{}", o.stderr);
+        for n in needles {
+            assert!(first.contains(n), "{n:?} in {first}");
+        }
+        assert!(first.chars().count() < 400, "a long first line: {first}");
+        assert!(
+            !o.stderr.contains("f64") && !o.stderr.contains("absurdly"),
+            "{}",
+            o.stderr
+        );
+    }
+    // An ASMT file that is not UTF-8 is not called a TOML file.
+    let dir = scratch("utf8");
+    std::fs::write(dir.join("bad.asmt"), b"\xff\xfe junk").unwrap();
+    let o = cardan(&["check", "bad.asmt"], &dir);
+    assert_eq!(o.code, 1, "{}", o.stderr);
+    assert!(o.stderr.contains("ASMT files are UTF-8"), "{}", o.stderr);
+    assert!(!o.stderr.contains("TOML"), "{}", o.stderr);
+}
+
+/// Item 11: the inverse dynamics energy balance of the bundled slider-crank closes to the
+/// solver's tolerance (it was 5e-5 of the energy scale with the trapezoidal rule on the output
+/// samples; the forward-dynamics runs close to about 4e-7).
+#[test]
+fn the_inverse_dynamics_energy_balance_closes() {
+    let o = run_text("run", &example_text("slider_crank_inverse"));
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(o.dir.join("out/run.json")).unwrap())
+            .unwrap();
+    let balance = json["energy_balance"].as_f64().unwrap();
+    let scale = json["energy_scale"].as_f64().unwrap();
+    assert!(balance.abs() < 4e-7 * scale, "{balance:e} J of {scale} J");
 }

@@ -94,7 +94,10 @@ impl TimeFunction {
     pub fn expression(text: &str) -> Result<Self, ConstraintError> {
         Expression::parse(text)
             .map(TimeFunction::Expression)
-            .map_err(|e| ConstraintError::TimeFunction(format!("expression \"{text}\" {e}")))
+            .map_err(|e| {
+                let text = crate::expression::quoted(text);
+                ConstraintError::TimeFunction(format!("expression \"{text}\" {e}"))
+            })
     }
 
     /// Checks that every parameter is finite and the shape is valid.

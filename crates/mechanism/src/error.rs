@@ -132,7 +132,7 @@ pub enum ModelError {
     },
     /// A number is finite but absurdly large for its quantity (|x| > limit,
     /// [`crate::sanity::Quantity::limit`]).
-    #[error("{element}: {what} = {value:e} {unit} is absurdly large (limit {limit:e} {unit} in SI units); check the exponent and the unit")]
+    #[error("{element}: {what} = {value:e} {unit} is beyond the limit of {limit:e} {unit} (in SI units); check the exponent and the unit")]
     Absurd {
         /// The element.
         element: String,
@@ -274,7 +274,7 @@ pub enum ModelError {
         /// Whether the model gave it (else it is the drawn angle).
         given: bool,
     },
-    /// A length that must be positive is not.
+    /// A number that must be positive is not.
     #[error("{element}: {what} must be positive, got {value}")]
     NonPositive {
         /// The element.
@@ -283,6 +283,15 @@ pub enum ModelError {
         what: String,
         /// The value.
         value: f64,
+    },
+    /// A number that must not be zero is (its sign is meaningful: a gear ratio's sense of
+    /// rotation, a screw's hand).
+    #[error("{element}: {what} must be non-zero (its sign gives the sense), got 0")]
+    Zero {
+        /// The element.
+        element: String,
+        /// Which quantity.
+        what: String,
     },
     /// A driver refers to a joint of a kind it cannot drive.
     #[error(
@@ -448,9 +457,8 @@ impl ModelError {
             | E::UnknownJoint { element, name, .. } => Site::parse(element, None, Some(name)),
             E::NotFinite { element, what, .. }
             | E::Absurd { element, what, .. }
-            | E::NonPositive { element, what, .. } => {
-                Site::parse(element, Some(&key_of(what)), None)
-            }
+            | E::NonPositive { element, what, .. }
+            | E::Zero { element, what } => Site::parse(element, Some(&key_of(what)), None),
             E::BadOrientation { body, .. } => {
                 Some(Site::new(Body, body, Some("orientation"), None))
             }

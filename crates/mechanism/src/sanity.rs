@@ -116,6 +116,7 @@ pub fn check_universal_arms(
 /// | torque | 1e12 N m |
 /// | stiffness | 1e15 N/m, N m/rad |
 /// | damping | 1e12 N s/m, N m s/rad |
+/// | ratio (a gear's angle ratio) | 1e6 |
 /// | direction (only its direction counts) | 1e150 |
 /// | coefficient (a polynomial's c_k: its unit depends on k) | none: finite |
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -150,6 +151,8 @@ pub enum Quantity {
     Damping,
     /// N m s/rad.
     RotationalDamping,
+    /// A dimensionless ratio (a gear's θ_j / θ_i).
+    Ratio,
     /// A direction vector's component (any unit, only the direction counts).
     Direction,
     /// A number whose unit the reader cannot tell (a polynomial coefficient, a tolerance
@@ -173,6 +176,7 @@ impl Quantity {
             | Quantity::Torque
             | Quantity::Damping
             | Quantity::RotationalDamping => 1e12,
+            Quantity::Ratio => 1e6,
             Quantity::Direction => 1e150,
             Quantity::Unbounded => f64::MAX,
         }
@@ -195,7 +199,7 @@ impl Quantity {
             Quantity::RotationalStiffness => "N m/rad",
             Quantity::Damping => "N s/m",
             Quantity::RotationalDamping => "N m s/rad",
-            Quantity::Direction | Quantity::Unbounded => "",
+            Quantity::Ratio | Quantity::Direction | Quantity::Unbounded => "",
         }
     }
 
@@ -215,6 +219,7 @@ impl Quantity {
             Quantity::Torque => "a torque",
             Quantity::Stiffness | Quantity::RotationalStiffness => "a stiffness",
             Quantity::Damping | Quantity::RotationalDamping => "a damping coefficient",
+            Quantity::Ratio => "a ratio",
             Quantity::Direction => "a direction component",
             Quantity::Unbounded => "a number",
         }
@@ -238,11 +243,11 @@ impl Quantity {
                 u => format!(" {u}"),
             };
             return Err(format!(
-                "{what} = {}{unit} is absurdly large for {} (limit {:e}{unit}; model \
-                 values are in SI units); check the exponent and the unit",
+                "{what} = {}{unit} is beyond the limit of {:e}{unit} for {} (model values \
+                 are in SI units); check the exponent and the unit",
                 scientific(value),
+                self.limit(),
                 self.name(),
-                self.limit()
             ));
         }
         Ok(())

@@ -307,7 +307,10 @@ fn magnitude_limits_per_quantity() {
     b.point("crank", "far", Vector3::new(0.0, 2e7, 0.0));
     let e = build_err(&b);
     assert!(matches!(e, ModelError::Absurd { unit: "m", .. }), "{e:?}");
-    assert!(e.to_string().contains("2e7 m is absurdly large"), "{e}");
+    assert!(
+        e.to_string().contains("2e7 m is beyond the limit of 1e7 m"),
+        "{e}"
+    );
 }
 
 #[test]

@@ -21,7 +21,8 @@ pub struct ErrorData {
 impl From<&Error> for ErrorData {
     fn from(e: &Error) -> Self {
         let kind = match e.kind {
-            ErrorKind::Input => "input",
+            // A misused argument (an option that does not apply) is an input error in Python.
+            ErrorKind::Input | ErrorKind::Usage => "input",
             ErrorKind::Analysis => "analysis",
             ErrorKind::Output | ErrorKind::BrokenPipe => "output",
             ErrorKind::Interrupted => "interrupted",

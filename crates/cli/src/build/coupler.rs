@@ -75,7 +75,7 @@ pub(super) fn load_coupler(cx: &Ctx, c: &CouplerSection) -> Result<CouplerSpec, 
                     ))
                 }
                 (_, _, Some(r)) => {
-                    GearRatio::Ratio(cx.num(r, format_args!("{owner} ratio"), Quantity::Angle)?)
+                    GearRatio::Ratio(cx.num(r, format_args!("{owner} ratio"), Quantity::Ratio)?)
                 }
                 _ => {
                     let why = "the pitch radii (or give ratio)";

@@ -201,8 +201,16 @@ pub fn import(
     }
     match output {
         Some(o) => {
-            std::fs::write(o, &model.text)
-                .map_err(|e| Error::output(format!("cannot write {}: {e}", o.display())))?;
+            if crate::output::single::same_file(path, o) {
+                return Err(Error::usage(format!(
+                    "the output {} is the input file {}: importing would overwrite the ASMT \
+                     file with its cardan model; write to another file (e.g. -o {})",
+                    o.display(),
+                    path.display(),
+                    path.with_extension("toml").display()
+                )));
+            }
+            crate::output::single::write_atomically(o, |w| w.write_all(model.text.as_bytes()))?;
             writeln!(out, "wrote {} ({} warnings)", o.display(), warnings.len())
                 .map_err(|e| Error::output(e.to_string()))?;
         }

@@ -137,7 +137,7 @@ pub fn eval(path: &Path, t: Option<f64>, format: Format, out: &mut dyn Write) ->
 fn write_csv(ev: &Evaluation, out: &mut dyn Write) -> Result<(), Error> {
     let n = ev.columns.len();
     if n > CSV_MAX_UNKNOWNS {
-        return Err(Error::input(format!(
+        return Err(Error::usage(format!(
             "cardan eval --format csv writes the Jacobian densely and the model has {n} unknowns \
              (at most {CSV_MAX_UNKNOWNS}): use --format json, which lists its nonzeros"
         )));
@@ -204,7 +204,7 @@ pub fn evaluate(path: &Path, t: Option<f64>) -> Result<(Prepared, Evaluation), E
     let model = &p.model;
     let t = t.unwrap_or_else(|| p.loaded.analysis.as_ref().map_or(0.0, |a| a.t_start));
     if !t.is_finite() {
-        return Err(Error::input(format!("--t must be a finite time, got {t}")));
+        return Err(Error::usage(format!("--t must be a finite time, got {t}")));
     }
     super::check_driver_values(&p.source, &p.loaded, &[t])?;
     let mut ws = model.workspace();

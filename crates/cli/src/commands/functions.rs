@@ -4,6 +4,7 @@
 use super::num;
 use crate::build::Loaded;
 use crate::diag::{Error, Source};
+use cardan_constraints::expression::quoted;
 use cardan_constraints::TimeFunction;
 use cardan_dynamics::{Force, VectorFunction};
 use cardan_mechanism::Quantity;
@@ -22,8 +23,8 @@ pub fn not_finite(f: &TimeFunction, t: f64) -> Option<String> {
     );
     Some(match f {
         TimeFunction::Expression(e) => match e.domain_message(t) {
-            Some(m) => format!("expression \"{}\": {m}", e.text()),
-            None => format!("expression \"{}\": {values}", e.text()),
+            Some(m) => format!("expression \"{}\": {m}", quoted(e.text())),
+            None => format!("expression \"{}\": {values}", quoted(e.text())),
         },
         _ => values,
     })

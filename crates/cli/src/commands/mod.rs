@@ -4,6 +4,7 @@
 pub mod asmt;
 pub mod check;
 pub mod eval;
+pub mod free_dof;
 pub mod functions;
 pub mod output_tables;
 pub mod run;
@@ -15,7 +16,9 @@ use std::path::Path;
 
 /// A model file read, validated and built.
 pub struct Prepared {
-    /// The file.
+    /// The file that was read (an ASMT file's own path; `source` is then its imported model).
+    pub file: std::path::PathBuf,
+    /// The model text (an ASMT file's imported model, named `<file>.asmt.toml` in messages).
     pub source: Source,
     /// What the file says.
     pub loaded: Loaded,
@@ -51,6 +54,7 @@ pub fn prepare_with(path: &Path, options: asmt::AsmtOptions) -> Result<Prepared,
     let (source, warnings) = asmt::read_model(path, options)?;
     let mut p = prepare_source(source)?;
     p.warnings = warnings;
+    p.file = path.to_path_buf();
     Ok(p)
 }
 
@@ -76,6 +80,7 @@ pub fn prepare_source(source: Source) -> Result<Prepared, Error> {
     }
     let units = loaded.units;
     Ok(Prepared {
+        file: source.path.clone(),
         source,
         loaded,
         model,
@@ -140,17 +145,38 @@ fn model_error(src: &Source, loaded: &Loaded, e: &ModelError) -> Error {
     }
 }
 
+/// "s" for a count other than 1.
+fn plural(n: usize) -> &'static str {
+    if n == 1 {
+        ""
+    } else {
+        "s"
+    }
+}
+
+/// What to add to a mechanism with `missing` undriven degrees of freedom, naming the free joint
+/// coordinates where they can be told ([`free_dof::free_coordinates`]), and the dynamic analysis
+/// that needs no drivers.
+pub fn under_driven_advice(p: &Prepared, missing: usize) -> String {
+    let t0 = p.loaded.analysis.as_ref().map_or(0.0, |a| a.t_start);
+    let free = match free_dof::free_coordinates(p, t0) {
+        Some(names) => format!(" ({} free)", names.join(", ")),
+        None => String::new(),
+    };
+    format!(
+        "add {missing} driver{}{free}, a rotation or translation driver for each coordinate \
+         whose motion you prescribe, or use kind = \"dynamic\" to simulate the motion that \
+         gravity and the forces produce",
+        plural(missing)
+    )
+}
+
 /// The one-paragraph error of an inverse dynamics run on a model that is not fully driven.
 pub fn not_fully_driven(p: &Prepared, dof: usize, drivers: usize) -> Error {
     let names: Vec<&str> = p.loaded.drivers.iter().map(|(n, _)| n.as_str()).collect();
     let s = |n: usize| if n == 1 { "" } else { "s" };
     let advice = if dof > drivers {
-        let n = dof - drivers;
-        format!(
-            "add {n} driver{} (a rotation or translation driver per free joint coordinate), or use \
-             kind = \"dynamic\" to simulate the motion the forces produce",
-            s(n)
-        )
+        under_driven_advice(p, dof - drivers)
     } else if drivers > dof {
         let n = drivers - dof;
         format!("remove {n} driver{} (or add joints)", s(n))
@@ -194,18 +220,18 @@ pub fn analysis_error(p: &Prepared, e: &AnalysisError) -> Error {
     match e {
         AnalysisError::DriverCount { dof, drivers } => {
             let names: Vec<&str> = p.loaded.drivers.iter().map(|(n, _)| n.as_str()).collect();
+            let advice = if dof > drivers {
+                under_driven_advice(p, dof - drivers)
+            } else {
+                format!("remove {} driver{}", drivers - dof, plural(drivers - dof))
+            };
             let mut err = located(
                 spans.first_driver.clone().or(Some(spans.analysis.clone())),
                 format!(
                     "a kinematic analysis needs exactly as many drivers as the mechanism has degrees \
-                     of freedom: the joints leave {dof} DOF, but the file has {drivers} driver{} ({}); {}",
-                    if *drivers == 1 { "" } else { "s" },
+                     of freedom: the joints leave {dof} DOF, but the file has {drivers} driver{} ({}); {advice}",
+                    plural(*drivers),
                     if names.is_empty() { "none".to_string() } else { names.join(", ") },
-                    if dof > drivers {
-                        format!("add {} driver{} (or joints)", dof - drivers, if dof - drivers == 1 { "" } else { "s" })
-                    } else {
-                        format!("remove {} driver{}", drivers - dof, if drivers - dof == 1 { "" } else { "s" })
-                    }
                 ),
             );
             err.kind = crate::diag::ErrorKind::Input;

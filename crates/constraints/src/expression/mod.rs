@@ -69,6 +69,19 @@ pub struct Expression {
     prog: Program,
 }
 
+/// Longest expression text quoted in a message ([`quoted`]).
+pub const QUOTE_MAX: usize = 80;
+
+/// An expression's text for a message: whole up to [`QUOTE_MAX`] characters, else its first
+/// [`QUOTE_MAX`] characters and "…" (a 10,000-character expression is not echoed; the message
+/// gives the column of the problem).
+pub fn quoted(text: &str) -> std::borrow::Cow<'_, str> {
+    match text.char_indices().nth(QUOTE_MAX) {
+        None => text.into(),
+        Some((end, _)) => format!("{}…", &text[..end]).into(),
+    }
+}
+
 impl Expression {
     /// Parses and compiles `text`.
     ///

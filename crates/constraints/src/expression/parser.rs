@@ -8,6 +8,12 @@ use std::ops::Range;
 /// Deepest nesting of parentheses, calls and operators accepted (a bound on recursion).
 pub(crate) const MAX_DEPTH: usize = 64;
 
+/// Deepest syntax tree accepted: a chain a + b + c + … is a tree as deep as it is long, and
+/// every pass over the tree (compilation, the time dependence, dropping it) recurses through
+/// it, so a 5,000-term chain overflowed the stack. 512 operations in a row are far beyond a
+/// formula a person writes; a longer chain is split into parts (or a table into `spline`).
+pub(crate) const MAX_TREE_DEPTH: usize = 512;
+
 /// A binary operator.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum BinOp {
@@ -23,6 +29,8 @@ pub(crate) enum BinOp {
 pub(crate) struct Node {
     pub kind: NodeKind,
     pub span: Range<usize>,
+    /// The depth of the tree under it (a leaf 1), bounded by [`MAX_TREE_DEPTH`].
+    pub depth: usize,
 }
 
 /// What a node is.
@@ -38,6 +46,19 @@ pub(crate) enum NodeKind {
 }
 
 impl Node {
+    /// A node of `kind` read from `span` (its depth one more than its deepest child's).
+    fn new(kind: NodeKind, span: Range<usize>) -> Self {
+        let depth = 1 + match &kind {
+            NodeKind::Num(_) | NodeKind::Time => 0,
+            NodeKind::Neg(a) => a.depth,
+            NodeKind::Bin(_, a, b) => a.depth.max(b.depth),
+            NodeKind::Call(_, args) | NodeKind::List(args) => {
+                args.iter().map(|a| a.depth).max().unwrap_or(0)
+            }
+        };
+        Self { kind, span, depth }
+    }
+
     /// Whether the node depends on the time.
     pub(crate) fn has_time(&self) -> bool {
         match &self.kind {
@@ -110,6 +131,20 @@ impl Parser {
         Ok(())
     }
 
+    /// `n`, or an error at it when its tree is deeper than [`MAX_TREE_DEPTH`].
+    fn deep(&self, n: Node) -> Result<Node, ParseError> {
+        if n.depth > MAX_TREE_DEPTH {
+            return Err(ParseError::new(
+                n.span.end.saturating_sub(1)..n.span.end,
+                format!(
+                    "the expression chains more than {MAX_TREE_DEPTH} operations in a row; \
+                     split it into parts (a table of values is a spline)"
+                ),
+            ));
+        }
+        Ok(n)
+    }
+
     /// expr := term { ("+" | "-") term }
     fn expr(&mut self) -> Result<Node, ParseError> {
         self.enter()?;
@@ -122,7 +157,7 @@ impl Parser {
             };
             self.bump();
             let b = self.term()?;
-            a = bin(op, a, b);
+            a = self.deep(bin(op, a, b))?;
         }
         self.depth -= 1;
         Ok(a)
@@ -139,7 +174,7 @@ impl Parser {
             };
             self.bump();
             let b = self.unary()?;
-            a = bin(op, a, b);
+            a = self.deep(bin(op, a, b))?;
         }
         Ok(a)
     }
@@ -155,10 +190,7 @@ impl Parser {
                     a
                 } else {
                     let span = s.start..a.span.end;
-                    Node {
-                        kind: NodeKind::Neg(Box::new(a)),
-                        span,
-                    }
+                    Node::new(NodeKind::Neg(Box::new(a)), span)
                 }
             }
             _ => self.power()?,
@@ -206,10 +238,7 @@ impl Parser {
             }
             Tok::LBracket => {
                 let (items, end) = self.list(Tok::RBracket, "\"]\"", &span)?;
-                return Ok(Node {
-                    kind: NodeKind::List(items),
-                    span: span.start..end,
-                });
+                return Ok(Node::new(NodeKind::List(items), span.start..end));
             }
             other => {
                 let what = other.describe();
@@ -219,7 +248,7 @@ impl Parser {
                 ));
             }
         };
-        Ok(Node { kind, span })
+        Ok(Node::new(kind, span))
     }
 
     /// `name(args)`, the name already read.
@@ -256,10 +285,7 @@ impl Parser {
                 ),
             ));
         }
-        Ok(Node {
-            kind: NodeKind::Call(f, args),
-            span,
-        })
+        Ok(Node::new(NodeKind::Call(f, args), span))
     }
 
     /// Comma-separated expressions up to `close` (the opening token already read); returns
@@ -312,8 +338,26 @@ impl Parser {
 
 fn bin(op: BinOp, a: Node, b: Node) -> Node {
     let span = a.span.start..b.span.end;
-    Node {
-        kind: NodeKind::Bin(op, Box::new(a), Box::new(b)),
-        span,
+    Node::new(NodeKind::Bin(op, Box::new(a), Box::new(b)), span)
+}
+
+#[cfg(test)]
+mod depth_tests {
+    use super::*;
+
+    /// A chain of thousands of terms was a tree thousands deep that overflowed the stack in the
+    /// passes over it (issue 45); it is refused at the operation past the limit.
+    #[test]
+    fn long_chains_are_refused_not_overflowed() {
+        let ok = format!("t{}", "+t".repeat(MAX_TREE_DEPTH - 1));
+        assert!(parse(&ok).is_ok());
+        for op in ["+", "*"] {
+            let long = format!("t{}", format!("{op}t").repeat(4900));
+            let e = parse(&long).unwrap_err();
+            assert!(e.to_string().contains("more than 512 operations"), "{e}");
+        }
+        // Nesting is bounded separately; a table of 2000 negative numbers is a shallow list.
+        let list = format!("[{}]", vec!["-1.5"; 2000].join(", "));
+        assert!(parse(&list).is_ok());
     }
 }

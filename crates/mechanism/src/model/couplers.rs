@@ -249,18 +249,17 @@ fn nonzero(
 ) -> Result<(), ModelError> {
     let el = format!("coupler \"{}\"", spec.name);
     check_number(&el, what, q, v)?;
-    if v == 0.0 || (positive && v < 0.0) {
+    if positive && v <= 0.0 {
         return Err(ModelError::NonPositive {
             element: el,
-            what: format!(
-                "{what} ({})",
-                if positive {
-                    "> 0 required"
-                } else {
-                    "≠ 0 required"
-                }
-            ),
+            what: what.into(),
             value: v,
+        });
+    }
+    if v == 0.0 {
+        return Err(ModelError::Zero {
+            element: el,
+            what: what.into(),
         });
     }
     Ok(())
@@ -306,7 +305,7 @@ fn gear(
             -ri / rj
         }
         GearRatio::Ratio(k) => {
-            nonzero(spec, "ratio", Quantity::Angle, k, false)?;
+            nonzero(spec, "ratio", Quantity::Ratio, k, false)?;
             k
         }
     };

@@ -190,7 +190,40 @@ pub fn run_model_with(
     output: Option<&Path>,
     flags: &RunFlags,
 ) -> Result<RunOutcome, Error> {
-    let p = prepare_with(path, flags.asmt)?;
+    // A run that writes nothing says when its output directory holds an earlier run's results,
+    // so those are not taken for this run's.
+    let p = prepare_with(path, flags.asmt).map_err(|e| match output {
+        Some(d) => earlier_results_note(e, d),
+        None => e,
+    })?;
+    let dir = match output {
+        Some(d) => d.to_path_buf(),
+        None => Path::new("out").join(&p.loaded.name),
+    };
+    run_prepared(p, path, &dir, flags).map_err(|e| earlier_results_note(e, &dir))
+}
+
+/// `e` with a sentence saying that `dir` still holds an earlier run's results, when it holds
+/// a `run.json` (a run that fails before its results replace the directory leaves it as it
+/// was, [`crate::output`]).
+fn earlier_results_note(mut e: Error, dir: &Path) -> Error {
+    if e.kind != crate::diag::ErrorKind::BrokenPipe && dir.join("run.json").is_file() {
+        e.message.push_str(&format!(
+            ". Nothing was written: {} still holds the results of an earlier run, unchanged \
+             (its run.json says which)",
+            dir.display()
+        ));
+    }
+    e
+}
+
+/// [`run_model_with`] once the model is read: the analysis into `dir`.
+fn run_prepared(
+    p: Prepared,
+    path: &Path,
+    dir: &Path,
+    flags: &RunFlags,
+) -> Result<RunOutcome, Error> {
     let Some(analysis) = p.loaded.analysis.clone() else {
         return Err(p.source.error(
             "the model file has no [analysis] table, so there is nothing to run; add e.g.\n\
@@ -199,12 +232,8 @@ pub fn run_model_with(
     };
     // The animation's geometry (mesh files included) is checked before any work is done.
     let declared = p.geometry.clone()?;
-    let dir = match output {
-        Some(d) => d.to_path_buf(),
-        None => Path::new("out").join(&p.loaded.name),
-    };
     // Locked before the analysis: a concurrent run is refused at once, not after its work.
-    let mut out_dir = OutputDir::lock(&dir)?;
+    let mut out_dir = OutputDir::lock(dir)?;
     // The results of an ASMT file back in ASMT, streamed as the CSV files are and committed
     // with the other outputs.
     let mut solved = match super::asmt::is_asmt(path) {
@@ -227,7 +256,7 @@ pub fn run_model_with(
     out_dir.announce(["animation.glb", "index.html", "run.json"])?;
     let (kind, mut a) = analyse_into(&p, &analysis, flags, Some(&mut out_dir), solved.as_mut())?;
     let files = write_outputs(out_dir, &p, kind, &mut a, plots, &declared, solved)?;
-    a.summary.dir = dir;
+    a.summary.dir = dir.to_path_buf();
     a.summary.files = files;
     Ok(RunOutcome {
         prepared: p,
@@ -464,7 +493,7 @@ fn report(p: &Prepared, kind: &'static str, a: &Analysed, files: Vec<String>) ->
     let d = s.dynamic.as_ref();
     RunReport {
         model: ModelRef {
-            path: p.source.path.display().to_string(),
+            path: p.file.display().to_string(),
             name: s.name.clone(),
         },
         analysis: kind,

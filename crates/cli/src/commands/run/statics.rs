@@ -102,7 +102,18 @@ pub(super) fn run_statics(
         }
     };
     let wall = start.elapsed();
-    if kind == StaticKind::Modal && statics.equilibria.iter().all(|e| e.eigenvalues.is_empty()) {
+    // No free motion and no driver released as a state-space input: nothing can vibrate.
+    let released = analysis
+        .inputs
+        .iter()
+        .any(|i| p.loaded.drivers.iter().any(|(n, _)| n == i));
+    let no_modes_found = match (&sparse, &modal) {
+        (Some(s), _) => s.modes.is_empty(),
+        (None, Some(m)) => m.modes.is_empty(),
+        (None, None) => false,
+    };
+    let held = statics.equilibria.iter().all(|e| e.eigenvalues.is_empty());
+    if kind == StaticKind::Modal && no_modes_found && held && !released {
         return Err(no_modes(p));
     }
     let r = &statics.results;
@@ -227,8 +238,9 @@ fn no_modes(p: &Prepared) -> Error {
     let message = format!(
         "modal analysis: the drivers hold every degree of freedom of the mechanism ({drivers} \
          driver{}), so it has no free motion and no modes; remove the driver of each coordinate \
-         that should vibrate (a modal analysis holds the remaining drivers at their values), or \
-         use kind = \"static\" for the holding efforts and reactions",
+         that should vibrate (a modal analysis holds the remaining drivers at their values), \
+         release it as a state-space input (inputs = [\"driver\"]), or use kind = \"static\" \
+         for the holding efforts and reactions",
         if drivers == 1 { "" } else { "s" }
     );
     p.source.error_at(p.loaded.spans.analysis.clone(), message)
