@@ -234,7 +234,10 @@ impl Source {
                 }),
                 Err(e) => {
                     let at = e.utf8_error().valid_up_to();
-                    let kind = if crate::commands::asmt::is_asmt(path) {
+                    let asmt = path
+                        .extension()
+                        .is_some_and(|e| e.eq_ignore_ascii_case("asmt"));
+                    let kind = if asmt {
                         "ASMT files are UTF-8 text, as FreeCAD writes them"
                     } else {
                         "cardan model files are UTF-8 TOML"
