@@ -356,7 +356,11 @@ fn import_asmt<'py>(
 /// Reads and validates a model text as every analysis does before it runs (syntax, names,
 /// numbers, shapes; not the assembly): `None`, or the error dict.
 #[pyfunction]
-fn validate<'py>(py: Python<'py>, text: String, path: String) -> PyResult<Option<Bound<'py, PyDict>>> {
+fn validate<'py>(
+    py: Python<'py>,
+    text: String,
+    path: String,
+) -> PyResult<Option<Bound<'py, PyDict>>> {
     let error = py.detach(|| {
         prepare_source(Source::from_text(path, text))
             .err()
