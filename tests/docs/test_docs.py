@@ -51,7 +51,7 @@ class Session:
                 cwd=self.work, env=self.env, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
             )
         assert self.runner.stdin is not None and self.runner.stdout is not None
-        self.runner.stdin.write(json.dumps({"doc": block.doc, "line": block.first_line, "code": block.text}) + "\n")
+        self.runner.stdin.write(json.dumps({"doc": str(ROOT / block.doc), "line": block.first_line, "code": block.text}) + "\n")
         self.runner.stdin.flush()
         answer = self.runner.stdout.readline()
         if not answer:
