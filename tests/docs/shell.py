@@ -17,7 +17,7 @@ from typing import List, Tuple
 CARGO_RUN = re.compile(r"\bcargo run --release -p cardan-cli --\s+")
 
 # Programs a block may run (the file commands a tutorial uses, the cardan command, Python).
-PROGRAMS = {"cardan", "python", "python3", "pip", "cp", "mv", "mkdir", "cd", "ls", "cat", "head", "echo", "export"}
+PROGRAMS = {"cardan", "python", "python3", "pip", "cp", "mv", "mkdir", "cd", "ls", "cat", "head", "tail", "echo", "export"}
 
 # Commands that set up what the tests themselves set up before they start: left out, not run.
 DONE_BEFORE = {
