@@ -6,8 +6,9 @@ document, the block's line and what failed.
 - ``sh``: the commands run (shell.py says which; ``no-run`` blocks are only shown);
 - ``toml``: a complete model is checked with ``cardan check`` and, with an [analysis] table,
   run; ``fragment``: parsed as TOML; ``file=NAME``: saved as NAME and checked;
-- ``diff file=NAME``: applied to NAME (lines ``-`` removed, ``+`` added, `` `` kept), which
-  must hold the old lines exactly once; then NAME is checked;
+- ``diff file=NAME``: applied to NAME (lines ``-`` removed, ``+`` added, `` `` kept; hunks
+  separated by ``@@`` lines), which must hold each hunk's old lines exactly once; then NAME is
+  checked;
 - ``python``: run in one interpreter per document (pyrunner.py), with the package installed;
 - ``rust``: compiled and run as a doctest: the document must be included as a doctest;
 - ``text``: output, not code.
@@ -91,23 +92,32 @@ def toml_block(s: Session, block: Block) -> None:
 
 
 def apply_diff(text: str, diff: str, where: str) -> str:
-    """``text`` with the diff's ``-`` lines replaced by its ``+`` lines (``' '`` lines kept)."""
-    old, new = [], []
+    """``text`` with each hunk's ``-`` lines replaced by its ``+`` lines (``' '`` lines kept);
+    hunks are separated by lines starting with ``@@``."""
+    hunks: List[List[str]] = [[]]
     for line in diff.splitlines():
-        mark, rest = line[:1], line[1:]
-        if mark == " ":
-            old.append(rest)
-            new.append(rest)
-        elif mark == "-":
-            old.append(rest)
-        elif mark == "+":
-            new.append(rest)
-        elif line.strip():
-            pytest.fail(f"{where}: a diff line starts with ' ', '-' or '+': {line!r}")
-    before, after = "\n".join(old) + "\n", "\n".join(new) + "\n"
-    if text.count(before) != 1:
-        pytest.fail(f"{where}: the lines to change occur {text.count(before)} times in the file, not once:\n{before}")
-    return text.replace(before, after)
+        if line.startswith("@@"):
+            hunks.append([])
+        else:
+            hunks[-1].append(line)
+    for hunk in hunks:
+        old, new = [], []
+        for line in hunk:
+            mark, rest = line[:1], line[1:]
+            if mark == " ":
+                old.append(rest)
+                new.append(rest)
+            elif mark == "-":
+                old.append(rest)
+            elif mark == "+":
+                new.append(rest)
+            elif line.strip():
+                pytest.fail(f"{where}: a diff line starts with ' ', '-', '+' or '@@': {line!r}")
+        before, after = "\n".join(old) + "\n", "\n".join(new) + "\n"
+        if text.count(before) != 1:
+            pytest.fail(f"{where}: the lines to change occur {text.count(before)} times in the file, not once:\n{before}")
+        text = text.replace(before, after)
+    return text
 
 
 def diff_block(s: Session, block: Block) -> None:
