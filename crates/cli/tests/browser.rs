@@ -269,7 +269,13 @@ fn without_webgl_the_report_says_so_and_keeps_plots_and_timeline() {
     let plots = element_text(&dom, "section", "plots");
     let svgs = std::fs::read_dir(&out)
         .unwrap()
-        .filter(|e| e.as_ref().unwrap().path().extension().is_some_and(|x| x == "svg"))
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .path()
+                .extension()
+                .is_some_and(|x| x == "svg")
+        })
         .count();
     assert!(svgs > 0);
     assert_eq!(plots.matches("<svg").count(), svgs, "plots missing");
