@@ -1,18 +1,20 @@
 """Motor torque of the bundled slider-crank against crank length and speed: a design sweep.
 
-Run from the repository root after installing the package (scripts/test-python does, into
-target/py-venv; or `pip install ./crates/python`):
+Run it with the package installed with its extras (`pip install ... "cardan[all]"`, README.md;
+scripts/test-python installs them into target/py-venv):
 
-    target/py-venv/bin/python examples/python/slider_crank_sweep.py            # local processes
-    target/py-venv/bin/python examples/python/slider_crank_sweep.py --dask     # a local Dask cluster
+    python examples/python/slider_crank_sweep.py            # local processes
+    python examples/python/slider_crank_sweep.py --dask     # a local Dask cluster
 
-It writes out/python/slider_crank_sweep.csv and .png. On a real cluster, pass
+It writes out/python/slider_crank_sweep.csv and .png under the current directory (`--out DIR`
+for another) and exits with status 1 if a case failed. On a real cluster, pass
 `client=distributed.Client("scheduler-address:8786")` to `cardan.sweep` (docs/python.md).
 """
 
 import argparse
 import os
 import pathlib
+import sys
 
 import numpy as np
 
@@ -43,6 +45,7 @@ def peak_torque(r: cardan.Results) -> float:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--dask", action="store_true", help="run on a local Dask cluster")
+    parser.add_argument("--out", default=os.path.join("out", "python"), help="output directory")
     args = parser.parse_args()
     params = cardan.grid(crank=np.linspace(0.04, 0.1, 7), speed=[0.5, 1.0, 2.0, 4.0])
     kwargs = dict(analysis="inverse_dynamics", outputs={"peak_torque": peak_torque},
@@ -55,8 +58,11 @@ def main() -> None:
     else:
         table = cardan.sweep(slider_crank, params, **kwargs)
     print(table.to_string(index=False))
+    failed = table[table["status"] != "ok"]
+    for _, row in failed.iterrows():
+        print(f"crank={row['crank']}, speed={row['speed']}: {row['error']}", file=sys.stderr)
 
-    out = ROOT / "out" / "python"
+    out = pathlib.Path(args.out)
     os.makedirs(out, exist_ok=True)
     table.to_csv(out / "slider_crank_sweep.csv", index=False)
     import matplotlib
@@ -75,6 +81,8 @@ def main() -> None:
     fig.tight_layout()
     fig.savefig(out / "slider_crank_sweep.png", dpi=120)
     print(f"wrote {out / 'slider_crank_sweep.csv'} and {out / 'slider_crank_sweep.png'}")
+    if len(failed):
+        sys.exit(f"{len(failed)} of {len(table)} cases failed (above)")
 
 
 if __name__ == "__main__":

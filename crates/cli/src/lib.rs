@@ -40,7 +40,9 @@ use std::path::PathBuf;
 #[command(
     name = "cardan",
     version,
-    about = "Kinematic analysis of spatial mechanisms in absolute coordinates with Euler parameters",
+    about = "Kinematic, static, modal, inverse and forward dynamics analysis of spatial mechanisms \
+             (absolute coordinates, Euler parameters), from TOML models or FreeCAD/OndselSolver \
+             ASMT assemblies",
     long_about = None
 )]
 pub struct Cli {
@@ -52,7 +54,8 @@ pub struct Cli {
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Run the analysis the model file describes; write CSV and plots.
+    /// Run the analysis the model file describes; write CSV, plots and the report
+    /// (index.html).
     Run {
         /// The model file (TOML).
         model: PathBuf,

@@ -2,7 +2,8 @@
 //! validator (npm package gltf-validator, run by node) on a bundled example's `animation.glb`,
 //! and headless Chromium on its `index.html` from `file://`: no recorded error and no console
 //! message, `data-ready` set, a non-blank canvas, and two screenshots at different `?t=` that
-//! differ where a body moved; a modal run's report opened at mode 2 draws q₀ + a φ₂.
+//! differ where a body moved; a modal run's report opened at mode 2 draws q₀ + a φ₂; without
+//! WebGL the page says so in one sentence and its plots and timeline still work.
 //!
 //! `scripts/test` installs the tools and points these tests to them: `CARDAN_CHROMIUM` (the
 //! browser) and `CARDAN_NODE_MODULES` (a node_modules with gltf-validator). Without them the
@@ -223,6 +224,61 @@ fn the_report_renders_in_headless_chromium() {
         changed > 200,
         "the bodies did not move between the screenshots ({changed} pixels)"
     );
+}
+
+/// The report in a browser without WebGL (issue 46): a short message where the 3D view was,
+/// not three.js's error dump; the plots are there, the timeline runs (`?t=` sets its time
+/// label), the page finishes loading, and nothing is recorded or logged except, at most,
+/// the browser's own line about WebGL.
+#[test]
+fn without_webgl_the_report_says_so_and_keeps_plots_and_timeline() {
+    let Some(chromium) = chromium() else {
+        return;
+    };
+    let out = example("slider_crank.toml");
+    let page = out.join("index.html").canonicalize().unwrap();
+    let url = format!("file://{}?t=0.25", page.display());
+    let profile = out.join("../chromium-profile");
+    let (dom, log) = browse(
+        &chromium,
+        &profile,
+        &url,
+        &["--disable-webgl", "--disable-3d-apis", "--dump-dom"],
+    );
+    assert!(
+        dom.contains("data-ready=\"1\""),
+        "the page never finished loading:\n{log}"
+    );
+    let notice = element_text(&dom, "p", "no-webgl");
+    assert!(
+        notice.contains("3D view needs WebGL") && notice.contains("plots below"),
+        "{notice}"
+    );
+    let errors = element_text(&dom, "ul", "errors");
+    assert!(
+        !errors.contains("<li"),
+        "errors recorded by the page: {errors}"
+    );
+    let console: Vec<&str> = log
+        .lines()
+        .filter(|l| l.contains("CONSOLE") && !l.contains("WebGL"))
+        .collect();
+    assert!(console.is_empty(), "console output: {console:#?}");
+    // The timeline: the time label follows ?t=; the plots: every SVG is inline.
+    assert_eq!(element_text(&dom, "span", "time"), "t = 0.2500 s");
+    let plots = element_text(&dom, "section", "plots");
+    let svgs = std::fs::read_dir(&out)
+        .unwrap()
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .path()
+                .extension()
+                .is_some_and(|x| x == "svg")
+        })
+        .count();
+    assert!(svgs > 0);
+    assert_eq!(plots.matches("<svg").count(), svgs, "plots missing");
 }
 
 /// The text of the element `<{tag} id="{id}" …>…</{tag}>` in a dumped DOM.

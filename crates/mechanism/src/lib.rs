@@ -105,4 +105,10 @@ pub use workspace::{apply_rotation_step, EvaluationCounts, Workspace};
 
 /// Re-exported so users name the same types.
 pub use cardan_constraints::{JointKind, TimeFunction};
+
+/// The README's Rust example, compiled and run as a doctest (`cargo test --doc`), so the
+/// README cannot show Rust that does not build.
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+pub struct ReadmeDoctests;
 pub use nalgebra;

@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 
 use crate::axis::Axis;
 use crate::path::{path, Px, Rect};
-use crate::text::{esc, fit};
+use crate::text::{esc, fit, wrap_two};
 use crate::{Figure, Panel, Series, DASHES, PALETTE};
 
 /// Size of one panel cell, in pixels.
@@ -77,13 +77,7 @@ fn write_panel(s: &mut String, k: usize, fig: &Figure, panel: &Panel, xa: &Axis,
         fig.y_scale,
         5,
     );
-    let _ = writeln!(
-        s,
-        r#"<text x="{}" y="{}" text-anchor="middle" font-size="12" font-weight="bold">{}</text>"#,
-        Px(r.x + r.w / 2.0),
-        Px(cy + 18.0),
-        esc(&fit(&panel.title, r.w + RIGHT - 10.0, 12.0))
-    );
+    write_panel_title(s, &panel.title, r, cy);
     write_grid(s, xa, &ya, r);
     write_labels(s, &fig.x_label, &panel.y_label, r, cx);
     let _ = writeln!(
@@ -103,6 +97,32 @@ fn write_panel(s: &mut String, k: usize, fig: &Figure, panel: &Panel, xa: &Axis,
     }
     s.push_str("</g>\n");
     write_legend(s, &panel.series, r);
+}
+
+/// The panel's title above its plot area: one line at 12 px, or two at 11 px when it is too
+/// long for one ([`wrap_two`]; the plot area starts `TOP` = 28 px below the cell's top).
+fn write_panel_title(s: &mut String, title: &str, r: Rect, cy: f64) {
+    let width = r.w + RIGHT - 10.0;
+    let lines = wrap_two(title, width, 12.0);
+    let (font, first, step) = if lines.len() == 1 {
+        (12.0, 18.0, 0.0)
+    } else {
+        (11.0, 12.0, 12.0)
+    };
+    let lines = if lines.len() == 1 {
+        lines
+    } else {
+        wrap_two(title, width, font)
+    };
+    for (k, line) in lines.iter().enumerate() {
+        let _ = writeln!(
+            s,
+            r#"<text x="{}" y="{}" text-anchor="middle" font-size="{font}" font-weight="bold">{}</text>"#,
+            Px(r.x + r.w / 2.0),
+            Px(cy + first + step * k as f64),
+            esc(line)
+        );
+    }
 }
 
 /// Grid lines, tick labels and the frame of the plot area.
@@ -252,6 +272,36 @@ mod tests {
         fig.y_scale = Scale::Log;
         let svg = render_svg(&fig);
         assert!(svg.ends_with("</svg>\n") && svg.contains("flat"));
+    }
+
+    /// A panel title too long for one line (the flyball governor's energy panel: eight
+    /// series) is wrapped onto a second line at a comma, not cut with an ellipsis.
+    #[test]
+    fn long_panel_titles_wrap_onto_two_lines() {
+        let title =
+            "kinetic, potential_gravity, potential_spring, total, drift, springA, springB, W_nc";
+        let fig = Figure {
+            panels: vec![Panel {
+                title: title.into(),
+                y_label: "energy [J]".into(),
+                series: vec![series("a", vec![(0.0, 1.0), (1.0, 2.0)])],
+                y_extent: None,
+            }],
+            ..Figure::new("energy", "t [s]")
+        };
+        let svg = render_svg(&fig);
+        assert!(!svg.contains('…'), "{svg}");
+        let lines: Vec<&str> = svg
+            .lines()
+            .filter(|l| l.contains("font-weight=\"bold\""))
+            .collect();
+        assert_eq!(lines.len(), 2, "{lines:?}");
+        let shown: String = lines
+            .iter()
+            .map(|l| l.split('>').nth(1).unwrap().trim_end_matches("</text"))
+            .collect::<Vec<_>>()
+            .join(" ");
+        assert_eq!(shown, title);
     }
 
     #[test]

@@ -38,6 +38,32 @@ pub fn fit(s: &str, width: f64, font: f64) -> String {
     format!("{start}…{end}")
 }
 
+/// `s` on one line if it fits `width` pixels at `font` size, else on two, split after the comma
+/// that balances them best; a second line still too long is shortened by [`fit`]. A text
+/// without a comma is shortened onto one line.
+pub fn wrap_two(s: &str, width: f64, font: f64) -> Vec<String> {
+    let max = (width / (GLYPH * font)).floor().max(3.0) as usize;
+    let n = s.chars().count();
+    if n <= max {
+        return vec![s.to_string()];
+    }
+    // Split after ", " (the separator of the panel titles' element lists).
+    let best = s
+        .match_indices(", ")
+        .map(|(at, _)| at)
+        .filter(|&at| s[..at + 1].chars().count() <= max)
+        .min_by_key(|&at| {
+            // Both lines fitting first, then the most even split.
+            let head = s[..at + 1].chars().count();
+            let tail = n - head - 1;
+            (tail > max, head.abs_diff(tail))
+        });
+    match best {
+        Some(at) => vec![s[..at + 1].to_string(), fit(&s[at + 2..], width, font)],
+        None => vec![fit(s, width, font)],
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -49,5 +75,23 @@ mod tests {
         assert_eq!(s.chars().count(), 10);
         assert!(s.starts_with("cran") && s.ends_with("more"));
         assert_eq!(esc("a<b & \"c\""), "a&lt;b &amp; &quot;c&quot;");
+    }
+
+    #[test]
+    fn long_lists_wrap_at_a_comma() {
+        assert_eq!(wrap_two("a, b", 100.0, 10.0), ["a, b"]);
+        assert_eq!(
+            wrap_two("aaaa, bbbb, cccc", 72.0, 10.0),
+            ["aaaa,", "bbbb, cccc"]
+        );
+        assert_eq!(
+            wrap_two("aaaa, bbbbbbbbbb", 72.0, 10.0),
+            ["aaaa,", "bbbbbbbbbb"]
+        );
+        // No comma: one shortened line; a long tail is shortened too.
+        assert_eq!(wrap_two("abcdefghijklmnop", 60.0, 10.0).len(), 1);
+        let two = wrap_two("aa, bbbbbbbbbbbbbbbbbbbbbbbbbbb", 60.0, 10.0);
+        assert_eq!(two[0], "aa,");
+        assert!(two[1].contains('…') && two[1].chars().count() == 10);
     }
 }

@@ -8,7 +8,7 @@ use pyo3::types::{PyBytes, PyDict, PyTuple};
 
 /// An error as Python sees it.
 pub struct ErrorData {
-    /// "input", "analysis", "output" or "interrupted".
+    /// "input", "analysis", "strict" (`--strict` with warnings), "output" or "interrupted".
     pub kind: &'static str,
     /// The one-paragraph message (without the location).
     pub message: String,
@@ -35,6 +35,16 @@ impl From<&Error> for ErrorData {
                 .location
                 .as_ref()
                 .map(|l| (l.file.display().to_string(), l.line, l.column)),
+        }
+    }
+}
+
+impl ErrorData {
+    /// The same error as the failure of a `--strict` run with warnings (kind "strict").
+    pub fn strict(self) -> Self {
+        Self {
+            kind: "strict",
+            ..self
         }
     }
 }

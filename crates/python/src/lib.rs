@@ -13,9 +13,12 @@
 //!   polls for Python signals, so Ctrl-C stops the run at its next step and keeps its results.
 //! - `check`: degrees of freedom, redundant equations and driver counts.
 //! - `table_csv`: a table's CSV text exactly as `cardan run` writes it.
+//! - `validate`: a model text read and validated (what `cardan.Model` does when it is made).
+//! - `import_asmt`: an ASMT file as model text.
+//! - `main`: the `cardan` command itself (`python -m cardan`).
 //!
 //! Errors of the model or the analysis are returned as data (`kind`, `message`, `file`,
-//! `line`, `column`), and the Python layer raises `cardan.ModelError` or
+//! `line`, `column`), and the Python layer raises `cardan.ModelError`, `cardan.SolverError` or
 //! `cardan.AnalysisError` from them.
 
 mod analysis;
@@ -129,11 +132,13 @@ fn run_text(
                 None => None,
             };
             let json = run_json(&p, kind, &analysed, names);
-            let error = analysed
-                .failure
-                .as_ref()
-                .or(analysed.strict_failure.as_ref())
-                .map(ErrorData::from);
+            // A `strict` failure (warnings) is told apart from the solver's own.
+            let error = analysed.failure.as_ref().map(ErrorData::from).or_else(|| {
+                analysed
+                    .strict_failure
+                    .as_ref()
+                    .map(|e| ErrorData::from(e).strict())
+            });
             RunData {
                 kind,
                 tables: analysed.tables,
@@ -348,11 +353,37 @@ fn import_asmt<'py>(
     Ok(out)
 }
 
+/// Reads and validates a model text as every analysis does before it runs (syntax, names,
+/// numbers, shapes; not the assembly): `None`, or the error dict.
+#[pyfunction]
+fn validate<'py>(
+    py: Python<'py>,
+    text: String,
+    path: String,
+) -> PyResult<Option<Bound<'py, PyDict>>> {
+    let error = py.detach(|| {
+        prepare_source(Source::from_text(path, text))
+            .err()
+            .map(|e| ErrorData::from(&e))
+    });
+    error.map(|e| error_dict(py, &e)).transpose()
+}
+
+/// The `cardan` command itself with the arguments `argv` (the first is the program name, as
+/// in `sys.argv`): what `python -m cardan` runs. Prints as the command does and returns its
+/// exit code; runs with the GIL released.
+#[pyfunction]
+fn main(py: Python<'_>, argv: Vec<String>) -> i32 {
+    py.detach(|| cardan_cli::main_with_args(argv.into_iter().map(std::ffi::OsString::from)))
+}
+
 /// The extension module `cardan._cardan`.
 #[pymodule]
 fn _cardan(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run, m)?)?;
     m.add_function(wrap_pyfunction!(check, m)?)?;
+    m.add_function(wrap_pyfunction!(validate, m)?)?;
+    m.add_function(wrap_pyfunction!(main, m)?)?;
     m.add_function(wrap_pyfunction!(table_csv, m)?)?;
     m.add_function(wrap_pyfunction!(import_asmt, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

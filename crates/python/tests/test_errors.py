@@ -50,6 +50,8 @@ def test_a_singular_run_raises_analysis_error_with_time_and_partial_results():
     with pytest.raises(cardan.AnalysisError) as e:
         pushed_crank(2.0).run()
     err = e.value
+    # The solver's failure is a SolverError, an AnalysisError; it names the element.
+    assert isinstance(err, cardan.SolverError) and err.element in ("push", "pivot")
     assert err.time == pytest.approx(1.02)
     assert "push" in err.equations and "pivot" in err.equations
     assert err.partial is not None and err.partial.status == "partial"
@@ -60,6 +62,7 @@ def test_a_singular_run_raises_analysis_error_with_time_and_partial_results():
     import pickle
 
     again = pickle.loads(pickle.dumps(err))
+    assert type(again) is cardan.SolverError
     assert again.time == err.time and again.equations == err.equations
     assert len(again.partial.t) == 51
 
@@ -70,3 +73,25 @@ def test_errors_pickle():
     e = cardan.ModelError("bad", "f:1:2: error: bad", "f", 1, 2)
     e2 = pickle.loads(pickle.dumps(e))
     assert (e2.file, e2.line, e2.column, e2.message) == ("f", 1, 2, "bad")
+
+
+def test_strict_warnings_are_an_analysis_error_not_a_solver_error():
+    # The A01 pendulum on fixed DOPRI5 steps of 0.25 s: its energy grows, a warning
+    # (crates/cli/tests/doubtful_results.rs).
+    text = (EXAMPLES / "a01_pendulum.toml").read_text()
+    adaptive = "rtol = 1e-10\natol = 1e-12\nt_end = 10.0\noutput_dt = 0.05"
+    assert adaptive in text
+    m = cardan.Model.from_toml(text.replace(adaptive, "dt = 0.25\nt_end = 20.0\noutput_dt = 0.5"))
+    assert m.dynamics().warnings
+    with pytest.raises(cardan.AnalysisError) as e:
+        m.dynamics(strict=True)
+    assert not isinstance(e.value, cardan.SolverError) and "--strict" in e.value.message
+
+
+def test_every_error_has_file_line_column_and_element():
+    text = (EXAMPLES / "slider_crank.toml").read_text().replace('joint = "crank_pin"', 'joint = "crank_pn"', 1)
+    with pytest.raises(cardan.ModelError) as e:
+        cardan.Model.from_toml(text, "m.toml")
+    err = e.value
+    assert err.file == "m.toml" and err.line is not None and err.column is not None
+    assert err.element is not None

@@ -82,6 +82,13 @@ def test_pandas_frames():
     np.testing.assert_array_equal(df.to_numpy(), r.points.values)
 
 
+def test_dataframe_columns_are_the_csv_headers():
+    r = cardan.load(EXAMPLES / "slider_crank_inverse.toml").inverse_dynamics(steps=20)
+    for name, table in r.tables.items():
+        header = table.to_csv().splitlines()[0].split(",")
+        assert list(r.to_pandas(name).reset_index().columns) == header, name
+
+
 def test_plot_puts_each_unit_on_its_own_axis():
     import matplotlib
 

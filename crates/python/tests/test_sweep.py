@@ -67,3 +67,25 @@ def test_full_results_on_request():
     rows = cardan.sweep_serial(slider_crank, PARAMS[:2], "inverse_dynamics", OUTPUTS, options=OPTIONS,
                                keep_results=True, as_frame=False)
     assert isinstance(rows[0]["results"], cardan.Results)
+
+
+def test_numpy_scalar_parameters_are_numbers_for_make_model():
+    # np.linspace gives np.float64: its repr in an f-string was "np.float64(0.06)" under numpy 2,
+    # which the example wrote into the model text (every case failed, issue 46).
+    params = cardan.grid(crank=np.linspace(0.06, 0.08, 2), speed=np.array([1.0, 2.0], dtype=np.float32))
+    assert all(type(v) is float for p in params for v in p.values())
+    rows = cardan.sweep_serial(slider_crank, params, "inverse_dynamics", OUTPUTS, options=OPTIONS, as_frame=False)
+    assert [r["status"] for r in rows] == ["ok"] * 4, [r["error"] for r in rows]
+    # Parameters not made by grid reach make_model as numbers too.
+    rows = cardan.sweep_serial(slider_crank, [{"crank": np.float64(0.08), "speed": np.int64(1)}],
+                               "inverse_dynamics", OUTPUTS, options=OPTIONS, as_frame=False)
+    assert rows[0]["status"] == "ok", rows[0]["error"]
+
+
+def test_the_error_column_keeps_the_whole_message():
+    rows = cardan.sweep_serial(slider_crank, [{"crank": 0.08, "speed": math.nan}], "inverse_dynamics",
+                               OUTPUTS, options=OPTIONS, as_frame=False)
+    error = rows[0]["error"]
+    # The location (file:line:column) and the source excerpt under it.
+    assert error.startswith("ModelError: slider_crank(crank=0.08, speed=nan):"), error
+    assert "error:" in error and "\n" in error and "^" in error, error

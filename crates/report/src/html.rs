@@ -9,7 +9,9 @@
 //! the plots (the SVGs inline) and the run summary (run.json as a table).
 //!
 //! `?t=<seconds>` sets the time and pauses; the body gets `data-ready="1"` after the first
-//! frame is drawn (for screenshot tests).
+//! frame is drawn (for screenshot tests). In a browser without WebGL the viewer shows one
+//! sentence (`#no-webgl`: "3D view needs WebGL; the plots below work without it") instead of
+//! the 3D view and three.js's errors, and the timeline, plots and summary work as before.
 
 use crate::base64::encode_into;
 use crate::modes::{modes_json, validate_modes, ModeShape, MAX_ANIMATED_MODES};

@@ -110,13 +110,49 @@
     });
   }
 
+  // --- WebGL ------------------------------------------------------------------------------
+  // Whether the browser gives a WebGL context, asked on a canvas of its own (the view's
+  // canvas must stay free for three.js to choose its context attributes).
+  function webglAvailable() {
+    try {
+      var probe = document.createElement('canvas');
+      return !!(window.WebGLRenderingContext && (probe.getContext('webgl2') || probe.getContext('webgl')));
+    } catch (e) {
+      return false;
+    }
+  }
+
+  // The renderer, or null without WebGL: then one sentence replaces the 3D view (not three.js's
+  // error dump), and the timeline, the plots and the summary work as before.
+  function makeRenderer(canvas) {
+    var r = null;
+    if (webglAvailable()) {
+      try {
+        r = new T.WebGLRenderer({ canvas: canvas, antialias: true, preserveDrawingBuffer: true });
+        r.setPixelRatio(window.devicePixelRatio || 1);
+      } catch (e) {
+        r = null;
+      }
+    }
+    if (!r) {
+      var note = document.createElement('p');
+      note.id = 'no-webgl';
+      note.className = 'notice';
+      note.textContent = '3D view needs WebGL; the plots below work without it.';
+      canvas.style.display = 'none';
+      canvas.parentNode.classList.add('no-webgl');
+      canvas.parentNode.appendChild(note);
+      document.body.setAttribute('data-webgl', '0');
+    }
+    return r;
+  }
+
   // --- page -------------------------------------------------------------------------------
   var meta = JSON.parse(document.getElementById('meta').textContent);
   var glb = parseGlb(fromBase64(document.getElementById('glb').textContent));
   var built = buildScene(glb);
   var canvas = document.getElementById('canvas');
-  var renderer = new T.WebGLRenderer({ canvas: canvas, antialias: true, preserveDrawingBuffer: true });
-  renderer.setPixelRatio(window.devicePixelRatio || 1);
+  var renderer = makeRenderer(canvas);
   var scene = new T.Scene();
   scene.background = new T.Color(0xf4f5f7);
   scene.add(new T.HemisphereLight(0xffffff, 0x888899, 2.0));
@@ -296,7 +332,7 @@
 
   function resize() {
     var w = canvas.clientWidth || 800, h = canvas.clientHeight || 480;
-    renderer.setSize(w, h, false);
+    if (renderer) renderer.setSize(w, h, false);
     camera.aspect = w / h; camera.updateProjectionMatrix();
   }
   function draw() {
@@ -309,7 +345,7 @@
       timeLabel.textContent = 't = ' + t.toFixed(4) + ' s';
     }
     scrub.value = t;
-    renderer.render(scene, camera);
+    if (renderer) renderer.render(scene, camera);
   }
   function tick(now) {
     if (!playing) return;

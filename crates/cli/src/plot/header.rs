@@ -83,6 +83,7 @@ pub fn y_label(unit: &str) -> String {
         "m/s²" | "mm/s²" => "acceleration",
         "rad/s²" => "angular acceleration",
         "J" | "mJ" => "energy",
+        "W" | "mW" => "power",
         "-" => "dimensionless",
         _ => "",
     };
@@ -132,6 +133,9 @@ mod tests {
     #[test]
     fn y_labels_carry_the_unit() {
         assert_eq!(y_label("N m"), "torque [N m]");
+        // energy.csv's power columns (issue 46: the panel read "[W]").
+        assert_eq!(y_label("W"), "power [W]");
+        assert_eq!(y_label("mW"), "power [mW]");
         assert_eq!(y_label("kg"), "[kg]");
         assert_eq!(y_label(""), "value");
     }

@@ -14,7 +14,7 @@ process pool or a Dask cluster: :func:`sweep`, :func:`grid`. See docs/python.md.
 """
 
 from ._cardan import __version__
-from ._errors import AnalysisError, CardanError, ModelError
+from ._errors import AnalysisError, CardanError, ModelError, SolverError
 from ._model import Builder, Check, Model, constant, expression, harmonic, load, polynomial, ramp, spline
 from ._results import Results, Table
 from ._sweep import grid, run_case, run_cases, sweep, sweep_serial
@@ -27,6 +27,7 @@ __all__ = [
     "Model",
     "ModelError",
     "Results",
+    "SolverError",
     "Table",
     "__version__",
     "constant",

@@ -17,7 +17,8 @@ class CardanError(Exception):
     """A failure of cardan: ``message`` is the one-paragraph explanation the ``cardan``
     command prints, ``printed`` the same with its location and source excerpt; ``file``,
     ``line`` and ``column`` locate it in the model text (1-based; ``None`` when it has no
-    place)."""
+    place); ``element`` names the body, joint, driver or force it concerns (``None`` when the
+    message names none)."""
 
     def __init__(
         self,
@@ -34,6 +35,12 @@ class CardanError(Exception):
         self.line = line
         self.column = column
 
+    @property
+    def element(self) -> Optional[str]:
+        """The body, joint, driver, force, coupler, point or vector the message names first."""
+        m = _ELEMENT.search(self.message)
+        return m.group(1) if m else None
+
     def _args(self) -> tuple:
         return (self.message, self.printed, self.file, self.line, self.column)
 
@@ -42,13 +49,8 @@ class CardanError(Exception):
 
 
 class ModelError(CardanError):
-    """The model cannot be read, parsed or validated. ``element`` names the body, joint,
-    driver or force it concerns when the message names one."""
-
-    @property
-    def element(self) -> Optional[str]:
-        m = _ELEMENT.search(self.message)
-        return m.group(1) if m else None
+    """The model cannot be read, parsed or validated (raised when a :class:`Model` is made:
+    :func:`load`, :meth:`Model.from_toml`, :meth:`Builder.build`)."""
 
 
 class AnalysisError(CardanError):
@@ -66,12 +68,24 @@ class AnalysisError(CardanError):
         self.time: Optional[float] = float(m.group(1).rstrip(".")) if m else None
         self.equations: List[str] = _QUOTED.findall(self.message)
 
+    @property
+    def element(self) -> Optional[str]:
+        """The element the message names first, else the first whose equations it lists."""
+        return super().element or (self.equations[0] if self.equations else None)
+
     def __reduce__(self) -> Any:
-        return (_analysis_error, (self._args(), self.partial))
+        return (_analysis_error, (type(self), self._args(), self.partial))
 
 
-def _analysis_error(args: tuple, partial: Optional["Results"]) -> AnalysisError:
-    return AnalysisError(*args, partial=partial)
+class SolverError(AnalysisError):
+    """The solver could not solve the model: it does not assemble, a configuration is
+    singular, the drivers do not match the degrees of freedom, a step does not converge.
+    (An :class:`AnalysisError` that is not a ``SolverError``: ``strict=True`` with warnings
+    about doubtful results.)"""
+
+
+def _analysis_error(cls: type, args: tuple, partial: Optional["Results"]) -> AnalysisError:
+    return cls(*args, partial=partial)
 
 
 def raise_error(err: dict, partial: Optional["Results"] = None) -> None:
@@ -81,4 +95,6 @@ def raise_error(err: dict, partial: Optional["Results"] = None) -> None:
         raise ModelError(*args)
     if err["kind"] == "output":
         raise CardanError(*args)
-    raise AnalysisError(*args, partial=partial)
+    if err["kind"] in ("strict", "interrupted"):
+        raise AnalysisError(*args, partial=partial)
+    raise SolverError(*args, partial=partial)

@@ -48,15 +48,36 @@ class Model:
     released; Ctrl-C stops it at its next step and raises ``KeyboardInterrupt`` with the
     results so far as its ``partial`` attribute."""
 
-    def __init__(self, text: str, path: Optional[str] = None) -> None:
+    def __init__(self, text: str, path: "os.PathLike[str] | str | None" = None) -> None:
+        """The model of model-file ``text``, validated at once (names, numbers, shapes: what
+        ``cardan check`` reads before it assembles); a bad model raises :class:`ModelError`
+        here, with its file, line and column. ``path`` names it in messages and anchors the
+        files it refers to (``"<model>"`` when not given)."""
         self.text = text
-        self.path = path if path is not None else "<model>"
+        self.path = os.fspath(path) if path is not None else "<model>"
+        error = _cardan.validate(self.text, self.path)
+        if error is not None:
+            raise_error(error)
 
     @classmethod
-    def from_toml(cls, text: str, path: Optional[str] = None) -> "Model":
-        """A model from model-file text. ``path`` (optional) names it in messages; relative
-        file references are taken from the current directory when it is not given."""
-        return cls(text, path if path is not None else os.path.join(os.getcwd(), "<string>.toml"))
+    def _trusted(cls, text: str, path: str) -> "Model":
+        """A model whose text was validated before (unpickling, an imported ASMT file)."""
+        model = cls.__new__(cls)
+        model.text, model.path = text, path
+        return model
+
+    @classmethod
+    def from_toml(cls, text: str, path: "os.PathLike[str] | str | None" = None) -> "Model":
+        """A model from model-file text, validated at once (a bad model raises
+        :class:`ModelError` here). ``path`` (optional) names it in messages; without it the
+        model is ``<string>`` and relative file references are taken from the current
+        directory."""
+        return cls(text, path if path is not None else "<string>")
+
+    @classmethod
+    def load(cls, path: "os.PathLike[str] | str", units: "str | None" = None) -> "Model":
+        """Reads and validates a model file (a ``str`` or a ``pathlib.Path``): see :func:`load`."""
+        return load(path, units)
 
     def check(self) -> Check:
         """Validates the model and analyses its joints: raises :class:`ModelError` for a bad
@@ -126,7 +147,7 @@ class Model:
         return self.run("modal", **options)
 
     def __reduce__(self) -> Any:
-        return (Model, (self.text, self.path))
+        return (Model._trusted, (self.text, self.path))
 
     def __repr__(self) -> str:
         return f"<cardan.Model {self.path}>"
@@ -208,8 +229,8 @@ class Builder:
     >>> b.analysis("dynamic", t_end=1.0, output_dt=0.01)
     >>> model = b.build()
 
-    The model is checked when it is analysed (or by :meth:`Model.check`); its errors name
-    the element, and the line of :meth:`to_toml`'s text."""
+    :meth:`build` validates the model (a bad one raises :class:`ModelError` there); its
+    errors name the element, and the line of :meth:`to_toml`'s text."""
 
     name: str
     gravity: Any = None
@@ -272,7 +293,7 @@ class Builder:
         return "\n".join(lines) + "\n"
 
     def build(self) -> Model:
-        """The model (its path names the builder in messages)."""
+        """The model, validated (its path names the builder in messages)."""
         return Model(self.to_toml(), f"<builder {self.name}>")
 
 

@@ -122,6 +122,111 @@ class Results:
         #: Other output files by name (a modal run's MatrixMarket matrices), as text.
         self.files = dict(files or {})
 
+    # The tables, by the name of their CSV file (docs/model-format.md, "Output files"): editors
+    # complete them; a run without one raises AttributeError naming the tables it has.
+    @property
+    def points(self) -> Table:
+        """``points.csv``: positions of the named points."""
+        return self._table("points")
+
+    @property
+    def point_velocities(self) -> Table:
+        """``point_velocities.csv``: velocities of the named points."""
+        return self._table("point_velocities")
+
+    @property
+    def point_accelerations(self) -> Table:
+        """``point_accelerations.csv``: accelerations of the named points."""
+        return self._table("point_accelerations")
+
+    @property
+    def joints(self) -> Table:
+        """``joints.csv``: joint coordinates (angles, slides)."""
+        return self._table("joints")
+
+    @property
+    def joint_velocities(self) -> Table:
+        """``joint_velocities.csv``: rates of the joint coordinates."""
+        return self._table("joint_velocities")
+
+    @property
+    def joint_accelerations(self) -> Table:
+        """``joint_accelerations.csv``: second derivatives of the joint coordinates."""
+        return self._table("joint_accelerations")
+
+    @property
+    def bodies(self) -> Table:
+        """``bodies.csv``: body positions and Euler parameters."""
+        return self._table("bodies")
+
+    @property
+    def body_velocities(self) -> Table:
+        """``body_velocities.csv``: body velocities and angular velocities."""
+        return self._table("body_velocities")
+
+    @property
+    def body_accelerations(self) -> Table:
+        """``body_accelerations.csv``: body accelerations and angular accelerations."""
+        return self._table("body_accelerations")
+
+    @property
+    def reactions(self) -> Table:
+        """``reactions.csv``: joint reaction forces and torques, global axes."""
+        return self._table("reactions")
+
+    @property
+    def reactions_local(self) -> Table:
+        """``reactions_local.csv``: joint reaction forces and torques, body axes."""
+        return self._table("reactions_local")
+
+    @property
+    def driver_efforts(self) -> Table:
+        """``driver_efforts.csv``: motor torques and forces of the drivers."""
+        return self._table("driver_efforts")
+
+    @property
+    def coupler_efforts(self) -> Table:
+        """``coupler_efforts.csv``: forces of the couplers (gears, screws, racks)."""
+        return self._table("coupler_efforts")
+
+    @property
+    def energy(self) -> Table:
+        """``energy.csv``: energies, powers, work and the energy balance."""
+        return self._table("energy")
+
+    @property
+    def constraint_drift(self) -> Table:
+        """``constraint_drift.csv``: largest constraint violation of a dynamic run."""
+        return self._table("constraint_drift")
+
+    @property
+    def residual(self) -> Table:
+        """``residual.csv``: largest Newton residual per output time."""
+        return self._table("residual")
+
+    @property
+    def stability(self) -> Table:
+        """``stability.csv``: stability of static equilibria."""
+        return self._table("stability")
+
+    @property
+    def modes(self) -> Table:
+        """``modes.csv``: natural frequencies and damping ratios."""
+        return self._table("modes")
+
+    @property
+    def mode_shapes(self) -> Table:
+        """``mode_shapes.csv``: mode shapes."""
+        return self._table("mode_shapes")
+
+    def _table(self, name: str) -> Table:
+        try:
+            return self.tables[name]
+        except KeyError:
+            raise AttributeError(
+                f"no table {name!r}; this {self.kind} run has {', '.join(self.tables)}"
+            ) from None
+
     @classmethod
     def _from_native(cls, out: dict) -> "Results":
         tables = {t[0]: Table._from_native(*t) for t in out["tables"]}
@@ -154,12 +259,7 @@ class Results:
     def __getattr__(self, name: str) -> Table:
         if name.startswith("_") or name in ("tables", "kind", "run", "native_seconds", "glb", "html", "files"):
             raise AttributeError(name)
-        try:
-            return self.tables[name]
-        except KeyError:
-            raise AttributeError(
-                f"no table {name!r}; this {self.kind} run has {', '.join(self.tables)}"
-            ) from None
+        return self._table(name)
 
     def __iter__(self) -> Iterator[Table]:
         return iter(self.tables.values())
@@ -228,12 +328,13 @@ class Results:
         units: Dict[str, List[str]] = {}
         for c in chosen:
             units.setdefault(tab.unit(c), []).append(c)
+        axes: List[Any]
         if ax is not None and len(units) == 1:
             axes = [ax]
             fig = ax.figure
         else:
-            fig, axes = plt.subplots(len(units), 1, sharex=True, squeeze=False, figsize=(7, 2.6 * len(units)))
-            axes = list(axes[:, 0])
+            fig, grid = plt.subplots(len(units), 1, sharex=True, squeeze=False, figsize=(7, 2.6 * len(units)))
+            axes = list(grid[:, 0])
         for a, (unit, cols) in zip(axes, units.items()):
             for c in cols:
                 a.plot(tab.t, tab[c], label=c)

@@ -9,6 +9,8 @@ import traceback
 from concurrent.futures import Executor, ProcessPoolExecutor
 from typing import Any, Callable, Dict, Iterable, List, Mapping, Optional, Union
 
+import numpy as np
+
 from ._errors import CardanError
 from ._model import Model
 from ._results import Results
@@ -16,11 +18,20 @@ from ._results import Results
 Outputs = Union[Mapping[str, Callable[[Results], Any]], Iterable[Callable[[Results], Any]]]
 
 
+def plain(value: Any) -> Any:
+    """A numpy scalar (``np.float64(0.1)``, ``np.int32(3)``, ``np.bool_``) as the Python
+    number it holds; any other value unchanged. Parameters reach ``make_model`` so, and an
+    f-string or ``repr`` of them writes ``0.1``, not ``np.float64(0.1)``."""
+    return value.item() if isinstance(value, np.generic) else value
+
+
 def grid(**axes: Iterable[Any]) -> List[Dict[str, Any]]:
     """Every combination of the given values, the last axis varying fastest:
-    ``grid(a=[1, 2], b=[10, 20])`` → ``[{a: 1, b: 10}, {a: 1, b: 20}, {a: 2, b: 10}, ...]``."""
+    ``grid(a=[1, 2], b=[10, 20])`` → ``[{a: 1, b: 10}, {a: 1, b: 20}, {a: 2, b: 10}, ...]``.
+    Values may be lists or numpy arrays (``np.linspace(...)``); numpy scalars become Python
+    numbers."""
     names = list(axes)
-    values = [list(v) for v in axes.values()]
+    values = [[plain(x) for x in v] for v in axes.values()]
     return [dict(zip(names, combo)) for combo in itertools.product(*values)]
 
 
@@ -55,8 +66,11 @@ def run_case(
     keep_results: bool,
 ) -> Dict[str, Any]:
     """One case of a sweep: a row with the parameters, the outputs, ``status`` (``"ok"`` or
-    ``"error"``) and ``error`` (the message, ``""`` when ok); ``results`` too when kept.
-    Never raises for a failing model or analysis: the failure is the row."""
+    ``"error"``) and ``error`` (the whole message, with the model's file, line and column and
+    the source excerpt; ``""`` when ok); ``results`` too when kept. Numpy scalar parameters
+    reach ``make_model`` as Python numbers (:func:`plain`). Never raises for a failing model
+    or analysis: the failure is the row."""
+    params = {name: plain(value) for name, value in params.items()}
     row: Dict[str, Any] = dict(params)
     try:
         results = _analyse(make_model(**params), analysis, options)
@@ -68,7 +82,7 @@ def run_case(
     except CardanError as e:
         for name in outputs:
             row.setdefault(name, float("nan"))
-        row["status"], row["error"] = "error", f"{type(e).__name__}: {e.message}"
+        row["status"], row["error"] = "error", f"{type(e).__name__}: {e.printed}"
     except Exception as e:  # a failing make_model or output function is a row too
         for name in outputs:
             row.setdefault(name, float("nan"))

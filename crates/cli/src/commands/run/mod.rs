@@ -89,7 +89,8 @@ fn effort_list(efforts: &[(String, f64, &str)]) -> String {
     )
 }
 
-/// The summary: the files written, one line of numbers, then one line per warning.
+/// The summary: the files written, one line of numbers, one line per warning, then where to
+/// look: the report page and the directory.
 pub fn print_summary(s: &Summary, out: &mut dyn Write) -> Result<(), Error> {
     let written: Vec<String> = s
         .files
@@ -161,7 +162,27 @@ pub fn print_summary(s: &Summary, out: &mut dyn Write) -> Result<(), Error> {
     for w in &s.warnings {
         writeln!(out, "warning: {w}").map_err(io)?;
     }
-    Ok(())
+    writeln!(out, "{}", where_to_look(s)).map_err(io)
+}
+
+/// The summary's last line: the report page to open (when the run wrote one) and the
+/// directory with every file.
+fn where_to_look(s: &Summary) -> String {
+    let mut dir = s.dir.display().to_string();
+    if !dir.ends_with(std::path::MAIN_SEPARATOR) {
+        dir.push(std::path::MAIN_SEPARATOR);
+    }
+    match s
+        .files
+        .iter()
+        .find(|f| f.file_name() == Some("index.html".as_ref()))
+    {
+        Some(_) => format!(
+            "report: {} (open it in a browser); every file is in {dir}",
+            s.dir.join("index.html").display()
+        ),
+        None => format!("every file is in {dir}"),
+    }
 }
 
 /// Runs the model file's analysis and writes its outputs to `output` (default
