@@ -159,8 +159,9 @@ pub use error::DynamicsError;
 pub use forces::{AppliedForces, Force, Frame, PointRef, UserForces, VectorFunction};
 pub use modal::{BodyShape, Linearization, ModalOptions, ModalResults, Mode, ModeKind};
 pub use options::{
-    Dopri5Options, GeneralizedAlphaOptions, Integrator, IterationMatrix, OptionError, OutputTimes,
-    SimulationOptions, Stabilization, StepControl, ATOL_MAX, NEWTON_TOLERANCE_RANGE, RTOL_RANGE,
+    Baumgarte, Dopri5Options, GeneralizedAlphaOptions, Integrator, IterationMatrix, OptionError,
+    OutputTimes, SimulationOptions, Stabilization, StepControl, ATOL_MAX, NEWTON_TOLERANCE_RANGE,
+    RTOL_RANGE,
 };
 pub use results::{
     CouplerEfforts, DriverEfforts, DynamicResults, DynamicSink, ElementWork, EnergyHistory,

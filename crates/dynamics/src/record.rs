@@ -4,7 +4,7 @@
 //! ([`Recorder::streamed`]) holds one time, hands it to a [`DynamicSink`] and reuses its storage
 //! (λ included) for the next: it allocates nothing per time.
 
-use crate::kkt::{eval_rows, Rhs};
+use crate::kkt::{eval_rows, Rhs, SchurRefinement};
 use crate::results::{
     CouplerEfforts, DriverEfforts, DynamicResults, DynamicSink, EnergyHistory, IntegrationStats,
     JointReactions,
@@ -226,14 +226,16 @@ impl<'s> Recorder<'s> {
     /// Records `state` (solving the equations of motion there for v̇ and λ). `work`: the
     /// integrator's work of each channel at this time ([`crate::work`]); `None`: the recorder
     /// integrates the power over the stored times (inverse dynamics, [`SampledWork`]).
+    /// `refine`: the Schur refinement of the solve (the integrator's).
     pub fn record(
         &mut self,
         d: &mut Dynamics,
         state: &State,
         iterations: usize,
         work: Option<&[f64]>,
+        refine: SchurRefinement,
     ) -> Result<(), DynamicsError> {
-        d.accelerations(state, &mut self.vdot, &mut self.lambda)?;
+        d.accelerations_refined(state, &mut self.vdot, &mut self.lambda, refine)?;
         self.begin();
         self.record_work(d, state.t, work);
         self.store(d, state, iterations, false);
