@@ -235,6 +235,14 @@ struct Merit {
     phi: Vec<f64>,
 }
 
+/// The stability of an equilibrium: the reduced stiffness's eigenvalues, what they mean, and
+/// the named soft directions.
+struct StabilityCheck {
+    eigenvalues: Vec<f64>,
+    stability: Stability,
+    soft_directions: Vec<String>,
+}
+
 /// An iterate of static Newton: the pose and the multipliers (all rows).
 struct StaticIterate {
     state: State,
@@ -499,16 +507,16 @@ impl Dynamics<'_> {
         load_steps: usize,
     ) -> Result<Equilibrium, DynamicsError> {
         let residual = self.scaled_residual(&state, &lambda, 1.0);
-        let (eigenvalues, stability, soft_directions) = self.stability(&state, &lambda)?;
+        let check = self.stability(&state, &lambda)?;
         Ok(Equilibrium {
             state,
             lambda,
             iterations,
             load_steps,
             residual,
-            eigenvalues,
-            stability,
-            soft_directions,
+            eigenvalues: check.eigenvalues,
+            stability: check.stability,
+            soft_directions: check.soft_directions,
         })
     }
 
@@ -778,7 +786,7 @@ impl Dynamics<'_> {
         &mut self,
         state: &State,
         lambda: &[f64],
-    ) -> Result<(Vec<f64>, Stability, Vec<String>), DynamicsError> {
+    ) -> Result<StabilityCheck, DynamicsError> {
         let (values, vectors) = self.reduced_eigen(state, lambda, 1.0)?;
         let thr = soft_threshold(&values);
         let mut soft = Vec::new();
@@ -793,7 +801,11 @@ impl Dynamics<'_> {
                 soft.push(self.direction_name(state, vectors.column(i).as_slice()));
             }
         }
-        Ok((values, stability, soft))
+        Ok(StabilityCheck {
+            eigenvalues: values,
+            stability,
+            soft_directions: soft,
+        })
     }
 
     /// Eigenvalues ω² (ascending) of K_r x = ω² M_r x at `state` and their directions δ = N x
