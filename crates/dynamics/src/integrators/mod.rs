@@ -36,3 +36,6 @@ pub mod dopri5;
 pub(crate) mod driver;
 pub mod generalized_alpha;
 pub(crate) mod stepper;
+
+#[cfg(test)]
+mod seam_tests;
