@@ -120,7 +120,8 @@
 //!   (private): the dense tangent stiffness and damping, the null-space basis;
 //!   [`state_space`]: A, B, C, D for chosen force inputs and point or joint outputs, and the
 //!   MatrixMarket writer [`matrix_market`].
-//! - [`integrators`]: [`integrators::dopri5`], [`integrators::generalized_alpha`].
+//! - [`integrators`]: [`integrators::dopri5`], [`integrators::generalized_alpha`], each a
+//!   stepper run by one driver loop (output times, limits, recording; the seam for events).
 //! - `kkt` (private): the laid-out augmented system. [`results`]: [`DynamicResults`].
 //!   [`error`]: [`DynamicsError`].
 //!
