@@ -1,5 +1,6 @@
 //! Inverse dynamics of a kinematically driven mechanism: [`Dynamics::inverse_dynamics`].
 
+use crate::kkt::SchurRefinement;
 use crate::record::Recorder;
 use crate::results::{DynamicResults, DynamicSink, IntegrationStats};
 use crate::state::State;
@@ -225,7 +226,7 @@ impl<'s> EffortPass<'s> {
         d.sync(&self.state);
         d.accept_turns();
         let iterations = frame.iterations.first().copied().unwrap_or(0);
-        match rec.record(d, &self.state, iterations, None) {
+        match rec.record(d, &self.state, iterations, None, SchurRefinement::ONE_SHOT) {
             Ok(()) => ControlFlow::Continue(()),
             Err(DynamicsError::Stopped { .. }) => {
                 self.stopped = true;

@@ -75,22 +75,41 @@ pub(crate) fn schur_pivot_tolerance(m: usize) -> f64 {
     (0.1 / m.max(1) as f64).min(cardan_solver::DEFAULT_SCHUR_PIVOT_TOLERANCE)
 }
 
-/// Smallest pivot ratio of S below which [`Kkt::solve`] refines a Schur solve once (a
-/// 1,000-link chain sits at 5e-4 to 7.6e-4, A02 near its horizontal positions goes below
-/// 1e-4, where the Schur solver refuses S and the LU takes over). The default, for one-shot
-/// solves (accelerations and multipliers, a first velocity projection); DOPRI5 sets
-/// [`refine_ratio_for`] its tolerance; generalized-α's iterations do not refine (see
-/// [`Kkt::solve_unrefined`]).
+/// Smallest pivot ratio of S below which a one-shot Schur solve is refined once (a 1,000-link
+/// chain sits at 5e-4 to 7.6e-4, A02 near its horizontal positions goes below 1e-4, where the
+/// Schur solver refuses S and the LU takes over): accelerations and multipliers, a first
+/// velocity projection, and every solve of a generalized-α run outside its iterations (which do
+/// not refine, see [`Kkt::solve_unrefined`]). DOPRI5 refines by its tolerance instead
+/// ([`SchurRefinement::for_rtol`]).
 pub(crate) const SCHUR_REFINE_RATIO: f64 = 5e-3;
 
-/// The refinement threshold for an integrator that needs solves only to a backward error
-/// well below `rtol`: a plain Schur solve's backward error is about u / (smallest pivot
-/// ratio) (measured on the 1,000-link chain at ratio 5e-4: 2e-13 to 5e-13, u / ratio =
-/// 4.4e-13), so it is refined only when that exceeds 1e-3 rtol (rtol 1e-10: ratios below
-/// 2.2e-3 are refined; rtol 1e-8: below 2.2e-5, which only S of models beyond 4,500 rows
-/// reach, see [`schur_pivot_tolerance`]).
-pub(crate) fn refine_ratio_for(rtol: f64) -> f64 {
-    (f64::EPSILON / (1e-3 * rtol)).min(SCHUR_REFINE_RATIO)
+/// When [`Kkt::solve`] refines a Schur solve once against the full system ([`refine`]): when
+/// the smallest pivot ratio of S is below `below`. Part of the configuration of whoever solves
+/// (an integrator's, [`crate::integrators`]), passed with each solve, so no setting of the
+/// solver outlives a run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct SchurRefinement {
+    /// The pivot ratio below which a Schur solve is refined.
+    pub below: f64,
+}
+
+impl SchurRefinement {
+    /// For one-shot solves: below [`SCHUR_REFINE_RATIO`].
+    pub const ONE_SHOT: Self = Self {
+        below: SCHUR_REFINE_RATIO,
+    };
+
+    /// For an integrator that needs solves only to a backward error well below `rtol`: a plain
+    /// Schur solve's backward error is about u / (smallest pivot ratio) (measured on the
+    /// 1,000-link chain at ratio 5e-4: 2e-13 to 5e-13, u / ratio = 4.4e-13), so it is refined
+    /// only when that exceeds 1e-3 rtol (rtol 1e-10: ratios below 2.2e-3 are refined; rtol
+    /// 1e-8: below 2.2e-5, which only S of models beyond 4,500 rows reach, see
+    /// [`schur_pivot_tolerance`]).
+    pub fn for_rtol(rtol: f64) -> Self {
+        Self {
+            below: (f64::EPSILON / (1e-3 * rtol)).min(SCHUR_REFINE_RATIO),
+        }
+    }
 }
 
 /// The laid-out KKT system and its solver.
@@ -111,8 +130,6 @@ pub(crate) struct Kkt {
     path: SolvePath,
     last: LastFactorization,
     refinement: Refinement,
-    /// Pivot ratio below which a Schur solve is refined ([`SCHUR_REFINE_RATIO`]).
-    pub(crate) refine_below: f64,
     pub rhs: Vec<f64>,
     pub sol: Vec<f64>,
     /// All-row buffers (m).
@@ -163,7 +180,6 @@ impl Kkt {
             path: SolvePath::default(),
             last: LastFactorization::new(ne),
             refinement: Refinement::new(size),
-            refine_below: SCHUR_REFINE_RATIO,
             rhs: vec![0.0; size],
             sol: vec![0.0; size],
             full: vec![0.0; m],
@@ -293,10 +309,9 @@ impl Kkt {
     }
 
     /// Solves with `rhs` into `sol`, with the last factorization. A Schur solve whose smallest
-    /// pivot ratio is below `refine_below` ([`SCHUR_REFINE_RATIO`], or [`refine_ratio_for`]
-    /// DOPRI5's tolerance) is refined once against the full system ([`refine`]).
-    pub fn solve(&mut self) -> Result<(), SolverError> {
-        self.solve_refined(true)
+    /// pivot ratio is below `refine.below` is refined once against the full system ([`refine`]).
+    pub fn solve(&mut self, refine: SchurRefinement) -> Result<(), SolverError> {
+        self.solve_refined(Some(refine))
     }
 
     /// [`solve`](Self::solve) without the refinement of a Schur solve, for a caller that
@@ -307,14 +322,14 @@ impl Kkt {
     /// the 10,000-link chain, ratio ≈ 5e-5). That slows the iteration by nothing measurable,
     /// and a refinement would only repeat the iteration's work.
     pub fn solve_unrefined(&mut self) -> Result<(), SolverError> {
-        self.solve_refined(false)
+        self.solve_refined(None)
     }
 
-    fn solve_refined(&mut self, refine: bool) -> Result<(), SolverError> {
+    fn solve_refined(&mut self, refine: Option<SchurRefinement>) -> Result<(), SolverError> {
         match self.last.kind() {
             Some(Factored::Schur) => {
                 self.schur.solve(&self.rhs, &mut self.sol)?;
-                if refine && self.schur.min_pivot_ratio() < self.refine_below {
+                if refine.is_some_and(|r| self.schur.min_pivot_ratio() < r.below) {
                     let k = Factors {
                         blocks: self.top_left.blocks(),
                         groups: &self.layout.groups,

@@ -1,7 +1,7 @@
 //! The two factorizations of [`Kkt`] (Schur complement and LU of the full matrix) give the same
 //! trajectories, and the Schur path falls back to the LU near singular configurations.
 
-use super::{elements, Factored, Kkt, KktSolve};
+use super::{elements, Factored, Kkt, KktSolve, SchurRefinement};
 use crate::{
     Dopri5Options, Dynamics, Force, GeneralizedAlphaOptions, Integrator, IterationMatrix,
     SimulationOptions, State,
@@ -194,7 +194,7 @@ fn near_dead_centre_falls_back_to_lu_with_a_correct_solution() {
     consistent_rhs(&mut kkt);
     kkt.factor().unwrap();
     assert_eq!(kkt.factored(), Some(Factored::Lu));
-    kkt.solve().unwrap();
+    kkt.solve(SchurRefinement::ONE_SHOT).unwrap();
     let r = kkt_residual(&kkt, &d);
     assert!(
         r < 1e-10,
@@ -208,7 +208,7 @@ fn near_dead_centre_falls_back_to_lu_with_a_correct_solution() {
     kkt.factor().unwrap();
     assert_eq!(kkt.factored(), Some(Factored::Lu));
     assert_eq!(kkt.fallbacks, 1);
-    kkt.solve().unwrap();
+    kkt.solve(SchurRefinement::ONE_SHOT).unwrap();
     let r = kkt_residual(&kkt, &d);
     assert!(r < 1e-10, "LU fallback: relative residual {r:.2e}");
     let fallback = kkt.sol.clone();
@@ -225,12 +225,15 @@ fn near_dead_centre_falls_back_to_lu_with_a_correct_solution() {
         other => panic!("expected Singular, got {other:?}"),
     }
     assert_eq!(kkt.factored(), None);
-    assert!(matches!(kkt.solve(), Err(SolverError::NotReady { .. })));
+    assert!(matches!(
+        kkt.solve(SchurRefinement::ONE_SHOT),
+        Err(SolverError::NotReady { .. })
+    ));
 
     // The forced LU gives the same solution as the fallback.
     kkt.set_solve_path(KktSolve::Lu);
     kkt.factor().unwrap();
-    kkt.solve().unwrap();
+    kkt.solve(SchurRefinement::ONE_SHOT).unwrap();
     assert_eq!(kkt.sol, fallback);
 
     // Away from the dead centre (ε = 0.3) Auto keeps the Schur path, with the same result.
@@ -239,12 +242,12 @@ fn near_dead_centre_falls_back_to_lu_with_a_correct_solution() {
     consistent_rhs(&mut kkt);
     kkt.factor().unwrap();
     assert_eq!(kkt.factored(), Some(Factored::Schur));
-    kkt.solve().unwrap();
+    kkt.solve(SchurRefinement::ONE_SHOT).unwrap();
     let schur = kkt.sol.clone();
     assert!(kkt_residual(&kkt, &d) < 1e-12);
     kkt.set_solve_path(KktSolve::Lu);
     kkt.factor().unwrap();
-    kkt.solve().unwrap();
+    kkt.solve(SchurRefinement::ONE_SHOT).unwrap();
     let diff = schur
         .iter()
         .zip(&kkt.sol)
@@ -255,7 +258,7 @@ fn near_dead_centre_falls_back_to_lu_with_a_correct_solution() {
 
 /// Close to a dead centre, but not so close that S is refused (pivot ratio between τ = 1e-4
 /// and [`super::SCHUR_REFINE_RATIO`]): the Schur solve is refined once against K, which brings
-/// its residual down to the LU's; `solve_unrefined` leaves it (as `refine_below` = 0 does).
+/// its residual down to the LU's; `solve_unrefined` leaves it (as a refinement below 0 does).
 #[test]
 fn ill_conditioned_schur_solves_are_refined() {
     for eps in [0.03, 0.015] {
@@ -268,15 +271,13 @@ fn ill_conditioned_schur_solves_are_refined() {
         assert!(ratio < super::SCHUR_REFINE_RATIO, "ratio {ratio:e}");
         kkt.solve_unrefined().unwrap();
         let plain = kkt_residual(&kkt, &d);
-        kkt.refine_below = 0.0;
-        kkt.solve().unwrap();
+        kkt.solve(SchurRefinement { below: 0.0 }).unwrap();
         assert_eq!(kkt_residual(&kkt, &d), plain);
-        kkt.refine_below = super::SCHUR_REFINE_RATIO;
-        kkt.solve().unwrap();
+        kkt.solve(SchurRefinement::ONE_SHOT).unwrap();
         let refined = kkt_residual(&kkt, &d);
         kkt.set_solve_path(KktSolve::Lu);
         kkt.factor().unwrap();
-        kkt.solve().unwrap();
+        kkt.solve(SchurRefinement::ONE_SHOT).unwrap();
         let lu = kkt_residual(&kkt, &d);
         eprintln!("ε = {eps}: ratio {ratio:.1e}, residual plain {plain:.1e}, refined {refined:.1e}, LU {lu:.1e}");
         assert!(
@@ -295,7 +296,10 @@ fn exact_dead_centre_is_a_clean_error() {
         other => panic!("expected Singular, got {other:?}"),
     }
     assert_eq!(kkt.fallbacks, 1);
-    assert!(matches!(kkt.solve(), Err(SolverError::NotReady { .. })));
+    assert!(matches!(
+        kkt.solve(SchurRefinement::ONE_SHOT),
+        Err(SolverError::NotReady { .. })
+    ));
 }
 
 #[test]
@@ -356,13 +360,13 @@ fn tangent_terms_on_coupled_layouts_take_the_lu() {
         kkt.add_top(term);
         kkt.factor().unwrap();
         assert_eq!(kkt.factored(), Some(want), "skew {skew}");
-        kkt.solve().unwrap();
+        kkt.solve(SchurRefinement::ONE_SHOT).unwrap();
         let got = kkt.sol.clone();
         kkt.set_solve_path(KktSolve::Lu);
         kkt.set_mass(&d.mass, &d.inertia);
         kkt.add_top(term);
         kkt.factor().unwrap();
-        kkt.solve().unwrap();
+        kkt.solve(SchurRefinement::ONE_SHOT).unwrap();
         let diff = got
             .iter()
             .zip(&kkt.sol)
@@ -431,12 +435,12 @@ fn an_unchanged_mass_only_matrix_is_not_factored_again() {
     let (mut kkt, d) = tip_kkt(&model);
     kkt.factor().unwrap();
     consistent_rhs(&mut kkt);
-    kkt.solve().unwrap();
+    kkt.solve(SchurRefinement::ONE_SHOT).unwrap();
     let first = kkt.sol.clone();
     // Same Φ_v, same masses: the factorization is kept, and solves the same.
     kkt.set_mass(&d.mass, &d.inertia);
     kkt.factor().unwrap();
-    kkt.solve().unwrap();
+    kkt.solve(SchurRefinement::ONE_SHOT).unwrap();
     assert_eq!(kkt.factorizations, 1);
     assert_eq!(kkt.sol, first);
     // A changed Φ_v value, other masses, or tangent terms: factored again.
@@ -461,9 +465,9 @@ fn an_unchanged_mass_only_matrix_is_not_factored_again() {
 #[test]
 fn dopri5_refines_schur_solves_only_for_tight_tolerances() {
     // A 1,000-link chain's smallest pivot ratio is about 5e-4.
-    assert!(super::refine_ratio_for(1e-10) > 5e-4);
-    assert!(super::refine_ratio_for(1e-8) < 5e-4);
-    assert!(super::refine_ratio_for(1e-14) <= super::SCHUR_REFINE_RATIO);
+    assert!(SchurRefinement::for_rtol(1e-10).below > 5e-4);
+    assert!(SchurRefinement::for_rtol(1e-8).below < 5e-4);
+    assert!(SchurRefinement::for_rtol(1e-14).below <= super::SCHUR_REFINE_RATIO);
 }
 
 #[test]
@@ -491,7 +495,7 @@ fn a_long_chain_takes_the_schur_path() {
     kkt.factor().unwrap();
     assert_eq!(kkt.factored(), Some(Factored::Schur));
     consistent_rhs(&mut kkt);
-    kkt.solve().unwrap();
+    kkt.solve(SchurRefinement::ONE_SHOT).unwrap();
     let r = kkt_residual(&kkt, &d);
     assert!(r < 1e-13, "{r:e}");
 }

@@ -120,7 +120,8 @@
 //!   (private): the dense tangent stiffness and damping, the null-space basis;
 //!   [`state_space`]: A, B, C, D for chosen force inputs and point or joint outputs, and the
 //!   MatrixMarket writer [`matrix_market`].
-//! - [`integrators`]: [`integrators::dopri5`], [`integrators::generalized_alpha`].
+//! - [`integrators`]: [`integrators::dopri5`], [`integrators::generalized_alpha`], each a
+//!   stepper run by one driver loop (output times, limits, recording; the seam for events).
 //! - `kkt` (private): the laid-out augmented system. [`results`]: [`DynamicResults`].
 //!   [`error`]: [`DynamicsError`].
 //!
@@ -159,8 +160,9 @@ pub use error::DynamicsError;
 pub use forces::{AppliedForces, Force, Frame, PointRef, UserForces, VectorFunction};
 pub use modal::{BodyShape, Linearization, ModalOptions, ModalResults, Mode, ModeKind};
 pub use options::{
-    Dopri5Options, GeneralizedAlphaOptions, Integrator, IterationMatrix, OptionError, OutputTimes,
-    SimulationOptions, Stabilization, StepControl, ATOL_MAX, NEWTON_TOLERANCE_RANGE, RTOL_RANGE,
+    Baumgarte, Dopri5Options, GeneralizedAlphaOptions, Integrator, IterationMatrix, OptionError,
+    OutputTimes, SimulationOptions, Stabilization, StepControl, ATOL_MAX, NEWTON_TOLERANCE_RANGE,
+    RTOL_RANGE,
 };
 pub use results::{
     CouplerEfforts, DriverEfforts, DynamicResults, DynamicSink, ElementWork, EnergyHistory,

@@ -131,14 +131,32 @@ impl Stabilization {
         )
     }
 
-    /// (α, β), zero without Baumgarte.
-    pub fn baumgarte(&self) -> (f64, f64) {
+    /// The Baumgarte factors, zero without Baumgarte.
+    pub fn baumgarte(&self) -> Baumgarte {
         match *self {
             Stabilization::Baumgarte { alpha, beta }
-            | Stabilization::BaumgarteAndProjection { alpha, beta } => (alpha, beta),
-            _ => (0.0, 0.0),
+            | Stabilization::BaumgarteAndProjection { alpha, beta } => Baumgarte { alpha, beta },
+            _ => Baumgarte::NONE,
         }
     }
+}
+
+/// The factors of Baumgarte's stabilization: the acceleration equation becomes
+/// Φ_v v̇ = γ# − 2α(Φ_v v − ν) − β²Φ.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Baumgarte {
+    /// α (1/s).
+    pub alpha: f64,
+    /// β (1/s).
+    pub beta: f64,
+}
+
+impl Baumgarte {
+    /// No stabilization terms (α = β = 0).
+    pub const NONE: Self = Self {
+        alpha: 0.0,
+        beta: 0.0,
+    };
 }
 
 /// Step-size control.
@@ -247,7 +265,7 @@ impl Dopri5Options {
             "the smallest step must be positive and not above the largest",
         )?;
         newton_tolerance("projection_tolerance", self.projection_tolerance)?;
-        let (alpha, beta) = self.stabilization.baumgarte();
+        let Baumgarte { alpha, beta } = self.stabilization.baumgarte();
         for (option, v) in [("alpha", alpha), ("beta", beta)] {
             within(
                 option,

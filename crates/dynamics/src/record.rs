@@ -4,11 +4,10 @@
 //! ([`Recorder::streamed`]) holds one time, hands it to a [`DynamicSink`] and reuses its storage
 //! (λ included) for the next: it allocates nothing per time.
 
-use crate::kkt::{eval_rows, Rhs};
-use crate::results::{
-    CouplerEfforts, DriverEfforts, DynamicResults, DynamicSink, EnergyHistory, IntegrationStats,
-    JointReactions,
-};
+mod histories;
+
+use crate::kkt::{eval_rows, Rhs, SchurRefinement};
+use crate::results::{DriverEfforts, DynamicResults, DynamicSink, IntegrationStats};
 use crate::state::State;
 use crate::system::Dynamics;
 use crate::work::{Multipliers, SampledWork};
@@ -18,11 +17,11 @@ use cardan_constraints::joints::{
 };
 use cardan_constraints::{BodyPair, BodyState, Driver};
 use cardan_eulerparam::{p_ddot_from_local, p_dot_from_local};
-use cardan_mechanism::{
-    BodyId, BodyResults, DriverInfo, JointResults, Model, Outputs, PointResults, Results,
-};
+use cardan_mechanism::{BodyId, Model, Outputs};
+use histories::{driver_points, empty_results, BodyPoint};
 use nalgebra::Vector3;
 
+/// Records a run's output times (module docs).
 pub(crate) struct Recorder<'s> {
     /// The stored times (streamed: the one being handed to the sink).
     res: DynamicResults,
@@ -34,15 +33,15 @@ pub(crate) struct Recorder<'s> {
     last_t: Option<f64>,
     /// Per joint: its coordinates and their rates at the time recorded last (angles continue
     /// from them over turns).
-    last_joint: Vec<([f64; MAX_COORDINATES], [f64; MAX_COORDINATES])>,
+    last_joint: Vec<JointCoordinates>,
     /// A streamed recorder's λ vector, reused from one time to the next.
     spare_lambda: Option<Vec<f64>>,
     outputs: Outputs,
     vdot: Vec<f64>,
     lambda: Vec<f64>,
     phi: Vec<f64>,
-    /// (body index, local point) of every named point of a moving body.
-    points: Vec<(usize, Vector3<f64>)>,
+    /// Every named point of a moving body.
+    points: Vec<BodyPoint>,
     /// The power of each work channel at the time being recorded ([`crate::work`]).
     power: Vec<f64>,
     /// The work of each channel, when the recorder integrates it itself (inverse dynamics).
@@ -50,8 +49,24 @@ pub(crate) struct Recorder<'s> {
     /// The work integrated from the recorded powers (inverse dynamics).
     sampled: SampledWork,
     /// Per row: the worst scaled residual while dropped as redundant and off by more than the
-    /// kept rows explain ([`DROPPED_ROW_DRIFT_FACTOR`]), its value and time (NaN: never).
-    dropped: Vec<(f64, f64, f64)>,
+    /// kept rows explain ([`DROPPED_ROW_DRIFT_FACTOR`]).
+    dropped: Vec<DroppedRow>,
+}
+
+/// A joint's coordinates and their rates at one time.
+#[derive(Debug, Clone, Copy)]
+struct JointCoordinates {
+    values: [f64; MAX_COORDINATES],
+    rates: [f64; MAX_COORDINATES],
+}
+
+/// The worst scaled residual of a row while dropped as redundant, its value and time (NaN:
+/// never off).
+#[derive(Debug, Clone, Copy)]
+struct DroppedRow {
+    worst: f64,
+    value: f64,
+    time: f64,
 }
 
 /// A row dropped as redundant is reported when its scaled residual at an output time exceeds
@@ -78,138 +93,24 @@ impl<'s> Recorder<'s> {
         sink: Option<&'s mut dyn DynamicSink>,
     ) -> Self {
         let model = d.model;
-        let mut kin = Results {
-            outputs: Some(outputs),
-            times: Vec::with_capacity(capacity),
-            residual: Vec::with_capacity(capacity),
-            iterations: Vec::with_capacity(capacity),
-            ..Results::default()
-        };
-        let cap = |on: bool| if on { capacity } else { 0 };
-        let vel = outputs.needs_velocity();
-        let acc = outputs.acceleration;
-        for b in model.bodies() {
-            kin.bodies.push(BodyResults {
-                name: b.name.clone(),
-                r: Vec::with_capacity(capacity),
-                p: Vec::with_capacity(capacity),
-                r_dot: Vec::with_capacity(cap(vel)),
-                p_dot: Vec::with_capacity(cap(vel)),
-                omega: Vec::with_capacity(cap(vel)),
-                omega_local: Vec::with_capacity(cap(vel)),
-                r_ddot: Vec::with_capacity(cap(acc)),
-                p_ddot: Vec::with_capacity(cap(acc)),
-                omega_dot: Vec::with_capacity(cap(acc)),
-                omega_dot_local: Vec::with_capacity(cap(acc)),
-            });
-        }
-        let mut points = Vec::new();
-        if outputs.points {
-            for p in model.points() {
-                if let BodyId::Moving(k) = p.body {
-                    points.push((k, p.local));
-                    kin.points.push(PointResults {
-                        body: p.body_name.clone(),
-                        name: p.name.clone(),
-                        position: Vec::with_capacity(capacity),
-                        velocity: Vec::with_capacity(cap(vel)),
-                        acceleration: Vec::with_capacity(cap(acc)),
-                    });
-                }
-            }
-        }
-        if outputs.joints {
-            for j in model.joints() {
-                kin.joints.push(JointResults {
-                    name: j.name.clone(),
-                    kind: j.joint.kind(),
-                    coordinates: j.joint.kind().info().coordinates,
-                    values: Vec::with_capacity(capacity),
-                    rates: Vec::new(),
-                    accelerations: Vec::new(),
-                });
-            }
-        }
-        let history =
-            |name: &str, (bi, pi): (BodyId, Vector3<f64>), (bj, pj): (BodyId, Vector3<f64>)| {
-                JointReactions {
-                    name: name.to_string(),
-                    body_i: model.body_name(bi).to_string(),
-                    body_j: model.body_name(bj).to_string(),
-                    point_i: point_name(model, bi, &pi),
-                    point_j: point_name(model, bj, &pj),
-                    on_i: Vec::with_capacity(capacity),
-                    on_j: Vec::with_capacity(capacity),
-                }
-            };
-        let reactions = model
-            .joints()
-            .iter()
-            .map(|j| {
-                let (pi, pj) = (j.joint.marker_i().point, j.joint.marker_j().point);
-                history(&j.name, (j.body_i, pi), (j.body_j, pj))
-            })
-            .collect();
-        let drivers = model
-            .drivers()
-            .iter()
-            .map(|dr| DriverEfforts {
-                name: dr.name.clone(),
-                lambda: Vec::with_capacity(capacity),
-                effort: Vec::with_capacity(capacity),
-                power: Vec::with_capacity(capacity),
-                reactions: {
-                    let (pi, pj) = driver_points(model, dr);
-                    history(&dr.name, (dr.body_i, pi), (dr.body_j, pj))
-                },
-            })
-            .collect();
-        let couplers = model
-            .couplers()
-            .iter()
-            .map(|c| CouplerEfforts {
-                name: c.name.clone(),
-                lambda: Vec::with_capacity(capacity),
-                efforts: Vec::with_capacity(capacity),
-                force: has_force(c).then(|| Vec::with_capacity(capacity)),
-                reactions: {
-                    let (pi, pj) = c.coupler.points();
-                    history(&c.name, (c.body_i, pi), (c.body_j, pj))
-                },
-            })
-            .collect();
-        let e = || Vec::with_capacity(capacity);
-        let res = DynamicResults {
-            couplers,
-            kinematics: kin,
-            lambda: Vec::with_capacity(capacity),
-            reactions,
-            drivers,
-            energy: EnergyHistory {
-                kinetic: e(),
-                gravity: e(),
-                spring: e(),
-                total: e(),
-                elements: d.work_channels(capacity),
-                work: e(),
-                constraint_power: e(),
-            },
-            position_drift: e(),
-            velocity_drift: e(),
-            redundant: d.redundant.clone(),
-            stats: IntegrationStats::default(),
-        };
+        let (res, points) = empty_results(d, capacity, outputs);
         let n = model.num_unknowns();
         let m = model.num_equations();
+        let zero = JointCoordinates {
+            values: [0.0; MAX_COORDINATES],
+            rates: [0.0; MAX_COORDINATES],
+        };
+        let never = DroppedRow {
+            worst: 0.0,
+            value: 0.0,
+            time: f64::NAN,
+        };
         Self {
             res,
             sink,
             frames: 0,
             last_t: None,
-            last_joint: vec![
-                ([0.0; MAX_COORDINATES], [0.0; MAX_COORDINATES]);
-                model.joints().len()
-            ],
+            last_joint: vec![zero; model.joints().len()],
             spare_lambda: None,
             outputs,
             vdot: vec![0.0; n],
@@ -219,21 +120,23 @@ impl<'s> Recorder<'s> {
             power: vec![0.0; d.num_work_channels()],
             work: vec![0.0; d.num_work_channels()],
             sampled: SampledWork::new(d.num_work_channels()),
-            dropped: vec![(0.0, 0.0, f64::NAN); m],
+            dropped: vec![never; m],
         }
     }
 
     /// Records `state` (solving the equations of motion there for v̇ and λ). `work`: the
     /// integrator's work of each channel at this time ([`crate::work`]); `None`: the recorder
     /// integrates the power over the stored times (inverse dynamics, [`SampledWork`]).
+    /// `refine`: the Schur refinement of the solve (the integrator's).
     pub fn record(
         &mut self,
         d: &mut Dynamics,
         state: &State,
         iterations: usize,
         work: Option<&[f64]>,
+        refine: SchurRefinement,
     ) -> Result<(), DynamicsError> {
-        d.accelerations(state, &mut self.vdot, &mut self.lambda)?;
+        d.accelerations_refined(state, &mut self.vdot, &mut self.lambda, refine)?;
         self.begin();
         self.record_work(d, state.t, work);
         self.store(d, state, iterations, false);
@@ -284,16 +187,51 @@ impl<'s> Recorder<'s> {
 
     /// Stores `state` with `self.vdot` and `self.lambda` at the synced bodies.
     fn store(&mut self, d: &mut Dynamics, state: &State, iterations: usize, is_static: bool) {
+        self.store_residual(d, state.t, iterations);
+        self.store_motion(d);
+        self.store_joints(d, state.t);
+        let lambda = match self.spare_lambda.take() {
+            Some(mut l) => {
+                l.copy_from_slice(&self.lambda);
+                l
+            }
+            None => self.lambda.clone(),
+        };
+        self.res.lambda.push(lambda);
+        self.store_joint_reactions(d, state.t);
+        self.store_driver_efforts(d, state.t);
+        self.store_coupler_efforts(d, state.t);
+        let g = BodyState::ground();
+        let st = |id: BodyId| match id {
+            BodyId::Ground => &g,
+            BodyId::Moving(k) => &d.bodies[k],
+        };
+        pose_torques(&mut self.res.drivers, d.model, st);
+        let en = d.energy(state);
+        self.res.energy.kinetic.push(en.kinetic);
+        self.res.energy.gravity.push(en.gravity);
+        self.res.energy.spring.push(en.spring);
+        self.res.energy.total.push(en.total());
+        let vd = if is_static {
+            0.0
+        } else {
+            d.velocity_residual(state).0
+        };
+        self.res.velocity_drift.push(vd);
+    }
+
+    /// The time, the iterations, max |Φ| (the position drift) and the dropped rows' residuals.
+    fn store_residual(&mut self, d: &Dynamics, t: f64, iterations: usize) {
         let model = d.model;
         let kin = &mut self.res.kinematics;
-        kin.times.push(state.t);
+        kin.times.push(t);
         kin.iterations.push(iterations);
         eval_rows(
             model,
             &d.elements,
             &d.bodies,
             &d.turns,
-            state.t,
+            t,
             Rhs::Phi,
             &mut self.phi,
         );
@@ -301,10 +239,15 @@ impl<'s> Recorder<'s> {
         kin.residual.push(res);
         self.res.position_drift.push(res);
         if let Some(kkt) = d.kkt.as_ref() {
-            record_dropped_rows(model, &kkt.active, &self.phi, state.t, &mut self.dropped);
+            record_dropped_rows(model, &kkt.active, &self.phi, t, &mut self.dropped);
         }
+    }
+
+    /// The bodies' poses (and rates and accelerations, when asked) and the named points'.
+    fn store_motion(&mut self, d: &Dynamics) {
         let vel = self.outputs.needs_velocity();
         let acc = self.outputs.acceleration;
+        let kin = &mut self.res.kinematics;
         for (k, b) in kin.bodies.iter_mut().enumerate() {
             let s = &d.bodies[k];
             let wd = Vector3::from_column_slice(&self.vdot[6 * k + 3..6 * k + 6]);
@@ -324,8 +267,9 @@ impl<'s> Recorder<'s> {
                 b.omega_dot_local.push(wd);
             }
         }
-        for (pr, (k, sl)) in kin.points.iter_mut().zip(&self.points) {
-            let s = &d.bodies[*k];
+        for (pr, pt) in kin.points.iter_mut().zip(&self.points) {
+            let (k, sl) = (pt.body, &pt.local);
+            let s = &d.bodies[k];
             pr.position.push(s.point(sl));
             let w = s.omega_local;
             if vel {
@@ -338,23 +282,34 @@ impl<'s> Recorder<'s> {
                     .push(rdd + s.a * (wd.cross(sl) + w.cross(&w.cross(sl))));
             }
         }
+    }
+
+    /// The joint coordinates at time `t` (rates and accelerations when asked), angles
+    /// continued over turns from the time recorded last.
+    fn store_joints(&mut self, d: &Dynamics, t: f64) {
+        let vel = self.outputs.needs_velocity();
+        let acc = self.outputs.acceleration;
         let g = BodyState::ground();
         let st = |id: BodyId| match id {
             BodyId::Ground => &g,
             BodyId::Moving(k) => &d.bodies[k],
         };
-        let dt = self.last_t.map_or(0.0, |t0| state.t - t0);
+        let dt = self.last_t.map_or(0.0, |t0| t - t0);
+        let vdot = &self.vdot;
         let body_acc = |id: BodyId| match id {
             BodyId::Moving(k) if acc => BodyAcceleration {
-                r_ddot: Vector3::from_column_slice(&self.vdot[6 * k..6 * k + 3]),
-                omega_dot_local: Vector3::from_column_slice(&self.vdot[6 * k + 3..6 * k + 6]),
+                r_ddot: Vector3::from_column_slice(&vdot[6 * k..6 * k + 3]),
+                omega_dot_local: Vector3::from_column_slice(&vdot[6 * k + 3..6 * k + 6]),
             },
             _ => BodyAcceleration::default(),
         };
-        for ((jr, j), last) in kin
+        let continued = self.last_t.is_some();
+        for ((jr, j), last) in self
+            .res
+            .kinematics
             .joints
             .iter_mut()
-            .zip(model.joints())
+            .zip(d.model.joints())
             .zip(&mut self.last_joint)
         {
             let pair = BodyPair::new(st(j.body_i), st(j.body_j));
@@ -363,8 +318,8 @@ impl<'s> Recorder<'s> {
                 j.joint
                     .coordinate_rates(&pair, &body_acc(j.body_i), &body_acc(j.body_j))
             });
-            if self.last_t.is_some() {
-                let (prev, prev_rates) = (last.0, last.1);
+            if continued {
+                let (prev, prev_rates) = (last.values, last.rates);
                 for (i, coord) in c.coordinates.iter().enumerate() {
                     if coord.measure.quantity() == CoordinateQuantity::Angle {
                         let w = rates.as_ref().map(|r| (prev_rates[i], r.rates[i]));
@@ -372,35 +327,31 @@ impl<'s> Recorder<'s> {
                     }
                 }
             }
-            last.0 = c.values;
+            last.values = c.values;
             jr.values.push(c.values);
             if let Some(r) = rates {
-                last.1 = r.rates;
+                last.rates = r.rates;
                 jr.rates.push(r.rates);
                 if acc {
                     jr.accelerations.push(r.accelerations);
                 }
             }
         }
-        let lambda = match self.spare_lambda.take() {
-            Some(mut l) => {
-                l.copy_from_slice(&self.lambda);
-                l
-            }
-            None => self.lambda.clone(),
-        };
-        self.res.lambda.push(lambda);
+    }
+
+    /// Each joint's reactions on its two bodies from `self.lambda`.
+    fn store_joint_reactions(&mut self, d: &Dynamics, t: f64) {
         for (ji, (jr, j)) in self
             .res
             .reactions
             .iter_mut()
-            .zip(model.joints())
+            .zip(d.model.joints())
             .enumerate()
         {
             let e = &d.elements[ji];
             let (ri, rj) = d.element_reaction(
                 e,
-                state.t,
+                t,
                 &self.lambda,
                 &j.joint.marker_i().point,
                 &j.joint.marker_j().point,
@@ -408,30 +359,43 @@ impl<'s> Recorder<'s> {
             jr.on_i.push(ri);
             jr.on_j.push(rj);
         }
+    }
+
+    /// Each driver's multiplier, effort along its driven coordinate, power and reactions
+    /// (ν into `self.phi`).
+    fn store_driver_efforts(&mut self, d: &Dynamics, t: f64) {
+        let model = d.model;
         let nj = model.joints().len();
         eval_rows(
             model,
             &d.elements,
             &d.bodies,
             &d.turns,
-            state.t,
+            t,
             Rhs::Nu,
             &mut self.phi,
         );
         for (di, (de, dr)) in self.res.drivers.iter_mut().zip(model.drivers()).enumerate() {
             let e = &d.elements[nj + di];
             let (pi, pj) = driver_points(model, dr);
-            let (ri, rj) = d.element_reaction(e, state.t, &self.lambda, &pi, &pj);
+            let (ri, rj) = d.element_reaction(e, t, &self.lambda, &pi, &pj);
             let row = dr.rows.start;
             let l = self.lambda[row];
             de.lambda.push(l);
             // −λ ∂Φ/∂c: the force or torque along the driven coordinate (the distance
             // driver's row dᵀd − ℓ² grows by 2ℓ per metre). Its power −λ ν is effort × ċ.
-            de.effort.push(-l * dr.driver.coordinate_slope(state.t));
+            de.effort.push(-l * dr.driver.coordinate_slope(t));
             de.power.push(-l * self.phi[row]);
             de.reactions.on_i.push(ri);
             de.reactions.on_j.push(rj);
         }
+    }
+
+    /// Each coupler's multiplier, efforts on its two coordinates, tooth or thread force and
+    /// reactions.
+    fn store_coupler_efforts(&mut self, d: &Dynamics, t: f64) {
+        let model = d.model;
+        let nj = model.joints().len();
         let nd = model.drivers().len();
         for (k, (ce, c)) in self
             .res
@@ -441,8 +405,7 @@ impl<'s> Recorder<'s> {
             .enumerate()
         {
             let (pi, pj) = c.coupler.points();
-            let (ri, rj) =
-                d.element_reaction(&d.elements[nj + nd + k], state.t, &self.lambda, &pi, &pj);
+            let (ri, rj) = d.element_reaction(&d.elements[nj + nd + k], t, &self.lambda, &pi, &pj);
             ce.reactions.on_i.push(ri);
             ce.reactions.on_j.push(rj);
             let l = self.lambda[c.rows.start];
@@ -456,18 +419,6 @@ impl<'s> Recorder<'s> {
                 });
             }
         }
-        pose_torques(&mut self.res.drivers, model, st);
-        let en = d.energy(state);
-        self.res.energy.kinetic.push(en.kinetic);
-        self.res.energy.gravity.push(en.gravity);
-        self.res.energy.spring.push(en.spring);
-        self.res.energy.total.push(en.total());
-        let vd = if is_static {
-            0.0
-        } else {
-            d.velocity_residual(state).0
-        };
-        self.res.velocity_drift.push(vd);
     }
 
     /// The power and work of each channel and the constraints' power at the synced bodies
@@ -529,7 +480,7 @@ impl<'s> Recorder<'s> {
             .dropped
             .iter()
             .enumerate()
-            .map(|(r, &(worst, value, time))| (r, worst, value, time));
+            .map(|(r, row)| (r, row.worst, row.value, row.time));
         self.res.kinematics.dropped_rows = d.model.worst_dropped_rows(rows, 0.0);
         self.res
     }
@@ -542,7 +493,7 @@ fn record_dropped_rows(
     active: &[usize],
     phi: &[f64],
     t: f64,
-    dropped: &mut [(f64, f64, f64)],
+    dropped: &mut [DroppedRow],
 ) {
     if active.len() == phi.len() {
         return;
@@ -563,17 +514,15 @@ fn record_dropped_rows(
         }
         let v = (phi[r] / scales[r]).abs();
         // A NaN, once recorded, stays.
-        let worse = !slot.0.is_nan() && (v.is_nan() || v > slot.0);
+        let worse = !slot.worst.is_nan() && (v.is_nan() || v > slot.worst);
         if (v > bound || v.is_nan()) && worse {
-            *slot = (v, phi[r], t);
+            *slot = DroppedRow {
+                worst: v,
+                value: phi[r],
+                time: t,
+            };
         }
     }
-}
-
-/// Whether a coupler has a tooth or thread force: every rack and screw, and a gear given by
-/// radii.
-fn has_force(c: &cardan_mechanism::CouplerInfo) -> bool {
-    c.kind() != "gear" || c.gear_radius_j.is_some()
 }
 
 /// The efforts of a pose driver's rotation rows (3–5) as the torque its three rows exert on body
@@ -607,32 +556,5 @@ fn pose_torques<'a>(
                 *e = frame.column(m).dot(&torque);
             }
         }
-    }
-}
-
-/// The points a driver's reaction torques are taken about (body frames): its joint's points,
-/// a general motion's frame origins, else the body frame origins.
-fn driver_points(model: &Model, dr: &DriverInfo) -> (Vector3<f64>, Vector3<f64>) {
-    match (dr.joint, &dr.driver) {
-        (Some(j), _) => (
-            model.joints()[j].joint.marker_i().point,
-            model.joints()[j].joint.marker_j().point,
-        ),
-        (None, Driver::Pose(p)) => (p.marker_i.point, p.marker_j.point),
-        (None, _) => (Vector3::zeros(), Vector3::zeros()),
-    }
-}
-
-/// The name of `body`'s point at `local` (body frame), or `origin` for the body frame origin,
-/// else `P(x;y;z)` (body-frame components, m).
-fn point_name(model: &Model, body: BodyId, local: &Vector3<f64>) -> String {
-    match model
-        .points()
-        .iter()
-        .find(|p| p.body == body && p.local == *local)
-    {
-        Some(p) => p.name.clone(),
-        None if *local == Vector3::zeros() => "origin".into(),
-        None => format!("P({};{};{})", local.x, local.y, local.z),
     }
 }

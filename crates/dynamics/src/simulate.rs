@@ -1,6 +1,9 @@
 //! Forward dynamics over time: [`Dynamics::simulate`], and streamed to a [`DynamicSink`]
 //! ([`Dynamics::simulate_into`]) so that memory does not grow with the output times.
 
+use crate::integrators::dopri5::Dopri5;
+use crate::integrators::driver::integrate;
+use crate::integrators::generalized_alpha::GeneralizedAlpha;
 use crate::options::{Integrator, SimulationOptions};
 use crate::record::Recorder;
 use crate::results::{DynamicResults, DynamicSink, IntegrationStats};
@@ -106,7 +109,8 @@ impl Dynamics<'_> {
         self.run(state, options, Some(sink), &mut progress)
     }
 
-    /// The integration loop, the times kept (`sink` `None`) or streamed.
+    /// The integration (the chosen stepper in the driver loop, [`crate::integrators`]), the
+    /// times kept (`sink` `None`) or streamed.
     fn run(
         &mut self,
         state: State,
@@ -131,25 +135,16 @@ impl Dynamics<'_> {
         let f0 = self.kkt.as_ref().map_or(0, |k| k.factorizations);
         let reselections = self.reselections;
         let start = std::time::Instant::now();
-        if let Some(kkt) = self.kkt.as_mut() {
-            kkt.refine_below = match options.integrator {
-                Integrator::Dopri5(o) => crate::kkt::refine_ratio_for(o.rtol),
-                Integrator::GeneralizedAlpha(_) => crate::kkt::SCHUR_REFINE_RATIO,
-            };
-        }
-        let r = match options.integrator {
-            Integrator::Dopri5(o) => crate::integrators::dopri5::run(
-                self, state, &times, &o, options, &mut rec, &mut stats, progress,
+        let r = match &options.integrator {
+            Integrator::Dopri5(o) => integrate::<Dopri5>(
+                self, state, o, options, &times, &mut rec, &mut stats, progress,
             ),
-            Integrator::GeneralizedAlpha(o) => crate::integrators::generalized_alpha::run(
-                self, state, &times, &o, options, &mut rec, &mut stats, progress,
+            Integrator::GeneralizedAlpha(o) => integrate::<GeneralizedAlpha>(
+                self, state, o, options, &times, &mut rec, &mut stats, progress,
             ),
         };
         stats.factorizations = self.kkt.as_ref().map_or(0, |k| k.factorizations) - f0;
         stats.row_reselections = self.reselections - reselections;
-        if let Some(kkt) = self.kkt.as_mut() {
-            kkt.refine_below = crate::kkt::SCHUR_REFINE_RATIO;
-        }
         stats.wall_time = start.elapsed().as_secs_f64();
         match r {
             Ok(()) => Ok(rec.finish(self, stats)),

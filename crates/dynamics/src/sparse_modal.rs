@@ -406,25 +406,20 @@ impl Dynamics<'_> {
     ) -> Result<SparseModalResults, DynamicsError> {
         let equilibrium = self.statics(statics)?;
         let eq = equilibrium.equilibria[0].clone();
-        let (list, stiffness, damping, steps, converged) = self.sparse_modes(&eq, modes)?;
+        let found = self.sparse_modes(&eq, modes)?;
         Ok(SparseModalResults {
             equilibrium,
-            modes: list,
-            stiffness,
-            damping,
-            lanczos_steps: steps,
-            converged,
+            modes: found.modes,
+            stiffness: found.stiffness,
+            damping: found.damping,
+            lanczos_steps: found.lanczos_steps,
+            converged: found.converged,
         })
     }
 
     /// The `nev` lowest modes about the equilibrium `eq` (found by this [`Dynamics`]) on the
     /// sparse path, with K_t, C_t, the Lanczos steps and whether all converged.
-    #[allow(clippy::type_complexity)]
-    fn sparse_modes(
-        &mut self,
-        eq: &Equilibrium,
-        nev: usize,
-    ) -> Result<(Vec<Mode>, SparseMatrix, SparseMatrix, usize, bool), DynamicsError> {
+    fn sparse_modes(&mut self, eq: &Equilibrium, nev: usize) -> Result<SparseModes, DynamicsError> {
         let state = &eq.state;
         if self.kkt.is_none() {
             self.prepare(state)?;
@@ -487,8 +482,26 @@ impl Dynamics<'_> {
             let (ka, kb) = (key(a), key(b));
             ka.0.cmp(&kb.0).then(ka.1.total_cmp(&kb.1))
         });
-        Ok((modes, k, c, low.steps, low.converged))
+        Ok(SparseModes {
+            modes,
+            stiffness: k,
+            damping: c,
+            lanczos_steps: low.steps,
+            converged: low.converged,
+        })
     }
+}
+
+/// The lowest modes about an equilibrium on the sparse path ([`SparseModalResults`] without
+/// the equilibrium).
+struct SparseModes {
+    modes: Vec<Mode>,
+    /// K_t.
+    stiffness: SparseMatrix,
+    /// C_t.
+    damping: SparseMatrix,
+    lanczos_steps: usize,
+    converged: bool,
 }
 
 /// Shift-invert Lanczos in the M inner product with full reorthogonalization (module docs):
@@ -528,8 +541,8 @@ fn lanczos(
         let check = m >= nev && (m.is_multiple_of(5) || m >= max_steps || breakdown);
         if check {
             let r = ritz(&vs, &alpha, &beta, b, nev, breakdown);
-            if r.2 || m >= max_steps || breakdown {
-                result = Some((r, m));
+            if r.converged || m >= max_steps || breakdown {
+                result = Some(r);
                 break;
             }
         }
@@ -559,7 +572,13 @@ fn lanczos(
             }
         }
     }
-    let Some(((thetas, coeffs, converged), m)) = result else {
+    let Some(Ritz {
+        thetas,
+        coefficients: coeffs,
+        converged,
+        dimension: m,
+    }) = result
+    else {
         return Ok(LowestModes {
             values: Vec::new(),
             vectors: Vec::new(),
@@ -594,15 +613,7 @@ fn lanczos(
 /// The `nev` Ritz pairs of largest |θ| of the Lanczos tridiagonal (diagonal `alpha`,
 /// off-diagonal `beta[..m-1]`, next β `b`), with their coefficient vectors, and whether all
 /// converged (|b s_m| ≤ tol |θ|, or an invariant subspace).
-#[allow(clippy::type_complexity)]
-fn ritz(
-    vs: &[Vec<f64>],
-    alpha: &[f64],
-    beta: &[f64],
-    b: f64,
-    nev: usize,
-    breakdown: bool,
-) -> (Vec<f64>, Vec<Vec<f64>>, bool) {
+fn ritz(vs: &[Vec<f64>], alpha: &[f64], beta: &[f64], b: f64, nev: usize, breakdown: bool) -> Ritz {
     let m = vs.len();
     let mut t = DMatrix::zeros(m, m);
     for i in 0..m {
@@ -631,7 +642,24 @@ fn ritz(
         thetas.push(th);
         coeffs.push(s.iter().copied().collect());
     }
-    (thetas, coeffs, converged)
+    Ritz {
+        thetas,
+        coefficients: coeffs,
+        converged,
+        dimension: m,
+    }
+}
+
+/// Ritz pairs of a Lanczos tridiagonal ([`ritz`]).
+struct Ritz {
+    /// θ, largest |θ| first.
+    thetas: Vec<f64>,
+    /// Each θ's coefficients over the Lanczos vectors.
+    coefficients: Vec<Vec<f64>>,
+    /// All converged.
+    converged: bool,
+    /// The subspace dimension m (Lanczos vectors).
+    dimension: usize,
 }
 
 /// y = M x for the block-diagonal mass matrix diag(m_k I, J'_k).

@@ -223,6 +223,101 @@ pub const STABILITY_MODES: usize = 6;
 /// Largest scaled increment (|δr| / L, |δπ'| in rad) of one Newton step.
 const MAX_STEP: f64 = 0.5;
 
+/// The merit ψ of an iterate of static Newton (module docs) and its parts.
+struct Merit {
+    /// ψ = |r₁ w / f|² + Σ over the kept rows (Φ / e)².
+    psi: f64,
+    /// max(max |r₁ w| / f, max |Φ / e| over all rows): the convergence measure.
+    worst: f64,
+    /// r₁ = Φ_vᵀλ − h_s.
+    r1: DVector<f64>,
+    /// Φ (all rows).
+    phi: Vec<f64>,
+}
+
+/// The stability of an equilibrium: the reduced stiffness's eigenvalues, what they mean, and
+/// the named soft directions.
+struct StabilityCheck {
+    eigenvalues: Vec<f64>,
+    stability: Stability,
+    soft_directions: Vec<String>,
+}
+
+/// An iterate of static Newton: the pose and the multipliers (all rows).
+struct StaticIterate {
+    state: State,
+    lambda: Vec<f64>,
+}
+
+/// How the merit weighs the residuals at load factor `s` and time `t`: r₁ by the weights `w`
+/// (1 on forces, 1/L on torques) over the force scale `f`, Φ by the equation scales.
+struct StaticMerit<'w> {
+    s: f64,
+    t: f64,
+    w: &'w [f64],
+    f: f64,
+}
+
+impl StaticMerit<'_> {
+    /// The merit at the pose `st` with multipliers `lam` (`active`: the kept rows).
+    fn eval(&self, d: &mut Dynamics, st: &State, lam: &[f64], active: &[usize]) -> Merit {
+        let (r1, _) = d.static_residual(st, lam, self.s);
+        let phi = d.phi_all(self.t);
+        let scales = d.model.equation_scales();
+        let rf: Vec<f64> = r1.iter().zip(self.w).map(|(r, w)| r * w / self.f).collect();
+        let psi = rf.iter().map(|x| x * x).sum::<f64>()
+            + active
+                .iter()
+                .map(|&r| (phi[r] / scales[r]).powi(2))
+                .sum::<f64>();
+        let worst_f = rf.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+        let worst_p = phi
+            .iter()
+            .zip(scales)
+            .fold(0.0f64, |a, (p, e)| a.max((p / e).abs()));
+        Merit {
+            psi,
+            worst: worst_f.max(worst_p),
+            r1,
+            phi,
+        }
+    }
+
+    /// Backtracking along the Newton step `x` = [δ; Δλ] from (`state`, `lambda`): the first of
+    /// α = 1, ½, ¼, … ([`LINE_SEARCH_HALVINGS`] tries) whose merit decreases by the Armijo
+    /// fraction 1e-4 α of `psi`.
+    fn line_search(
+        &self,
+        d: &mut Dynamics,
+        state: &State,
+        lambda: &[f64],
+        x: &DVector<f64>,
+        active: &[usize],
+        psi: f64,
+    ) -> Option<StaticIterate> {
+        let n = state.v.len();
+        let mut alpha = 1.0;
+        for _ in 0..LINE_SEARCH_HALVINGS {
+            let mut trial = state.clone();
+            let dq: Vec<f64> = (0..n).map(|c| alpha * x[c]).collect();
+            apply_rotation_step(&mut trial.q, &dq);
+            let mut lt = lambda.to_vec();
+            for (a, &r) in active.iter().enumerate() {
+                lt[r] += alpha * x[n + a];
+            }
+            let pt = self.eval(d, &trial, &lt, active).psi;
+            if pt.is_finite() && pt < (1.0 - 1e-4 * alpha) * psi {
+                return Some(StaticIterate {
+                    state: trial,
+                    lambda: lt,
+                });
+            }
+            alpha *= 0.5;
+        }
+        None
+    }
+}
+
 impl Dynamics<'_> {
     /// The static equilibrium at `options.time` from the poses of `guess` (assembled first,
     /// drivers included). See the module docs for the method, the stability test and the
@@ -412,16 +507,16 @@ impl Dynamics<'_> {
         load_steps: usize,
     ) -> Result<Equilibrium, DynamicsError> {
         let residual = self.scaled_residual(&state, &lambda, 1.0);
-        let (eigenvalues, stability, soft_directions) = self.stability(&state, &lambda)?;
+        let check = self.stability(&state, &lambda)?;
         Ok(Equilibrium {
             state,
             lambda,
             iterations,
             load_steps,
             residual,
-            eigenvalues,
-            stability,
-            soft_directions,
+            eigenvalues: check.eigenvalues,
+            stability: check.stability,
+            soft_directions: check.soft_directions,
         })
     }
 
@@ -573,25 +668,14 @@ impl Dynamics<'_> {
         let mut mu0 = 0.0;
         let mut active = self.active_rows();
         let mut it = 0;
-        let merit = |d: &mut Self, st: &State, lam: &[f64], active: &[usize]| {
-            let (r1, _) = d.static_residual(st, lam, s);
-            let phi = d.phi_all(t);
-            let scales = d.model.equation_scales();
-            let rf: Vec<f64> = r1.iter().zip(&w).map(|(r, w)| r * w / f).collect();
-            let psi = rf.iter().map(|x| x * x).sum::<f64>()
-                + active
-                    .iter()
-                    .map(|&r| (phi[r] / scales[r]).powi(2))
-                    .sum::<f64>();
-            let worst_f = rf.iter().fold(0.0f64, |a, x| a.max(x.abs()));
-            let worst_p = phi
-                .iter()
-                .zip(scales)
-                .fold(0.0f64, |a, (p, e)| a.max((p / e).abs()));
-            (psi, worst_f.max(worst_p), r1, phi)
-        };
+        let merit = StaticMerit { s, t, w: &w, f };
         loop {
-            let (psi, worst, r1, phi) = merit(self, state, lambda, &active);
+            let Merit {
+                psi,
+                worst,
+                r1,
+                phi,
+            } = merit.eval(self, state, lambda, &active);
             if !psi.is_finite() {
                 return Err(Fail::Error(DynamicsError::NonFinite {
                     time: t,
@@ -652,24 +736,7 @@ impl Dynamics<'_> {
                     if big > MAX_STEP {
                         x *= MAX_STEP / big;
                     }
-                    let mut alpha = 1.0;
-                    let mut found = None;
-                    for _ in 0..LINE_SEARCH_HALVINGS {
-                        let mut trial = state.clone();
-                        let dq: Vec<f64> = (0..n).map(|c| alpha * x[c]).collect();
-                        apply_rotation_step(&mut trial.q, &dq);
-                        let mut lt = lambda.to_vec();
-                        for (a, &r) in active.iter().enumerate() {
-                            lt[r] += alpha * x[n + a];
-                        }
-                        let (pt, ..) = merit(self, &trial, &lt, &active);
-                        if pt.is_finite() && pt < (1.0 - 1e-4 * alpha) * psi {
-                            found = Some((trial, lt));
-                            break;
-                        }
-                        alpha *= 0.5;
-                    }
-                    if let Some(f) = found {
+                    if let Some(f) = merit.line_search(self, state, lambda, &x, &active, psi) {
                         break Some(f);
                     }
                 } else if mu == 0.0 && newton.is_none() {
@@ -694,9 +761,9 @@ impl Dynamics<'_> {
                     return Err(Fail::Stalled(worst));
                 }
             };
-            if let Some((trial, lt)) = accepted {
-                state.q = trial.q;
-                lambda.copy_from_slice(&lt);
+            if let Some(iterate) = accepted {
+                state.q = iterate.state.q;
+                lambda.copy_from_slice(&iterate.lambda);
                 mu = if mu < 1e-6 * mu0 { 0.0 } else { mu * 0.25 };
             }
         }
@@ -719,7 +786,7 @@ impl Dynamics<'_> {
         &mut self,
         state: &State,
         lambda: &[f64],
-    ) -> Result<(Vec<f64>, Stability, Vec<String>), DynamicsError> {
+    ) -> Result<StabilityCheck, DynamicsError> {
         let (values, vectors) = self.reduced_eigen(state, lambda, 1.0)?;
         let thr = soft_threshold(&values);
         let mut soft = Vec::new();
@@ -734,7 +801,11 @@ impl Dynamics<'_> {
                 soft.push(self.direction_name(state, vectors.column(i).as_slice()));
             }
         }
-        Ok((values, stability, soft))
+        Ok(StabilityCheck {
+            eigenvalues: values,
+            stability,
+            soft_directions: soft,
+        })
     }
 
     /// Eigenvalues ω² (ascending) of K_r x = ω² M_r x at `state` and their directions δ = N x

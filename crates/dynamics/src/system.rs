@@ -2,7 +2,8 @@
 //! M v̇ + Φ_vᵀ λ = h, Φ_v v̇ = γ# solved at a state.
 
 use crate::forces::{AppliedForces, Force, Resolved, UserForces};
-use crate::kkt::{element_blocks, elements, eval_rows, Element, Kkt, Rhs};
+use crate::kkt::{element_blocks, elements, eval_rows, Element, Kkt, Rhs, SchurRefinement};
+use crate::options::Baumgarte;
 use crate::results::Reaction;
 use crate::state::State;
 use crate::DynamicsError;
@@ -262,14 +263,13 @@ impl<'m> Dynamics<'m> {
             // The same choice: the layout, its factorization and its counters stay.
             return false;
         }
-        // The run's counters and the refinement setting carry over to the new layout.
-        let (factorizations, refine_below) = (old.factorizations, old.refine_below);
+        // The run's counter carries over to the new layout.
+        let factorizations = old.factorizations;
         if self.lay_out(t, active).is_err() {
             return false;
         }
         let kkt = self.kkt.as_mut().expect("laid out");
         kkt.factorizations = factorizations;
-        kkt.refine_below = refine_below;
         self.reselections += 1;
         true
     }
@@ -478,8 +478,14 @@ impl<'m> Dynamics<'m> {
     }
 
     /// Solves the equations of motion at the synced bodies: fills `kkt.sol` = [v̇; λ_active].
-    /// `baumgarte` = (α, β) adds −2α(Φ_v v − ν) − β²Φ to γ#. No allocation.
-    pub(crate) fn solve_eom(&mut self, t: f64, baumgarte: (f64, f64)) -> Result<(), DynamicsError> {
+    /// `baumgarte` (α, β) adds −2α(Φ_v v − ν) − β²Φ to γ#; `refine`: when a Schur solve is
+    /// refined. No allocation.
+    pub(crate) fn solve_eom(
+        &mut self,
+        t: f64,
+        baumgarte: Baumgarte,
+        refine: SchurRefinement,
+    ) -> Result<(), DynamicsError> {
         self.eval_forces(t);
         self.check_forces(t)?;
         let model = self.model;
@@ -499,7 +505,7 @@ impl<'m> Dynamics<'m> {
         for (a, &r) in kkt.active.iter().enumerate() {
             kkt.rhs[n + a] = kkt.full[r];
         }
-        let (alpha, beta) = baumgarte;
+        let Baumgarte { alpha, beta } = baumgarte;
         if alpha != 0.0 || beta != 0.0 {
             let mut wn = std::mem::take(&mut kkt.work_n);
             let mut wa = std::mem::take(&mut kkt.work_a);
@@ -538,9 +544,11 @@ impl<'m> Dynamics<'m> {
             kkt.work_a = wa;
         }
         kkt.rhs[..n].copy_from_slice(&self.h);
-        let r = kkt.factor().and_then(|_| kkt.solve());
+        let r = kkt.factor().and_then(|_| kkt.solve(refine));
         match r {
-            Err(SolverError::Singular { .. }) if self.reselect(t) => self.solve_eom(t, baumgarte),
+            Err(SolverError::Singular { .. }) if self.reselect(t) => {
+                self.solve_eom(t, baumgarte, refine)
+            }
             r => r.map_err(|e| self.solver_error(t, e)),
         }
     }
@@ -558,11 +566,23 @@ impl<'m> Dynamics<'m> {
         vdot: &mut [f64],
         lambda: &mut [f64],
     ) -> Result<(), DynamicsError> {
+        self.accelerations_refined(state, vdot, lambda, SchurRefinement::ONE_SHOT)
+    }
+
+    /// [`accelerations`](Self::accelerations) with the Schur refinement of the caller's
+    /// configuration (an integrator's).
+    pub(crate) fn accelerations_refined(
+        &mut self,
+        state: &State,
+        vdot: &mut [f64],
+        lambda: &mut [f64],
+        refine: SchurRefinement,
+    ) -> Result<(), DynamicsError> {
         if self.kkt.is_none() {
             self.prepare(state)?;
         }
         self.sync(state);
-        self.solve_eom(state.t, (0.0, 0.0))?;
+        self.solve_eom(state.t, Baumgarte::NONE, refine)?;
         self.read_solution(vdot, lambda);
         Ok(())
     }
@@ -584,6 +604,16 @@ impl<'m> Dynamics<'m> {
     /// # Errors
     /// [`DynamicsError::Singular`].
     pub fn project_velocities(&mut self, state: &mut State) -> Result<(), DynamicsError> {
+        self.project_velocities_refined(state, SchurRefinement::ONE_SHOT)
+    }
+
+    /// [`project_velocities`](Self::project_velocities) with the Schur refinement of the
+    /// caller's configuration (an integrator's).
+    pub(crate) fn project_velocities_refined(
+        &mut self,
+        state: &mut State,
+        refine: SchurRefinement,
+    ) -> Result<(), DynamicsError> {
         if self.kkt.is_none() {
             self.prepare(state)?;
         }
@@ -610,10 +640,10 @@ impl<'m> Dynamics<'m> {
             kkt.rhs[n + a] = kkt.full[r] - wa[a];
         }
         kkt.work_a = wa;
-        let r = kkt.factor().and_then(|_| kkt.solve());
+        let r = kkt.factor().and_then(|_| kkt.solve(refine));
         match r {
             Err(SolverError::Singular { .. }) if self.reselect(t) => {
-                return self.project_velocities(state)
+                return self.project_velocities_refined(state, refine)
             }
             Err(e) => return Err(self.solver_error(t, e)),
             Ok(()) => {}
@@ -635,6 +665,17 @@ impl<'m> Dynamics<'m> {
         &mut self,
         state: &mut State,
         tol: f64,
+    ) -> Result<usize, DynamicsError> {
+        self.project_positions_refined(state, tol, SchurRefinement::ONE_SHOT)
+    }
+
+    /// [`project_positions`](Self::project_positions) with the Schur refinement of the caller's
+    /// configuration (an integrator's).
+    pub(crate) fn project_positions_refined(
+        &mut self,
+        state: &mut State,
+        tol: f64,
+        refine: SchurRefinement,
     ) -> Result<usize, DynamicsError> {
         if self.kkt.is_none() {
             self.prepare(state)?;
@@ -697,7 +738,7 @@ impl<'m> Dynamics<'m> {
             for (a, &r) in kkt.active.iter().enumerate() {
                 kkt.rhs[n + a] = -kkt.full[r];
             }
-            let r = kkt.factor().and_then(|_| kkt.solve());
+            let r = kkt.factor().and_then(|_| kkt.solve(refine));
             match r {
                 Err(SolverError::Singular { .. }) if self.reselect(t) => continue,
                 Err(e) => return Err(self.solver_error(t, e)),
