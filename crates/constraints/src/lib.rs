@@ -96,6 +96,7 @@ pub mod p2_select;
 pub mod primitive;
 pub mod radial_distance;
 pub mod spherical;
+pub mod spline;
 pub mod state;
 pub mod time_function;
 
@@ -125,4 +126,5 @@ pub use primitive::Primitive;
 pub use radial_distance::RadialDistance;
 pub use spherical::Spherical;
 pub use state::{BlockUse, BodyPair, BodyState, Footprint};
-pub use time_function::{Spline, TimeFunction};
+pub use spline::Spline;
+pub use time_function::TimeFunction;
