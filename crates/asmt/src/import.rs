@@ -527,7 +527,7 @@ impl Ctx<'_> {
                 line,
                 format!(
                     "{what}: no marker has the path \"{}\" (marker paths are /<assembly>/<marker> or /<assembly>/<part>/<marker>)",
-                    crate::document::clip(path)
+                    crate::scalar::clip(path)
                 ),
             )
         })
@@ -929,7 +929,7 @@ impl Ctx<'_> {
                     } else {
                         format!(
                             "{what}: no joint has the path \"{}\" (MotionJoint must name a joint: /<assembly>/<joint>)",
-                            crate::document::clip(&jp.path)
+                            crate::scalar::clip(&jp.path)
                         )
                     },
                 ));
