@@ -79,6 +79,13 @@ pub struct Workspace {
     pub(crate) counts: EvaluationCounts,
 }
 
+impl Model {
+    /// A fresh workspace at the initial poses (allocates every buffer a run needs).
+    pub fn workspace(&self) -> Workspace {
+        Workspace::new(self)
+    }
+}
+
 /// How many times the velocity and acceleration right-hand sides were evaluated in a workspace:
 /// the evidence that an analysis computes only what it was asked for (a position-only run
 /// evaluates neither ν nor γ#).

@@ -315,8 +315,8 @@ impl Model {
         // Rows are laid out element by element, so the first m rows own the first k slots.
         let k = self.pattern.entries().take_while(|&(r, _)| r < m).count();
         let entries: Vec<(usize, usize)> = self.pattern.entries().take(k).collect();
-        let pattern =
-            SparsityPattern::new(m, n, &entries).map_err(|e| crate::dof::solver(options.t, e))?;
+        let pattern = SparsityPattern::new(m, n, &entries)
+            .map_err(|e| crate::analysis::dof::solver(options.t, e))?;
         let nopts = NewtonOptions {
             tolerances: options.tolerances,
             max_iterations: options.max_iterations,
@@ -350,7 +350,7 @@ impl Model {
             } else {
                 min_norm_newton(&pattern, MinNormQr::new(), nopts, &mut sys, &mut ws.x)
             }
-            .map_err(|e| crate::dof::solver(options.t, e))?
+            .map_err(|e| crate::analysis::dof::solver(options.t, e))?
         };
         ws.sync_poses();
         match result {

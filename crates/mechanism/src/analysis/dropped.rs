@@ -35,8 +35,8 @@
 //! rows); above it, the front end reports a warning naming the joint, its worst residual and the
 //! time (`cardan run`'s summary and run.json).
 
-use crate::error::EquationName;
 use crate::model::Model;
+pub use crate::results::DroppedRowResidual;
 use crate::workspace::Workspace;
 use cardan_constraints::{Constraint, Dimension};
 use cardan_solver::RankOptions;
@@ -63,21 +63,6 @@ pub const MAX_RANK_TOLERANCE: f64 = 1e-3;
 /// rounding leaves.
 pub fn gross_inconsistency(tol: f64) -> f64 {
     (1e3 * tol).max(1e-6)
-}
-
-/// The worst residual of a row dropped as redundant, over a run.
-#[derive(Debug, Clone, PartialEq)]
-pub struct DroppedRowResidual {
-    /// The equation (element, kind, primitive, row).
-    pub equation: EquationName,
-    /// Its scaled residual |Φ_r| / e_r (relative to the model's size for a length).
-    pub residual: f64,
-    /// Its residual Φ_r in SI units (m, m², or dimensionless, as `dimension` says).
-    pub value: f64,
-    /// What Φ_r measures.
-    pub dimension: Dimension,
-    /// When it was largest (s).
-    pub time: f64,
 }
 
 impl Model {

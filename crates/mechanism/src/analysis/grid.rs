@@ -381,10 +381,7 @@ impl Model {
 
     /// The dropped rows off by more than the kinematic solver's residual tolerance during the
     /// run (`analysis::dropped`).
-    fn dropped_rows_of_run(
-        &self,
-        ws: &Workspace,
-    ) -> Vec<crate::analysis::dropped::DroppedRowResidual> {
+    fn dropped_rows_of_run(&self, ws: &Workspace) -> Vec<crate::results::DroppedRowResidual> {
         let tol = ws.kin.as_ref().map_or(Tolerances::default().residual, |n| {
             n.options().tolerances.residual
         });

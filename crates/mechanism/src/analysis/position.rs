@@ -26,8 +26,10 @@
 //! a failure of the full set is reported. The reactions of redundant joints are one admissible
 //! split: at a re-selection the split changes (the multipliers of the dropped rows are 0).
 
-use crate::dof::{solver, DofReport};
-use crate::error::{AnalysisError, EquationName};
+use crate::analysis::dof::solver;
+use crate::dof::DofReport;
+use crate::equation::EquationName;
+use crate::error::AnalysisError;
 use crate::model::Model;
 use crate::workspace::{PositionSystem, Workspace};
 use cardan_constraints::BodyPair;

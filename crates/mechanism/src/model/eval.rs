@@ -1,7 +1,8 @@
 //! Evaluation of the global system on body states (6-coordinate form): Φ, ν, γ# and the
 //! Jacobian Φ_v, element by element, scattered into the global vectors and slot array.
 
-use super::{BodyId, Model, ScatterMap, NO_SLOT};
+use super::elements::{BodyId, ScatterMap, NO_SLOT};
+use super::Model;
 use crate::workspace::Workspace;
 use cardan_constraints::{BodyPair, BodyState, Constraint};
 use std::ops::Range;
