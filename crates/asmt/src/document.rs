@@ -575,6 +575,35 @@ fn assembly(asm: &Node, header: String, end: usize) -> Result<Document> {
         Some(r) => ref_points(r, &format!("the assembly \"{name}\""))?,
         None => Vec::new(),
     };
+    ignore_geometry(&b, &mut ignored);
+    let parts = parts(&b, &mut ignored)?;
+    require_sections(&b)?;
+    let (joints, motions) = constraint_sets(&b, &mut ignored)?;
+    ignore_force_torques(&b, &mut ignored);
+    let gravity = match b.get("ConstantGravity") {
+        Some(g) => Some((b.vector("ConstantGravity")?, g.line)),
+        None => None,
+    };
+    let simulation = simulation(&b)?;
+    Ok(Document {
+        header,
+        name,
+        notes,
+        frame,
+        ground,
+        parts,
+        joints,
+        motions,
+        ignored,
+        gravity,
+        simulation,
+        series: None,
+        lines: end,
+    })
+}
+
+/// The assembly's curves, surfaces and kinematic IJs, listed as ignored.
+fn ignore_geometry(b: &Block, ignored: &mut Vec<Ignored>) {
     for sec in ["RefCurves", "RefSurfaces", "KinematicIJs"] {
         if let Some(s) = b.get(sec) {
             for c in &s.children {
@@ -587,6 +616,10 @@ fn assembly(asm: &Node, header: String, end: usize) -> Result<Document> {
             }
         }
     }
+}
+
+/// The `Parts` list (required), each part read by [`part`].
+fn parts(b: &Block, ignored: &mut Vec<Ignored>) -> Result<Vec<Part>> {
     let parts_node = b.require("Parts")?;
     let mut parts = Vec::new();
     for p in &parts_node.children {
@@ -599,10 +632,14 @@ fn assembly(asm: &Node, header: String, end: usize) -> Result<Document> {
                 ),
             ));
         }
-        parts.push(part(p, &mut ignored)?);
+        parts.push(part(p, ignored)?);
     }
-    let mut joints = Vec::new();
-    let mut motions = Vec::new();
+    Ok(parts)
+}
+
+/// The sections OndselSolver requires (`ConstraintSets`, `ConstantGravity`,
+/// `SimulationParameters`, `AnimationParameters`) and the fields of `AnimationParameters`.
+fn require_sections(b: &Block) -> Result<()> {
     // OndselSolver reads the sections in order and all of them; a missing one is a truncated
     // or damaged file.
     for sec in [
@@ -624,6 +661,14 @@ fn assembly(asm: &Node, header: String, end: usize) -> Result<Document> {
     ] {
         anim.value(f)?;
     }
+    Ok(())
+}
+
+/// The joints and motions of `ConstraintSets`; `AllowRotation` motions, limits and general
+/// constraint sets are listed as ignored.
+fn constraint_sets(b: &Block, ignored: &mut Vec<Ignored>) -> Result<(Vec<Joint>, Vec<Motion>)> {
+    let mut joints = Vec::new();
+    let mut motions = Vec::new();
     if let Some(cs) = b.get("ConstraintSets") {
         for sec in &cs.children {
             match sec.label() {
@@ -666,6 +711,11 @@ fn assembly(asm: &Node, header: String, end: usize) -> Result<Document> {
             }
         }
     }
+    Ok((joints, motions))
+}
+
+/// The force elements of `ForceTorques`, listed as ignored.
+fn ignore_force_torques(b: &Block, ignored: &mut Vec<Ignored>) {
     if let Some(ft) = b.get("ForceTorques") {
         for f in &ft.children {
             ignored.push(ignored_item(
@@ -674,10 +724,11 @@ fn assembly(asm: &Node, header: String, end: usize) -> Result<Document> {
             ));
         }
     }
-    let gravity = match b.get("ConstantGravity") {
-        Some(g) => Some((b.vector("ConstantGravity")?, g.line)),
-        None => None,
-    };
+}
+
+/// `SimulationParameters`, if present: times and steps, with OndselSolver's defaults for
+/// `hmin`, `hmax` and `errorTol`; tend ≥ tstart and a positive hout when they differ.
+fn simulation(b: &Block) -> Result<Option<Simulation>> {
     let simulation = match b.get("SimulationParameters") {
         Some(s) => {
             let sb = Block::new(s, "SimulationParameters");
@@ -721,21 +772,7 @@ fn assembly(asm: &Node, header: String, end: usize) -> Result<Document> {
         }
         None => None,
     };
-    Ok(Document {
-        header,
-        name,
-        notes,
-        frame,
-        ground,
-        parts,
-        joints,
-        motions,
-        ignored,
-        gravity,
-        simulation,
-        series: None,
-        lines: end,
-    })
+    Ok(simulation)
 }
 
 fn ignored_item(node: &Node, reason: &'static str) -> Ignored {
