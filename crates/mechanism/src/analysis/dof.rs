@@ -16,7 +16,7 @@ impl Model {
     /// [`AnalysisError::Solver`] if the Jacobian is not finite.
     pub fn dof(&self, ws: &Workspace) -> Result<DofReport, AnalysisError> {
         let mut slots = vec![0.0; self.pattern.num_slots()];
-        self.jacobian_into(&ws.bodies, ws.t, &mut slots);
+        self.jacobian_into(&ws.pose.bodies, ws.pose.t, &mut slots);
         let mj = self.joint_rows;
         let n = self.num_unknowns();
         let (rank, redundant) = if mj == 0 {
@@ -27,14 +27,14 @@ impl Model {
                 self.pattern.entries().take_while(|&(r, _)| r < mj).count()
             });
             let entries: Vec<(usize, usize)> = self.pattern.entries().take(k).collect();
-            let sub = SparsityPattern::new(mj, n, &entries).map_err(|e| solver(ws.t, e))?;
+            let sub = SparsityPattern::new(mj, n, &entries).map_err(|e| solver(ws.pose.t, e))?;
             // A slightly inconsistent model assembled to its least-squares pose: the tolerance
             // widens with its residual (`analysis::dropped`).
             let mut phi = vec![0.0; self.num_equations()];
-            self.phi_into(&ws.bodies, &ws.turns, ws.t, &mut phi);
+            self.phi_into(&ws.pose.bodies, &ws.pose.turns, ws.pose.t, &mut phi);
             let options = self.rank_options_for(&phi, mj);
             let ra = RankAnalysis::compute_auto(&sub, &slots[..k], options)
-                .map_err(|e| solver(ws.t, e))?;
+                .map_err(|e| solver(ws.pose.t, e))?;
             let red = ra
                 .dependent_rows()
                 .iter()

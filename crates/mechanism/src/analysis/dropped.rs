@@ -98,18 +98,18 @@ impl Model {
             .fold(0.0f64, f64::max)
     }
 
-    /// Records the dropped rows' residuals from `ws.phi` (Φ at the solution of time `t`): the
+    /// Records the dropped rows' residuals from `ws.rows.phi` (Φ at the solution of time `t`): the
     /// worst per row. No allocation.
     pub(crate) fn record_dropped_rows(&self, ws: &mut Workspace, t: f64) {
-        for r in 0..ws.kept.len() {
-            if ws.kept[r] {
+        for r in 0..ws.dropped.kept.len() {
+            if ws.dropped.kept[r] {
                 continue;
             }
-            let d = (ws.phi[r] / self.equation_scales[r]).abs();
-            if d > ws.dropped_worst[r] || d.is_nan() {
-                ws.dropped_worst[r] = d;
-                ws.dropped_value[r] = ws.phi[r];
-                ws.dropped_time[r] = t;
+            let d = (ws.rows.phi[r] / self.equation_scales[r]).abs();
+            if d > ws.dropped.worst[r] || d.is_nan() {
+                ws.dropped.worst[r] = d;
+                ws.dropped.value[r] = ws.rows.phi[r];
+                ws.dropped.time[r] = t;
             }
         }
     }
@@ -118,12 +118,12 @@ impl Model {
     /// since the kinematic solver was prepared: one per element (its worst row), in model
     /// order. Empty for a consistent model (see the module docs). Allocates.
     pub fn dropped_row_residuals(&self, ws: &Workspace, tol: f64) -> Vec<DroppedRowResidual> {
-        let rows = (0..ws.dropped_worst.len()).map(|r| {
+        let rows = (0..ws.dropped.worst.len()).map(|r| {
             (
                 r,
-                ws.dropped_worst[r],
-                ws.dropped_value[r],
-                ws.dropped_time[r],
+                ws.dropped.worst[r],
+                ws.dropped.value[r],
+                ws.dropped.time[r],
             )
         });
         self.worst_dropped_rows(rows, tol)
@@ -201,17 +201,17 @@ impl Workspace {
     /// Forgets the recorded residuals of dropped rows and marks every row kept (a new
     /// preparation of the kinematic solver).
     pub(crate) fn reset_dropped_rows(&mut self) {
-        self.kept.fill(true);
-        self.dropped_worst.fill(0.0);
-        self.dropped_value.fill(0.0);
-        self.dropped_time.fill(f64::NAN);
+        self.dropped.kept.fill(true);
+        self.dropped.worst.fill(0.0);
+        self.dropped.value.fill(0.0);
+        self.dropped.time.fill(f64::NAN);
     }
 
     /// Marks the rows the kinematic solver keeps (the others are dropped as redundant).
     pub(crate) fn set_kept_rows(&mut self, rows: &[usize]) {
-        self.kept.fill(false);
+        self.dropped.kept.fill(false);
         for &r in rows {
-            self.kept[r] = true;
+            self.dropped.kept[r] = true;
         }
     }
 }

@@ -160,7 +160,7 @@ pub(crate) fn relative_accelerations(
     }
 }
 
-/// Moves the workspace's poses to the prediction at `ws.t + dt` from the current velocities
+/// Moves the workspace's poses to the prediction at `ws.pose.t + dt` from the current velocities
 /// (and, with `acc`, accelerations; with `c3` = dt³ / (6 h) ≠ 0, the jerk from the last two
 /// relative accelerations, h apart). Requires valid velocities. No allocation.
 pub(crate) fn predict(model: &Model, ws: &mut Workspace, dt: f64, acc: bool, c3: f64) {
@@ -183,39 +183,42 @@ pub(crate) fn predict(model: &Model, ws: &mut Workspace, dt: f64, acc: bool, c3:
     // absolute pose [p; r] (under the ground, or when it turns faster relative to its parent
     // than absolutely).
     for (b, edge) in tree.edges.iter().enumerate() {
-        let vdot = acc.then_some(ws.vdot.as_slice());
-        let cf = Frame::of(b, &ws.bodies, &ws.v, vdot);
+        let vdot = acc.then_some(ws.motion.vdot.as_slice());
+        let cf = Frame::of(b, &ws.pose.bodies, &ws.motion.v, vdot);
         let parent = edge
             .parent
-            .map(|k| Frame::of(k, &ws.bodies, &ws.v, vdot))
+            .map(|k| Frame::of(k, &ws.pose.bodies, &ws.motion.v, vdot))
             .filter(|pf| relative_w(pf, &cf).norm_squared() <= cf.w.norm_squared());
-        ws.pred_absolute[b] = parent.is_none();
+        ws.prediction.pred_absolute[b] = parent.is_none();
         let (p, e) = if let Some(pf) = parent {
             let rel = relative(edge, &pf, &cf);
-            let (last, prev) = (&ws.edge_acc_last[6 * b..], &ws.edge_acc_prev[6 * b..]);
+            let (last, prev) = (
+                &ws.jerk.edge_acc_last[6 * b..],
+                &ws.jerk.edge_acc_prev[6 * b..],
+            );
             let e = rel.e + rel.e_dot * dt + rel.e_ddot * (0.5 * dt * dt) + jerk(last, prev, 0);
             let p = rel
                 .p_rel
                 .compose(&step(&rel.w, &rel.w_dot, jerk(last, prev, 3)));
             (p, e)
         } else {
-            let (last, prev) = (&ws.vdot_last[6 * b..], &ws.vdot_prev[6 * b..]);
+            let (last, prev) = (&ws.jerk.vdot_last[6 * b..], &ws.jerk.vdot_prev[6 * b..]);
             let r = cf.r + cf.rd * dt + cf.rdd * (0.5 * dt * dt) + jerk(last, prev, 0);
             let p = cf.p.compose_unit(&step(&cf.w, &cf.wd, jerk(last, prev, 3)));
             (p, r)
         };
-        let out = &mut ws.pred[7 * b..7 * b + 7];
+        let out = &mut ws.prediction.pred[7 * b..7 * b + 7];
         out[..4].copy_from_slice(p.as_vector().as_slice());
         out[4..].copy_from_slice(e.as_slice());
     }
     // Pass 2: compose from the ground outwards (parents already hold their predicted poses).
     for &b in &tree.order {
         let edge = &tree.edges[b];
-        let q = &ws.pred[7 * b..7 * b + 7];
+        let q = &ws.prediction.pred[7 * b..7 * b + 7];
         let (p, e) = (EulerParams::new(q[0], q[1], q[2], q[3]), v3(&q[4..]));
         let (r, pc) = match edge.parent {
-            Some(k) if !ws.pred_absolute[b] => {
-                let x = &ws.x[7 * k..7 * k + 7];
+            Some(k) if !ws.prediction.pred_absolute[b] => {
+                let x = &ws.pose.x[7 * k..7 * k + 7];
                 let (rp, pp) = (v3(x), EulerParams::new(x[3], x[4], x[5], x[6]));
                 let pc = pp.compose_unit(&p);
                 (
@@ -225,7 +228,7 @@ pub(crate) fn predict(model: &Model, ws: &mut Workspace, dt: f64, acc: bool, c3:
             }
             _ => (e, p),
         };
-        let xs = &mut ws.x[7 * b..7 * b + 7];
+        let xs = &mut ws.pose.x[7 * b..7 * b + 7];
         xs[..3].copy_from_slice(r.as_slice());
         xs[3..].copy_from_slice(pc.as_vector().as_slice());
     }
