@@ -31,11 +31,12 @@
 //!   loop, then scales one column at a time while it is in L1. With duplicates (summed) the
 //!   values are zeroed, summed, and their row maxima taken in a pass of their own.
 
+use crate::equilibration::Equilibration;
 use crate::error::{NonFiniteLocation, SolverError};
-use crate::linear::{
-    singular_error, Equilibration, LinearSolver, Scratch, DEFAULT_PIVOT_TOLERANCE,
-};
+use crate::linear::LinearSolver;
 use crate::pattern::{check_len, SparsityPattern};
+use crate::scratch::Scratch;
+use crate::singular::{singular_error, DEFAULT_PIVOT_TOLERANCE};
 use crate::sparse_refactor::Refactor;
 use faer::dyn_stack::StackReq;
 use faer::perm::PermRef;
