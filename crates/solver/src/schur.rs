@@ -160,6 +160,52 @@ struct BlockRowPairs {
     w: Vec<f64>,
 }
 
+impl BlockRowPairs {
+    /// The block-row pairs of B and their entries from B's entries `(row, col)` (value index =
+    /// position in the list), pairs grouped by block and sorted by row, entries by column.
+    fn lay_out(&mut self, block: usize, nblocks: usize, b_entries: &[(usize, usize)]) {
+        // Entries sorted by (block, row, col): the block-row pairs and their entries. Bucketed
+        // by block first (a counting sort), so that only each block's few entries are compared.
+        let mut order = bucket_by(b_entries.len(), nblocks, |e| b_entries[e].1 / block);
+        let mut start = 0;
+        while start < order.len() {
+            let k = b_entries[order[start]].1 / block;
+            let len = order[start..]
+                .iter()
+                .take_while(|&&e| b_entries[e].1 / block == k)
+                .count();
+            order[start..start + len].sort_unstable_by_key(|&e| (b_entries[e].0, b_entries[e].1));
+            start += len;
+        }
+        self.start = vec![0; nblocks + 1];
+        self.row.clear();
+        self.entry_start = vec![0];
+        self.entry_col.clear();
+        self.entry_val.clear();
+        let mut last: Option<(usize, usize)> = None;
+        for &e in &order {
+            let (r, c) = b_entries[e];
+            let k = c / block;
+            if last != Some((k, r)) {
+                if last.is_some() {
+                    self.entry_start.push(self.entry_col.len());
+                }
+                self.row.push(r);
+                self.start[k + 1] += 1;
+                last = Some((k, r));
+            }
+            self.entry_col.push(c % block);
+            self.entry_val.push(e);
+        }
+        if last.is_some() {
+            self.entry_start.push(self.entry_col.len());
+        }
+        for k in 0..nblocks {
+            self.start[k + 1] += self.start[k];
+        }
+    }
+}
+
 /// S in the permuted numbering.
 #[derive(Debug)]
 struct SchurMatrix {
@@ -300,45 +346,7 @@ impl SchurSolver {
                 });
             }
         }
-        // Entries sorted by (block, row, col): the block-row pairs and their entries. Bucketed
-        // by block first (a counting sort), so that only each block's few entries are compared.
-        let mut order = bucket_by(b_entries.len(), nblocks, |e| b_entries[e].1 / block);
-        let mut start = 0;
-        while start < order.len() {
-            let k = b_entries[order[start]].1 / block;
-            let len = order[start..]
-                .iter()
-                .take_while(|&&e| b_entries[e].1 / block == k)
-                .count();
-            order[start..start + len].sort_unstable_by_key(|&e| (b_entries[e].0, b_entries[e].1));
-            start += len;
-        }
-        self.pairs.start = vec![0; nblocks + 1];
-        self.pairs.row.clear();
-        self.pairs.entry_start = vec![0];
-        self.pairs.entry_col.clear();
-        self.pairs.entry_val.clear();
-        let mut last: Option<(usize, usize)> = None;
-        for &e in &order {
-            let (r, c) = b_entries[e];
-            let k = c / block;
-            if last != Some((k, r)) {
-                if last.is_some() {
-                    self.pairs.entry_start.push(self.pairs.entry_col.len());
-                }
-                self.pairs.row.push(r);
-                self.pairs.start[k + 1] += 1;
-                last = Some((k, r));
-            }
-            self.pairs.entry_col.push(c % block);
-            self.pairs.entry_val.push(e);
-        }
-        if last.is_some() {
-            self.pairs.entry_start.push(self.pairs.entry_col.len());
-        }
-        for k in 0..nblocks {
-            self.pairs.start[k + 1] += self.pairs.start[k];
-        }
+        self.pairs.lay_out(block, nblocks, b_entries);
         // Pattern of the lower triangle of S: the diagonal, and (max, min) of every two rows
         // touching a common block.
         let mut lower: Vec<(usize, usize)> = (0..m).map(|r| (r, r)).collect();
