@@ -88,10 +88,11 @@ pub mod sanity;
 pub mod workspace;
 
 pub use analysis::assembly::{AssemblyOptions, AssemblyReport};
-pub use analysis::dropped::{gross_inconsistency, DroppedRowResidual};
+pub use analysis::dropped::{gross_inconsistency, DroppedRowResidual, DroppedRowSample};
 pub use analysis::grid::KinematicOptions;
 pub use analysis::position::{
-    PositionReport, FAST_RANK_MIN_UNKNOWNS, KINEMATIC_MAX_CHORD_STEPS, SELECTION_PIVOT_TOLERANCE,
+    OpenRow, PositionReport, FAST_RANK_MIN_UNKNOWNS, KINEMATIC_MAX_CHORD_STEPS,
+    SELECTION_PIVOT_TOLERANCE,
 };
 pub use builder::{
     pose_row_name, Axis, Body, CouplerKind, CouplerSpec, DriverSpec, DriverTarget, ForceSpec,

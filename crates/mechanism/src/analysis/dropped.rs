@@ -65,6 +65,32 @@ pub fn gross_inconsistency(tol: f64) -> f64 {
     (1e3 * tol).max(1e-6)
 }
 
+/// One row's residual at one time, as [`Model::worst_dropped_rows`] takes it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DroppedRowSample {
+    /// The global row.
+    pub row: usize,
+    /// Its scaled residual |Φ_r| / e_r.
+    pub residual: f64,
+    /// Its residual Φ_r (SI units).
+    pub value: f64,
+    /// The time (s).
+    pub time: f64,
+}
+
+impl From<(usize, f64, f64, f64)> for DroppedRowSample {
+    /// From (row, scaled residual, value, time), the form callers passed before the type
+    /// existed.
+    fn from((row, residual, value, time): (usize, f64, f64, f64)) -> Self {
+        Self {
+            row,
+            residual,
+            value,
+            time,
+        }
+    }
+}
+
 impl Model {
     /// The largest scaled residual |Φ_r| / e_r of the first `m` equations in `phi` (unscaled).
     pub(crate) fn scaled_residual(&self, phi: &[f64], m: usize) -> f64 {
@@ -118,13 +144,11 @@ impl Model {
     /// since the kinematic solver was prepared: one per element (its worst row), in model
     /// order. Empty for a consistent model (see the module docs). Allocates.
     pub fn dropped_row_residuals(&self, ws: &Workspace, tol: f64) -> Vec<DroppedRowResidual> {
-        let rows = (0..ws.dropped.worst.len()).map(|r| {
-            (
-                r,
-                ws.dropped.worst[r],
-                ws.dropped.value[r],
-                ws.dropped.time[r],
-            )
+        let rows = (0..ws.dropped.worst.len()).map(|r| DroppedRowSample {
+            row: r,
+            residual: ws.dropped.worst[r],
+            value: ws.dropped.value[r],
+            time: ws.dropped.time[r],
         });
         self.worst_dropped_rows(rows, tol)
     }
@@ -142,20 +166,32 @@ impl Model {
             .iter()
             .enumerate()
             .filter(|&(r, _)| !kept[r])
-            .map(|(r, &v)| (r, (v / self.equation_scales[r]).abs(), v, t));
+            .map(|(r, &v)| DroppedRowSample {
+                row: r,
+                residual: (v / self.equation_scales[r]).abs(),
+                value: v,
+                time: t,
+            });
         self.worst_dropped_rows(rows, tol)
     }
 
-    /// `rows` (row, scaled residual, value, time; increasing rows) whose scaled residual exceeds
-    /// `tol`, the worst per element, as [`DroppedRowResidual`]s (for analyses outside this
-    /// crate that track dropped rows themselves: dynamics). Allocates.
-    pub fn worst_dropped_rows(
+    /// `rows` (increasing rows; a [`DroppedRowSample`] or a tuple (row, scaled residual, value,
+    /// time)) whose scaled residual exceeds `tol`, the worst per element, as
+    /// [`DroppedRowResidual`]s (for analyses outside this crate that track dropped rows
+    /// themselves: dynamics). Allocates.
+    pub fn worst_dropped_rows<S: Into<DroppedRowSample>>(
         &self,
-        rows: impl Iterator<Item = (usize, f64, f64, f64)>,
+        rows: impl Iterator<Item = S>,
         tol: f64,
     ) -> Vec<DroppedRowResidual> {
         let mut out: Vec<DroppedRowResidual> = Vec::new();
-        for (r, d, value, time) in rows {
+        for sample in rows {
+            let DroppedRowSample {
+                row: r,
+                residual: d,
+                value,
+                time,
+            } = sample.into();
             if !(d > tol || d.is_nan()) {
                 continue;
             }

@@ -41,7 +41,7 @@
 //! time, the named equations, and the results up to the last successful step.
 
 use crate::analysis::assembly::AssemblyOptions;
-use crate::analysis::position::PositionReport;
+use crate::analysis::position::{OpenRow, PositionReport};
 use crate::error::AnalysisError;
 use crate::model::{BodyId, Model};
 use crate::results::{
@@ -90,8 +90,8 @@ enum Verdict {
     /// The solution jumped to another assembly branch (module docs).
     Jumped,
     /// Newton converged, but once the couplers' angles are continued this solved row is open
-    /// by this scaled residual ([`PositionReport::open`]).
-    Open(usize, f64),
+    /// by its scaled residual ([`PositionReport::open`]).
+    Open(OpenRow),
     /// Newton did not converge.
     Failed(Box<AnalysisError>),
 }
@@ -573,10 +573,14 @@ impl Model {
                     ws.grid.x_prev.copy_from_slice(&ws.grid.x_tmp);
                     true
                 }
-                Verdict::Open(row, value) if finest => {
+                Verdict::Open(open) if finest => {
                     return Err(AnalysisError::Discontinuous {
                         time: s,
-                        worst: self.equation(row).map(|n| (n, value)).into_iter().collect(),
+                        worst: self
+                            .equation(open.row)
+                            .map(|n| (n, open.scaled_residual))
+                            .into_iter()
+                            .collect(),
                         partial: None,
                     });
                 }
@@ -636,8 +640,8 @@ impl Model {
             }
             Err(e) => return Err(e),
         };
-        if let Some((row, value)) = rep.open {
-            return Ok((rep, Verdict::Open(row, value)));
+        if let Some(open) = rep.open {
+            return Ok((rep, Verdict::Open(open)));
         }
         if predicted && self.jumped(ws) {
             return Ok((rep, Verdict::Jumped));

@@ -65,7 +65,17 @@ pub struct PositionReport {
     /// solve converged on equations that no longer hold once the angles are continued (a
     /// coupler's angle taken a turn off because it changed by π or more since the last accepted
     /// pose). A caller must not accept such a pose ([`Model::kinematics`] subdivides the step).
-    pub open: Option<(usize, f64)>,
+    pub open: Option<OpenRow>,
+}
+
+/// A solved row that does not hold ([`PositionReport::open`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OpenRow {
+    /// The global row.
+    pub row: usize,
+    /// Its scaled residual |Φ_r| / e_r (at least 1 for a driver on a spurious root: its
+    /// branch error).
+    pub scaled_residual: f64,
 }
 
 impl Model {
@@ -280,22 +290,26 @@ impl Model {
         }
     }
 
-    /// The solved row with the largest scaled residual |Φ_i| / e_i in `ws.rows.phi` (rows dropped as
-    /// redundant skipped when `selected`), when it exceeds the kinematic solver's residual
-    /// tolerance ([`PositionReport::open`]). No allocation.
-    fn open_row(&self, ws: &Workspace, selected: bool) -> Option<(usize, f64)> {
+    /// The solved row with the largest scaled residual |Φ_i| / e_i in `ws.rows.phi` (rows
+    /// dropped as redundant skipped when `selected`), when it exceeds the kinematic solver's
+    /// residual tolerance ([`PositionReport::open`]). No allocation.
+    fn open_row(&self, ws: &Workspace, selected: bool) -> Option<OpenRow> {
         let tol = ws.kin.newton.as_ref()?.options().tolerances.residual;
         if let Some(open) = self.spurious_driver_row(ws) {
             return Some(open);
         }
-        let mut worst: Option<(usize, f64)> = None;
+        let mut worst: Option<OpenRow> = None;
         for (r, (phi, e)) in ws.rows.phi.iter().zip(&self.equation_scales).enumerate() {
             if selected && !ws.dropped.kept[r] {
                 continue;
             }
             let d = (phi / e).abs();
-            if (d > tol || d.is_nan()) && worst.is_none_or(|(_, w)| d > w || d.is_nan()) {
-                worst = Some((r, d));
+            if (d > tol || d.is_nan()) && worst.is_none_or(|w| d > w.scaled_residual || d.is_nan())
+            {
+                worst = Some(OpenRow {
+                    row: r,
+                    scaled_residual: d,
+                });
             }
         }
         worst
@@ -304,11 +318,14 @@ impl Model {
     /// The first row of a driver whose equations hold on a spurious root at the workspace's
     /// poses and time ([`cardan_constraints::Driver::branch_error`]), with that error (≥ 1).
     /// No allocation.
-    fn spurious_driver_row(&self, ws: &Workspace) -> Option<(usize, f64)> {
+    fn spurious_driver_row(&self, ws: &Workspace) -> Option<OpenRow> {
         self.drivers.iter().find_map(|d| {
             let (si, sj) = (ws.state_of(d.body_i), ws.state_of(d.body_j));
             let e = d.driver.branch_error(&BodyPair::new(&si, &sj), ws.pose.t);
-            (e > 0.0).then_some((d.rows.start, e))
+            (e > 0.0).then_some(OpenRow {
+                row: d.rows.start,
+                scaled_residual: e,
+            })
         })
     }
 
