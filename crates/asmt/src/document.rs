@@ -148,7 +148,7 @@ pub struct Joint {
     /// Marker J.
     pub marker_j: PathRef,
     /// The numeric fields present (`distanceIJ`, `radiusI`, ...), with their lines.
-    pub numbers: Vec<(String, f64, usize)>,
+    pub numbers: Vec<Field<f64>>,
 }
 
 impl Joint {
@@ -156,9 +156,29 @@ impl Joint {
     pub fn number(&self, name: &str) -> Option<f64> {
         self.numbers
             .iter()
-            .find(|(n, _, _)| n == name)
-            .map(|(_, v, _)| *v)
+            .find(|f| f.name == name)
+            .map(|f| f.value)
     }
+}
+
+/// A named field of a block: its name, its value and the file line of the value.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Field<T> {
+    /// The field's label (`distanceIJ`, `RotationZ`, ...).
+    pub name: String,
+    /// Its value.
+    pub value: T,
+    /// The file line of the value.
+    pub line: usize,
+}
+
+/// A value with the file line it was read from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Located<T> {
+    /// The value.
+    pub value: T,
+    /// Its file line.
+    pub line: usize,
 }
 
 /// The motion kinds.
@@ -187,10 +207,11 @@ pub struct Motion {
     pub marker_i: Option<PathRef>,
     /// `MarkerJ`, if given.
     pub marker_j: Option<PathRef>,
-    /// The expressions by field: (`RotationZ`, text, line), or the six of a general motion.
-    pub expressions: Vec<(String, String, usize)>,
+    /// The expressions by field (`RotationZ`, or the six of a general motion), each with its
+    /// text and line.
+    pub expressions: Vec<Field<String>>,
     /// `RotationOrder` of a general motion (e.g. [1, 2, 3]).
-    pub rotation_order: Option<([u8; 3], usize)>,
+    pub rotation_order: Option<Located<[u8; 3]>>,
 }
 
 /// An element read and not used (limits, AllowRotation, force elements, ...).
@@ -247,7 +268,7 @@ pub struct Document {
     /// Elements read and not used.
     pub ignored: Vec<Ignored>,
     /// `ConstantGravity` and its line.
-    pub gravity: Option<(Vector3<f64>, usize)>,
+    pub gravity: Option<Located<Vector3<f64>>>,
     /// `SimulationParameters`.
     pub simulation: Option<Simulation>,
     /// The stored `TimeSeries`, if any.
@@ -310,7 +331,7 @@ impl Document {
             }
         }
         for j in &mut d.joints {
-            for (name, v, _) in &mut j.numbers {
+            for Field { name, value: v, .. } in &mut j.numbers {
                 if matches!(
                     name.as_str(),
                     "distanceIJ" | "offset" | "pitch" | "pitchRadius" | "radiusI" | "radiusJ"
@@ -320,14 +341,19 @@ impl Document {
             }
         }
         for m in &mut d.motions {
-            for (field, text, _) in &mut m.expressions {
+            for Field {
+                name: field,
+                value: text,
+                ..
+            } in &mut m.expressions
+            {
                 let length = field == "TranslationZ" || field.starts_with("rIJI");
                 if length && !text.trim().is_empty() {
                     *text = format!("{s:?}*({text})");
                 }
             }
         }
-        if let Some((g, _)) = &mut d.gravity {
+        if let Some(Located { value: g, .. }) = &mut d.gravity {
             *g *= s;
         }
         d.series = None;
@@ -581,7 +607,10 @@ fn assembly(asm: &Node, header: String, end: usize) -> Result<Document> {
     let (joints, motions) = constraint_sets(&b, &mut ignored)?;
     ignore_force_torques(&b, &mut ignored);
     let gravity = match b.get("ConstantGravity") {
-        Some(g) => Some((b.vector("ConstantGravity")?, g.line)),
+        Some(g) => Some(Located {
+            value: b.vector("ConstantGravity")?,
+            line: g.line,
+        }),
         None => None,
     };
     let simulation = simulation(&b)?;
@@ -904,7 +933,11 @@ fn joint(node: &Node) -> Result<Joint> {
     for field in JOINT_NUMBERS {
         if b.get(field).is_some() {
             let v = b.value(field)?;
-            numbers.push((field.to_string(), b.number(field)?, v.line));
+            numbers.push(Field {
+                name: field.to_string(),
+                value: b.number(field)?,
+                line: v.line,
+            });
         }
     }
     Ok(Joint {
@@ -939,11 +972,19 @@ fn motion(node: &Node) -> Result<Motion> {
     for f in fields {
         // An absent or empty expression is 0 (OndselSolver parses empty text as 0).
         match b.get(f) {
-            None => expressions.push((f.to_string(), String::new(), node.line)),
+            None => expressions.push(Field {
+                name: f.to_string(),
+                value: String::new(),
+                line: node.line,
+            }),
             Some(field) => {
                 let text: Vec<&str> = field.children.iter().map(|c| c.text.trim()).collect();
                 let line = field.children.first().map_or(field.line, |c| c.line);
-                expressions.push((f.to_string(), text.join(" "), line));
+                expressions.push(Field {
+                    name: f.to_string(),
+                    value: text.join(" "),
+                    line,
+                });
             }
         }
     }
@@ -957,7 +998,10 @@ fn motion(node: &Node) -> Result<Motion> {
                 .map(|a| a.parse::<u8>().ok().filter(|k| (1..=3).contains(k)))
                 .collect();
             match parsed.as_deref() {
-                Some(&[a, b, c]) if a != b && b != c => Some(([a, b, c], v.line)),
+                Some(&[a, b, c]) if a != b && b != c => Some(Located {
+                    value: [a, b, c],
+                    line: v.line,
+                }),
                 _ => {
                     return Err(AsmtError::new(
                         v.line,
