@@ -155,5 +155,5 @@ pub use pattern::{RowSelection, SparsityPattern};
 pub use rank::{MinNormQr, RankAnalysis, RankOptions, SPARSE_RANK_MIN_UNKNOWNS};
 pub use schur::{SchurSolver, DEFAULT_BLOCK_PIVOT_TOLERANCE, DEFAULT_SCHUR_PIVOT_TOLERANCE};
 pub use singular::DEFAULT_PIVOT_TOLERANCE;
-pub use sparse::SparseLu;
+pub use sparse::{FactorizationCounts, SparseLu};
 pub use sparse_min_norm::SparseMinNorm;
