@@ -125,6 +125,6 @@ pub use p2_select::P2Select;
 pub use primitive::Primitive;
 pub use radial_distance::RadialDistance;
 pub use spherical::Spherical;
-pub use state::{BlockUse, BodyPair, BodyState, Footprint};
 pub use spline::Spline;
+pub use state::{BlockUse, BodyPair, BodyState, Footprint};
 pub use time_function::TimeFunction;
