@@ -8,7 +8,7 @@ use cardan_constraints::{Constraint, Coupler, Driver, Joint};
 use nalgebra::{Matrix3, Vector3, Vector4};
 use std::ops::Range;
 
-/// Which body: ground or moving body `k` (index into [`Model::bodies`]).
+/// Which body: ground or moving body `k` (index into [`Model::bodies`](super::Model::bodies)).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum BodyId {
     /// The ground (fixed, no unknowns).
@@ -85,7 +85,7 @@ pub struct DriverInfo {
     pub body_j: BodyId,
     /// The driver.
     pub driver: Driver,
-    /// The driven joint, for rotation and translation drivers (index into [`Model::joints`]).
+    /// The driven joint, for rotation and translation drivers (index into [`Model::joints`](super::Model::joints)).
     pub joint: Option<usize>,
     /// Its row in the global system.
     pub rows: Range<usize>,
@@ -95,7 +95,7 @@ pub struct DriverInfo {
 /// One joint coordinate a coupler relates.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct CoupledCoordinate {
-    /// The joint (index into [`Model::joints`]).
+    /// The joint (index into [`Model::joints`](super::Model::joints)).
     pub joint: usize,
     /// Its slide z_iᵀ(P_j − P_i) (m) when true, else its angle (rad).
     pub slide: bool,
