@@ -2,7 +2,9 @@
 //! mode shapes): A(p) = (2 e0² − 1) I + 2 (e eᵀ + e0 ẽ) (`shared/notation.md`), written out
 //! because the crate knows nothing of mechanics and does not depend on `cardan-eulerparam`.
 
-/// r + A(p) s', A(p) = (2e0² − 1) I + 2(e eᵀ + e0 ẽ) with p normalized.
+/// r + A(p) s', A(p) = (2e0² − 1) I + 2(e eᵀ + e0 ẽ) with p normalized. `#[inline]`: it was
+/// inlined into the page writer's loops when it lived in `html.rs`, and still should be.
+#[inline]
 pub(crate) fn rotate(p: &[f64; 4], s: [f64; 3], r: &[f64; 3]) -> [f64; 3] {
     let n = p.iter().map(|x| x * x).sum::<f64>().sqrt();
     let [e0, e1, e2, e3] = p.map(|x| x / n);
