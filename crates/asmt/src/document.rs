@@ -8,6 +8,7 @@
 //! animation settings) are read and listed in [`Document::ignored`].
 
 use crate::error::{AsmtError, Result};
+use crate::scalar::{clip, number};
 use crate::series::{self, TimeSeries};
 use crate::tree::{self, Node};
 use nalgebra::{Matrix3, Vector3};
@@ -147,7 +148,7 @@ pub struct Joint {
     /// Marker J.
     pub marker_j: PathRef,
     /// The numeric fields present (`distanceIJ`, `radiusI`, ...), with their lines.
-    pub numbers: Vec<(String, f64, usize)>,
+    pub numbers: Vec<Field<f64>>,
 }
 
 impl Joint {
@@ -155,9 +156,29 @@ impl Joint {
     pub fn number(&self, name: &str) -> Option<f64> {
         self.numbers
             .iter()
-            .find(|(n, _, _)| n == name)
-            .map(|(_, v, _)| *v)
+            .find(|f| f.name == name)
+            .map(|f| f.value)
     }
+}
+
+/// A named field of a block: its name, its value and the file line of the value.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Field<T> {
+    /// The field's label (`distanceIJ`, `RotationZ`, ...).
+    pub name: String,
+    /// Its value.
+    pub value: T,
+    /// The file line of the value.
+    pub line: usize,
+}
+
+/// A value with the file line it was read from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Located<T> {
+    /// The value.
+    pub value: T,
+    /// Its file line.
+    pub line: usize,
 }
 
 /// The motion kinds.
@@ -186,10 +207,11 @@ pub struct Motion {
     pub marker_i: Option<PathRef>,
     /// `MarkerJ`, if given.
     pub marker_j: Option<PathRef>,
-    /// The expressions by field: (`RotationZ`, text, line), or the six of a general motion.
-    pub expressions: Vec<(String, String, usize)>,
+    /// The expressions by field (`RotationZ`, or the six of a general motion), each with its
+    /// text and line.
+    pub expressions: Vec<Field<String>>,
     /// `RotationOrder` of a general motion (e.g. [1, 2, 3]).
-    pub rotation_order: Option<([u8; 3], usize)>,
+    pub rotation_order: Option<Located<[u8; 3]>>,
 }
 
 /// An element read and not used (limits, AllowRotation, force elements, ...).
@@ -246,7 +268,7 @@ pub struct Document {
     /// Elements read and not used.
     pub ignored: Vec<Ignored>,
     /// `ConstantGravity` and its line.
-    pub gravity: Option<(Vector3<f64>, usize)>,
+    pub gravity: Option<Located<Vector3<f64>>>,
     /// `SimulationParameters`.
     pub simulation: Option<Simulation>,
     /// The stored `TimeSeries`, if any.
@@ -309,7 +331,7 @@ impl Document {
             }
         }
         for j in &mut d.joints {
-            for (name, v, _) in &mut j.numbers {
+            for Field { name, value: v, .. } in &mut j.numbers {
                 if matches!(
                     name.as_str(),
                     "distanceIJ" | "offset" | "pitch" | "pitchRadius" | "radiusI" | "radiusJ"
@@ -319,14 +341,19 @@ impl Document {
             }
         }
         for m in &mut d.motions {
-            for (field, text, _) in &mut m.expressions {
+            for Field {
+                name: field,
+                value: text,
+                ..
+            } in &mut m.expressions
+            {
                 let length = field == "TranslationZ" || field.starts_with("rIJI");
                 if length && !text.trim().is_empty() {
                     *text = format!("{s:?}*({text})");
                 }
             }
         }
-        if let Some((g, _)) = &mut d.gravity {
+        if let Some(Located { value: g, .. }) = &mut d.gravity {
             *g *= s;
         }
         d.series = None;
@@ -397,15 +424,6 @@ fn read_with(text: &str, with_series: bool) -> Result<Document> {
         doc.series = Some(series::parse(block.line, block.rows(text))?);
     }
     Ok(doc)
-}
-
-/// At most 60 characters of `s`, for messages.
-pub(crate) fn clip(s: &str) -> String {
-    if s.chars().count() <= 60 {
-        s.to_string()
-    } else {
-        format!("{}…", s.chars().take(60).collect::<String>())
-    }
 }
 
 /// The fields of a block: its child labels, looked up by name.
@@ -512,41 +530,6 @@ impl<'a> Block<'a> {
     }
 }
 
-/// A scalar as OndselSolver reads it, also with the Smalltalk `d` exponent (`1.0d-3`); must be
-/// finite.
-pub(crate) fn number(text: &str, line: usize, what: &str) -> Result<f64> {
-    let t = text.trim();
-    let fixed: String;
-    let t = match t.find(['d', 'D']) {
-        Some(k)
-            if t[..k]
-                .chars()
-                .all(|c| c.is_ascii_digit() || "+-.".contains(c)) =>
-        {
-            fixed = if k + 1 == t.len() {
-                t[..k].to_string()
-            } else {
-                format!("{}e{}", &t[..k], &t[k + 1..])
-            };
-            fixed.as_str()
-        }
-        _ => t,
-    };
-    let v: f64 = t.parse().map_err(|_| {
-        AsmtError::new(
-            line,
-            format!("{what}: \"{}\" is not a number", clip(text.trim())),
-        )
-    })?;
-    if !v.is_finite() {
-        return Err(AsmtError::new(
-            line,
-            format!("{what}: \"{}\" is not a finite number", clip(text.trim())),
-        ));
-    }
-    Ok(v)
-}
-
 fn vector(node: &Node, what: &str) -> Result<Vector3<f64>> {
     let parts: Vec<&str> = node.text.split_whitespace().collect();
     if parts.len() != 3 {
@@ -618,6 +601,38 @@ fn assembly(asm: &Node, header: String, end: usize) -> Result<Document> {
         Some(r) => ref_points(r, &format!("the assembly \"{name}\""))?,
         None => Vec::new(),
     };
+    ignore_geometry(&b, &mut ignored);
+    let parts = parts(&b, &mut ignored)?;
+    require_sections(&b)?;
+    let (joints, motions) = constraint_sets(&b, &mut ignored)?;
+    ignore_force_torques(&b, &mut ignored);
+    let gravity = match b.get("ConstantGravity") {
+        Some(g) => Some(Located {
+            value: b.vector("ConstantGravity")?,
+            line: g.line,
+        }),
+        None => None,
+    };
+    let simulation = simulation(&b)?;
+    Ok(Document {
+        header,
+        name,
+        notes,
+        frame,
+        ground,
+        parts,
+        joints,
+        motions,
+        ignored,
+        gravity,
+        simulation,
+        series: None,
+        lines: end,
+    })
+}
+
+/// The assembly's curves, surfaces and kinematic IJs, listed as ignored.
+fn ignore_geometry(b: &Block, ignored: &mut Vec<Ignored>) {
     for sec in ["RefCurves", "RefSurfaces", "KinematicIJs"] {
         if let Some(s) = b.get(sec) {
             for c in &s.children {
@@ -630,6 +645,10 @@ fn assembly(asm: &Node, header: String, end: usize) -> Result<Document> {
             }
         }
     }
+}
+
+/// The `Parts` list (required), each part read by [`part`].
+fn parts(b: &Block, ignored: &mut Vec<Ignored>) -> Result<Vec<Part>> {
     let parts_node = b.require("Parts")?;
     let mut parts = Vec::new();
     for p in &parts_node.children {
@@ -642,10 +661,14 @@ fn assembly(asm: &Node, header: String, end: usize) -> Result<Document> {
                 ),
             ));
         }
-        parts.push(part(p, &mut ignored)?);
+        parts.push(part(p, ignored)?);
     }
-    let mut joints = Vec::new();
-    let mut motions = Vec::new();
+    Ok(parts)
+}
+
+/// The sections OndselSolver requires (`ConstraintSets`, `ConstantGravity`,
+/// `SimulationParameters`, `AnimationParameters`) and the fields of `AnimationParameters`.
+fn require_sections(b: &Block) -> Result<()> {
     // OndselSolver reads the sections in order and all of them; a missing one is a truncated
     // or damaged file.
     for sec in [
@@ -667,6 +690,14 @@ fn assembly(asm: &Node, header: String, end: usize) -> Result<Document> {
     ] {
         anim.value(f)?;
     }
+    Ok(())
+}
+
+/// The joints and motions of `ConstraintSets`; `AllowRotation` motions, limits and general
+/// constraint sets are listed as ignored.
+fn constraint_sets(b: &Block, ignored: &mut Vec<Ignored>) -> Result<(Vec<Joint>, Vec<Motion>)> {
+    let mut joints = Vec::new();
+    let mut motions = Vec::new();
     if let Some(cs) = b.get("ConstraintSets") {
         for sec in &cs.children {
             match sec.label() {
@@ -709,6 +740,11 @@ fn assembly(asm: &Node, header: String, end: usize) -> Result<Document> {
             }
         }
     }
+    Ok((joints, motions))
+}
+
+/// The force elements of `ForceTorques`, listed as ignored.
+fn ignore_force_torques(b: &Block, ignored: &mut Vec<Ignored>) {
     if let Some(ft) = b.get("ForceTorques") {
         for f in &ft.children {
             ignored.push(ignored_item(
@@ -717,10 +753,11 @@ fn assembly(asm: &Node, header: String, end: usize) -> Result<Document> {
             ));
         }
     }
-    let gravity = match b.get("ConstantGravity") {
-        Some(g) => Some((b.vector("ConstantGravity")?, g.line)),
-        None => None,
-    };
+}
+
+/// `SimulationParameters`, if present: times and steps, with OndselSolver's defaults for
+/// `hmin`, `hmax` and `errorTol`; tend ≥ tstart and a positive hout when they differ.
+fn simulation(b: &Block) -> Result<Option<Simulation>> {
     let simulation = match b.get("SimulationParameters") {
         Some(s) => {
             let sb = Block::new(s, "SimulationParameters");
@@ -764,21 +801,7 @@ fn assembly(asm: &Node, header: String, end: usize) -> Result<Document> {
         }
         None => None,
     };
-    Ok(Document {
-        header,
-        name,
-        notes,
-        frame,
-        ground,
-        parts,
-        joints,
-        motions,
-        ignored,
-        gravity,
-        simulation,
-        series: None,
-        lines: end,
-    })
+    Ok(simulation)
 }
 
 fn ignored_item(node: &Node, reason: &'static str) -> Ignored {
@@ -910,7 +933,11 @@ fn joint(node: &Node) -> Result<Joint> {
     for field in JOINT_NUMBERS {
         if b.get(field).is_some() {
             let v = b.value(field)?;
-            numbers.push((field.to_string(), b.number(field)?, v.line));
+            numbers.push(Field {
+                name: field.to_string(),
+                value: b.number(field)?,
+                line: v.line,
+            });
         }
     }
     Ok(Joint {
@@ -945,11 +972,19 @@ fn motion(node: &Node) -> Result<Motion> {
     for f in fields {
         // An absent or empty expression is 0 (OndselSolver parses empty text as 0).
         match b.get(f) {
-            None => expressions.push((f.to_string(), String::new(), node.line)),
+            None => expressions.push(Field {
+                name: f.to_string(),
+                value: String::new(),
+                line: node.line,
+            }),
             Some(field) => {
                 let text: Vec<&str> = field.children.iter().map(|c| c.text.trim()).collect();
                 let line = field.children.first().map_or(field.line, |c| c.line);
-                expressions.push((f.to_string(), text.join(" "), line));
+                expressions.push(Field {
+                    name: f.to_string(),
+                    value: text.join(" "),
+                    line,
+                });
             }
         }
     }
@@ -963,7 +998,10 @@ fn motion(node: &Node) -> Result<Motion> {
                 .map(|a| a.parse::<u8>().ok().filter(|k| (1..=3).contains(k)))
                 .collect();
             match parsed.as_deref() {
-                Some(&[a, b, c]) if a != b && b != c => Some(([a, b, c], v.line)),
+                Some(&[a, b, c]) if a != b && b != c => Some(Located {
+                    value: [a, b, c],
+                    line: v.line,
+                }),
                 _ => {
                     return Err(AsmtError::new(
                         v.line,
@@ -995,23 +1033,4 @@ fn motion(node: &Node) -> Result<Motion> {
         expressions,
         rotation_order,
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn smalltalk_numbers() {
-        assert_eq!(number("1.0d-3", 1, "x").unwrap(), 1e-3);
-        assert_eq!(number("2.0d", 1, "x").unwrap(), 2.0);
-        assert_eq!(number("1.0e-9", 1, "x").unwrap(), 1e-9);
-        assert_eq!(number("0.0 ", 1, "x").unwrap(), 0.0);
-        assert!(number("NaN", 3, "x")
-            .unwrap_err()
-            .message
-            .contains("finite"));
-        assert!(number("inf", 3, "x").is_err());
-        assert!(number("1.2.3", 3, "x").is_err());
-    }
 }

@@ -49,7 +49,7 @@
 //! digit gets a `_` before it, and a clash gets `_2`, `_3`, …; the ASMT path of each element is
 //! kept ([`Element::path`]) for messages and for `cardan import`'s comments.
 
-use crate::document::{Document, Frame, Joint, Motion, MotionKind, Part};
+use crate::document::{Document, Field, Frame, Joint, Located, Motion, MotionKind, Part};
 use crate::error::{AsmtError, Result, Warning};
 use crate::expr;
 use cardan_constraints::expression::Expression;
@@ -396,7 +396,7 @@ pub fn import(doc: &Document) -> Result<Import> {
             message: format!("{}{named} ignored: {}", ig.kind, ig.reason),
         });
     }
-    if let Some((g, _)) = doc.gravity {
+    if let Some(Located { value: g, .. }) = doc.gravity {
         if g != Vector3::zeros() {
             cx.import.gravity = Some(doc.frame.rotation * g);
         }
@@ -527,7 +527,7 @@ impl Ctx<'_> {
                 line,
                 format!(
                     "{what}: no marker has the path \"{}\" (marker paths are /<assembly>/<marker> or /<assembly>/<part>/<marker>)",
-                    crate::document::clip(path)
+                    crate::scalar::clip(path)
                 ),
             )
         })
@@ -635,8 +635,8 @@ impl Ctx<'_> {
             let (a, line) = j
                 .numbers
                 .iter()
-                .find(|(n, _, _)| n == "theIzJz")
-                .map_or((0.0, j.line), |&(_, v, l)| (v, l));
+                .find(|f| f.name == "theIzJz")
+                .map_or((0.0, j.line), |f| (f.value, f.line));
             let m = cardan_constraints::joints::CONE_MARGIN;
             if !(m..=std::f64::consts::PI - m).contains(&a) {
                 return Err(AsmtError::new(
@@ -826,7 +826,11 @@ impl Ctx<'_> {
     }
 
     fn function(&self, m: &Motion, k: usize) -> Result<TimeFunction> {
-        let (field, text, line) = &m.expressions[k];
+        let Field {
+            name: field,
+            value: text,
+            line,
+        } = &m.expressions[k];
         let translated = expr::translate(text)
             .map_err(|e| AsmtError::new(*line, format!("{field} of motion \"{}\": {e}", m.name)))?;
         let e = Expression::parse(&translated).map_err(|e| {
@@ -856,7 +860,7 @@ impl Ctx<'_> {
                 };
                 let mi = self.marker(&pi.path, pi.line, &what)?;
                 let mj = self.marker(&pj.path, pj.line, &what)?;
-                let order = m.rotation_order.map_or([1, 2, 3], |(o, _)| o);
+                let order = m.rotation_order.map_or([1, 2, 3], |o| o.value);
                 let letters: String = order
                     .iter()
                     .map(|k| ['x', 'y', 'z'][*k as usize - 1])
@@ -929,7 +933,7 @@ impl Ctx<'_> {
                     } else {
                         format!(
                             "{what}: no joint has the path \"{}\" (MotionJoint must name a joint: /<assembly>/<joint>)",
-                            crate::document::clip(&jp.path)
+                            crate::scalar::clip(&jp.path)
                         )
                     },
                 ));

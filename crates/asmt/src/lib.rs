@@ -19,6 +19,7 @@
 //!
 //! ## Layers
 //! - [`tree`]: lines → a tree by TAB depth (layout errors: spaces, jumps).
+//! - `scalar`: number fields (with the Smalltalk `d` exponent) and the clipped text of messages.
 //! - [`document`]: the tree → [`Document`] (sections, fields, numbers, joint kinds).
 //! - [`series`]: the `TimeSeries` table.
 //! - [`expr`]: ASMT motion expressions → cardan's expression grammar.
@@ -37,6 +38,7 @@ pub mod document;
 pub mod error;
 pub mod expr;
 pub mod import;
+mod scalar;
 pub mod series;
 pub mod solved;
 pub mod toml_out;

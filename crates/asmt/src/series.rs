@@ -13,8 +13,8 @@
 //! time. The Smalltalk writer puts a space between `…Series` and the path, the C++ writer a TAB;
 //! items are matched by path, never by label (the C++ writer mangles some labels).
 
-use crate::document::{clip, number};
 use crate::error::{AsmtError, Result};
+use crate::scalar::{clip, number};
 
 /// The 18 rows of a part (and of the assembly).
 pub const PART_ROWS: [&str; 18] = [

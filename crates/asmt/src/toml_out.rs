@@ -2,8 +2,10 @@
 //! tracing every element to its ASMT path and line. Numbers are written in full (shortest
 //! round-trip form), so the file builds the same mechanism as the ASMT file.
 
-use crate::import::{Feature, Import, Settings};
-use cardan_mechanism::{CouplerKind, DriverTarget, GearRatio, TimeFunction, GROUND};
+use crate::import::{BodyMap, Element, Feature, Import, Settings};
+use cardan_mechanism::{
+    CouplerKind, CouplerSpec, DriverSpec, DriverTarget, GearRatio, JointSpec, TimeFunction, GROUND,
+};
 use nalgebra::Vector3;
 use std::fmt::Write as _;
 
@@ -71,8 +73,32 @@ fn features(out: &mut String, table: &str, list: &[&Feature]) {
 }
 
 /// The model file text. `source` names the ASMT file in the header comment.
+///
+/// In the order the file reads best: the header comments and `[model]`, the ground's
+/// features, one table per body, joint, coupler and driver, then `[analysis]`.
 pub fn to_toml(import: &Import, source: &str) -> String {
     let mut o = String::new();
+    header(&mut o, import, source);
+    o.push('\n');
+    ground(&mut o, import);
+    for b in &import.bodies {
+        body(&mut o, import, b);
+    }
+    for j in &import.joints {
+        joint(&mut o, j);
+    }
+    for c in &import.couplers {
+        coupler(&mut o, c);
+    }
+    for d in &import.drivers {
+        driver(&mut o, d);
+    }
+    analysis(&mut o, import);
+    o
+}
+
+/// The header comments (source, conventions, the importer's warnings) and `[model]`.
+fn header(o: &mut String, import: &Import, source: &str) {
     let _ = writeln!(
         o,
         "# Imported from {} by `cardan import` (ASMT, OndselSolver / FreeCAD Assembly).",
@@ -96,213 +122,229 @@ pub fn to_toml(import: &Import, source: &str) -> String {
     if let Some(g) = import.gravity {
         let _ = writeln!(o, "gravity = {}", vec3(&g));
     }
-    o.push('\n');
+}
+
+/// The ground's points and vectors.
+fn ground(o: &mut String, import: &Import) {
     let ground: Vec<&Feature> = import.points.iter().filter(|f| f.body == GROUND).collect();
-    features(&mut o, "ground.points", &ground);
+    features(o, "ground.points", &ground);
     let ground: Vec<&Feature> = import.vectors.iter().filter(|f| f.body == GROUND).collect();
-    features(&mut o, "ground.vectors", &ground);
-    for b in &import.bodies {
-        let body = &b.body;
+    features(o, "ground.vectors", &ground);
+}
+
+/// One `[[body]]`: mass, inertia, pose, and its points and vectors.
+fn body(o: &mut String, import: &Import, b: &BodyMap) {
+    let body = &b.body;
+    let _ = writeln!(
+        o,
+        "\n[[body]]   # {} (line {})\nname = {}",
+        comment(&b.path),
+        b.line,
+        string(&body.name)
+    );
+    if let Some(m) = body.mass {
+        let _ = writeln!(o, "mass = {}", num(m));
+    }
+    if let Some(i) = body.inertia {
         let _ = writeln!(
             o,
-            "\n[[body]]   # {} (line {})\nname = {}",
-            comment(&b.path),
-            b.line,
-            string(&body.name)
+            "inertia = {{ diag = [{}, {}, {}] }}",
+            num(i[(0, 0)]),
+            num(i[(1, 1)]),
+            num(i[(2, 2)])
         );
-        if let Some(m) = body.mass {
-            let _ = writeln!(o, "mass = {}", num(m));
+    }
+    let _ = writeln!(o, "position = {}", vec3(&body.position));
+    if let cardan_mechanism::Orientation::EulerParams(e) = body.orientation {
+        let _ = writeln!(
+            o,
+            "orientation = {{ euler_parameters = [{}, {}, {}, {}] }}",
+            num(e[0]),
+            num(e[1]),
+            num(e[2]),
+            num(e[3])
+        );
+    }
+    let pts: Vec<&Feature> = import
+        .points
+        .iter()
+        .filter(|f| f.body == body.name)
+        .collect();
+    features(o, "body.points", &pts);
+    let vs: Vec<&Feature> = import
+        .vectors
+        .iter()
+        .filter(|f| f.body == body.name)
+        .collect();
+    features(o, "body.vectors", &vs);
+}
+
+/// One `[[joint]]`: its kind, bodies, markers and numbers.
+fn joint(o: &mut String, j: &Element<JointSpec>) {
+    let s = &j.spec;
+    let _ = writeln!(
+        o,
+        "\n[[joint]]   # {} (line {})\nname = {}\ntype = \"{}\"",
+        comment(&j.path),
+        j.line,
+        string(&s.name),
+        s.kind.name()
+    );
+    let _ = writeln!(
+        o,
+        "body_i = {}\npoint_i = {}",
+        string(&s.body_i),
+        string(&s.point_i)
+    );
+    for (k, v) in [("axis_i", &s.axis_i), ("x_axis_i", &s.x_axis_i)] {
+        if let Some(v) = v {
+            let _ = writeln!(o, "{k} = {}", string(v));
         }
-        if let Some(i) = body.inertia {
+    }
+    let _ = writeln!(
+        o,
+        "body_j = {}\npoint_j = {}",
+        string(&s.body_j),
+        string(&s.point_j)
+    );
+    for (k, v) in [("axis_j", &s.axis_j), ("x_axis_j", &s.x_axis_j)] {
+        if let Some(v) = v {
+            let _ = writeln!(o, "{k} = {}", string(v));
+        }
+    }
+    for (k, v) in [
+        ("length", s.length),
+        ("offset", s.offset),
+        ("angle", s.angle),
+    ] {
+        if let Some(v) = v {
+            let _ = writeln!(o, "{k} = {}", num(v));
+        }
+    }
+}
+
+/// One `[[coupler]]`: gear, rack and pinion or screw, and its constant.
+fn coupler(o: &mut String, c: &Element<CouplerSpec>) {
+    let s = &c.spec;
+    let _ = writeln!(
+        o,
+        "\n[[coupler]]   # {} (line {}); constant from the input pose, as OndselSolver\nname = {}\ntype = \"{}\"",
+        comment(&c.path),
+        c.line,
+        string(&s.name),
+        s.kind_name()
+    );
+    match &s.kind {
+        CouplerKind::Gear {
+            joint_i,
+            joint_j,
+            ratio,
+        } => {
             let _ = writeln!(
                 o,
-                "inertia = {{ diag = [{}, {}, {}] }}",
-                num(i[(0, 0)]),
-                num(i[(1, 1)]),
-                num(i[(2, 2)])
+                "joint_i = {}\njoint_j = {}",
+                string(joint_i),
+                string(joint_j)
             );
+            match ratio {
+                GearRatio::Ratio(r) => {
+                    let _ = writeln!(o, "ratio = {}", num(*r));
+                }
+                GearRatio::Radii(a, b) => {
+                    let _ = writeln!(o, "radius_i = {}\nradius_j = {}", num(*a), num(*b));
+                }
+            }
         }
-        let _ = writeln!(o, "position = {}", vec3(&body.position));
-        if let cardan_mechanism::Orientation::EulerParams(e) = body.orientation {
+        CouplerKind::RackPinion {
+            slide_joint,
+            angle_joint,
+            radius,
+        } => {
             let _ = writeln!(
                 o,
-                "orientation = {{ euler_parameters = [{}, {}, {}, {}] }}",
-                num(e[0]),
-                num(e[1]),
-                num(e[2]),
-                num(e[3])
+                "slide_joint = {}\nangle_joint = {}\nradius = {}",
+                string(slide_joint),
+                string(angle_joint),
+                num(*radius)
             );
         }
-        let pts: Vec<&Feature> = import
-            .points
-            .iter()
-            .filter(|f| f.body == body.name)
-            .collect();
-        features(&mut o, "body.points", &pts);
-        let vs: Vec<&Feature> = import
-            .vectors
-            .iter()
-            .filter(|f| f.body == body.name)
-            .collect();
-        features(&mut o, "body.vectors", &vs);
-    }
-    for j in &import.joints {
-        let s = &j.spec;
-        let _ = writeln!(
-            o,
-            "\n[[joint]]   # {} (line {})\nname = {}\ntype = \"{}\"",
-            comment(&j.path),
-            j.line,
-            string(&s.name),
-            s.kind.name()
-        );
-        let _ = writeln!(
-            o,
-            "body_i = {}\npoint_i = {}",
-            string(&s.body_i),
-            string(&s.point_i)
-        );
-        for (k, v) in [("axis_i", &s.axis_i), ("x_axis_i", &s.x_axis_i)] {
-            if let Some(v) = v {
-                let _ = writeln!(o, "{k} = {}", string(v));
-            }
-        }
-        let _ = writeln!(
-            o,
-            "body_j = {}\npoint_j = {}",
-            string(&s.body_j),
-            string(&s.point_j)
-        );
-        for (k, v) in [("axis_j", &s.axis_j), ("x_axis_j", &s.x_axis_j)] {
-            if let Some(v) = v {
-                let _ = writeln!(o, "{k} = {}", string(v));
-            }
-        }
-        for (k, v) in [
-            ("length", s.length),
-            ("offset", s.offset),
-            ("angle", s.angle),
-        ] {
-            if let Some(v) = v {
-                let _ = writeln!(o, "{k} = {}", num(v));
-            }
+        CouplerKind::Screw {
+            slide_joint,
+            angle_joint,
+            pitch,
+        } => {
+            let _ = writeln!(
+                o,
+                "slide_joint = {}\nangle_joint = {}\npitch = {}",
+                string(slide_joint),
+                string(angle_joint),
+                num(*pitch)
+            );
         }
     }
-    for c in &import.couplers {
-        let s = &c.spec;
-        let _ = writeln!(
-            o,
-            "\n[[coupler]]   # {} (line {}); constant from the input pose, as OndselSolver\nname = {}\ntype = \"{}\"",
-            comment(&c.path),
-            c.line,
-            string(&s.name),
-            s.kind_name()
-        );
-        match &s.kind {
-            CouplerKind::Gear {
-                joint_i,
-                joint_j,
-                ratio,
-            } => {
-                let _ = writeln!(
-                    o,
-                    "joint_i = {}\njoint_j = {}",
-                    string(joint_i),
-                    string(joint_j)
-                );
-                match ratio {
-                    GearRatio::Ratio(r) => {
-                        let _ = writeln!(o, "ratio = {}", num(*r));
-                    }
-                    GearRatio::Radii(a, b) => {
-                        let _ = writeln!(o, "radius_i = {}\nradius_j = {}", num(*a), num(*b));
-                    }
+    if let Some(k) = s.constant {
+        let _ = writeln!(o, "constant = {}", num(k));
+    }
+}
+
+/// One `[[driver]]`: a joint rotation or translation with its function, or a general motion
+/// with its six functions.
+fn driver(o: &mut String, d: &Element<DriverSpec>) {
+    let s = &d.spec;
+    let _ = writeln!(
+        o,
+        "\n[[driver]]   # {} (line {})\nname = {}",
+        comment(&d.path),
+        d.line,
+        string(&s.name)
+    );
+    match &s.target {
+        DriverTarget::JointRotation { joint } => {
+            let _ = writeln!(o, "type = \"rotation\"\njoint = {}", string(joint));
+        }
+        DriverTarget::JointTranslation { joint } => {
+            let _ = writeln!(o, "type = \"translation\"\njoint = {}", string(joint));
+        }
+        DriverTarget::Pose(p) => {
+            let _ = writeln!(
+                o,
+                "type = \"general_motion\"\nbody_i = {}\npoint_i = {}\nbody_j = {}\npoint_j = {}\norder = \"{}\"",
+                string(&p.body_i),
+                string(&p.point_i),
+                string(&p.body_j),
+                string(&p.point_j),
+                p.order.name()
+            );
+            for (k, v) in [
+                ("axis_i", &p.axis_i),
+                ("x_axis_i", &p.x_axis_i),
+                ("axis_j", &p.axis_j),
+                ("x_axis_j", &p.x_axis_j),
+            ] {
+                if let Some(v) = v {
+                    let _ = writeln!(o, "{k} = {}", string(v));
                 }
             }
-            CouplerKind::RackPinion {
-                slide_joint,
-                angle_joint,
-                radius,
-            } => {
-                let _ = writeln!(
-                    o,
-                    "slide_joint = {}\nangle_joint = {}\nradius = {}",
-                    string(slide_joint),
-                    string(angle_joint),
-                    num(*radius)
-                );
-            }
-            CouplerKind::Screw {
-                slide_joint,
-                angle_joint,
-                pitch,
-            } => {
-                let _ = writeln!(
-                    o,
-                    "slide_joint = {}\nangle_joint = {}\npitch = {}",
-                    string(slide_joint),
-                    string(angle_joint),
-                    num(*pitch)
-                );
-            }
-        }
-        if let Some(k) = s.constant {
-            let _ = writeln!(o, "constant = {}", num(k));
-        }
-    }
-    for d in &import.drivers {
-        let s = &d.spec;
-        let _ = writeln!(
-            o,
-            "\n[[driver]]   # {} (line {})\nname = {}",
-            comment(&d.path),
-            d.line,
-            string(&s.name)
-        );
-        match &s.target {
-            DriverTarget::JointRotation { joint } => {
-                let _ = writeln!(o, "type = \"rotation\"\njoint = {}", string(joint));
-            }
-            DriverTarget::JointTranslation { joint } => {
-                let _ = writeln!(o, "type = \"translation\"\njoint = {}", string(joint));
-            }
-            DriverTarget::Pose(p) => {
-                let _ = writeln!(
-                    o,
-                    "type = \"general_motion\"\nbody_i = {}\npoint_i = {}\nbody_j = {}\npoint_j = {}\norder = \"{}\"",
-                    string(&p.body_i),
-                    string(&p.point_i),
-                    string(&p.body_j),
-                    string(&p.point_j),
-                    p.order.name()
-                );
-                for (k, v) in [
-                    ("axis_i", &p.axis_i),
-                    ("x_axis_i", &p.x_axis_i),
-                    ("axis_j", &p.axis_j),
-                    ("x_axis_j", &p.x_axis_j),
-                ] {
-                    if let Some(v) = v {
-                        let _ = writeln!(o, "{k} = {}", string(v));
-                    }
+            for (key, fs) in [
+                ("translation", &p.functions[..3]),
+                ("rotation", &p.functions[3..]),
+            ] {
+                let _ = writeln!(o, "{key} = [");
+                for f in fs {
+                    let _ = writeln!(o, "    {},", function(f));
                 }
-                for (key, fs) in [
-                    ("translation", &p.functions[..3]),
-                    ("rotation", &p.functions[3..]),
-                ] {
-                    let _ = writeln!(o, "{key} = [");
-                    for f in fs {
-                        let _ = writeln!(o, "    {},", function(f));
-                    }
-                    o.push_str("]\n");
-                }
-                continue;
+                o.push_str("]\n");
             }
-            // The importer makes no other drivers.
-            _ => {}
+            return;
         }
-        let _ = writeln!(o, "function = {}", function(&s.function));
+        // The importer makes no other drivers.
+        _ => {}
     }
+    let _ = writeln!(o, "function = {}", function(&s.function));
+}
+
+/// `[analysis]` from SimulationParameters, when the file asks for output steps.
+fn analysis(o: &mut String, import: &Import) {
     if let Some(st) = &import.settings {
         if st.steps() > 0 {
             let _ = writeln!(
@@ -314,11 +356,10 @@ pub fn to_toml(import: &Import, source: &str) -> String {
                 st.steps()
             );
             if import.analysis == crate::AnalysisKind::Dynamic {
-                dynamic_settings(&mut o, st);
+                dynamic_settings(o, st);
             }
         }
     }
-    o
 }
 
 /// The integrator settings of a dynamic analysis from SimulationParameters: DOPRI5 (cardan's

@@ -41,6 +41,15 @@ pub fn chain_toml(n: usize) -> String {
         [0.01, 0.1, 0.1],
         "vectors = { x = [1.0, 0.0, 0.0], y = [0.0, 1.0, 0.0], z = [0.0, 0.0, 1.0] }\n",
     );
+    push_chain_joints(&mut s, n);
+    push_chain_drivers(&mut s, n);
+    s.push_str("\n[analysis]\nkind = \"kinematic\"\nt_end = 0.01\nsteps = 1\n");
+    s
+}
+
+/// The revolute joints j0 … j(n−1): j0 from the ground's point O to b0's end a, then each
+/// rod's end b to the next one's a, with axes alternating z and y and x axes for the angle.
+fn push_chain_joints(s: &mut String, n: usize) {
     for k in 0..n {
         let (prev, point) = if k == 0 {
             ("ground".to_string(), "O")
@@ -55,15 +64,20 @@ pub fn chain_toml(n: usize) -> String {
              axis_j = \"{axis}\"\nx_axis_i = \"x\"\nx_axis_j = \"x\"\n"
         );
     }
+}
+
+/// θ_k = 0.1 t for every joint.
+const CHAIN_DRIVER_FUNCTION: &str = "{ kind = \"polynomial\", coefficients = [0.0, 0.1] }";
+
+/// One rotation driver per joint, d0 … d(n−1), each [`CHAIN_DRIVER_FUNCTION`].
+fn push_chain_drivers(s: &mut String, n: usize) {
     for k in 0..n {
         let _ = write!(
             s,
             "\n[[driver]]\nname = \"d{k}\"\ntype = \"rotation\"\njoint = \"j{k}\"\n\
-             function = {{ kind = \"polynomial\", coefficients = [0.0, 0.1] }}\n"
+             function = {CHAIN_DRIVER_FUNCTION}\n"
         );
     }
-    s.push_str("\n[analysis]\nkind = \"kinematic\"\nt_end = 0.01\nsteps = 1\n");
-    s
 }
 
 fn model_path(n: usize) -> PathBuf {

@@ -49,133 +49,178 @@ struct Cfg {
     batches: usize,
 }
 
+impl Cfg {
+    /// 7 batches of 200 ms per measurement, or one of 5 ms for a smoke run.
+    fn new(smoke: bool) -> Self {
+        Self {
+            smoke,
+            batch: if smoke { ms(5) } else { ms(200) },
+            batches: if smoke { 1 } else { 7 },
+        }
+    }
+}
+
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    if args.first().map(String::as_str) == Some("--point") {
-        let kind = args.get(1).cloned().unwrap_or_default();
-        let family = args.get(2).cloned().unwrap_or_default();
-        let n: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(10);
-        let smoke = args.iter().any(|a| a == "--smoke");
-        scaling_point(&kind, &family, n, smoke);
+    if single_mode(&args) {
         return;
     }
-    if args.first().map(String::as_str) == Some("--large-point") {
-        cardan_bench::large::point(&args[1..]);
-        return;
+    let opts = ReportArgs::parse(&args);
+    let cfg = Cfg::new(opts.smoke);
+    let (md, svgs) = full_report(&cfg, &opts);
+    if let Some(dir) = &opts.plots {
+        std::fs::create_dir_all(dir).expect("plot directory");
+        for (name, text) in &svgs {
+            std::fs::write(dir.join(name), text).expect("write plot");
+        }
     }
-    if args.first().map(String::as_str) == Some("--large") {
-        println!(
-            "{}",
-            cardan_bench::large::section(args.iter().any(|a| a == "--smoke"))
-        );
-        return;
+    match &opts.report {
+        Some(path) => write_section(path, &md),
+        None => println!("{md}"),
     }
-    if args.first().map(String::as_str) == Some("--peers-only") {
-        cardan_bench_peers::peers_only(&args[1..]);
-        return;
+}
+
+/// The modes that run one section, one scaling point or one profile and print it (`--point`,
+/// `--large`, `--modal`, ...; see the crate docs): `true` when `args` asked for one (it has
+/// run), `false` for the full report.
+fn single_mode(args: &[String]) -> bool {
+    match args.first().map(String::as_str) {
+        Some("--point") => {
+            let kind = args.get(1).cloned().unwrap_or_default();
+            let family = args.get(2).cloned().unwrap_or_default();
+            let n: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(10);
+            let smoke = args.iter().any(|a| a == "--smoke");
+            scaling_point(&kind, &family, n, smoke);
+        }
+        Some("--large-point") => {
+            cardan_bench::large::point(&args[1..]);
+        }
+        Some("--large") => {
+            println!(
+                "{}",
+                cardan_bench::large::section(args.iter().any(|a| a == "--smoke"))
+            );
+        }
+        Some("--peers-only") => {
+            cardan_bench_peers::peers_only(&args[1..]);
+        }
+        Some("--drivers") => {
+            let smoke = args.iter().any(|a| a == "--smoke");
+            let cfg = Cfg::new(smoke);
+            println!("{}", driver_functions_section(&cfg));
+        }
+        Some("--modal") => {
+            let smoke = args.iter().any(|a| a == "--smoke");
+            println!("{}", cardan_bench::modal_sparse::section(smoke));
+            if let Some(k) = args.iter().position(|a| a == "--peers") {
+                let py = args.get(k + 1).map_or("python3", String::as_str);
+                let (md, ok) = cardan_bench::modal_peer::section(py, &root());
+                println!("{md}");
+                if !ok {
+                    std::process::exit(1);
+                }
+            }
+        }
+        Some("--animation") => {
+            let smoke = args.iter().any(|a| a == "--smoke");
+            let (batch, batches) = if smoke { (ms(5), 1) } else { (ms(200), 7) };
+            println!(
+                "{}{}",
+                cardan_bench::animation::section(smoke, batch, batches),
+                cardan_bench::animation::examples_section(&root().join("examples"), smoke)
+            );
+        }
+        Some("--genalpha") => {
+            cardan_bench::genalpha::main(&args[1..]);
+        }
+        Some("--genalpha-sc") => {
+            cardan_bench::genalpha::slider_crank(&args[1..], &root());
+        }
+        Some("--asmt") => {
+            let smoke = args.iter().any(|a| a == "--smoke");
+            let python = args
+                .iter()
+                .position(|a| a == "--peers")
+                .and_then(|k| args.get(k + 1));
+            let only = args
+                .iter()
+                .position(|a| a == "--only")
+                .and_then(|k| args.get(k + 1));
+            println!(
+                "{}",
+                cardan_bench::asmt::section_of(
+                    smoke,
+                    python.map(String::as_str),
+                    only.map(String::as_str),
+                    &root()
+                )
+            );
+        }
+        Some("--kinematic-accuracy") => {
+            kinematic_accuracy(&args[1..]);
+        }
+        Some("--run-memory") => {
+            run_memory(&args[1..]);
+        }
+        Some("--profile") => {
+            profile(&args[1..]);
+        }
+        _ => return false,
     }
-    if args.first().map(String::as_str) == Some("--drivers") {
-        let smoke = args.iter().any(|a| a == "--smoke");
-        let cfg = Cfg {
+    true
+}
+
+/// The options of the full report.
+struct ReportArgs {
+    smoke: bool,
+    /// The file whose marked section gets the report (default: standard output).
+    report: Option<PathBuf>,
+    /// The folder for the plots.
+    plots: Option<PathBuf>,
+    /// The Python that runs the peers.
+    peers: Option<String>,
+    /// Why the peers could not be installed.
+    peers_error: Option<String>,
+}
+
+impl ReportArgs {
+    /// Reads the options; exits with status 2 on an unknown one.
+    fn parse(args: &[String]) -> Self {
+        let mut smoke = false;
+        let mut report: Option<PathBuf> = None;
+        let mut plots: Option<PathBuf> = None;
+        let mut peers: Option<String> = None;
+        let mut peers_error: Option<String> = None;
+        let mut it = args.iter();
+        while let Some(a) = it.next() {
+            match a.as_str() {
+                "--smoke" => smoke = true,
+                "--report" => report = it.next().map(PathBuf::from),
+                "--plots" => plots = it.next().map(PathBuf::from),
+                "--peers" => peers = it.next().cloned(),
+                "--peers-error" => peers_error = it.next().cloned(),
+                other => {
+                    eprintln!("unknown argument {other}");
+                    std::process::exit(2);
+                }
+            }
+        }
+        Self {
             smoke,
-            batch: if smoke { ms(5) } else { ms(200) },
-            batches: if smoke { 1 } else { 7 },
-        };
-        println!("{}", driver_functions_section(&cfg));
-        return;
-    }
-    if args.first().map(String::as_str) == Some("--modal") {
-        let smoke = args.iter().any(|a| a == "--smoke");
-        println!("{}", cardan_bench::modal_sparse::section(smoke));
-        if let Some(k) = args.iter().position(|a| a == "--peers") {
-            let py = args.get(k + 1).map_or("python3", String::as_str);
-            let (md, ok) = cardan_bench::modal_peer::section(py, &root());
-            println!("{md}");
-            if !ok {
-                std::process::exit(1);
-            }
-        }
-        return;
-    }
-    if args.first().map(String::as_str) == Some("--animation") {
-        let smoke = args.iter().any(|a| a == "--smoke");
-        let (batch, batches) = if smoke { (ms(5), 1) } else { (ms(200), 7) };
-        println!(
-            "{}{}",
-            cardan_bench::animation::section(smoke, batch, batches),
-            cardan_bench::animation::examples_section(&root().join("examples"), smoke)
-        );
-        return;
-    }
-    if args.first().map(String::as_str) == Some("--genalpha") {
-        cardan_bench::genalpha::main(&args[1..]);
-        return;
-    }
-    if args.first().map(String::as_str) == Some("--genalpha-sc") {
-        cardan_bench::genalpha::slider_crank(&args[1..], &root());
-        return;
-    }
-    if args.first().map(String::as_str) == Some("--asmt") {
-        let smoke = args.iter().any(|a| a == "--smoke");
-        let python = args
-            .iter()
-            .position(|a| a == "--peers")
-            .and_then(|k| args.get(k + 1));
-        let only = args
-            .iter()
-            .position(|a| a == "--only")
-            .and_then(|k| args.get(k + 1));
-        println!(
-            "{}",
-            cardan_bench::asmt::section_of(
-                smoke,
-                python.map(String::as_str),
-                only.map(String::as_str),
-                &root()
-            )
-        );
-        return;
-    }
-    if args.first().map(String::as_str) == Some("--kinematic-accuracy") {
-        kinematic_accuracy(&args[1..]);
-        return;
-    }
-    if args.first().map(String::as_str) == Some("--run-memory") {
-        run_memory(&args[1..]);
-        return;
-    }
-    if args.first().map(String::as_str) == Some("--profile") {
-        profile(&args[1..]);
-        return;
-    }
-    let mut smoke = false;
-    let mut report: Option<PathBuf> = None;
-    let mut plots: Option<PathBuf> = None;
-    let mut peers: Option<String> = None;
-    let mut peers_error: Option<String> = None;
-    let mut it = args.iter();
-    while let Some(a) = it.next() {
-        match a.as_str() {
-            "--smoke" => smoke = true,
-            "--report" => report = it.next().map(PathBuf::from),
-            "--plots" => plots = it.next().map(PathBuf::from),
-            "--peers" => peers = it.next().cloned(),
-            "--peers-error" => peers_error = it.next().cloned(),
-            other => {
-                eprintln!("unknown argument {other}");
-                std::process::exit(2);
-            }
+            report,
+            plots,
+            peers,
+            peers_error,
         }
     }
-    let cfg = Cfg {
-        smoke,
-        batch: if smoke { ms(5) } else { ms(200) },
-        batches: if smoke { 1 } else { 7 },
-    };
+}
+
+/// The full report (every section; the peers when asked) and its plots.
+fn full_report(cfg: &Cfg, opts: &ReportArgs) -> (String, Vec<(String, String)>) {
     let started = Instant::now();
     let mut md = String::new();
     let _ = writeln!(md, "{BEGIN}\n## Measurements\n");
@@ -184,8 +229,8 @@ fn main() {
         "Written by `cargo xtask bench{}` ({}); do not edit by hand. Machine: {}. \
          Times are medians of repeated batches (wall clock; the machine is shared, treat them as \
          ±15 %). Sources: `crates/bench/`.\n",
-        if smoke { " --smoke" } else { "" },
-        if smoke {
+        if cfg.smoke { " --smoke" } else { "" },
+        if cfg.smoke {
             "smoke run: a few iterations each, numbers NOT representative"
         } else {
             "full run"
@@ -194,13 +239,13 @@ fn main() {
     );
     let mut svgs: Vec<(String, String)> = Vec::new();
     eprintln!("== kinematic frames of the example mechanisms");
-    md.push_str(&frames_section(&cfg));
+    md.push_str(&frames_section(cfg));
     eprintln!("== driver functions");
-    md.push_str(&driver_functions_section(&cfg));
+    md.push_str(&driver_functions_section(cfg));
     eprintln!("== Newton tolerance");
-    md.push_str(&tolerance_section(&cfg, &mut svgs));
+    md.push_str(&tolerance_section(cfg, &mut svgs));
     eprintln!("== scaling");
-    md.push_str(&scaling_section(&cfg, &mut svgs));
+    md.push_str(&scaling_section(cfg, &mut svgs));
     eprintln!("== modal analysis, sparse path");
     md.push_str(&cardan_bench::modal_sparse::section(cfg.smoke));
     eprintln!("== animation and report");
@@ -214,18 +259,18 @@ fn main() {
         cfg.smoke,
     ));
     eprintln!("== work-precision");
-    md.push_str(&work_precision_section(&cfg, &mut svgs));
+    md.push_str(&work_precision_section(cfg, &mut svgs));
     eprintln!("== ASMT files against OndselSolver");
     md.push_str(&cardan_bench::asmt::section(
         cfg.smoke,
-        peers.as_deref(),
+        opts.peers.as_deref(),
         &root(),
     ));
-    if let Some(py) = &peers {
+    if let Some(py) = &opts.peers {
         eprintln!("== peers");
-        md.push_str(&peers_section(&cfg, py));
+        md.push_str(&peers_section(cfg, py));
         md.push_str(&cardan_bench::modal_peer::section(py, &root()).0);
-    } else if let Some(e) = &peers_error {
+    } else if let Some(e) = &opts.peers_error {
         let _ = writeln!(md, "### Peers\n\nPeers could not be installed: {e}\n");
     } else {
         md.push_str("### Peers\n\nNot run (`cargo xtask bench --peers` runs Exudyn and OndselSolver side by side).\n\n");
@@ -235,16 +280,7 @@ fn main() {
         "Total benchmark time: {:.0} s.\n\n{END}",
         started.elapsed().as_secs_f64()
     );
-    if let Some(dir) = &plots {
-        std::fs::create_dir_all(dir).expect("plot directory");
-        for (name, text) in &svgs {
-            std::fs::write(dir.join(name), text).expect("write plot");
-        }
-    }
-    match &report {
-        Some(path) => write_section(path, &md),
-        None => println!("{md}"),
-    }
+    (md, svgs)
 }
 
 /// Replaces (or appends) the marked section of `path`, keeping everything else.
@@ -1091,98 +1127,15 @@ fn work_precision_section(cfg: &Cfg, svgs: &mut Vec<(String, String)>) -> String
             Some(Integrator::GeneralizedAlpha(o)) => o.rho_inf,
             _ => 0.8,
         };
-        let table = pr.csv.and_then(read_csv);
-        let (times, reference, label): (Vec<f64>, Vec<Vector3<f64>>, &str) = match &table {
-            Some(rows) => {
-                let rows: Vec<&Vec<f64>> = rows.iter().filter(|r| r[0] <= t_end + 1e-9).collect();
-                let times = rows.iter().map(|r| r[0]).collect();
-                let refs = rows
-                    .iter()
-                    .map(|r| {
-                        let mut v = Vector3::zeros();
-                        for &(c, k) in pr.cols {
-                            v[k] = r[c];
-                        }
-                        v
-                    })
-                    .collect();
-                (times, refs, "reference table")
-            }
-            None => {
-                let n = 30;
-                let times: Vec<f64> = (0..=n).map(|k| t_end * k as f64 / n as f64).collect();
-                let integ = Integrator::Dopri5(Dopri5Options::tolerances(1e-12, 1e-14));
-                let Some((_, refs)) = wp_run(p, pr, integ, t_end, &times) else {
-                    continue;
-                };
-                (times, refs, "self (DOPRI5 1e-12)")
-            }
+        let Some(reference) = wp_reference(p, pr, t_end) else {
+            continue;
         };
-        let comps: Vec<usize> = if pr.cols.is_empty() {
-            vec![0, 1, 2]
-        } else {
-            pr.cols.iter().map(|c| c.1).collect()
+        let span = WpSpan {
+            file_t_end: a.t_end,
+            t_end,
+            rho,
         };
-        let err = |pos: &[Vector3<f64>]| -> f64 {
-            pos.iter()
-                .zip(&reference)
-                .map(|(a, b)| {
-                    comps
-                        .iter()
-                        .map(|&k| (a[k] - b[k]).abs())
-                        .fold(0.0, f64::max)
-                })
-                .fold(0.0, f64::max)
-        };
-        let rtols: &[f64] = if cfg.smoke {
-            &[1e-5]
-        } else {
-            &[1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11]
-        };
-        let nsteps: &[f64] = if cfg.smoke {
-            &[200.0]
-        } else {
-            &[250.0, 500.0, 1000.0, 2000.0, 4000.0, 8000.0, 16000.0]
-        };
-        let mut dp = Vec::new();
-        let mut ga = Vec::new();
-        let _ = writeln!(
-            md,
-            "**{}** (error against the {label}):\n\n| integrator | setting | CPU | max error [m] |\n|---|---:|---:|---:|",
-            pr.title
-        );
-        for &rtol in rtols {
-            let integ = Integrator::Dopri5(Dopri5Options::tolerances(rtol, rtol * 1e-2));
-            if let Some((cpu, pos)) = wp_run(p, pr, integ, t_end, &times) {
-                let e = err(&pos);
-                dp.push((e, cpu));
-                let _ = writeln!(
-                    md,
-                    "| DOPRI5 | rtol {rtol:.0e} | {} | {e:.2e} |",
-                    fmt_time(cpu)
-                );
-            } else {
-                let _ = writeln!(md, "| DOPRI5 | rtol {rtol:.0e} | failed | — |");
-            }
-        }
-        for &ns in nsteps {
-            let h = a.t_end / ns;
-            let integ = Integrator::GeneralizedAlpha(GeneralizedAlphaOptions {
-                rho_inf: rho,
-                ..GeneralizedAlphaOptions::with_step(h)
-            });
-            if let Some((cpu, pos)) = wp_run(p, pr, integ, t_end, &times) {
-                let e = err(&pos);
-                ga.push((e, cpu));
-                let _ = writeln!(
-                    md,
-                    "| gen-α ρ∞ {rho} | h {h:.2e} | {} | {e:.2e} |",
-                    fmt_time(cpu)
-                );
-            } else {
-                let _ = writeln!(md, "| gen-α ρ∞ {rho} | h {h:.2e} | failed | — |");
-            }
-        }
+        let curves = wp_curves(cfg, p, pr, &reference, &span, &mut md);
         let best = |v: &[(f64, f64)], tol: f64| {
             v.iter()
                 .filter(|(e, _)| *e <= tol)
@@ -1193,10 +1146,10 @@ fn work_precision_section(cfg: &Cfg, svgs: &mut Vec<(String, String)>) -> String
             summary,
             "| {} | {} | {} | {} | {} |",
             pr.title,
-            fmt_time(best(&dp, 1e-3)),
-            fmt_time(best(&ga, 1e-3)),
-            fmt_time(best(&dp, 1e-6)),
-            fmt_time(best(&ga, 1e-6)),
+            fmt_time(best(&curves.dopri5, 1e-3)),
+            fmt_time(best(&curves.genalpha, 1e-3)),
+            fmt_time(best(&curves.dopri5, 1e-6)),
+            fmt_time(best(&curves.genalpha, 1e-6)),
         );
         let stem = pr.file.to_string();
         svgs.push((
@@ -1208,11 +1161,11 @@ fn work_precision_section(cfg: &Cfg, svgs: &mut Vec<(String, String)>) -> String
                 &[
                     Series {
                         label: "DOPRI5".into(),
-                        points: dp,
+                        points: curves.dopri5,
                     },
                     Series {
                         label: format!("gen-α ρ∞={rho}"),
-                        points: ga,
+                        points: curves.genalpha,
                     },
                 ],
             ),
@@ -1225,6 +1178,148 @@ fn work_precision_section(cfg: &Cfg, svgs: &mut Vec<(String, String)>) -> String
         "Cheapest run reaching a given accuracy:\n\n| problem | DOPRI5 ≤ 1e-3 m | gen-α ≤ 1e-3 m | DOPRI5 ≤ 1e-6 m | gen-α ≤ 1e-6 m |\n|---|---:|---:|---:|---:|\n{summary}"
     );
     md
+}
+
+/// The positions a work-precision run is measured against: at `times`, from the problem's
+/// reference table or (without one) from a DOPRI5 run at rtol 1e-12.
+struct WpReference {
+    times: Vec<f64>,
+    positions: Vec<Vector3<f64>>,
+    label: &'static str,
+}
+
+/// The reference of problem `pr` up to `t_end`; `None` when the self-reference run fails.
+fn wp_reference(p: &Prepared, pr: &Problem, t_end: f64) -> Option<WpReference> {
+    let table = pr.csv.and_then(read_csv);
+    Some(match &table {
+        Some(rows) => {
+            let rows: Vec<&Vec<f64>> = rows.iter().filter(|r| r[0] <= t_end + 1e-9).collect();
+            let times = rows.iter().map(|r| r[0]).collect();
+            let refs = rows
+                .iter()
+                .map(|r| {
+                    let mut v = Vector3::zeros();
+                    for &(c, k) in pr.cols {
+                        v[k] = r[c];
+                    }
+                    v
+                })
+                .collect();
+            WpReference {
+                times,
+                positions: refs,
+                label: "reference table",
+            }
+        }
+        None => {
+            let n = 30;
+            let times: Vec<f64> = (0..=n).map(|k| t_end * k as f64 / n as f64).collect();
+            let integ = Integrator::Dopri5(Dopri5Options::tolerances(1e-12, 1e-14));
+            let (_, refs) = wp_run(p, pr, integ, t_end, &times)?;
+            WpReference {
+                times,
+                positions: refs,
+                label: "self (DOPRI5 1e-12)",
+            }
+        }
+    })
+}
+
+/// What the runs of one problem share: the file's end time (the generalized-α steps divide
+/// it), the end time of the runs (shorter in a smoke run) and the file's ρ∞.
+struct WpSpan {
+    file_t_end: f64,
+    t_end: f64,
+    rho: f64,
+}
+
+/// The (error, CPU time) points of one problem per integrator.
+struct WpCurves {
+    dopri5: Vec<(f64, f64)>,
+    genalpha: Vec<(f64, f64)>,
+}
+
+/// Runs every DOPRI5 tolerance and generalized-α step of problem `pr`, writing its table
+/// into `md`.
+fn wp_curves(
+    cfg: &Cfg,
+    p: &Prepared,
+    pr: &Problem,
+    reference: &WpReference,
+    span: &WpSpan,
+    md: &mut String,
+) -> WpCurves {
+    let (times, label) = (&reference.times, reference.label);
+    let (file_t_end, t_end, rho) = (span.file_t_end, span.t_end, span.rho);
+    let comps: Vec<usize> = if pr.cols.is_empty() {
+        vec![0, 1, 2]
+    } else {
+        pr.cols.iter().map(|c| c.1).collect()
+    };
+    let err = |pos: &[Vector3<f64>]| -> f64 {
+        pos.iter()
+            .zip(&reference.positions)
+            .map(|(a, b)| {
+                comps
+                    .iter()
+                    .map(|&k| (a[k] - b[k]).abs())
+                    .fold(0.0, f64::max)
+            })
+            .fold(0.0, f64::max)
+    };
+    let rtols: &[f64] = if cfg.smoke {
+        &[1e-5]
+    } else {
+        &[1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11]
+    };
+    let nsteps: &[f64] = if cfg.smoke {
+        &[200.0]
+    } else {
+        &[250.0, 500.0, 1000.0, 2000.0, 4000.0, 8000.0, 16000.0]
+    };
+    let mut dp = Vec::new();
+    let mut ga = Vec::new();
+    let _ = writeln!(
+        md,
+        "**{}** (error against the {label}):\n\n| integrator | setting | CPU | max error [m] |\n|---|---:|---:|---:|",
+        pr.title
+    );
+    for &rtol in rtols {
+        let integ = Integrator::Dopri5(Dopri5Options::tolerances(rtol, rtol * 1e-2));
+        if let Some((cpu, pos)) = wp_run(p, pr, integ, t_end, times) {
+            let e = err(&pos);
+            dp.push((e, cpu));
+            let _ = writeln!(
+                md,
+                "| DOPRI5 | rtol {rtol:.0e} | {} | {e:.2e} |",
+                fmt_time(cpu)
+            );
+        } else {
+            let _ = writeln!(md, "| DOPRI5 | rtol {rtol:.0e} | failed | — |");
+        }
+    }
+    for &ns in nsteps {
+        let h = file_t_end / ns;
+        let integ = Integrator::GeneralizedAlpha(GeneralizedAlphaOptions {
+            rho_inf: rho,
+            ..GeneralizedAlphaOptions::with_step(h)
+        });
+        if let Some((cpu, pos)) = wp_run(p, pr, integ, t_end, times) {
+            let e = err(&pos);
+            ga.push((e, cpu));
+            let _ = writeln!(
+                md,
+                "| gen-α ρ∞ {rho} | h {h:.2e} | {} | {e:.2e} |",
+                fmt_time(cpu)
+            );
+        } else {
+            let _ = writeln!(md, "| gen-α ρ∞ {rho} | h {h:.2e} | failed | — |");
+        }
+    }
+    WpCurves {
+        dopri5: dp,
+        genalpha: ga,
+    }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -578,36 +578,11 @@ fn faster(r: f64) -> String {
 
 fn slider_crank_dynamics(smoke: bool, python: &str, script: &Path, root: &Path) -> String {
     let mut md = String::new();
-    let csv = root.join(SLIDER_CRANK_CSV);
-    let Ok(p) = cardan_cli::commands::prepare(&root.join("examples/slider_crank_dynamic.toml"))
-    else {
-        return "slider_crank_dynamic.toml not found\n\n".into();
+    let ScProblem { sc, spacing, csv } = match slider_crank_problem(smoke, root) {
+        Ok(problem) => problem,
+        Err(message) => return message,
     };
-    let Some(rows) = std::fs::read_to_string(&csv).ok().map(|t| {
-        t.lines()
-            .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
-            .filter_map(|l| {
-                let v: Vec<f64> = l.split(',').filter_map(|x| x.trim().parse().ok()).collect();
-                (v.len() >= 3).then(|| [v[0], v[1], v[2]])
-            })
-            .collect::<Vec<_>>()
-    }) else {
-        return format!("{SLIDER_CRANK_CSV} not found\n\n");
-    };
-    let t_end = if smoke { 0.5 } else { 5.0 };
-    let reference: Vec<[f64; 3]> = rows.into_iter().filter(|r| r[0] <= t_end + 1e-9).collect();
-    let n = reference.len() - 1;
-    let (t0, t1) = (reference[0][0], reference[n][0]);
-    let times: Vec<f64> = (0..=n)
-        .map(|k| t0 + (t1 - t0) * (k as f64 / n as f64))
-        .collect();
-    let spacing = (t1 - t0) / n as f64;
-    let sc = SliderCrank {
-        p,
-        reference,
-        times,
-        t_end,
-    };
+    let t_end = sc.t_end;
     let peer_steps: &[f64] = if smoke {
         &[2e-3]
     } else {
@@ -638,107 +613,213 @@ fn slider_crank_dynamics(smoke: bool, python: &str, script: &Path, root: &Path) 
     );
     let mut ladders = ladders(spacing);
     let csv_arg = csv.to_string_lossy().to_string();
+    let peer = ScPeer {
+        python,
+        script,
+        csv: &csv_arg,
+        rounds,
+    };
     let mut summary = Vec::new();
     for &h in peer_steps {
-        // Exudyn's error at this h (deterministic), then the matching cardan settings.
-        let exudyn = || {
-            call(
-                python,
-                script,
-                &[
-                    "exudyn-slider-crank",
-                    &h.to_string(),
-                    &t_end.to_string(),
-                    &csv_arg,
-                ],
-            )
-        };
-        let first = match exudyn() {
-            Ok(r) => r,
-            Err(e) => {
-                let _ = writeln!(md, "\nExudyn slider-crank h = {h} failed: {e}\n");
+        match slider_crank_at(&sc, &peer, &mut ladders, h, &mut md) {
+            Ok(best) => summary.extend(best),
+            Err(message) => {
+                let _ = writeln!(md, "{message}");
                 return md;
             }
-        };
-        let target = get(&first, "err");
-        let x_steps = get(&first, "steps");
-        let matched: Vec<Option<usize>> =
-            ladders.iter_mut().map(|l| l.reach(&sc, target)).collect();
-        // Timing: cardan's matched runs and Exudyn, alternately.
-        let mut xt = vec![get(&first, "wall")];
-        let mut ct: Vec<Vec<f64>> = vec![Vec::new(); ladders.len()];
-        let mut cruns: Vec<Option<ScRun>> = vec![None; ladders.len()];
-        for round in 0..rounds {
-            for (i, l) in ladders.iter().enumerate() {
-                if let Some(k) = matched[i] {
-                    if let Some(r) = sc.run(l.settings[k].1) {
-                        ct[i].push(r.wall);
-                        cruns[i] = Some(r);
-                    }
-                }
-            }
-            if round + 1 < rounds {
-                if let Ok(r) = exudyn() {
-                    xt.push(get(&r, "wall"));
-                }
-            }
-        }
-        let x = median(&mut xt);
-        let x_step = x / x_steps;
-        let mut best: Option<(usize, f64, f64)> = None;
-        for (i, l) in ladders.iter().enumerate() {
-            let (Some(k), Some(r)) = (matched[i], cruns[i]) else {
-                let _ = writeln!(
-                    md,
-                    "| {h:.1e} | {target:.2e} | {} | {} | {} | not reached (finest: {}) | | | | | |",
-                    fmt_time(x),
-                    fmt_time(x_step),
-                    l.name,
-                    l.settings.last().map_or("", |s| s.0.as_str())
-                );
-                continue;
-            };
-            let c = median(&mut ct[i]);
-            let c_step = c / r.steps as f64;
-            if best.is_none_or(|b| x / c > b.1) {
-                best = Some((i, x / c, x_step / c_step));
-            }
-            let _ = writeln!(
-                md,
-                "| {h:.1e} | {target:.2e} | {} | {} | {} | {} | {:.2e} | {} ({} steps) | {} | {} | {} |",
-                fmt_time(x),
-                fmt_time(x_step),
-                l.name,
-                l.settings[k].0,
-                r.err,
-                fmt_time(c),
-                r.steps,
-                fmt_time(c_step),
-                faster(x / c),
-                faster(x_step / c_step),
-            );
-        }
-        if let Some(b) = best {
-            summary.push((h, target, ladders[b.0].name, b.1, b.2));
         }
         eprintln!("peers: slider-crank Exudyn h = {h} done");
     }
     md.push('\n');
-    for (h, e, name, whole, step) in &summary {
+    for b in &summary {
         let _ = writeln!(
             md,
-            "- Exudyn h = {h:.1e} (error {e:.1e} m): fastest cardan run at equal or smaller \
-             error is {name}; cardan is {whole:.1}× faster over the whole run and {step:.1}× \
+            "- Exudyn h = {:.1e} (error {:.1e} m): fastest cardan run at equal or smaller \
+             error is {}; cardan is {:.1}× faster over the whole run and {:.1}× \
              per step (target ≥ 10×: {}).",
-            if *whole >= 10.0 { "met" } else { "**missed**" }
+            b.h,
+            b.error,
+            b.integrator,
+            b.whole,
+            b.per_step,
+            if b.whole >= 10.0 { "met" } else { "**missed**" }
         );
     }
-    // The error curves cardan's search went through (single runs), for reruns and plots.
+    settings_tried(&mut md, &ladders);
+    md.push('\n');
+    md
+}
+
+/// The slider-crank benchmark as the peers section runs it.
+struct ScProblem {
+    /// The model and its reference up to the run's end time.
+    sc: SliderCrank,
+    /// The spacing of the reference samples (s).
+    spacing: f64,
+    /// The reference file.
+    csv: std::path::PathBuf,
+}
+
+/// The slider-crank problem; `Err` with the text the section shows when a file is missing.
+fn slider_crank_problem(smoke: bool, root: &Path) -> Result<ScProblem, String> {
+    let csv = root.join(SLIDER_CRANK_CSV);
+    let Ok(p) = cardan_cli::commands::prepare(&root.join("examples/slider_crank_dynamic.toml"))
+    else {
+        return Err("slider_crank_dynamic.toml not found\n\n".into());
+    };
+    let Some(rows) = std::fs::read_to_string(&csv).ok().map(|t| {
+        t.lines()
+            .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
+            .filter_map(|l| {
+                let v: Vec<f64> = l.split(',').filter_map(|x| x.trim().parse().ok()).collect();
+                (v.len() >= 3).then(|| [v[0], v[1], v[2]])
+            })
+            .collect::<Vec<_>>()
+    }) else {
+        return Err(format!("{SLIDER_CRANK_CSV} not found\n\n"));
+    };
+    let t_end = if smoke { 0.5 } else { 5.0 };
+    let reference: Vec<[f64; 3]> = rows.into_iter().filter(|r| r[0] <= t_end + 1e-9).collect();
+    let n = reference.len() - 1;
+    let (t0, t1) = (reference[0][0], reference[n][0]);
+    let times: Vec<f64> = (0..=n)
+        .map(|k| t0 + (t1 - t0) * (k as f64 / n as f64))
+        .collect();
+    let spacing = (t1 - t0) / n as f64;
+    let sc = SliderCrank {
+        p,
+        reference,
+        times,
+        t_end,
+    };
+    Ok(ScProblem { sc, spacing, csv })
+}
+
+/// How the Exudyn twin is run: the Python, the peers script, the reference file, and the
+/// timing rounds.
+struct ScPeer<'a> {
+    python: &'a str,
+    script: &'a Path,
+    csv: &'a str,
+    rounds: usize,
+}
+
+/// The fastest cardan run at the error of one Exudyn run.
+struct ScBest {
+    /// Exudyn's step.
+    h: f64,
+    /// Exudyn's error (m).
+    error: f64,
+    /// The cardan integrator.
+    integrator: &'static str,
+    /// Exudyn's time over cardan's, whole run and per step.
+    whole: f64,
+    per_step: f64,
+}
+
+/// One Exudyn step `h`: its error, the cheapest setting of each cardan integrator that
+/// reaches it, both timed alternately, and a row per integrator in `md`. `Err`: Exudyn failed
+/// (the message).
+fn slider_crank_at(
+    sc: &SliderCrank,
+    peer: &ScPeer,
+    ladders: &mut [Ladder],
+    h: f64,
+    md: &mut String,
+) -> Result<Option<ScBest>, String> {
+    let (python, script, csv_arg, rounds, t_end) =
+        (peer.python, peer.script, peer.csv, peer.rounds, sc.t_end);
+    // Exudyn's error at this h (deterministic), then the matching cardan settings.
+    let exudyn = || {
+        call(
+            python,
+            script,
+            &[
+                "exudyn-slider-crank",
+                &h.to_string(),
+                &t_end.to_string(),
+                csv_arg,
+            ],
+        )
+    };
+    let first = match exudyn() {
+        Ok(r) => r,
+        Err(e) => return Err(format!("\nExudyn slider-crank h = {h} failed: {e}\n")),
+    };
+    let target = get(&first, "err");
+    let x_steps = get(&first, "steps");
+    let matched: Vec<Option<usize>> =
+        ladders.iter_mut().map(|l| l.reach(sc, target)).collect();
+    // Timing: cardan's matched runs and Exudyn, alternately.
+    let mut xt = vec![get(&first, "wall")];
+    let mut ct: Vec<Vec<f64>> = vec![Vec::new(); ladders.len()];
+    let mut cruns: Vec<Option<ScRun>> = vec![None; ladders.len()];
+    for round in 0..rounds {
+        for (i, l) in ladders.iter().enumerate() {
+            if let Some(k) = matched[i] {
+                if let Some(r) = sc.run(l.settings[k].1) {
+                    ct[i].push(r.wall);
+                    cruns[i] = Some(r);
+                }
+            }
+        }
+        if round + 1 < rounds {
+            if let Ok(r) = exudyn() {
+                xt.push(get(&r, "wall"));
+            }
+        }
+    }
+    let x = median(&mut xt);
+    let x_step = x / x_steps;
+    let mut best: Option<(usize, f64, f64)> = None;
+    for (i, l) in ladders.iter().enumerate() {
+        let (Some(k), Some(r)) = (matched[i], cruns[i]) else {
+            let _ = writeln!(
+                md,
+                "| {h:.1e} | {target:.2e} | {} | {} | {} | not reached (finest: {}) | | | | | |",
+                fmt_time(x),
+                fmt_time(x_step),
+                l.name,
+                l.settings.last().map_or("", |s| s.0.as_str())
+            );
+            continue;
+        };
+        let c = median(&mut ct[i]);
+        let c_step = c / r.steps as f64;
+        if best.is_none_or(|b| x / c > b.1) {
+            best = Some((i, x / c, x_step / c_step));
+        }
+        let _ = writeln!(
+            md,
+            "| {h:.1e} | {target:.2e} | {} | {} | {} | {} | {:.2e} | {} ({} steps) | {} | {} | {} |",
+            fmt_time(x),
+            fmt_time(x_step),
+            l.name,
+            l.settings[k].0,
+            r.err,
+            fmt_time(c),
+            r.steps,
+            fmt_time(c_step),
+            faster(x / c),
+            faster(x_step / c_step),
+        );
+    }
+    Ok(best.map(|b| ScBest {
+        h,
+        error: target,
+        integrator: ladders[b.0].name,
+        whole: b.1,
+        per_step: b.2,
+    }))
+}
+
+/// The error curves cardan's search went through (single runs), for reruns and plots.
+fn settings_tried(md: &mut String, ladders: &[Ladder]) {
     let _ = writeln!(
         md,
         "\ncardan settings tried (one run each; error [m] / time):\n"
     );
-    for l in &ladders {
+    for l in ladders {
         let tried: Vec<String> = l
             .runs
             .iter()
@@ -751,8 +832,6 @@ fn slider_crank_dynamics(smoke: bool, python: &str, script: &Path, root: &Path) 
             .collect();
         let _ = writeln!(md, "- {}: {}", l.name, tried.join("; "));
     }
-    md.push('\n');
-    md
 }
 
 /// The `cardan` binary beside this one (`cargo build --release -p cardan-cli`).
@@ -945,6 +1024,38 @@ fn cli_genalpha(
     let tmp = std::env::temp_dir().join(format!("cardan-bench-cli-genalpha-{}", std::process::id()));
     let _ = std::fs::create_dir_all(&tmp);
     let out = tmp.join("out");
+    let cx = CliRuns {
+        python,
+        script,
+        root,
+        tmp: &tmp,
+        out: &out,
+    };
+    if slider_crank {
+        cli_genalpha_slider_crank(&cx, smoke, &mut md);
+    }
+    if chain {
+        cli_genalpha_chain(&cx, smoke, &mut md);
+    }
+    let _ = std::fs::remove_dir_all(&tmp);
+    md.push('\n');
+    md
+}
+
+/// Where the whole runs of [`cli_genalpha`] happen: the peers' Python and script, the
+/// repository root, the scratch folder and the run's output folder in it.
+struct CliRuns<'a> {
+    python: &'a str,
+    script: &'a Path,
+    root: &'a Path,
+    tmp: &'a Path,
+    out: &'a Path,
+}
+
+/// The slider-crank rows: cardan's and Exudyn's generalized-α runs over each time span, best
+/// of the rounds, against the IFToMM reference.
+fn cli_genalpha_slider_crank(cx: &CliRuns, smoke: bool, md: &mut String) {
+    let (python, script, root, tmp, out) = (cx.python, cx.script, cx.root, cx.tmp, cx.out);
     let reference_rows: Vec<[f64; 3]> = std::fs::read_to_string(
         root.join("tests/data/benchmarks/spatial_slider_crank_crankCoM_mid.csv"),
     )
@@ -962,7 +1073,7 @@ fn cli_genalpha(
     } else {
         (&[1e-3, 5e-4, 2.5e-4, 1.25e-4], &[1e-3, 5e-4])
     };
-    for &t_end in spans.iter().filter(|_| slider_crank) {
+    for &t_end in spans {
         let reference: Vec<[f64; 3]> = reference_rows
             .iter()
             .copied()
@@ -990,7 +1101,7 @@ fn cli_genalpha(
             for r in c.iter_mut() {
                 let file = tmp.join("slider_crank.toml");
                 let _ = std::fs::write(&file, slider_crank_genalpha_toml(root, r.h, t_end));
-                match cardan_run(&file, &out) {
+                match cardan_run(&file, out) {
                     Ok(w) => {
                         r.wall = r.wall.min(w);
                         r.err = slider_crank_csv_error(&out.join("points.csv"), &reference);
@@ -1012,12 +1123,18 @@ fn cli_genalpha(
                 }
             }
         }
-        whole_run_table(&mut md, &format!("slider-crank {t_end} s"), &c, &x);
+        whole_run_table(md, &format!("slider-crank {t_end} s"), &c, &x);
     }
+}
+
+/// The chain rows: N spherical-joint links, cardan at three steps and Exudyn at 1 ms, against
+/// a cardan DOPRI5 reference.
+fn cli_genalpha_chain(cx: &CliRuns, smoke: bool, md: &mut String) {
+    let (python, script, tmp, out) = (cx.python, cx.script, cx.tmp, cx.out);
     let n = if smoke { 20 } else { 1000 };
     let chain_spans: &[f64] = if smoke { &[0.05] } else { &[1.0, 5.0] };
     let model = models::spherical_chain(n);
-    for &t_end in chain_spans.iter().filter(|_| chain) {
+    for &t_end in chain_spans {
         let reference = cardan_chain(
             &model,
             0.0,
@@ -1033,7 +1150,7 @@ fn cli_genalpha(
         for &h in &[2e-3, 1e-3, 5e-4] {
             let file = tmp.join("chain.toml");
             let _ = std::fs::write(&file, spherical_chain_toml(n, h, t_end));
-            match cardan_run(&file, &out) {
+            match cardan_run(&file, out) {
                 Ok(wall) => {
                     let rows = csv_rows(&out.join("points.csv"));
                     let e = rows.last().filter(|r| r.len() >= 7).map_or(f64::NAN, |r| {
@@ -1064,9 +1181,6 @@ fn cli_genalpha(
             }
             Err(e) => eprintln!("{e}"),
         }
-        whole_run_table(&mut md, &format!("chain N = {n}, {t_end} s"), &c, &x);
+        whole_run_table(md, &format!("chain N = {n}, {t_end} s"), &c, &x);
     }
-    let _ = std::fs::remove_dir_all(&tmp);
-    md.push('\n');
-    md
 }

@@ -96,6 +96,7 @@ pub mod p2_select;
 pub mod primitive;
 pub mod radial_distance;
 pub mod spherical;
+pub mod spline;
 pub mod state;
 pub mod time_function;
 
@@ -124,5 +125,6 @@ pub use p2_select::P2Select;
 pub use primitive::Primitive;
 pub use radial_distance::RadialDistance;
 pub use spherical::Spherical;
+pub use spline::Spline;
 pub use state::{BlockUse, BodyPair, BodyState, Footprint};
-pub use time_function::{Spline, TimeFunction};
+pub use time_function::TimeFunction;

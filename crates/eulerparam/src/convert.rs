@@ -13,6 +13,28 @@ use crate::error::EulerParamError;
 use crate::params::EulerParams;
 use nalgebra::{Matrix3, Vector3};
 
+/// The conversions as constructors and accessors of [`EulerParams`]. They live here, beside
+/// the functions they call, so that the coordinate type (`params.rs`) does not depend on the
+/// conversions.
+impl EulerParams {
+    /// The parameters of a rotation by `angle` (rad) about `axis` (any nonzero length):
+    /// e0 = cos(χ/2), e = u sin(χ/2) (Nikravesh 1988 ch. 6).
+    pub fn from_axis_angle(axis: &Vector3<f64>, angle: f64) -> Result<Self, EulerParamError> {
+        p_from_axis_angle(axis, angle)
+    }
+
+    /// The parameters of a proper rotation matrix (Shepperd's method; exact at 180°).
+    pub fn from_rotation_matrix(m: &Matrix3<f64>) -> Result<Self, EulerParamError> {
+        p_from_rotation_matrix(m)
+    }
+
+    /// Unit axis and angle χ ∈ [0, 2π] with p = [cos(χ/2), u sin(χ/2)] (keeps p's sign:
+    /// e0 < 0 gives χ > π). The identity gives the axis x and χ = 0.
+    pub fn to_axis_angle(&self) -> (Vector3<f64>, f64) {
+        axis_angle_from_p(self)
+    }
+}
+
 fn check_finite(what: &'static str, v: &[f64]) -> Result<(), EulerParamError> {
     if v.iter().all(|x| x.is_finite()) {
         Ok(())

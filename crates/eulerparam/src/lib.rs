@@ -34,7 +34,9 @@
 //! - [`skew`](mod@skew): the tilde operator ã b = a × b.
 //! - [`matrices`]: A, G, L, ā, ∂(A a')/∂p and their time derivatives.
 //! - [`velocity`]: ω, ω', ṗ and p̈ maps.
-//! - [`convert`]: rotation matrix, axis-angle, Euler angles (3-1-3, 1-2-3), frames from axes.
+//! - [`convert`]: rotation matrix, axis-angle, Euler angles (3-1-3, 1-2-3), frames from axes,
+//!   and the `EulerParams` constructors that use them (`from_axis_angle`, ...): `convert`
+//!   builds on `params`, never the other way round.
 //!
 //! Everything uses nalgebra's fixed-size types; nothing allocates except an error's payload.
 //!

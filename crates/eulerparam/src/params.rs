@@ -140,23 +140,6 @@ impl EulerParams {
     pub fn conjugate(&self) -> EulerParams {
         EulerParams::new(self.0[0], -self.0[1], -self.0[2], -self.0[3])
     }
-
-    /// The parameters of a rotation by `angle` (rad) about `axis` (any nonzero length):
-    /// e0 = cos(χ/2), e = u sin(χ/2) (Nikravesh 1988 ch. 6).
-    pub fn from_axis_angle(axis: &Vector3<f64>, angle: f64) -> Result<Self, EulerParamError> {
-        crate::convert::p_from_axis_angle(axis, angle)
-    }
-
-    /// The parameters of a proper rotation matrix (Shepperd's method; exact at 180°).
-    pub fn from_rotation_matrix(m: &Matrix3<f64>) -> Result<Self, EulerParamError> {
-        crate::convert::p_from_rotation_matrix(m)
-    }
-
-    /// Unit axis and angle χ ∈ [0, 2π] with p = [cos(χ/2), u sin(χ/2)] (keeps p's sign:
-    /// e0 < 0 gives χ > π). The identity gives the axis x and χ = 0.
-    pub fn to_axis_angle(&self) -> (Vector3<f64>, f64) {
-        crate::convert::axis_angle_from_p(self)
-    }
 }
 
 impl From<EulerParams> for Vector4<f64> {

@@ -1,5 +1,6 @@
 //! The builder: bodies, named points and vectors, joints and drivers, validated by
-//! [`MechanismBuilder::build`] into an immutable [`Model`].
+//! [`MechanismBuilder::build`] into an immutable [`Model`](crate::Model) (`model/build.rs`:
+//! the builder holds the specifications only and knows nothing of the model).
 //!
 //! Everything is referred to by name. A body's points and vectors are named per body
 //! (`"crank"`, `"B"`), so a model file can say "a revolute joint between ground point `A` about
@@ -23,8 +24,6 @@
 //! The ground body [`GROUND`] exists from the start; its points and vectors are global. It has no
 //! unknowns: its coordinates are eliminated, not constrained.
 
-use crate::error::ModelError;
-use crate::model::Model;
 use cardan_constraints::drivers::POSE_ROWS;
 use cardan_constraints::{JointKind, RotationOrder, TimeFunction};
 use cardan_eulerparam::{
@@ -721,14 +720,5 @@ impl MechanismBuilder {
     pub fn force(&mut self, force: ForceSpec) -> &mut Self {
         self.forces.push(force);
         self
-    }
-
-    /// Validates everything and builds the immutable [`Model`] (sparsity pattern, row ranges and
-    /// index maps computed here, once).
-    ///
-    /// # Errors
-    /// The first problem found, as a [`ModelError`] naming the element.
-    pub fn build(&self) -> Result<Model, ModelError> {
-        crate::model::build(self)
     }
 }

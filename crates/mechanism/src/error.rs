@@ -2,7 +2,8 @@
 //!
 //! Each variant names the element concerned and carries the numbers that explain the problem.
 
-use crate::results::Results;
+pub use crate::equation::EquationName;
+use crate::results::{DroppedRowResidual, Results};
 use cardan_solver::SolverError;
 use thiserror::Error;
 
@@ -498,31 +499,6 @@ impl ModelError {
     }
 }
 
-/// A named equation of the mechanism (for redundancy and singularity reports).
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct EquationName {
-    /// Global row index.
-    pub row: usize,
-    /// Joint or driver name.
-    pub element: String,
-    /// Joint kind name or driver kind ("revolute", "rotation_driver", ...).
-    pub kind: &'static str,
-    /// Primitive the row belongs to ("spherical", "n1", ...; the driver kind for drivers).
-    pub primitive: &'static str,
-    /// Row within the element.
-    pub local_row: usize,
-}
-
-impl std::fmt::Display for EquationName {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "{} \"{}\" row {} ({})",
-            self.kind, self.element, self.local_row, self.primitive
-        )
-    }
-}
-
 fn fmt_names(v: &[EquationName]) -> String {
     if v.is_empty() {
         return "none identified".into();
@@ -599,7 +575,7 @@ pub enum AnalysisError {
         /// The scaled residual above which a dropped row is a gross disagreement.
         limit: f64,
         /// The dropped rows that stay off, one per element (its worst row).
-        dropped: Vec<crate::analysis::dropped::DroppedRowResidual>,
+        dropped: Vec<DroppedRowResidual>,
     },
     /// A rotation driver could only be assembled on the spurious branch φ = θ(t) ± π of its
     /// equation sin(φ − θ(t)) = 0, even by continuation from the drawn pose.
@@ -668,7 +644,7 @@ pub enum AnalysisError {
     },
 }
 
-fn fmt_dropped(v: &[crate::analysis::dropped::DroppedRowResidual]) -> String {
+fn fmt_dropped(v: &[DroppedRowResidual]) -> String {
     v.iter()
         .map(|d| {
             format!(
@@ -680,7 +656,7 @@ fn fmt_dropped(v: &[crate::analysis::dropped::DroppedRowResidual]) -> String {
         .join(", ")
 }
 
-fn fmt_elements(v: &[crate::analysis::dropped::DroppedRowResidual]) -> String {
+fn fmt_elements(v: &[DroppedRowResidual]) -> String {
     let mut names: Vec<&str> = v.iter().map(|d| d.equation.element.as_str()).collect();
     names.dedup();
     names

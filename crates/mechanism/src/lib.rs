@@ -65,16 +65,22 @@
 //! ```
 //!
 //! ## Layout (one concept per file)
+//! - [`equation`]: [`EquationName`], the name of a global equation.
+//! - [`results`]: [`Results`] and [`DroppedRowResidual`]. [`error`]: [`ModelError`],
+//!   [`AnalysisError`]. [`sanity`]: the magnitude limits of the builder's numbers.
 //! - [`builder`]: [`MechanismBuilder`], [`Body`], [`Orientation`], [`JointSpec`], [`DriverSpec`].
-//! - [`model`]: the immutable [`Model`] and its validation.
-//! - [`workspace`]: the preallocated [`Workspace`] and the rotation update.
+//! - [`model`]: the immutable [`Model`], its elements and its validation.
 //! - [`dof`]: the [`DofReport`].
-//! - [`analysis`]: assembly, position, velocity, acceleration, time grid.
-//! - [`results`]: [`Results`]. [`error`]: [`ModelError`], [`AnalysisError`].
+//! - [`workspace`]: the preallocated [`Workspace`] and the rotation update.
+//! - [`analysis`]: degrees of freedom, assembly, position, velocity, acceleration, time grid.
+//!
+//! The files are layered in this order: a file imports only files listed before it (or below
+//! it in its own folder), never one above it, so there is no import circle to untangle.
 
 pub mod analysis;
 pub mod builder;
 pub mod dof;
+pub mod equation;
 pub mod error;
 pub mod model;
 pub mod results;
@@ -82,10 +88,11 @@ pub mod sanity;
 pub mod workspace;
 
 pub use analysis::assembly::{AssemblyOptions, AssemblyReport};
-pub use analysis::dropped::{gross_inconsistency, DroppedRowResidual};
+pub use analysis::dropped::{gross_inconsistency, DroppedRowResidual, DroppedRowSample};
 pub use analysis::grid::KinematicOptions;
 pub use analysis::position::{
-    PositionReport, FAST_RANK_MIN_UNKNOWNS, KINEMATIC_MAX_CHORD_STEPS, SELECTION_PIVOT_TOLERANCE,
+    OpenRow, PositionReport, FAST_RANK_MIN_UNKNOWNS, KINEMATIC_MAX_CHORD_STEPS,
+    SELECTION_PIVOT_TOLERANCE,
 };
 pub use builder::{
     pose_row_name, Axis, Body, CouplerKind, CouplerSpec, DriverSpec, DriverTarget, ForceSpec,

@@ -9,8 +9,9 @@
 //! time just solved, whose storage is reused from frame to frame. A run that returns all its
 //! frames is such a sink that appends each frame ([`Results::extend_from`]).
 
+use crate::equation::EquationName;
 use cardan_constraints::joints::MAX_COORDINATES;
-use cardan_constraints::JointKind;
+use cardan_constraints::{Dimension, JointKind};
 use nalgebra::{Vector3, Vector4};
 use std::ops::ControlFlow;
 
@@ -41,7 +42,23 @@ pub struct RunTotals {
     /// As [`Results::row_reselections`].
     pub row_reselections: usize,
     /// As [`Results::dropped_rows`].
-    pub dropped_rows: Vec<crate::analysis::dropped::DroppedRowResidual>,
+    pub dropped_rows: Vec<DroppedRowResidual>,
+}
+
+/// The worst residual of a row dropped as redundant, over a run (how it is found:
+/// [`crate::analysis::dropped`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct DroppedRowResidual {
+    /// The equation (element, kind, primitive, row).
+    pub equation: EquationName,
+    /// Its scaled residual |Φ_r| / e_r (relative to the model's size for a length).
+    pub residual: f64,
+    /// Its residual Φ_r in SI units (m, m², or dimensionless, as `dimension` says).
+    pub value: f64,
+    /// What Φ_r measures.
+    pub dimension: Dimension,
+    /// When it was largest (s).
+    pub time: f64,
 }
 
 /// Which quantities a run computes and stores.
@@ -183,7 +200,7 @@ pub struct Results {
     /// above the position tolerance at some step): one per element, its worst row, value and
     /// time ([`Model::dropped_row_residuals`](crate::Model::dropped_row_residuals)). Empty for a
     /// consistent model; otherwise its joints disagree slightly and a front end should say so.
-    pub dropped_rows: Vec<crate::analysis::dropped::DroppedRowResidual>,
+    pub dropped_rows: Vec<DroppedRowResidual>,
 }
 
 impl Results {

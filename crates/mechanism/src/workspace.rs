@@ -19,17 +19,57 @@ use cardan_solver::{AutoSolver, Newton, NonlinearSystem};
 use nalgebra::{Vector3, Vector4};
 
 /// The mutable state of a mechanism analysis. Made by [`Model::workspace`].
+///
+/// Grouped by what each part is for; every vector is sized once, in [`Workspace::new`].
 #[derive(Debug)]
 pub struct Workspace {
+    /// The current frame: time, Newton state, body states and coupler turns.
+    pub(crate) pose: PoseState,
+    /// Velocities and accelerations of the current frame, and whether they are current.
+    pub(crate) motion: MotionState,
+    /// The last two accelerations, from which the predictor estimates the jerk.
+    pub(crate) jerk: JerkSamples,
+    /// The length-m buffers: right-hand side and Φ.
+    pub(crate) rows: RowBuffers,
+    /// The predictor's scratch.
+    pub(crate) prediction: PredictionBuffers,
+    /// The time grid's copies of frames (subdivision, branch-jump test, extrapolation).
+    pub(crate) grid: GridFrames,
+    /// The prepared kinematic Newton solver and what it was prepared with.
+    pub(crate) kin: KinematicSolver,
+    /// The rows dropped as redundant and their worst residuals (`analysis::dropped`).
+    pub(crate) dropped: DroppedRows,
+    /// Counters of work done.
+    pub(crate) counters: Counters,
+}
+
+/// The current frame.
+#[derive(Debug)]
+pub(crate) struct PoseState {
     pub(crate) t: f64,
     /// Newton state, 7 per body.
     pub(crate) x: Vec<f64>,
+    pub(crate) bodies: Vec<BodyState>,
+    /// Each coupler's angles at the last accepted pose, which its angles are continued from
+    /// ([`Model::accept_turns`]).
+    pub(crate) turns: Vec<[f64; 2]>,
+}
+
+/// Velocities and accelerations of the current frame.
+#[derive(Debug)]
+pub(crate) struct MotionState {
     /// v = [ṙ; ω'] per body.
     pub(crate) v: Vec<f64>,
     /// v̇ = [r̈; ω̇'] per body.
     pub(crate) vdot: Vec<f64>,
-    /// The last two accelerations computed ([`Model::acceleration`]) and their times (NaN: none),
-    /// for the predictor's jerk estimate.
+    pub(crate) velocity_valid: bool,
+    pub(crate) acceleration_valid: bool,
+}
+
+/// The last two accelerations computed ([`Model::acceleration`]) and their times (NaN: none),
+/// for the predictor's jerk estimate.
+#[derive(Debug)]
+pub(crate) struct JerkSamples {
     pub(crate) vdot_last: Vec<f64>,
     pub(crate) vdot_prev: Vec<f64>,
     pub(crate) vdot_last_time: f64,
@@ -38,45 +78,76 @@ pub struct Workspace {
     /// same two times.
     pub(crate) edge_acc_last: Vec<f64>,
     pub(crate) edge_acc_prev: Vec<f64>,
-    pub(crate) bodies: Vec<BodyState>,
-    /// Each coupler's angles at the last accepted pose, which its angles are continued from
-    /// ([`Model::accept_turns`]), and their copy for a return to a saved frame.
-    pub(crate) turns: Vec<[f64; 2]>,
-    pub(crate) turns_saved: Vec<[f64; 2]>,
-    /// Length m: ν, γ#, Φ.
+}
+
+/// Length m: ν or γ# (the right-hand side of the last linear solve), and Φ.
+#[derive(Debug)]
+pub(crate) struct RowBuffers {
     pub(crate) rhs: Vec<f64>,
     pub(crate) phi: Vec<f64>,
-    /// Predictor buffers.
-    pub(crate) x_prev: Vec<f64>,
-    pub(crate) x_tmp: Vec<f64>,
-    /// The Newton start of the current position solve, kept when the kinematic solver works on
-    /// a selection of rows (to retry from it after a re-selection).
-    pub(crate) x_start: Vec<f64>,
-    /// Times the kinematic solver re-selected its independent rows.
-    pub(crate) reselections: usize,
-    /// Length m: whether the kinematic solver keeps each row (false: dropped as redundant), and
-    /// each row's worst scaled residual while dropped, its value and time
-    /// (`analysis::dropped`).
-    pub(crate) kept: Vec<bool>,
-    pub(crate) dropped_worst: Vec<f64>,
-    pub(crate) dropped_value: Vec<f64>,
-    pub(crate) dropped_time: Vec<f64>,
+}
+
+/// The predictor's scratch (`analysis::predictor`).
+#[derive(Debug)]
+pub(crate) struct PredictionBuffers {
     /// The predicted relative poses [p_rel; e] (7 per body).
     pub(crate) pred: Vec<f64>,
     /// Whether the predictor took a body's absolute motion (it turns faster relative to its
     /// parent than absolutely).
     pub(crate) pred_absolute: Vec<bool>,
-    /// The Newton start of the frame being solved (the prediction), for the branch-jump test of
-    /// the time grid, and the velocities and accelerations of the last accepted frame, to
-    /// return to it when a step is subdivided (see `analysis::grid`).
+}
+
+/// The time grid's copies of frames (see `analysis::grid`).
+#[derive(Debug)]
+pub(crate) struct GridFrames {
+    /// The frame before the last accepted one, for the linear extrapolation of the poses.
+    pub(crate) x_prev: Vec<f64>,
+    /// The poses the current attempt started from (the frame a subdivided step returns to).
+    pub(crate) x_tmp: Vec<f64>,
+    /// The Newton start of the frame being solved (the prediction), for the branch-jump test.
     pub(crate) x_pred: Vec<f64>,
+    /// The velocities, accelerations and coupler turns of the last accepted frame, to return
+    /// to it when a step is subdivided.
     pub(crate) v_saved: Vec<f64>,
     pub(crate) vdot_saved: Vec<f64>,
-    pub(crate) kin: Option<Newton<AutoSolver>>,
+    pub(crate) turns_saved: Vec<[f64; 2]>,
+}
+
+/// The kinematic Newton solver ([`Model::prepare_kinematics`]).
+#[derive(Debug)]
+pub(crate) struct KinematicSolver {
+    pub(crate) newton: Option<Newton<AutoSolver>>,
+    /// The DOF report it was prepared with.
     pub(crate) dof: Option<DofReport>,
-    pub(crate) velocity_valid: bool,
-    pub(crate) acceleration_valid: bool,
-    pub(crate) counts: EvaluationCounts,
+    /// The Newton start of the current position solve, kept when the solver works on a
+    /// selection of rows (to retry from it after a re-selection).
+    pub(crate) x_start: Vec<f64>,
+}
+
+/// Length m: whether the kinematic solver keeps each row (false: dropped as redundant), and
+/// each row's worst scaled residual while dropped, its value and time (`analysis::dropped`).
+#[derive(Debug)]
+pub(crate) struct DroppedRows {
+    pub(crate) kept: Vec<bool>,
+    pub(crate) worst: Vec<f64>,
+    pub(crate) value: Vec<f64>,
+    pub(crate) time: Vec<f64>,
+}
+
+/// Counters of work done in the workspace.
+#[derive(Debug, Default)]
+pub(crate) struct Counters {
+    /// Times the kinematic solver re-selected its independent rows.
+    pub(crate) reselections: usize,
+    /// ν and γ# evaluations.
+    pub(crate) evaluations: EvaluationCounts,
+}
+
+impl Model {
+    /// A fresh workspace at the initial poses (allocates every buffer a run needs).
+    pub fn workspace(&self) -> Workspace {
+        Workspace::new(self)
+    }
 }
 
 /// How many times the velocity and acceleration right-hand sides were evaluated in a workspace:
@@ -94,18 +165,18 @@ impl Workspace {
     /// How many times the kinematic solver of a mechanism with redundant equations re-selected
     /// its independent rows (see [`Model::position`]).
     pub fn row_reselections(&self) -> usize {
-        self.reselections
+        self.counters.reselections
     }
 
     /// Each coupler's angles at the last accepted pose ([`Model::accept_turns`]): the
     /// references its angles are continued from.
     pub fn turns(&self) -> &[[f64; 2]] {
-        &self.turns
+        &self.pose.turns
     }
 
     /// The ν and γ# evaluation counts since the workspace was created.
     pub fn evaluation_counts(&self) -> EvaluationCounts {
-        self.counts
+        self.counters.evaluations
     }
 
     /// A workspace at the model's initial poses, at rest, t = 0.
@@ -113,39 +184,54 @@ impl Workspace {
         let nb = model.num_bodies();
         let m = model.num_equations();
         let mut ws = Self {
-            t: 0.0,
-            x: vec![0.0; 7 * nb],
-            v: vec![0.0; 6 * nb],
-            vdot: vec![0.0; 6 * nb],
-            vdot_last: vec![0.0; 6 * nb],
-            vdot_prev: vec![0.0; 6 * nb],
-            vdot_last_time: f64::NAN,
-            vdot_prev_time: f64::NAN,
-            edge_acc_last: vec![0.0; 6 * nb],
-            edge_acc_prev: vec![0.0; 6 * nb],
-            bodies: vec![BodyState::ground(); nb],
-            turns: model.initial_turns(),
-            turns_saved: model.initial_turns(),
-            rhs: vec![0.0; m],
-            phi: vec![0.0; m],
-            x_prev: vec![0.0; 7 * nb],
-            x_tmp: vec![0.0; 7 * nb],
-            x_start: vec![0.0; 7 * nb],
-            reselections: 0,
-            kept: vec![true; m],
-            dropped_worst: vec![0.0; m],
-            dropped_value: vec![0.0; m],
-            dropped_time: vec![f64::NAN; m],
-            pred: vec![0.0; 7 * nb],
-            pred_absolute: vec![false; nb],
-            x_pred: vec![0.0; 7 * nb],
-            v_saved: vec![0.0; 6 * nb],
-            vdot_saved: vec![0.0; 6 * nb],
-            kin: None,
-            dof: None,
-            velocity_valid: false,
-            acceleration_valid: false,
-            counts: EvaluationCounts::default(),
+            pose: PoseState {
+                t: 0.0,
+                x: vec![0.0; 7 * nb],
+                bodies: vec![BodyState::ground(); nb],
+                turns: model.initial_turns(),
+            },
+            motion: MotionState {
+                v: vec![0.0; 6 * nb],
+                vdot: vec![0.0; 6 * nb],
+                velocity_valid: false,
+                acceleration_valid: false,
+            },
+            jerk: JerkSamples {
+                vdot_last: vec![0.0; 6 * nb],
+                vdot_prev: vec![0.0; 6 * nb],
+                vdot_last_time: f64::NAN,
+                vdot_prev_time: f64::NAN,
+                edge_acc_last: vec![0.0; 6 * nb],
+                edge_acc_prev: vec![0.0; 6 * nb],
+            },
+            rows: RowBuffers {
+                rhs: vec![0.0; m],
+                phi: vec![0.0; m],
+            },
+            prediction: PredictionBuffers {
+                pred: vec![0.0; 7 * nb],
+                pred_absolute: vec![false; nb],
+            },
+            grid: GridFrames {
+                x_prev: vec![0.0; 7 * nb],
+                x_tmp: vec![0.0; 7 * nb],
+                x_pred: vec![0.0; 7 * nb],
+                v_saved: vec![0.0; 6 * nb],
+                vdot_saved: vec![0.0; 6 * nb],
+                turns_saved: model.initial_turns(),
+            },
+            kin: KinematicSolver {
+                newton: None,
+                dof: None,
+                x_start: vec![0.0; 7 * nb],
+            },
+            dropped: DroppedRows {
+                kept: vec![true; m],
+                worst: vec![0.0; m],
+                value: vec![0.0; m],
+                time: vec![f64::NAN; m],
+            },
+            counters: Counters::default(),
         };
         ws.reset(model);
         ws
@@ -154,12 +240,12 @@ impl Workspace {
     /// Back to the model's initial poses, at rest (keeps the prepared kinematic solver).
     pub fn reset(&mut self, model: &Model) {
         for (k, b) in model.bodies().iter().enumerate() {
-            self.x[7 * k..7 * k + 3].copy_from_slice(b.initial_r.as_slice());
-            self.x[7 * k + 3..7 * k + 7].copy_from_slice(b.initial_p.as_slice());
+            self.pose.x[7 * k..7 * k + 3].copy_from_slice(b.initial_r.as_slice());
+            self.pose.x[7 * k + 3..7 * k + 7].copy_from_slice(b.initial_p.as_slice());
         }
-        self.v.fill(0.0);
-        self.vdot.fill(0.0);
-        for (t, c) in self.turns.iter_mut().zip(model.couplers()) {
+        self.motion.v.fill(0.0);
+        self.motion.vdot.fill(0.0);
+        for (t, c) in self.pose.turns.iter_mut().zip(model.couplers()) {
             *t = c.coupler.reference();
         }
         self.sync_poses();
@@ -168,34 +254,34 @@ impl Workspace {
 
     /// Time of the current state.
     pub fn time(&self) -> f64 {
-        self.t
+        self.pose.t
     }
 
     /// The Newton state `[r_k; p_k]` (7 per moving body).
     pub fn state(&self) -> &[f64] {
-        &self.x
+        &self.pose.x
     }
 
     /// The velocities `[ṙ_k; ω'_k]` (6 per body), valid after a velocity analysis.
     pub fn velocities(&self) -> &[f64] {
-        &self.v
+        &self.motion.v
     }
 
     /// The accelerations `[r̈_k; ω̇'_k]` (6 per body), valid after an acceleration analysis.
     pub fn accelerations(&self) -> &[f64] {
-        &self.vdot
+        &self.motion.vdot
     }
 
     /// Pose and velocity of moving body `k` (A cached).
     pub fn body_state(&self, k: usize) -> &BodyState {
-        &self.bodies[k]
+        &self.pose.bodies[k]
     }
 
     /// The state of a body (ground included).
     pub fn state_of(&self, id: BodyId) -> BodyState {
         match id {
             BodyId::Ground => BodyState::ground(),
-            BodyId::Moving(k) => self.bodies[k],
+            BodyId::Moving(k) => self.pose.bodies[k],
         }
     }
 
@@ -220,8 +306,8 @@ impl Workspace {
         } else {
             Vector4::new(1.0, 0.0, 0.0, 0.0)
         };
-        self.x[7 * k..7 * k + 3].copy_from_slice(r.as_slice());
-        self.x[7 * k + 3..7 * k + 7].copy_from_slice(p.as_slice());
+        self.pose.x[7 * k..7 * k + 3].copy_from_slice(r.as_slice());
+        self.pose.x[7 * k + 3..7 * k + 7].copy_from_slice(p.as_slice());
         // Body k only (setting every pose of a 10⁴-body model one by one stays linear).
         self.refresh_body(k);
         self.invalidate();
@@ -229,65 +315,65 @@ impl Workspace {
 
     /// Sets the velocity of moving body `k` (ṙ and ω' in the body frame).
     pub fn set_velocity(&mut self, k: usize, r_dot: Vector3<f64>, omega_local: Vector3<f64>) {
-        self.v[6 * k..6 * k + 3].copy_from_slice(r_dot.as_slice());
-        self.v[6 * k + 3..6 * k + 6].copy_from_slice(omega_local.as_slice());
-        self.bodies[k] = self.bodies[k].with_v(r_dot, omega_local);
+        self.motion.v[6 * k..6 * k + 3].copy_from_slice(r_dot.as_slice());
+        self.motion.v[6 * k + 3..6 * k + 6].copy_from_slice(omega_local.as_slice());
+        self.pose.bodies[k] = self.pose.bodies[k].with_v(r_dot, omega_local);
     }
 
     /// Sets the time of the state.
     pub fn set_time(&mut self, t: f64) {
-        self.t = t;
+        self.pose.t = t;
     }
 
     /// Position r of moving body `k`.
     pub fn r(&self, k: usize) -> Vector3<f64> {
-        self.bodies[k].r
+        self.pose.bodies[k].r
     }
 
     /// Euler parameters p of moving body `k`.
     pub fn p(&self, k: usize) -> Vector4<f64> {
-        self.bodies[k].p
+        self.pose.bodies[k].p
     }
 
     /// ṙ of body `k`.
     pub fn r_dot(&self, k: usize) -> Vector3<f64> {
-        Vector3::from_column_slice(&self.v[6 * k..6 * k + 3])
+        Vector3::from_column_slice(&self.motion.v[6 * k..6 * k + 3])
     }
 
     /// ω' of body `k` (body frame).
     pub fn omega_local(&self, k: usize) -> Vector3<f64> {
-        Vector3::from_column_slice(&self.v[6 * k + 3..6 * k + 6])
+        Vector3::from_column_slice(&self.motion.v[6 * k + 3..6 * k + 6])
     }
 
     /// ω = A ω' of body `k` (global).
     pub fn omega(&self, k: usize) -> Vector3<f64> {
-        self.bodies[k].a * self.omega_local(k)
+        self.pose.bodies[k].a * self.omega_local(k)
     }
 
     /// ṗ = ½ Lᵀ ω' of body `k`.
     pub fn p_dot(&self, k: usize) -> Vector4<f64> {
-        p_dot_from_local(&self.bodies[k].p, &self.omega_local(k))
+        p_dot_from_local(&self.pose.bodies[k].p, &self.omega_local(k))
     }
 
     /// r̈ of body `k`.
     pub fn r_ddot(&self, k: usize) -> Vector3<f64> {
-        Vector3::from_column_slice(&self.vdot[6 * k..6 * k + 3])
+        Vector3::from_column_slice(&self.motion.vdot[6 * k..6 * k + 3])
     }
 
     /// ω̇' of body `k` (body frame).
     pub fn omega_dot_local(&self, k: usize) -> Vector3<f64> {
-        Vector3::from_column_slice(&self.vdot[6 * k + 3..6 * k + 6])
+        Vector3::from_column_slice(&self.motion.vdot[6 * k + 3..6 * k + 6])
     }
 
     /// ω̇ = A ω̇' of body `k` (global).
     pub fn omega_dot(&self, k: usize) -> Vector3<f64> {
-        self.bodies[k].a * self.omega_dot_local(k)
+        self.pose.bodies[k].a * self.omega_dot_local(k)
     }
 
     /// p̈ = ½ Lᵀ ω̇' − ¼ |ω'|² p of body `k`.
     pub fn p_ddot(&self, k: usize) -> Vector4<f64> {
         p_ddot_from_local(
-            &self.bodies[k].p,
+            &self.pose.bodies[k].p,
             &self.omega_local(k),
             &self.omega_dot_local(k),
         )
@@ -297,7 +383,7 @@ impl Workspace {
     pub fn point_position(&self, body: BodyId, local: &Vector3<f64>) -> Vector3<f64> {
         match body {
             BodyId::Ground => *local,
-            BodyId::Moving(k) => self.bodies[k].point(local),
+            BodyId::Moving(k) => self.pose.bodies[k].point(local),
         }
     }
 
@@ -306,7 +392,7 @@ impl Workspace {
         match body {
             BodyId::Ground => Vector3::zeros(),
             BodyId::Moving(k) => {
-                self.r_dot(k) + self.bodies[k].a * self.omega_local(k).cross(local)
+                self.r_dot(k) + self.pose.bodies[k].a * self.omega_local(k).cross(local)
             }
         }
     }
@@ -318,7 +404,7 @@ impl Workspace {
             BodyId::Moving(k) => {
                 let w = self.omega_local(k);
                 self.r_ddot(k)
-                    + self.bodies[k].a
+                    + self.pose.bodies[k].a
                         * (self.omega_dot_local(k).cross(local) + w.cross(&w.cross(local)))
             }
         }
@@ -330,30 +416,33 @@ impl Workspace {
     /// the iteration counts of [`Model::position`], the difference over a run of frames tells how
     /// much work they did.
     pub fn kinematic_factorizations(&self) -> u64 {
-        self.kin.as_ref().map_or(0, |n| n.factorization_count())
+        self.kin
+            .newton
+            .as_ref()
+            .map_or(0, |n| n.factorization_count())
     }
 
     /// The degrees-of-freedom report of the last [`Model::prepare_kinematics`].
     pub fn dof_report(&self) -> Option<&DofReport> {
-        self.dof.as_ref()
+        self.kin.dof.as_ref()
     }
 
     /// Whether the velocities are those of the current poses and time.
     pub fn velocity_is_valid(&self) -> bool {
-        self.velocity_valid
+        self.motion.velocity_valid
     }
 
     /// Whether the accelerations are those of the current poses and time.
     pub fn acceleration_is_valid(&self) -> bool {
-        self.acceleration_valid
+        self.motion.acceleration_valid
     }
 
     pub(crate) fn invalidate(&mut self) {
-        self.velocity_valid = false;
-        self.acceleration_valid = false;
-        self.vdot_last_time = f64::NAN;
-        self.vdot_prev_time = f64::NAN;
-        if let Some(k) = &mut self.kin {
+        self.motion.velocity_valid = false;
+        self.motion.acceleration_valid = false;
+        self.jerk.vdot_last_time = f64::NAN;
+        self.jerk.vdot_prev_time = f64::NAN;
+        if let Some(k) = &mut self.kin.newton {
             k.invalidate();
         }
     }
@@ -361,27 +450,27 @@ impl Workspace {
     /// The poses were moved by a predictor: velocities and accelerations become invalid, the
     /// kinematic factorization is kept as the start of a modified-Newton solve.
     pub(crate) fn poses_moved(&mut self) {
-        self.velocity_valid = false;
-        self.acceleration_valid = false;
-        if let Some(k) = &mut self.kin {
+        self.motion.velocity_valid = false;
+        self.motion.acceleration_valid = false;
+        if let Some(k) = &mut self.kin.newton {
             k.state_moved();
         }
     }
 
     /// Refreshes the body states (A, p) from the Newton state; keeps ω' from `v`.
     pub(crate) fn sync_poses(&mut self) {
-        for k in 0..self.bodies.len() {
+        for k in 0..self.pose.bodies.len() {
             self.refresh_body(k);
         }
     }
 
     /// Refreshes body k's state (A, p) from the Newton state, with ṙ and ω' from `v`.
     fn refresh_body(&mut self, k: usize) {
-        let r = Vector3::from_column_slice(&self.x[7 * k..7 * k + 3]);
-        let p = Vector4::from_column_slice(&self.x[7 * k + 3..7 * k + 7]);
-        let rd = Vector3::from_column_slice(&self.v[6 * k..6 * k + 3]);
-        let w = Vector3::from_column_slice(&self.v[6 * k + 3..6 * k + 6]);
-        self.bodies[k] = BodyState::at(r, p).with_v(rd, w);
+        let r = Vector3::from_column_slice(&self.pose.x[7 * k..7 * k + 3]);
+        let p = Vector4::from_column_slice(&self.pose.x[7 * k + 3..7 * k + 7]);
+        let rd = Vector3::from_column_slice(&self.motion.v[6 * k..6 * k + 3]);
+        let w = Vector3::from_column_slice(&self.motion.v[6 * k + 3..6 * k + 6]);
+        self.pose.bodies[k] = BodyState::at(r, p).with_v(rd, w);
     }
 }
 

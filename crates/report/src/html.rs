@@ -15,6 +15,7 @@
 
 use crate::base64::encode_into;
 use crate::modes::{modes_json, validate_modes, ModeShape, MAX_ANIMATED_MODES};
+use crate::rotate::rotate;
 use crate::scene::Scene;
 use std::fmt::Write as _;
 
@@ -256,20 +257,6 @@ fn bounds(scene: &Scene) -> ([f64; 3], f64) {
     (centre, size)
 }
 
-/// r + A(p) s', A(p) = (2e0² − 1) I + 2(e eᵀ + e0 ẽ) with p normalized.
-pub(crate) fn rotate(p: &[f64; 4], s: [f64; 3], r: &[f64; 3]) -> [f64; 3] {
-    let n = p.iter().map(|x| x * x).sum::<f64>().sqrt();
-    let [e0, e1, e2, e3] = p.map(|x| x / n);
-    let e = [e1, e2, e3];
-    let es = e[0] * s[0] + e[1] * s[1] + e[2] * s[2];
-    let cross = [
-        e[1] * s[2] - e[2] * s[1],
-        e[2] * s[0] - e[0] * s[2],
-        e[0] * s[1] - e[1] * s[0],
-    ];
-    [0, 1, 2].map(|c| r[c] + (2.0 * e0 * e0 - 1.0) * s[c] + 2.0 * (e[c] * es + e0 * cross[c]))
-}
-
 /// The run summary as a two-column table (nested values as compact JSON).
 fn summary_table(v: &serde_json::Value, html: &mut String) {
     html.push_str("<table>");
@@ -345,13 +332,5 @@ mod tests {
             crate::classic::to_classic("const a=1;export{a as A,a};").as_deref(),
             Some("(function(){\"use strict\";\nconst a=1;\nwindow.THREE={A:a,a:a};\n})();")
         );
-    }
-
-    #[test]
-    fn rotate_is_a_of_p() {
-        // A quarter turn about z takes x to y.
-        let h = std::f64::consts::FRAC_1_SQRT_2;
-        let v = rotate(&[h, 0.0, 0.0, h], [1.0, 0.0, 0.0], &[0.0, 0.0, 1.0]);
-        assert!((v[0]).abs() < 1e-15 && (v[1] - 1.0).abs() < 1e-15 && (v[2] - 1.0).abs() < 1e-15);
     }
 }

@@ -24,6 +24,7 @@ mod glb;
 mod html;
 mod mesh_file;
 mod modes;
+mod rotate;
 mod scene;
 mod tessellate;
 

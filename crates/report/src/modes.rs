@@ -22,7 +22,7 @@
 //! δp = ½ Gᵀ(p₀) δθ (Nikravesh 1988 ch. 6: ω = 2 G ṗ, ṗ = ½ Gᵀ ω), and back δθ = 2 G(p₀) δp, the
 //! vector part of 2 δp ⊗ p̄₀; a point s' of the body moves by δr + δθ × A(p₀) s'.
 
-use crate::html::rotate;
+use crate::rotate::rotate;
 use crate::scene::Scene;
 use crate::Error;
 

@@ -14,11 +14,12 @@
 //! on the slider-crank kinematic frame, 18 unknowns: see the commit message). A singular matrix
 //! is refactored by faer, so errors (the dependent equations) are reported exactly as before.
 
+use crate::equilibration::Equilibration;
 use crate::error::{NonFiniteLocation, SolverError};
-use crate::linear::{
-    singular_error, Equilibration, LinearSolver, Scratch, DEFAULT_PIVOT_TOLERANCE,
-};
+use crate::linear::LinearSolver;
 use crate::pattern::{check_len, SparsityPattern};
+use crate::scratch::Scratch;
+use crate::singular::{singular_error, DEFAULT_PIVOT_TOLERANCE};
 use faer::dyn_stack::StackReq;
 use faer::linalg::lu::partial_pivoting::{factor as lu_factor, solve as lu_solve};
 use faer::perm::PermRef;

@@ -54,9 +54,14 @@
 //! # Layout (one concept per file)
 //! * [`pattern`] — [`SparsityPattern`] (fixed structure, values in a caller-owned slot array) and
 //!   [`RowSelection`].
-//! * [`linear`] — the [`LinearSolver`] trait (analyze / factor / solve) and [`AutoSolver`].
+//! * [`linear`] — the [`LinearSolver`] trait (analyze / factor / solve); [`auto`] —
+//!   [`AutoSolver`], which picks a member from the pattern.
+//! * What the LU members share: `equilibration` (row and column scaling by powers of two),
+//!   `singular` ([`DEFAULT_PIVOT_TOLERANCE`] and the error naming the dependent equations),
+//!   `scratch` (faer's scratch memory).
 //! * [`dense`] — [`DenseLu`]; [`sparse`] — [`SparseLu`]; [`rank`] — [`RankAnalysis`], [`MinNormQr`];
-//!   [`sparse_rank`] — the sparse rank analysis for large models; [`sparse_min_norm`] —
+//!   [`sparse_rank`] — the sparse rank analysis for large models (and
+//!   [`RankAnalysis::compute_auto`], the switch between the two); [`sparse_min_norm`] —
 //!   [`SparseMinNorm`], the minimum-norm step of large assemblies.
 //! * [`schur`] — [`SchurSolver`]: saddle-point systems `[A Bᵀ; B 0]` with a block-diagonal SPD
 //!   `A` (the equations of motion with a mass-only matrix) by the Schur complement and a sparse
@@ -120,25 +125,28 @@
 //! * J. E. Dennis, R. B. Schnabel, *Numerical Methods for Unconstrained Optimization and Nonlinear
 //!   Equations*, SIAM, 1996: §6.3 (backtracking line search).
 
+pub mod auto;
 pub mod convergence;
 pub mod dense;
+mod equilibration;
 pub mod error;
 pub mod linear;
 pub mod newton;
 pub mod pattern;
 pub mod rank;
 pub mod schur;
+mod scratch;
+mod singular;
 pub mod sparse;
 pub mod sparse_min_norm;
 pub mod sparse_rank;
 pub mod sparse_refactor;
 
+pub use auto::{AutoPolicy, AutoSolver, SolverChoice, SolverKind};
 pub use convergence::Tolerances;
 pub use dense::DenseLu;
 pub use error::{NonFiniteLocation, SolverError};
-pub use linear::{
-    AutoPolicy, AutoSolver, LinearSolver, SolverChoice, SolverKind, DEFAULT_PIVOT_TOLERANCE,
-};
+pub use linear::LinearSolver;
 pub use newton::{
     JacobianUpdate, LineSearch, Newton, NewtonOptions, NewtonReport, NonlinearSystem,
     REFINE_BACKWARD_ERROR, REFINE_MAX_CORRECTIONS, REFINE_MAX_DRIFT,
@@ -146,5 +154,6 @@ pub use newton::{
 pub use pattern::{RowSelection, SparsityPattern};
 pub use rank::{MinNormQr, RankAnalysis, RankOptions, SPARSE_RANK_MIN_UNKNOWNS};
 pub use schur::{SchurSolver, DEFAULT_BLOCK_PIVOT_TOLERANCE, DEFAULT_SCHUR_PIVOT_TOLERANCE};
-pub use sparse::SparseLu;
+pub use singular::DEFAULT_PIVOT_TOLERANCE;
+pub use sparse::{FactorizationCounts, SparseLu};
 pub use sparse_min_norm::SparseMinNorm;

@@ -114,37 +114,6 @@ impl RankAnalysis {
         Ok(qr.analysis())
     }
 
-    /// The sparse analysis ([`crate::sparse_rank`]): the same rows as [`compute`](Self::compute)
-    /// (the dense analysis decides inside each group of dependent rows), in about linear time
-    /// and memory for chains, trees and loops of bounded size.
-    ///
-    /// # Errors
-    /// [`SolverError::DimensionMismatch`], [`SolverError::NonFinite`].
-    pub fn compute_sparse(
-        pattern: &SparsityPattern,
-        slots: &[f64],
-        options: RankOptions,
-    ) -> Result<Self, SolverError> {
-        crate::sparse_rank::analyze(pattern, slots, options)
-    }
-
-    /// The dense analysis below [`SPARSE_RANK_MIN_UNKNOWNS`] unknowns, the sparse one from there
-    /// on: the one switch point for callers that analyze models of any size.
-    ///
-    /// # Errors
-    /// [`SolverError::DimensionMismatch`], [`SolverError::NonFinite`].
-    pub fn compute_auto(
-        pattern: &SparsityPattern,
-        slots: &[f64],
-        options: RankOptions,
-    ) -> Result<Self, SolverError> {
-        if pattern.ncols() >= SPARSE_RANK_MIN_UNKNOWNS {
-            Self::compute_sparse(pattern, slots, options)
-        } else {
-            Self::compute(pattern, slots, options)
-        }
-    }
-
     /// Assembles a result (for the sparse analysis).
     pub(crate) fn from_parts(
         (nrows, ncols): (usize, usize),

@@ -90,6 +90,29 @@ pub const DEFAULT_BLOCK_PIVOT_TOLERANCE: f64 = 1e-8;
 /// [`solve`](Self::solve) (each uses the last successful `factor`, including its `B`).
 #[derive(Debug)]
 pub struct SchurSolver {
+    /// Block size b, number of blocks N, rows m of B, number of B values.
+    shape: Shape,
+    /// τ of S and τ_A of the blocks.
+    tolerances: PivotTolerances,
+    /// The blocks of A and their Cholesky factors L_k.
+    a: BlockFactors,
+    /// The block-row pairs of B and W = L⁻¹ Bᵀ.
+    pairs: BlockRowPairs,
+    /// S = B A⁻¹ Bᵀ: pattern, values and ordering.
+    s: SchurMatrix,
+    /// The Cholesky factor L of S.
+    l: CholeskyFactor,
+    /// Scratch of the factorization and the solve.
+    work: Work,
+    /// Smallest relative pivot of the last factorization attempt (NaN before).
+    min_pivot_ratio: f64,
+    /// Whether the last factorization succeeded.
+    factored: bool,
+}
+
+/// The dimensions of the system.
+#[derive(Debug)]
+struct Shape {
     /// Block size b.
     block: usize,
     /// Number of blocks N.
@@ -98,53 +121,129 @@ pub struct SchurSolver {
     m: usize,
     /// Number of B values (entries as given to `analyze`).
     nb_values: usize,
+}
+
+/// The relative pivot tolerances (see the module docs).
+#[derive(Debug)]
+struct PivotTolerances {
+    /// τ: a pivot of S fails when `L_jj² ≤ τ S_jj`.
+    pivot: f64,
+    /// τ_A: a block fails when `(L_k)_jj² ≤ τ_A max_i (A_k)_ii`.
+    block: f64,
+}
+
+/// The blocks A_k and their factors.
+#[derive(Debug)]
+struct BlockFactors {
     /// Cholesky factors L_k of the blocks, column-major b × b each (lower triangle used).
-    a_fac: Vec<f64>,
-    /// The blocks `a_fac` was computed from, and whether that succeeded.
-    a_prev: Vec<f64>,
-    a_factored: bool,
+    fac: Vec<f64>,
+    /// The blocks `fac` was computed from, and whether that succeeded.
+    prev: Vec<f64>,
+    factored: bool,
+}
+
+/// B by block-row pairs (k, r): rows r of B touching block k, grouped by block (r in the
+/// permuted numbering of S), with their entries, and the columns w_r of W = L⁻¹ Bᵀ.
+#[derive(Debug)]
+struct BlockRowPairs {
     /// Every block-row pair has its b entries in column order at consecutive value indices
     /// (the caller's layout groups them): gathered by one copy.
     contiguous: bool,
-    /// Block-row pairs (k, r): rows r of B touching block k, grouped by block (r in the
-    /// permuted numbering of S).
-    pair_start: Vec<usize>,
-    pair_row: Vec<usize>,
+    /// Block k's pairs are `start[k]..start[k + 1]`; `row[p]` is pair p's row.
+    start: Vec<usize>,
+    row: Vec<usize>,
     /// Entries of each pair: (column within the block, index into the B values).
     entry_start: Vec<usize>,
     entry_col: Vec<usize>,
     entry_val: Vec<usize>,
     /// w = L_k⁻¹ b_r for every pair, b values each.
     w: Vec<f64>,
+}
+
+impl BlockRowPairs {
+    /// The block-row pairs of B and their entries from B's entries `(row, col)` (value index =
+    /// position in the list), pairs grouped by block and sorted by row, entries by column.
+    fn lay_out(&mut self, block: usize, nblocks: usize, b_entries: &[(usize, usize)]) {
+        // Entries sorted by (block, row, col): the block-row pairs and their entries. Bucketed
+        // by block first (a counting sort), so that only each block's few entries are compared.
+        let mut order = bucket_by(b_entries.len(), nblocks, |e| b_entries[e].1 / block);
+        let mut start = 0;
+        while start < order.len() {
+            let k = b_entries[order[start]].1 / block;
+            let len = order[start..]
+                .iter()
+                .take_while(|&&e| b_entries[e].1 / block == k)
+                .count();
+            order[start..start + len].sort_unstable_by_key(|&e| (b_entries[e].0, b_entries[e].1));
+            start += len;
+        }
+        self.start = vec![0; nblocks + 1];
+        self.row.clear();
+        self.entry_start = vec![0];
+        self.entry_col.clear();
+        self.entry_val.clear();
+        let mut last: Option<(usize, usize)> = None;
+        for &e in &order {
+            let (r, c) = b_entries[e];
+            let k = c / block;
+            if last != Some((k, r)) {
+                if last.is_some() {
+                    self.entry_start.push(self.entry_col.len());
+                }
+                self.row.push(r);
+                self.start[k + 1] += 1;
+                last = Some((k, r));
+            }
+            self.entry_col.push(c % block);
+            self.entry_val.push(e);
+        }
+        if last.is_some() {
+            self.entry_start.push(self.entry_col.len());
+        }
+        for k in 0..nblocks {
+            self.start[k + 1] += self.start[k];
+        }
+    }
+}
+
+/// S in the permuted numbering.
+#[derive(Debug)]
+struct SchurMatrix {
     /// For every block, its pairs (p, q) with q ≤ p in loop order: the slot of S they add to.
-    s_target: Vec<usize>,
+    target: Vec<usize>,
     /// Upper triangle of S in the permuted numbering (compressed columns) and its values.
-    s_symbolic: Option<SymbolicSparseColMat<usize>>,
-    s_values: Vec<f64>,
-    /// Slot of S_jj in `s_values`, per (permuted) row.
-    s_diag: Vec<usize>,
-    /// Structure of L (compressed columns, diagonal first) and its values.
-    l_col_ptr: Vec<usize>,
-    l_row_idx: Vec<usize>,
-    l_values: Vec<f64>,
-    /// 1 / L_jj.
-    l_inv_diag: Vec<f64>,
+    symbolic: Option<SymbolicSparseColMat<usize>>,
+    values: Vec<f64>,
+    /// Slot of S_jj in `values`, per (permuted) row.
+    diag: Vec<usize>,
     /// The AMD ordering: row `perm_fwd[j]` of B is row j of S as laid out; `perm_inv` inverse.
     perm_fwd: Vec<usize>,
     perm_inv: Vec<usize>,
-    /// λ in the permuted numbering (solve scratch).
-    lambda: Vec<f64>,
+}
+
+/// The Cholesky factor L of S on the pattern fixed at `analyze`.
+#[derive(Debug)]
+struct CholeskyFactor {
+    /// Structure of L (compressed columns, diagonal first) and its values.
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    values: Vec<f64>,
+    /// 1 / L_jj.
+    inv_diag: Vec<f64>,
     /// Row pattern of L: for row k, the columns i < k with L_ki ≠ 0 in increasing order, each
-    /// with the slot of L_ki in `l_values` (rows `row_start[k]..row_start[k + 1]`).
+    /// with the slot of L_ki in `values` (rows `row_start[k]..row_start[k + 1]`).
     row_start: Vec<usize>,
     row_col: Vec<usize>,
     row_slot: Vec<usize>,
+}
+
+/// Scratch vectors, sized at `analyze`.
+#[derive(Debug)]
+struct Work {
+    /// λ in the permuted numbering (solve scratch).
+    lambda: Vec<f64>,
     /// Dense scratch of the numeric factorization (m, zero between uses).
     x: Vec<f64>,
-    pivot_tolerance: f64,
-    block_tolerance: f64,
-    min_pivot_ratio: f64,
-    factored: bool,
 }
 
 impl Default for SchurSolver {
@@ -157,37 +256,51 @@ impl SchurSolver {
     /// A solver with the default pivot tolerance ([`DEFAULT_SCHUR_PIVOT_TOLERANCE`]).
     pub fn new() -> Self {
         Self {
-            block: 0,
-            nblocks: 0,
-            m: 0,
-            nb_values: 0,
-            a_fac: Vec::new(),
-            a_prev: Vec::new(),
-            a_factored: false,
-            contiguous: false,
-            pair_start: vec![0],
-            pair_row: Vec::new(),
-            entry_start: vec![0],
-            entry_col: Vec::new(),
-            entry_val: Vec::new(),
-            w: Vec::new(),
-            s_target: Vec::new(),
-            s_symbolic: None,
-            s_values: Vec::new(),
-            s_diag: Vec::new(),
-            l_col_ptr: Vec::new(),
-            l_row_idx: Vec::new(),
-            l_values: Vec::new(),
-            l_inv_diag: Vec::new(),
-            perm_fwd: Vec::new(),
-            perm_inv: Vec::new(),
-            lambda: Vec::new(),
-            row_start: vec![0],
-            row_col: Vec::new(),
-            row_slot: Vec::new(),
-            x: Vec::new(),
-            pivot_tolerance: DEFAULT_SCHUR_PIVOT_TOLERANCE,
-            block_tolerance: DEFAULT_BLOCK_PIVOT_TOLERANCE,
+            shape: Shape {
+                block: 0,
+                nblocks: 0,
+                m: 0,
+                nb_values: 0,
+            },
+            tolerances: PivotTolerances {
+                pivot: DEFAULT_SCHUR_PIVOT_TOLERANCE,
+                block: DEFAULT_BLOCK_PIVOT_TOLERANCE,
+            },
+            a: BlockFactors {
+                fac: Vec::new(),
+                prev: Vec::new(),
+                factored: false,
+            },
+            pairs: BlockRowPairs {
+                contiguous: false,
+                start: vec![0],
+                row: Vec::new(),
+                entry_start: vec![0],
+                entry_col: Vec::new(),
+                entry_val: Vec::new(),
+                w: Vec::new(),
+            },
+            s: SchurMatrix {
+                target: Vec::new(),
+                symbolic: None,
+                values: Vec::new(),
+                diag: Vec::new(),
+                perm_fwd: Vec::new(),
+                perm_inv: Vec::new(),
+            },
+            l: CholeskyFactor {
+                col_ptr: Vec::new(),
+                row_idx: Vec::new(),
+                values: Vec::new(),
+                inv_diag: Vec::new(),
+                row_start: vec![0],
+                row_col: Vec::new(),
+                row_slot: Vec::new(),
+            },
+            work: Work {
+                lambda: Vec::new(),
+                x: Vec::new(),
+            },
             min_pivot_ratio: f64::NAN,
             factored: false,
         }
@@ -195,13 +308,13 @@ impl SchurSolver {
 
     /// Sets the relative pivot tolerance τ (a pivot fails when `L_jj² ≤ τ S_jj`).
     pub fn with_pivot_tolerance(mut self, tol: f64) -> Self {
-        self.pivot_tolerance = tol;
+        self.tolerances.pivot = tol;
         self
     }
 
     /// Sets the block tolerance τ_A (a block fails when `(L_k)_jj² ≤ τ_A max_i (A_k)_ii`).
     pub fn with_block_tolerance(mut self, tol: f64) -> Self {
-        self.block_tolerance = tol;
+        self.tolerances.block = tol;
         self
     }
 
@@ -233,50 +346,12 @@ impl SchurSolver {
                 });
             }
         }
-        // Entries sorted by (block, row, col): the block-row pairs and their entries. Bucketed
-        // by block first (a counting sort), so that only each block's few entries are compared.
-        let mut order = bucket_by(b_entries.len(), nblocks, |e| b_entries[e].1 / block);
-        let mut start = 0;
-        while start < order.len() {
-            let k = b_entries[order[start]].1 / block;
-            let len = order[start..]
-                .iter()
-                .take_while(|&&e| b_entries[e].1 / block == k)
-                .count();
-            order[start..start + len].sort_unstable_by_key(|&e| (b_entries[e].0, b_entries[e].1));
-            start += len;
-        }
-        self.pair_start = vec![0; nblocks + 1];
-        self.pair_row.clear();
-        self.entry_start = vec![0];
-        self.entry_col.clear();
-        self.entry_val.clear();
-        let mut last: Option<(usize, usize)> = None;
-        for &e in &order {
-            let (r, c) = b_entries[e];
-            let k = c / block;
-            if last != Some((k, r)) {
-                if last.is_some() {
-                    self.entry_start.push(self.entry_col.len());
-                }
-                self.pair_row.push(r);
-                self.pair_start[k + 1] += 1;
-                last = Some((k, r));
-            }
-            self.entry_col.push(c % block);
-            self.entry_val.push(e);
-        }
-        if last.is_some() {
-            self.entry_start.push(self.entry_col.len());
-        }
-        for k in 0..nblocks {
-            self.pair_start[k + 1] += self.pair_start[k];
-        }
+        self.pairs.lay_out(block, nblocks, b_entries);
         // Pattern of the lower triangle of S: the diagonal, and (max, min) of every two rows
         // touching a common block.
         let mut lower: Vec<(usize, usize)> = (0..m).map(|r| (r, r)).collect();
         for k in 0..nblocks {
-            let rows = &self.pair_row[self.pair_start[k]..self.pair_start[k + 1]];
+            let rows = &self.pairs.row[self.pairs.start[k]..self.pairs.start[k + 1]];
             for (p, &rp) in rows.iter().enumerate() {
                 for &rq in &rows[..=p] {
                     lower.push((rp.max(rq), rp.min(rq)));
@@ -304,7 +379,7 @@ impl SchurSolver {
                 None => ((0..m).collect(), (0..m).collect()),
             }
         };
-        for r in &mut self.pair_row {
+        for r in &mut self.pairs.row {
             *r = perm_inv[*r];
         }
         let inv = &perm_inv;
@@ -313,8 +388,8 @@ impl SchurSolver {
             (a.min(b), a.max(b))
         };
         let (symbolic, slot) = csc(m, lower.iter().map(|&e| upper(e)).collect());
-        self.s_diag = (0..m).map(|j| slot(j, j)).collect();
-        self.s_target = lower[m..]
+        self.s.diag = (0..m).map(|j| slot(j, j)).collect();
+        self.s.target = lower[m..]
             .iter()
             .map(|&e| {
                 let (r, c) = upper(e);
@@ -333,55 +408,56 @@ impl SchurSolver {
                 "Schur complement: expected a simplicial Cholesky".into(),
             ));
         };
-        self.l_col_ptr = simplicial.col_ptr().to_vec();
-        self.l_row_idx = simplicial.row_idx().to_vec();
-        (self.row_start, self.row_col, self.row_slot) =
-            row_pattern(m, &self.l_col_ptr, &self.l_row_idx);
-        self.x = vec![0.0; m];
-        self.l_values = vec![0.0; cholesky.len_val()];
-        self.l_inv_diag = vec![0.0; m];
-        self.s_values = vec![0.0; symbolic.row_idx().len()];
-        self.lambda = vec![0.0; m];
-        self.perm_fwd = perm_fwd;
-        self.perm_inv = perm_inv;
-        self.s_symbolic = Some(symbolic);
-        self.block = block;
-        self.nblocks = nblocks;
-        self.m = m;
-        self.nb_values = b_entries.len();
-        self.a_fac = vec![0.0; nblocks * block * block];
-        self.a_prev = vec![0.0; nblocks * block * block];
-        self.a_factored = false;
-        self.contiguous = (0..self.pair_row.len()).all(|p| {
-            let (s, e) = (self.entry_start[p], self.entry_start[p + 1]);
+        self.l.col_ptr = simplicial.col_ptr().to_vec();
+        self.l.row_idx = simplicial.row_idx().to_vec();
+        (self.l.row_start, self.l.row_col, self.l.row_slot) =
+            row_pattern(m, &self.l.col_ptr, &self.l.row_idx);
+        self.work.x = vec![0.0; m];
+        self.l.values = vec![0.0; cholesky.len_val()];
+        self.l.inv_diag = vec![0.0; m];
+        self.s.values = vec![0.0; symbolic.row_idx().len()];
+        self.work.lambda = vec![0.0; m];
+        self.s.perm_fwd = perm_fwd;
+        self.s.perm_inv = perm_inv;
+        self.s.symbolic = Some(symbolic);
+        self.shape.block = block;
+        self.shape.nblocks = nblocks;
+        self.shape.m = m;
+        self.shape.nb_values = b_entries.len();
+        self.a.fac = vec![0.0; nblocks * block * block];
+        self.a.prev = vec![0.0; nblocks * block * block];
+        self.a.factored = false;
+        self.pairs.contiguous = (0..self.pairs.row.len()).all(|p| {
+            let (s, e) = (self.pairs.entry_start[p], self.pairs.entry_start[p + 1]);
             e - s == block
                 && (s..e).all(|i| {
-                    self.entry_col[i] == i - s && self.entry_val[i] == self.entry_val[s] + i - s
+                    self.pairs.entry_col[i] == i - s
+                        && self.pairs.entry_val[i] == self.pairs.entry_val[s] + i - s
                 })
         });
-        self.w = vec![0.0; self.pair_row.len() * block];
+        self.pairs.w = vec![0.0; self.pairs.row.len() * block];
         self.min_pivot_ratio = f64::NAN;
         Ok(())
     }
 
     /// Number of unknowns n (the size of A).
     pub fn num_unknowns(&self) -> usize {
-        self.block * self.nblocks
+        self.shape.block * self.shape.nblocks
     }
 
     /// Number of rows m of B (the order of S).
     pub fn num_rows(&self) -> usize {
-        self.m
+        self.shape.m
     }
 
     /// Structurally distinct entries in the lower triangle of S.
     pub fn schur_nnz(&self) -> usize {
-        self.s_values.len()
+        self.s.values.len()
     }
 
     /// Entries of the Cholesky factor L of S (fill measure).
     pub fn factor_nnz(&self) -> usize {
-        self.l_values.len()
+        self.l.values.len()
     }
 
     /// Smallest relative pivot `L_jj² / S_jj` of the last factorization attempt (NaN before):
@@ -403,13 +479,13 @@ impl SchurSolver {
     /// [`SolverError::DimensionMismatch`]; [`SolverError::NotReady`].
     pub fn factor(&mut self, a: &[f64], b: &[f64]) -> Result<(), SolverError> {
         self.factored = false;
-        if self.s_symbolic.is_none() {
+        if self.s.symbolic.is_none() {
             return Err(SolverError::NotReady { missing: "analyze" });
         }
-        let bs = self.block;
-        check_len("block-diagonal values", self.a_fac.len(), a.len())?;
-        check_len("constraint values", self.nb_values, b.len())?;
-        let (tol, tol_a) = (self.pivot_tolerance, self.block_tolerance);
+        let bs = self.shape.block;
+        check_len("block-diagonal values", self.a.fac.len(), a.len())?;
+        check_len("constraint values", self.shape.nb_values, b.len())?;
+        let (tol, tol_a) = (self.tolerances.pivot, self.tolerances.block);
         // Block kernels unrolled for the mechanisms' block size 6.
         let blocks_ok = if bs == 6 {
             self.assemble::<6>(a, b, tol_a)
@@ -427,30 +503,30 @@ impl SchurSolver {
         }
         if let Err(j) = self.numeric_cholesky() {
             self.min_pivot_ratio = 0.0;
-            let row = self.perm_fwd[j];
+            let row = self.s.perm_fwd[j];
             return Err(self
                 .non_finite_input(a, b)
                 .unwrap_or(SolverError::Singular {
                     dependent_equations: vec![row],
                 }));
         }
-        let perm_fwd = &self.perm_fwd;
+        let perm_fwd = &self.s.perm_fwd;
         // Relative pivots: the diagonal of L is the first stored entry of each column.
         let mut min_ratio = f64::INFINITY;
         let mut failed = false;
-        for j in 0..self.m {
-            let l = self.l_values[self.l_col_ptr[j]];
-            let sjj = self.s_values[self.s_diag[j]];
+        for j in 0..self.shape.m {
+            let l = self.l.values[self.l.col_ptr[j]];
+            let sjj = self.s.values[self.s.diag[j]];
             min_ratio = min_ratio.min(l * l / sjj);
             failed |= !pivot_ok(l * l, sjj, tol);
         }
         self.min_pivot_ratio = min_ratio;
         if failed {
             // Error path only (allocates).
-            let mut rows: Vec<usize> = (0..self.m)
+            let mut rows: Vec<usize> = (0..self.shape.m)
                 .filter(|&j| {
-                    let l = self.l_values[self.l_col_ptr[j]];
-                    !pivot_ok(l * l, self.s_values[self.s_diag[j]], tol)
+                    let l = self.l.values[self.l.col_ptr[j]];
+                    !pivot_ok(l * l, self.s.values[self.s.diag[j]], tol)
                 })
                 .map(|j| perm_fwd[j])
                 .collect();
@@ -474,17 +550,17 @@ impl SchurSolver {
         if !self.factored {
             return Err(SolverError::NotReady { missing: "factor" });
         }
-        if self.s_symbolic.is_none() {
+        if self.s.symbolic.is_none() {
             return Err(SolverError::NotReady { missing: "analyze" });
         }
-        let (bs, n, m) = (self.block, self.num_unknowns(), self.m);
+        let (bs, n, m) = (self.shape.block, self.num_unknowns(), self.shape.m);
         check_len("right-hand side", n + m, rhs.len())?;
         check_len("solution", n + m, sol.len())?;
         let (x, lambda_out) = sol.split_at_mut(n);
         // z_k = L_k⁻¹ f_k (in x); t = W z − g (in λ, permuted numbering).
         x.copy_from_slice(&rhs[..n]);
-        let mut lambda = std::mem::take(&mut self.lambda);
-        for (l, &r) in lambda.iter_mut().zip(&self.perm_fwd) {
+        let mut lambda = std::mem::take(&mut self.work.lambda);
+        for (l, &r) in lambda.iter_mut().zip(&self.s.perm_fwd) {
             *l = -rhs[n + r];
         }
         if bs == 6 {
@@ -494,13 +570,13 @@ impl SchurSolver {
         }
         // λ = S⁻¹ t = L⁻ᵀ L⁻¹ t. Column j's entries below the diagonal as zipped slices (one
         // bounds check per column instead of three per entry: most of a small model's solve).
-        let (cp, ri, lv) = (&self.l_col_ptr, &self.l_row_idx, &self.l_values);
+        let (cp, ri, lv) = (&self.l.col_ptr, &self.l.row_idx, &self.l.values);
         let below = |j: usize| {
             let range = cp[j] + 1..cp[j + 1];
             ri[range.clone()].iter().zip(&lv[range])
         };
         for j in 0..m {
-            let v = lambda[j] * self.l_inv_diag[j];
+            let v = lambda[j] * self.l.inv_diag[j];
             lambda[j] = v;
             for (&r, &l) in below(j) {
                 lambda[r] -= l * v;
@@ -511,7 +587,7 @@ impl SchurSolver {
             for (&r, &l) in below(j) {
                 v -= l * lambda[r];
             }
-            lambda[j] = v * self.l_inv_diag[j];
+            lambda[j] = v * self.l.inv_diag[j];
         }
         // x_k = L_k⁻ᵀ (z_k − Σ_r w_r λ_r).
         if bs == 6 {
@@ -519,10 +595,10 @@ impl SchurSolver {
         } else {
             self.solve_backward::<0>(x, &lambda);
         }
-        for (o, &j) in lambda_out.iter_mut().zip(&self.perm_inv) {
+        for (o, &j) in lambda_out.iter_mut().zip(&self.s.perm_inv) {
             *o = lambda[j];
         }
-        self.lambda = lambda;
+        self.work.lambda = lambda;
         // A non-finite right-hand side makes the solution non-finite: looked for only then.
         if let Some(unknown) = sol.iter().position(|v| !v.is_finite()) {
             let location = match rhs.iter().position(|v| !v.is_finite()) {
@@ -541,7 +617,7 @@ impl SchurSolver {
 impl SchurSolver {
     /// The first non-finite value of A or B, as an error naming its entry (error path only).
     fn non_finite_input(&self, a: &[f64], b: &[f64]) -> Option<SolverError> {
-        let bs = self.block;
+        let bs = self.shape.block;
         if let Some(slot) = a.iter().position(|v| !v.is_finite()) {
             let (k, i) = (slot / (bs * bs), slot % (bs * bs));
             return Some(SolverError::NonFinite {
@@ -555,26 +631,34 @@ impl SchurSolver {
         }
         let slot = b.iter().position(|v| !v.is_finite())?;
         // The entry's block-row pair: its row of B and column.
-        let e = self.entry_val.iter().position(|&v| v == slot).unwrap_or(0);
+        let e = self
+            .pairs
+            .entry_val
+            .iter()
+            .position(|&v| v == slot)
+            .unwrap_or(0);
         let p = self
+            .pairs
             .entry_start
             .partition_point(|&s| s <= e)
             .saturating_sub(1);
         let k = self
-            .pair_start
+            .pairs
+            .start
             .partition_point(|&s| s <= p)
             .saturating_sub(1);
         let row = self
-            .pair_row
+            .pairs
+            .row
             .get(p)
-            .and_then(|&j| self.perm_fwd.get(j))
+            .and_then(|&j| self.s.perm_fwd.get(j))
             .copied()
             .unwrap_or(0);
         Some(SolverError::NonFinite {
             location: NonFiniteLocation::Jacobian {
                 slot,
                 row,
-                col: k * bs + self.entry_col.get(e).copied().unwrap_or(0),
+                col: k * bs + self.pairs.entry_col.get(e).copied().unwrap_or(0),
             },
             iteration: None,
         })
@@ -589,22 +673,22 @@ impl SchurSolver {
     /// column that updates x_i is a smaller one). `Err(j)`: the pivot of row j (permuted
     /// numbering) is not positive (or not a number).
     fn numeric_cholesky(&mut self) -> Result<(), usize> {
-        let Some(sym) = self.s_symbolic.as_ref() else {
+        let Some(sym) = self.s.symbolic.as_ref() else {
             return Err(0);
         };
         let (scp, sri) = (sym.col_ptr(), sym.row_idx());
-        let (cp, ri) = (&self.l_col_ptr, &self.l_row_idx);
-        let lv = &mut self.l_values;
-        let x = &mut self.x;
-        for k in 0..self.m {
+        let (cp, ri) = (&self.l.col_ptr, &self.l.row_idx);
+        let lv = &mut self.l.values;
+        let x = &mut self.work.x;
+        for k in 0..self.shape.m {
             for p in scp[k]..scp[k + 1] {
-                x[sri[p]] = self.s_values[p];
+                x[sri[p]] = self.s.values[p];
             }
             let mut d = x[k];
             x[k] = 0.0;
-            for r in self.row_start[k]..self.row_start[k + 1] {
-                let (i, slot) = (self.row_col[r], self.row_slot[r]);
-                let lki = x[i] * self.l_inv_diag[i];
+            for r in self.l.row_start[k]..self.l.row_start[k + 1] {
+                let (i, slot) = (self.l.row_col[r], self.l.row_slot[r]);
+                let lki = x[i] * self.l.inv_diag[i];
                 x[i] = 0.0;
                 // Column i's rows between i and k, computed before row k.
                 for p in cp[i] + 1..slot {
@@ -619,7 +703,7 @@ impl SchurSolver {
             }
             let l = d.sqrt();
             lv[cp[k]] = l;
-            self.l_inv_diag[k] = 1.0 / l;
+            self.l.inv_diag[k] = 1.0 / l;
         }
         Ok(())
     }
@@ -629,7 +713,7 @@ impl SchurSolver {
     #[inline(always)]
     fn bs<const B: usize>(&self) -> usize {
         if B == 0 {
-            self.block
+            self.shape.block
         } else {
             B
         }
@@ -641,43 +725,43 @@ impl SchurSolver {
         let bs = self.bs::<B>();
         let bb = bs * bs;
         // The block factors are kept when A is unchanged (a mass matrix: every factorization).
-        let reuse = self.a_factored && self.a_prev == a;
+        let reuse = self.a.factored && self.a.prev == a;
         if !reuse {
-            self.a_factored = false;
-            for k in 0..self.nblocks {
-                let lk = &mut self.a_fac[k * bb..(k + 1) * bb];
+            self.a.factored = false;
+            for k in 0..self.shape.nblocks {
+                let lk = &mut self.a.fac[k * bb..(k + 1) * bb];
                 lk.copy_from_slice(&a[k * bb..(k + 1) * bb]);
                 if !dense_cholesky(lk, bs, tol) {
                     return false;
                 }
             }
-            self.a_prev.copy_from_slice(a);
-            self.a_factored = true;
+            self.a.prev.copy_from_slice(a);
+            self.a.factored = true;
         }
-        self.s_values.fill(0.0);
+        self.s.values.fill(0.0);
         let mut target = 0;
-        for k in 0..self.nblocks {
-            let lk = &self.a_fac[k * bb..(k + 1) * bb];
-            let pairs = self.pair_start[k]..self.pair_start[k + 1];
+        for k in 0..self.shape.nblocks {
+            let lk = &self.a.fac[k * bb..(k + 1) * bb];
+            let pairs = self.pairs.start[k]..self.pairs.start[k + 1];
             for p in pairs.clone() {
-                let wp = &mut self.w[p * bs..(p + 1) * bs];
-                let entries = self.entry_start[p]..self.entry_start[p + 1];
-                if self.contiguous {
-                    let first = self.entry_val[entries.start];
+                let wp = &mut self.pairs.w[p * bs..(p + 1) * bs];
+                let entries = self.pairs.entry_start[p]..self.pairs.entry_start[p + 1];
+                if self.pairs.contiguous {
+                    let first = self.pairs.entry_val[entries.start];
                     wp.copy_from_slice(&b[first..first + bs]);
                 } else {
                     wp.fill(0.0);
                     for e in entries {
-                        wp[self.entry_col[e]] += b[self.entry_val[e]];
+                        wp[self.pairs.entry_col[e]] += b[self.pairs.entry_val[e]];
                     }
                 }
                 forward(lk, bs, wp);
             }
             for p in pairs.clone() {
-                let wp = &self.w[p * bs..(p + 1) * bs];
+                let wp = &self.pairs.w[p * bs..(p + 1) * bs];
                 for q in pairs.start..=p {
-                    self.s_values[self.s_target[target]] +=
-                        dot(wp, &self.w[q * bs..(q + 1) * bs], bs);
+                    self.s.values[self.s.target[target]] +=
+                        dot(wp, &self.pairs.w[q * bs..(q + 1) * bs], bs);
                     target += 1;
                 }
             }
@@ -689,10 +773,10 @@ impl SchurSolver {
     fn solve_forward<const B: usize>(&self, x: &mut [f64], lambda: &mut [f64]) {
         let bs = self.bs::<B>();
         let bb = bs * bs;
-        for k in 0..self.nblocks {
+        for k in 0..self.shape.nblocks {
             let zk = &mut x[k * bs..(k + 1) * bs];
-            forward(&self.a_fac[k * bb..(k + 1) * bb], bs, zk);
-            for (&r, wp) in self.pairs(k, bs) {
+            forward(&self.a.fac[k * bb..(k + 1) * bb], bs, zk);
+            for (&r, wp) in self.pairs_of(k, bs) {
                 lambda[r] += dot(wp, zk, bs);
             }
         }
@@ -702,24 +786,24 @@ impl SchurSolver {
     fn solve_backward<const B: usize>(&self, x: &mut [f64], lambda: &[f64]) {
         let bs = self.bs::<B>();
         let bb = bs * bs;
-        for k in 0..self.nblocks {
+        for k in 0..self.shape.nblocks {
             let zk = &mut x[k * bs..(k + 1) * bs];
-            for (&r, wp) in self.pairs(k, bs) {
+            for (&r, wp) in self.pairs_of(k, bs) {
                 let l = lambda[r];
                 for (z, w) in zk.iter_mut().zip(wp) {
                     *z -= w * l;
                 }
             }
-            backward(&self.a_fac[k * bb..(k + 1) * bb], bs, zk);
+            backward(&self.a.fac[k * bb..(k + 1) * bb], bs, zk);
         }
     }
 
     /// Block `k`'s pairs: the row of S each couples to and its column w_r of W = L⁻¹ Bᵀ.
     #[inline(always)]
-    fn pairs(&self, k: usize, bs: usize) -> impl Iterator<Item = (&usize, &[f64])> {
-        let range = self.pair_start[k]..self.pair_start[k + 1];
-        let w = &self.w[range.start * bs..range.end * bs];
-        self.pair_row[range].iter().zip(w.chunks_exact(bs))
+    fn pairs_of(&self, k: usize, bs: usize) -> impl Iterator<Item = (&usize, &[f64])> {
+        let range = self.pairs.start[k]..self.pairs.start[k + 1];
+        let w = &self.pairs.w[range.start * bs..range.end * bs];
+        self.pairs.row[range].iter().zip(w.chunks_exact(bs))
     }
 }
 

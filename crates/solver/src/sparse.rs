@@ -31,11 +31,12 @@
 //!   loop, then scales one column at a time while it is in L1. With duplicates (summed) the
 //!   values are zeroed, summed, and their row maxima taken in a pass of their own.
 
+use crate::equilibration::Equilibration;
 use crate::error::{NonFiniteLocation, SolverError};
-use crate::linear::{
-    singular_error, Equilibration, LinearSolver, Scratch, DEFAULT_PIVOT_TOLERANCE,
-};
+use crate::linear::LinearSolver;
 use crate::pattern::{check_len, SparsityPattern};
+use crate::scratch::Scratch;
+use crate::singular::{singular_error, DEFAULT_PIVOT_TOLERANCE};
 use crate::sparse_refactor::Refactor;
 use faer::dyn_stack::StackReq;
 use faer::perm::PermRef;
@@ -249,6 +250,15 @@ impl<I: Index> Indexed<I> {
     }
 }
 
+/// How many factorizations a [`SparseLu`] made, by kind ([`SparseLu::factorization_counts`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FactorizationCounts {
+    /// Those that chose their pivots afresh (faer's simplicial LU).
+    pub pivoted: usize,
+    /// Those that reused the previous pivot sequence ([`crate::sparse_refactor`]).
+    pub refactored: usize,
+}
+
 /// Sparse LU with a fill-reducing ordering computed once. Square matrices only.
 #[derive(Debug)]
 pub struct SparseLu {
@@ -293,10 +303,13 @@ impl SparseLu {
         }
     }
 
-    /// Successful factorizations so far: `(pivoted, refactored)`, those that chose their pivots
-    /// afresh and those that reused the previous pivot sequence.
-    pub fn factorization_counts(&self) -> (usize, usize) {
-        (self.counts[0], self.counts[1])
+    /// Successful factorizations so far: those that chose their pivots afresh and those that
+    /// reused the previous pivot sequence.
+    pub fn factorization_counts(&self) -> FactorizationCounts {
+        FactorizationCounts {
+            pivoted: self.counts[0],
+            refactored: self.counts[1],
+        }
     }
 
     /// Whether a factorization reuses the pivot sequence of the previous one while its pivots
@@ -541,13 +554,22 @@ mod tests {
             let diff = reuse_vs_fresh(&mut reuse, &mut fresh, &moved, &b).unwrap();
             assert!(diff < 1e-12, "step {step}: {diff:e}");
         }
-        let (pivoted, refactored) = reuse.factorization_counts();
+        let FactorizationCounts {
+            pivoted,
+            refactored,
+        } = reuse.factorization_counts();
         assert_eq!(pivoted + refactored, 20);
         assert!(
             refactored >= 15,
             "{pivoted} pivoted, {refactored} refactored"
         );
-        assert_eq!(fresh.factorization_counts(), (20, 0));
+        assert_eq!(
+            fresh.factorization_counts(),
+            FactorizationCounts {
+                pivoted: 20,
+                refactored: 0
+            }
+        );
     }
 
     #[test]
@@ -564,7 +586,10 @@ mod tests {
             let diff = reuse_vs_fresh(&mut reuse, &mut fresh, &[a, 1.0, 1.0, 3.0], &b).unwrap();
             assert!(diff < 1e-15, "a = {a}: {diff:e}");
         }
-        let (pivoted, refactored) = reuse.factorization_counts();
+        let FactorizationCounts {
+            pivoted,
+            refactored,
+        } = reuse.factorization_counts();
         assert!(pivoted >= 2 && refactored >= 2, "{pivoted}, {refactored}");
     }
 

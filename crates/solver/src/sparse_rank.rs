@@ -46,9 +46,45 @@
 
 use crate::error::SolverError;
 use crate::pattern::SparsityPattern;
-use crate::rank::{RankAnalysis, RankOptions};
+use crate::rank::{RankAnalysis, RankOptions, SPARSE_RANK_MIN_UNKNOWNS};
 use std::cmp::Reverse;
 use std::collections::{BTreeMap, BinaryHeap};
+
+/// The sparse analysis and the switch between it and the dense one. They are defined here, beside
+/// the elimination they call, so that the dense analysis (`rank.rs`) does not depend on the
+/// sparse one.
+impl RankAnalysis {
+    /// The sparse analysis (this module): the same rows as [`compute`](Self::compute)
+    /// (the dense analysis decides inside each group of dependent rows), in about linear time
+    /// and memory for chains, trees and loops of bounded size.
+    ///
+    /// # Errors
+    /// [`SolverError::DimensionMismatch`], [`SolverError::NonFinite`].
+    pub fn compute_sparse(
+        pattern: &SparsityPattern,
+        slots: &[f64],
+        options: RankOptions,
+    ) -> Result<Self, SolverError> {
+        analyze(pattern, slots, options)
+    }
+
+    /// The dense analysis below [`SPARSE_RANK_MIN_UNKNOWNS`] unknowns, the sparse one from there
+    /// on: the one switch point for callers that analyze models of any size.
+    ///
+    /// # Errors
+    /// [`SolverError::DimensionMismatch`], [`SolverError::NonFinite`].
+    pub fn compute_auto(
+        pattern: &SparsityPattern,
+        slots: &[f64],
+        options: RankOptions,
+    ) -> Result<Self, SolverError> {
+        if pattern.ncols() >= SPARSE_RANK_MIN_UNKNOWNS {
+            Self::compute_sparse(pattern, slots, options)
+        } else {
+            Self::compute(pattern, slots, options)
+        }
+    }
+}
 
 /// Threshold of the pivot choice: entries of at least this fraction of the row's largest may be
 /// the pivot (the one of lowest column index is taken).

@@ -12,7 +12,7 @@ use super::functions::Func;
 use super::jet::Jet;
 use super::parser::{BinOp, Node, NodeKind};
 use super::{Op, ParseError, Piecewise, Program, STACK};
-use crate::time_function::Spline;
+use crate::spline::Spline;
 use std::ops::Range;
 
 struct Compiler {

@@ -55,7 +55,7 @@ pub use eval::DomainError;
 pub use functions::names;
 pub use jet::Jet;
 
-use crate::time_function::Spline;
+use crate::spline::Spline;
 use std::fmt;
 use std::ops::Range;
 

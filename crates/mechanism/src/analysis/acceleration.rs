@@ -15,36 +15,37 @@ impl Model {
     /// # Errors
     /// As [`Model::velocity`].
     pub fn acceleration(&self, ws: &mut Workspace) -> Result<(), AnalysisError> {
-        if !ws.velocity_valid {
+        if !ws.motion.velocity_valid {
             self.velocity(ws)?;
         }
-        let t = ws.t;
-        self.gamma_into(&ws.bodies, t, &mut ws.rhs);
-        ws.counts.gamma += 1;
-        let newton = ws.kin.as_mut().expect("prepared by velocity");
+        let t = ws.pose.t;
+        self.gamma_into(&ws.pose.bodies, t, &mut ws.rows.rhs);
+        ws.counters.evaluations.gamma += 1;
+        let newton = ws.kin.newton.as_mut().expect("prepared by velocity");
         let mut sys = PositionSystem {
             model: self,
-            bodies: &mut ws.bodies,
-            turns: &ws.turns,
+            bodies: &mut ws.pose.bodies,
+            turns: &ws.pose.turns,
             t,
         };
-        let solved = newton.solve_linear_at(&mut sys, &ws.x, &ws.rhs, &mut ws.vdot);
+        let solved =
+            newton.solve_linear_at(&mut sys, &ws.pose.x, &ws.rows.rhs, &mut ws.motion.vdot);
         // An evaluation of Φ_v resets the bodies' velocities: restore them.
         ws.sync_poses();
         solved.map_err(|e| self.map_solver_error(t, e))?;
-        ws.acceleration_valid = true;
-        std::mem::swap(&mut ws.vdot_last, &mut ws.vdot_prev);
-        ws.vdot_last.copy_from_slice(&ws.vdot);
-        std::mem::swap(&mut ws.edge_acc_last, &mut ws.edge_acc_prev);
+        ws.motion.acceleration_valid = true;
+        std::mem::swap(&mut ws.jerk.vdot_last, &mut ws.jerk.vdot_prev);
+        ws.jerk.vdot_last.copy_from_slice(&ws.motion.vdot);
+        std::mem::swap(&mut ws.jerk.edge_acc_last, &mut ws.jerk.edge_acc_prev);
         crate::analysis::predictor::relative_accelerations(
             self,
-            &ws.bodies,
-            &ws.v,
-            &ws.vdot,
-            &mut ws.edge_acc_last,
+            &ws.pose.bodies,
+            &ws.motion.v,
+            &ws.motion.vdot,
+            &mut ws.jerk.edge_acc_last,
         );
-        ws.vdot_prev_time = ws.vdot_last_time;
-        ws.vdot_last_time = t;
+        ws.jerk.vdot_prev_time = ws.jerk.vdot_last_time;
+        ws.jerk.vdot_last_time = t;
         Ok(())
     }
 }

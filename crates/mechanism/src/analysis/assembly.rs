@@ -213,7 +213,7 @@ impl Model {
         options: &AssemblyOptions,
     ) -> Result<AssemblyReport, AnalysisError> {
         options.validate()?;
-        let guess = ws.x.clone();
+        let guess = ws.pose.x.clone();
         let direct = self.assemble_direct(ws, options);
         if !options.include_drivers || self.drivers.is_empty() {
             return direct;
@@ -221,7 +221,7 @@ impl Model {
         if direct.is_ok() && self.wrong_branch(ws, options.t).is_none() {
             return direct;
         }
-        ws.x.copy_from_slice(&guess);
+        ws.pose.x.copy_from_slice(&guess);
         ws.sync_poses();
         match self.assemble_by_continuation(ws, options) {
             Ok(report) => match self.wrong_branch(ws, options.t) {
@@ -315,8 +315,8 @@ impl Model {
         // Rows are laid out element by element, so the first m rows own the first k slots.
         let k = self.pattern.entries().take_while(|&(r, _)| r < m).count();
         let entries: Vec<(usize, usize)> = self.pattern.entries().take(k).collect();
-        let pattern =
-            SparsityPattern::new(m, n, &entries).map_err(|e| crate::dof::solver(options.t, e))?;
+        let pattern = SparsityPattern::new(m, n, &entries)
+            .map_err(|e| crate::analysis::dof::solver(options.t, e))?;
         let nopts = NewtonOptions {
             tolerances: options.tolerances,
             max_iterations: options.max_iterations,
@@ -328,29 +328,35 @@ impl Model {
             factor_at_solution: false,
             ..NewtonOptions::default()
         };
-        let guess = ws.x.clone();
-        ws.t = options.t;
-        ws.v.fill(0.0);
-        ws.vdot.fill(0.0);
+        let guess = ws.pose.x.clone();
+        ws.pose.t = options.t;
+        ws.motion.v.fill(0.0);
+        ws.motion.vdot.fill(0.0);
         ws.invalidate();
         let result = if m == 0 {
             Ok(None)
         } else {
             let mut sys = AssemblySystem {
                 model: self,
-                bodies: &mut ws.bodies,
-                turns: &ws.turns,
+                bodies: &mut ws.pose.bodies,
+                turns: &ws.pose.turns,
                 t: options.t,
                 m,
                 phi: vec![0.0; self.num_equations()],
                 slots: vec![0.0; self.pattern.num_slots()],
             };
             if n >= SPARSE_RANK_MIN_UNKNOWNS {
-                min_norm_newton(&pattern, SparseMinNorm::new(), nopts, &mut sys, &mut ws.x)
+                min_norm_newton(
+                    &pattern,
+                    SparseMinNorm::new(),
+                    nopts,
+                    &mut sys,
+                    &mut ws.pose.x,
+                )
             } else {
-                min_norm_newton(&pattern, MinNormQr::new(), nopts, &mut sys, &mut ws.x)
+                min_norm_newton(&pattern, MinNormQr::new(), nopts, &mut sys, &mut ws.pose.x)
             }
-            .map_err(|e| crate::dof::solver(options.t, e))?
+            .map_err(|e| crate::analysis::dof::solver(options.t, e))?
         };
         ws.sync_poses();
         match result {
@@ -384,10 +390,10 @@ impl Model {
         rep: MinNormSolve,
         dropped_residual: f64,
     ) -> AssemblyReport {
-        self.accept_turns(&ws.bodies, &mut ws.turns);
+        self.accept_turns(&ws.pose.bodies, &mut ws.pose.turns);
         let (mut dt, mut dr) = (0.0f64, 0.0f64);
         for b in 0..self.num_bodies() {
-            let (g, x) = (&guess[7 * b..7 * b + 7], &ws.x[7 * b..7 * b + 7]);
+            let (g, x) = (&guess[7 * b..7 * b + 7], &ws.pose.x[7 * b..7 * b + 7]);
             let d = ((x[0] - g[0]).powi(2) + (x[1] - g[1]).powi(2) + (x[2] - g[2]).powi(2)).sqrt();
             dt = dt.max(d);
             let dot: f64 = (3..7).map(|c| x[c] * g[c]).sum();
@@ -421,15 +427,15 @@ impl Model {
         nopts: NewtonOptions,
     ) -> Option<Result<(MinNormSolve, f64), AnalysisError>> {
         let (m, t) = (pattern.nrows(), options.t);
-        self.phi_into(&ws.bodies, &ws.turns, t, &mut ws.phi);
-        let off = self.scaled_residual(&ws.phi, m);
+        self.phi_into(&ws.pose.bodies, &ws.pose.turns, t, &mut ws.rows.phi);
+        let off = self.scaled_residual(&ws.rows.phi, m);
         if off > crate::analysis::dropped::LEAST_SQUARES_MAX_RESIDUAL || off.is_nan() {
             // Not close: a model that cannot close (or a non-finite iterate).
             return None;
         }
-        let rank_options = self.rank_options_for(&ws.phi, m);
+        let rank_options = self.rank_options_for(&ws.rows.phi, m);
         let mut slots = vec![0.0; self.pattern.num_slots()];
-        self.jacobian_into(&ws.bodies, t, &mut slots);
+        self.jacobian_into(&ws.pose.bodies, t, &mut slots);
         let ra = RankAnalysis::compute_auto(pattern, &slots[..pattern.num_slots()], rank_options)
             .ok()?;
         if ra.dependent_rows().is_empty() {
@@ -438,8 +444,8 @@ impl Model {
         let selection = pattern.select_rows(ra.independent_rows()).ok()?;
         let mut sys = AssemblySystem {
             model: self,
-            bodies: &mut ws.bodies,
-            turns: &ws.turns,
+            bodies: &mut ws.pose.bodies,
+            turns: &ws.pose.turns,
             t,
             m,
             phi: vec![0.0; self.num_equations()],
@@ -452,7 +458,7 @@ impl Model {
                 SparseMinNorm::new(),
                 nopts,
                 &mut sys,
-                &mut ws.x,
+                &mut ws.pose.x,
             )
         } else {
             kept_rows_newton(
@@ -461,19 +467,20 @@ impl Model {
                 MinNormQr::new(),
                 nopts,
                 &mut sys,
-                &mut ws.x,
+                &mut ws.pose.x,
             )
         };
         ws.sync_poses();
         let rep = solved.ok()?;
-        self.phi_into(&ws.bodies, &ws.turns, t, &mut ws.phi);
+        self.phi_into(&ws.pose.bodies, &ws.pose.turns, t, &mut ws.rows.phi);
         let mut kept = vec![false; m];
         for &r in ra.independent_rows() {
             kept[r] = true;
         }
-        let dropped = self.dropped_residual(&ws.phi[..m], &kept);
+        let dropped = self.dropped_residual(&ws.rows.phi[..m], &kept);
         if dropped > crate::analysis::dropped::gross_inconsistency(options.tolerances.residual) {
-            let rows = self.dropped_rows_at(&ws.phi[..m], &kept, t, options.tolerances.residual);
+            let rows =
+                self.dropped_rows_at(&ws.rows.phi[..m], &kept, t, options.tolerances.residual);
             return Some(Err(AnalysisError::InconsistentJoints {
                 time: t,
                 limit: crate::analysis::dropped::gross_inconsistency(options.tolerances.residual),
@@ -485,7 +492,7 @@ impl Model {
 
     /// The elements among the first `m` rows whose scaled residual exceeds `tol`, largest first.
     pub(crate) fn open_elements(&self, ws: &mut Workspace, m: usize, tol: f64) -> Vec<OpenElement> {
-        self.phi_into(&ws.bodies, &ws.turns, ws.t, &mut ws.phi);
+        self.phi_into(&ws.pose.bodies, &ws.pose.turns, ws.pose.t, &mut ws.rows.phi);
         let mut open = Vec::new();
         let mut check = |name: &str, rows: &std::ops::Range<usize>| {
             if rows.start >= m {
@@ -493,12 +500,12 @@ impl Model {
             }
             let scaled = rows
                 .clone()
-                .map(|r| (ws.phi[r] / self.equation_scales[r]).abs())
+                .map(|r| (ws.rows.phi[r] / self.equation_scales[r]).abs())
                 .fold(0.0, f64::max);
             if scaled > tol || scaled.is_nan() {
                 let norm = rows
                     .clone()
-                    .map(|r| ws.phi[r] * ws.phi[r])
+                    .map(|r| ws.rows.phi[r] * ws.rows.phi[r])
                     .sum::<f64>()
                     .sqrt();
                 open.push((

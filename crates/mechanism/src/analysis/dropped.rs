@@ -35,8 +35,8 @@
 //! rows); above it, the front end reports a warning naming the joint, its worst residual and the
 //! time (`cardan run`'s summary and run.json).
 
-use crate::error::EquationName;
 use crate::model::Model;
+pub use crate::results::DroppedRowResidual;
 use crate::workspace::Workspace;
 use cardan_constraints::{Constraint, Dimension};
 use cardan_solver::RankOptions;
@@ -65,19 +65,30 @@ pub fn gross_inconsistency(tol: f64) -> f64 {
     (1e3 * tol).max(1e-6)
 }
 
-/// The worst residual of a row dropped as redundant, over a run.
-#[derive(Debug, Clone, PartialEq)]
-pub struct DroppedRowResidual {
-    /// The equation (element, kind, primitive, row).
-    pub equation: EquationName,
-    /// Its scaled residual |Φ_r| / e_r (relative to the model's size for a length).
+/// One row's residual at one time, as [`Model::worst_dropped_rows`] takes it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DroppedRowSample {
+    /// The global row.
+    pub row: usize,
+    /// Its scaled residual |Φ_r| / e_r.
     pub residual: f64,
-    /// Its residual Φ_r in SI units (m, m², or dimensionless, as `dimension` says).
+    /// Its residual Φ_r (SI units).
     pub value: f64,
-    /// What Φ_r measures.
-    pub dimension: Dimension,
-    /// When it was largest (s).
+    /// The time (s).
     pub time: f64,
+}
+
+impl From<(usize, f64, f64, f64)> for DroppedRowSample {
+    /// From (row, scaled residual, value, time), the form callers passed before the type
+    /// existed.
+    fn from((row, residual, value, time): (usize, f64, f64, f64)) -> Self {
+        Self {
+            row,
+            residual,
+            value,
+            time,
+        }
+    }
 }
 
 impl Model {
@@ -113,18 +124,18 @@ impl Model {
             .fold(0.0f64, f64::max)
     }
 
-    /// Records the dropped rows' residuals from `ws.phi` (Φ at the solution of time `t`): the
+    /// Records the dropped rows' residuals from `ws.rows.phi` (Φ at the solution of time `t`): the
     /// worst per row. No allocation.
     pub(crate) fn record_dropped_rows(&self, ws: &mut Workspace, t: f64) {
-        for r in 0..ws.kept.len() {
-            if ws.kept[r] {
+        for r in 0..ws.dropped.kept.len() {
+            if ws.dropped.kept[r] {
                 continue;
             }
-            let d = (ws.phi[r] / self.equation_scales[r]).abs();
-            if d > ws.dropped_worst[r] || d.is_nan() {
-                ws.dropped_worst[r] = d;
-                ws.dropped_value[r] = ws.phi[r];
-                ws.dropped_time[r] = t;
+            let d = (ws.rows.phi[r] / self.equation_scales[r]).abs();
+            if d > ws.dropped.worst[r] || d.is_nan() {
+                ws.dropped.worst[r] = d;
+                ws.dropped.value[r] = ws.rows.phi[r];
+                ws.dropped.time[r] = t;
             }
         }
     }
@@ -133,13 +144,11 @@ impl Model {
     /// since the kinematic solver was prepared: one per element (its worst row), in model
     /// order. Empty for a consistent model (see the module docs). Allocates.
     pub fn dropped_row_residuals(&self, ws: &Workspace, tol: f64) -> Vec<DroppedRowResidual> {
-        let rows = (0..ws.dropped_worst.len()).map(|r| {
-            (
-                r,
-                ws.dropped_worst[r],
-                ws.dropped_value[r],
-                ws.dropped_time[r],
-            )
+        let rows = (0..ws.dropped.worst.len()).map(|r| DroppedRowSample {
+            row: r,
+            residual: ws.dropped.worst[r],
+            value: ws.dropped.value[r],
+            time: ws.dropped.time[r],
         });
         self.worst_dropped_rows(rows, tol)
     }
@@ -157,20 +166,32 @@ impl Model {
             .iter()
             .enumerate()
             .filter(|&(r, _)| !kept[r])
-            .map(|(r, &v)| (r, (v / self.equation_scales[r]).abs(), v, t));
+            .map(|(r, &v)| DroppedRowSample {
+                row: r,
+                residual: (v / self.equation_scales[r]).abs(),
+                value: v,
+                time: t,
+            });
         self.worst_dropped_rows(rows, tol)
     }
 
-    /// `rows` (row, scaled residual, value, time; increasing rows) whose scaled residual exceeds
-    /// `tol`, the worst per element, as [`DroppedRowResidual`]s (for analyses outside this
-    /// crate that track dropped rows themselves: dynamics). Allocates.
-    pub fn worst_dropped_rows(
+    /// `rows` (increasing rows; a [`DroppedRowSample`] or a tuple (row, scaled residual, value,
+    /// time)) whose scaled residual exceeds `tol`, the worst per element, as
+    /// [`DroppedRowResidual`]s (for analyses outside this crate that track dropped rows
+    /// themselves: dynamics). Allocates.
+    pub fn worst_dropped_rows<S: Into<DroppedRowSample>>(
         &self,
-        rows: impl Iterator<Item = (usize, f64, f64, f64)>,
+        rows: impl Iterator<Item = S>,
         tol: f64,
     ) -> Vec<DroppedRowResidual> {
         let mut out: Vec<DroppedRowResidual> = Vec::new();
-        for (r, d, value, time) in rows {
+        for sample in rows {
+            let DroppedRowSample {
+                row: r,
+                residual: d,
+                value,
+                time,
+            } = sample.into();
             if !(d > tol || d.is_nan()) {
                 continue;
             }
@@ -216,17 +237,17 @@ impl Workspace {
     /// Forgets the recorded residuals of dropped rows and marks every row kept (a new
     /// preparation of the kinematic solver).
     pub(crate) fn reset_dropped_rows(&mut self) {
-        self.kept.fill(true);
-        self.dropped_worst.fill(0.0);
-        self.dropped_value.fill(0.0);
-        self.dropped_time.fill(f64::NAN);
+        self.dropped.kept.fill(true);
+        self.dropped.worst.fill(0.0);
+        self.dropped.value.fill(0.0);
+        self.dropped.time.fill(f64::NAN);
     }
 
     /// Marks the rows the kinematic solver keeps (the others are dropped as redundant).
     pub(crate) fn set_kept_rows(&mut self, rows: &[usize]) {
-        self.kept.fill(false);
+        self.dropped.kept.fill(false);
         for &r in rows {
-            self.kept[r] = true;
+            self.dropped.kept[r] = true;
         }
     }
 }

@@ -41,7 +41,7 @@
 //! time, the named equations, and the results up to the last successful step.
 
 use crate::analysis::assembly::AssemblyOptions;
-use crate::analysis::position::PositionReport;
+use crate::analysis::position::{OpenRow, PositionReport};
 use crate::error::AnalysisError;
 use crate::model::{BodyId, Model};
 use crate::results::{
@@ -90,8 +90,8 @@ enum Verdict {
     /// The solution jumped to another assembly branch (module docs).
     Jumped,
     /// Newton converged, but once the couplers' angles are continued this solved row is open
-    /// by this scaled residual ([`PositionReport::open`]).
-    Open(usize, f64),
+    /// by its scaled residual ([`PositionReport::open`]).
+    Open(OpenRow),
     /// Newton did not converge.
     Failed(Box<AnalysisError>),
 }
@@ -311,18 +311,18 @@ impl Model {
         sink: &mut impl FrameSink,
     ) -> Result<RunTotals, AnalysisError> {
         options.validate()?;
-        if ws.kin.is_none() {
+        if ws.kin.newton.is_none() {
             self.prepare_run(ws, options)?;
         }
         let mut frame = self.allocate_results(options, 1);
         let mut memory = JointMemory::new(self.joints.len());
-        let reselections = ws.reselections;
+        let reselections = ws.counters.reselections;
         let mut frames = 0;
         for k in 0..=options.steps {
             let t = options.time(k);
             frame.clear_frames();
             let step = self.step(ws, options, k, t, &mut frame, &mut memory);
-            frame.row_reselections = ws.reselections - reselections;
+            frame.row_reselections = ws.counters.reselections - reselections;
             if let Err(e) = step {
                 frame.clear_frames();
                 frame.dropped_rows = self.dropped_rows_of_run(ws);
@@ -357,9 +357,9 @@ impl Model {
             ..AssemblyOptions::at(options.t0)
         };
         self.assemble(ws, &joints_only)?;
-        ws.x_tmp.copy_from_slice(&ws.x);
+        ws.grid.x_tmp.copy_from_slice(&ws.pose.x);
         if let Err(e) = self.assemble(ws, &AssemblyOptions::at(options.t0)) {
-            ws.x.copy_from_slice(&ws.x_tmp);
+            ws.pose.x.copy_from_slice(&ws.grid.x_tmp);
             ws.sync_poses();
             ws.invalidate();
             let dof = self.dof(ws)?;
@@ -381,13 +381,14 @@ impl Model {
 
     /// The dropped rows off by more than the kinematic solver's residual tolerance during the
     /// run (`analysis::dropped`).
-    fn dropped_rows_of_run(
-        &self,
-        ws: &Workspace,
-    ) -> Vec<crate::analysis::dropped::DroppedRowResidual> {
-        let tol = ws.kin.as_ref().map_or(Tolerances::default().residual, |n| {
-            n.options().tolerances.residual
-        });
+    fn dropped_rows_of_run(&self, ws: &Workspace) -> Vec<crate::results::DroppedRowResidual> {
+        let tol = ws
+            .kin
+            .newton
+            .as_ref()
+            .map_or(Tolerances::default().residual, |n| {
+                n.options().tolerances.residual
+            });
         self.dropped_row_residuals(ws, tol)
     }
 
@@ -405,9 +406,9 @@ impl Model {
         let out = options.outputs;
         let rep = if k == 0 {
             // x_prev holds the solution of step k − 2 (for the linear extrapolation).
-            ws.x_tmp.copy_from_slice(&ws.x);
+            ws.grid.x_tmp.copy_from_slice(&ws.pose.x);
             let rep = self.position(ws, t)?;
-            ws.x_prev.copy_from_slice(&ws.x_tmp);
+            ws.grid.x_prev.copy_from_slice(&ws.grid.x_tmp);
             rep
         } else {
             self.advance(ws, t, k, out, &mut results.subdivided_steps, joint_prev)?
@@ -445,7 +446,7 @@ impl Model {
         subdivided: &mut usize,
         memory: &mut JointMemory,
     ) -> Result<PositionReport, AnalysisError> {
-        let depth = self.motion_depth(ws, t - ws.t, memory);
+        let depth = self.motion_depth(ws, t - ws.pose.t, memory);
         let saved = self.save_frame(ws);
         let mut iterations = 0;
         if depth == 0 {
@@ -474,9 +475,9 @@ impl Model {
     /// [`MAX_SUBDIVISION_DEPTH`].
     fn motion_depth(&self, ws: &mut Workspace, dt: f64, memory: &JointMemory) -> u32 {
         let turn = match memory.turn_rate {
-            Some(rate) if !ws.velocity_valid => TURN_RATE_MARGIN * rate * dt.abs(),
+            Some(rate) if !ws.motion.velocity_valid => TURN_RATE_MARGIN * rate * dt.abs(),
             _ => {
-                if !ws.velocity_valid && self.velocity(ws).is_err() {
+                if !ws.motion.velocity_valid && self.velocity(ws).is_err() {
                     return 0;
                 }
                 self.predicted_turn(ws, dt)
@@ -495,7 +496,7 @@ impl Model {
     /// The largest relative rotation of a joint over `dt` predicted from the bodies' angular
     /// velocities (and accelerations when valid) in `ws`: |ω_rel| dt + ½ |ω̇_rel| dt².
     fn predicted_turn(&self, ws: &Workspace, dt: f64) -> f64 {
-        let acc = ws.acceleration_valid;
+        let acc = ws.motion.acceleration_valid;
         let omega = |id: BodyId| match id {
             BodyId::Ground => (Vector3::zeros(), Vector3::zeros()),
             BodyId::Moving(b) => (
@@ -525,9 +526,9 @@ impl Model {
         };
         self.joints.iter().fold(0.0f64, |worst, j| {
             let relative = |x: &[f64]| p(x, j.body_i).conjugate().compose(&p(x, j.body_j));
-            let q = *relative(&ws.x_tmp)
+            let q = *relative(&ws.grid.x_tmp)
                 .conjugate()
-                .compose(&relative(&ws.x))
+                .compose(&relative(&ws.pose.x))
                 .as_vector();
             worst.max(2.0 * q.fixed_rows::<3>(1).norm().atan2(q[0].abs()))
         })
@@ -549,7 +550,7 @@ impl Model {
         mut depth: u32,
         memory: &mut JointMemory,
     ) -> Result<PositionReport, AnalysisError> {
-        let t_a = ws.t;
+        let t_a = ws.pose.t;
         let full = 1usize << MAX_SUBDIVISION_DEPTH;
         let mut done = 0usize;
         let mut iterations = 0;
@@ -569,13 +570,17 @@ impl Model {
                 Verdict::Accepted => true,
                 // The following solves report the singular configuration with its equations.
                 Verdict::Jumped if finest => {
-                    ws.x_prev.copy_from_slice(&ws.x_tmp);
+                    ws.grid.x_prev.copy_from_slice(&ws.grid.x_tmp);
                     true
                 }
-                Verdict::Open(row, value) if finest => {
+                Verdict::Open(open) if finest => {
                     return Err(AnalysisError::Discontinuous {
                         time: s,
-                        worst: self.equation(row).map(|n| (n, value)).into_iter().collect(),
+                        worst: self
+                            .equation(open.row)
+                            .map(|n| (n, open.scaled_residual))
+                            .into_iter()
+                            .collect(),
                         partial: None,
                     });
                 }
@@ -619,10 +624,10 @@ impl Model {
         out: Outputs,
         memory: &mut JointMemory,
     ) -> Result<(PositionReport, Verdict), AnalysisError> {
-        let dt = t - ws.t;
-        ws.x_tmp.copy_from_slice(&ws.x);
-        let predicted = self.predict(ws, t - ws.t, k, out);
-        ws.x_pred.copy_from_slice(&ws.x);
+        let dt = t - ws.pose.t;
+        ws.grid.x_tmp.copy_from_slice(&ws.pose.x);
+        let predicted = self.predict(ws, t - ws.pose.t, k, out);
+        ws.grid.x_pred.copy_from_slice(&ws.pose.x);
         let rep = match self.position(ws, t) {
             Ok(rep) => rep,
             Err(e @ AnalysisError::NotConverged { iterations, .. }) => {
@@ -635,8 +640,8 @@ impl Model {
             }
             Err(e) => return Err(e),
         };
-        if let Some((row, value)) = rep.open {
-            return Ok((rep, Verdict::Open(row, value)));
+        if let Some(open) = rep.open {
+            return Ok((rep, Verdict::Open(open)));
         }
         if predicted && self.jumped(ws) {
             return Ok((rep, Verdict::Jumped));
@@ -644,7 +649,7 @@ impl Model {
         if !out.needs_velocity() && dt != 0.0 {
             memory.turn_rate = Some(self.largest_turn(ws) / dt.abs());
         }
-        ws.x_prev.copy_from_slice(&ws.x_tmp);
+        ws.grid.x_prev.copy_from_slice(&ws.grid.x_tmp);
         Ok((rep, Verdict::Accepted))
     }
 
@@ -652,9 +657,9 @@ impl Model {
     /// predicted motion (x_pred ⊖ x_start) and C_b its correction (x ⊖ x_pred).
     fn jumped(&self, ws: &Workspace) -> bool {
         let l = self.characteristic_length();
-        let start = ws.x_tmp.chunks_exact(7);
-        let pred = ws.x_pred.chunks_exact(7);
-        let solved = ws.x.chunks_exact(7);
+        let start = ws.grid.x_tmp.chunks_exact(7);
+        let pred = ws.grid.x_pred.chunks_exact(7);
+        let solved = ws.pose.x.chunks_exact(7);
         start.zip(pred).zip(solved).any(|((x0, xp), x)| {
             let motion = pose_distance(x0, xp, l);
             let correction = pose_distance(xp, x, l);
@@ -665,27 +670,27 @@ impl Model {
     /// Copies what a return to the current frame needs (the poses stay in `x` and are copied
     /// to `x_tmp` by the next attempt).
     fn save_frame(&self, ws: &mut Workspace) -> SavedFrame {
-        ws.v_saved.copy_from_slice(&ws.v);
-        ws.vdot_saved.copy_from_slice(&ws.vdot);
-        ws.turns_saved.copy_from_slice(&ws.turns);
+        ws.grid.v_saved.copy_from_slice(&ws.motion.v);
+        ws.grid.vdot_saved.copy_from_slice(&ws.motion.vdot);
+        ws.grid.turns_saved.copy_from_slice(&ws.pose.turns);
         SavedFrame {
-            t: ws.t,
-            velocity_valid: ws.velocity_valid,
-            acceleration_valid: ws.acceleration_valid,
+            t: ws.pose.t,
+            velocity_valid: ws.motion.velocity_valid,
+            acceleration_valid: ws.motion.acceleration_valid,
         }
     }
 
     /// Returns `ws` to the frame an attempt started from (poses in `x_tmp`).
     fn restore_frame(&self, ws: &mut Workspace, saved: &SavedFrame) {
-        ws.x.copy_from_slice(&ws.x_tmp);
-        ws.v.copy_from_slice(&ws.v_saved);
-        ws.vdot.copy_from_slice(&ws.vdot_saved);
-        ws.turns.copy_from_slice(&ws.turns_saved);
-        ws.t = saved.t;
+        ws.pose.x.copy_from_slice(&ws.grid.x_tmp);
+        ws.motion.v.copy_from_slice(&ws.grid.v_saved);
+        ws.motion.vdot.copy_from_slice(&ws.grid.vdot_saved);
+        ws.pose.turns.copy_from_slice(&ws.grid.turns_saved);
+        ws.pose.t = saved.t;
         ws.poses_moved();
         ws.sync_poses();
-        ws.velocity_valid = saved.velocity_valid;
-        ws.acceleration_valid = saved.acceleration_valid;
+        ws.motion.velocity_valid = saved.velocity_valid;
+        ws.motion.acceleration_valid = saved.acceleration_valid;
     }
 
     /// Moves the poses in `ws` to the Taylor prediction x ⊕ (v dt + ½ v̇ dt² + ⅙ j dt³) at
@@ -696,7 +701,7 @@ impl Model {
     /// factorization is kept for chord steps). Does nothing when the velocities are not valid.
     /// No allocation.
     pub fn predict_poses(&self, ws: &mut Workspace, dt: f64) {
-        if ws.velocity_valid {
+        if ws.motion.velocity_valid {
             let _ = self.predict(ws, dt, 0, Outputs::default());
             ws.poses_moved();
         }
@@ -707,16 +712,19 @@ impl Model {
     /// at the last frame.
     fn predict(&self, ws: &mut Workspace, dt: f64, k: usize, out: Outputs) -> bool {
         let nb = self.num_bodies();
-        if out.needs_velocity() && ws.velocity_valid {
-            let acc = out.acceleration && ws.acceleration_valid;
+        if out.needs_velocity() && ws.motion.velocity_valid {
+            let acc = out.acceleration && ws.motion.acceleration_valid;
             // Jerk from the last two accelerations (the last one is the current state's).
-            let h = ws.vdot_last_time - ws.vdot_prev_time;
-            let jerk = acc && ws.vdot_last_time == ws.t && h != 0.0 && h.is_finite();
+            let h = ws.jerk.vdot_last_time - ws.jerk.vdot_prev_time;
+            let jerk = acc && ws.jerk.vdot_last_time == ws.pose.t && h != 0.0 && h.is_finite();
             let c3 = if jerk { dt * dt * dt / (6.0 * h) } else { 0.0 };
             crate::analysis::predictor::predict(self, ws, dt, acc, c3);
         } else if k >= 2 {
             for b in 0..nb {
-                let (xs, xp) = (&mut ws.x[7 * b..7 * b + 7], &ws.x_prev[7 * b..7 * b + 7]);
+                let (xs, xp) = (
+                    &mut ws.pose.x[7 * b..7 * b + 7],
+                    &ws.grid.x_prev[7 * b..7 * b + 7],
+                );
                 for c in 0..3 {
                     xs[c] = 2.0 * xs[c] - xp[c];
                 }
@@ -746,7 +754,7 @@ impl Model {
                 }
             }
         }
-        memory.t = Some(ws.t);
+        memory.t = Some(ws.pose.t);
         memory.rates_valid = false;
     }
 
@@ -830,7 +838,7 @@ impl Model {
     ) {
         let v = out.needs_velocity();
         let a = out.acceleration;
-        res.times.push(ws.t);
+        res.times.push(ws.pose.t);
         res.residual.push(residual);
         res.iterations.push(iterations);
         for (b, h) in res.bodies.iter_mut().enumerate() {
@@ -862,8 +870,8 @@ impl Model {
                 }
             }
         }
-        let dt = memory.t.map_or(0.0, |t_prev| ws.t - t_prev);
-        memory.t = Some(ws.t);
+        let dt = memory.t.map_or(0.0, |t_prev| ws.pose.t - t_prev);
+        memory.t = Some(ws.pose.t);
         if out.joints {
             for (idx, (j, h)) in self.joints.iter().zip(res.joints.iter_mut()).enumerate() {
                 let (si, sj) = (ws.state_of(j.body_i), ws.state_of(j.body_j));

@@ -2,6 +2,7 @@
 //! acceleration at one time, and runs over a time grid.
 //!
 //! - [`assembly`]: consistent initial poses from a rough guess (minimum-norm Newton).
+//! - [`dof`](mod@dof): the degrees-of-freedom count and the redundant equations at a pose.
 //! - [`dropped`]: the residuals of the rows dropped as redundant, checked at the solution.
 //! - [`position`]: the square kinematic Newton (redundant rows dropped once) at one time.
 //! - [`velocity`]: Φ_v v = ν with the position factorization.
@@ -12,6 +13,7 @@
 
 pub mod acceleration;
 pub mod assembly;
+pub mod dof;
 pub mod dropped;
 pub mod grid;
 pub mod position;

@@ -26,8 +26,10 @@
 //! a failure of the full set is reported. The reactions of redundant joints are one admissible
 //! split: at a re-selection the split changes (the multipliers of the dropped rows are 0).
 
-use crate::dof::{solver, DofReport};
-use crate::error::{AnalysisError, EquationName};
+use crate::analysis::dof::solver;
+use crate::dof::DofReport;
+use crate::equation::EquationName;
+use crate::error::AnalysisError;
 use crate::model::Model;
 use crate::workspace::{PositionSystem, Workspace};
 use cardan_constraints::BodyPair;
@@ -63,7 +65,17 @@ pub struct PositionReport {
     /// solve converged on equations that no longer hold once the angles are continued (a
     /// coupler's angle taken a turn off because it changed by π or more since the last accepted
     /// pose). A caller must not accept such a pose ([`Model::kinematics`] subdivides the step).
-    pub open: Option<(usize, f64)>,
+    pub open: Option<OpenRow>,
+}
+
+/// A solved row that does not hold ([`PositionReport::open`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OpenRow {
+    /// The global row.
+    pub row: usize,
+    /// Its scaled residual |Φ_r| / e_r (at least 1 for a driver on a spurious root: its
+    /// branch error).
+    pub scaled_residual: f64,
 }
 
 impl Model {
@@ -132,14 +144,14 @@ impl Model {
             });
         }
         let mut slots = vec![0.0; self.pattern.num_slots()];
-        self.jacobian_into(&ws.bodies, ws.t, &mut slots);
-        self.phi_into(&ws.bodies, &ws.turns, ws.t, &mut ws.phi);
+        self.jacobian_into(&ws.pose.bodies, ws.pose.t, &mut slots);
+        self.phi_into(&ws.pose.bodies, &ws.pose.turns, ws.pose.t, &mut ws.rows.phi);
         let rank_options = match kept_rows_only {
-            None => self.rank_options_for(&ws.phi, self.num_equations()),
+            None => self.rank_options_for(&ws.rows.phi, self.num_equations()),
             Some(_) => RankOptions::default(),
         };
         let ra = RankAnalysis::compute_auto(&self.pattern, &slots, rank_options)
-            .map_err(|e| solver(ws.t, e))?;
+            .map_err(|e| solver(ws.pose.t, e))?;
         if ra.rank() < self.num_unknowns() {
             let dependent = ra
                 .dependent_rows()
@@ -152,24 +164,24 @@ impl Model {
         let selection = self
             .pattern
             .select_rows(ra.independent_rows())
-            .map_err(|e| solver(ws.t, e))?;
+            .map_err(|e| solver(ws.pose.t, e))?;
         let lu = if ra.independent_rows().len() < self.num_equations() {
             AutoSolver::default().with_pivot_tolerance(SELECTION_PIVOT_TOLERANCE)
         } else {
             AutoSolver::default()
         };
         let mut newton = Newton::with_row_selection(&self.pattern, selection, lu, options)
-            .map_err(|e| solver(ws.t, e))?;
-        newton.fit_state(ws.x.len());
+            .map_err(|e| solver(ws.pose.t, e))?;
+        newton.fit_state(ws.pose.x.len());
         ws.set_kept_rows(ra.independent_rows());
         // Dropped rows already off at this (assembled or accepted) pose belong to a slightly
         // inconsistent model: they cannot vanish with the kept ones, so Newton judges the kept
         // rows and the dropped ones are recorded (`analysis::dropped`).
         newton.judge_kept_rows_only(kept_rows_only.unwrap_or_else(|| {
-            self.dropped_residual(&ws.phi, &ws.kept) > options.tolerances.residual
+            self.dropped_residual(&ws.rows.phi, &ws.dropped.kept) > options.tolerances.residual
         }));
-        ws.kin = Some(newton);
-        ws.dof = Some(report.clone());
+        ws.kin.newton = Some(newton);
+        ws.kin.dof = Some(report.clone());
         ws.invalidate();
         Ok(report)
     }
@@ -190,11 +202,11 @@ impl Model {
         let mut newton = Newton::new(&self.pattern, AutoSolver::default(), options).ok()?;
         let mut sys = PositionSystem {
             model: self,
-            bodies: &mut ws.bodies,
-            turns: &ws.turns,
-            t: ws.t,
+            bodies: &mut ws.pose.bodies,
+            turns: &ws.pose.turns,
+            t: ws.pose.t,
         };
-        newton.factor_at(&mut sys, &ws.x).ok()?;
+        newton.factor_at(&mut sys, &ws.pose.x).ok()?;
         let report = DofReport {
             dof: n - mj,
             moving_bodies: self.num_bodies(),
@@ -203,8 +215,8 @@ impl Model {
             redundant: Vec::new(),
             drivers: self.drivers.len(),
         };
-        ws.kin = Some(newton);
-        ws.dof = Some(report.clone());
+        ws.kin.newton = Some(newton);
+        ws.kin.dof = Some(report.clone());
         ws.invalidate();
         Some(report)
     }
@@ -216,14 +228,14 @@ impl Model {
     /// [`AnalysisError::Singular`] (dependent equations named), [`AnalysisError::NotConverged`]
     /// (worst equations named), and the errors of [`prepare_kinematics`](Self::prepare_kinematics).
     pub fn position(&self, ws: &mut Workspace, t: f64) -> Result<PositionReport, AnalysisError> {
-        if ws.kin.is_none() {
+        if ws.kin.newton.is_none() {
             self.prepare_kinematics(ws)?;
         }
-        ws.velocity_valid = false;
-        ws.acceleration_valid = false;
+        ws.motion.velocity_valid = false;
+        ws.motion.acceleration_valid = false;
         let selected = self.solves_a_selection(ws);
         if selected {
-            ws.x_start.copy_from_slice(&ws.x);
+            ws.kin.x_start.copy_from_slice(&ws.pose.x);
         }
         let mut result = self.solve_positions(ws, t);
         if selected
@@ -236,38 +248,38 @@ impl Model {
             // failed iterate (near the solution, where the kept rows are nearly dependent; the
             // frame's start if the iterate is not finite) and solve the frame again from its
             // start (allocates; rare).
-            if !ws.x.iter().all(|v| v.is_finite()) {
-                ws.x.copy_from_slice(&ws.x_start);
+            if !ws.pose.x.iter().all(|v| v.is_finite()) {
+                ws.pose.x.copy_from_slice(&ws.kin.x_start);
             }
             ws.sync_poses();
-            let newton = ws.kin.as_ref().expect("prepared above");
+            let newton = ws.kin.newton.as_ref().expect("prepared above");
             let (options, old) = (*newton.options(), newton.row_selection().cloned());
             let kept_rows_only = newton.judges_kept_rows_only();
-            let report = ws.dof.clone().expect("prepared with a DOF report");
-            let t_prepared = ws.t;
-            ws.t = t;
+            let report = ws.kin.dof.clone().expect("prepared with a DOF report");
+            let t_prepared = ws.pose.t;
+            ws.pose.t = t;
             self.select_rows(ws, report, options, Some(kept_rows_only))?;
-            ws.t = t_prepared;
-            ws.x.copy_from_slice(&ws.x_start);
+            ws.pose.t = t_prepared;
+            ws.pose.x.copy_from_slice(&ws.kin.x_start);
             ws.sync_poses();
-            let new = ws.kin.as_ref().and_then(|n| n.row_selection());
+            let new = ws.kin.newton.as_ref().and_then(|n| n.row_selection());
             if new.map(|s| s.rows()) != old.as_ref().map(|s| s.rows()) {
-                ws.reselections += 1;
+                ws.counters.reselections += 1;
                 result = self.solve_positions(ws, t);
             }
         }
-        ws.t = t;
-        ws.v.fill(0.0);
-        ws.vdot.fill(0.0);
+        ws.pose.t = t;
+        ws.motion.v.fill(0.0);
+        ws.motion.vdot.fill(0.0);
         ws.sync_poses();
         match result {
             Ok(rep) => {
-                self.accept_turns(&ws.bodies, &mut ws.turns);
-                self.phi_into(&ws.bodies, &ws.turns, t, &mut ws.phi);
+                self.accept_turns(&ws.pose.bodies, &mut ws.pose.turns);
+                self.phi_into(&ws.pose.bodies, &ws.pose.turns, t, &mut ws.rows.phi);
                 if selected {
                     self.record_dropped_rows(ws, t);
                 }
-                let residual = ws.phi.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+                let residual = ws.rows.phi.iter().fold(0.0f64, |a, v| a.max(v.abs()));
                 Ok(PositionReport {
                     iterations: rep.iterations,
                     residual,
@@ -278,22 +290,26 @@ impl Model {
         }
     }
 
-    /// The solved row with the largest scaled residual |Φ_i| / e_i in `ws.phi` (rows dropped as
-    /// redundant skipped when `selected`), when it exceeds the kinematic solver's residual
-    /// tolerance ([`PositionReport::open`]). No allocation.
-    fn open_row(&self, ws: &Workspace, selected: bool) -> Option<(usize, f64)> {
-        let tol = ws.kin.as_ref()?.options().tolerances.residual;
+    /// The solved row with the largest scaled residual |Φ_i| / e_i in `ws.rows.phi` (rows
+    /// dropped as redundant skipped when `selected`), when it exceeds the kinematic solver's
+    /// residual tolerance ([`PositionReport::open`]). No allocation.
+    fn open_row(&self, ws: &Workspace, selected: bool) -> Option<OpenRow> {
+        let tol = ws.kin.newton.as_ref()?.options().tolerances.residual;
         if let Some(open) = self.spurious_driver_row(ws) {
             return Some(open);
         }
-        let mut worst: Option<(usize, f64)> = None;
-        for (r, (phi, e)) in ws.phi.iter().zip(&self.equation_scales).enumerate() {
-            if selected && !ws.kept[r] {
+        let mut worst: Option<OpenRow> = None;
+        for (r, (phi, e)) in ws.rows.phi.iter().zip(&self.equation_scales).enumerate() {
+            if selected && !ws.dropped.kept[r] {
                 continue;
             }
             let d = (phi / e).abs();
-            if (d > tol || d.is_nan()) && worst.is_none_or(|(_, w)| d > w || d.is_nan()) {
-                worst = Some((r, d));
+            if (d > tol || d.is_nan()) && worst.is_none_or(|w| d > w.scaled_residual || d.is_nan())
+            {
+                worst = Some(OpenRow {
+                    row: r,
+                    scaled_residual: d,
+                });
             }
         }
         worst
@@ -302,11 +318,14 @@ impl Model {
     /// The first row of a driver whose equations hold on a spurious root at the workspace's
     /// poses and time ([`cardan_constraints::Driver::branch_error`]), with that error (≥ 1).
     /// No allocation.
-    fn spurious_driver_row(&self, ws: &Workspace) -> Option<(usize, f64)> {
+    fn spurious_driver_row(&self, ws: &Workspace) -> Option<OpenRow> {
         self.drivers.iter().find_map(|d| {
             let (si, sj) = (ws.state_of(d.body_i), ws.state_of(d.body_j));
-            let e = d.driver.branch_error(&BodyPair::new(&si, &sj), ws.t);
-            (e > 0.0).then_some((d.rows.start, e))
+            let e = d.driver.branch_error(&BodyPair::new(&si, &sj), ws.pose.t);
+            (e > 0.0).then_some(OpenRow {
+                row: d.rows.start,
+                scaled_residual: e,
+            })
         })
     }
 
@@ -314,6 +333,7 @@ impl Model {
     /// redundant).
     fn solves_a_selection(&self, ws: &Workspace) -> bool {
         ws.kin
+            .newton
             .as_ref()
             .and_then(|n| n.row_selection())
             .is_some_and(|s| s.rows().len() < self.num_equations())
@@ -325,14 +345,14 @@ impl Model {
         ws: &mut Workspace,
         t: f64,
     ) -> Result<cardan_solver::NewtonReport, SolverError> {
-        let newton = ws.kin.as_mut().expect("prepared above");
+        let newton = ws.kin.newton.as_mut().expect("prepared above");
         let mut sys = PositionSystem {
             model: self,
-            bodies: &mut ws.bodies,
-            turns: &ws.turns,
+            bodies: &mut ws.pose.bodies,
+            turns: &ws.pose.turns,
             t,
         };
-        newton.solve(&mut sys, &mut ws.x)
+        newton.solve(&mut sys, &mut ws.pose.x)
     }
 
     /// Turns a solver error into an analysis error naming the equations.

@@ -54,99 +54,11 @@
 //! scaling benchmark goes from 4.0 / 5.35 Newton iterations and 2 factorizations per frame to
 //! 0.15 / 0.8 and 1 at 1,000 / 10,000 links, its frame from 4.5 / 77 ms to 2.4 / 34 ms.
 
-use crate::model::{BodyId, JointInfo, Model};
+use crate::model::{Model, TreeEdge};
 use crate::workspace::Workspace;
 use cardan_constraints::BodyState;
 use cardan_eulerparam::EulerParams;
 use nalgebra::{Matrix3, Vector3};
-use std::collections::VecDeque;
-
-/// A body's parent in the spanning tree and the joint points that link them.
-#[derive(Debug, Clone, PartialEq)]
-pub(crate) struct TreeEdge {
-    /// The parent body (`None`: the ground).
-    pub parent: Option<usize>,
-    /// s'_P: the joint's point on the parent (body coordinates; global for the ground).
-    pub s_parent: Vector3<f64>,
-    /// s'_C: the joint's point on the child (body coordinates).
-    pub s_child: Vector3<f64>,
-}
-
-/// The spanning tree of the predictor: one edge per moving body, and an order with every
-/// parent before its children.
-#[derive(Debug, Clone, PartialEq)]
-pub(crate) struct PredictorTree {
-    pub edges: Vec<TreeEdge>,
-    pub order: Vec<usize>,
-}
-
-impl PredictorTree {
-    /// Breadth-first from the ground over the joints (drivers add no edges); bodies that no
-    /// joint path reaches from the ground start their own trees, rooted at the ground with the
-    /// body origin as the point (the absolute prediction).
-    pub(crate) fn new(num_bodies: usize, joints: &[JointInfo]) -> Self {
-        let node = |b: BodyId| match b {
-            BodyId::Ground => num_bodies,
-            BodyId::Moving(k) => k,
-        };
-        // Adjacency: for each node, (joint, side of the node: true for body i).
-        let mut adjacent: Vec<Vec<(usize, bool)>> = vec![Vec::new(); num_bodies + 1];
-        for (k, j) in joints.iter().enumerate() {
-            let (a, b) = (node(j.body_i), node(j.body_j));
-            if a != b {
-                adjacent[a].push((k, true));
-                adjacent[b].push((k, false));
-            }
-        }
-        let root = TreeEdge {
-            parent: None,
-            s_parent: Vector3::zeros(),
-            s_child: Vector3::zeros(),
-        };
-        let mut edges: Vec<Option<TreeEdge>> = vec![None; num_bodies];
-        let mut order = Vec::with_capacity(num_bodies);
-        let mut queue = VecDeque::new();
-        let mut visit =
-            |start: usize, edges: &mut Vec<Option<TreeEdge>>, order: &mut Vec<usize>| {
-                queue.push_back(start);
-                while let Some(u) = queue.pop_front() {
-                    for &(k, u_is_i) in &adjacent[u] {
-                        let j = &joints[k];
-                        let (mu, mw, w) = if u_is_i {
-                            (j.joint.marker_i(), j.joint.marker_j(), node(j.body_j))
-                        } else {
-                            (j.joint.marker_j(), j.joint.marker_i(), node(j.body_i))
-                        };
-                        if w == num_bodies || edges[w].is_some() {
-                            continue;
-                        }
-                        edges[w] = Some(TreeEdge {
-                            parent: (u != num_bodies).then_some(u),
-                            s_parent: mu.point,
-                            s_child: mw.point,
-                        });
-                        order.push(w);
-                        queue.push_back(w);
-                    }
-                }
-            };
-        visit(num_bodies, &mut edges, &mut order);
-        for b in 0..num_bodies {
-            if edges[b].is_none() {
-                edges[b] = Some(root.clone());
-                order.push(b);
-                visit(b, &mut edges, &mut order);
-            }
-        }
-        Self {
-            edges: edges
-                .into_iter()
-                .map(|e| e.expect("every body visited"))
-                .collect(),
-            order,
-        }
-    }
-}
 
 /// Pose, velocity and acceleration of moving body `b`: the pose from its body state (kept in
 /// step with the Newton state by every analysis), the rest from the workspace vectors.
@@ -248,7 +160,7 @@ pub(crate) fn relative_accelerations(
     }
 }
 
-/// Moves the workspace's poses to the prediction at `ws.t + dt` from the current velocities
+/// Moves the workspace's poses to the prediction at `ws.pose.t + dt` from the current velocities
 /// (and, with `acc`, accelerations; with `c3` = dt³ / (6 h) ≠ 0, the jerk from the last two
 /// relative accelerations, h apart). Requires valid velocities. No allocation.
 pub(crate) fn predict(model: &Model, ws: &mut Workspace, dt: f64, acc: bool, c3: f64) {
@@ -271,39 +183,42 @@ pub(crate) fn predict(model: &Model, ws: &mut Workspace, dt: f64, acc: bool, c3:
     // absolute pose [p; r] (under the ground, or when it turns faster relative to its parent
     // than absolutely).
     for (b, edge) in tree.edges.iter().enumerate() {
-        let vdot = acc.then_some(ws.vdot.as_slice());
-        let cf = Frame::of(b, &ws.bodies, &ws.v, vdot);
+        let vdot = acc.then_some(ws.motion.vdot.as_slice());
+        let cf = Frame::of(b, &ws.pose.bodies, &ws.motion.v, vdot);
         let parent = edge
             .parent
-            .map(|k| Frame::of(k, &ws.bodies, &ws.v, vdot))
+            .map(|k| Frame::of(k, &ws.pose.bodies, &ws.motion.v, vdot))
             .filter(|pf| relative_w(pf, &cf).norm_squared() <= cf.w.norm_squared());
-        ws.pred_absolute[b] = parent.is_none();
+        ws.prediction.pred_absolute[b] = parent.is_none();
         let (p, e) = if let Some(pf) = parent {
             let rel = relative(edge, &pf, &cf);
-            let (last, prev) = (&ws.edge_acc_last[6 * b..], &ws.edge_acc_prev[6 * b..]);
+            let (last, prev) = (
+                &ws.jerk.edge_acc_last[6 * b..],
+                &ws.jerk.edge_acc_prev[6 * b..],
+            );
             let e = rel.e + rel.e_dot * dt + rel.e_ddot * (0.5 * dt * dt) + jerk(last, prev, 0);
             let p = rel
                 .p_rel
                 .compose(&step(&rel.w, &rel.w_dot, jerk(last, prev, 3)));
             (p, e)
         } else {
-            let (last, prev) = (&ws.vdot_last[6 * b..], &ws.vdot_prev[6 * b..]);
+            let (last, prev) = (&ws.jerk.vdot_last[6 * b..], &ws.jerk.vdot_prev[6 * b..]);
             let r = cf.r + cf.rd * dt + cf.rdd * (0.5 * dt * dt) + jerk(last, prev, 0);
             let p = cf.p.compose_unit(&step(&cf.w, &cf.wd, jerk(last, prev, 3)));
             (p, r)
         };
-        let out = &mut ws.pred[7 * b..7 * b + 7];
+        let out = &mut ws.prediction.pred[7 * b..7 * b + 7];
         out[..4].copy_from_slice(p.as_vector().as_slice());
         out[4..].copy_from_slice(e.as_slice());
     }
     // Pass 2: compose from the ground outwards (parents already hold their predicted poses).
     for &b in &tree.order {
         let edge = &tree.edges[b];
-        let q = &ws.pred[7 * b..7 * b + 7];
+        let q = &ws.prediction.pred[7 * b..7 * b + 7];
         let (p, e) = (EulerParams::new(q[0], q[1], q[2], q[3]), v3(&q[4..]));
         let (r, pc) = match edge.parent {
-            Some(k) if !ws.pred_absolute[b] => {
-                let x = &ws.x[7 * k..7 * k + 7];
+            Some(k) if !ws.prediction.pred_absolute[b] => {
+                let x = &ws.pose.x[7 * k..7 * k + 7];
                 let (rp, pp) = (v3(x), EulerParams::new(x[3], x[4], x[5], x[6]));
                 let pc = pp.compose_unit(&p);
                 (
@@ -313,68 +228,8 @@ pub(crate) fn predict(model: &Model, ws: &mut Workspace, dt: f64, acc: bool, c3:
             }
             _ => (e, p),
         };
-        let xs = &mut ws.x[7 * b..7 * b + 7];
+        let xs = &mut ws.pose.x[7 * b..7 * b + 7];
         xs[..3].copy_from_slice(r.as_slice());
         xs[3..].copy_from_slice(pc.as_vector().as_slice());
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use crate::{Body, JointKind, JointSpec, MechanismBuilder, GROUND};
-    use nalgebra::Vector3;
-
-    /// Breadth-first from the ground, parents before children, the joint points taken from
-    /// the side of each body (whichever of body i and j it is), and a body no joint reaches
-    /// rooted at the ground with its origin.
-    #[test]
-    fn the_tree_runs_breadth_first_from_the_ground() {
-        let mut b = MechanismBuilder::new();
-        b.point(GROUND, "O", Vector3::new(0.0, 0.0, 1.0));
-        for (k, name) in ["b0", "b1", "b2", "lone"].iter().enumerate() {
-            b.body(Body::new(*name).position(Vector3::new(k as f64, 0.0, 0.0)));
-            b.point(name, "a", Vector3::new(-0.5, 0.0, 0.0)).point(
-                name,
-                "b",
-                Vector3::new(0.5, 0.0, 0.0),
-            );
-        }
-        // Listed out of tree order, b2 as body i of its joint with b1.
-        b.joint(JointSpec::new(
-            "s2",
-            JointKind::Spherical,
-            ("b2", "a"),
-            ("b1", "b"),
-        ));
-        b.joint(JointSpec::new(
-            "s1",
-            JointKind::Spherical,
-            ("b0", "b"),
-            ("b1", "a"),
-        ));
-        b.joint(JointSpec::new(
-            "s0",
-            JointKind::Spherical,
-            (GROUND, "O"),
-            ("b0", "a"),
-        ));
-        let model = b.build().unwrap();
-        let tree = &model.tree;
-        let id = |n: &str| match model.body_id(n) {
-            Some(crate::BodyId::Moving(k)) => k,
-            other => panic!("{n}: {other:?}"),
-        };
-        assert_eq!(tree.order, vec![id("b0"), id("b1"), id("b2"), id("lone")]);
-        let e = |n: &str| &tree.edges[id(n)];
-        assert_eq!(e("b0").parent, None);
-        assert_eq!(e("b0").s_parent, Vector3::new(0.0, 0.0, 1.0));
-        assert_eq!(e("b1").parent, Some(id("b0")));
-        assert_eq!(e("b1").s_parent, Vector3::new(0.5, 0.0, 0.0));
-        assert_eq!(e("b1").s_child, Vector3::new(-0.5, 0.0, 0.0));
-        assert_eq!(e("b2").parent, Some(id("b1")));
-        assert_eq!(e("b2").s_parent, Vector3::new(0.5, 0.0, 0.0));
-        assert_eq!(e("b2").s_child, Vector3::new(-0.5, 0.0, 0.0));
-        assert_eq!(e("lone").parent, None);
-        assert_eq!(e("lone").s_child, Vector3::zeros());
     }
 }

@@ -16,25 +16,25 @@ impl Model {
     /// # Errors
     /// [`AnalysisError::Singular`] if the Jacobian must be refactored and is singular.
     pub fn velocity(&self, ws: &mut Workspace) -> Result<(), AnalysisError> {
-        if ws.kin.is_none() {
+        if ws.kin.newton.is_none() {
             self.prepare_kinematics(ws)?;
         }
-        let t = ws.t;
-        let newton = ws.kin.as_mut().expect("prepared above");
-        self.nu_into(&ws.bodies, t, &mut ws.rhs);
-        ws.counts.nu += 1;
+        let t = ws.pose.t;
+        let newton = ws.kin.newton.as_mut().expect("prepared above");
+        self.nu_into(&ws.pose.bodies, t, &mut ws.rows.rhs);
+        ws.counters.evaluations.nu += 1;
         let mut sys = PositionSystem {
             model: self,
-            bodies: &mut ws.bodies,
-            turns: &ws.turns,
+            bodies: &mut ws.pose.bodies,
+            turns: &ws.pose.turns,
             t,
         };
         newton
-            .solve_linear_at(&mut sys, &ws.x, &ws.rhs, &mut ws.v)
+            .solve_linear_at(&mut sys, &ws.pose.x, &ws.rows.rhs, &mut ws.motion.v)
             .map_err(|e| self.map_solver_error(t, e))?;
         ws.sync_poses();
-        ws.velocity_valid = true;
-        ws.acceleration_valid = false;
+        ws.motion.velocity_valid = true;
+        ws.motion.acceleration_valid = false;
         Ok(())
     }
 }

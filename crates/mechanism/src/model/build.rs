@@ -1,14 +1,27 @@
-//! [`build`]: a [`MechanismBuilder`] checked and turned into a [`Model`]. Names are resolved
-//! ([`super::resolve`], one function per element kind), then the rows laid out
-//! ([`super::layout`]). Every element name is unique across joints, couplers, drivers and
-//! forces.
+//! [`MechanismBuilder::build`]: a [`MechanismBuilder`] checked and turned into a [`Model`].
+//! Names are resolved ([`super::resolve`], one function per element kind), then the rows laid
+//! out ([`super::layout`]). Every element name is unique across joints, couplers, drivers and
+//! forces. The method is defined here, not in `builder.rs`, so that the builder (the
+//! specifications) does not depend on the model.
 
+use super::tree::PredictorTree;
 use super::{couplers, layout, resolve, Model};
 use crate::builder::MechanismBuilder;
 use crate::error::ModelError;
 use std::collections::HashMap;
 
-pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
+impl MechanismBuilder {
+    /// Validates everything and builds the immutable [`Model`] (sparsity pattern, row ranges and
+    /// index maps computed here, once).
+    ///
+    /// # Errors
+    /// The first problem found, as a [`ModelError`] naming the element.
+    pub fn build(&self) -> Result<Model, ModelError> {
+        build(self)
+    }
+}
+
+fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
     let (mut names, bodies) = resolve::bodies(b)?;
     let (points, vectors) = resolve::features(b, &mut names)?;
     let length = layout::characteristic_length(b, &bodies, &points);
@@ -49,7 +62,7 @@ pub(crate) fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
 
     let nb = bodies.len();
     let lay = layout::rows(&mut joints, &mut couplers, &mut drivers, nb, length);
-    let tree = crate::analysis::predictor::PredictorTree::new(nb, &joints);
+    let tree = PredictorTree::new(nb, &joints);
     let index = |names: Vec<&str>| -> HashMap<String, usize> {
         names
             .into_iter()

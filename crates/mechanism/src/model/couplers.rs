@@ -26,8 +26,8 @@
 //! the slide). The gear form needs the two axes apart (the orbit angle of a centre on the other
 //! axis is undefined).
 
+use super::elements::{BodyId, BodyInfo, CoupledCoordinate, CouplerInfo, JointInfo, ScatterMap};
 use super::validate::{check_number, kinds_with, suggest};
-use super::{BodyId, BodyInfo, CoupledCoordinate, CouplerInfo, JointInfo, ScatterMap};
 use crate::builder::{CouplerKind, CouplerSpec, GearRatio};
 use crate::error::ModelError;
 use crate::sanity::Quantity;

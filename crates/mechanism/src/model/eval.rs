@@ -1,7 +1,8 @@
 //! Evaluation of the global system on body states (6-coordinate form): Φ, ν, γ# and the
 //! Jacobian Φ_v, element by element, scattered into the global vectors and slot array.
 
-use super::{BodyId, Model, ScatterMap, NO_SLOT};
+use super::elements::{BodyId, ScatterMap, NO_SLOT};
+use super::Model;
 use crate::workspace::Workspace;
 use cardan_constraints::{BodyPair, BodyState, Constraint};
 use std::ops::Range;
@@ -127,22 +128,22 @@ impl Model {
     /// Φ at the workspace's poses and time `t` (length [`num_equations`](Self::num_equations)).
     /// No allocation.
     pub fn eval_phi(&self, ws: &Workspace, t: f64, out: &mut [f64]) {
-        self.phi_into(&ws.bodies, &ws.turns, t, out)
+        self.phi_into(&ws.pose.bodies, &ws.pose.turns, t, out)
     }
 
     /// Φ_v slot values (pattern [`Model::pattern`]) at the workspace's poses. No allocation.
     pub fn eval_jacobian(&self, ws: &Workspace, t: f64, slots: &mut [f64]) {
-        self.jacobian_into(&ws.bodies, t, slots)
+        self.jacobian_into(&ws.pose.bodies, t, slots)
     }
 
     /// ν = −Φ_t at the workspace's poses. No allocation.
     pub fn eval_nu(&self, ws: &Workspace, t: f64, out: &mut [f64]) {
-        self.nu_into(&ws.bodies, t, out)
+        self.nu_into(&ws.pose.bodies, t, out)
     }
 
     /// γ#_v (6-coordinate form) at the workspace's poses and velocities (ω'). No allocation.
     pub fn eval_gamma(&self, ws: &Workspace, t: f64, out: &mut [f64]) {
-        self.gamma_into(&ws.bodies, t, out)
+        self.gamma_into(&ws.pose.bodies, t, out)
     }
 }
 

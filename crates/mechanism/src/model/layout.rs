@@ -3,7 +3,7 @@
 //! maps from element blocks to pattern slots, and the scales of equations (by their dimension:
 //! 1, L or L²) and unknowns (L for Δr, 1 for Δπ'), with L the characteristic length.
 
-use super::{
+use super::elements::{
     BodyId, BodyInfo, CouplerInfo, DriverInfo, FeatureInfo, JointInfo, ScatterMap, NO_SLOT,
 };
 use crate::builder::MechanismBuilder;

@@ -3,10 +3,12 @@
 //! [`force`]). Names are looked up in [`Names`]; an unknown name gets a suggestion. The checks
 //! of numbers and shapes are in [`super::validate`].
 
+use super::elements::{
+    BodyId, BodyInfo, DriverInfo, FeatureInfo, ForceInfo, JointInfo, ScatterMap,
+};
 use super::validate::{
     check_number, check_numbers, kinds_with, orientation_p, pair_check, suggest,
 };
-use super::{BodyId, BodyInfo, DriverInfo, FeatureInfo, ForceInfo, JointInfo, ScatterMap};
 use crate::builder::{
     pose_row_name, DriverSpec, DriverTarget, ForceSpec, JointSpec, MechanismBuilder, PoseTarget,
     GROUND,

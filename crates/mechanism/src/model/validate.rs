@@ -2,7 +2,7 @@
 //! ([`crate::sanity`]), orientations, two-body elements, and the wording of accepted joint kinds
 //! and of suggestions for unknown names.
 
-use super::BodyId;
+use super::elements::BodyId;
 use crate::builder::Orientation;
 use crate::error::ModelError;
 use crate::sanity::Quantity;

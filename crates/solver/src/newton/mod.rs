@@ -59,8 +59,9 @@ mod weights;
 pub use options::{JacobianUpdate, LineSearch, NewtonOptions, NewtonReport};
 pub use refine::{REFINE_BACKWARD_ERROR, REFINE_MAX_CORRECTIONS, REFINE_MAX_DRIFT};
 
+use crate::auto::AutoSolver;
 use crate::error::{NonFiniteLocation, SolverError};
-use crate::linear::{AutoSolver, LinearSolver};
+use crate::linear::LinearSolver;
 use crate::pattern::{check_len, RowSelection, SparsityPattern};
 use factorization::Factorization;
 use line_search::Backtracking;

@@ -1,0 +1,185 @@
+//! The elements of a [`Model`](super::Model) as resolved by the builder: bodies, named points and
+//! vectors, joints, drivers, couplers and force elements, each with its bodies as [`BodyId`]s,
+//! its rows in the global system and the [`ScatterMap`] of its Jacobian blocks. Plain data; the
+//! model (`mod.rs`), the steps that build it and the predictor's spanning tree (`tree.rs`)
+//! all use these types.
+
+use cardan_constraints::{Constraint, Coupler, Driver, Joint};
+use nalgebra::{Matrix3, Vector3, Vector4};
+use std::ops::Range;
+
+/// Which body: ground or moving body `k` (index into [`Model::bodies`](super::Model::bodies)).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum BodyId {
+    /// The ground (fixed, no unknowns).
+    Ground,
+    /// Moving body k.
+    Moving(usize),
+}
+
+/// A moving body of the model.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BodyInfo {
+    /// Name.
+    pub name: String,
+    /// Mass, if given.
+    pub mass: Option<f64>,
+    /// Inertia about the centre of mass (body frame), if given.
+    pub inertia: Option<Matrix3<f64>>,
+    /// Initial position (as given).
+    pub initial_r: Vector3<f64>,
+    /// Initial Euler parameters (normalized).
+    pub initial_p: Vector4<f64>,
+}
+
+/// A named point or vector of the model.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FeatureInfo {
+    /// The body.
+    pub body: BodyId,
+    /// The body's name.
+    pub body_name: String,
+    /// The name.
+    pub name: String,
+    /// Body-frame components (global for ground).
+    pub local: Vector3<f64>,
+}
+
+/// Index maps of one element: where each entry of its Jacobian blocks goes.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct ScatterMap {
+    /// `rows × 12` entries: `[row][side·6 + c]` → slot, or [`NO_SLOT`].
+    pub(super) slots: Vec<usize>,
+}
+
+pub(crate) const NO_SLOT: usize = usize::MAX;
+
+/// A joint of the model.
+#[derive(Debug, Clone, PartialEq)]
+pub struct JointInfo {
+    /// Name.
+    pub name: String,
+    /// Body i.
+    pub body_i: BodyId,
+    /// Body j.
+    pub body_j: BodyId,
+    /// The joint (kind, markers, primitives).
+    pub joint: Joint,
+    /// Whether x axes were given (the zero of the joint angle): required by rotation drivers
+    /// and rotational springs; without them the markers' x axes are perpendiculars the program
+    /// picks and the angle is meaningful only relative to its initial value.
+    pub has_x_axes: bool,
+    /// Its rows in the global system.
+    pub rows: Range<usize>,
+    pub(crate) map: ScatterMap,
+}
+
+/// A driver of the model.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DriverInfo {
+    /// Name.
+    pub name: String,
+    /// Body i.
+    pub body_i: BodyId,
+    /// Body j.
+    pub body_j: BodyId,
+    /// The driver.
+    pub driver: Driver,
+    /// The driven joint, for rotation and translation drivers (index into [`Model::joints`](super::Model::joints)).
+    pub joint: Option<usize>,
+    /// Its row in the global system.
+    pub rows: Range<usize>,
+    pub(crate) map: ScatterMap,
+}
+
+/// One joint coordinate a coupler relates.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CoupledCoordinate {
+    /// The joint (index into [`Model::joints`](super::Model::joints)).
+    pub joint: usize,
+    /// Its slide z_iᵀ(P_j − P_i) (m) when true, else its angle (rad).
+    pub slide: bool,
+}
+
+/// A coupler of the model: one equation between two bodies
+/// ([`cardan_constraints::couplers`]) that is the law a₀ q₀ + a₁ q₁ − c = 0 between two joint
+/// coordinates q₀, q₁ (gear: θ_j − ρ θ_i − c; rack and pinion: s + r θ − c; screw:
+/// s − (pitch/2π) θ − c).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CouplerInfo {
+    /// Name.
+    pub name: String,
+    /// Body i of the equation (a gear, the rack, the nut).
+    pub body_i: BodyId,
+    /// Body j of the equation (the other gear, the pinion, the screw).
+    pub body_j: BodyId,
+    /// The equation, with its angles' references at the initial poses.
+    pub coupler: Coupler,
+    /// q₀ and q₁ (gear: θ_i, θ_j; rack and pinion, screw: s, θ).
+    pub coordinates: [CoupledCoordinate; 2],
+    /// a₀, a₁ = ∂Φ/∂q₀, ∂Φ/∂q₁.
+    pub coefficients: [f64; 2],
+    /// c of the law (rad for a gear, m otherwise).
+    pub constant: f64,
+    /// The pitch radius r_j of gear j, when the gear was given by radii (for the tooth force).
+    pub gear_radius_j: Option<f64>,
+    /// Its row in the global system.
+    pub rows: Range<usize>,
+    pub(crate) map: ScatterMap,
+}
+
+impl CouplerInfo {
+    /// The kind: "gear", "rack_pinion" or "screw".
+    pub fn kind(&self) -> &'static str {
+        self.coupler.name()
+    }
+}
+
+/// A validated force element (see [`crate::ForceSpec`]); points are body-frame vectors.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ForceInfo {
+    /// Uniform gravity.
+    Gravity {
+        /// g, global.
+        g: Vector3<f64>,
+    },
+    /// Linear spring-damper between two points.
+    SpringDamper {
+        /// Name.
+        name: String,
+        /// Body i.
+        body_i: BodyId,
+        /// Point on body i (body frame).
+        point_i: Vector3<f64>,
+        /// Body j.
+        body_j: BodyId,
+        /// Point on body j (body frame).
+        point_j: Vector3<f64>,
+        /// k.
+        stiffness: f64,
+        /// c.
+        damping: f64,
+        /// ℓ0.
+        free_length: f64,
+    },
+    /// Constant global force at a body point.
+    PointForce {
+        /// Name.
+        name: String,
+        /// The body.
+        body: BodyId,
+        /// Point of application (body frame).
+        point: Vector3<f64>,
+        /// Force, global.
+        force: Vector3<f64>,
+    },
+    /// Constant global torque on a body.
+    Torque {
+        /// Name.
+        name: String,
+        /// The body.
+        body: BodyId,
+        /// Torque, global.
+        torque: Vector3<f64>,
+    },
+}
