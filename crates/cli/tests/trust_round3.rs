@@ -503,3 +503,91 @@ fn the_inverse_dynamics_energy_balance_closes() {
     let scale = json["energy_scale"].as_f64().unwrap();
     assert!(balance.abs() < 4e-7 * scale, "{balance:e} J of {scale} J");
 }
+
+/// Found while writing the getting-started page (issue 46): a rotational spring took the joint
+/// angle modulo 2π, so in a crank turned 1.5 times its torque jumped from +k π to −k π at half a
+/// turn. Its deflection now follows the joint over turns: the motor of a massless-inertia-free
+/// crank (no gravity, constant speed) holds exactly the spring, τ = k θ(t), up to θ = 3π, in
+/// inverse dynamics (output times a quarter turn apart) and the energy balance closes.
+#[test]
+fn a_rotational_spring_follows_its_joint_over_turns() {
+    let text = common::edited(
+        "[analysis]\nkind = \"kinematic\"\nt_end = 1.0\nsteps = 10",
+        "[[force]]\nname = \"coil\"\ntype = \"rotational_spring_damper\"\njoint = \"pivot\"\n\
+         stiffness = 2.0\n\n[analysis]\nkind = \"inverse_dynamics\"\nt_end = 1.5\nsteps = 6",
+    )
+    .replacen(
+        "coefficients = [0.0, 1.0]",
+        "coefficients = [0.0, 6.283185307179586]",
+        1,
+    );
+    let o = run_text("run", &text);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let torque = column(&o, "driver_efforts.csv", "motor.torque");
+    for (k, tau) in torque.iter().enumerate() {
+        let theta = 2.0 * std::f64::consts::PI * 0.25 * k as f64;
+        assert!(
+            (tau - 2.0 * theta).abs() < 1e-9,
+            "t = {}: τ = {tau}, k θ = {}",
+            0.25 * k as f64,
+            2.0 * theta
+        );
+    }
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(o.dir.join("out/run.json")).unwrap())
+            .unwrap();
+    let (b, e) = (
+        json["energy_balance"].as_f64().unwrap(),
+        json["energy_scale"].as_f64().unwrap(),
+    );
+    assert!(b.abs() < 1e-6 * e, "{b} J of {e} J");
+}
+
+/// The same spring in a dynamic run: the crank released at 10 rad/s winds it about three turns
+/// (θ_max = ω₀ √(J/k) = 18.7 rad) and stops there, with both integrators; with the angle taken
+/// modulo 2π the spring's energy was at most k π²/2 and the crank spun on.
+#[test]
+fn a_rotational_spring_winds_over_turns_in_dynamics() {
+    let undriven = {
+        let base = common::BASE;
+        let i = base.find("[[driver]]").unwrap();
+        let j = base[i..].find("\n[analysis]").unwrap() + i + 1;
+        format!("{}{}", &base[..i], &base[j..])
+    };
+    for integrator in [
+        "integrator = \"dopri5\"\nrtol = 1e-10\natol = 1e-12",
+        "integrator = \"generalized_alpha\"\ndt = 0.0005",
+    ] {
+        let text = with(
+            &with(
+                &undriven,
+                "[analysis]\nkind = \"kinematic\"\nt_end = 1.0\nsteps = 10",
+                &format!(
+                    "[[force]]\nname = \"coil\"\ntype = \"rotational_spring_damper\"\n\
+                     joint = \"pivot\"\nstiffness = 0.1\n\n[analysis]\nkind = \"dynamic\"\n\
+                     {integrator}\nt_end = 4.0\noutput_dt = 0.05"
+                ),
+            ),
+            "position = [0.5, 0.0, 0.0]",
+            "position = [0.5, 0.0, 0.0]\nvelocity = [0.0, 5.0, 0.0]\nangular_velocity = [0.0, 0.0, 10.0]",
+        );
+        let o = run_text("run", &text);
+        assert_eq!(o.code, 0, "{}", o.stderr);
+        let angle = column(&o, "joints.csv", "pivot.angle");
+        // ½ J ω₀² = ½ k θ_max²: J = 0.1 + 1 · 0.5² about the pivot.
+        let most = angle.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let want = (0.35f64 * 100.0 / 0.1).sqrt();
+        assert!(
+            (most / want - 1.0).abs() < 1e-2,
+            "{integrator}: {most} rad, want {want}"
+        );
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(o.dir.join("out/run.json")).unwrap())
+                .unwrap();
+        let (b, e) = (
+            json["energy_balance"].as_f64().unwrap(),
+            json["energy_scale"].as_f64().unwrap(),
+        );
+        assert!(b.abs() < 1e-3 * e, "{integrator}: {b} J of {e} J");
+    }
+}

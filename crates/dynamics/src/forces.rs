@@ -27,11 +27,11 @@
 //! - A user callback ([`UserForces`]) adds anything else through [`AppliedForces`].
 
 use crate::DynamicsError;
+use cardan_constraints::joints::unwrap_angle;
 use cardan_constraints::{BodyPair, BodyState, TimeFunction};
 use cardan_mechanism::Quantity;
 use cardan_mechanism::{BodyId, ForceInfo, Model};
 use nalgebra::Vector3;
-use std::f64::consts::PI;
 use std::fmt;
 use std::sync::Arc;
 
@@ -402,6 +402,11 @@ pub(crate) enum Resolved {
         k: f64,
         c: f64,
         theta0: f64,
+        /// The joint angle continued over turns at the last accepted pose
+        /// ([`Resolved::accept_angle`]); NaN before the first.
+        reference: f64,
+        /// [`Resolved::follow_angle`]: the spring's angle minus the caller's (a multiple of 2π).
+        offset: f64,
     },
 }
 
@@ -416,14 +421,17 @@ fn point_velocity(b: &BodyState, s: &Vector3<f64>) -> Vector3<f64> {
     b.r_dot + b.a * b.omega_local.cross(s)
 }
 
-fn wrap(a: f64) -> f64 {
-    let mut d = a % (2.0 * PI);
-    if d > PI {
-        d -= 2.0 * PI;
-    } else if d <= -PI {
-        d += 2.0 * PI;
-    }
-    d
+/// The angle of a rotational spring's joint continued over turns: the value congruent to the
+/// principal angle `theta` nearest to the last accepted one (`reference`), or, before the first
+/// accepted pose, nearest to the rest angle θ0 (so the initial deflection is within ±π, and
+/// the deflection θ − θ0 then follows the joint over any number of turns).
+fn continued(theta: f64, reference: f64, theta0: f64) -> f64 {
+    let from = if reference.is_nan() {
+        theta0
+    } else {
+        reference
+    };
+    unwrap_angle(from, theta)
 }
 
 impl Resolved {
@@ -572,6 +580,8 @@ impl Resolved {
                     k: *stiffness,
                     c: *damping,
                     theta0: *rest_angle,
+                    reference: f64::NAN,
+                    offset: f64::NAN,
                 }
             }
         })
@@ -660,6 +670,8 @@ impl Resolved {
                 k,
                 c,
                 theta0,
+                reference,
+                ..
             } => {
                 let j = &model.joints()[*joint];
                 let (si, sj) = (
@@ -669,11 +681,60 @@ impl Resolved {
                 let theta = j.joint.coordinates(&BodyPair::new(si, sj)).values[0];
                 let z = si.a * j.joint.marker_i().z();
                 let rate = z.dot(&(sj.a * sj.omega_local - si.a * si.omega_local));
-                let tq = z * (-(k * wrap(theta - theta0) + c * rate));
+                let deflection = continued(theta, *reference, *theta0) - theta0;
+                let tq = z * (-(k * deflection + c * rate));
                 out.add_torque(j.body_j, &tq);
                 out.add_torque(j.body_i, &(-tq));
                 tq.norm()
             }
+        }
+    }
+
+    /// Whether this is a rotational spring (whose joint angle is continued over turns).
+    pub(crate) fn is_rotational(&self) -> bool {
+        matches!(self, Resolved::Rotational { .. })
+    }
+
+    /// Accepts the bodies' poses for a rotational spring's continued angle (at each accepted
+    /// step, with the couplers' turns: the joint must turn by less than π between two calls).
+    /// No allocation.
+    pub(crate) fn accept_angle(&mut self, model: &Model, bodies: &[BodyState]) {
+        if let Resolved::Rotational {
+            joint,
+            theta0,
+            reference,
+            ..
+        } = self
+        {
+            let ground = BodyState::ground();
+            let j = &model.joints()[*joint];
+            let pair = BodyPair::new(
+                state_of(bodies, &ground, j.body_i),
+                state_of(bodies, &ground, j.body_j),
+            );
+            let theta = j.joint.coordinates(&pair).values[0];
+            *reference = continued(theta, *reference, *theta0);
+        }
+    }
+
+    /// A rotational spring's joint angle continued by the caller (an inverse dynamics run's
+    /// kinematic frames, whose output times may be turns apart): `value` is the angle continued
+    /// from its principal value at the first frame; the spring keeps its own turn count (its
+    /// first angle within ±π of θ0). `joint_value(j)` gives joint j's continued angle.
+    pub(crate) fn follow_angle(&mut self, joint_value: impl Fn(usize) -> f64) {
+        if let Resolved::Rotational {
+            joint,
+            theta0,
+            reference,
+            offset,
+            ..
+        } = self
+        {
+            let value = joint_value(*joint);
+            if offset.is_nan() {
+                *offset = unwrap_angle(*theta0, value) - value;
+            }
+            *reference = value + *offset;
         }
     }
 
@@ -792,14 +853,19 @@ impl Resolved {
                 (0.0, 0.5 * k * (d.norm() - l0).powi(2))
             }
             Resolved::Rotational {
-                joint, k, theta0, ..
+                joint,
+                k,
+                theta0,
+                reference,
+                ..
             } => {
                 let j = &model.joints()[*joint];
                 let pair = BodyPair::new(
                     state_of(bodies, &ground, j.body_i),
                     state_of(bodies, &ground, j.body_j),
                 );
-                let th = wrap(j.joint.coordinates(&pair).values[0] - theta0);
+                let theta = j.joint.coordinates(&pair).values[0];
+                let th = continued(theta, *reference, *theta0) - theta0;
                 (0.0, 0.5 * k * th * th)
             }
             _ => (0.0, 0.0),

@@ -1,5 +1,6 @@
 //! Inverse dynamics of a kinematically driven mechanism: [`Dynamics::inverse_dynamics`].
 
+use crate::forces::Resolved;
 use crate::kkt::SchurRefinement;
 use crate::record::Recorder;
 use crate::results::{DynamicResults, DynamicSink, IntegrationStats};
@@ -88,11 +89,14 @@ impl Dynamics<'_> {
         sink: &mut dyn DynamicSink,
     ) -> Result<DynamicResults, DynamicsError> {
         let start = std::time::Instant::now();
+        // A rotational spring follows its joint's angle over turns from the kinematics' own
+        // continuation (output times may be turns apart).
+        let springs = self.forces.iter().any(Resolved::is_rotational);
         let kopts = options.outputs(Outputs {
             velocity: true,
             acceleration: true,
             points: false,
-            joints: false,
+            joints: springs,
         });
         let model = self.model;
         let mut ws = model.workspace();
@@ -225,6 +229,11 @@ impl<'s> EffortPass<'s> {
         // The frames are the accepted poses of the kinematics: the couplers' turns follow.
         d.sync(&self.state);
         d.accept_turns();
+        if !frame.joints.is_empty() {
+            for f in &mut d.forces {
+                f.follow_angle(|j| frame.joints[j].values[0][0]);
+            }
+        }
         let iterations = frame.iterations.first().copied().unwrap_or(0);
         match rec.record(d, &self.state, iterations, None, SchurRefinement::ONE_SHOT) {
             Ok(()) => ControlFlow::Continue(()),

@@ -171,6 +171,9 @@ impl<'m> Dynamics<'m> {
     /// and projection). No allocation.
     pub(crate) fn accept_turns(&mut self) {
         self.model.accept_turns(&self.bodies, &mut self.turns);
+        for f in &mut self.forces {
+            f.accept_angle(self.model, &self.bodies);
+        }
     }
 
     pub(crate) fn sync(&mut self, state: &State) {

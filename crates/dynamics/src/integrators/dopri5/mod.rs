@@ -311,6 +311,12 @@ impl Stepper for Dopri5 {
             let tol = self.o.projection_tolerance;
             self.proj_it = project(d, self.t, &mut v.y0, &mut v.scratch, tol, self.eom.refine)?;
             self.stats.newton_iterations += self.proj_it;
+        } else {
+            // The projection accepts the couplers' turns and the springs' angles; without it
+            // the step's end does.
+            to_state(&v.y0, self.t, &mut v.scratch);
+            d.sync(&v.scratch);
+            d.accept_turns();
         }
         Ok(())
     }
