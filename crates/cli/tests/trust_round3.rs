@@ -591,3 +591,26 @@ fn a_rotational_spring_winds_over_turns_in_dynamics() {
         assert!(b.abs() < 1e-3 * e, "{integrator}: {b} J of {e} J");
     }
 }
+
+/// Found while writing the getting-started page (issue 46): an inverse dynamics run whose energy
+/// balance was beyond 1 % of its energy scale printed no warning (the dynamic runs do). On 4
+/// output steps per crank turn the work's quadrature is off by 8 %: a warning, and exit 3 under
+/// --strict.
+#[test]
+fn a_coarse_inverse_dynamics_run_warns_about_its_energy_balance() {
+    let text = with(
+        &example_text("slider_crank_inverse"),
+        "steps = 200",
+        "steps = 4",
+    );
+    let dir = scratch("inverse-balance");
+    std::fs::write(dir.join("model.toml"), text).unwrap();
+    let o = cardan(&["run", "model.toml", "-o", "out", "--quiet"], &dir);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert!(o.stdout.contains("warning: energy balance"), "{}", o.stdout);
+    let o = cardan(
+        &["run", "model.toml", "-o", "out", "--quiet", "--strict"],
+        &dir,
+    );
+    assert_eq!(o.code, 3, "{}", o.stderr);
+}

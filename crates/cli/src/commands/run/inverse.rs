@@ -86,7 +86,7 @@ pub(super) fn run_inverse(
         dynamic: None,
         energy_balance: Some(tally.energy_balance()),
         peak_efforts: peak_efforts_of(p, &r, &tally.peak_efforts),
-        warnings: kinematic::dropped_row_warnings(p, &k.dropped_rows),
+        warnings: inverse_warnings(p, &tally, &k.dropped_rows),
         subdivided_steps: Some(k.subdivided_steps),
         row_reselections: k.row_reselections + r.stats.row_reselections,
     };
@@ -240,4 +240,29 @@ pub fn inverse_tables(p: &Prepared, r: &DynamicResults, req: &Requested) -> Vec<
         out.push(energy_table(r));
     }
     out
+}
+
+/// The doubtful results of an inverse dynamics run: an energy balance beyond
+/// [`super::dynamic::ENERGY_BALANCE_BOUND`] of the energy scale (the motion is prescribed, so
+/// the balance measures the quadrature of the work on the output grid and the position
+/// tolerance: the output step is too coarse for the motion), and the dropped rows left open.
+fn inverse_warnings(
+    p: &Prepared,
+    tally: &super::dynamic_layout::DynamicTally,
+    dropped_rows: &[cardan_mechanism::DroppedRowResidual],
+) -> Vec<String> {
+    let mut warnings = Vec::new();
+    let (balance, scale) = (tally.max_balance, tally.energy_scale());
+    if balance > super::dynamic::ENERGY_BALANCE_BOUND * scale {
+        warnings.push(format!(
+            "energy balance {balance:.3e} J (the energy change less the work of the drivers and \
+             non-conservative forces) is {:.1} % of the model's energy scale {scale:.3e} J, more \
+             than the {} % allowed: the work is integrated over the output times, which are too \
+             far apart for this motion; use more steps",
+            100.0 * balance / scale,
+            100.0 * super::dynamic::ENERGY_BALANCE_BOUND
+        ));
+    }
+    warnings.extend(kinematic::dropped_row_warnings(p, dropped_rows));
+    warnings
 }
