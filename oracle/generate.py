@@ -18,11 +18,13 @@ import gen_couplers
 import gen_drivers
 import gen_expressions
 import gen_joints
+import gen_limits
 import gen_pose
 import gen_primitives
 
 GENERATORS = {
-    m.__name__: m for m in (gen_primitives, gen_joints, gen_drivers, gen_pose, gen_couplers)
+    m.__name__: m for m in (gen_primitives, gen_joints, gen_drivers, gen_pose, gen_couplers,
+                               gen_limits)
 }
 
 

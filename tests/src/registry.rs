@@ -8,15 +8,17 @@
 //! function kind ([`TimeFunction::KINDS`]) that no driver case exercises. Nothing can be added
 //! unchecked.
 
+use cardan_constraints::joints::Measure;
 use cardan_constraints::{
-    BodyPair, Constraint, CoordinateDriver, Coupler, Dimension, Distance, DistanceDriver, Driver,
-    Footprint, Form, Gear, Homokinetic, Joint, JointKind, JointParams, Marker, Normalization,
-    P1Perp, P1Select, P2Perp, P2Select, PoseDriver, Primitive, RackPinion, RadialDistance,
-    RotationDriver, RotationOrder, Screw, Spherical, TimeFunction, TranslationDriver, KINDS, N1,
-    N2, P1, P2,
+    BodyPair, Bound, Constraint, CoordinateDriver, Coupler, Dimension, Distance, DistanceDriver,
+    Driver, Footprint, Form, Gear, Homokinetic, Joint, JointKind, JointLimit, JointParams, Marker,
+    Normalization, P1Perp, P1Select, P2Perp, P2Select, PoseDriver, Primitive, RackPinion,
+    RadialDistance, RotationDriver, RotationOrder, Screw, Spherical, TimeFunction,
+    TranslationDriver, KINDS, N1, N2, P1, P2,
 };
 use nalgebra::{Matrix3, Vector3};
 use serde_json::Value;
+use std::sync::OnceLock;
 
 /// Every primitive, as the oracle names them (see [`primitive_name`]).
 pub const PRIMITIVES: &[&str] = &[
@@ -47,8 +49,29 @@ pub const DRIVERS: &[&str] = &[
 /// Every coupler, as the oracle names them (see [`coupler_name`]).
 pub const COUPLERS: &[&str] = &["gear", "rack_pinion", "screw"];
 
+/// Every joint-coordinate limit, as the oracle names them: `limit_<key>` for each measure of
+/// [`Measure::ALL`] (a measure added there needs oracle data).
+pub fn limits() -> &'static [&'static str] {
+    static NAMES: OnceLock<Vec<&'static str>> = OnceLock::new();
+    NAMES.get_or_init(|| {
+        Measure::ALL
+            .iter()
+            .map(|m| &*Box::leak(format!("limit_{}", m.key()).into_boxed_str()))
+            .collect()
+    })
+}
+
+/// The oracle name of a limit (`limit_<key>` of its measure).
+pub fn limit_name(l: &JointLimit) -> &'static str {
+    let k = Measure::ALL
+        .iter()
+        .position(|m| *m == l.measure)
+        .expect("every measure is in Measure::ALL");
+    limits()[k]
+}
+
 /// Every element name the Rust side implements: primitives, the joint kinds of the kind table,
-/// drivers, couplers.
+/// drivers, couplers, limits.
 pub fn elements() -> Vec<&'static str> {
     let joints = KINDS.iter().map(|k| k.name);
     PRIMITIVES
@@ -57,6 +80,7 @@ pub fn elements() -> Vec<&'static str> {
         .chain(joints)
         .chain(DRIVERS.iter().copied())
         .chain(COUPLERS.iter().copied())
+        .chain(limits().iter().copied())
         .collect()
 }
 
@@ -115,6 +139,8 @@ pub enum Element {
     Driver(Driver),
     /// A coupler.
     Coupler(Coupler),
+    /// A joint-coordinate limit.
+    Limit(JointLimit),
 }
 
 impl Element {
@@ -126,6 +152,7 @@ impl Element {
             Element::Joint(j) => joint_name(j.kind()),
             Element::Driver(d) => driver_name(d),
             Element::Coupler(c) => coupler_name(c),
+            Element::Limit(l) => limit_name(l),
         }
     }
 }
@@ -137,6 +164,7 @@ macro_rules! each {
             Element::Joint($c) => $e,
             Element::Driver($c) => $e,
             Element::Coupler($c) => $e,
+            Element::Limit($c) => $e,
         }
     };
 }
@@ -375,6 +403,22 @@ pub fn build(name: &str, p: &Value) -> Result<Element, ParamError> {
             } else {
                 RackPinion::new(mi, mj, ks, ka, c, r).into()
             }))
+        }
+        _ if name.starts_with("limit_") => {
+            let measure = Measure::ALL
+                .into_iter()
+                .find(|m| name == format!("limit_{}", m.key()))
+                .ok_or_else(|| format!("no measure for `{name}`"))?;
+            let bound = match p.get("bound").and_then(Value::as_str) {
+                Some("lower") => Bound::Lower,
+                Some("upper") => Bound::Upper,
+                _ => return Err("`bound` must be \"lower\" or \"upper\"".into()),
+            };
+            let (mi, mj) = (marker(p, "marker_i")?, marker(p, "marker_j")?);
+            Ok(E::Limit(
+                JointLimit::new(mi, mj, measure, bound, num(p, "value")?)
+                    .with_reference(num(p, "reference")?),
+            ))
         }
         "pose_driver" => {
             let order = p

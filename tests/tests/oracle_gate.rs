@@ -69,6 +69,14 @@ fn the_gate_fails_for_a_kind_without_oracle_data_and_for_data_without_a_kind() {
     let m = element_mismatch(&rust, &files);
     assert_eq!(m.unknown, ["revolute"]);
 
+    // A limit measure without its oracle file.
+    let without: Vec<OracleFile> = loaded()
+        .into_iter()
+        .filter(|f| f.element != "limit_angle")
+        .collect();
+    let m = element_mismatch(&elements(), &without);
+    assert_eq!(m.missing, ["limit_angle"]);
+
     let mut kinds = TimeFunction::KINDS.to_vec();
     kinds.push("sawtooth");
     let m = function_mismatch(&kinds, &files);

@@ -191,6 +191,17 @@ impl<const N: usize> Grad<N> {
             dj: ta * o.dj - tb * self.dj,
         }
     }
+
+    /// |self|, by the chain rule: ∂|a| = aᵀ∂a / |a| (undefined at a = 0).
+    #[inline]
+    pub fn norm(&self) -> ScalarGrad<N> {
+        let n = self.v.norm();
+        ScalarGrad {
+            v: n,
+            di: self.v.transpose() * self.di / n,
+            dj: self.v.transpose() * self.dj / n,
+        }
+    }
 }
 
 impl<const N: usize> ScalarGrad<N> {
@@ -336,6 +347,17 @@ impl Motion {
             v: self.v.cross(&o.v),
             rate: self.rate.cross(&o.v) + self.v.cross(&o.rate),
             quad: self.quad.cross(&o.v) + 2.0 * self.rate.cross(&o.rate) + self.v.cross(&o.quad),
+        }
+    }
+
+    /// |self|: (|a|)˙ = aᵀȧ/|a|, (|a|)¨ = (ȧᵀȧ + aᵀä)/|a| − (|a|)˙²/|a| (undefined at a = 0).
+    pub fn norm(&self) -> ScalarMotion {
+        let n = self.v.norm();
+        let rate = self.v.dot(&self.rate) / n;
+        ScalarMotion {
+            v: n,
+            rate,
+            quad: (self.rate.dot(&self.rate) + self.v.dot(&self.quad)) / n - rate * rate / n,
         }
     }
 }

@@ -36,6 +36,11 @@
 //! [`Coupler`]s ([`couplers`]: gear, rack and pinion, screw) relate the coordinates of two
 //! joints by one equation between two bodies, with angles continued over turns.
 //!
+//! ## Limits
+//! A [`JointLimit`] ([`limit`]) is one unilateral row g = ±(c − lo/hi) ≥ 0 on a joint
+//! coordinate c (any [`joints::Measure`]); analyses treat it as an equality only where it is
+//! closed.
+//!
 //! ## Evaluation
 //! All of them implement [`Constraint`]. Evaluation takes a [`BodyPair`] (pose, cached A and
 //! velocities of bodies i and j; ground is [`BodyState::ground`]) and writes into caller slices:
@@ -83,6 +88,7 @@ pub mod expression;
 pub mod homokinetic;
 pub mod jet;
 pub mod joints;
+pub mod limit;
 pub mod marker;
 pub mod n1;
 pub mod n2;
@@ -112,6 +118,7 @@ pub use expression::Expression;
 pub use homokinetic::Homokinetic;
 pub use jet::{Form, Q7, V6};
 pub use joints::{unwrap_angle, Joint, JointCoordinates, JointKind, JointParams, KindInfo, KINDS};
+pub use limit::{Bound, JointLimit};
 pub use marker::Marker;
 pub use n1::N1;
 pub use n2::N2;

@@ -34,6 +34,45 @@ fn every_joint_kind() {
     }
 }
 
+/// A limit on every joint-coordinate measure, lower and upper, its angle continued from a
+/// reference several turns away (`Measure::ALL`: a measure added there is checked here).
+/// Cases where the coordinate is ill-defined (`JointLimit::definition` below 0.4: the cross
+/// angle with z_j nearly along z_i, a bend near 0 or π) are left out, as the couplers' axes.
+#[test]
+fn every_joint_limit() {
+    use cardan_constraints::joints::Measure;
+    let mut report = String::new();
+    for m in Measure::ALL {
+        for bound in [Bound::Lower, Bound::Upper] {
+            let (mut n, mut bad) = (0, Vec::new());
+            for (case, mut s) in conformance::cases(RANDOM, BOTH) {
+                general(&mut s);
+                let value = s.rng.uniform(-2.0, 2.0);
+                let limit = JointLimit::new(s.marker(), s.marker(), m, bound, value)
+                    .with_reference(turns(&mut s));
+                let x = BodyPair::new(&case.i, &case.j);
+                let length = matches!(m, Measure::Distance | Measure::Azimuth);
+                if limit.definition(&x) < 0.4 * if length { s.length() } else { 1.0 } {
+                    continue;
+                }
+                n += 1;
+                bad.extend(conformance::check(&limit, &case));
+            }
+            assert!(n >= 50, "limit_{}: only {n} cases", m.key());
+            if !bad.is_empty() {
+                report.push_str(&format!(
+                    "limit_{} ({}): {} mismatches in {n} cases:\n{}\n",
+                    m.key(),
+                    bound.name(),
+                    bad.len(),
+                    conformance::report(&bad, 6)
+                ));
+            }
+        }
+    }
+    assert!(report.is_empty(), "{report}");
+}
+
 /// A random row of a pose driver with a random rotation sequence (all 12 occur).
 fn pose_row(s: &mut Sampler) -> PoseDriver {
     const ORDERS: [&str; 12] = [

@@ -48,6 +48,28 @@ pub fn angle_motion(s: &ScalarMotion, c: &ScalarMotion) -> ScalarMotion {
     }
 }
 
+/// ∇θ of θ = asin(s) from the gradient of s (|s| < 1).
+pub fn asin_grad<const N: usize>(s: &ScalarGrad<N>) -> ScalarGrad<N> {
+    let c = (1.0 - s.v * s.v).sqrt();
+    ScalarGrad {
+        v: s.v.asin(),
+        di: s.di / c,
+        dj: s.dj / c,
+    }
+}
+
+/// θ, θ̇ and the velocity-quadratic part of θ̈ of θ = asin(s) (|s| < 1): θ̇ = ṡ/c,
+/// θ̈ = s̈/c + s ṡ²/c³ with c = √(1 − s²).
+pub fn asin_motion(s: &ScalarMotion) -> ScalarMotion {
+    let c2 = 1.0 - s.v * s.v;
+    let c = c2.sqrt();
+    ScalarMotion {
+        v: s.v.asin(),
+        rate: s.rate / c,
+        quad: s.quad / c + s.v * s.rate * s.rate / (c2 * c),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

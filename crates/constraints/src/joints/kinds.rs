@@ -186,6 +186,52 @@ impl CoordinateQuantity {
 }
 
 impl Measure {
+    /// Every measure (the oracle gate requires limit data for each: `limit_<key>`).
+    pub const ALL: [Measure; 14] = [
+        Measure::Angle,
+        Measure::Slide,
+        Measure::Offset(Axis::X),
+        Measure::Offset(Axis::Y),
+        Measure::Offset(Axis::Z),
+        Measure::Distance,
+        Measure::CrossAngleI,
+        Measure::CrossAngleJ,
+        Measure::Bryant(0),
+        Measure::Bryant(1),
+        Measure::Bryant(2),
+        Measure::AxisAngle,
+        Measure::Bend,
+        Measure::Azimuth,
+    ];
+
+    /// A short name for the measure (oracle data, messages): `angle`, `slide`, `offset_x`, ...
+    pub fn key(self) -> &'static str {
+        match self {
+            Measure::Angle => "angle",
+            Measure::Slide => "slide",
+            Measure::Offset(Axis::X) => "offset_x",
+            Measure::Offset(Axis::Y) => "offset_y",
+            Measure::Offset(Axis::Z) => "offset_z",
+            Measure::Distance => "distance",
+            Measure::CrossAngleI => "cross_angle_i",
+            Measure::CrossAngleJ => "cross_angle_j",
+            Measure::Bryant(0) => "bryant_x",
+            Measure::Bryant(1) => "bryant_y",
+            Measure::Bryant(_) => "bryant_z",
+            Measure::AxisAngle => "axis_angle",
+            Measure::Bend => "bend",
+            Measure::Azimuth => "azimuth",
+        }
+    }
+
+    /// Whether the measure is an angle continued over turns (an atan2 of two smooth scalars):
+    /// every angle but [`Measure::Bend`] (in [0, π]) and the middle Bryant angle (an asin, in
+    /// [−π/2, π/2]).
+    pub fn turns(self) -> bool {
+        self.quantity() == CoordinateQuantity::Angle
+            && !matches!(self, Measure::Bend | Measure::Bryant(1))
+    }
+
     /// Angle or length.
     pub fn quantity(self) -> CoordinateQuantity {
         match self {
@@ -835,6 +881,14 @@ mod tests {
             if let Some(t) = info.translation {
                 let c = info.coordinates.iter().find(|c| c.name == t).unwrap();
                 assert_eq!(c.measure, Measure::Slide, "{}", info.name);
+            }
+            for c in info.coordinates {
+                assert!(
+                    Measure::ALL.contains(&c.measure),
+                    "{}: {:?}",
+                    info.name,
+                    c.measure
+                );
             }
         }
         let names: std::collections::BTreeSet<_> = KINDS
