@@ -641,6 +641,100 @@ impl CouplerSpec {
     }
 }
 
+/// A compliant law for a limit instead of impacts: a contact force along the coordinate,
+/// Hunt–Crossley's F = k δⁿ + c δⁿ δ̇ ≥ 0 with the penetration δ = −g > 0 past the limit (and
+/// its rate δ̇), zero inside the range (K. H. Hunt, F. R. E. Crossley, J. Appl. Mech. 42 (1975)
+/// 440–445). n = 1 with the damping multiplied by δ makes the force continuous at contact.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Compliance {
+    /// k, N/mⁿ or N m/radⁿ (> 0).
+    pub stiffness: f64,
+    /// c, N s/mⁿ⁺¹ or N m s/radⁿ⁺¹ (≥ 0).
+    pub damping: f64,
+    /// n (≥ 1; 1.5 for Hertzian contact).
+    pub exponent: f64,
+}
+
+/// A limit on one coordinate of a joint: a lower bound, an upper bound or both (end stops),
+/// with Newton's coefficient of restitution e for the impacts on them or a compliant law.
+///
+/// ```
+/// use cardan_mechanism::LimitSpec;
+/// let stop = LimitSpec::new("door_stop", "hinge").coordinate("angle").range(-1.5, 1.5).restitution(0.3);
+/// assert_eq!(stop.upper, Some(1.5));
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct LimitSpec {
+    /// Unique name among the model's elements.
+    pub name: String,
+    /// The joint whose coordinate is limited.
+    pub joint: String,
+    /// The coordinate's name among the joint kind's coordinates (`angle`, `slide`, `distance`,
+    /// ...; [`cardan_constraints::KindInfo::coordinates`]). Default: the kind's only
+    /// coordinate, else its rotation coordinate, else its translation coordinate.
+    pub coordinate: Option<String>,
+    /// lo (rad or m).
+    pub lower: Option<f64>,
+    /// hi (rad or m).
+    pub upper: Option<f64>,
+    /// Newton's coefficient of restitution e ∈ [0, 1] (default 0: the joint stays on the stop
+    /// until it is pulled away).
+    pub restitution: f64,
+    /// A force law instead of impacts.
+    pub compliance: Option<Compliance>,
+}
+
+impl LimitSpec {
+    /// A limit `name` on joint `joint` (no bound yet: give one with [`LimitSpec::lower`],
+    /// [`LimitSpec::upper`] or [`LimitSpec::range`]).
+    pub fn new(name: impl Into<String>, joint: &str) -> Self {
+        Self {
+            name: name.into(),
+            joint: joint.into(),
+            coordinate: None,
+            lower: None,
+            upper: None,
+            restitution: 0.0,
+            compliance: None,
+        }
+    }
+
+    /// The limited coordinate by name.
+    pub fn coordinate(mut self, name: &str) -> Self {
+        self.coordinate = Some(name.into());
+        self
+    }
+
+    /// The lower bound lo.
+    pub fn lower(mut self, lo: f64) -> Self {
+        self.lower = Some(lo);
+        self
+    }
+
+    /// The upper bound hi.
+    pub fn upper(mut self, hi: f64) -> Self {
+        self.upper = Some(hi);
+        self
+    }
+
+    /// Both bounds, lo ≤ hi.
+    pub fn range(self, lo: f64, hi: f64) -> Self {
+        self.lower(lo).upper(hi)
+    }
+
+    /// Newton's coefficient of restitution e ∈ [0, 1].
+    pub fn restitution(mut self, e: f64) -> Self {
+        self.restitution = e;
+        self
+    }
+
+    /// A compliant contact law instead of impacts.
+    pub fn compliant(mut self, law: Compliance) -> Self {
+        self.compliance = Some(law);
+        self
+    }
+}
+
 /// A named point or vector declared on a body, in declaration order.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Feature {
@@ -663,6 +757,7 @@ pub struct MechanismBuilder {
     pub(crate) drivers: Vec<DriverSpec>,
     pub(crate) couplers: Vec<CouplerSpec>,
     pub(crate) forces: Vec<ForceSpec>,
+    pub(crate) limits: Vec<LimitSpec>,
 }
 
 impl MechanismBuilder {
@@ -713,6 +808,12 @@ impl MechanismBuilder {
     /// Adds a driver.
     pub fn driver(&mut self, driver: DriverSpec) -> &mut Self {
         self.drivers.push(driver);
+        self
+    }
+
+    /// Adds a limit on a joint coordinate (end stops; see [`LimitSpec`]).
+    pub fn limit(&mut self, limit: LimitSpec) -> &mut Self {
+        self.limits.push(limit);
         self
     }
 

@@ -356,6 +356,35 @@ pub enum ModelError {
     /// The mechanism has no moving body.
     #[error("the mechanism has no moving body")]
     NoBodies,
+    /// A limit's numbers or coordinate are wrong (lo > hi, e outside [0, 1], a coordinate the
+    /// joint kind does not have, a compliant law with a negative coefficient).
+    #[error("limit \"{limit}\", {key}: {reason}")]
+    BadLimit {
+        /// The limit.
+        limit: String,
+        /// Its joint (as given).
+        joint: String,
+        /// The key whose value is wrong.
+        key: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// The drawn pose lies beyond a limit of its own model.
+    #[error("limit \"{limit}\": the drawn pose violates its {key} bound: joint \"{joint}\" has {coordinate} = {value} there, beyond {key} = {bound}; draw the bodies inside the range or move the bound")]
+    LimitViolated {
+        /// The limit.
+        limit: String,
+        /// "lower" or "upper".
+        key: &'static str,
+        /// The joint.
+        joint: String,
+        /// The coordinate's name.
+        coordinate: &'static str,
+        /// Its value at the drawn pose.
+        value: f64,
+        /// The bound.
+        bound: f64,
+    },
     /// A joint is given a key its kind does not use (axes of a spherical-spherical joint, x axes
     /// of a perpendicular joint, a length of a revolute joint).
     #[error("joint \"{joint}\" ({kind}): a {kind} joint takes no {key}; its equations and coordinates do not use them: remove them")]
@@ -442,6 +471,21 @@ fn key_of(what: &str) -> String {
 }
 
 impl ModelError {
+    /// The limit and the key of a limit's error ([`ModelError::BadLimit`],
+    /// [`ModelError::LimitViolated`], or an unknown joint named by a limit), for a front end
+    /// that declares limits as elements of their own.
+    pub fn limit_site(&self) -> Option<(&str, &str)> {
+        match self {
+            ModelError::BadLimit { limit, key, .. } => Some((limit, key)),
+            ModelError::LimitViolated { limit, key, .. } => Some((limit, key)),
+            ModelError::UnknownJoint { element, .. } => element
+                .strip_prefix("limit \"")
+                .and_then(|r| r.strip_suffix('"'))
+                .map(|l| (l, "joint")),
+            _ => None,
+        }
+    }
+
     /// Where in the model the error is (see [`Site`]); `None` for errors about the model as a
     /// whole.
     pub fn site(&self) -> Option<Site> {
@@ -494,6 +538,10 @@ impl ModelError {
             E::CouplerBodies { coupler, .. } | E::CouplerGeometry { coupler, .. } => {
                 Some(Site::new(ElementKind::Coupler, coupler, None, None))
             }
+            // A limit is about its joint's coordinate: the joint, at the limit's key (the limit
+            // itself is named by [`ModelError::limit_site`]).
+            E::BadLimit { joint, key, .. } => Some(Site::new(Joint, joint, Some(key), None)),
+            E::LimitViolated { joint, key, .. } => Some(Site::new(Joint, joint, Some(key), None)),
             E::DuplicateElement { .. } | E::EmptyName { .. } | E::NoBodies => None,
         }
     }
@@ -629,6 +677,27 @@ pub enum AnalysisError {
         /// Results up to (not including) `time`.
         partial: Option<Box<Results>>,
     },
+    /// A prescribed motion drives a joint coordinate past a limit: the run stops at the
+    /// crossing, located inside the grid step ([`crate::Model::kinematics`]).
+    #[error("limit \"{limit}\" reached at t = {time}: joint \"{joint}\" has {coordinate} = {value} at its {bound_name} bound {bound}; the prescribed motion drives it past the stop")]
+    LimitReached {
+        /// The limit.
+        limit: String,
+        /// The joint.
+        joint: String,
+        /// The coordinate's name.
+        coordinate: &'static str,
+        /// "lower" or "upper".
+        bound_name: &'static str,
+        /// The bound (rad or m).
+        bound: f64,
+        /// The crossing time.
+        time: f64,
+        /// The coordinate there (the bound, to the location's tolerance).
+        value: f64,
+        /// Results up to (not including) the grid time past the crossing.
+        partial: Option<Box<Results>>,
+    },
     /// Bad analysis options (time grid, ...).
     #[error("invalid analysis options: {0}")]
     Options(String),
@@ -680,6 +749,7 @@ impl AnalysisError {
             AnalysisError::Singular { partial, .. }
             | AnalysisError::NotConverged { partial, .. }
             | AnalysisError::Discontinuous { partial, .. }
+            | AnalysisError::LimitReached { partial, .. }
             | AnalysisError::Solver { partial, .. } => partial.as_deref(),
             _ => None,
         }
@@ -691,6 +761,7 @@ impl AnalysisError {
             AnalysisError::Singular { partial, .. }
             | AnalysisError::NotConverged { partial, .. }
             | AnalysisError::Discontinuous { partial, .. }
+            | AnalysisError::LimitReached { partial, .. }
             | AnalysisError::Solver { partial, .. } => partial.map(|b| *b),
             _ => None,
         }
@@ -702,6 +773,7 @@ impl AnalysisError {
             AnalysisError::Singular { partial, .. }
             | AnalysisError::NotConverged { partial, .. }
             | AnalysisError::Discontinuous { partial, .. }
+            | AnalysisError::LimitReached { partial, .. }
             | AnalysisError::Solver { partial, .. } => *partial = Some(Box::new(results)),
             _ => {}
         }

@@ -95,14 +95,14 @@ pub use analysis::position::{
     SELECTION_PIVOT_TOLERANCE,
 };
 pub use builder::{
-    pose_row_name, Axis, Body, CouplerKind, CouplerSpec, DriverSpec, DriverTarget, ForceSpec,
-    GearRatio, JointSpec, MechanismBuilder, Orientation, PoseTarget, GROUND,
+    pose_row_name, Axis, Body, Compliance, CouplerKind, CouplerSpec, DriverSpec, DriverTarget,
+    ForceSpec, GearRatio, JointSpec, LimitSpec, MechanismBuilder, Orientation, PoseTarget, GROUND,
 };
 pub use dof::DofReport;
 pub use error::{AnalysisError, ElementKind, EquationName, Error, ModelError, OpenElement, Site};
 pub use model::{
     kinds_with, nearest, BodyId, BodyInfo, CoupledCoordinate, CouplerInfo, DriverInfo, FeatureInfo,
-    ForceInfo, JointInfo, Model,
+    ForceInfo, JointInfo, LimitInfo, Model, StopInfo,
 };
 pub use results::{
     BodyResults, FrameSink, JointResults, Outputs, PointResults, Results, RunTotals,

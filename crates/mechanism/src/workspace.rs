@@ -35,6 +35,8 @@ pub struct Workspace {
     pub(crate) prediction: PredictionBuffers,
     /// The time grid's copies of frames (subdivision, branch-jump test, extrapolation).
     pub(crate) grid: GridFrames,
+    /// The start of the current grid step, for a limit's crossing.
+    pub(crate) stop_frame: StopFrame,
     /// The prepared kinematic Newton solver and what it was prepared with.
     pub(crate) kin: KinematicSolver,
     /// The rows dropped as redundant and their worst residuals (`analysis::dropped`).
@@ -111,6 +113,15 @@ pub(crate) struct GridFrames {
     pub(crate) v_saved: Vec<f64>,
     pub(crate) vdot_saved: Vec<f64>,
     pub(crate) turns_saved: Vec<[f64; 2]>,
+}
+
+/// The frame a grid step started from, kept for locating a limit's crossing inside the step
+/// (`analysis::limits`; empty for a model without limits).
+#[derive(Debug)]
+pub(crate) struct StopFrame {
+    pub(crate) t: f64,
+    pub(crate) x: Vec<f64>,
+    pub(crate) turns: Vec<[f64; 2]>,
 }
 
 /// The kinematic Newton solver ([`Model::prepare_kinematics`]).
@@ -220,6 +231,11 @@ impl Workspace {
                 vdot_saved: vec![0.0; 6 * nb],
                 turns_saved: model.initial_turns(),
             },
+            stop_frame: StopFrame {
+                t: 0.0,
+                x: vec![0.0; if model.stops().is_empty() { 0 } else { 7 * nb }],
+                turns: model.initial_turns(),
+            },
             kin: KinematicSolver {
                 newton: None,
                 dof: None,
@@ -245,9 +261,7 @@ impl Workspace {
         }
         self.motion.v.fill(0.0);
         self.motion.vdot.fill(0.0);
-        for (t, c) in self.pose.turns.iter_mut().zip(model.couplers()) {
-            *t = c.coupler.reference();
-        }
+        self.pose.turns.copy_from_slice(&model.initial_turns());
         self.sync_poses();
         self.invalidate();
     }

@@ -409,9 +409,13 @@ impl Model {
             ws.grid.x_tmp.copy_from_slice(&ws.pose.x);
             let rep = self.position(ws, t)?;
             ws.grid.x_prev.copy_from_slice(&ws.grid.x_tmp);
+            self.check_stops(ws, t, true)?;
             rep
         } else {
-            self.advance(ws, t, k, out, &mut results.subdivided_steps, joint_prev)?
+            self.save_stop_frame(ws);
+            let rep = self.advance(ws, t, k, out, &mut results.subdivided_steps, joint_prev)?;
+            self.check_stops(ws, t, false)?;
+            rep
         };
         if out.needs_velocity() {
             self.velocity(ws)?;

@@ -8,6 +8,7 @@
 //! - [`velocity`]: Φ_v v = ν with the position factorization.
 //! - [`acceleration`]: Φ_v v̇ = γ#_v with the same factorization.
 //! - [`grid`]: the three over a time grid, with a predicted Newton start, into [`crate::Results`].
+//! - [`limits`]: a prescribed motion that drives a joint past a limit stops at the crossing.
 //! - `predictor`: that Newton start, predicted relative to a parent along a spanning tree of the
 //!   joints.
 
@@ -16,6 +17,7 @@ pub mod assembly;
 pub mod dof;
 pub mod dropped;
 pub mod grid;
+pub mod limits;
 pub mod position;
 pub(crate) mod predictor;
 pub mod velocity;

@@ -5,7 +5,7 @@
 //! specifications) does not depend on the model.
 
 use super::tree::PredictorTree;
-use super::{couplers, layout, resolve, Model};
+use super::{couplers, layout, limits, resolve, Model};
 use crate::builder::MechanismBuilder;
 use crate::error::ModelError;
 use std::collections::HashMap;
@@ -60,6 +60,14 @@ fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
         forces.push(resolve::force(spec, name, &names, &bodies)?);
     }
 
+    let (mut limit_infos, mut stops) = (Vec::new(), Vec::new());
+    for spec in &b.limits {
+        unique(&mut element_names, &spec.name, None, "a limit")?;
+        let (info, s) = limits::limit(spec, limit_infos.len(), &joints, &bodies, length)?;
+        limit_infos.push(info);
+        stops.extend(s);
+    }
+
     let nb = bodies.len();
     let lay = layout::rows(&mut joints, &mut couplers, &mut drivers, nb, length);
     let tree = PredictorTree::new(nb, &joints);
@@ -81,6 +89,8 @@ fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
         drivers,
         couplers,
         forces,
+        limits: limit_infos,
+        stops,
         pattern: lay.pattern,
         equation_scales: lay.equation_scales,
         unknown_scales: lay.unknown_scales,

@@ -4,7 +4,9 @@
 //! model (`mod.rs`), the steps that build it and the predictor's spanning tree (`tree.rs`)
 //! all use these types.
 
-use cardan_constraints::{Constraint, Coupler, Driver, Joint};
+use crate::builder::Compliance;
+use cardan_constraints::joints::Measure;
+use cardan_constraints::{Constraint, Coupler, Driver, Joint, JointLimit};
 use nalgebra::{Matrix3, Vector3, Vector4};
 use std::ops::Range;
 
@@ -182,4 +184,40 @@ pub enum ForceInfo {
         /// Torque, global.
         torque: Vector3<f64>,
     },
+}
+
+/// A limit of the model on one joint coordinate (see [`crate::LimitSpec`]): one or two stops.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LimitInfo {
+    /// Name.
+    pub name: String,
+    /// The joint (index into [`Model::joints`](super::Model::joints)).
+    pub joint: usize,
+    /// The coordinate's name among the joint kind's coordinates.
+    pub coordinate: &'static str,
+    /// What it measures.
+    pub measure: Measure,
+    /// lo.
+    pub lower: Option<f64>,
+    /// hi.
+    pub upper: Option<f64>,
+    /// Newton's coefficient of restitution e ∈ [0, 1].
+    pub restitution: f64,
+    /// The compliant law, if the limit is a force rather than impacts.
+    pub compliance: Option<Compliance>,
+}
+
+/// One end stop: a unilateral row g ≥ 0 of a limit (its lower or upper bound).
+#[derive(Debug, Clone, PartialEq)]
+pub struct StopInfo {
+    /// The limit's name and the end, `name.lower` or `name.upper`.
+    pub name: String,
+    /// The limit (index into [`Model::limits`](super::Model::limits)).
+    pub limit: usize,
+    /// Body i of the joint.
+    pub body_i: BodyId,
+    /// Body j of the joint.
+    pub body_j: BodyId,
+    /// The row, with its angle's reference at the drawn pose.
+    pub row: JointLimit,
 }

@@ -71,12 +71,14 @@ impl Model {
         }
     }
 
-    /// The couplers' references at their initial poses (one per coupler), where a workspace's
-    /// turn counts start.
+    /// The couplers' references at their initial poses (one per coupler), then the stops'
+    /// ([`Model::stops`]: `[θ_ref, 0]`, 0 for a coordinate that is not an angle), where a
+    /// workspace's turn counts start.
     pub fn initial_turns(&self) -> Vec<[f64; 2]> {
         self.couplers
             .iter()
             .map(|c| c.coupler.reference())
+            .chain(self.stops.iter().map(|s| [s.row.reference, 0.0]))
             .collect()
     }
 
@@ -93,6 +95,7 @@ impl Model {
             );
             *refs = c.coupler.with_reference(*refs).angles(&pair);
         }
+        self.accept_stop_turns(bodies, &mut turns[self.couplers.len()..]);
     }
 
     pub(crate) fn nu_into(&self, bodies: &[BodyState], t: f64, out: &mut [f64]) {

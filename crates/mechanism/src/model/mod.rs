@@ -22,12 +22,15 @@ mod couplers;
 mod elements;
 mod eval;
 mod layout;
+mod limits;
 mod resolve;
+mod stops;
 mod tree;
 mod validate;
 
 pub use elements::{
-    BodyId, BodyInfo, CoupledCoordinate, CouplerInfo, DriverInfo, FeatureInfo, ForceInfo, JointInfo,
+    BodyId, BodyInfo, CoupledCoordinate, CouplerInfo, DriverInfo, FeatureInfo, ForceInfo,
+    JointInfo, LimitInfo, StopInfo,
 };
 pub(crate) use tree::{PredictorTree, TreeEdge};
 pub use validate::{kinds_with, nearest};
@@ -48,6 +51,8 @@ pub struct Model {
     pub(crate) drivers: Vec<DriverInfo>,
     pub(crate) couplers: Vec<CouplerInfo>,
     pub(crate) forces: Vec<ForceInfo>,
+    pub(crate) limits: Vec<LimitInfo>,
+    pub(crate) stops: Vec<StopInfo>,
     pub(crate) pattern: SparsityPattern,
     pub(crate) equation_scales: Vec<f64>,
     pub(crate) unknown_scales: Vec<f64>,
