@@ -23,6 +23,15 @@ pub enum DynamicsError {
         /// What is wrong.
         reason: String,
     },
+    /// A limit the dynamics cannot treat (a compliant law, not yet supported) or a state
+    /// beyond a limit at the start of a run.
+    #[error("limit \"{limit}\": {reason}")]
+    Limit {
+        /// The limit.
+        limit: String,
+        /// What is wrong.
+        reason: String,
+    },
     /// Invalid options (times, tolerances, step sizes).
     #[error("invalid options: {0}")]
     Options(String),

@@ -135,6 +135,7 @@
 //! - J. Chung, G. M. Hulbert, *A time integration algorithm for structural dynamics with
 //!   improved numerical dissipation: the generalized-α method*, J. Appl. Mech. 60 (1993).
 
+pub mod contacts;
 pub mod error;
 pub mod forces;
 pub mod integrators;
@@ -156,6 +157,7 @@ pub mod system;
 mod tangent;
 pub mod work;
 
+pub use contacts::ImpactEvent;
 pub use error::DynamicsError;
 pub use forces::{AppliedForces, Force, Frame, PointRef, UserForces, VectorFunction};
 pub use modal::{BodyShape, Linearization, ModalOptions, ModalResults, Mode, ModeKind};

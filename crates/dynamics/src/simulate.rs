@@ -127,6 +127,7 @@ impl Dynamics<'_> {
         if self.kkt.is_none() {
             self.prepare(&state)?;
         }
+        self.start_stops(&state)?;
         let mut rec = match sink {
             Some(sink) => Recorder::streamed(self, options.outputs, sink),
             None => Recorder::new(self, times.len(), options.outputs),

@@ -61,6 +61,9 @@ pub struct Dynamics<'m> {
     /// The first force element whose force or torque exceeded its limit (or was not finite) in
     /// the last [`Dynamics::eval_forces`], and that magnitude ([`Dynamics::check_forces`]).
     pub(crate) force_excess: Option<(usize, f64)>,
+    /// The stops of the model's limits: which are held closed, their multipliers, the
+    /// impacts so far ([`crate::contacts`]).
+    pub(crate) contacts: crate::contacts::Contacts,
 }
 
 impl std::fmt::Debug for Dynamics<'_> {
@@ -112,9 +115,18 @@ impl<'m> Dynamics<'m> {
             h: vec![0.0; 6 * nb],
             h_user: vec![0.0; 6 * nb],
             force_excess: None,
+            contacts: crate::contacts::Contacts::new(model),
         };
         for f in Force::from_model(model) {
             d.add_force(f)?;
+        }
+        if let Some(l) = model.limits().iter().find(|l| l.compliance.is_some()) {
+            return Err(DynamicsError::Limit {
+                limit: l.name.clone(),
+                reason: "a compliant law is not supported by the dynamics yet: use impacts \
+                         (restitution)"
+                    .into(),
+            });
         }
         Ok(d)
     }
@@ -552,7 +564,9 @@ impl<'m> Dynamics<'m> {
             Err(SolverError::Singular { .. }) if self.reselect(t) => {
                 self.solve_eom(t, baumgarte, refine)
             }
-            r => r.map_err(|e| self.solver_error(t, e)),
+            Err(e) => Err(self.solver_error(t, e)),
+            Ok(()) if self.contacts.any_held() => self.add_held_stops(t, refine),
+            Ok(()) => Ok(()),
         }
     }
 

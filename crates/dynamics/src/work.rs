@@ -93,7 +93,21 @@ impl Dynamics<'_> {
         if self.user.is_some() {
             out.push(channel("user", "user"));
         }
+        for l in self.model.limits() {
+            out.push(channel(&l.name, "limit"));
+        }
         out
+    }
+
+    /// Adds each limit's impact work (the kinetic energy its impacts took) to its channel, the
+    /// last ones of `work` ([`work_channels`](Self::work_channels)). Held stops do no work
+    /// (ġ = 0), so the channel's power is 0 between impacts.
+    pub(crate) fn add_impact_work(&self, work: &mut [f64]) {
+        let nl = self.contacts.impact_work.len();
+        let start = work.len() - nl;
+        for (w, i) in work[start..].iter_mut().zip(&self.contacts.impact_work) {
+            *w += i;
+        }
     }
 
     /// The number of [`work_channels`](Self::work_channels).
@@ -105,6 +119,7 @@ impl Dynamics<'_> {
                 .filter(|f| f.is_non_conservative())
                 .count()
             + usize::from(self.user.is_some())
+            + self.model.limits().len()
     }
 
     /// The power of each work channel at the synced bodies and time `t` into `out` (W, positive
@@ -140,7 +155,9 @@ impl Dynamics<'_> {
                 }
             }
             out[k] = p;
+            k += 1;
         }
+        out[k..].fill(0.0);
     }
 
     /// The power of the joints' and couplers' reactions, −Σ λ_r (Φ_v v)_r over their rows, at

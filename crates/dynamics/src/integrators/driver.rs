@@ -16,6 +16,7 @@
 //! recorded) and the stepper restarted there ([`Stepper::restart`]) with the velocities the
 //! impulse leaves.
 
+use super::events;
 use super::stepper::{Attempt, Stepper};
 use crate::options::SimulationOptions;
 use crate::record::Recorder;
@@ -59,7 +60,8 @@ fn drive<S: Stepper>(
 ) -> Result<(), DynamicsError> {
     let mut next = 0;
     let t0 = stepper.time();
-    record_outputs(stepper, d, times, &mut next, t0, rec)?;
+    let mut stops = Stops::new(d, stepper.interpolate(t0));
+    record_outputs(stepper, d, times, &mut next, t0, false, rec, &mut stops)?;
     while next < times.len() && !stepper.finished() {
         stepper.prepare(d)?;
         let span = loop {
@@ -69,32 +71,116 @@ fn drive<S: Stepper>(
             }
         };
         debug_assert!(span.t0 <= span.t1 && span.t1 <= span.reach);
-        record_outputs(stepper, d, times, &mut next, span.reach, rec)?;
+        if stops.watch {
+            if let Some(ev) = events::first_event(stepper, d, span)? {
+                record_outputs(stepper, d, times, &mut next, ev.time, true, rec, &mut stops)?;
+                stops.event(ev.time)?;
+                stops.state.clone_from(stepper.interpolate(ev.time));
+                events::apply(d, ev, &mut stops.state, EVENT_PROJECTION_TOLERANCE)?;
+                stepper.restart(d, &stops.state)?;
+                // Outputs at the event's time from the state after it (a scheme that lands on
+                // output times would otherwise be asked for a step of zero length).
+                record_outputs(
+                    stepper, d, times, &mut next, ev.time, false, rec, &mut stops,
+                )?;
+                continue;
+            }
+        }
+        record_outputs(
+            stepper, d, times, &mut next, span.reach, false, rec, &mut stops,
+        )?;
         stepper.advance(d)?;
     }
     Ok(())
 }
 
+/// The projection tolerance (scaled residual) of the state at an event.
+const EVENT_PROJECTION_TOLERANCE: f64 = 1e-12;
+
+/// Events in a row at one time beyond which a run is chattering (an error, not a hang).
+const MAX_EVENTS_AT_ONE_TIME: usize = 100;
+
+/// The driver's part of the stops (a model without limits: nothing is watched).
+struct Stops {
+    watch: bool,
+    /// The state at an event (its storage reused).
+    state: State,
+    /// The work of the channels at an output, the impacts' work added (storage reused).
+    work: Vec<f64>,
+    last_event: f64,
+    repeats: usize,
+}
+
+impl Stops {
+    fn new(d: &Dynamics, state: &State) -> Self {
+        let watch = !d.contacts.watched.is_empty();
+        Self {
+            watch,
+            state: if watch {
+                state.clone()
+            } else {
+                State {
+                    t: 0.0,
+                    q: Vec::new(),
+                    v: Vec::new(),
+                }
+            },
+            work: if watch {
+                vec![0.0; d.num_work_channels()]
+            } else {
+                Vec::new()
+            },
+            last_event: f64::NEG_INFINITY,
+            repeats: 0,
+        }
+    }
+
+    /// Counts events at one time: a run that makes no progress between events stops with an
+    /// error.
+    fn event(&mut self, t: f64) -> Result<(), DynamicsError> {
+        if t <= self.last_event {
+            self.repeats += 1;
+            if self.repeats > MAX_EVENTS_AT_ONE_TIME {
+                return Err(DynamicsError::Limit {
+                    limit: "(all)".into(),
+                    reason: format!(
+                        "{MAX_EVENTS_AT_ONE_TIME} events at t = {t} without progress (chattering)"
+                    ),
+                });
+            }
+        } else {
+            self.repeats = 0;
+        }
+        self.last_event = t;
+        Ok(())
+    }
+}
+
 /// Records the output times from `times[*next]` up to `reach`
-/// ([`Span::reach`](super::stepper::Span::reach)).
+/// ([`Span::reach`](super::stepper::Span::reach)), or strictly before it (`strict`: an event
+/// there).
+#[allow(clippy::too_many_arguments)]
 fn record_outputs<S: Stepper>(
     stepper: &mut S,
     d: &mut Dynamics,
     times: &[f64],
     next: &mut usize,
     reach: f64,
+    strict: bool,
     rec: &mut Recorder,
+    stops: &mut Stops,
 ) -> Result<(), DynamicsError> {
     let refine = stepper.refinement();
-    while *next < times.len() && times[*next] <= reach {
+    while *next < times.len() && (times[*next] < reach || (!strict && times[*next] == reach)) {
         let sample = stepper.output(d, times[*next])?;
-        rec.record(
-            d,
-            sample.state,
-            sample.iterations,
-            Some(sample.work),
-            refine,
-        )?;
+        let work = if stops.watch {
+            stops.work.copy_from_slice(sample.work);
+            d.add_impact_work(&mut stops.work);
+            &stops.work[..]
+        } else {
+            sample.work
+        };
+        rec.record(d, sample.state, sample.iterations, Some(work), refine)?;
         *next += 1;
     }
     Ok(())

@@ -17,13 +17,15 @@
 //! times, the step limit and the progress callback checked before each attempt, and the
 //! recorder (`record.rs`, whose acceleration solves use the stepper's refinement).
 //!
-//! ## Events and impulses (not yet implemented)
+//! ## Events and impulses
 //! The driver sees every accepted step before it is closed, which is where the limits and
 //! contact work plugs in: an event function g(t, y) evaluated at t1 that changed sign since
 //! t0 is located on [t0, t1] by root finding on `interpolate` (no projection, no change to the
 //! run); the outputs before the event are recorded, and instead of `advance` the stepper is
 //! `restart`ed at the event with the state the impulse leaves (new velocities, projected onto
-//! the constraints). `restart` forgets the step history, as a new run would.
+//! the constraints). `restart` forgets the step history, as a new run would. `events.rs`
+//! does this for the stops of the model's limits (impacts, releases, holds; the physics in
+//! [`crate::contacts`]); a model without limits evaluates nothing there.
 //!
 //! ## Adding an integrator
 //! A module beside these with a struct that implements `Stepper` (its options as
@@ -34,6 +36,7 @@
 
 pub mod dopri5;
 pub(crate) mod driver;
+pub(crate) mod events;
 pub mod generalized_alpha;
 pub(crate) mod stepper;
 

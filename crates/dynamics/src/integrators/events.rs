@@ -1,0 +1,275 @@
+//! Events of the stops inside an accepted step (the driver's seam, [`super::driver`]): a stop
+//! that closes (its gap g crosses 0 downwards), a held stop whose multiplier changes sign
+//! (it would pull: it opens), a held stop found off g = 0 at the step's end by a scheme that
+//! does not carry the stop rows (generalized-α: the step's end is brought back onto it).
+//!
+//! Each is located on the stepper's dense output ([`Stepper::interpolate`]): the closing by
+//! the Illinois variant of regula falsi on g(t) to [`EVENT_TIME_TOLERANCE`] (relative to the
+//! time) or |g| ≤ 1e-15 of the coordinate's scale, the release by bisection on λ_s(t) (the
+//! augmented system solved at the interpolated state) to the same time tolerance. The driver
+//! records the outputs before the event, applies it (impact, release or hold) and restarts
+//! the stepper there. A model without limits evaluates nothing here.
+
+use super::stepper::{Span, Stepper};
+use crate::kkt::SchurRefinement;
+use crate::options::Baumgarte;
+use crate::state::State;
+use crate::system::Dynamics;
+use crate::DynamicsError;
+use cardan_constraints::joints::CoordinateQuantity;
+
+/// The relative time tolerance of an event's location.
+pub const EVENT_TIME_TOLERANCE: f64 = 1e-13;
+
+/// A held stop more than this far off g = 0 (times the coordinate's scale) at a step's end is
+/// brought back onto it.
+pub const HOLD_TOLERANCE: f64 = 1e-9;
+
+/// At most this many evaluations locate an event.
+const MAX_LOCATE: usize = 200;
+
+/// What happens at an event.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Action {
+    /// Stop `s` closes: an impact.
+    Impact(usize),
+    /// Held stop `s` opens.
+    Release(usize),
+    /// The held stops are brought back onto g = 0, ġ = 0.
+    Hold,
+}
+
+/// An event at `time`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Event {
+    pub time: f64,
+    pub action: Action,
+}
+
+fn scale(d: &Dynamics, s: usize) -> f64 {
+    match d.model.stops()[s].row.measure.quantity() {
+        CoordinateQuantity::Angle => 1.0,
+        CoordinateQuantity::Length => d.model.characteristic_length(),
+    }
+}
+
+/// g of stop `s` at the dense output's time `t`.
+fn gap_at<S: Stepper>(stepper: &mut S, d: &mut Dynamics, s: usize, t: f64) -> f64 {
+    let st = stepper.interpolate(t);
+    d.sync(st);
+    d.model.stop_gap(s, &d.bodies, &d.turns)
+}
+
+/// λ_s of held stop `s` at the dense output's time `t` (the augmented system with the held
+/// stops solved there).
+fn multiplier_at<S: Stepper>(
+    stepper: &mut S,
+    d: &mut Dynamics,
+    s: usize,
+    t: f64,
+) -> Result<f64, DynamicsError> {
+    let st = stepper.interpolate(t);
+    d.sync(st);
+    d.solve_eom(t, Baumgarte::NONE, SchurRefinement::ONE_SHOT)?;
+    Ok(d.contacts.lambda[s])
+}
+
+/// The first closing of g_s in the step (g < 0 at its end) by the Illinois method. A step that
+/// starts on the stop (g(t0) ≈ 0 after a rebound) and ends beyond it has two crossings when the
+/// rebound carried it off the stop in between: the bracket then starts at the largest g in the
+/// step (golden-section search: g rises, then falls); if g stays ≤ 0 the stop closes at t0.
+fn locate_closing<S: Stepper>(stepper: &mut S, d: &mut Dynamics, s: usize, span: Span) -> f64 {
+    let sc = scale(d, s);
+    let (mut a, mut b) = (span.t0, span.t1);
+    let mut ga = gap_at(stepper, d, s, a);
+    if ga <= 1e-15 * sc {
+        let (t, g) = highest(stepper, d, s, span);
+        if g <= 1e-15 * sc {
+            return span.t0;
+        }
+        (a, ga) = (t, g);
+    }
+    let mut gb = gap_at(stepper, d, s, b);
+    let mut side = 0i8;
+    for _ in 0..MAX_LOCATE {
+        if b - a <= EVENT_TIME_TOLERANCE * (1.0 + b.abs()) {
+            break;
+        }
+        let mut tm = (a * gb - b * ga) / (gb - ga);
+        if !(tm > a && tm < b) {
+            tm = 0.5 * (a + b);
+        }
+        let g = gap_at(stepper, d, s, tm);
+        if g.abs() <= 1e-15 * sc {
+            return tm;
+        }
+        if g > 0.0 {
+            (a, ga) = (tm, g);
+            if side == 1 {
+                gb *= 0.5;
+            }
+            side = 1;
+        } else {
+            (b, gb) = (tm, g);
+            if side == -1 {
+                ga *= 0.5;
+            }
+            side = -1;
+        }
+    }
+    // The open side: the state there has not passed the stop.
+    a
+}
+
+/// The largest g_s in the step and its time, by golden-section search (g unimodal there).
+fn highest<S: Stepper>(stepper: &mut S, d: &mut Dynamics, s: usize, span: Span) -> (f64, f64) {
+    let r = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut a, mut b) = (span.t0, span.t1);
+    let mut x1 = b - r * (b - a);
+    let mut x2 = a + r * (b - a);
+    let (mut f1, mut f2) = (gap_at(stepper, d, s, x1), gap_at(stepper, d, s, x2));
+    for _ in 0..MAX_LOCATE {
+        if b - a <= EVENT_TIME_TOLERANCE * (1.0 + b.abs()) {
+            break;
+        }
+        if f1 < f2 {
+            (a, x1, f1) = (x1, x2, f2);
+            x2 = a + r * (b - a);
+            f2 = gap_at(stepper, d, s, x2);
+        } else {
+            (b, x2, f2) = (x2, x1, f1);
+            x1 = b - r * (b - a);
+            f1 = gap_at(stepper, d, s, x1);
+        }
+    }
+    if f1 > f2 {
+        (x1, f1)
+    } else {
+        (x2, f2)
+    }
+}
+
+/// The sign change of λ_s (≤ 0 at a, > 0 at b) by bisection.
+fn locate_release<S: Stepper>(
+    stepper: &mut S,
+    d: &mut Dynamics,
+    s: usize,
+    span: Span,
+) -> Result<f64, DynamicsError> {
+    let (mut a, mut b) = (span.t0, span.t1);
+    for _ in 0..MAX_LOCATE {
+        if b - a <= EVENT_TIME_TOLERANCE * (1.0 + b.abs()) {
+            break;
+        }
+        let tm = 0.5 * (a + b);
+        if multiplier_at(stepper, d, s, tm)? > 0.0 {
+            b = tm;
+        } else {
+            a = tm;
+        }
+    }
+    Ok(b)
+}
+
+/// The first event in the accepted step `span`, if any.
+///
+/// # Errors
+/// The solves of the multipliers.
+pub(crate) fn first_event<S: Stepper>(
+    stepper: &mut S,
+    d: &mut Dynamics,
+    span: Span,
+) -> Result<Option<Event>, DynamicsError> {
+    let mut first: Option<Event> = None;
+    let take = |e: Event, first: &mut Option<Event>| {
+        if first.is_none_or(|f| e.time < f.time) {
+            *first = Some(e);
+        }
+    };
+    for k in 0..d.contacts.watched.len() {
+        let s = d.contacts.watched[k];
+        if d.contacts.held[s] {
+            continue;
+        }
+        if gap_at(stepper, d, s, span.t1) < 0.0 {
+            let time = locate_closing(stepper, d, s, span);
+            take(
+                Event {
+                    time,
+                    action: Action::Impact(s),
+                },
+                &mut first,
+            );
+        }
+    }
+    if !d.contacts.any_held() {
+        return Ok(first);
+    }
+    let mut off = false;
+    for s in 0..d.contacts.held.len() {
+        if !d.contacts.held[s] {
+            continue;
+        }
+        if multiplier_at(stepper, d, s, span.t1)? > 0.0 {
+            let time = locate_release(stepper, d, s, span)?;
+            take(
+                Event {
+                    time,
+                    action: Action::Release(s),
+                },
+                &mut first,
+            );
+        } else {
+            off |= gap_at(stepper, d, s, span.t1).abs() > HOLD_TOLERANCE * scale(d, s);
+        }
+    }
+    if off && first.is_none() {
+        first = Some(Event {
+            time: span.t1,
+            action: Action::Hold,
+        });
+    }
+    Ok(first)
+}
+
+/// Applies `event` to `state` (the dense output at its time, projected onto the joints): an
+/// impact's velocity jump, a release, or the hold of the closed stops. Records the impact or
+/// release.
+///
+/// # Errors
+/// The projections' and the impulse solve's failures.
+pub(crate) fn apply(
+    d: &mut Dynamics,
+    event: Event,
+    state: &mut State,
+    tol: f64,
+) -> Result<(), DynamicsError> {
+    d.project_positions(state, tol)?;
+    d.project_velocities(state)?;
+    match event.action {
+        Action::Impact(s) => {
+            let e = d.impact(state, s)?;
+            d.contacts.events.push(e);
+        }
+        Action::Release(s) => {
+            d.contacts.held[s] = false;
+            let st = &d.model.stops()[s];
+            d.contacts.events.push(crate::contacts::ImpactEvent {
+                time: event.time,
+                stop: st.name.clone(),
+                limit: st.limit,
+                impact_velocity: 0.0,
+                impulse: 0.0,
+                rebound_velocity: 0.0,
+                held: false,
+                release: true,
+                energy_change: 0.0,
+            });
+        }
+        Action::Hold => {}
+    }
+    if d.contacts.any_held() {
+        d.hold_stops(state, tol)?;
+    }
+    Ok(())
+}

@@ -1,0 +1,254 @@
+//! Limits in forward dynamics (issue 48): impacts on stops located on the dense output, with
+//! Newton's restitution, against closed forms: a pendulum falling onto a stop, a ball bouncing
+//! on a prismatic limit until its impacts accumulate to rest, the energy through impacts.
+
+use cardan_constraints::JointKind;
+use cardan_dynamics::{
+    Dopri5Options, Dynamics, Force, GeneralizedAlphaOptions, Integrator, SimulationOptions,
+};
+use cardan_mechanism::{Body, JointSpec, LimitSpec, MechanismBuilder, Model, GROUND};
+use nalgebra::Vector3;
+use std::f64::consts::PI;
+
+const G: f64 = 9.81;
+
+/// A 1 kg, 1 m rod pinned at its end O about global z, released horizontally (angle 0) with a
+/// lower stop at `lo` (the angle falls under gravity −y).
+fn pendulum(lo: f64, e: f64) -> Model {
+    let mut b = MechanismBuilder::new();
+    b.body(
+        Body::new("rod")
+            .mass(1.0)
+            .inertia_diagonal(1e-4, 1.0 / 12.0, 1.0 / 12.0)
+            .position(Vector3::new(0.5, 0.0, 0.0)),
+    );
+    b.point(GROUND, "O", Vector3::zeros())
+        .vector(GROUND, "z", Vector3::z())
+        .vector(GROUND, "x", Vector3::x());
+    b.point("rod", "O", Vector3::new(-0.5, 0.0, 0.0))
+        .vector("rod", "z", Vector3::z())
+        .vector("rod", "x", Vector3::x());
+    b.joint(
+        JointSpec::new("pin", JointKind::Revolute, (GROUND, "O"), ("rod", "O"))
+            .axes("z", "z")
+            .x_axes("x", "x"),
+    );
+    b.limit(LimitSpec::new("stop", "pin").lower(lo).restitution(e));
+    b.build().unwrap()
+}
+
+/// A 1 kg ball on a vertical prismatic joint (slide = height), dropped from `h` onto a lower
+/// limit at 0 with restitution `e`.
+fn ball(h: f64, e: f64) -> Model {
+    let mut b = MechanismBuilder::new();
+    b.body(
+        Body::new("ball")
+            .mass(1.0)
+            .inertia_diagonal(0.1, 0.1, 0.1)
+            .position(Vector3::new(0.0, h, 0.0)),
+    );
+    b.point(GROUND, "O", Vector3::zeros())
+        .vector(GROUND, "y", Vector3::y())
+        .vector(GROUND, "x", Vector3::x());
+    b.point("ball", "C", Vector3::zeros())
+        .vector("ball", "y", Vector3::y())
+        .vector("ball", "x", Vector3::x());
+    b.joint(
+        JointSpec::new("rail", JointKind::Prismatic, (GROUND, "O"), ("ball", "C"))
+            .axes("y", "y")
+            .x_axes("x", "x"),
+    );
+    b.limit(LimitSpec::new("floor", "rail").lower(0.0).restitution(e));
+    b.build().unwrap()
+}
+
+fn dynamics(model: &Model) -> Dynamics<'_> {
+    let mut d = Dynamics::new(model).unwrap();
+    d.add_force(Force::gravity(Vector3::new(0.0, -G, 0.0)))
+        .unwrap();
+    d
+}
+
+fn tight() -> Integrator {
+    Integrator::Dopri5(Dopri5Options::tolerances(1e-12, 1e-14))
+}
+
+/// t(θ) of the pendulum released at rest from 0: ∫₀^|θ| dφ / √(k sin φ), k = 3g/L, with
+/// φ = u² (the integrand 2u / √(k sin u²) is smooth), composite Simpson.
+fn fall_time(theta: f64) -> f64 {
+    let k = 3.0 * G;
+    let (a, b, n) = (0.0, theta.abs().sqrt(), 20_000);
+    let f = |u: f64| {
+        if u == 0.0 {
+            2.0 / k.sqrt()
+        } else {
+            2.0 * u / (k * (u * u).sin()).sqrt()
+        }
+    };
+    let h = (b - a) / n as f64;
+    let mut s = f(a) + f(b);
+    for i in 1..n {
+        s += f(a + i as f64 * h) * if i % 2 == 1 { 4.0 } else { 2.0 };
+    }
+    s * h / 3.0
+}
+
+#[test]
+fn pendulum_falling_onto_a_stop_matches_energy_conservation_and_restitution() {
+    let (lo, e) = (-PI / 3.0, 0.6);
+    let model = pendulum(lo, e);
+    let mut d = dynamics(&model);
+    let options = SimulationOptions::new(0.6, 60).integrator(tight());
+    let res = d.simulate(&d.initial_guess(), &options).unwrap();
+    let ev = d.impact_events();
+    assert!(!ev.is_empty(), "no impact");
+    let first = &ev[0];
+    // ω² = (3g/L)(sin 0 − sin θ) at θ = lo.
+    let omega = (3.0 * G * (-lo.sin())).sqrt();
+    let t_star = fall_time(lo);
+    eprintln!(
+        "impact at {} (closed form {t_star}, diff {:.2e}); ω⁻ {} ({omega}, diff {:.2e}); ω⁺ {} (diff {:.2e})",
+        first.time,
+        first.time - t_star,
+        first.impact_velocity,
+        first.impact_velocity + omega,
+        first.rebound_velocity,
+        first.rebound_velocity - e * omega
+    );
+    assert!((first.time - t_star).abs() < 1e-9);
+    assert!((first.impact_velocity + omega).abs() < 1e-9);
+    assert!((first.rebound_velocity - e * omega).abs() < 1e-9);
+    assert!(!first.held && !first.release);
+    // The energy lost is ½ I_O (1 − e²) ω², I_O = m L²/3; the balance closes with it.
+    let lost = 0.5 / 3.0 * (1.0 - e * e) * omega * omega;
+    assert!(
+        (first.energy_change + lost).abs() < 1e-9,
+        "{}",
+        first.energy_change
+    );
+    let balance = res.energy.balance();
+    let worst = balance.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+    assert!(worst < 1e-8, "energy balance {worst:e}");
+    // The angle never passes the stop.
+    let angles = &res.kinematics.joints[0].values;
+    assert!(angles.iter().all(|a| a[0] >= lo - 1e-9));
+}
+
+#[test]
+fn elastic_impacts_conserve_energy() {
+    let model = pendulum(-PI / 4.0, 1.0);
+    let mut d = dynamics(&model);
+    let options = SimulationOptions::new(3.0, 300).integrator(tight());
+    let res = d.simulate(&d.initial_guess(), &options).unwrap();
+    let n = d.impact_events().len();
+    assert!(n >= 3, "{n} impacts");
+    let drift = res.energy.max_drift();
+    eprintln!("{n} elastic impacts, energy drift {drift:.2e}");
+    assert!(drift < 1e-8, "{drift:e}");
+}
+
+/// Closed form of the bouncing ball: v₀ = √(2gh) at the first impact t₁ = v₀/g, then the n-th
+/// impact (n ≥ 1) at closing speed eⁿ⁻¹ v₀, t_{n+1} = t_n + 2 eⁿ v₀/g; the impacts accumulate at
+/// T∞ = t₁ + 2 v₀ e / (g (1 − e)).
+fn bounces(h: f64, e: f64, rest: f64) -> (Vec<(f64, f64)>, f64) {
+    let v0 = (2.0 * G * h).sqrt();
+    let mut out = Vec::new();
+    let (mut t, mut v) = (v0 / G, v0);
+    loop {
+        out.push((t, v));
+        if v < rest {
+            break;
+        }
+        t += 2.0 * e * v / G;
+        v *= e;
+    }
+    (out, v0 / G + 2.0 * v0 * e / (G * (1.0 - e)))
+}
+
+fn bouncing_ball(integrator: Integrator, time_tol: f64, velocity_tol: f64) {
+    let (h, e, rest) = (1.0, 0.5, 1e-5);
+    let model = ball(h, e);
+    let mut d = dynamics(&model);
+    let (want, t_inf) = bounces(h, e, rest);
+    let options = SimulationOptions::new(t_inf + 0.5, 100).integrator(integrator);
+    let res = match d.simulate(&d.initial_guess(), &options) {
+        Ok(r) => r,
+        Err(e) => {
+            for ev in d.impact_events() {
+                eprintln!("{ev:?}");
+            }
+            panic!("{e}")
+        }
+    };
+    let ev = d.impact_events();
+    eprintln!(
+        "{} impacts (closed form {}), held at {} (T∞ = {t_inf})",
+        ev.len(),
+        want.len(),
+        ev.last().unwrap().time
+    );
+    assert_eq!(ev.len(), want.len());
+    let (mut dt, mut dv) = (0.0f64, 0.0f64);
+    for (k, (got, (t, v))) in ev.iter().zip(&want).enumerate() {
+        dt = dt.max((got.time - t).abs());
+        dv = dv.max((got.impact_velocity + v).abs());
+        // Apex heights h e^(2n): the rebound speed is e times the impact speed.
+        if !got.held {
+            assert!(
+                (got.rebound_velocity - e * v).abs() < velocity_tol,
+                "impact {k}"
+            );
+            let lost = 0.5 * (1.0 - e * e) * v * v;
+            assert!(
+                (got.energy_change + lost).abs() < velocity_tol,
+                "impact {k}"
+            );
+        }
+    }
+    eprintln!("max error of the impact times {dt:.2e}, of the impact velocities {dv:.2e}");
+    assert!(dt < time_tol && dv < velocity_tol);
+    assert!(ev.last().unwrap().held);
+    assert!(ev.last().unwrap().time < t_inf);
+    // At rest on the stop afterwards.
+    let y = &res.body("ball").unwrap().r;
+    let last = y.last().unwrap();
+    assert!(last.y.abs() < 1e-8, "{}", last.y);
+    let worst = res
+        .energy
+        .balance()
+        .iter()
+        .fold(0.0f64, |a, b| a.max(b.abs()));
+    eprintln!("energy balance {worst:.2e}");
+    assert!(worst < 10.0 * velocity_tol);
+}
+
+#[test]
+fn bouncing_ball_accumulates_to_rest_dopri5() {
+    bouncing_ball(tight(), 1e-9, 1e-9);
+}
+
+#[test]
+fn bouncing_ball_accumulates_to_rest_generalized_alpha() {
+    bouncing_ball(
+        Integrator::GeneralizedAlpha(GeneralizedAlphaOptions::with_step(1e-3)),
+        1e-6,
+        1e-6,
+    );
+}
+
+#[test]
+fn a_ball_dropped_with_e_zero_stays_on_the_stop() {
+    let model = ball(0.5, 0.0);
+    let mut d = dynamics(&model);
+    let options = SimulationOptions::new(1.0, 10).integrator(tight());
+    let res = d.simulate(&d.initial_guess(), &options).unwrap();
+    let ev = d.impact_events();
+    assert_eq!(ev.len(), 1);
+    assert!(ev[0].held);
+    let y = &res.body("ball").unwrap().r;
+    assert!(y.last().unwrap().y.abs() < 1e-9);
+    // Resting: the stop carries the weight, λ_s = −m g (the reaction −Gᵀλ pushes up).
+    let (held, lambda) = d.stop_states();
+    assert!(held[0]);
+    assert!((lambda[0] + G).abs() < 1e-6, "{}", lambda[0]);
+}
