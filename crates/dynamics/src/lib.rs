@@ -157,7 +157,7 @@ pub mod system;
 mod tangent;
 pub mod work;
 
-pub use contacts::ImpactEvent;
+pub use contacts::events::ImpactEvent;
 pub use error::DynamicsError;
 pub use forces::{AppliedForces, Force, Frame, PointRef, UserForces, VectorFunction};
 pub use modal::{BodyShape, Linearization, ModalOptions, ModalResults, Mode, ModeKind};

@@ -63,7 +63,7 @@ pub struct Dynamics<'m> {
     pub(crate) force_excess: Option<(usize, f64)>,
     /// The stops of the model's limits: which are held closed, their multipliers, the
     /// impacts so far ([`crate::contacts`]).
-    pub(crate) contacts: crate::contacts::Contacts,
+    pub(crate) contacts: crate::contacts::state::Contacts,
 }
 
 impl std::fmt::Debug for Dynamics<'_> {
@@ -115,7 +115,7 @@ impl<'m> Dynamics<'m> {
             h: vec![0.0; 6 * nb],
             h_user: vec![0.0; 6 * nb],
             force_excess: None,
-            contacts: crate::contacts::Contacts::new(model),
+            contacts: crate::contacts::state::Contacts::new(model),
         };
         for f in Force::from_model(model) {
             d.add_force(f)?;

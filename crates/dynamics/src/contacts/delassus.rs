@@ -3,7 +3,8 @@
 //! held stops' correction of the equations of motion (module docs of [`super`]). No allocation
 //! after the first use at a layout size.
 
-use super::{solve_small, STOP_STABILIZATION};
+use super::small::solve_small;
+use super::state::STOP_STABILIZATION;
 use crate::kkt::SchurRefinement;
 use crate::system::Dynamics;
 use crate::DynamicsError;

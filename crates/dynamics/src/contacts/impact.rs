@@ -4,7 +4,8 @@
 //! velocities brought back onto g = 0, ġ = 0 for a scheme that does not carry the stop rows
 //! in its own iteration). Allocates the event's name only.
 
-use super::{solve_small, ImpactEvent};
+use super::events::ImpactEvent;
+use super::small::solve_small;
 use crate::kkt::SchurRefinement;
 use crate::state::State;
 use crate::system::Dynamics;

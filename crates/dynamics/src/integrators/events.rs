@@ -11,6 +11,7 @@
 //! the stepper there. A model without limits evaluates nothing here.
 
 use super::stepper::{Span, Stepper};
+use crate::contacts::state::HOLD_TOLERANCE;
 use crate::kkt::SchurRefinement;
 use crate::options::Baumgarte;
 use crate::state::State;
@@ -20,10 +21,6 @@ use cardan_constraints::joints::CoordinateQuantity;
 
 /// The relative time tolerance of an event's location.
 pub const EVENT_TIME_TOLERANCE: f64 = 1e-13;
-
-/// A held stop more than this far off g = 0 (times the coordinate's scale) at a step's end is
-/// brought back onto it.
-pub const HOLD_TOLERANCE: f64 = 1e-9;
 
 /// At most this many evaluations locate an event.
 const MAX_LOCATE: usize = 200;
@@ -254,17 +251,19 @@ pub(crate) fn apply(
         Action::Release(s) => {
             d.contacts.held[s] = false;
             let st = &d.model.stops()[s];
-            d.contacts.events.push(crate::contacts::ImpactEvent {
-                time: event.time,
-                stop: st.name.clone(),
-                limit: st.limit,
-                impact_velocity: 0.0,
-                impulse: 0.0,
-                rebound_velocity: 0.0,
-                held: false,
-                release: true,
-                energy_change: 0.0,
-            });
+            d.contacts
+                .events
+                .push(crate::contacts::events::ImpactEvent {
+                    time: event.time,
+                    stop: st.name.clone(),
+                    limit: st.limit,
+                    impact_velocity: 0.0,
+                    impulse: 0.0,
+                    rebound_velocity: 0.0,
+                    held: false,
+                    release: true,
+                    energy_change: 0.0,
+                });
         }
         Action::Hold => {}
     }

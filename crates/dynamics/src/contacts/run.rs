@@ -1,0 +1,74 @@
+//! What a run does with the stops at its start, and what it offers afterwards: the events, the
+//! held stops and their multipliers, the rest velocity.
+
+use super::events::ImpactEvent;
+use super::state::HOLD_TOLERANCE;
+
+impl crate::system::Dynamics<'_> {
+    /// At the start of a run from `state`: every stop open, no events; a stop beyond its
+    /// bound (more than [`HOLD_TOLERANCE`] of its scale) is an
+    /// error.
+    ///
+    /// # Errors
+    /// [`crate::DynamicsError::Limit`] naming the limit, the coordinate and the bound.
+    pub(crate) fn start_stops(&mut self, state: &crate::State) -> Result<(), crate::DynamicsError> {
+        self.contacts.reset();
+        if self.contacts.watched.is_empty() {
+            return Ok(());
+        }
+        self.sync(state);
+        let model = self.model;
+        for &s in &self.contacts.watched {
+            let st = &model.stops()[s];
+            let scale = match st.row.measure.quantity() {
+                cardan_constraints::joints::CoordinateQuantity::Angle => 1.0,
+                cardan_constraints::joints::CoordinateQuantity::Length => {
+                    model.characteristic_length()
+                }
+            };
+            let g = model.stop_gap(s, &self.bodies, &self.turns);
+            if g < -HOLD_TOLERANCE * scale {
+                let l = &model.limits()[st.limit];
+                let c = model.stop_coordinate(s, &self.bodies, &self.turns);
+                return Err(crate::DynamicsError::Limit {
+                    limit: l.name.clone(),
+                    reason: format!(
+                        "the initial state has {} = {c} beyond its {} bound {} (joint \"{}\")",
+                        l.coordinate,
+                        st.row.bound.name(),
+                        st.row.value,
+                        model.joints()[l.joint].name
+                    ),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The impacts and releases of the last run, in time order (a front end writes them as
+    /// `events.csv`).
+    pub fn impact_events(&self) -> &[ImpactEvent] {
+        &self.contacts.events
+    }
+
+    /// Which stops ([`cardan_mechanism::Model::stops`]) are held closed now, and their
+    /// multipliers λ_s (≤ 0 while pushing; the stop's reaction is −Gᵀλ_s) from the last solve.
+    pub fn stop_states(&self) -> (&[bool], &[f64]) {
+        (&self.contacts.held, &self.contacts.lambda)
+    }
+
+    /// The closing rate below which an impact holds its stop closed (default
+    /// [`crate::contacts::REST_VELOCITY`], m/s or rad/s; must be positive and finite).
+    ///
+    /// # Errors
+    /// [`crate::DynamicsError::Options`] for a value that is not positive and finite.
+    pub fn set_rest_velocity(&mut self, v: f64) -> Result<&mut Self, crate::DynamicsError> {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(crate::DynamicsError::Options(format!(
+                "rest velocity must be positive and finite, got {v}"
+            )));
+        }
+        self.contacts.rest_velocity = v;
+        Ok(self)
+    }
+}

@@ -1,0 +1,81 @@
+//! [`Contacts`]: the stops' state during a run (held, multipliers, events) and the buffers of
+//! their solves; the constants of the stop treatment. A leaf: the equations are elsewhere.
+
+use super::events::ImpactEvent;
+
+/// ω (1/s) of the Baumgarte terms on the rows of held stops: drift of g (from the integrator's
+/// error) is pulled back with this rate, far slower than any step.
+pub const STOP_STABILIZATION: f64 = 10.0;
+
+/// Default rest velocity (m/s or rad/s): a closing rate below it holds the stop closed.
+pub const REST_VELOCITY: f64 = 1e-5;
+
+/// The state of the stops during a run, and the buffers their solves use (sized at setup;
+/// empty for a model without limits).
+#[derive(Debug, Clone)]
+pub(crate) struct Contacts {
+    /// The stops that take impacts (not compliant), in [`cardan_mechanism::Model::stops`] order.
+    pub watched: Vec<usize>,
+    /// Per stop: held closed (persistent contact).
+    pub held: Vec<bool>,
+    /// Per stop: λ_s of the last solve (0 while open).
+    pub lambda: Vec<f64>,
+    /// The stops of the current Schur solve.
+    pub set: Vec<usize>,
+    /// X columns (and Y) of the stops in `set`, each of the KKT size.
+    pub cols: Vec<f64>,
+    /// The bilateral solution saved while the columns are solved.
+    pub sol0: Vec<f64>,
+    /// W (row-major, |set|²) and the right side / solution of W x = b.
+    pub w: Vec<f64>,
+    pub b: Vec<f64>,
+    /// Each stop's Φ_v blocks (body i, body j) and γ# at the synced bodies.
+    pub rows: Vec<([f64; 6], [f64; 6])>,
+    /// The impacts so far.
+    pub events: Vec<ImpactEvent>,
+    /// Per limit: the kinetic energy its impacts took (≤ 0), J.
+    pub impact_work: Vec<f64>,
+    /// Below this closing rate an impact holds the stop closed.
+    pub rest_velocity: f64,
+}
+
+impl Contacts {
+    /// The stops of `model` (impacts for every limit without a compliant law).
+    pub fn new(model: &cardan_mechanism::Model) -> Self {
+        let ns = model.stops().len();
+        let watched: Vec<usize> = (0..ns)
+            .filter(|&s| model.limits()[model.stops()[s].limit].compliance.is_none())
+            .collect();
+        Self {
+            watched,
+            held: vec![false; ns],
+            lambda: vec![0.0; ns],
+            set: Vec::with_capacity(ns),
+            cols: Vec::new(),
+            sol0: Vec::new(),
+            w: vec![0.0; ns * ns],
+            b: vec![0.0; ns],
+            rows: vec![([0.0; 6], [0.0; 6]); ns],
+            events: Vec::new(),
+            impact_work: vec![0.0; model.limits().len()],
+            rest_velocity: REST_VELOCITY,
+        }
+    }
+
+    /// Whether any stop is held closed.
+    pub fn any_held(&self) -> bool {
+        self.held.iter().any(|&h| h)
+    }
+
+    /// Back to every stop open, no events (the start of a run).
+    pub fn reset(&mut self) {
+        self.held.fill(false);
+        self.lambda.fill(0.0);
+        self.events.clear();
+        self.impact_work.fill(0.0);
+    }
+}
+
+/// A held stop more than this far off g = 0 (times the coordinate's scale) at a step's end is
+/// brought back onto it; a run may not start further than this beyond a stop.
+pub const HOLD_TOLERANCE: f64 = 1e-9;
