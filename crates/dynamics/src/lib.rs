@@ -138,6 +138,7 @@
 pub mod contacts;
 pub mod error;
 pub mod forces;
+pub mod friction;
 pub mod integrators;
 pub mod inverse;
 mod kkt;

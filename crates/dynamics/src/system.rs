@@ -64,6 +64,8 @@ pub struct Dynamics<'m> {
     /// The stops of the model's limits: which are held closed, their multipliers, the
     /// impacts so far ([`crate::contacts`]).
     pub(crate) contacts: crate::contacts::state::Contacts,
+    /// The joints' friction ([`crate::friction`]).
+    pub(crate) friction: crate::friction::state::FrictionState,
 }
 
 impl std::fmt::Debug for Dynamics<'_> {
@@ -116,6 +118,7 @@ impl<'m> Dynamics<'m> {
             h_user: vec![0.0; 6 * nb],
             force_excess: None,
             contacts: crate::contacts::state::Contacts::new(model),
+            friction: crate::friction::state::FrictionState::new(model),
         };
         for f in Force::from_model(model) {
             d.add_force(f)?;
@@ -559,13 +562,25 @@ impl<'m> Dynamics<'m> {
             kkt.work_a = wa;
         }
         kkt.rhs[..n].copy_from_slice(&self.h);
+        let friction = !self.friction.hf.is_empty();
+        if friction {
+            self.friction.rhs0.clone_from(&kkt.rhs);
+        }
         let r = kkt.factor().and_then(|_| kkt.solve(refine));
         match r {
             Err(SolverError::Singular { .. }) if self.reselect(t) => {
                 self.solve_eom(t, baumgarte, refine)
             }
             Err(e) => Err(self.solver_error(t, e)),
-            Ok(()) if self.contacts.any_held() => self.add_held_stops(t, refine),
+            Ok(()) if self.contacts.any_held() || friction => {
+                if self.contacts.any_held() {
+                    self.add_held_stops(t, refine)?;
+                }
+                if friction {
+                    self.solve_friction(t, refine)?;
+                }
+                Ok(())
+            }
             Ok(()) => Ok(()),
         }
     }

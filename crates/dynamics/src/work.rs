@@ -93,6 +93,9 @@ impl Dynamics<'_> {
         if self.user.is_some() {
             out.push(channel("user", "user"));
         }
+        for f in self.model.frictions() {
+            out.push(channel(&f.name, "friction"));
+        }
         for l in self.model.limits() {
             out.push(channel(&l.name, "limit"));
         }
@@ -119,6 +122,7 @@ impl Dynamics<'_> {
                 .filter(|f| f.is_non_conservative())
                 .count()
             + usize::from(self.user.is_some())
+            + self.model.frictions().len()
             + self.model.limits().len()
     }
 
@@ -157,7 +161,9 @@ impl Dynamics<'_> {
             out[k] = p;
             k += 1;
         }
-        out[k..].fill(0.0);
+        let nf = self.friction.power.len();
+        out[k..k + nf].copy_from_slice(&self.friction.power);
+        out[k + nf..].fill(0.0);
     }
 
     /// The power of the joints' and couplers' reactions, −Σ λ_r (Φ_v v)_r over their rows, at

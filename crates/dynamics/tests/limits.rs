@@ -252,3 +252,50 @@ fn a_ball_dropped_with_e_zero_stays_on_the_stop() {
     assert!(held[0]);
     assert!((lambda[0] + G).abs() < 1e-6, "{}", lambda[0]);
 }
+
+#[test]
+fn a_held_stop_releases_where_its_multiplier_changes_sign() {
+    // The ball rests on the floor (h = 0, e = 0) and is lifted by F(t) = 2 m g t: the stop
+    // carries m g − F until t = 0.5, then the ball rises with ÿ = 2 g t − g, so
+    // y(t) = g (t − ½)³ / 3.
+    let model = ball(0.0, 0.0);
+    let mut d = dynamics(&model);
+    d.set_user_forces(|t, f| {
+        f.add_force(
+            cardan_mechanism::BodyId::Moving(0),
+            &Vector3::new(0.0, 2.0 * G * t, 0.0),
+        )
+    });
+    let options = SimulationOptions::new(1.0, 10).integrator(tight());
+    let res = d.simulate(&d.initial_guess(), &options).unwrap();
+    let ev = d.impact_events();
+    let release = ev.iter().find(|e| e.release).expect("a release");
+    eprintln!("{ev:?}");
+    assert!((release.time - 0.5).abs() < 1e-9, "{}", release.time);
+    let y = res.body("ball").unwrap().r.last().unwrap().y;
+    let want = G * 0.5f64.powi(3) / 3.0;
+    assert!((y - want).abs() < 1e-8, "{y} {want}");
+    // Before the release the height stays 0 (held), not below.
+    for (t, r) in res.times().iter().zip(&res.body("ball").unwrap().r) {
+        if *t < 0.5 {
+            assert!(r.y.abs() < 1e-9, "{t}: {}", r.y);
+        }
+    }
+}
+
+#[test]
+fn a_state_beyond_a_limit_at_the_start_is_an_error() {
+    let model = ball(1.0, 0.5);
+    let mut d = dynamics(&model);
+    let mut s = d.initial_guess();
+    s.set_pose(
+        0,
+        Vector3::new(0.0, -0.1, 0.0),
+        nalgebra::Vector4::new(1.0, 0.0, 0.0, 0.0),
+    );
+    let e = d
+        .simulate(&s, &SimulationOptions::new(0.1, 1))
+        .expect_err("beyond the floor");
+    let msg = e.to_string();
+    assert!(msg.contains("\"floor\"") && msg.contains("lower"), "{msg}");
+}

@@ -735,6 +735,61 @@ impl LimitSpec {
     }
 }
 
+/// Coulomb friction in a joint (revolute, prismatic, cylindrical or spherical), from the joint's
+/// reaction: a slide's friction force −μ N s(v) along the axis, with N the reaction force
+/// across the axis plus the preload; a pin's friction torque −μ r N s(ω) about the axis (the
+/// friction circle of radius μ r), with N the radial reaction; a ball joint's torque
+/// −μ r |F| s(|ω|) against the relative rotation. s(v) = v / √(v² + v_s²) regularizes the
+/// sign near zero velocity (the stiction model: below v_s the friction acts as a steep viscous
+/// law, so a held joint creeps at about v_s tan α / μ).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrictionSpec {
+    /// Unique name among the model's elements.
+    pub name: String,
+    /// The joint.
+    pub joint: String,
+    /// μ ≥ 0.
+    pub coefficient: f64,
+    /// The pin (or ball, or journal) radius r > 0 of a rotating joint, m.
+    pub radius: Option<f64>,
+    /// A load N₀ ≥ 0 added to the reaction (N): a preload, or a constant friction μ N₀.
+    pub preload: f64,
+    /// v_s > 0 of the regularization (m/s or rad/s; default 1e-4).
+    pub stiction_velocity: f64,
+}
+
+impl FrictionSpec {
+    /// Friction with coefficient μ in joint `joint`.
+    pub fn new(name: impl Into<String>, joint: &str, coefficient: f64) -> Self {
+        Self {
+            name: name.into(),
+            joint: joint.into(),
+            coefficient,
+            radius: None,
+            preload: 0.0,
+            stiction_velocity: 1e-4,
+        }
+    }
+
+    /// The pin radius r of a rotating joint.
+    pub fn radius(mut self, r: f64) -> Self {
+        self.radius = Some(r);
+        self
+    }
+
+    /// A preload N₀ added to the reaction.
+    pub fn preload(mut self, n0: f64) -> Self {
+        self.preload = n0;
+        self
+    }
+
+    /// The regularization velocity v_s.
+    pub fn stiction_velocity(mut self, v: f64) -> Self {
+        self.stiction_velocity = v;
+        self
+    }
+}
+
 /// A named point or vector declared on a body, in declaration order.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Feature {
@@ -758,6 +813,7 @@ pub struct MechanismBuilder {
     pub(crate) couplers: Vec<CouplerSpec>,
     pub(crate) forces: Vec<ForceSpec>,
     pub(crate) limits: Vec<LimitSpec>,
+    pub(crate) frictions: Vec<FrictionSpec>,
 }
 
 impl MechanismBuilder {
@@ -814,6 +870,12 @@ impl MechanismBuilder {
     /// Adds a limit on a joint coordinate (end stops; see [`LimitSpec`]).
     pub fn limit(&mut self, limit: LimitSpec) -> &mut Self {
         self.limits.push(limit);
+        self
+    }
+
+    /// Adds Coulomb friction to a joint (dynamic analyses; see [`FrictionSpec`]).
+    pub fn friction(&mut self, friction: FrictionSpec) -> &mut Self {
+        self.frictions.push(friction);
         self
     }
 

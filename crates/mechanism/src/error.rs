@@ -369,6 +369,19 @@ pub enum ModelError {
         /// What is wrong.
         reason: String,
     },
+    /// A joint friction's numbers or joint are wrong (μ < 0, a kind without friction, a
+    /// missing pin radius).
+    #[error("friction \"{friction}\", {key}: {reason}")]
+    BadFriction {
+        /// The friction element.
+        friction: String,
+        /// Its joint (as given).
+        joint: String,
+        /// The key whose value is wrong.
+        key: String,
+        /// What is wrong.
+        reason: String,
+    },
     /// The drawn pose lies beyond a limit of its own model.
     #[error("limit \"{limit}\": the drawn pose violates its {key} bound: joint \"{joint}\" has {coordinate} = {value} there, beyond {key} = {bound}; draw the bodies inside the range or move the bound")]
     LimitViolated {
@@ -471,15 +484,17 @@ fn key_of(what: &str) -> String {
 }
 
 impl ModelError {
-    /// The limit and the key of a limit's error ([`ModelError::BadLimit`],
-    /// [`ModelError::LimitViolated`], or an unknown joint named by a limit), for a front end
-    /// that declares limits as elements of their own.
+    /// The element and the key of a limit's or a friction's error ([`ModelError::BadLimit`],
+    /// [`ModelError::LimitViolated`], [`ModelError::BadFriction`], or an unknown joint named by
+    /// one), for a front end that declares them as elements of their own.
     pub fn limit_site(&self) -> Option<(&str, &str)> {
         match self {
             ModelError::BadLimit { limit, key, .. } => Some((limit, key)),
             ModelError::LimitViolated { limit, key, .. } => Some((limit, key)),
+            ModelError::BadFriction { friction, key, .. } => Some((friction, key)),
             ModelError::UnknownJoint { element, .. } => element
                 .strip_prefix("limit \"")
+                .or_else(|| element.strip_prefix("friction \""))
                 .and_then(|r| r.strip_suffix('"'))
                 .map(|l| (l, "joint")),
             _ => None,
@@ -542,6 +557,7 @@ impl ModelError {
             // itself is named by [`ModelError::limit_site`]).
             E::BadLimit { joint, key, .. } => Some(Site::new(Joint, joint, Some(key), None)),
             E::LimitViolated { joint, key, .. } => Some(Site::new(Joint, joint, Some(key), None)),
+            E::BadFriction { joint, key, .. } => Some(Site::new(Joint, joint, Some(key), None)),
             E::DuplicateElement { .. } | E::EmptyName { .. } | E::NoBodies => None,
         }
     }

@@ -96,13 +96,14 @@ pub use analysis::position::{
 };
 pub use builder::{
     pose_row_name, Axis, Body, Compliance, CouplerKind, CouplerSpec, DriverSpec, DriverTarget,
-    ForceSpec, GearRatio, JointSpec, LimitSpec, MechanismBuilder, Orientation, PoseTarget, GROUND,
+    ForceSpec, FrictionSpec, GearRatio, JointSpec, LimitSpec, MechanismBuilder, Orientation,
+    PoseTarget, GROUND,
 };
 pub use dof::DofReport;
 pub use error::{AnalysisError, ElementKind, EquationName, Error, ModelError, OpenElement, Site};
 pub use model::{
     kinds_with, nearest, BodyId, BodyInfo, CoupledCoordinate, CouplerInfo, DriverInfo, FeatureInfo,
-    ForceInfo, JointInfo, LimitInfo, Model, StopInfo,
+    ForceInfo, FrictionInfo, JointInfo, LimitInfo, Model, StopInfo, FRICTION_KINDS,
 };
 pub use results::{
     BodyResults, FrameSink, JointResults, Outputs, PointResults, Results, RunTotals,

@@ -5,7 +5,7 @@
 //! specifications) does not depend on the model.
 
 use super::tree::PredictorTree;
-use super::{couplers, layout, limits, resolve, Model};
+use super::{couplers, friction, layout, limits, resolve, Model};
 use crate::builder::MechanismBuilder;
 use crate::error::ModelError;
 use std::collections::HashMap;
@@ -67,6 +67,11 @@ fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
         limit_infos.push(info);
         stops.extend(s);
     }
+    let mut frictions = Vec::new();
+    for spec in &b.frictions {
+        unique(&mut element_names, &spec.name, None, "a friction")?;
+        frictions.push(friction::friction(spec, &joints)?);
+    }
 
     let nb = bodies.len();
     let lay = layout::rows(&mut joints, &mut couplers, &mut drivers, nb, length);
@@ -91,6 +96,7 @@ fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
         forces,
         limits: limit_infos,
         stops,
+        frictions,
         pattern: lay.pattern,
         equation_scales: lay.equation_scales,
         unknown_scales: lay.unknown_scales,

@@ -221,3 +221,20 @@ pub struct StopInfo {
     /// The row, with its angle's reference at the drawn pose.
     pub row: JointLimit,
 }
+
+/// Coulomb friction in a joint of the model (see [`crate::FrictionSpec`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrictionInfo {
+    /// Name.
+    pub name: String,
+    /// The joint (index into [`Model::joints`](super::Model::joints)).
+    pub joint: usize,
+    /// μ.
+    pub coefficient: f64,
+    /// r of a rotating joint (0 for a prismatic one), m.
+    pub radius: f64,
+    /// N₀, N.
+    pub preload: f64,
+    /// v_s.
+    pub stiction_velocity: f64,
+}

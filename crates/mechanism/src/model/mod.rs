@@ -21,6 +21,7 @@ mod build;
 mod couplers;
 mod elements;
 mod eval;
+mod friction;
 mod layout;
 mod limits;
 mod resolve;
@@ -30,8 +31,9 @@ mod validate;
 
 pub use elements::{
     BodyId, BodyInfo, CoupledCoordinate, CouplerInfo, DriverInfo, FeatureInfo, ForceInfo,
-    JointInfo, LimitInfo, StopInfo,
+    FrictionInfo, JointInfo, LimitInfo, StopInfo,
 };
+pub use friction::FRICTION_KINDS;
 pub(crate) use tree::{PredictorTree, TreeEdge};
 pub use validate::{kinds_with, nearest};
 
@@ -53,6 +55,7 @@ pub struct Model {
     pub(crate) forces: Vec<ForceInfo>,
     pub(crate) limits: Vec<LimitInfo>,
     pub(crate) stops: Vec<StopInfo>,
+    pub(crate) frictions: Vec<FrictionInfo>,
     pub(crate) pattern: SparsityPattern,
     pub(crate) equation_scales: Vec<f64>,
     pub(crate) unknown_scales: Vec<f64>,

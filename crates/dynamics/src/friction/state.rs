@@ -1,0 +1,34 @@
+//! [`FrictionState`]: the buffers and per-element results of the joints' friction in a run
+//! (a leaf; the equations are in the module above).
+
+/// The friction state of a run: the generalized friction forces and each element's power
+/// (buffers sized at setup; empty without friction).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct FrictionState {
+    /// h_f (n).
+    pub hf: Vec<f64>,
+    /// h_f of the previous iterate (n).
+    pub hf_prev: Vec<f64>,
+    /// The right-hand side without friction (KKT size).
+    pub rhs0: Vec<f64>,
+    /// Each element's friction force or torque along its axis (N or N m; a ball joint's
+    /// magnitude), and its power (W, ≤ 0).
+    pub value: Vec<f64>,
+    pub power: Vec<f64>,
+}
+
+impl FrictionState {
+    pub fn new(model: &cardan_mechanism::Model) -> Self {
+        let (nf, n) = (model.frictions().len(), 6 * model.num_bodies());
+        if nf == 0 {
+            return Self::default();
+        }
+        Self {
+            hf: vec![0.0; n],
+            hf_prev: vec![0.0; n],
+            rhs0: Vec::new(),
+            value: vec![0.0; nf],
+            power: vec![0.0; nf],
+        }
+    }
+}
