@@ -299,3 +299,45 @@ fn a_state_beyond_a_limit_at_the_start_is_an_error() {
     let msg = e.to_string();
     assert!(msg.contains("\"floor\"") && msg.contains("lower"), "{msg}");
 }
+
+#[test]
+fn a_pendulum_rests_on_its_stop_in_statics_with_the_stop_reaction() {
+    // Gravity pulls the horizontal rod down; the stop at −30° holds it. The stop's reaction
+    // (the holding driver's effort) balances the gravity torque m g (L/2) cos θ and pushes
+    // into the range (positive at a lower stop).
+    use cardan_constraints::Bound;
+    use cardan_dynamics::StaticOptions;
+    let lo = -PI / 6.0;
+    let mut b = MechanismBuilder::new();
+    b.body(
+        Body::new("rod")
+            .mass(1.0)
+            .inertia_diagonal(1e-4, 1.0 / 12.0, 1.0 / 12.0)
+            .position(Vector3::new(0.5, 0.0, 0.0)),
+    );
+    b.point(GROUND, "O", Vector3::zeros())
+        .vector(GROUND, "z", Vector3::z())
+        .vector(GROUND, "x", Vector3::x());
+    b.point("rod", "O", Vector3::new(-0.5, 0.0, 0.0))
+        .vector("rod", "z", Vector3::z())
+        .vector("rod", "x", Vector3::x());
+    b.joint(
+        JointSpec::new("pin", JointKind::Revolute, (GROUND, "O"), ("rod", "O"))
+            .axes("z", "z")
+            .x_axes("x", "x"),
+    );
+    b.limit(LimitSpec::new("stop", "pin").lower(lo));
+    let held = b.holding_stop("stop", Bound::Lower).unwrap();
+    let model = held.build().unwrap();
+    let mut d = dynamics(&model);
+    let r = d.statics(&StaticOptions::at(0.0)).unwrap();
+    let angle = r.results.kinematics.joints[0].values[0][0];
+    let effort = r.results.drivers[0].effort[0];
+    let want = G * 0.5 * lo.cos();
+    eprintln!("resting at {angle} (stop {lo}); stop reaction {effort} N m (closed form {want})");
+    assert_eq!(r.results.drivers[0].name, "stop.lower");
+    assert!((angle - lo).abs() < 1e-12);
+    assert!((effort - want).abs() < 1e-9, "{effort} {want}");
+    // An upper bound the limit does not have is an error.
+    assert!(b.holding_stop("stop", Bound::Upper).is_err());
+}

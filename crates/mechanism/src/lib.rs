@@ -69,6 +69,7 @@
 //! - [`results`]: [`Results`] and [`DroppedRowResidual`]. [`error`]: [`ModelError`],
 //!   [`AnalysisError`]. [`sanity`]: the magnitude limits of the builder's numbers.
 //! - [`builder`]: [`MechanismBuilder`], [`Body`], [`Orientation`], [`JointSpec`], [`DriverSpec`].
+//! - [`hold`]: a limit's stop held by a constant driver (statics and modes resting on a stop).
 //! - [`model`]: the immutable [`Model`], its elements and its validation.
 //! - [`dof`]: the [`DofReport`].
 //! - [`workspace`]: the preallocated [`Workspace`] and the rotation update.
@@ -82,6 +83,7 @@ pub mod builder;
 pub mod dof;
 pub mod equation;
 pub mod error;
+pub mod hold;
 pub mod model;
 pub mod results;
 pub mod sanity;
