@@ -123,14 +123,6 @@ impl<'m> Dynamics<'m> {
         for f in Force::from_model(model) {
             d.add_force(f)?;
         }
-        if let Some(l) = model.limits().iter().find(|l| l.compliance.is_some()) {
-            return Err(DynamicsError::Limit {
-                limit: l.name.clone(),
-                reason: "a compliant law is not supported by the dynamics yet: use impacts \
-                         (restitution)"
-                    .into(),
-            });
-        }
         Ok(d)
     }
 
@@ -448,6 +440,9 @@ impl<'m> Dynamics<'m> {
         }
         if let Some(u) = &mut self.user {
             u(t, &mut acc);
+        }
+        if !self.contacts.compliant.is_empty() {
+            self.add_compliant_stops(t);
         }
         for (k, b) in self.bodies.iter().enumerate() {
             let w = b.omega_local;

@@ -163,7 +163,7 @@ impl Dynamics<'_> {
         }
         let nf = self.friction.power.len();
         out[k..k + nf].copy_from_slice(&self.friction.power);
-        out[k + nf..].fill(0.0);
+        out[k + nf..].copy_from_slice(&self.contacts.compliant_power);
     }
 
     /// The power of the joints' and couplers' reactions, −Σ λ_r (Φ_v v)_r over their rows, at

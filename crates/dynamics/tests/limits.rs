@@ -341,3 +341,69 @@ fn a_pendulum_rests_on_its_stop_in_statics_with_the_stop_reaction() {
     // An upper bound the limit does not have is an error.
     assert!(b.holding_stop("stop", Bound::Upper).is_err());
 }
+
+#[test]
+fn a_compliant_floor_returns_an_elastic_ball_to_its_height() {
+    // F = k δ on the penetration δ: the contact is a half-oscillation about δ_eq = m g / k of
+    // amplitude A = √(δ_eq² + (v₀/ω)²), lasting (π + 2 asin(δ_eq/A))/ω, ω = √(k/m); the ball
+    // leaves at v₀ and is back at h at t₁ + T_c + v₀/g, reaching δ_eq + A at the bottom.
+    use cardan_mechanism::Compliance;
+    let (h, k) = (1.0, 1e5);
+    let mut b = MechanismBuilder::new();
+    b.body(
+        Body::new("ball")
+            .mass(1.0)
+            .inertia_diagonal(0.1, 0.1, 0.1)
+            .position(Vector3::new(0.0, h, 0.0)),
+    );
+    b.point(GROUND, "O", Vector3::zeros())
+        .vector(GROUND, "y", Vector3::y())
+        .vector(GROUND, "x", Vector3::x());
+    b.point("ball", "C", Vector3::zeros())
+        .vector("ball", "y", Vector3::y())
+        .vector("ball", "x", Vector3::x());
+    b.joint(
+        JointSpec::new("rail", JointKind::Prismatic, (GROUND, "O"), ("ball", "C"))
+            .axes("y", "y")
+            .x_axes("x", "x"),
+    );
+    b.limit(
+        LimitSpec::new("floor", "rail")
+            .lower(0.0)
+            .compliant(Compliance {
+                stiffness: k,
+                damping: 0.0,
+                exponent: 1.0,
+            }),
+    );
+    let model = b.build().unwrap();
+    let mut d = dynamics(&model);
+    let v0 = (2.0 * G * h).sqrt();
+    let w = k.sqrt();
+    let deq = G / k;
+    let a = (deq * deq + (v0 / w).powi(2)).sqrt();
+    let tc = (PI + 2.0 * (deq / a).asin()) / w;
+    let t1 = v0 / G;
+    let t_bottom = t1 + (0.5 * PI + (deq / a).asin()) / w;
+    let t_apex = t1 + tc + v0 / G;
+    let options = SimulationOptions::new(t_apex, 1)
+        .integrator(tight())
+        .output_times(vec![0.0, t_bottom, t_apex]);
+    let res = d.simulate(&d.initial_guess(), &options).unwrap();
+    let y = &res.body("ball").unwrap().r;
+    eprintln!(
+        "bottom {} (closed form {}), apex {} (closed form {h})",
+        y[1].y,
+        -(deq + a),
+        y[2].y
+    );
+    assert!((y[1].y + deq + a).abs() < 1e-9);
+    assert!((y[2].y - h).abs() < 1e-8);
+    assert!(d.impact_events().is_empty());
+    let worst = res
+        .energy
+        .balance()
+        .iter()
+        .fold(0.0f64, |m, x| m.max(x.abs()));
+    assert!(worst < 1e-7, "{worst:e}");
+}

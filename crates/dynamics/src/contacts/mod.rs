@@ -39,6 +39,7 @@
 //! impact whose closing rate |ġ⁻| is below the rest velocity (`Dynamics::set_rest_velocity`,
 //! default [`REST_VELOCITY`]) holds the stop closed (e = 0), so the run rests on the stop.
 
+mod compliant;
 mod delassus;
 pub(crate) mod events;
 mod impact;

@@ -16,6 +16,10 @@ pub const REST_VELOCITY: f64 = 1e-5;
 pub(crate) struct Contacts {
     /// The stops that take impacts (not compliant), in [`cardan_mechanism::Model::stops`] order.
     pub watched: Vec<usize>,
+    /// The stops of limits with a compliant law (forces, not impacts).
+    pub compliant: Vec<usize>,
+    /// Per limit: the power of its compliant stops at the last force evaluation, W.
+    pub compliant_power: Vec<f64>,
     /// Per stop: held closed (persistent contact).
     pub held: Vec<bool>,
     /// Per stop: λ_s of the last solve (0 while open).
@@ -46,8 +50,13 @@ impl Contacts {
         let watched: Vec<usize> = (0..ns)
             .filter(|&s| model.limits()[model.stops()[s].limit].compliance.is_none())
             .collect();
+        let compliant: Vec<usize> = (0..ns)
+            .filter(|&s| model.limits()[model.stops()[s].limit].compliance.is_some())
+            .collect();
         Self {
             watched,
+            compliant,
+            compliant_power: vec![0.0; model.limits().len()],
             held: vec![false; ns],
             lambda: vec![0.0; ns],
             set: Vec::with_capacity(ns),
