@@ -407,3 +407,58 @@ fn a_compliant_floor_returns_an_elastic_ball_to_its_height() {
         .fold(0.0f64, |m, x| m.max(x.abs()));
     assert!(worst < 1e-7, "{worst:e}");
 }
+
+#[test]
+fn a_motor_driving_through_a_stop_is_an_error_naming_the_limit() {
+    // The crank's angle is prescribed θ = −t: the stop at −0.5 rad cannot act on it.
+    let model = {
+        let mut b = MechanismBuilder::new();
+        b.body(
+            Body::new("rod")
+                .mass(1.0)
+                .inertia_diagonal(1e-4, 1.0 / 12.0, 1.0 / 12.0)
+                .position(Vector3::new(0.5, 0.0, 0.0)),
+        );
+        b.point(GROUND, "O", Vector3::zeros())
+            .vector(GROUND, "z", Vector3::z())
+            .vector(GROUND, "x", Vector3::x());
+        b.point("rod", "O", Vector3::new(-0.5, 0.0, 0.0))
+            .vector("rod", "z", Vector3::z())
+            .vector("rod", "x", Vector3::x());
+        b.joint(
+            JointSpec::new("pin", JointKind::Revolute, (GROUND, "O"), ("rod", "O"))
+                .axes("z", "z")
+                .x_axes("x", "x"),
+        );
+        b.driver(cardan_mechanism::DriverSpec::rotation(
+            "motor",
+            "pin",
+            cardan_mechanism::TimeFunction::Polynomial(vec![0.0, -1.0]),
+        ));
+        b.limit(LimitSpec::new("stop", "pin").lower(-0.5));
+        b.build().unwrap()
+    };
+    let mut d = dynamics(&model);
+    let e = d
+        .simulate(
+            &d.initial_guess(),
+            &SimulationOptions::new(1.0, 10).integrator(tight()),
+        )
+        .expect_err("the motor drives through the stop");
+    let msg = e.to_string();
+    eprintln!("{msg}");
+    assert!(
+        msg.contains("\"stop\"") && msg.contains("cannot act"),
+        "{msg}"
+    );
+    let t: f64 = msg
+        .split("reached at t = ")
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!((t - 0.5).abs() < 1e-12, "{t}");
+}

@@ -47,12 +47,13 @@ impl Dynamics<'_> {
                 let s = self.contacts.set[a];
                 self.contacts.b[a] = self.stop_dot(s, v) - target(s);
             }
+            // W = G M̃⁻¹ Gᵀ vanishes (relative to G's size) when the joints and drivers fix
+            // the stop's coordinate: the stop cannot act (a motor drives into it).
+            let wscale = (0..k).fold(0.0f64, |a, i| a.max(self.contacts.w[i * k + i].abs()));
+            let tiny = wscale <= 1e-12 * self.stop_row_scale(self.contacts.set[0]);
             let c = &mut self.contacts;
-            if !solve_small(&mut c.w[..k * k], &mut c.b[..k], k) {
-                return Err(DynamicsError::Singular {
-                    time: t,
-                    dependent: Vec::new(),
-                });
+            if tiny || !solve_small(&mut c.w[..k * k], &mut c.b[..k], k) {
+                return Err(self.stop_cannot_act(t));
             }
             let tensile = (0..k).find(|&a| Some(c.set[a]) != keep && c.b[a] > 0.0);
             match tensile {
@@ -62,6 +63,40 @@ impl Dynamics<'_> {
                 }
                 None => return Ok(()),
             }
+        }
+    }
+
+    /// |G|² / (the largest mass) for the first stop of the set: the scale of W's diagonal.
+    fn stop_row_scale(&self, s: usize) -> f64 {
+        let (bi, bj) = self.contacts.rows[s];
+        let g2: f64 = bi.iter().chain(&bj).map(|x| x * x).sum();
+        let m = self.mass.iter().fold(1e-300f64, |a, &b| a.max(b));
+        let j = self
+            .inertia
+            .iter()
+            .fold(1e-300f64, |a, i| a.max(i.diagonal().max()));
+        g2 / m.max(j)
+    }
+
+    /// The error of a stop whose coordinate the joints and drivers fix.
+    fn stop_cannot_act(&self, t: f64) -> DynamicsError {
+        let names: Vec<&str> = self
+            .contacts
+            .set
+            .iter()
+            .map(|&s| {
+                self.model.limits()[self.model.stops()[s].limit]
+                    .name
+                    .as_str()
+            })
+            .collect();
+        DynamicsError::Limit {
+            limit: names.join("\", \""),
+            reason: format!(
+                "reached at t = {t}, but the joints and drivers fix its coordinate (a driver \
+                 moves the joint into the stop): the stop cannot act; remove the limit or the \
+                 driver, or end the motion before the stop"
+            ),
         }
     }
 
