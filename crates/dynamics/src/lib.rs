@@ -159,6 +159,7 @@ mod tangent;
 pub mod work;
 
 pub use contacts::events::ImpactEvent;
+pub use contacts::StopHistory;
 pub use error::DynamicsError;
 pub use forces::{AppliedForces, Force, Frame, PointRef, UserForces, VectorFunction};
 pub use modal::{BodyShape, Linearization, ModalOptions, ModalResults, Mode, ModeKind};

@@ -137,6 +137,7 @@ impl<'s> Recorder<'s> {
         refine: SchurRefinement,
     ) -> Result<(), DynamicsError> {
         d.accelerations_refined(state, &mut self.vdot, &mut self.lambda, refine)?;
+        d.record_stops(state.t);
         self.begin();
         self.record_work(d, state.t, work);
         self.store(d, state, iterations, false);

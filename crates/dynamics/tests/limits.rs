@@ -251,6 +251,12 @@ fn a_ball_dropped_with_e_zero_stays_on_the_stop() {
     let (held, lambda) = d.stop_states();
     assert!(held[0]);
     assert!((lambda[0] + G).abs() < 1e-6, "{}", lambda[0]);
+    // The history per output time: open while falling, then held with the weight on it.
+    let h = d.stop_history();
+    assert_eq!(h.times.len(), res.times().len());
+    assert!(!h.held[1][0] && h.force[1][0] == 0.0);
+    assert!(*h.held.last().unwrap().first().unwrap());
+    assert!((h.force.last().unwrap()[0] - G).abs() < 1e-6);
 }
 
 #[test]
@@ -461,4 +467,74 @@ fn a_motor_driving_through_a_stop_is_an_error_naming_the_limit() {
         .parse()
         .unwrap();
     assert!((t - 0.5).abs() < 1e-12, "{t}");
+}
+
+/// Cost of a step with a limit that is never reached against the same run without it, and of
+/// the events of the bouncing ball (`cargo test -p cardan-dynamics --test limits cost --
+/// --ignored --nocapture`; wall time, so run it on a quiet machine).
+#[test]
+#[ignore]
+fn cost_of_steps_and_events() {
+    let time = |limit: bool| {
+        let model = {
+            let mut b = MechanismBuilder::new();
+            b.body(
+                Body::new("rod")
+                    .mass(1.0)
+                    .inertia_diagonal(1e-4, 1.0 / 12.0, 1.0 / 12.0)
+                    .position(Vector3::new(0.5, 0.0, 0.0)),
+            );
+            b.point(GROUND, "O", Vector3::zeros())
+                .vector(GROUND, "z", Vector3::z())
+                .vector(GROUND, "x", Vector3::x());
+            b.point("rod", "O", Vector3::new(-0.5, 0.0, 0.0))
+                .vector("rod", "z", Vector3::z())
+                .vector("rod", "x", Vector3::x());
+            b.joint(
+                JointSpec::new("pin", JointKind::Revolute, (GROUND, "O"), ("rod", "O"))
+                    .axes("z", "z")
+                    .x_axes("x", "x"),
+            );
+            if limit {
+                b.limit(LimitSpec::new("stop", "pin").range(-3.5, 3.5));
+            }
+            b.build().unwrap()
+        };
+        let mut best = f64::INFINITY;
+        let mut steps = 0;
+        for _ in 0..5 {
+            let mut d = dynamics(&model);
+            let o = SimulationOptions::new(50.0, 100)
+                .integrator(Integrator::Dopri5(Dopri5Options::tolerances(1e-9, 1e-11)));
+            let r = d.simulate(&d.initial_guess(), &o).unwrap();
+            assert!(d.impact_events().is_empty());
+            steps = r.stats.steps;
+            best = best.min(r.stats.wall_time / steps as f64);
+        }
+        (best, steps)
+    };
+    let (free, n0) = time(false);
+    let (limited, n1) = time(true);
+    eprintln!(
+        "step without limits {:.3} µs ({n0} steps), with an unreached limit {:.3} µs ({n1} steps): {:+.1} %",
+        free * 1e6,
+        limited * 1e6,
+        100.0 * (limited / free - 1.0)
+    );
+    let model = ball(1.0, 0.5);
+    let mut best = f64::INFINITY;
+    let (mut n, mut steps) = (0, 0);
+    for _ in 0..5 {
+        let mut d = dynamics(&model);
+        let o = SimulationOptions::new(2.0, 100).integrator(tight());
+        let r = d.simulate(&d.initial_guess(), &o).unwrap();
+        best = best.min(r.stats.wall_time);
+        n = d.impact_events().len();
+        steps = r.stats.steps;
+    }
+    eprintln!(
+        "bouncing ball: {n} events, {steps} steps, {:.1} µs in all, {:.1} µs per event at most",
+        best * 1e6,
+        best * 1e6 / n as f64
+    );
 }

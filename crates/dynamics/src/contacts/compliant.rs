@@ -19,6 +19,9 @@ impl Dynamics<'_> {
     pub(crate) fn add_compliant_stops(&mut self, t: f64) {
         let model = self.model;
         self.contacts.compliant_power.fill(0.0);
+        for &s in &self.contacts.compliant {
+            self.contacts.compliant_force[s] = 0.0;
+        }
         for k in 0..self.contacts.compliant.len() {
             let s = self.contacts.compliant[k];
             let st = &model.stops()[s];
@@ -42,6 +45,7 @@ impl Dynamics<'_> {
                 }
             }
             self.contacts.compliant_power[st.limit] += f * gdot;
+            self.contacts.compliant_force[s] = f * st.row.bound.sign();
         }
     }
 }

@@ -45,7 +45,7 @@ pub(crate) mod events;
 mod impact;
 mod run;
 pub(crate) mod small;
-pub(crate) mod state;
+pub mod state;
 
 pub use events::ImpactEvent;
-pub use state::{HOLD_TOLERANCE, REST_VELOCITY, STOP_STABILIZATION};
+pub use state::{StopHistory, HOLD_TOLERANCE, REST_VELOCITY, STOP_STABILIZATION};

@@ -72,3 +72,27 @@ impl crate::system::Dynamics<'_> {
         Ok(self)
     }
 }
+
+impl crate::system::Dynamics<'_> {
+    /// Appends the stops' state at the output time `t` to the run's history (after the
+    /// equations of motion were solved there). Nothing for a model without limits.
+    pub(crate) fn record_stops(&mut self, t: f64) {
+        let ns = self.contacts.held.len();
+        if ns == 0 {
+            return;
+        }
+        let stops = self.model.stops();
+        let c = &mut self.contacts;
+        let force = (0..ns)
+            .map(|s| -c.lambda[s] * stops[s].row.bound.sign() + c.compliant_force[s])
+            .collect();
+        c.history.times.push(t);
+        c.history.held.push(c.held.clone());
+        c.history.force.push(force);
+    }
+
+    /// The stops at each output time of the last run (held, force along the coordinate).
+    pub fn stop_history(&self) -> &super::state::StopHistory {
+        &self.contacts.history
+    }
+}

@@ -20,6 +20,8 @@ pub(crate) struct Contacts {
     pub compliant: Vec<usize>,
     /// Per limit: the power of its compliant stops at the last force evaluation, W.
     pub compliant_power: Vec<f64>,
+    /// Per stop: a compliant stop's force along the coordinate at the last force evaluation.
+    pub compliant_force: Vec<f64>,
     /// Per stop: held closed (persistent contact).
     pub held: Vec<bool>,
     /// Per stop: λ_s of the last solve (0 while open).
@@ -41,6 +43,22 @@ pub(crate) struct Contacts {
     pub impact_work: Vec<f64>,
     /// Below this closing rate an impact holds the stop closed.
     pub rest_velocity: f64,
+    /// The held stops and their forces at each output time.
+    pub history: StopHistory,
+}
+
+/// The stops at each output time of a run (a front end's active set and stop forces; empty for
+/// a model without limits).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct StopHistory {
+    /// Output times.
+    pub times: Vec<f64>,
+    /// Per time, per stop ([`cardan_mechanism::Model::stops`]): held closed.
+    pub held: Vec<Vec<bool>>,
+    /// Per time, per stop: the stop's force along its joint coordinate (N or N m; positive
+    /// along the coordinate, so ≥ 0 at a lower stop and ≤ 0 at an upper one while it pushes),
+    /// −λ_s ∂g/∂c; 0 while open. A compliant stop's contact force likewise.
+    pub force: Vec<Vec<f64>>,
 }
 
 impl Contacts {
@@ -57,6 +75,7 @@ impl Contacts {
             watched,
             compliant,
             compliant_power: vec![0.0; model.limits().len()],
+            compliant_force: vec![0.0; ns],
             held: vec![false; ns],
             lambda: vec![0.0; ns],
             set: Vec::with_capacity(ns),
@@ -68,6 +87,7 @@ impl Contacts {
             events: Vec::new(),
             impact_work: vec![0.0; model.limits().len()],
             rest_velocity: REST_VELOCITY,
+            history: StopHistory::default(),
         }
     }
 
@@ -82,6 +102,7 @@ impl Contacts {
         self.lambda.fill(0.0);
         self.events.clear();
         self.impact_work.fill(0.0);
+        self.history = StopHistory::default();
     }
 }
 
