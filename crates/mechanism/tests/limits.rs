@@ -123,6 +123,20 @@ fn hostile_limits_are_builder_errors_naming_the_limit_and_the_key() {
     assert!(matches!(e, ModelError::UnknownJoint { .. }), "{e}");
     assert!(e.to_string().contains("\"pin\""), "{e}");
     assert_eq!(e.limit_site(), Some(("s", "joint")));
+    // An angle limit on a joint without x axes (the zero of its angle).
+    let mut b = MechanismBuilder::new();
+    b.body(Body::new("crank").position(Vector3::new(0.5, 0.0, 0.0)));
+    b.point(GROUND, "O", Vector3::zeros())
+        .vector(GROUND, "z", Vector3::z());
+    b.point("crank", "O", Vector3::new(-0.5, 0.0, 0.0))
+        .vector("crank", "z", Vector3::z());
+    b.joint(
+        JointSpec::new("pin", JointKind::Revolute, (GROUND, "O"), ("crank", "O")).axes("z", "z"),
+    );
+    b.limit(LimitSpec::new("s", "pin").upper(1.0));
+    let e = b.build().expect_err("no x axes");
+    assert_eq!(e.limit_site(), Some(("s", "coordinate")), "{e}");
+    assert!(e.to_string().contains("x axes"), "{e}");
     // A name already taken by a joint.
     let e = build_error(LimitSpec::new("pin", "pin").upper(1.0));
     assert!(matches!(e, ModelError::DuplicateElement { .. }), "{e}");

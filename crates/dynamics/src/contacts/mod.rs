@@ -18,7 +18,7 @@
 //! γ* = γ#_s − 2ω ġ − ω² g    (Baumgarte on the stop rows, ω = [`STOP_STABILIZATION`])
 //! ```
 //!
-//! A runs without closed stops solves exactly as before. The stop leaves when its multiplier
+//! A run without held stops solves exactly as before. The stop leaves when its multiplier
 //! changes sign (λ_s > 0: it would have to pull), located inside the step.
 //!
 //! **Impacts** (Newton's law of restitution; Haug 1989 §11.6, Pfeiffer & Glocker 1996 §6):

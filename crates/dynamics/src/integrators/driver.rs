@@ -10,11 +10,13 @@
 //!     advance
 //! ```
 //!
-//! Events and impulses go here: after an attempt is accepted, an event function g(t, y) is
-//! evaluated at t1 and, on a sign change, located on [t0, t1] with
-//! [`Stepper::interpolate`]; the step is then cut at the event (its outputs up to it
-//! recorded) and the stepper restarted there ([`Stepper::restart`]) with the velocities the
-//! impulse leaves.
+//! Events and impulses go here: after an attempt is accepted, the stops of the model's limits
+//! are checked on the step ([`events::first_event`]: a closing located on g(t) over
+//! [`Stepper::interpolate`], a held stop's release, a held stop off its bound); the outputs
+//! before the event are recorded, the event applied to the state there (an impulse, a release,
+//! a hold: [`events::apply`]), the stepper restarted there ([`Stepper::restart`]) and the
+//! outputs at the event's time recorded from the new state. A model without limits checks
+//! nothing and runs the loop above unchanged.
 
 use super::events;
 use super::stepper::{Attempt, Stepper};

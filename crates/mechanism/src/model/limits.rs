@@ -42,6 +42,19 @@ pub(crate) fn limit(
         })?;
     let j = &joints[k];
     let c = coordinate(spec, j)?;
+    if c.measure == cardan_constraints::joints::Measure::Angle && !j.has_x_axes {
+        // As for a rotation driver: without x axes the angle's zero is a perpendicular the
+        // program picks, and a bound on it means nothing.
+        return Err(bad(
+            spec,
+            "coordinate",
+            format!(
+                "a limit on the angle of joint \"{}\" needs its x axes (x_axis_i, x_axis_j: the \
+                 zero of the angle)",
+                j.name
+            ),
+        ));
+    }
     let quantity = match c.measure.quantity() {
         CoordinateQuantity::Angle => Quantity::Angle,
         CoordinateQuantity::Length => Quantity::Length,
