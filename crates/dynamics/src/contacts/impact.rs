@@ -6,10 +6,12 @@
 
 use super::events::ImpactEvent;
 use super::small::solve_small;
+use super::state::HOLD_TOLERANCE;
 use crate::kkt::SchurRefinement;
 use crate::state::State;
 use crate::system::Dynamics;
 use crate::DynamicsError;
+use cardan_constraints::joints::CoordinateQuantity;
 
 impl Dynamics<'_> {
     /// Factors [M Φ_vᵀ; Φ_v 0] at `state` (positions synced).
@@ -37,6 +39,9 @@ impl Dynamics<'_> {
         target: impl Fn(usize) -> f64,
     ) -> Result<(), DynamicsError> {
         loop {
+            if self.contacts.set.is_empty() {
+                return Ok(());
+            }
             for a in 0..self.contacts.set.len() {
                 let s = self.contacts.set[a];
                 self.eval_stop_row(s, t);
@@ -55,7 +60,11 @@ impl Dynamics<'_> {
             if tiny || !solve_small(&mut c.w[..k * k], &mut c.b[..k], k) {
                 return Err(self.stop_cannot_act(t));
             }
-            let tensile = (0..k).find(|&a| Some(c.set[a]) != keep && c.b[a] > 0.0);
+            // Tensile beyond round-off: a held stop at rest gets impulses of ~1e-21 of either
+            // sign, which must not release it.
+            let pmax = c.b[..k].iter().fold(0.0f64, |m, p| m.max(p.abs()));
+            let floor = 1e-9 * pmax + 1e-12 * self.mass.iter().sum::<f64>() * c.rest_velocity;
+            let tensile = (0..k).find(|&a| Some(c.set[a]) != keep && c.b[a] > floor);
             match tensile {
                 Some(a) => {
                     c.held[c.set[a]] = false;
@@ -111,64 +120,115 @@ impl Dynamics<'_> {
         }
     }
 
-    /// The impact of stop `s` closing at `state` (at contact; velocities v⁻): v⁺ from Newton's
-    /// law with the limit's e (0 below the rest velocity), the held stops kept closed.
+    /// The impact of stop `s` closing at `state` (at contact; velocities v⁻), solved together
+    /// with every other stop at contact (|g| within [`HOLD_TOLERANCE`]) that closes too
+    /// (Newton's law on each: ġ⁺ = −e ġ⁻, 0 below the rest velocity) and the held stops
+    /// (ġ⁺ = 0); a stop at contact that the impulse would drive closing is added with ġ⁺ = 0
+    /// and the system solved again. The events are recorded (the kinetic energy taken is the
+    /// initiating stop's, its limit's work).
     ///
     /// # Errors
-    /// A singular impulse system (the stop's row dependent on the joints').
-    pub(crate) fn impact(
-        &mut self,
-        state: &mut State,
-        s: usize,
-    ) -> Result<ImpactEvent, DynamicsError> {
+    /// A stop whose coordinate the joints and drivers fix (W vanishes).
+    pub(crate) fn impact(&mut self, state: &mut State, s: usize) -> Result<(), DynamicsError> {
         self.factor_mass_at(state)?;
         let t = state.t;
-        let (_, closing, _) = self.stop_state(s, t);
-        // A stop reached while opening (ġ ≥ 0) takes no impulse: it stays open.
-        let closing = closing.min(0.0);
-        let limit = self.model.stops()[s].limit;
-        let e = self.model.limits()[limit].restitution;
-        let hold = e == 0.0 || closing.abs() < self.contacts.rest_velocity;
-        let target_s = if hold { 0.0 } else { -e * closing };
-        let before = self.energy(state).kinetic;
+        let ns = self.contacts.held.len();
+        let stops = self.model.stops();
+        let limits = self.model.limits();
+        let scale = |q: usize| match stops[q].row.measure.quantity() {
+            CoordinateQuantity::Angle => 1.0,
+            CoordinateQuantity::Length => self.model.characteristic_length(),
+        };
+        // ġ⁻ of every stop, and the set: held, the initiating one, the others at contact that
+        // close.
         self.contacts.set.clear();
-        for q in 0..self.contacts.held.len() {
-            if self.contacts.held[q] && q != s {
+        for q in 0..ns {
+            let (g, rate, _) = self.stop_state(q, t);
+            self.contacts.closing[q] = rate.min(0.0);
+            let at_contact = g.abs() <= HOLD_TOLERANCE * scale(q) && rate < 0.0;
+            let watched = limits[stops[q].limit].compliance.is_none();
+            if q == s || self.contacts.held[q] || (watched && at_contact) {
                 self.contacts.set.push(q);
             }
         }
-        self.contacts.set.push(s);
+        let before = self.energy(state).kinetic;
+        let rest = self.contacts.rest_velocity;
+        let target = |held: &[bool], closing: &[f64], q: usize| {
+            let e = limits[stops[q].limit].restitution;
+            if held[q] || e == 0.0 || closing[q].abs() < rest {
+                0.0
+            } else {
+                -e * closing[q]
+            }
+        };
+        for _ in 0..=ns {
+            let (held, closing) = (self.contacts.held.clone(), self.contacts.closing.clone());
+            self.sync(state);
+            self.stop_impulses(&state.v, t, Some(s), |q| target(&held, &closing, q))?;
+            let mut v = state.v.clone();
+            self.apply_impulses(&mut v);
+            // A stop at contact driven closing by the impulse joins the set.
+            let mut trial = state.clone();
+            trial.v.copy_from_slice(&v);
+            self.sync(&trial);
+            let added = (0..ns).find(|&q| {
+                let (g, rate, _) = self.stop_state(q, t);
+                !self.contacts.set.contains(&q)
+                    && limits[stops[q].limit].compliance.is_none()
+                    && g.abs() <= HOLD_TOLERANCE * scale(q)
+                    && rate < -rest
+            });
+            match added {
+                Some(q) => {
+                    self.contacts.held[q] = true;
+                    self.contacts.set.clear();
+                    for k in 0..ns {
+                        if k == s
+                            || self.contacts.held[k]
+                            || self.contacts.closing[k] < 0.0 && {
+                                let (g, _, _) = self.stop_state(k, t);
+                                g.abs() <= HOLD_TOLERANCE * scale(k)
+                            }
+                        {
+                            self.contacts.set.push(k);
+                        }
+                    }
+                    self.sync(state);
+                }
+                None => {
+                    state.v.copy_from_slice(&v);
+                    break;
+                }
+            }
+        }
         self.sync(state);
-        self.stop_impulses(
-            &state.v,
-            t,
-            Some(s),
-            |q| if q == s { target_s } else { 0.0 },
-        )?;
-        let a = self
-            .contacts
-            .set
-            .iter()
-            .position(|&q| q == s)
-            .expect("kept");
-        let p = self.contacts.b[a];
-        self.apply_impulses(&mut state.v);
-        self.contacts.held[s] = hold;
-        self.sync(state);
-        let (_, rebound, _) = self.stop_state(s, t);
         let after = self.energy(state).kinetic;
+        let limit = stops[s].limit;
         self.contacts.impact_work[limit] += after - before;
-        Ok(ImpactEvent {
-            time: t,
-            stop: self.model.stops()[s].name.clone(),
-            limit,
-            impact_velocity: closing,
-            impulse: -p,
-            rebound_velocity: rebound,
-            held: hold,
-            release: false,
-            energy_change: after - before,
-        })
+        for a in 0..self.contacts.set.len() {
+            let q = self.contacts.set[a];
+            let closing = self.contacts.closing[q];
+            if closing >= 0.0 && q != s {
+                continue;
+            }
+            let e = limits[stops[q].limit].restitution;
+            let hold = self.contacts.held[q] || e == 0.0 || closing.abs() < rest;
+            self.contacts.held[q] = hold;
+            let (_, rebound, _) = self.stop_state(q, t);
+            let event = ImpactEvent {
+                time: t,
+                stop: stops[q].name.clone(),
+                limit: stops[q].limit,
+                impact_velocity: closing,
+                impulse: -self.contacts.b[a],
+                rebound_velocity: rebound,
+                held: hold,
+                release: false,
+                energy_change: if q == s { after - before } else { 0.0 },
+            };
+            self.contacts.events.push(event);
+        }
+        Ok(())
     }
 
     /// Brings `state` back onto the held stops (g = 0 by one least-change step in the metric of

@@ -26,6 +26,8 @@ pub(crate) struct Contacts {
     pub held: Vec<bool>,
     /// Per stop: λ_s of the last solve (0 while open).
     pub lambda: Vec<f64>,
+    /// Per stop: ġ⁻ (≤ 0) at the current impact.
+    pub closing: Vec<f64>,
     /// The stops of the current Schur solve.
     pub set: Vec<usize>,
     /// X columns (and Y) of the stops in `set`, each of the KKT size.
@@ -78,6 +80,7 @@ impl Contacts {
             compliant_force: vec![0.0; ns],
             held: vec![false; ns],
             lambda: vec![0.0; ns],
+            closing: vec![0.0; ns],
             set: Vec::with_capacity(ns),
             cols: Vec::new(),
             sol0: Vec::new(),

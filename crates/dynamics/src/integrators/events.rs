@@ -245,8 +245,7 @@ pub(crate) fn apply(
     d.project_velocities(state)?;
     match event.action {
         Action::Impact(s) => {
-            let e = d.impact(state, s)?;
-            d.contacts.events.push(e);
+            d.impact(state, s)?;
         }
         Action::Release(s) => {
             d.contacts.held[s] = false;
