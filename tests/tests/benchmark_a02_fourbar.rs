@@ -111,14 +111,11 @@ fn a02_n2_tight_steps_on_the_singular_positions() {
 fn a02_n2_dopri5_tight_stops_at_a_singular_position() {
     let p = example("a02_fourbar_n2");
     let mut opts =
-        cardan_cli::commands::run::dynamic::options(&p, Some(dopri5(1e-10, 1e-12))).unwrap();
+        cardan_model::analysis::dynamic::options(&p, Some(dopri5(1e-10, 1e-12))).unwrap();
     opts.t_end = 2.0;
-    let mut d = cardan_cli::commands::run::dynamic::dynamics(&p).unwrap();
+    let mut d = cardan_model::analysis::dynamic::dynamics(&p).unwrap();
     let err = d
-        .simulate(
-            &cardan_cli::commands::run::dynamic::initial_state(&p),
-            &opts,
-        )
+        .simulate(&cardan_model::analysis::dynamic::initial_state(&p), &opts)
         .expect_err("DOPRI5 at rtol 1e-10 stops at a horizontal position");
     let m = err.to_string();
     assert!(m.contains("singular") && m.contains("T1L"), "{m}");

@@ -27,7 +27,7 @@ fn fails_at(from: &str, to: &str, line_col: &str, needles: &[&str]) -> Outcome {
         assert!(o.stderr.contains(n), "missing {n:?} in: {}", o.stderr);
     }
     assert_eq!(
-        cardan_cli::diag::message_paragraph(&o.stderr)
+        cardan_model::diag::message_paragraph(&o.stderr)
             .lines()
             .count(),
         1,
@@ -447,7 +447,7 @@ fn singular_configuration_mid_run_writes_partial_results() {
         );
     }
     let csv = std::fs::read_to_string(o.dir.join("out/points.csv")).unwrap();
-    let (_, rows) = cardan_cli::table::parse_csv(&csv).unwrap();
+    let (_, rows) = cardan_model::table::parse_csv(&csv).unwrap();
     assert_eq!(rows.len(), 51);
     assert!((rows[50][0] - 1.0).abs() < 1e-12);
     // The tip reached x = 1 (stretched), within the accuracy of a singular root.
@@ -528,7 +528,7 @@ fn inverse_fails_at(edits: &[(&str, &str)], line_col: &str, needles: &[&str]) {
             );
         }
         assert_eq!(
-            cardan_cli::diag::message_paragraph(&o.stderr)
+            cardan_model::diag::message_paragraph(&o.stderr)
                 .lines()
                 .count(),
             1,
@@ -662,7 +662,7 @@ fn inverse_dynamics_mid_run_failure_writes_partial_results() {
         o.stderr
     );
     let csv = std::fs::read_to_string(o.dir.join("out/driver_efforts.csv")).unwrap();
-    let (h, rows) = cardan_cli::table::parse_csv(&csv).unwrap();
+    let (h, rows) = cardan_model::table::parse_csv(&csv).unwrap();
     assert_eq!(h, ["t [s]", "motor.force [N]"]);
     assert_eq!(rows.len(), 51);
     assert!((rows[50][0] - 1.0).abs() < 1e-12);

@@ -4,8 +4,8 @@
 //! it subdivided (summary line and run.json, not a warning).
 
 mod common;
-use cardan_cli::commands::prepare;
 use cardan_mechanism::{KinematicOptions, Outputs};
+use cardan_model::prepare::prepare;
 use nalgebra::Vector3;
 use std::f64::consts::PI;
 use std::path::PathBuf;

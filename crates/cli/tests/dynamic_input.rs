@@ -104,7 +104,7 @@ fn fails_at(from: &str, to: &str, line_col: &str, needles: &[&str]) {
         assert!(o.stderr.contains(n), "missing {n:?} in: {}", o.stderr);
     }
     assert_eq!(
-        cardan_cli::diag::message_paragraph(&o.stderr)
+        cardan_model::diag::message_paragraph(&o.stderr)
             .lines()
             .count(),
         1,
@@ -139,7 +139,7 @@ fn the_dynamic_model_runs_and_writes_its_tables() {
         ("constraint_drift.csv", "max |Φ| [m or -]"),
     ] {
         let csv = read(&o.dir, file);
-        let (h, rows) = cardan_cli::table::parse_csv(&csv).unwrap();
+        let (h, rows) = cardan_model::table::parse_csv(&csv).unwrap();
         assert!(
             csv.starts_with("t [s]") && csv.contains(header),
             "{file}: {}",
@@ -153,7 +153,7 @@ fn the_dynamic_model_runs_and_writes_its_tables() {
         );
     }
     // The pin: the initial velocity is the file's (ω = 1 rad/s, tip speed 1 m/s).
-    let (_, rows) = cardan_cli::table::parse_csv(&read(&o.dir, "point_velocities.csv")).unwrap();
+    let (_, rows) = cardan_model::table::parse_csv(&read(&o.dir, "point_velocities.csv")).unwrap();
     assert!((rows[0][2] - 1.0).abs() < 1e-9, "{:?}", rows[0]);
     let _ = std::fs::remove_dir_all(&o.dir);
 }
@@ -448,7 +448,7 @@ fn a_failure_mid_run_writes_the_results_so_far() {
     let o = run_text("run", &text);
     assert_eq!(o.code, 3, "{}", o.stderr);
     assert!(o.stderr.contains("were written to"), "{}", o.stderr);
-    let (_, rows) = cardan_cli::table::parse_csv(&read(&o.dir, "points.csv")).unwrap();
+    let (_, rows) = cardan_model::table::parse_csv(&read(&o.dir, "points.csv")).unwrap();
     // Outputs 0, 0.05, …: at least up to 0.6 s, none past the limit at 0.764 s.
     assert!(
         (13..=16).contains(&rows.len()),

@@ -4,7 +4,7 @@
 //! and the refusal of keys that do not apply.
 
 use cardan_cli::commands::run::run_model;
-use cardan_cli::table::parse_csv;
+use cardan_model::table::parse_csv;
 use nalgebra::Vector3;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};

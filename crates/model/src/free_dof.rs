@@ -11,7 +11,7 @@
 //! (Gram–Schmidt with pivoting), so together they span every free motion. Driving those
 //! coordinates makes the mechanism fully driven.
 
-use crate::commands::Prepared;
+use crate::prepare::Prepared;
 use cardan_constraints::joints::CoordinateQuantity;
 use cardan_constraints::BodyPair;
 use cardan_mechanism::AssemblyOptions;

@@ -8,11 +8,10 @@ use super::layout::Layout;
 use super::stream::{FrameLayout, Recorder, Tap};
 use super::summary::{Analysed, Summary};
 use crate::build::Outputs as Requested;
-use crate::commands::asmt::SolvedSeries;
-use crate::commands::output_tables::requested;
-use crate::commands::{analysis_error, Prepared};
 use crate::diag::Error;
-use crate::output::OutputDir;
+use crate::files::{FrameTap, OutputFiles};
+use crate::output_tables::requested;
+use crate::prepare::{analysis_error, Prepared};
 use crate::table::Table;
 use cardan_constraints::Dimension;
 use cardan_mechanism::{DroppedRowResidual, KinematicOptions, Results};
@@ -27,9 +26,9 @@ use std::time::Instant;
 pub(super) fn run_kinematic(
     p: &Prepared,
     analysis: &crate::build::Analysis,
-    progress: bool,
-    dir: Option<&mut OutputDir>,
-    solved: Option<&mut SolvedSeries>,
+    progress: Option<crate::progress::MakeBar>,
+    dir: Option<&mut (dyn OutputFiles + 'static)>,
+    solved: Option<&mut (dyn FrameTap + 'static)>,
 ) -> Result<Analysed, Error> {
     let opts = KinematicOptions::new(analysis.t_start, analysis.t_end, analysis.steps)
         .tolerance(analysis.tolerance);

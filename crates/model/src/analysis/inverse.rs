@@ -2,7 +2,7 @@
 //! driver efforts and joint reactions that produce that motion under the file's forces
 //! ([`cardan_dynamics::Dynamics::inverse_dynamics`]). Its output groups are the kinematic ones
 //! (with the residual of the position analysis), the driver efforts and the reactions. It needs
-//! a fully driven mechanism ([`crate::commands::not_fully_driven`] says what is missing;
+//! a fully driven mechanism ([`crate::prepare::not_fully_driven`] says what is missing;
 //! `cardan check` uses it too).
 
 use super::dynamic::{dynamics_as, located_as};
@@ -11,14 +11,13 @@ use super::kinematic;
 use super::stream::{Recorder, Tap};
 use super::summary::{Analysed, Summary};
 use crate::build::Outputs as Requested;
-use crate::commands::asmt::SolvedSeries;
-use crate::commands::output_tables::{
+use crate::diag::Error;
+use crate::files::{FrameTap, OutputFiles};
+use crate::output_tables::{
     coupler_efforts_table, driver_efforts_table, energy_table, peak_efforts_of, reaction_tables,
     requested,
 };
-use crate::commands::{analysis_error, Prepared};
-use crate::diag::Error;
-use crate::output::OutputDir;
+use crate::prepare::{analysis_error, Prepared};
 use crate::table::Table;
 use cardan_dynamics::{DynamicResults, DynamicsError};
 use cardan_mechanism::{AssemblyOptions, KinematicOptions};
@@ -35,9 +34,9 @@ use std::time::Instant;
 pub(super) fn run_inverse(
     p: &Prepared,
     analysis: &crate::build::Analysis,
-    progress: bool,
-    dir: Option<&mut OutputDir>,
-    solved: Option<&mut SolvedSeries>,
+    progress: Option<crate::progress::MakeBar>,
+    dir: Option<&mut (dyn OutputFiles + 'static)>,
+    solved: Option<&mut (dyn FrameTap + 'static)>,
 ) -> Result<Analysed, Error> {
     let (mut d, opts) = setup(p)?;
     let req = requested(p, &analysis.outputs);
@@ -136,7 +135,7 @@ fn failure(
 fn error(p: &Prepared, e: &DynamicsError) -> Error {
     match e.cause() {
         DynamicsError::NotFullyDriven { dof, drivers } => {
-            crate::commands::not_fully_driven(p, *dof, *drivers)
+            crate::prepare::not_fully_driven(p, *dof, *drivers)
         }
         DynamicsError::Mechanism(ae) => analysis_error(p, ae),
         _ => located_as(p, e, WHAT),
@@ -172,7 +171,7 @@ fn setup(p: &Prepared) -> Result<(cardan_dynamics::Dynamics<'_>, KinematicOption
             .assemble(&mut ws, &opts)
             .map_err(|e| analysis_error(p, &e))?;
         let dof = p.model.dof(&ws).map_err(|e| analysis_error(p, &e))?;
-        return Err(crate::commands::not_fully_driven(p, dof.dof, 0));
+        return Err(crate::prepare::not_fully_driven(p, dof.dof, 0));
     }
     let d = dynamics_as(p, WHAT)?;
     let opts = KinematicOptions::new(a.t_start, a.t_end, a.steps).tolerance(a.tolerance);

@@ -15,7 +15,7 @@
 
 use crate::build::orientation_matrix;
 use crate::diag::{did_you_mean, Error, Source};
-use crate::model::{GeometrySpec, Num, Vec3};
+use crate::file::{GeometrySpec, Num, Vec3};
 use cardan_eulerparam::EulerParams;
 use cardan_report::{read_mesh, Geometry, Shape};
 use nalgebra::{Matrix3, Vector3};
@@ -43,14 +43,14 @@ pub struct Declared {
 /// # Errors
 /// An input error naming the body, the item and the line (module docs).
 pub fn load(src: &Source) -> Result<Declared, Error> {
-    load_parsed(src, &crate::model::parse(src)?)
+    load_parsed(src, &crate::file::parse(src)?)
 }
 
 /// [`load`] from the file already parsed (a large model's file is parsed once: `Prepared`).
 ///
 /// # Errors
 /// As [`load`].
-pub fn load_parsed(src: &Source, file: &crate::model::ModelFile) -> Result<Declared, Error> {
+pub fn load_parsed(src: &Source, file: &crate::file::ModelFile) -> Result<Declared, Error> {
     let length = crate::build::model_units(src, file)?.length();
     let mut out = Declared::default();
     if let Some(g) = &file.model.get_ref().gravity {

@@ -229,5 +229,33 @@ fn separate_clashes(series: &mut [Series]) {
     }
 }
 
+/// The plot files a run writes beside a table's CSV file.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct PlotFiles {
+    /// An SVG per table (the model file's `plots`), except the Newton residual's.
+    pub svg: bool,
+    /// A PNG beside each SVG (`--png`).
+    pub png: bool,
+}
+
+impl PlotFiles {
+    /// Whether the table `name` is plotted.
+    pub fn plots(&self, name: &str) -> bool {
+        self.svg && name != "residual"
+    }
+
+    /// The plot files of the table `name`.
+    pub fn of(&self, name: &str) -> Vec<String> {
+        let mut files = Vec::new();
+        if self.plots(name) {
+            if self.png {
+                files.push(format!("{name}.png"));
+            }
+            files.push(format!("{name}.svg"));
+        }
+        files
+    }
+}
+
 #[cfg(test)]
 mod tests;

@@ -1,9 +1,9 @@
 //! The model's time functions at given times: which one is not finite, and why (for an
 //! expression: the operation that fails, e.g. "sqrt of -1", with its column).
 
-use super::num;
 use crate::build::Loaded;
 use crate::diag::{Error, Source};
+use crate::prepare::num;
 use cardan_constraints::expression::quoted;
 use cardan_constraints::TimeFunction;
 use cardan_dynamics::{Force, VectorFunction};

@@ -10,9 +10,9 @@ use super::inverse::inverse_tables;
 use super::summary::{Analysed, Summary};
 use crate::build::Outputs as Requested;
 use crate::build::{Analysis, StaticKind, DEFAULT_SPARSE_MODES};
-use crate::commands::output_tables::{peak_efforts, requested};
-use crate::commands::{analysis_error, Prepared};
 use crate::diag::Error;
+use crate::output_tables::{peak_efforts, requested};
+use crate::prepare::{analysis_error, Prepared};
 use crate::table::Table;
 use cardan_dynamics::{
     matrix_market, matrix_market_sparse, Dynamics, DynamicsError, Equilibrium, Force, Frame, Input,

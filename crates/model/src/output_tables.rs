@@ -5,9 +5,9 @@
 //! coordinate, and the driver efforts and joint reactions of the dynamic and inverse dynamics
 //! runs (their tables and peak values).
 
-use super::Prepared;
 use crate::build::Outputs as Requested;
 use crate::diag::Error;
+use crate::prepare::Prepared;
 use crate::table::Table;
 use cardan_dynamics::DynamicResults;
 use std::io::Write;
@@ -42,7 +42,8 @@ pub fn write_table(
     Ok(())
 }
 
-pub(crate) fn io(e: std::io::Error) -> Error {
+/// An error writing a report to standard output (a closed pipe is not an error of the run).
+pub fn io(e: std::io::Error) -> Error {
     if e.kind() == std::io::ErrorKind::BrokenPipe {
         // The reader went away (`cardan eval m.toml | head`): not an error worth a message.
         return Error {

@@ -5,7 +5,7 @@
 
 use super::{missing, Ctx};
 use crate::diag::{did_you_mean, list, Error};
-use crate::model::{CouplerSection, Name, Num};
+use crate::file::{CouplerSection, Name, Num};
 use cardan_mechanism::{CouplerSpec, GearRatio, Quantity};
 
 /// The coupler types of the model file.

@@ -10,10 +10,12 @@
 //! all) or a one-core machine writes on the solver's thread: starting a thread would cost more
 //! than it saves.
 
-use crate::output::opener::PendingFile;
+use crate::files::StreamWriter;
 use crate::table::push_csv_row;
 use crate::units::UnitSystem;
-use std::io::{BufWriter, Write as _};
+#[cfg(test)]
+use std::io::BufWriter;
+use std::io::Write as _;
 use std::sync::mpsc::{sync_channel, Receiver, SyncSender};
 use std::thread::JoinHandle;
 
@@ -34,7 +36,7 @@ pub struct CsvFile {
     /// Its name (`points.csv`).
     pub name: String,
     /// Its writer, header written.
-    pub writer: BufWriter<PendingFile>,
+    pub writer: StreamWriter,
     /// The columns' factors from SI to the model's units ([`UnitSystem::convert_columns`]).
     pub factors: Vec<f64>,
 }
@@ -154,7 +156,7 @@ impl CsvFiles {
     ///
     /// # Errors
     /// A write error.
-    pub fn finish(self) -> Result<Vec<(String, BufWriter<PendingFile>)>, WriteError> {
+    pub fn finish(self) -> Result<Vec<(String, StreamWriter)>, WriteError> {
         let files = match self.mode {
             Mode::Here(f) => f.files,
             Mode::Thread(mut w) => {
@@ -217,7 +219,7 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let file = |name: &str, factors: Vec<f64>| CsvFile {
             name: name.into(),
-            writer: BufWriter::new(PendingFile::create_now(&dir.join(name))),
+            writer: BufWriter::new(Box::new(std::fs::File::create(dir.join(name)).unwrap())),
             factors,
         };
         let files = vec![file("a.csv", vec![1.0, 1e3]), file("b.csv", vec![1e3])];
@@ -232,7 +234,7 @@ mod tests {
             .unwrap()
             .into_iter()
             .map(|(name, w)| {
-                drop(w.into_inner().unwrap());
+                drop(w.into_inner().map_err(|e| e.into_error()).unwrap());
                 std::fs::read_to_string(dir.join(name)).unwrap()
             })
             .collect();
@@ -248,7 +250,7 @@ mod tests {
         std::fs::write(&path, "").unwrap();
         let file = CsvFile {
             name: "points.csv".into(),
-            writer: BufWriter::new(std::fs::File::open(&path).unwrap().into()),
+            writer: BufWriter::new(Box::new(std::fs::File::open(&path).unwrap())),
             factors: vec![1.0],
         };
         let mut csv = CsvFiles::new(vec![file], UnitSystem::Si, true);

@@ -9,8 +9,8 @@
 use super::dynamic::{dynamics, initial_state, located};
 use super::statics::{matrix_files, mode_tables};
 use crate::build::Outputs as Requested;
-use crate::commands::Prepared;
 use crate::diag::Error;
+use crate::prepare::Prepared;
 use crate::table::Table;
 use cardan_dynamics::{SimulationOptions, State};
 use cardan_mechanism::Outputs;

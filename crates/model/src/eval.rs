@@ -8,9 +8,9 @@
 //! Δr (global, m) and Δπ' (body frame, rad), so Φ_v multiplies v = [ṙ; ω'] and
 //! Φ_v v̇ = γ#, with ν = −Φ_t and γ# = −(Φ_v v)_q q̇ − 2 Φ_vt v − Φ_tt at the bodies' velocities.
 
-use super::output_tables::{g, io, write_table};
-use super::{analysis_error, prepare, Prepared};
 use crate::diag::Error;
+use crate::output_tables::{g, io, write_table};
+use crate::prepare::{analysis_error, prepare, Prepared};
 use cardan_mechanism::AssemblyOptions;
 use serde::Serialize;
 use std::io::Write;
@@ -24,7 +24,8 @@ fn e(v: f64) -> String {
 }
 
 /// The output format of `cardan eval`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum Format {
     /// Tables to read (7 significant digits).
     #[default]
@@ -206,7 +207,7 @@ pub fn evaluate(path: &Path, t: Option<f64>) -> Result<(Prepared, Evaluation), E
     if !t.is_finite() {
         return Err(Error::usage(format!("--t must be a finite time, got {t}")));
     }
-    super::check_driver_values(&p.source, &p.loaded, &[t])?;
+    crate::prepare::check_driver_values(&p.source, &p.loaded, &[t])?;
     let mut ws = model.workspace();
     let rep = model
         .assemble(&mut ws, &AssemblyOptions::at(t))

@@ -8,7 +8,7 @@ mod coupler;
 pub use coupler::TYPES as COUPLER_TYPES;
 
 use crate::diag::{did_you_mean, list, Error, Source};
-use crate::model::{
+use crate::file::{
     AnalysisSection, BodySection, DriverSection, ForceSection, FunctionSpec, InertiaSpec,
     JointSection, ModelFile, Name, Num, OrientationSpec, Vec3,
 };

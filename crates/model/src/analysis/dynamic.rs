@@ -11,14 +11,13 @@ use super::dynamic_layout::{DynamicLayout, DynamicTally, Kind};
 use super::stream::{Recorder, Tap};
 use super::summary::{Analysed, DynamicSummary, RunFlags, Summary};
 use crate::build::Outputs as Requested;
-use crate::commands::asmt::SolvedSeries;
-use crate::commands::output_tables::{
+use crate::diag::Error;
+use crate::files::{FrameTap, OutputFiles};
+use crate::output_tables::{
     coupler_efforts_table, driver_efforts_table, energy_table, peak_efforts_of, reaction_tables,
     requested,
 };
-use crate::commands::Prepared;
-use crate::diag::Error;
-use crate::output::OutputDir;
+use crate::prepare::Prepared;
 use crate::table::Table;
 use cardan_dynamics::{DynamicResults, Dynamics, Integrator, SimulationOptions, State};
 use std::path::PathBuf;
@@ -33,8 +32,8 @@ pub(super) fn run_dynamic(
     p: &Prepared,
     analysis: &crate::build::Analysis,
     flags: &RunFlags,
-    dir: Option<&mut OutputDir>,
-    solved: Option<&mut SolvedSeries>,
+    dir: Option<&mut (dyn OutputFiles + 'static)>,
+    solved: Option<&mut (dyn FrameTap + 'static)>,
 ) -> Result<Analysed, Error> {
     let mut opts = options(p, None)?;
     check_length(p, &mut opts, flags.allow_long)?;
@@ -194,7 +193,7 @@ pub fn located_as(p: &Prepared, e: &cardan_dynamics::DynamicsError, what: &str) 
     let span = match e.cause() {
         E::MissingInertia { body } => spans.element(body),
         E::BadForce { force, .. } | E::ForceLimit { force, .. } => spans.element(force),
-        E::NonFinite { time, .. } => super::super::functions::first_not_finite(&p.loaded, *time)
+        E::NonFinite { time, .. } => crate::functions::first_not_finite(&p.loaded, *time)
             .and_then(|(_, name)| spans.element(&name)),
         E::InconsistentPositions { open } => open.first().and_then(|o| spans.element(&o.element)),
         E::InconsistentVelocities { equations, .. }
@@ -207,7 +206,7 @@ pub fn located_as(p: &Prepared, e: &cardan_dynamics::DynamicsError, what: &str) 
     .unwrap_or_else(|| spans.analysis.clone());
     let mut message = format!("{what}: {}", e.cause());
     if let E::NonFinite { time, .. } = e.cause() {
-        if let Some((why, _)) = super::super::functions::first_not_finite(&p.loaded, *time) {
+        if let Some((why, _)) = crate::functions::first_not_finite(&p.loaded, *time) {
             message = format!("{message}; the cause: {why}");
         }
     }
@@ -402,7 +401,7 @@ pub fn check_length(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::commands::run::stream::MAX_PLOTTED_FRAMES;
+    use crate::analysis::stream::MAX_PLOTTED_FRAMES;
     use cardan_dynamics::DynamicsError;
     use std::ops::ControlFlow;
 
@@ -414,14 +413,14 @@ mod tests {
     fn a_spike_between_two_kept_frames_is_still_summed_up_and_warned_about() {
         let model = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("../../examples/slider_crank_dynamic.toml");
-        let p = crate::commands::prepare(&model).unwrap();
+        let p = crate::prepare::prepare(&model).unwrap();
         let analysis = p.loaded.analysis.clone().unwrap();
         let opts = options(&p, None).unwrap();
         let req = requested(&p, &analysis.outputs);
-        let mut dir = OutputDir::lock(
-            &std::env::temp_dir().join(format!("cardan-dynamic-spike-{}", std::process::id())),
-        )
-        .unwrap();
+        let path =
+            std::env::temp_dir().join(format!("cardan-dynamic-spike-{}", std::process::id()));
+        std::fs::create_dir_all(&path).unwrap();
+        let mut dir = crate::files::Directory(path);
         // As planned for 10 × (the plotted frames − 1) + 2 outputs: every 11th of the 501
         // outputs is kept (the stride keeps the first, every s-th and the last frame).
         let planned = 10 * (MAX_PLOTTED_FRAMES - 1) + 2;

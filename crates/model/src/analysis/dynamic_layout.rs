@@ -10,11 +10,11 @@
 use super::layout::Layout;
 use super::stream::FrameLayout;
 use crate::build::Outputs as Requested;
-use crate::commands::output_tables::{
+use crate::output_tables::{
     coupler_efforts_row, driver_efforts_row, energy_row, fold_peak_efforts, reaction_selection,
     reactions_row, ReactionRef,
 };
-use crate::commands::Prepared;
+use crate::prepare::Prepared;
 use crate::table::Table;
 use cardan_dynamics::DynamicResults;
 

@@ -4,7 +4,7 @@
 //! (one [`Frame`] type each, written by its [`FrameLayout`]).
 //!
 //! Each frame's rows go straight to the CSV files (buffered writers in the output directory's
-//! temporary sibling, [`crate::output::OutputDir::create`]), in the model's units, with the
+//! temporary sibling of the command's output directory, [`crate::files::OutputFiles::create`]), in the model's units, with the
 //! same text as a table written whole ([`crate::table::Table::to_csv`]); a long run formats and
 //! writes them on a second thread ([`super::csv_files`]). What is drawn from
 //! the results afterwards (the SVG plots, the animation, the report, the Python package's
@@ -25,13 +25,12 @@
 use super::csv_files::{CsvFile, CsvFiles};
 use super::layout::Layout;
 use crate::diag::Error;
-use crate::output::opener::PendingFile;
-use crate::output::OutputDir;
+use crate::files::{OutputFiles, StreamWriter};
 use crate::table::{csv_header, Table};
 use crate::units::UnitSystem;
 use cardan_dynamics::DynamicResults;
 use cardan_mechanism::Results;
-use std::io::{BufWriter, Write as _};
+use std::io::Write as _;
 use std::ops::ControlFlow;
 
 /// At most this many frames are kept for the plots, the animation and the report (a plot is
@@ -44,9 +43,9 @@ pub const KEPT_VALUES_BUDGET: usize = 4_000_000;
 
 /// The CSV files a run wrote frame by frame and how its kept copy was decimated.
 pub struct Streamed {
-    /// Each streamed CSV file's name and its writer (flushed by [`OutputDir::finish`] when the
-    /// outputs are written).
-    pub csv: Vec<(String, BufWriter<PendingFile>)>,
+    /// Each streamed CSV file's name and its writer (flushed and closed by the command when
+    /// the outputs are written).
+    pub csv: Vec<(String, StreamWriter)>,
     /// Frames the run stored (every one is in the CSV files).
     pub frames: usize,
     /// Frames kept in memory (in the plots, the animation and the report).
@@ -119,7 +118,7 @@ impl Frame for DynamicResults {
 }
 
 /// A file written from every frame besides the CSV files: the `TimeSeries` of an ASMT run's
-/// `*.solved.asmt` ([`crate::commands::asmt::SolvedSeries`]).
+/// `*.solved.asmt` ([`crate::asmt::SolvedSeries`]).
 pub trait Tap<F> {
     /// The file's name (for a write error).
     fn name(&self) -> &str;
@@ -255,9 +254,9 @@ pub struct Recorder<'a, L: FrameLayout> {
     /// Frames the run will store when it completes.
     planned: usize,
     /// Where the CSV files go; `None`: nothing is written, every frame is kept.
-    dir: Option<&'a mut OutputDir>,
+    dir: Option<&'a mut (dyn OutputFiles + 'static)>,
     /// A further file written from every frame.
-    tap: Option<&'a mut dyn Tap<L::Frame>>,
+    tap: Option<&'a mut (dyn Tap<L::Frame> + 'static)>,
     started: Option<Started<L>>,
     /// A write error that stopped the run.
     error: Option<Error>,
@@ -273,8 +272,8 @@ impl<'a, L: FrameLayout> Recorder<'a, L> {
     pub fn new(
         units: UnitSystem,
         planned: usize,
-        dir: Option<&'a mut OutputDir>,
-        tap: Option<&'a mut dyn Tap<L::Frame>>,
+        dir: Option<&'a mut (dyn OutputFiles + 'static)>,
+        tap: Option<&'a mut (dyn Tap<L::Frame> + 'static)>,
         make: impl FnOnce(&L::Frame) -> L + 'a,
     ) -> Self {
         Self {
@@ -429,7 +428,7 @@ impl<'a, L: FrameLayout> Recorder<'a, L> {
 }
 
 /// The error of a failed write of `name` (into `dir`, when the run writes one).
-fn write_error(dir: Option<&OutputDir>, name: &str, e: &std::io::Error) -> Error {
+fn write_error(dir: Option<&dyn OutputFiles>, name: &str, e: &std::io::Error) -> Error {
     dir.map_or_else(
         || Error::output(format!("cannot write {name}: {e}")),
         |d| d.write_error(name, e),
@@ -514,11 +513,11 @@ mod tests {
             bodies: vec!["b".into()],
             ..crate::build::Outputs::default()
         };
-        let mut dir = OutputDir::lock(&std::env::temp_dir().join(format!(
+        let mut dir = crate::files::Directory(std::env::temp_dir().join(format!(
             "cardan-stream-test-{}-{n}-{spike}",
             std::process::id()
-        )))
-        .unwrap();
+        )));
+        std::fs::create_dir_all(&dir.0).unwrap();
         let make = move |f: &Results| Layout::new(f, &req);
         let mut rec = Recorder::new(UnitSystem::Si, n, Some(&mut dir), None, make);
         for k in 0..n {

@@ -1,8 +1,8 @@
 //! `cardan check MODEL.toml`: validate and describe a model.
 
-use super::output_tables::{g, io, write_table};
-use super::{analysis_error, prepare_with};
 use crate::diag::Error;
+use crate::output_tables::{g, io, write_table};
+use crate::prepare::{analysis_error, prepare_with};
 use cardan_mechanism::{AnalysisError, AssemblyOptions};
 use std::io::Write;
 use std::path::Path;
@@ -195,7 +195,7 @@ fn describe(p: &super::Prepared, path: &Path, out: &mut dyn Write) -> Result<(),
         .map_err(io)?;
     } else if let Some(a) = &p.loaded.analysis {
         if a.inverse_dynamics && (dof.dof != dof.drivers || dof.drivers == 0) {
-            return Err(super::not_fully_driven(p, dof.dof, dof.drivers));
+            return Err(crate::prepare::not_fully_driven(p, dof.dof, dof.drivers));
         }
         if dof.dof == dof.drivers {
             // What `run` refuses next: drivers that depend on the joints or on each other.

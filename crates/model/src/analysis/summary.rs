@@ -96,10 +96,10 @@ impl EnergyBalance {
 }
 
 /// How `cardan run` was asked to run.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default)]
 pub struct RunFlags {
-    /// Show a progress bar on stderr.
-    pub progress: bool,
+    /// The progress bar to draw (the command's terminal bar; `None`: none).
+    pub progress: Option<crate::progress::MakeBar>,
     /// `--strict`: warnings make the run fail with exit code 3 (the results are still written).
     pub strict: bool,
     /// `--allow-long`: run a dynamic analysis beyond [`super::dynamic::MAX_STEPS`] estimated
@@ -108,7 +108,7 @@ pub struct RunFlags {
     /// `--png`: write a PNG beside each SVG plot.
     pub png: bool,
     /// `--units`, `--analysis`: how an ASMT file is read.
-    pub asmt: crate::commands::asmt::AsmtOptions,
+    pub asmt: crate::asmt::AsmtOptions,
 }
 
 /// An analysis that has run, before anything is written.
