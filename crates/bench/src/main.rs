@@ -508,7 +508,7 @@ fn frames_section(cfg: &Cfg) -> String {
     );
     for (name, p) in examples() {
         let a = match &p.loaded.analysis {
-            Some(a) if a.dynamic.is_none() => a,
+            Some(a) if a.integrator().is_none() => a,
             _ => continue,
         };
         let _ = a;
@@ -1123,7 +1123,7 @@ fn work_precision_section(cfg: &Cfg, svgs: &mut Vec<(String, String)>) -> String
         if cfg.smoke {
             t_end *= 0.05;
         }
-        let rho = match a.dynamic {
+        let rho = match a.integrator() {
             Some(Integrator::GeneralizedAlpha(o)) => o.rho_inf,
             _ => 0.8,
         };

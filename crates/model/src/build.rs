@@ -109,31 +109,51 @@ pub struct Outputs {
     pub energy: bool,
 }
 
+/// What `[analysis] kind` asks for, with what only that kind has.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum AnalysisKind {
+    /// Positions (velocities, accelerations) of a fully driven mechanism over the time grid.
+    Kinematic,
+    /// Driver efforts and joint reactions of a fully driven mechanism along its kinematics.
+    InverseDynamics,
+    /// The motion the forces produce, by the integrator with its options.
+    Dynamic(Integrator),
+    /// An equilibrium (static), equilibria along the grid (quasi-static), or the modes about
+    /// one (modal).
+    Static(StaticKind),
+}
+
+impl AnalysisKind {
+    /// The kind's name in the model file (`kind = "..."`).
+    pub fn name(&self) -> &'static str {
+        match self {
+            AnalysisKind::Kinematic => "kinematic",
+            AnalysisKind::InverseDynamics => "inverse_dynamics",
+            AnalysisKind::Dynamic(_) => "dynamic",
+            AnalysisKind::Static(k) => k.name(),
+        }
+    }
+}
+
 /// The analysis requested.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Analysis {
+    /// The kind and its integrator or static kind.
+    pub kind: AnalysisKind,
     /// Start time \[s\].
     pub t_start: f64,
     /// End time \[s\].
     pub t_end: f64,
-    /// Number of steps.
+    /// Number of steps. A static or modal analysis has one time: t_start = t_end = the time
+    /// the drivers are held, steps = 0.
     pub steps: usize,
     /// What to write.
     pub outputs: Outputs,
     /// Write SVG plots.
     pub plots: bool,
-    /// `kind = "dynamic"`: the integrator with its options (`None`: kinematic or inverse
-    /// dynamics).
-    pub dynamic: Option<Integrator>,
-    /// `kind = "inverse_dynamics"`: driver efforts and reactions of a fully driven mechanism
-    /// along its kinematics (`dynamic` is then `None`).
-    pub inverse_dynamics: bool,
-    /// Kinematic and inverse dynamics: the position solves' tolerance on the scaled residual;
-    /// static kinds: the equilibrium's.
+    /// Kinematic and inverse dynamics: the position solves' tolerance on the scaled residual
+    /// (`position_tolerance`); static kinds: the equilibrium's (`equilibrium_tolerance`).
     pub tolerance: f64,
-    /// `kind = "static"`, `"quasi_static"` or `"modal"` (`dynamic` is then `None`). A static or
-    /// modal analysis has one time: t_start = t_end = the time the drivers are held, steps = 0.
-    pub statics: Option<StaticKind>,
     /// Static kinds: equal load increments tried first.
     pub load_steps: usize,
     /// Modal, and dynamic with `linearize_at`: the force elements that are the inputs of the
@@ -172,6 +192,27 @@ impl StaticKind {
 }
 
 impl Analysis {
+    /// The integrator of a dynamic analysis.
+    pub fn integrator(&self) -> Option<Integrator> {
+        match self.kind {
+            AnalysisKind::Dynamic(i) => Some(i),
+            _ => None,
+        }
+    }
+
+    /// The static kind of a static, quasi-static or modal analysis.
+    pub fn statics(&self) -> Option<StaticKind> {
+        match self.kind {
+            AnalysisKind::Static(k) => Some(k),
+            _ => None,
+        }
+    }
+
+    /// Whether the analysis needs forces and masses (every kind but kinematic).
+    pub fn has_forces(&self) -> bool {
+        self.kind != AnalysisKind::Kinematic
+    }
+
     /// The time grid t_start + k (t_end − t_start) / steps, k = 0..=steps.
     pub fn times(&self) -> Vec<f64> {
         let h = (self.t_end - self.t_start) / self.steps as f64;
@@ -1766,16 +1807,20 @@ fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Ana
             }
         },
     };
+    let kind = match (dynamic, statics) {
+        (Some(i), _) => AnalysisKind::Dynamic(i),
+        (None, Some(k)) => AnalysisKind::Static(k),
+        (None, None) if kind == "inverse_dynamics" => AnalysisKind::InverseDynamics,
+        (None, None) => AnalysisKind::Kinematic,
+    };
     Ok(Analysis {
+        kind,
         t_start,
         t_end,
         steps,
         outputs,
         plots,
-        dynamic,
-        inverse_dynamics: kind == "inverse_dynamics",
         tolerance,
-        statics,
         load_steps,
         inputs: Vec::new(),
         linearize_at,
@@ -1832,7 +1877,7 @@ fn load_inputs(
     };
     let mut out = Vec::new();
     for n in list_ {
-        if an.statics != Some(StaticKind::Modal) && an.linearize_at.is_none() {
+        if an.statics() != Some(StaticKind::Modal) && an.linearize_at.is_none() {
             return Err(cx.err(
                 n.span(),
                 "inputs applies only to kind = \"modal\" and to kind = \"dynamic\" with \
@@ -1844,7 +1889,7 @@ fn load_inputs(
                 && matches!(f, Force::PointForce { .. } | Force::PointTorque { .. })
         });
         let driver = drivers.iter().any(|(d, _)| d == n.get_ref());
-        if driver && an.statics != Some(StaticKind::Modal) {
+        if driver && an.statics() != Some(StaticKind::Modal) {
             return Err(cx.err(
                 n.span(),
                 format!(

@@ -165,7 +165,7 @@ fn describe(p: &super::Prepared, path: &Path, out: &mut dyn Write) -> Result<(),
             writeln!(out, "  row {}: {e}", e.row).map_err(io)?;
         }
     }
-    if let Some(integrator) = p.loaded.analysis.as_ref().and_then(|a| a.dynamic) {
+    if let Some(integrator) = p.loaded.analysis.as_ref().and_then(|a| a.integrator()) {
         let name = match integrator {
             cardan_dynamics::Integrator::Dopri5(_) => "DOPRI5",
             cardan_dynamics::Integrator::GeneralizedAlpha(_) => "generalized-α",
@@ -180,7 +180,7 @@ fn describe(p: &super::Prepared, path: &Path, out: &mut dyn Write) -> Result<(),
             if p.loaded.forces.len() == 1 { "" } else { "s" },
         )
         .map_err(io)?;
-    } else if let Some(k) = p.loaded.analysis.as_ref().and_then(|a| a.statics) {
+    } else if let Some(k) = p.loaded.analysis.as_ref().and_then(|a| a.statics()) {
         // A static analysis needs no drivers: the free degrees of freedom settle under the loads.
         writeln!(
             out,
@@ -194,7 +194,9 @@ fn describe(p: &super::Prepared, path: &Path, out: &mut dyn Write) -> Result<(),
         )
         .map_err(io)?;
     } else if let Some(a) = &p.loaded.analysis {
-        if a.inverse_dynamics && (dof.dof != dof.drivers || dof.drivers == 0) {
+        if a.kind == crate::build::AnalysisKind::InverseDynamics
+            && (dof.dof != dof.drivers || dof.drivers == 0)
+        {
             return Err(crate::prepare::not_fully_driven(p, dof.dof, dof.drivers));
         }
         if dof.dof == dof.drivers {
@@ -205,7 +207,7 @@ fn describe(p: &super::Prepared, path: &Path, out: &mut dyn Write) -> Result<(),
             writeln!(
                 out,
                 "{}: {} driver{} for {} DOF: ok{}",
-                if a.inverse_dynamics {
+                if a.kind == crate::build::AnalysisKind::InverseDynamics {
                     "inverse dynamics"
                 } else {
                     "kinematic analysis"
@@ -213,7 +215,7 @@ fn describe(p: &super::Prepared, path: &Path, out: &mut dyn Write) -> Result<(),
                 dof.drivers,
                 if dof.drivers == 1 { "" } else { "s" },
                 dof.dof,
-                if a.inverse_dynamics {
+                if a.kind == crate::build::AnalysisKind::InverseDynamics {
                     format!(
                         "; {} force element{}",
                         p.loaded.forces.len(),

@@ -66,7 +66,7 @@ pub fn prepare_source(source: Source) -> Result<Prepared, Error> {
         .map_err(|e| model_error(&source, &loaded, &e))?;
     if let Some(a) = &loaded.analysis {
         check_driver_values(&source, &loaded, &a.times())?;
-        if a.dynamic.is_some() || a.inverse_dynamics || a.statics.is_some() {
+        if a.has_forces() {
             crate::functions::check_force_values(&source, &loaded, &a.times())?;
         }
     }

@@ -129,7 +129,7 @@ fn run_prepared(
     };
     // A static or modal run has one time: nothing to plot against it.
     let one_time = matches!(
-        analysis.statics,
+        analysis.statics(),
         Some(cardan_model::build::StaticKind::Static | cardan_model::build::StaticKind::Modal)
     );
     let svg = analysis.plots && !one_time;

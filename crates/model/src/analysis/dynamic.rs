@@ -160,12 +160,12 @@ pub fn options(p: &Prepared, integrator: Option<Integrator>) -> Result<Simulatio
         .loaded
         .analysis
         .as_ref()
-        .filter(|a| a.dynamic.is_some())
+        .filter(|a| a.integrator().is_some())
         .ok_or_else(|| {
             p.source
                 .error("the model file has no [analysis] with kind = \"dynamic\"")
         })?;
-    let integrator = integrator.or(a.dynamic).unwrap_or_default();
+    let integrator = integrator.or(a.integrator()).unwrap_or_default();
     Ok(SimulationOptions::new(a.t_end, a.steps).integrator(integrator))
 }
 

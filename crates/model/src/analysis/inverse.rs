@@ -154,7 +154,7 @@ fn setup(p: &Prepared) -> Result<(cardan_dynamics::Dynamics<'_>, KinematicOption
         .loaded
         .analysis
         .as_ref()
-        .filter(|a| a.inverse_dynamics)
+        .filter(|a| a.kind == crate::build::AnalysisKind::InverseDynamics)
         .ok_or_else(|| {
             p.source
                 .error("the model file has no [analysis] with kind = \"inverse_dynamics\"")

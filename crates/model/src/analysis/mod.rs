@@ -18,6 +18,7 @@ mod summary;
 
 pub use summary::{Analysed, DynamicSummary, EnergyBalance, RunFlags, Summary};
 
+use crate::build::AnalysisKind;
 use crate::diag::Error;
 use crate::files::{FrameTap, OutputFiles};
 use crate::prepare::Prepared;
@@ -178,16 +179,12 @@ pub fn analyse_into(
     solved: Option<&mut (dyn FrameTap + 'static)>,
 ) -> Result<(&'static str, Analysed), Error> {
     let progress = flags.progress;
-    let (kind, ran) = if let Some(k) = analysis.statics {
-        (k.name(), statics::run_statics(p, analysis, k))
-    } else if analysis.dynamic.is_some() {
-        ("dynamic", run_dynamic(p, analysis, flags, dir, solved))
-    } else if analysis.inverse_dynamics {
-        let ran = run_inverse(p, analysis, progress, dir, solved);
-        ("inverse_dynamics", ran)
-    } else {
-        let ran = run_kinematic(p, analysis, progress, dir, solved);
-        ("kinematic", ran)
+    let kind = analysis.kind.name();
+    let ran = match analysis.kind {
+        AnalysisKind::Static(k) => statics::run_statics(p, analysis, k),
+        AnalysisKind::Dynamic(_) => run_dynamic(p, analysis, flags, dir, solved),
+        AnalysisKind::InverseDynamics => run_inverse(p, analysis, progress, dir, solved),
+        AnalysisKind::Kinematic => run_kinematic(p, analysis, progress, dir, solved),
     };
     let mut a = ran?;
     a.summary.warnings.splice(0..0, p.warnings.iter().cloned());
