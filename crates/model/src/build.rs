@@ -3,25 +3,23 @@
 //! self-joints, function parameters. What only the mechanism can judge (DOF, assembly) is
 //! checked later, and mapped back to the element's line through [`Spans`].
 
+mod analysis;
 mod coupler;
-
-pub use coupler::TYPES as COUPLER_TYPES;
 
 use crate::diag::{did_you_mean, list, Error, Source};
 use crate::file::{
-    AnalysisSection, BodySection, DriverSection, ForceSection, FunctionSpec, InertiaSpec,
-    JointSection, ModelFile, Name, Num, OrientationSpec, Vec3,
+    BodySection, DriverSection, ForceSection, FunctionSpec, InertiaSpec, JointSection, ModelFile,
+    Name, Num, OrientationSpec, Vec3,
 };
 use crate::units::UnitSystem;
+use crate::vocabulary::{COUPLERS, DRIVERS, FORCES, FUNCTIONS};
 use cardan_constraints::drivers::POSE_ROWS;
 use cardan_constraints::expression::{self, Expression};
 use cardan_constraints::{JointKind, RotationOrder, TimeFunction, KINDS};
-use cardan_dynamics::{
-    Dopri5Options, Force, Frame, GeneralizedAlphaOptions, Integrator, PointRef, VectorFunction,
-};
+use cardan_dynamics::{Force, Frame, Integrator, PointRef, VectorFunction};
 use cardan_mechanism::{
-    pose_row_name, Axis, Body, DriverSpec, DriverTarget, ElementKind, JointSpec, KinematicOptions,
-    MechanismBuilder, Orientation, PoseTarget, Quantity, Site, GROUND,
+    pose_row_name, Axis, Body, DriverSpec, DriverTarget, ElementKind, JointSpec, MechanismBuilder,
+    Orientation, PoseTarget, Quantity, Site, GROUND,
 };
 use nalgebra::{Matrix3, Vector3};
 use std::collections::{BTreeMap, HashMap};
@@ -281,9 +279,32 @@ struct Ctx<'a> {
     src: &'a Source,
     /// The file's `[model] units`: every number is converted to SI as it is read.
     units: UnitSystem,
+    /// The keys written in the sections with vocabularies ([`crate::vocabulary`]).
+    keys: &'a crate::vocabulary::KeySpans,
 }
 
 impl Ctx<'_> {
+    /// Checks the table whose span starts at `table` against `vocab` (its entry `selected`
+    /// exists, it takes every key given, every key it needs is given; [`crate::vocabulary`]).
+    fn check(
+        &self,
+        vocab: &crate::vocabulary::Vocabulary,
+        owner: &str,
+        selected: &Name,
+        table: usize,
+        element: Range<usize>,
+    ) -> Result<&'static crate::vocabulary::Entry, Error> {
+        crate::vocabulary::check(
+            self.src,
+            vocab,
+            owner,
+            selected,
+            (self.keys, table),
+            |_| true,
+            element,
+        )
+    }
+
     fn err(&self, span: Range<usize>, m: impl Into<String>) -> Error {
         self.src.error_at(span, m)
     }
@@ -416,19 +437,14 @@ fn joint_types() -> impl Iterator<Item = &'static str> + Clone {
         .flat_map(|k| std::iter::once(k.name).chain(k.aliases.iter().copied()))
 }
 
-const DRIVER_TYPES: &[&str] = &[
-    "rotation",
-    "translation",
-    "distance",
-    "coordinate",
-    "general_motion",
-];
-const FUNCTION_KINDS: &[&str] = &TimeFunction::KINDS;
-
 /// Turns a parsed file into a builder, checking everything that has a place in the file.
 pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
     let units = model_units(src, file)?;
-    let cx = Ctx { src, units };
+    let cx = Ctx {
+        src,
+        units,
+        keys: &file.keys,
+    };
     let mut spans = Spans::default();
     let mut builder = MechanismBuilder::new();
 
@@ -540,9 +556,17 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
     }
 
     // Couplers.
-    for c in &file.coupler {
-        let c = c.get_ref();
+    for section in &file.coupler {
+        let c = section.get_ref();
         check_unique_element(&cx, &spans, &c.name, "coupler")?;
+        let owner = format!("coupler \"{}\"", c.name.get_ref());
+        cx.check(
+            &COUPLERS,
+            &owner,
+            &c.kind,
+            section.span().start,
+            c.name.span(),
+        )?;
         spans
             .couplers
             .insert(c.name.get_ref().clone(), c.name.span());
@@ -552,9 +576,17 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
     // Drivers.
     let mut drivers = Vec::new();
     let mut driver_functions = Vec::new();
-    for d in &file.driver {
-        let d = d.get_ref();
+    for section in &file.driver {
+        let d = section.get_ref();
         check_unique_element(&cx, &spans, &d.name, "driver")?;
+        let owner = format!("driver \"{}\"", d.name.get_ref());
+        cx.check(
+            &DRIVERS,
+            &owner,
+            &d.kind,
+            section.span().start,
+            d.name.span(),
+        )?;
         spans
             .drivers
             .insert(d.name.get_ref().clone(), d.name.span());
@@ -590,9 +622,17 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
     }
 
     // Forces.
-    for f in &file.force {
-        let f = f.get_ref();
+    for section in &file.force {
+        let f = section.get_ref();
         check_unique_element(&cx, &spans, &f.name, "force")?;
+        let owner = format!("force \"{}\"", f.name.get_ref());
+        cx.check(
+            &FORCES,
+            &owner,
+            &f.kind,
+            section.span().start,
+            f.name.span(),
+        )?;
         spans.forces.insert(f.name.get_ref().clone(), f.name.span());
         forces.push(load_force(&resolver, f, &joint_kinds, &spans)?);
     }
@@ -602,8 +642,8 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
     let analysis = match &file.analysis {
         Some(a) => {
             spans.analysis = a.get_ref().kind.span();
-            let mut an = load_analysis(&resolver, a.get_ref(), &spans)?;
-            an.inputs = load_inputs(&cx, a.get_ref(), &an, &forces, &drivers)?;
+            let mut an = analysis::load_analysis(&resolver, a, &spans)?;
+            an.inputs = analysis::load_inputs(&cx, a.get_ref(), &an, &forces, &drivers)?;
             Some(an)
         }
         None => None,
@@ -686,9 +726,11 @@ pub(crate) fn orientation_matrix(
     o: &Spanned<OrientationSpec>,
 ) -> Result<Matrix3<f64>, Error> {
     // Angles and directions only: the same in every unit system.
+    let keys = crate::vocabulary::KeySpans::default();
     let cx = Ctx {
         src,
         units: UnitSystem::Si,
+        keys: &keys,
     };
     orientation(&cx, o).map(|(_, a)| a)
 }
@@ -1069,48 +1111,13 @@ fn load_function(
         }
     };
     // Keys that belong to another kind are an error, so a typo in kind does not go unnoticed.
-    let allowed: &[&str] = match kind {
-        "constant" => &["value"],
-        "polynomial" => &["coefficients"],
-        "harmonic" => &["amplitude", "frequency", "phase", "offset"],
-        "ramp" => &["t0", "t1", "f0", "f1"],
-        "spline" => &["times", "values"],
-        "expression" => &["text"],
-        _ => {
-            let hint = did_you_mean(kind, FUNCTION_KINDS.iter().copied());
-            return Err(cx.err(
-                s.kind.span(),
-                format!(
-                    "{owner}: unknown function kind \"{kind}\"{hint} (kinds: {})",
-                    list(FUNCTION_KINDS.iter().copied())
-                ),
-            ));
-        }
-    };
-    let present: Vec<(&str, bool)> = vec![
-        ("value", s.value.is_some()),
-        ("coefficients", s.coefficients.is_some()),
-        ("amplitude", s.amplitude.is_some()),
-        ("frequency", s.frequency.is_some()),
-        ("phase", s.phase.is_some()),
-        ("offset", s.offset.is_some()),
-        ("t0", s.t0.is_some()),
-        ("t1", s.t1.is_some()),
-        ("f0", s.f0.is_some()),
-        ("f1", s.f1.is_some()),
-        ("times", s.times.is_some()),
-        ("values", s.values.is_some()),
-        ("text", s.text.is_some()),
-    ];
-    if let Some((k, _)) = present.iter().find(|(k, p)| *p && !allowed.contains(k)) {
-        return Err(cx.err(
-            span,
-            format!(
-                "{owner}: a {kind} function does not take \"{k}\" (it takes {})",
-                list(allowed.iter().copied())
-            ),
-        ));
-    }
+    cx.check(
+        &FUNCTIONS,
+        &format!("{owner}: function"),
+        &s.kind,
+        span.start,
+        span.clone(),
+    )?;
     let tf = match kind {
         "constant" => TimeFunction::Constant(req(&s.value, "value")?),
         "polynomial" => {
@@ -1157,23 +1164,6 @@ fn load_general_motion(r: &Resolver, d: &DriverSection) -> Result<(DriverSpec, S
     let name = d.name.get_ref().clone();
     let owner = format!("driver \"{name}\"");
     let span = d.name.span();
-    for (k, given) in [
-        ("joint", d.joint.is_some()),
-        ("body", d.body.is_some()),
-        ("point", d.point.is_some()),
-        ("coordinate", d.coordinate.is_some()),
-        ("function", d.function.is_some()),
-    ] {
-        if given {
-            return Err(cx.err(
-                span,
-                format!(
-                    "{owner}: a general_motion driver does not take \"{k}\" (its laws are \
-                     translation = [three functions] and rotation = [three functions])"
-                ),
-            ));
-        }
-    }
     let need = |v: &Option<Name>, key: &str| -> Result<String, Error> {
         v.as_ref().map(|n| n.get_ref().clone()).ok_or_else(|| {
             missing(
@@ -1322,21 +1312,6 @@ fn load_driver(r: &Resolver, d: &DriverSection) -> Result<(DriverSpec, String), 
     if kind == "general_motion" {
         return load_general_motion(r, d);
     }
-    let pose_keys = [
-        ("axis_i", d.axis_i.is_some()),
-        ("x_axis_i", d.x_axis_i.is_some()),
-        ("axis_j", d.axis_j.is_some()),
-        ("x_axis_j", d.x_axis_j.is_some()),
-        ("order", d.order.is_some()),
-        ("translation", d.translation.is_some()),
-        ("rotation", d.rotation.is_some()),
-    ];
-    if let Some((k, _)) = pose_keys.iter().find(|(_, p)| *p) {
-        return Err(cx.err(
-            span,
-            format!("{owner}: a {kind} driver does not take \"{k}\" (a general_motion key)"),
-        ));
-    }
     let Some(fspec) = &d.function else {
         return Err(missing(
             cx,
@@ -1347,15 +1322,6 @@ fn load_driver(r: &Resolver, d: &DriverSection) -> Result<(DriverSpec, String), 
         ));
     };
     let function = load_function(cx, fspec, &owner, value_q)?;
-    let stray = |keys: &[(&str, bool)]| -> Result<(), Error> {
-        if let Some((k, _)) = keys.iter().find(|(_, p)| *p) {
-            return Err(cx.err(
-                span.clone(),
-                format!("{owner}: a {kind} driver does not take \"{k}\""),
-            ));
-        }
-        Ok(())
-    };
     // The joint's existence and kind are checked by the builder (located at this key).
     let joint_ref = || -> Result<String, Error> {
         let Some(j) = &d.joint else {
@@ -1371,15 +1337,6 @@ fn load_driver(r: &Resolver, d: &DriverSection) -> Result<(DriverSpec, String), 
     };
     match kind {
         "rotation" | "translation" => {
-            stray(&[
-                ("body_i", d.body_i.is_some()),
-                ("point_i", d.point_i.is_some()),
-                ("body_j", d.body_j.is_some()),
-                ("point_j", d.point_j.is_some()),
-                ("body", d.body.is_some()),
-                ("point", d.point.is_some()),
-                ("coordinate", d.coordinate.is_some()),
-            ])?;
             if kind == "rotation" {
                 let j = joint_ref()?;
                 Ok((
@@ -1395,12 +1352,6 @@ fn load_driver(r: &Resolver, d: &DriverSection) -> Result<(DriverSpec, String), 
             }
         }
         "distance" => {
-            stray(&[
-                ("joint", d.joint.is_some()),
-                ("body", d.body.is_some()),
-                ("point", d.point.is_some()),
-                ("coordinate", d.coordinate.is_some()),
-            ])?;
             let need = |v: &Option<Name>, key: &str| -> Result<Name, Error> {
                 v.clone().ok_or_else(|| {
                     missing(
@@ -1426,13 +1377,6 @@ fn load_driver(r: &Resolver, d: &DriverSection) -> Result<(DriverSpec, String), 
             ))
         }
         "coordinate" => {
-            stray(&[
-                ("joint", d.joint.is_some()),
-                ("body_i", d.body_i.is_some()),
-                ("point_i", d.point_i.is_some()),
-                ("body_j", d.body_j.is_some()),
-                ("point_j", d.point_j.is_some()),
-            ])?;
             let (Some(b), Some(p), Some(c)) = (&d.body, &d.point, &d.coordinate) else {
                 return Err(missing(
                     cx,
@@ -1463,520 +1407,14 @@ fn load_driver(r: &Resolver, d: &DriverSection) -> Result<(DriverSpec, String), 
             ))
         }
         _ => {
-            let hint = did_you_mean(kind, DRIVER_TYPES.iter().copied());
+            let hint = did_you_mean(kind, DRIVERS.names());
             Err(cx.err(
                 d.kind.span(),
                 format!(
                     "{owner}: unknown driver type \"{kind}\"{hint} (types: {})",
-                    list(DRIVER_TYPES.iter().copied())
+                    list(DRIVERS.names())
                 ),
             ))
-        }
-    }
-}
-
-/// The key that sets a kinematic or inverse dynamics run's position tolerance and its value:
-/// `position_tolerance`, or `tolerance`, its older name with the same meaning (a static kind's
-/// `tolerance` is its equilibrium's). Both at once, or `position_tolerance` in a static kind,
-/// is an error at the key.
-fn position_tolerance<'a>(
-    cx: &Ctx,
-    a: &'a AnalysisSection,
-    statics: bool,
-) -> Result<(&'static str, Option<&'a Num>), Error> {
-    match (&a.position_tolerance, &a.tolerance) {
-        (Some(p), _) if statics => Err(cx.err(
-            p.span(),
-            "position_tolerance applies to kind = \"kinematic\" and \"inverse_dynamics\" (a \
-             static, quasi-static or modal analysis sets its equilibrium's tolerance with \
-             tolerance)",
-        )),
-        (Some(p), Some(_)) => Err(cx.err(
-            p.span(),
-            "give position_tolerance or tolerance, not both (tolerance is the older name of \
-             position_tolerance)",
-        )),
-        (Some(p), None) => Ok(("position_tolerance", Some(p))),
-        (None, t) => Ok(("tolerance", t.as_ref())),
-    }
-}
-
-fn load_analysis(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Analysis, Error> {
-    let cx = r.cx;
-    let kind = a.kind.get_ref().as_str();
-    let statics = match kind {
-        "static" => Some(StaticKind::Static),
-        "quasi_static" => Some(StaticKind::QuasiStatic),
-        "modal" => Some(StaticKind::Modal),
-        _ => None,
-    };
-    let dynamic = match kind {
-        "kinematic" | "inverse_dynamics" | "static" | "quasi_static" | "modal" => {
-            let dynamic_only: [(&str, Option<Range<usize>>); 7] = [
-                ("integrator", a.integrator.as_ref().map(|n| n.span())),
-                ("rtol", a.rtol.as_ref().map(|n| n.span())),
-                ("atol", a.atol.as_ref().map(|n| n.span())),
-                ("h_max", a.h_max.as_ref().map(|n| n.span())),
-                ("rho_inf", a.rho_inf.as_ref().map(|n| n.span())),
-                (
-                    "newton_tolerance",
-                    a.newton_tolerance.as_ref().map(|n| n.span()),
-                ),
-                ("output_dt", a.output_dt.as_ref().map(|n| n.span())),
-            ];
-            if let Some((k, Some(s))) = dynamic_only.into_iter().find(|(_, s)| s.is_some()) {
-                let this = match kind {
-                    "kinematic" => "a kinematic",
-                    "inverse_dynamics" => "an inverse dynamics",
-                    _ => "a static",
-                };
-                return Err(cx.err(
-                    s,
-                    format!(
-                        "{k} applies only to kind = \"dynamic\" ({this} analysis has no \
-                         integrator; its output step is dt or steps)"
-                    ),
-                ));
-            }
-            None
-        }
-        "dynamic" => {
-            for (key, value) in [
-                ("tolerance", &a.tolerance),
-                ("position_tolerance", &a.position_tolerance),
-            ] {
-                if let Some(t) = value {
-                    return Err(cx.err(
-                        t.span(),
-                        format!(
-                            "{key} applies to kind = \"kinematic\" and \"inverse_dynamics\" \
-                             (a dynamic run's accuracy is set by rtol and atol, or \
-                             newton_tolerance)"
-                        ),
-                    ));
-                }
-            }
-            Some(load_integrator(cx, a)?)
-        }
-        other => {
-            let hint = did_you_mean(
-                other,
-                [
-                    "kinematic",
-                    "dynamic",
-                    "inverse_dynamics",
-                    "static",
-                    "quasi_static",
-                    "modal",
-                ],
-            );
-            return Err(cx.err(
-                a.kind.span(),
-                format!(
-                    "unknown analysis kind \"{other}\"{hint} (kinds: \"kinematic\", \
-                     \"dynamic\", \"inverse_dynamics\", \"static\", \"quasi_static\", \
-                     \"modal\")"
-                ),
-            ));
-        }
-    };
-    let (key, given) = position_tolerance(cx, a, statics.is_some())?;
-    let tolerance = match given {
-        None => KinematicOptions::new(0.0, 1.0, 1).tolerance,
-        Some(n) => {
-            let v = cx.num(n, key, Quantity::Unbounded)?;
-            // The range is the library's; the refusal is placed at the key.
-            KinematicOptions::new(0.0, 1.0, 1)
-                .tolerance(v)
-                .validate()
-                .map_err(|e| cx.err(n.span(), e.to_string()))?;
-            v
-        }
-    };
-    let load_steps = load_static_keys(cx, a, kind, statics)?;
-    let modes = load_modes(cx, a, statics, 6 * r.order.len().saturating_sub(1))?;
-    let one_time = matches!(statics, Some(StaticKind::Static | StaticKind::Modal));
-    let t_start = match &a.t_start {
-        Some(t) => cx.num(t, "t_start", Quantity::Time)?,
-        None if one_time => match &a.time {
-            Some(t) => cx.num(t, "time", Quantity::Time)?,
-            None => 0.0,
-        },
-        None => 0.0,
-    };
-    let t_end = match &a.t_end {
-        Some(t) => cx.num(t, "t_end", Quantity::Time)?,
-        None if one_time => t_start,
-        None => {
-            return Err(cx.err(
-                a.kind.span(),
-                format!("[analysis] kind = \"{kind}\" needs t_end (the end time, s)"),
-            ))
-        }
-    };
-    if t_end <= t_start && !one_time {
-        let span = a.t_end.as_ref().map_or(a.kind.span(), |t| t.span());
-        return Err(cx.err(
-            span,
-            format!("t_end = {t_end} s must be greater than t_start = {t_start} s"),
-        ));
-    }
-    // The output step: dt for kinematics; output_dt for dynamics (where dt is the integration step).
-    let (out_dt, out_key) = if dynamic.is_some() {
-        (&a.output_dt, "output_dt")
-    } else {
-        (&a.dt, "dt")
-    };
-    let steps = match (&a.steps, out_dt) {
-        (Some(_), Some(dt)) => {
-            return Err(cx.err(
-                dt.span(),
-                format!("give either steps or {out_key}, not both"),
-            ));
-        }
-        (Some(n), None) => {
-            let v = *n.get_ref();
-            if !(1..=10_000_000).contains(&v) {
-                return Err(cx.err(
-                    n.span(),
-                    format!("steps must be between 1 and 10000000, got {v}"),
-                ));
-            }
-            v as usize
-        }
-        (None, Some(dt)) => {
-            let h = cx.num(dt, out_key, Quantity::Time)?;
-            if h <= 0.0 {
-                return Err(cx.err(dt.span(), format!("{out_key} must be positive, got {h} s")));
-            }
-            let n = ((t_end - t_start) / h).round();
-            if n > 1e7 {
-                return Err(cx.err(
-                    dt.span(),
-                    format!("{out_key} = {h} s gives {n:e} steps; at most 10000000 are allowed"),
-                ));
-            }
-            if ((t_end - t_start) / h - n).abs() > 1e-6 * n.max(1.0) {
-                return Err(cx.err(
-                    dt.span(),
-                    format!(
-                        "{out_key} = {h} s does not divide t_end − t_start = {} s into whole steps; use steps = N instead",
-                        t_end - t_start
-                    ),
-                ));
-            }
-            (n as usize).max(1)
-        }
-        (None, None) if one_time => 0,
-        (None, None) => 100,
-    };
-    // The run stores every moving body and point at every output time: bound the memory.
-    let moving = r.order.len().saturating_sub(1);
-    let points: usize = r
-        .order
-        .iter()
-        .skip(1)
-        .filter_map(|b| r.features.get(b))
-        .map(|f| f.points.len())
-        .sum();
-    let stored = (steps + 1).saturating_mul((moving + points).max(1));
-    if stored > MAX_STORED_FRAMES {
-        return Err(cx.err(
-            a.kind.span(),
-            format!(
-                "{} output times × {} bodies and points = {stored:e} stored frames; at most \
-                 {MAX_STORED_FRAMES:e} are allowed (each takes up to 264 bytes): use fewer steps",
-                steps + 1,
-                moving + points
-            ),
-        ));
-    }
-    let mut outputs = Outputs::default();
-    if let Some(o) = &a.outputs {
-        let o = o.get_ref();
-        for p in &o.points {
-            let Some((b, pt)) = p.get_ref().split_once('.') else {
-                return Err(cx.err(
-                    p.span(),
-                    format!(
-                        "output point \"{}\" must be written \"body.point\" (e.g. \"crank.B\")",
-                        p.get_ref()
-                    ),
-                ));
-            };
-            let bname = Spanned::new(p.span(), b.to_string());
-            let b = r.body(&bname, "outputs.points")?;
-            r.feature(
-                b,
-                &Spanned::new(p.span(), pt.to_string()),
-                "outputs.points",
-                true,
-            )?;
-            outputs.points.push((b.to_string(), pt.to_string()));
-        }
-        for j in &o.joints {
-            if !spans.joints.contains_key(j.get_ref()) {
-                let hint = did_you_mean(j.get_ref(), spans.joints.keys().map(String::as_str));
-                return Err(cx.err(
-                    j.span(),
-                    format!("outputs.joints: unknown joint \"{}\"{hint}", j.get_ref()),
-                ));
-            }
-            outputs.joints.push(j.get_ref().clone());
-        }
-        for b in &o.bodies {
-            let bs = r.body(b, "outputs.bodies")?;
-            if bs == GROUND {
-                return Err(cx.err(b.span(), "outputs.bodies: the ground does not move"));
-            }
-            outputs.bodies.push(bs.to_string());
-        }
-        if kind == "kinematic" && (o.reactions.is_some() || o.energy.is_some()) {
-            return Err(cx.err(
-                a.kind.span(),
-                "outputs.reactions and outputs.energy apply only to kind = \"dynamic\" and \
-                 kind = \"inverse_dynamics\" (a kinematic run has no forces)",
-            ));
-        }
-        if statics.is_some() && o.energy.is_some() {
-            return Err(cx.err(
-                a.kind.span(),
-                "outputs.energy applies only to kind = \"dynamic\" and \"inverse_dynamics\" (a static analysis has no \
-                 motion to conserve energy along)",
-            ));
-        }
-        if let Some(list_) = &o.reactions {
-            let mut v = Vec::new();
-            for j in list_ {
-                let known =
-                    |n: &String| spans.joints.contains_key(n) || spans.couplers.contains_key(n);
-                if !known(j.get_ref()) {
-                    let names = spans.joints.keys().chain(spans.couplers.keys());
-                    let hint = did_you_mean(j.get_ref(), names.map(String::as_str));
-                    return Err(cx.err(
-                        j.span(),
-                        format!(
-                            "outputs.reactions: unknown joint or coupler \"{}\"{hint}",
-                            j.get_ref()
-                        ),
-                    ));
-                }
-                v.push(j.get_ref().clone());
-            }
-            outputs.reactions = Some(v);
-        }
-        outputs.energy = o.energy.unwrap_or(true);
-    } else {
-        outputs.energy = true;
-    }
-    let linearize_at = match &a.linearize_at {
-        None => None,
-        Some(n) => {
-            let t = cx.num(n, "linearize_at", Quantity::Time)?;
-            if dynamic.is_none() {
-                return Err(cx.err(
-                    n.span(),
-                    format!(
-                        "linearize_at applies only to kind = \"dynamic\" (this is a {kind} \
-                         analysis; kind = \"modal\" linearizes about an equilibrium)"
-                    ),
-                ));
-            }
-            if !(t_start..=t_end).contains(&t) {
-                return Err(cx.err(
-                    n.span(),
-                    format!(
-                        "linearize_at = {t} s must lie between t_start = {t_start} s and \
-                         t_end = {t_end} s"
-                    ),
-                ));
-            }
-            Some(t)
-        }
-    };
-    let plots = match &a.plots {
-        None => true,
-        Some(p) => match p.get_ref().as_str() {
-            "svg" => true,
-            "none" => false,
-            other => {
-                return Err(cx.err(
-                    p.span(),
-                    format!("plots = \"{other}\" is not supported: use \"svg\" or \"none\""),
-                ))
-            }
-        },
-    };
-    let kind = match (dynamic, statics) {
-        (Some(i), _) => AnalysisKind::Dynamic(i),
-        (None, Some(k)) => AnalysisKind::Static(k),
-        (None, None) if kind == "inverse_dynamics" => AnalysisKind::InverseDynamics,
-        (None, None) => AnalysisKind::Kinematic,
-    };
-    Ok(Analysis {
-        kind,
-        t_start,
-        t_end,
-        steps,
-        outputs,
-        plots,
-        tolerance,
-        load_steps,
-        inputs: Vec::new(),
-        linearize_at,
-        modes,
-    })
-}
-
-/// `modes = n` (modal only, 1 to 10,000 and at most the model's `unknowns`, 6 per moving
-/// body): the number of lowest modes.
-fn load_modes(
-    cx: &Ctx,
-    a: &AnalysisSection,
-    statics: Option<StaticKind>,
-    unknowns: usize,
-) -> Result<Option<usize>, Error> {
-    let Some(n) = &a.modes else {
-        return Ok(None);
-    };
-    if statics != Some(StaticKind::Modal) {
-        return Err(cx.err(
-            n.span(),
-            "modes applies only to kind = \"modal\" (how many of the lowest modes)",
-        ));
-    }
-    let v = *n.get_ref();
-    if !(1..=10_000).contains(&v) {
-        return Err(cx.err(
-            n.span(),
-            format!("modes must be between 1 and 10000, got {v}"),
-        ));
-    }
-    if v as usize > unknowns {
-        return Err(cx.err(
-            n.span(),
-            format!(
-                "modes = {v} is more than the model's {unknowns} unknowns (6 per moving body): \
-                 it has at most that many modes"
-            ),
-        ));
-    }
-    Ok(Some(v as usize))
-}
-
-/// `inputs = [...]` (modal, dynamic with linearize_at): drivers (modal) and point_force and torque elements of the file.
-fn load_inputs(
-    cx: &Ctx,
-    a: &AnalysisSection,
-    an: &Analysis,
-    forces: &[Force],
-    drivers: &[(String, String)],
-) -> Result<Vec<String>, Error> {
-    let Some(list_) = &a.inputs else {
-        return Ok(Vec::new());
-    };
-    let mut out = Vec::new();
-    for n in list_ {
-        if an.statics() != Some(StaticKind::Modal) && an.linearize_at.is_none() {
-            return Err(cx.err(
-                n.span(),
-                "inputs applies only to kind = \"modal\" and to kind = \"dynamic\" with \
-                 linearize_at (the inputs of the state-space model)",
-            ));
-        }
-        let force = forces.iter().any(|f| {
-            f.name() == n.get_ref().as_str()
-                && matches!(f, Force::PointForce { .. } | Force::PointTorque { .. })
-        });
-        let driver = drivers.iter().any(|(d, _)| d == n.get_ref());
-        if driver && an.statics() != Some(StaticKind::Modal) {
-            return Err(cx.err(
-                n.span(),
-                format!(
-                    "inputs: driver \"{}\": driver efforts are inputs of kind = \"modal\" only \
-                     (about a moving state the driver prescribes the motion)",
-                    n.get_ref()
-                ),
-            ));
-        }
-        if !force && !driver {
-            return Err(cx.err(
-                n.span(),
-                format!(
-                    "inputs: \"{}\" is not a [[force]] of type point_force or torque, nor a \
-                     one-coordinate [[driver]]",
-                    n.get_ref()
-                ),
-            ));
-        }
-        out.push(n.get_ref().clone());
-    }
-    Ok(out)
-}
-
-/// The keys of the static kinds: `time` (static and modal only; t_start, t_end, steps and dt
-/// do not apply to them) and `load_steps` (default 1). Returns load_steps.
-fn load_static_keys(
-    cx: &Ctx,
-    a: &AnalysisSection,
-    kind: &str,
-    statics: Option<StaticKind>,
-) -> Result<usize, Error> {
-    match statics {
-        None => {
-            let only: [(&str, Option<Range<usize>>); 2] = [
-                ("time", a.time.as_ref().map(|n| n.span())),
-                ("load_steps", a.load_steps.as_ref().map(|n| n.span())),
-            ];
-            if let Some((k, Some(s))) = only.into_iter().find(|(_, s)| s.is_some()) {
-                return Err(cx.err(
-                    s,
-                    format!(
-                        "{k} applies only to kind = \"static\", \"quasi_static\" and \
-                         \"modal\" (this is a {kind} analysis)"
-                    ),
-                ));
-            }
-        }
-        Some(StaticKind::Static | StaticKind::Modal) => {
-            let grid: [(&str, Option<Range<usize>>); 4] = [
-                ("t_start", a.t_start.as_ref().map(|n| n.span())),
-                ("t_end", a.t_end.as_ref().map(|n| n.span())),
-                ("steps", a.steps.as_ref().map(|n| n.span())),
-                ("dt", a.dt.as_ref().map(|n| n.span())),
-            ];
-            if let Some((k, Some(s))) = grid.into_iter().find(|(_, s)| s.is_some()) {
-                return Err(cx.err(
-                    s,
-                    format!(
-                        "{k} does not apply to kind = \"{kind}\": it has one time, the one the \
-                         drivers are held at (time = ..., default 0); use kind = \
-                         \"quasi_static\" for a time grid"
-                    ),
-                ));
-            }
-        }
-        Some(StaticKind::QuasiStatic) => {
-            if let Some(t) = &a.time {
-                return Err(cx.err(
-                    t.span(),
-                    "time does not apply to kind = \"quasi_static\": its times are the grid \
-                     (t_start, t_end, steps or dt)",
-                ));
-            }
-        }
-    }
-    match &a.load_steps {
-        None => Ok(1),
-        Some(n) => {
-            let v = *n.get_ref();
-            if !(1..=1000).contains(&v) {
-                return Err(cx.err(
-                    n.span(),
-                    format!("load_steps must be between 1 and 1000, got {v}"),
-                ));
-            }
-            Ok(v as usize)
         }
     }
 }
@@ -2031,13 +1469,6 @@ fn body_velocity(cx: &Ctx, b: &BodySection) -> Result<Option<BodyVelocity>, Erro
     }))
 }
 
-const FORCE_TYPES: &[&str] = &[
-    "point_force",
-    "torque",
-    "spring_damper",
-    "rotational_spring_damper",
-];
-
 fn load_force(
     r: &Resolver,
     f: &ForceSection,
@@ -2049,57 +1480,6 @@ fn load_force(
     let owner = format!("force \"{name}\"");
     let kind = f.kind.get_ref().as_str();
     let span = f.name.span();
-    let allowed: &[&str] = match kind {
-        "point_force" => &["body", "point", "value", "components", "frame"],
-        "torque" => &["body", "value", "components", "frame"],
-        "spring_damper" => &[
-            "body_i",
-            "point_i",
-            "body_j",
-            "point_j",
-            "stiffness",
-            "damping",
-            "free_length",
-            "actuator",
-        ],
-        "rotational_spring_damper" => &["joint", "stiffness", "damping", "rest_angle"],
-        _ => {
-            let hint = did_you_mean(kind, FORCE_TYPES.iter().copied());
-            return Err(cx.err(
-                f.kind.span(),
-                format!(
-                    "{owner}: unknown force type \"{kind}\"{hint} (types: {})",
-                    list(FORCE_TYPES.iter().copied())
-                ),
-            ));
-        }
-    };
-    let present = [
-        ("body", f.body.is_some()),
-        ("point", f.point.is_some()),
-        ("value", f.value.is_some()),
-        ("components", f.components.is_some()),
-        ("frame", f.frame.is_some()),
-        ("body_i", f.body_i.is_some()),
-        ("point_i", f.point_i.is_some()),
-        ("body_j", f.body_j.is_some()),
-        ("point_j", f.point_j.is_some()),
-        ("stiffness", f.stiffness.is_some()),
-        ("damping", f.damping.is_some()),
-        ("free_length", f.free_length.is_some()),
-        ("actuator", f.actuator.is_some()),
-        ("joint", f.joint.is_some()),
-        ("rest_angle", f.rest_angle.is_some()),
-    ];
-    if let Some((k, _)) = present.iter().find(|(k, p)| *p && !allowed.contains(k)) {
-        return Err(cx.err(
-            span,
-            format!(
-                "{owner}: a {kind} force does not take \"{k}\" (it takes {})",
-                list(allowed.iter().copied())
-            ),
-        ));
-    }
     let need = |v: &Option<Name>, key: &str| -> Result<Name, Error> {
         v.clone().ok_or_else(|| {
             missing(
@@ -2297,95 +1677,4 @@ fn load_force(
             ))
         }
     }
-}
-
-const INTEGRATORS: &[&str] = &["dopri5", "generalized_alpha"];
-
-/// A positive number with a unit, for the dynamic settings.
-fn positive(cx: &Ctx, n: &Num, what: &str, unit: &str) -> Result<f64, Error> {
-    let v = cx.num(n, what, Quantity::Time)?;
-    if v <= 0.0 {
-        return Err(cx.err(n.span(), format!("{what} must be positive, got {v}{unit}")));
-    }
-    Ok(v)
-}
-
-/// The integrator of a `kind = "dynamic"` analysis. The values are only read here; their
-/// ranges are the library's ([`Integrator::validate`]), and a refusal is placed at the key.
-fn load_integrator(cx: &Ctx, a: &AnalysisSection) -> Result<Integrator, Error> {
-    let name = a
-        .integrator
-        .as_ref()
-        .map_or("dopri5", |n| n.get_ref().as_str());
-    let stray = |keys: &[(&str, &Option<Num>)]| -> Result<(), Error> {
-        if let Some((k, n)) = keys.iter().find(|(_, v)| v.is_some()) {
-            let s = n.as_ref().map_or(0..0, |n| n.span());
-            return Err(cx.err(s, format!("{k} does not apply to integrator = \"{name}\"")));
-        }
-        Ok(())
-    };
-    // Tolerances and ρ∞ have their ranges checked by the library; steps are times.
-    let read = |n: &Option<Num>, key: &str| -> Result<Option<f64>, Error> {
-        let q = match key {
-            "dt" | "h_max" => Quantity::Time,
-            _ => Quantity::Unbounded,
-        };
-        n.as_ref().map(|n| cx.num(n, key, q)).transpose()
-    };
-    let integrator = match name {
-        "dopri5" => {
-            stray(&[
-                ("rho_inf", &a.rho_inf),
-                ("newton_tolerance", &a.newton_tolerance),
-            ])?;
-            let mut o = Dopri5Options::default();
-            if let Some(h) = &a.dt {
-                if a.rtol.is_some() || a.atol.is_some() {
-                    return Err(cx.err(
-                        h.span(),
-                        "give dt (fixed steps) or rtol/atol (adaptive steps), not both",
-                    ));
-                }
-                o = Dopri5Options::fixed(positive(cx, h, "dt", " s")?);
-            }
-            o.rtol = read(&a.rtol, "rtol")?.unwrap_or(o.rtol);
-            o.atol = read(&a.atol, "atol")?.unwrap_or(o.atol);
-            o.h_max = read(&a.h_max, "h_max")?.unwrap_or(o.h_max);
-            Integrator::Dopri5(o)
-        }
-        "generalized_alpha" => {
-            stray(&[("rtol", &a.rtol), ("atol", &a.atol), ("h_max", &a.h_max)])?;
-            let mut o = GeneralizedAlphaOptions::default();
-            o.h = read(&a.dt, "dt")?.unwrap_or(o.h);
-            o.rho_inf = read(&a.rho_inf, "rho_inf")?.unwrap_or(o.rho_inf);
-            o.tolerance = read(&a.newton_tolerance, "newton_tolerance")?.unwrap_or(o.tolerance);
-            Integrator::GeneralizedAlpha(o)
-        }
-        other => {
-            let hint = did_you_mean(other, INTEGRATORS.iter().copied());
-            let s = a.integrator.as_ref().map_or(0..0, |n| n.span());
-            return Err(cx.err(
-                s,
-                format!(
-                    "unknown integrator \"{other}\"{hint} (integrators: {})",
-                    list(INTEGRATORS.iter().copied())
-                ),
-            ));
-        }
-    };
-    integrator.validate().map_err(|e| {
-        // The option struct's field → the file's key.
-        let (key, value) = match e.option {
-            "step" | "h" => ("dt", &a.dt),
-            "tolerance" => ("newton_tolerance", &a.newton_tolerance),
-            "rtol" => ("rtol", &a.rtol),
-            "atol" => ("atol", &a.atol),
-            "h_max" => ("h_max", &a.h_max),
-            "rho_inf" => ("rho_inf", &a.rho_inf),
-            other => (other, &None),
-        };
-        let span = value.as_ref().map_or(a.kind.span(), Spanned::span);
-        cx.err(span, e.describe(key))
-    })?;
-    Ok(integrator)
 }

@@ -42,6 +42,10 @@ pub struct ModelFile {
     pub force: Vec<Spanned<ForceSection>>,
     /// `[analysis]`.
     pub analysis: Option<Spanned<AnalysisSection>>,
+    /// The keys written in the sections with vocabularies, with their spans (not a key of the
+    /// file: read off the parsed document, [`parse`]).
+    #[serde(skip)]
+    pub keys: crate::vocabulary::KeySpans,
 }
 
 /// `[model]`.
@@ -504,6 +508,10 @@ pub struct AnalysisSection {
     /// (default 1e-10); `tolerance` is its older name, with the same meaning.
     #[serde(default)]
     pub position_tolerance: Option<Num>,
+    /// static, quasi_static, modal: the equilibrium's tolerance (default 1e-10); `tolerance`
+    /// is its older name, with the same meaning.
+    #[serde(default)]
+    pub equilibrium_tolerance: Option<Num>,
     /// What to write.
     #[serde(default)]
     pub outputs: Option<Spanned<OutputsSection>>,
@@ -560,11 +568,17 @@ pub const MAX_NESTING: usize = 32;
 /// so time and memory stay bounded by the file size limit.
 pub fn parse(src: &Source) -> Result<ModelFile, Error> {
     prescan(src)?;
-    let file = toml::from_str::<ModelFile>(&src.text).map_err(|e| {
+    let located = |e: toml::de::Error| {
         let span = e.span().unwrap_or(0..0);
         let message = in_context(&src.text, span.start, improve_message(e.message()));
         src.error_at(span, message)
-    })?;
+    };
+    // Parsed once: the keys of the vocabulary sections are read off the document (with their
+    // spans, for the table-driven key checks) before it is deserialized.
+    let doc = toml::de::DeTable::parse(&src.text).map_err(located)?;
+    let keys = crate::vocabulary::KeySpans::collect(doc.get_ref());
+    let mut file = ModelFile::deserialize(toml::de::Deserializer::from(doc)).map_err(located)?;
+    file.keys = keys;
     check_counts(src, &file)?;
     Ok(file)
 }

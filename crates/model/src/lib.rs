@@ -40,6 +40,7 @@ pub mod run_json;
 pub mod scene;
 pub mod table;
 pub mod units;
+pub mod vocabulary;
 
 pub use diag::{Error, ErrorKind, Location, Source};
 pub use prepare::{prepare, Prepared};

@@ -1,57 +1,18 @@
-//! `[[coupler]]` sections to [`CouplerSpec`]s: the type, which keys it takes (a key of another
-//! type is refused, not ignored), the numbers. The joints (existence, kinds, a shared body, the
+//! `[[coupler]]` sections to [`CouplerSpec`]s: the numbers (the type and which keys it takes
+//! are checked from [`crate::vocabulary::COUPLERS`] before). The joints (existence, kinds, a shared body, the
 //! geometry of their axes) and the signs of radii and pitch are checked by the builder, whose
 //! errors [`super::Spans::locate`] places at the key.
 
 use super::{missing, Ctx};
-use crate::diag::{did_you_mean, list, Error};
+use crate::diag::Error;
 use crate::file::{CouplerSection, Name, Num};
 use cardan_mechanism::{CouplerSpec, GearRatio, Quantity};
-
-/// The coupler types of the model file.
-pub const TYPES: [&str; 3] = ["gear", "rack_pinion", "screw"];
 
 pub(super) fn load_coupler(cx: &Ctx, c: &CouplerSection) -> Result<CouplerSpec, Error> {
     let name = c.name.get_ref().clone();
     let owner = format!("coupler \"{name}\"");
     let kind = c.kind.get_ref().as_str();
     let span = c.name.span();
-    let keys: [(&str, bool); 10] = [
-        ("joint_i", c.joint_i.is_some()),
-        ("joint_j", c.joint_j.is_some()),
-        ("radius_i", c.radius_i.is_some()),
-        ("radius_j", c.radius_j.is_some()),
-        ("ratio", c.ratio.is_some()),
-        ("slide_joint", c.slide_joint.is_some()),
-        ("angle_joint", c.angle_joint.is_some()),
-        ("joint", c.joint.is_some()),
-        ("radius", c.radius.is_some()),
-        ("pitch", c.pitch.is_some()),
-    ];
-    let takes: &[&str] = match kind {
-        "gear" => &["joint_i", "joint_j", "radius_i", "radius_j", "ratio"],
-        "rack_pinion" => &["slide_joint", "angle_joint", "radius"],
-        "screw" => &["slide_joint", "angle_joint", "joint", "pitch"],
-        other => {
-            return Err(cx.err(
-                c.kind.span(),
-                format!(
-                    "{owner}: unknown coupler type \"{other}\"{} (types: {})",
-                    did_you_mean(other, TYPES.iter().copied()),
-                    list(TYPES.iter().copied())
-                ),
-            ))
-        }
-    };
-    if let Some((k, _)) = keys.iter().find(|(k, given)| *given && !takes.contains(k)) {
-        return Err(cx.err(
-            span,
-            format!(
-                "{owner}: a {kind} coupler does not take \"{k}\" (it takes {})",
-                list(takes.iter().copied())
-            ),
-        ));
-    }
     let need = |v: &Option<Name>, key: &str, why: &str| -> Result<String, Error> {
         v.as_ref()
             .map(|n| n.get_ref().clone())
