@@ -81,7 +81,7 @@ pub const FUNCTIONS: Vocabulary = Vocabulary {
         Entry {
             name: "spline",
             aliases: &[],
-            summary: "the natural cubic spline through the knots (constant beyond them)",
+            summary: "the natural cubic spline through the knots; linear beyond them",
             keys: &[
                 Key::new(
                     "times",
