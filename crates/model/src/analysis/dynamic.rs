@@ -19,9 +19,14 @@ use crate::output_tables::{
 };
 use crate::prepare::Prepared;
 use crate::table::Table;
-use cardan_dynamics::{DynamicResults, Dynamics, Integrator, SimulationOptions, State};
+use cardan_dynamics::{DynamicResults, Integrator, SimulationOptions};
 use std::path::PathBuf;
 use std::time::Instant;
+
+// The dynamics problem and its located errors, shared with the other analyses that run the
+// dynamics, under the paths the benchmarks and the tests know.
+pub use super::located::{located, located_as};
+pub use super::setup::{dynamics, initial_state, options};
 
 /// `kind = "dynamic"`: simulate, the tables, the summary. A failure mid-run keeps the results
 /// so far with the error. With `dir`, the CSV files are written there output by output and only
@@ -116,59 +121,6 @@ pub(super) fn run_dynamic(
     })
 }
 
-/// The [`Dynamics`] of a prepared model with the file's forces (gravity first).
-///
-/// # Errors
-/// A body without mass or inertia, an invalid force element.
-pub fn dynamics(p: &Prepared) -> Result<Dynamics<'_>, Error> {
-    dynamics_as(p, "dynamic analysis")
-}
-
-/// As [`dynamics`], errors starting with `what`.
-pub(super) fn dynamics_as<'p>(p: &'p Prepared, what: &str) -> Result<Dynamics<'p>, Error> {
-    let mut d = Dynamics::new(&p.model).map_err(|e| located_as(p, &e, what))?;
-    for f in &p.loaded.forces {
-        d.add_force(f.clone())
-            .map_err(|e| located_as(p, &e, what))?;
-    }
-    Ok(d)
-}
-
-/// The initial guess: the bodies' initial poses (assembled later) and the file's velocities, at
-/// `t_start`.
-pub fn initial_state(p: &Prepared) -> State {
-    let t0 = p.loaded.analysis.as_ref().map_or(0.0, |a| a.t_start);
-    let mut s = State::initial(&p.model, t0);
-    for v in &p.loaded.velocities {
-        if let Some(k) = p.model.bodies().iter().position(|b| b.name == v.body) {
-            if v.omega_local {
-                s.set_velocity(k, v.velocity, v.omega);
-            } else {
-                s.set_velocity_global(k, v.velocity, v.omega);
-            }
-        }
-    }
-    s
-}
-
-/// The file's simulation options; `integrator` overrides the file's integrator settings.
-///
-/// # Errors
-/// The file has no `kind = "dynamic"` analysis.
-pub fn options(p: &Prepared, integrator: Option<Integrator>) -> Result<SimulationOptions, Error> {
-    let a = p
-        .loaded
-        .analysis
-        .as_ref()
-        .filter(|a| a.integrator().is_some())
-        .ok_or_else(|| {
-            p.source
-                .error("the model file has no [analysis] with kind = \"dynamic\"")
-        })?;
-    let integrator = integrator.or(a.integrator()).unwrap_or_default();
-    Ok(SimulationOptions::new(a.t_end, a.steps).integrator(integrator))
-}
-
 /// Runs the file's dynamic analysis (or with another integrator).
 ///
 /// # Errors
@@ -179,44 +131,6 @@ pub fn simulate(p: &Prepared, integrator: Option<Integrator>) -> Result<DynamicR
     let mut d = dynamics(p)?;
     let s = initial_state(p);
     d.simulate(&s, &opts).map_err(|e| located(p, &e))
-}
-
-/// A dynamics error as a message, placed at the first element it names or at `[analysis]`.
-pub fn located(p: &Prepared, e: &cardan_dynamics::DynamicsError) -> Error {
-    located_as(p, e, "dynamic analysis")
-}
-
-/// As [`located`], the message starting with `what` ("dynamic analysis", "inverse dynamics").
-pub fn located_as(p: &Prepared, e: &cardan_dynamics::DynamicsError, what: &str) -> Error {
-    use cardan_dynamics::DynamicsError as E;
-    let spans = &p.loaded.spans;
-    let span = match e.cause() {
-        E::MissingInertia { body } => spans.element(body),
-        E::BadForce { force, .. } | E::ForceLimit { force, .. } => spans.element(force),
-        E::NonFinite { time, .. } => crate::functions::first_not_finite(&p.loaded, *time)
-            .and_then(|(_, name)| spans.element(&name)),
-        E::InconsistentPositions { open } => open.first().and_then(|o| spans.element(&o.element)),
-        E::InconsistentVelocities { equations, .. }
-        | E::Singular {
-            dependent: equations,
-            ..
-        } => equations.first().and_then(|o| spans.element(&o.element)),
-        _ => None,
-    }
-    .unwrap_or_else(|| spans.analysis.clone());
-    let mut message = format!("{what}: {}", e.cause());
-    if let E::NonFinite { time, .. } = e.cause() {
-        if let Some((why, _)) = crate::functions::first_not_finite(&p.loaded, *time) {
-            message = format!("{message}; the cause: {why}");
-        }
-    }
-    let mut err = Error::analysis(message);
-    err.location = Some(p.source.span_location(span));
-    if matches!(e.cause(), E::MissingInertia { .. } | E::BadForce { .. }) {
-        // The file is incomplete, not the analysis failed.
-        err.kind = crate::diag::ErrorKind::Input;
-    }
-    err
 }
 
 /// The output groups of a dynamic run: the kinematic groups, then driver efforts (when the

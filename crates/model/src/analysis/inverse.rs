@@ -5,9 +5,10 @@
 //! a fully driven mechanism ([`crate::prepare::not_fully_driven`] says what is missing;
 //! `cardan check` uses it too).
 
-use super::dynamic::{dynamics_as, located_as};
 use super::dynamic_layout::{DynamicLayout, Kind};
 use super::kinematic;
+use super::located::located_as;
+use super::setup::dynamics_as;
 use super::stream::{Recorder, Tap};
 use super::summary::{Analysed, Summary};
 use crate::build::Outputs as Requested;

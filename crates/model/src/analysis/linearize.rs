@@ -6,7 +6,8 @@
 //! The state at t comes from integrating from t_start to t with the run's integrator and its
 //! settings (a run of its own, one output at t), so t need not be an output time.
 
-use super::dynamic::{dynamics, initial_state, located};
+use super::located::located;
+use super::setup::{dynamics, initial_state};
 use super::statics::{matrix_files, mode_tables};
 use crate::build::Outputs as Requested;
 use crate::diag::Error;

@@ -12,6 +12,8 @@ pub mod inverse;
 pub mod kinematic;
 mod layout;
 mod linearize;
+mod located;
+mod setup;
 pub mod statics;
 pub mod stream;
 mod summary;
