@@ -7,9 +7,10 @@
 //!
 //! The benchmark tests call [`simulate`] directly, so what is tested is the model file itself.
 
-use super::dynamic_layout::{DynamicLayout, DynamicTally, Kind};
+use super::dynamic_layout::{DynamicLayout, Kind};
 use super::stream::{Recorder, Tap};
 use super::summary::{Analysed, DynamicSummary, RunFlags, Summary};
+use super::tally::DynamicTally;
 use crate::build::Outputs as Requested;
 use crate::diag::Error;
 use crate::files::{FrameTap, OutputFiles};
@@ -25,6 +26,7 @@ use std::time::Instant;
 
 // The dynamics problem and its located errors, shared with the other analyses that run the
 // dynamics, under the paths the benchmarks and the tests know.
+pub use super::energy::{energy_scale, ENERGY_BALANCE_BOUND};
 pub use super::located::{located, located_as};
 pub use super::setup::{dynamics, initial_state, options};
 
@@ -164,30 +166,6 @@ pub fn tables(p: &Prepared, r: &DynamicResults, req: &Requested) -> Vec<Table> {
     }
     out.push(t);
     out
-}
-
-/// A run whose energy balance (E − E(t₀) − W_nc, [`cardan_dynamics::work`]) exceeds this
-/// fraction of its energy scale ([`energy_scale`]) is flagged (docs/model-format.md,
-/// "Warnings").
-pub const ENERGY_BALANCE_BOUND: f64 = 0.01;
-
-/// The energy scale of a run: the largest kinetic energy, plus the range of the potential energy
-/// (gravity and springs), plus the largest |work| of each driver and non-conservative force
-/// element over the stored times, in J. It measures how much energy the motion exchanges and
-/// the elements put in or take out, independently of the arbitrary zero of the potential.
-pub fn energy_scale(e: &cardan_dynamics::EnergyHistory) -> f64 {
-    let kinetic = e.kinetic.iter().fold(0.0f64, |a, &t| a.max(t));
-    let potential = e.gravity.iter().zip(&e.spring).map(|(g, s)| g + s);
-    let (lo, hi) = potential.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
-        (lo.min(v), hi.max(v))
-    });
-    let range = if hi >= lo { hi - lo } else { 0.0 };
-    let work: f64 = e
-        .elements
-        .iter()
-        .map(|w| w.work.iter().fold(0.0f64, |a, x| a.max(x.abs())))
-        .sum();
-    kinetic + range + work
 }
 
 /// The constraint drift a run may show: the integrator's tolerance on the scaled residual

@@ -6,11 +6,13 @@
 //! `cardan check` uses it too).
 
 use super::dynamic_layout::{DynamicLayout, Kind};
+use super::energy::ENERGY_BALANCE_BOUND;
 use super::kinematic;
 use super::located::located_as;
 use super::setup::dynamics_as;
 use super::stream::{Recorder, Tap};
 use super::summary::{Analysed, Summary};
+use super::tally::DynamicTally;
 use crate::build::Outputs as Requested;
 use crate::diag::Error;
 use crate::files::{FrameTap, OutputFiles};
@@ -243,24 +245,24 @@ pub fn inverse_tables(p: &Prepared, r: &DynamicResults, req: &Requested) -> Vec<
 }
 
 /// The doubtful results of an inverse dynamics run: an energy balance beyond
-/// [`super::dynamic::ENERGY_BALANCE_BOUND`] of the energy scale (the motion is prescribed, so
+/// [`ENERGY_BALANCE_BOUND`] of the energy scale (the motion is prescribed, so
 /// the balance measures the quadrature of the work on the output grid and the position
 /// tolerance: the output step is too coarse for the motion), and the dropped rows left open.
 fn inverse_warnings(
     p: &Prepared,
-    tally: &super::dynamic_layout::DynamicTally,
+    tally: &DynamicTally,
     dropped_rows: &[cardan_mechanism::DroppedRowResidual],
 ) -> Vec<String> {
     let mut warnings = Vec::new();
     let (balance, scale) = (tally.max_balance, tally.energy_scale());
-    if balance > super::dynamic::ENERGY_BALANCE_BOUND * scale {
+    if balance > ENERGY_BALANCE_BOUND * scale {
         warnings.push(format!(
             "energy balance {balance:.3e} J (the energy change less the work of the drivers and \
              non-conservative forces) is {:.1} % of the model's energy scale {scale:.3e} J, more \
              than the {} % allowed: the work is integrated over the output times, which are too \
              far apart for this motion; use more steps",
             100.0 * balance / scale,
-            100.0 * super::dynamic::ENERGY_BALANCE_BOUND
+            100.0 * ENERGY_BALANCE_BOUND
         ));
     }
     warnings.extend(kinematic::dropped_row_warnings(p, dropped_rows));

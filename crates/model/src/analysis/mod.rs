@@ -8,6 +8,7 @@
 mod csv_files;
 pub mod dynamic;
 pub mod dynamic_layout;
+mod energy;
 pub mod inverse;
 pub mod kinematic;
 mod layout;
@@ -17,8 +18,10 @@ mod setup;
 pub mod statics;
 pub mod stream;
 mod summary;
+mod tally;
 
-pub use summary::{Analysed, DynamicSummary, EnergyBalance, RunFlags, Summary};
+pub use energy::EnergyBalance;
+pub use summary::{Analysed, DynamicSummary, RunFlags, Summary};
 
 use crate::build::AnalysisKind;
 use crate::diag::Error;
