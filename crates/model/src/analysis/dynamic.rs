@@ -10,7 +10,6 @@
 use super::dynamic_layout::{DynamicLayout, Kind};
 use super::stream::{Recorder, Tap};
 use super::summary::{Analysed, DynamicSummary, RunFlags, Summary};
-use super::tally::DynamicTally;
 use crate::build::Outputs as Requested;
 use crate::diag::Error;
 use crate::files::{FrameTap, OutputFiles};
@@ -29,6 +28,7 @@ use std::time::Instant;
 pub use super::energy::{energy_scale, ENERGY_BALANCE_BOUND};
 pub use super::located::{located, located_as};
 pub use super::setup::{dynamics, initial_state, options};
+pub use super::warnings::{doubtful, doubtful_results, drift_bound};
 
 /// `kind = "dynamic"`: simulate, the tables, the summary. A failure mid-run keeps the results
 /// so far with the error. With `dir`, the CSV files are written there output by output and only
@@ -168,73 +168,6 @@ pub fn tables(p: &Prepared, r: &DynamicResults, req: &Requested) -> Vec<Table> {
     out
 }
 
-/// The constraint drift a run may show: the integrator's tolerance on the scaled residual
-/// (at least 1e-12, the round-off of a converged projection) times the largest equation scale
-/// (the model's length for point equations), in m or -.
-pub fn drift_bound(p: &Prepared, integrator: &Integrator) -> f64 {
-    let tol = match integrator {
-        Integrator::Dopri5(o) => o.projection_tolerance,
-        Integrator::GeneralizedAlpha(o) => o.tolerance,
-    };
-    let scale = p
-        .model
-        .equation_scales()
-        .iter()
-        .fold(1.0f64, |a, &s| a.max(s));
-    tol.max(1e-12) * scale
-}
-
-/// Warnings about doubtful results of a dynamic run: an energy balance beyond
-/// [`ENERGY_BALANCE_BOUND`] of the energy scale (the energy change that the work of the
-/// drivers and non-conservative forces does not explain: checked for every model, driven,
-/// damped or conservative), a row dropped as redundant that stays off by more than the kept
-/// rows drift (the redundant joints disagree), a constraint drift beyond [`drift_bound`].
-pub fn doubtful_results(p: &Prepared, r: &DynamicResults, integrator: &Integrator) -> Vec<String> {
-    let tally = DynamicTally::of(r);
-    doubtful(p, &tally, &r.kinematics.dropped_rows, integrator)
-}
-
-/// [`doubtful_results`] from the run's numbers over every stored time (`tally`, taken as the
-/// times were streamed, not from a decimated copy) and its dropped rows.
-pub fn doubtful(
-    p: &Prepared,
-    tally: &DynamicTally,
-    dropped_rows: &[cardan_mechanism::DroppedRowResidual],
-    integrator: &Integrator,
-) -> Vec<String> {
-    let mut warnings = Vec::new();
-    let balance = tally.max_balance;
-    let scale = tally.energy_scale();
-    if balance > ENERGY_BALANCE_BOUND * scale {
-        warnings.push(format!(
-            "energy balance {balance:.3e} J (the energy change less the work of the drivers and \
-             non-conservative forces) is {:.1} % of the model's energy scale {scale:.3e} J \
-             (largest kinetic energy + range of the potential energy + largest work of each \
-             driver and non-conservative force), more than the {} % allowed: the integration \
-             is inaccurate or unstable; use a smaller step (dt) or tighter tolerances (rtol, \
-             atol)",
-            100.0 * balance / scale,
-            100.0 * ENERGY_BALANCE_BOUND
-        ));
-    }
-    warnings.extend(super::kinematic::dropped_row_warnings(p, dropped_rows));
-    let worst = tally.max_drift;
-    let bound = drift_bound(p, integrator);
-    // A drift no larger than the dropped rows' disagreement is that disagreement (warned above),
-    // not an integration error.
-    let disagreement = dropped_rows
-        .iter()
-        .fold(0.0f64, |a, d| a.max(d.value.abs()));
-    if (worst > bound && worst > disagreement) || worst.is_nan() {
-        warnings.push(format!(
-            "constraint drift {worst:.3e} (largest |Φ_i|, m or -) exceeds the tolerance \
-             {bound:.3e} (the integrator's tolerance times the model's length scale): the \
-             joints are not held closely; use a smaller step (dt) or tighter tolerances"
-        ));
-    }
-    warnings
-}
-
 /// Most integration steps a dynamic run may need without `--allow-long`: as many as a kinematic
 /// run may have, and the integrators' own step limit
 /// ([`SimulationOptions::max_steps`]'s default).
@@ -294,6 +227,7 @@ pub fn check_length(
 mod tests {
     use super::*;
     use crate::analysis::stream::MAX_PLOTTED_FRAMES;
+    use crate::analysis::tally::DynamicTally;
     use cardan_dynamics::DynamicsError;
     use std::ops::ControlFlow;
 

@@ -13,6 +13,7 @@ use super::setup::dynamics_as;
 use super::stream::{Recorder, Tap};
 use super::summary::{Analysed, Summary};
 use super::tally::DynamicTally;
+use super::warnings::dropped_row_warnings;
 use crate::build::Outputs as Requested;
 use crate::diag::Error;
 use crate::files::{FrameTap, OutputFiles};
@@ -265,6 +266,6 @@ fn inverse_warnings(
             100.0 * ENERGY_BALANCE_BOUND
         ));
     }
-    warnings.extend(kinematic::dropped_row_warnings(p, dropped_rows));
+    warnings.extend(dropped_row_warnings(p, dropped_rows));
     warnings
 }

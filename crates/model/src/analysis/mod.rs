@@ -19,6 +19,7 @@ pub mod statics;
 pub mod stream;
 mod summary;
 mod tally;
+mod warnings;
 
 pub use energy::EnergyBalance;
 pub use summary::{Analysed, DynamicSummary, RunFlags, Summary};

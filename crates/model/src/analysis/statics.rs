@@ -9,6 +9,7 @@ use super::inverse::inverse_tables;
 use super::located::located_as;
 use super::setup::dynamics_as;
 use super::summary::{Analysed, Summary};
+use super::warnings::dropped_row_warnings;
 use crate::build::Outputs as Requested;
 use crate::build::{Analysis, StaticKind, DEFAULT_SPARSE_MODES};
 use crate::diag::Error;
@@ -125,10 +126,7 @@ pub(super) fn run_statics(
         .collect();
     tables.push(stability_table(&statics));
     let mut warnings = stability_warnings(&statics);
-    warnings.extend(super::kinematic::dropped_row_warnings(
-        p,
-        &r.kinematics.dropped_rows,
-    ));
+    warnings.extend(dropped_row_warnings(p, &r.kinematics.dropped_rows));
     let mut files = Vec::new();
     let bodies: Vec<&str> = r
         .kinematics
