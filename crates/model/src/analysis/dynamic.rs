@@ -10,15 +10,10 @@
 use super::dynamic_layout::{DynamicLayout, Kind};
 use super::stream::{Recorder, Tap};
 use super::summary::{Analysed, DynamicSummary, RunFlags, Summary};
-use crate::build::Outputs as Requested;
 use crate::diag::Error;
 use crate::files::{FrameTap, OutputFiles};
-use crate::output_tables::{
-    coupler_efforts_table, driver_efforts_table, energy_table, peak_efforts_of, reaction_tables,
-    requested,
-};
+use crate::output_tables::{peak_efforts_of, requested};
 use crate::prepare::Prepared;
-use crate::table::Table;
 use cardan_dynamics::{DynamicResults, Integrator, SimulationOptions};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -28,6 +23,7 @@ use std::time::Instant;
 pub use super::energy::{energy_scale, ENERGY_BALANCE_BOUND};
 pub use super::located::{located, located_as};
 pub use super::setup::{dynamics, initial_state, options};
+pub use super::tables::dynamic_tables as tables;
 pub use super::warnings::{doubtful, doubtful_results, drift_bound};
 
 /// `kind = "dynamic"`: simulate, the tables, the summary. A failure mid-run keeps the results
@@ -133,39 +129,6 @@ pub fn simulate(p: &Prepared, integrator: Option<Integrator>) -> Result<DynamicR
     let mut d = dynamics(p)?;
     let s = initial_state(p);
     d.simulate(&s, &opts).map_err(|e| located(p, &e))
-}
-
-/// The output groups of a dynamic run: the kinematic groups, then driver efforts (when the
-/// model has drivers), reactions (global and body components), energy and constraint drift.
-pub fn tables(p: &Prepared, r: &DynamicResults, req: &Requested) -> Vec<Table> {
-    let mut out = super::kinematic::tables(&r.kinematics, req);
-    // The kinematic "residual" group is replaced by the drift group below.
-    out.retain(|t| t.name != "residual");
-    out.extend(driver_efforts_table(p, r));
-    out.extend(coupler_efforts_table(p, r));
-    out.extend(reaction_tables(r, req));
-    let times = r.times();
-    let n = times.len();
-    if req.energy {
-        out.push(energy_table(r));
-    }
-    let mut t = Table::new(
-        "constraint_drift",
-        "constraint drift",
-        vec![
-            "max |Φ| [m or -]".into(),
-            "max |Φ_v v − ν| [m/s or 1/s]".into(),
-        ],
-    );
-    for k in 0..n {
-        t.rows.push(vec![
-            times[k],
-            r.position_drift.get(k).copied().unwrap_or(f64::NAN),
-            r.velocity_drift.get(k).copied().unwrap_or(f64::NAN),
-        ]);
-    }
-    out.push(t);
-    out
 }
 
 /// Most integration steps a dynamic run may need without `--allow-long`: as many as a kinematic

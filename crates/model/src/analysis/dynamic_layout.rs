@@ -2,13 +2,14 @@
 //! ([`DynamicResults`] holding one time, streamed by [`super::stream::Recorder`]): the kinematic
 //! groups (`Layout`), then driver efforts, coupler efforts, reactions, energy and (dynamic
 //! runs) constraint drift. Each group's header is the header of the table written whole
-//! ([`super::dynamic::tables`], [`super::inverse::inverse_tables`]) and each row comes from the
+//! ([`super::tables`]) and each row comes from the
 //! same row functions, so a streamed file and a table held whole have the same text.
 //!
 //! The summary's numbers are a [`DynamicTally`] over every frame ([`super::tally`]).
 
 use super::layout::Layout;
 use super::stream::FrameLayout;
+use super::tables::{dynamic_tables, inverse_tables};
 use crate::build::Outputs as Requested;
 use crate::output_tables::{
     coupler_efforts_row, driver_efforts_row, energy_row, reaction_selection, reactions_row,
@@ -60,8 +61,8 @@ impl DynamicLayout {
     pub fn new(p: &Prepared, first: &DynamicResults, req: &Requested, kind: Kind) -> Self {
         // The whole-run tables of the first frame: their names, headers and order.
         let mut empty = match kind {
-            Kind::Dynamic => super::dynamic::tables(p, first, req),
-            Kind::Inverse => super::inverse::inverse_tables(p, first, req),
+            Kind::Dynamic => dynamic_tables(p, first, req),
+            Kind::Inverse => inverse_tables(p, first, req),
         };
         let kinematic = Layout::new(&first.kinematics, req);
         let names: Vec<String> = (0..kinematic.groups())

@@ -7,27 +7,24 @@
 
 use super::dynamic_layout::{DynamicLayout, Kind};
 use super::energy::ENERGY_BALANCE_BOUND;
-use super::kinematic;
 use super::located::located_as;
 use super::setup::dynamics_as;
 use super::stream::{Recorder, Tap};
 use super::summary::{Analysed, Summary};
 use super::tally::DynamicTally;
 use super::warnings::dropped_row_warnings;
-use crate::build::Outputs as Requested;
 use crate::diag::Error;
 use crate::files::{FrameTap, OutputFiles};
-use crate::output_tables::{
-    coupler_efforts_table, driver_efforts_table, energy_table, peak_efforts_of, reaction_tables,
-    requested,
-};
+use crate::output_tables::{peak_efforts_of, requested};
 use crate::prepare::{analysis_error, Prepared};
-use crate::table::Table;
 use cardan_dynamics::{DynamicResults, DynamicsError};
 use cardan_mechanism::{AssemblyOptions, KinematicOptions};
 use std::ops::ControlFlow;
 use std::path::PathBuf;
 use std::time::Instant;
+
+/// The output groups of an inverse dynamics run held whole (shared with the static kinds).
+pub use super::tables::inverse_tables;
 
 /// `kind = "inverse_dynamics"`: kinematics with driver efforts and reactions, the tables, the
 /// summary. A kinematic failure mid-run keeps the results so far with the error. With `dir`,
@@ -228,21 +225,6 @@ pub fn inverse_dynamics_with(
         },
         _ => Err(error(p, &e)),
     }
-}
-
-/// The output groups of an inverse dynamics run: the kinematic groups (with the residual of the
-/// position analysis), then driver efforts, reactions (global and body components) and energy
-/// (with the drivers' power and work along the prescribed motion, the work by the trapezoidal
-/// rule on the time grid).
-pub fn inverse_tables(p: &Prepared, r: &DynamicResults, req: &Requested) -> Vec<Table> {
-    let mut out = kinematic::tables(&r.kinematics, req);
-    out.extend(driver_efforts_table(p, r));
-    out.extend(coupler_efforts_table(p, r));
-    out.extend(reaction_tables(r, req));
-    if req.energy {
-        out.push(energy_table(r));
-    }
-    out
 }
 
 /// The doubtful results of an inverse dynamics run: an energy balance beyond

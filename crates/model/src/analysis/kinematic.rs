@@ -5,19 +5,20 @@
 //! The frames stream to the CSV files as they are solved ([`super::stream`]).
 
 use super::layout::Layout;
-use super::stream::{FrameLayout, Recorder, Tap};
+use super::stream::{Recorder, Tap};
 use super::summary::{Analysed, Summary};
 use super::warnings::dropped_row_warnings;
-use crate::build::Outputs as Requested;
 use crate::diag::Error;
 use crate::files::{FrameTap, OutputFiles};
 use crate::output_tables::requested;
 use crate::prepare::{analysis_error, Prepared};
-use crate::table::Table;
 use cardan_mechanism::{KinematicOptions, Results};
 use std::ops::ControlFlow;
 use std::path::PathBuf;
 use std::time::Instant;
+
+/// The output groups of a kinematic run held whole (shared with the other runs).
+pub use super::tables::kinematic_tables as tables;
 
 /// `kind = "kinematic"`: the kinematics over the file's grid and its tables. With `dir`, the
 /// CSV files are written there frame by frame (and every frame goes to `solved`, an ASMT run's
@@ -101,9 +102,4 @@ pub(super) fn run_kinematic(
 enum Failure {
     Analysis(cardan_mechanism::AnalysisError),
     Stopped(Error),
-}
-
-/// Builds the output groups from the results (every frame; `Layout`).
-pub fn tables(r: &Results, req: &Requested) -> Vec<Table> {
-    Layout::new(r, req).into_tables(r)
 }

@@ -18,6 +18,7 @@ mod setup;
 pub mod statics;
 pub mod stream;
 mod summary;
+mod tables;
 mod tally;
 mod warnings;
 

@@ -5,10 +5,10 @@
 //! none), the driver efforts (holding forces and torques), the reactions and `stability.csv`;
 //! a modal run adds `modes.csv` and `mode_shapes.csv`.
 
-use super::inverse::inverse_tables;
 use super::located::located_as;
 use super::setup::dynamics_as;
 use super::summary::{Analysed, Summary};
+use super::tables::inverse_tables;
 use super::warnings::dropped_row_warnings;
 use crate::build::Outputs as Requested;
 use crate::build::{Analysis, StaticKind, DEFAULT_SPARSE_MODES};
