@@ -7,8 +7,9 @@
 //! settings (a run of its own, one output at t), so t need not be an output time.
 
 use super::located::located;
+use super::matrices::matrix_files;
+use super::modes::mode_tables;
 use super::setup::{dynamics, initial_state};
-use super::statics::{matrix_files, mode_tables};
 use crate::build::Outputs as Requested;
 use crate::diag::Error;
 use crate::prepare::Prepared;

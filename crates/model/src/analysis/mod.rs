@@ -14,6 +14,8 @@ pub mod kinematic;
 mod layout;
 mod linearize;
 mod located;
+mod matrices;
+pub(crate) mod modes;
 mod setup;
 pub mod statics;
 pub mod stream;
