@@ -12,18 +12,23 @@ use super::setup::dynamics_as;
 use super::summary::{Analysed, Summary};
 use super::tables::inverse_tables;
 use super::warnings::dropped_row_warnings;
+use crate::build::Outputs as Requested;
 use crate::build::{Analysis, StaticKind, DEFAULT_SPARSE_MODES};
 use crate::diag::Error;
 use crate::output_tables::{peak_efforts, requested};
 use crate::prepare::{analysis_error, Prepared};
 use crate::table::Table;
 use cardan_dynamics::{
-    DynamicsError, ModalOptions, SparseModalResults, Stability, StaticOptions, StaticResults,
+    DynamicResults, Dynamics, DynamicsError, ModalOptions, ModalResults, SparseModalResults,
+    Stability, StaticOptions, StaticResults,
 };
 use cardan_mechanism::Outputs;
 use nalgebra::Vector4;
 use std::path::PathBuf;
-use std::time::Instant;
+use std::time::{Duration, Instant};
+
+/// Output tables and named files (name, text).
+type Written = (Vec<Table>, Vec<(String, String)>);
 
 /// The groups a static analysis does not write (it has no velocities or accelerations).
 const MOTION_GROUPS: [&str; 6] = [
@@ -42,14 +47,77 @@ pub(super) fn run_statics(
     analysis: &Analysis,
     kind: StaticKind,
 ) -> Result<Analysed, Error> {
-    let what = match kind {
+    let start = Instant::now();
+    let mut d = dynamics_as(p, what(kind))?;
+    let solved = solve(p, &mut d, analysis, kind)?;
+    let wall = start.elapsed();
+    if kind == StaticKind::Modal && nothing_vibrates(p, analysis, &solved) {
+        return Err(no_modes(p));
+    }
+    let statics = &solved.statics;
+    let r = &statics.results;
+    let req = requested(p, &analysis.outputs);
+    let mut tables: Vec<Table> = inverse_tables(p, r, &req)
+        .into_iter()
+        .filter(|t| !MOTION_GROUPS.contains(&t.name.as_str()))
+        .collect();
+    tables.push(stability_table(statics));
+    let mut warnings = stability_warnings(statics);
+    warnings.extend(dropped_row_warnings(p, &r.kinematics.dropped_rows));
+    let mut files = Vec::new();
+    if let Some(s) = &solved.sparse {
+        let (t, f) = sparse_outputs(p, &mut d, analysis, &req, s, r, &mut warnings)?;
+        tables.extend(t);
+        files = f;
+    }
+    if let Some(m) = &solved.modal {
+        let (t, f) = dense_outputs(p, &mut d, analysis, &req, m, r)?;
+        tables.extend(t);
+        files = f;
+    }
+    let summary = summary(p, statics, wall, warnings);
+    Ok(Analysed {
+        tables,
+        summary,
+        results: r.kinematics.clone(),
+        dynamic: Some(r.clone()),
+        failure: solved.failure,
+        strict_failure: None,
+        files,
+        modes: match (solved.sparse, solved.modal) {
+            (Some(s), _) => s.modes,
+            (None, Some(m)) => m.modes,
+            (None, None) => Vec::new(),
+        },
+        streamed: None,
+    })
+}
+
+/// How the errors of a static kind start.
+fn what(kind: StaticKind) -> &'static str {
+    match kind {
         StaticKind::Static => "static analysis",
         StaticKind::QuasiStatic => "quasi-static analysis",
         StaticKind::Modal => "modal analysis",
-    };
-    let start = Instant::now();
-    let mut d = dynamics_as(p, what)?;
-    let options = StaticOptions {
+    }
+}
+
+/// What a static kind solved: the equilibria and, for a modal run, its modes (on the dense
+/// path, or on the sparse path of a large model).
+struct Solved {
+    statics: StaticResults,
+    /// A modal run on the dense path.
+    modal: Option<ModalResults>,
+    /// A modal run on the sparse path: a few lowest modes.
+    sparse: Option<SparseModalResults>,
+    /// The failure that stopped a quasi-static run after its first time.
+    failure: Option<Error>,
+}
+
+/// The file's options of a static solution: poses only (points and joints, no velocities or
+/// accelerations).
+fn static_options(analysis: &Analysis) -> StaticOptions {
+    StaticOptions {
         time: analysis.t_start,
         tolerance: analysis.tolerance,
         load_steps: analysis.load_steps,
@@ -60,7 +128,22 @@ pub(super) fn run_statics(
             joints: true,
         },
         ..StaticOptions::default()
-    };
+    }
+}
+
+/// Solves the equilibria of `kind` (and the modes of a modal run). A quasi-static run that
+/// fails after its first time keeps the results so far, with the failure.
+///
+/// # Errors
+/// A failed equilibrium or eigen-analysis, located in the file.
+fn solve(
+    p: &Prepared,
+    d: &mut Dynamics,
+    analysis: &Analysis,
+    kind: StaticKind,
+) -> Result<Solved, Error> {
+    let what = what(kind);
+    let options = static_options(analysis);
     let mut failure = None;
     let mut sparse: Option<SparseModalResults> = None;
     let (statics, modal) = match kind {
@@ -101,101 +184,126 @@ pub(super) fn run_statics(
             (m.equilibrium.clone(), Some(m))
         }
     };
-    let wall = start.elapsed();
-    // No free motion and no driver released as a state-space input: nothing can vibrate.
+    Ok(Solved {
+        statics,
+        modal,
+        sparse,
+        failure,
+    })
+}
+
+/// Whether a modal run found nothing that can vibrate: no modes, no free motion at any
+/// equilibrium, and no driver released as a state-space input.
+fn nothing_vibrates(p: &Prepared, analysis: &Analysis, solved: &Solved) -> bool {
     let released = analysis
         .inputs
         .iter()
         .any(|i| p.loaded.drivers.iter().any(|(n, _)| n == i));
-    let no_modes_found = match (&sparse, &modal) {
+    let no_modes_found = match (&solved.sparse, &solved.modal) {
         (Some(s), _) => s.modes.is_empty(),
         (None, Some(m)) => m.modes.is_empty(),
         (None, None) => false,
     };
-    let held = statics.equilibria.iter().all(|e| e.eigenvalues.is_empty());
-    if kind == StaticKind::Modal && no_modes_found && held && !released {
-        return Err(no_modes(p));
-    }
-    let r = &statics.results;
-    let req = requested(p, &analysis.outputs);
-    let mut tables: Vec<Table> = inverse_tables(p, r, &req)
-        .into_iter()
-        .filter(|t| !MOTION_GROUPS.contains(&t.name.as_str()))
-        .collect();
-    tables.push(stability_table(&statics));
-    let mut warnings = stability_warnings(&statics);
-    warnings.extend(dropped_row_warnings(p, &r.kinematics.dropped_rows));
-    let mut files = Vec::new();
-    let bodies: Vec<&str> = r
-        .kinematics
-        .bodies
-        .iter()
-        .map(|b| b.name.as_str())
-        .collect();
-    // The Euler parameters at the (first) equilibrium, about which the modes are; a failed
-    // quasi-static run may have none, and no modes either.
-    let rest: Vec<Vector4<f64>> = r
-        .kinematics
-        .bodies
+    let held = (solved.statics.equilibria.iter()).all(|e| e.eigenvalues.is_empty());
+    no_modes_found && held && !released
+}
+
+/// The moving bodies' names and their Euler parameters at the (first) equilibrium, about which
+/// the modes are; a failed quasi-static run may have none, and no modes either.
+fn rest_pose(r: &DynamicResults) -> (Vec<&str>, Vec<Vector4<f64>>) {
+    let bodies = &r.kinematics.bodies;
+    let names = bodies.iter().map(|b| b.name.as_str()).collect();
+    let rest = bodies
         .iter()
         .map(|b| b.p.first().copied().unwrap_or_else(Vector4::x))
         .collect();
-    if let Some(s) = &sparse {
-        let t = s.equilibrium.equilibria.first().map_or(0.0, |e| e.state.t);
-        tables.extend(mode_tables(t, &bodies, &rest, &s.modes));
-        if !s.converged {
-            warnings.push(format!(
-                "the {} lowest modes did not all converge in {} Lanczos steps: their \
-                 frequencies are doubtful",
-                s.modes.len(),
-                s.lanczos_steps
-            ));
-        }
-        if let Some(eq) = s.equilibrium.equilibria.first() {
-            files = sparse_matrix_files(p, &mut d, eq, s, &req, &analysis.inputs, &mut warnings)
-                .map_err(|e| error(p, &e, what))?;
-        }
+    (names, rest)
+}
+
+/// The mode tables and matrix files of a modal run on the sparse path (a warning when its
+/// Lanczos iteration did not converge, and when the reduced matrices are not written).
+///
+/// # Errors
+/// A failed linearization, located in the file.
+fn sparse_outputs(
+    p: &Prepared,
+    d: &mut Dynamics,
+    analysis: &Analysis,
+    req: &Requested,
+    s: &SparseModalResults,
+    r: &DynamicResults,
+    warnings: &mut Vec<String>,
+) -> Result<Written, Error> {
+    let (bodies, rest) = rest_pose(r);
+    let t = s.equilibrium.equilibria.first().map_or(0.0, |e| e.state.t);
+    let tables = mode_tables(t, &bodies, &rest, &s.modes);
+    if !s.converged {
+        warnings.push(format!(
+            "the {} lowest modes did not all converge in {} Lanczos steps: their \
+             frequencies are doubtful",
+            s.modes.len(),
+            s.lanczos_steps
+        ));
     }
-    if let Some(m) = &modal {
-        if let Some(eq) = m.equilibrium.equilibria.first() {
-            tables.extend(mode_tables(eq.state.t, &bodies, &rest, &m.modes));
-            let about = format!("the equilibrium at t = {} s", eq.state.t);
-            let released: Vec<String> = analysis
-                .inputs
-                .iter()
-                .filter(|n| p.model.drivers().iter().any(|d| &d.name == *n))
-                .cloned()
-                .collect();
-            let lin = if released.is_empty() {
-                m.linearization.clone()
-            } else {
-                d.linearize_released(eq, &released)
-                    .map_err(|e| error(p, &e, what))?
-            };
-            files = full_matrix_files(
-                &mut d,
-                &eq.state,
-                &m.linearization.full_stiffness,
-                &m.linearization.full_damping,
-            )
-            .map_err(|e| error(p, &e, what))?;
-            files.extend(
-                matrix_files(
-                    p,
-                    &mut d,
-                    &eq.state,
-                    &lin,
-                    &req,
-                    &analysis.inputs,
-                    &about,
-                    false,
-                )
-                .map_err(|e| error(p, &e, what))?,
-            );
-        }
+    let mut files = Vec::new();
+    if let Some(eq) = s.equilibrium.equilibria.first() {
+        files = sparse_matrix_files(p, d, eq, s, req, &analysis.inputs, warnings)
+            .map_err(|e| error(p, &e, what(StaticKind::Modal)))?;
     }
+    Ok((tables, files))
+}
+
+/// The mode tables and matrix files of a modal run on the dense path: the full matrices, and
+/// the reduced ones with the state-space model (linearized again with the drivers that are
+/// inputs released).
+///
+/// # Errors
+/// A failed linearization, located in the file.
+fn dense_outputs(
+    p: &Prepared,
+    d: &mut Dynamics,
+    analysis: &Analysis,
+    req: &Requested,
+    m: &ModalResults,
+    r: &DynamicResults,
+) -> Result<Written, Error> {
+    let Some(eq) = m.equilibrium.equilibria.first() else {
+        return Ok((Vec::new(), Vec::new()));
+    };
+    let fail = |e: DynamicsError| error(p, &e, what(StaticKind::Modal));
+    let (bodies, rest) = rest_pose(r);
+    let tables = mode_tables(eq.state.t, &bodies, &rest, &m.modes);
+    let about = format!("the equilibrium at t = {} s", eq.state.t);
+    let released: Vec<String> = analysis
+        .inputs
+        .iter()
+        .filter(|n| p.model.drivers().iter().any(|d| &d.name == *n))
+        .cloned()
+        .collect();
+    let lin = if released.is_empty() {
+        m.linearization.clone()
+    } else {
+        d.linearize_released(eq, &released).map_err(fail)?
+    };
+    let full = &m.linearization;
+    let mut files =
+        full_matrix_files(d, &eq.state, &full.full_stiffness, &full.full_damping).map_err(fail)?;
+    let reduced = matrix_files(p, d, &eq.state, &lin, req, &analysis.inputs, &about, false);
+    files.extend(reduced.map_err(fail)?);
+    Ok((tables, files))
+}
+
+/// The summary of a static kind: the equilibria solved, their Newton iterations, the largest
+/// residual, the peak holding efforts.
+fn summary(
+    p: &Prepared,
+    statics: &StaticResults,
+    wall: Duration,
+    warnings: Vec<String>,
+) -> Summary {
+    let r = &statics.results;
     let k = &r.kinematics;
-    let summary = Summary {
+    Summary {
         name: p.loaded.name.clone(),
         steps: k.len(),
         noun: ["equilibrium", "equilibria"],
@@ -210,22 +318,7 @@ pub(super) fn run_statics(
         warnings,
         subdivided_steps: None,
         row_reselections: r.stats.row_reselections,
-    };
-    Ok(Analysed {
-        tables,
-        summary,
-        results: r.kinematics.clone(),
-        dynamic: Some(r.clone()),
-        failure,
-        strict_failure: None,
-        files,
-        modes: match (sparse, modal) {
-            (Some(s), _) => s.modes,
-            (None, Some(m)) => m.modes,
-            (None, None) => Vec::new(),
-        },
-        streamed: None,
-    })
+    }
 }
 
 /// The error of a modal analysis whose drivers hold every degree of freedom: a mechanism
