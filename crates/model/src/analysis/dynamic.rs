@@ -6,6 +6,12 @@
 //! ([`doubtful_results`]).
 //!
 //! The benchmark tests call [`simulate`] directly, so what is tested is the model file itself.
+//!
+//! What the other analyses share with this one sits below them all and is re-exported here,
+//! under the paths the benchmarks, the tests and the Python package use: the dynamics problem
+//! ([`dynamics`], [`initial_state`], [`options`]: `setup`), its errors located in the file
+//! (`located`), the energy balance (`energy`), the warnings about doubtful results
+//! ([`doubtful_results`], [`drift_bound`]: `warnings`) and the tables held whole (`tables`).
 
 use super::dynamic_layout::{DynamicLayout, Kind};
 use super::stream::{Recorder, Tap};
@@ -18,8 +24,7 @@ use cardan_dynamics::{DynamicResults, Integrator, SimulationOptions};
 use std::path::PathBuf;
 use std::time::Instant;
 
-// The dynamics problem and its located errors, shared with the other analyses that run the
-// dynamics, under the paths the benchmarks and the tests know.
+// Shared with the other analyses (module docs).
 pub use super::energy::{energy_scale, ENERGY_BALANCE_BOUND};
 pub use super::located::{located, located_as};
 pub use super::setup::{dynamics, initial_state, options};

@@ -1,7 +1,7 @@
-//! What the analyses of `cardan run` hand to [`super::run_model_with`]: an [`Analysed`] run
+//! What the analyses of `cardan run` hand to [`super::analyse_into`]: an [`Analysed`] run
 //! (its output groups, its [`Summary`], its results) under the [`RunFlags`] it was asked to run
-//! with. These types sit below the analyses so that they and `run` share them without using each
-//! other; `run` exports the public ones.
+//! with. These types sit below the analyses so that they and [`super`] share them without using
+//! each other; [`super`] exports the public ones.
 
 use super::energy::EnergyBalance;
 use crate::diag::Error;
