@@ -2,10 +2,10 @@
 //! ([`DynamicResults`] holding one time, streamed by [`super::stream::Recorder`]): the kinematic
 //! groups (`Layout`), then driver efforts, coupler efforts, reactions, energy and (dynamic
 //! runs) constraint drift. Each group's header is the header of the table written whole
-//! ([`super::tables`]) and each row comes from the
-//! same row functions, so a streamed file and a table held whole have the same text.
+//! (`tables`) and each row comes from the same row functions, so a streamed file and a table
+//! held whole have the same text.
 //!
-//! The summary's numbers are a [`DynamicTally`] over every frame ([`super::tally`]).
+//! The summary's numbers are a [`DynamicTally`] over every frame (`tally`).
 
 use super::layout::Layout;
 use super::stream::FrameLayout;
