@@ -434,40 +434,104 @@ fn continued(theta: f64, reference: f64, theta0: f64) -> f64 {
     unwrap_angle(from, theta)
 }
 
-impl Resolved {
-    pub(crate) fn resolve(model: &Model, f: &Force) -> Result<Self, DynamicsError> {
-        let bad = |reason: String| DynamicsError::BadForce {
-            force: f.name().into(),
+/// The checks of one force element against the model while it is resolved: each failure a
+/// [`DynamicsError::BadForce`] naming the element.
+struct Checks<'a> {
+    model: &'a Model,
+    force: &'a str,
+}
+
+impl Checks<'_> {
+    fn bad(&self, reason: String) -> DynamicsError {
+        DynamicsError::BadForce {
+            force: self.force.into(),
             reason,
-        };
-        let body = |name: &str, moving: bool| -> Result<BodyId, DynamicsError> {
-            match model.body_id(name) {
-                Some(BodyId::Ground) if moving => Err(bad("acts on ground".into())),
-                Some(id) => Ok(id),
-                None => Err(bad(format!("unknown body \"{name}\""))),
+        }
+    }
+
+    /// The body `name`, which must be a moving body when `moving`.
+    fn body(&self, name: &str, moving: bool) -> Result<BodyId, DynamicsError> {
+        match self.model.body_id(name) {
+            Some(BodyId::Ground) if moving => Err(self.bad("acts on ground".into())),
+            Some(id) => Ok(id),
+            None => Err(self.bad(format!("unknown body \"{name}\""))),
+        }
+    }
+
+    /// The local coordinates of the point `p` on body `b` (finite, or a named point of `b`).
+    fn point(&self, b: &str, p: &PointRef) -> Result<Vector3<f64>, DynamicsError> {
+        let model = self.model;
+        match p {
+            PointRef::Local(v) if v.iter().all(|x| x.is_finite()) => Ok(*v),
+            PointRef::Local(_) => Err(self.bad("point is not finite".into())),
+            PointRef::Named(n) => model
+                .point_index(b, n)
+                .map(|i| model.points()[i].local)
+                .ok_or_else(|| self.bad(format!("unknown point \"{n}\" on body \"{b}\""))),
+        }
+    }
+
+    /// A coefficient that must be finite and not negative.
+    fn nonneg(&self, what: &str, v: f64) -> Result<(), DynamicsError> {
+        if v.is_finite() && v >= 0.0 {
+            Ok(())
+        } else {
+            Err(self.bad(format!("{what} must be finite and ≥ 0, got {v}")))
+        }
+    }
+
+    /// The free length of a spring between point `pi` of `bi` and `pj` of `bj`: the file's
+    /// (checked), or the distance between the points at the model's initial poses.
+    fn free_length(
+        &self,
+        given: Option<f64>,
+        (bi, pi): (BodyId, &Vector3<f64>),
+        (bj, pj): (BodyId, &Vector3<f64>),
+    ) -> Result<f64, DynamicsError> {
+        if let Some(l) = given {
+            self.nonneg("free length", l)?;
+            return Ok(l);
+        }
+        let at = |id: BodyId, s: &Vector3<f64>| match id {
+            BodyId::Ground => *s,
+            BodyId::Moving(k) => {
+                let b = &self.model.bodies()[k];
+                BodyState::at(b.initial_r, b.initial_p).point(s)
             }
         };
-        let point = |b: &str, p: &PointRef| -> Result<Vector3<f64>, DynamicsError> {
-            match p {
-                PointRef::Local(v) if v.iter().all(|x| x.is_finite()) => Ok(*v),
-                PointRef::Local(_) => Err(bad("point is not finite".into())),
-                PointRef::Named(n) => model
-                    .point_index(b, n)
-                    .map(|i| model.points()[i].local)
-                    .ok_or_else(|| bad(format!("unknown point \"{n}\" on body \"{b}\""))),
-            }
-        };
-        let nonneg = |what: &str, v: f64| {
-            if v.is_finite() && v >= 0.0 {
-                Ok(())
-            } else {
-                Err(bad(format!("{what} must be finite and ≥ 0, got {v}")))
-            }
+        Ok((at(bj, pj) - at(bi, pi)).norm())
+    }
+
+    /// The index of the joint of a rotational spring: a joint with a rotation angle.
+    fn rotational_joint(&self, joint: &str) -> Result<usize, DynamicsError> {
+        let model = self.model;
+        let j = model
+            .joint_index(joint)
+            .ok_or_else(|| self.bad(format!("unknown joint \"{joint}\"")))?;
+        let info = model.joints()[j].joint.kind().info();
+        if info.rotation.is_none() {
+            return Err(self.bad(format!(
+                "joint \"{joint}\" is a {} joint; a rotational spring acts on the angle of {}",
+                info.name,
+                cardan_mechanism::kinds_with(|k| k.rotation.is_some())
+            )));
+        }
+        Ok(j)
+    }
+}
+
+impl Resolved {
+    /// The element `f` checked against the model, its bodies, points and joint resolved to
+    /// indices and local coordinates ([`Checks`]).
+    pub(crate) fn resolve(model: &Model, f: &Force) -> Result<Self, DynamicsError> {
+        let checks = Checks {
+            model,
+            force: f.name(),
         };
         Ok(match f {
             Force::Gravity { g } => {
                 if !g.iter().all(|x| x.is_finite()) {
-                    return Err(bad("gravity is not finite".into()));
+                    return Err(checks.bad("gravity is not finite".into()));
                 }
                 Resolved::Gravity(*g)
             }
@@ -478,8 +542,8 @@ impl Resolved {
                 frame,
                 ..
             } => Resolved::PointForce {
-                body: body(b, true)?,
-                point: point(b, p)?,
+                body: checks.body(b, true)?,
+                point: checks.point(b, p)?,
                 value: value.clone(),
                 frame: *frame,
             },
@@ -489,7 +553,7 @@ impl Resolved {
                 frame,
                 ..
             } => Resolved::Torque {
-                body: body(b, true)?,
+                body: checks.body(b, true)?,
                 value: value.clone(),
                 frame: *frame,
             },
@@ -504,33 +568,19 @@ impl Resolved {
                 actuator,
                 ..
             } => {
-                let bi = body(body_i, false)?;
-                let bj = body(body_j, false)?;
+                let bi = checks.body(body_i, false)?;
+                let bj = checks.body(body_j, false)?;
                 if bi == bj {
-                    return Err(bad("both points are on the same body".into()));
+                    return Err(checks.bad("both points are on the same body".into()));
                 }
-                let pi = point(body_i, point_i)?;
-                let pj = point(body_j, point_j)?;
-                nonneg("stiffness", *stiffness)?;
-                nonneg("damping", *damping)?;
-                let l0 = match free_length {
-                    Some(l) => {
-                        nonneg("free length", *l)?;
-                        *l
-                    }
-                    None => {
-                        let at = |id: BodyId, s: &Vector3<f64>| match id {
-                            BodyId::Ground => *s,
-                            BodyId::Moving(k) => {
-                                let b = &model.bodies()[k];
-                                BodyState::at(b.initial_r, b.initial_p).point(s)
-                            }
-                        };
-                        (at(bj, &pj) - at(bi, &pi)).norm()
-                    }
-                };
+                let pi = checks.point(body_i, point_i)?;
+                let pj = checks.point(body_j, point_j)?;
+                checks.nonneg("stiffness", *stiffness)?;
+                checks.nonneg("damping", *damping)?;
+                let l0 = checks.free_length(*free_length, (bi, &pi), (bj, &pj))?;
                 if let Some(a) = actuator {
-                    a.validate().map_err(|e| bad(format!("actuator: {e}")))?;
+                    a.validate()
+                        .map_err(|e| checks.bad(format!("actuator: {e}")))?;
                 }
                 Resolved::Spring {
                     bi,
@@ -550,22 +600,11 @@ impl Resolved {
                 rest_angle,
                 ..
             } => {
-                let j = model
-                    .joint_index(joint)
-                    .ok_or_else(|| bad(format!("unknown joint \"{joint}\"")))?;
-                let info = model.joints()[j].joint.kind().info();
-                if info.rotation.is_none() {
-                    return Err(bad(format!(
-                        "joint \"{joint}\" is a {} joint; a rotational spring acts on the angle \
-                         of {}",
-                        info.name,
-                        cardan_mechanism::kinds_with(|k| k.rotation.is_some())
-                    )));
-                }
-                nonneg("stiffness", *stiffness)?;
-                nonneg("damping", *damping)?;
+                let j = checks.rotational_joint(joint)?;
+                checks.nonneg("stiffness", *stiffness)?;
+                checks.nonneg("damping", *damping)?;
                 if *stiffness != 0.0 && !model.joints()[j].has_x_axes {
-                    return Err(bad(format!(
+                    return Err(checks.bad(format!(
                         "joint \"{joint}\" has no x axes, so the spring's angle has no defined \
                          zero; the angle is measured from x_axis_i to x_axis_j about axis_i: add \
                          x_axis_i and x_axis_j to the joint (pointing them the same way at the \
@@ -573,7 +612,7 @@ impl Resolved {
                     )));
                 }
                 if !rest_angle.is_finite() {
-                    return Err(bad("rest angle is not finite".into()));
+                    return Err(checks.bad("rest angle is not finite".into()));
                 }
                 Resolved::Rotational {
                     joint: j,

@@ -2,8 +2,8 @@
 
 use crate::diag::Error;
 use crate::output_tables::{g, io, write_table};
-use crate::prepare::{analysis_error, prepare_with};
-use cardan_mechanism::{AnalysisError, AssemblyOptions};
+use crate::prepare::{analysis_error, prepare_with, Prepared};
+use cardan_mechanism::{AnalysisError, AssemblyOptions, DofReport, Model, Workspace};
 use std::io::Write;
 use std::path::Path;
 
@@ -35,7 +35,7 @@ pub fn check_with(
 }
 
 /// The description `check` prints, and its refusals.
-fn describe(p: &super::Prepared, path: &Path, out: &mut dyn Write) -> Result<(), Error> {
+fn describe(p: &Prepared, path: &Path, out: &mut dyn Write) -> Result<(), Error> {
     // The animation's geometry (mesh files included), as `cardan run` checks it.
     p.geometry.as_ref().map_err(Clone::clone)?;
     let model = &p.model;
@@ -58,6 +58,17 @@ fn describe(p: &super::Prepared, path: &Path, out: &mut dyn Write) -> Result<(),
         p.units.describe()
     )
     .map_err(io)?;
+    write_bodies(p, &ws, out)?;
+    write_joints(model, out)?;
+    write_couplers(model, out)?;
+    write_drivers(p, out)?;
+    write_counts(model, &dof, out)?;
+    analysis_line(p, &mut ws, &dof, out)
+}
+
+/// The moving bodies: name, mass, assembled position (in the model's units) and columns.
+fn write_bodies(p: &Prepared, ws: &Workspace, out: &mut dyn Write) -> Result<(), Error> {
+    let model = &p.model;
     writeln!(out, "\nbodies ({} moving, plus ground)", model.num_bodies()).map_err(io)?;
     let (unit, length) = p.units.unit("m");
     let position = format!("assembled position [{unit}]");
@@ -80,8 +91,11 @@ fn describe(p: &super::Prepared, path: &Path, out: &mut dyn Write) -> Result<(),
         &["name", "mass [kg]", position.as_str(), "columns"],
         &rows,
     )
-    .map_err(io)?;
+    .map_err(io)
+}
 
+/// The joints: name, type, bodies, equation count and rows.
+fn write_joints(model: &Model, out: &mut dyn Write) -> Result<(), Error> {
     writeln!(out, "\njoints ({})", model.joints().len()).map_err(io)?;
     let rows: Vec<Vec<String>> = model
         .joints()
@@ -100,30 +114,38 @@ fn describe(p: &super::Prepared, path: &Path, out: &mut dyn Write) -> Result<(),
             ]
         })
         .collect();
-    write_table(out, &["name", "type", "bodies", "equations", "rows"], &rows).map_err(io)?;
+    write_table(out, &["name", "type", "bodies", "equations", "rows"], &rows).map_err(io)
+}
 
-    if !model.couplers().is_empty() {
-        writeln!(out, "\ncouplers ({})", model.couplers().len()).map_err(io)?;
-        let rows: Vec<Vec<String>> = model
-            .couplers()
-            .iter()
-            .map(|c| {
-                let joints: Vec<&str> = c
-                    .coordinates
-                    .iter()
-                    .map(|q| model.joints()[q.joint].name.as_str())
-                    .collect();
-                vec![
-                    c.name.clone(),
-                    c.kind().to_string(),
-                    joints.join(" – "),
-                    format!("{}..{}", c.rows.start, c.rows.end),
-                ]
-            })
-            .collect();
-        write_table(out, &["name", "type", "joints", "rows"], &rows).map_err(io)?;
+/// The couplers (gears, racks, screws), when the model has any: name, type, joints and rows.
+fn write_couplers(model: &Model, out: &mut dyn Write) -> Result<(), Error> {
+    if model.couplers().is_empty() {
+        return Ok(());
     }
+    writeln!(out, "\ncouplers ({})", model.couplers().len()).map_err(io)?;
+    let rows: Vec<Vec<String>> = model
+        .couplers()
+        .iter()
+        .map(|c| {
+            let joints: Vec<&str> = c
+                .coordinates
+                .iter()
+                .map(|q| model.joints()[q.joint].name.as_str())
+                .collect();
+            vec![
+                c.name.clone(),
+                c.kind().to_string(),
+                joints.join(" – "),
+                format!("{}..{}", c.rows.start, c.rows.end),
+            ]
+        })
+        .collect();
+    write_table(out, &["name", "type", "joints", "rows"], &rows).map_err(io)
+}
 
+/// The drivers: name, what each drives, equation count and rows.
+fn write_drivers(p: &Prepared, out: &mut dyn Write) -> Result<(), Error> {
+    let model = &p.model;
     writeln!(out, "\ndrivers ({})", model.drivers().len()).map_err(io)?;
     let rows: Vec<Vec<String>> = model
         .drivers()
@@ -138,8 +160,12 @@ fn describe(p: &super::Prepared, path: &Path, out: &mut dyn Write) -> Result<(),
             ]
         })
         .collect();
-    write_table(out, &["name", "drives", "equations", "rows"], &rows).map_err(io)?;
+    write_table(out, &["name", "drives", "equations", "rows"], &rows).map_err(io)
+}
 
+/// The counts: unknowns and equations, the joint Jacobian's rank and the degrees of freedom
+/// (with Grübler's count beside), and the redundant equations.
+fn write_counts(model: &Model, dof: &DofReport, out: &mut dyn Write) -> Result<(), Error> {
     writeln!(
         out,
         "\nunknowns: {} (6 per moving body); equations: {} joint + {} driver = {}",
@@ -165,6 +191,19 @@ fn describe(p: &super::Prepared, path: &Path, out: &mut dyn Write) -> Result<(),
             writeln!(out, "  row {}: {e}", e.row).map_err(io)?;
         }
     }
+    Ok(())
+}
+
+/// The line about the file's analysis: what a dynamic or static kind has to work with, or
+/// whether a kinematic or inverse dynamics analysis has as many drivers as degrees of freedom
+/// (and drivers that control the mechanism): its refusals are `run`'s.
+fn analysis_line(
+    p: &Prepared,
+    ws: &mut Workspace,
+    dof: &DofReport,
+    out: &mut dyn Write,
+) -> Result<(), Error> {
+    let model = &p.model;
     if let Some(integrator) = p.loaded.analysis.as_ref().and_then(|a| a.integrator()) {
         let name = match integrator {
             cardan_dynamics::Integrator::Dopri5(_) => "DOPRI5",
@@ -202,7 +241,7 @@ fn describe(p: &super::Prepared, path: &Path, out: &mut dyn Write) -> Result<(),
         if dof.dof == dof.drivers {
             // What `run` refuses next: drivers that depend on the joints or on each other.
             model
-                .prepare_kinematics(&mut ws)
+                .prepare_kinematics(ws)
                 .map_err(|e| analysis_error(p, &e))?;
             writeln!(
                 out,

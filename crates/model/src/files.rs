@@ -5,9 +5,9 @@
 //!
 //! - [`OutputFiles`]: the streamed CSV files a run creates at its first frame and writes row by
 //!   row ([`crate::analysis::stream`]), and the plot files announced beside them.
-//! - [`FrameTap`]: a further file written from every frame (an ASMT run's `*.solved.asmt`).
+//! - [`Tap`] and [`FrameTap`]: a further file written from every frame (an ASMT run's
+//!   `*.solved.asmt`), taken as the frames pass ([`crate::analysis::stream`]).
 
-use crate::analysis::stream::Tap;
 use crate::diag::Error;
 use cardan_dynamics::DynamicResults;
 use cardan_mechanism::Results;
@@ -49,6 +49,18 @@ pub trait OutputFiles {
 
     /// The error of a failed write of `name`, as the command says it.
     fn write_error(&self, name: &str, e: &std::io::Error) -> Error;
+}
+
+/// A file written from every frame besides the CSV files: the `TimeSeries` of an ASMT run's
+/// `*.solved.asmt` (`cardan-cli`'s `SolvedSeries`).
+pub trait Tap<F> {
+    /// The file's name (for a write error).
+    fn name(&self) -> &str;
+    /// Takes one frame (results holding one time).
+    ///
+    /// # Errors
+    /// A write error.
+    fn frame(&mut self, frame: &F) -> std::io::Result<()>;
 }
 
 /// A file written from every frame of a kinematic, inverse dynamics or dynamic run.

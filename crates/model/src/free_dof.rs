@@ -11,10 +11,9 @@
 //! (Gram–Schmidt with pivoting), so together they span every free motion. Driving those
 //! coordinates makes the mechanism fully driven.
 
-use crate::prepare::Prepared;
 use cardan_constraints::joints::CoordinateQuantity;
 use cardan_constraints::BodyPair;
-use cardan_mechanism::AssemblyOptions;
+use cardan_mechanism::{AssemblyOptions, Model};
 use nalgebra::{DMatrix, DVector, Vector3};
 
 /// Models with more unknowns are not diagnosed (the dense SVD would cost more than it tells).
@@ -23,8 +22,7 @@ pub const MAX_UNKNOWNS: usize = 600;
 /// The joint coordinates left free at `t` (`joint "bearing" angle`), one per free degree of
 /// freedom, or `None` when they cannot be told (a large model, a pose that does not assemble,
 /// a free motion no joint coordinate measures, such as a body without joints).
-pub fn free_coordinates(p: &Prepared, t: f64) -> Option<Vec<String>> {
-    let model = &p.model;
+pub fn free_coordinates(model: &Model, t: f64) -> Option<Vec<String>> {
     let n = model.num_unknowns();
     if n > MAX_UNKNOWNS || n == 0 {
         return None;
@@ -65,18 +63,17 @@ pub fn free_coordinates(p: &Prepared, t: f64) -> Option<Vec<String>> {
     if null.is_empty() {
         return None;
     }
-    let (names, rows) = coordinate_rates(p, &mut ws, &null);
+    let (names, rows) = coordinate_rates(model, &mut ws, &null);
     choose(&names, rows, null.len())
 }
 
 /// The rate of every joint coordinate along each null vector: the names and the matrix R
 /// (coordinates × null vectors), angles weighted by L.
 fn coordinate_rates(
-    p: &Prepared,
+    model: &Model,
     ws: &mut cardan_mechanism::Workspace,
     null: &[DVector<f64>],
 ) -> (Vec<String>, DMatrix<f64>) {
-    let model = &p.model;
     let l = model.characteristic_length();
     let coords: Vec<(usize, usize, String)> = model
         .joints()

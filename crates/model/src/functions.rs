@@ -3,7 +3,7 @@
 
 use crate::build::Loaded;
 use crate::diag::{Error, Source};
-use crate::prepare::num;
+use crate::number::num;
 use cardan_constraints::expression::quoted;
 use cardan_constraints::TimeFunction;
 use cardan_dynamics::{Force, VectorFunction};

@@ -3,6 +3,7 @@
 
 use crate::build::{load, Loaded};
 use crate::diag::{Error, Source};
+use crate::number::num;
 use cardan_mechanism::{AnalysisError, Model, ModelError};
 use std::path::Path;
 
@@ -117,15 +118,6 @@ pub fn check_driver_values(src: &Source, loaded: &Loaded, times: &[f64]) -> Resu
     Ok(())
 }
 
-/// A number in plain notation between 1e-4 and 1e9, in scientific notation beyond.
-pub(crate) fn num(x: f64) -> String {
-    if x == 0.0 || !x.is_finite() || (1e-4..1e9).contains(&x.abs()) {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
-}
-
 /// A builder error, located at what it is about (the key's value, the unknown name, or the
 /// element) in the model file.
 fn model_error(src: &Source, loaded: &Loaded, e: &ModelError) -> Error {
@@ -151,7 +143,7 @@ fn plural(n: usize) -> &'static str {
 /// that needs no drivers.
 pub fn under_driven_advice(p: &Prepared, missing: usize) -> String {
     let t0 = p.loaded.analysis.as_ref().map_or(0.0, |a| a.t_start);
-    let free = match crate::free_dof::free_coordinates(p, t0) {
+    let free = match crate::free_dof::free_coordinates(&p.model, t0) {
         Some(names) => format!(" ({} free)", names.join(", ")),
         None => String::new(),
     };

@@ -154,7 +154,7 @@ pub fn mode_shapes(
                 .map(|(p0, s)| match p0 {
                     Some(p0) => BodyIncrement {
                         dr: s.translation.into(),
-                        dp: crate::analysis::statics::euler_increment(p0, &s.rotation).into(),
+                        dp: crate::analysis::modes::euler_increment(p0, &s.rotation).into(),
                     },
                     None => BodyIncrement::default(),
                 })

@@ -1,5 +1,5 @@
 //! Output groups: a time column and named columns with units, written as CSV and plotted as SVG
-//! (the layout of the plot: [`crate::plot`]).
+//! (the plot, `Table::to_svg`, and its layout are [`crate::plot`]'s).
 
 /// One output group (one CSV file, one plot).
 #[derive(Debug, Clone, PartialEq)]
@@ -37,11 +37,6 @@ impl Table {
     /// The CSV header line `t [s],<columns>` with its line break.
     pub fn csv_header(&self) -> String {
         csv_header(&self.columns)
-    }
-
-    /// The SVG plot of the table: small multiples, one unit per panel ([`crate::plot`]).
-    pub fn to_svg(&self) -> String {
-        cardan_plot::render_svg(&crate::plot::figure(self))
     }
 }
 

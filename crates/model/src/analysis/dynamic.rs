@@ -6,22 +6,30 @@
 //! ([`doubtful_results`]).
 //!
 //! The benchmark tests call [`simulate`] directly, so what is tested is the model file itself.
+//!
+//! What the other analyses share with this one sits below them all and is re-exported here,
+//! under the paths the benchmarks, the tests and the Python package use: the dynamics problem
+//! ([`dynamics`], [`initial_state`], [`options`]: `setup`), its errors located in the file
+//! (`located`), the energy balance (`energy`), the warnings about doubtful results
+//! ([`doubtful_results`], [`drift_bound`]: `warnings`) and the tables held whole (`tables`).
 
-use super::dynamic_layout::{DynamicLayout, DynamicTally, Kind};
+use super::dynamic_layout::{DynamicLayout, Kind};
 use super::stream::{Recorder, Tap};
 use super::summary::{Analysed, DynamicSummary, RunFlags, Summary};
-use crate::build::Outputs as Requested;
 use crate::diag::Error;
 use crate::files::{FrameTap, OutputFiles};
-use crate::output_tables::{
-    coupler_efforts_table, driver_efforts_table, energy_table, peak_efforts_of, reaction_tables,
-    requested,
-};
+use crate::output_tables::{peak_efforts_of, requested};
 use crate::prepare::Prepared;
-use crate::table::Table;
-use cardan_dynamics::{DynamicResults, Dynamics, Integrator, SimulationOptions, State};
+use cardan_dynamics::{DynamicResults, Integrator, SimulationOptions};
 use std::path::PathBuf;
 use std::time::Instant;
+
+// Shared with the other analyses (module docs).
+pub use super::energy::{energy_scale, ENERGY_BALANCE_BOUND};
+pub use super::located::{located, located_as};
+pub use super::setup::{dynamics, initial_state, options};
+pub use super::tables::dynamic_tables as tables;
+pub use super::warnings::{doubtful, doubtful_results, drift_bound};
 
 /// `kind = "dynamic"`: simulate, the tables, the summary. A failure mid-run keeps the results
 /// so far with the error. With `dir`, the CSV files are written there output by output and only
@@ -116,59 +124,6 @@ pub(super) fn run_dynamic(
     })
 }
 
-/// The [`Dynamics`] of a prepared model with the file's forces (gravity first).
-///
-/// # Errors
-/// A body without mass or inertia, an invalid force element.
-pub fn dynamics(p: &Prepared) -> Result<Dynamics<'_>, Error> {
-    dynamics_as(p, "dynamic analysis")
-}
-
-/// As [`dynamics`], errors starting with `what`.
-pub(super) fn dynamics_as<'p>(p: &'p Prepared, what: &str) -> Result<Dynamics<'p>, Error> {
-    let mut d = Dynamics::new(&p.model).map_err(|e| located_as(p, &e, what))?;
-    for f in &p.loaded.forces {
-        d.add_force(f.clone())
-            .map_err(|e| located_as(p, &e, what))?;
-    }
-    Ok(d)
-}
-
-/// The initial guess: the bodies' initial poses (assembled later) and the file's velocities, at
-/// `t_start`.
-pub fn initial_state(p: &Prepared) -> State {
-    let t0 = p.loaded.analysis.as_ref().map_or(0.0, |a| a.t_start);
-    let mut s = State::initial(&p.model, t0);
-    for v in &p.loaded.velocities {
-        if let Some(k) = p.model.bodies().iter().position(|b| b.name == v.body) {
-            if v.omega_local {
-                s.set_velocity(k, v.velocity, v.omega);
-            } else {
-                s.set_velocity_global(k, v.velocity, v.omega);
-            }
-        }
-    }
-    s
-}
-
-/// The file's simulation options; `integrator` overrides the file's integrator settings.
-///
-/// # Errors
-/// The file has no `kind = "dynamic"` analysis.
-pub fn options(p: &Prepared, integrator: Option<Integrator>) -> Result<SimulationOptions, Error> {
-    let a = p
-        .loaded
-        .analysis
-        .as_ref()
-        .filter(|a| a.integrator().is_some())
-        .ok_or_else(|| {
-            p.source
-                .error("the model file has no [analysis] with kind = \"dynamic\"")
-        })?;
-    let integrator = integrator.or(a.integrator()).unwrap_or_default();
-    Ok(SimulationOptions::new(a.t_end, a.steps).integrator(integrator))
-}
-
 /// Runs the file's dynamic analysis (or with another integrator).
 ///
 /// # Errors
@@ -179,168 +134,6 @@ pub fn simulate(p: &Prepared, integrator: Option<Integrator>) -> Result<DynamicR
     let mut d = dynamics(p)?;
     let s = initial_state(p);
     d.simulate(&s, &opts).map_err(|e| located(p, &e))
-}
-
-/// A dynamics error as a message, placed at the first element it names or at `[analysis]`.
-pub fn located(p: &Prepared, e: &cardan_dynamics::DynamicsError) -> Error {
-    located_as(p, e, "dynamic analysis")
-}
-
-/// As [`located`], the message starting with `what` ("dynamic analysis", "inverse dynamics").
-pub fn located_as(p: &Prepared, e: &cardan_dynamics::DynamicsError, what: &str) -> Error {
-    use cardan_dynamics::DynamicsError as E;
-    let spans = &p.loaded.spans;
-    let span = match e.cause() {
-        E::MissingInertia { body } => spans.element(body),
-        E::BadForce { force, .. } | E::ForceLimit { force, .. } => spans.element(force),
-        E::NonFinite { time, .. } => crate::functions::first_not_finite(&p.loaded, *time)
-            .and_then(|(_, name)| spans.element(&name)),
-        E::InconsistentPositions { open } => open.first().and_then(|o| spans.element(&o.element)),
-        E::InconsistentVelocities { equations, .. }
-        | E::Singular {
-            dependent: equations,
-            ..
-        } => equations.first().and_then(|o| spans.element(&o.element)),
-        _ => None,
-    }
-    .unwrap_or_else(|| spans.analysis.clone());
-    let mut message = format!("{what}: {}", e.cause());
-    if let E::NonFinite { time, .. } = e.cause() {
-        if let Some((why, _)) = crate::functions::first_not_finite(&p.loaded, *time) {
-            message = format!("{message}; the cause: {why}");
-        }
-    }
-    let mut err = Error::analysis(message);
-    err.location = Some(p.source.span_location(span));
-    if matches!(e.cause(), E::MissingInertia { .. } | E::BadForce { .. }) {
-        // The file is incomplete, not the analysis failed.
-        err.kind = crate::diag::ErrorKind::Input;
-    }
-    err
-}
-
-/// The output groups of a dynamic run: the kinematic groups, then driver efforts (when the
-/// model has drivers), reactions (global and body components), energy and constraint drift.
-pub fn tables(p: &Prepared, r: &DynamicResults, req: &Requested) -> Vec<Table> {
-    let mut out = super::kinematic::tables(&r.kinematics, req);
-    // The kinematic "residual" group is replaced by the drift group below.
-    out.retain(|t| t.name != "residual");
-    out.extend(driver_efforts_table(p, r));
-    out.extend(coupler_efforts_table(p, r));
-    out.extend(reaction_tables(r, req));
-    let times = r.times();
-    let n = times.len();
-    if req.energy {
-        out.push(energy_table(r));
-    }
-    let mut t = Table::new(
-        "constraint_drift",
-        "constraint drift",
-        vec![
-            "max |Φ| [m or -]".into(),
-            "max |Φ_v v − ν| [m/s or 1/s]".into(),
-        ],
-    );
-    for k in 0..n {
-        t.rows.push(vec![
-            times[k],
-            r.position_drift.get(k).copied().unwrap_or(f64::NAN),
-            r.velocity_drift.get(k).copied().unwrap_or(f64::NAN),
-        ]);
-    }
-    out.push(t);
-    out
-}
-
-/// A run whose energy balance (E − E(t₀) − W_nc, [`cardan_dynamics::work`]) exceeds this
-/// fraction of its energy scale ([`energy_scale`]) is flagged (docs/model-format.md,
-/// "Warnings").
-pub const ENERGY_BALANCE_BOUND: f64 = 0.01;
-
-/// The energy scale of a run: the largest kinetic energy, plus the range of the potential energy
-/// (gravity and springs), plus the largest |work| of each driver and non-conservative force
-/// element over the stored times, in J. It measures how much energy the motion exchanges and
-/// the elements put in or take out, independently of the arbitrary zero of the potential.
-pub fn energy_scale(e: &cardan_dynamics::EnergyHistory) -> f64 {
-    let kinetic = e.kinetic.iter().fold(0.0f64, |a, &t| a.max(t));
-    let potential = e.gravity.iter().zip(&e.spring).map(|(g, s)| g + s);
-    let (lo, hi) = potential.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
-        (lo.min(v), hi.max(v))
-    });
-    let range = if hi >= lo { hi - lo } else { 0.0 };
-    let work: f64 = e
-        .elements
-        .iter()
-        .map(|w| w.work.iter().fold(0.0f64, |a, x| a.max(x.abs())))
-        .sum();
-    kinetic + range + work
-}
-
-/// The constraint drift a run may show: the integrator's tolerance on the scaled residual
-/// (at least 1e-12, the round-off of a converged projection) times the largest equation scale
-/// (the model's length for point equations), in m or -.
-pub fn drift_bound(p: &Prepared, integrator: &Integrator) -> f64 {
-    let tol = match integrator {
-        Integrator::Dopri5(o) => o.projection_tolerance,
-        Integrator::GeneralizedAlpha(o) => o.tolerance,
-    };
-    let scale = p
-        .model
-        .equation_scales()
-        .iter()
-        .fold(1.0f64, |a, &s| a.max(s));
-    tol.max(1e-12) * scale
-}
-
-/// Warnings about doubtful results of a dynamic run: an energy balance beyond
-/// [`ENERGY_BALANCE_BOUND`] of the energy scale (the energy change that the work of the
-/// drivers and non-conservative forces does not explain: checked for every model, driven,
-/// damped or conservative), a row dropped as redundant that stays off by more than the kept
-/// rows drift (the redundant joints disagree), a constraint drift beyond [`drift_bound`].
-pub fn doubtful_results(p: &Prepared, r: &DynamicResults, integrator: &Integrator) -> Vec<String> {
-    let tally = DynamicTally::of(r);
-    doubtful(p, &tally, &r.kinematics.dropped_rows, integrator)
-}
-
-/// [`doubtful_results`] from the run's numbers over every stored time (`tally`, taken as the
-/// times were streamed, not from a decimated copy) and its dropped rows.
-pub fn doubtful(
-    p: &Prepared,
-    tally: &DynamicTally,
-    dropped_rows: &[cardan_mechanism::DroppedRowResidual],
-    integrator: &Integrator,
-) -> Vec<String> {
-    let mut warnings = Vec::new();
-    let balance = tally.max_balance;
-    let scale = tally.energy_scale();
-    if balance > ENERGY_BALANCE_BOUND * scale {
-        warnings.push(format!(
-            "energy balance {balance:.3e} J (the energy change less the work of the drivers and \
-             non-conservative forces) is {:.1} % of the model's energy scale {scale:.3e} J \
-             (largest kinetic energy + range of the potential energy + largest work of each \
-             driver and non-conservative force), more than the {} % allowed: the integration \
-             is inaccurate or unstable; use a smaller step (dt) or tighter tolerances (rtol, \
-             atol)",
-            100.0 * balance / scale,
-            100.0 * ENERGY_BALANCE_BOUND
-        ));
-    }
-    warnings.extend(super::kinematic::dropped_row_warnings(p, dropped_rows));
-    let worst = tally.max_drift;
-    let bound = drift_bound(p, integrator);
-    // A drift no larger than the dropped rows' disagreement is that disagreement (warned above),
-    // not an integration error.
-    let disagreement = dropped_rows
-        .iter()
-        .fold(0.0f64, |a, d| a.max(d.value.abs()));
-    if (worst > bound && worst > disagreement) || worst.is_nan() {
-        warnings.push(format!(
-            "constraint drift {worst:.3e} (largest |Φ_i|, m or -) exceeds the tolerance \
-             {bound:.3e} (the integrator's tolerance times the model's length scale): the \
-             joints are not held closely; use a smaller step (dt) or tighter tolerances"
-        ));
-    }
-    warnings
 }
 
 /// Most integration steps a dynamic run may need without `--allow-long`: as many as a kinematic
@@ -402,6 +195,7 @@ pub fn check_length(
 mod tests {
     use super::*;
     use crate::analysis::stream::MAX_PLOTTED_FRAMES;
+    use crate::analysis::tally::DynamicTally;
     use cardan_dynamics::DynamicsError;
     use std::ops::ControlFlow;
 

@@ -5,25 +5,26 @@
 //! a fully driven mechanism ([`crate::prepare::not_fully_driven`] says what is missing;
 //! `cardan check` uses it too).
 
-use super::dynamic::{dynamics_as, located_as};
 use super::dynamic_layout::{DynamicLayout, Kind};
-use super::kinematic;
+use super::energy::ENERGY_BALANCE_BOUND;
+use super::located::located_as;
+use super::setup::dynamics_as;
 use super::stream::{Recorder, Tap};
 use super::summary::{Analysed, Summary};
-use crate::build::Outputs as Requested;
+use super::tally::DynamicTally;
+use super::warnings::dropped_row_warnings;
 use crate::diag::Error;
 use crate::files::{FrameTap, OutputFiles};
-use crate::output_tables::{
-    coupler_efforts_table, driver_efforts_table, energy_table, peak_efforts_of, reaction_tables,
-    requested,
-};
+use crate::output_tables::{peak_efforts_of, requested};
 use crate::prepare::{analysis_error, Prepared};
-use crate::table::Table;
 use cardan_dynamics::{DynamicResults, DynamicsError};
 use cardan_mechanism::{AssemblyOptions, KinematicOptions};
 use std::ops::ControlFlow;
 use std::path::PathBuf;
 use std::time::Instant;
+
+/// The output groups of an inverse dynamics run held whole (shared with the static kinds).
+pub use super::tables::inverse_tables;
 
 /// `kind = "inverse_dynamics"`: kinematics with driver efforts and reactions, the tables, the
 /// summary. A kinematic failure mid-run keeps the results so far with the error. With `dir`,
@@ -226,42 +227,27 @@ pub fn inverse_dynamics_with(
     }
 }
 
-/// The output groups of an inverse dynamics run: the kinematic groups (with the residual of the
-/// position analysis), then driver efforts, reactions (global and body components) and energy
-/// (with the drivers' power and work along the prescribed motion, the work by the trapezoidal
-/// rule on the time grid).
-pub fn inverse_tables(p: &Prepared, r: &DynamicResults, req: &Requested) -> Vec<Table> {
-    let mut out = kinematic::tables(&r.kinematics, req);
-    out.extend(driver_efforts_table(p, r));
-    out.extend(coupler_efforts_table(p, r));
-    out.extend(reaction_tables(r, req));
-    if req.energy {
-        out.push(energy_table(r));
-    }
-    out
-}
-
 /// The doubtful results of an inverse dynamics run: an energy balance beyond
-/// [`super::dynamic::ENERGY_BALANCE_BOUND`] of the energy scale (the motion is prescribed, so
+/// [`ENERGY_BALANCE_BOUND`] of the energy scale (the motion is prescribed, so
 /// the balance measures the quadrature of the work on the output grid and the position
 /// tolerance: the output step is too coarse for the motion), and the dropped rows left open.
 fn inverse_warnings(
     p: &Prepared,
-    tally: &super::dynamic_layout::DynamicTally,
+    tally: &DynamicTally,
     dropped_rows: &[cardan_mechanism::DroppedRowResidual],
 ) -> Vec<String> {
     let mut warnings = Vec::new();
     let (balance, scale) = (tally.max_balance, tally.energy_scale());
-    if balance > super::dynamic::ENERGY_BALANCE_BOUND * scale {
+    if balance > ENERGY_BALANCE_BOUND * scale {
         warnings.push(format!(
             "energy balance {balance:.3e} J (the energy change less the work of the drivers and \
              non-conservative forces) is {:.1} % of the model's energy scale {scale:.3e} J, more \
              than the {} % allowed: the work is integrated over the output times, which are too \
              far apart for this motion; use more steps",
             100.0 * balance / scale,
-            100.0 * super::dynamic::ENERGY_BALANCE_BOUND
+            100.0 * ENERGY_BALANCE_BOUND
         ));
     }
-    warnings.extend(kinematic::dropped_row_warnings(p, dropped_rows));
+    warnings.extend(dropped_row_warnings(p, dropped_rows));
     warnings
 }

@@ -5,19 +5,20 @@
 //! The frames stream to the CSV files as they are solved ([`super::stream`]).
 
 use super::layout::Layout;
-use super::stream::{FrameLayout, Recorder, Tap};
+use super::stream::{Recorder, Tap};
 use super::summary::{Analysed, Summary};
-use crate::build::Outputs as Requested;
+use super::warnings::dropped_row_warnings;
 use crate::diag::Error;
 use crate::files::{FrameTap, OutputFiles};
 use crate::output_tables::requested;
 use crate::prepare::{analysis_error, Prepared};
-use crate::table::Table;
-use cardan_constraints::Dimension;
-use cardan_mechanism::{DroppedRowResidual, KinematicOptions, Results};
+use cardan_mechanism::{KinematicOptions, Results};
 use std::ops::ControlFlow;
 use std::path::PathBuf;
 use std::time::Instant;
+
+/// The output groups of a kinematic run held whole (shared with the other runs).
+pub use super::tables::kinematic_tables as tables;
 
 /// `kind = "kinematic"`: the kinematics over the file's grid and its tables. With `dir`, the
 /// CSV files are written there frame by frame (and every frame goes to `solved`, an ASMT run's
@@ -101,33 +102,4 @@ pub(super) fn run_kinematic(
 enum Failure {
     Analysis(cardan_mechanism::AnalysisError),
     Stopped(Error),
-}
-
-/// One warning per joint whose equation was dropped as redundant but not satisfied at the
-/// solution (its worst residual in the model's units, relative to the model's size, and when;
-/// `cardan_mechanism::analysis::dropped`).
-pub(super) fn dropped_row_warnings(p: &Prepared, rows: &[DroppedRowResidual]) -> Vec<String> {
-    rows.iter()
-        .map(|d| {
-            let (unit, factor) = p.units.unit("m");
-            let value = match d.dimension {
-                Dimension::Dimensionless => format!("{:.2e}", d.value.abs()),
-                Dimension::Length => format!("{:.2e} {unit}", d.value.abs() * factor),
-                Dimension::Area => format!("{:.2e} {unit}²", d.value.abs() * factor * factor),
-            };
-            format!(
-                "{} was dropped as redundant but is not satisfied: |Φ| = {value} ({:.2e} \
-                 relative to the model's size) at worst, at t = {} s; the model's redundant \
-                 joints disagree slightly, so the results satisfy the other equations exactly \
-                 and this one only approximately (make the joints' geometry consistent, or use \
-                 a joint with fewer equations to remove the redundancy)",
-                d.equation, d.residual, d.time
-            )
-        })
-        .collect()
-}
-
-/// Builds the output groups from the results (every frame; `Layout`).
-pub fn tables(r: &Results, req: &Requested) -> Vec<Table> {
-    Layout::new(r, req).into_tables(r)
 }

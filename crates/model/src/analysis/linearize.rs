@@ -6,8 +6,10 @@
 //! The state at t comes from integrating from t_start to t with the run's integrator and its
 //! settings (a run of its own, one output at t), so t need not be an output time.
 
-use super::dynamic::{dynamics, initial_state, located};
-use super::statics::{matrix_files, mode_tables};
+use super::located::located;
+use super::matrices::matrix_files;
+use super::modes::mode_tables;
+use super::setup::{dynamics, initial_state};
 use crate::build::Outputs as Requested;
 use crate::diag::Error;
 use crate::prepare::Prepared;

@@ -1,22 +1,46 @@
-//! `cardan run MODEL.toml [-o DIR]`: the analysis the file describes, written as CSV and SVG
-//! with a `run.json` that says how the run went (the directory rule: [`crate::output`]).
+//! `cardan run`'s analyses as a library: the analysis the model file describes, run into output
+//! tables with a summary ([`analyse`]; [`analyse_into`] streams the CSV files as it runs), the
+//! summary line with the warnings ([`print_summary`]), `run.json` ([`run_report`]) and the
+//! report page with its animation ([`animation`]). The command (`cardan-cli`) writes them into
+//! its output directory.
 //!
-//! This module picks the analysis ([`kinematic`], [`dynamic`] or [`inverse`] dynamics; each
-//! returns its output groups and summary), writes the outputs and `run.json`, and prints the
-//! summary line with the warnings.
+//! # Layout
+//! The files use only the files below them:
+//! - this module, on top: picks the analysis by kind and puts its results in the model's units;
+//! - one file per analysis: [`kinematic`], [`dynamic`] (with `linearize`, the linearization
+//!   about a state of the run), [`inverse`] dynamics and [`statics`] (static, quasi-static,
+//!   modal), each returning an [`Analysed`] run;
+//! - the pieces they share, at the bottom:
+//!   - the frames as they are computed: [`stream`] (the recorder), `csv_files` (its files),
+//!     `layout` and [`dynamic_layout`] (each frame's rows), `tables` (the groups held whole);
+//!   - the dynamics problem: `setup` (forces, initial state, integrator settings) and `located`
+//!     (its errors located in the file);
+//!   - what a run reports: `summary` ([`Summary`], [`Analysed`], [`RunFlags`]), `energy` (the
+//!     energy balance), `tally` (the numbers taken over every frame), `warnings` (doubtful
+//!     results);
+//!   - a modal run's outputs: `modes` (the mode tables) and `matrices` (MatrixMarket files).
 
 mod csv_files;
 pub mod dynamic;
 pub mod dynamic_layout;
+mod energy;
 pub mod inverse;
 pub mod kinematic;
 mod layout;
 mod linearize;
+mod located;
+mod matrices;
+pub(crate) mod modes;
+mod setup;
 pub mod statics;
 pub mod stream;
 mod summary;
+mod tables;
+mod tally;
+mod warnings;
 
-pub use summary::{Analysed, DynamicSummary, EnergyBalance, RunFlags, Summary};
+pub use energy::EnergyBalance;
+pub use summary::{Analysed, DynamicSummary, RunFlags, Summary};
 
 use crate::build::AnalysisKind;
 use crate::diag::Error;

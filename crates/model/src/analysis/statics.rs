@@ -5,9 +5,13 @@
 //! none), the driver efforts (holding forces and torques), the reactions and `stability.csv`;
 //! a modal run adds `modes.csv` and `mode_shapes.csv`.
 
-use super::dynamic::{dynamics_as, located_as};
-use super::inverse::inverse_tables;
+use super::located::located_as;
+use super::matrices::{full_matrix_files, matrix_files, sparse_matrix_files};
+use super::modes::mode_tables;
+use super::setup::dynamics_as;
 use super::summary::{Analysed, Summary};
+use super::tables::inverse_tables;
+use super::warnings::dropped_row_warnings;
 use crate::build::Outputs as Requested;
 use crate::build::{Analysis, StaticKind, DEFAULT_SPARSE_MODES};
 use crate::diag::Error;
@@ -15,15 +19,16 @@ use crate::output_tables::{peak_efforts, requested};
 use crate::prepare::{analysis_error, Prepared};
 use crate::table::Table;
 use cardan_dynamics::{
-    matrix_market, matrix_market_sparse, Dynamics, DynamicsError, Equilibrium, Force, Frame, Input,
-    Linearization, ModalOptions, Mode, ModeKind, Output, PointRef, SparseMatrix,
-    SparseModalResults, Stability, State, StaticOptions, StaticResults,
-    SPARSE_LINEARIZATION_MAX_DOF, SPARSE_LINEARIZATION_MAX_UNKNOWNS,
+    DynamicResults, Dynamics, DynamicsError, ModalOptions, ModalResults, SparseModalResults,
+    Stability, StaticOptions, StaticResults,
 };
-use cardan_mechanism::{BodyId, Outputs};
-use nalgebra::{Vector3, Vector4};
+use cardan_mechanism::Outputs;
+use nalgebra::Vector4;
 use std::path::PathBuf;
-use std::time::Instant;
+use std::time::{Duration, Instant};
+
+/// Output tables and named files (name, text).
+type Written = (Vec<Table>, Vec<(String, String)>);
 
 /// The groups a static analysis does not write (it has no velocities or accelerations).
 const MOTION_GROUPS: [&str; 6] = [
@@ -42,14 +47,77 @@ pub(super) fn run_statics(
     analysis: &Analysis,
     kind: StaticKind,
 ) -> Result<Analysed, Error> {
-    let what = match kind {
+    let start = Instant::now();
+    let mut d = dynamics_as(p, what(kind))?;
+    let solved = solve(p, &mut d, analysis, kind)?;
+    let wall = start.elapsed();
+    if kind == StaticKind::Modal && nothing_vibrates(p, analysis, &solved) {
+        return Err(no_modes(p));
+    }
+    let statics = &solved.statics;
+    let r = &statics.results;
+    let req = requested(p, &analysis.outputs);
+    let mut tables: Vec<Table> = inverse_tables(p, r, &req)
+        .into_iter()
+        .filter(|t| !MOTION_GROUPS.contains(&t.name.as_str()))
+        .collect();
+    tables.push(stability_table(statics));
+    let mut warnings = stability_warnings(statics);
+    warnings.extend(dropped_row_warnings(p, &r.kinematics.dropped_rows));
+    let mut files = Vec::new();
+    if let Some(s) = &solved.sparse {
+        let (t, f) = sparse_outputs(p, &mut d, analysis, &req, s, r, &mut warnings)?;
+        tables.extend(t);
+        files = f;
+    }
+    if let Some(m) = &solved.modal {
+        let (t, f) = dense_outputs(p, &mut d, analysis, &req, m, r)?;
+        tables.extend(t);
+        files = f;
+    }
+    let summary = summary(p, statics, wall, warnings);
+    Ok(Analysed {
+        tables,
+        summary,
+        results: r.kinematics.clone(),
+        dynamic: Some(r.clone()),
+        failure: solved.failure,
+        strict_failure: None,
+        files,
+        modes: match (solved.sparse, solved.modal) {
+            (Some(s), _) => s.modes,
+            (None, Some(m)) => m.modes,
+            (None, None) => Vec::new(),
+        },
+        streamed: None,
+    })
+}
+
+/// How the errors of a static kind start.
+fn what(kind: StaticKind) -> &'static str {
+    match kind {
         StaticKind::Static => "static analysis",
         StaticKind::QuasiStatic => "quasi-static analysis",
         StaticKind::Modal => "modal analysis",
-    };
-    let start = Instant::now();
-    let mut d = dynamics_as(p, what)?;
-    let options = StaticOptions {
+    }
+}
+
+/// What a static kind solved: the equilibria and, for a modal run, its modes (on the dense
+/// path, or on the sparse path of a large model).
+struct Solved {
+    statics: StaticResults,
+    /// A modal run on the dense path.
+    modal: Option<ModalResults>,
+    /// A modal run on the sparse path: a few lowest modes.
+    sparse: Option<SparseModalResults>,
+    /// The failure that stopped a quasi-static run after its first time.
+    failure: Option<Error>,
+}
+
+/// The file's options of a static solution: poses only (points and joints, no velocities or
+/// accelerations).
+fn static_options(analysis: &Analysis) -> StaticOptions {
+    StaticOptions {
         time: analysis.t_start,
         tolerance: analysis.tolerance,
         load_steps: analysis.load_steps,
@@ -60,7 +128,22 @@ pub(super) fn run_statics(
             joints: true,
         },
         ..StaticOptions::default()
-    };
+    }
+}
+
+/// Solves the equilibria of `kind` (and the modes of a modal run). A quasi-static run that
+/// fails after its first time keeps the results so far, with the failure.
+///
+/// # Errors
+/// A failed equilibrium or eigen-analysis, located in the file.
+fn solve(
+    p: &Prepared,
+    d: &mut Dynamics,
+    analysis: &Analysis,
+    kind: StaticKind,
+) -> Result<Solved, Error> {
+    let what = what(kind);
+    let options = static_options(analysis);
     let mut failure = None;
     let mut sparse: Option<SparseModalResults> = None;
     let (statics, modal) = match kind {
@@ -101,104 +184,126 @@ pub(super) fn run_statics(
             (m.equilibrium.clone(), Some(m))
         }
     };
-    let wall = start.elapsed();
-    // No free motion and no driver released as a state-space input: nothing can vibrate.
+    Ok(Solved {
+        statics,
+        modal,
+        sparse,
+        failure,
+    })
+}
+
+/// Whether a modal run found nothing that can vibrate: no modes, no free motion at any
+/// equilibrium, and no driver released as a state-space input.
+fn nothing_vibrates(p: &Prepared, analysis: &Analysis, solved: &Solved) -> bool {
     let released = analysis
         .inputs
         .iter()
         .any(|i| p.loaded.drivers.iter().any(|(n, _)| n == i));
-    let no_modes_found = match (&sparse, &modal) {
+    let no_modes_found = match (&solved.sparse, &solved.modal) {
         (Some(s), _) => s.modes.is_empty(),
         (None, Some(m)) => m.modes.is_empty(),
         (None, None) => false,
     };
-    let held = statics.equilibria.iter().all(|e| e.eigenvalues.is_empty());
-    if kind == StaticKind::Modal && no_modes_found && held && !released {
-        return Err(no_modes(p));
-    }
-    let r = &statics.results;
-    let req = requested(p, &analysis.outputs);
-    let mut tables: Vec<Table> = inverse_tables(p, r, &req)
-        .into_iter()
-        .filter(|t| !MOTION_GROUPS.contains(&t.name.as_str()))
-        .collect();
-    tables.push(stability_table(&statics));
-    let mut warnings = stability_warnings(&statics);
-    warnings.extend(super::kinematic::dropped_row_warnings(
-        p,
-        &r.kinematics.dropped_rows,
-    ));
-    let mut files = Vec::new();
-    let bodies: Vec<&str> = r
-        .kinematics
-        .bodies
-        .iter()
-        .map(|b| b.name.as_str())
-        .collect();
-    // The Euler parameters at the (first) equilibrium, about which the modes are; a failed
-    // quasi-static run may have none, and no modes either.
-    let rest: Vec<Vector4<f64>> = r
-        .kinematics
-        .bodies
+    let held = (solved.statics.equilibria.iter()).all(|e| e.eigenvalues.is_empty());
+    no_modes_found && held && !released
+}
+
+/// The moving bodies' names and their Euler parameters at the (first) equilibrium, about which
+/// the modes are; a failed quasi-static run may have none, and no modes either.
+fn rest_pose(r: &DynamicResults) -> (Vec<&str>, Vec<Vector4<f64>>) {
+    let bodies = &r.kinematics.bodies;
+    let names = bodies.iter().map(|b| b.name.as_str()).collect();
+    let rest = bodies
         .iter()
         .map(|b| b.p.first().copied().unwrap_or_else(Vector4::x))
         .collect();
-    if let Some(s) = &sparse {
-        let t = s.equilibrium.equilibria.first().map_or(0.0, |e| e.state.t);
-        tables.extend(mode_tables(t, &bodies, &rest, &s.modes));
-        if !s.converged {
-            warnings.push(format!(
-                "the {} lowest modes did not all converge in {} Lanczos steps: their \
-                 frequencies are doubtful",
-                s.modes.len(),
-                s.lanczos_steps
-            ));
-        }
-        if let Some(eq) = s.equilibrium.equilibria.first() {
-            files = sparse_matrix_files(p, &mut d, eq, s, &req, &analysis.inputs, &mut warnings)
-                .map_err(|e| error(p, &e, what))?;
-        }
+    (names, rest)
+}
+
+/// The mode tables and matrix files of a modal run on the sparse path (a warning when its
+/// Lanczos iteration did not converge, and when the reduced matrices are not written).
+///
+/// # Errors
+/// A failed linearization, located in the file.
+fn sparse_outputs(
+    p: &Prepared,
+    d: &mut Dynamics,
+    analysis: &Analysis,
+    req: &Requested,
+    s: &SparseModalResults,
+    r: &DynamicResults,
+    warnings: &mut Vec<String>,
+) -> Result<Written, Error> {
+    let (bodies, rest) = rest_pose(r);
+    let t = s.equilibrium.equilibria.first().map_or(0.0, |e| e.state.t);
+    let tables = mode_tables(t, &bodies, &rest, &s.modes);
+    if !s.converged {
+        warnings.push(format!(
+            "the {} lowest modes did not all converge in {} Lanczos steps: their \
+             frequencies are doubtful",
+            s.modes.len(),
+            s.lanczos_steps
+        ));
     }
-    if let Some(m) = &modal {
-        if let Some(eq) = m.equilibrium.equilibria.first() {
-            tables.extend(mode_tables(eq.state.t, &bodies, &rest, &m.modes));
-            let about = format!("the equilibrium at t = {} s", eq.state.t);
-            let released: Vec<String> = analysis
-                .inputs
-                .iter()
-                .filter(|n| p.model.drivers().iter().any(|d| &d.name == *n))
-                .cloned()
-                .collect();
-            let lin = if released.is_empty() {
-                m.linearization.clone()
-            } else {
-                d.linearize_released(eq, &released)
-                    .map_err(|e| error(p, &e, what))?
-            };
-            files = full_matrix_files(
-                &mut d,
-                &eq.state,
-                &m.linearization.full_stiffness,
-                &m.linearization.full_damping,
-            )
-            .map_err(|e| error(p, &e, what))?;
-            files.extend(
-                matrix_files(
-                    p,
-                    &mut d,
-                    &eq.state,
-                    &lin,
-                    &req,
-                    &analysis.inputs,
-                    &about,
-                    false,
-                )
-                .map_err(|e| error(p, &e, what))?,
-            );
-        }
+    let mut files = Vec::new();
+    if let Some(eq) = s.equilibrium.equilibria.first() {
+        files = sparse_matrix_files(p, d, eq, s, req, &analysis.inputs, warnings)
+            .map_err(|e| error(p, &e, what(StaticKind::Modal)))?;
     }
+    Ok((tables, files))
+}
+
+/// The mode tables and matrix files of a modal run on the dense path: the full matrices, and
+/// the reduced ones with the state-space model (linearized again with the drivers that are
+/// inputs released).
+///
+/// # Errors
+/// A failed linearization, located in the file.
+fn dense_outputs(
+    p: &Prepared,
+    d: &mut Dynamics,
+    analysis: &Analysis,
+    req: &Requested,
+    m: &ModalResults,
+    r: &DynamicResults,
+) -> Result<Written, Error> {
+    let Some(eq) = m.equilibrium.equilibria.first() else {
+        return Ok((Vec::new(), Vec::new()));
+    };
+    let fail = |e: DynamicsError| error(p, &e, what(StaticKind::Modal));
+    let (bodies, rest) = rest_pose(r);
+    let tables = mode_tables(eq.state.t, &bodies, &rest, &m.modes);
+    let about = format!("the equilibrium at t = {} s", eq.state.t);
+    let released: Vec<String> = analysis
+        .inputs
+        .iter()
+        .filter(|n| p.model.drivers().iter().any(|d| &d.name == *n))
+        .cloned()
+        .collect();
+    let lin = if released.is_empty() {
+        m.linearization.clone()
+    } else {
+        d.linearize_released(eq, &released).map_err(fail)?
+    };
+    let full = &m.linearization;
+    let mut files =
+        full_matrix_files(d, &eq.state, &full.full_stiffness, &full.full_damping).map_err(fail)?;
+    let reduced = matrix_files(p, d, &eq.state, &lin, req, &analysis.inputs, &about, false);
+    files.extend(reduced.map_err(fail)?);
+    Ok((tables, files))
+}
+
+/// The summary of a static kind: the equilibria solved, their Newton iterations, the largest
+/// residual, the peak holding efforts.
+fn summary(
+    p: &Prepared,
+    statics: &StaticResults,
+    wall: Duration,
+    warnings: Vec<String>,
+) -> Summary {
+    let r = &statics.results;
     let k = &r.kinematics;
-    let summary = Summary {
+    Summary {
         name: p.loaded.name.clone(),
         steps: k.len(),
         noun: ["equilibrium", "equilibria"],
@@ -213,22 +318,7 @@ pub(super) fn run_statics(
         warnings,
         subdivided_steps: None,
         row_reselections: r.stats.row_reselections,
-    };
-    Ok(Analysed {
-        tables,
-        summary,
-        results: r.kinematics.clone(),
-        dynamic: Some(r.clone()),
-        failure,
-        strict_failure: None,
-        files,
-        modes: match (sparse, modal) {
-            (Some(s), _) => s.modes,
-            (None, Some(m)) => m.modes,
-            (None, None) => Vec::new(),
-        },
-        streamed: None,
-    })
+    }
 }
 
 /// The error of a modal analysis whose drivers hold every degree of freedom: a mechanism
@@ -305,322 +395,4 @@ fn stability_warnings(s: &StaticResults) -> Vec<String> {
         }
     }
     out
-}
-
-/// `modes.csv` (one row per mode: its number, kind, frequencies, damping ratio, eigenvalue of
-/// the first-order form) and `mode_shapes.csv` (one row per mode: each body's δr, δθ and the
-/// increment δp = ½ Gᵀ(p₀) δθ of its Euler parameters p₀ in `rest`), at time `t` with the
-/// moving `bodies` in file order.
-pub(super) fn mode_tables(
-    t: f64,
-    bodies: &[&str],
-    rest: &[Vector4<f64>],
-    list: &[Mode],
-) -> Vec<Table> {
-    let mut modes = Table::new(
-        "modes",
-        "vibration modes",
-        vec![
-            "mode [-]".into(),
-            "kind [-]".into(),
-            "frequency [Hz]".into(),
-            "damped_frequency [Hz]".into(),
-            "damping_ratio [-]".into(),
-            "eigenvalue.re [1/s]".into(),
-            "eigenvalue.im [1/s]".into(),
-        ],
-    );
-    let mut cols = vec!["mode [-]".to_string()];
-    for b in bodies {
-        for ax in ["x", "y", "z"] {
-            cols.push(format!("{b}.dr.{ax} [m]"));
-        }
-        for ax in ["x", "y", "z"] {
-            cols.push(format!("{b}.dtheta.{ax} [rad]"));
-        }
-        for e in ["e0", "e1", "e2", "e3"] {
-            cols.push(format!("{b}.dp.{e} [-]"));
-        }
-    }
-    let mut shapes = Table::new("mode_shapes", "mode shapes", cols);
-    for (i, mode) in list.iter().enumerate() {
-        let kind = match mode.kind {
-            ModeKind::Elastic => 0.0,
-            ModeKind::Rigid => 1.0,
-            ModeKind::Unstable => 2.0,
-            ModeKind::Overdamped => 3.0,
-        };
-        modes.rows.push(vec![
-            t,
-            (i + 1) as f64,
-            kind,
-            mode.frequency,
-            mode.damped_frequency,
-            mode.damping_ratio,
-            mode.eigenvalue[0],
-            mode.eigenvalue[1],
-        ]);
-        let mut row = vec![t, (i + 1) as f64];
-        for (s, p0) in mode.shape.iter().zip(rest) {
-            row.extend(s.translation.iter());
-            row.extend(s.rotation.iter());
-            row.extend(euler_increment(p0, &s.rotation).iter());
-        }
-        shapes.rows.push(row);
-    }
-    vec![modes, shapes]
-}
-
-/// δp = ½ Gᵀ(p₀) δθ: the increment of unit Euler parameters p₀ (normalized here) for a small
-/// rotation δθ in global components (Nikravesh 1988 ch. 6, ṗ = ½ Gᵀ ω); p₀ᵀδp = 0.
-pub(crate) fn euler_increment(p0: &Vector4<f64>, dtheta: &Vector3<f64>) -> Vector4<f64> {
-    cardan_eulerparam::velocity::p_dot_from_global(&(p0 / p0.norm()), dtheta)
-}
-
-/// The full linearized matrices about the equilibrium `state` (MatrixMarket, sparse):
-/// `lin_M_full.mtx` (M), `lin_C_full.mtx` (C_t), `lin_K_full.mtx` (K_t), n × n in the body
-/// increments δ, and `lin_Phi_v.mtx` (Φ_v, the independent constraint rows × n).
-fn full_matrix_files(
-    d: &mut Dynamics,
-    state: &State,
-    stiffness: &nalgebra::DMatrix<f64>,
-    damping: &nalgebra::DMatrix<f64>,
-) -> Result<Vec<(String, String)>, DynamicsError> {
-    let full = d.linearization_matrices(state)?;
-    let sparse = |m: &SparseMatrix| matrix_market_sparse(m.n, m.n, &m.entries);
-    Ok(vec![
-        ("lin_M_full.mtx".into(), sparse(&full.mass)),
-        ("lin_C_full.mtx".into(), matrix_market(damping)),
-        ("lin_K_full.mtx".into(), matrix_market(stiffness)),
-        (
-            "lin_Phi_v.mtx".into(),
-            matrix_market_sparse(
-                full.jacobian.rows,
-                full.jacobian.cols,
-                &full.jacobian.entries,
-            ),
-        ),
-    ])
-}
-
-/// The matrix files of the sparse path: the full matrices (as [`full_matrix_files`], from the
-/// sparse tangents), and, when the model is of moderate size and no driver is an input, the
-/// reduced matrices and the state-space model of [`matrix_files`] (a basis from the sparse
-/// factorization, [`Dynamics::linearize_sparse`]); otherwise a warning saying why not.
-fn sparse_matrix_files(
-    p: &Prepared,
-    d: &mut Dynamics,
-    eq: &Equilibrium,
-    s: &SparseModalResults,
-    req: &Requested,
-    input_names: &[String],
-    warnings: &mut Vec<String>,
-) -> Result<Vec<(String, String)>, DynamicsError> {
-    let full = d.linearization_matrices(&eq.state)?;
-    let sparse = |m: &SparseMatrix| matrix_market_sparse(m.n, m.n, &m.entries);
-    let n = full.mass.n;
-    let dof = n.saturating_sub(full.jacobian.rows);
-    let mut files = vec![
-        ("lin_M_full.mtx".into(), sparse(&full.mass)),
-        ("lin_C_full.mtx".into(), sparse(&s.damping)),
-        ("lin_K_full.mtx".into(), sparse(&s.stiffness)),
-        (
-            "lin_Phi_v.mtx".into(),
-            matrix_market_sparse(
-                full.jacobian.rows,
-                full.jacobian.cols,
-                &full.jacobian.entries,
-            ),
-        ),
-    ];
-    let skipped = "the reduced matrices and the state-space model (lin_M, lin_C, lin_K, lin_N, \
-                   ss_A … ss_D .mtx, state_space.txt) were not written";
-    let drivers: Vec<&String> = input_names
-        .iter()
-        .filter(|n| p.model.drivers().iter().any(|d| &d.name == *n))
-        .collect();
-    if !drivers.is_empty() {
-        warnings.push(format!(
-            "{skipped}: driver efforts as inputs ({}) need the dense path (fewer than {} \
-             moving bodies); lin_M_full, lin_C_full, lin_K_full and lin_Phi_v .mtx hold the \
-             linearized model",
-            drivers
-                .iter()
-                .map(|s| format!("\"{s}\""))
-                .collect::<Vec<_>>()
-                .join(", "),
-            cardan_dynamics::SPARSE_MIN_BODIES
-        ));
-        return Ok(files);
-    }
-    if dof > SPARSE_LINEARIZATION_MAX_DOF || n > SPARSE_LINEARIZATION_MAX_UNKNOWNS {
-        warnings.push(format!(
-            "{skipped}: they are dense, and this model has {dof} independent coordinates and \
-             {n} unknowns, beyond the sparse path's {SPARSE_LINEARIZATION_MAX_DOF} and \
-             {SPARSE_LINEARIZATION_MAX_UNKNOWNS}; lin_M_full, lin_C_full, lin_K_full and \
-             lin_Phi_v .mtx (sparse) hold the linearized model"
-        ));
-        return Ok(files);
-    }
-    let lin = d.linearize_sparse(eq, &s.stiffness, &s.damping)?;
-    let about = format!("the equilibrium at t = {} s", eq.state.t);
-    files.extend(matrix_files(
-        p,
-        d,
-        &eq.state,
-        &lin,
-        req,
-        input_names,
-        &about,
-        false,
-    )?);
-    Ok(files)
-}
-
-/// The linearization's matrices in MatrixMarket form: `lin_M.mtx`, `lin_C.mtx`, `lin_K.mtx`,
-/// the basis `lin_N.mtx` (and `lin_G.mtx` about a moving state) and the state-space model
-/// (`ss_A.mtx` … `ss_D.mtx`) with inputs = the named force elements (a unit force or torque
-/// along the element's direction at `state`) and outputs = the requested points' x, y, z and
-/// joint coordinates, listed in `state_space.txt`. `about` names the linearization point;
-/// `moving`: about a state of a dynamic run (`lin_G.mtx` written).
-#[allow(clippy::too_many_arguments)]
-pub(super) fn matrix_files(
-    p: &Prepared,
-    d: &mut Dynamics,
-    state: &State,
-    lin: &Linearization,
-    req: &Requested,
-    input_names: &[String],
-    about: &str,
-    moving: bool,
-) -> Result<Vec<(String, String)>, DynamicsError> {
-    let model = &p.model;
-    let local = |body: &str, pt: &PointRef| match pt {
-        PointRef::Local(v) => *v,
-        PointRef::Named(n) => model
-            .point_index(body, n)
-            .map_or(nalgebra::Vector3::zeros(), |i| model.points()[i].local),
-    };
-    let global =
-        |body: &str, v: nalgebra::Vector3<f64>, frame: Frame| match (frame, model.body_id(body)) {
-            (Frame::Body, Some(BodyId::Moving(k))) => state.body_state(k).a * v,
-            _ => v,
-        };
-    let mut inputs = Vec::new();
-    let mut names = Vec::new();
-    for name in input_names {
-        if let Some(dr) = model.drivers().iter().find(|d| &d.name == name) {
-            inputs.push(Input::Driver {
-                driver: name.clone(),
-            });
-            let unit = match dr.driver {
-                cardan_constraints::Driver::Rotation(_) => "N m",
-                _ => "N",
-            };
-            names.push(format!(
-                "{name} [{unit}] (driver effort, the driver released)"
-            ));
-            continue;
-        }
-        match p.loaded.forces.iter().find(|f| f.name() == name.as_str()) {
-            Some(Force::PointForce {
-                body,
-                point,
-                value,
-                frame,
-                ..
-            }) => {
-                inputs.push(Input::Force {
-                    body: body.clone(),
-                    point: local(body, point),
-                    direction: global(body, value.eval(state.t), *frame),
-                });
-                names.push(format!("{name} [N]"));
-            }
-            Some(Force::PointTorque {
-                body, value, frame, ..
-            }) => {
-                inputs.push(Input::Torque {
-                    body: body.clone(),
-                    axis: global(body, value.eval(state.t), *frame),
-                });
-                names.push(format!("{name} [N m]"));
-            }
-            _ => {}
-        }
-    }
-    let mut outputs = Vec::new();
-    let mut out_names = Vec::new();
-    for (b, pt) in &req.points {
-        if !matches!(model.body_id(b), Some(BodyId::Moving(_))) {
-            continue;
-        }
-        let s = local(b, &PointRef::Named(pt.clone()));
-        for (ax, dir) in ["x", "y", "z"].iter().zip([
-            nalgebra::Vector3::x(),
-            nalgebra::Vector3::y(),
-            nalgebra::Vector3::z(),
-        ]) {
-            outputs.push(Output::Point {
-                body: b.clone(),
-                point: s,
-                direction: dir,
-            });
-            out_names.push(format!("{b}.{pt}.{ax} [m]"));
-        }
-    }
-    for j in &req.joints {
-        if let Some(ji) = model.joint_index(j) {
-            for (i, c) in model.joints()[ji]
-                .joint
-                .kind()
-                .info()
-                .coordinates
-                .iter()
-                .enumerate()
-            {
-                outputs.push(Output::Joint {
-                    joint: j.clone(),
-                    index: i,
-                });
-                out_names.push(format!("{j}.{} [{}]", c.name, c.measure.quantity().unit()));
-            }
-        }
-    }
-    let ss = d.state_space(state, lin, &inputs, &outputs)?;
-    let dof = lin.dof();
-    let mut signals = format!(
-        "# State-space model about {about} (MatrixMarket files, 1-based):\n\
-         # x' = A x + B u, y = C x + D u; x = [z; dz/dt] with {dof} independent coordinates z,\n\
-         # the body increments delta = N z (lin_N.mtx: 6 rows per moving body in file order,\n\
-         # dr.x dr.y dr.z [m] of the centre of mass, then the rotation dpi'.x .y .z [rad] in\n\
-         # body components); M_r z'' + C_r z' + K_r z = Q_u u (lin_M, lin_C, lin_K).\n"
-    );
-    if moving {
-        signals.push_str(
-            "# About a moving state: z' = w - G z with w = P dv the independent velocities\n\
-             # (lin_G.mtx); the matrices are frozen at this time (docs/model-format.md).\n",
-        );
-    }
-    for (i, n) in names.iter().enumerate() {
-        signals.push_str(&format!("input {}: {n}\n", i + 1));
-    }
-    for (i, n) in out_names.iter().enumerate() {
-        signals.push_str(&format!("output {}: {n}\n", i + 1));
-    }
-    let mut files = vec![
-        ("lin_M.mtx".into(), matrix_market(&lin.mass)),
-        ("lin_C.mtx".into(), matrix_market(&lin.damping)),
-        ("lin_K.mtx".into(), matrix_market(&lin.stiffness)),
-        ("lin_N.mtx".into(), matrix_market(&lin.basis)),
-        ("ss_A.mtx".into(), matrix_market(&ss.a)),
-        ("ss_B.mtx".into(), matrix_market(&ss.b)),
-        ("ss_C.mtx".into(), matrix_market(&ss.c)),
-        ("ss_D.mtx".into(), matrix_market(&ss.d)),
-        ("state_space.txt".into(), signals),
-    ];
-    if moving {
-        files.push(("lin_G.mtx".into(), matrix_market(&lin.transport)));
-    }
-    Ok(files)
 }

@@ -33,6 +33,10 @@ use cardan_mechanism::Results;
 use std::io::Write as _;
 use std::ops::ControlFlow;
 
+/// A further file written from every frame (declared with the other output files,
+/// [`crate::files`]; `cardan-cli` implements it here).
+pub use crate::files::Tap;
+
 /// At most this many frames are kept for the plots, the animation and the report (a plot is
 /// about 1,000 pixels wide: the plots draw min/max per pixel column either way).
 pub const MAX_PLOTTED_FRAMES: usize = 2_000;
@@ -115,18 +119,6 @@ impl Frame for DynamicResults {
     fn times(&self) -> &[f64] {
         DynamicResults::times(self)
     }
-}
-
-/// A file written from every frame besides the CSV files: the `TimeSeries` of an ASMT run's
-/// `*.solved.asmt` ([`crate::asmt::SolvedSeries`]).
-pub trait Tap<F> {
-    /// The file's name (for a write error).
-    fn name(&self) -> &str;
-    /// Takes one frame (results holding one time).
-    ///
-    /// # Errors
-    /// A write error.
-    fn frame(&mut self, frame: &F) -> std::io::Result<()>;
 }
 
 /// The output groups of a run's frames: each group's empty table and the row of any frame, so

@@ -1,8 +1,9 @@
-//! What the analyses of `cardan run` hand to [`super::run_model_with`]: an [`Analysed`] run
+//! What the analyses of `cardan run` hand to [`super::analyse_into`]: an [`Analysed`] run
 //! (its output groups, its [`Summary`], its results) under the [`RunFlags`] it was asked to run
-//! with. These types sit below the analyses so that they and `run` share them without using each
-//! other; `run` exports the public ones.
+//! with. These types sit below the analyses so that they and [`super`] share them without using
+//! each other; [`super`] exports the public ones.
 
+use super::energy::EnergyBalance;
 use crate::diag::Error;
 use crate::table::Table;
 use cardan_mechanism::Results;
@@ -60,39 +61,6 @@ pub struct DynamicSummary {
     pub max_constraint_drift: f64,
     /// max |E − E(t0)| (J).
     pub energy_drift: f64,
-}
-
-/// The energy balance of a dynamic or inverse dynamics run: what the work-energy theorem leaves
-/// unexplained, the integration (or quadrature) error ([`cardan_dynamics::work`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct EnergyBalance {
-    /// max |E − E(t₀) − W_nc| over the stored times (J).
-    pub max_abs: f64,
-    /// The run's energy scale ([`super::dynamic::energy_scale`], J).
-    pub scale: f64,
-}
-
-impl EnergyBalance {
-    /// The balance of the energy histories `e`.
-    pub fn of(e: &cardan_dynamics::EnergyHistory) -> Self {
-        Self {
-            max_abs: e.max_balance(),
-            scale: super::dynamic::energy_scale(e),
-        }
-    }
-
-    /// ", energy balance … J (… of the energy scale … J)" for the summary line.
-    pub fn describe(&self) -> String {
-        let mut s = format!(", energy balance {:.3e} J", self.max_abs);
-        if self.scale > 0.0 {
-            s.push_str(&format!(
-                " ({:.1e} of the energy scale {:.3e} J)",
-                self.max_abs / self.scale,
-                self.scale
-            ));
-        }
-        s
-    }
 }
 
 /// How `cardan run` was asked to run.

@@ -1,4 +1,4 @@
-//! How a [`Table`] is drawn: small multiples built from its column headers.
+//! How a [`Table`] is drawn ([`Table::to_svg`]): small multiples built from its column headers.
 //!
 //! Each panel holds one unit and the columns of one or a few elements (`panels`: reactions
 //! one joint per panel, forces apart from torques; at most 8 series). The colour follows the
@@ -24,6 +24,13 @@ pub const PRE_COLUMNS: usize = 2048;
 /// The most panels one figure draws. A table of a large model (10⁴ bodies: 10⁴ panels) shows the
 /// panels whose series change most; the title says how many there are, the CSV keeps them all.
 pub const MAX_PANELS: usize = 24;
+
+impl Table {
+    /// The SVG plot of the table: small multiples, one unit per panel ([`figure`]).
+    pub fn to_svg(&self) -> String {
+        cardan_plot::render_svg(&figure(self))
+    }
+}
 
 /// The figure of a table: one panel per group of columns, two panels per row.
 pub fn figure(table: &Table) -> Figure {
