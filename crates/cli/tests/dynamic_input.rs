@@ -324,19 +324,31 @@ fn bad_forces() {
         "stiffness = 2.0",
         "stiffness = -2.0",
         "49:13",
-        &["stiffness must be ≥ 0"],
+        &["stiffness must be finite and ≥ 0, got -2"],
     );
     fails_at(
         "damping = 0.01",
         "damping = -0.01",
         "50:11",
-        &["damping must be ≥ 0"],
+        &["damping must be finite and ≥ 0, got -0.01"],
     );
     fails_at(
         "free_length = 1.0",
         "free_length = -1.0",
         "62:15",
-        &["free_length must be ≥ 0"],
+        &["free_length must be finite and ≥ 0, got -1"],
+    );
+    fails_at(
+        "stiffness = 1.0\ndamping = 0.0",
+        "stiffness = 0.0\ndamping = 0.0",
+        "54:8",
+        &["does nothing"],
+    );
+    fails_at(
+        "body_j = \"rod\"\npoint_j = \"tip\"\nstiffness = 1.0",
+        "body_j = \"ground\"\npoint_j = \"O\"\nstiffness = 1.0",
+        "58:10",
+        &["both points are on body \"ground\""],
     );
     fails_at(
         "frame = \"body\"",

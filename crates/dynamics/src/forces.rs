@@ -253,6 +253,18 @@ impl Force {
         }
     }
 
+    /// Checks the element against `model` as [`crate::Dynamics::add_force`] does (its bodies,
+    /// points and joint exist; coefficients ≥ 0; a spring between two bodies that does
+    /// something; a rotational spring on a joint with an angle and x axes), without building
+    /// the dynamics (which needs every body's mass): the one validation of a force element,
+    /// for front ends to run when a model is read.
+    ///
+    /// # Errors
+    /// [`DynamicsError::BadForce`] naming the element and, where it is one key's, the key.
+    pub fn validate(&self, model: &Model) -> Result<(), DynamicsError> {
+        Resolved::resolve(model, self).map(drop)
+    }
+
     /// The element's name ("gravity" for gravity).
     pub fn name(&self) -> &str {
         match self {
@@ -442,41 +454,60 @@ struct Checks<'a> {
 }
 
 impl Checks<'_> {
+    /// A failure of the element as a whole.
     fn bad(&self, reason: String) -> DynamicsError {
         DynamicsError::BadForce {
             force: self.force.into(),
+            key: None,
             reason,
         }
     }
 
-    /// The body `name`, which must be a moving body when `moving`.
-    fn body(&self, name: &str, moving: bool) -> Result<BodyId, DynamicsError> {
+    /// A failure of the element's entry `key` (so a model file can point at its line).
+    fn at(&self, key: &'static str, reason: String) -> DynamicsError {
+        DynamicsError::BadForce {
+            force: self.force.into(),
+            key: Some(key),
+            reason,
+        }
+    }
+
+    /// The body `name` (entry `key`), which must be a moving body when `moving`.
+    fn body(&self, key: &'static str, name: &str, moving: bool) -> Result<BodyId, DynamicsError> {
         match self.model.body_id(name) {
-            Some(BodyId::Ground) if moving => Err(self.bad("acts on ground".into())),
+            Some(BodyId::Ground) if moving => Err(self.at(
+                key,
+                "a force on the ground does nothing; name a moving body".into(),
+            )),
             Some(id) => Ok(id),
-            None => Err(self.bad(format!("unknown body \"{name}\""))),
+            None => Err(self.at(key, format!("unknown body \"{name}\""))),
         }
     }
 
     /// The local coordinates of the point `p` on body `b` (finite, or a named point of `b`).
-    fn point(&self, b: &str, p: &PointRef) -> Result<Vector3<f64>, DynamicsError> {
+    fn point(
+        &self,
+        key: &'static str,
+        b: &str,
+        p: &PointRef,
+    ) -> Result<Vector3<f64>, DynamicsError> {
         let model = self.model;
         match p {
             PointRef::Local(v) if v.iter().all(|x| x.is_finite()) => Ok(*v),
-            PointRef::Local(_) => Err(self.bad("point is not finite".into())),
+            PointRef::Local(_) => Err(self.at(key, "point is not finite".into())),
             PointRef::Named(n) => model
                 .point_index(b, n)
                 .map(|i| model.points()[i].local)
-                .ok_or_else(|| self.bad(format!("unknown point \"{n}\" on body \"{b}\""))),
+                .ok_or_else(|| self.at(key, format!("unknown point \"{n}\" on body \"{b}\""))),
         }
     }
 
-    /// A coefficient that must be finite and not negative.
-    fn nonneg(&self, what: &str, v: f64) -> Result<(), DynamicsError> {
+    /// A coefficient (entry `key`) that must be finite and not negative.
+    fn nonneg(&self, key: &'static str, v: f64) -> Result<(), DynamicsError> {
         if v.is_finite() && v >= 0.0 {
             Ok(())
         } else {
-            Err(self.bad(format!("{what} must be finite and ≥ 0, got {v}")))
+            Err(self.at(key, format!("{key} must be finite and ≥ 0, got {v}")))
         }
     }
 
@@ -489,7 +520,7 @@ impl Checks<'_> {
         (bj, pj): (BodyId, &Vector3<f64>),
     ) -> Result<f64, DynamicsError> {
         if let Some(l) = given {
-            self.nonneg("free length", l)?;
+            self.nonneg("free_length", l)?;
             return Ok(l);
         }
         let at = |id: BodyId, s: &Vector3<f64>| match id {
@@ -507,14 +538,17 @@ impl Checks<'_> {
         let model = self.model;
         let j = model
             .joint_index(joint)
-            .ok_or_else(|| self.bad(format!("unknown joint \"{joint}\"")))?;
+            .ok_or_else(|| self.at("joint", format!("unknown joint \"{joint}\"")))?;
         let info = model.joints()[j].joint.kind().info();
         if info.rotation.is_none() {
-            return Err(self.bad(format!(
-                "joint \"{joint}\" is a {} joint; a rotational spring acts on the angle of {}",
-                info.name,
-                cardan_mechanism::kinds_with(|k| k.rotation.is_some())
-            )));
+            return Err(self.at(
+                "joint",
+                format!(
+                    "joint \"{joint}\" is a {} joint; a rotational spring acts on the angle of {}",
+                    info.name,
+                    cardan_mechanism::kinds_with(|k| k.rotation.is_some())
+                ),
+            ));
         }
         Ok(j)
     }
@@ -542,8 +576,8 @@ impl Resolved {
                 frame,
                 ..
             } => Resolved::PointForce {
-                body: checks.body(b, true)?,
-                point: checks.point(b, p)?,
+                body: checks.body("body", b, true)?,
+                point: checks.point("point", b, p)?,
                 value: value.clone(),
                 frame: *frame,
             },
@@ -553,7 +587,7 @@ impl Resolved {
                 frame,
                 ..
             } => Resolved::Torque {
-                body: checks.body(b, true)?,
+                body: checks.body("body", b, true)?,
                 value: value.clone(),
                 frame: *frame,
             },
@@ -568,19 +602,29 @@ impl Resolved {
                 actuator,
                 ..
             } => {
-                let bi = checks.body(body_i, false)?;
-                let bj = checks.body(body_j, false)?;
+                let bi = checks.body("body_i", body_i, false)?;
+                let bj = checks.body("body_j", body_j, false)?;
                 if bi == bj {
-                    return Err(checks.bad("both points are on the same body".into()));
+                    return Err(checks.at(
+                        "body_j",
+                        format!("both points are on body \"{body_i}\"; the spring cannot stretch"),
+                    ));
                 }
-                let pi = checks.point(body_i, point_i)?;
-                let pj = checks.point(body_j, point_j)?;
+                let pi = checks.point("point_i", body_i, point_i)?;
+                let pj = checks.point("point_j", body_j, point_j)?;
                 checks.nonneg("stiffness", *stiffness)?;
                 checks.nonneg("damping", *damping)?;
+                if *stiffness == 0.0 && *damping == 0.0 && actuator.is_none() {
+                    return Err(checks.bad(
+                        "stiffness, damping and actuator are all absent or zero, so the element \
+                         does nothing"
+                            .into(),
+                    ));
+                }
                 let l0 = checks.free_length(*free_length, (bi, &pi), (bj, &pj))?;
                 if let Some(a) = actuator {
                     a.validate()
-                        .map_err(|e| checks.bad(format!("actuator: {e}")))?;
+                        .map_err(|e| checks.at("actuator", format!("actuator: {e}")))?;
                 }
                 Resolved::Spring {
                     bi,
@@ -604,15 +648,18 @@ impl Resolved {
                 checks.nonneg("stiffness", *stiffness)?;
                 checks.nonneg("damping", *damping)?;
                 if *stiffness != 0.0 && !model.joints()[j].has_x_axes {
-                    return Err(checks.bad(format!(
+                    return Err(checks.at(
+                        "joint",
+                        format!(
                         "joint \"{joint}\" has no x axes, so the spring's angle has no defined \
                          zero; the angle is measured from x_axis_i to x_axis_j about axis_i: add \
                          x_axis_i and x_axis_j to the joint (pointing them the same way at the \
                          drawn pose makes the drawn angle 0)"
-                    )));
+                    ),
+                    ));
                 }
                 if !rest_angle.is_finite() {
-                    return Err(checks.bad("rest angle is not finite".into()));
+                    return Err(checks.at("rest_angle", "rest_angle is not finite".into()));
                 }
                 Resolved::Rotational {
                     joint: j,

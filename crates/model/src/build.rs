@@ -5,18 +5,19 @@
 
 mod analysis;
 mod coupler;
+mod force;
 
 use crate::diag::{did_you_mean, list, Error, Source};
 use crate::file::{
-    BodySection, DriverSection, ForceSection, FunctionSpec, InertiaSpec, JointSection, ModelFile,
-    Name, Num, OrientationSpec, Vec3,
+    BodySection, DriverSection, FunctionSpec, InertiaSpec, JointSection, ModelFile, Name, Num,
+    OrientationSpec, Vec3,
 };
 use crate::units::UnitSystem;
 use crate::vocabulary::{COUPLERS, DRIVERS, FORCES, FUNCTIONS};
 use cardan_constraints::drivers::POSE_ROWS;
 use cardan_constraints::expression::{self, Expression};
 use cardan_constraints::{JointKind, RotationOrder, TimeFunction, KINDS};
-use cardan_dynamics::{Force, Frame, Integrator, PointRef, VectorFunction};
+use cardan_dynamics::{Force, Integrator};
 use cardan_mechanism::{
     pose_row_name, Axis, Body, DriverSpec, DriverTarget, ElementKind, JointSpec, MechanismBuilder,
     Orientation, PoseTarget, Quantity, Site, GROUND,
@@ -626,15 +627,16 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
         let f = section.get_ref();
         check_unique_element(&cx, &spans, &f.name, "force")?;
         let owner = format!("force \"{}\"", f.name.get_ref());
-        cx.check(
-            &FORCES,
-            &owner,
-            &f.kind,
-            section.span().start,
-            f.name.span(),
-        )?;
+        let table = section.span().start;
+        let entry = cx.check(&FORCES, &owner, &f.kind, table, f.name.span())?;
         spans.forces.insert(f.name.get_ref().clone(), f.name.span());
-        forces.push(load_force(&resolver, f, &joint_kinds, &spans)?);
+        forces.push(force::load_force(
+            &resolver,
+            f,
+            entry,
+            &joint_kinds,
+            &spans,
+        )?);
     }
 
     // Analysis.
@@ -1467,214 +1469,4 @@ fn body_velocity(cx: &Ctx, b: &BodySection) -> Result<Option<BodyVelocity>, Erro
         omega,
         omega_local,
     }))
-}
-
-fn load_force(
-    r: &Resolver,
-    f: &ForceSection,
-    joint_kinds: &HashMap<String, JointKind>,
-    spans: &Spans,
-) -> Result<Force, Error> {
-    let cx = r.cx;
-    let name = f.name.get_ref().clone();
-    let owner = format!("force \"{name}\"");
-    let kind = f.kind.get_ref().as_str();
-    let span = f.name.span();
-    let need = |v: &Option<Name>, key: &str| -> Result<Name, Error> {
-        v.clone().ok_or_else(|| {
-            missing(
-                cx,
-                span.clone(),
-                &owner,
-                key,
-                &format!("a {kind} force needs it"),
-            )
-        })
-    };
-    let coefficient = |v: &Option<Num>, key: &str, q: Quantity| -> Result<f64, Error> {
-        let unit = q.unit();
-        match v {
-            Some(n) => {
-                let x = cx.num(n, format_args!("{owner}: {key}"), q)?;
-                if x < 0.0 {
-                    return Err(cx.err(
-                        n.span(),
-                        format!("{owner}: {key} must be ≥ 0, got {x} {unit}"),
-                    ));
-                }
-                Ok(x)
-            }
-            None => Ok(0.0),
-        }
-    };
-    match kind {
-        "point_force" | "torque" => {
-            let value_q = if kind == "torque" {
-                Quantity::Torque
-            } else {
-                Quantity::Force
-            };
-            let b = need(&f.body, "body")?;
-            let body = r.body(&b, &owner)?;
-            if body == GROUND {
-                return Err(cx.err(
-                    b.span(),
-                    format!("{owner}: a force on the ground does nothing; name a moving body"),
-                ));
-            }
-            let value = match (&f.value, &f.components) {
-                (Some(v), None) => VectorFunction::Constant(cx.vec3(v, format_args!("{owner}: value"), value_q)?),
-                (None, Some(c)) => {
-                    let list_ = c.get_ref();
-                    if list_.len() != 3 {
-                        return Err(cx.err(
-                            c.span(),
-                            format!(
-                                "{owner}: components needs three functions (x, y, z), got {}",
-                                list_.len()
-                            ),
-                        ));
-                    }
-                    let fx = load_function(cx, &list_[0], &owner, value_q)?;
-                    let fy = load_function(cx, &list_[1], &owner, value_q)?;
-                    let fz = load_function(cx, &list_[2], &owner, value_q)?;
-                    VectorFunction::Components(Box::new([fx, fy, fz]))
-                }
-                (Some(_), Some(c)) => {
-                    return Err(cx.err(
-                        c.span(),
-                        format!("{owner}: give value (constant) or components (functions), not both"),
-                    ))
-                }
-                (None, None) => {
-                    return Err(missing(
-                        cx,
-                        span,
-                        &owner,
-                        "value",
-                        "a constant vector, or components = [{...}, {...}, {...}] for functions of time",
-                    ))
-                }
-            };
-            let frame = match &f.frame {
-                None => Frame::Global,
-                Some(fr) => match fr.get_ref().as_str() {
-                    "global" => Frame::Global,
-                    "body" | "local" => Frame::Body,
-                    other => {
-                        let hint = did_you_mean(other, ["global", "body"]);
-                        return Err(cx.err(
-                            fr.span(),
-                            format!("{owner}: unknown frame \"{other}\"{hint} (frames: \"global\", \"body\")"),
-                        ));
-                    }
-                },
-            };
-            if kind == "torque" {
-                Ok(Force::torque(&name, body, value, frame))
-            } else {
-                let p = need(&f.point, "point")?;
-                r.feature(body, &p, &owner, true)?;
-                let local = r.point_value(body, p.get_ref());
-                Ok(Force::point_force(
-                    &name,
-                    body,
-                    PointRef::Local(local),
-                    value,
-                    frame,
-                ))
-            }
-        }
-        "spring_damper" => {
-            let (bi, pi, bj, pj) = (
-                need(&f.body_i, "body_i")?,
-                need(&f.point_i, "point_i")?,
-                need(&f.body_j, "body_j")?,
-                need(&f.point_j, "point_j")?,
-            );
-            let bi_s = r.body(&bi, &owner)?;
-            let bj_s = r.body(&bj, &owner)?;
-            r.feature(bi_s, &pi, &owner, true)?;
-            r.feature(bj_s, &pj, &owner, true)?;
-            if bi_s == bj_s {
-                return Err(cx.err(
-                    bj.span(),
-                    format!(
-                        "{owner}: both points are on body \"{bi_s}\"; the spring cannot stretch"
-                    ),
-                ));
-            }
-            let stiffness = coefficient(&f.stiffness, "stiffness", Quantity::Stiffness)?;
-            let damping = coefficient(&f.damping, "damping", Quantity::Damping)?;
-            let free_length = match &f.free_length {
-                Some(n) => Some(coefficient(
-                    &Some(n.clone()),
-                    "free_length",
-                    Quantity::Length,
-                )?),
-                None => None,
-            };
-            let actuator = match &f.actuator {
-                Some(a) => Some(load_function(cx, a, &owner, Quantity::Force)?),
-                None => None,
-            };
-            if stiffness == 0.0 && damping == 0.0 && actuator.is_none() {
-                return Err(cx.err(
-                    span,
-                    format!("{owner}: stiffness, damping and actuator are all absent or zero, so the element does nothing"),
-                ));
-            }
-            let point_i = PointRef::Local(r.point_value(bi_s, pi.get_ref()));
-            let point_j = PointRef::Local(r.point_value(bj_s, pj.get_ref()));
-            Ok(Force::SpringDamperActuator {
-                name,
-                body_i: bi_s.into(),
-                point_i,
-                body_j: bj_s.into(),
-                point_j,
-                stiffness,
-                damping,
-                free_length,
-                actuator,
-            })
-        }
-        _ => {
-            let j = need(&f.joint, "joint")?;
-            let jn = j.get_ref();
-            match joint_kinds.get(jn) {
-                Some(k) if k.info().rotation.is_some() => {}
-                Some(k) => {
-                    return Err(cx.err(
-                        j.span(),
-                        format!(
-                            "{owner}: a rotational_spring_damper needs {}, but \"{jn}\" is {}",
-                            cardan_mechanism::kinds_with(|k| k.rotation.is_some()),
-                            k.name()
-                        ),
-                    ))
-                }
-                None => {
-                    let hint = did_you_mean(jn, joint_kinds.keys().map(String::as_str));
-                    let mut names: Vec<&str> = joint_kinds.keys().map(String::as_str).collect();
-                    names.sort_by_key(|n| spans.joints.get(*n).map(|s| s.start));
-                    return Err(cx.err(
-                        j.span(),
-                        format!(
-                            "{owner}: unknown joint \"{jn}\"{hint} (joints: {})",
-                            list(names)
-                        ),
-                    ));
-                }
-            }
-            let stiffness = coefficient(&f.stiffness, "stiffness", Quantity::RotationalStiffness)?;
-            let damping = coefficient(&f.damping, "damping", Quantity::RotationalDamping)?;
-            let rest_angle = match &f.rest_angle {
-                Some(n) => cx.num(n, format_args!("{owner}: rest_angle"), Quantity::Angle)?,
-                None => 0.0,
-            };
-            Ok(Force::rotational_spring_damper(
-                &name, jn, stiffness, damping, rest_angle,
-            ))
-        }
-    }
 }

@@ -65,6 +65,7 @@ pub fn prepare_source(source: Source) -> Result<Prepared, Error> {
         .builder
         .build()
         .map_err(|e| model_error(&source, &loaded, &e))?;
+    validate_forces(&source, &loaded, &model)?;
     if let Some(a) = &loaded.analysis {
         check_driver_values(&source, &loaded, &a.times())?;
         if a.has_forces() {
@@ -81,6 +82,37 @@ pub fn prepare_source(source: Source) -> Result<Prepared, Error> {
         units,
         geometry,
     })
+}
+
+/// The one validation of the force elements, the dynamics' own
+/// ([`cardan_dynamics::Force::validate`]), run when the model is read (so `cardan check` reports
+/// it too), its error placed at the key it names.
+///
+/// # Errors
+/// An input error naming the force, at the key (or at the element's name).
+fn validate_forces(src: &Source, loaded: &Loaded, model: &Model) -> Result<(), Error> {
+    for f in &loaded.forces {
+        let Err(e) = f.validate(model) else {
+            continue;
+        };
+        let span = match &e {
+            cardan_dynamics::DynamicsError::BadForce { force, key, .. } => {
+                let site = cardan_mechanism::Site {
+                    kind: cardan_mechanism::ElementKind::Force,
+                    name: force.clone(),
+                    field: key.map(str::to_string),
+                    value: None,
+                };
+                loaded.spans.locate(&src.text, &site)
+            }
+            _ => None,
+        };
+        return Err(match span {
+            Some(s) => src.error_at(s, e.to_string()),
+            None => src.error(e.to_string()),
+        });
+    }
+    Ok(())
 }
 
 /// Refuses a driver whose prescribed value, rate or acceleration is not finite at one of

@@ -6,9 +6,9 @@ use cardan_mechanism::Quantity;
 
 const FRAME: Key = Key::new(
     "frame",
-    Value::Choice(&["global", "body"]),
+    Value::Choice(&["global", "body", "local"]),
     Default::Is("\"global\""),
-    "\"global\": the vector keeps its global direction; \"body\": it is given in body components and turns with the body",
+    "\"global\": the vector keeps its global direction; \"body\" (or \"local\"): it is given in body components and turns with the body",
 );
 
 /// The force element types.
