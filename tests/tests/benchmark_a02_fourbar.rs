@@ -87,7 +87,7 @@ fn a02_n2_tight_steps_on_the_singular_positions() {
     let times: Vec<f64> = reference.iter().map(|r| r[0]).collect();
     let integrator =
         cardan_dynamics::Integrator::GeneralizedAlpha(cardan_dynamics::GeneralizedAlphaOptions {
-            h: 5e-5,
+            dt: 5e-5,
             rho_inf: 0.9,
             iteration_matrix: cardan_dynamics::IterationMatrix::MassOnly,
             ..Default::default()
@@ -150,7 +150,7 @@ fn a02_n40_file_settings() {
 fn a02_n40_tight() {
     let integrator =
         cardan_dynamics::Integrator::GeneralizedAlpha(cardan_dynamics::GeneralizedAlphaOptions {
-            h: 3.125e-5,
+            dt: 3.125e-5,
             rho_inf: 0.9,
             iteration_matrix: cardan_dynamics::IterationMatrix::MassOnly,
             ..Default::default()

@@ -96,7 +96,7 @@ pub fn describe(i: &Integrator) -> (String, String) {
         ),
         Integrator::GeneralizedAlpha(o) => (
             "generalized-α".into(),
-            format!("h = {:e} s, ρ∞ = {}", o.h, o.rho_inf),
+            format!("dt = {:e} s, ρ∞ = {}", o.dt, o.rho_inf),
         ),
     }
 }
@@ -120,10 +120,10 @@ pub fn dopri5(rtol: f64, atol: f64) -> Integrator {
     Integrator::Dopri5(cardan_dynamics::Dopri5Options::tolerances(rtol, atol))
 }
 
-/// Generalized-α with step h and ρ∞.
-pub fn gen_alpha(h: f64, rho_inf: f64) -> Integrator {
+/// Generalized-α with time step dt and ρ∞.
+pub fn gen_alpha(dt: f64, rho_inf: f64) -> Integrator {
     Integrator::GeneralizedAlpha(cardan_dynamics::GeneralizedAlphaOptions {
-        h,
+        dt,
         rho_inf,
         ..Default::default()
     })

@@ -153,7 +153,7 @@ pub fn step_estimate(opts: &SimulationOptions, span: f64) -> Option<(f64, f64)> 
             StepControl::Adaptive { .. } if o.h_max.is_finite() => o.h_max,
             StepControl::Adaptive { .. } => return None,
         },
-        Integrator::GeneralizedAlpha(o) => o.h,
+        Integrator::GeneralizedAlpha(o) => o.dt,
     };
     Some(((span / h).ceil(), h))
 }

@@ -42,7 +42,7 @@ pub fn dropped_row_warnings(p: &Prepared, rows: &[DroppedRowResidual]) -> Vec<St
 pub fn drift_bound(p: &Prepared, integrator: &Integrator) -> f64 {
     let tol = match integrator {
         Integrator::Dopri5(o) => o.projection_tolerance,
-        Integrator::GeneralizedAlpha(o) => o.tolerance,
+        Integrator::GeneralizedAlpha(o) => o.newton_tolerance,
     };
     let scale = p
         .model

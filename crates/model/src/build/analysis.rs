@@ -358,24 +358,25 @@ fn load_integrator(cx: &Ctx, a: &AnalysisSection, table: usize) -> Result<Integr
         Integrator::Dopri5(o)
     } else {
         let mut o = GeneralizedAlphaOptions::default();
-        o.h = read(&a.dt, "dt")?.unwrap_or(o.h);
+        o.dt = read(&a.dt, "dt")?.unwrap_or(o.dt);
         o.rho_inf = read(&a.rho_inf, "rho_inf")?.unwrap_or(o.rho_inf);
-        o.tolerance = read(&a.newton_tolerance, "newton_tolerance")?.unwrap_or(o.tolerance);
+        o.newton_tolerance =
+            read(&a.newton_tolerance, "newton_tolerance")?.unwrap_or(o.newton_tolerance);
         Integrator::GeneralizedAlpha(o)
     };
     integrator.validate().map_err(|e| {
-        // The option struct's field → the file's key.
-        let (key, value) = match e.option {
-            "step" | "h" => ("dt", &a.dt),
-            "tolerance" => ("newton_tolerance", &a.newton_tolerance),
-            "rtol" => ("rtol", &a.rtol),
-            "atol" => ("atol", &a.atol),
-            "h_max" => ("h_max", &a.h_max),
-            "rho_inf" => ("rho_inf", &a.rho_inf),
-            other => (other, &None),
+        // The options are named as the file's keys: the error is placed at the key's value.
+        let value = match e.option {
+            "dt" => &a.dt,
+            "newton_tolerance" => &a.newton_tolerance,
+            "rtol" => &a.rtol,
+            "atol" => &a.atol,
+            "h_max" => &a.h_max,
+            "rho_inf" => &a.rho_inf,
+            _ => &None,
         };
         let span = value.as_ref().map_or(a.kind.span(), Spanned::span);
-        cx.err(span, e.describe(key))
+        cx.err(span, e.describe(e.option))
     })?;
     Ok(integrator)
 }
