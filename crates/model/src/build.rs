@@ -240,8 +240,8 @@ pub struct Loaded {
     pub spans: Spans,
     /// `[analysis]`, if present.
     pub analysis: Option<Analysis>,
-    /// Joint names and kinds, in file order (for `check`).
-    pub joints: Vec<(String, JointKind, String, String)>,
+    /// The joints, in file order (for `check`).
+    pub joints: Vec<JointEntry>,
     /// Body names with mass, in file order.
     pub bodies: Vec<(String, Option<f64>)>,
     /// Driver names and what they drive, in file order.
@@ -254,6 +254,19 @@ pub struct Loaded {
     pub forces: Vec<Force>,
     /// Initial body velocities given in the file (dynamic analysis), in file order.
     pub velocities: Vec<BodyVelocity>,
+}
+
+/// One `[[joint]]` as read: its name, kind and the two bodies it connects.
+#[derive(Debug, Clone, PartialEq)]
+pub struct JointEntry {
+    /// The joint's name.
+    pub name: String,
+    /// Its kind.
+    pub kind: JointKind,
+    /// Body i.
+    pub body_i: String,
+    /// Body j.
+    pub body_j: String,
 }
 
 /// The initial velocity of one body as given in the file.
@@ -439,6 +452,9 @@ fn joint_types() -> impl Iterator<Item = &'static str> + Clone {
 }
 
 /// Turns a parsed file into a builder, checking everything that has a place in the file.
+///
+/// The sections are read in the order their references need: ground and bodies (their points
+/// and vectors), joints, couplers, drivers, forces (which name joints), then the analysis.
 pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
     let units = model_units(src, file)?;
     let cx = Ctx {
@@ -448,7 +464,56 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
     };
     let mut spans = Spans::default();
     let mut builder = MechanismBuilder::new();
+    let name = model_name(&cx, file)?;
+    let mut forces = Vec::new();
+    if let Some(g) = &file.model.get_ref().gravity {
+        forces.push(Force::gravity(cx.vec3(
+            g,
+            "gravity",
+            Quantity::Acceleration,
+        )?));
+    }
+    let mut features: HashMap<String, Features> = HashMap::new();
+    features.insert(GROUND.to_string(), load_ground(&cx, file, &mut builder)?);
+    let bodies = load_bodies(&cx, file, &mut spans, &mut builder, &mut features)?;
+    let resolver = Resolver {
+        cx: &cx,
+        features: &features,
+        order: &bodies.order,
+    };
+    let joints = load_joints(&resolver, file, &mut spans, &mut builder)?;
+    load_couplers(&cx, file, &mut spans, &mut builder)?;
+    let drivers = load_drivers(&resolver, file, &mut spans, &mut builder)?;
+    load_forces(&resolver, file, &joints.kinds, &mut spans, &mut forces)?;
 
+    spans.analysis = 0..0;
+    let analysis = match &file.analysis {
+        Some(a) => {
+            spans.analysis = a.get_ref().kind.span();
+            let mut an = analysis::load_analysis(&resolver, a, &spans)?;
+            an.inputs = analysis::load_inputs(&cx, a.get_ref(), &an, &forces, &drivers.names)?;
+            Some(an)
+        }
+        None => None,
+    };
+
+    Ok(Loaded {
+        name,
+        units,
+        builder,
+        spans,
+        analysis,
+        joints: joints.list,
+        bodies: bodies.masses,
+        drivers: drivers.names,
+        driver_functions: drivers.functions,
+        forces,
+        velocities: bodies.velocities,
+    })
+}
+
+/// `[model] name`, trimmed, refused when it cannot name the output directory.
+fn model_name(cx: &Ctx, file: &ModelFile) -> Result<String, Error> {
     let model = file.model.get_ref();
     let name = model.name.get_ref().trim().to_string();
     if let Some(why) = unusable_directory_name(&name) {
@@ -457,17 +522,15 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
             format!("model name {why}; it names the output directory out/<name>/"),
         ));
     }
-    let mut forces = Vec::new();
-    if let Some(g) = &model.gravity {
-        forces.push(Force::gravity(cx.vec3(
-            g,
-            "gravity",
-            Quantity::Acceleration,
-        )?));
-    }
+    Ok(name)
+}
 
-    // Ground features.
-    let mut features: HashMap<String, Features> = HashMap::new();
+/// `[ground]`: the fixed body's points and vectors.
+fn load_ground(
+    cx: &Ctx,
+    file: &ModelFile,
+    builder: &mut MechanismBuilder,
+) -> Result<Features, Error> {
     let mut ground = Features::default();
     if let Some(g) = &file.ground {
         for (k, v) in &g.get_ref().points {
@@ -485,12 +548,32 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
             builder.vector(GROUND, k.get_ref(), d);
         }
     }
-    features.insert(GROUND.to_string(), ground);
+    Ok(ground)
+}
 
-    // Bodies.
-    let mut bodies = Vec::new();
-    let mut velocities = Vec::new();
-    let mut body_order: Vec<String> = vec![GROUND.into()];
+/// What `[[body]]` sections give besides the builder's bodies.
+struct LoadedBodies {
+    /// Body names with mass, in file order.
+    masses: Vec<(String, Option<f64>)>,
+    /// Initial velocities given in the file.
+    velocities: Vec<BodyVelocity>,
+    /// Ground, then the bodies in file order (the order of "did you mean" lists).
+    order: Vec<String>,
+}
+
+/// `[[body]]`: each body, its points and vectors (into `features`) and its initial velocity.
+fn load_bodies(
+    cx: &Ctx,
+    file: &ModelFile,
+    spans: &mut Spans,
+    builder: &mut MechanismBuilder,
+    features: &mut HashMap<String, Features>,
+) -> Result<LoadedBodies, Error> {
+    let mut out = LoadedBodies {
+        masses: Vec::new(),
+        velocities: Vec::new(),
+        order: vec![GROUND.into()],
+    };
     for b in &file.body {
         let b = b.get_ref();
         let bname = b.name.get_ref().clone();
@@ -505,7 +588,7 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
             return Err(cx.err(b.name.span(), "body name must not be empty"));
         }
         if let Some(first) = spans.bodies.get(&bname) {
-            let l = src.location(first.start);
+            let l = cx.src.location(first.start);
             return Err(cx.err(
                 b.name.span(),
                 format!(
@@ -515,9 +598,9 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
             ));
         }
         spans.bodies.insert(bname.clone(), b.name.span());
-        let (body, f) = load_body(&cx, b)?;
-        if let Some(v) = body_velocity(&cx, b)? {
-            velocities.push(v);
+        let (body, f) = load_body(cx, b)?;
+        if let Some(v) = body_velocity(cx, b)? {
+            out.velocities.push(v);
         }
         for (n, (_, v)) in &f.points {
             builder.point(&bname, n, *v);
@@ -525,41 +608,61 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
         for (n, (_, v)) in &f.vectors {
             builder.vector(&bname, n, *v);
         }
-        bodies.push((bname.clone(), body.mass));
+        out.masses.push((bname.clone(), body.mass));
         builder.body(body);
         features.insert(bname.clone(), f);
-        body_order.push(bname);
+        out.order.push(bname);
     }
+    Ok(out)
+}
 
-    let resolver = Resolver {
-        cx: &cx,
-        features: &features,
-        order: &body_order,
+/// What `[[joint]]` sections give besides the builder's joints.
+struct LoadedJoints {
+    /// In file order.
+    list: Vec<JointEntry>,
+    /// Name → kind (forces name the joint they act in).
+    kinds: HashMap<String, JointKind>,
+}
+
+/// `[[joint]]`: each joint, resolved against the bodies' points and vectors.
+fn load_joints(
+    r: &Resolver,
+    file: &ModelFile,
+    spans: &mut Spans,
+    builder: &mut MechanismBuilder,
+) -> Result<LoadedJoints, Error> {
+    let mut out = LoadedJoints {
+        list: Vec::new(),
+        kinds: HashMap::new(),
     };
-
-    // Joints.
-    let mut joints = Vec::new();
-    let mut joint_kinds: HashMap<String, JointKind> = HashMap::new();
     for j in &file.joint {
         let j = j.get_ref();
         let jname = j.name.get_ref().clone();
-        check_unique_element(&cx, &spans, &j.name, "joint")?;
+        check_unique_element(r.cx, spans, &j.name, "joint")?;
         spans.joints.insert(jname.clone(), j.name.span());
-        let spec = load_joint(&resolver, j)?;
-        joints.push((
-            jname.clone(),
-            spec.kind,
-            spec.body_i.clone(),
-            spec.body_j.clone(),
-        ));
-        joint_kinds.insert(jname, spec.kind);
+        let spec = load_joint(r, j)?;
+        out.list.push(JointEntry {
+            name: jname.clone(),
+            kind: spec.kind,
+            body_i: spec.body_i.clone(),
+            body_j: spec.body_j.clone(),
+        });
+        out.kinds.insert(jname, spec.kind);
         builder.joint(spec);
     }
+    Ok(out)
+}
 
-    // Couplers.
+/// `[[coupler]]`: each coupler, its kind checked against the coupler table.
+fn load_couplers(
+    cx: &Ctx,
+    file: &ModelFile,
+    spans: &mut Spans,
+    builder: &mut MechanismBuilder,
+) -> Result<(), Error> {
     for section in &file.coupler {
         let c = section.get_ref();
-        check_unique_element(&cx, &spans, &c.name, "coupler")?;
+        check_unique_element(cx, spans, &c.name, "coupler")?;
         let owner = format!("coupler \"{}\"", c.name.get_ref());
         cx.check(
             &COUPLERS,
@@ -571,17 +674,36 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
         spans
             .couplers
             .insert(c.name.get_ref().clone(), c.name.span());
-        builder.coupler(coupler::load_coupler(&cx, c)?);
+        builder.coupler(coupler::load_coupler(cx, c)?);
     }
+    Ok(())
+}
 
-    // Drivers.
-    let mut drivers = Vec::new();
-    let mut driver_functions = Vec::new();
+/// What `[[driver]]` sections give besides the builder's drivers: one entry per driver row (a
+/// general motion is six).
+struct LoadedDrivers {
+    /// Row name and what it drives, in file order.
+    names: Vec<(String, String)>,
+    /// Each row's time function and the quantity of its value.
+    functions: Vec<(TimeFunction, Quantity)>,
+}
+
+/// `[[driver]]`: each driver, its kind checked against the driver table.
+fn load_drivers(
+    r: &Resolver,
+    file: &ModelFile,
+    spans: &mut Spans,
+    builder: &mut MechanismBuilder,
+) -> Result<LoadedDrivers, Error> {
+    let mut out = LoadedDrivers {
+        names: Vec::new(),
+        functions: Vec::new(),
+    };
     for section in &file.driver {
         let d = section.get_ref();
-        check_unique_element(&cx, &spans, &d.name, "driver")?;
+        check_unique_element(r.cx, spans, &d.name, "driver")?;
         let owner = format!("driver \"{}\"", d.name.get_ref());
-        cx.check(
+        r.cx.check(
             &DRIVERS,
             &owner,
             &d.kind,
@@ -594,76 +716,56 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
         if spans.first_driver.is_none() {
             spans.first_driver = Some(d.name.span());
         }
-        let (spec, what) = load_driver(&resolver, d)?;
+        let (spec, what) = load_driver(r, d)?;
         match &spec.target {
             // A general motion is six driver rows: each is listed, located and checked.
             DriverTarget::Pose(t) => {
                 for (k, f) in t.functions.iter().enumerate() {
                     let row = pose_row_name(&spec.name, k);
                     spans.drivers.insert(row.clone(), d.name.span());
-                    drivers.push((row, format!("{} of the {what}", POSE_ROWS[k])));
+                    out.names
+                        .push((row, format!("{} of the {what}", POSE_ROWS[k])));
                     let q = if k < 3 {
                         Quantity::Length
                     } else {
                         Quantity::Angle
                     };
-                    driver_functions.push((f.clone(), q));
+                    out.functions.push((f.clone(), q));
                 }
             }
             target => {
-                drivers.push((d.name.get_ref().clone(), what));
+                out.names.push((d.name.get_ref().clone(), what));
                 let q = match target {
                     DriverTarget::JointRotation { .. } => Quantity::Angle,
                     _ => Quantity::Length,
                 };
-                driver_functions.push((spec.function.clone(), q));
+                out.functions.push((spec.function.clone(), q));
             }
         }
         builder.driver(spec);
     }
+    Ok(out)
+}
 
-    // Forces.
+/// `[[force]]`: each force element, its kind checked against the force table, appended to
+/// `forces`.
+fn load_forces(
+    r: &Resolver,
+    file: &ModelFile,
+    joint_kinds: &HashMap<String, JointKind>,
+    spans: &mut Spans,
+    forces: &mut Vec<Force>,
+) -> Result<(), Error> {
     for section in &file.force {
         let f = section.get_ref();
-        check_unique_element(&cx, &spans, &f.name, "force")?;
+        check_unique_element(r.cx, spans, &f.name, "force")?;
         let owner = format!("force \"{}\"", f.name.get_ref());
         let table = section.span().start;
-        let entry = cx.check(&FORCES, &owner, &f.kind, table, f.name.span())?;
+        let entry = r.cx.check(&FORCES, &owner, &f.kind, table, f.name.span())?;
         spans.forces.insert(f.name.get_ref().clone(), f.name.span());
-        forces.push(force::load_force(
-            &resolver,
-            f,
-            entry,
-            &joint_kinds,
-            &spans,
-        )?);
+        forces.push(force::load_force(r, f, entry, joint_kinds, spans)?);
     }
-
-    // Analysis.
-    spans.analysis = 0..0;
-    let analysis = match &file.analysis {
-        Some(a) => {
-            spans.analysis = a.get_ref().kind.span();
-            let mut an = analysis::load_analysis(&resolver, a, &spans)?;
-            an.inputs = analysis::load_inputs(&cx, a.get_ref(), &an, &forces, &drivers)?;
-            Some(an)
-        }
-        None => None,
-    };
-
-    Ok(Loaded {
-        name,
-        units,
-        builder,
-        spans,
-        analysis,
-        joints,
-        bodies,
-        drivers,
-        driver_functions,
-        forces,
-        velocities,
-    })
+    Ok(())
 }
 
 /// Why `name` cannot name one output directory, if it cannot.
