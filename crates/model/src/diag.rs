@@ -209,7 +209,7 @@ impl Source {
     pub fn read(path: &Path) -> Result<Self, Error> {
         // Refuse an oversized file before reading it (the size limit is checked again on the
         // text by `model::parse`; `take` bounds the read if the file grows meanwhile).
-        let limit = crate::file::MAX_FILE_BYTES as u64;
+        let limit = crate::limits::MAX_FILE_BYTES as u64;
         if let Ok(meta) = std::fs::metadata(path) {
             if meta.is_file() && meta.len() > limit {
                 return Err(Error::input(format!(

@@ -443,6 +443,12 @@ pub struct ForceSection {
 }
 
 /// `[analysis]`.
+///
+/// One field per key of the file's flat `[analysis]` table (22), which is why it is not
+/// grouped into sub-structs: `#[serde(flatten)]` would drop the keys' spans (toml's `Spanned`
+/// does not survive serde's buffering) and cannot be combined with `deny_unknown_fields`. Which
+/// keys an analysis kind takes is the vocabulary's business (`vocabulary::ANALYSES`), not this
+/// struct's.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct AnalysisSection {
@@ -542,21 +548,9 @@ pub struct OutputsSection {
     pub energy: Option<bool>,
 }
 
-/// Largest model file accepted, in bytes (128 MiB; real models are a few kB to tens of kB, a
-/// generated 100,000-body chain about 60 MB).
-pub const MAX_FILE_BYTES: usize = 128 << 20;
-/// Most `[[body]]` entries. Checking and preparing a model costs about linear time and memory
-/// in the body count (the sparse rank analysis of cardan-solver); see
-/// docs/model-format.md, "Limits", for the measured memory per body.
-pub const MAX_BODIES: usize = 100_000;
-/// Most `[[joint]]`, `[[driver]]` or `[[force]]` entries of each kind.
-pub const MAX_ELEMENTS: usize = 200_000;
-/// Longest array accepted (polynomial coefficients, spline knots, output lists).
-pub const MAX_ARRAY_LEN: usize = 10_000;
-/// Longest expression text accepted, in bytes.
-pub const MAX_EXPRESSION_LEN: usize = 10_000;
-/// Deepest nesting of arrays and inline tables accepted (a model file needs 3).
-pub const MAX_NESTING: usize = 32;
+pub use crate::limits::{
+    MAX_ARRAY_LEN, MAX_BODIES, MAX_ELEMENTS, MAX_EXPRESSION_LEN, MAX_FILE_BYTES, MAX_NESTING,
+};
 
 /// Parses the file; TOML syntax errors and type errors carry line and column, unknown keys get
 /// the nearest valid key.

@@ -32,6 +32,7 @@ pub mod files;
 pub mod free_dof;
 pub mod functions;
 pub mod geometry;
+pub mod limits;
 mod number;
 pub mod output_tables;
 pub mod plot;
