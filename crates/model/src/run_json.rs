@@ -51,29 +51,12 @@ pub struct RunReport {
     /// The exit code of `cardan run` (0, 3 for a failure or `--strict` with warnings, 130 for
     /// Ctrl-C).
     pub exit_code: i32,
-    /// The last stored time (s).
-    pub t_reached: Option<f64>,
-    /// Stored output times.
-    pub steps: usize,
-    /// Dynamic: accepted integration steps; `null` otherwise.
-    pub integration_steps: Option<usize>,
-    /// Dynamic: rejected integration steps; `null` otherwise.
-    pub rejected_steps: Option<usize>,
-    /// Newton iterations (position solves; for a dynamic run implicit steps and projections).
-    pub newton_iterations: usize,
-    /// Largest max |Φ_i| over the stored times.
-    pub largest_residual: f64,
-    /// Dynamic: largest constraint drift max |Φ_i| (m or -); `null` otherwise.
-    pub constraint_drift: Option<f64>,
-    /// Dynamic: max |E − E(t_start)| (J), the work of drivers and non-conservative forces plus
-    /// the integration error; `null` otherwise.
-    pub energy_drift: Option<f64>,
-    /// Dynamic and inverse dynamics: max |E − E(t_start) − W_nc| (J), the integration error
-    /// (inverse dynamics: the error of the work's quadrature on the time grid); `null` otherwise.
-    pub energy_balance: Option<f64>,
-    /// Dynamic and inverse dynamics: the run's energy scale (J), which the balance is judged
-    /// against; `null` otherwise.
-    pub energy_scale: Option<f64>,
+    /// How far the run got and what it took.
+    #[serde(flatten)]
+    pub progress: Progress,
+    /// How well the results satisfy the constraints and the energy balance.
+    #[serde(flatten)]
+    pub accuracy: Accuracy,
     /// Doubtful results and other remarks, one sentence each.
     pub warnings: Vec<String>,
     /// Kinematic and inverse dynamics: grid steps solved in substeps because the full step
@@ -90,6 +73,40 @@ pub struct RunReport {
     pub files: Vec<String>,
     /// Wall time of the analysis, without the writing (s).
     pub wall_time_s: f64,
+}
+
+/// `run.json`'s counts: how far the run got and the work it took (flattened into the report).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Progress {
+    /// The last stored time (s).
+    pub t_reached: Option<f64>,
+    /// Stored output times.
+    pub steps: usize,
+    /// Dynamic: accepted integration steps; `null` otherwise.
+    pub integration_steps: Option<usize>,
+    /// Dynamic: rejected integration steps; `null` otherwise.
+    pub rejected_steps: Option<usize>,
+    /// Newton iterations (position solves; for a dynamic run implicit steps and projections).
+    pub newton_iterations: usize,
+}
+
+/// `run.json`'s accuracy figures: residuals, drifts and the energy balance (flattened into
+/// the report).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Accuracy {
+    /// Largest max |Φ_i| over the stored times.
+    pub largest_residual: f64,
+    /// Dynamic: largest constraint drift max |Φ_i| (m or -); `null` otherwise.
+    pub constraint_drift: Option<f64>,
+    /// Dynamic: max |E − E(t_start)| (J), the work of drivers and non-conservative forces plus
+    /// the integration error; `null` otherwise.
+    pub energy_drift: Option<f64>,
+    /// Dynamic and inverse dynamics: max |E − E(t_start) − W_nc| (J), the integration error
+    /// (inverse dynamics: the error of the work's quadrature on the time grid); `null` otherwise.
+    pub energy_balance: Option<f64>,
+    /// Dynamic and inverse dynamics: the run's energy scale (J), which the balance is judged
+    /// against; `null` otherwise.
+    pub energy_scale: Option<f64>,
 }
 
 impl RunReport {

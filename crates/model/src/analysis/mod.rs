@@ -46,7 +46,7 @@ use crate::build::AnalysisKind;
 use crate::diag::Error;
 use crate::files::{FrameTap, OutputFiles};
 use crate::prepare::Prepared;
-use crate::run_json::{ModelRef, RunReport, Status};
+use crate::run_json::{Accuracy, ModelRef, Progress, RunReport, Status};
 use dynamic::run_dynamic;
 use inverse::run_inverse;
 use kinematic::run_kinematic;
@@ -320,16 +320,20 @@ pub fn run_report(p: &Prepared, kind: &'static str, a: &Analysed, files: Vec<Str
             .as_ref()
             .or(a.strict_failure.as_ref())
             .map_or(0, |e| e.kind.exit_code()),
-        t_reached: a.results.times.last().copied(),
-        steps: s.steps,
-        integration_steps: d.map(|d| d.steps),
-        rejected_steps: d.map(|d| d.rejected),
-        newton_iterations: s.iterations,
-        largest_residual: s.max_residual,
-        constraint_drift: d.map(|d| d.max_constraint_drift),
-        energy_drift: d.map(|d| d.energy_drift),
-        energy_balance: s.energy_balance.map(|b| b.max_abs),
-        energy_scale: s.energy_balance.map(|b| b.scale),
+        progress: Progress {
+            t_reached: a.results.times.last().copied(),
+            steps: s.steps,
+            integration_steps: d.map(|d| d.steps),
+            rejected_steps: d.map(|d| d.rejected),
+            newton_iterations: s.iterations,
+        },
+        accuracy: Accuracy {
+            largest_residual: s.max_residual,
+            constraint_drift: d.map(|d| d.max_constraint_drift),
+            energy_drift: d.map(|d| d.energy_drift),
+            energy_balance: s.energy_balance.map(|b| b.max_abs),
+            energy_scale: s.energy_balance.map(|b| b.scale),
+        },
         warnings: s.warnings.clone(),
         subdivided_steps: s.subdivided_steps,
         row_reselections: s.row_reselections,
