@@ -71,7 +71,11 @@ fn compare(root: &Path, base: &Path, dir: &Path) -> Result<(), String> {
             let out = dir.join(format!("out-{label}")).join(&name);
             let _ = std::fs::remove_dir_all(&out);
             // Run from the tree with a relative path, so that run.json names the model alike.
-            let arg = if in_tree { rel.clone() } else { shared.join(rel) };
+            let arg = if in_tree {
+                rel.clone()
+            } else {
+                shared.join(rel)
+            };
             let status = Command::new(bin)
                 .current_dir(tree)
                 .arg("run")
