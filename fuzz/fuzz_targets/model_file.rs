@@ -2,7 +2,7 @@
 //! kinematic run when the file asks for one). Must never panic; results never NaN.
 #![no_main]
 
-use cardan_cli::{build::load, diag::Source, model::parse};
+use cardan_model::{build::load, diag::Source, file::parse};
 use cardan_mechanism::{AssemblyOptions, KinematicOptions, Outputs};
 use libfuzzer_sys::fuzz_target;
 

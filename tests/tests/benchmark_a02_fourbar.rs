@@ -87,7 +87,7 @@ fn a02_n2_tight_steps_on_the_singular_positions() {
     let times: Vec<f64> = reference.iter().map(|r| r[0]).collect();
     let integrator =
         cardan_dynamics::Integrator::GeneralizedAlpha(cardan_dynamics::GeneralizedAlphaOptions {
-            h: 5e-5,
+            dt: 5e-5,
             rho_inf: 0.9,
             iteration_matrix: cardan_dynamics::IterationMatrix::MassOnly,
             ..Default::default()
@@ -111,14 +111,11 @@ fn a02_n2_tight_steps_on_the_singular_positions() {
 fn a02_n2_dopri5_tight_stops_at_a_singular_position() {
     let p = example("a02_fourbar_n2");
     let mut opts =
-        cardan_cli::commands::run::dynamic::options(&p, Some(dopri5(1e-10, 1e-12))).unwrap();
+        cardan_model::analysis::dynamic::options(&p, Some(dopri5(1e-10, 1e-12))).unwrap();
     opts.t_end = 2.0;
-    let mut d = cardan_cli::commands::run::dynamic::dynamics(&p).unwrap();
+    let mut d = cardan_model::analysis::dynamic::dynamics(&p).unwrap();
     let err = d
-        .simulate(
-            &cardan_cli::commands::run::dynamic::initial_state(&p),
-            &opts,
-        )
+        .simulate(&cardan_model::analysis::dynamic::initial_state(&p), &opts)
         .expect_err("DOPRI5 at rtol 1e-10 stops at a horizontal position");
     let m = err.to_string();
     assert!(m.contains("singular") && m.contains("T1L"), "{m}");
@@ -153,7 +150,7 @@ fn a02_n40_file_settings() {
 fn a02_n40_tight() {
     let integrator =
         cardan_dynamics::Integrator::GeneralizedAlpha(cardan_dynamics::GeneralizedAlphaOptions {
-            h: 3.125e-5,
+            dt: 3.125e-5,
             rho_inf: 0.9,
             iteration_matrix: cardan_dynamics::IterationMatrix::MassOnly,
             ..Default::default()

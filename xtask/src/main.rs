@@ -6,7 +6,7 @@
 //! - `cargo xtask bench [--smoke] [--peers]`: performance benchmarks → docs/performance.md.
 //! - `cargo xtask bench --peers-only [kinematics|slider-crank|chain ...]`: the peer comparisons
 //!   alone, tables to stdout.
-//! - `cargo xtask docs`: regenerate the tables of docs/ that come from code (the joint table).
+//! - `cargo xtask docs`: regenerate the tables of docs/ that come from code (the joint table, the key tables).
 //! - `cargo xtask compare-outputs <rev>`: every example's CSV output at `<rev>` and now, byte for
 //!   byte.
 
@@ -33,7 +33,7 @@ tasks:
   bench --peers     also Exudyn and OndselSolver side by side (PyPI, venv in target/)
   bench --peers-only [NAME ...]
                     only the peer comparisons (all, or those named), tables to stdout
-  docs              regenerate docs/model-format.md's joint table from the kind table
+  docs              regenerate docs/model-format.md's joint and key tables from the code's tables
   compare-outputs REV
                     every example's CSV files at commit REV and in the working tree, byte for byte";
 
@@ -75,21 +75,20 @@ pub fn workspace_root() -> PathBuf {
     manifest.parent().unwrap_or(manifest).to_path_buf()
 }
 
-/// Writes the generated tables of docs/ (the test that checks them, in bless mode).
+/// Writes the generated tables of docs/ (the tests that check them, in bless mode): the joint
+/// table from the kind table, the key tables from the model file's vocabularies.
 fn docs() -> Result<(), String> {
-    let mut cmd = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
-    cmd.args([
-        "test",
-        "-q",
-        "-p",
-        "cardan-constraints",
-        "--test",
-        "docs_table",
-    ])
-    .env("CARDAN_BLESS", "1")
-    .current_dir(workspace_root());
-    run_status(cmd, "writing the joint table")?;
-    println!("docs/model-format.md: joint table written");
+    for (package, test, what) in [
+        ("cardan-constraints", "docs_table", "the joint table"),
+        ("cardan-model", "docs_tables", "the key tables"),
+    ] {
+        let mut cmd = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
+        cmd.args(["test", "-q", "-p", package, "--test", test])
+            .env("CARDAN_BLESS", "1")
+            .current_dir(workspace_root());
+        run_status(cmd, &format!("writing {what}"))?;
+        println!("docs/model-format.md: {what} written");
+    }
     Ok(())
 }
 

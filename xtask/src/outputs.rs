@@ -1,10 +1,14 @@
-//! `cargo xtask compare-outputs <rev>`: the CSV files of every bundled example, written by the
-//! `cardan` CLI of commit `<rev>` and by the working tree, compared byte for byte. A refactoring
-//! that promises "no change in behaviour" proves it with this (issue 20).
+//! `cargo xtask compare-outputs <rev>`: the outputs of every bundled example and of every ASMT
+//! assembly in `../shared/asmt/files`, written by the `cardan` CLI of commit `<rev>` and by the
+//! working tree, compared byte for byte. A refactoring that promises "no change in behaviour"
+//! proves it with this (issues 20 and 47).
 //!
 //! The base commit is checked out as a git worktree under `target/compare/` and built there in
 //! release mode with its own target directory (a full build the first time); both binaries run
-//! every `examples/*.toml` that exists in both trees.
+//! every `examples/*.toml` and `examples/asmt/*.asmt` that exists in both trees, and the shared
+//! ASMT files, writing to `target/compare/out-base/` and `out-head/`. Compared: every CSV file,
+//! every `.solved.asmt`, and `run.json` with its `wall_time_s` line left out (the one number
+//! that differs between two runs).
 
 use crate::{run_status, workspace_root};
 use std::path::{Path, PathBuf};
@@ -41,36 +45,41 @@ fn compare(root: &Path, base: &Path, dir: &Path) -> Result<(), String> {
         ("base", base_target.join("release/cardan"), base),
         ("head", root.join("target/release/cardan"), root),
     ];
-    let mut examples: Vec<PathBuf> = std::fs::read_dir(root.join("examples"))
-        .map_err(|e| e.to_string())?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
-        .collect();
-    examples.sort();
+    let mut cases = model_files(root, "examples", "toml")?;
+    cases.extend(model_files(root, "examples/asmt", "asmt")?);
+    let shared = root.join("../shared/asmt/files");
+    let shared_cases = match std::fs::canonicalize(&shared) {
+        Ok(s) => model_files(&s, "", "asmt")?,
+        Err(_) => Vec::new(),
+    };
     let (mut same, mut differ, mut skipped) = (0, Vec::new(), Vec::new());
-    for ex in &examples {
-        let name = ex
-            .file_stem()
-            .unwrap_or_default()
-            .to_string_lossy()
-            .to_string();
-        if !base
-            .join("examples")
-            .join(ex.file_name().unwrap_or_default())
-            .exists()
-        {
+    let all = (cases.iter().map(|c| (c, true))).chain(shared_cases.iter().map(|c| (c, false)));
+    for (rel, in_tree) in all {
+        let name = rel.to_string_lossy().replace(['/', '.'], "_");
+        let input = |tree: &Path| {
+            if in_tree {
+                tree.join(rel)
+            } else {
+                shared.join(rel)
+            }
+        };
+        if !input(base).exists() {
             skipped.push(name);
             continue;
         }
         for (label, bin, tree) in &bins {
-            let out = dir.join(label).join(&name);
+            let out = dir.join(format!("out-{label}")).join(&name);
             let _ = std::fs::remove_dir_all(&out);
+            // Run from the tree with a relative path, so that run.json names the model alike.
+            let arg = if in_tree {
+                rel.clone()
+            } else {
+                shared.join(rel)
+            };
             let status = Command::new(bin)
+                .current_dir(tree)
                 .arg("run")
-                .arg(
-                    tree.join("examples")
-                        .join(ex.file_name().unwrap_or_default()),
-                )
+                .arg(arg)
                 .arg("-o")
                 .arg(&out)
                 .output()
@@ -82,10 +91,10 @@ fn compare(root: &Path, base: &Path, dir: &Path) -> Result<(), String> {
                 ));
             }
         }
-        let files = csv_files(&dir.join("head").join(&name))?;
+        let files = compared_files(&dir.join("out-head").join(&name))?;
         for f in files {
-            let a = std::fs::read(dir.join("base").join(&name).join(&f)).unwrap_or_default();
-            let b = std::fs::read(dir.join("head").join(&name).join(&f)).unwrap_or_default();
+            let a = comparable(&dir.join("out-base").join(&name).join(&f));
+            let b = comparable(&dir.join("out-head").join(&name).join(&f));
             if a == b {
                 same += 1;
             } else {
@@ -94,26 +103,53 @@ fn compare(root: &Path, base: &Path, dir: &Path) -> Result<(), String> {
         }
     }
     println!(
-        "{same} CSV files identical; {} differ; examples only in the working tree: {skipped:?}",
+        "{same} files identical (CSV, run.json, .solved.asmt); {} differ; \
+         models only in the working tree: {skipped:?}",
         differ.len()
     );
     if differ.is_empty() {
         Ok(())
     } else {
-        Err(format!("CSV outputs differ: {differ:?}"))
+        Err(format!("outputs differ: {differ:?}"))
     }
 }
 
-/// The CSV file names in `dir`, sorted.
-fn csv_files(dir: &Path) -> Result<Vec<String>, String> {
+/// The files `*.ext` in `root/sub`, as paths relative to `root`, sorted.
+fn model_files(root: &Path, sub: &str, ext: &str) -> Result<Vec<PathBuf>, String> {
+    let d = root.join(sub);
+    let mut v: Vec<PathBuf> = std::fs::read_dir(&d)
+        .map_err(|e| format!("{}: {e}", d.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == ext))
+        .filter_map(|p| p.file_name().map(|f| Path::new(sub).join(f)))
+        .collect();
+    v.sort();
+    Ok(v)
+}
+
+/// The compared file names in `dir` (CSV files, `run.json`, `.solved.asmt`), sorted.
+fn compared_files(dir: &Path) -> Result<Vec<String>, String> {
     let mut v: Vec<String> = std::fs::read_dir(dir)
         .map_err(|e| format!("{}: {e}", dir.display()))?
         .filter_map(|e| e.ok())
         .map(|e| e.file_name().to_string_lossy().to_string())
-        .filter(|n| n.ends_with(".csv"))
+        .filter(|n| n.ends_with(".csv") || n.ends_with(".solved.asmt") || n == "run.json")
         .collect();
     v.sort();
     Ok(v)
+}
+
+/// The bytes of `path` that two runs must share: `run.json` without its `wall_time_s` line.
+fn comparable(path: &Path) -> Vec<u8> {
+    let bytes = std::fs::read(path).unwrap_or_default();
+    if path.file_name().is_some_and(|n| n == "run.json") {
+        let text = String::from_utf8_lossy(&bytes);
+        let kept: Vec<&str> = (text.lines())
+            .filter(|l| !l.trim_start().starts_with("\"wall_time_s\""))
+            .collect();
+        return kept.join("\n").into_bytes();
+    }
+    bytes
 }
 
 fn build(tree: &Path, target: &Path) -> Result<(), String> {

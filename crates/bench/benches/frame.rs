@@ -30,7 +30,7 @@ fn frames(c: &mut Criterion, label: &str, model: &Model, dt: f64) {
 
 fn bench(c: &mut Criterion) {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/slider_crank.toml");
-    let p = cardan_cli::commands::prepare(&path).expect("slider_crank.toml");
+    let p = cardan_model::prepare::prepare(&path).expect("slider_crank.toml");
     frames(c, "frame/slider_crank", &p.model, 0.01);
     for n in [10, 100, 1000] {
         let m = models::revolute_chain(n);

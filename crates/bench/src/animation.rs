@@ -170,7 +170,7 @@ pub fn examples_section(examples: &std::path::Path, smoke: bool) -> String {
             let Ok(declared) = o.prepared.geometry.clone() else {
                 break;
             };
-            let scene = cardan_cli::scene::scene(
+            let scene = cardan_model::scene::scene(
                 &o.prepared.loaded.name,
                 &o.prepared.model,
                 &o.results,

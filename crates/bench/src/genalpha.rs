@@ -196,7 +196,7 @@ pub fn slider_crank(args: &[String], root: &std::path::Path) {
         })
         .filter(|r| r[0] <= t_end + 1e-9)
         .collect();
-    let p = cardan_cli::commands::prepare(&root.join("examples/slider_crank_dynamic.toml"))
+    let p = cardan_model::prepare::prepare(&root.join("examples/slider_crank_dynamic.toml"))
         .expect("slider_crank_dynamic.toml");
     let integ = Integrator::GeneralizedAlpha(GeneralizedAlphaOptions {
         iteration_matrix: matrix,
@@ -204,7 +204,7 @@ pub fn slider_crank(args: &[String], root: &std::path::Path) {
         project_velocities: proj,
         ..GeneralizedAlphaOptions::with_step(h)
     });
-    let mut opts = cardan_cli::commands::run::dynamic::options(&p, Some(integ)).expect("options");
+    let mut opts = cardan_model::analysis::dynamic::options(&p, Some(integ)).expect("options");
     opts.t_end = t_end;
     opts.max_steps = 5_000_000;
     let opts = opts
@@ -213,8 +213,8 @@ pub fn slider_crank(args: &[String], root: &std::path::Path) {
     let mut best = f64::INFINITY;
     let mut out = None;
     for _ in 0..3 {
-        let mut d = cardan_cli::commands::run::dynamic::dynamics(&p).expect("dynamics");
-        let s = cardan_cli::commands::run::dynamic::initial_state(&p);
+        let mut d = cardan_model::analysis::dynamic::dynamics(&p).expect("dynamics");
+        let s = cardan_model::analysis::dynamic::initial_state(&p);
         let t0 = Instant::now();
         let r = d.simulate(&s, &opts).expect("simulate");
         best = best.min(t0.elapsed().as_secs_f64());

@@ -152,7 +152,7 @@ fn cheapest_within(curve: &[Point], error: f64) -> Option<Point> {
 /// # Panics
 /// If `examples/slider_crank.toml` is missing or does not run.
 pub fn work_precision(root: &Path, python: Option<&str>, smoke: bool) -> (String, String) {
-    let p = cardan_cli::commands::prepare(&root.join("examples/slider_crank.toml"))
+    let p = cardan_model::prepare::prepare(&root.join("examples/slider_crank.toml"))
         .expect("examples/slider_crank.toml");
     let (frames, rounds) = if smoke { (50, 1) } else { (200, 9) };
     let cardan: Vec<Point> = TOLERANCES

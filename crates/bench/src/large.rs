@@ -96,16 +96,16 @@ pub fn point(args: &[String]) {
     let t0 = Instant::now();
     let ok = match what {
         "whole" => {
-            let flags = cardan_cli::commands::run::RunFlags::default();
+            let flags = cardan_model::analysis::RunFlags::default();
             let r = cardan_cli::commands::run::run(path, Some(&out), &flags, &mut std::io::sink());
             r.map(|_| ())
         }
-        "run" => cardan_cli::commands::prepare(path).and_then(|p| {
+        "run" => cardan_model::prepare::prepare(path).and_then(|p| {
             let analysis = p.loaded.analysis.clone().expect("the file has [analysis]");
-            let flags = cardan_cli::commands::run::RunFlags::default();
-            cardan_cli::commands::run::analyse(&p, &analysis, &flags).map(|_| ())
+            let flags = cardan_model::analysis::RunFlags::default();
+            cardan_model::analysis::analyse(&p, &analysis, &flags).map(|_| ())
         }),
-        _ => cardan_cli::commands::check::check(path, &mut std::io::sink()),
+        _ => cardan_model::check::check(path, &mut std::io::sink()),
     };
     // The outputs are removed after the clock stops: the bench's housekeeping, not the run's.
     let seconds = t0.elapsed().as_secs_f64();

@@ -22,12 +22,12 @@
 use cardan_bench::measure::{self, fmt_bytes, fmt_time, loglog_slope, ms, time_per_call};
 use cardan_bench::models;
 use cardan_bench::svg::{self, Series};
-use cardan_cli::commands::{prepare, Prepared};
 use cardan_dynamics::{
     Dopri5Options, Dynamics, Force, GeneralizedAlphaOptions, Integrator, IterationMatrix,
     SimulationOptions, State,
 };
 use cardan_mechanism::{AssemblyOptions, Model, Outputs};
+use cardan_model::prepare::{prepare, Prepared};
 use cardan_solver::{NewtonOptions, Tolerances};
 use nalgebra::Vector3;
 use stats_alloc::{Region, StatsAlloc, INSTRUMENTED_SYSTEM};
@@ -508,7 +508,7 @@ fn frames_section(cfg: &Cfg) -> String {
     );
     for (name, p) in examples() {
         let a = match &p.loaded.analysis {
-            Some(a) if a.dynamic.is_none() => a,
+            Some(a) if a.integrator().is_none() => a,
             _ => continue,
         };
         let _ = a;
@@ -1071,7 +1071,7 @@ fn wp_run(
     t_end: f64,
     times: &[f64],
 ) -> Option<(f64, Vec<Vector3<f64>>)> {
-    let mut opts = cardan_cli::commands::run::dynamic::options(p, Some(integ)).ok()?;
+    let mut opts = cardan_model::analysis::dynamic::options(p, Some(integ)).ok()?;
     opts.t_end = t_end;
     opts.max_steps = 5_000_000;
     let opts = opts
@@ -1081,8 +1081,8 @@ fn wp_run(
     let mut last = None;
     let mut total = 0.0;
     for _ in 0..5 {
-        let mut d = cardan_cli::commands::run::dynamic::dynamics(p).ok()?;
-        let s = cardan_cli::commands::run::dynamic::initial_state(p);
+        let mut d = cardan_model::analysis::dynamic::dynamics(p).ok()?;
+        let s = cardan_model::analysis::dynamic::initial_state(p);
         let t0 = Instant::now();
         let r = d.simulate(&s, &opts).ok()?;
         let e = t0.elapsed().as_secs_f64();
@@ -1123,7 +1123,7 @@ fn work_precision_section(cfg: &Cfg, svgs: &mut Vec<(String, String)>) -> String
         if cfg.smoke {
             t_end *= 0.05;
         }
-        let rho = match a.dynamic {
+        let rho = match a.integrator() {
             Some(Integrator::GeneralizedAlpha(o)) => o.rho_inf,
             _ => 0.8,
         };

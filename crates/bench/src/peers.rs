@@ -22,7 +22,7 @@
 use super::{get, FrameRun};
 use cardan_bench::measure::{fmt_time, median};
 use cardan_bench::models;
-use cardan_cli::commands::Prepared;
+use cardan_model::prepare::Prepared;
 use cardan_dynamics::{
     Dynamics, Force, GeneralizedAlphaOptions, Integrator, IterationMatrix, SimulationOptions, State,
 };
@@ -164,7 +164,7 @@ fn run_parts(smoke: bool, python: &str, root: &Path, parts: &[&str]) -> String {
 fn slider_crank_kinematics(smoke: bool, python: &str, script: &Path) -> String {
     let mut md = String::new();
     let path = super::root().join("examples/slider_crank.toml");
-    let Ok(p) = cardan_cli::commands::prepare(&path) else {
+    let Ok(p) = cardan_model::prepare::prepare(&path) else {
         return "slider_crank.toml not found\n\n".into();
     };
     let frames = 200;
@@ -464,14 +464,14 @@ impl SliderCrank {
     /// The max over the reference samples of |C − (x_ref, 0, 0)| and |B − B_ref(θ_ref)|, as
     /// tests/tests/benchmark_slider_crank.rs computes it.
     fn run(&self, integ: Integrator) -> Option<ScRun> {
-        let mut opts = cardan_cli::commands::run::dynamic::options(&self.p, Some(integ)).ok()?;
+        let mut opts = cardan_model::analysis::dynamic::options(&self.p, Some(integ)).ok()?;
         opts.t_end = self.t_end;
         opts.max_steps = 5_000_000;
         let opts = opts
             .output_times(self.times.clone())
             .outputs(Outputs::position_only());
-        let mut d = cardan_cli::commands::run::dynamic::dynamics(&self.p).ok()?;
-        let s = cardan_cli::commands::run::dynamic::initial_state(&self.p);
+        let mut d = cardan_model::analysis::dynamic::dynamics(&self.p).ok()?;
+        let s = cardan_model::analysis::dynamic::initial_state(&self.p);
         let t0 = Instant::now();
         let r = d.simulate(&s, &opts).ok()?;
         let wall = t0.elapsed().as_secs_f64();
@@ -663,7 +663,7 @@ struct ScProblem {
 /// The slider-crank problem; `Err` with the text the section shows when a file is missing.
 fn slider_crank_problem(smoke: bool, root: &Path) -> Result<ScProblem, String> {
     let csv = root.join(SLIDER_CRANK_CSV);
-    let Ok(p) = cardan_cli::commands::prepare(&root.join("examples/slider_crank_dynamic.toml"))
+    let Ok(p) = cardan_model::prepare::prepare(&root.join("examples/slider_crank_dynamic.toml"))
     else {
         return Err("slider_crank_dynamic.toml not found\n\n".into());
     };

@@ -17,20 +17,12 @@
 //! Every failure is an [`Error`] with a one-paragraph message (file:line:column when it comes
 //! from the model file) and an exit code; bad input never panics.
 
-pub mod build;
 pub mod commands;
-pub mod diag;
-pub mod geometry;
-pub mod model;
 pub mod output;
-pub mod plot;
 pub mod progress;
-pub mod report;
-pub mod scene;
-pub mod table;
-pub mod units;
 
-pub use diag::{Error, ErrorKind, Location, Source};
+pub use cardan_model::diag::{Error, ErrorKind, Location, Source};
+use cardan_model::{asmt, check, eval, output_tables};
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -98,11 +90,11 @@ pub enum Command {
         output: Option<PathBuf>,
         /// The units of the file's numbers: SI (m, kg, s) or mm (FreeCAD exports; converted
         /// to SI).
-        #[arg(long, value_enum, default_value_t = commands::asmt::Units::Si)]
-        units: commands::asmt::Units,
+        #[arg(long, value_enum, default_value_t = asmt::Units::Si)]
+        units: asmt::Units,
         /// The analysis the model file asks for (default: the ASMT file's kinematics).
-        #[arg(long, value_enum, default_value_t = commands::asmt::Analysis::Kinematic)]
-        analysis: commands::asmt::Analysis,
+        #[arg(long, value_enum, default_value_t = asmt::Analysis::Kinematic)]
+        analysis: asmt::Analysis,
     },
     /// Print Φ, the Jacobian (pattern and values), ν and γ# at the assembled state.
     Eval {
@@ -112,8 +104,8 @@ pub enum Command {
         #[arg(long = "t", allow_negative_numbers = true)]
         t: Option<f64>,
         /// Output format: tables to read, or JSON at full precision with the row and column maps.
-        #[arg(long, value_enum, default_value_t = commands::eval::Format::Text)]
-        format: commands::eval::Format,
+        #[arg(long, value_enum, default_value_t = eval::Format::Text)]
+        format: eval::Format,
     },
 }
 
@@ -123,23 +115,23 @@ pub enum Command {
 pub struct AsmtArgs {
     /// ASMT files: the units of the file's numbers, SI (m, kg, s) or mm (FreeCAD exports).
     #[arg(long, value_enum)]
-    pub units: Option<commands::asmt::Units>,
+    pub units: Option<asmt::Units>,
     /// ASMT files: the analysis to run (default: the file's kinematics).
     #[arg(long, value_enum)]
-    pub analysis: Option<commands::asmt::Analysis>,
+    pub analysis: Option<asmt::Analysis>,
 }
 
 impl AsmtArgs {
     /// The options, or an error for a TOML model given either flag.
-    fn options(&self, model: &std::path::Path) -> Result<commands::asmt::AsmtOptions, Error> {
-        if !commands::asmt::is_asmt(model) && (self.units.is_some() || self.analysis.is_some()) {
+    fn options(&self, model: &std::path::Path) -> Result<asmt::AsmtOptions, Error> {
+        if !asmt::is_asmt(model) && (self.units.is_some() || self.analysis.is_some()) {
             return Err(Error::usage(format!(
                 "--units and --analysis apply to ASMT files (.asmt); {} is a cardan model, \
                  which gives its units in [model] units and its analysis in [analysis] kind",
                 model.display()
             )));
         }
-        Ok(commands::asmt::AsmtOptions {
+        Ok(asmt::AsmtOptions {
             units: self.units.unwrap_or_default(),
             analysis: self.analysis.unwrap_or_default(),
         })
@@ -161,8 +153,10 @@ pub fn run(cli: &Cli, out: &mut dyn std::io::Write) -> Result<(), Error> {
             png,
             asmt,
         } => {
-            let flags = commands::run::RunFlags {
-                progress: !*quiet && std::io::IsTerminal::is_terminal(&std::io::stderr()),
+            let shown = !*quiet && std::io::IsTerminal::is_terminal(&std::io::stderr());
+            let flags = cardan_model::analysis::RunFlags {
+                progress: shown
+                    .then_some(progress::terminal_bar as cardan_model::progress::MakeBar),
                 strict: *strict,
                 allow_long: *allow_long,
                 png: *png,
@@ -174,8 +168,8 @@ pub fn run(cli: &Cli, out: &mut dyn std::io::Write) -> Result<(), Error> {
             // A large model's report has three lines per body and joint: written through the
             // line-buffered standard output, one system call each (30,000 for 10,000 bodies).
             let mut buffered = std::io::BufWriter::new(out);
-            let result = commands::check::check_with(model, asmt.options(model)?, &mut buffered);
-            let flushed = std::io::Write::flush(&mut buffered).map_err(commands::output_tables::io);
+            let result = check::check_with(model, asmt.options(model)?, &mut buffered);
+            let flushed = std::io::Write::flush(&mut buffered).map_err(output_tables::io);
             result.and(flushed)
         }
         Command::Import {
@@ -184,7 +178,7 @@ pub fn run(cli: &Cli, out: &mut dyn std::io::Write) -> Result<(), Error> {
             units,
             analysis,
         } => commands::asmt::import(model, output.as_deref(), *units, *analysis, out),
-        Command::Eval { model, t, format } => commands::eval::eval(model, *t, *format, out),
+        Command::Eval { model, t, format } => eval::eval(model, *t, *format, out),
     }
 }
 

@@ -26,39 +26,13 @@
 pub mod opener;
 pub mod single;
 
-use crate::diag::{describe_io, Error};
+use cardan_model::diag::{describe_io, Error};
+use cardan_model::files::{OutputFiles, StreamFile, StreamWriter};
+use cardan_model::plot::PlotFiles;
 use opener::{Opener, PendingFile};
 use std::ffi::OsString;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
-
-/// The plot files a run writes beside a table's CSV file.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct PlotFiles {
-    /// An SVG per table (the model file's `plots`), except the Newton residual's.
-    pub svg: bool,
-    /// A PNG beside each SVG (`--png`).
-    pub png: bool,
-}
-
-impl PlotFiles {
-    /// Whether the table `name` is plotted.
-    pub fn plots(&self, name: &str) -> bool {
-        self.svg && name != "residual"
-    }
-
-    /// The plot files of the table `name`.
-    pub fn of(&self, name: &str) -> Vec<String> {
-        let mut files = Vec::new();
-        if self.plots(name) {
-            if self.png {
-                files.push(format!("{name}.png"));
-            }
-            files.push(format!("{name}.svg"));
-        }
-        files
-    }
-}
 
 /// A locked output directory being written: files go to the temporary sibling until
 /// [`OutputDir::commit`]. Dropping it without committing removes the temporary directory and
@@ -236,8 +210,8 @@ impl OutputDir {
     /// # Errors
     /// An output error naming the file and the cause (the temporary directory cannot be
     /// created; a file that cannot be created is an error of its first write).
-    pub fn create(&mut self, name: &str) -> Result<std::io::BufWriter<PendingFile>, Error> {
-        let file = self.file(name, true)?;
+    pub fn create(&mut self, name: &str) -> Result<StreamWriter, Error> {
+        let file: Box<dyn StreamFile> = Box::new(self.file(name, true)?);
         Ok(std::io::BufWriter::with_capacity(1 << 16, file))
     }
 
@@ -258,16 +232,12 @@ impl OutputDir {
     ///
     /// # Errors
     /// An output error naming the file and the cause.
-    pub fn finish(
-        &mut self,
-        name: &str,
-        writer: std::io::BufWriter<PendingFile>,
-    ) -> Result<(), Error> {
+    pub fn finish(&mut self, name: &str, writer: StreamWriter) -> Result<(), Error> {
         let done = writer
             .into_inner()
             .map_err(|e| std::io::Error::new(e.error().kind(), e.error().to_string()))
             // Created even if nothing was written: its creation error is this file's error.
-            .and_then(|mut f| f.file().map(drop));
+            .and_then(StreamFile::close);
         done.map_err(|e| self.write_error(name, &e))?;
         self.files.push(name.to_string());
         Ok(())
@@ -319,6 +289,18 @@ impl OutputDir {
             self.target.display(),
             describe_io(e)
         ))
+    }
+}
+
+impl OutputFiles for OutputDir {
+    fn create(&mut self, name: &str) -> Result<StreamWriter, Error> {
+        OutputDir::create(self, name)
+    }
+    fn announce_plots_of(&mut self, name: &str) -> Result<(), Error> {
+        OutputDir::announce_plots_of(self, name)
+    }
+    fn write_error(&self, name: &str, e: &std::io::Error) -> Error {
+        OutputDir::write_error(self, name, e)
     }
 }
 

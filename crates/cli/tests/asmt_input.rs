@@ -210,8 +210,8 @@ fn asmt_flags_are_refused_for_a_toml_model() {
 
 /// The largest |a − b| over two CSV files of the same shape, relative to the largest |a|.
 fn csv_difference(a: &str, b: &str) -> f64 {
-    let (_, ra) = cardan_cli::table::parse_csv(a).unwrap();
-    let (_, rb) = cardan_cli::table::parse_csv(b).unwrap();
+    let (_, ra) = cardan_model::table::parse_csv(a).unwrap();
+    let (_, rb) = cardan_model::table::parse_csv(b).unwrap();
     assert_eq!(ra.len(), rb.len());
     let (mut diff, mut size) = (0.0f64, 0.0f64);
     for (x, y) in ra.iter().flatten().zip(rb.iter().flatten()) {

@@ -27,7 +27,7 @@ fn fails_at(from: &str, to: &str, line_col: &str, needles: &[&str]) -> Outcome {
         assert!(o.stderr.contains(n), "missing {n:?} in: {}", o.stderr);
     }
     assert_eq!(
-        cardan_cli::diag::message_paragraph(&o.stderr)
+        cardan_model::diag::message_paragraph(&o.stderr)
             .lines()
             .count(),
         1,
@@ -447,7 +447,7 @@ fn singular_configuration_mid_run_writes_partial_results() {
         );
     }
     let csv = std::fs::read_to_string(o.dir.join("out/points.csv")).unwrap();
-    let (_, rows) = cardan_cli::table::parse_csv(&csv).unwrap();
+    let (_, rows) = cardan_model::table::parse_csv(&csv).unwrap();
     assert_eq!(rows.len(), 51);
     assert!((rows[50][0] - 1.0).abs() < 1e-12);
     // The tip reached x = 1 (stretched), within the accuracy of a singular root.
@@ -528,7 +528,7 @@ fn inverse_fails_at(edits: &[(&str, &str)], line_col: &str, needles: &[&str]) {
             );
         }
         assert_eq!(
-            cardan_cli::diag::message_paragraph(&o.stderr)
+            cardan_model::diag::message_paragraph(&o.stderr)
                 .lines()
                 .count(),
             1,
@@ -615,16 +615,16 @@ fn inverse_dynamics_needs_masses() {
 fn inverse_dynamics_rejects_integrator_keys() {
     inverse_fails_at(
         &[("t_end = 1.0", "rtol = 1e-6\nt_end = 1.0")],
-        "36:8",
+        "36:1",
         &[
-            "rtol applies only to kind = \"dynamic\"",
-            "inverse dynamics analysis has no integrator",
+            "kind = \"inverse_dynamics\" does not take \"rtol\" (it applies to kind = \"dynamic\")",
+            "it takes \"t_start\", \"t_end\", \"steps\", \"dt\", \"position_tolerance\"",
         ],
     );
     inverse_fails_at(
         &[("steps = 10", "output_dt = 0.1")],
-        "37:13",
-        &["output_dt applies only to kind = \"dynamic\""],
+        "37:1",
+        &["does not take \"output_dt\" (it applies to kind = \"dynamic\": the output step of a kinematic"],
     );
     inverse_fails_at(
         &[("\"inverse_dynamics\"", "\"inverse-dynamics\"")],
@@ -662,7 +662,7 @@ fn inverse_dynamics_mid_run_failure_writes_partial_results() {
         o.stderr
     );
     let csv = std::fs::read_to_string(o.dir.join("out/driver_efforts.csv")).unwrap();
-    let (h, rows) = cardan_cli::table::parse_csv(&csv).unwrap();
+    let (h, rows) = cardan_model::table::parse_csv(&csv).unwrap();
     assert_eq!(h, ["t [s]", "motor.force [N]"]);
     assert_eq!(rows.len(), 51);
     assert!((rows[50][0] - 1.0).abs() < 1e-12);
@@ -966,8 +966,11 @@ fn the_kinematic_tolerance_is_used_and_checked_at_its_key() {
     fails_at(
         "kind = \"kinematic\"",
         "kind = \"dynamic\"\ntolerance = 1e-10",
-        "36:13",
-        &["tolerance applies to kind = \"kinematic\" and \"inverse_dynamics\""],
+        "36:1",
+        &[
+            "kind = \"dynamic\" does not take \"tolerance\"",
+            "a dynamic run's accuracy is set by rtol and atol",
+        ],
     );
 }
 
@@ -991,20 +994,23 @@ fn position_tolerance_is_the_kinematic_tolerance_and_checked_at_its_key() {
     fails_at(
         "steps = 10",
         "steps = 10\nposition_tolerance = 1e-12\ntolerance = 1e-12",
-        "38:22",
+        "39:1",
         &["give position_tolerance or tolerance, not both"],
     );
     fails_at(
         "kind = \"kinematic\"",
         "kind = \"dynamic\"\nposition_tolerance = 1e-10",
-        "36:22",
-        &["position_tolerance applies to kind = \"kinematic\" and \"inverse_dynamics\""],
+        "36:1",
+        &["kind = \"dynamic\" does not take \"position_tolerance\" (it applies to kind = \"kinematic\", kind = \"inverse_dynamics\": a dynamic run's accuracy is set by rtol and atol"],
     );
     fails_at(
         "kind = \"kinematic\"",
         "kind = \"static\"\nposition_tolerance = 1e-10",
-        "36:22",
-        &["static, quasi-static or modal analysis sets its equilibrium's tolerance with tolerance"],
+        "36:1",
+        &[
+            "kind = \"static\" does not take \"position_tolerance\"",
+            "equilibrium_tolerance",
+        ],
     );
 }
 

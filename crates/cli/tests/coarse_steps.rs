@@ -4,8 +4,8 @@
 //! it subdivided (summary line and run.json, not a warning).
 
 mod common;
-use cardan_cli::commands::prepare;
 use cardan_mechanism::{KinematicOptions, Outputs};
+use cardan_model::prepare::prepare;
 use nalgebra::Vector3;
 use std::f64::consts::PI;
 use std::path::PathBuf;
@@ -196,7 +196,7 @@ fn grid_examples() -> Vec<(String, f64, f64, usize)> {
         .filter_map(|name| {
             let p = prepare(&example(&name)).unwrap();
             let a = p.loaded.analysis.as_ref()?;
-            let grid = a.dynamic.is_none() && a.statics.is_none() && a.steps > 0;
+            let grid = a.integrator().is_none() && a.statics().is_none() && a.steps > 0;
             grid.then_some((name, a.t_start, a.t_end, a.steps))
         })
         .collect()

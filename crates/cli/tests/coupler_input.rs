@@ -71,8 +71,8 @@ fn coupler_mistakes_are_located() {
     fails(
         "radius_j = 0.06\n",
         "pitch = 0.06\n",
-        r#"name = "stage1""#,
-        &[r#"a gear coupler does not take "pitch""#],
+        "pitch = 0.06",
+        &[r#"type = "gear" does not take "pitch" (it applies to type = "screw")"#],
     );
     fails(
         r#"name = "stage2""#,

@@ -119,7 +119,7 @@ fn a_model_with_a_damper_is_not_flagged_for_losing_energy() {
     let o = run(&dir, &text, &["--strict"]);
     assert_eq!(o.code, 0, "{}\n{}", o.stdout, o.stderr);
     let energy = std::fs::read_to_string(dir.join("out/energy.csv")).unwrap();
-    let (_, rows) = cardan_cli::table::parse_csv(&energy).unwrap();
+    let (_, rows) = cardan_model::table::parse_csv(&energy).unwrap();
     let drift = rows.iter().fold(0.0f64, |a, r| a.max(r[5].abs()));
     assert!(drift > 10.0, "the damper should dissipate: {drift} J");
     assert!(!o.stdout.contains("warning"), "{}", o.stdout);
@@ -158,17 +158,17 @@ fn a_constraint_drift_beyond_the_tolerance_warns() {
         pendulum("integrator = \"dopri5\"\nrtol = 1e-8\natol = 1e-10"),
     )
     .unwrap();
-    let p = cardan_cli::commands::prepare(&dir.join("model.toml")).unwrap();
+    let p = cardan_model::prepare::prepare(&dir.join("model.toml")).unwrap();
     let integrator = cardan_dynamics::Integrator::default();
-    let bound = cardan_cli::commands::run::dynamic::drift_bound(&p, &integrator);
+    let bound = cardan_model::analysis::dynamic::drift_bound(&p, &integrator);
     assert!(bound > 0.0 && bound < 1e-9, "{bound}");
     let mut r = cardan_dynamics::DynamicResults {
         position_drift: vec![0.0, 0.5 * bound],
         ..Default::default()
     };
-    assert!(cardan_cli::commands::run::dynamic::doubtful_results(&p, &r, &integrator).is_empty());
+    assert!(cardan_model::analysis::dynamic::doubtful_results(&p, &r, &integrator).is_empty());
     r.position_drift.push(100.0 * bound);
-    let w = cardan_cli::commands::run::dynamic::doubtful_results(&p, &r, &integrator);
+    let w = cardan_model::analysis::dynamic::doubtful_results(&p, &r, &integrator);
     assert_eq!(w.len(), 1, "{w:?}");
     assert!(w[0].contains("constraint drift"), "{w:?}");
 }
@@ -186,7 +186,7 @@ fn energy_csv_has_power_work_and_balance_and_the_summary_reports_it() {
     );
     assert_eq!(o.code, 0, "{}", o.stderr);
     let energy = std::fs::read_to_string(dir.join("out/energy.csv")).unwrap();
-    let (header, rows) = cardan_cli::table::parse_csv(&energy).unwrap();
+    let (header, rows) = cardan_model::table::parse_csv(&energy).unwrap();
     assert_eq!(
         header,
         [

@@ -3,8 +3,9 @@
 //! position history (velocities and accelerations, second order: the error must shrink about 4×
 //! when the step is halved).
 
-use cardan_cli::commands::{prepare, run::run_model, Prepared};
+use cardan_cli::commands::run::run_model;
 use cardan_mechanism::{AssemblyOptions, KinematicOptions, Results};
+use cardan_model::prepare::{prepare, Prepared};
 use nalgebra::{Vector3, Vector4};
 use std::f64::consts::PI;
 use std::path::PathBuf;
@@ -34,7 +35,7 @@ fn run_example(name: &str) -> (Prepared, Results) {
     assert!(csvs.len() >= 2, "{name}: {csvs:?}");
     for f in csvs {
         let csv = std::fs::read_to_string(f).unwrap();
-        let (header, rows) = cardan_cli::table::parse_csv(&csv).unwrap();
+        let (header, rows) = cardan_model::table::parse_csv(&csv).unwrap();
         assert_eq!(header[0], "t [s]");
         assert!(header.iter().all(|h| h.ends_with(']')), "{f:?}: {header:?}");
         assert_eq!(rows.len(), o.results.len());
@@ -468,7 +469,7 @@ fn bennett_chooses_its_rows_again_where_the_first_choice_is_singular() {
         o.summary.row_reselections
     )));
     let mut line = Vec::new();
-    cardan_cli::commands::run::print_summary(&o.summary, &mut line).unwrap();
+    cardan_model::analysis::print_summary(&o.summary, &mut line).unwrap();
     let line = String::from_utf8(line).unwrap();
     assert!(line.contains("redundant equations chosen again"), "{line}");
 }
@@ -535,14 +536,13 @@ fn every_example_checks() {
     ] {
         let p = prepare(&example(name)).unwrap();
         let mut out = Vec::new();
-        cardan_cli::commands::check::check(&example(name), &mut out).unwrap();
+        cardan_model::check::check(&example(name), &mut out).unwrap();
         let text = String::from_utf8(out).unwrap();
         assert!(text.contains("degrees of freedom: 1"), "{name}: {text}");
         assert!(text.contains(": ok"), "{name}: {text}");
         assert_eq!(p.model.drivers().len(), 1);
         let mut out = Vec::new();
-        cardan_cli::commands::eval::eval(&example(name), None, Default::default(), &mut out)
-            .unwrap();
+        cardan_model::eval::eval(&example(name), None, Default::default(), &mut out).unwrap();
         let text = String::from_utf8(out).unwrap();
         assert!(text.contains("Jacobian Φ_v pattern"), "{name}");
     }
@@ -564,7 +564,7 @@ fn documented_example_runs() {
     let file = dir.join("doc.toml");
     std::fs::write(&file, &doc[start..end]).unwrap();
     let mut out = Vec::new();
-    cardan_cli::commands::check::check(&file, &mut out).unwrap();
+    cardan_model::check::check(&file, &mut out).unwrap();
     let text = String::from_utf8(out).unwrap();
     assert!(
         text.contains("degrees of freedom: 1") && text.contains(": ok"),
@@ -624,7 +624,7 @@ fn progress_run_equals_plain_run() {
 /// coordinates.
 #[test]
 fn eval_json_round_trips_every_float_exactly() {
-    use cardan_cli::commands::eval::{evaluate, COORDINATES};
+    use cardan_model::eval::{evaluate, COORDINATES};
     for name in ["slider_crank", "bricard", "universal_drive"] {
         let out = std::process::Command::new(env!("CARGO_BIN_EXE_cardan"))
             .args(["eval", "--format", "json", "--t", "0.3"])
@@ -691,7 +691,7 @@ fn run_with_table(name: &str, table: &str) -> (Prepared, Results, Vec<String>, V
         dir.join(format!("{table}.svg")).exists(),
         "{name}: {table}.svg"
     );
-    let (header, rows) = cardan_cli::table::parse_csv(&csv).unwrap();
+    let (header, rows) = cardan_model::table::parse_csv(&csv).unwrap();
     let _ = std::fs::remove_dir_all(&dir);
     (o.prepared, o.results, header, rows)
 }
@@ -851,7 +851,7 @@ fn joint_rates_match_differences_of_the_joint_coordinates() {
 /// and its dense row of Φ_v; every float reads back to the same f64 as the evaluation's.
 #[test]
 fn eval_csv_round_trips_every_float_exactly() {
-    use cardan_cli::commands::eval::evaluate;
+    use cardan_model::eval::evaluate;
     for name in ["slider_crank", "wobble_plate_pump"] {
         let out = std::process::Command::new(env!("CARGO_BIN_EXE_cardan"))
             .args(["eval", "--format", "csv", "--t", "0.3"])

@@ -2,10 +2,10 @@
 //! subnormal numbers, self-referencing definitions. Each is run through the real binary and
 //! must end with a non-zero exit code and a one-paragraph message, in bounded time (< 5 s, debug
 //! build) and without a panic or a stack overflow. The files are generated here, never
-//! committed. The limits are `cardan_cli::model::{MAX_FILE_BYTES, MAX_BODIES, MAX_ELEMENTS,
+//! committed. The limits are `cardan_model::file::{MAX_FILE_BYTES, MAX_BODIES, MAX_ELEMENTS,
 //! MAX_ARRAY_LEN, MAX_NESTING}` (docs/model-format.md, "Limits").
 
-use cardan_cli::model::{MAX_BODIES, MAX_FILE_BYTES};
+use cardan_model::file::{MAX_BODIES, MAX_FILE_BYTES};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
@@ -44,12 +44,14 @@ fn rejected_path(dir: &Path, path: &Path, needles: &[&str]) -> String {
     );
     assert_eq!(out.status.code(), Some(1), "input error expected: {stderr}");
     assert_eq!(
-        cardan_cli::diag::message_paragraph(&stderr).lines().count(),
+        cardan_model::diag::message_paragraph(&stderr)
+            .lines()
+            .count(),
         1,
         "one paragraph: {stderr}"
     );
     assert!(
-        cardan_cli::diag::message_paragraph(&stderr).len() < 600,
+        cardan_model::diag::message_paragraph(&stderr).len() < 600,
         "a short message: {stderr}"
     );
     for n in needles {

@@ -4,10 +4,11 @@
 //! balance (driver power = d(kinetic + gravitational energy)/dt, computed from the written body
 //! velocities and accelerations) and the dynamics crate's API run separately.
 
-use cardan_cli::commands::{prepare, run::run_model};
-use cardan_cli::table::parse_csv;
+use cardan_cli::commands::run::run_model;
 use cardan_dynamics::{Dynamics, Force};
 use cardan_mechanism::KinematicOptions;
+use cardan_model::prepare::prepare;
+use cardan_model::table::parse_csv;
 use nalgebra::{Matrix3, Vector3, Vector4};
 use std::path::{Path, PathBuf};
 
@@ -359,7 +360,7 @@ fn dynamic_run_writes_driver_efforts() {
     // The same file through the dynamics API.
     std::fs::write(dir.join("same.toml"), &text).unwrap();
     let p = prepare(&dir.join("same.toml")).unwrap();
-    let api = cardan_cli::commands::run::dynamic::simulate(&p, None).unwrap();
+    let api = cardan_model::analysis::dynamic::simulate(&p, None).unwrap();
     let motor = api.driver("motor").unwrap();
     let scale = same_torques(&efforts, api.times(), &motor.effort);
     assert!(scale > 1.0, "the motor works: {scale}");

@@ -115,7 +115,7 @@ fn check_partial(dir: &Path, table: &str) {
     let steps = j["steps"].as_u64().unwrap();
     assert!(steps >= 1, "{j}");
     let csv = std::fs::read_to_string(dir.join("out").join(table)).unwrap();
-    let (_, rows) = cardan_cli::table::parse_csv(&csv).unwrap();
+    let (_, rows) = cardan_model::table::parse_csv(&csv).unwrap();
     assert_eq!(rows.len() as u64, steps);
     // (serde_json's default float parsing may be one ulp off: compare to 1e-15.)
     let last = rows.last().unwrap()[0];

@@ -7,7 +7,7 @@
 
 mod common;
 
-use cardan_cli::table::parse_csv;
+use cardan_model::table::parse_csv;
 use common::{cardan, scratch};
 use nalgebra::{Vector3, Vector4};
 use std::f64::consts::PI;

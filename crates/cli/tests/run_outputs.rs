@@ -315,8 +315,8 @@ fn a_model_in_millimetres_writes_millimetres() {
             continue;
         };
         let read = |d: &str| std::fs::read_to_string(dir.join(d).join(&name)).unwrap();
-        let (ha, ra) = cardan_cli::table::parse_csv(&read("si")).unwrap();
-        let (hb, rb) = cardan_cli::table::parse_csv(&read("mm")).unwrap();
+        let (ha, ra) = cardan_model::table::parse_csv(&read("si")).unwrap();
+        let (hb, rb) = cardan_model::table::parse_csv(&read("mm")).unwrap();
         let factors: Vec<f64> = ha.iter().map(|h| mm_factor(h)).collect();
         for (a, b) in ha.iter().zip(&hb) {
             // Mixed units ("m or -": constraint_drift) stay SI.

@@ -3,7 +3,7 @@
 //! eigenvalue of its written linearization against the closed form, the files written, and
 //! `modes` refused where it cannot apply.
 
-use cardan_cli::table::parse_csv;
+use cardan_model::table::parse_csv;
 use nalgebra::DMatrix;
 use std::f64::consts::PI;
 use std::fmt::Write as _;

@@ -2,8 +2,8 @@
 //! bundled example (`examples/*.toml`), at the pose `cardan check` assembles (joints only, at the
 //! analysis's start time), over all rows (joints and drivers).
 
-use cardan_cli::commands::prepare;
 use cardan_mechanism::AssemblyOptions;
+use cardan_model::prepare::prepare;
 use cardan_solver::{RankAnalysis, RankOptions};
 use std::path::PathBuf;
 

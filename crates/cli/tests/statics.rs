@@ -4,7 +4,7 @@
 //! and the refusal of keys that do not apply.
 
 use cardan_cli::commands::run::run_model;
-use cardan_cli::table::parse_csv;
+use cardan_model::table::parse_csv;
 use nalgebra::Vector3;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
@@ -182,9 +182,9 @@ fn keys_that_do_not_apply_are_refused() {
     let cases = [
         (
             edited(kind, "kind = \"kinematic\"\ntime = 0.5"),
-            "time applies only",
+            "kind = \"kinematic\" does not take \"time\" (it applies to kind = \"static\", kind = \"modal\"",
         ),
-        (edited(kind, "kind = \"static\""), "t_end does not apply"),
+        (edited(kind, "kind = \"static\""), "kind = \"static\" does not take \"t_end\""),
         (
             edited(
                 "kind = \"kinematic\"\nt_end = 1.0\nsteps = 10",
@@ -197,11 +197,11 @@ fn keys_that_do_not_apply_are_refused() {
                 "kind = \"kinematic\"\nt_end = 1.0\nsteps = 10",
                 "kind = \"quasi_static\"\ntime = 1.0",
             ),
-            "time does not apply",
+            "kind = \"quasi_static\" does not take \"time\"",
         ),
         (
             edited(kind, "kind = \"kinematic\"\ninputs = [\"motor\"]"),
-            "inputs applies only",
+            "kind = \"kinematic\" does not take \"inputs\" (it applies to kind = \"dynamic\", kind = \"modal\")",
         ),
         (
             edited(
@@ -404,7 +404,7 @@ fn dynamic_linearize_at_writes_modes_and_matrices() {
         ),
         (
             "[analysis]\nkind = \"modal\"\nlinearize_at = 0.1",
-            "linearize_at applies only to kind = \"dynamic\"",
+            "kind = \"modal\" does not take \"linearize_at\" (it applies to kind = \"dynamic\"",
         ),
     ] {
         let o = run_text("run", &model(analysis));

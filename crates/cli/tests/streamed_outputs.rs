@@ -8,9 +8,10 @@
 mod common;
 
 use cardan_asmt::solved::{self, SeriesPlan};
-use cardan_cli::commands::asmt::{Analysis, AsmtOptions, Units};
-use cardan_cli::commands::run::{analyse, run_model, run_model_with, RunFlags};
-use cardan_cli::commands::{prepare, prepare_with};
+use cardan_cli::commands::run::{run_model, run_model_with};
+use cardan_model::analysis::{analyse, RunFlags};
+use cardan_model::asmt::{Analysis, AsmtOptions, Units};
+use cardan_model::prepare::{prepare, prepare_with};
 use common::{edited, scratch};
 use std::path::{Path, PathBuf};
 

@@ -20,6 +20,9 @@ pub enum DynamicsError {
     BadForce {
         /// The force element.
         force: String,
+        /// The key of the element the reason is about (`stiffness`, `body_j`...), when one is;
+        /// a front end places the error there.
+        key: Option<&'static str>,
         /// What is wrong.
         reason: String,
     },

@@ -253,6 +253,18 @@ impl Force {
         }
     }
 
+    /// Checks the element against `model` as [`crate::Dynamics::add_force`] does (its bodies,
+    /// points and joint exist; coefficients ≥ 0; a spring between two bodies that does
+    /// something; a rotational spring on a joint with an angle and x axes), without building
+    /// the dynamics (which needs every body's mass): the one validation of a force element,
+    /// for front ends to run when a model is read.
+    ///
+    /// # Errors
+    /// [`DynamicsError::BadForce`] naming the element and, where it is one key's, the key.
+    pub fn validate(&self, model: &Model) -> Result<(), DynamicsError> {
+        Resolved::resolve(model, self).map(drop)
+    }
+
     /// The element's name ("gravity" for gravity).
     pub fn name(&self) -> &str {
         match self {
@@ -434,40 +446,126 @@ fn continued(theta: f64, reference: f64, theta0: f64) -> f64 {
     unwrap_angle(from, theta)
 }
 
-impl Resolved {
-    pub(crate) fn resolve(model: &Model, f: &Force) -> Result<Self, DynamicsError> {
-        let bad = |reason: String| DynamicsError::BadForce {
-            force: f.name().into(),
+/// The checks of one force element against the model while it is resolved: each failure a
+/// [`DynamicsError::BadForce`] naming the element.
+struct Checks<'a> {
+    model: &'a Model,
+    force: &'a str,
+}
+
+impl Checks<'_> {
+    /// A failure of the element as a whole.
+    fn bad(&self, reason: String) -> DynamicsError {
+        DynamicsError::BadForce {
+            force: self.force.into(),
+            key: None,
             reason,
-        };
-        let body = |name: &str, moving: bool| -> Result<BodyId, DynamicsError> {
-            match model.body_id(name) {
-                Some(BodyId::Ground) if moving => Err(bad("acts on ground".into())),
-                Some(id) => Ok(id),
-                None => Err(bad(format!("unknown body \"{name}\""))),
+        }
+    }
+
+    /// A failure of the element's entry `key` (so a model file can point at its line).
+    fn at(&self, key: &'static str, reason: String) -> DynamicsError {
+        DynamicsError::BadForce {
+            force: self.force.into(),
+            key: Some(key),
+            reason,
+        }
+    }
+
+    /// The body `name` (entry `key`), which must be a moving body when `moving`.
+    fn body(&self, key: &'static str, name: &str, moving: bool) -> Result<BodyId, DynamicsError> {
+        match self.model.body_id(name) {
+            Some(BodyId::Ground) if moving => Err(self.at(
+                key,
+                "a force on the ground does nothing; name a moving body".into(),
+            )),
+            Some(id) => Ok(id),
+            None => Err(self.at(key, format!("unknown body \"{name}\""))),
+        }
+    }
+
+    /// The local coordinates of the point `p` on body `b` (finite, or a named point of `b`).
+    fn point(
+        &self,
+        key: &'static str,
+        b: &str,
+        p: &PointRef,
+    ) -> Result<Vector3<f64>, DynamicsError> {
+        let model = self.model;
+        match p {
+            PointRef::Local(v) if v.iter().all(|x| x.is_finite()) => Ok(*v),
+            PointRef::Local(_) => Err(self.at(key, "point is not finite".into())),
+            PointRef::Named(n) => model
+                .point_index(b, n)
+                .map(|i| model.points()[i].local)
+                .ok_or_else(|| self.at(key, format!("unknown point \"{n}\" on body \"{b}\""))),
+        }
+    }
+
+    /// A coefficient (entry `key`) that must be finite and not negative.
+    fn nonneg(&self, key: &'static str, v: f64) -> Result<(), DynamicsError> {
+        if v.is_finite() && v >= 0.0 {
+            Ok(())
+        } else {
+            Err(self.at(key, format!("{key} must be finite and ≥ 0, got {v}")))
+        }
+    }
+
+    /// The free length of a spring between point `pi` of `bi` and `pj` of `bj`: the file's
+    /// (checked), or the distance between the points at the model's initial poses.
+    fn free_length(
+        &self,
+        given: Option<f64>,
+        (bi, pi): (BodyId, &Vector3<f64>),
+        (bj, pj): (BodyId, &Vector3<f64>),
+    ) -> Result<f64, DynamicsError> {
+        if let Some(l) = given {
+            self.nonneg("free_length", l)?;
+            return Ok(l);
+        }
+        let at = |id: BodyId, s: &Vector3<f64>| match id {
+            BodyId::Ground => *s,
+            BodyId::Moving(k) => {
+                let b = &self.model.bodies()[k];
+                BodyState::at(b.initial_r, b.initial_p).point(s)
             }
         };
-        let point = |b: &str, p: &PointRef| -> Result<Vector3<f64>, DynamicsError> {
-            match p {
-                PointRef::Local(v) if v.iter().all(|x| x.is_finite()) => Ok(*v),
-                PointRef::Local(_) => Err(bad("point is not finite".into())),
-                PointRef::Named(n) => model
-                    .point_index(b, n)
-                    .map(|i| model.points()[i].local)
-                    .ok_or_else(|| bad(format!("unknown point \"{n}\" on body \"{b}\""))),
-            }
-        };
-        let nonneg = |what: &str, v: f64| {
-            if v.is_finite() && v >= 0.0 {
-                Ok(())
-            } else {
-                Err(bad(format!("{what} must be finite and ≥ 0, got {v}")))
-            }
+        Ok((at(bj, pj) - at(bi, pi)).norm())
+    }
+
+    /// The index of the joint of a rotational spring: a joint with a rotation angle.
+    fn rotational_joint(&self, joint: &str) -> Result<usize, DynamicsError> {
+        let model = self.model;
+        let j = model
+            .joint_index(joint)
+            .ok_or_else(|| self.at("joint", format!("unknown joint \"{joint}\"")))?;
+        let info = model.joints()[j].joint.kind().info();
+        if info.rotation.is_none() {
+            return Err(self.at(
+                "joint",
+                format!(
+                    "joint \"{joint}\" is a {} joint; a rotational spring acts on the angle of {}",
+                    info.name,
+                    cardan_mechanism::kinds_with(|k| k.rotation.is_some())
+                ),
+            ));
+        }
+        Ok(j)
+    }
+}
+
+impl Resolved {
+    /// The element `f` checked against the model, its bodies, points and joint resolved to
+    /// indices and local coordinates ([`Checks`]).
+    pub(crate) fn resolve(model: &Model, f: &Force) -> Result<Self, DynamicsError> {
+        let checks = Checks {
+            model,
+            force: f.name(),
         };
         Ok(match f {
             Force::Gravity { g } => {
                 if !g.iter().all(|x| x.is_finite()) {
-                    return Err(bad("gravity is not finite".into()));
+                    return Err(checks.bad("gravity is not finite".into()));
                 }
                 Resolved::Gravity(*g)
             }
@@ -478,8 +576,8 @@ impl Resolved {
                 frame,
                 ..
             } => Resolved::PointForce {
-                body: body(b, true)?,
-                point: point(b, p)?,
+                body: checks.body("body", b, true)?,
+                point: checks.point("point", b, p)?,
                 value: value.clone(),
                 frame: *frame,
             },
@@ -489,7 +587,7 @@ impl Resolved {
                 frame,
                 ..
             } => Resolved::Torque {
-                body: body(b, true)?,
+                body: checks.body("body", b, true)?,
                 value: value.clone(),
                 frame: *frame,
             },
@@ -504,33 +602,29 @@ impl Resolved {
                 actuator,
                 ..
             } => {
-                let bi = body(body_i, false)?;
-                let bj = body(body_j, false)?;
+                let bi = checks.body("body_i", body_i, false)?;
+                let bj = checks.body("body_j", body_j, false)?;
                 if bi == bj {
-                    return Err(bad("both points are on the same body".into()));
+                    return Err(checks.at(
+                        "body_j",
+                        format!("both points are on body \"{body_i}\"; the spring cannot stretch"),
+                    ));
                 }
-                let pi = point(body_i, point_i)?;
-                let pj = point(body_j, point_j)?;
-                nonneg("stiffness", *stiffness)?;
-                nonneg("damping", *damping)?;
-                let l0 = match free_length {
-                    Some(l) => {
-                        nonneg("free length", *l)?;
-                        *l
-                    }
-                    None => {
-                        let at = |id: BodyId, s: &Vector3<f64>| match id {
-                            BodyId::Ground => *s,
-                            BodyId::Moving(k) => {
-                                let b = &model.bodies()[k];
-                                BodyState::at(b.initial_r, b.initial_p).point(s)
-                            }
-                        };
-                        (at(bj, &pj) - at(bi, &pi)).norm()
-                    }
-                };
+                let pi = checks.point("point_i", body_i, point_i)?;
+                let pj = checks.point("point_j", body_j, point_j)?;
+                checks.nonneg("stiffness", *stiffness)?;
+                checks.nonneg("damping", *damping)?;
+                if *stiffness == 0.0 && *damping == 0.0 && actuator.is_none() {
+                    return Err(checks.bad(
+                        "stiffness, damping and actuator are all absent or zero, so the element \
+                         does nothing"
+                            .into(),
+                    ));
+                }
+                let l0 = checks.free_length(*free_length, (bi, &pi), (bj, &pj))?;
                 if let Some(a) = actuator {
-                    a.validate().map_err(|e| bad(format!("actuator: {e}")))?;
+                    a.validate()
+                        .map_err(|e| checks.at("actuator", format!("actuator: {e}")))?;
                 }
                 Resolved::Spring {
                     bi,
@@ -550,30 +644,22 @@ impl Resolved {
                 rest_angle,
                 ..
             } => {
-                let j = model
-                    .joint_index(joint)
-                    .ok_or_else(|| bad(format!("unknown joint \"{joint}\"")))?;
-                let info = model.joints()[j].joint.kind().info();
-                if info.rotation.is_none() {
-                    return Err(bad(format!(
-                        "joint \"{joint}\" is a {} joint; a rotational spring acts on the angle \
-                         of {}",
-                        info.name,
-                        cardan_mechanism::kinds_with(|k| k.rotation.is_some())
-                    )));
-                }
-                nonneg("stiffness", *stiffness)?;
-                nonneg("damping", *damping)?;
+                let j = checks.rotational_joint(joint)?;
+                checks.nonneg("stiffness", *stiffness)?;
+                checks.nonneg("damping", *damping)?;
                 if *stiffness != 0.0 && !model.joints()[j].has_x_axes {
-                    return Err(bad(format!(
+                    return Err(checks.at(
+                        "joint",
+                        format!(
                         "joint \"{joint}\" has no x axes, so the spring's angle has no defined \
                          zero; the angle is measured from x_axis_i to x_axis_j about axis_i: add \
                          x_axis_i and x_axis_j to the joint (pointing them the same way at the \
                          drawn pose makes the drawn angle 0)"
-                    )));
+                    ),
+                    ));
                 }
                 if !rest_angle.is_finite() {
-                    return Err(bad("rest angle is not finite".into()));
+                    return Err(checks.at("rest_angle", "rest_angle is not finite".into()));
                 }
                 Resolved::Rotational {
                     joint: j,

@@ -224,6 +224,7 @@ impl Dynamics<'_> {
             let row = self.driver_row(name)?;
             let Some(i) = active.iter().position(|&r| r == row) else {
                 return Err(DynamicsError::BadForce {
+                    key: None,
                     force: name.clone(),
                     reason: format!("the equation of driver \"{name}\" was dropped as redundant"),
                 });
@@ -260,6 +261,7 @@ impl Dynamics<'_> {
     /// The model row of the one-equation driver `name`.
     pub(crate) fn driver_row(&self, name: &str) -> Result<usize, DynamicsError> {
         let bad = |reason: String| DynamicsError::BadForce {
+            key: None,
             force: name.to_string(),
             reason,
         };

@@ -246,7 +246,7 @@ impl Dopri5Options {
             "above 1e-2 the result has no correct digits",
         )?;
         match self.step {
-            StepControl::Fixed(h) => step_size("step", h)?,
+            StepControl::Fixed(h) => step_size("dt", h)?,
             StepControl::Adaptive { initial: Some(h) } => step_size("initial", h)?,
             StepControl::Adaptive { initial: None } => {}
         }
@@ -297,13 +297,14 @@ pub enum IterationMatrix {
 /// Options of the generalized-α integrator (index 3, Newton on [v̇, λ]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GeneralizedAlphaOptions {
-    /// Step h (s); steps are shortened to land on output times.
-    pub h: f64,
+    /// Time step dt (s), the file's `dt` (h in the books' formulas); steps are shortened to
+    /// land on output times.
+    pub dt: f64,
     /// Spectral radius at infinite frequency ρ∞ ∈ [0, 1] (default 0.8; 1 = no numerical
     /// damping, trapezoidal-like).
     pub rho_inf: f64,
-    /// Newton tolerance on the scaled residual (default 1e-10).
-    pub tolerance: f64,
+    /// Newton tolerance on the scaled residual (default 1e-10), the file's `newton_tolerance`.
+    pub newton_tolerance: f64,
     /// Newton iteration cap per step (default 20).
     pub max_iterations: usize,
     /// Halve the step (down to h / 2^`max_halvings`) when Newton fails (default 6).
@@ -323,9 +324,9 @@ pub struct GeneralizedAlphaOptions {
 impl Default for GeneralizedAlphaOptions {
     fn default() -> Self {
         Self {
-            h: 1e-3,
+            dt: 1e-3,
             rho_inf: 0.8,
-            tolerance: 1e-10,
+            newton_tolerance: 1e-10,
             max_iterations: 20,
             max_halvings: 6,
             project_velocities: true,
@@ -336,10 +337,10 @@ impl Default for GeneralizedAlphaOptions {
 }
 
 impl GeneralizedAlphaOptions {
-    /// Step h, other options default.
-    pub fn with_step(h: f64) -> Self {
+    /// Time step `dt`, other options default.
+    pub fn with_step(dt: f64) -> Self {
         Self {
-            h,
+            dt,
             ..Self::default()
         }
     }
@@ -351,7 +352,7 @@ impl GeneralizedAlphaOptions {
     /// # Errors
     /// The first option out of range.
     pub fn validate(&self) -> Result<(), OptionError> {
-        step_size("h", self.h)?;
+        step_size("dt", self.dt)?;
         within(
             "rho_inf",
             self.rho_inf,
@@ -359,7 +360,7 @@ impl GeneralizedAlphaOptions {
             "[0, 1] (default 0.8)",
             "the spectral radius at infinite frequency: 1 = no numerical damping, 0 = the most",
         )?;
-        newton_tolerance("tolerance", self.tolerance)?;
+        newton_tolerance("newton_tolerance", self.newton_tolerance)?;
         within(
             "max_iterations",
             self.max_iterations as f64,

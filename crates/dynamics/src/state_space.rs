@@ -110,6 +110,7 @@ impl Dynamics<'_> {
         let dof = lin.dof();
         let n = lin.basis.nrows();
         let bad = |what: &str, reason: String| DynamicsError::BadForce {
+            key: None,
             force: what.to_string(),
             reason,
         };

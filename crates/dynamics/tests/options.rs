@@ -28,7 +28,7 @@ fn refused(integrator: Integrator) -> Option<String> {
 fn a_loose_newton_tolerance_is_refused() {
     let ga = |o: GeneralizedAlphaOptions| refused(Integrator::GeneralizedAlpha(o));
     let m = ga(GeneralizedAlphaOptions {
-        tolerance: 1.0,
+        newton_tolerance: 1.0,
         ..GeneralizedAlphaOptions::with_step(1e-3)
     })
     .expect("tolerance 1.0 must be refused");
@@ -59,7 +59,7 @@ fn meaningless_dopri5_tolerances_and_steps_are_refused() {
         (Dopri5Options::tolerances(1e-20, 1e-8), "rtol = 1e-20"),
         (Dopri5Options::tolerances(1e-6, 0.0), "atol = 0"),
         (Dopri5Options::tolerances(1e-6, 1.0), "atol = 1"),
-        (Dopri5Options::fixed(-1e-3), "step = -0.001"),
+        (Dopri5Options::fixed(-1e-3), "dt = -0.001"),
         (
             Dopri5Options {
                 h_max: 0.0,

@@ -127,7 +127,7 @@ fn dopri5() -> Integrator {
 
 fn gen_alpha(h: f64) -> Integrator {
     Integrator::GeneralizedAlpha(GeneralizedAlphaOptions {
-        h,
+        dt: h,
         ..GeneralizedAlphaOptions::default()
     })
 }

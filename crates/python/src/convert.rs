@@ -1,8 +1,8 @@
 //! Conversions between cardan's data and the plain Python data the package wraps: tables as
 //! packed `float64` rows, errors as dicts.
 
-use cardan_cli::table::Table;
 use cardan_cli::{Error, ErrorKind};
+use cardan_model::table::Table;
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyTuple};
 

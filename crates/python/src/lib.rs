@@ -24,14 +24,14 @@
 mod analysis;
 mod convert;
 
-use cardan_cli::commands::run::{analyse, animation, run_json, RunFlags};
-use cardan_cli::commands::{analysis_error, prepare_source};
-use cardan_cli::diag::Source;
-use cardan_cli::output::PlotFiles;
-use cardan_cli::progress;
-use cardan_cli::table::Table;
 use cardan_cli::Error;
 use cardan_mechanism::AssemblyOptions;
+use cardan_model::analysis::{analyse, animation, run_json, RunFlags};
+use cardan_model::diag::Source;
+use cardan_model::plot::PlotFiles;
+use cardan_model::prepare::{analysis_error, prepare_source};
+use cardan_model::progress;
+use cardan_model::table::Table;
 use convert::{error_dict, table_tuple, ErrorData};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -325,7 +325,7 @@ fn import_asmt<'py>(
     units: &str,
     inverse_dynamics: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
-    use cardan_cli::commands::asmt::{import_source, Analysis, Units};
+    use cardan_model::asmt::{import_source, Analysis, Units};
     let units = match units {
         "si" | "SI" => Units::Si,
         "mm" => Units::Mm,

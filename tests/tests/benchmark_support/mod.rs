@@ -8,8 +8,8 @@
 
 #![allow(dead_code)]
 
-use cardan_cli::commands::{prepare, Prepared};
 use cardan_dynamics::{DynamicResults, Integrator};
+use cardan_model::prepare::{prepare, Prepared};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -50,11 +50,11 @@ pub struct Run {
 /// integrator settings (`None`) or others.
 pub fn run(p: &Prepared, integrator: Option<Integrator>, t_end: f64, times: Vec<f64>) -> Run {
     let mut opts =
-        cardan_cli::commands::run::dynamic::options(p, integrator).expect("dynamic analysis");
+        cardan_model::analysis::dynamic::options(p, integrator).expect("dynamic analysis");
     opts.t_end = t_end;
     let opts = opts.output_times(times);
-    let mut d = cardan_cli::commands::run::dynamic::dynamics(p).expect("dynamics");
-    let s = cardan_cli::commands::run::dynamic::initial_state(p);
+    let mut d = cardan_model::analysis::dynamic::dynamics(p).expect("dynamics");
+    let s = cardan_model::analysis::dynamic::initial_state(p);
     let start = Instant::now();
     let results = match d.simulate(&s, &opts) {
         Ok(r) => r,
@@ -96,7 +96,7 @@ pub fn describe(i: &Integrator) -> (String, String) {
         ),
         Integrator::GeneralizedAlpha(o) => (
             "generalized-α".into(),
-            format!("h = {:e} s, ρ∞ = {}", o.h, o.rho_inf),
+            format!("dt = {:e} s, ρ∞ = {}", o.dt, o.rho_inf),
         ),
     }
 }
@@ -120,10 +120,10 @@ pub fn dopri5(rtol: f64, atol: f64) -> Integrator {
     Integrator::Dopri5(cardan_dynamics::Dopri5Options::tolerances(rtol, atol))
 }
 
-/// Generalized-α with step h and ρ∞.
-pub fn gen_alpha(h: f64, rho_inf: f64) -> Integrator {
+/// Generalized-α with time step dt and ρ∞.
+pub fn gen_alpha(dt: f64, rho_inf: f64) -> Integrator {
     Integrator::GeneralizedAlpha(cardan_dynamics::GeneralizedAlphaOptions {
-        h,
+        dt,
         rho_inf,
         ..Default::default()
     })

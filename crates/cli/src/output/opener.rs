@@ -144,6 +144,12 @@ impl From<File> for PendingFile {
     }
 }
 
+impl cardan_model::files::StreamFile for PendingFile {
+    fn close(mut self: Box<Self>) -> std::io::Result<()> {
+        self.file().map(drop)
+    }
+}
+
 impl Write for PendingFile {
     fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
         self.file()?.write(buf)

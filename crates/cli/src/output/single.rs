@@ -6,7 +6,7 @@
 //! not by name, so `./m.asmt`, a hard link or a symbolic link to it are caught) is refused
 //! before anything is written.
 
-use crate::diag::{describe_io, Error};
+use cardan_model::diag::{describe_io, Error};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 

@@ -134,19 +134,9 @@ impl Stepper for Dopri5 {
         o: &Dopri5Options,
         t_end: f64,
     ) -> Result<Self, DynamicsError> {
-        if !(o.rtol > 0.0 && o.atol > 0.0 && o.rtol.is_finite() && o.atol.is_finite()) {
-            return Err(DynamicsError::Options(format!(
-                "DOPRI5 tolerances must be positive (rtol = {}, atol = {})",
-                o.rtol, o.atol
-            )));
-        }
-        if let StepControl::Fixed(h) = o.step {
-            if !(h > 0.0 && h.is_finite()) {
-                return Err(DynamicsError::Options(format!(
-                    "fixed step must be positive, got {h}"
-                )));
-            }
-        }
+        // The options' one validation (the same messages as the driver loop's).
+        o.validate()
+            .map_err(|e| DynamicsError::Options(e.to_string()))?;
         let len = state.q.len() + state.v.len();
         let nw = d.num_work_channels();
         let mut stepper = Self {

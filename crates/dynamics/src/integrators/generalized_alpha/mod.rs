@@ -205,18 +205,9 @@ impl Stepper for GeneralizedAlpha {
         o: &GeneralizedAlphaOptions,
         _t_end: f64,
     ) -> Result<Self, DynamicsError> {
-        if !(o.h > 0.0 && o.h.is_finite()) {
-            return Err(DynamicsError::Options(format!(
-                "generalized-α step must be positive, got {}",
-                o.h
-            )));
-        }
-        if !(0.0..=1.0).contains(&o.rho_inf) {
-            return Err(DynamicsError::Options(format!(
-                "ρ∞ must be in [0, 1], got {}",
-                o.rho_inf
-            )));
-        }
+        // The options' one validation (the same messages as the driver loop's).
+        o.validate()
+            .map_err(|e| DynamicsError::Options(e.to_string()))?;
         let n = state.v.len();
         let na = d.kkt.as_ref().expect("prepared").active.len();
         let m = d.model.num_equations();
@@ -261,7 +252,7 @@ impl Stepper for GeneralizedAlpha {
         // (A step up to 1e-6 longer than h rather than an extra one: the roundoff of the
         // accumulated time, about 1e-8 h after 1000 steps, must not add a step.)
         let rest = target - self.n.s.t;
-        let nsub = ((rest / self.o.h) - 1e-6).ceil().max(1.0);
+        let nsub = ((rest / self.o.dt) - 1e-6).ceil().max(1.0);
         let h = if nsub <= 1.0 { rest } else { rest / nsub };
         self.converge(d, h)?;
         self.accept(d, target)?;

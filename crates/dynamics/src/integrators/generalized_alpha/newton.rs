@@ -137,7 +137,7 @@ impl Newton {
             inc: f64::INFINITY,
         };
         let mut plan = policy.plan(reuse, tangent, h);
-        let tol = o.tolerance.max(1e-14);
+        let tol = o.newton_tolerance.max(1e-14);
         // The fraction of the first update (see `chord_small` below) only without dropped
         // (redundant) rows: the kept rows hold to the tolerance at every iterate, but a dropped
         // row is held only through the accelerations, and near a singular configuration an

@@ -1,0 +1,104 @@
+//! Doubtful results as warnings, one sentence each (printed after the summary line, written to
+//! `run.json`): a joint equation dropped as redundant that the solution does not satisfy
+//! ([`dropped_row_warnings`], every kind of run), and for a dynamic run an energy balance beyond
+//! [`ENERGY_BALANCE_BOUND`] of the energy scale or a constraint drift beyond the integrator's
+//! tolerance ([`doubtful`], [`drift_bound`]). The numbers come from every frame
+//! ([`DynamicTally`]), not from the decimated copy.
+
+use super::energy::ENERGY_BALANCE_BOUND;
+use super::tally::DynamicTally;
+use crate::prepare::Prepared;
+use cardan_constraints::Dimension;
+use cardan_dynamics::{DynamicResults, Integrator};
+use cardan_mechanism::DroppedRowResidual;
+
+/// One warning per joint whose equation was dropped as redundant but not satisfied at the
+/// solution (its worst residual in the model's units, relative to the model's size, and when;
+/// `cardan_mechanism::analysis::dropped`).
+pub fn dropped_row_warnings(p: &Prepared, rows: &[DroppedRowResidual]) -> Vec<String> {
+    rows.iter()
+        .map(|d| {
+            let (unit, factor) = p.units.unit("m");
+            let value = match d.dimension {
+                Dimension::Dimensionless => format!("{:.2e}", d.value.abs()),
+                Dimension::Length => format!("{:.2e} {unit}", d.value.abs() * factor),
+                Dimension::Area => format!("{:.2e} {unit}²", d.value.abs() * factor * factor),
+            };
+            format!(
+                "{} was dropped as redundant but is not satisfied: |Φ| = {value} ({:.2e} \
+                 relative to the model's size) at worst, at t = {} s; the model's redundant \
+                 joints disagree slightly, so the results satisfy the other equations exactly \
+                 and this one only approximately (make the joints' geometry consistent, or use \
+                 a joint with fewer equations to remove the redundancy)",
+                d.equation, d.residual, d.time
+            )
+        })
+        .collect()
+}
+
+/// The constraint drift a run may show: the integrator's tolerance on the scaled residual
+/// (at least 1e-12, the round-off of a converged projection) times the largest equation scale
+/// (the model's length for point equations), in m or -.
+pub fn drift_bound(p: &Prepared, integrator: &Integrator) -> f64 {
+    let tol = match integrator {
+        Integrator::Dopri5(o) => o.projection_tolerance,
+        Integrator::GeneralizedAlpha(o) => o.newton_tolerance,
+    };
+    let scale = p
+        .model
+        .equation_scales()
+        .iter()
+        .fold(1.0f64, |a, &s| a.max(s));
+    tol.max(1e-12) * scale
+}
+
+/// Warnings about doubtful results of a dynamic run: an energy balance beyond
+/// [`ENERGY_BALANCE_BOUND`] of the energy scale (the energy change that the work of the
+/// drivers and non-conservative forces does not explain: checked for every model, driven,
+/// damped or conservative), a row dropped as redundant that stays off by more than the kept
+/// rows drift (the redundant joints disagree), a constraint drift beyond [`drift_bound`].
+pub fn doubtful_results(p: &Prepared, r: &DynamicResults, integrator: &Integrator) -> Vec<String> {
+    let tally = DynamicTally::of(r);
+    doubtful(p, &tally, &r.kinematics.dropped_rows, integrator)
+}
+
+/// [`doubtful_results`] from the run's numbers over every stored time (`tally`, taken as the
+/// times were streamed, not from a decimated copy) and its dropped rows.
+pub fn doubtful(
+    p: &Prepared,
+    tally: &DynamicTally,
+    dropped_rows: &[cardan_mechanism::DroppedRowResidual],
+    integrator: &Integrator,
+) -> Vec<String> {
+    let mut warnings = Vec::new();
+    let balance = tally.max_balance;
+    let scale = tally.energy_scale();
+    if balance > ENERGY_BALANCE_BOUND * scale {
+        warnings.push(format!(
+            "energy balance {balance:.3e} J (the energy change less the work of the drivers and \
+             non-conservative forces) is {:.1} % of the model's energy scale {scale:.3e} J \
+             (largest kinetic energy + range of the potential energy + largest work of each \
+             driver and non-conservative force), more than the {} % allowed: the integration \
+             is inaccurate or unstable; use a smaller step (dt) or tighter tolerances (rtol, \
+             atol)",
+            100.0 * balance / scale,
+            100.0 * ENERGY_BALANCE_BOUND
+        ));
+    }
+    warnings.extend(dropped_row_warnings(p, dropped_rows));
+    let worst = tally.max_drift;
+    let bound = drift_bound(p, integrator);
+    // A drift no larger than the dropped rows' disagreement is that disagreement (warned above),
+    // not an integration error.
+    let disagreement = dropped_rows
+        .iter()
+        .fold(0.0f64, |a, d| a.max(d.value.abs()));
+    if (worst > bound && worst > disagreement) || worst.is_nan() {
+        warnings.push(format!(
+            "constraint drift {worst:.3e} (largest |Φ_i|, m or -) exceeds the tolerance \
+             {bound:.3e} (the integrator's tolerance times the model's length scale): the \
+             joints are not held closely; use a smaller step (dt) or tighter tolerances"
+        ));
+    }
+    warnings
+}

@@ -1,0 +1,279 @@
+//! `cardan check MODEL.toml`: validate and describe a model.
+
+use crate::diag::Error;
+use crate::output_tables::{g, io, write_table};
+use crate::prepare::{analysis_error, prepare_with, Prepared};
+use cardan_mechanism::{AnalysisError, AssemblyOptions, DofReport, Model, Workspace};
+use std::io::Write;
+use std::path::Path;
+
+/// Validates the model and prints bodies, joints with equation counts, DOF and redundancy.
+///
+/// # Errors
+/// Any input error; an assembly that cannot close; a driver count that does not match the DOF
+/// of a kinematic analysis (after printing the description).
+pub fn check(path: &Path, out: &mut dyn Write) -> Result<(), Error> {
+    check_with(path, super::asmt::AsmtOptions::default(), out)
+}
+
+/// [`check`] reading an ASMT file as `options` say; the import's warnings follow the
+/// description (`warning: <file>:<line>: …`, as in a run's summary).
+///
+/// # Errors
+/// As [`check`].
+pub fn check_with(
+    path: &Path,
+    options: super::asmt::AsmtOptions,
+    out: &mut dyn Write,
+) -> Result<(), Error> {
+    let p = prepare_with(path, options)?;
+    describe(&p, path, out)?;
+    for w in &p.warnings {
+        writeln!(out, "warning: {w}").map_err(io)?;
+    }
+    Ok(())
+}
+
+/// The description `check` prints, and its refusals.
+fn describe(p: &Prepared, path: &Path, out: &mut dyn Write) -> Result<(), Error> {
+    // The animation's geometry (mesh files included), as `cardan run` checks it.
+    p.geometry.as_ref().map_err(Clone::clone)?;
+    let model = &p.model;
+    let t0 = p.loaded.analysis.as_ref().map_or(0.0, |a| a.t_start);
+    let mut ws = model.workspace();
+    let opts = AssemblyOptions {
+        include_drivers: false,
+        ..AssemblyOptions::at(t0)
+    };
+    model
+        .assemble(&mut ws, &opts)
+        .map_err(|e| analysis_error(p, &e))?;
+    let dof = model.dof(&ws).map_err(|e| analysis_error(p, &e))?;
+
+    writeln!(
+        out,
+        "model \"{}\" ({}): {}",
+        p.loaded.name,
+        path.display(),
+        p.units.describe()
+    )
+    .map_err(io)?;
+    write_bodies(p, &ws, out)?;
+    write_joints(model, out)?;
+    write_couplers(model, out)?;
+    write_drivers(p, out)?;
+    write_counts(model, &dof, out)?;
+    analysis_line(p, &mut ws, &dof, out)
+}
+
+/// The moving bodies: name, mass, assembled position (in the model's units) and columns.
+fn write_bodies(p: &Prepared, ws: &Workspace, out: &mut dyn Write) -> Result<(), Error> {
+    let model = &p.model;
+    writeln!(out, "\nbodies ({} moving, plus ground)", model.num_bodies()).map_err(io)?;
+    let (unit, length) = p.units.unit("m");
+    let position = format!("assembled position [{unit}]");
+    let rows: Vec<Vec<String>> = model
+        .bodies()
+        .iter()
+        .enumerate()
+        .map(|(k, b)| {
+            let r = ws.r(k) * length;
+            vec![
+                b.name.clone(),
+                b.mass.map_or("-".into(), g),
+                format!("({}, {}, {})", g(r.x), g(r.y), g(r.z)),
+                format!("{}..{}", 6 * k, 6 * k + 6),
+            ]
+        })
+        .collect();
+    write_table(
+        out,
+        &["name", "mass [kg]", position.as_str(), "columns"],
+        &rows,
+    )
+    .map_err(io)
+}
+
+/// The joints: name, type, bodies, equation count and rows.
+fn write_joints(model: &Model, out: &mut dyn Write) -> Result<(), Error> {
+    writeln!(out, "\njoints ({})", model.joints().len()).map_err(io)?;
+    let rows: Vec<Vec<String>> = model
+        .joints()
+        .iter()
+        .map(|j| {
+            vec![
+                j.name.clone(),
+                j.joint.kind().name().to_string(),
+                format!(
+                    "{} – {}",
+                    model.body_name(j.body_i),
+                    model.body_name(j.body_j)
+                ),
+                j.rows.len().to_string(),
+                format!("{}..{}", j.rows.start, j.rows.end),
+            ]
+        })
+        .collect();
+    write_table(out, &["name", "type", "bodies", "equations", "rows"], &rows).map_err(io)
+}
+
+/// The couplers (gears, racks, screws), when the model has any: name, type, joints and rows.
+fn write_couplers(model: &Model, out: &mut dyn Write) -> Result<(), Error> {
+    if model.couplers().is_empty() {
+        return Ok(());
+    }
+    writeln!(out, "\ncouplers ({})", model.couplers().len()).map_err(io)?;
+    let rows: Vec<Vec<String>> = model
+        .couplers()
+        .iter()
+        .map(|c| {
+            let joints: Vec<&str> = c
+                .coordinates
+                .iter()
+                .map(|q| model.joints()[q.joint].name.as_str())
+                .collect();
+            vec![
+                c.name.clone(),
+                c.kind().to_string(),
+                joints.join(" – "),
+                format!("{}..{}", c.rows.start, c.rows.end),
+            ]
+        })
+        .collect();
+    write_table(out, &["name", "type", "joints", "rows"], &rows).map_err(io)
+}
+
+/// The drivers: name, what each drives, equation count and rows.
+fn write_drivers(p: &Prepared, out: &mut dyn Write) -> Result<(), Error> {
+    let model = &p.model;
+    writeln!(out, "\ndrivers ({})", model.drivers().len()).map_err(io)?;
+    let rows: Vec<Vec<String>> = model
+        .drivers()
+        .iter()
+        .zip(&p.loaded.drivers)
+        .map(|(d, (_, what))| {
+            vec![
+                d.name.clone(),
+                what.clone(),
+                d.rows.len().to_string(),
+                format!("{}..{}", d.rows.start, d.rows.end),
+            ]
+        })
+        .collect();
+    write_table(out, &["name", "drives", "equations", "rows"], &rows).map_err(io)
+}
+
+/// The counts: unknowns and equations, the joint Jacobian's rank and the degrees of freedom
+/// (with Grübler's count beside), and the redundant equations.
+fn write_counts(model: &Model, dof: &DofReport, out: &mut dyn Write) -> Result<(), Error> {
+    writeln!(
+        out,
+        "\nunknowns: {} (6 per moving body); equations: {} joint + {} driver = {}",
+        model.num_unknowns(),
+        model.num_joint_equations(),
+        model.num_equations() - model.num_joint_equations(),
+        model.num_equations()
+    )
+    .map_err(io)?;
+    writeln!(
+        out,
+        "joint Jacobian rank {} → degrees of freedom: {} (Grübler count: {})",
+        dof.rank,
+        dof.dof,
+        model.num_unknowns() as i64 - model.num_joint_equations() as i64
+    )
+    .map_err(io)?;
+    if dof.redundant.is_empty() {
+        writeln!(out, "redundant equations: none").map_err(io)?;
+    } else {
+        writeln!(out, "redundant equations ({}):", dof.redundant.len()).map_err(io)?;
+        for e in &dof.redundant {
+            writeln!(out, "  row {}: {e}", e.row).map_err(io)?;
+        }
+    }
+    Ok(())
+}
+
+/// The line about the file's analysis: what a dynamic or static kind has to work with, or
+/// whether a kinematic or inverse dynamics analysis has as many drivers as degrees of freedom
+/// (and drivers that control the mechanism): its refusals are `run`'s.
+fn analysis_line(
+    p: &Prepared,
+    ws: &mut Workspace,
+    dof: &DofReport,
+    out: &mut dyn Write,
+) -> Result<(), Error> {
+    let model = &p.model;
+    if let Some(integrator) = p.loaded.analysis.as_ref().and_then(|a| a.integrator()) {
+        let name = match integrator {
+            cardan_dynamics::Integrator::Dopri5(_) => "DOPRI5",
+            cardan_dynamics::Integrator::GeneralizedAlpha(_) => "generalized-α",
+        };
+        writeln!(
+            out,
+            "dynamic analysis ({name}): {} DOF left free by the joints and {} driver{}; {} force element{}",
+            dof.dof.saturating_sub(dof.drivers),
+            dof.drivers,
+            if dof.drivers == 1 { "" } else { "s" },
+            p.loaded.forces.len(),
+            if p.loaded.forces.len() == 1 { "" } else { "s" },
+        )
+        .map_err(io)?;
+    } else if let Some(k) = p.loaded.analysis.as_ref().and_then(|a| a.statics()) {
+        // A static analysis needs no drivers: the free degrees of freedom settle under the loads.
+        writeln!(
+            out,
+            "{} analysis: {} DOF left free by the joints and {} driver{}; {} force element{}",
+            k.name(),
+            dof.dof.saturating_sub(dof.drivers),
+            dof.drivers,
+            if dof.drivers == 1 { "" } else { "s" },
+            p.loaded.forces.len(),
+            if p.loaded.forces.len() == 1 { "" } else { "s" },
+        )
+        .map_err(io)?;
+    } else if let Some(a) = &p.loaded.analysis {
+        if a.kind == crate::build::AnalysisKind::InverseDynamics
+            && (dof.dof != dof.drivers || dof.drivers == 0)
+        {
+            return Err(crate::prepare::not_fully_driven(p, dof.dof, dof.drivers));
+        }
+        if dof.dof == dof.drivers {
+            // What `run` refuses next: drivers that depend on the joints or on each other.
+            model
+                .prepare_kinematics(ws)
+                .map_err(|e| analysis_error(p, &e))?;
+            writeln!(
+                out,
+                "{}: {} driver{} for {} DOF: ok{}",
+                if a.kind == crate::build::AnalysisKind::InverseDynamics {
+                    "inverse dynamics"
+                } else {
+                    "kinematic analysis"
+                },
+                dof.drivers,
+                if dof.drivers == 1 { "" } else { "s" },
+                dof.dof,
+                if a.kind == crate::build::AnalysisKind::InverseDynamics {
+                    format!(
+                        "; {} force element{}",
+                        p.loaded.forces.len(),
+                        if p.loaded.forces.len() == 1 { "" } else { "s" }
+                    )
+                } else {
+                    String::new()
+                }
+            )
+            .map_err(io)?;
+        } else {
+            return Err(analysis_error(
+                p,
+                &AnalysisError::DriverCount {
+                    dof: dof.dof,
+                    drivers: dof.drivers,
+                },
+            ));
+        }
+    }
+    Ok(())
+}

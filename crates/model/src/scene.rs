@@ -1,0 +1,303 @@
+//! The animation's [`Scene`] from a model and its results: per body its poses at the output
+//! times, its named points, its colour (the plots' palette by body index) and its geometry:
+//! the model file's `geometry` items ([`crate::geometry`]) or, for a body without them, a
+//! picture derived from the model:
+//!
+//! - a rod (thin cylinder) from the body origin (its centre of mass) to each of its points, and
+//!   a small sphere at the origin;
+//! - at each joint, on body i (on body j when i is the ground): a sphere for a spherical joint
+//!   (and the other kinds without an axis), a short cylinder along the axis of a revolute,
+//!   cylindrical, universal or other axis joint, a block along the axis of a prismatic joint;
+//! - a small cube at each ground point.
+//!
+//! Sizes are fractions of the mechanism's extent L (the diagonal of the box around every body
+//! origin and point over the run): rods of radius L/100, joint parts of L/30, markers of L/60.
+
+use crate::geometry::Declared;
+use cardan_constraints::joints::Axes;
+use cardan_constraints::JointKind;
+use cardan_mechanism::{BodyId, Model, Results};
+use cardan_report::{
+    Body, BodyIncrement, Geometry, JointAxis, ModeShape, NamedPoint, Scene, Shape,
+};
+use nalgebra::{Matrix3, Vector3, Vector4};
+
+/// The scene of a run of `model` with `results`.
+pub fn scene(name: &str, model: &Model, results: &Results, declared: &Declared) -> Scene {
+    let extent = extent(model, results);
+    let mut points = points_by_body(model);
+    let histories: std::collections::HashMap<&str, &cardan_mechanism::BodyResults> = results
+        .bodies
+        .iter()
+        .map(|b| (b.name.as_str(), b))
+        .collect();
+    let mut bodies: Vec<Body> = model
+        .bodies()
+        .iter()
+        .enumerate()
+        .map(|(k, info)| {
+            let (positions, rotations) = match histories.get(info.name.as_str()) {
+                Some(h) => (
+                    h.r.iter().map(|r| [r.x, r.y, r.z]).collect(),
+                    h.p.iter().map(|p| [p[0], p[1], p[2], p[3]]).collect(),
+                ),
+                None => (vec![], vec![]),
+            };
+            Body {
+                name: info.name.clone(),
+                colour: cardan_report::palette_colour(k),
+                geometry: Vec::new(),
+                points: std::mem::take(&mut points[k]),
+                positions,
+                rotations,
+            }
+        })
+        .collect();
+    let ground = bodies.len();
+    bodies.push(Body {
+        name: cardan_mechanism::GROUND.into(),
+        colour: [0.35, 0.35, 0.37],
+        geometry: Vec::new(),
+        points: points.pop().unwrap_or_default(),
+        positions: vec![],
+        rotations: vec![],
+    });
+    let index = |id: BodyId| match id {
+        BodyId::Ground => ground,
+        BodyId::Moving(k) => k,
+    };
+    let derive: Vec<bool> = bodies
+        .iter()
+        .map(|b| !declared.bodies.contains_key(&b.name))
+        .collect();
+    for (k, b) in bodies.iter_mut().enumerate() {
+        match declared.bodies.get(&b.name) {
+            Some(items) => b.geometry = items.clone(),
+            None if k == ground => {
+                let cube = Shape::Box {
+                    size: [extent / 60.0; 3],
+                };
+                b.geometry = b
+                    .points
+                    .iter()
+                    .map(|p| Geometry::at(cube.clone(), p.local))
+                    .collect();
+            }
+            None => b.geometry = rods(&b.points, extent),
+        }
+    }
+    let mut axes = Vec::new();
+    for j in model.joints() {
+        let kind = j.joint.kind();
+        let (on, marker) = if j.body_i == BodyId::Ground {
+            (index(j.body_j), j.joint.marker_j())
+        } else {
+            (index(j.body_i), j.joint.marker_i())
+        };
+        if derive[on] {
+            bodies[on]
+                .geometry
+                .push(joint_part(kind, &marker.point, &marker.frame, extent));
+        }
+        if kind.info().axes != Axes::Unused {
+            for (id, m, side) in [
+                (j.body_i, j.joint.marker_i(), "i"),
+                (j.body_j, j.joint.marker_j(), "j"),
+            ] {
+                let z = m.frame.column(2);
+                axes.push(JointAxis {
+                    name: format!("{}.{side}", j.name),
+                    body: index(id),
+                    point: [m.point.x, m.point.y, m.point.z],
+                    direction: [z[0], z[1], z[2]],
+                });
+            }
+        }
+    }
+    Scene {
+        name: name.to_string(),
+        times: results.times.clone(),
+        bodies,
+        axes,
+        extent,
+    }
+}
+
+/// A modal run's `modes` as the report animates them: per body of the scene (the moving
+/// bodies in file order, then the ground, which does not move) the increment [δr; δp] of its
+/// body coordinates, δp = ½ Gᵀ(p₀) δθ at the equilibrium's Euler parameters p₀ (the first time
+/// of `results`).
+pub fn mode_shapes(
+    model: &Model,
+    results: &Results,
+    modes: &[cardan_dynamics::Mode],
+) -> Vec<ModeShape> {
+    if modes.is_empty() {
+        return Vec::new();
+    }
+    // By name through a map: a search of the result list per body was O(n²), 80 s of a
+    // 100,000-body run that has no modes at all.
+    let by_name: std::collections::HashMap<&str, &cardan_mechanism::BodyResults> = (results.bodies)
+        .iter()
+        .map(|b| (b.name.as_str(), b))
+        .collect();
+    let rest: Vec<Option<Vector4<f64>>> = (model.bodies().iter())
+        .map(|info| (by_name.get(info.name.as_str())).and_then(|b| b.p.first().copied()))
+        .collect();
+    modes
+        .iter()
+        .enumerate()
+        .map(|(i, m)| {
+            let mut bodies: Vec<BodyIncrement> = rest
+                .iter()
+                .zip(&m.shape)
+                .map(|(p0, s)| match p0 {
+                    Some(p0) => BodyIncrement {
+                        dr: s.translation.into(),
+                        dp: crate::analysis::modes::euler_increment(p0, &s.rotation).into(),
+                    },
+                    None => BodyIncrement::default(),
+                })
+                .collect();
+            bodies.resize(rest.len() + 1, BodyIncrement::default());
+            ModeShape {
+                number: i + 1,
+                kind: m.kind.name().to_string(),
+                frequency: m.frequency,
+                damping_ratio: m.damping_ratio,
+                bodies,
+            }
+        })
+        .collect()
+}
+
+/// The named points of each moving body (by index), then of the ground (last), in body
+/// coordinates.
+fn points_by_body(model: &Model) -> Vec<Vec<NamedPoint>> {
+    let n = model.bodies().len();
+    let mut out = vec![Vec::new(); n + 1];
+    for f in model.points() {
+        let k = match f.body {
+            BodyId::Ground => n,
+            BodyId::Moving(k) => k,
+        };
+        out[k].push(NamedPoint {
+            name: f.name.clone(),
+            local: [f.local.x, f.local.y, f.local.z],
+        });
+    }
+    out
+}
+
+/// The diagonal of the box around the ground points and every body origin and point over the
+/// run (1 m if that box is a point).
+fn extent(model: &Model, results: &Results) -> f64 {
+    let mut lo = Vector3::repeat(f64::INFINITY);
+    let mut hi = Vector3::repeat(f64::NEG_INFINITY);
+    let mut add = |v: Vector3<f64>| {
+        lo = lo.inf(&v);
+        hi = hi.sup(&v);
+    };
+    for f in model.points() {
+        if f.body == BodyId::Ground {
+            add(f.local);
+        }
+    }
+    let by_body = points_by_body(model);
+    let histories: std::collections::HashMap<&str, &cardan_mechanism::BodyResults> = results
+        .bodies
+        .iter()
+        .map(|b| (b.name.as_str(), b))
+        .collect();
+    for (k, info) in model.bodies().iter().enumerate() {
+        let Some(h) = histories.get(info.name.as_str()) else {
+            continue;
+        };
+        let pts: Vec<Vector3<f64>> = by_body[k].iter().map(|p| Vector3::from(p.local)).collect();
+        for (r, p) in h.r.iter().zip(&h.p) {
+            add(*r);
+            if pts.is_empty() {
+                continue;
+            }
+            let a = a_of(p);
+            for s in &pts {
+                add(r + a * s);
+            }
+        }
+    }
+    let d = (hi - lo).norm();
+    if d.is_finite() && d > 0.0 {
+        d
+    } else {
+        1.0
+    }
+}
+
+/// A(p) of possibly not exactly normalized Euler parameters.
+fn a_of(p: &Vector4<f64>) -> Matrix3<f64> {
+    cardan_eulerparam::a(&(p / p.norm()))
+}
+
+/// A sphere at the origin and a rod from it to each point.
+fn rods(points: &[NamedPoint], extent: f64) -> Vec<Geometry> {
+    let radius = extent / 100.0;
+    let mut out = vec![Geometry::at(
+        Shape::Sphere {
+            radius: 2.0 * radius,
+        },
+        [0.0; 3],
+    )];
+    for p in points {
+        let s = Vector3::from(p.local);
+        let length = s.norm();
+        if length < radius {
+            continue;
+        }
+        let mid = s / 2.0;
+        out.push(Geometry {
+            shape: Shape::Cylinder { radius, length },
+            position: [mid.x, mid.y, mid.z],
+            rotation: along(&s),
+        });
+    }
+    out
+}
+
+/// The part drawn at a joint: in the marker frame (columns x', y', z' in body coordinates) at
+/// `point`.
+fn joint_part(
+    kind: JointKind,
+    point: &Vector3<f64>,
+    frame: &Matrix3<f64>,
+    extent: f64,
+) -> Geometry {
+    let r = extent / 30.0;
+    let shape = match kind {
+        JointKind::Prismatic => Shape::Box {
+            size: [1.6 * r, 1.6 * r, 4.0 * r],
+        },
+        _ if kind.info().axes == Axes::Unused || kind == JointKind::Spherical => {
+            Shape::Sphere { radius: r }
+        }
+        _ => Shape::Cylinder {
+            radius: r,
+            length: 3.0 * r,
+        },
+    };
+    let rotation = cardan_eulerparam::EulerParams::from_rotation_matrix(frame)
+        .map(|p| [p.e0(), p.e().x, p.e().y, p.e().z])
+        .unwrap_or([1.0, 0.0, 0.0, 0.0]);
+    Geometry {
+        shape,
+        position: [point.x, point.y, point.z],
+        rotation,
+    }
+}
+
+/// Euler parameters of a frame whose z axis is along `s`.
+fn along(s: &Vector3<f64>) -> [f64; 4] {
+    cardan_eulerparam::frame_from_axis(s)
+        .and_then(|f| cardan_eulerparam::EulerParams::from_rotation_matrix(&f))
+        .map(|p| [p.e0(), p.e().x, p.e().y, p.e().z])
+        .unwrap_or([1.0, 0.0, 0.0, 0.0])
+}

@@ -1,0 +1,85 @@
+//! `[analysis.outputs]`: the output groups a run writes, and which analysis kinds take each.
+
+use super::{Default, Entry, Key, Value, Vocabulary};
+
+const POINTS: Key = Key::new(
+    "points",
+    Value::Names,
+    Default::Is("every named point of a moving body"),
+    "\"body.point\": positions, velocities and accelerations (points.csv, point_velocities.csv, point_accelerations.csv)",
+);
+const JOINTS: Key = Key::new(
+    "joints",
+    Value::Names,
+    Default::Is("every joint"),
+    "joint coordinates and their rates (joints.csv, joint_velocities.csv, joint_accelerations.csv)",
+);
+const BODIES: Key = Key::new(
+    "bodies",
+    Value::Names,
+    Default::Is("every moving body"),
+    "positions and Euler parameters (bodies.csv), velocities and accelerations",
+);
+const REACTIONS: Key = Key::new(
+    "reactions",
+    Value::Names,
+    Default::Is("every joint and coupler"),
+    "joints and couplers whose reactions are written (reactions.csv, reactions_local.csv)",
+)
+.elsewhere("a kinematic run has no forces");
+const ENERGY: Key = Key::new(
+    "energy",
+    Value::Flag,
+    Default::Is("true"),
+    "write energy.csv (energies, the power and work of drivers and non-conservative forces, the balance)",
+)
+.elsewhere("a kinematic run has no forces, a static one no motion to conserve energy along");
+
+const MOTION: &[Key] = &[POINTS, JOINTS, BODIES, REACTIONS, ENERGY];
+const STATIC: &[Key] = &[POINTS, JOINTS, BODIES, REACTIONS];
+
+/// The output groups, by analysis kind.
+pub const OUTPUTS: Vocabulary = Vocabulary {
+    what: "analysis kind",
+    table: "[analysis.outputs]",
+    selector: "kind",
+    common: &[],
+    entries: &[
+        Entry {
+            name: "kinematic",
+            aliases: &[],
+            summary: "positions, velocities and accelerations",
+            keys: &[POINTS, JOINTS, BODIES],
+        },
+        Entry {
+            name: "dynamic",
+            aliases: &[],
+            summary: "the kinematic groups, driver efforts, reactions, energy, constraint drift",
+            keys: MOTION,
+        },
+        Entry {
+            name: "inverse_dynamics",
+            aliases: &[],
+            summary: "the kinematic groups, driver efforts, reactions, energy",
+            keys: MOTION,
+        },
+        Entry {
+            name: "static",
+            aliases: &[],
+            summary: "poses, holding efforts, reactions, stability",
+            keys: STATIC,
+        },
+        Entry {
+            name: "quasi_static",
+            aliases: &[],
+            summary: "poses, holding efforts, reactions, stability at each time",
+            keys: STATIC,
+        },
+        Entry {
+            name: "modal",
+            aliases: &[],
+            summary: "the static groups, modes and mode shapes",
+            keys: STATIC,
+        },
+    ],
+};
