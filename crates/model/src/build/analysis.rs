@@ -6,16 +6,19 @@
 //! memory the run would store), the outputs' names, and the integrator's ranges (the library's,
 //! [`Integrator::validate`], placed at the key).
 
-use super::{
-    Analysis, AnalysisKind, Ctx, Outputs, Resolver, Spans, StaticKind, GROUND, MAX_STORED_FRAMES,
-};
+use super::context::{Ctx, Resolver};
+use super::loaded::{Analysis, AnalysisKind, Outputs, Spans, StaticKind};
 use crate::diag::{did_you_mean, Error};
 use crate::file::{AnalysisSection, Name, Num};
 use crate::vocabulary::{Entry, ANALYSES, INTEGRATORS, OUTPUTS};
 use cardan_dynamics::Force;
 use cardan_dynamics::{Dopri5Options, GeneralizedAlphaOptions, Integrator};
-use cardan_mechanism::KinematicOptions;
+use cardan_mechanism::{KinematicOptions, GROUND};
 use toml::Spanned;
+
+/// Most (output times) × (moving bodies + their points) a run may store: 10⁷, at most about
+/// 2.6 GB of results.
+pub const MAX_STORED_FRAMES: usize = 10_000_000;
 
 /// `[analysis]` (the section `section`, whose kind was checked by the vocabulary).
 pub(super) fn load_analysis(

@@ -3,7 +3,7 @@
 //! geometry of their axes) and the signs of radii and pitch are checked by the builder, whose
 //! errors [`super::Spans::locate`] places at the key.
 
-use super::{missing, Ctx};
+use super::context::{missing, Ctx};
 use crate::diag::Error;
 use crate::file::{CouplerSection, Name, Num};
 use cardan_mechanism::{CouplerSpec, GearRatio, Quantity};

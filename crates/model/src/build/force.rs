@@ -7,7 +7,9 @@
 //! ([`Force::validate`]) when the model is prepared, located at the key it names
 //! ([`super::Spans::force_keys`]).
 
-use super::{load_function, missing, Resolver, Spans};
+use super::context::{missing, Resolver};
+use super::driver::load_function;
+use super::loaded::Spans;
 use crate::diag::{did_you_mean, list, Error};
 use crate::file::{ForceSection, Name, Num};
 use crate::vocabulary::Entry;
