@@ -10,6 +10,7 @@ mod coupler;
 mod driver;
 mod force;
 mod joint;
+mod limit;
 mod loaded;
 
 pub use analysis::MAX_STORED_FRAMES;
@@ -89,6 +90,7 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
     load_couplers(&cx, file, &mut spans, &mut builder)?;
     let drivers = load_drivers(&resolver, file, &mut spans, &mut builder)?;
     load_forces(&resolver, file, &joints.kinds, &mut spans, &mut forces)?;
+    load_limits(&cx, file, &joints.kinds, &mut spans, &mut builder)?;
 
     spans.analysis = 0..0;
     let analysis = match &file.analysis {
@@ -255,6 +257,31 @@ fn load_joints(
         builder.joint(spec);
     }
     Ok(out)
+}
+
+/// `[[limit]]` and `[[friction]]`: each limit and joint friction (`build/limit.rs`).
+fn load_limits(
+    cx: &Ctx,
+    file: &ModelFile,
+    kinds: &HashMap<String, JointKind>,
+    spans: &mut Spans,
+    builder: &mut MechanismBuilder,
+) -> Result<(), Error> {
+    for section in &file.limit {
+        let l = section.get_ref();
+        check_unique_element(cx, spans, &l.name, "limit")?;
+        spans.limits.insert(l.name.get_ref().clone(), l.name.span());
+        builder.limit(limit::load_limit(cx, section, kinds)?);
+    }
+    for section in &file.friction {
+        let f = section.get_ref();
+        check_unique_element(cx, spans, &f.name, "friction")?;
+        spans
+            .frictions
+            .insert(f.name.get_ref().clone(), f.name.span());
+        builder.friction(limit::load_friction(cx, section, kinds)?);
+    }
+    Ok(())
 }
 
 /// `[[coupler]]`: each coupler, its kind checked against the coupler table.

@@ -61,6 +61,8 @@ fn describe(p: &Prepared, path: &Path, out: &mut dyn Write) -> Result<(), Error>
     write_bodies(p, &ws, out)?;
     write_joints(model, out)?;
     write_couplers(model, out)?;
+    write_limits(p, &ws, out)?;
+    write_frictions(p, out)?;
     write_drivers(p, out)?;
     write_counts(model, &dof, out)?;
     analysis_line(p, &mut ws, &dof, out)
@@ -141,6 +143,87 @@ fn write_couplers(model: &Model, out: &mut dyn Write) -> Result<(), Error> {
         })
         .collect();
     write_table(out, &["name", "type", "joints", "rows"], &rows).map_err(io)
+}
+
+/// The limits, when the model has any: name, joint and coordinate, range, law, the coordinate
+/// at the assembled pose and whether it respects the limit (the builder refuses a drawn pose
+/// beyond one).
+fn write_limits(p: &Prepared, ws: &Workspace, out: &mut dyn Write) -> Result<(), Error> {
+    let model = &p.model;
+    if model.limits().is_empty() {
+        return Ok(());
+    }
+    writeln!(out, "\nlimits ({})", model.limits().len()).map_err(io)?;
+    let status = model.stop_status(ws);
+    let rows: Vec<Vec<String>> = model
+        .limits()
+        .iter()
+        .enumerate()
+        .map(|(k, l)| {
+            let si = match l.measure.quantity() {
+                cardan_constraints::joints::CoordinateQuantity::Angle => "rad",
+                cardan_constraints::joints::CoordinateQuantity::Length => "m",
+            };
+            let (unit, f) = p.units.unit(si);
+            let bound = |b: Option<f64>| b.map_or("-".to_string(), |v| g(v * f));
+            let stops: Vec<usize> = (0..model.stops().len())
+                .filter(|&s| model.stops()[s].limit == k)
+                .collect();
+            let value = stops.first().map_or(f64::NAN, |&s| status[s].0);
+            let closed = stops.iter().any(|&s| status[s].1 <= 0.0);
+            let law = match &l.compliance {
+                Some(c) => format!(
+                    "compliant (k {}, c {}, n {})",
+                    g(c.stiffness),
+                    g(c.damping),
+                    g(c.exponent)
+                ),
+                None => format!("impact (e {})", g(l.restitution)),
+            };
+            vec![
+                l.name.clone(),
+                format!("{} of {}", l.coordinate, model.joints()[l.joint].name),
+                format!("[{}, {}] {unit}", bound(l.lower), bound(l.upper)),
+                law,
+                format!("{} {unit}", g(value * f)),
+                if closed { "on a stop" } else { "inside" }.to_string(),
+            ]
+        })
+        .collect();
+    write_table(
+        out,
+        &["name", "coordinate", "range", "law", "assembled", "pose"],
+        &rows,
+    )
+    .map_err(io)
+}
+
+/// The joint frictions, when the model has any: name, joint, μ, radius, preload.
+fn write_frictions(p: &Prepared, out: &mut dyn Write) -> Result<(), Error> {
+    let model = &p.model;
+    if model.frictions().is_empty() {
+        return Ok(());
+    }
+    writeln!(out, "\njoint friction ({})", model.frictions().len()).map_err(io)?;
+    let (unit, f) = p.units.unit("m");
+    let rows: Vec<Vec<String>> = model
+        .frictions()
+        .iter()
+        .map(|fr| {
+            vec![
+                fr.name.clone(),
+                model.joints()[fr.joint].name.clone(),
+                g(fr.coefficient),
+                if fr.radius > 0.0 {
+                    format!("{} {unit}", g(fr.radius * f))
+                } else {
+                    "-".into()
+                },
+                format!("{} N", g(fr.preload)),
+            ]
+        })
+        .collect();
+    write_table(out, &["name", "joint", "μ", "radius", "preload"], &rows).map_err(io)
 }
 
 /// The drivers: name, what each drives, equation count and rows.

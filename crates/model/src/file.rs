@@ -40,6 +40,12 @@ pub struct ModelFile {
     /// `[[force]]`: force elements (dynamic analysis).
     #[serde(default)]
     pub force: Vec<Spanned<ForceSection>>,
+    /// `[[limit]]`: end stops on joint coordinates.
+    #[serde(default)]
+    pub limit: Vec<Spanned<LimitSection>>,
+    /// `[[friction]]`: Coulomb friction in joints (dynamic analyses).
+    #[serde(default)]
+    pub friction: Vec<Spanned<FrictionSection>>,
     /// `[analysis]`.
     pub analysis: Option<Spanned<AnalysisSection>>,
     /// The keys written in the sections with vocabularies, with their spans (not a key of the
@@ -386,6 +392,67 @@ pub struct CouplerSection {
     pub constant: Option<Num>,
 }
 
+/// `[[limit]]`: a lower bound, an upper bound or both on one coordinate of a joint (end
+/// stops), with impacts or a compliant law ([`crate::vocabulary::LIMITS`]).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LimitSection {
+    /// Unique name among joints, couplers, drivers, forces, limits and frictions.
+    pub name: Name,
+    /// The joint whose coordinate is limited.
+    pub joint: Name,
+    /// The coordinate's name (angle, slide, distance...; default: the kind's own).
+    #[serde(default)]
+    pub coordinate: Option<Name>,
+    /// lo \[rad or m\].
+    #[serde(default)]
+    pub lower: Option<Num>,
+    /// hi \[rad or m\].
+    #[serde(default)]
+    pub upper: Option<Num>,
+    /// "impact" (default) or "compliant".
+    #[serde(default)]
+    pub law: Option<Name>,
+    /// impact: Newton's coefficient of restitution e ∈ \[0, 1\].
+    #[serde(default)]
+    pub restitution: Option<Num>,
+    /// compliant: k \[N/mⁿ or N m/radⁿ\].
+    #[serde(default)]
+    pub stiffness: Option<Num>,
+    /// compliant: c \[N s/mⁿ⁺¹ or N m s/radⁿ⁺¹\].
+    #[serde(default)]
+    pub damping: Option<Num>,
+    /// compliant: n ≥ 1.
+    #[serde(default)]
+    pub exponent: Option<Num>,
+}
+
+/// `[[friction]]`: Coulomb friction in one joint from its reaction
+/// ([`crate::vocabulary::FRICTIONS`]).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FrictionSection {
+    /// Unique name among joints, couplers, drivers, forces, limits and frictions.
+    pub name: Name,
+    /// The joint (revolute, prismatic, cylindrical or spherical).
+    pub joint: Name,
+    /// "coulomb" (default).
+    #[serde(default)]
+    pub law: Option<Name>,
+    /// μ ≥ 0.
+    #[serde(default)]
+    pub coefficient: Option<Num>,
+    /// The pin, journal or ball radius r \[m\] of a rotating joint.
+    #[serde(default)]
+    pub radius: Option<Num>,
+    /// A load N₀ ≥ 0 \[N\] added to the reaction.
+    #[serde(default)]
+    pub preload: Option<Num>,
+    /// v_s > 0 of the regularized sign \[m/s or rad/s\].
+    #[serde(default)]
+    pub stiction_velocity: Option<Num>,
+}
+
 /// `[[force]]`: one force element (used by dynamic analysis only).
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -588,7 +655,7 @@ fn prescan(src: &Source) -> Result<(), Error> {
     }
     // Bracket depth outside strings and comments (an upper bound on TOML nesting).
     let bytes = text.as_bytes();
-    let (mut depth, mut k, mut headers) = (0usize, 0usize, 0usize);
+    let (mut depth, mut k, mut headers, mut bodies) = (0usize, 0usize, 0usize, 0usize);
     let mut line_start = true;
     while k < bytes.len() {
         let c = bytes[k];
@@ -613,6 +680,7 @@ fn prescan(src: &Source) -> Result<(), Error> {
             b'[' | b'{' => {
                 if line_start && c == b'[' && bytes.get(k + 1) == Some(&b'[') {
                     headers += 1;
+                    bodies += usize::from(bytes[k..].starts_with(b"[[body]]"));
                 }
                 depth += 1;
                 if depth > MAX_NESTING {
@@ -634,11 +702,13 @@ fn prescan(src: &Source) -> Result<(), Error> {
         }
         k += 1;
     }
-    if headers > MAX_BODIES + 4 * MAX_ELEMENTS {
+    if bodies > MAX_BODIES || headers - bodies > 6 * MAX_ELEMENTS {
         return Err(src.error(format!(
-            "the model file declares {headers} [[...]] tables; at most {MAX_BODIES} bodies, \
-             {MAX_ELEMENTS} joints, {MAX_ELEMENTS} couplers, {MAX_ELEMENTS} drivers and \
-             {MAX_ELEMENTS} forces are accepted"
+            "the model file declares {headers} [[...]] tables ({bodies} of them [[body]]); at \
+             most {MAX_BODIES} bodies, \
+             {MAX_ELEMENTS} joints, {MAX_ELEMENTS} couplers, {MAX_ELEMENTS} drivers, \
+             {MAX_ELEMENTS} forces, {MAX_ELEMENTS} limits and {MAX_ELEMENTS} frictions are \
+             accepted"
         )));
     }
     Ok(())
@@ -676,6 +746,18 @@ fn check_counts(src: &Source, file: &ModelFile) -> Result<(), Error> {
             file.force.len(),
             MAX_ELEMENTS,
             file.force.get(MAX_ELEMENTS).map(Spanned::span),
+        ),
+        (
+            "limits",
+            file.limit.len(),
+            MAX_ELEMENTS,
+            file.limit.get(MAX_ELEMENTS).map(Spanned::span),
+        ),
+        (
+            "frictions",
+            file.friction.len(),
+            MAX_ELEMENTS,
+            file.friction.get(MAX_ELEMENTS).map(Spanned::span),
         ),
     ];
     for (what, n, max, first_extra) in counts {
@@ -780,7 +862,9 @@ fn in_context(text: &str, at: usize, message: String) -> String {
         );
     }
     if message.starts_with("invalid value: a table, expected an array") {
-        for name in ["body", "joint", "coupler", "driver", "force"] {
+        for name in [
+            "body", "joint", "coupler", "driver", "force", "limit", "friction",
+        ] {
             if text[at..].starts_with(&format!("[{name}]")) {
                 return format!(
                     "[{name}] declares a single table, but a model has a list of them: write \

@@ -153,7 +153,10 @@ pub fn check_driver_values(src: &Source, loaded: &Loaded, times: &[f64]) -> Resu
 /// A builder error, located at what it is about (the key's value, the unknown name, or the
 /// element) in the model file.
 fn model_error(src: &Source, loaded: &Loaded, e: &ModelError) -> Error {
-    let span = e.site().and_then(|s| loaded.spans.locate(&src.text, &s));
+    let span = match e.limit_site() {
+        Some((name, key)) => loaded.spans.locate_limit(&src.text, name, key),
+        None => e.site().and_then(|s| loaded.spans.locate(&src.text, &s)),
+    };
     let message = format!("invalid model: {e}");
     match span {
         Some(s) => src.error_at(s, message),
@@ -325,6 +328,12 @@ pub fn analysis_error(p: &Prepared, e: &AnalysisError) -> Error {
         AnalysisError::DriverBranch { driver, .. } => {
             located(spans.element(driver), format!("{e}"))
         }
+        AnalysisError::LimitReached {
+            limit, bound_name, ..
+        } => located(
+            spans.locate_limit(&p.source.text, limit, bound_name),
+            format!("{e}"),
+        ),
         other => Error::analysis(format!("{other}")),
     }
 }

@@ -63,6 +63,8 @@ pub(super) fn run_dynamic(
     });
     drop(bar);
     let wall = start.elapsed();
+    let events = super::stops::events_csv(p, d.impact_events());
+    let stops = super::stops::stops_table(p, d.stop_history());
     drop(d);
     let (totals, failure) = match outcome {
         Ok(r) => (r, None),
@@ -88,6 +90,8 @@ pub(super) fn run_dynamic(
         tables.extend(lt);
         files = lf;
     }
+    tables.extend(stops);
+    files.extend(events);
     let tally = rec.tally;
     let summary = Summary {
         name: p.loaded.name.clone(),

@@ -33,6 +33,7 @@ mod matrices;
 pub(crate) mod modes;
 mod setup;
 pub mod statics;
+mod stops;
 pub mod stream;
 mod summary;
 mod tables;

@@ -199,14 +199,16 @@ pub(super) fn check_unique_element(
         .map(|s| ("joint", s))
         .or_else(|| spans.drivers.get(n).map(|s| ("driver", s)))
         .or_else(|| spans.couplers.get(n).map(|s| ("coupler", s)))
-        .or_else(|| spans.forces.get(n).map(|s| ("force", s)));
+        .or_else(|| spans.forces.get(n).map(|s| ("force", s)))
+        .or_else(|| spans.limits.get(n).map(|s| ("limit", s)))
+        .or_else(|| spans.frictions.get(n).map(|s| ("friction", s)));
     if let Some((kind, s)) = prev {
         let l = cx.src.location(s.start);
         return Err(cx.err(
             name.span(),
             format!(
                 "duplicate name \"{n}\": a {kind} of that name is defined at line {} \
-                 (joints, couplers, drivers and forces share one namespace)",
+                 (joints, couplers, drivers, forces, limits and frictions share one namespace)",
                 l.line
             ),
         ));

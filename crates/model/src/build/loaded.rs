@@ -23,6 +23,10 @@ pub struct Spans {
     pub couplers: HashMap<String, Range<usize>>,
     /// Force name → span.
     pub forces: HashMap<String, Range<usize>>,
+    /// Limit name → span.
+    pub limits: HashMap<String, Range<usize>>,
+    /// Joint friction name → span.
+    pub frictions: HashMap<String, Range<usize>>,
     /// Span of `[analysis] kind` (or of the file start).
     pub analysis: Range<usize>,
     /// Span of the `[[driver]]` array (first driver name) for driver-count messages.
@@ -42,21 +46,40 @@ impl Spans {
             ElementKind::Force => &self.forces,
         };
         let name = table.get(&site.name)?.clone();
+        Some(Self::within(
+            text,
+            name,
+            site.field.as_deref(),
+            site.value.as_deref(),
+        ))
+    }
+
+    /// The span of a limit's or a joint friction's key `key` (the elements the builder names
+    /// by [`cardan_mechanism::ModelError::limit_site`]), else of its name.
+    pub fn locate_limit(&self, text: &str, name: &str, key: &str) -> Option<Range<usize>> {
+        let at = self.limits.get(name).or_else(|| self.frictions.get(name))?;
+        Some(Self::within(text, at.clone(), Some(key), None))
+    }
+
+    /// Inside the section whose name value is at `name`: the value of the key `field`, or the
+    /// quoted name `value`; else `name`.
+    fn within(
+        text: &str,
+        name: Range<usize>,
+        field: Option<&str>,
+        value: Option<&str>,
+    ) -> Range<usize> {
         // The section: from its header to the next header.
         let start = text[..name.start].rfind("\n[").map_or(0, |k| k + 1);
         let end = text[name.end..]
             .find("\n[")
             .map_or(text.len(), |k| name.end + k);
         let section = &text[start..end];
-        let found = site
-            .field
-            .as_deref()
-            .and_then(|f| key_value_span(section, f))
-            .or_else(|| {
-                let v = format!("\"{}\"", site.value.as_deref()?);
-                section.find(&v).map(|k| k..k + v.len())
-            });
-        Some(found.map_or(name, |r| start + r.start..start + r.end))
+        let found = field.and_then(|f| key_value_span(section, f)).or_else(|| {
+            let v = format!("\"{}\"", value?);
+            section.find(&v).map(|k| k..k + v.len())
+        });
+        found.map_or(name, |r| start + r.start..start + r.end)
     }
 
     /// The span of a joint or driver or body by name.
@@ -67,6 +90,8 @@ impl Spans {
             .or_else(|| self.couplers.get(name))
             .or_else(|| self.bodies.get(name))
             .or_else(|| self.forces.get(name))
+            .or_else(|| self.limits.get(name))
+            .or_else(|| self.frictions.get(name))
             .cloned()
     }
 }

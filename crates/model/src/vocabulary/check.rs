@@ -26,7 +26,9 @@ pub type Present = Vec<(String, Range<usize>)>;
 type Texts = HashMap<String, (String, Range<usize>)>;
 
 /// The top-level sections whose tables are checked against a vocabulary.
-const SECTIONS: [&str; 4] = ["analysis", "driver", "force", "coupler"];
+const SECTIONS: [&str; 6] = [
+    "analysis", "driver", "force", "coupler", "limit", "friction",
+];
 
 impl KeySpans {
     /// The keys of the vocabulary sections of `doc` (the parsed file).

@@ -4,13 +4,15 @@
 use super::{Default, Vocabulary};
 
 /// The vocabularies written into docs/model-format.md, with the name of their generated block.
-pub const GENERATED: [(&str, &Vocabulary); 7] = [
+pub const GENERATED: [(&str, &Vocabulary); 9] = [
     ("analysis-kinds", &super::ANALYSES),
     ("integrators", &super::INTEGRATORS),
     ("drivers", &super::DRIVERS),
     ("functions", &super::FUNCTIONS),
     ("couplers", &super::COUPLERS),
     ("forces", &super::FORCES),
+    ("limits", &super::LIMITS),
+    ("frictions", &super::FRICTIONS),
     ("outputs", &super::OUTPUTS),
 ];
 

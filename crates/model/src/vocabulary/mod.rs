@@ -1,6 +1,6 @@
 //! The model file's vocabularies as data, the way the joint kinds are
 //! (`cardan_constraints::KINDS`): analysis kinds, integrators, drivers, time functions, force
-//! elements, couplers and the output groups. Each [`Vocabulary`] is a list of [`Entry`]s (a
+//! elements, couplers, limits, joint friction and the output groups. Each [`Vocabulary`] is a list of [`Entry`]s (a
 //! name, its aliases, a summary and the [`Key`]s it takes); each key has its value's
 //! [`Value`] (a quantity with its SI unit, a count with its range, a name, a function...), its
 //! default and what it means.
@@ -24,6 +24,7 @@ mod drivers;
 mod forces;
 mod functions;
 mod integrators;
+mod limits;
 mod markdown;
 mod outputs;
 
@@ -34,6 +35,7 @@ pub use drivers::DRIVERS;
 pub use forces::FORCES;
 pub use functions::FUNCTIONS;
 pub use integrators::INTEGRATORS;
+pub use limits::{FRICTIONS, LIMITS};
 pub use markdown::{markdown, GENERATED};
 pub use outputs::OUTPUTS;
 

@@ -272,6 +272,19 @@ class Builder:
         self._tables.append(("coupler", {"name": name, "type": type, **keys}))
         return self
 
+    def limit(self, name: str, joint: str, **keys: Any) -> "Builder":
+        """End stops on a joint coordinate: ``lower``, ``upper`` (rad or m), ``restitution``,
+        or ``law="compliant"`` with ``stiffness``, ``damping``, ``exponent``; ``coordinate``
+        names the coordinate of a joint with several."""
+        self._tables.append(("limit", {"name": name, "joint": joint, **keys}))
+        return self
+
+    def friction(self, name: str, joint: str, coefficient: float, **keys: Any) -> "Builder":
+        """Coulomb friction in a joint from its reaction: μ = ``coefficient``, ``radius`` of a
+        rotating joint, ``preload``, ``stiction_velocity``."""
+        self._tables.append(("friction", {"name": name, "joint": joint, "coefficient": coefficient, **keys}))
+        return self
+
     def analysis(self, kind: str, **keys: Any) -> "Builder":
         """The ``[analysis]`` table: ``t_end``, ``steps``, ``outputs``, ..."""
         self._analysis = {"kind": kind, **keys}

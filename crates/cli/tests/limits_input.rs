@@ -1,0 +1,419 @@
+//! `[[limit]]` and `[[friction]]` through the model file (issue 48): the bundled pendulum
+//! falling onto a stop against its closed forms (impact times, rates, the energy each impact
+//! takes, the accumulation of bounces into rest on the stop, the held stop's reaction), a
+//! kinematic motion driven into a stop, a block sliding on an incline with joint friction, and
+//! every mistake in a limit or a friction an error at its key's line.
+
+mod common;
+use common::run_text;
+
+const G: f64 = 9.81;
+/// The pendulum's hinge inertia J = m (L/2)² + I_zz = 1/4 + 1/12 (examples/pendulum_stop.toml).
+const J: f64 = 1.0 / 3.0;
+/// m g L / (2 J): ω² = 2 K sin φ from rest at the horizontal (φ below it).
+const K: f64 = 1.0 * G * 0.5 / J;
+const E: f64 = 0.5;
+const STOP: f64 = std::f64::consts::FRAC_PI_3;
+
+fn example(name: &str) -> String {
+    let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(name);
+    std::fs::read_to_string(path).unwrap()
+}
+
+/// ∫ f over [a, b] by composite Simpson with `n` (even) intervals.
+fn simpson(f: impl Fn(f64) -> f64, a: f64, b: f64, n: usize) -> f64 {
+    let h = (b - a) / n as f64;
+    let inner: f64 = (1..n)
+        .map(|k| f(a + k as f64 * h) * if k % 2 == 1 { 4.0 } else { 2.0 })
+        .sum();
+    (f(a) + f(b) + inner) * h / 3.0
+}
+
+/// The time from rest at the horizontal to the stop: ∫ dφ / √(2K sin φ), with φ = u² to take
+/// the root's singularity out.
+fn fall_time() -> f64 {
+    let f = |u: f64| {
+        if u == 0.0 {
+            2.0 / (2.0 * K).sqrt()
+        } else {
+            2.0 * u / (2.0 * K * (u * u).sin()).sqrt()
+        }
+    };
+    simpson(f, 0.0, STOP.sqrt(), 4000)
+}
+
+/// The time of a rebound leaving the stop at rate `w` and returning to it: up to the apex φ₀
+/// (sin φ₀ = sin 60° − w²/2K) and back, 2 ∫ dφ / √(2K (sin φ − sin φ₀)), with φ = φ₀ + u².
+fn flight_time(w: f64) -> f64 {
+    if w < 1e-4 {
+        // Ballistic against the deceleration K cos 60° (the quadrature loses its digits).
+        return 2.0 * w / (K * STOP.cos());
+    }
+    let s0 = STOP.sin() - w * w / (2.0 * K);
+    let p0 = s0.asin();
+    let f = |u: f64| {
+        if u == 0.0 {
+            2.0 / (2.0 * K * p0.cos()).sqrt()
+        } else {
+            // sin(φ₀ + x) − sin φ₀ = 2 cos(φ₀ + x/2) sin(x/2), without cancellation.
+            let x = u * u;
+            2.0 * u / (2.0 * K * 2.0 * (p0 + 0.5 * x).cos() * (0.5 * x).sin()).sqrt()
+        }
+    };
+    2.0 * simpson(f, 0.0, (STOP - p0).sqrt(), 4000)
+}
+
+/// events.csv's rows: time, event, impact rate, rebound rate, impulse, energy change.
+fn events(text: &str) -> Vec<(f64, String, f64, f64, f64, f64)> {
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "t [s],stop,joint,event,impact rate,rebound rate,rate unit,impulse,impulse unit,energy change [J]"
+    );
+    lines
+        .map(|l| {
+            let c: Vec<&str> = l.split(',').collect();
+            let n = |k: usize| c[k].parse::<f64>().unwrap();
+            assert_eq!(
+                (c[1], c[2], c[6], c[8]),
+                ("stop.lower", "hinge", "rad/s", "N m s")
+            );
+            (n(0), c[3].to_string(), n(4), n(5), n(7), n(9))
+        })
+        .collect()
+}
+
+#[test]
+fn a_pendulum_falling_onto_a_stop_bounces_to_rest_as_the_closed_form_says() {
+    let o = run_text("run", &example("pendulum_stop.toml"));
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let out = o.dir.join("out");
+    let ev = events(&std::fs::read_to_string(out.join("events.csv")).unwrap());
+    assert!(ev.len() >= 10, "{} events", ev.len());
+    let mut w = (2.0 * K * STOP.sin()).sqrt();
+    let mut t = fall_time();
+    for (k, (time, event, before, after, impulse, de)) in ev.iter().enumerate() {
+        // Rates and energies from e and the energy balance; times from the quadratures, while
+        // the rates are large enough for the location tolerance to be small beside them.
+        if w > 1e-3 {
+            assert!((time - t).abs() < 1e-8, "impact {k}: t {time} vs {t}");
+            assert!(
+                (before + w).abs() < 1e-8 * w.max(1.0),
+                "impact {k}: {before} vs −{w}"
+            );
+            assert!(
+                (after - E * w).abs() < 1e-8 * w.max(1.0),
+                "impact {k}: {after}"
+            );
+            assert!(
+                (impulse - J * (1.0 + E) * w).abs() < 1e-8,
+                "impact {k}: {impulse}"
+            );
+            let lost = -0.5 * J * (1.0 - E * E) * w * w;
+            assert!(
+                (de - lost).abs() < 1e-8 * lost.abs().max(1e-3),
+                "impact {k}: {de} vs {lost}"
+            );
+            assert_eq!(event, "impact");
+        }
+        t += flight_time(E * w);
+        w *= E;
+    }
+    // The bounces accumulate in finite time: t₁ + Σ T(eⁿ ω₁); the last one holds the stop.
+    let mut t_rest = fall_time();
+    let mut w = (2.0 * K * STOP.sin()).sqrt();
+    while w > 1e-12 {
+        t_rest += flight_time(E * w);
+        w *= E;
+    }
+    let (last_t, last_event, ..) = ev.last().unwrap();
+    assert_eq!(last_event, "impact_held");
+    assert!((last_t - t_rest).abs() < 1e-5, "{last_t} vs {t_rest}");
+    // Held on the stop, it carries m g (L/2) cos 60° (stops.csv, the last output).
+    let stops = std::fs::read_to_string(out.join("stops.csv")).unwrap();
+    assert!(stops.starts_with("t [s],stop.lower held [-],stop.lower force [N m]\n"));
+    let last: Vec<f64> = stops
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .map(|x| x.parse().unwrap())
+        .collect();
+    assert_eq!(last[1], 1.0);
+    assert!((last[2] - G * 0.5 * STOP.cos()).abs() < 1e-6, "{}", last[2]);
+    // The impacts' work enters W_nc: the balance closes.
+    let json = std::fs::read_to_string(out.join("run.json")).unwrap();
+    assert!(json.contains("\"warnings\": []"), "{json}");
+}
+
+/// The pendulum with `from` replaced by `to`: `cardan check` fails at the line of `at` with a
+/// message containing every needle.
+fn fails(from: &str, to: &str, at: &str, needles: &[&str]) {
+    let base = example("pendulum_stop.toml");
+    assert!(base.contains(from), "{from}");
+    let text = base.replacen(from, to, 1);
+    let o = run_text("check", &text);
+    assert_ne!(o.code, 0, "should fail: {}", o.stdout);
+    let line = text.lines().position(|l| l.contains(at)).unwrap() + 1;
+    let want = format!("model.toml:{line}:");
+    assert!(
+        o.stderr.starts_with(&want),
+        "want {want}, got: {}",
+        o.stderr
+    );
+    for n in needles {
+        assert!(o.stderr.contains(n), "missing {n:?} in: {}", o.stderr);
+    }
+}
+
+#[test]
+fn limit_mistakes_are_errors_at_their_key() {
+    let lower = "lower = -1.0471975511965976   # −60°, in rad\n";
+    fails(
+        lower,
+        "lower = 0.5\nupper = 0.2\n",
+        "upper = 0.2",
+        &["limit \"stop\"", "range is empty"],
+    );
+    fails(
+        lower,
+        "lower = 0.5\n",
+        "lower = 0.5",
+        &["drawn pose violates its lower bound"],
+    );
+    fails(
+        "restitution = 0.5",
+        "restitution = 1.5",
+        "restitution = 1.5",
+        &["e = 1.5 must lie in [0, 1]"],
+    );
+    fails(
+        "restitution = 0.5",
+        "restitution = -0.1",
+        "restitution = -0.1",
+        &["must lie in [0, 1]"],
+    );
+    fails(
+        "restitution = 0.5",
+        "restitution = 0.5\ncoordinate = \"slide\"",
+        "coordinate = \"slide\"",
+        &[
+            "a revolute joint has no coordinate \"slide\"",
+            "its coordinates: angle",
+        ],
+    );
+    fails(
+        "restitution = 0.5",
+        "stiffness = 1e4",
+        "stiffness = 1e4",
+        &["law = \"impact\" does not take \"stiffness\" (it applies to law = \"compliant\")"],
+    );
+    fails(
+        "restitution = 0.5",
+        "law = \"springy\"",
+        "law = \"springy\"",
+        &["unknown limit law \"springy\""],
+    );
+    fails(
+        "restitution = 0.5",
+        "law = \"compliant\"",
+        "name = \"stop\"",
+        &["missing key \"stiffness\""],
+    );
+    fails(
+        "joint = \"hinge\"           #",
+        "joint = \"hing\"           #",
+        "joint = \"hing\"           #",
+        &["unknown joint \"hing\"", "did you mean \"hinge\"?"],
+    );
+    fails(
+        lower,
+        "",
+        "name = \"stop\"",
+        &["give a lower bound, an upper bound or both"],
+    );
+    fails(
+        "name = \"stop\"",
+        "name = \"hinge\"   # the limit",
+        "name = \"hinge\"   # the limit",
+        &["duplicate name \"hinge\": a joint of that name"],
+    );
+    // An angle needs its zero: the joint's x axes.
+    let text = example("pendulum_stop.toml")
+        .replace("x_axis_i = \"x\"\n", "")
+        .replace("x_axis_j = \"x\"\n", "");
+    let o = run_text("check", &text);
+    assert_ne!(o.code, 0);
+    assert!(o.stderr.contains("needs its x axes"), "{}", o.stderr);
+}
+
+#[test]
+fn friction_mistakes_are_errors_at_their_key() {
+    let add = |extra: &str| {
+        format!("[[friction]]\nname = \"pin\"\njoint = \"hinge\"\n{extra}\n\n[analysis]")
+    };
+    let base = "[analysis]";
+    fails(
+        base,
+        &add("coefficient = -0.1\nradius = 0.01"),
+        "coefficient = -0.1",
+        &["friction \"pin\"", "coefficient"],
+    );
+    fails(
+        base,
+        &add("coefficient = 0.1"),
+        "name = \"pin\"",
+        &["radius"],
+    );
+    fails(
+        base,
+        &add("radius = 0.01"),
+        "name = \"pin\"",
+        &["missing key \"coefficient\""],
+    );
+    fails(
+        base,
+        &add("coefficient = 0.1\nradius = 0.01\nrestitution = 0.2"),
+        "restitution = 0.2",
+        &["unknown key \"restitution\""],
+    );
+}
+
+#[test]
+fn a_motion_driven_into_a_stop_ends_at_the_stop_with_the_limit_named() {
+    let text = example("slider_crank.toml").replacen(
+        "[[driver]]",
+        "[[limit]]\nname = \"stroke\"\njoint = \"slide\"\nupper = 0.21\n\n[[driver]]",
+        1,
+    );
+    let o = run_text("run", &text);
+    assert_eq!(o.code, 3, "{}", o.stderr);
+    let line = text.lines().position(|l| l == "upper = 0.21").unwrap() + 1;
+    assert!(
+        o.stderr.starts_with(&format!("model.toml:{line}:")),
+        "{}",
+        o.stderr
+    );
+    for n in [
+        "limit \"stroke\" reached at t = 0.0361",
+        "joint \"slide\"",
+        "upper bound 0.21",
+    ] {
+        assert!(o.stderr.contains(n), "missing {n:?}: {}", o.stderr);
+    }
+    // The check lists the limit and the assembled pose's slide.
+    let c = run_text("check", &text);
+    assert_eq!(c.code, 0, "{}", c.stderr);
+    assert!(c.stdout.contains("limits (1)"), "{}", c.stdout);
+    assert!(
+        c.stdout
+            .contains("stroke  slide of slide  [-, 0.21] m  impact (e 0)  0.2 m      inside"),
+        "{}",
+        c.stdout
+    );
+}
+
+/// A 2 kg block on a rail down an incline of angle α with μ = 0.3.
+fn incline(alpha_deg: f64, mu: f64) -> String {
+    let a = alpha_deg.to_radians();
+    let (c, s) = (a.cos(), a.sin());
+    format!(
+        r#"[model]
+name = "incline"
+gravity = [0.0, -9.81, 0.0]
+
+[ground]
+points = {{ O = [0.0, 0.0, 0.0] }}
+vectors = {{ d = [{c}, {ms}, 0.0], z = [0.0, 0.0, 1.0] }}
+
+[[body]]
+name = "block"
+mass = 2.0
+inertia = {{ diag = [0.1, 0.1, 0.1] }}
+points = {{ C = [0.0, 0.0, 0.0] }}
+vectors = {{ d = [{c}, {ms}, 0.0], z = [0.0, 0.0, 1.0] }}
+
+[[joint]]
+name = "rail"
+type = "prismatic"
+body_i = "ground"
+point_i = "O"
+axis_i = "d"
+x_axis_i = "z"
+body_j = "block"
+point_j = "C"
+axis_j = "d"
+x_axis_j = "z"
+
+[[friction]]
+name = "dry"
+joint = "rail"
+coefficient = {mu}
+stiction_velocity = 1e-6
+
+[analysis]
+kind = "dynamic"
+integrator = "dopri5"
+rtol = 1e-10
+atol = 1e-12
+t_end = 1.0
+output_dt = 0.1
+
+[analysis.outputs]
+joints = ["rail"]
+energy = true
+"#,
+        ms = -s
+    )
+}
+
+#[test]
+fn a_block_on_an_incline_slides_with_a_equal_g_sin_minus_mu_cos() {
+    let (alpha, mu) = (30.0f64, 0.3);
+    let o = run_text("run", &incline(alpha, mu));
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let joints = std::fs::read_to_string(o.dir.join("out/joints.csv")).unwrap();
+    let header: Vec<&str> = joints.lines().next().unwrap().split(',').collect();
+    let k = header
+        .iter()
+        .position(|h| h.starts_with("rail.slide"))
+        .unwrap();
+    let last: Vec<f64> = joints
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .map(|x| x.parse().unwrap())
+        .collect();
+    let a = G * (alpha.to_radians().sin() - mu * alpha.to_radians().cos());
+    assert!((last[0] - 1.0).abs() < 1e-12);
+    assert!(
+        (last[k] - 0.5 * a).abs() < 1e-6 * a,
+        "s(1) = {} vs {}",
+        last[k],
+        0.5 * a
+    );
+    // The friction's power is in energy.csv and the balance closes (no warning).
+    let energy = std::fs::read_to_string(o.dir.join("out/energy.csv")).unwrap();
+    assert!(
+        energy.lines().next().unwrap().contains("dry"),
+        "{}",
+        energy.lines().next().unwrap()
+    );
+    let json = std::fs::read_to_string(o.dir.join("out/run.json")).unwrap();
+    assert!(json.contains("\"warnings\": []"), "{json}");
+    // tan 15° < μ: it sticks (creeping at about v_s ρ/√(1 − ρ²)).
+    let o = run_text("run", &incline(15.0, mu));
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let joints = std::fs::read_to_string(o.dir.join("out/joints.csv")).unwrap();
+    let last: Vec<f64> = joints
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .map(|x| x.parse().unwrap())
+        .collect();
+    assert!(last[k].abs() < 1e-5, "stuck block moved {}", last[k]);
+}
