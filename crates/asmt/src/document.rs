@@ -4,8 +4,8 @@
 //! classes; project notes `shared/asmt/README.md` §1.2–1.7). The reader is stricter than
 //! OndselSolver where OndselSolver would crash or guess: a missing required field, a number that
 //! does not parse or is not finite, or an unknown joint kind is an error naming the line.
-//! Sections cardan does not use (limits, AllowRotation, force elements, curves and surfaces,
-//! animation settings) are read and listed in [`Document::ignored`].
+//! Sections cardan does not use (AllowRotation, force elements, curves and surfaces, animation
+//! settings) are read and listed in [`Document::ignored`]; limits are read ([`Limit`]).
 
 use crate::error::{AsmtError, Result};
 use crate::scalar::{clip, number};
@@ -214,6 +214,29 @@ pub struct Motion {
     pub rotation_order: Option<Located<[u8; 3]>>,
 }
 
+/// A limit block (`RotationLimit`, `TranslationLimit`; notes §1.6): the angle or the slide of
+/// a joint (AngleZ(I→J), z_I·(r_J − r_I), as a motion measures it) bounded by a constant.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Limit {
+    /// A `RotationLimit` (else a `TranslationLimit`).
+    pub rotation: bool,
+    /// Name.
+    pub name: String,
+    /// Line of the kind label.
+    pub line: usize,
+    /// `MotionJoint`, if given.
+    pub joint: Option<PathRef>,
+    /// `MarkerI`, if given.
+    pub marker_i: Option<PathRef>,
+    /// `MarkerJ`, if given.
+    pub marker_j: Option<PathRef>,
+    /// `Limit`: the bound's expression.
+    pub limit: Field<String>,
+    /// `Type`: `=<` (the coordinate stays at most the limit: an upper bound) or `=>` (at least:
+    /// a lower bound).
+    pub upper: bool,
+}
+
 /// An element read and not used (limits, AllowRotation, force elements, ...).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Ignored {
@@ -265,6 +288,8 @@ pub struct Document {
     pub joints: Vec<Joint>,
     /// Motions, in file order.
     pub motions: Vec<Motion>,
+    /// The limits (`ConstraintSets` → `Limits`).
+    pub limits: Vec<Limit>,
     /// Elements read and not used.
     pub ignored: Vec<Ignored>,
     /// `ConstantGravity` and its line.
@@ -604,7 +629,8 @@ fn assembly(asm: &Node, header: String, end: usize) -> Result<Document> {
     ignore_geometry(&b, &mut ignored);
     let parts = parts(&b, &mut ignored)?;
     require_sections(&b)?;
-    let (joints, motions) = constraint_sets(&b, &mut ignored)?;
+    let mut limits = Vec::new();
+    let (joints, motions) = constraint_sets(&b, &mut ignored, &mut limits)?;
     ignore_force_torques(&b, &mut ignored);
     let gravity = match b.get("ConstantGravity") {
         Some(g) => Some(Located {
@@ -623,6 +649,7 @@ fn assembly(asm: &Node, header: String, end: usize) -> Result<Document> {
         parts,
         joints,
         motions,
+        limits,
         ignored,
         gravity,
         simulation,
@@ -693,9 +720,13 @@ fn require_sections(b: &Block) -> Result<()> {
     Ok(())
 }
 
-/// The joints and motions of `ConstraintSets`; `AllowRotation` motions, limits and general
+/// The joints, motions and limits of `ConstraintSets`; `AllowRotation` motions and general
 /// constraint sets are listed as ignored.
-fn constraint_sets(b: &Block, ignored: &mut Vec<Ignored>) -> Result<(Vec<Joint>, Vec<Motion>)> {
+fn constraint_sets(
+    b: &Block,
+    ignored: &mut Vec<Ignored>,
+    limits: &mut Vec<Limit>,
+) -> Result<(Vec<Joint>, Vec<Motion>)> {
     let mut joints = Vec::new();
     let mut motions = Vec::new();
     if let Some(cs) = b.get("ConstraintSets") {
@@ -720,10 +751,7 @@ fn constraint_sets(b: &Block, ignored: &mut Vec<Ignored>) -> Result<(Vec<Joint>,
                 }
                 "Limits" => {
                     for l in &sec.children {
-                        ignored.push(ignored_item(
-                            l,
-                            "limits act only in OndselSolver's drag solver, not in its kinematic run",
-                        ));
+                        limits.push(limit(l)?);
                     }
                 }
                 "GeneralConstraintSets" => {
@@ -1032,5 +1060,66 @@ fn motion(node: &Node) -> Result<Motion> {
         marker_j,
         expressions,
         rotation_order,
+    })
+}
+
+/// A `RotationLimit` or `TranslationLimit` block: `Name`, `MotionJoint` or `MarkerI` and
+/// `MarkerJ`, `Limit` (an expression), `Type` (`=<` or `=>`; `<=`, `>=` accepted), `Tol` (the
+/// drag solver's tolerance: read past).
+fn limit(node: &Node) -> Result<Limit> {
+    let rotation = match node.label() {
+        "RotationLimit" => true,
+        "TranslationLimit" => false,
+        other => {
+            return Err(AsmtError::new(
+                node.line,
+                format!(
+                    "unknown limit kind \"{}\"; known: RotationLimit, TranslationLimit",
+                    clip(other)
+                ),
+            ))
+        }
+    };
+    let b = Block::new(node, format!("a {}", node.label()));
+    let name = b.string("Name")?;
+    let b = Block::new(node, format!("{} \"{name}\"", node.label()));
+    let value = b.value("Limit")?;
+    let limit = Field {
+        name: "Limit".into(),
+        value: value.text.trim().to_string(),
+        line: value.line,
+    };
+    let kind = b.value("Type")?;
+    let upper = match kind.text.trim() {
+        "=<" | "<=" => true,
+        "=>" | ">=" => false,
+        other => {
+            return Err(AsmtError::new(
+                kind.line,
+                format!(
+                    "Type of limit \"{name}\" is \"{}\"; expected =< (at most the limit) or => (at least)",
+                    clip(other)
+                ),
+            ))
+        }
+    };
+    let joint = b.optional_path("MotionJoint")?;
+    let marker_i = b.optional_path("MarkerI")?;
+    let marker_j = b.optional_path("MarkerJ")?;
+    if joint.is_none() && (marker_i.is_none() || marker_j.is_none()) {
+        return Err(AsmtError::new(
+            node.line,
+            format!("limit \"{name}\" names neither a MotionJoint nor both MarkerI and MarkerJ"),
+        ));
+    }
+    Ok(Limit {
+        rotation,
+        name,
+        line: node.line,
+        joint,
+        marker_i,
+        marker_j,
+        limit,
+        upper,
     })
 }

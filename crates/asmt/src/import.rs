@@ -49,15 +49,15 @@
 //! digit gets a `_` before it, and a clash gets `_2`, `_3`, …; the ASMT path of each element is
 //! kept ([`Element::path`]) for messages and for `cardan import`'s comments.
 
-use crate::document::{Document, Field, Frame, Joint, Located, Motion, MotionKind, Part};
+use crate::document::{Document, Field, Frame, Joint, Located, Motion, MotionKind, Part, PathRef};
 use crate::error::{AsmtError, Result, Warning};
 use crate::expr;
 use cardan_constraints::expression::Expression;
 use cardan_constraints::{JointKind, RotationOrder, TimeFunction};
 use cardan_eulerparam::p_from_rotation_matrix;
 use cardan_mechanism::{
-    Body, CouplerSpec, DriverSpec, ForceSpec, GearRatio, JointSpec, MechanismBuilder, Orientation,
-    PoseTarget, GROUND,
+    Body, CouplerSpec, DriverSpec, ForceSpec, GearRatio, JointSpec, LimitSpec, MechanismBuilder,
+    Orientation, PoseTarget, GROUND,
 };
 use nalgebra::{Matrix3, Vector3};
 use std::collections::{HashMap, HashSet};
@@ -157,6 +157,8 @@ pub struct Import {
     pub couplers: Vec<Element<CouplerSpec>>,
     /// Drivers (motions).
     pub drivers: Vec<Element<DriverSpec>>,
+    /// Limits (`RotationLimit`, `TranslationLimit`).
+    pub limits: Vec<Element<LimitSpec>>,
     /// Gravity, if the file has a nonzero one.
     pub gravity: Option<Vector3<f64>>,
     /// The file's analysis.
@@ -200,7 +202,7 @@ impl AnalysisKind {
 }
 
 impl Import {
-    /// The mechanism (bodies, features, joints, couplers, drivers, gravity).
+    /// The mechanism (bodies, features, joints, couplers, drivers, limits, gravity).
     pub fn builder(&self) -> MechanismBuilder {
         let mut b = MechanismBuilder::new();
         for m in &self.bodies {
@@ -220,6 +222,9 @@ impl Import {
         }
         for d in &self.drivers {
             b.driver(d.spec.clone());
+        }
+        for l in &self.limits {
+            b.limit(l.spec.clone());
         }
         if let Some(g) = self.gravity {
             b.force(ForceSpec::Gravity { g });
@@ -353,6 +358,7 @@ pub fn import(doc: &Document) -> Result<Import> {
             joints: Vec::new(),
             couplers: Vec::new(),
             drivers: Vec::new(),
+            limits: Vec::new(),
             gravity: None,
             settings: None,
             warnings: Vec::new(),
@@ -384,6 +390,9 @@ pub fn import(doc: &Document) -> Result<Import> {
     }
     for m in &doc.motions {
         cx.motion(m)?;
+    }
+    for l in &doc.limits {
+        cx.limit(l)?;
     }
     for ig in &doc.ignored {
         let named = ig
@@ -920,16 +929,97 @@ impl Ctx<'_> {
         Ok(())
     }
 
+    /// A limit on a joint's angle or slide (notes §1.6): the joint of its MotionJoint or
+    /// markers, as a motion's, the coordinate a RotationalMotion or TranslationalMotion would
+    /// drive, bounded by the constant `Limit` from above (`=<`) or below (`=>`). OndselSolver
+    /// enforces limits only while dragging; cardan enforces them in every analysis (a
+    /// kinematic run stops at one with an error naming it).
+    fn limit(&mut self, l: &crate::document::Limit) -> Result<()> {
+        let path = format!("{}/{}", self.asm_path(), l.name);
+        let what = format!("limit {path}");
+        let joint = self.joint_of(
+            (&l.joint, &l.marker_i, &l.marker_j),
+            l.line,
+            &what,
+            "limits",
+        )?;
+        let info = joint.kind.info();
+        let coordinate = if l.rotation {
+            info.rotation
+        } else {
+            info.translation
+        };
+        let Some(coordinate) = coordinate else {
+            return Err(AsmtError::new(
+                l.line,
+                format!(
+                    "{what}: its joint \"{}\" is a {}, which has no {} to limit",
+                    joint.name,
+                    joint.kind.name(),
+                    if l.rotation { "angle" } else { "slide" }
+                ),
+            ));
+        };
+        let Field {
+            value: text, line, ..
+        } = &l.limit;
+        let translated = expr::translate(text)
+            .map_err(|e| AsmtError::new(*line, format!("Limit of {what}: {e}")))?;
+        let e = Expression::parse(&translated).map_err(|e| {
+            AsmtError::new(
+                *line,
+                format!("Limit of {what}: \"{translated}\" does not parse: {e}"),
+            )
+        })?;
+        let f = TimeFunction::Expression(e);
+        let value = f.eval(0.0).0;
+        if !value.is_finite() || f.eval(1.0).0 != value {
+            return Err(AsmtError::new(
+                *line,
+                format!("Limit of {what} is \"{text}\": a limit must be a finite constant"),
+            ));
+        }
+        let name = self.element_names.unique(&l.name);
+        let spec = LimitSpec::new(name, &joint.name).coordinate(coordinate);
+        let spec = if l.upper {
+            spec.upper(value)
+        } else {
+            spec.lower(value)
+        };
+        self.import.limits.push(Element {
+            spec,
+            path,
+            line: l.line,
+        });
+        Ok(())
+    }
+
     /// The joint a rotational or translational motion acts on: its MotionJoint, or the joint
     /// between exactly its two markers.
     fn motion_joint(&self, m: &Motion, what: &str) -> Result<JointRef> {
-        if let Some(jp) = &m.joint {
+        self.joint_of((&m.joint, &m.marker_i, &m.marker_j), m.line, what, "drives")
+    }
+
+    /// The joint named by a MotionJoint, or between exactly two markers (a motion's or a
+    /// limit's, at `line`); `acts` says what cardan does with the joint's coordinate.
+    fn joint_of(
+        &self,
+        (joint, marker_i, marker_j): (&Option<PathRef>, &Option<PathRef>, &Option<PathRef>),
+        line: usize,
+        what: &str,
+        acts: &str,
+    ) -> Result<JointRef> {
+        if let Some(jp) = joint {
             let Some(j) = self.joints.get(&jp.path) else {
                 let coupler = self.import.couplers.iter().any(|c| c.path == jp.path);
                 return Err(AsmtError::new(
                     jp.line,
                     if coupler {
-                        format!("{what}: its MotionJoint \"{}\" is a coupler, which cardan cannot drive", jp.path)
+                        format!(
+                            "{what}: its MotionJoint \"{}\" is a coupler, which cardan cannot {}",
+                            jp.path,
+                            if acts == "drives" { "drive" } else { "limit" }
+                        )
                     } else {
                         format!(
                             "{what}: no joint has the path \"{}\" (MotionJoint must name a joint: /<assembly>/<joint>)",
@@ -938,19 +1028,19 @@ impl Ctx<'_> {
                     },
                 ));
             };
-            for (given, own) in [(&m.marker_i, &j.marker_i), (&m.marker_j, &j.marker_j)] {
+            for (given, own) in [(marker_i, &j.marker_i), (marker_j, &j.marker_j)] {
                 if let Some(g) = given {
                     if &g.path != own {
                         return Err(AsmtError::new(
                             g.line,
-                            format!("{what}: marker {} differs from its joint's marker {own}; cardan drives the joint's own coordinate", g.path),
+                            format!("{what}: marker {} differs from its joint's marker {own}; cardan {acts} the joint's own coordinate", g.path),
                         ));
                     }
                 }
             }
             return Ok(j.clone());
         }
-        let (Some(pi), Some(pj)) = (&m.marker_i, &m.marker_j) else {
+        let (Some(pi), Some(pj)) = (marker_i, marker_j) else {
             unreachable!("the reader requires a joint or two markers")
         };
         self.joint_order
@@ -960,9 +1050,9 @@ impl Ctx<'_> {
             .cloned()
             .ok_or_else(|| {
                 AsmtError::new(
-                    m.line,
+                    line,
                     format!(
-                        "{what} has no MotionJoint and no joint connects its markers {} and {}; cardan drives joint coordinates",
+                        "{what} has no MotionJoint and no joint connects its markers {} and {}; cardan {acts} joint coordinates",
                         pi.path, pj.path
                     ),
                 )

@@ -4,7 +4,8 @@
 
 use crate::import::{BodyMap, Element, Feature, Import, Settings};
 use cardan_mechanism::{
-    CouplerKind, CouplerSpec, DriverSpec, DriverTarget, GearRatio, JointSpec, TimeFunction, GROUND,
+    CouplerKind, CouplerSpec, DriverSpec, DriverTarget, GearRatio, JointSpec, LimitSpec,
+    TimeFunction, GROUND,
 };
 use nalgebra::Vector3;
 use std::fmt::Write as _;
@@ -75,7 +76,7 @@ fn features(out: &mut String, table: &str, list: &[&Feature]) {
 /// The model file text. `source` names the ASMT file in the header comment.
 ///
 /// In the order the file reads best: the header comments and `[model]`, the ground's
-/// features, one table per body, joint, coupler and driver, then `[analysis]`.
+/// features, one table per body, joint, coupler, driver and limit, then `[analysis]`.
 pub fn to_toml(import: &Import, source: &str) -> String {
     let mut o = String::new();
     header(&mut o, import, source);
@@ -92,6 +93,9 @@ pub fn to_toml(import: &Import, source: &str) -> String {
     }
     for d in &import.drivers {
         driver(&mut o, d);
+    }
+    for l in &import.limits {
+        limit(&mut o, l);
     }
     analysis(&mut o, import);
     o
@@ -341,6 +345,27 @@ fn driver(o: &mut String, d: &Element<DriverSpec>) {
         _ => {}
     }
     let _ = writeln!(o, "function = {}", function(&s.function));
+}
+
+/// One `[[limit]]`: a bound on a joint's angle or slide (a rigid stop, e = 0).
+fn limit(o: &mut String, l: &Element<LimitSpec>) {
+    let s = &l.spec;
+    let _ = writeln!(
+        o,
+        "\n[[limit]]   # {} (line {})\nname = {}\njoint = {}",
+        comment(&l.path),
+        l.line,
+        string(&s.name),
+        string(&s.joint)
+    );
+    if let Some(c) = &s.coordinate {
+        let _ = writeln!(o, "coordinate = {}", string(c));
+    }
+    for (key, v) in [("lower", s.lower), ("upper", s.upper)] {
+        if let Some(v) = v {
+            let _ = writeln!(o, "{key} = {}", num(v));
+        }
+    }
 }
 
 /// `[analysis]` from SimulationParameters, when the file asks for output steps.

@@ -130,8 +130,8 @@ fn piston_with_ignored_elements() -> String {
     std::fs::read_to_string(asmt("piston"))
         .unwrap()
         .replacen(
-            "\t\tGeneralConstraintSets\n",
-            "\t\tLimits\n\t\t\tRotationLimit\n\t\t\t\tName\n\t\t\t\t\tStop\n\t\tGeneralConstraintSets\n",
+            "\t\tMotions\n",
+            "\t\tMotions\n\t\t\tAllowRotation\n\t\t\t\tName\n\t\t\t\t\tFree\n",
             1,
         )
         .replacen(
@@ -141,7 +141,7 @@ fn piston_with_ignored_elements() -> String {
         )
 }
 
-/// The import's warnings (ignored limits and force elements) reach the run's summary and
+/// The import's warnings (an ignored AllowRotation and force element) reach the run's summary and
 /// `run.json`, and `check`'s report, each with the ASMT line.
 #[test]
 fn import_warnings_reach_the_summary_and_run_json() {
@@ -149,13 +149,13 @@ fn import_warnings_reach_the_summary_and_run_json() {
     let text = piston_with_ignored_elements();
     let line = text
         .lines()
-        .position(|l| l == "\t\t\tRotationLimit")
+        .position(|l| l == "\t\t\tAllowRotation")
         .unwrap()
         + 1;
     std::fs::write(dir.join("p.asmt"), &text).unwrap();
     let run = cardan(&["run", "p.asmt", "-o", "out", "--quiet"], &dir);
     assert_eq!(run.code, 0, "{}{}", run.stdout, run.stderr);
-    let expected = format!("p.asmt:{line}: RotationLimit \"Stop\"");
+    let expected = format!("p.asmt:{line}: AllowRotation \"Free\"");
     assert!(
         run.stdout.contains(&format!("warning: {expected}")),
         "{}",

@@ -5,7 +5,7 @@
 //! cardan model ([`cardan_asmt::toml_out`]) that goes through the same validation and analysis
 //! as a TOML model: one path for both. Messages about the model after the import refer to the
 //! imported model as `<file>.asmt.toml`, the text `cardan import` writes. Elements the import
-//! ignores (limits, AllowRotation, force elements) are warnings: in the summary and `run.json`
+//! ignores (AllowRotation, force elements) are warnings: in the summary and `run.json`
 //! of a run ([`crate::prepare::Prepared::warnings`]), after `check`'s report, on stderr for
 //! `import`, and as comments at the top of the imported model. `--units mm` keeps the file's
 //! numbers and writes `[model] units = "mm"`: the model converts them ([`crate::units`]).
