@@ -417,3 +417,122 @@ fn a_block_on_an_incline_slides_with_a_equal_g_sin_minus_mu_cos() {
         .collect();
     assert!(last[k].abs() < 1e-5, "stuck block moved {}", last[k]);
 }
+
+/// A double pendulum whose upper rod would hang at −90° but rests on a stop at −30°; the lower
+/// rod hangs from its tip.
+fn double_pendulum(kind: &str) -> String {
+    format!(
+        r#"[model]
+name = "double"
+gravity = [0.0, -9.81, 0.0]
+
+[ground]
+points = {{ O = [0.0, 0.0, 0.0] }}
+vectors = {{ z = [0.0, 0.0, 1.0], x = [1.0, 0.0, 0.0] }}
+
+[[body]]
+name = "upper"
+mass = 1.0
+inertia = {{ diag = [1e-4, 0.083333333333333333, 0.083333333333333333] }}
+position = [0.5, 0.0, 0.0]
+points = {{ O = [-0.5, 0.0, 0.0], tip = [0.5, 0.0, 0.0] }}
+vectors = {{ z = [0.0, 0.0, 1.0], x = [1.0, 0.0, 0.0] }}
+
+[[body]]
+name = "lower"
+mass = 1.0
+inertia = {{ diag = [1e-4, 0.083333333333333333, 0.083333333333333333] }}
+position = [1.5, 0.0, 0.0]
+points = {{ O = [-0.5, 0.0, 0.0] }}
+vectors = {{ z = [0.0, 0.0, 1.0], x = [1.0, 0.0, 0.0] }}
+
+[[joint]]
+name = "shoulder"
+type = "revolute"
+body_i = "ground"
+point_i = "O"
+axis_i = "z"
+x_axis_i = "x"
+body_j = "upper"
+point_j = "O"
+axis_j = "z"
+x_axis_j = "x"
+
+[[joint]]
+name = "elbow"
+type = "revolute"
+body_i = "upper"
+point_i = "tip"
+axis_i = "z"
+body_j = "lower"
+point_j = "O"
+axis_j = "z"
+
+[[limit]]
+name = "rest"
+joint = "shoulder"
+lower = -0.5235987755982988   # −30°
+upper = 0.5
+
+[analysis]
+kind = "{kind}"
+"#
+    )
+}
+
+#[test]
+fn an_equilibrium_rests_on_the_stop_it_would_pass_and_vibrates_about_it() {
+    // Static: the upper rod held at −30° by its stop, the lower one hanging from its tip; the
+    // stop's torque balances both rods' weights about the shoulder.
+    let o = run_text("run", &double_pendulum("static"));
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let efforts = std::fs::read_to_string(o.dir.join("out/driver_efforts.csv")).unwrap();
+    let mut lines = efforts.lines();
+    assert_eq!(lines.next().unwrap(), "t [s],rest.lower.torque [N m]");
+    let torque: f64 = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .nth(1)
+        .unwrap()
+        .parse()
+        .unwrap();
+    let c = (-30f64).to_radians().cos();
+    let expected = G * (0.5 * c + 1.0 * c); // upper's CM at L/2, lower's weight at the tip
+    assert!((torque - expected).abs() < 1e-9, "{torque} vs {expected}");
+    // Modal: the lower rod swings as a compound pendulum about the elbow, ω² = m g (L/2) / J.
+    let o = run_text("run", &double_pendulum("modal"));
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let modes = std::fs::read_to_string(o.dir.join("out/modes.csv")).unwrap();
+    let header: Vec<&str> = modes.lines().next().unwrap().split(',').collect();
+    let row: Vec<&str> = modes.lines().nth(1).unwrap().split(',').collect();
+    let k = header.iter().position(|h| *h == "frequency [Hz]").unwrap();
+    let omega = std::f64::consts::TAU * row[k].parse::<f64>().unwrap();
+    let expected = (G * 0.5 / J).sqrt();
+    assert!(
+        (omega - expected).abs() < 1e-8 * expected,
+        "{omega} vs {expected}: {modes}"
+    );
+    assert_eq!(modes.lines().count(), 2, "one mode: {modes}");
+    // The equilibrium inside the range holds no stop: with the stop below −90° nothing is held.
+    let free =
+        double_pendulum("static").replace("lower = -0.5235987755982988   # −30°", "lower = -2.0");
+    let o = run_text("run", &free);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert!(!o.dir.join("out/driver_efforts.csv").exists());
+    // A quasi-static analysis with limits is refused, not run past the stops.
+    let o = run_text(
+        "run",
+        &double_pendulum("quasi_static").replace(
+            "kind = \"quasi_static\"",
+            "kind = \"quasi_static\"\nt_end = 1.0\nsteps = 2",
+        ),
+    );
+    assert_eq!(o.code, 1, "{}", o.stderr);
+    assert!(
+        o.stderr
+            .contains("quasi-static analysis of a model with [[limit]] is not supported"),
+        "{}",
+        o.stderr
+    );
+}

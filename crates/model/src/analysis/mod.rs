@@ -31,6 +31,7 @@ mod linearize;
 mod located;
 mod matrices;
 pub(crate) mod modes;
+mod resting;
 mod setup;
 pub mod statics;
 mod stops;

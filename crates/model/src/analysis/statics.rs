@@ -48,6 +48,13 @@ pub(super) fn run_statics(
     kind: StaticKind,
 ) -> Result<Analysed, Error> {
     let start = Instant::now();
+    // The stops the equilibrium rests on, held (`resting`): the model to analyse.
+    let equilibrium = |q: &Prepared, o: &StaticOptions| {
+        let mut d = dynamics_as(q, what(kind))?;
+        d.statics(o).map_err(|e| error(q, &e, what(kind)))
+    };
+    let held = super::resting::resting(p, kind, &static_options(analysis), equilibrium)?;
+    let p = held.as_ref().unwrap_or(p);
     let mut d = dynamics_as(p, what(kind))?;
     let solved = solve(p, &mut d, analysis, kind)?;
     let wall = start.elapsed();
@@ -325,9 +332,24 @@ fn summary(
 /// without free motion has no modes (an input error, at the analysis).
 fn no_modes(p: &Prepared) -> Error {
     let drivers = p.loaded.drivers.len();
+    let stops: Vec<&str> = p
+        .model
+        .stops()
+        .iter()
+        .filter(|st| p.loaded.drivers.iter().any(|(n, _)| *n == st.name))
+        .map(|st| st.name.as_str())
+        .collect();
+    let resting = if stops.is_empty() {
+        String::new()
+    } else {
+        format!(
+            "; the stops the equilibrium rests on, {}, are held like drivers",
+            stops.join(", ")
+        )
+    };
     let message = format!(
         "modal analysis: the drivers hold every degree of freedom of the mechanism ({drivers} \
-         driver{}), so it has no free motion and no modes; remove the driver of each coordinate \
+         driver{}{resting}), so it has no free motion and no modes; remove the driver of each coordinate \
          that should vibrate (a modal analysis holds the remaining drivers at their values), \
          release it as a state-space input (inputs = [\"driver\"]), or use kind = \"static\" \
          for the holding efforts and reactions",

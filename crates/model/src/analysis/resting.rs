@@ -1,0 +1,157 @@
+//! Static equilibria resting on end stops (`[[limit]]`): which stops an equilibrium leans on
+//! is found by an active-set iteration (Haug 1989 §11.6 for the active-set view of unilateral
+//! constraints). Starting with every stop open, the equilibrium is solved; each stop the
+//! equilibrium passes is held at its bound ([`cardan_mechanism::MechanismBuilder::holding_stop`]:
+//! a constant driver named `<limit>.<lower|upper>`, whose effort is the stop's reaction), each
+//! held stop whose reaction pulls (negative along the coordinate at a lower stop, positive at
+//! an upper one) is released, and the equilibrium solved again until the set no longer changes.
+//! The held stops then act as joints: a modal analysis linearizes about the equilibrium with
+//! them bilateral, and their reactions are columns of `driver_efforts.csv`.
+
+use crate::build::StaticKind;
+use crate::diag::Error;
+use crate::prepare::Prepared;
+use cardan_constraints::joints::CoordinateQuantity;
+use cardan_constraints::{BodyState, Bound, TimeFunction};
+use cardan_dynamics::{StaticOptions, StaticResults};
+use cardan_mechanism::Quantity;
+
+/// How far (rad, or relative to the model's length) an equilibrium may pass a bound before the
+/// stop is held.
+const PASS_TOLERANCE: f64 = 1e-9;
+
+/// The model of `p` with the stops an equilibrium rests on held, and their names; `None` when it
+/// rests on none (or the model has no limits). `solve` solves an equilibrium of a prepared
+/// model. A quasi-static analysis of a model with limits is refused (its active set may change
+/// along the load path, which this iteration does not follow).
+///
+/// # Errors
+/// The equilibrium's errors; a quasi-static analysis with limits; an active set that does not
+/// settle.
+pub(super) fn resting(
+    p: &Prepared,
+    kind: StaticKind,
+    options: &StaticOptions,
+    solve: impl Fn(&Prepared, &StaticOptions) -> Result<StaticResults, Error>,
+) -> Result<Option<Prepared>, Error> {
+    let stops = p.model.stops();
+    if stops.is_empty() {
+        return Ok(None);
+    }
+    if kind == StaticKind::QuasiStatic {
+        return Err(p.source.error_at(
+            p.loaded.spans.analysis.clone(),
+            "a quasi-static analysis of a model with [[limit]] is not supported (the stops an \
+             equilibrium rests on may change along the load path); use kind = \"static\" at \
+             each load, or a dynamic analysis with damping"
+                .to_string(),
+        ));
+    }
+    let mut held: Vec<usize> = Vec::new();
+    let mut built: Option<Prepared> = None;
+    for _ in 0..=2 * stops.len() {
+        let q = built.as_ref().unwrap_or(p);
+        let r = solve(q, options)?;
+        let gaps = gaps(q, &r);
+        let mut next: Vec<usize> = held.iter().copied().filter(|&s| !pulls(q, &r, s)).collect();
+        next.extend((0..stops.len()).filter(|s| !held.contains(s) && gaps[*s] < -scale(q, *s)));
+        next.sort_unstable();
+        if next == held {
+            return Ok(built);
+        }
+        held = next;
+        built = if held.is_empty() {
+            None
+        } else {
+            Some(holding(p, &held)?)
+        };
+    }
+    Err(p.source.error_at(
+        p.loaded.spans.analysis.clone(),
+        "static analysis: the stops the equilibrium rests on did not settle (each set tried \
+         passed another stop or pulled on a held one); check the limits' bounds and the loads"
+            .to_string(),
+    ))
+}
+
+/// The tolerance of stop `s`'s gap: rad for an angle, relative to the model's length else.
+fn scale(p: &Prepared, s: usize) -> f64 {
+    match p.model.stops()[s].row.measure.quantity() {
+        CoordinateQuantity::Angle => PASS_TOLERANCE,
+        CoordinateQuantity::Length => PASS_TOLERANCE * p.model.characteristic_length(),
+    }
+}
+
+/// Each stop's gap g (≥ 0 inside the range) at the last equilibrium of `r`.
+fn gaps(p: &Prepared, r: &StaticResults) -> Vec<f64> {
+    let k = &r.results.kinematics;
+    let bodies: Vec<BodyState> = p
+        .model
+        .bodies()
+        .iter()
+        .map(|b| {
+            let h = k.body(&b.name).expect("every body has results");
+            BodyState::at(*h.r.last().unwrap(), *h.p.last().unwrap())
+        })
+        .collect();
+    let turns = p.model.initial_turns();
+    (0..p.model.stops().len())
+        .map(|s| p.model.stop_gap(s, &bodies, &turns))
+        .collect()
+}
+
+/// Whether held stop `s` pulls: its holding driver's effort along the coordinate points out of
+/// the range.
+fn pulls(p: &Prepared, r: &StaticResults, s: usize) -> bool {
+    let stop = &p.model.stops()[s];
+    let effort = r
+        .results
+        .driver(&stop.name)
+        .and_then(|d| d.effort.last().copied())
+        .unwrap_or(0.0);
+    effort * stop.row.bound.sign() < 0.0
+}
+
+/// `p` rebuilt with the stops `held` held at their bounds (drivers named after the stops).
+fn holding(p: &Prepared, held: &[usize]) -> Result<Prepared, Error> {
+    let mut builder = p.loaded.builder.clone();
+    let mut loaded = p.loaded.clone();
+    for &s in held {
+        let stop = &p.model.stops()[s];
+        let limit = &p.model.limits()[stop.limit];
+        let bound = stop.row.bound;
+        builder = builder
+            .holding_stop(&limit.name, bound)
+            .map_err(|e| p.source.error(format!("static analysis: {e}")))?;
+        let value = match bound {
+            Bound::Lower => limit.lower,
+            Bound::Upper => limit.upper,
+        }
+        .unwrap_or(0.0);
+        let quantity = match limit.measure.quantity() {
+            CoordinateQuantity::Angle => Quantity::Angle,
+            CoordinateQuantity::Length => Quantity::Length,
+        };
+        loaded.drivers.push((
+            stop.name.clone(),
+            format!("the {} stop of limit {}", bound.name(), limit.name),
+        ));
+        loaded
+            .driver_functions
+            .push((TimeFunction::Constant(value), quantity));
+    }
+    let model = builder.build().map_err(|e| {
+        p.source
+            .error(format!("static analysis: holding the stops: {e}"))
+    })?;
+    loaded.builder = builder;
+    Ok(Prepared {
+        file: p.file.clone(),
+        source: p.source.clone(),
+        loaded,
+        model,
+        warnings: p.warnings.clone(),
+        units: p.units,
+        geometry: p.geometry.clone(),
+    })
+}
