@@ -539,8 +539,9 @@ fn cost_of_steps_and_events() {
     );
 }
 
-/// A three-link arm hanging from ground by revolute joints about z, released from a bent pose,
-/// with a range of ±0.6 rad on every joint and restitution `e`.
+/// A three-link arm hanging from ground by revolute joints about z, released at rest straight
+/// along +x (every angle 0, inside its range) under gravity −y, with a range of ±0.6 rad on
+/// every joint and restitution `e`.
 fn arm(e: f64) -> Model {
     let mut b = MechanismBuilder::new();
     b.point(GROUND, "O", Vector3::zeros())
@@ -646,4 +647,32 @@ fn an_arm_with_limits_on_every_joint_runs_through_its_impacts_with_both_integrat
         assert!(worst < overshoot, "{worst:e}");
         assert!(balance < relative * lost.abs(), "{balance:e}");
     }
+}
+
+/// A stop the motion only grazes: the pendulum released horizontally turns back at −π, and a
+/// lower stop at −π + δ is passed by δ for 2 √(2δ/α) ≈ 7 ms (α = 3g/(2L) at the turning
+/// point), inside one step of a loose DOPRI5 run (rtol 1e-6: 34 steps in 1.5 s). The gap is
+/// positive at both ends of that step; the impact must still be found (the rate ġ turns from
+/// closing to opening inside the step), at the closing rate √(3 g sin δ / L) of energy
+/// conservation (to the loose run's accuracy), and no output may be beyond the stop.
+#[test]
+fn a_stop_grazed_inside_one_step_is_not_missed() {
+    let delta = 1e-4;
+    let lo = -PI + delta;
+    let model = pendulum(lo, 0.5);
+    let mut d = dynamics(&model);
+    let loose = Integrator::Dopri5(Dopri5Options::tolerances(1e-6, 1e-8));
+    let options = SimulationOptions::new(1.5, 300).integrator(loose);
+    let res = d.simulate(&d.initial_guess(), &options).unwrap();
+    let ev = d.impact_events();
+    eprintln!("{} steps; events {ev:?}", res.stats.steps);
+    assert!(!ev.is_empty(), "the grazing impact was missed");
+    let omega = (3.0 * G * delta.sin()).sqrt();
+    assert!(
+        (ev[0].impact_velocity.abs() - omega).abs() < 1e-2 * omega,
+        "closing rate {} against {omega}",
+        ev[0].impact_velocity
+    );
+    let angles = &res.kinematics.joints[0].values;
+    assert!(angles.iter().all(|a| a[0] >= lo - 1e-9));
 }

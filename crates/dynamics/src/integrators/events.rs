@@ -1,5 +1,6 @@
 //! Events of the stops inside an accepted step (the driver's seam, [`super::driver`]): a stop
-//! that closes (its gap g crosses 0 downwards), a held stop whose multiplier changes sign
+//! that closes (its gap g crosses 0 downwards, also when it opens again inside the same step:
+//! a graze, found from the rate ġ turning from closing to opening), a held stop whose multiplier changes sign
 //! (it would pull: it opens), a held stop found off g = 0 at the step's end by a scheme that
 //! does not carry the stop rows (generalized-α: the step's end is brought back onto it).
 //!
@@ -118,13 +119,47 @@ fn locate_closing<S: Stepper>(stepper: &mut S, d: &mut Dynamics, s: usize, span:
     a
 }
 
+/// A stop closed and opened again inside the step (a graze): g ≥ 0 at both ends, but the
+/// stop was closing at the start (ġ < 0) and opening at the end (ġ > 0), so g has a minimum
+/// inside; when that minimum (golden-section search) is below 0, the closing before it. Only
+/// the end's rate is evaluated for a step that ends closing or at rest (most steps).
+fn grazed<S: Stepper>(stepper: &mut S, d: &mut Dynamics, s: usize, span: Span) -> Option<f64> {
+    // `d` holds the step's end (the gap was just evaluated there).
+    if d.model.stop_rate(s, &d.bodies, &d.turns) <= 0.0 {
+        return None;
+    }
+    let st = stepper.interpolate(span.t0);
+    d.sync(st);
+    if d.model.stop_rate(s, &d.bodies, &d.turns) >= 0.0 {
+        return None;
+    }
+    let (t_min, g_min) = extremum(stepper, d, s, span, -1.0);
+    (g_min < 0.0).then(|| {
+        let before = Span { t1: t_min, ..span };
+        locate_closing(stepper, d, s, before)
+    })
+}
+
 /// The largest g_s in the step and its time, by golden-section search (g unimodal there).
 fn highest<S: Stepper>(stepper: &mut S, d: &mut Dynamics, s: usize, span: Span) -> (f64, f64) {
+    extremum(stepper, d, s, span, 1.0)
+}
+
+/// The largest `sign` g_s in the step (golden-section search, g unimodal there) and its time
+/// and g.
+fn extremum<S: Stepper>(
+    stepper: &mut S,
+    d: &mut Dynamics,
+    s: usize,
+    span: Span,
+    sign: f64,
+) -> (f64, f64) {
     let r = 0.5 * (5f64.sqrt() - 1.0);
     let (mut a, mut b) = (span.t0, span.t1);
     let mut x1 = b - r * (b - a);
     let mut x2 = a + r * (b - a);
-    let (mut f1, mut f2) = (gap_at(stepper, d, s, x1), gap_at(stepper, d, s, x2));
+    let mut f = |t: f64| sign * gap_at(stepper, d, s, t);
+    let (mut f1, mut f2) = (f(x1), f(x2));
     for _ in 0..MAX_LOCATE {
         if b - a <= EVENT_TIME_TOLERANCE * (1.0 + b.abs()) {
             break;
@@ -132,17 +167,17 @@ fn highest<S: Stepper>(stepper: &mut S, d: &mut Dynamics, s: usize, span: Span) 
         if f1 < f2 {
             (a, x1, f1) = (x1, x2, f2);
             x2 = a + r * (b - a);
-            f2 = gap_at(stepper, d, s, x2);
+            f2 = f(x2);
         } else {
             (b, x2, f2) = (x2, x1, f1);
             x1 = b - r * (b - a);
-            f1 = gap_at(stepper, d, s, x1);
+            f1 = f(x1);
         }
     }
     if f1 > f2 {
-        (x1, f1)
+        (x1, sign * f1)
     } else {
-        (x2, f2)
+        (x2, sign * f2)
     }
 }
 
@@ -188,8 +223,12 @@ pub(crate) fn first_event<S: Stepper>(
         if d.contacts.held[s] {
             continue;
         }
-        if gap_at(stepper, d, s, span.t1) < 0.0 {
-            let time = locate_closing(stepper, d, s, span);
+        let closing = if gap_at(stepper, d, s, span.t1) < 0.0 {
+            Some(locate_closing(stepper, d, s, span))
+        } else {
+            grazed(stepper, d, s, span)
+        };
+        if let Some(time) = closing {
             take(
                 Event {
                     time,
