@@ -146,6 +146,15 @@ fn a_pendulum_falling_onto_a_stop_bounces_to_rest_as_the_closed_form_says() {
     // The impacts' work enters W_nc: the balance closes.
     let json = std::fs::read_to_string(out.join("run.json")).unwrap();
     assert!(json.contains("\"warnings\": []"), "{json}");
+    // The summary line and run.json count the events: every row of events.csv an impact, the
+    // last one held, the stop held at the end.
+    let n = ev.len();
+    let counts = format!(
+        "\"stops\": {{\n    \"impacts\": {n},\n    \"held_impacts\": 1,\n    \"releases\": 0,\n    \"held_at_end\": 1\n  }}"
+    );
+    assert!(json.contains(&counts), "{json}");
+    let line = format!("{n} impacts (1 held), 0 releases, 1 stop held at the end");
+    assert!(o.stdout.contains(&line), "{}", o.stdout);
 }
 
 /// The pendulum with `from` replaced by `to`: `cardan check` fails at the line of `at` with a

@@ -88,6 +88,23 @@ pub struct Progress {
     pub rejected_steps: Option<usize>,
     /// Newton iterations (position solves; for a dynamic run implicit steps and projections).
     pub newton_iterations: usize,
+    /// Dynamic runs of a model with limits: the end stops' impacts and releases (left out of
+    /// the file for other runs, so theirs is unchanged).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stops: Option<StopCounts>,
+}
+
+/// A dynamic run's end-stop events (`events.csv` lists each).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct StopCounts {
+    /// Impacts (rebounds, and impacts that left the stop held closed).
+    pub impacts: usize,
+    /// Of those, the impacts that held the stop closed (e = 0, or below the rest velocity).
+    pub held_impacts: usize,
+    /// Held stops that opened again (their multiplier changed sign).
+    pub releases: usize,
+    /// Stops held closed at the last output time.
+    pub held_at_end: usize,
 }
 
 /// `run.json`'s accuracy figures: residuals, drifts and the energy balance (flattened into

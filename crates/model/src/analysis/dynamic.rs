@@ -64,6 +64,7 @@ pub(super) fn run_dynamic(
     drop(bar);
     let wall = start.elapsed();
     let events = super::stops::events_csv(p, d.impact_events());
+    let counts = super::stops::counts(p, d.impact_events(), d.stop_history());
     let stops = super::stops::stops_table(p, d.stop_history());
     drop(d);
     let (totals, failure) = match outcome {
@@ -108,6 +109,7 @@ pub(super) fn run_dynamic(
             newton_iterations: r.stats.newton_iterations,
             max_constraint_drift: tally.max_drift,
             energy_drift: tally.max_energy_drift,
+            stops: counts,
         }),
         energy_balance: Some(tally.energy_balance()),
         peak_efforts: peak_efforts_of(p, &r, &tally.peak_efforts),

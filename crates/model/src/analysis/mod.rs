@@ -135,7 +135,7 @@ pub fn print_summary(s: &Summary, out: &mut dyn Write) -> Result<(), Error> {
         Some(d) => writeln!(
             out,
             "{}: {} outputs, {} steps ({} rejected), {} Newton iterations, max constraint drift \
-             {:.3e}, energy drift {:.3e} J{balance}{efforts}, wall time {:.3} s",
+             {:.3e}, energy drift {:.3e} J{balance}{efforts}{}, wall time {:.3} s",
             s.name,
             s.steps,
             d.steps,
@@ -143,6 +143,7 @@ pub fn print_summary(s: &Summary, out: &mut dyn Write) -> Result<(), Error> {
             d.newton_iterations,
             d.max_constraint_drift,
             d.energy_drift,
+            d.stops.map(stop_counts).unwrap_or_default(),
             s.wall.as_secs_f64()
         ),
     }
@@ -151,6 +152,20 @@ pub fn print_summary(s: &Summary, out: &mut dyn Write) -> Result<(), Error> {
         writeln!(out, "warning: {w}").map_err(io)?;
     }
     writeln!(out, "{}", where_to_look(s)).map_err(io)
+}
+
+/// The summary line's account of the end stops: `, 21 impacts (1 held), 0 releases, 1 stop
+/// held at the end`.
+fn stop_counts(c: crate::run_json::StopCounts) -> String {
+    let plural =
+        |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
+    format!(
+        ", {} ({} held), {}, {} at the end",
+        plural(c.impacts, "impact", "impacts"),
+        c.held_impacts,
+        plural(c.releases, "release", "releases"),
+        plural(c.held_at_end, "stop held", "stops held"),
+    )
 }
 
 /// The summary's last line: the report page to open (when the run wrote one) and the
@@ -328,6 +343,7 @@ pub fn run_report(p: &Prepared, kind: &'static str, a: &Analysed, files: Vec<Str
             integration_steps: d.map(|d| d.steps),
             rejected_steps: d.map(|d| d.rejected),
             newton_iterations: s.iterations,
+            stops: d.and_then(|d| d.stops),
         },
         accuracy: Accuracy {
             largest_residual: s.max_residual,

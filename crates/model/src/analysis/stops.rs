@@ -42,6 +42,27 @@ pub(super) fn stops_table(p: &Prepared, history: &StopHistory) -> Option<Table> 
     Some(t)
 }
 
+/// The run's impacts, releases and the stops held at its last output (`None` without limits).
+pub(super) fn counts(
+    p: &Prepared,
+    events: &[ImpactEvent],
+    history: &StopHistory,
+) -> Option<crate::run_json::StopCounts> {
+    if p.model.stops().is_empty() {
+        return None;
+    }
+    let impacts = events.iter().filter(|e| !e.release);
+    Some(crate::run_json::StopCounts {
+        impacts: impacts.clone().count(),
+        held_impacts: impacts.filter(|e| e.held).count(),
+        releases: events.iter().filter(|e| e.release).count(),
+        held_at_end: history
+            .held
+            .last()
+            .map_or(0, |h| h.iter().filter(|&&x| x).count()),
+    })
+}
+
 /// `events.csv`: one row per impact or release, in time order, in the model's units.
 pub(super) fn events_csv(p: &Prepared, events: &[ImpactEvent]) -> Option<(String, String)> {
     if p.model.stops().is_empty() {

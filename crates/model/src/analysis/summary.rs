@@ -61,6 +61,8 @@ pub struct DynamicSummary {
     pub max_constraint_drift: f64,
     /// max |E − E(t0)| (J).
     pub energy_drift: f64,
+    /// A model with limits: its end stops' impacts and releases.
+    pub stops: Option<crate::run_json::StopCounts>,
 }
 
 /// How `cardan run` was asked to run.
