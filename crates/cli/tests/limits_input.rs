@@ -545,3 +545,94 @@ fn an_equilibrium_rests_on_the_stop_it_would_pass_and_vibrates_about_it() {
         o.stderr
     );
 }
+
+/// Two 1 kg, 1 m rods along +x under gravity −y: the upper one turned about the shoulder at
+/// θ = t by a rotation driver, the lower one free at the elbow but drawn on the elbow's lower
+/// stop at 0 (gravity pushes it onto the stop while θ < 90°). Inverse dynamics, 2 s.
+fn arm_on_a_stop() -> String {
+    double_pendulum("inverse_dynamics")
+        .replace(
+            "axis_i = \"z\"\nbody_j = \"lower\"",
+            "axis_i = \"z\"\nx_axis_i = \"x\"\nbody_j = \"lower\"",
+        )
+        .replace(
+            "axis_j = \"z\"\n\n[[limit]]",
+            "axis_j = \"z\"\nx_axis_j = \"x\"\n\n[[limit]]",
+        )
+        .replace(
+            "name = \"rest\"\njoint = \"shoulder\"\nlower = -0.5235987755982988   # −30°\nupper = 0.5",
+            "name = \"bend\"\njoint = \"elbow\"\nlower = 0.0\nupper = 2.0\n\n[[driver]]\nname = \
+             \"motor\"\ntype = \"rotation\"\njoint = \"shoulder\"\nfunction = { kind = \
+             \"polynomial\", coefficients = [0.0, 1.0] }",
+        )
+        .replace(
+            "kind = \"inverse_dynamics\"",
+            "kind = \"inverse_dynamics\"\nt_end = 2.0\nsteps = 200",
+        )
+}
+
+#[test]
+fn inverse_dynamics_of_a_motion_resting_on_a_stop_reports_its_reaction_and_when_it_leaves() {
+    let text = arm_on_a_stop();
+    assert!(text.contains("x_axis_j = \"x\"\n\n[[limit]]"), "{text}");
+    let o = run_text("run", &text);
+    assert_eq!(o.code, 0, "{}\n{text}", o.stderr);
+    let efforts = std::fs::read_to_string(o.dir.join("out/driver_efforts.csv")).unwrap();
+    let mut lines = efforts.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "t [s],motor.torque [N m],bend.lower.torque [N m]"
+    );
+    // The rods turn rigidly at ω = 1 about the shoulder (α = 0): the elbow's moment on the
+    // lower rod is its weight's, m g (L/2) cos θ (its centripetal acceleration points through
+    // the elbow), and the motor carries both rods' weights, m g (L/2 + 3L/2) cos θ.
+    let mut rows = 0;
+    for line in lines {
+        let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        let c = v[0].cos();
+        assert!(
+            (v[2] - G * 0.5 * c).abs() < 1e-9,
+            "stop at t {}: {}",
+            v[0],
+            v[2]
+        );
+        assert!(
+            (v[1] - G * 2.0 * c).abs() < 1e-9,
+            "motor at t {}: {}",
+            v[0],
+            v[1]
+        );
+        rows += 1;
+    }
+    assert_eq!(rows, 201);
+    // At θ = 90° the weight's moment changes sign: the stop would pull, the rod leaves it.
+    let json = std::fs::read_to_string(o.dir.join("out/run.json")).unwrap();
+    assert!(
+        o.stdout
+            .contains("the prescribed motion leaves stop bend.lower at about t = 1.570796 s"),
+        "{}",
+        o.stdout
+    );
+    assert!(json.contains("leaves stop bend.lower"), "{json}");
+    // `cardan check` agrees: the stop counts as driven.
+    let o = run_text("check", &text);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert!(
+        o.stdout.contains(
+            "inverse dynamics: 1 driver and 1 stop the start rests on (bend.lower) for 2 DOF: ok"
+        ),
+        "{}",
+        o.stdout
+    );
+    // Drawn off the stop, the lower rod is free: not fully driven, said as before.
+    let off = text.replace("lower = 0.0\nupper = 2.0", "lower = -0.5\nupper = 2.0");
+    let o = run_text("run", &off);
+    assert_eq!(o.code, 1, "{}", o.stdout);
+    assert!(o.stderr.contains("fully driven"), "{}", o.stderr);
+    assert!(
+        o.stderr
+            .contains("whose start lies on a [[limit]]'s bound counts as driven"),
+        "{}",
+        o.stderr
+    );
+}

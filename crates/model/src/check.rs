@@ -319,7 +319,29 @@ fn analysis_line(
         if a.kind == crate::build::AnalysisKind::InverseDynamics
             && (dof.dof != dof.drivers || dof.drivers == 0)
         {
-            return Err(crate::prepare::not_fully_driven(p, dof.dof, dof.drivers));
+            // A start resting on as many stops as drivers are missing: the run holds them.
+            let Some(held) = crate::analysis::resting_motion(p, a.t_start)? else {
+                return Err(crate::prepare::not_fully_driven(p, dof.dof, dof.drivers));
+            };
+            let names: Vec<&str> = (held.loaded.drivers.iter())
+                .skip(p.loaded.drivers.len())
+                .map(|(n, _)| n.as_str())
+                .collect();
+            writeln!(
+                out,
+                "inverse dynamics: {} driver{} and {} stop{} the start rests on ({}) for {} DOF: \
+                 ok; {} force element{}",
+                dof.drivers,
+                if dof.drivers == 1 { "" } else { "s" },
+                names.len(),
+                if names.len() == 1 { "" } else { "s" },
+                names.join(", "),
+                dof.dof,
+                p.loaded.forces.len(),
+                if p.loaded.forces.len() == 1 { "" } else { "s" },
+            )
+            .map_err(io)?;
+            return Ok(());
         }
         if dof.dof == dof.drivers {
             // What `run` refuses next: drivers that depend on the joints or on each other.

@@ -194,7 +194,13 @@ pub fn under_driven_advice(p: &Prepared, missing: usize) -> String {
 pub fn not_fully_driven(p: &Prepared, dof: usize, drivers: usize) -> Error {
     let names: Vec<&str> = p.loaded.drivers.iter().map(|(n, _)| n.as_str()).collect();
     let s = |n: usize| if n == 1 { "" } else { "s" };
-    let advice = if dof > drivers {
+    let advice = if dof > drivers && !p.model.stops().is_empty() {
+        format!(
+            "{}; a coordinate whose start lies on a [[limit]]'s bound counts as driven (its stop \
+             holds it and reports the reaction) when as many stops as missing drivers are met",
+            under_driven_advice(p, dof - drivers)
+        )
+    } else if dof > drivers {
         under_driven_advice(p, dof - drivers)
     } else if drivers > dof {
         let n = drivers - dof;

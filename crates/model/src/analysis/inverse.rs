@@ -3,7 +3,10 @@
 //! ([`cardan_dynamics::Dynamics::inverse_dynamics`]). Its output groups are the kinematic ones
 //! (with the residual of the position analysis), the driver efforts and the reactions. It needs
 //! a fully driven mechanism ([`crate::prepare::not_fully_driven`] says what is missing;
-//! `cardan check` uses it too).
+//! `cardan check` uses it too), or one whose start rests on as many end stops as the drivers
+//! leave degrees of freedom: those stops are held, their reactions reported as efforts, and a
+//! reaction that changes sign (the motion leaves the stop) is a warning
+//! ([`super::resting::resting_motion`]).
 
 use super::dynamic_layout::{DynamicLayout, Kind};
 use super::energy::ENERGY_BALANCE_BOUND;
@@ -39,6 +42,9 @@ pub(super) fn run_inverse(
     dir: Option<&mut (dyn OutputFiles + 'static)>,
     solved: Option<&mut (dyn FrameTap + 'static)>,
 ) -> Result<Analysed, Error> {
+    let resting = super::resting::resting_motion(p, analysis.t_start)?;
+    let p = resting.as_ref().unwrap_or(p);
+    let mut pulls = super::resting::PullWatch::new(p);
     let (mut d, opts) = setup(p)?;
     let req = requested(p, &analysis.outputs);
     let make = |f: &DynamicResults| DynamicLayout::new(p, f, &req, Kind::Inverse);
@@ -47,6 +53,7 @@ pub(super) fn run_inverse(
     let start = Instant::now();
     let mut bar = crate::progress::Progress::new(progress, opts.steps as u64 + 1);
     let mut sink = |k: usize, frame: &DynamicResults| {
+        pulls.take(frame);
         if rec.frame(frame).is_break() {
             return ControlFlow::Break(());
         }
@@ -86,7 +93,9 @@ pub(super) fn run_inverse(
         dynamic: None,
         energy_balance: Some(tally.energy_balance()),
         peak_efforts: peak_efforts_of(p, &r, &tally.peak_efforts),
-        warnings: inverse_warnings(p, &tally, &k.dropped_rows),
+        warnings: (inverse_warnings(p, &tally, &k.dropped_rows).into_iter())
+            .chain(pulls.warning(p))
+            .collect(),
         subdivided_steps: Some(k.subdivided_steps),
         row_reselections: k.row_reselections + r.stats.row_reselections,
     };
@@ -204,6 +213,9 @@ pub fn inverse_dynamics_with(
     p: &Prepared,
     progress: impl FnMut(usize, f64) -> ControlFlow<()>,
 ) -> Result<(DynamicResults, Option<Error>), Error> {
+    let t_start = (p.loaded.analysis.as_ref()).map_or(0.0, |a| a.t_start);
+    let resting = super::resting::resting_motion(p, t_start)?;
+    let p = resting.as_ref().unwrap_or(p);
     let (mut d, opts) = setup(p)?;
     let e = match d.inverse_dynamics_with_progress(&opts, progress) {
         Ok(r) => return Ok((r, None)),

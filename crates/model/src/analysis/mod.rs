@@ -42,6 +42,7 @@ mod tally;
 mod warnings;
 
 pub use energy::EnergyBalance;
+pub(crate) use resting::resting_motion;
 pub use summary::{Analysed, DynamicSummary, RunFlags, Summary};
 
 use crate::build::AnalysisKind;

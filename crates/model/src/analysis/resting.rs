@@ -76,9 +76,14 @@ pub(super) fn resting(
 
 /// The tolerance of stop `s`'s gap: rad for an angle, relative to the model's length else.
 fn scale(p: &Prepared, s: usize) -> f64 {
+    PASS_TOLERANCE * unit_scale(p, s)
+}
+
+/// 1 for an angle's stop (rad), the model's characteristic length for a length's.
+fn unit_scale(p: &Prepared, s: usize) -> f64 {
     match p.model.stops()[s].row.measure.quantity() {
-        CoordinateQuantity::Angle => PASS_TOLERANCE,
-        CoordinateQuantity::Length => PASS_TOLERANCE * p.model.characteristic_length(),
+        CoordinateQuantity::Angle => 1.0,
+        CoordinateQuantity::Length => p.model.characteristic_length(),
     }
 }
 
@@ -154,4 +159,123 @@ fn holding(p: &Prepared, held: &[usize]) -> Result<Prepared, Error> {
         units: p.units,
         geometry: p.geometry.clone(),
     })
+}
+
+/// How far (rad, or relative to the model's length) the pose at the start of an inverse
+/// dynamics run may be from a bound and still rest on it.
+const ON_BOUND: f64 = 1e-6;
+
+/// The model of `p` for an inverse dynamics run whose drivers leave k degrees of freedom and
+/// whose pose at `t_start` lies on k stops: those stops held at their bounds (the prescribed
+/// motion rests on them; their holding drivers' efforts, `<limit>.<lower|upper>` in
+/// `driver_efforts.csv`, are the stops' reactions). `None` when the model has no limits, when
+/// the drivers leave no degree of freedom, or when the pose lies on another number of stops
+/// than the degrees of freedom left (the run then says what is missing).
+///
+/// # Errors
+/// Holding the stops (a stop whose coordinate the model cannot hold).
+pub(crate) fn resting_motion(p: &Prepared, t_start: f64) -> Result<Option<Prepared>, Error> {
+    if p.model.stops().is_empty() || p.model.drivers().is_empty() {
+        return Ok(None);
+    }
+    let mut ws = p.model.workspace();
+    let assembled = p
+        .model
+        .assemble(&mut ws, &cardan_mechanism::AssemblyOptions::at(t_start));
+    let Ok(dof) = assembled.and_then(|_| p.model.dof(&ws)) else {
+        // The run reports its own assembly failure.
+        return Ok(None);
+    };
+    let missing = dof.dof.saturating_sub(dof.drivers);
+    let on: Vec<usize> = (p.model.stop_status(&ws).iter().enumerate())
+        .filter(|(s, (_, g))| g.abs() <= ON_BOUND * unit_scale(p, *s))
+        .map(|(s, _)| s)
+        .collect();
+    if missing == 0 || on.len() != missing {
+        return Ok(None);
+    }
+    holding(p, &on).map(Some)
+}
+
+/// The first output time at which a stop held by [`resting_motion`] pulls (its reaction points
+/// out of the range: the prescribed motion leaves the stop there, which inverse dynamics does
+/// not follow), watched frame by frame.
+#[derive(Debug, Default)]
+pub(super) struct PullWatch {
+    held: Vec<HeldStop>,
+    /// The first pull: stop name, the time interpolated between the last pushing and the first
+    /// pulling output, that output's time and reaction.
+    first: Option<(String, f64, f64, f64)>,
+}
+
+/// A stop held through an inverse dynamics run.
+#[derive(Debug)]
+struct HeldStop {
+    /// Its holding driver's index in the results.
+    driver: usize,
+    /// The sign of a pushing reaction along the coordinate (+1 at a lower stop).
+    sign: f64,
+    name: String,
+    /// The last output's time and reaction.
+    last: Option<(f64, f64)>,
+    /// The largest |reaction| so far.
+    peak: f64,
+}
+
+impl PullWatch {
+    /// Watches the stops `p` holds (none for a model that holds none).
+    pub(super) fn new(p: &Prepared) -> Self {
+        let held = (p.model.stops().iter())
+            .filter_map(|st| {
+                let driver = p.model.drivers().iter().position(|d| d.name == st.name)?;
+                Some(HeldStop {
+                    driver,
+                    sign: st.row.bound.sign(),
+                    name: st.name.clone(),
+                    last: None,
+                    peak: 0.0,
+                })
+            })
+            .collect();
+        Self { held, first: None }
+    }
+
+    /// Takes the frames of `r`.
+    pub(super) fn take(&mut self, r: &cardan_dynamics::DynamicResults) {
+        if self.first.is_some() {
+            return;
+        }
+        for h in &mut self.held {
+            let Some(d) = r.drivers.get(h.driver) else {
+                continue;
+            };
+            for (&t, &f) in r.times().iter().zip(&d.effort) {
+                h.peak = h.peak.max(f.abs());
+                if h.sign * f < -1e-9 * h.peak.max(1.0) {
+                    let at = match h.last {
+                        Some((t0, f0)) if h.sign * f0 >= 0.0 => t0 + (t - t0) * f0 / (f0 - f),
+                        _ => t,
+                    };
+                    self.first = Some((h.name.clone(), at, t, f));
+                    return;
+                }
+                h.last = Some((t, f));
+            }
+        }
+    }
+
+    /// The warning of a stop that pulls.
+    pub(super) fn warning(&self, p: &Prepared) -> Option<String> {
+        let (name, at, t, f) = self.first.as_ref()?;
+        let unit = match p.model.stops().iter().find(|s| &s.name == name) {
+            Some(s) if s.row.measure.quantity() == CoordinateQuantity::Length => "N",
+            _ => "N m",
+        };
+        Some(format!(
+            "the prescribed motion leaves stop {name} at about t = {at:.6} s (its reaction \
+             changes sign: {f:.4e} {unit} at t = {t} s pulls): inverse dynamics keeps holding \
+             the stop from there, so the efforts after that time are not the mechanism's; a \
+             dynamic analysis shows it leave"
+        ))
+    }
 }
