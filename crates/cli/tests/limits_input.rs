@@ -529,21 +529,6 @@ fn an_equilibrium_rests_on_the_stop_it_would_pass_and_vibrates_about_it() {
     let o = run_text("run", &free);
     assert_eq!(o.code, 0, "{}", o.stderr);
     assert!(!o.dir.join("out/driver_efforts.csv").exists());
-    // A quasi-static analysis with limits is refused, not run past the stops.
-    let o = run_text(
-        "run",
-        &double_pendulum("quasi_static").replace(
-            "kind = \"quasi_static\"",
-            "kind = \"quasi_static\"\nt_end = 1.0\nsteps = 2",
-        ),
-    );
-    assert_eq!(o.code, 1, "{}", o.stderr);
-    assert!(
-        o.stderr
-            .contains("quasi-static analysis of a model with [[limit]] is not supported"),
-        "{}",
-        o.stderr
-    );
 }
 
 /// Two 1 kg, 1 m rods along +x under gravity −y: the upper one turned about the shoulder at
@@ -635,4 +620,53 @@ fn inverse_dynamics_of_a_motion_resting_on_a_stop_reports_its_reaction_and_when_
         "{}",
         o.stderr
     );
+}
+
+#[test]
+fn a_quasi_static_path_rests_on_its_stop_and_says_where_it_would_leave_it() {
+    // The arm turned at θ = t with its forearm on the elbow stop, as equilibria: the stop
+    // carries the forearm's weight moment m g (L/2) cos θ, the motor both rods',
+    // m g (L/2 + 3L/2) cos θ; past θ = 90° the stop would pull.
+    let text = arm_on_a_stop().replace(
+        "kind = \"inverse_dynamics\"\nt_end = 2.0\nsteps = 200",
+        "kind = \"quasi_static\"\nt_end = 2.0\nsteps = 20",
+    );
+    let o = run_text("run", &text);
+    assert_eq!(o.code, 0, "{}\n{text}", o.stderr);
+    let efforts = std::fs::read_to_string(o.dir.join("out/driver_efforts.csv")).unwrap();
+    let mut lines = efforts.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "t [s],motor.torque [N m],bend.lower.torque [N m]"
+    );
+    for line in lines.take(16) {
+        let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        let c = v[0].cos();
+        assert!(
+            (v[2] - G * 0.5 * c).abs() < 1e-9,
+            "stop at t {}: {}",
+            v[0],
+            v[2]
+        );
+        assert!(
+            (v[1] - G * 2.0 * c).abs() < 1e-9,
+            "motor at t {}: {}",
+            v[0],
+            v[1]
+        );
+    }
+    assert!(
+        o.stdout.contains(
+            "quasi-static analysis: at t = 1.6 s stop bend.lower would pull (its reaction is"
+        ),
+        "{}",
+        o.stdout
+    );
+    // Up to θ = 1 rad the set holds: no warning.
+    let o = run_text(
+        "run",
+        &text.replace("t_end = 2.0\nsteps = 20", "t_end = 1.0\nsteps = 10"),
+    );
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert!(!o.stdout.contains("warning"), "{}", o.stdout);
 }

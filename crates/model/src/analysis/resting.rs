@@ -8,7 +8,6 @@
 //! The held stops then act as joints: a modal analysis linearizes about the equilibrium with
 //! them bilateral, and their reactions are columns of `driver_efforts.csv`.
 
-use crate::build::StaticKind;
 use crate::diag::Error;
 use crate::prepare::Prepared;
 use cardan_constraints::joints::CoordinateQuantity;
@@ -22,30 +21,19 @@ const PASS_TOLERANCE: f64 = 1e-9;
 
 /// The model of `p` with the stops an equilibrium rests on held, and their names; `None` when it
 /// rests on none (or the model has no limits). `solve` solves an equilibrium of a prepared
-/// model. A quasi-static analysis of a model with limits is refused (its active set may change
-/// along the load path, which this iteration does not follow).
+/// model (at `options.time`: a quasi-static analysis's first time, whose set is kept along the
+/// path; [`path_leaves_set`] says where it stops holding).
 ///
 /// # Errors
-/// The equilibrium's errors; a quasi-static analysis with limits; an active set that does not
-/// settle.
+/// The equilibrium's errors; an active set that does not settle.
 pub(super) fn resting(
     p: &Prepared,
-    kind: StaticKind,
     options: &StaticOptions,
     solve: impl Fn(&Prepared, &StaticOptions) -> Result<StaticResults, Error>,
 ) -> Result<Option<Prepared>, Error> {
     let stops = p.model.stops();
     if stops.is_empty() {
         return Ok(None);
-    }
-    if kind == StaticKind::QuasiStatic {
-        return Err(p.source.error_at(
-            p.loaded.spans.analysis.clone(),
-            "a quasi-static analysis of a model with [[limit]] is not supported (the stops an \
-             equilibrium rests on may change along the load path); use kind = \"static\" at \
-             each load, or a dynamic analysis with damping"
-                .to_string(),
-        ));
     }
     let mut held: Vec<usize> = Vec::new();
     let mut built: Option<Prepared> = None;
@@ -89,20 +77,73 @@ fn unit_scale(p: &Prepared, s: usize) -> f64 {
 
 /// Each stop's gap g (≥ 0 inside the range) at the last equilibrium of `r`.
 fn gaps(p: &Prepared, r: &StaticResults) -> Vec<f64> {
-    let k = &r.results.kinematics;
+    let last = r.results.kinematics.times.len().saturating_sub(1);
+    gaps_at(p, &r.results, last)
+}
+
+/// Each stop's gap g at output `k` of `r`.
+fn gaps_at(p: &Prepared, r: &cardan_dynamics::DynamicResults, k: usize) -> Vec<f64> {
+    let kin = &r.kinematics;
     let bodies: Vec<BodyState> = p
         .model
         .bodies()
         .iter()
         .map(|b| {
-            let h = k.body(&b.name).expect("every body has results");
-            BodyState::at(*h.r.last().unwrap(), *h.p.last().unwrap())
+            let h = kin.body(&b.name).expect("every body has results");
+            BodyState::at(h.r[k], h.p[k])
         })
         .collect();
     let turns = p.model.initial_turns();
     (0..p.model.stops().len())
         .map(|s| p.model.stop_gap(s, &bodies, &turns))
         .collect()
+}
+
+/// Where a quasi-static path stops resting on the stops held at its first time (`p`'s model,
+/// from [`resting`]): the first equilibrium that passes an open stop or whose held stop pulls,
+/// as a warning (the analysis keeps the set of its first time; the equilibria after it are not
+/// the mechanism's). `None` when the set holds along the whole path.
+pub(super) fn path_leaves_set(p: &Prepared, r: &cardan_dynamics::DynamicResults) -> Option<String> {
+    let stops = p.model.stops();
+    if stops.is_empty() {
+        return None;
+    }
+    let held = |s: usize| (p.model.drivers().iter()).position(|d| d.name == stops[s].name);
+    for (k, &t) in r.kinematics.times.iter().enumerate() {
+        let gaps = gaps_at(p, r, k);
+        for (s, stop) in stops.iter().enumerate() {
+            let what = match held(s) {
+                Some(d) => {
+                    let effort = r.drivers.get(d).and_then(|e| e.effort.get(k)).copied();
+                    let peak = (r
+                        .drivers
+                        .get(d)
+                        .map_or(0.0, |e| e.effort.iter().fold(0.0f64, |a, f| a.max(f.abs()))))
+                    .max(1.0);
+                    match effort {
+                        Some(f) if f * stop.row.bound.sign() < -1e-9 * peak => {
+                            format!("stop {} would pull (its reaction is {f:.4e})", stop.name)
+                        }
+                        _ => continue,
+                    }
+                }
+                None if gaps[s] < -scale(p, s) => {
+                    format!(
+                        "the equilibrium passes stop {} by {:.4e}",
+                        stop.name, -gaps[s]
+                    )
+                }
+                None => continue,
+            };
+            return Some(format!(
+                "quasi-static analysis: at t = {t} s {what}; the analysis keeps the stops the \
+                 first equilibrium rests on, so the equilibria from there are not the \
+                 mechanism's: start a static analysis at that time, or run a dynamic analysis \
+                 with damping"
+            ));
+        }
+    }
+    None
 }
 
 /// Whether held stop `s` pulls: its holding driver's effort along the coordinate points out of

@@ -53,7 +53,7 @@ pub(super) fn run_statics(
         let mut d = dynamics_as(q, what(kind))?;
         d.statics(o).map_err(|e| error(q, &e, what(kind)))
     };
-    let held = super::resting::resting(p, kind, &static_options(analysis), equilibrium)?;
+    let held = super::resting::resting(p, &static_options(analysis), equilibrium)?;
     let p = held.as_ref().unwrap_or(p);
     let mut d = dynamics_as(p, what(kind))?;
     let solved = solve(p, &mut d, analysis, kind)?;
@@ -70,6 +70,7 @@ pub(super) fn run_statics(
         .collect();
     tables.push(stability_table(statics));
     let mut warnings = stability_warnings(statics);
+    warnings.extend(super::resting::path_leaves_set(p, r));
     warnings.extend(dropped_row_warnings(p, &r.kinematics.dropped_rows));
     let mut files = Vec::new();
     if let Some(s) = &solved.sparse {
