@@ -12,13 +12,20 @@
 //!
 //! Sizes are fractions of the mechanism's extent L (the diagonal of the box around every body
 //! origin and point over the run): rods of radius L/100, joint parts of L/30, markers of L/60.
+//!
+//! A dynamic run's end stops ([`stop_markers`]): per stop of `[[limit]]`, the joint it limits,
+//! placed where that joint's part is drawn, and per frame of the scene whether the stop was
+//! active (held closed or pressed at an output time since the frame before, or struck in
+//! between: `stops.csv` and `events.csv`) and its force; the impacts and releases as events.
 
 use crate::geometry::Declared;
+use crate::table::Table;
 use cardan_constraints::joints::Axes;
 use cardan_constraints::JointKind;
 use cardan_mechanism::{BodyId, Model, Results};
 use cardan_report::{
-    Body, BodyIncrement, Geometry, JointAxis, ModeShape, NamedPoint, Scene, Shape,
+    Body, BodyIncrement, Geometry, JointAxis, ModeShape, NamedPoint, Scene, Shape, StopEvent,
+    StopEventKind, StopMarker,
 };
 use nalgebra::{Matrix3, Vector3, Vector4};
 
@@ -171,6 +178,139 @@ pub fn mode_shapes(
         .collect()
 }
 
+/// The end stops of a run of `model` drawn in `scene` (its frames at `scene.times`), from the
+/// run's `stops` table (rows: the time, then per stop of [`Model::stops`] held 0/1 and its force
+/// in the unit of the column's header) and its `events.csv` text. Frame k stands for
+/// (t_{k−1}, t_k] (frame 0: up to t_0), so that the decimated frames of a long run miss no
+/// contact: the stop is active in it if held or pressed (force ≠ 0) at an output time of that
+/// interval, or struck in it. Nothing for a model without limits or a run without the table.
+pub fn stop_markers(
+    model: &Model,
+    scene: &Scene,
+    table: Option<&Table>,
+    events: Option<&str>,
+) -> (Vec<StopMarker>, Vec<StopEvent>) {
+    let (Some(table), false) = (table, model.stops().is_empty()) else {
+        return (Vec::new(), Vec::new());
+    };
+    let events = events.map(|e| parse_events(model, e)).unwrap_or_default();
+    let ground = scene.bodies.len() - 1;
+    let index = |id: BodyId| match id {
+        BodyId::Ground => ground,
+        BodyId::Moving(k) => k,
+    };
+    let times = &scene.times;
+    let markers = model
+        .stops()
+        .iter()
+        .enumerate()
+        .map(|(s, stop)| {
+            let joint = &model.joints()[model.limits()[stop.limit].joint];
+            let (body, marker) = if joint.body_i == BodyId::Ground {
+                (index(joint.body_j), joint.joint.marker_j())
+            } else {
+                (index(joint.body_i), joint.joint.marker_i())
+            };
+            let z = marker.frame.column(2);
+            let column = 1 + 2 * s;
+            let unit = (table.columns.get(column))
+                .and_then(|c| c.rsplit_once('[').map(|(_, u)| u.trim_end_matches(']')))
+                .unwrap_or("")
+                .to_string();
+            let struck: Vec<f64> = (events.iter())
+                .filter(|e| e.stop == s && e.kind != StopEventKind::Release)
+                .map(|e| e.time)
+                .collect();
+            let (active, force) = frames(times, &table.rows, column, &struck);
+            StopMarker {
+                name: stop.name.clone(),
+                joint: joint.name.clone(),
+                body,
+                point: [marker.point.x, marker.point.y, marker.point.z],
+                direction: [z[0], z[1], z[2]],
+                active,
+                force,
+                unit,
+            }
+        })
+        .collect();
+    (markers, events)
+}
+
+/// Per frame at `times`: whether the stop whose held flag is in `column` of `rows` (its force
+/// in the next) was held or pressed at a row of the frame's interval (t_{k−1}, t_k], or struck
+/// (`struck`, in time order) in it; and its force at the last row up to t_k.
+fn frames(
+    times: &[f64],
+    rows: &[Vec<f64>],
+    column: usize,
+    struck: &[f64],
+) -> (Vec<bool>, Vec<f64>) {
+    let mut active = Vec::with_capacity(times.len());
+    let mut force = Vec::with_capacity(times.len());
+    let (mut row, mut hit) = (0, 0);
+    let mut last = 0.0;
+    for &t in times {
+        let mut on = false;
+        while row < rows.len() && rows[row][0] <= t {
+            let (held, f) = (rows[row][column], rows[row][column + 1]);
+            on |= held != 0.0 || f != 0.0;
+            last = f;
+            row += 1;
+        }
+        while hit < struck.len() && struck[hit] <= t {
+            on = true;
+            hit += 1;
+        }
+        active.push(on);
+        force.push(last);
+    }
+    (active, force)
+}
+
+/// The events of `events.csv` (its columns: time, stop, joint, event, …) by the stop's index
+/// in [`Model::stops`]; a line that does not read so is left out.
+fn parse_events(model: &Model, text: &str) -> Vec<StopEvent> {
+    text.lines()
+        .skip(1)
+        .filter_map(|line| {
+            let f = csv_fields(line);
+            let time: f64 = f.first()?.parse().ok()?;
+            let name = f.get(1)?;
+            let stop = model.stops().iter().position(|s| s.name == *name)?;
+            let kind = match f.get(3)?.as_str() {
+                "impact" => StopEventKind::Impact,
+                "impact_held" => StopEventKind::ImpactHeld,
+                "release" => StopEventKind::Release,
+                _ => return None,
+            };
+            Some(StopEvent { time, stop, kind })
+        })
+        .collect()
+}
+
+/// The fields of one CSV line as `crate::table::csv_field` writes them (a field with a comma
+/// or a quote quoted, its quotes doubled).
+fn csv_fields(line: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut field = String::new();
+    let mut quoted = false;
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '"' if quoted && chars.peek() == Some(&'"') => {
+                chars.next();
+                field.push('"');
+            }
+            '"' => quoted = !quoted,
+            ',' if !quoted => out.push(std::mem::take(&mut field)),
+            c => field.push(c),
+        }
+    }
+    out.push(field);
+    out
+}
+
 /// The named points of each moving body (by index), then of the ground (last), in body
 /// coordinates.
 fn points_by_body(model: &Model) -> Vec<Vec<NamedPoint>> {
@@ -300,4 +440,38 @@ fn along(s: &Vector3<f64>) -> [f64; 4] {
         .and_then(|f| cardan_eulerparam::EulerParams::from_rotation_matrix(&f))
         .map(|p| [p.e0(), p.e().x, p.e().y, p.e().z])
         .unwrap_or([1.0, 0.0, 0.0, 0.0])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_frame_is_active_for_a_contact_or_an_impact_since_the_frame_before() {
+        // Output rows (t, held, force) every 0.1 s; the scene keeps 0, 0.2, 0.4.
+        let rows: Vec<Vec<f64>> = [
+            [0.0, 0.0, 0.0],
+            [0.1, 1.0, 2.0],
+            [0.2, 0.0, 0.0],
+            [0.3, 0.0, 0.0],
+            [0.4, 0.0, 0.5],
+        ]
+        .iter()
+        .map(|r| r.to_vec())
+        .collect();
+        let (active, force) = frames(&[0.0, 0.2, 0.4], &rows, 1, &[]);
+        assert_eq!(active, [false, true, true]);
+        assert_eq!(force, [0.0, 0.0, 0.5]);
+        let (active, _) = frames(&[0.0, 0.2, 0.4], &rows[..4], 1, &[0.25]);
+        assert_eq!(active, [false, true, true]);
+    }
+
+    #[test]
+    fn quoted_csv_fields_are_read_back() {
+        assert_eq!(
+            csv_fields("0.5,\"a,\"\"b\"\".lower\",hinge,impact"),
+            ["0.5", "a,\"b\".lower", "hinge", "impact"]
+        );
+        assert_eq!(csv_fields(""), [""]);
+    }
 }

@@ -12,12 +12,20 @@
 //! frame is drawn (for screenshot tests). In a browser without WebGL the viewer shows one
 //! sentence (`#no-webgl`: "3D view needs WebGL; the plots below work without it") instead of
 //! the 3D view and three.js's errors, and the timeline, plots and summary work as before.
+//!
+//! A run with end stops ([`Page::stops`], `stops.rs`) adds their data to the JSON, their
+//! style (`stops.css`) and their script (`stops.js`: the rings, the list of stops, the ticks
+//! of the impacts on the timeline) before the viewer, which calls it from the lines of
+//! `viewer.js` tagged `// [stops]`. A page without stops leaves all of that out, those lines
+//! too, so its text is exactly that of a page written before stops were drawn.
 
 use crate::base64::encode_into;
 use crate::modes::{modes_json, validate_modes, ModeShape, MAX_ANIMATED_MODES};
 use crate::rotate::rotate;
 use crate::scene::Scene;
+use crate::stops::{stops_json, validate_stops, StopEvent, StopMarker};
 use std::fmt::Write as _;
+use std::sync::OnceLock;
 
 /// three.js 0.160.1, `build/three.module.min.js` of the npm package (vendor/three-0.160.1), as
 /// a classic script (converted by `build.rs`).
@@ -26,6 +34,26 @@ const THREE_CLASSIC: &str = include_str!(concat!(env!("OUT_DIR"), "/three.classi
 const VIEWER: &str = include_str!("viewer.js");
 /// The page's style.
 const STYLE: &str = include_str!("viewer.css");
+/// The end stops' script and style (only in a page with stops).
+const STOPS_SCRIPT: &str = include_str!("stops.js");
+const STOPS_STYLE: &str = include_str!("stops.css");
+/// The tag of the lines of `viewer.js` that call `stops.js`.
+const STOPS_TAG: &str = "// [stops]";
+
+/// `viewer.js` for a page with stops (as written) or without (the lines tagged
+/// [`STOPS_TAG`] left out, once).
+fn viewer(with_stops: bool) -> &'static str {
+    static PLAIN: OnceLock<String> = OnceLock::new();
+    if with_stops {
+        return VIEWER;
+    }
+    PLAIN.get_or_init(|| {
+        VIEWER
+            .split_inclusive('\n')
+            .filter(|line| !line.trim_end().ends_with(STOPS_TAG))
+            .collect()
+    })
+}
 
 /// What the page shows besides the scene.
 #[derive(Debug, Clone, Default)]
@@ -39,6 +67,11 @@ pub struct Page {
     /// A modal run's modes: the page animates them about the scene's first pose (a mode
     /// selector and an amplitude slider replace the time slider). Empty for other runs.
     pub modes: Vec<ModeShape>,
+    /// A run's end stops: a marker at each stop's joint in the frames it is active in
+    /// (`stops.rs`). Empty for a model without limits (the page is then as without them).
+    pub stops: Vec<StopMarker>,
+    /// The impacts and releases of the stops, ticks on the timeline.
+    pub stop_events: Vec<StopEvent>,
 }
 
 /// three.js as a classic script (`src/classic.rs` applied to the vendored module), made
@@ -87,6 +120,9 @@ impl std::fmt::Display for Html {
 /// [`crate::Error::Scene`] if the modes do not fit the scene ([`validate_modes`]).
 pub fn write_html(scene: &Scene, glb: &[u8], page: &Page) -> Result<Html, crate::Error> {
     validate_modes(scene, &page.modes)?;
+    validate_stops(scene, &page.stops, &page.stop_events)?;
+    let with_stops = !page.stops.is_empty();
+    let stops_style = if with_stops { STOPS_STYLE } else { "" };
     let mut html =
         String::with_capacity(page.plots.iter().map(|p| p.1.len()).sum::<usize>() + 20_000);
     let title = escape(&scene.name);
@@ -94,7 +130,7 @@ pub fn write_html(scene: &Scene, glb: &[u8], page: &Page) -> Result<Html, crate:
         html,
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\
          <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\
-         <title>{title} — cardan</title><style>{STYLE}</style>\n\
+         <title>{title} — cardan</title><style>{STYLE}{stops_style}</style>\n\
          <script>{RECORDER}</script>\n</head><body>\n\
          <header><h1>{title}</h1><ul id=\"errors\" hidden></ul></header>\n"
     );
@@ -131,9 +167,16 @@ pub fn write_html(scene: &Scene, glb: &[u8], page: &Page) -> Result<Html, crate:
     if !page.modes.is_empty() {
         meta["modes"] = modes_json(scene, &page.modes);
     }
+    if with_stops {
+        meta["stops"] = stops_json(&page.stops, &page.stop_events);
+    }
     html.push_str(&script_safe(&meta.to_string()));
     html.push_str("</script>\n<script>");
-    html.push_str(VIEWER);
+    if with_stops {
+        html.push_str(STOPS_SCRIPT);
+        html.push_str("</script>\n<script>");
+    }
+    html.push_str(viewer(with_stops));
     html.push_str("</script>\n</body></html>\n");
     Ok(Html {
         head,
@@ -315,6 +358,25 @@ mod tests {
         }
         assert!(!c.contains("export{"));
         assert!(!c.to_ascii_lowercase().contains("</script"));
+    }
+
+    #[test]
+    fn a_page_without_stops_has_the_viewer_without_its_stop_lines() {
+        let tagged = VIEWER.lines().filter(|l| l.ends_with(STOPS_TAG)).count();
+        assert_eq!(tagged, 3);
+        let plain = viewer(false);
+        assert_eq!(plain.lines().count(), VIEWER.lines().count() - tagged);
+        assert!(!plain.contains("stops") && !plain.contains("cardanStops"));
+        assert!(viewer(true).contains("window.cardanStops"));
+        let scene = Scene {
+            times: vec![0.0],
+            ..Scene::default()
+        };
+        let page = write_html(&scene, &[], &Page::default())
+            .unwrap()
+            .to_string();
+        assert!(!page.contains("cardanStops") && !page.contains("stop-ticks"));
+        assert!(page.contains(viewer(false)));
     }
 
     #[test]

@@ -13,6 +13,9 @@
 //! - [`ModeShape`]: the vibration modes of a modal run, which the page animates about the
 //!   scene's one pose (a mode selector, play/pause and an amplitude slider) instead of playing
 //!   the `.glb`'s keyframes ([`mode_pose`] is the pose the page draws).
+//! - [`StopMarker`], [`StopEvent`]: a run's end stops, which the page marks at their joints
+//!   in the frames they are active in, with ticks at the impacts on its timeline (a page
+//!   without stops is as it was before them).
 //! - [`read_mesh`]: STL (binary or ASCII) and OBJ files as triangle meshes, with a triangle cap
 //!   checked before the file is read in full.
 
@@ -26,6 +29,7 @@ mod mesh_file;
 mod modes;
 mod rotate;
 mod scene;
+mod stops;
 mod tessellate;
 
 pub use glb::write_glb;
@@ -36,6 +40,7 @@ pub use modes::{
     MAX_ANIMATED_MODES, MODE_FRACTION,
 };
 pub use scene::{gltf_rotation, Body, Geometry, JointAxis, Mesh, NamedPoint, Scene, Shape};
+pub use stops::{validate_stops, StopEvent, StopEventKind, StopMarker};
 pub use tessellate::mesh_of;
 
 /// Colour `k` of the plots' palette (`cardan_plot::PALETTE`) as linear RGB in 0..1, the glTF

@@ -1,5 +1,6 @@
 // cardan report viewer: reads the embedded .glb (nodes, meshes, materials, animation) and plays
 // it with three.js. No network, no modules: runs from file://.
+// Lines tagged [stops] call stops.js; a page without end stops has neither (html.rs). // [stops]
 (function () {
   'use strict';
   var T = window.THREE;
@@ -306,6 +307,7 @@
   } else {
     modes = null;
   }
+  var stops = !modes && window.cardanStops ? window.cardanStops(T, meta, built, findFrame) : null; // [stops]
 
   // Playback (a modal run: the phase τ over one period, a period per second at speed 1).
   var t0 = built.times[0], t1 = built.times[built.times.length - 1];
@@ -342,6 +344,7 @@
     } else {
       applyTracks(built.tracks, t);
       trails.forEach(function (tr) { tr.line.geometry.setDrawRange(0, findFrame(tr.times, t)[0] + 1); });
+      if (stops) stops.draw(t); // [stops]
       timeLabel.textContent = 't = ' + t.toFixed(4) + ' s';
     }
     scrub.value = t;

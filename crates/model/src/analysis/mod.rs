@@ -302,11 +302,20 @@ pub fn animation(
             .push(format!("index.html does not animate the modes: {e}"));
         modes.clear();
     }
+    // A dynamic run's end stops, from its stops table and events.csv (none without limits).
+    let (stops, stop_events) = crate::scene::stop_markers(
+        &p.model,
+        &scene,
+        a.tables.iter().find(|t| t.name == "stops"),
+        (a.files.iter().find(|f| f.0 == "events.csv")).map(|f| f.1.as_str()),
+    );
     let page = cardan_report::Page {
         plots: svgs,
         summary: serde_json::from_str(&run_report(p, kind, a, files).to_json()).ok(),
         up: declared.up,
         modes,
+        stops,
+        stop_events,
     };
     let html = cardan_report::write_html(&scene, &glb, &page)
         .map_err(|e| Error::output(format!("index.html: {e}")))?;
