@@ -365,3 +365,88 @@ fn the_modal_report_animates_mode_2() {
     }
     assert!(moved > 0.01, "mode 2 moves no body ({moved} m)");
 }
+
+/// Pixels of the 3D view that are the stop ring's red (r high, g and b low: no body colour of
+/// the palette is).
+fn red_pixels(w: usize, png: &Path) -> usize {
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(png).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    let channels = info.color_type.samples();
+    assert!(channels >= 3 && info.width as usize == w);
+    let h = info.height as usize;
+    (60..h * 6 / 10)
+        .flat_map(|y| (20..w - 20).map(move |x| (y * w + x) * channels))
+        .filter(|&i| buf[i] > 180 && buf[i + 1] < 70 && buf[i + 2] < 70)
+        .count()
+}
+
+/// The end stop of `pendulum_stop` (issue 48): before the first impact (t = 0.2 s) its ring is
+/// not drawn and its entry reads open; at the first impact (events.csv) and at the end, held on
+/// the stop, the ring is drawn in red at the hinge and the entry reads active; the timeline has
+/// a tick per impact; no error. Without WebGL the entry still follows the time.
+#[test]
+fn the_report_marks_an_active_stop() {
+    let Some(chromium) = chromium() else {
+        return;
+    };
+    let out = example("pendulum_stop.toml");
+    let page = out.join("index.html").canonicalize().unwrap();
+    let url = |t: f64| format!("file://{}?t={t}", page.display());
+    let profile = out.join("../chromium-profile");
+    let events = std::fs::read_to_string(out.join("events.csv")).unwrap();
+    let first: f64 = events
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+
+    let stop_state = |t: f64, extra: &[&str]| {
+        let mut args = vec!["--dump-dom"];
+        args.extend_from_slice(extra);
+        let (dom, log) = browse(&chromium, &profile, &url(t), &args);
+        assert!(
+            dom.contains("data-ready=\"1\""),
+            "not ready at t = {t}:\n{log}"
+        );
+        let errors = element_text(&dom, "ul", "errors");
+        assert!(!errors.contains("<li"), "errors at t = {t}: {errors}");
+        let ticks = dom.matches("<span class=\"tick impact\"").count();
+        assert_eq!(ticks, events.lines().count() - 1, "one tick per event");
+        let entry = element_text(&dom, "div", "stops");
+        (entry.contains("data-active=\"1\""), entry.to_string())
+    };
+    let (before, text) = stop_state(0.2, &[]);
+    assert!(!before && text.contains("stop.lower: open"), "{text}");
+    let (at_impact, text) = stop_state(first, &[]);
+    assert!(at_impact && text.contains("stop.lower: impact"), "{text}");
+    let (at_end, text) = stop_state(3.0, &[]);
+    assert!(
+        at_end && text.contains("stop.lower: closed, 2.452 N m"),
+        "{text}"
+    );
+    let (no_webgl, text) = stop_state(3.0, &["--disable-webgl", "--disable-3d-apis"]);
+    assert!(no_webgl, "{text}");
+
+    // The ring: red pixels in the view at the end and at the impact, none before.
+    let red = |t: f64| {
+        let png = out.join(format!("../stop-{t}.png"));
+        let arg = format!("--screenshot={}", png.display());
+        browse(&chromium, &profile, &url(t), &[&arg]);
+        red_pixels(900, &png)
+    };
+    let (off, on, struck) = (red(0.2), red(3.0), red(first));
+    eprintln!(
+        "red pixels of the stop ring: {off} before the impact, {struck} at it, {on} at the end"
+    );
+    assert!(off < 20, "{off} red pixels while the stop is open");
+    assert!(
+        on > 200 && struck > 200,
+        "no ring: {on}, {struck} red pixels"
+    );
+}
