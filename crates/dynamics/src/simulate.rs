@@ -128,15 +128,6 @@ impl Dynamics<'_> {
             self.prepare(&state)?;
         }
         self.start_stops(&state)?;
-        if matches!(options.integrator, Integrator::GeneralizedAlpha(_))
-            && !self.model.frictions().is_empty()
-        {
-            return Err(DynamicsError::Options(
-                "joint friction is solved with the reactions in the equations of motion, which \
-                 generalized-α's iteration does not evaluate yet: use DOPRI5"
-                    .into(),
-            ));
-        }
         let mut rec = match sink {
             Some(sink) => Recorder::streamed(self, options.outputs, sink),
             None => Recorder::new(self, times.len(), options.outputs),

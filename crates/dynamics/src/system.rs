@@ -355,6 +355,13 @@ impl<'m> Dynamics<'m> {
                 pairs.push((i, j));
             }
         }
+        // Joint friction couples the joint's two bodies (its tangent in an implicit step).
+        for f in self.model.frictions() {
+            let info = &self.model.joints()[f.joint];
+            if let (BodyId::Moving(i), BodyId::Moving(j)) = (info.body_i, info.body_j) {
+                pairs.push((i, j));
+            }
+        }
         pairs
     }
 
@@ -417,6 +424,15 @@ impl<'m> Dynamics<'m> {
                     local_row: 0,
                 }],
             },
+        }
+    }
+
+    /// [`Self::eval_forces`] for an implicit step's iterate: with joint friction, the friction
+    /// from the iterate's multipliers (`friction.frozen`) too.
+    pub(crate) fn eval_implicit_forces(&mut self, t: f64) {
+        self.eval_forces(t);
+        if !self.friction.hf.is_empty() {
+            self.add_friction_frozen(t);
         }
     }
 

@@ -24,6 +24,11 @@
 //! run stops with an error when it does not converge in [`MAX_ITERATIONS`], as for a
 //! self-locking joint). The friction's power vᵀh_f (≤ 0) is a work channel of the energy
 //! balance ([`crate::work`]).
+//!
+//! Generalized-α solves the step's equations for v̇ and λ together, so there the friction is
+//! a force of the iterate: evaluated from the iterate's λ at every Newton iteration (the
+//! converged step satisfies friction and reactions together, nothing lagged), its velocity
+//! tangent in the iteration matrix through the force tangents' differences.
 
 use crate::forces::AppliedForces;
 use crate::kkt::{element_blocks, SchurRefinement};
@@ -44,8 +49,9 @@ fn reg(v: f64, vs: f64) -> f64 {
 }
 
 impl Dynamics<'_> {
-    /// The reaction force on body j of joint `joint` (global) from the last solution.
-    fn joint_force(&self, joint: usize, t: f64) -> Vector3<f64> {
+    /// The reaction force on body j of joint `joint` (global) from the last solution, or from
+    /// the multipliers `frozen` (over the kept rows).
+    fn joint_force(&self, joint: usize, t: f64, frozen: bool) -> Vector3<f64> {
         let e = &self.elements[joint];
         let (mut bi, mut bj) = ([[0.0; 6]; 6], [[0.0; 6]; 6]);
         element_blocks(self.model, e, &self.bodies, t, &mut bi, &mut bj);
@@ -56,7 +62,11 @@ impl Dynamics<'_> {
             if a == usize::MAX {
                 continue;
             }
-            let l = kkt.sol[kkt.n + a];
+            let l = if frozen {
+                self.friction.frozen.get(a).copied().unwrap_or(0.0)
+            } else {
+                kkt.sol[kkt.n + a]
+            };
             for c in 0..3 {
                 fi[c] -= bi[lr][c] * l;
                 fj[c] -= bj[lr][c] * l;
@@ -68,9 +78,9 @@ impl Dynamics<'_> {
         }
     }
 
-    /// h_f at the synced bodies from the reactions of the last solution, each element's
-    /// friction and power.
-    fn eval_friction(&mut self, t: f64) {
+    /// h_f at the synced bodies from the reactions of the last solution (or of the multipliers
+    /// `friction.frozen`), each element's friction and power.
+    fn eval_friction(&mut self, t: f64, frozen: bool) {
         let model = self.model;
         let g = BodyState::ground();
         let mut hf = std::mem::take(&mut self.friction.hf);
@@ -85,7 +95,7 @@ impl Dynamics<'_> {
             let (si, sj) = (st(info.body_i), st(info.body_j));
             let pair = BodyPair::new(&si, &sj);
             let z = si.a * joint.marker_i().z();
-            let force = self.joint_force(f.joint, t);
+            let force = self.joint_force(f.joint, t, frozen);
             let radial = (force - z * z.dot(&force)).norm();
             let zero = BodyAcceleration::default();
             let rates = joint.coordinate_rates(&pair, &zero, &zero);
@@ -137,6 +147,31 @@ impl Dynamics<'_> {
         self.friction.hf = hf;
     }
 
+    /// Takes the multipliers `lambda` (over the kept rows) of an implicit step's iterate for the
+    /// friction ([`Self::add_friction_frozen`]); nothing without friction. Allocates only when
+    /// the kept rows change.
+    pub(crate) fn freeze_friction(&mut self, lambda: &[f64]) {
+        if self.friction.hf.is_empty() {
+            return;
+        }
+        let frozen = &mut self.friction.frozen;
+        if frozen.len() != lambda.len() {
+            frozen.resize(lambda.len(), 0.0);
+        }
+        frozen.copy_from_slice(lambda);
+    }
+
+    /// The friction from the multipliers in `friction.frozen` (an implicit step's iterate)
+    /// added to h at the synced bodies: the step's Newton iteration solves the friction with
+    /// the reactions, and its finite-difference tangents take ∂h_f/∂v (the regularized sign's
+    /// slope μN/v_s, which the iteration matrix needs while a joint sticks).
+    pub(crate) fn add_friction_frozen(&mut self, t: f64) {
+        self.eval_friction(t, true);
+        for (h, f) in self.h.iter_mut().zip(&self.friction.hf) {
+            *h += f;
+        }
+    }
+
     /// After the solve without friction: the fixed point of friction and reactions (module
     /// docs). No allocation after the first call.
     ///
@@ -153,7 +188,7 @@ impl Dynamics<'_> {
         let scale = self.h.iter().fold(1e-300f64, |a, v| a.max(v.abs()));
         let mut change = 0.0;
         for _ in 0..MAX_ITERATIONS {
-            self.eval_friction(t);
+            self.eval_friction(t, false);
             change = self
                 .friction
                 .hf

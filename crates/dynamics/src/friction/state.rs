@@ -15,6 +15,9 @@ pub(crate) struct FrictionState {
     /// magnitude), and its power (W, ≤ 0).
     pub value: Vec<f64>,
     pub power: Vec<f64>,
+    /// The multipliers (over the kept rows) an implicit step's iterate gives the friction
+    /// ([`crate::system::Dynamics::eval_implicit_forces`]).
+    pub frozen: Vec<f64>,
 }
 
 impl FrictionState {
@@ -29,6 +32,7 @@ impl FrictionState {
             rhs0: Vec::new(),
             value: vec![0.0; nf],
             power: vec![0.0; nf],
+            frozen: Vec::new(),
         }
     }
 }

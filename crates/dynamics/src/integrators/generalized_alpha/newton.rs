@@ -151,14 +151,21 @@ impl Newton {
         for it in 0..o.max_iterations {
             update_trial(n, trial, &mut self.dq, h, p);
             d.sync(&trial.s);
-            d.eval_forces(t1);
+            d.freeze_friction(&trial.lambda);
+            d.eval_implicit_forces(t1);
             d.check_forces(t1)?;
             let res_c = constraint_residual(d, &mut self.phi, t1, sc.beta_p);
             // Converged: the constraints hold and either the equations of motion hold to the
             // tolerance, or the last update of a matrix factored in this step (Newton, or a
             // chord iteration on it) moved the positions by less than the tolerance (scaled).
             let constraints_ok = res_c <= 10.0 * tol;
-            let fresh_small = policy.factor == Factor::Fresh && !plan.refreshed && up.inc <= tol;
+            // Not with joint friction: the iteration matrix lacks the friction's dependence on
+            // λ, so a fresh matrix is not exact Newton there and a small increment does not
+            // bound the remaining error (the residual decides).
+            let fresh_small = policy.factor == Factor::Fresh
+                && !plan.refreshed
+                && up.inc <= tol
+                && d.friction.hf.is_empty();
             // A stale (chord) matrix: the remaining error of v̇ estimated from the contraction
             // of the last two increments, θ/(1 − θ)·|Δv̇| (Hairer & Wanner IV.8; needs two
             // updates), relative to the largest acceleration. At the acceleration level, not

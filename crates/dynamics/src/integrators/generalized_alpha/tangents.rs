@@ -87,7 +87,7 @@ impl Tangents {
     pub fn eval(&mut self, d: &mut Dynamics, at: &State) {
         let l = d.model.characteristic_length();
         d.sync(at);
-        d.eval_forces(at.t);
+        d.eval_implicit_forces(at.t);
         self.h0.copy_from_slice(&d.h);
         self.pert.t = at.t;
         for colour in &self.colours {
@@ -113,7 +113,7 @@ impl Tangents {
                         apply_rotation_step(&mut self.pert.q, &self.dq);
                     }
                     d.sync(&self.pert);
-                    d.eval_forces(at.t);
+                    d.eval_implicit_forces(at.t);
                     let out = if velocity { &mut self.ct } else { &mut self.kt };
                     // −(h − h0)/ε over the rows of each block of the perturbed bodies.
                     for &k in colour {
