@@ -413,6 +413,35 @@ fn a_block_on_an_incline_slides_with_a_equal_g_sin_minus_mu_cos() {
     );
     let json = std::fs::read_to_string(o.dir.join("out/run.json")).unwrap();
     assert!(json.contains("\"warnings\": []"), "{json}");
+    // friction.csv: the sliding block's friction force μ m g cos α against the motion (down
+    // the slide, so negative along it once sliding), its power that force times the speed.
+    let friction = std::fs::read_to_string(o.dir.join("out/friction.csv")).unwrap();
+    assert_eq!(
+        friction.lines().next().unwrap(),
+        "t [s],dry force [N],dry power [W]"
+    );
+    let row: Vec<f64> = (friction.lines().last().unwrap().split(','))
+        .map(|x| x.parse().unwrap())
+        .collect();
+    let expected = -mu * 2.0 * G * alpha.to_radians().cos();
+    assert!((row[1] - expected).abs() < 1e-6 * expected.abs(), "{row:?}");
+    assert!(
+        (row[2] - expected * a).abs() < 1e-6 * (expected * a).abs(),
+        "{row:?}"
+    );
+    // Generalized-α takes the friction too (its start from rest is off by h μ g cos α / 2 in
+    // the speed, `crates/dynamics/tests/friction.rs`; the sliding friction force is exact).
+    let text = incline(alpha, mu).replace(
+        "integrator = \"dopri5\"\nrtol = 1e-10\natol = 1e-12",
+        "integrator = \"generalized_alpha\"\ndt = 1e-3",
+    );
+    let o = run_text("run", &text);
+    assert_eq!(o.code, 0, "{}\n{text}", o.stderr);
+    let friction = std::fs::read_to_string(o.dir.join("out/friction.csv")).unwrap();
+    let row: Vec<f64> = (friction.lines().last().unwrap().split(','))
+        .map(|x| x.parse().unwrap())
+        .collect();
+    assert!((row[1] - expected).abs() < 1e-9 * expected.abs(), "{row:?}");
     // tan 15° < μ: it sticks (creeping at about v_s ρ/√(1 − ρ²)).
     let o = run_text("run", &incline(15.0, mu));
     assert_eq!(o.code, 0, "{}", o.stderr);

@@ -89,6 +89,7 @@ impl Dynamics<'_> {
         sink: &mut dyn DynamicSink,
     ) -> Result<DynamicResults, DynamicsError> {
         let start = std::time::Instant::now();
+        self.reset_friction_history();
         // A rotational spring follows its joint's angle over turns from the kinematics' own
         // continuation (output times may be turns apart).
         let springs = self.forces.iter().any(Resolved::is_rotational);

@@ -162,6 +162,7 @@ pub use contacts::events::ImpactEvent;
 pub use contacts::StopHistory;
 pub use error::DynamicsError;
 pub use forces::{AppliedForces, Force, Frame, PointRef, UserForces, VectorFunction};
+pub use friction::state::FrictionHistory;
 pub use modal::{BodyShape, Linearization, ModalOptions, ModalResults, Mode, ModeKind};
 pub use options::{
     Baumgarte, Dopri5Options, GeneralizedAlphaOptions, Integrator, IterationMatrix, OptionError,

@@ -138,6 +138,7 @@ impl<'s> Recorder<'s> {
     ) -> Result<(), DynamicsError> {
         d.accelerations_refined(state, &mut self.vdot, &mut self.lambda, refine)?;
         d.record_stops(state.t);
+        d.record_friction(state.t);
         self.begin();
         self.record_work(d, state.t, work);
         self.store(d, state, iterations, false);

@@ -240,6 +240,18 @@ fn crank_with_pin_friction_needs_the_friction_circle_torque() {
         );
     }
     eprintln!("driver torque against the friction circle: worst error {worst:.2e} N m");
+    // The friction's history: the torque −μ r |F| against the turning (ω > 0), its power
+    // that torque times ω, at every output time.
+    let history = d.friction_history();
+    assert_eq!(history.times.len(), res.times().len());
+    for (k, &t) in history.times.iter().enumerate() {
+        let th = w * t;
+        let er = Vector3::new(th.cos(), th.sin(), 0.0);
+        let f = m * (-w * w * l / 2.0 * er + Vector3::new(0.0, G, 0.0));
+        let torque = -mu * r * f.norm();
+        assert!((history.value[k][0] - torque).abs() < 1e-8, "t = {t}");
+        assert!((history.power[k][0] - torque * w).abs() < 1e-8, "t = {t}");
+    }
 }
 
 /// A 1 kg, 1 m rod on a pin with friction (μ = 0.2, r = 2 cm, v_s = 1e-2 rad/s) released

@@ -39,7 +39,7 @@ use cardan_constraints::{BodyPair, BodyState, JointKind};
 use cardan_mechanism::BodyId;
 use nalgebra::Vector3;
 
-pub(crate) mod state;
+pub mod state;
 
 /// The most re-solves of the friction–reaction fixed point at one evaluation.
 pub const MAX_ITERATIONS: usize = 50;
@@ -145,6 +145,28 @@ impl Dynamics<'_> {
             self.friction.power[k] = power;
         }
         self.friction.hf = hf;
+    }
+
+    /// Appends each element's friction and power at the output time `t` (after the equations
+    /// of motion were solved there) to the run's history. Nothing without friction.
+    pub(crate) fn record_friction(&mut self, t: f64) {
+        let f = &mut self.friction;
+        if f.hf.is_empty() {
+            return;
+        }
+        f.history.times.push(t);
+        f.history.value.push(f.value.clone());
+        f.history.power.push(f.power.clone());
+    }
+
+    /// The joints' friction at each output time of the last run (force or torque, power).
+    pub fn friction_history(&self) -> &state::FrictionHistory {
+        &self.friction.history
+    }
+
+    /// Forgets the history of an earlier run.
+    pub(crate) fn reset_friction_history(&mut self) {
+        self.friction.history = state::FrictionHistory::default();
     }
 
     /// Takes the multipliers `lambda` (over the kept rows) of an implicit step's iterate for the

@@ -18,6 +18,22 @@ pub(crate) struct FrictionState {
     /// The multipliers (over the kept rows) an implicit step's iterate gives the friction
     /// ([`crate::system::Dynamics::eval_implicit_forces`]).
     pub frozen: Vec<f64>,
+    /// Each element's friction and power at the run's output times.
+    pub history: FrictionHistory,
+}
+
+/// The joints' friction at each output time of a run
+/// ([`crate::system::Dynamics::friction_history`]; empty without friction).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct FrictionHistory {
+    /// Output times.
+    pub times: Vec<f64>,
+    /// Per time, per friction element ([`cardan_mechanism::Model::frictions`]): its force (N,
+    /// along the slide: prismatic and cylindrical joints) or torque (N m, about the axis:
+    /// revolute; a ball joint's magnitude), opposing the motion.
+    pub value: Vec<Vec<f64>>,
+    /// Per time, per element: the power it takes, W (≤ 0).
+    pub power: Vec<Vec<f64>>,
 }
 
 impl FrictionState {
@@ -33,6 +49,7 @@ impl FrictionState {
             value: vec![0.0; nf],
             power: vec![0.0; nf],
             frozen: Vec::new(),
+            history: FrictionHistory::default(),
         }
     }
 }

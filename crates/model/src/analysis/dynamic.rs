@@ -66,6 +66,7 @@ pub(super) fn run_dynamic(
     let events = super::stops::events_csv(p, d.impact_events());
     let counts = super::stops::counts(p, d.impact_events(), d.stop_history());
     let stops = super::stops::stops_table(p, d.stop_history());
+    let friction = super::friction::friction_table(p, d.friction_history());
     drop(d);
     let (totals, failure) = match outcome {
         Ok(r) => (r, None),
@@ -92,6 +93,7 @@ pub(super) fn run_dynamic(
         files = lf;
     }
     tables.extend(stops);
+    tables.extend(friction);
     files.extend(events);
     let tally = rec.tally;
     let summary = Summary {

@@ -60,6 +60,7 @@ pub(super) fn run_inverse(
         bar.tick(k as u64 + 1, frame.times()[0])
     };
     let run = d.inverse_dynamics_into(&opts, &mut sink);
+    let friction = super::friction::friction_table(p, d.friction_history());
     let stopped = bar.stopped();
     drop(bar);
     let wall = start.elapsed();
@@ -100,7 +101,7 @@ pub(super) fn run_inverse(
         row_reselections: k.row_reselections + r.stats.row_reselections,
     };
     Ok(Analysed {
-        tables: rec.tables,
+        tables: rec.tables.into_iter().chain(friction).collect(),
         summary,
         results: r.kinematics.clone(),
         dynamic: Some(r),

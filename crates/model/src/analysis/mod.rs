@@ -24,6 +24,7 @@ mod csv_files;
 pub mod dynamic;
 pub mod dynamic_layout;
 mod energy;
+mod friction;
 pub mod inverse;
 pub mod kinematic;
 mod layout;
