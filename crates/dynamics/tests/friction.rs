@@ -13,6 +13,8 @@ use cardan_mechanism::{
 };
 use nalgebra::Vector3;
 
+mod common;
+
 const G: f64 = 9.81;
 
 /// A 2 kg block on a prismatic joint down an incline of angle `alpha` (axis (cos α, −sin α,
@@ -261,18 +263,7 @@ fn crank_with_pin_friction_needs_the_friction_circle_torque() {
 #[test]
 fn pin_friction_under_generalized_alpha_converges_to_dopri5() {
     const VS: f64 = 1e-2;
-    let mut b = MechanismBuilder::new();
-    b.body(
-        Body::new("rod")
-            .mass(1.0)
-            .inertia_diagonal(1e-4, 1.0 / 12.0, 1.0 / 12.0)
-            .position(Vector3::new(0.5, 0.0, 0.0)),
-    );
-    b.point(GROUND, "O", Vector3::zeros())
-        .vector(GROUND, "z", Vector3::z());
-    b.point("rod", "O", Vector3::new(-0.5, 0.0, 0.0))
-        .vector("rod", "z", Vector3::z());
-    b.joint(JointSpec::new("pin", JointKind::Revolute, (GROUND, "O"), ("rod", "O")).axes("z", "z"));
+    let mut b = common::rod_on_a_pin("rod", 1.0, 1.0, 1e-4);
     b.friction(
         FrictionSpec::new("bearing", "pin", 0.2)
             .radius(0.02)

@@ -10,29 +10,14 @@ use cardan_mechanism::{Body, JointSpec, LimitSpec, MechanismBuilder, Model, GROU
 use nalgebra::Vector3;
 use std::f64::consts::PI;
 
+mod common;
+
 const G: f64 = 9.81;
 
 /// A 1 kg, 1 m rod pinned at its end O about global z, released horizontally (angle 0) with a
 /// lower stop at `lo` (the angle falls under gravity −y).
 fn pendulum(lo: f64, e: f64) -> Model {
-    let mut b = MechanismBuilder::new();
-    b.body(
-        Body::new("rod")
-            .mass(1.0)
-            .inertia_diagonal(1e-4, 1.0 / 12.0, 1.0 / 12.0)
-            .position(Vector3::new(0.5, 0.0, 0.0)),
-    );
-    b.point(GROUND, "O", Vector3::zeros())
-        .vector(GROUND, "z", Vector3::z())
-        .vector(GROUND, "x", Vector3::x());
-    b.point("rod", "O", Vector3::new(-0.5, 0.0, 0.0))
-        .vector("rod", "z", Vector3::z())
-        .vector("rod", "x", Vector3::x());
-    b.joint(
-        JointSpec::new("pin", JointKind::Revolute, (GROUND, "O"), ("rod", "O"))
-            .axes("z", "z")
-            .x_axes("x", "x"),
-    );
+    let mut b = common::rod_on_a_pin("rod", 1.0, 1.0, 1e-4);
     b.limit(LimitSpec::new("stop", "pin").lower(lo).restitution(e));
     b.build().unwrap()
 }

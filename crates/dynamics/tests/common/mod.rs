@@ -31,29 +31,37 @@ pub fn pendulum(m: f64, i: f64, l: f64) -> Model {
     b.build().unwrap()
 }
 
-/// A uniform rod (mass m, length l, CoM at its middle) pinned at its end at the origin about
-/// z, initially along +x, optionally driven by `drive` (angle of the pin).
-pub fn crank(m: f64, l: f64, drive: Option<TimeFunction>) -> Model {
+/// A uniform rod `name` (mass m, length l, CoM at its middle, axial inertia `axial`) pinned
+/// at its end O at the origin by the revolute joint `pin` about z (x axes for its angle),
+/// initially along +x; its other end is `tip`. The builder, for a driver, limit or friction.
+pub fn rod_on_a_pin(name: &str, m: f64, l: f64, axial: f64) -> MechanismBuilder {
     let mut b = MechanismBuilder::new();
     let i = m * l * l / 12.0;
     b.body(
-        Body::new("crank")
+        Body::new(name)
             .mass(m)
-            .inertia_diagonal(1e-3, i, i)
+            .inertia_diagonal(axial, i, i)
             .position(Vector3::new(l / 2.0, 0.0, 0.0)),
     );
     b.point(GROUND, "O", Vector3::zeros())
         .vector(GROUND, "z", Vector3::z())
         .vector(GROUND, "x", Vector3::x());
-    b.point("crank", "O", Vector3::new(-l / 2.0, 0.0, 0.0))
-        .point("crank", "tip", Vector3::new(l / 2.0, 0.0, 0.0))
-        .vector("crank", "z", Vector3::z())
-        .vector("crank", "x", Vector3::x());
+    b.point(name, "O", Vector3::new(-l / 2.0, 0.0, 0.0))
+        .point(name, "tip", Vector3::new(l / 2.0, 0.0, 0.0))
+        .vector(name, "z", Vector3::z())
+        .vector(name, "x", Vector3::x());
     b.joint(
-        JointSpec::new("pin", JointKind::Revolute, (GROUND, "O"), ("crank", "O"))
+        JointSpec::new("pin", JointKind::Revolute, (GROUND, "O"), (name, "O"))
             .axes("z", "z")
             .x_axes("x", "x"),
     );
+    b
+}
+
+/// A uniform rod (mass m, length l, CoM at its middle) pinned at its end at the origin about
+/// z, initially along +x, optionally driven by `drive` (angle of the pin).
+pub fn crank(m: f64, l: f64, drive: Option<TimeFunction>) -> Model {
+    let mut b = rod_on_a_pin("crank", m, l, 1e-3);
     if let Some(f) = drive {
         b.driver(DriverSpec::rotation("motor", "pin", f));
     }
