@@ -306,3 +306,107 @@ fn pin_friction_under_generalized_alpha_converges_to_dopri5() {
         );
     }
 }
+
+/// A 2 kg top on a ball joint at its centre of mass, spinning at 10 rad/s about its symmetry
+/// axis z (I_z = 0.2) under gravity −z, with ball friction μ = 0.2, r = 5 cm, preload 5 N: the
+/// joint carries the weight, so the friction torque is μ r (m g + N₀) against the spin and
+/// ω(t) = ω₀ − μ r (m g + N₀) t / I_z (no precession: the spin is about a principal axis).
+/// Both integrators.
+#[test]
+fn a_top_on_a_ball_joint_spins_down_at_the_friction_torque() {
+    let (m, iz, w0, mu, r, n0) = (2.0, 0.2, 10.0, 0.2, 0.05, 5.0);
+    let mut b = MechanismBuilder::new();
+    b.body(Body::new("top").mass(m).inertia_diagonal(0.1, 0.1, iz));
+    b.point(GROUND, "O", Vector3::zeros());
+    b.point("top", "C", Vector3::zeros());
+    b.joint(JointSpec::new(
+        "ball",
+        JointKind::Spherical,
+        (GROUND, "O"),
+        ("top", "C"),
+    ));
+    b.friction(
+        FrictionSpec::new("socket", "ball", mu)
+            .radius(r)
+            .preload(n0),
+    );
+    let model = b.build().unwrap();
+    let rate = mu * r * (m * G + n0) / iz;
+    for integrator in [
+        Integrator::Dopri5(Dopri5Options::tolerances(1e-10, 1e-12)),
+        Integrator::GeneralizedAlpha(GeneralizedAlphaOptions::with_step(1e-3)),
+    ] {
+        let mut d = Dynamics::new(&model).unwrap();
+        d.add_force(Force::gravity(Vector3::new(0.0, 0.0, -G)))
+            .unwrap();
+        let mut start = d.initial_guess();
+        start.v[5] = w0;
+        let o = SimulationOptions::new(1.0, 10).integrator(integrator);
+        let res = d.simulate(&start, &o).unwrap();
+        let top = res.body("top").unwrap();
+        for (k, &t) in res.times().iter().enumerate() {
+            let want = w0 - rate * t;
+            let w = top.omega[k];
+            assert!(
+                (w.z - want).abs() < 1e-8,
+                "{integrator:?} t = {t}: {} vs {want}",
+                w.z
+            );
+            assert!(w.x.abs() + w.y.abs() < 1e-10, "precession {w:?}");
+        }
+        let torque = d.friction_history().value.last().unwrap()[0];
+        assert!((torque - mu * r * (m * G + n0)).abs() < 1e-9, "{torque}");
+    }
+}
+
+/// A 2 kg sleeve on a horizontal cylindrical joint along x (I_x = 0.05) under gravity −y,
+/// pushed at 1 m/s and turning at 5 rad/s, with friction μ = 0.3, r = 2 cm: the joint carries
+/// the weight across its axis, so the slide decelerates at μ g and the turning at
+/// μ r m g / I_x, each against its own rate (the two friction laws of a cylindrical joint).
+#[test]
+fn a_sleeve_on_a_cylindrical_joint_slows_in_slide_and_turn() {
+    let (m, ix, v0, w0, mu, r) = (2.0, 0.05, 1.0, 5.0, 0.3, 0.02);
+    let mut b = MechanismBuilder::new();
+    b.body(Body::new("sleeve").mass(m).inertia_diagonal(ix, 0.1, 0.1));
+    b.point(GROUND, "O", Vector3::zeros())
+        .vector(GROUND, "x", Vector3::x());
+    b.point("sleeve", "C", Vector3::zeros())
+        .vector("sleeve", "x", Vector3::x());
+    b.joint(
+        JointSpec::new(
+            "rail",
+            JointKind::Cylindrical,
+            (GROUND, "O"),
+            ("sleeve", "C"),
+        )
+        .axes("x", "x"),
+    );
+    b.friction(FrictionSpec::new("bushing", "rail", mu).radius(r));
+    let model = b.build().unwrap();
+    for integrator in [
+        Integrator::Dopri5(Dopri5Options::tolerances(1e-10, 1e-12)),
+        Integrator::GeneralizedAlpha(GeneralizedAlphaOptions::with_step(1e-3)),
+    ] {
+        let mut d = Dynamics::new(&model).unwrap();
+        d.add_force(Force::gravity(Vector3::new(0.0, -G, 0.0)))
+            .unwrap();
+        let mut start = d.initial_guess();
+        start.v[0] = v0;
+        start.v[3] = w0;
+        let o = SimulationOptions::new(0.2, 10).integrator(integrator);
+        let res = d.simulate(&start, &o).unwrap();
+        let sleeve = res.body("sleeve").unwrap();
+        for (k, &t) in res.times().iter().enumerate() {
+            let (v, w) = (sleeve.r_dot[k].x, sleeve.omega[k].x);
+            let (v_want, w_want) = (v0 - mu * G * t, w0 - mu * r * m * G / ix * t);
+            assert!(
+                (v - v_want).abs() < 1e-8,
+                "{integrator:?} t = {t}: v {v} vs {v_want}"
+            );
+            assert!(
+                (w - w_want).abs() < 1e-8,
+                "{integrator:?} t = {t}: ω {w} vs {w_want}"
+            );
+        }
+    }
+}
