@@ -96,6 +96,55 @@ fn a_translation_limit_bounds_the_pistons_slide_from_below_or_above() {
 }
 
 #[test]
+fn a_translation_limit_is_in_the_files_unit_under_units_mm() {
+    // With --units mm every length of the file is in millimetres, the limit's too: the same
+    // numbers, the same crossing (had the bound been read in metres, 1.2 m = 1200 mm would
+    // never be reached by a slide of at most 1.499 mm).
+    let dir = scratch("asmt-limits-mm");
+    let text = piston_with("TranslationLimit", "Joint4", "1.2", "=<");
+    std::fs::write(dir.join("piston.asmt"), text).unwrap();
+    let o = cardan(
+        &[
+            "run",
+            "piston.asmt",
+            "--units",
+            "mm",
+            "-o",
+            "out",
+            "--quiet",
+        ],
+        &dir,
+    );
+    assert_eq!(o.code, 3, "{}", o.stderr);
+    assert!(
+        o.stderr.contains("limit \"Stop\" reached at t = 0.55"),
+        "{}",
+        o.stderr
+    );
+    assert!(
+        o.stderr.contains("at its upper bound 1.2 mm"),
+        "{}",
+        o.stderr
+    );
+    // The imported model file says the bound in the file's unit.
+    let o = cardan(
+        &[
+            "import",
+            "piston.asmt",
+            "--units",
+            "mm",
+            "-o",
+            "piston.toml",
+        ],
+        &dir,
+    );
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let toml = std::fs::read_to_string(dir.join("piston.toml")).unwrap();
+    assert!(toml.contains("units = \"mm\""), "{toml}");
+    assert!(toml.contains("upper = 1.2"), "{toml}");
+}
+
+#[test]
 fn limit_mistakes_in_asmt_are_errors_at_their_line() {
     let cases = [
         (

@@ -4,6 +4,7 @@
 use crate::build::{load, Loaded};
 use crate::diag::{Error, Source};
 use crate::number::num;
+use cardan_constraints::joints::CoordinateQuantity;
 use cardan_mechanism::{AnalysisError, Model, ModelError};
 use std::path::Path;
 
@@ -335,11 +336,31 @@ pub fn analysis_error(p: &Prepared, e: &AnalysisError) -> Error {
             located(spans.element(driver), format!("{e}"))
         }
         AnalysisError::LimitReached {
-            limit, bound_name, ..
-        } => located(
-            spans.locate_limit(&p.source.text, limit, bound_name),
-            format!("{e}"),
-        ),
+            limit,
+            joint,
+            coordinate,
+            bound_name,
+            bound,
+            time,
+            value,
+            ..
+        } => {
+            // In the model's units, as the file says the bound.
+            let length = (p.model.limits().iter())
+                .any(|l| &l.name == limit && l.measure.quantity() == CoordinateQuantity::Length);
+            let (unit, f) = p.units.unit(if length { "m" } else { "rad" });
+            let shown = |x: f64| num(format!("{:.11e}", x * f).parse().unwrap_or(x));
+            located(
+                spans.locate_limit(&p.source.text, limit, bound_name),
+                format!(
+                    "limit \"{limit}\" reached at t = {time}: joint \"{joint}\" has {coordinate} = \
+                     {} {unit} at its {bound_name} bound {} {unit}; the prescribed motion drives it \
+                     past the stop",
+                    shown(*value),
+                    shown(*bound)
+                ),
+            )
+        }
         other => Error::analysis(format!("{other}")),
     }
 }
