@@ -24,9 +24,10 @@ The stop, the same on both sides:
   cardan's slide is measured between the joint points, ground O = origin and slider O = the
   slider's origin, along x: slide = the slider's x (checked below on the first row and at every
   output time against points.csv's slider.C.x).
-- Exudyn: the same slider-crank as bench/peers/peers.py `exudyn_slider_crank` (rigid bodies with
-  Euler-parameter nodes, redundant coordinates, CreateRevoluteJoint / CreateSphericalJoint /
-  CreateGenericJoint (universal) / CreatePrismaticJoint, generalized-alpha with a fixed step),
+- Exudyn: the same slider-crank as bench/peers/peers.py `exudyn_slider_crank`, built by the same
+  function (peers.py `exudyn_slider_crank_model`: rigid bodies with Euler-parameter nodes,
+  redundant coordinates, CreateRevoluteJoint / CreateSphericalJoint / CreateGenericJoint
+  (universal) / CreatePrismaticJoint; generalized-alpha with a fixed step),
   plus ObjectConnectorCoordinateSpringDamperExt between a ground coordinate (NodePointGround,
   coordinate 0) and coordinate 0 of the slider's node, with stiffness = damping = 0, no friction
   (fDynamicFriction = fStaticFrictionOffset = fViscousFriction = 0) and useLimitStops: the
@@ -66,57 +67,29 @@ sides E = kinetic + gravity potential + the stop's elastic energy k delta^2 / 2,
 from E(0) is reported (the stop is conservative).
 """
 
-import csv
-import math
 import os
-import subprocess
 import sys
-import tempfile
-import time
 import warnings
+
+from cardan_run import col, on_grid, require_cardan, result, run_model
+from peers import (G, SLIDER_X0, _exudyn, exudyn_fixed_step_settings, exudyn_slider_crank_model,
+                   exudyn_slider_crank_sensors, exudyn_solve)
 
 warnings.filterwarnings("ignore")
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
 TOML = os.path.join(HERE, "slider_crank_stroke.toml")
-CARDAN = os.path.join(ROOT, "target", "release", "cardan")
 
 UPPER = 0.25  # m, the stop on the slider's x
 K_STOP = 1e5  # N/m
-X0 = 0.2  # m, the slider's reference (initial) x in Exudyn
+X0 = SLIDER_X0  # m, the slider's reference (initial) x in Exudyn
 OUT_DT = 1e-4  # s, output spacing on both sides
-G = 9.81
 # Exudyn solver settings applied last (dotted paths below SimulationSettings).
 EXUDYN_SETTINGS = {}
-BODIES = [("crank", 0.12, (1e-4, 1e-4, 1e-5)), ("conrod", 0.5, (4e-4, 4e-3, 4e-3)),
-          ("slider", 2.0, (1e-4, 1e-4, 1e-4))]
-
-
-def result(**kw):
-    print("RESULT " + " ".join(f"{k}={v}" for k, v in kw.items()), flush=True)
-
-
-def _exudyn():
-    sys.exudynFast = True  # as peers.py: the build without range checks
-    import exudyn
-    return exudyn
 
 
 # --------------------------------------------------------------------------------------------
 # cardan
-
-def _read_csv(path):
-    with open(path) as f:
-        rows = list(csv.reader(f))
-    head = rows[0]
-    return head, [[float(x) for x in r] for r in rows[1:] if r]
-
-
-def _col(head, rows, name):
-    i = head.index(name)
-    return [r[i] for r in rows]
-
 
 def run_cardan(t_end, tol_factor=1.0):
     """Runs cardan on the stroke model (rtol/atol scaled by tol_factor, t_end replaced) and
@@ -127,31 +100,22 @@ def run_cardan(t_end, tol_factor=1.0):
     text = text.replace("rtol = 1e-10", f"rtol = {1e-10 * tol_factor:.3e}")
     text = text.replace("atol = 1e-12", f"atol = {1e-12 * tol_factor:.3e}")
     text = text.replace("t_end = 2.0", f"t_end = {t_end!r}")
-    with tempfile.TemporaryDirectory(prefix="cardan_limits_") as tmp:
-        model = os.path.join(tmp, "slider_crank_stroke.toml")
-        with open(model, "w") as f:
-            f.write(text)
-        out = os.path.join(tmp, "out")
-        t0 = time.perf_counter()
-        subprocess.run([CARDAN, "run", model, "-o", out, "--quiet"], check=True,
-                       stdout=subprocess.DEVNULL)
-        wall = time.perf_counter() - t0
-        hj, j = _read_csv(os.path.join(out, "joints.csv"))
-        hp, p = _read_csv(os.path.join(out, "points.csv"))
-        hs, s = _read_csv(os.path.join(out, "stops.csv"))
-        he, e = _read_csv(os.path.join(out, "energy.csv"))
-        import json
-        run = json.load(open(os.path.join(out, "run.json")))
+    wall, out, run = run_model(text, os.path.basename(TOML),
+                               ["joints.csv", "points.csv", "stops.csv", "energy.csv"])
+    hj, j = out["joints.csv"]
+    hp, p = out["points.csv"]
+    hs, s = out["stops.csv"]
+    he, e = out["energy.csv"]
     d = dict(
-        t=np.array(_col(hj, j, "t [s]")),
-        x=np.array(_col(hj, j, "slide.slide [m]")),
-        angle=np.array(_col(hj, j, "crank_pivot.angle [rad]")),
-        B=np.array([_col(hp, p, f"crank.B.{c} [m]") for c in "xyz"]).T,
-        C=np.array([_col(hp, p, f"slider.C.{c} [m]") for c in "xyz"]).T,
-        force=np.array(_col(hs, s, "stroke.upper force [N]")),
-        kinetic=np.array(_col(he, e, "kinetic [J]")),
-        gravity=np.array(_col(he, e, "potential_gravity [J]")),
-        balance=np.array(_col(he, e, "balance [J]")),
+        t=np.array(col(hj, j, "t [s]")),
+        x=np.array(col(hj, j, "slide.slide [m]")),
+        angle=np.array(col(hj, j, "crank_pivot.angle [rad]")),
+        B=np.array([col(hp, p, f"crank.B.{c} [m]") for c in "xyz"]).T,
+        C=np.array([col(hp, p, f"slider.C.{c} [m]") for c in "xyz"]).T,
+        force=np.array(col(hs, s, "stroke.upper force [N]")),
+        kinetic=np.array(col(he, e, "kinetic [J]")),
+        gravity=np.array(col(he, e, "potential_gravity [J]")),
+        balance=np.array(col(he, e, "balance [J]")),
     )
     d["wall"] = wall
     d["steps"] = run["integration_steps"]
@@ -168,37 +132,12 @@ def run_exudyn(h, t_end):
     exu = _exudyn()
     import numpy as np
     from exudyn.itemInterface import (CoordinateSpringDamperExt, MarkerNodeCoordinate,
-                                      NodeGenericData, NodePointGround, SensorBody, SensorObject)
-    from exudyn.utilities import RigidBodyInertia
+                                      NodeGenericData, NodePointGround, SensorObject)
 
     h, t_end = float(h), float(t_end)
     sc = exu.SystemContainer()
     mbs = sc.AddSystem()
-    g = [0.0, 0.0, -G]
-    ground = mbs.CreateGround()
-    # The slider-crank exactly as peers.py exudyn_slider_crank.
-    crank = mbs.CreateRigidBody(inertia=RigidBodyInertia(0.12, np.diag([1e-4, 1e-4, 1e-5])),
-                                referencePosition=[0.0, 0.1, 0.16], initialVelocity=[0.0, -0.24, 0.0],
-                                initialAngularVelocity=[6.0, 0.0, 0.0], gravity=g)
-    ex = np.array([2.0, -1.0, -2.0]) / 3.0
-    ey = np.array([0.0, 2.0, -1.0]) / math.sqrt(5.0)
-    rod = mbs.CreateRigidBody(inertia=RigidBodyInertia(0.5, np.diag([4e-4, 4e-3, 4e-3])),
-                              referencePosition=[0.1, 0.05, 0.1],
-                              referenceRotationMatrix=np.column_stack([ex, ey, np.cross(ex, ey)]),
-                              initialVelocity=[0.12, -0.24, 0.0],
-                              initialAngularVelocity=[1.92, -0.96, 0.48], gravity=g)
-    slider = mbs.CreateRigidBody(inertia=RigidBodyInertia(2.0, np.diag([1e-4, 1e-4, 1e-4])),
-                                 referencePosition=[X0, 0.0, 0.0], initialVelocity=[0.24, 0.0, 0.0],
-                                 gravity=g)
-    mbs.CreateRevoluteJoint(itemNumbers=[ground, crank], position=[0.0, 0.1, 0.12],
-                            axis=[1.0, 0.0, 0.0])
-    mbs.CreateSphericalJoint(itemNumbers=[crank, rod], position=[0.0, 0.1, 0.2])
-    ux = np.array([1.0, 0.0, 0.0])
-    mbs.CreateGenericJoint(itemNumbers=[slider, rod], position=[X0, 0.0, 0.0],
-                           rotationMatrixAxes=np.column_stack([ux, ey, np.cross(ux, ey)]),
-                           constrainedAxes=[1, 1, 1, 0, 0, 1])
-    mbs.CreatePrismaticJoint(itemNumbers=[ground, slider], position=[X0, 0.0, 0.0],
-                             axis=[1.0, 0.0, 0.0])
+    crank, rod, slider = exudyn_slider_crank_model(mbs)
 
     # The stroke stop: a one-sided linear spring on the slider node's x displacement.
     n_ground = mbs.AddNode(NodePointGround(referenceCoordinates=[0.0, 0.0, 0.0]))
@@ -214,45 +153,26 @@ def run_exudyn(h, t_end):
         useLimitStops=True, limitStopsUpper=UPPER - X0, limitStopsLower=-1e3,
         limitStopsStiffness=K_STOP, limitStopsDamping=0.0))
 
-    pos = exu.OutputVariableType.Position
-    s_b = mbs.AddSensor(SensorBody(bodyNumber=crank, localPosition=[0.0, 0.0, 0.04],
-                                   storeInternal=True, outputVariableType=pos))
-    s_c = mbs.AddSensor(SensorBody(bodyNumber=slider, storeInternal=True, outputVariableType=pos))
+    s_b, s_c, energy_sensors = exudyn_slider_crank_sensors(mbs, crank, rod, slider)
     s_f = mbs.AddSensor(SensorObject(objectNumber=stop, storeInternal=True,
                                      outputVariableType=exu.OutputVariableType.Force))
     s_q = mbs.AddSensor(SensorObject(objectNumber=stop, storeInternal=True,
                                      outputVariableType=exu.OutputVariableType.Displacement))
-    energy_sensors = []
-    for body, (_, m, j) in zip([crank, rod, slider], BODIES):
-        kinds = [pos, exu.OutputVariableType.Velocity, exu.OutputVariableType.AngularVelocityLocal]
-        energy_sensors.append((m, np.array(j), [mbs.AddSensor(SensorBody(
-            bodyNumber=body, storeInternal=True, outputVariableType=k)) for k in kinds]))
     mbs.Assemble()
 
-    s = exu.SimulationSettings()
-    steps = int(round(t_end / h))
-    s.timeIntegration.numberOfSteps = steps
-    s.timeIntegration.endTime = t_end
-    s.timeIntegration.verboseMode = 0
+    s, steps = exudyn_fixed_step_settings(h, t_end, OUT_DT)
     s.timeIntegration.generalizedAlpha.spectralRadius = 0.9
     s.timeIntegration.newton.useModifiedNewton = False
     s.timeIntegration.newton.relativeTolerance = 1e-12
     s.timeIntegration.discontinuous.iterationTolerance = 1e-9
     s.timeIntegration.discontinuous.maxIterations = 20
-    s.solution.file.write = False
-    s.solution.sensors.writePeriod = OUT_DT
-    s.displayStatistics = False
-    s.displayComputationTime = False
     for path, value in EXUDYN_SETTINGS.items():
         obj = s
         *head, last = path.split(".")
         for name in head:
             obj = getattr(obj, name)
         setattr(obj, last, value)
-    t0 = time.perf_counter()
-    mbs.SolveDynamic(s, storeSolver=True)
-    wall = time.perf_counter() - t0
-    it = mbs.sys["dynamicSolver"].it
+    wall, it = exudyn_solve(mbs, s)
 
     b = mbs.GetSensorStoredData(s_b)
     c = mbs.GetSensorStoredData(s_c)
@@ -273,21 +193,6 @@ def run_exudyn(h, t_end):
 
 # --------------------------------------------------------------------------------------------
 # comparison
-
-def _on_grid(d, t_end):
-    """Keeps the samples on the output grid 0, OUT_DT, ..., t_end (index k = round(t/OUT_DT))."""
-    import numpy as np
-    n = int(round(t_end / OUT_DT)) + 1
-    k = np.rint(d["t"] / OUT_DT).astype(int)
-    ok = (np.abs(d["t"] - k * OUT_DT) < 1e-9) & (k < n)
-    idx = np.full(n, -1)
-    idx[k[ok]] = np.nonzero(ok)[0]
-    if (idx < 0).any():
-        raise SystemExit(f"missing output times, e.g. t = {np.nonzero(idx < 0)[0][0] * OUT_DT}")
-    out = {key: (v[idx] if hasattr(v, "shape") and v.shape[:1] == d["t"].shape else v)
-           for key, v in d.items()}
-    return out
-
 
 def contacts(t, x):
     """The contact phases [(t_in, t_out)]: x above UPPER, crossing times by linear
@@ -333,10 +238,9 @@ def main(h=1e-5, t_end=2.0, convergence=1):
     h, t_end, convergence = float(h), float(t_end), int(convergence)
     from importlib.metadata import version
 
-    if not os.path.exists(CARDAN):
-        raise SystemExit(f"{CARDAN} missing: cargo build --release -p cardan-cli")
-    car = _on_grid(run_cardan(t_end), t_end)
-    exu = _on_grid(run_exudyn(h, t_end), t_end)
+    require_cardan()
+    car = on_grid(run_cardan(t_end), t_end, OUT_DT)
+    exu = on_grid(run_exudyn(h, t_end), t_end, OUT_DT)
     result(exudyn=version("exudyn"), h=h, t_end=t_end, samples=len(car["t"]),
            cardan_wall=f"{car['wall']:.3f}", cardan_steps=car["steps"], cardan_rejected=car["rejected"],
            exudyn_wall=f"{exu['wall']:.3f}", exudyn_steps=exu["steps"], exudyn_newton=exu["newton"],
@@ -379,7 +283,7 @@ def main(h=1e-5, t_end=2.0, convergence=1):
            max_dkinetic=float(np.max(np.abs(car["kinetic"] - exu["kinetic"]))))
 
     if convergence:
-        car2 = _on_grid(run_cardan(t_end, tol_factor=0.01), t_end)
+        car2 = on_grid(run_cardan(t_end, tol_factor=0.01), t_end, OUT_DT)
         c1 = compare(car, car2)
         result(cardan_self_dx=c1["dx"], cardan_self_dangle=c1["dangle"], cardan_self_dB=c1["dB"],
                cardan_tight_wall=f"{car2['wall']:.3f}", cardan_tight_steps=car2["steps"])
@@ -387,7 +291,7 @@ def main(h=1e-5, t_end=2.0, convergence=1):
         prev, prev_d = exu, compare(car2, exu)
         result(h=h, vs_cardan_tight_dx=prev_d["dx"], dangle=prev_d["dangle"], dB=prev_d["dB"])
         for div in (2, 4):
-            e = _on_grid(run_exudyn(h / div, t_end), t_end)
+            e = on_grid(run_exudyn(h / div, t_end), t_end, OUT_DT)
             d, self_d = compare(car2, e), compare(prev, e)
             pe = contacts(e["t"], e["x"])
             result(h=h / div, exudyn_wall=f"{e['wall']:.3f}", steps=e["steps"],

@@ -118,30 +118,21 @@ and the step, and a held stop creeps. A comparison would measure MuJoCo's regula
 the law; it is not run here.
 """
 
-import csv
-import json
-import math
 import os
-import subprocess
 import sys
-import tempfile
 import time
 import tomllib
 import warnings
 
+from cardan_run import col, on_grid, require_cardan, result, run_model
+
 warnings.filterwarnings("ignore")
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
 TOML = os.path.join(HERE, "arm_limits.toml")
-CARDAN = os.path.join(ROOT, "target", "release", "cardan")
 OUT_DT = 1e-3  # s, output spacing on both sides
 D_IMP = 1e-4  # MuJoCo's impedance d (mjMINIMP: the smallest MuJoCo allows)
 JOINTS = ["j0", "j1", "j2"]
-
-
-def result(**kw):
-    print("RESULT " + " ".join(f"{k}={v}" for k, v in kw.items()), flush=True)
 
 
 def model_text(undamped=False):
@@ -184,17 +175,6 @@ def model_spec(text):
 # --------------------------------------------------------------------------------------------
 # cardan
 
-def _read_csv(path):
-    with open(path) as f:
-        rows = list(csv.reader(f))
-    return rows[0], [[float(x) for x in r] for r in rows[1:] if r]
-
-
-def _col(head, rows, name):
-    i = head.index(name)
-    return [r[i] for r in rows]
-
-
 def run_cardan(text, t_end, tol_factor=1.0):
     """cardan on the arm model text (rtol/atol scaled by tol_factor, t_end replaced): columns at
     the output times and the process wall time."""
@@ -205,34 +185,26 @@ def run_cardan(text, t_end, tol_factor=1.0):
                      ("t_end = 3.0", f"t_end = {t_end!r}")]:
         assert old in text, old
         text = text.replace(old, new)
-    with tempfile.TemporaryDirectory(prefix="cardan_arm_") as tmp:
-        model = os.path.join(tmp, "arm_limits.toml")
-        with open(model, "w") as f:
-            f.write(text)
-        out = os.path.join(tmp, "out")
-        t0 = time.perf_counter()
-        subprocess.run([CARDAN, "run", model, "-o", out, "--quiet"], check=True,
-                       stdout=subprocess.DEVNULL)
-        wall = time.perf_counter() - t0
-        hj, j = _read_csv(os.path.join(out, "joints.csv"))
-        hv, v = _read_csv(os.path.join(out, "joint_velocities.csv"))
-        hs, s = _read_csv(os.path.join(out, "stops.csv"))
-        he, e = _read_csv(os.path.join(out, "energy.csv"))
-        hp, p = _read_csv(os.path.join(out, "points.csv"))
-        run = json.load(open(os.path.join(out, "run.json")))
+    wall, out, run = run_model(text, os.path.basename(TOML), [
+        "joints.csv", "joint_velocities.csv", "stops.csv", "energy.csv", "points.csv"])
+    hj, j = out["joints.csv"]
+    hv, v = out["joint_velocities.csv"]
+    hs, s = out["stops.csv"]
+    he, e = out["energy.csv"]
+    hp, p = out["points.csv"]
     limits = [f"range{k}" for k in range(3)]
     d = dict(
-        t=np.array(_col(hj, j, "t [s]")),
-        q=np.array([_col(hj, j, f"{n}.angle [rad]") for n in JOINTS]).T,
-        qd=np.array([_col(hv, v, f"{n}.angle [rad/s]") for n in JOINTS]).T,
-        tau=np.array([np.array(_col(hs, s, f"{n}.lower force [N m]"))
-                      + np.array(_col(hs, s, f"{n}.upper force [N m]")) for n in limits]).T,
-        tip=np.array([_col(hp, p, f"link2.B.{c} [m]") for c in "xy"]).T,
-        kinetic=np.array(_col(he, e, "kinetic [J]")),
-        gravity=np.array(_col(he, e, "potential_gravity [J]")),
-        balance=np.array(_col(he, e, "balance [J]")),
+        t=np.array(col(hj, j, "t [s]")),
+        q=np.array([col(hj, j, f"{n}.angle [rad]") for n in JOINTS]).T,
+        qd=np.array([col(hv, v, f"{n}.angle [rad/s]") for n in JOINTS]).T,
+        tau=np.array([np.array(col(hs, s, f"{n}.lower force [N m]"))
+                      + np.array(col(hs, s, f"{n}.upper force [N m]")) for n in limits]).T,
+        tip=np.array([col(hp, p, f"link2.B.{c} [m]") for c in "xy"]).T,
+        kinetic=np.array(col(he, e, "kinetic [J]")),
+        gravity=np.array(col(he, e, "potential_gravity [J]")),
+        balance=np.array(col(he, e, "balance [J]")),
         # the dampers' work is negative: dissipated = -sum W
-        dissipated=-sum((np.array(_col(he, e, f"damper{k}.W [J]")) if f"damper{k}.W [J]" in he
+        dissipated=-sum((np.array(col(he, e, f"damper{k}.W [J]")) if f"damper{k}.W [J]" in he
                          else np.zeros(len(e))) for k in range(3)),
     )
     d.update(wall=wall, steps=run["integration_steps"], rejected=run["rejected_steps"])
@@ -397,19 +369,6 @@ def law_check(spec):
 # --------------------------------------------------------------------------------------------
 # comparison
 
-def _on_grid(d, t_end):
-    import numpy as np
-    n = int(round(t_end / OUT_DT)) + 1
-    k = np.rint(d["t"] / OUT_DT).astype(int)
-    ok = (np.abs(d["t"] - k * OUT_DT) < 1e-9) & (k < n)
-    idx = np.full(n, -1)
-    idx[k[ok]] = np.nonzero(ok)[0]
-    if (idx < 0).any():
-        raise SystemExit(f"missing output times, e.g. t = {np.nonzero(idx < 0)[0][0] * OUT_DT}")
-    return {key: (v[idx] if hasattr(v, "shape") and v.shape[:1] == d["t"].shape else v)
-            for key, v in d.items()}
-
-
 def _hermite_root(t0, t1, g0, g1, r0, r1):
     """The root in [t0, t1] of the cubic Hermite interpolant of g (values g0, g1, rates r0, r1),
     g0 and g1 of opposite signs (bisection)."""
@@ -521,8 +480,7 @@ def main(h=5e-5, t_end=3.0, convergence=1, undamped=0):
     h, t_end, convergence, undamped = float(h), float(t_end), int(convergence), int(undamped)
     from importlib.metadata import version
 
-    if not os.path.exists(CARDAN):
-        raise SystemExit(f"{CARDAN} missing: cargo build --release -p cardan-cli")
+    require_cardan()
     text = model_text(undamped)
     spec = model_spec(text)
     assert t_end <= spec["t_end"] + 1e-12
@@ -530,9 +488,9 @@ def main(h=5e-5, t_end=3.0, convergence=1, undamped=0):
     result(law_check_max_abs=_f(worst), law_check_max_rel=_f(rel), d=D_IMP,
            note="MuJoCo_limit_force_vs_K_delta_at_20_random_states")
 
-    car = _on_grid(run_cardan(text, t_end), t_end)
-    mj = _on_grid(run_mujoco(spec, h, t_end, "limit"), t_end)
-    ex = _on_grid(run_mujoco(spec, h, t_end, "exact"), t_end)
+    car = on_grid(run_cardan(text, t_end), t_end, OUT_DT)
+    mj = on_grid(run_mujoco(spec, h, t_end, "limit"), t_end, OUT_DT)
+    ex = on_grid(run_mujoco(spec, h, t_end, "exact"), t_end, OUT_DT)
     result(mujoco=version("mujoco"), h=h, t_end=t_end, samples=len(car["t"]), d=D_IMP,
            joint_damping="/".join(f"{x['cj']:g}" for x in spec["links"]),
            w0="/".join(f"{x:.6g}" for x in mj["w0"]),
@@ -586,7 +544,7 @@ def main(h=5e-5, t_end=3.0, convergence=1, undamped=0):
 
     if not convergence:
         return
-    car2 = _on_grid(run_cardan(text, t_end, tol_factor=0.01), t_end)
+    car2 = on_grid(run_cardan(text, t_end, tol_factor=0.01), t_end, OUT_DT)
     c = compare(spec, car, car2)
     result(cardan_self_dangle=_f(c["dq_all"]), cardan_self_dtorque=_f(c["dtau_all"]),
            cardan_tight_wall=f"{car2['wall']:.3f}", cardan_tight_steps=car2["steps"])
@@ -595,7 +553,7 @@ def main(h=5e-5, t_end=3.0, convergence=1, undamped=0):
         prev = None
         for div in (1, 2, 4):
             e = mj if (div == 1 and name == "limit") else ex if div == 1 else \
-                _on_grid(run_mujoco(spec, h / div, t_end, name), t_end)
+                on_grid(run_mujoco(spec, h / div, t_end, name), t_end, OUT_DT)
             c = compare(spec, car2, e)
             cp = compare_phases(pc2, phases(spec, e))
             kw = {}
@@ -608,7 +566,7 @@ def main(h=5e-5, t_end=3.0, convergence=1, undamped=0):
             prev = c["dq_all"]
     # The impedance: from the usual "hard" limit (d -> 1) to MuJoCo's smallest (1e-4), at h/4.
     for d_imp in (0.9999, 0.99, 0.9, 0.5, 0.1, 1e-2, 1e-3, 1e-4):
-        e = _on_grid(run_mujoco(spec, h / 4, t_end, "limit", d_imp), t_end)
+        e = on_grid(run_mujoco(spec, h / 4, t_end, "limit", d_imp), t_end, OUT_DT)
         c = compare(spec, car2, e)
         cp = compare_phases(pc2, phases(spec, e))
         law_o = np.abs(e["tau"] - _stop_law(spec, e["q"], e["qd"])).max()

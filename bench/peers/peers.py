@@ -186,19 +186,112 @@ def exudyn_chain(n, h, t_end):
 
 
 SLIDER_CRANK_CSV = "tests/data/benchmarks/spatial_slider_crank_crankCoM_mid.csv"
+G = 9.81  # m/s^2, gravity along -z
+SLIDER_X0 = 0.2  # m, the slider's reference (initial) x: the U-joint C = (0.2, 0, 0)
+# The slider-crank's bodies: name, mass [kg], inertia about the centre of mass in body axes
+# [kg m^2] (the bodies' reference points are their centres of mass).
+SLIDER_CRANK_BODIES = [("crank", 0.12, (1e-4, 1e-4, 1e-5)), ("conrod", 0.5, (4e-4, 4e-3, 4e-3)),
+                       ("slider", 2.0, (1e-4, 1e-4, 1e-4))]
 
 
-def exudyn_slider_crank(h, t_end, csv=None):
-    """The IFToMM spatial slider-crank in Exudyn: three rigid bodies (Euler-parameter nodes, the
-    default), CreateRevoluteJoint (crank, axis x at A), CreateSphericalJoint (B),
-    CreateGenericJoint with the rotation about the joint z axis locked (universal joint at C: free
-    about the slider's x and the conrod's y), CreatePrismaticJoint (slider along x). Gravity as
-    body loads. Generalized-alpha (Exudyn's default dynamic solver and settings: rho_inf 0.9,
-    modified Newton, relative tolerance 1e-8, dense linear solver), fixed step h."""
+def exudyn_slider_crank_model(mbs):
+    """Adds the IFToMM spatial slider-crank to mbs: the ground, three rigid bodies
+    (Euler-parameter nodes, the default) with their initial velocities and gravity as body loads,
+    CreateRevoluteJoint (crank, axis x at A), CreateSphericalJoint (B), CreateGenericJoint with
+    the rotation about the joint z axis locked (universal joint at C: free about the slider's x
+    and the conrod's y), CreatePrismaticJoint (slider along x). Returns the body numbers
+    (crank, rod, slider)."""
+    import numpy as np
+    from exudyn.utilities import RigidBodyInertia
+
+    (_, m_crank, j_crank), (_, m_rod, j_rod), (_, m_slider, j_slider) = SLIDER_CRANK_BODIES
+    g = [0.0, 0.0, -G]
+    ground = mbs.CreateGround()
+    # Crank: body frame = global at t = 0 (x = rotation axis, z along the crank), CoM mid A-B.
+    crank = mbs.CreateRigidBody(inertia=RigidBodyInertia(m_crank, np.diag(j_crank)),
+                                referencePosition=[0.0, 0.1, 0.16], initialVelocity=[0.0, -0.24, 0.0],
+                                initialAngularVelocity=[6.0, 0.0, 0.0], gravity=g)
+    # Conrod: body x along B -> C, y = the U-joint arm (0, 2, -1)/sqrt(5), z = x cross y.
+    ex = np.array([2.0, -1.0, -2.0]) / 3.0
+    ey = np.array([0.0, 2.0, -1.0]) / math.sqrt(5.0)
+    rod = mbs.CreateRigidBody(inertia=RigidBodyInertia(m_rod, np.diag(j_rod)),
+                              referencePosition=[0.1, 0.05, 0.1],
+                              referenceRotationMatrix=np.column_stack([ex, ey, np.cross(ex, ey)]),
+                              initialVelocity=[0.12, -0.24, 0.0],
+                              initialAngularVelocity=[1.92, -0.96, 0.48], gravity=g)
+    slider = mbs.CreateRigidBody(inertia=RigidBodyInertia(m_slider, np.diag(j_slider)),
+                                 referencePosition=[SLIDER_X0, 0.0, 0.0],
+                                 initialVelocity=[0.24, 0.0, 0.0], gravity=g)
+    mbs.CreateRevoluteJoint(itemNumbers=[ground, crank], position=[0.0, 0.1, 0.12],
+                            axis=[1.0, 0.0, 0.0])
+    mbs.CreateSphericalJoint(itemNumbers=[crank, rod], position=[0.0, 0.1, 0.2])
+    # Universal joint: joint frame x = slider x (free), y = conrod arm (free), z locked, i.e.
+    # x_slider . y_rod = 0 (Haug's DP1), plus coincident points.
+    ux = np.array([1.0, 0.0, 0.0])
+    mbs.CreateGenericJoint(itemNumbers=[slider, rod], position=[SLIDER_X0, 0.0, 0.0],
+                           rotationMatrixAxes=np.column_stack([ux, ey, np.cross(ux, ey)]),
+                           constrainedAxes=[1, 1, 1, 0, 0, 1])
+    mbs.CreatePrismaticJoint(itemNumbers=[ground, slider], position=[SLIDER_X0, 0.0, 0.0],
+                             axis=[1.0, 0.0, 0.0])
+    return crank, rod, slider
+
+
+def exudyn_slider_crank_sensors(mbs, crank, rod, slider):
+    """Position sensors stored in memory (C++ sensors, no Python per step) on the slider-crank of
+    exudyn_slider_crank_model: the crank tip B, the slider's C, and for the energy each body's
+    centre-of-mass position and velocity and its body-frame angular velocity. Returns
+    (sensor B, sensor C, [(mass, inertia diagonal, (position, velocity, angular velocity
+    sensors)) for each body])."""
     exu = _exudyn()
     import numpy as np
     from exudyn.itemInterface import SensorBody
-    from exudyn.utilities import RigidBodyInertia
+
+    pos = exu.OutputVariableType.Position
+    s_b = mbs.AddSensor(SensorBody(bodyNumber=crank, localPosition=[0.0, 0.0, 0.04],
+                                   storeInternal=True, outputVariableType=pos))
+    s_c = mbs.AddSensor(SensorBody(bodyNumber=slider, localPosition=[0.0, 0.0, 0.0],
+                                   storeInternal=True, outputVariableType=pos))
+    energy_sensors = []
+    for body, (_, m, j) in zip([crank, rod, slider], SLIDER_CRANK_BODIES):
+        kinds = [pos, exu.OutputVariableType.Velocity,
+                 exu.OutputVariableType.AngularVelocityLocal]
+        energy_sensors.append((m, np.array(j), [mbs.AddSensor(SensorBody(
+            bodyNumber=body, storeInternal=True, outputVariableType=k)) for k in kinds]))
+    return s_b, s_c, energy_sensors
+
+
+def exudyn_fixed_step_settings(h, t_end, write_period):
+    """Exudyn's dynamic solver settings (otherwise its defaults) for a fixed step h to t_end,
+    quiet, no solution file, the sensors stored every write_period. Returns (settings, steps)."""
+    exu = _exudyn()
+
+    s = exu.SimulationSettings()
+    steps = int(round(t_end / h))
+    s.timeIntegration.numberOfSteps = steps
+    s.timeIntegration.endTime = t_end
+    s.timeIntegration.verboseMode = 0
+    s.solution.file.write = False
+    s.solution.sensors.writePeriod = write_period
+    s.displayStatistics = False
+    s.displayComputationTime = False
+    return s, steps
+
+
+def exudyn_solve(mbs, s):
+    """mbs.SolveDynamic(s): the wall time of the solver call and the solver's iteration counters
+    (newtonStepsCount, newtonJacobiCount, ...)."""
+    t0 = time.perf_counter()
+    mbs.SolveDynamic(s, storeSolver=True)
+    wall = time.perf_counter() - t0
+    return wall, mbs.sys["dynamicSolver"].it
+
+
+def exudyn_slider_crank(h, t_end, csv=None):
+    """The IFToMM spatial slider-crank in Exudyn (exudyn_slider_crank_model). Generalized-alpha
+    (Exudyn's default dynamic solver and settings: rho_inf 0.9, modified Newton, relative
+    tolerance 1e-8, dense linear solver), fixed step h."""
+    exu = _exudyn()
+    import numpy as np
 
     h, t_end = float(h), float(t_end)
     if csv is None:
@@ -212,64 +305,13 @@ def exudyn_slider_crank(h, t_end, csv=None):
 
     sc = exu.SystemContainer()
     mbs = sc.AddSystem()
-    g = [0.0, 0.0, -9.81]
-    ground = mbs.CreateGround()
-    # Crank: body frame = global at t = 0 (x = rotation axis, z along the crank), CoM mid A-B.
-    crank = mbs.CreateRigidBody(inertia=RigidBodyInertia(0.12, np.diag([1e-4, 1e-4, 1e-5])),
-                                referencePosition=[0.0, 0.1, 0.16], initialVelocity=[0.0, -0.24, 0.0],
-                                initialAngularVelocity=[6.0, 0.0, 0.0], gravity=g)
-    # Conrod: body x along B -> C, y = the U-joint arm (0, 2, -1)/sqrt(5), z = x cross y.
-    ex = np.array([2.0, -1.0, -2.0]) / 3.0
-    ey = np.array([0.0, 2.0, -1.0]) / math.sqrt(5.0)
-    rod = mbs.CreateRigidBody(inertia=RigidBodyInertia(0.5, np.diag([4e-4, 4e-3, 4e-3])),
-                              referencePosition=[0.1, 0.05, 0.1],
-                              referenceRotationMatrix=np.column_stack([ex, ey, np.cross(ex, ey)]),
-                              initialVelocity=[0.12, -0.24, 0.0],
-                              initialAngularVelocity=[1.92, -0.96, 0.48], gravity=g)
-    slider = mbs.CreateRigidBody(inertia=RigidBodyInertia(2.0, np.diag([1e-4, 1e-4, 1e-4])),
-                                 referencePosition=[0.2, 0.0, 0.0], initialVelocity=[0.24, 0.0, 0.0],
-                                 gravity=g)
-    mbs.CreateRevoluteJoint(itemNumbers=[ground, crank], position=[0.0, 0.1, 0.12],
-                            axis=[1.0, 0.0, 0.0])
-    mbs.CreateSphericalJoint(itemNumbers=[crank, rod], position=[0.0, 0.1, 0.2])
-    # Universal joint: joint frame x = slider x (free), y = conrod arm (free), z locked, i.e.
-    # x_slider . y_rod = 0 (Haug's DP1), plus coincident points.
-    ux = np.array([1.0, 0.0, 0.0])
-    mbs.CreateGenericJoint(itemNumbers=[slider, rod], position=[0.2, 0.0, 0.0],
-                           rotationMatrixAxes=np.column_stack([ux, ey, np.cross(ux, ey)]),
-                           constrainedAxes=[1, 1, 1, 0, 0, 1])
-    mbs.CreatePrismaticJoint(itemNumbers=[ground, slider], position=[0.2, 0.0, 0.0],
-                             axis=[1.0, 0.0, 0.0])
-    # Positions stored in memory at the reference spacing (C++ sensors, no Python per step).
-    pos = exu.OutputVariableType.Position
-    s_b = mbs.AddSensor(SensorBody(bodyNumber=crank, localPosition=[0.0, 0.0, 0.04],
-                                   storeInternal=True, outputVariableType=pos))
-    s_c = mbs.AddSensor(SensorBody(bodyNumber=slider, localPosition=[0.0, 0.0, 0.0],
-                                   storeInternal=True, outputVariableType=pos))
-    # Energy: each body's centre-of-mass position and velocity and its body-frame angular
-    # velocity (the bodies' reference points are their centres of mass).
-    energy_sensors = []
-    for body, m, j in [(crank, 0.12, [1e-4, 1e-4, 1e-5]), (rod, 0.5, [4e-4, 4e-3, 4e-3]),
-                       (slider, 2.0, [1e-4, 1e-4, 1e-4])]:
-        kinds = [pos, exu.OutputVariableType.Velocity,
-                 exu.OutputVariableType.AngularVelocityLocal]
-        energy_sensors.append((m, np.array(j), [mbs.AddSensor(SensorBody(
-            bodyNumber=body, storeInternal=True, outputVariableType=k)) for k in kinds]))
+    crank, rod, slider = exudyn_slider_crank_model(mbs)
+    # Positions stored at the reference spacing.
+    s_b, s_c, energy_sensors = exudyn_slider_crank_sensors(mbs, crank, rod, slider)
     mbs.Assemble()
 
-    s = exu.SimulationSettings()
-    steps = int(round(t_end / h))
-    s.timeIntegration.numberOfSteps = steps
-    s.timeIntegration.endTime = t_end
-    s.timeIntegration.verboseMode = 0
-    s.solution.file.write = False
-    s.solution.sensors.writePeriod = spacing
-    s.displayStatistics = False
-    s.displayComputationTime = False
-    t0 = time.perf_counter()
-    mbs.SolveDynamic(s, storeSolver=True)
-    wall = time.perf_counter() - t0
-    it = mbs.sys["dynamicSolver"].it
+    s, steps = exudyn_fixed_step_settings(h, t_end, spacing)
+    wall, it = exudyn_solve(mbs, s)
 
     b = mbs.GetSensorStoredData(s_b)
     c = mbs.GetSensorStoredData(s_c)
@@ -286,7 +328,7 @@ def exudyn_slider_crank(h, t_end, csv=None):
     for m, j, (sp, sv, sw) in energy_sensors:
         p, v, w = (mbs.GetSensorStoredData(x) for x in (sp, sv, sw))
         energy = energy + 0.5 * m * np.sum(v[:, 1:4] ** 2, axis=1) \
-            + 0.5 * np.sum(j * w[:, 1:4] ** 2, axis=1) + m * 9.81 * p[:, 3]
+            + 0.5 * np.sum(j * w[:, 1:4] ** 2, axis=1) + m * G * p[:, 3]
     times = b[:, 0]
     at_rows = [int(np.argmin(np.abs(times - r[0]))) for r in rows]
     energy_err = float(np.max(np.abs(energy[at_rows] - energy[0])))
