@@ -13,7 +13,7 @@
 //! The `Input` column is the pose as read.
 //!
 //! Joint and motion series are written when the run computed reactions (inverse dynamics or
-//! dynamics: [`add_reactions`]), in OndselSolver's conventions: `FXonI FYonI FZonI` the force the
+//! dynamics: `add_reactions`), in OndselSolver's conventions: `FXonI FYonI FZonI` the force the
 //! joint (or motion) exerts on the part that carries MarkerI, `TXonI TYonI TZonI` the torque on
 //! that part about MarkerI's origin, global components. cardan's reaction on body i of a joint
 //! (body i = MarkerI's part, [`fn@crate::import`]) is taken about the joint's point P_i; when
@@ -102,8 +102,8 @@ pub struct SeriesPlan {
 impl SeriesPlan {
     /// The series of `doc` imported as `import` for results laid out as `results` (any frame
     /// of the run): the assembly and every part; with `dynamics` (a dynamic or inverse dynamics
-    /// run), also the reactions of every joint and motion ([`reaction_sources`]). Lengths are
-    /// multiplied by `length_factor` ([`LENGTHS`]).
+    /// run), also the reactions of every joint and motion (`reaction_sources`). Lengths are
+    /// multiplied by `length_factor` (`LENGTHS`).
     pub fn new(
         doc: &Document,
         import: &Import,

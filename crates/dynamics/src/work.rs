@@ -48,7 +48,7 @@
 //!   off by O(h) and made the balance of a driven model fall like h only (one more
 //!   factorization per step, for models with drivers).
 //! - **Inverse dynamics** (the motion is prescribed on the output grid, there are no steps):
-//!   the trapezoidal rule on the output grid with Gregory's end corrections ([`SampledWork`]),
+//!   the trapezoidal rule on the output grid with Gregory's end corrections (`SampledWork`),
 //!   fourth order in the output step; the balance measures that quadrature error (and the
 //!   kinematic tolerance).
 //!

@@ -6,11 +6,11 @@
 //! (`cardan-cli`: arguments, the progress bar, the output directory), the Python package and the
 //! benchmarks are built on it.
 //!
-//! - Reading: [`file`] (the file as written, every value spanned), [`build`] (the builders and
+//! - Reading: [`file`](mod@file) (the file as written, every value spanned), [`build`] (the builders and
 //!   the analysis from it, located errors), [`units`], [`diag`] (errors with file, line, column
 //!   and the source line), [`asmt`] (an ASMT file imported as a model text), [`geometry`] (what
 //!   the animation draws).
-//! - [`prepare`]: read, check and build in one call ([`prepare::prepare`]), and the analysis
+//! - [`prepare`](mod@prepare): read, check and build in one call ([`prepare::prepare`]), and the analysis
 //!   errors located in the file.
 //! - [`analysis`]: runs the file's analysis into tables ([`analysis::analyse`]), streaming the
 //!   CSV files to an [`files::OutputFiles`] when given one; [`run_json`], [`plot`], [`scene`].

@@ -19,7 +19,7 @@ pub const SHOW_AFTER: Duration = Duration::from_secs(1);
 /// Redraws of the bar per run (at most).
 const REDRAWS: u64 = 1000;
 
-/// A progress bar: drawn at most [`REDRAWS`] times a run, removed when dropped.
+/// A progress bar: drawn at most `REDRAWS` times a run, removed when dropped.
 pub trait Bar {
     /// `done` units of the run's length done, at time `t`.
     fn draw(&mut self, done: u64, t: f64);

@@ -62,9 +62,9 @@ const SERIES_BUDGET: usize = 1 << 19;
 /// accelerations) and, when the run computes reactions (inverse dynamics or dynamics), the
 /// reaction series of every joint and motion, in the file's units. The TimeSeries is written a
 /// quantity per row, a run computes a time per frame: the frames go through a
-/// [`Transposer`](cardan_asmt::transpose::Transposer) that spills them to a scratch file in the
+/// [`Transposer`] that spills them to a scratch file in the
 /// output directory, so memory is bounded whatever the run's length. `cardan run` takes every
-/// frame into it ([`crate::analysis::stream::Tap`]) and writes it with the other outputs,
+/// frame into it (`cardan_model::analysis::stream::Tap`) and writes it with the other outputs,
 /// inside the output directory's atomic commit ([`crate::output`]).
 pub struct SolvedSeries {
     /// `<stem>.solved.asmt`.

@@ -1,4 +1,4 @@
-//! [`Contacts`]: the stops' state during a run (held, multipliers, events) and the buffers of
+//! `Contacts`: the stops' state during a run (held, multipliers, events) and the buffers of
 //! their solves; the constants of the stop treatment. A leaf: the equations are elsewhere.
 
 use super::events::ImpactEvent;

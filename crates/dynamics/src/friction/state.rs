@@ -1,4 +1,4 @@
-//! [`FrictionState`]: the buffers and per-element results of the joints' friction in a run
+//! `FrictionState`: the buffers and per-element results of the joints' friction in a run
 //! (a leaf; the equations are in the module above).
 
 /// The friction state of a run: the generalized friction forces and each element's power

@@ -6,7 +6,7 @@
 //! `cardan check` uses it too), or one whose start rests on as many end stops as the drivers
 //! leave degrees of freedom: those stops are held, their reactions reported as efforts, and a
 //! reaction that changes sign (the motion leaves the stop) is a warning
-//! ([`super::resting::resting_motion`]).
+//! (`super::resting::resting_motion`).
 
 use super::dynamic_layout::{DynamicLayout, Kind};
 use super::energy::ENERGY_BALANCE_BOUND;

@@ -6,7 +6,7 @@
 //! Each frame's rows go straight to the CSV files (buffered writers in the output directory's
 //! temporary sibling of the command's output directory, [`crate::files::OutputFiles::create`]), in the model's units, with the
 //! same text as a table written whole ([`crate::table::Table::to_csv`]); a long run formats and
-//! writes them on a second thread ([`super::csv_files`]). What is drawn from
+//! writes them on a second thread (`super::csv_files`). What is drawn from
 //! the results afterwards (the SVG plots, the animation, the report, the Python package's
 //! tables) reads a copy kept in memory: every frame when the run writes nothing (the Python
 //! package), otherwise a decimated copy: every s-th frame, s chosen at the start so that at most

@@ -216,7 +216,7 @@ impl Entry {
 pub struct Vocabulary {
     /// What an entry is called in messages ("analysis kind", "driver type").
     pub what: &'static str,
-    /// The table the entries describe, for messages and docs ("[analysis]", "[[driver]]").
+    /// The table the entries describe, for messages and docs (`"[analysis]"`, `"[[driver]]"`).
     pub table: &'static str,
     /// The key that selects the entry ("kind", "type", "integrator").
     pub selector: &'static str,

@@ -1,5 +1,5 @@
 //! Dormand-Prince 5(4) (Hairer, Nørsett & Wanner, *Solving ODEs I*, §II.5; the coefficients and
-//! the 4th-order continuous extension of their DOPRI5 code) as a [`Stepper`].
+//! the 4th-order continuous extension of their DOPRI5 code) as a `Stepper`.
 //!
 //! The state y = [q; v] (7 + 6 per body) obeys ṙ = ṙ, ṗ = ½ Lᵀ ω', v̇ from the augmented system
 //! (with Baumgarte terms if asked; `ode`). Error control and the step sizes: `control` (PI
@@ -8,13 +8,13 @@
 //! accepted step end (`projection`). Projection breaks FSAL, so a step costs seven
 //! evaluations. Euler parameters are normalized whenever the state is evaluated.
 //!
-//! One step: [`prepare`](Stepper::prepare) evaluates the first stage at the accepted state and
+//! One step: `prepare` evaluates the first stage at the accepted state and
 //! sets the step size (the starting step, or the controller's from the last step);
-//! [`attempt`](Stepper::attempt) evaluates stages 2–7 and the error estimate, and either fills
-//! the dense output of the unprojected step or shrinks the step; [`advance`](Stepper::advance)
+//! `attempt` evaluates stages 2–7 and the error estimate, and either fills
+//! the dense output of the unprojected step or shrinks the step; `advance`
 //! projects the step's end, which becomes the accepted state.
 //!
-//! The Schur solves of a run are refined by its tolerance ([`SchurRefinement::for_rtol`]).
+//! The Schur solves of a run are refined by its tolerance (`SchurRefinement::for_rtol`).
 
 mod buffers;
 mod control;

@@ -1,6 +1,6 @@
 //! Index-3 generalized-α (Arnold & Brüls 2007; Chung & Hulbert 1993 parameters) with Newton on
 //! [v̇_{n+1}, λ_{n+1}] and the rotation update p ⊗ exp(Δπ'/2) (formulas in the crate docs and
-//! in `scheme`) as a [`Stepper`].
+//! in `scheme`) as a `Stepper`.
 //!
 //! Steps: each output interval is divided into equal steps of at most `h`, so results land on
 //! the output times. A step whose Newton iteration fails (no convergence, singular matrix,
@@ -34,7 +34,7 @@
 //! Stored outputs (accelerations, λ, reactions) are those of the augmented system solved at the
 //! stored state (index-1 consistent), not the integrator's internal v̇ and λ, which carry the
 //! O(h) start-up error of index-3 schemes. The scheme has no continuous extension of its own:
-//! [`Stepper::interpolate`] inside a step is a cubic Hermite interpolant in the increment
+//! `Stepper::interpolate` inside a step is a cubic Hermite interpolant in the increment
 //! space (module `interpolant`), for locating events; outputs land on step ends.
 //!
 //! After setup a step does not allocate; the tangents are stored as the 6×6 blocks the KKT
