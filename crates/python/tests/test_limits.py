@@ -1,6 +1,6 @@
 """Limits and joint friction from Python (issue 48): the builder's ``limit`` and ``friction``
 write the model file's ``[[limit]]`` and ``[[friction]]`` tables; a run's ``stops`` table holds
-each stop's state and force; a bad limit is a ModelError at its key."""
+each stop's state and force, its ``friction`` table each friction's torque and power; a bad limit is a ModelError at its key."""
 
 import math
 
@@ -31,6 +31,11 @@ def test_a_pendulum_rests_on_its_stop_with_the_closed_form_reaction():
     assert stops["stop.lower held"][-1] == 1.0
     assert abs(stops["stop.lower force"][-1] - 9.81 * 0.5 * 0.5) < 1e-6
     assert r.warnings == []
+    # The joint's friction (here μ = 0) has its own table: torque and power per element.
+    friction = r["friction"]
+    assert friction.names == ["pin torque", "pin power"]
+    assert friction.unit("pin torque") == "N m"
+    assert max(abs(x) for x in friction["pin torque"]) == 0.0
 
 
 def test_a_bad_limit_is_a_model_error_at_its_key():
