@@ -115,7 +115,7 @@ struct Stops {
 
 impl Stops {
     fn new(d: &Dynamics, state: &State) -> Self {
-        let watch = !d.contacts.watched.is_empty();
+        let watch = !d.contacts.watched.is_empty() || !d.contacts.compliant.is_empty();
         Self {
             watch,
             state: if watch {

@@ -1,6 +1,7 @@
 //! Events of the stops inside an accepted step (the driver's seam, [`super::driver`]): a stop
 //! that closes (its gap g crosses 0 downwards, also when it opens again inside the same step:
-//! a graze, found from the rate ġ turning from closing to opening), a held stop whose multiplier changes sign
+//! a graze, found from the rate ġ turning from closing to opening), a compliant stop's contact
+//! beginning or ending (its force's kink: the step is cut there), a held stop whose multiplier changes sign
 //! (it would pull: it opens), a held stop found off g = 0 at the step's end by a scheme that
 //! does not carry the stop rows (generalized-α: the step's end is brought back onto it).
 //!
@@ -35,6 +36,9 @@ pub(crate) enum Action {
     Release(usize),
     /// The held stops are brought back onto g = 0, ġ = 0.
     Hold,
+    /// A compliant stop's contact begins or ends: its force law has a kink there, so the
+    /// step ends at it and the next starts from it (nothing jumps).
+    Kink,
 }
 
 /// An event at `time`.
@@ -140,6 +144,50 @@ fn grazed<S: Stepper>(stepper: &mut S, d: &mut Dynamics, s: usize, span: Span) -
     })
 }
 
+/// Where compliant stop `s`'s gap changes sign inside the step (its contact begins or ends:
+/// the force's kink), by the Illinois method on ±g; `None` without a change, or when the
+/// change is at the step's start (the step that began at the kink).
+fn contact_kink<S: Stepper>(
+    stepper: &mut S,
+    d: &mut Dynamics,
+    s: usize,
+    span: Span,
+) -> Option<f64> {
+    let g0 = gap_at(stepper, d, s, span.t0);
+    let g1 = gap_at(stepper, d, s, span.t1);
+    if g0 == 0.0 || (g0 > 0.0) == (g1 > 0.0) {
+        return None;
+    }
+    let sign = g0.signum();
+    let (mut a, mut b) = (span.t0, span.t1);
+    let (mut fa, mut fb) = (sign * g0, sign * g1);
+    let mut side = 0i8;
+    for _ in 0..MAX_LOCATE {
+        if b - a <= EVENT_TIME_TOLERANCE * (1.0 + b.abs()) {
+            break;
+        }
+        let mut tm = (a * fb - b * fa) / (fb - fa);
+        if !(tm > a && tm < b) {
+            tm = 0.5 * (a + b);
+        }
+        let f = sign * gap_at(stepper, d, s, tm);
+        if f > 0.0 {
+            (a, fa) = (tm, f);
+            if side == 1 {
+                fb *= 0.5;
+            }
+            side = 1;
+        } else {
+            (b, fb) = (tm, f);
+            if side == -1 {
+                fa *= 0.5;
+            }
+            side = -1;
+        }
+    }
+    (b > span.t0 + 10.0 * EVENT_TIME_TOLERANCE * (1.0 + span.t0.abs())).then_some(b)
+}
+
 /// The largest g_s in the step and its time, by golden-section search (g unimodal there).
 fn highest<S: Stepper>(stepper: &mut S, d: &mut Dynamics, s: usize, span: Span) -> (f64, f64) {
     extremum(stepper, d, s, span, 1.0)
@@ -238,6 +286,18 @@ pub(crate) fn first_event<S: Stepper>(
             );
         }
     }
+    for k in 0..d.contacts.compliant.len() {
+        let s = d.contacts.compliant[k];
+        if let Some(time) = contact_kink(stepper, d, s, span) {
+            take(
+                Event {
+                    time,
+                    action: Action::Kink,
+                },
+                &mut first,
+            );
+        }
+    }
     if !d.contacts.any_held() {
         return Ok(first);
     }
@@ -303,7 +363,7 @@ pub(crate) fn apply(
                     energy_change: 0.0,
                 });
         }
-        Action::Hold => {}
+        Action::Hold | Action::Kink => {}
     }
     if d.contacts.any_held() {
         d.hold_stops(state, tol)?;
