@@ -82,7 +82,7 @@ fn multiplier_at<S: Stepper>(
 /// step (golden-section search: g rises, then falls); if g stays ≤ 0 the stop closes at t0.
 fn locate_closing<S: Stepper>(stepper: &mut S, d: &mut Dynamics, s: usize, span: Span) -> f64 {
     let sc = scale(d, s);
-    let (mut a, mut b) = (span.t0, span.t1);
+    let (mut a, b) = (span.t0, span.t1);
     let mut ga = gap_at(stepper, d, s, a);
     if ga <= 1e-15 * sc {
         let (t, g) = highest(stepper, d, s, span);
@@ -91,36 +91,51 @@ fn locate_closing<S: Stepper>(stepper: &mut S, d: &mut Dynamics, s: usize, span:
         }
         (a, ga) = (t, g);
     }
-    let mut gb = gap_at(stepper, d, s, b);
+    let gb = gap_at(stepper, d, s, b);
+    // The open side: the state there has not passed the stop (or g = 0 there).
+    illinois(stepper, d, s, 1.0, (a, ga), (b, gb), 1e-15 * sc).0
+}
+
+/// The sign change of `sign` g_s in [a, b] (`sign` g > 0 at a, < 0 at b) by the Illinois
+/// variant of regula falsi, to [`EVENT_TIME_TOLERANCE`]: the final bracket, both ends at a time
+/// where |g| ≤ `zero`.
+fn illinois<S: Stepper>(
+    stepper: &mut S,
+    d: &mut Dynamics,
+    s: usize,
+    sign: f64,
+    (mut a, mut fa): (f64, f64),
+    (mut b, mut fb): (f64, f64),
+    zero: f64,
+) -> (f64, f64) {
     let mut side = 0i8;
     for _ in 0..MAX_LOCATE {
         if b - a <= EVENT_TIME_TOLERANCE * (1.0 + b.abs()) {
             break;
         }
-        let mut tm = (a * gb - b * ga) / (gb - ga);
+        let mut tm = (a * fb - b * fa) / (fb - fa);
         if !(tm > a && tm < b) {
             tm = 0.5 * (a + b);
         }
-        let g = gap_at(stepper, d, s, tm);
-        if g.abs() <= 1e-15 * sc {
-            return tm;
+        let f = sign * gap_at(stepper, d, s, tm);
+        if f.abs() <= zero {
+            return (tm, tm);
         }
-        if g > 0.0 {
-            (a, ga) = (tm, g);
+        if f > 0.0 {
+            (a, fa) = (tm, f);
             if side == 1 {
-                gb *= 0.5;
+                fb *= 0.5;
             }
             side = 1;
         } else {
-            (b, gb) = (tm, g);
+            (b, fb) = (tm, f);
             if side == -1 {
-                ga *= 0.5;
+                fa *= 0.5;
             }
             side = -1;
         }
     }
-    // The open side: the state there has not passed the stop.
-    a
+    (a, b)
 }
 
 /// A stop closed and opened again inside the step (a graze): g ≥ 0 at both ends, but the
@@ -159,32 +174,15 @@ fn contact_kink<S: Stepper>(
         return None;
     }
     let sign = g0.signum();
-    let (mut a, mut b) = (span.t0, span.t1);
-    let (mut fa, mut fb) = (sign * g0, sign * g1);
-    let mut side = 0i8;
-    for _ in 0..MAX_LOCATE {
-        if b - a <= EVENT_TIME_TOLERANCE * (1.0 + b.abs()) {
-            break;
-        }
-        let mut tm = (a * fb - b * fa) / (fb - fa);
-        if !(tm > a && tm < b) {
-            tm = 0.5 * (a + b);
-        }
-        let f = sign * gap_at(stepper, d, s, tm);
-        if f > 0.0 {
-            (a, fa) = (tm, f);
-            if side == 1 {
-                fb *= 0.5;
-            }
-            side = 1;
-        } else {
-            (b, fb) = (tm, f);
-            if side == -1 {
-                fa *= 0.5;
-            }
-            side = -1;
-        }
-    }
+    let (_, b) = illinois(
+        stepper,
+        d,
+        s,
+        sign,
+        (span.t0, sign * g0),
+        (span.t1, sign * g1),
+        0.0,
+    );
     (b > span.t0 + 10.0 * EVENT_TIME_TOLERANCE * (1.0 + span.t0.abs())).then_some(b)
 }
 
