@@ -140,8 +140,10 @@ fn illinois<S: Stepper>(
 
 /// A stop closed and opened again inside the step (a graze): g ≥ 0 at both ends, but the
 /// stop was closing at the start (ġ < 0) and opening at the end (ġ > 0), so g has a minimum
-/// inside; when that minimum (golden-section search) is below 0, the closing before it. Only
-/// the end's rate is evaluated for a step that ends closing or at rest (most steps).
+/// inside; when that minimum (golden-section search) is below the hold tolerance (a dip
+/// within it is the roundoff of a stop just released, whose g and ġ start at drift level),
+/// the closing before it. Only the end's rate is evaluated for a step that ends closing or at
+/// rest (most steps).
 fn grazed<S: Stepper>(stepper: &mut S, d: &mut Dynamics, s: usize, span: Span) -> Option<f64> {
     // `d` holds the step's end (the gap was just evaluated there).
     if d.model.stop_rate(s, &d.bodies, &d.turns) <= 0.0 {
@@ -153,7 +155,7 @@ fn grazed<S: Stepper>(stepper: &mut S, d: &mut Dynamics, s: usize, span: Span) -
         return None;
     }
     let (t_min, g_min) = extremum(stepper, d, s, span, -1.0);
-    (g_min < 0.0).then(|| {
+    (g_min < -HOLD_TOLERANCE * scale(d, s)).then(|| {
         let before = Span { t1: t_min, ..span };
         locate_closing(stepper, d, s, before)
     })
