@@ -645,6 +645,16 @@ fn inverse_dynamics_of_a_motion_resting_on_a_stop_reports_its_reaction_and_when_
         "{}",
         o.stdout
     );
+    // A stop on the driven shoulder, which the motion starts on, drives nothing new: the elbow
+    // is still free, and the run says so (it held that stop before, as a conflicting driver).
+    let own = text.replace(
+        "joint = \"elbow\"\nlower = 0.0",
+        "joint = \"shoulder\"\nlower = 0.0",
+    );
+    assert_ne!(own, text);
+    let o = run_text("run", &own);
+    assert_eq!(o.code, 1, "{}", o.stdout);
+    assert!(o.stderr.contains("fully driven"), "{}", o.stderr);
     // Drawn off the stop, the lower rod is free: not fully driven, said as before.
     let off = text.replace("lower = 0.0\nupper = 2.0", "lower = -0.5\nupper = 2.0");
     let o = run_text("run", &off);

@@ -121,7 +121,7 @@ pub(super) fn path_leaves_set(p: &Prepared, r: &cardan_dynamics::DynamicResults)
                         .map_or(0.0, |e| e.effort.iter().fold(0.0f64, |a, f| a.max(f.abs()))))
                     .max(1.0);
                     match effort {
-                        Some(f) if f * stop.row.bound.sign() < -1e-9 * peak => {
+                        Some(f) if pulls_with(f * stop.row.bound.sign(), peak) => {
                             format!("stop {} would pull (its reaction is {f:.4e})", stop.name)
                         }
                         _ => continue,
@@ -155,7 +155,15 @@ fn pulls(p: &Prepared, r: &StaticResults, s: usize) -> bool {
         .driver(&stop.name)
         .and_then(|d| d.effort.last().copied())
         .unwrap_or(0.0);
-    effort * stop.row.bound.sign() < 0.0
+    pulls_with(effort * stop.row.bound.sign(), effort.abs())
+}
+
+/// Whether a held stop's reaction along its pushing direction, `pushing`, is a pull: below
+/// −1e-9 of the reaction's scale `size` (at least 1 N or N m), so that roundoff does not
+/// release a stop that carries nothing. The one test of [`pulls`], [`path_leaves_set`] and
+/// [`PullWatch`].
+fn pulls_with(pushing: f64, size: f64) -> bool {
+    pushing < -1e-9 * size.max(1.0)
 }
 
 /// `p` rebuilt with the stops `held` held at their bounds (drivers named after the stops).
@@ -168,7 +176,7 @@ fn holding(p: &Prepared, held: &[usize]) -> Result<Prepared, Error> {
         let bound = stop.row.bound;
         builder = builder
             .holding_stop(&limit.name, bound)
-            .map_err(|e| p.source.error(format!("static analysis: {e}")))?;
+            .map_err(|e| p.source.error(format!("holding stop {}: {e}", stop.name)))?;
         let value = match bound {
             Bound::Lower => limit.lower,
             Bound::Upper => limit.upper,
@@ -188,7 +196,7 @@ fn holding(p: &Prepared, held: &[usize]) -> Result<Prepared, Error> {
     }
     let model = builder.build().map_err(|e| {
         p.source
-            .error(format!("static analysis: holding the stops: {e}"))
+            .error(format!("holding the stops the model rests on: {e}"))
     })?;
     loaded.builder = builder;
     Ok(Prepared {
@@ -235,7 +243,16 @@ pub(crate) fn resting_motion(p: &Prepared, t_start: f64) -> Result<Option<Prepar
     if missing == 0 || on.len() != missing {
         return Ok(None);
     }
-    holding(p, &on).map(Some)
+    // The held stops must drive exactly the missing coordinates: not one a driver already
+    // fixes (a motion starting at its own stroke end), nor each other's.
+    let held = holding(p, &on)?;
+    let mut ws = held.model.workspace();
+    let driven = (held.model)
+        .assemble(&mut ws, &cardan_mechanism::AssemblyOptions::at(t_start))
+        .and_then(|_| held.model.dof(&ws))
+        .is_ok_and(|dof| dof.dof == dof.drivers)
+        && held.model.prepare_kinematics(&mut ws).is_ok();
+    Ok(driven.then_some(held))
 }
 
 /// The first output time at which a stop held by [`resting_motion`] pulls (its reaction points
@@ -292,7 +309,7 @@ impl PullWatch {
             };
             for (&t, &f) in r.times().iter().zip(&d.effort) {
                 h.peak = h.peak.max(f.abs());
-                if h.sign * f < -1e-9 * h.peak.max(1.0) {
+                if pulls_with(h.sign * f, h.peak) {
                     let at = match h.last {
                         Some((t0, f0)) if h.sign * f0 >= 0.0 => t0 + (t - t0) * f0 / (f0 - f),
                         _ => t,
