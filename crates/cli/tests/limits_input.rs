@@ -695,3 +695,64 @@ fn a_quasi_static_path_rests_on_its_stop_and_says_where_it_would_leave_it() {
     assert_eq!(o.code, 0, "{}", o.stderr);
     assert!(!o.stdout.contains("warning"), "{}", o.stdout);
 }
+
+#[test]
+fn a_load_no_equilibrium_can_carry_without_its_stop_rests_on_the_stop() {
+    // A 1 kg, 1 m rod pinned at its end under gravity −y, turned by a constant 10 N m about z:
+    // more than its weight's largest moment m g L/2 = 4.905 N m, so there is no equilibrium
+    // with the stop open; it rests on its upper stop at 0.5 rad, which carries
+    // τ − m g (L/2) cos 0.5 (negative: an upper stop pushes back).
+    let text = r#"[model]
+name = "lever"
+gravity = [0.0, -9.81, 0.0]
+
+[ground]
+points = { O = [0.0, 0.0, 0.0] }
+vectors = { z = [0.0, 0.0, 1.0], x = [1.0, 0.0, 0.0] }
+
+[[body]]
+name = "rod"
+mass = 1.0
+inertia = { diag = [1e-4, 0.083333333333333333, 0.083333333333333333] }
+position = [0.5, 0.0, 0.0]
+points = { O = [-0.5, 0.0, 0.0] }
+vectors = { z = [0.0, 0.0, 1.0], x = [1.0, 0.0, 0.0] }
+
+[[joint]]
+name = "pin"
+type = "revolute"
+body_i = "ground"
+point_i = "O"
+axis_i = "z"
+x_axis_i = "x"
+body_j = "rod"
+point_j = "O"
+axis_j = "z"
+x_axis_j = "x"
+
+[[force]]
+name = "push"
+type = "torque"
+body = "rod"
+components = [{ kind = "constant", value = 0.0 }, { kind = "constant", value = 0.0 }, { kind = "constant", value = 10.0 }]
+
+[[limit]]
+name = "stop"
+joint = "pin"
+lower = -1.0
+upper = 0.5
+
+[analysis]
+kind = "static"
+"#;
+    let o = run_text("run", text);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let efforts = std::fs::read_to_string(o.dir.join("out/driver_efforts.csv")).unwrap();
+    let mut lines = efforts.lines();
+    assert_eq!(lines.next().unwrap(), "t [s],stop.upper.torque [N m]");
+    let torque: f64 = (lines.next().unwrap().split(',').nth(1).unwrap())
+        .parse()
+        .unwrap();
+    let expected = -(10.0 - G * 0.5 * 0.5f64.cos());
+    assert!((torque - expected).abs() < 1e-9, "{torque} vs {expected}");
+}

@@ -39,7 +39,19 @@ pub(super) fn resting(
     let mut built: Option<Prepared> = None;
     for _ in 0..=2 * stops.len() {
         let q = built.as_ref().unwrap_or(p);
-        let r = solve(q, options)?;
+        let r = match solve(q, options) {
+            Ok(r) => r,
+            // No equilibrium with every stop open (a load the mechanism cannot carry without a
+            // stop): start from a stop that carries it.
+            Err(e) if held.is_empty() => match carrying_stop(p, options, &solve) {
+                Some((s, q1)) => {
+                    (held, built) = (vec![s], Some(q1));
+                    continue;
+                }
+                None => return Err(e),
+            },
+            Err(e) => return Err(e),
+        };
         let gaps = gaps(q, &r);
         let mut next: Vec<usize> = held.iter().copied().filter(|&s| !pulls(q, &r, s)).collect();
         next.extend((0..stops.len()).filter(|s| !held.contains(s) && gaps[*s] < -scale(q, *s)));
@@ -60,6 +72,20 @@ pub(super) fn resting(
          passed another stop or pulled on a held one); check the limits' bounds and the loads"
             .to_string(),
     ))
+}
+
+/// The first stop that, held alone, gives an equilibrium it pushes on (not pulls), with the
+/// model holding it; `None` when none does.
+fn carrying_stop(
+    p: &Prepared,
+    options: &StaticOptions,
+    solve: &impl Fn(&Prepared, &StaticOptions) -> Result<StaticResults, Error>,
+) -> Option<(usize, Prepared)> {
+    (0..p.model.stops().len()).find_map(|s| {
+        let q = holding(p, &[s]).ok()?;
+        let r = solve(&q, options).ok()?;
+        (!pulls(&q, &r, s)).then_some((s, q))
+    })
 }
 
 /// The tolerance of stop `s`'s gap: rad for an angle, relative to the model's length else.
