@@ -669,31 +669,50 @@ fn inverse_dynamics_of_a_motion_resting_on_a_stop_reports_its_reaction_and_when_
 }
 
 #[test]
-fn a_quasi_static_path_rests_on_its_stop_and_says_where_it_would_leave_it() {
-    // The arm turned at θ = t with its forearm on the elbow stop, as equilibria: the stop
-    // carries the forearm's weight moment m g (L/2) cos θ, the motor both rods',
-    // m g (L/2 + 3L/2) cos θ; past θ = 90° the stop would pull.
+fn a_quasi_static_path_rests_on_its_stops_and_changes_stop_where_the_load_turns() {
+    // The arm turned at θ = t with its forearm on the elbow's lower stop, as equilibria: the
+    // stop carries the forearm's weight moment m g (L/2) cos θ, the motor both rods',
+    // m g (L/2 + 3L/2) cos θ. Past θ = 90° the lower stop would pull: the forearm falls over
+    // onto the upper stop (φ = 2 rad, the forearm at a = θ + 2), which carries
+    // m g (L/2) cos a (negative: an upper stop pushes back), the motor
+    // m g (3L/2 cos θ + L/2 cos a). The path's second segment starts at t = 1.6 s.
     let text = arm_on_a_stop().replace(
         "kind = \"inverse_dynamics\"\nt_end = 2.0\nsteps = 200",
         "kind = \"quasi_static\"\nt_end = 2.0\nsteps = 20",
     );
     let o = run_text("run", &text);
     assert_eq!(o.code, 0, "{}\n{text}", o.stderr);
-    assert_eq!(arm_efforts_as_closed_form(&o.dir, 16), 16);
-    assert!(
-        o.stdout.contains(
-            "quasi-static analysis: at t = 1.6 s stop bend.lower would pull (its reaction is"
-        ),
-        "{}",
-        o.stdout
+    assert!(!o.stdout.contains("warning"), "{}", o.stdout);
+    let efforts = std::fs::read_to_string(o.dir.join("out/driver_efforts.csv")).unwrap();
+    let mut lines = efforts.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "t [s],motor.torque [N m],bend.lower.torque [N m],bend.upper.torque [N m]"
     );
-    // Up to θ = 1 rad the set holds: no warning.
+    let mut rows = 0;
+    for line in lines {
+        let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        let (t, c) = (v[0], v[0].cos());
+        let (lower, upper, motor) = if t < std::f64::consts::FRAC_PI_2 {
+            (G * 0.5 * c, 0.0, G * 2.0 * c)
+        } else {
+            let ca = (t + 2.0).cos();
+            (0.0, G * 0.5 * ca, G * (1.5 * c + 0.5 * ca))
+        };
+        assert!((v[2] - lower).abs() < 1e-9, "lower stop at t {t}: {}", v[2]);
+        assert!((v[3] - upper).abs() < 1e-9, "upper stop at t {t}: {}", v[3]);
+        assert!((v[1] - motor).abs() < 1e-9, "motor at t {t}: {}", v[1]);
+        rows += 1;
+    }
+    assert_eq!(rows, 21);
+    // Up to θ = 1 rad one stop carries it all the way.
     let o = run_text(
         "run",
         &text.replace("t_end = 2.0\nsteps = 20", "t_end = 1.0\nsteps = 10"),
     );
     assert_eq!(o.code, 0, "{}", o.stderr);
     assert!(!o.stdout.contains("warning"), "{}", o.stdout);
+    assert_eq!(arm_efforts_as_closed_form(&o.dir, usize::MAX), 11);
 }
 
 #[test]

@@ -32,6 +32,7 @@ mod linearize;
 mod located;
 mod matrices;
 pub(crate) mod modes;
+mod quasi_stops;
 mod resting;
 mod setup;
 pub mod statics;

@@ -21,8 +21,8 @@ const PASS_TOLERANCE: f64 = 1e-9;
 
 /// The model of `p` with the stops an equilibrium rests on held, and their names; `None` when it
 /// rests on none (or the model has no limits). `solve` solves an equilibrium of a prepared
-/// model (at `options.time`: a quasi-static analysis's first time, whose set is kept along the
-/// path; [`path_leaves_set`] says where it stops holding).
+/// model (at `options.time`: for a quasi-static analysis, the first time of each segment of
+/// its path, [`super::quasi_stops`]).
 ///
 /// # Errors
 /// The equilibrium's errors; an active set that does not settle.
@@ -126,28 +126,27 @@ fn gaps_at(p: &Prepared, r: &cardan_dynamics::DynamicResults, k: usize) -> Vec<f
 }
 
 /// Where a quasi-static path stops resting on the stops held at its first time (`p`'s model,
-/// from [`resting`]): the first equilibrium that passes an open stop or whose held stop pulls,
-/// as a warning (the analysis keeps the set of its first time; the equilibria after it are not
-/// the mechanism's). `None` when the set holds along the whole path.
-pub(super) fn path_leaves_set(p: &Prepared, r: &cardan_dynamics::DynamicResults) -> Option<String> {
+/// from [`resting`]): the index of the first equilibrium of `r` that passes an open stop or
+/// whose held stop would pull, and what happens there. `None` when the set holds along the
+/// whole path.
+pub(super) fn set_change(
+    p: &Prepared,
+    r: &cardan_dynamics::DynamicResults,
+) -> Option<(usize, String)> {
     let stops = p.model.stops();
     if stops.is_empty() {
         return None;
     }
     let held = |s: usize| (p.model.drivers().iter()).position(|d| d.name == stops[s].name);
-    for (k, &t) in r.kinematics.times.iter().enumerate() {
+    for k in 0..r.kinematics.times.len() {
         let gaps = gaps_at(p, r, k);
         for (s, stop) in stops.iter().enumerate() {
             let what = match held(s) {
                 Some(d) => {
-                    let effort = r.drivers.get(d).and_then(|e| e.effort.get(k)).copied();
-                    let peak = (r
-                        .drivers
-                        .get(d)
-                        .map_or(0.0, |e| e.effort.iter().fold(0.0f64, |a, f| a.max(f.abs()))))
-                    .max(1.0);
-                    match effort {
-                        Some(f) if pulls_with(f * stop.row.bound.sign(), peak) => {
+                    let Some(e) = r.drivers.get(d) else { continue };
+                    let peak = e.effort.iter().fold(0.0f64, |a, f| a.max(f.abs()));
+                    match e.effort.get(k) {
+                        Some(&f) if pulls_with(f * stop.row.bound.sign(), peak) => {
                             format!("stop {} would pull (its reaction is {f:.4e})", stop.name)
                         }
                         _ => continue,
@@ -161,12 +160,7 @@ pub(super) fn path_leaves_set(p: &Prepared, r: &cardan_dynamics::DynamicResults)
                 }
                 None => continue,
             };
-            return Some(format!(
-                "quasi-static analysis: at t = {t} s {what}; the analysis keeps the stops the \
-                 first equilibrium rests on, so the equilibria from there are not the \
-                 mechanism's: start a static analysis at that time, or run a dynamic analysis \
-                 with damping"
-            ));
+            return Some((k, what));
         }
     }
     None

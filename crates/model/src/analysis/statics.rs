@@ -31,7 +31,7 @@ use std::time::{Duration, Instant};
 type Written = (Vec<Table>, Vec<(String, String)>);
 
 /// The groups a static analysis does not write (it has no velocities or accelerations).
-const MOTION_GROUPS: [&str; 6] = [
+pub(super) const MOTION_GROUPS: [&str; 6] = [
     "point_velocities",
     "point_accelerations",
     "joint_velocities",
@@ -47,6 +47,9 @@ pub(super) fn run_statics(
     analysis: &Analysis,
     kind: StaticKind,
 ) -> Result<Analysed, Error> {
+    if super::quasi_stops::applies(p, kind) {
+        return super::quasi_stops::run(p, analysis);
+    }
     let start = Instant::now();
     // The stops the equilibrium rests on, held (`resting`): the model to analyse.
     let equilibrium = |q: &Prepared, o: &StaticOptions| {
@@ -70,7 +73,6 @@ pub(super) fn run_statics(
         .collect();
     tables.push(stability_table(statics));
     let mut warnings = stability_warnings(statics);
-    warnings.extend(super::resting::path_leaves_set(p, r));
     warnings.extend(dropped_row_warnings(p, &r.kinematics.dropped_rows));
     let mut files = Vec::new();
     if let Some(s) = &solved.sparse {
@@ -124,7 +126,7 @@ struct Solved {
 
 /// The file's options of a static solution: poses only (points and joints, no velocities or
 /// accelerations).
-fn static_options(analysis: &Analysis) -> StaticOptions {
+pub(super) fn static_options(analysis: &Analysis) -> StaticOptions {
     StaticOptions {
         time: analysis.t_start,
         tolerance: analysis.tolerance,
@@ -369,7 +371,7 @@ fn error(p: &Prepared, e: &DynamicsError, what: &str) -> Error {
 
 /// `stability.csv`: per time, the stability (1 stable, 0 neutral, −1 unstable), the smallest
 /// eigenvalue ω² of the reduced stiffness, the Newton iterations and load steps.
-fn stability_table(s: &StaticResults) -> Table {
+pub(super) fn stability_table(s: &StaticResults) -> Table {
     let mut t = Table::new(
         "stability",
         "equilibrium stability",
@@ -404,7 +406,7 @@ fn stability_table(s: &StaticResults) -> Table {
 /// Unstable equilibria, as warnings (named directions). A neutral equilibrium (a free
 /// direction without stiffness: rigid-body modes) is not doubtful and not warned about;
 /// `stability.csv` and `modes.csv` report it.
-fn stability_warnings(s: &StaticResults) -> Vec<String> {
+pub(super) fn stability_warnings(s: &StaticResults) -> Vec<String> {
     let mut out = Vec::new();
     for e in &s.equilibria {
         match e.stability {
