@@ -11,7 +11,6 @@ use crate::kkt::SchurRefinement;
 use crate::state::State;
 use crate::system::Dynamics;
 use crate::DynamicsError;
-use cardan_constraints::joints::CoordinateQuantity;
 
 impl Dynamics<'_> {
     /// Factors [M Φ_vᵀ; Φ_v 0] at `state` (positions synced).
@@ -135,10 +134,7 @@ impl Dynamics<'_> {
         let ns = self.contacts.held.len();
         let stops = self.model.stops();
         let limits = self.model.limits();
-        let scale = |q: usize| match stops[q].row.measure.quantity() {
-            CoordinateQuantity::Angle => 1.0,
-            CoordinateQuantity::Length => self.model.characteristic_length(),
-        };
+        let scale = |q: usize| self.model.stop_scale(q);
         // ġ⁻ of every stop, and the set: held, the initiating one, the others at contact that
         // close.
         self.contacts.set.clear();

@@ -20,12 +20,7 @@ impl crate::system::Dynamics<'_> {
         let model = self.model;
         for &s in &self.contacts.watched {
             let st = &model.stops()[s];
-            let scale = match st.row.measure.quantity() {
-                cardan_constraints::joints::CoordinateQuantity::Angle => 1.0,
-                cardan_constraints::joints::CoordinateQuantity::Length => {
-                    model.characteristic_length()
-                }
-            };
+            let scale = model.stop_scale(s);
             let g = model.stop_gap(s, &self.bodies, &self.turns);
             if g < -HOLD_TOLERANCE * scale {
                 let l = &model.limits()[st.limit];

@@ -19,7 +19,6 @@ use crate::options::Baumgarte;
 use crate::state::State;
 use crate::system::Dynamics;
 use crate::DynamicsError;
-use cardan_constraints::joints::CoordinateQuantity;
 
 /// The relative time tolerance of an event's location.
 pub const EVENT_TIME_TOLERANCE: f64 = 1e-13;
@@ -49,10 +48,7 @@ pub(crate) struct Event {
 }
 
 fn scale(d: &Dynamics, s: usize) -> f64 {
-    match d.model.stops()[s].row.measure.quantity() {
-        CoordinateQuantity::Angle => 1.0,
-        CoordinateQuantity::Length => d.model.characteristic_length(),
-    }
+    d.model.stop_scale(s)
 }
 
 /// g of stop `s` at the dense output's time `t`.
@@ -143,19 +139,36 @@ fn illinois<S: Stepper>(
 /// inside; when that minimum (golden-section search) is below the hold tolerance (a dip
 /// within it is the roundoff of a stop just released, whose g and ġ start at drift level),
 /// the closing before it. Only the end's rate is evaluated for a step that ends closing or at
-/// rest (most steps).
-fn grazed<S: Stepper>(stepper: &mut S, d: &mut Dynamics, s: usize, span: Span) -> Option<f64> {
+/// rest (most steps), and the search runs only where the gap can reach that depth: with g
+/// convex over the step (its rate rising from ġ₀ < 0 to ġ₁ > 0), g ≥ g₀ + ġ₀ Δt and
+/// g ≥ g₁ − ġ₁ Δt, so a turn well away from the stop (a swing reversing far from it) costs two
+/// rates and a gap. `g1`: the gap at the step's end.
+fn grazed<S: Stepper>(
+    stepper: &mut S,
+    d: &mut Dynamics,
+    s: usize,
+    span: Span,
+    g1: f64,
+) -> Option<f64> {
     // `d` holds the step's end (the gap was just evaluated there).
-    if d.model.stop_rate(s, &d.bodies, &d.turns) <= 0.0 {
+    let r1 = d.model.stop_rate(s, &d.bodies, &d.turns);
+    if r1 <= 0.0 {
         return None;
     }
     let st = stepper.interpolate(span.t0);
     d.sync(st);
-    if d.model.stop_rate(s, &d.bodies, &d.turns) >= 0.0 {
+    let r0 = d.model.stop_rate(s, &d.bodies, &d.turns);
+    if r0 >= 0.0 {
+        return None;
+    }
+    let depth = -HOLD_TOLERANCE * scale(d, s);
+    let g0 = d.model.stop_gap(s, &d.bodies, &d.turns);
+    let dt = span.t1 - span.t0;
+    if (g0 + r0 * dt).max(g1 - r1 * dt) >= depth {
         return None;
     }
     let (t_min, g_min) = extremum(stepper, d, s, span, -1.0);
-    (g_min < -HOLD_TOLERANCE * scale(d, s)).then(|| {
+    (g_min < depth).then(|| {
         let before = Span { t1: t_min, ..span };
         locate_closing(stepper, d, s, before)
     })
@@ -271,10 +284,11 @@ pub(crate) fn first_event<S: Stepper>(
         if d.contacts.held[s] {
             continue;
         }
-        let closing = if gap_at(stepper, d, s, span.t1) < 0.0 {
+        let g1 = gap_at(stepper, d, s, span.t1);
+        let closing = if g1 < 0.0 {
             Some(locate_closing(stepper, d, s, span))
         } else {
-            grazed(stepper, d, s, span)
+            grazed(stepper, d, s, span, g1)
         };
         if let Some(time) = closing {
             take(

@@ -10,7 +10,6 @@
 use crate::error::AnalysisError;
 use crate::model::Model;
 use crate::workspace::Workspace;
-use cardan_constraints::joints::CoordinateQuantity;
 
 /// A gap below −`GAP_TOLERANCE` × scale (1 rad, or the model's length) is a crossing: the
 /// position solve's own accuracy is far below it.
@@ -23,13 +22,6 @@ pub const CROSSING_TIME_TOLERANCE: f64 = 1e-12;
 const MAX_LOCATE: usize = 100;
 
 impl Model {
-    fn stop_scale(&self, s: usize) -> f64 {
-        match self.stops[s].row.measure.quantity() {
-            CoordinateQuantity::Angle => 1.0,
-            CoordinateQuantity::Length => self.length,
-        }
-    }
-
     /// The stop most beyond its bound at the workspace's pose (scaled gap below
     /// −[`GAP_TOLERANCE`]), if any.
     pub(crate) fn closed_stop(&self, ws: &Workspace) -> Option<usize> {

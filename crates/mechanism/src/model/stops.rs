@@ -38,6 +38,15 @@ impl Model {
         )
     }
 
+    /// The scale of stop `s`'s gap, to which its tolerances are relative: 1 for an angle (rad),
+    /// the model's characteristic length for a length.
+    pub fn stop_scale(&self, s: usize) -> f64 {
+        match self.stops[s].row.measure.quantity() {
+            cardan_constraints::joints::CoordinateQuantity::Angle => 1.0,
+            cardan_constraints::joints::CoordinateQuantity::Length => self.length,
+        }
+    }
+
     /// The gap g of stop `s` (≥ 0 inside the range; rad or m) at `bodies`.
     pub fn stop_gap(&self, s: usize, bodies: &[BodyState], turns: &[[f64; 2]]) -> f64 {
         let g = BodyState::ground();
