@@ -160,10 +160,7 @@ fn write_limits(p: &Prepared, ws: &Workspace, out: &mut dyn Write) -> Result<(),
         .iter()
         .enumerate()
         .map(|(k, l)| {
-            let si = match l.measure.quantity() {
-                cardan_constraints::joints::CoordinateQuantity::Angle => "rad",
-                cardan_constraints::joints::CoordinateQuantity::Length => "m",
-            };
+            let si = crate::units::coordinate_units(l.measure.quantity()).coordinate;
             let (unit, f) = p.units.unit(si);
             let bound = |b: Option<f64>| b.map_or("-".to_string(), |v| g(v * f));
             let stops: Vec<usize> = (0..model.stops().len())

@@ -4,7 +4,7 @@
 use crate::build::{load, Loaded};
 use crate::diag::{Error, Source};
 use crate::number::num;
-use cardan_constraints::joints::CoordinateQuantity;
+use crate::units::coordinate_units;
 use cardan_mechanism::{AnalysisError, Model, ModelError};
 use std::path::Path;
 
@@ -346,9 +346,9 @@ pub fn analysis_error(p: &Prepared, e: &AnalysisError) -> Error {
             ..
         } => {
             // In the model's units, as the file says the bound.
-            let length = (p.model.limits().iter())
-                .any(|l| &l.name == limit && l.measure.quantity() == CoordinateQuantity::Length);
-            let (unit, f) = p.units.unit(if length { "m" } else { "rad" });
+            let si = (p.model.limits().iter().find(|l| &l.name == limit))
+                .map_or("rad", |l| coordinate_units(l.measure.quantity()).coordinate);
+            let (unit, f) = p.units.unit(si);
             let shown = |x: f64| num(format!("{:.11e}", x * f).parse().unwrap_or(x));
             located(
                 spans.locate_limit(&p.source.text, limit, bound_name),

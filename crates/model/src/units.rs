@@ -12,7 +12,41 @@
 //! Angles, times, masses and forces are the same in both systems.
 
 use crate::table::Table;
+use cardan_constraints::joints::CoordinateQuantity;
 use cardan_mechanism::sanity::Quantity;
+
+/// The SI units of a joint coordinate and of what acts along it (a limit's bound, a stop's
+/// rate, force and impulse), for an angle or a length.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CoordinateUnits {
+    /// The coordinate's (and a bound's) unit.
+    pub coordinate: &'static str,
+    /// Its rate's.
+    pub rate: &'static str,
+    /// A force (or torque) along it.
+    pub force: &'static str,
+    /// An impulse along it.
+    pub impulse: &'static str,
+}
+
+/// [`CoordinateUnits`] of a coordinate of `quantity`: rad, rad/s, N m, N m s for an angle;
+/// m, m/s, N, N s for a length.
+pub fn coordinate_units(quantity: CoordinateQuantity) -> CoordinateUnits {
+    match quantity {
+        CoordinateQuantity::Angle => CoordinateUnits {
+            coordinate: "rad",
+            rate: "rad/s",
+            force: "N m",
+            impulse: "N m s",
+        },
+        CoordinateQuantity::Length => CoordinateUnits {
+            coordinate: "m",
+            rate: "m/s",
+            force: "N",
+            impulse: "N s",
+        },
+    }
+}
 
 /// A unit system of cardan outputs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

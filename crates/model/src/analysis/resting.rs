@@ -90,15 +90,7 @@ fn carrying_stop(
 
 /// The tolerance of stop `s`'s gap: rad for an angle, relative to the model's length else.
 fn scale(p: &Prepared, s: usize) -> f64 {
-    PASS_TOLERANCE * unit_scale(p, s)
-}
-
-/// 1 for an angle's stop (rad), the model's characteristic length for a length's.
-fn unit_scale(p: &Prepared, s: usize) -> f64 {
-    match p.model.stops()[s].row.measure.quantity() {
-        CoordinateQuantity::Angle => 1.0,
-        CoordinateQuantity::Length => p.model.characteristic_length(),
-    }
+    PASS_TOLERANCE * p.model.stop_scale(s)
 }
 
 /// Each stop's gap g (≥ 0 inside the range) at the last equilibrium of `r`.
@@ -138,20 +130,26 @@ pub(super) fn set_change(
         return None;
     }
     let held = |s: usize| (p.model.drivers().iter()).position(|d| d.name == stops[s].name);
+    // Per stop: its holding driver's efforts and their largest |value| (held stops only).
+    let efforts: Vec<Option<(&[f64], f64)>> = (0..stops.len())
+        .map(|s| {
+            let e = r.drivers.get(held(s)?)?;
+            Some((
+                &e.effort[..],
+                e.effort.iter().fold(0.0f64, |a, f| a.max(f.abs())),
+            ))
+        })
+        .collect();
     for k in 0..r.kinematics.times.len() {
         let gaps = gaps_at(p, r, k);
         for (s, stop) in stops.iter().enumerate() {
-            let what = match held(s) {
-                Some(d) => {
-                    let Some(e) = r.drivers.get(d) else { continue };
-                    let peak = e.effort.iter().fold(0.0f64, |a, f| a.max(f.abs()));
-                    match e.effort.get(k) {
-                        Some(&f) if pulls_with(f * stop.row.bound.sign(), peak) => {
-                            format!("stop {} would pull (its reaction is {f:.4e})", stop.name)
-                        }
-                        _ => continue,
+            let what = match efforts[s] {
+                Some((effort, peak)) => match effort.get(k) {
+                    Some(&f) if pulls_with(f * stop.row.bound.sign(), peak) => {
+                        format!("stop {} would pull (its reaction is {f:.4e})", stop.name)
                     }
-                }
+                    _ => continue,
+                },
                 None if gaps[s] < -scale(p, s) => {
                     format!(
                         "the equilibrium passes stop {} by {:.4e}",
@@ -180,7 +178,7 @@ fn pulls(p: &Prepared, r: &StaticResults, s: usize) -> bool {
 
 /// Whether a held stop's reaction along its pushing direction, `pushing`, is a pull: below
 /// −1e-9 of the reaction's scale `size` (at least 1 N or N m), so that roundoff does not
-/// release a stop that carries nothing. The one test of [`pulls`], [`path_leaves_set`] and
+/// release a stop that carries nothing. The one test of [`pulls`], [`set_change`] and
 /// [`PullWatch`].
 fn pulls_with(pushing: f64, size: f64) -> bool {
     pushing < -1e-9 * size.max(1.0)
@@ -257,7 +255,7 @@ pub(crate) fn resting_motion(p: &Prepared, t_start: f64) -> Result<Option<Prepar
     };
     let missing = dof.dof.saturating_sub(dof.drivers);
     let on: Vec<usize> = (p.model.stop_status(&ws).iter().enumerate())
-        .filter(|(s, (_, g))| g.abs() <= ON_BOUND * unit_scale(p, *s))
+        .filter(|(s, (_, g))| g.abs() <= ON_BOUND * p.model.stop_scale(*s))
         .map(|(s, _)| s)
         .collect();
     if missing == 0 || on.len() != missing {
@@ -345,10 +343,9 @@ impl PullWatch {
     /// The warning of a stop that pulls.
     pub(super) fn warning(&self, p: &Prepared) -> Option<String> {
         let (name, at, t, f) = self.first.as_ref()?;
-        let unit = match p.model.stops().iter().find(|s| &s.name == name) {
-            Some(s) if s.row.measure.quantity() == CoordinateQuantity::Length => "N",
-            _ => "N m",
-        };
+        let unit = (p.model.stops().iter().find(|s| &s.name == name)).map_or("N m", |s| {
+            crate::units::coordinate_units(s.row.measure.quantity()).force
+        });
         Some(format!(
             "the prescribed motion leaves stop {name} at about t = {at:.6} s (its reaction \
              changes sign: {f:.4e} {unit} at t = {t} s pulls): inverse dynamics keeps holding \

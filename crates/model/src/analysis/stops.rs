@@ -5,16 +5,12 @@
 
 use crate::prepare::Prepared;
 use crate::table::{csv_field, Table};
-use crate::units::UnitSystem;
-use cardan_constraints::joints::CoordinateQuantity;
+use crate::units::{coordinate_units, CoordinateUnits, UnitSystem};
 use cardan_dynamics::{ImpactEvent, StopHistory};
 
-/// The SI units of a stop's rate, force and impulse along its coordinate.
-fn units(p: &Prepared, stop: usize) -> (&'static str, &'static str, &'static str) {
-    match p.model.stops()[stop].row.measure.quantity() {
-        CoordinateQuantity::Angle => ("rad/s", "N m", "N m s"),
-        CoordinateQuantity::Length => ("m/s", "N", "N s"),
-    }
+/// The SI units along stop `stop`'s coordinate.
+fn units(p: &Prepared, stop: usize) -> CoordinateUnits {
+    coordinate_units(p.model.stops()[stop].row.measure.quantity())
 }
 
 /// The `stops` group: for each stop, `<limit>.<end> held [-]` (1 while held closed) and
@@ -27,7 +23,7 @@ pub(super) fn stops_table(p: &Prepared, history: &StopHistory) -> Option<Table> 
     let mut columns = Vec::with_capacity(2 * stops.len());
     for (s, stop) in stops.iter().enumerate() {
         columns.push(format!("{} held [-]", stop.name));
-        columns.push(format!("{} force [{}]", stop.name, units(p, s).1));
+        columns.push(format!("{} force [{}]", stop.name, units(p, s).force));
     }
     let mut t = Table::new("stops", "end stops: held closed, force", columns);
     for (k, &time) in history.times.iter().enumerate() {
@@ -80,9 +76,9 @@ pub(super) fn events_csv(p: &Prepared, events: &[ImpactEvent]) -> Option<(String
             .iter()
             .position(|st| st.name == e.stop)
             .unwrap_or(0);
-        let (rate, _, impulse) = units(p, stop);
-        let (rate_unit, rate_factor) = p.units.unit(rate);
-        let (impulse_unit, impulse_factor) = impulse_in(p.units, impulse);
+        let u = units(p, stop);
+        let (rate_unit, rate_factor) = p.units.unit(u.rate);
+        let (impulse_unit, impulse_factor) = impulse_in(p.units, u.impulse);
         let joint = &p.model.joints()[p.model.limits()[e.limit].joint].name;
         let event = match (e.release, e.held) {
             (true, _) => "release",
