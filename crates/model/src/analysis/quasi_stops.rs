@@ -8,16 +8,16 @@
 
 use super::located::located_as;
 use super::setup::dynamics_as;
-use super::statics::{stability_table, stability_warnings, static_options, MOTION_GROUPS};
-use super::summary::{Analysed, Summary};
-use super::tables::inverse_tables;
+use super::statics::{
+    equilibria_summary, equilibrium_tables, equilibrium_warnings, static_options, Work,
+};
+use super::summary::Analysed;
 use crate::build::{Analysis, StaticKind};
 use crate::diag::Error;
 use crate::output_tables::{peak_efforts, requested};
 use crate::prepare::Prepared;
 use crate::table::Table;
 use cardan_dynamics::{DynamicsError, StaticOptions, StaticResults};
-use std::path::PathBuf;
 use std::time::Instant;
 
 const WHAT: &str = "quasi-static analysis";
@@ -57,56 +57,42 @@ pub(super) fn run(p: &Prepared, analysis: &Analysis) -> Result<Analysed, Error> 
     let mut tables: Vec<Table> = Vec::new();
     let mut warnings = Vec::new();
     let mut kinematics: Option<cardan_mechanism::Results> = None;
-    let (mut iterations, mut reselections) = (0, 0);
+    let mut work = Work {
+        iterations: 0,
+        row_reselections: 0,
+        wall,
+    };
     let mut peaks = Vec::new();
     for seg in &segments {
         let q = seg.held.as_ref().unwrap_or(p);
         let r = &seg.statics.results;
-        let mut part: Vec<Table> = inverse_tables(q, r, &req)
-            .into_iter()
-            .filter(|t| !MOTION_GROUPS.contains(&t.name.as_str()))
-            .collect();
-        part.push(stability_table(&seg.statics));
-        join(&mut tables, part);
-        warnings.extend(stability_warnings(&seg.statics));
+        join(&mut tables, equilibrium_tables(q, &seg.statics, &req));
+        warnings.extend(equilibrium_warnings(q, &seg.statics));
         match &mut kinematics {
             Some(k) => k.extend_from(&r.kinematics),
             None => kinematics = Some(r.kinematics.clone()),
         }
-        iterations += (seg.statics.equilibria.iter())
+        work.iterations += (seg.statics.equilibria.iter())
             .map(|e| e.iterations)
             .sum::<usize>();
-        reselections += r.stats.row_reselections;
+        work.row_reselections += r.stats.row_reselections;
         take_peaks(&mut peaks, peak_efforts(q, r));
     }
     warnings.extend(changes);
-    let first = segments.first().expect("at least the first segment");
     let k = kinematics.unwrap_or_default();
-    let summary = Summary {
-        name: p.loaded.name.clone(),
-        steps: k.len(),
-        noun: ["equilibrium", "equilibria"],
-        iterations,
-        max_residual: k.residual.iter().fold(0.0, |a: f64, &b| a.max(b)),
-        wall,
-        dir: PathBuf::new(),
-        files: Vec::new(),
-        dynamic: None,
-        energy_balance: None,
-        peak_efforts: peaks,
-        warnings,
-        subdivided_steps: None,
-        row_reselections: reselections,
-    };
+    let summary = equilibria_summary(p, &k, work, peaks, warnings);
     Ok(Analysed {
         tables,
         summary,
         results: k,
-        dynamic: Some(first.statics.results.clone()),
+        // The segments' results have different drivers (each holds its own stops): no one
+        // set of dynamic results stands for the path; its tables and kinematics are joined.
+        dynamic: None,
         failure,
         strict_failure: None,
         files: Vec::new(),
         modes: Vec::new(),
+        events: Vec::new(),
         streamed: None,
     })
 }

@@ -31,7 +31,7 @@ use std::time::{Duration, Instant};
 type Written = (Vec<Table>, Vec<(String, String)>);
 
 /// The groups a static analysis does not write (it has no velocities or accelerations).
-pub(super) const MOTION_GROUPS: [&str; 6] = [
+const MOTION_GROUPS: [&str; 6] = [
     "point_velocities",
     "point_accelerations",
     "joint_velocities",
@@ -67,13 +67,8 @@ pub(super) fn run_statics(
     let statics = &solved.statics;
     let r = &statics.results;
     let req = requested(p, &analysis.outputs);
-    let mut tables: Vec<Table> = inverse_tables(p, r, &req)
-        .into_iter()
-        .filter(|t| !MOTION_GROUPS.contains(&t.name.as_str()))
-        .collect();
-    tables.push(stability_table(statics));
-    let mut warnings = stability_warnings(statics);
-    warnings.extend(dropped_row_warnings(p, &r.kinematics.dropped_rows));
+    let mut tables = equilibrium_tables(p, statics, &req);
+    let mut warnings = equilibrium_warnings(p, statics);
     let mut files = Vec::new();
     if let Some(s) = &solved.sparse {
         let (t, f) = sparse_outputs(p, &mut d, analysis, &req, s, r, &mut warnings)?;
@@ -85,7 +80,17 @@ pub(super) fn run_statics(
         tables.extend(t);
         files = f;
     }
-    let summary = summary(p, statics, wall, warnings);
+    let summary = equilibria_summary(
+        p,
+        &r.kinematics,
+        Work {
+            iterations: statics.equilibria.iter().map(|e| e.iterations).sum(),
+            row_reselections: r.stats.row_reselections,
+            wall,
+        },
+        peak_efforts(p, r),
+        warnings,
+    );
     Ok(Analysed {
         tables,
         summary,
@@ -99,6 +104,7 @@ pub(super) fn run_statics(
             (None, Some(m)) => m.modes,
             (None, None) => Vec::new(),
         },
+        events: Vec::new(),
         streamed: None,
     })
 }
@@ -303,32 +309,63 @@ fn dense_outputs(
     Ok((tables, files))
 }
 
-/// The summary of a static kind: the equilibria solved, their Newton iterations, the largest
-/// residual, the peak holding efforts.
-fn summary(
+/// What solving the equilibria took (for the summary).
+pub(super) struct Work {
+    pub iterations: usize,
+    pub row_reselections: usize,
+    pub wall: Duration,
+}
+
+/// The summary of a static kind: the equilibria `k` solved, their Newton iterations, the
+/// largest residual, the peak holding efforts.
+pub(super) fn equilibria_summary(
     p: &Prepared,
-    statics: &StaticResults,
-    wall: Duration,
+    k: &cardan_mechanism::Results,
+    work: Work,
+    peak_efforts: Vec<(String, f64, &'static str)>,
     warnings: Vec<String>,
 ) -> Summary {
-    let r = &statics.results;
-    let k = &r.kinematics;
     Summary {
         name: p.loaded.name.clone(),
         steps: k.len(),
         noun: ["equilibrium", "equilibria"],
-        iterations: statics.equilibria.iter().map(|e| e.iterations).sum(),
+        iterations: work.iterations,
         max_residual: k.residual.iter().fold(0.0, |a: f64, &b| a.max(b)),
-        wall,
+        wall: work.wall,
         dir: PathBuf::new(),
         files: Vec::new(),
         dynamic: None,
         energy_balance: None,
-        peak_efforts: peak_efforts(p, r),
+        peak_efforts,
         warnings,
         subdivided_steps: None,
-        row_reselections: r.stats.row_reselections,
+        row_reselections: work.row_reselections,
     }
+}
+
+/// The tables of the equilibria of `statics`: the pose, efforts and reactions groups of an
+/// inverse dynamics run without the motion groups, and `stability`.
+pub(super) fn equilibrium_tables(
+    p: &Prepared,
+    statics: &StaticResults,
+    req: &Requested,
+) -> Vec<Table> {
+    let mut tables: Vec<Table> = inverse_tables(p, &statics.results, req)
+        .into_iter()
+        .filter(|t| !MOTION_GROUPS.contains(&t.name.as_str()))
+        .collect();
+    tables.push(stability_table(statics));
+    tables
+}
+
+/// The doubtful results of the equilibria of `statics`: unstable ones, dropped rows left open.
+pub(super) fn equilibrium_warnings(p: &Prepared, statics: &StaticResults) -> Vec<String> {
+    let mut warnings = stability_warnings(statics);
+    warnings.extend(dropped_row_warnings(
+        p,
+        &statics.results.kinematics.dropped_rows,
+    ));
+    warnings
 }
 
 /// The error of a modal analysis whose drivers hold every degree of freedom: a mechanism
@@ -371,7 +408,7 @@ fn error(p: &Prepared, e: &DynamicsError, what: &str) -> Error {
 
 /// `stability.csv`: per time, the stability (1 stable, 0 neutral, −1 unstable), the smallest
 /// eigenvalue ω² of the reduced stiffness, the Newton iterations and load steps.
-pub(super) fn stability_table(s: &StaticResults) -> Table {
+fn stability_table(s: &StaticResults) -> Table {
     let mut t = Table::new(
         "stability",
         "equilibrium stability",
@@ -406,7 +443,7 @@ pub(super) fn stability_table(s: &StaticResults) -> Table {
 /// Unstable equilibria, as warnings (named directions). A neutral equilibrium (a free
 /// direction without stiffness: rigid-body modes) is not doubtful and not warned about;
 /// `stability.csv` and `modes.csv` report it.
-pub(super) fn stability_warnings(s: &StaticResults) -> Vec<String> {
+fn stability_warnings(s: &StaticResults) -> Vec<String> {
     let mut out = Vec::new();
     for e in &s.equilibria {
         match e.stability {
