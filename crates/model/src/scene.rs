@@ -16,7 +16,8 @@
 //! A dynamic run's end stops ([`stop_markers`]): per stop of `[[limit]]`, the joint it limits,
 //! placed where that joint's part is drawn, and per frame of the scene whether the stop was
 //! active (held closed or pressed at an output time since the frame before, or struck in
-//! between: `stops.csv` and `events.csv`) and its force; the impacts and releases as events.
+//! between: the `stops` table and the run's impacts) and its force; the impacts and releases as
+//! events.
 
 use crate::geometry::Declared;
 use crate::table::Table;
@@ -180,7 +181,7 @@ pub fn mode_shapes(
 
 /// The end stops of a run of `model` drawn in `scene` (its frames at `scene.times`), from the
 /// run's `stops` table (rows: the time, then per stop of [`Model::stops`] held 0/1 and its force
-/// in the unit of the column's header) and its `events.csv` text. Frame k stands for
+/// in the unit of the column's header) and its impacts and releases. Frame k stands for
 /// (t_{k−1}, t_k] (frame 0: up to t_0), so that the decimated frames of a long run miss no
 /// contact: the stop is active in it if held or pressed (force ≠ 0) at an output time of that
 /// interval, or struck in it. Nothing for a model without limits or a run without the table.
@@ -188,12 +189,12 @@ pub fn stop_markers(
     model: &Model,
     scene: &Scene,
     table: Option<&Table>,
-    events: Option<&str>,
+    impacts: &[cardan_dynamics::ImpactEvent],
 ) -> (Vec<StopMarker>, Vec<StopEvent>) {
     let (Some(table), false) = (table, model.stops().is_empty()) else {
         return (Vec::new(), Vec::new());
     };
-    let events = events.map(|e| parse_events(model, e)).unwrap_or_default();
+    let events = stop_events(model, impacts);
     let ground = scene.bodies.len() - 1;
     let index = |id: BodyId| match id {
         BodyId::Ground => ground,
@@ -268,47 +269,23 @@ fn frames(
     (active, force)
 }
 
-/// The events of `events.csv` (its columns: time, stop, joint, event, …) by the stop's index
-/// in [`Model::stops`]; a line that does not read so is left out.
-fn parse_events(model: &Model, text: &str) -> Vec<StopEvent> {
-    text.lines()
-        .skip(1)
-        .filter_map(|line| {
-            let f = csv_fields(line);
-            let time: f64 = f.first()?.parse().ok()?;
-            let name = f.get(1)?;
-            let stop = model.stops().iter().position(|s| s.name == *name)?;
-            let kind = match f.get(3)?.as_str() {
-                "impact" => StopEventKind::Impact,
-                "impact_held" => StopEventKind::ImpactHeld,
-                "release" => StopEventKind::Release,
-                _ => return None,
+/// The run's impacts and releases by the stop's index in [`Model::stops`].
+fn stop_events(model: &Model, impacts: &[cardan_dynamics::ImpactEvent]) -> Vec<StopEvent> {
+    (impacts.iter())
+        .filter_map(|e| {
+            let stop = model.stops().iter().position(|s| s.name == e.stop)?;
+            let kind = match (e.release, e.held) {
+                (true, _) => StopEventKind::Release,
+                (false, true) => StopEventKind::ImpactHeld,
+                (false, false) => StopEventKind::Impact,
             };
-            Some(StopEvent { time, stop, kind })
+            Some(StopEvent {
+                time: e.time,
+                stop,
+                kind,
+            })
         })
         .collect()
-}
-
-/// The fields of one CSV line as `crate::table::csv_field` writes them (a field with a comma
-/// or a quote quoted, its quotes doubled).
-fn csv_fields(line: &str) -> Vec<String> {
-    let mut out = Vec::new();
-    let mut field = String::new();
-    let mut quoted = false;
-    let mut chars = line.chars().peekable();
-    while let Some(c) = chars.next() {
-        match c {
-            '"' if quoted && chars.peek() == Some(&'"') => {
-                chars.next();
-                field.push('"');
-            }
-            '"' => quoted = !quoted,
-            ',' if !quoted => out.push(std::mem::take(&mut field)),
-            c => field.push(c),
-        }
-    }
-    out.push(field);
-    out
 }
 
 /// The named points of each moving body (by index), then of the ground (last), in body
@@ -464,14 +441,5 @@ mod tests {
         assert_eq!(force, [0.0, 0.0, 0.5]);
         let (active, _) = frames(&[0.0, 0.2, 0.4], &rows[..4], 1, &[0.25]);
         assert_eq!(active, [false, true, true]);
-    }
-
-    #[test]
-    fn quoted_csv_fields_are_read_back() {
-        assert_eq!(
-            csv_fields("0.5,\"a,\"\"b\"\".lower\",hinge,impact"),
-            ["0.5", "a,\"b\".lower", "hinge", "impact"]
-        );
-        assert_eq!(csv_fields(""), [""]);
     }
 }

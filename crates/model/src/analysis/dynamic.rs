@@ -64,6 +64,7 @@ pub(super) fn run_dynamic(
     drop(bar);
     let wall = start.elapsed();
     let events = super::stops::events_csv(p, d.impact_events());
+    let impacts = d.impact_events().to_vec();
     let counts = super::stops::counts(p, d.impact_events(), d.stop_history());
     let stops = super::stops::stops_table(p, d.stop_history());
     let friction = super::friction::friction_table(p, d.friction_history());
@@ -128,6 +129,7 @@ pub(super) fn run_dynamic(
         strict_failure: None,
         files,
         modes: Vec::new(),
+        events: impacts,
         streamed: rec.streamed,
     })
 }

@@ -109,6 +109,7 @@ pub(super) fn run_inverse(
         strict_failure: None,
         files: Vec::new(),
         modes: Vec::new(),
+        events: Vec::new(),
         streamed: rec.streamed,
     })
 }

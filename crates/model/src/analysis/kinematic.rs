@@ -94,6 +94,7 @@ pub(super) fn run_kinematic(
         strict_failure: None,
         files: Vec::new(),
         modes: Vec::new(),
+        events: Vec::new(),
         streamed: rec.streamed,
     })
 }

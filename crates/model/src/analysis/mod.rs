@@ -309,7 +309,7 @@ pub fn animation(
         &p.model,
         &scene,
         a.tables.iter().find(|t| t.name == "stops"),
-        (a.files.iter().find(|f| f.0 == "events.csv")).map(|f| f.1.as_str()),
+        &a.events,
     );
     let page = cardan_report::Page {
         plots: svgs,

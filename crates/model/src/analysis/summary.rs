@@ -99,6 +99,9 @@ pub struct Analysed {
     pub files: Vec<(String, String)>,
     /// A modal run's modes (the report animates them); empty for the other kinds.
     pub modes: Vec<cardan_dynamics::Mode>,
+    /// A dynamic run's impacts and releases of its end stops (`events.csv`; the report marks
+    /// them); empty for the other kinds.
+    pub events: Vec<cardan_dynamics::ImpactEvent>,
     /// A streamed run (`cardan run` of a kinematic, dynamic or inverse dynamics analysis): the
     /// CSV files already written
     /// frame by frame, and how `results` and `tables` were decimated. `None`: `results` and
