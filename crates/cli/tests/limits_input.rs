@@ -22,6 +22,16 @@ fn example(name: &str) -> String {
     std::fs::read_to_string(path).unwrap()
 }
 
+/// The numbers of a CSV line.
+fn numbers(line: &str) -> Vec<f64> {
+    line.split(',').map(|x| x.parse().unwrap()).collect()
+}
+
+/// The last row of a CSV text, as numbers.
+fn last_row(csv: &str) -> Vec<f64> {
+    numbers(csv.lines().last().unwrap())
+}
+
 /// ∫ f over [a, b] by composite Simpson with `n` (even) intervals.
 fn simpson(f: impl Fn(f64) -> f64, a: f64, b: f64, n: usize) -> f64 {
     let h = (b - a) / n as f64;
@@ -134,13 +144,7 @@ fn a_pendulum_falling_onto_a_stop_bounces_to_rest_as_the_closed_form_says() {
     // Held on the stop, it carries m g (L/2) cos 60° (stops.csv, the last output).
     let stops = std::fs::read_to_string(out.join("stops.csv")).unwrap();
     assert!(stops.starts_with("t [s],stop.lower held [-],stop.lower force [N m]\n"));
-    let last: Vec<f64> = stops
-        .lines()
-        .last()
-        .unwrap()
-        .split(',')
-        .map(|x| x.parse().unwrap())
-        .collect();
+    let last = last_row(&stops);
     assert_eq!(last[1], 1.0);
     assert!((last[2] - G * 0.5 * STOP.cos()).abs() < 1e-6, "{}", last[2]);
     // The impacts' work enters W_nc: the balance closes.
@@ -389,13 +393,7 @@ fn a_block_on_an_incline_slides_with_a_equal_g_sin_minus_mu_cos() {
         .iter()
         .position(|h| h.starts_with("rail.slide"))
         .unwrap();
-    let last: Vec<f64> = joints
-        .lines()
-        .last()
-        .unwrap()
-        .split(',')
-        .map(|x| x.parse().unwrap())
-        .collect();
+    let last = last_row(&joints);
     let a = G * (alpha.to_radians().sin() - mu * alpha.to_radians().cos());
     assert!((last[0] - 1.0).abs() < 1e-12);
     assert!(
@@ -420,9 +418,7 @@ fn a_block_on_an_incline_slides_with_a_equal_g_sin_minus_mu_cos() {
         friction.lines().next().unwrap(),
         "t [s],dry force [N],dry power [W]"
     );
-    let row: Vec<f64> = (friction.lines().last().unwrap().split(','))
-        .map(|x| x.parse().unwrap())
-        .collect();
+    let row = last_row(&friction);
     let expected = -mu * 2.0 * G * alpha.to_radians().cos();
     assert!((row[1] - expected).abs() < 1e-6 * expected.abs(), "{row:?}");
     assert!(
@@ -438,21 +434,13 @@ fn a_block_on_an_incline_slides_with_a_equal_g_sin_minus_mu_cos() {
     let o = run_text("run", &text);
     assert_eq!(o.code, 0, "{}\n{text}", o.stderr);
     let friction = std::fs::read_to_string(o.dir.join("out/friction.csv")).unwrap();
-    let row: Vec<f64> = (friction.lines().last().unwrap().split(','))
-        .map(|x| x.parse().unwrap())
-        .collect();
+    let row = last_row(&friction);
     assert!((row[1] - expected).abs() < 1e-9 * expected.abs(), "{row:?}");
     // tan 15° < μ: it sticks (creeping at about v_s ρ/√(1 − ρ²)).
     let o = run_text("run", &incline(15.0, mu));
     assert_eq!(o.code, 0, "{}", o.stderr);
     let joints = std::fs::read_to_string(o.dir.join("out/joints.csv")).unwrap();
-    let last: Vec<f64> = joints
-        .lines()
-        .last()
-        .unwrap()
-        .split(',')
-        .map(|x| x.parse().unwrap())
-        .collect();
+    let last = last_row(&joints);
     assert!(last[k].abs() < 1e-5, "stuck block moved {}", last[k]);
 }
 
@@ -527,14 +515,7 @@ fn an_equilibrium_rests_on_the_stop_it_would_pass_and_vibrates_about_it() {
     let efforts = std::fs::read_to_string(o.dir.join("out/driver_efforts.csv")).unwrap();
     let mut lines = efforts.lines();
     assert_eq!(lines.next().unwrap(), "t [s],rest.lower.torque [N m]");
-    let torque: f64 = lines
-        .next()
-        .unwrap()
-        .split(',')
-        .nth(1)
-        .unwrap()
-        .parse()
-        .unwrap();
+    let torque = numbers(lines.next().unwrap())[1];
     let c = (-30f64).to_radians().cos();
     let expected = G * (0.5 * c + 1.0 * c); // upper's CM at L/2, lower's weight at the tip
     assert!((torque - expected).abs() < 1e-9, "{torque} vs {expected}");
@@ -597,7 +578,7 @@ fn arm_efforts_as_closed_form(dir: &std::path::Path, rows: usize) -> usize {
     );
     let mut checked = 0;
     for line in lines.take(rows) {
-        let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        let v = numbers(line);
         let c = v[0].cos();
         assert!(
             (v[2] - G * 0.5 * c).abs() < 1e-9,
@@ -691,7 +672,7 @@ fn a_quasi_static_path_rests_on_its_stops_and_changes_stop_where_the_load_turns(
     );
     let mut rows = 0;
     for line in lines {
-        let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        let v = numbers(line);
         let (t, c) = (v[0], v[0].cos());
         let (lower, upper, motor) = if t < std::f64::consts::FRAC_PI_2 {
             (G * 0.5 * c, 0.0, G * 2.0 * c)
@@ -769,9 +750,7 @@ kind = "static"
     let efforts = std::fs::read_to_string(o.dir.join("out/driver_efforts.csv")).unwrap();
     let mut lines = efforts.lines();
     assert_eq!(lines.next().unwrap(), "t [s],stop.upper.torque [N m]");
-    let torque: f64 = (lines.next().unwrap().split(',').nth(1).unwrap())
-        .parse()
-        .unwrap();
+    let torque = numbers(lines.next().unwrap())[1];
     let expected = -(10.0 - G * 0.5 * 0.5f64.cos());
     assert!((torque - expected).abs() < 1e-9, "{torque} vs {expected}");
 }
