@@ -46,15 +46,8 @@ impl MechanismBuilder {
             .find(|j| j.name == spec.joint)
             .ok_or_else(|| bad("joint", format!("unknown joint \"{}\"", spec.joint)))?;
         let info = joint.kind.info();
-        let coordinate = match &spec.coordinate {
-            Some(c) => info.coordinates.iter().find(|k| k.name == c.as_str()),
-            None if info.coordinates.len() == 1 => info.coordinates.first(),
-            None => info
-                .rotation
-                .or(info.translation)
-                .and_then(|n| info.coordinates.iter().find(|k| k.name == n)),
-        }
-        .ok_or_else(|| bad("coordinate", "no such coordinate".into()))?;
+        let coordinate = (info.coordinate(spec.coordinate.as_deref()))
+            .ok_or_else(|| bad("coordinate", "no such coordinate".into()))?;
         let name = format!("{limit}.{}", bound.name());
         let f = TimeFunction::Constant(value);
         let driver = match coordinate.measure {

@@ -334,6 +334,18 @@ pub struct KindInfo {
 }
 
 impl KindInfo {
+    /// The coordinate `name`, or without a name the kind's default one (a limit's or a held
+    /// stop's): its only coordinate, else its rotation, else its translation. `None` when the
+    /// kind has no such coordinate, or several and neither a rotation nor a translation.
+    pub fn coordinate(&self, name: Option<&str>) -> Option<&'static Coordinate> {
+        let name = match name {
+            Some(n) => n,
+            None if self.coordinates.len() == 1 => self.coordinates[0].name,
+            None => self.rotation.or(self.translation)?,
+        };
+        self.coordinates.iter().find(|c| c.name == name)
+    }
+
     /// Number of equations (sum of the blocks' rows).
     pub const fn rows(&self) -> usize {
         let mut n = 0;

@@ -125,37 +125,25 @@ fn coordinate(spec: &LimitSpec, j: &JointInfo) -> Result<Coordinate, ModelError>
     } else {
         names.join(", ")
     };
-    let name = match &spec.coordinate {
-        Some(n) => n.as_str(),
-        None if info.coordinates.len() == 1 => info.coordinates[0].name,
-        None => info.rotation.or(info.translation).ok_or_else(|| {
-            bad(
-                spec,
-                "coordinate",
-                format!(
-                    "joint \"{}\" ({}) has coordinates {list}: name one",
-                    j.name, info.name
-                ),
-            )
-        })?,
-    };
-    info.coordinates
-        .iter()
-        .find(|c| c.name == name)
-        .copied()
-        .ok_or_else(|| {
+    if let Some(c) = info.coordinate(spec.coordinate.as_deref()) {
+        return Ok(*c);
+    }
+    let message = match spec.coordinate.as_deref() {
+        None => format!(
+            "joint \"{}\" ({}) has coordinates {list}: name one",
+            j.name, info.name
+        ),
+        Some(name) => {
             let hint = suggest(name, names.iter().copied())
                 .map(|s| format!(" (did you mean \"{s}\"?)"))
                 .unwrap_or_default();
-            bad(
-                spec,
-                "coordinate",
-                format!(
-                    "a {} joint has no coordinate \"{name}\"{hint}; its coordinates: {list}",
-                    info.name
-                ),
+            format!(
+                "a {} joint has no coordinate \"{name}\"{hint}; its coordinates: {list}",
+                info.name
             )
-        })
+        }
+    };
+    Err(bad(spec, "coordinate", message))
 }
 
 fn compliance(spec: &LimitSpec, law: &Compliance) -> Result<(), ModelError> {

@@ -28,16 +28,7 @@ fn law(law: &Option<Name>, name: &Name, default: &str) -> Name {
 /// The quantity of the coordinate a limit names on a joint of `kind` (its default as the
 /// builder picks it); `None` when the kind has no such coordinate (the builder says so).
 fn coordinate_quantity(kind: JointKind, coordinate: Option<&str>) -> Option<CoordinateQuantity> {
-    let info = kind.info();
-    let name = match coordinate {
-        Some(n) => n,
-        None if info.coordinates.len() == 1 => info.coordinates[0].name,
-        None => info.rotation.or(info.translation)?,
-    };
-    info.coordinates
-        .iter()
-        .find(|c| c.name == name)
-        .map(|c| c.measure.quantity())
+    (kind.info().coordinate(coordinate)).map(|c| c.measure.quantity())
 }
 
 /// `[[limit]]`: one limit, its law checked against [`LIMITS`].
