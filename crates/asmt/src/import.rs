@@ -941,7 +941,7 @@ impl Ctx<'_> {
             (&l.joint, &l.marker_i, &l.marker_j),
             l.line,
             &what,
-            "limits",
+            ("limits", "limit"),
         )?;
         let info = joint.kind.info();
         let coordinate = if l.rotation {
@@ -971,9 +971,8 @@ impl Ctx<'_> {
                 format!("Limit of {what}: \"{translated}\" does not parse: {e}"),
             )
         })?;
-        let f = TimeFunction::Expression(e);
-        let value = f.eval(0.0).0;
-        if !value.is_finite() || f.eval(1.0).0 != value {
+        let value = e.eval(0.0).0;
+        if !value.is_finite() || e.uses_time() {
             return Err(AsmtError::new(
                 *line,
                 format!("Limit of {what} is \"{text}\": a limit must be a finite constant"),
@@ -997,17 +996,19 @@ impl Ctx<'_> {
     /// The joint a rotational or translational motion acts on: its MotionJoint, or the joint
     /// between exactly its two markers.
     fn motion_joint(&self, m: &Motion, what: &str) -> Result<JointRef> {
-        self.joint_of((&m.joint, &m.marker_i, &m.marker_j), m.line, what, "drives")
+        let acts = ("drives", "drive");
+        self.joint_of((&m.joint, &m.marker_i, &m.marker_j), m.line, what, acts)
     }
 
     /// The joint named by a MotionJoint, or between exactly two markers (a motion's or a
-    /// limit's, at `line`); `acts` says what cardan does with the joint's coordinate.
+    /// limit's, at `line`); `acts` says what cardan does with the joint's coordinate
+    /// ("drives", "drive").
     fn joint_of(
         &self,
         (joint, marker_i, marker_j): (&Option<PathRef>, &Option<PathRef>, &Option<PathRef>),
         line: usize,
         what: &str,
-        acts: &str,
+        (acts, act): (&str, &str),
     ) -> Result<JointRef> {
         if let Some(jp) = joint {
             let Some(j) = self.joints.get(&jp.path) else {
@@ -1016,9 +1017,8 @@ impl Ctx<'_> {
                     jp.line,
                     if coupler {
                         format!(
-                            "{what}: its MotionJoint \"{}\" is a coupler, which cardan cannot {}",
-                            jp.path,
-                            if acts == "drives" { "drive" } else { "limit" }
+                            "{what}: its MotionJoint \"{}\" is a coupler, which cardan cannot {act}",
+                            jp.path
                         )
                     } else {
                         format!(

@@ -153,6 +153,12 @@ fn limit_mistakes_in_asmt_are_errors_at_their_line() {
             "its joint \"Joint1\" is a revolute, which has no slide to limit",
         ),
         (
+            // Equal at t = 0 and t = 1, and not constant.
+            piston_with("TranslationLimit", "Joint4", "0.5+time*(time-1)", "=<"),
+            "piston.asmt:369:",
+            "a limit must be a finite constant",
+        ),
+        (
             piston_with("TranslationLimit", "Joint4", "0.5", "<>"),
             "piston.asmt:371:",
             "Type of limit \"Stop\" is \"<>\"; expected =< (at most the limit) or => (at least)",

@@ -101,6 +101,11 @@ impl Expression {
         &self.text
     }
 
+    /// Whether the expression reads t anywhere (`false`: a constant, whatever its form).
+    pub fn uses_time(&self) -> bool {
+        self.prog.ops.iter().any(|op| matches!(op, Op::Time))
+    }
+
     /// (f, ḟ, f̈) at t (not finite where the expression is not defined).
     #[inline]
     pub fn eval(&self, t: f64) -> (f64, f64, f64) {
