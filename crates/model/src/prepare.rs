@@ -314,16 +314,14 @@ pub fn analysis_error(p: &Prepared, e: &AnalysisError) -> Error {
                 .take(3)
                 .map(|(e, r)| format!("{e} (scaled residual {r:.3e})"))
                 .collect();
-            let hint = partial
-                .as_deref()
-                .and_then(|r| conditioning(p, r))
-                .map_or(String::new(), |c| c.describe());
+            let cond = partial.as_deref().and_then(|r| conditioning(p, r));
+            let hint = cond.as_ref().map_or(String::new(), |c| c.describe());
             located(
                 worst.first().and_then(|(d, _)| spans.element(&d.element)),
                 format!(
                     "the position analysis did not converge at t = {time} s after {iterations} \
-                     iterations (the mechanism reached a limit of its motion or a singular \
-                     configuration); worst equations: {}{hint}",
+                     iterations ({}); worst equations: {}{hint}",
+                    Conditioning::cause(cond.as_ref()),
                     names.join(", ")
                 ),
             )
@@ -380,16 +378,55 @@ impl Conditioning {
     /// A sentence for an error message.
     pub fn describe(&self) -> String {
         let names: Vec<String> = self.dependent.iter().map(|e| e.to_string()).collect();
+        let dependent = if self.ratio < WELL_CONDITIONED_RATIO {
+            format!("; dependent equations: {}", names.join(", "))
+        } else {
+            String::new()
+        };
         format!(
-            ". At the last solved time t = {} s the constraint Jacobian was {} (σ_min/σ_max = {:.2e}); \
-             dependent equations: {}",
+            ". At the last solved time t = {} s the constraint Jacobian was {} (σ_min/σ_max = \
+             {:.2e}){dependent}",
             self.time,
-            if self.ratio < 1e-4 { "singular" } else { "nearly singular" },
+            self.verdict(),
             self.ratio,
-            names.join(", ")
         )
     }
+
+    /// "singular" below [`SINGULAR_RATIO`], "nearly singular" below [`WELL_CONDITIONED_RATIO`],
+    /// else "well conditioned".
+    pub fn verdict(&self) -> &'static str {
+        if self.ratio < SINGULAR_RATIO {
+            "singular"
+        } else if self.ratio < WELL_CONDITIONED_RATIO {
+            "nearly singular"
+        } else {
+            "well conditioned"
+        }
+    }
+
+    /// The likely cause of a position solve that did not converge, from the conditioning at
+    /// the last solved time (`None`: not known): a limit of the motion or a singular
+    /// configuration only when the Jacobian was (nearly) singular there; with a well
+    /// conditioned Jacobian, a prescribed motion that changes faster than the steps follow.
+    pub fn cause(c: Option<&Conditioning>) -> &'static str {
+        match c {
+            Some(c) if c.ratio >= WELL_CONDITIONED_RATIO => {
+                "not a singular configuration: the constraint Jacobian is well conditioned there, \
+                 so the prescribed motion probably changes faster than the steps can follow (a \
+                 driver's function with a sharp step or a jump?); give more output steps or smooth \
+                 the function"
+            }
+            _ => "the mechanism reached a limit of its motion or a singular configuration",
+        }
+    }
 }
+
+/// σ_min/σ_max below which the column-scaled Φ_v is called singular in messages.
+pub const SINGULAR_RATIO: f64 = 1e-4;
+
+/// σ_min/σ_max from which the column-scaled Φ_v is called well conditioned in messages (a
+/// failure there is not blamed on a singular configuration).
+pub const WELL_CONDITIONED_RATIO: f64 = 1e-2;
 
 /// The conditioning of Φ_v at the last step of `r` (a dense SVD; for diagnostics only).
 pub fn conditioning(p: &Prepared, r: &cardan_mechanism::Results) -> Option<Conditioning> {
@@ -446,4 +483,30 @@ pub fn conditioning(p: &Prepared, r: &cardan_mechanism::Results) -> Option<Condi
             .filter_map(|&(rr, _)| model.equation(rr))
             .collect(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Conditioning;
+
+    fn at(ratio: f64) -> Conditioning {
+        Conditioning {
+            time: 8.0,
+            ratio,
+            dependent: Vec::new(),
+        }
+    }
+
+    /// σ_min/σ_max = 7e-2 (issue 53's robot at t = 8 s) is not called singular, nor blamed for
+    /// the failure; 1e-6 is.
+    #[test]
+    fn a_well_conditioned_jacobian_is_not_called_singular() {
+        assert!(at(7e-2).describe().contains("well conditioned"));
+        assert!(!at(7e-2).describe().contains("singular"));
+        assert!(Conditioning::cause(Some(&at(7e-2))).starts_with("not a singular"));
+        assert!(at(1e-3).describe().contains("nearly singular"));
+        assert!(at(1e-6).describe().contains("was singular"));
+        assert!(Conditioning::cause(Some(&at(1e-6))).contains("singular configuration"));
+        assert!(Conditioning::cause(None).contains("limit of its motion"));
+    }
 }
