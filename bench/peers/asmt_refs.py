@@ -80,15 +80,17 @@ def refpoint(markers, depth):
     return out
 
 
-def part(name, pos, rot, markers, omega=(0.0, 0.0, 0.0)):
+def part(name, pos, rot, markers, omega=(0.0, 0.0, 0.0), mass=1.0, inertias=(1, 1, 1),
+         cm=(0, 0, 0), cm_rot=IDENTITY):
+    """A part; `mass`, `inertias` (principal moments), `cm` and `cm_rot` its mass marker."""
     out = ["\t\tPart", "\t\t\tName", f"\t\t\t\t{name}", "\t\t\tPosition3D", f"\t\t\t\t{fmt(pos)}",
            "\t\t\tRotationMatrix"]
     out += [f"\t\t\t\t{fmt(r)}" for r in rot]
     out += ["\t\t\tVelocity3D", f"\t\t\t\t{fmt((0, 0, 0))}", "\t\t\tOmega3D", f"\t\t\t\t{fmt(omega)}",
             "\t\t\tFeatureOrder", "\t\t\tPrincipalMassMarker", "\t\t\t\tName", "\t\t\t\t\tMassMarker",
-            "\t\t\t\tPosition3D", f"\t\t\t\t\t{fmt((0, 0, 0))}", "\t\t\t\tRotationMatrix"]
-    out += [f"\t\t\t\t\t{fmt(r)}" for r in IDENTITY]
-    out += ["\t\t\t\tMass", "\t\t\t\t\t1.0", "\t\t\t\tMomentOfInertias", f"\t\t\t\t\t{fmt((1, 1, 1))}",
+            "\t\t\t\tPosition3D", f"\t\t\t\t\t{fmt(cm)}", "\t\t\t\tRotationMatrix"]
+    out += [f"\t\t\t\t\t{fmt(r)}" for r in cm_rot]
+    out += ["\t\t\t\tMass", f"\t\t\t\t\t{float(mass)!r}", "\t\t\t\tMomentOfInertias", f"\t\t\t\t\t{fmt(inertias)}",
             "\t\t\t\tDensity", "\t\t\t\t\t1.0", "\t\t\tRefPoints"]
     out += refpoint(markers, 4)
     out += ["\t\t\tRefCurves", "\t\t\tRefSurfaces"]
@@ -108,7 +110,7 @@ def motion(name, joint_path, expr):
             f"\t\t\t\t\t{joint_path}", "\t\t\t\tRotationZ", f"\t\t\t\t\t{expr}"]
 
 
-def assembly(notes, ground_markers, parts, joints, motions, tend=1.0, hout=0.05):
+def assembly(notes, ground_markers, parts, joints, motions, tend=1.0, hout=0.05, gravity=(0, 0, 0)):
     # The Smalltalk header and AnimationParameters, as the testapp files (OndselSolver's C++ reader
     # crashes on this text with the header "OndselSolver" and no AnimationParameters).
     out = ["freeCAD: 3D CAD with Motion Simulation  by  askoh.com", "Assembly", "\tNotes", f"\t\t{notes}", "\tName", "\t\tAssembly1",
@@ -127,7 +129,7 @@ def assembly(notes, ground_markers, parts, joints, motions, tend=1.0, hout=0.05)
     for m in motions:
         out += m
     out += ["\t\tGeneralConstraintSets", "\tForceTorques", "\tConstantGravity",
-            f"\t\t{fmt((0, 0, 0))}", "\tSimulationParameters", "\t\ttstart", "\t\t\t0.0", "\t\ttend",
+            f"\t\t{fmt(gravity)}", "\tSimulationParameters", "\t\ttstart", "\t\t\t0.0", "\t\ttend",
             f"\t\t\t{tend!r}", "\t\thmin", "\t\t\t1e-09", "\t\thmax", "\t\t\t1.0", "\t\thout",
             f"\t\t\t{hout!r}", "\t\terrorTol", "\t\t\t1e-06", "\tAnimationParameters",
             "\t\tnframe", f"\t\t\t{round(tend / hout) + 1}", "\t\ticurrent", "\t\t\t1",

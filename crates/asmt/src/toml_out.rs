@@ -383,6 +383,11 @@ fn analysis(o: &mut String, import: &Import) {
             if import.analysis == crate::AnalysisKind::Dynamic {
                 dynamic_settings(o, st);
             }
+            if import.analysis == crate::AnalysisKind::Kinematic {
+                o.push_str(
+                    "free_dof = \"hold\"   # OndselSolver's least change for parts no motion drives\n",
+                );
+            }
         }
     }
 }

@@ -92,6 +92,9 @@ pub mod workspace;
 pub use analysis::assembly::{AssemblyOptions, AssemblyReport};
 pub use analysis::dropped::{gross_inconsistency, DroppedRowResidual, DroppedRowSample};
 pub use analysis::grid::KinematicOptions;
+pub use analysis::least_change::{
+    BodyWeights, FreeDof, HoldMetric, LeastChange, LeastChangeReport,
+};
 pub use analysis::position::{
     OpenRow, PositionReport, FAST_RANK_MIN_UNKNOWNS, KINEMATIC_MAX_CHORD_STEPS,
     SELECTION_PIVOT_TOLERANCE,

@@ -43,6 +43,8 @@ pub struct RunTotals {
     pub row_reselections: usize,
     /// As [`Results::dropped_rows`].
     pub dropped_rows: Vec<DroppedRowResidual>,
+    /// As [`Results::held_dof`].
+    pub held_dof: usize,
 }
 
 /// The worst residual of a row dropped as redundant, over a run (how it is found:
@@ -192,6 +194,9 @@ pub struct Results {
     /// solution left the assembly branch (see the time-grid docs, `analysis::grid`); 0 for a
     /// run whose every step followed its prediction.
     pub subdivided_steps: usize,
+    /// Degrees of freedom no driver prescribed, held still by least change from frame to frame
+    /// ([`crate::analysis::least_change`]; `free_dof = "hold"`); 0 for a fully driven run.
+    pub held_dof: usize,
     /// Times the independent equations of a mechanism with redundant equations were chosen
     /// again during the run because the kept ones lost rank where the full set has not
     /// (see `Workspace::row_reselections`); 0 without redundant equations.
@@ -281,6 +286,7 @@ impl Results {
             subdivided_steps: self.subdivided_steps,
             row_reselections: self.row_reselections,
             dropped_rows: self.dropped_rows.clone(),
+            held_dof: self.held_dof,
         }
     }
 
@@ -348,6 +354,7 @@ impl Results {
         self.subdivided_steps = totals.subdivided_steps;
         self.row_reselections = totals.row_reselections;
         self.dropped_rows = totals.dropped_rows;
+        self.held_dof = totals.held_dof;
     }
 
     /// The counters and dropped rows (and the number of frames).
@@ -357,6 +364,7 @@ impl Results {
             subdivided_steps: self.subdivided_steps,
             row_reselections: self.row_reselections,
             dropped_rows: self.dropped_rows.clone(),
+            held_dof: self.held_dof,
         }
     }
 }

@@ -340,6 +340,21 @@ fn analysis_line(
             .map_err(io)?;
             return Ok(());
         }
+        if dof.dof > dof.drivers && matches!(a.free_dof, cardan_mechanism::FreeDof::Hold(_)) {
+            let free = dof.dof - dof.drivers;
+            let names = crate::free_dof::free_coordinates(model, a.t_start)
+                .map_or(String::new(), |n| format!(" ({})", n.join(", ")));
+            writeln!(
+                out,
+                "kinematic analysis: {} driver{} for {} DOF: ok, {free} free DOF{names} held by \
+                 least change (free_dof = \"hold\")",
+                dof.drivers,
+                if dof.drivers == 1 { "" } else { "s" },
+                dof.dof,
+            )
+            .map_err(io)?;
+            return Ok(());
+        }
         if dof.dof == dof.drivers {
             // What `run` refuses next: drivers that depend on the joints or on each other.
             model

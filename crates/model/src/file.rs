@@ -591,6 +591,10 @@ pub struct AnalysisSection {
     /// Plot format: "svg" (default) or "none".
     #[serde(default)]
     pub plots: Option<Name>,
+    /// kinematic: "refuse" (default) or "hold": degrees of freedom no driver prescribes are
+    /// held still by least change, as OndselSolver does.
+    #[serde(default)]
+    pub free_dof: Option<Name>,
 }
 
 /// `[analysis.outputs]`.

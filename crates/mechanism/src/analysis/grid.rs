@@ -41,6 +41,7 @@
 //! time, the named equations, and the results up to the last successful step.
 
 use crate::analysis::assembly::AssemblyOptions;
+use crate::analysis::least_change::FreeDof;
 use crate::analysis::position::{OpenRow, PositionReport};
 use crate::error::AnalysisError;
 use crate::model::{BodyId, Model};
@@ -130,6 +131,9 @@ pub struct KinematicOptions {
     /// equation's scale: L, L² or 1), in [1e-14, 1e-6]; default 1e-10. Used when the run
     /// prepares the workspace (a workspace already prepared keeps its Newton options).
     pub tolerance: f64,
+    /// Degrees of freedom no driver prescribes: refused (the default) or held by least change
+    /// ([`crate::analysis::least_change`]). Read when the run prepares the workspace.
+    pub free_dof: FreeDof,
 }
 
 impl KinematicOptions {
@@ -141,7 +145,14 @@ impl KinematicOptions {
             steps,
             outputs: Outputs::default(),
             tolerance: Tolerances::default().residual,
+            free_dof: FreeDof::Refuse,
         }
+    }
+
+    /// The same options with free degrees of freedom held or refused ([`FreeDof`]).
+    pub fn free_dof(mut self, free_dof: FreeDof) -> Self {
+        self.free_dof = free_dof;
+        self
     }
 
     /// The same options with the position tolerance `tolerance` (see [`KinematicOptions::tolerance`]).
@@ -311,8 +322,11 @@ impl Model {
         sink: &mut impl FrameSink,
     ) -> Result<RunTotals, AnalysisError> {
         options.validate()?;
-        if ws.kin.newton.is_none() {
+        if ws.kin.newton.is_none() && ws.kin.held.is_none() {
             self.prepare_run(ws, options)?;
+        }
+        if ws.kin.held.is_some() {
+            return self.held_into(ws, options, sink);
         }
         let mut frame = self.allocate_results(options, 1);
         let mut memory = JointMemory::new(self.joints.len());
@@ -338,6 +352,7 @@ impl Model {
             subdivided_steps: frame.subdivided_steps,
             row_reselections: frame.row_reselections,
             dropped_rows: self.dropped_rows_of_run(ws),
+            held_dof: 0,
         })
     }
 
@@ -348,6 +363,11 @@ impl Model {
         ws: &mut Workspace,
         options: &KinematicOptions,
     ) -> Result<(), AnalysisError> {
+        if let FreeDof::Hold(metric) = options.free_dof {
+            if self.prepare_held(ws, options, metric)? {
+                return Ok(());
+            }
+        }
         // Joints first, then the drivers. The preparation below checks the driver count
         // (one rank analysis); when the drivers make the assembly fail, the count is
         // checked at the joints' pose first (an over-driven mechanism gets "superfluous",
@@ -763,7 +783,7 @@ impl Model {
     }
 
     /// Empty results for the run's outputs with room for `n` frames.
-    fn allocate_results(&self, options: &KinematicOptions, n: usize) -> Results {
+    pub(crate) fn allocate_results(&self, options: &KinematicOptions, n: usize) -> Results {
         let out = options.outputs;
         let v = out.needs_velocity();
         let a = out.acceleration;
@@ -824,13 +844,14 @@ impl Model {
             residual: Vec::with_capacity(n),
             iterations: Vec::with_capacity(n),
             subdivided_steps: 0,
+            held_dof: 0,
             row_reselections: 0,
             dropped_rows: Vec::new(),
         }
     }
 
     #[allow(clippy::too_many_arguments)]
-    fn record(
+    pub(crate) fn record(
         &self,
         ws: &Workspace,
         out: Outputs,
@@ -925,7 +946,7 @@ pub(crate) struct JointMemory {
 }
 
 impl JointMemory {
-    fn new(joints: usize) -> Self {
+    pub(crate) fn new(joints: usize) -> Self {
         Self {
             values: vec![[0.0; MAX_COORDINATES]; joints],
             rates: vec![[0.0; MAX_COORDINATES]; joints],

@@ -8,6 +8,8 @@
 //! - [`velocity`]: Φ_v v = ν with the position factorization.
 //! - [`acceleration`]: Φ_v v̇ = γ#_v with the same factorization.
 //! - [`grid`]: the three over a time grid, with a predicted Newton start, into [`crate::Results`].
+//! - [`least_change`]: the pose nearest a previous one (weighted) on the constraints: the free
+//!   degrees of freedom of an under-driven mechanism held still.
 //! - [`limits`]: a prescribed motion that drives a joint past a limit stops at the crossing.
 //! - `predictor`: that Newton start, predicted relative to a parent along a spanning tree of the
 //!   joints.
@@ -17,6 +19,8 @@ pub mod assembly;
 pub mod dof;
 pub mod dropped;
 pub mod grid;
+pub(crate) mod held;
+pub mod least_change;
 pub mod limits;
 pub mod position;
 pub(crate) mod predictor;

@@ -32,7 +32,8 @@ pub(super) fn run_kinematic(
     solved: Option<&mut (dyn FrameTap + 'static)>,
 ) -> Result<Analysed, Error> {
     let opts = KinematicOptions::new(analysis.t_start, analysis.t_end, analysis.steps)
-        .tolerance(analysis.tolerance);
+        .tolerance(analysis.tolerance)
+        .free_dof(analysis.free_dof);
     let start = Instant::now();
     let mut bar = crate::progress::Progress::new(progress, opts.steps as u64 + 1);
     let mut ws = p.model.workspace();
@@ -81,7 +82,13 @@ pub(super) fn run_kinematic(
         dynamic: None,
         energy_balance: None,
         peak_efforts: Vec::new(),
-        warnings: dropped_row_warnings(p, &totals.dropped_rows),
+        warnings: (dropped_row_warnings(p, &totals.dropped_rows).into_iter())
+            .chain(super::warnings::held_dof_warning(
+                p,
+                analysis,
+                totals.held_dof,
+            ))
+            .collect(),
         subdivided_steps: Some(totals.subdivided_steps),
         row_reselections: totals.row_reselections,
     };

@@ -36,6 +36,29 @@ pub fn dropped_row_warnings(p: &Prepared, rows: &[DroppedRowResidual]) -> Vec<St
         .collect()
 }
 
+/// The warning of a kinematic run that held free degrees of freedom (`free_dof = "hold"`),
+/// naming the free joint coordinates where they can be told: their poses are the least change
+/// from output time to output time, so they depend on the output step.
+pub fn held_dof_warning(
+    p: &Prepared,
+    analysis: &crate::build::Analysis,
+    held: usize,
+) -> Option<String> {
+    if held == 0 {
+        return None;
+    }
+    let names = crate::free_dof::free_coordinates(&p.model, analysis.t_start)
+        .map_or(String::new(), |n| format!(" ({})", n.join(", ")));
+    let s = if held == 1 { "" } else { "s" };
+    Some(format!(
+        "{held} degree{s} of freedom no driver prescribes{names} held still by least change \
+         (free_dof = \"hold\", OndselSolver's weights): the free parts move only as the joints \
+         and drivers force them, and their poses depend on the output step (a path of least \
+         changes, not a motion); drive them, or run kind = \"dynamic\" for the motion forces \
+         produce"
+    ))
+}
+
 /// The constraint drift a run may show: the integrator's tolerance on the scaled residual
 /// (at least 1e-12, the round-off of a converged projection) times the largest equation scale
 /// (the model's length for point equations), in m or -.

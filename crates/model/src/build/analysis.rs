@@ -13,7 +13,7 @@ use crate::file::{AnalysisSection, Name, Num};
 use crate::vocabulary::{Entry, ANALYSES, INTEGRATORS, OUTPUTS};
 use cardan_dynamics::Force;
 use cardan_dynamics::{Dopri5Options, GeneralizedAlphaOptions, Integrator};
-use cardan_mechanism::{KinematicOptions, GROUND};
+use cardan_mechanism::{FreeDof, HoldMetric, KinematicOptions, GROUND};
 use toml::Spanned;
 
 /// Most (output times) × (moving bodies + their points) a run may store: 10⁷, at most about
@@ -70,6 +70,13 @@ pub(super) fn load_analysis(
         }
     };
     let plots = a.plots.as_ref().is_none_or(|p| p.get_ref() == "svg");
+    // OndselSolver's weights on coordinates in the file's length unit.
+    let free_dof = match a.free_dof.as_ref().map(|f| f.get_ref().as_str()) {
+        Some("hold") => FreeDof::Hold(HoldMetric::Ondsel {
+            metres_per_unit: cx.units.to_si(cardan_mechanism::Quantity::Length),
+        }),
+        _ => FreeDof::Refuse,
+    };
     Ok(Analysis {
         kind,
         t_start,
@@ -82,6 +89,7 @@ pub(super) fn load_analysis(
         inputs: Vec::new(),
         linearize_at,
         modes,
+        free_dof,
     })
 }
 

@@ -188,6 +188,8 @@ pub struct Analysis {
     /// Modal: how many of the lowest modes (`None`: all on the dense path,
     /// [`DEFAULT_SPARSE_MODES`] on the sparse path).
     pub modes: Option<usize>,
+    /// Kinematic: degrees of freedom no driver prescribes refused or held (`free_dof`).
+    pub free_dof: cardan_mechanism::FreeDof,
 }
 
 /// Modes of a modal analysis on the sparse path (large models) without `modes = ...`.

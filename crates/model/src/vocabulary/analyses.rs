@@ -108,7 +108,15 @@ const INTEGRATOR: Key = Key::new(
 /// says which integrator takes which).
 const INTEGRATOR_KEYS: [Key; 6] = super::integrators::KEYS;
 
-const KINEMATIC: &[Key] = &[T_START, T_END, STEPS, DT, POSITION_TOLERANCE];
+const FREE_DOF: Key = Key::new(
+    "free_dof",
+    Value::Choice(&["refuse", "hold"]),
+    Default::Is("\"refuse\""),
+    "degrees of freedom no driver prescribes: \"refuse\" the run, or \"hold\" them still by the least change from the last output time, weighted as OndselSolver weights it (the default of an ASMT file)",
+)
+.elsewhere("inverse dynamics needs a fully driven mechanism; a dynamic run moves the free degrees of freedom by the forces");
+const KINEMATIC: &[Key] = &[T_START, T_END, STEPS, DT, POSITION_TOLERANCE, FREE_DOF];
+const INVERSE_DYNAMICS: &[Key] = &[T_START, T_END, STEPS, DT, POSITION_TOLERANCE];
 const DYNAMIC: &[Key] = &[
     T_START,
     T_END,
@@ -164,7 +172,7 @@ pub const ANALYSES: Vocabulary = Vocabulary {
         Entry {
             name: "kinematic",
             aliases: &[],
-            summary: "positions, velocities and accelerations of a fully driven mechanism over the time grid",
+            summary: "positions, velocities and accelerations of a driven mechanism over the time grid (free degrees of freedom refused or held)",
             keys: KINEMATIC,
         },
         Entry {
@@ -177,7 +185,7 @@ pub const ANALYSES: Vocabulary = Vocabulary {
             name: "inverse_dynamics",
             aliases: &[],
             summary: "driver efforts and joint reactions of a fully driven mechanism along its kinematics",
-            keys: KINEMATIC,
+            keys: INVERSE_DYNAMICS,
         },
         Entry {
             name: "static",

@@ -1,0 +1,137 @@
+//! A kinematic run of an under-driven mechanism with its free degrees of freedom held
+//! ([`FreeDof::Hold`](crate::analysis::least_change::FreeDof)): at t0 the least change from the
+//! drawn pose that satisfies the joints and the drivers, then at each output time the least
+//! change from the last output's pose ([`crate::analysis::least_change`]), straight from one
+//! output time to the next, without a predictor, as OndselSolver's quasi-kinematic stepping
+//! does. The free parts therefore hold still where the drivers leave them free, and follow
+//! them as little as the joints allow elsewhere; the poses depend on the output step (a path
+//! of least changes), which the front end says in its warning.
+//!
+//! Velocities and accelerations are the weighted minimum-norm solutions of Φ_v v = ν and
+//! Φ_v v̇ = γ# at each solved pose.
+
+use crate::analysis::grid::{JointMemory, KinematicOptions};
+use crate::analysis::least_change::{HoldMetric, LeastChange, LeastChangeReport};
+use crate::error::AnalysisError;
+use crate::model::Model;
+use crate::results::{FrameSink, Results, RunTotals};
+use crate::workspace::Workspace;
+
+impl Model {
+    /// Prepares a held run at `options.t0`: the least change from the workspace's (drawn)
+    /// poses with the drivers; when the joints leave more DOF than there are drivers, the
+    /// least-change solver is kept in the workspace and `true` returned. `false` (the pose
+    /// restored) for a model the usual preparation handles: fully or over-driven.
+    ///
+    /// # Errors
+    /// The least-change assembly's failure, when the usual assembly fails too.
+    pub(crate) fn prepare_held(
+        &self,
+        ws: &mut Workspace,
+        options: &KinematicOptions,
+        metric: HoldMetric,
+    ) -> Result<bool, AnalysisError> {
+        let drawn = ws.pose.x.clone();
+        let mut solver = LeastChange::new(self, metric.weights(self))
+            .map_err(|e| self.map_solver_error(options.t0, e))?;
+        solver.old.copy_from_slice(&drawn);
+        if let Err(e) = solver.solve(self, ws, options.t0, options.tolerance) {
+            // From the usual (minimum-norm) assembly's pose, when it assembles.
+            ws.pose.x.copy_from_slice(&drawn);
+            ws.sync_poses();
+            if self
+                .assemble(ws, &crate::AssemblyOptions::at(options.t0))
+                .is_err()
+            {
+                return Err(e);
+            }
+        }
+        self.accept_turns(&ws.pose.bodies, &mut ws.pose.turns);
+        ws.invalidate();
+        let report = self.dof(ws)?;
+        if report.dof <= report.drivers {
+            ws.pose.x.copy_from_slice(&drawn);
+            ws.sync_poses();
+            ws.invalidate();
+            return Ok(false);
+        }
+        ws.kin.held = Some((solver, report.dof - report.drivers));
+        ws.kin.dof = Some(report);
+        Ok(true)
+    }
+
+    /// The time grid of a held run (module docs), streamed to `sink` as
+    /// [`Model::kinematics_into`] does.
+    pub(crate) fn held_into(
+        &self,
+        ws: &mut Workspace,
+        options: &KinematicOptions,
+        sink: &mut impl FrameSink,
+    ) -> Result<RunTotals, AnalysisError> {
+        let (mut solver, held) = ws.kin.held.take().expect("prepared by prepare_held");
+        let mut frame = self.allocate_results(options, 1);
+        let mut memory = JointMemory::new(self.joints.len());
+        let mut frames = 0;
+        let mut run = Ok(());
+        for k in 0..=options.steps {
+            let t = options.time(k);
+            frame.clear_frames();
+            if let Err(e) = self.held_step(ws, &mut solver, options, k, t, &mut frame, &mut memory)
+            {
+                frame.clear_frames();
+                frame.held_dof = held;
+                run = Err(e.with_partial(frame.clone()));
+                break;
+            }
+            frames += 1;
+            if sink.frame(k, &frame).is_break() {
+                break;
+            }
+        }
+        ws.kin.held = Some((solver, held));
+        run.map(|()| RunTotals {
+            frames,
+            subdivided_steps: 0,
+            row_reselections: 0,
+            dropped_rows: Vec::new(),
+            held_dof: held,
+        })
+    }
+
+    /// One output time of a held run: the least change from the last pose (at k = 0 the
+    /// assembled pose itself), the stops checked there, the rates as asked, stored.
+    #[allow(clippy::too_many_arguments)]
+    fn held_step(
+        &self,
+        ws: &mut Workspace,
+        solver: &mut LeastChange,
+        options: &KinematicOptions,
+        k: usize,
+        t: f64,
+        results: &mut Results,
+        memory: &mut JointMemory,
+    ) -> Result<(), AnalysisError> {
+        let out = options.outputs;
+        solver.old.copy_from_slice(&ws.pose.x);
+        let rep: LeastChangeReport = solver.solve(self, ws, t, options.tolerance)?;
+        self.accept_turns(&ws.pose.bodies, &mut ws.pose.turns);
+        self.check_stops(ws, t, true)?;
+        if out.needs_velocity() {
+            self.nu_into(&ws.pose.bodies, t, &mut ws.rows.rhs);
+            ws.counters.evaluations.nu += 1;
+            solver.rates(self, ws, &ws.rows.rhs)?;
+            ws.motion.v.copy_from_slice(solver.solution());
+            ws.sync_poses();
+            ws.motion.velocity_valid = true;
+        }
+        if out.acceleration {
+            self.gamma_into(&ws.pose.bodies, t, &mut ws.rows.rhs);
+            ws.counters.evaluations.gamma += 1;
+            solver.rates(self, ws, &ws.rows.rhs)?;
+            ws.motion.vdot.copy_from_slice(solver.solution());
+            ws.motion.acceleration_valid = true;
+        }
+        self.record(ws, out, k, rep.residual, rep.iterations, results, memory);
+        Ok(())
+    }
+}

@@ -1,0 +1,434 @@
+//! Least change: the pose nearest to a previous one, in a weighted metric, that satisfies the
+//! constraints. It moves the free degrees of freedom of an under-driven mechanism as little as
+//! the drivers allow ("hold still"), as OndselSolver does for FreeCAD assemblies with fewer
+//! motions than degrees of freedom, and as a drag solve moves everything but the dragged part.
+//!
+//! # The problem
+//! With q = [r; p] per body (the centre of mass and the Euler parameters) and q_old the previous
+//! pose, find
+//!
+//! ```text
+//!   min ½ (q − q_old)ᵀ W (q − q_old)   subject to   Φ(q, t) = 0,   pᵀp = 1 for every body,
+//! ```
+//!
+//! W diagonal per body: w_r on each of r's three components, w_e = (w_e0, w_e1, w_e2, w_e3) on
+//! the Euler parameters. The optimality conditions are Φ = 0 and
+//! Qᵀ W (q − q_old) + Φ_vᵀ λ = 0, with Q = ∂q/∂[Δr; Δπ'] (for the rotation part
+//! ∂p/∂π' = ½ [−eᵀ; e₀ I + ẽ], the derivative of p ⊗ exp(Δπ'/2); Δπ' the body-frame rotation
+//! increment of the Newton state, `shared/notation.md`).
+//!
+//! # The iteration
+//! A Gauss–Newton iteration on the constrained least-squares problem: at the iterate q_k, with
+//! d = q_k − q_old, H = QᵀWQ (block diagonal: w_r I per translation, a 3 × 3 block per rotation)
+//! and g = QᵀW d, the step δ solves
+//!
+//! ```text
+//!   min ½ δᵀHδ + gᵀδ   subject to   Φ_v δ = −Φ,
+//! ```
+//!
+//! the objective linearized about q_k but measured from q_old. Its fixed point (δ = 0) is
+//! exactly the optimality condition above (g = −Φ_vᵀλ), so the iteration converges to the exact
+//! minimizer, not to the first point Newton reaches on the constraint manifold; it converges
+//! linearly at a rate proportional to the distance moved times the curvature of the
+//! constraints, fast for the small changes between output times. With H = L Lᵀ (Cholesky per
+//! block), z = Lᵀ δ, c = L⁻¹ g and Ĵ = Φ_v L⁻ᵀ, the step is a minimum-norm solve
+//!
+//! ```text
+//!   y = Ĵ⁺ (−Φ + Ĵ c),   δ = L⁻ᵀ (y − c),
+//! ```
+//!
+//! by the rank-revealing QR ([`cardan_solver::MinNormQr`]) that also drops redundant rows (the
+//! rows of Ĵ scaled by the equation scales first, so the rank decision sees unit rows).
+//! Velocities and accelerations of the held motion are the H-weighted minimum-norm solutions of
+//! Φ_v v = ν and Φ_v v̇ = γ# (the rates of the least-change motion as the output step tends to
+//! zero, without the term from the rate of H, which is of the order of the free coordinates'
+//! curvature; documented in docs/model-format.md).
+//!
+//! # The weights
+//! [`HoldMetric::Ondsel`] is OndselSolver's (`Part::fillqsuWeights`, in the raw coordinates of
+//! the file's length unit): w_r = 1e3 + 1e6 m/m_max per component of the centre of mass,
+//! w_ei = 1e3 + 1e6 J_i/J_max for i = 1, 2, 3 (J_i the principal moments, J_max the largest of
+//! any part), w_e0 = 1e3, zero maxima taken as 1. [`HoldMetric::Scaled`] is the assembly's
+//! scaled norm, ‖Δr‖²/L² + ‖Δθ‖² for small rotations (w_r = 1/L², every w_e = 4).
+
+use crate::error::AnalysisError;
+use crate::model::Model;
+use crate::workspace::{apply_rotation_step, Workspace};
+use cardan_solver::{LinearSolver, MinNormQr, SolverError, SparsityPattern};
+use nalgebra::{Matrix3, Matrix3x4, Matrix4x3, Vector3, Vector4};
+use std::collections::BTreeSet;
+
+/// The metric of the least change (module docs).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum HoldMetric {
+    /// ‖Δr‖²/L² + 4 ‖Δp‖² (about ‖Δθ‖² for small rotations): the assembly's scaled norm.
+    Scaled,
+    /// OndselSolver's mass-weighted metric on coordinates in the file's length unit,
+    /// `metres_per_unit` metres (0.001 for FreeCAD's millimetres).
+    Ondsel {
+        /// The file's length unit in metres.
+        metres_per_unit: f64,
+    },
+}
+
+/// What a kinematic run does with degrees of freedom no driver prescribes.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum FreeDof {
+    /// Refuse the run ([`AnalysisError::DriverCount`]).
+    #[default]
+    Refuse,
+    /// Hold them: each output time's pose is the least change from the last one in the metric.
+    Hold(HoldMetric),
+}
+
+/// The weights of one moving body: w_r, and w_e in the order of p = (e₀, e₁, e₂, e₃).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BodyWeights {
+    /// Weight of each component of the centre of mass (1/m²).
+    pub translation: f64,
+    /// Weights of e₀, e₁, e₂, e₃.
+    pub rotation: [f64; 4],
+}
+
+impl HoldMetric {
+    /// The weights of every moving body of `model` (module docs).
+    pub fn weights(&self, model: &Model) -> Vec<BodyWeights> {
+        match *self {
+            HoldMetric::Scaled => {
+                let l = model.characteristic_length();
+                let w = BodyWeights {
+                    translation: 1.0 / (l * l),
+                    rotation: [4.0; 4],
+                };
+                vec![w; model.num_bodies()]
+            }
+            HoldMetric::Ondsel { metres_per_unit } => {
+                let bodies = model.bodies();
+                let mass = |b: &crate::model::BodyInfo| b.mass.unwrap_or(0.0);
+                let moments = |b: &crate::model::BodyInfo| {
+                    b.inertia
+                        .map_or([0.0; 3], |j| [j[(0, 0)], j[(1, 1)], j[(2, 2)]])
+                };
+                let or_one = |x: f64| if x > 0.0 { x } else { 1.0 };
+                let m_max = or_one(bodies.iter().map(mass).fold(0.0, f64::max));
+                let j_max = or_one((bodies.iter().flat_map(moments)).fold(0.0, f64::max));
+                let (min_w, max_w) = (1e3, 1e6);
+                let u2 = metres_per_unit * metres_per_unit;
+                bodies
+                    .iter()
+                    .map(|b| {
+                        let j = moments(b);
+                        BodyWeights {
+                            translation: (min_w + max_w * mass(b) / m_max) / u2,
+                            rotation: [
+                                min_w,
+                                min_w + max_w * j[0] / j_max,
+                                min_w + max_w * j[1] / j_max,
+                                min_w + max_w * j[2] / j_max,
+                            ],
+                        }
+                    })
+                    .collect()
+            }
+        }
+    }
+}
+
+/// ∂p/∂π' = ½ [−eᵀ; e₀ I + ẽ] at p = (e₀, e) (4 × 3).
+fn rotation_tangent(p: &Vector4<f64>) -> Matrix4x3<f64> {
+    let (e0, e) = (p[0], Vector3::new(p[1], p[2], p[3]));
+    let lower = Matrix3::identity() * e0 + e.cross_matrix();
+    let mut q = Matrix4x3::zeros();
+    q.fixed_view_mut::<1, 3>(0, 0).copy_from(&(-e.transpose()));
+    q.fixed_view_mut::<3, 3>(1, 0).copy_from(&lower);
+    q * 0.5
+}
+
+/// One solve's outcome.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LeastChangeReport {
+    /// Iterations.
+    pub iterations: usize,
+    /// Max scaled residual |Φ_i| / e_i at the solution.
+    pub residual: f64,
+}
+
+/// The least-change solver of a model (module docs): its weights, the pattern of Ĵ and the
+/// buffers of an iteration, all sized once.
+#[derive(Debug)]
+pub struct LeastChange {
+    weights: Vec<BodyWeights>,
+    /// Pattern of Ĵ: Φ_v's, with each row that touches a body's rotation touching all three of
+    /// its rotation columns.
+    pattern: SparsityPattern,
+    /// For each slot of Φ_v, its row and the slots of Ĵ it feeds (a translation slot one,
+    /// a rotation slot the three of its body's rotation columns in that row).
+    targets: Vec<(usize, [usize; 3])>,
+    qr: MinNormQr,
+    slots: Vec<f64>,
+    hat: Vec<f64>,
+    /// L⁻ᵀ per body's rotation block, and 1/√w_r.
+    l_inv_t: Vec<Matrix3<f64>>,
+    l_inv: Vec<Matrix3<f64>>,
+    c: Vec<f64>,
+    b: Vec<f64>,
+    y: Vec<f64>,
+    delta: Vec<f64>,
+    phi: Vec<f64>,
+    /// The pose the change is measured from (7 per body).
+    pub(crate) old: Vec<f64>,
+}
+
+/// Iteration cap of a least-change solve.
+pub const MAX_ITERATIONS: usize = 60;
+
+/// Scaled step (|Δr|/L, |Δθ|) below which a converged least-change iteration stops: far below
+/// the 1e-9 at which the held poses are compared with OndselSolver's.
+pub const STEP_TOLERANCE: f64 = 1e-13;
+
+/// Largest scaled step of one iteration (as the assembly's cap): half the model's size or about
+/// 30°.
+pub const MAX_STEP: f64 = 0.5;
+
+impl LeastChange {
+    /// The solver of `model` with `weights` (one per moving body). Allocates.
+    ///
+    /// # Errors
+    /// A solver error when the pattern cannot be analyzed.
+    pub fn new(model: &Model, weights: Vec<BodyWeights>) -> Result<Self, SolverError> {
+        let (m, n) = (model.num_equations(), model.num_unknowns());
+        let src = model.pattern();
+        let mut set = BTreeSet::new();
+        for (r, c) in src.entries() {
+            if c % 6 >= 3 {
+                let b = c / 6;
+                for k in 3..6 {
+                    set.insert((r, 6 * b + k));
+                }
+            } else {
+                set.insert((r, c));
+            }
+        }
+        let entries: Vec<(usize, usize)> = set.iter().copied().collect();
+        let index: std::collections::HashMap<(usize, usize), usize> =
+            entries.iter().enumerate().map(|(k, &e)| (e, k)).collect();
+        let targets = src
+            .entries()
+            .map(|(r, c)| {
+                if c % 6 >= 3 {
+                    let b = c / 6;
+                    (r, [0, 1, 2].map(|k| index[&(r, 6 * b + 3 + k)]))
+                } else {
+                    (r, [index[&(r, c)], usize::MAX, usize::MAX])
+                }
+            })
+            .collect();
+        let pattern = SparsityPattern::new(m, n, &entries)?;
+        let mut qr = MinNormQr::new();
+        qr.analyze(&pattern)?;
+        let nb = model.num_bodies();
+        Ok(Self {
+            weights,
+            hat: vec![0.0; pattern.num_slots()],
+            pattern,
+            targets,
+            qr,
+            slots: vec![0.0; src.num_slots()],
+            l_inv_t: vec![Matrix3::identity(); nb],
+            l_inv: vec![Matrix3::identity(); nb],
+            c: vec![0.0; n],
+            b: vec![0.0; m],
+            y: vec![0.0; n],
+            delta: vec![0.0; n],
+            phi: vec![0.0; m],
+            old: vec![0.0; 7 * nb],
+        })
+    }
+
+    /// The weights.
+    pub fn weights(&self) -> &[BodyWeights] {
+        &self.weights
+    }
+
+    /// Factors Ĵ at the workspace's poses (H and its Cholesky factors there too). No
+    /// allocation.
+    fn factor(&mut self, model: &Model, ws: &Workspace, t: f64) -> Result<(), SolverError> {
+        for (b, w) in self.weights.iter().enumerate() {
+            let p = Vector4::from_column_slice(&ws.pose.x[7 * b + 3..7 * b + 7]);
+            let q = rotation_tangent(&p);
+            let h = weighted(&q, &w.rotation) * q;
+            // H is positive definite for positive weights (Q has full column rank).
+            let not_definite = || SolverError::Singular {
+                dependent_equations: Vec::new(),
+            };
+            let l = h.cholesky().ok_or_else(not_definite)?.l();
+            let l_inv = l.try_inverse().ok_or_else(not_definite)?;
+            self.l_inv[b] = l_inv;
+            self.l_inv_t[b] = l_inv.transpose();
+        }
+        model.jacobian_into(&ws.pose.bodies, t, &mut self.slots);
+        self.hat.iter_mut().for_each(|h| *h = 0.0);
+        let scales = model.equation_scales();
+        for (k, (&(r, targets), &v)) in self.targets.iter().zip(&self.slots).enumerate() {
+            let (_, c) = model.pattern().entry(k);
+            let (b, j) = (c / 6, c % 6);
+            let v = v / scales[r];
+            if j < 3 {
+                self.hat[targets[0]] += v / self.weights[b].translation.sqrt();
+            } else {
+                let row = self.l_inv_t[b].row(j - 3);
+                for (i, &s) in targets.iter().enumerate() {
+                    self.hat[s] += v * row[i];
+                }
+            }
+        }
+        self.qr.factor(&self.hat)
+    }
+
+    /// δ = L⁻ᵀ (Ĵ⁺ rhs − c) for the scaled right-hand side already in `b` (rows / e_r).
+    fn step(&mut self) -> Result<(), SolverError> {
+        self.qr.solve(&self.b, &mut self.y)?;
+        for (b, w) in self.weights.iter().enumerate() {
+            let s = 1.0 / w.translation.sqrt();
+            for i in 0..3 {
+                self.delta[6 * b + i] = (self.y[6 * b + i] - self.c[6 * b + i]) * s;
+            }
+            let z = Vector3::from_fn(|i, _| self.y[6 * b + 3 + i] - self.c[6 * b + 3 + i]);
+            let d = self.l_inv_t[b] * z;
+            self.delta[6 * b + 3..6 * b + 6].copy_from_slice(d.as_slice());
+        }
+        Ok(())
+    }
+
+    /// Moves the workspace's poses to the least change from [`Self::old`] that satisfies
+    /// Φ(q, t) = 0 (module docs). No allocation. `tolerance`: the scaled residual.
+    ///
+    /// # Errors
+    /// [`AnalysisError::NotConverged`] naming the worst equations; solver errors.
+    pub fn solve(
+        &mut self,
+        model: &Model,
+        ws: &mut Workspace,
+        t: f64,
+        tolerance: f64,
+    ) -> Result<LeastChangeReport, AnalysisError> {
+        let l = model.characteristic_length();
+        let scales = model.equation_scales();
+        ws.pose.t = t;
+        for it in 0..MAX_ITERATIONS {
+            ws.sync_poses();
+            model.phi_into(&ws.pose.bodies, &ws.pose.turns, t, &mut self.phi);
+            self.factor(model, ws, t)
+                .map_err(|e| model.map_solver_error(t, e))?;
+            // c = L⁻¹ g, g = Qᵀ W (q − q_old).
+            for (b, w) in self.weights.iter().enumerate() {
+                let x = &ws.pose.x[7 * b..7 * b + 7];
+                let old = &self.old[7 * b..7 * b + 7];
+                for i in 0..3 {
+                    self.c[6 * b + i] = w.translation.sqrt() * (x[i] - old[i]);
+                }
+                let p = Vector4::from_column_slice(&x[3..7]);
+                let dp = Vector4::from_fn(|i, _| w.rotation[i] * (x[3 + i] - old[3 + i]));
+                let g = rotation_tangent(&p).transpose() * dp;
+                let c = self.l_inv[b] * g;
+                self.c[6 * b + 3..6 * b + 6].copy_from_slice(c.as_slice());
+            }
+            // b = (−Φ + Ĵ c) row by row over e_r (Ĵ already scaled).
+            self.pattern
+                .mul_vec(&self.hat, &self.c, &mut self.b)
+                .map_err(|e| model.map_solver_error(t, e))?;
+            for (r, bv) in self.b.iter_mut().enumerate() {
+                *bv -= self.phi[r] / scales[r];
+            }
+            self.step().map_err(|e| model.map_solver_error(t, e))?;
+            let size = scaled_size(&self.delta, l);
+            if size > MAX_STEP {
+                let f = MAX_STEP / size;
+                self.delta.iter_mut().for_each(|d| *d *= f);
+            }
+            let residual = max_scaled(&self.phi, scales);
+            if residual <= tolerance && size <= STEP_TOLERANCE {
+                return Ok(LeastChangeReport {
+                    iterations: it,
+                    residual,
+                });
+            }
+            apply_rotation_step(&mut ws.pose.x, &self.delta);
+        }
+        ws.sync_poses();
+        model.phi_into(&ws.pose.bodies, &ws.pose.turns, t, &mut self.phi);
+        Err(AnalysisError::NotConverged {
+            time: t,
+            iterations: MAX_ITERATIONS,
+            worst: worst_rows(model, &self.phi),
+            partial: None,
+        })
+    }
+
+    /// The H-weighted minimum-norm solution of Φ_v x = `rhs` at the workspace's poses
+    /// (velocities with ν, accelerations with γ#; module docs), then in
+    /// [`solution`](Self::solution). No allocation.
+    ///
+    /// # Errors
+    /// Solver errors.
+    pub fn rates(
+        &mut self,
+        model: &Model,
+        ws: &Workspace,
+        rhs: &[f64],
+    ) -> Result<(), AnalysisError> {
+        let t = ws.pose.t;
+        self.factor(model, ws, t)
+            .map_err(|e| model.map_solver_error(t, e))?;
+        let scales = model.equation_scales();
+        for (r, bv) in self.b.iter_mut().enumerate() {
+            *bv = rhs[r] / scales[r];
+        }
+        self.c.iter_mut().for_each(|c| *c = 0.0);
+        self.step().map_err(|e| model.map_solver_error(t, e))
+    }
+
+    /// The last [`rates`](Self::rates) solution, [ṙ; ω'] (or [r̈; ω̇']) per body.
+    pub fn solution(&self) -> &[f64] {
+        &self.delta
+    }
+}
+
+/// Qᵀ diag(w) (3 × 4).
+fn weighted(q: &Matrix4x3<f64>, w: &[f64; 4]) -> Matrix3x4<f64> {
+    Matrix3x4::from_fn(|i, j| q[(j, i)] * w[j])
+}
+
+/// max over bodies of |Δr|/L and |Δθ|.
+fn scaled_size(delta: &[f64], l: f64) -> f64 {
+    delta
+        .chunks(6)
+        .map(|d| {
+            let r = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() / l;
+            let a = (d[3] * d[3] + d[4] * d[4] + d[5] * d[5]).sqrt();
+            r.max(a)
+        })
+        .fold(0.0, f64::max)
+}
+
+/// max |Φ_r| / e_r.
+fn max_scaled(phi: &[f64], scales: &[f64]) -> f64 {
+    phi.iter()
+        .zip(scales)
+        .map(|(p, e)| (p / e).abs())
+        .fold(0.0, f64::max)
+}
+
+/// The three equations with the largest scaled residuals, largest first. Allocates (error path).
+fn worst_rows(model: &Model, phi: &[f64]) -> Vec<(crate::EquationName, f64)> {
+    let scales = model.equation_scales();
+    let mut rows: Vec<(usize, f64)> = (phi.iter().zip(scales))
+        .map(|(p, e)| (p / e).abs())
+        .enumerate()
+        .collect();
+    rows.sort_by(|a, b| b.1.total_cmp(&a.1));
+    rows.iter()
+        .take(3)
+        .filter_map(|&(r, v)| model.equation(r).map(|n| (n, v)))
+        .collect()
+}
