@@ -90,10 +90,11 @@ pub mod sanity;
 pub mod workspace;
 
 pub use analysis::assembly::{AssemblyOptions, AssemblyReport};
+pub use analysis::drag::{Drag, DragReport, DragStop, DRAG_WEIGHTS};
 pub use analysis::dropped::{gross_inconsistency, DroppedRowResidual, DroppedRowSample};
 pub use analysis::grid::KinematicOptions;
 pub use analysis::least_change::{
-    BodyWeights, FreeDof, HoldMetric, LeastChange, LeastChangeReport,
+    BodyWeights, FreeDof, HoldMetric, LeastChange, LeastChangeReport, PointGoal,
 };
 pub use analysis::position::{
     OpenRow, PositionReport, FAST_RANK_MIN_UNKNOWNS, KINEMATIC_MAX_CHORD_STEPS,

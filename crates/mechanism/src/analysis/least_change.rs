@@ -54,8 +54,9 @@
 use crate::error::AnalysisError;
 use crate::model::Model;
 use crate::workspace::{apply_rotation_step, Workspace};
+use cardan_eulerparam::EulerParams;
 use cardan_solver::{LinearSolver, MinNormQr, SolverError, SparsityPattern};
-use nalgebra::{Matrix3, Matrix3x4, Matrix4x3, Vector3, Vector4};
+use nalgebra::{Matrix3, Matrix3x4, Matrix4x3, Matrix6, Vector3, Vector4, Vector6};
 use std::collections::BTreeSet;
 
 /// The metric of the least change (module docs).
@@ -153,23 +154,36 @@ pub struct LeastChangeReport {
     pub residual: f64,
 }
 
+/// A point of a body pulled toward a target: the term ½ w ‖r + A s' − target‖² added to the
+/// objective (a drag, [`crate::analysis::drag`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PointGoal {
+    /// The moving body.
+    pub body: usize,
+    /// The point, body frame (m).
+    pub point: Vector3<f64>,
+    /// Where it is pulled (m).
+    pub target: Vector3<f64>,
+    /// The weight w (1/m²).
+    pub weight: f64,
+}
+
 /// The least-change solver of a model (module docs): its weights, the pattern of Ĵ and the
 /// buffers of an iteration, all sized once.
 #[derive(Debug)]
 pub struct LeastChange {
     weights: Vec<BodyWeights>,
-    /// Pattern of Ĵ: Φ_v's, with each row that touches a body's rotation touching all three of
-    /// its rotation columns.
+    /// Pattern of Ĵ: Φ_v's, with each row that touches a body touching all six of its columns.
     pattern: SparsityPattern,
-    /// For each slot of Φ_v, its row and the slots of Ĵ it feeds (a translation slot one,
-    /// a rotation slot the three of its body's rotation columns in that row).
-    targets: Vec<(usize, [usize; 3])>,
+    /// For each slot of Φ_v, its row, and the slot of Ĵ of its row at its body's first column
+    /// (the six of the body follow in order).
+    targets: Vec<(usize, usize)>,
     qr: MinNormQr,
     slots: Vec<f64>,
     hat: Vec<f64>,
-    /// L⁻ᵀ per body's rotation block, and 1/√w_r.
-    l_inv_t: Vec<Matrix3<f64>>,
-    l_inv: Vec<Matrix3<f64>>,
+    /// L⁻¹ per body (H = L Lᵀ, 6 × 6).
+    l_inv: Vec<Matrix6<f64>>,
+    g: Vec<Vector6<f64>>,
     c: Vec<f64>,
     b: Vec<f64>,
     y: Vec<f64>,
@@ -177,14 +191,25 @@ pub struct LeastChange {
     phi: Vec<f64>,
     /// The pose the change is measured from (7 per body).
     pub(crate) old: Vec<f64>,
+    /// A point pulled toward a target, if any.
+    pub(crate) goal: Option<PointGoal>,
 }
 
 /// Iteration cap of a least-change solve.
 pub const MAX_ITERATIONS: usize = 60;
 
-/// Scaled step (|Δr|/L, |Δθ|) below which a converged least-change iteration stops: far below
-/// the 1e-9 at which the held poses are compared with OndselSolver's.
-pub const STEP_TOLERANCE: f64 = 1e-13;
+/// Scaled step (|Δr|/L, |Δθ|) below which a converged least-change iteration stops: near
+/// roundoff, since the weights (up to 1e6 against 1e3) amplify what is left of the step in the
+/// optimality conditions. An iteration whose step stops shrinking (by [`STAGNATION`]) below
+/// [`STAGNATION_STEP`] has reached roundoff and stops too.
+pub const STEP_TOLERANCE: f64 = 1e-15;
+
+/// A step at most this small that is no smaller than [`STAGNATION`] times the last one ends the
+/// iteration (roundoff reached).
+pub const STAGNATION_STEP: f64 = 1e-12;
+
+/// See [`STAGNATION_STEP`].
+pub const STAGNATION: f64 = 0.9;
 
 /// Largest scaled step of one iteration (as the assembly's cap): half the model's size or about
 /// 30°.
@@ -200,13 +225,9 @@ impl LeastChange {
         let src = model.pattern();
         let mut set = BTreeSet::new();
         for (r, c) in src.entries() {
-            if c % 6 >= 3 {
-                let b = c / 6;
-                for k in 3..6 {
-                    set.insert((r, 6 * b + k));
-                }
-            } else {
-                set.insert((r, c));
+            let b = c / 6;
+            for k in 0..6 {
+                set.insert((r, 6 * b + k));
             }
         }
         let entries: Vec<(usize, usize)> = set.iter().copied().collect();
@@ -214,14 +235,7 @@ impl LeastChange {
             entries.iter().enumerate().map(|(k, &e)| (e, k)).collect();
         let targets = src
             .entries()
-            .map(|(r, c)| {
-                if c % 6 >= 3 {
-                    let b = c / 6;
-                    (r, [0, 1, 2].map(|k| index[&(r, 6 * b + 3 + k)]))
-                } else {
-                    (r, [index[&(r, c)], usize::MAX, usize::MAX])
-                }
-            })
+            .map(|(r, c)| (r, index[&(r, 6 * (c / 6))]))
             .collect();
         let pattern = SparsityPattern::new(m, n, &entries)?;
         let mut qr = MinNormQr::new();
@@ -234,14 +248,15 @@ impl LeastChange {
             targets,
             qr,
             slots: vec![0.0; src.num_slots()],
-            l_inv_t: vec![Matrix3::identity(); nb],
-            l_inv: vec![Matrix3::identity(); nb],
+            l_inv: vec![Matrix6::identity(); nb],
+            g: vec![Vector6::zeros(); nb],
             c: vec![0.0; n],
             b: vec![0.0; m],
             y: vec![0.0; n],
             delta: vec![0.0; n],
             phi: vec![0.0; m],
             old: vec![0.0; 7 * nb],
+            goal: None,
         })
     }
 
@@ -250,52 +265,67 @@ impl LeastChange {
         &self.weights
     }
 
-    /// Factors Ĵ at the workspace's poses (H and its Cholesky factors there too). No
-    /// allocation.
+    /// H and g per body at the workspace's poses, H's inverse Cholesky factors, and Ĵ factored.
+    /// No allocation.
     fn factor(&mut self, model: &Model, ws: &Workspace, t: f64) -> Result<(), SolverError> {
+        let not_definite = || SolverError::Singular {
+            dependent_equations: Vec::new(),
+        };
         for (b, w) in self.weights.iter().enumerate() {
-            let p = Vector4::from_column_slice(&ws.pose.x[7 * b + 3..7 * b + 7]);
+            let x = &ws.pose.x[7 * b..7 * b + 7];
+            let old = &self.old[7 * b..7 * b + 7];
+            let p = Vector4::from_column_slice(&x[3..7]);
             let q = rotation_tangent(&p);
-            let h = weighted(&q, &w.rotation) * q;
-            // H is positive definite for positive weights (Q has full column rank).
-            let not_definite = || SolverError::Singular {
-                dependent_equations: Vec::new(),
-            };
+            let mut h = Matrix6::zeros();
+            h.fixed_view_mut::<3, 3>(0, 0)
+                .copy_from(&(Matrix3::identity() * w.translation));
+            h.fixed_view_mut::<3, 3>(3, 3)
+                .copy_from(&(weighted(&q, &w.rotation) * q));
+            let mut g = Vector6::zeros();
+            for i in 0..3 {
+                g[i] = w.translation * (x[i] - old[i]);
+            }
+            let dp = Vector4::from_fn(|i, _| w.rotation[i] * (x[3 + i] - old[3 + i]));
+            g.fixed_rows_mut::<3>(3).copy_from(&(q.transpose() * dp));
+            if let Some(goal) = self.goal.filter(|goal| goal.body == b) {
+                // P = r + A s', ∂P/∂[Δr; Δπ'] = [I, −A s̃'] (body-frame rotation increments).
+                let a = EulerParams::new(p[0], p[1], p[2], p[3]).a();
+                let mut jac = nalgebra::Matrix3x6::zeros();
+                jac.fixed_view_mut::<3, 3>(0, 0)
+                    .copy_from(&Matrix3::identity());
+                jac.fixed_view_mut::<3, 3>(0, 3)
+                    .copy_from(&(-(a * goal.point.cross_matrix())));
+                let miss = Vector3::new(x[0], x[1], x[2]) + a * goal.point - goal.target;
+                h += goal.weight * jac.transpose() * jac;
+                g += goal.weight * jac.transpose() * miss;
+            }
             let l = h.cholesky().ok_or_else(not_definite)?.l();
-            let l_inv = l.try_inverse().ok_or_else(not_definite)?;
-            self.l_inv[b] = l_inv;
-            self.l_inv_t[b] = l_inv.transpose();
+            self.l_inv[b] = l.try_inverse().ok_or_else(not_definite)?;
+            self.g[b] = g;
         }
         model.jacobian_into(&ws.pose.bodies, t, &mut self.slots);
         self.hat.iter_mut().for_each(|h| *h = 0.0);
         let scales = model.equation_scales();
-        for (k, (&(r, targets), &v)) in self.targets.iter().zip(&self.slots).enumerate() {
+        // Ĵ = J L⁻ᵀ: row r, body b: Ĵ[r, b·] = J[r, b·] L_b⁻ᵀ, i.e. Ĵ[r, 6b+i] = Σ_j J[r, 6b+j] L⁻¹[i, j].
+        for (k, (&(r, first), &v)) in self.targets.iter().zip(&self.slots).enumerate() {
             let (_, c) = model.pattern().entry(k);
             let (b, j) = (c / 6, c % 6);
             let v = v / scales[r];
-            if j < 3 {
-                self.hat[targets[0]] += v / self.weights[b].translation.sqrt();
-            } else {
-                let row = self.l_inv_t[b].row(j - 3);
-                for (i, &s) in targets.iter().enumerate() {
-                    self.hat[s] += v * row[i];
-                }
+            let l_inv = &self.l_inv[b];
+            for i in 0..6 {
+                self.hat[first + i] += v * l_inv[(i, j)];
             }
         }
         self.qr.factor(&self.hat)
     }
 
-    /// δ = L⁻ᵀ (Ĵ⁺ rhs − c) for the scaled right-hand side already in `b` (rows / e_r).
+    /// δ = L⁻ᵀ (Ĵ⁺ b − c) for the scaled right-hand side already in `b` (rows / e_r).
     fn step(&mut self) -> Result<(), SolverError> {
         self.qr.solve(&self.b, &mut self.y)?;
-        for (b, w) in self.weights.iter().enumerate() {
-            let s = 1.0 / w.translation.sqrt();
-            for i in 0..3 {
-                self.delta[6 * b + i] = (self.y[6 * b + i] - self.c[6 * b + i]) * s;
-            }
-            let z = Vector3::from_fn(|i, _| self.y[6 * b + 3 + i] - self.c[6 * b + 3 + i]);
-            let d = self.l_inv_t[b] * z;
-            self.delta[6 * b + 3..6 * b + 6].copy_from_slice(d.as_slice());
+        for (b, l_inv) in self.l_inv.iter().enumerate() {
+            let z = Vector6::from_fn(|i, _| self.y[6 * b + i] - self.c[6 * b + i]);
+            let d = l_inv.transpose() * z;
+            self.delta[6 * b..6 * b + 6].copy_from_slice(d.as_slice());
         }
         Ok(())
     }
@@ -315,23 +345,16 @@ impl LeastChange {
         let l = model.characteristic_length();
         let scales = model.equation_scales();
         ws.pose.t = t;
+        let mut last_size = f64::INFINITY;
         for it in 0..MAX_ITERATIONS {
             ws.sync_poses();
             model.phi_into(&ws.pose.bodies, &ws.pose.turns, t, &mut self.phi);
             self.factor(model, ws, t)
                 .map_err(|e| model.map_solver_error(t, e))?;
-            // c = L⁻¹ g, g = Qᵀ W (q − q_old).
-            for (b, w) in self.weights.iter().enumerate() {
-                let x = &ws.pose.x[7 * b..7 * b + 7];
-                let old = &self.old[7 * b..7 * b + 7];
-                for i in 0..3 {
-                    self.c[6 * b + i] = w.translation.sqrt() * (x[i] - old[i]);
-                }
-                let p = Vector4::from_column_slice(&x[3..7]);
-                let dp = Vector4::from_fn(|i, _| w.rotation[i] * (x[3 + i] - old[3 + i]));
-                let g = rotation_tangent(&p).transpose() * dp;
-                let c = self.l_inv[b] * g;
-                self.c[6 * b + 3..6 * b + 6].copy_from_slice(c.as_slice());
+            // c = L⁻¹ g.
+            for (b, l_inv) in self.l_inv.iter().enumerate() {
+                let c = l_inv * self.g[b];
+                self.c[6 * b..6 * b + 6].copy_from_slice(c.as_slice());
             }
             // b = (−Φ + Ĵ c) row by row over e_r (Ĵ already scaled).
             self.pattern
@@ -347,7 +370,9 @@ impl LeastChange {
                 self.delta.iter_mut().for_each(|d| *d *= f);
             }
             let residual = max_scaled(&self.phi, scales);
-            if residual <= tolerance && size <= STEP_TOLERANCE {
+            let stagnant = size <= STAGNATION_STEP && size >= STAGNATION * last_size;
+            last_size = size;
+            if residual <= tolerance && (size <= STEP_TOLERANCE || stagnant) {
                 return Ok(LeastChangeReport {
                     iterations: it,
                     residual,

@@ -3,6 +3,8 @@
 //!
 //! - [`assembly`]: consistent initial poses from a rough guess (minimum-norm Newton).
 //! - [`dof`](mod@dof): the degrees-of-freedom count and the redundant equations at a pose.
+//! - [`drag`]: a point of a body dragged toward a target, the rest following by least change,
+//!   stopped at joint limits.
 //! - [`dropped`]: the residuals of the rows dropped as redundant, checked at the solution.
 //! - [`position`]: the square kinematic Newton (redundant rows dropped once) at one time.
 //! - [`velocity`]: Φ_v v = ν with the position factorization.
@@ -17,6 +19,7 @@
 pub mod acceleration;
 pub mod assembly;
 pub mod dof;
+pub mod drag;
 pub mod dropped;
 pub mod grid;
 pub(crate) mod held;

@@ -165,6 +165,19 @@ pub fn four_bar_builder(theta0: f64, omega: f64) -> MechanismBuilder {
 /// redundant model whose joints disagree by |dz|.
 #[allow(dead_code)]
 pub fn four_bar_builder_off_plane(theta0: f64, omega: f64, dz: f64) -> MechanismBuilder {
+    let mut b = four_bar_links(theta0, dz);
+    b.driver(DriverSpec::rotation(
+        "motor",
+        "O2",
+        TimeFunction::Polynomial(vec![theta0, omega]),
+    ));
+    b
+}
+
+/// The links and joints of [`four_bar_builder_off_plane`], drawn at crank angle θ0, without a
+/// driver (1 DOF).
+#[allow(dead_code)]
+pub fn four_bar_links(theta0: f64, dz: f64) -> MechanismBuilder {
     let (d, a, _, _) = FOUR_BAR;
     let mut b = MechanismBuilder::new();
     let pa = Vector3::new(a * theta0.cos(), a * theta0.sin(), 0.0);
@@ -186,11 +199,6 @@ pub fn four_bar_builder_off_plane(theta0: f64, omega: f64, dz: f64) -> Mechanism
     b.joint(rev("A", ("crank", "A"), ("coupler", "A")));
     b.joint(rev("B", ("coupler", "B"), ("rocker", "B")));
     b.joint(rev("O4", (GROUND, "O4"), ("rocker", "O")));
-    b.driver(DriverSpec::rotation(
-        "motor",
-        "O2",
-        TimeFunction::Polynomial(vec![theta0, omega]),
-    ));
     b
 }
 
