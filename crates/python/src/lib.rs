@@ -15,6 +15,7 @@
 //! - `table_csv`: a table's CSV text exactly as `cardan run` writes it.
 //! - `validate`: a model text read and validated (what `cardan.Model` does when it is made).
 //! - `import_asmt`: an ASMT file as model text.
+//! - `drag`: one drag step (a point of a body pulled toward a target, the rest by least change).
 //! - `main`: the `cardan` command itself (`python -m cardan`).
 //!
 //! Errors of the model or the analysis are returned as data (`kind`, `message`, `file`,
@@ -23,6 +24,7 @@
 
 mod analysis;
 mod convert;
+mod drag;
 
 use cardan_cli::Error;
 use cardan_mechanism::AssemblyOptions;
@@ -386,6 +388,7 @@ fn _cardan(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(main, m)?)?;
     m.add_function(wrap_pyfunction!(table_csv, m)?)?;
     m.add_function(wrap_pyfunction!(import_asmt, m)?)?;
+    m.add_function(wrap_pyfunction!(drag::drag, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -15,7 +15,7 @@ process pool or a Dask cluster: :func:`sweep`, :func:`grid`. See docs/python.md.
 
 from ._cardan import __version__
 from ._errors import AnalysisError, CardanError, ModelError, SolverError
-from ._model import Builder, Check, Model, constant, expression, harmonic, load, polynomial, ramp, spline
+from ._model import Builder, Check, Dragged, Model, Pose, constant, expression, harmonic, load, polynomial, ramp, spline
 from ._results import Results, Table
 from ._sweep import grid, run_case, run_cases, sweep, sweep_serial
 
@@ -24,7 +24,9 @@ __all__ = [
     "Builder",
     "CardanError",
     "Check",
+    "Dragged",
     "Model",
+    "Pose",
     "ModelError",
     "Results",
     "SolverError",

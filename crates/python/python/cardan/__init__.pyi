@@ -5,7 +5,7 @@ stubtest."""
 import os
 from concurrent.futures import Executor
 from dataclasses import dataclass
-from typing import Any, Callable, Dict, Iterable, Iterator, List, Mapping, Optional, Tuple, Union
+from typing import Any, Callable, Dict, Iterable, Iterator, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -15,7 +15,9 @@ __all__ = [
     "Builder",
     "CardanError",
     "Check",
+    "Dragged",
     "Model",
+    "Pose",
     "ModelError",
     "Results",
     "SolverError",
@@ -179,6 +181,15 @@ class Check:
     @property
     def fully_driven(self) -> bool: ...
 
+Pose = Dict[str, Tuple[Tuple[float, float, float], Tuple[float, float, float, float]]]
+
+@dataclass(frozen=True)
+class Dragged:
+    pose: Pose
+    reached: float
+    stop: Optional[str]
+    distance: float
+
 class Model:
     text: str
     path: str
@@ -195,6 +206,14 @@ class Model:
     def statics(self, **options: Any) -> Results: ...
     def quasi_statics(self, **options: Any) -> Results: ...
     def modal(self, **options: Any) -> Results: ...
+    def drag(
+        self,
+        body: str,
+        target: Sequence[float],
+        point: Optional[str] = None,
+        pose: Optional[Pose] = None,
+        time: float = 0.0,
+    ) -> Dragged: ...
 
 def load(path: _Path, units: Optional[str] = None) -> Model: ...
 

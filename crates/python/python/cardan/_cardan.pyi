@@ -2,7 +2,7 @@
 
 from typing import Any, Dict, List, Optional
 
-__all__ = ["__version__", "check", "import_asmt", "main", "run", "table_csv", "validate"]
+__all__ = ["__version__", "check", "drag", "import_asmt", "main", "run", "table_csv", "validate"]
 
 __version__: str
 
@@ -19,3 +19,12 @@ def table_csv(name: str, title: str, columns: List[str], data: bytes) -> str: ..
 def import_asmt(text: str, path: str, units: str = "si", inverse_dynamics: bool = False) -> Dict[str, Any]: ...
 def validate(text: str, path: str) -> Optional[Dict[str, Any]]: ...
 def main(argv: List[str]) -> int: ...
+def drag(
+    text: str,
+    path: str,
+    body: str,
+    target: List[float],
+    point: Optional[str] = None,
+    pose: Optional[Dict[str, Any]] = None,
+    time: float = 0.0,
+) -> Dict[str, Any]: ...

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass, field
-from typing import Any, Dict, List, Optional
+from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 from . import _cardan
 from ._errors import raise_error
@@ -37,6 +37,23 @@ class Check:
     def fully_driven(self) -> bool:
         """Whether the drivers fix every degree of freedom (a kinematic analysis can run)."""
         return len(self.drivers) == self.dof
+
+
+Pose = Dict[str, Tuple[Tuple[float, float, float], Tuple[float, float, float, float]]]
+"""Body name → (position of the centre of mass in model units, Euler parameters e0..e3)."""
+
+
+@dataclass(frozen=True)
+class Dragged:
+    """The outcome of :meth:`Model.drag`: the new ``pose``, the fraction of the step taken
+    (``reached``, 1.0 unless a stop or a failed solve cut it back), what cut it back (``stop``:
+    the limit's name, ``"not converged"``, or None) and the dragged point's ``distance`` to the
+    target (model units; about 1e-3 of the motion it took, the drag's soft pull)."""
+
+    pose: Pose
+    reached: float
+    stop: Optional[str]
+    distance: float
 
 
 class Model:
@@ -145,6 +162,39 @@ class Model:
         """Vibration modes about the equilibrium: ``results.modes`` (frequencies, damping),
         ``results.mode_shapes``, and the linearized model's matrices in ``results.files``."""
         return self.run("modal", **options)
+
+    def drag(
+        self,
+        body: str,
+        target: Sequence[float],
+        point: Optional[str] = None,
+        pose: Optional["Pose"] = None,
+        time: float = 0.0,
+    ) -> "Dragged":
+        """One drag step, FreeCAD's interaction: the point ``point`` of ``body`` (a named point;
+        its centre of mass without one) is pulled toward ``target`` (model units) and every other
+        body follows by least change (OndselSolver's drag weights, docs/python.md). Starts from
+        ``pose`` (a previous step's :attr:`Dragged.pose`) or, without one, from the drawn pose
+        assembled at ``time``. Joint limits hold: a step into a stop ends at the stop
+        (:attr:`Dragged.stop` names the limit). Raises :class:`AnalysisError` for an unknown
+        body or point, or a pose that cannot be solved."""
+        out = _cardan.drag(
+            self.text,
+            self.path,
+            body,
+            [float(x) for x in target],
+            point,
+            None if pose is None else {k: (list(r), list(p)) for k, (r, p) in pose.items()},
+            float(time),
+        )
+        if out["error"] is not None:
+            raise_error(out["error"])
+        return Dragged(
+            pose={k: (tuple(r), tuple(p)) for k, (r, p) in out["pose"].items()},
+            reached=out["reached"],
+            stop=out["stop"],
+            distance=out["distance"],
+        )
 
     def __reduce__(self) -> Any:
         return (Model._trusted, (self.text, self.path))
