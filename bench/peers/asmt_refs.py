@@ -216,6 +216,20 @@ def cv_model():
     return assembly("constant-velocity joint between two shafts", ground, parts, joints, motions)
 
 
+def bent_cv_model():
+    """The cv model with shaft B on a cylindrical joint whose axis passes 0.24 from the joint
+    point (issue 53, item 2): over-constrained and inconsistent as drawn. OndselSolver drops one
+    cylindrical row as redundant and runs with it violated by 0.24."""
+    text = cv_model()
+    # Shaft B's ground marker moved 0.24 along global z, its joint made cylindrical.
+    text = text.replace("\t\t\tRevoluteJoint\n\t\t\t\tName\n\t\t\t\t\tRevB",
+                        "\t\t\tCylindricalJoint\n\t\t\t\tName\n\t\t\t\t\tCylB")
+    marker2 = "\t\t\t\t\t\tMarker2\n\t\t\t\t\tPosition3D\n\t\t\t\t\t\t0.0\t0.0\t0.0"
+    assert marker2 in text and "CylB" in text
+    return text.replace(marker2, marker2[:-3] + "0.24").replace(
+        "constant-velocity joint between two shafts", "bent two-shaft drive, inconsistent as drawn")
+
+
 def screw_cyl_model():
     ground = [("Marker1", (0, 0, 0), IDENTITY)]
     parts = [part("Nut", (0.1, 0.0, 0.2), IDENTITY, [("Axis", (-0.1, 0.0, 0.0), IDENTITY)])]
@@ -228,7 +242,7 @@ def screw_cyl_model():
     return assembly("screw on a single cylindrical joint", ground, parts, joints, motions)
 
 
-MODELS = {"angle": angle_model, "cv": cv_model, "screw_cyl": screw_cyl_model}
+MODELS = {"angle": angle_model, "cv": cv_model, "screw_cyl": screw_cyl_model, "bent_cv": bent_cv_model}
 
 
 def main(out):

@@ -185,6 +185,7 @@ fn a_grossly_inconsistent_redundant_fourbar_fails_naming_the_joints() {
     assert_ne!(o.code, 0, "{}\n{}", o.stdout, o.stderr);
     for needle in [
         "redundant joints disagree",
+        "over-constrained and inconsistent",
         "revolute \"D\" row 2 (s)",
         "stays off by",
         "cylindrical",

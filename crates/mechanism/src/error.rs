@@ -624,8 +624,9 @@ pub enum AnalysisError {
     /// equations dropped as redundant stay off by more than `limit` of the model's size
     /// (`analysis::dropped`).
     #[error(
-        "at t = {time}: the redundant joints disagree: with the other equations satisfied, {} \
-         (relative to the model's size; more than {limit:.0e} is not rounding). The joints of \
+        "at t = {time}: the model is over-constrained and inconsistent (its redundant joints \
+         disagree): at its best fit, with the other equations satisfied, {} (more than \
+         {limit:.0e} of the model's size is not rounding). The joints of \
          the loop through {} do not fit together: check that their axes are parallel (or \
          perpendicular) and their points agree as drawn, or replace one of them by a joint with \
          fewer equations (a revolute by a cylindrical, a spherical by a point_in_plane) so the \
@@ -732,9 +733,16 @@ pub enum AnalysisError {
 fn fmt_dropped(v: &[DroppedRowResidual]) -> String {
     v.iter()
         .map(|d| {
+            let unit = match d.dimension {
+                cardan_constraints::Dimension::Length => " m",
+                cardan_constraints::Dimension::Area => " m²",
+                cardan_constraints::Dimension::Dimensionless => "",
+            };
             format!(
-                "{} (dropped as redundant) stays off by {:.3e}",
-                d.equation, d.residual
+                "{} (dropped as redundant) stays off by {:.3e}{unit} ({:.3e} of the model's size)",
+                d.equation,
+                d.value.abs(),
+                d.residual
             )
         })
         .collect::<Vec<_>>()

@@ -45,6 +45,8 @@ pub struct RunTotals {
     pub dropped_rows: Vec<DroppedRowResidual>,
     /// As [`Results::held_dof`].
     pub held_dof: usize,
+    /// As [`Results::held_from_assembly`].
+    pub held_from_assembly: bool,
 }
 
 /// The worst residual of a row dropped as redundant, over a run (how it is found:
@@ -197,6 +199,10 @@ pub struct Results {
     /// Degrees of freedom no driver prescribed, held still by least change from frame to frame
     /// ([`crate::analysis::least_change`]; `free_dof = "hold"`); 0 for a fully driven run.
     pub held_dof: usize,
+    /// A held run whose start is the minimum-norm assembly's pose, not the least change from
+    /// the drawn pose: the least-change iteration did not converge there (a distance joint
+    /// drawn far from its place), so the free parts start from another valid pose.
+    pub held_from_assembly: bool,
     /// Times the independent equations of a mechanism with redundant equations were chosen
     /// again during the run because the kept ones lost rank where the full set has not
     /// (see `Workspace::row_reselections`); 0 without redundant equations.
@@ -287,6 +293,7 @@ impl Results {
             row_reselections: self.row_reselections,
             dropped_rows: self.dropped_rows.clone(),
             held_dof: self.held_dof,
+            held_from_assembly: self.held_from_assembly,
         }
     }
 
@@ -355,6 +362,7 @@ impl Results {
         self.row_reselections = totals.row_reselections;
         self.dropped_rows = totals.dropped_rows;
         self.held_dof = totals.held_dof;
+        self.held_from_assembly = totals.held_from_assembly;
     }
 
     /// The counters and dropped rows (and the number of frames).
@@ -365,6 +373,7 @@ impl Results {
             row_reselections: self.row_reselections,
             dropped_rows: self.dropped_rows.clone(),
             held_dof: self.held_dof,
+            held_from_assembly: self.held_from_assembly,
         }
     }
 }

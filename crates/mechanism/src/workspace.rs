@@ -135,7 +135,7 @@ pub(crate) struct KinematicSolver {
     pub(crate) x_start: Vec<f64>,
     /// Instead of `newton`, for a run that holds free degrees of freedom
     /// ([`crate::analysis::least_change`]): the least-change solver and the free DOF.
-    pub(crate) held: Option<(crate::analysis::least_change::LeastChange, usize)>,
+    pub(crate) held: Option<(crate::analysis::least_change::LeastChange, usize, bool)>,
 }
 
 /// Length m: whether the kinematic solver keeps each row (false: dropped as redundant), and

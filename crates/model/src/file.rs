@@ -595,6 +595,10 @@ pub struct AnalysisSection {
     /// held still by least change, as OndselSolver does.
     #[serde(default)]
     pub free_dof: Option<Name>,
+    /// kinematic, inverse_dynamics: "refuse" (default) or "drop": an over-constrained model
+    /// whose redundant joints disagree runs with the disagreeing rows dropped and left open.
+    #[serde(default)]
+    pub inconsistent_joints: Option<Name>,
 }
 
 /// `[analysis.outputs]`.

@@ -330,6 +330,21 @@ pub fn analysis_error(p: &Prepared, e: &AnalysisError) -> Error {
             worst.first().and_then(|(d, _)| spans.element(&d.element)),
             format!("{e}"),
         ),
+        AnalysisError::InconsistentJoints { dropped, .. } => located(
+            dropped
+                .first()
+                .and_then(|d| spans.element(&d.equation.element)),
+            format!(
+                "{e}. To run it as OndselSolver does, with these rows dropped and left open (a \
+                 warning names them and their residual), set inconsistent_joints = \"drop\" in \
+                 [analysis]{}",
+                if p.source.path.to_string_lossy().contains(".asmt") {
+                    " of the model `cardan import` writes from this file"
+                } else {
+                    ""
+                }
+            ),
+        ),
         AnalysisError::DriverBranch { driver, .. } => {
             located(spans.element(driver), format!("{e}"))
         }

@@ -85,6 +85,12 @@ pub struct AssemblyOptions {
     pub tolerances: Tolerances,
     /// Cap on the scaled step per iteration (default 0.5).
     pub max_step: Option<f64>,
+    /// An over-constrained model whose redundant rows disagree grossly
+    /// ([`AnalysisError::InconsistentJoints`]) is assembled anyway with those rows dropped and
+    /// left open, as OndselSolver does (default false: refused). The rows dropped and how far
+    /// they stay open are in [`AssemblyReport::dropped_residual`] and, in a run, its
+    /// `dropped_rows` (warnings of the front end).
+    pub drop_inconsistent: bool,
 }
 
 impl Default for AssemblyOptions {
@@ -95,6 +101,7 @@ impl Default for AssemblyOptions {
             max_iterations: 50,
             tolerances: Tolerances::default(),
             max_step: Some(0.5),
+            drop_inconsistent: false,
         }
     }
 }
@@ -333,32 +340,7 @@ impl Model {
         ws.motion.v.fill(0.0);
         ws.motion.vdot.fill(0.0);
         ws.invalidate();
-        let result = if m == 0 {
-            Ok(None)
-        } else {
-            let mut sys = AssemblySystem {
-                model: self,
-                bodies: &mut ws.pose.bodies,
-                turns: &ws.pose.turns,
-                t: options.t,
-                m,
-                phi: vec![0.0; self.num_equations()],
-                slots: vec![0.0; self.pattern.num_slots()],
-            };
-            if n >= SPARSE_RANK_MIN_UNKNOWNS {
-                min_norm_newton(
-                    &pattern,
-                    SparseMinNorm::new(),
-                    nopts,
-                    &mut sys,
-                    &mut ws.pose.x,
-                )
-            } else {
-                min_norm_newton(&pattern, MinNormQr::new(), nopts, &mut sys, &mut ws.pose.x)
-            }
-            .map_err(|e| crate::analysis::dof::solver(options.t, e))?
-        };
-        ws.sync_poses();
+        let result = self.min_norm_solve(ws, options.t, &pattern, nopts)?;
         match result {
             Ok(rep) => Ok(self.assembled(ws, &guess, rep, 0.0)),
             Err(e) => {
@@ -369,16 +351,95 @@ impl Model {
                 if iterations > 0 {
                     // A slightly inconsistent redundant model: the iterate is near its
                     // least-squares pose, where the kept rows can be solved exactly.
-                    if let Some(kept) = self.assemble_kept_rows(ws, options, &pattern, nopts) {
+                    if let Some(kept) = self.assemble_kept_rows(ws, options, &pattern, nopts, false)
+                    {
                         return kept.map(|(rep, dropped)| self.assembled(ws, &guess, rep, dropped));
                     }
                 }
-                Err(AnalysisError::AssemblyFailed {
-                    open: self.open_elements(ws, m, options.tolerances.residual.max(1e-8)),
-                    iterations,
-                })
+                let open = self.open_elements(ws, m, options.tolerances.residual.max(1e-8));
+                if let Some(fit) = self.assemble_from_best_fit(ws, options, &guess, &pattern, nopts)
+                {
+                    return fit;
+                }
+                Err(AnalysisError::AssemblyFailed { open, iterations })
             }
         }
+    }
+
+    /// Newton with the minimum-norm step on `pattern`'s rows from the workspace's poses at `t`
+    /// (dense QR, or sparse from [`SPARSE_RANK_MIN_UNKNOWNS`] unknowns); the poses synced.
+    fn min_norm_solve(
+        &self,
+        ws: &mut Workspace,
+        t: f64,
+        pattern: &SparsityPattern,
+        nopts: NewtonOptions,
+    ) -> Result<Solved, AnalysisError> {
+        let m = pattern.nrows();
+        if m == 0 {
+            return Ok(Ok(None));
+        }
+        let mut sys = AssemblySystem {
+            model: self,
+            bodies: &mut ws.pose.bodies,
+            turns: &ws.pose.turns,
+            t,
+            m,
+            phi: vec![0.0; self.num_equations()],
+            slots: vec![0.0; self.pattern.num_slots()],
+        };
+        let solved = if self.num_unknowns() >= SPARSE_RANK_MIN_UNKNOWNS {
+            min_norm_newton(
+                pattern,
+                SparseMinNorm::new(),
+                nopts,
+                &mut sys,
+                &mut ws.pose.x,
+            )
+        } else {
+            min_norm_newton(pattern, MinNormQr::new(), nopts, &mut sys, &mut ws.pose.x)
+        }
+        .map_err(|e| crate::analysis::dof::solver(t, e))?;
+        ws.sync_poses();
+        Ok(solved)
+    }
+
+    /// After Newton failed from the drawn pose `guess`: the best fit of the equations from
+    /// there (`analysis::best_fit`). When it satisfies them, Newton from it (a part drawn far
+    /// from its place: the best fit globalizes); when it does not, the model is inconsistent:
+    /// the rows the rank analysis drops there, with the others solved
+    /// ([`Self::assemble_kept_rows`]: [`AnalysisError::InconsistentJoints`] naming them and
+    /// how far they stay open, or the pose with them dropped under
+    /// [`AssemblyOptions::drop_inconsistent`]). `None` when the best fit cannot be found or
+    /// leads nowhere (the caller reports the Newton failure).
+    fn assemble_from_best_fit(
+        &self,
+        ws: &mut Workspace,
+        options: &AssemblyOptions,
+        guess: &[f64],
+        pattern: &SparsityPattern,
+        nopts: NewtonOptions,
+    ) -> Option<Result<AssemblyReport, AnalysisError>> {
+        let failed = ws.pose.x.clone();
+        ws.pose.x.copy_from_slice(guess);
+        let off = self.best_fit(ws, options.t, pattern.nrows());
+        let outcome = match off {
+            Some(off) if off <= options.tolerances.residual => {
+                match self.min_norm_solve(ws, options.t, pattern, nopts) {
+                    Ok(Ok(rep)) => Some(Ok(self.assembled(ws, guess, rep, 0.0))),
+                    _ => None,
+                }
+            }
+            Some(_) => self
+                .assemble_kept_rows(ws, options, pattern, nopts, true)
+                .map(|kept| kept.map(|(rep, dropped)| self.assembled(ws, guess, rep, dropped))),
+            None => None,
+        };
+        if outcome.is_none() {
+            ws.pose.x.copy_from_slice(&failed);
+            ws.sync_poses();
+        }
+        outcome
     }
 
     /// The report of an assembly that reached the workspace's poses from `guess` (the turns of
@@ -425,11 +486,14 @@ impl Model {
         options: &AssemblyOptions,
         pattern: &SparsityPattern,
         nopts: NewtonOptions,
+        at_best_fit: bool,
     ) -> Option<Result<(MinNormSolve, f64), AnalysisError>> {
         let (m, t) = (pattern.nrows(), options.t);
         self.phi_into(&ws.pose.bodies, &ws.pose.turns, t, &mut ws.rows.phi);
         let off = self.scaled_residual(&ws.rows.phi, m);
-        if off > crate::analysis::dropped::LEAST_SQUARES_MAX_RESIDUAL || off.is_nan() {
+        if (off > crate::analysis::dropped::LEAST_SQUARES_MAX_RESIDUAL && !at_best_fit)
+            || off.is_nan()
+        {
             // Not close: a model that cannot close (or a non-finite iterate).
             return None;
         }
@@ -478,7 +542,9 @@ impl Model {
             kept[r] = true;
         }
         let dropped = self.dropped_residual(&ws.rows.phi[..m], &kept);
-        if dropped > crate::analysis::dropped::gross_inconsistency(options.tolerances.residual) {
+        if dropped > crate::analysis::dropped::gross_inconsistency(options.tolerances.residual)
+            && !options.drop_inconsistent
+        {
             let rows =
                 self.dropped_rows_at(&ws.rows.phi[..m], &kept, t, options.tolerances.residual);
             return Some(Err(AnalysisError::InconsistentJoints {

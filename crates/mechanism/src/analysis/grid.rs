@@ -134,6 +134,10 @@ pub struct KinematicOptions {
     /// Degrees of freedom no driver prescribes: refused (the default) or held by least change
     /// ([`crate::analysis::least_change`]). Read when the run prepares the workspace.
     pub free_dof: FreeDof,
+    /// Assemble an inconsistent over-constrained model with its disagreeing rows dropped
+    /// ([`AssemblyOptions::drop_inconsistent`]); default false. Read when the run prepares the
+    /// workspace.
+    pub drop_inconsistent: bool,
 }
 
 impl KinematicOptions {
@@ -146,6 +150,21 @@ impl KinematicOptions {
             outputs: Outputs::default(),
             tolerance: Tolerances::default().residual,
             free_dof: FreeDof::Refuse,
+            drop_inconsistent: false,
+        }
+    }
+
+    /// The same options with [`KinematicOptions::drop_inconsistent`] set.
+    pub fn drop_inconsistent(mut self, drop: bool) -> Self {
+        self.drop_inconsistent = drop;
+        self
+    }
+
+    /// The assembly options of a run at t0 (drivers included).
+    pub(crate) fn assembly(&self) -> AssemblyOptions {
+        AssemblyOptions {
+            drop_inconsistent: self.drop_inconsistent,
+            ..AssemblyOptions::at(self.t0)
         }
     }
 
@@ -353,6 +372,7 @@ impl Model {
             row_reselections: frame.row_reselections,
             dropped_rows: self.dropped_rows_of_run(ws),
             held_dof: 0,
+            held_from_assembly: false,
         })
     }
 
@@ -374,11 +394,11 @@ impl Model {
         // not "open").
         let joints_only = AssemblyOptions {
             include_drivers: false,
-            ..AssemblyOptions::at(options.t0)
+            ..options.assembly()
         };
         self.assemble(ws, &joints_only)?;
         ws.grid.x_tmp.copy_from_slice(&ws.pose.x);
-        if let Err(e) = self.assemble(ws, &AssemblyOptions::at(options.t0)) {
+        if let Err(e) = self.assemble(ws, &options.assembly()) {
             ws.pose.x.copy_from_slice(&ws.grid.x_tmp);
             ws.sync_poses();
             ws.invalidate();
@@ -845,6 +865,7 @@ impl Model {
             iterations: Vec::with_capacity(n),
             subdivided_steps: 0,
             held_dof: 0,
+            held_from_assembly: false,
             row_reselections: 0,
             dropped_rows: Vec::new(),
         }

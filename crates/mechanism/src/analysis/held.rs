@@ -35,16 +35,15 @@ impl Model {
         let mut solver = LeastChange::new(self, metric.weights(self))
             .map_err(|e| self.map_solver_error(options.t0, e))?;
         solver.old.copy_from_slice(&drawn);
-        if let Err(e) = solver.solve(self, ws, options.t0, options.tolerance) {
-            // From the usual (minimum-norm) assembly's pose, when it assembles.
+        let from_assembly = solver
+            .solve(self, ws, options.t0, options.tolerance)
+            .is_err();
+        if from_assembly {
+            // From the usual (minimum-norm) assembly's pose, when it assembles; its error,
+            // which names what stays open and diagnoses an inconsistent model, when not.
             ws.pose.x.copy_from_slice(&drawn);
             ws.sync_poses();
-            if self
-                .assemble(ws, &crate::AssemblyOptions::at(options.t0))
-                .is_err()
-            {
-                return Err(e);
-            }
+            self.assemble(ws, &options.assembly())?;
         }
         self.accept_turns(&ws.pose.bodies, &mut ws.pose.turns);
         ws.invalidate();
@@ -55,7 +54,7 @@ impl Model {
             ws.invalidate();
             return Ok(false);
         }
-        ws.kin.held = Some((solver, report.dof - report.drivers));
+        ws.kin.held = Some((solver, report.dof - report.drivers, from_assembly));
         ws.kin.dof = Some(report);
         Ok(true)
     }
@@ -68,7 +67,8 @@ impl Model {
         options: &KinematicOptions,
         sink: &mut impl FrameSink,
     ) -> Result<RunTotals, AnalysisError> {
-        let (mut solver, held) = ws.kin.held.take().expect("prepared by prepare_held");
+        let (mut solver, held, from_assembly) =
+            ws.kin.held.take().expect("prepared by prepare_held");
         let mut frame = self.allocate_results(options, 1);
         let mut memory = JointMemory::new(self.joints.len());
         let mut frames = 0;
@@ -80,6 +80,7 @@ impl Model {
             {
                 frame.clear_frames();
                 frame.held_dof = held;
+                frame.held_from_assembly = from_assembly;
                 run = Err(e.with_partial(frame.clone()));
                 break;
             }
@@ -88,13 +89,14 @@ impl Model {
                 break;
             }
         }
-        ws.kin.held = Some((solver, held));
+        ws.kin.held = Some((solver, held, from_assembly));
         run.map(|()| RunTotals {
             frames,
             subdivided_steps: 0,
             row_reselections: 0,
             dropped_rows: Vec::new(),
             held_dof: held,
+            held_from_assembly: from_assembly,
         })
     }
 

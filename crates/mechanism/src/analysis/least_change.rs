@@ -196,7 +196,7 @@ pub struct LeastChange {
 }
 
 /// Iteration cap of a least-change solve.
-pub const MAX_ITERATIONS: usize = 60;
+pub const MAX_ITERATIONS: usize = 500;
 
 /// Scaled step (|Δr|/L, |Δθ|) below which a converged least-change iteration stops: near
 /// roundoff, since the weights (up to 1e6 against 1e3) amplify what is left of the step in the

@@ -18,6 +18,7 @@
 
 pub mod acceleration;
 pub mod assembly;
+pub(crate) mod best_fit;
 pub mod dof;
 pub mod drag;
 pub mod dropped;

@@ -186,7 +186,9 @@ fn setup(p: &Prepared) -> Result<(cardan_dynamics::Dynamics<'_>, KinematicOption
         return Err(crate::prepare::not_fully_driven(p, dof.dof, 0));
     }
     let d = dynamics_as(p, WHAT)?;
-    let opts = KinematicOptions::new(a.t_start, a.t_end, a.steps).tolerance(a.tolerance);
+    let opts = KinematicOptions::new(a.t_start, a.t_end, a.steps)
+        .tolerance(a.tolerance)
+        .drop_inconsistent(a.drop_inconsistent);
     Ok((d, opts))
 }
 

@@ -33,7 +33,8 @@ pub(super) fn run_kinematic(
 ) -> Result<Analysed, Error> {
     let opts = KinematicOptions::new(analysis.t_start, analysis.t_end, analysis.steps)
         .tolerance(analysis.tolerance)
-        .free_dof(analysis.free_dof);
+        .free_dof(analysis.free_dof)
+        .drop_inconsistent(analysis.drop_inconsistent);
     let start = Instant::now();
     let mut bar = crate::progress::Progress::new(progress, opts.steps as u64 + 1);
     let mut ws = p.model.workspace();
@@ -83,11 +84,7 @@ pub(super) fn run_kinematic(
         energy_balance: None,
         peak_efforts: Vec::new(),
         warnings: (dropped_row_warnings(p, &totals.dropped_rows).into_iter())
-            .chain(super::warnings::held_dof_warning(
-                p,
-                analysis,
-                totals.held_dof,
-            ))
+            .chain(super::warnings::held_dof_warning(p, analysis, &totals))
             .collect(),
         subdivided_steps: Some(totals.subdivided_steps),
         row_reselections: totals.row_reselections,

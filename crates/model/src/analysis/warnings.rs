@@ -24,6 +24,18 @@ pub fn dropped_row_warnings(p: &Prepared, rows: &[DroppedRowResidual]) -> Vec<St
                 Dimension::Length => format!("{:.2e} {unit}", d.value.abs() * factor),
                 Dimension::Area => format!("{:.2e} {unit}²", d.value.abs() * factor * factor),
             };
+            let tol = p.loaded.analysis.as_ref().map_or(1e-10, |a| a.tolerance);
+            if d.residual > cardan_mechanism::gross_inconsistency(tol) {
+                return format!(
+                    "THE MODEL IS INCONSISTENT: {} was dropped and left open by {value} ({:.2e} \
+                     relative to the model's size) at worst, at t = {} s; the run goes on only \
+                     because inconsistent_joints = \"drop\" (as OndselSolver runs it): the \
+                     results satisfy the other equations and violate this one, so they are not \
+                     a motion of the mechanism as drawn (make the joints' geometry consistent, \
+                     or use a joint with fewer equations)",
+                    d.equation, d.residual, d.time
+                );
+            }
             format!(
                 "{} was dropped as redundant but is not satisfied: |Φ| = {value} ({:.2e} \
                  relative to the model's size) at worst, at t = {} s; the model's redundant \
@@ -42,11 +54,19 @@ pub fn dropped_row_warnings(p: &Prepared, rows: &[DroppedRowResidual]) -> Vec<St
 pub fn held_dof_warning(
     p: &Prepared,
     analysis: &crate::build::Analysis,
-    held: usize,
+    totals: &cardan_mechanism::RunTotals,
 ) -> Option<String> {
+    let held = totals.held_dof;
     if held == 0 {
         return None;
     }
+    let start = if totals.held_from_assembly {
+        "; the least change from the drawn pose did not converge (a distance joint drawn far \
+         from its place?), so they start from the pose the minimum-norm assembly reaches \
+         instead, which OndselSolver's may not be (draw the parts nearer their places)"
+    } else {
+        ""
+    };
     let names = crate::free_dof::free_coordinates(&p.model, analysis.t_start)
         .map_or(String::new(), |n| format!(" ({})", n.join(", ")));
     let s = if held == 1 { "" } else { "s" };
@@ -55,7 +75,7 @@ pub fn held_dof_warning(
          (free_dof = \"hold\", OndselSolver's weights): the free parts move only as the joints \
          and drivers force them, and their poses depend on the output step (a path of least \
          changes, not a motion); drive them, or run kind = \"dynamic\" for the motion forces \
-         produce"
+         produce{start}"
     ))
 }
 

@@ -77,6 +77,10 @@ pub(super) fn load_analysis(
         }),
         _ => FreeDof::Refuse,
     };
+    let drop_inconsistent = a
+        .inconsistent_joints
+        .as_ref()
+        .is_some_and(|f| f.get_ref() == "drop");
     Ok(Analysis {
         kind,
         t_start,
@@ -90,6 +94,7 @@ pub(super) fn load_analysis(
         linearize_at,
         modes,
         free_dof,
+        drop_inconsistent,
     })
 }
 

@@ -190,6 +190,9 @@ pub struct Analysis {
     pub modes: Option<usize>,
     /// Kinematic: degrees of freedom no driver prescribes refused or held (`free_dof`).
     pub free_dof: cardan_mechanism::FreeDof,
+    /// Kinematic, inverse dynamics: run an inconsistent over-constrained model with its
+    /// disagreeing rows dropped (`inconsistent_joints = "drop"`).
+    pub drop_inconsistent: bool,
 }
 
 /// Modes of a modal analysis on the sparse path (large models) without `modes = ...`.

@@ -115,8 +115,30 @@ const FREE_DOF: Key = Key::new(
     "degrees of freedom no driver prescribes: \"refuse\" the run, or \"hold\" them still by the least change from the last output time, weighted as OndselSolver weights it (the default of an ASMT file)",
 )
 .elsewhere("inverse dynamics needs a fully driven mechanism; a dynamic run moves the free degrees of freedom by the forces");
-const KINEMATIC: &[Key] = &[T_START, T_END, STEPS, DT, POSITION_TOLERANCE, FREE_DOF];
-const INVERSE_DYNAMICS: &[Key] = &[T_START, T_END, STEPS, DT, POSITION_TOLERANCE];
+const INCONSISTENT_JOINTS: Key = Key::new(
+    "inconsistent_joints",
+    Value::Choice(&["refuse", "drop"]),
+    Default::Is("\"refuse\""),
+    "an over-constrained model whose redundant joints disagree: \"refuse\" it, naming the rows that stay open at the best fit, or \"drop\" those rows and run with them open, as OndselSolver does (a warning at every run)",
+)
+.elsewhere("a dynamic run assembles only consistent models");
+const KINEMATIC: &[Key] = &[
+    T_START,
+    T_END,
+    STEPS,
+    DT,
+    POSITION_TOLERANCE,
+    FREE_DOF,
+    INCONSISTENT_JOINTS,
+];
+const INVERSE_DYNAMICS: &[Key] = &[
+    T_START,
+    T_END,
+    STEPS,
+    DT,
+    POSITION_TOLERANCE,
+    INCONSISTENT_JOINTS,
+];
 const DYNAMIC: &[Key] = &[
     T_START,
     T_END,
