@@ -133,9 +133,6 @@ pub(crate) struct KinematicSolver {
     /// The Newton start of the current position solve, kept when the solver works on a
     /// selection of rows (to retry from it after a re-selection).
     pub(crate) x_start: Vec<f64>,
-    /// Instead of `newton`, for a run that holds free degrees of freedom
-    /// ([`crate::analysis::least_change`]): the least-change solver and the free DOF.
-    pub(crate) held: Option<(crate::analysis::least_change::LeastChange, usize, bool)>,
 }
 
 /// Length m: whether the kinematic solver keeps each row (false: dropped as redundant), and
@@ -243,7 +240,6 @@ impl Workspace {
                 newton: None,
                 dof: None,
                 x_start: vec![0.0; 7 * nb],
-                held: None,
             },
             dropped: DroppedRows {
                 kept: vec![true; m],

@@ -41,7 +41,7 @@
 //! time, the named equations, and the results up to the last successful step.
 
 use crate::analysis::assembly::AssemblyOptions;
-use crate::analysis::least_change::FreeDof;
+use crate::analysis::least_change::{FreeDof, HeldRun};
 use crate::analysis::position::{OpenRow, PositionReport};
 use crate::error::AnalysisError;
 use crate::model::{BodyId, Model};
@@ -341,11 +341,10 @@ impl Model {
         sink: &mut impl FrameSink,
     ) -> Result<RunTotals, AnalysisError> {
         options.validate()?;
-        if ws.kin.newton.is_none() && ws.kin.held.is_none() {
-            self.prepare_run(ws, options)?;
-        }
-        if ws.kin.held.is_some() {
-            return self.held_into(ws, options, sink);
+        if ws.kin.newton.is_none() {
+            if let Some(held) = self.prepare_run(ws, options)? {
+                return self.held_into(ws, options, sink, held);
+            }
         }
         let mut frame = self.allocate_results(options, 1);
         let mut memory = JointMemory::new(self.joints.len());
@@ -382,10 +381,10 @@ impl Model {
         &self,
         ws: &mut Workspace,
         options: &KinematicOptions,
-    ) -> Result<(), AnalysisError> {
+    ) -> Result<Option<HeldRun>, AnalysisError> {
         if let FreeDof::Hold(metric) = options.free_dof {
-            if self.prepare_held(ws, options, metric)? {
-                return Ok(());
+            if let Some(held) = self.prepare_held(ws, options, metric)? {
+                return Ok(Some(held));
             }
         }
         // Joints first, then the drivers. The preparation below checks the driver count
@@ -416,7 +415,7 @@ impl Model {
             ..Self::kinematic_newton_options()
         };
         self.prepare_kinematics_with(ws, newton)?;
-        Ok(())
+        Ok(None)
     }
 
     /// The dropped rows off by more than the kinematic solver's residual tolerance during the

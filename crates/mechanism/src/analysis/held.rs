@@ -11,7 +11,7 @@
 //! Φ_v v̇ = γ# at each solved pose.
 
 use crate::analysis::grid::{JointMemory, KinematicOptions};
-use crate::analysis::least_change::{HoldMetric, LeastChange, LeastChangeReport};
+use crate::analysis::least_change::{HeldRun, HoldMetric, LeastChange, LeastChangeReport};
 use crate::error::AnalysisError;
 use crate::model::Model;
 use crate::results::{FrameSink, Results, RunTotals};
@@ -20,8 +20,8 @@ use crate::workspace::Workspace;
 impl Model {
     /// Prepares a held run at `options.t0`: the least change from the workspace's (drawn)
     /// poses with the drivers; when the joints leave more DOF than there are drivers, the
-    /// least-change solver is kept in the workspace and `true` returned. `false` (the pose
-    /// restored) for a model the usual preparation handles: fully or over-driven.
+    /// run ([`HeldRun`]). `None` (the pose restored) for a model the usual preparation
+    /// handles: fully or over-driven.
     ///
     /// # Errors
     /// The least-change assembly's failure, when the usual assembly fails too.
@@ -30,7 +30,7 @@ impl Model {
         ws: &mut Workspace,
         options: &KinematicOptions,
         metric: HoldMetric,
-    ) -> Result<bool, AnalysisError> {
+    ) -> Result<Option<HeldRun>, AnalysisError> {
         let drawn = ws.pose.x.clone();
         let mut solver = LeastChange::new(self, metric.weights(self))
             .map_err(|e| self.map_solver_error(options.t0, e))?;
@@ -52,11 +52,15 @@ impl Model {
             ws.pose.x.copy_from_slice(&drawn);
             ws.sync_poses();
             ws.invalidate();
-            return Ok(false);
+            return Ok(None);
         }
-        ws.kin.held = Some((solver, report.dof - report.drivers, from_assembly));
+        let held = report.dof - report.drivers;
         ws.kin.dof = Some(report);
-        Ok(true)
+        Ok(Some(HeldRun {
+            solver,
+            held,
+            from_assembly,
+        }))
     }
 
     /// The time grid of a held run (module docs), streamed to `sink` as
@@ -66,9 +70,13 @@ impl Model {
         ws: &mut Workspace,
         options: &KinematicOptions,
         sink: &mut impl FrameSink,
+        run: HeldRun,
     ) -> Result<RunTotals, AnalysisError> {
-        let (mut solver, held, from_assembly) =
-            ws.kin.held.take().expect("prepared by prepare_held");
+        let HeldRun {
+            mut solver,
+            held,
+            from_assembly,
+        } = run;
         let mut frame = self.allocate_results(options, 1);
         let mut memory = JointMemory::new(self.joints.len());
         let mut frames = 0;
@@ -89,7 +97,6 @@ impl Model {
                 break;
             }
         }
-        ws.kin.held = Some((solver, held, from_assembly));
         run.map(|()| RunTotals {
             frames,
             subdivided_steps: 0,

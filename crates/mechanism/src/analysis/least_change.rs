@@ -145,6 +145,15 @@ fn rotation_tangent(p: &Vector4<f64>) -> Matrix4x3<f64> {
     q * 0.5
 }
 
+/// A prepared held run: the least-change solver, the free DOF it holds, and whether it starts
+/// from the minimum-norm assembly's pose ([`crate::Results::held_from_assembly`]).
+#[derive(Debug)]
+pub(crate) struct HeldRun {
+    pub(crate) solver: LeastChange,
+    pub(crate) held: usize,
+    pub(crate) from_assembly: bool,
+}
+
 /// One solve's outcome.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LeastChangeReport {

@@ -225,6 +225,7 @@ pub fn analyse_into(
     let progress = flags.progress;
     let kind = analysis.kind.name();
     let ran = match analysis.kind {
+        AnalysisKind::Static(k) if quasi_stops::applies(p, k) => quasi_stops::run(p, analysis),
         AnalysisKind::Static(k) => statics::run_statics(p, analysis, k),
         AnalysisKind::Dynamic(_) => run_dynamic(p, analysis, flags, dir, solved),
         AnalysisKind::InverseDynamics => run_inverse(p, analysis, progress, dir, solved),

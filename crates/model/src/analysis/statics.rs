@@ -41,15 +41,13 @@ const MOTION_GROUPS: [&str; 6] = [
 ];
 
 /// Runs a static kind: the equilibria (and modes), the tables, the summary. A quasi-static
-/// failure after the first time keeps the equilibria found before it.
+/// failure after the first time keeps the equilibria found before it. (A quasi-static run
+/// through stops goes to `quasi_stops` instead: the caller, `analysis::analyse`, decides.)
 pub(super) fn run_statics(
     p: &Prepared,
     analysis: &Analysis,
     kind: StaticKind,
 ) -> Result<Analysed, Error> {
-    if super::quasi_stops::applies(p, kind) {
-        return super::quasi_stops::run(p, analysis);
-    }
     let start = Instant::now();
     // The stops the equilibrium rests on, held (`resting`): the model to analyse.
     let equilibrium = |q: &Prepared, o: &StaticOptions| {
