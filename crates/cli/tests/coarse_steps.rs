@@ -6,6 +6,7 @@
 mod common;
 use cardan_mechanism::{KinematicOptions, Outputs};
 use cardan_model::prepare::prepare;
+use common::rssr_q;
 use nalgebra::Vector3;
 use std::f64::consts::PI;
 use std::path::PathBuf;
@@ -14,17 +15,6 @@ fn example(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("../../examples")
         .join(format!("{name}.toml"))
-}
-
-/// The RSSR rocker tip Q at crank angle θ on the drawn branch (closed form of
-/// `examples.rs::rssr_matches_closed_form`).
-fn rssr_q(th: f64) -> Vector3<f64> {
-    let (a, b, l) = (0.1, 0.2, 0.35);
-    let g = Vector3::new(0.3, 0.15, 0.1);
-    let w = g - Vector3::new(a * th.cos(), a * th.sin(), 0.0);
-    let cc = (l * l - w.norm_squared() - b * b) / (2.0 * b);
-    let psi = w.z.atan2(w.x) + (cc / w.x.hypot(w.z)).acos();
-    g + b * Vector3::new(psi.cos(), 0.0, psi.sin())
 }
 
 /// Largest |Q − Q(θ)| of an RSSR run of `steps` steps from 0 to `t_end` (θ = 2πt), and the

@@ -6,10 +6,11 @@
 //! every motion to its end, the driven coordinates equal to the formula and a closed loop on its
 //! closed form, whatever the predictor does at the knots.
 
+mod common;
 use cardan_mechanism::KinematicOptions;
 use cardan_model::diag::Source;
 use cardan_model::prepare::prepare_source;
-use nalgebra::Vector3;
+use common::rssr_q;
 use std::path::PathBuf;
 
 /// Knots at t = 1, 2, …, `knots` (output times of a 0.1 s grid).
@@ -114,16 +115,6 @@ fn an_arm_with_four_blended_motions_follows_them_to_the_end() {
     // Blends of 1/100 and 1/1000 of the 0.1 s output step.
     arm(1e3);
     arm(1e4);
-}
-
-/// The RSSR rocker tip Q at crank angle θ (`coarse_steps.rs`).
-fn rssr_q(th: f64) -> Vector3<f64> {
-    let (a, b, l) = (0.1, 0.2, 0.35);
-    let g = Vector3::new(0.3, 0.15, 0.1);
-    let w = g - Vector3::new(a * th.cos(), a * th.sin(), 0.0);
-    let cc = (l * l - w.norm_squared() - b * b) / (2.0 * b);
-    let psi = w.z.atan2(w.x) + (cc / w.x.hypot(w.z)).acos();
-    g + b * Vector3::new(psi.cos(), 0.0, psi.sin())
 }
 
 #[test]

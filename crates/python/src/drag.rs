@@ -3,11 +3,10 @@
 //! assembled at `time` from the drawn one), the point of the body pulled toward the target, and
 //! the new pose returned with how far the step got. Lengths in the model's units.
 
-use crate::convert::{error_dict, ErrorData};
+use crate::convert::{error_dict, prepared_or_error, ErrorData};
 use cardan_mechanism::nalgebra::{Vector3, Vector4};
 use cardan_mechanism::{AnalysisError, AssemblyOptions, Drag, DragStop};
-use cardan_model::diag::Source;
-use cardan_model::prepare::{analysis_error, prepare_source, Prepared};
+use cardan_model::prepare::{analysis_error, Prepared};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::collections::HashMap;
@@ -31,12 +30,8 @@ pub fn drag<'py>(
     time: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let out = PyDict::new(py);
-    let p = match prepare_source(Source::from_text(path, text)) {
-        Ok(p) => p,
-        Err(e) => {
-            out.set_item("error", error_dict(py, &ErrorData::from(&e))?)?;
-            return Ok(out);
-        }
+    let Some(p) = prepared_or_error(py, &out, text, path)? else {
+        return Ok(out);
     };
     match step(&p, &body, target, point.as_deref(), pose.as_ref(), time) {
         Ok((new_pose, report)) => {

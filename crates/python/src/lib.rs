@@ -34,7 +34,7 @@ use cardan_model::plot::PlotFiles;
 use cardan_model::prepare::{analysis_error, prepare_source};
 use cardan_model::progress;
 use cardan_model::table::Table;
-use convert::{error_dict, table_tuple, ErrorData};
+use convert::{error_dict, prepared_or_error, table_tuple, ErrorData};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use std::sync::{mpsc, Mutex};
@@ -241,12 +241,8 @@ fn run<'py>(
 #[pyfunction]
 fn check<'py>(py: Python<'py>, text: String, path: String) -> PyResult<Bound<'py, PyDict>> {
     let out = PyDict::new(py);
-    let p = match prepare_source(Source::from_text(path, text)) {
-        Ok(p) => p,
-        Err(e) => {
-            out.set_item("error", error_dict(py, &ErrorData::from(&e))?)?;
-            return Ok(out);
-        }
+    let Some(p) = prepared_or_error(py, &out, text, path)? else {
+        return Ok(out);
     };
     let model = &p.model;
     let t0 = p.loaded.analysis.as_ref().map_or(0.0, |a| a.t_start);

@@ -140,3 +140,15 @@ pub fn matrix_market_dense(path: &Path) -> nalgebra::DMatrix<f64> {
     }
     m
 }
+
+/// The RSSR four-bar's rocker tip Q (`examples/rssr_fourbar.toml`) at crank angle θ on the drawn
+/// branch (closed form of `examples.rs::rssr_matches_closed_form`).
+pub fn rssr_q(th: f64) -> nalgebra::Vector3<f64> {
+    use nalgebra::Vector3;
+    let (a, b, l) = (0.1, 0.2, 0.35);
+    let g = Vector3::new(0.3, 0.15, 0.1);
+    let w = g - Vector3::new(a * th.cos(), a * th.sin(), 0.0);
+    let cc = (l * l - w.norm_squared() - b * b) / (2.0 * b);
+    let psi = w.z.atan2(w.x) + (cc / w.x.hypot(w.z)).acos();
+    g + b * Vector3::new(psi.cos(), 0.0, psi.sin())
+}

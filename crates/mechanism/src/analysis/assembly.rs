@@ -170,6 +170,28 @@ struct AssemblySystem<'a> {
     slots: Vec<f64>,
 }
 
+impl<'a> AssemblySystem<'a> {
+    /// The first `m` equations of `model` at time `t` over `bodies` (couplers' angles
+    /// continued from `turns`).
+    fn new(
+        model: &'a Model,
+        bodies: &'a mut [BodyState],
+        turns: &'a [[f64; 2]],
+        t: f64,
+        m: usize,
+    ) -> Self {
+        Self {
+            model,
+            bodies,
+            turns,
+            t,
+            m,
+            phi: vec![0.0; model.num_equations()],
+            slots: vec![0.0; model.pattern.num_slots()],
+        }
+    }
+}
+
 impl NonlinearSystem for AssemblySystem<'_> {
     fn num_equations(&self) -> usize {
         self.m
@@ -379,15 +401,7 @@ impl Model {
         if m == 0 {
             return Ok(Ok(None));
         }
-        let mut sys = AssemblySystem {
-            model: self,
-            bodies: &mut ws.pose.bodies,
-            turns: &ws.pose.turns,
-            t,
-            m,
-            phi: vec![0.0; self.num_equations()],
-            slots: vec![0.0; self.pattern.num_slots()],
-        };
+        let mut sys = AssemblySystem::new(self, &mut ws.pose.bodies, &ws.pose.turns, t, m);
         let solved = if self.num_unknowns() >= SPARSE_RANK_MIN_UNKNOWNS {
             min_norm_newton(
                 pattern,
@@ -506,15 +520,7 @@ impl Model {
             return None;
         }
         let selection = pattern.select_rows(ra.independent_rows()).ok()?;
-        let mut sys = AssemblySystem {
-            model: self,
-            bodies: &mut ws.pose.bodies,
-            turns: &ws.pose.turns,
-            t,
-            m,
-            phi: vec![0.0; self.num_equations()],
-            slots: vec![0.0; self.pattern.num_slots()],
-        };
+        let mut sys = AssemblySystem::new(self, &mut ws.pose.bodies, &ws.pose.turns, t, m);
         let solved = if self.num_unknowns() >= SPARSE_RANK_MIN_UNKNOWNS {
             kept_rows_newton(
                 pattern,
