@@ -339,7 +339,7 @@ impl LeastChange {
         Ok(())
     }
 
-    /// Moves the workspace's poses to the least change from [`Self::old`] that satisfies
+    /// Moves the workspace's poses to the least change from the pose set as `old` that satisfies
     /// Φ(q, t) = 0 (module docs). No allocation. `tolerance`: the scaled residual.
     ///
     /// # Errors
