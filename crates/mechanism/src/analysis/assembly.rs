@@ -420,7 +420,8 @@ impl Model {
 
     /// After Newton failed from the drawn pose `guess`: the best fit of the equations from
     /// there (`analysis::best_fit`). When it satisfies them, Newton from it (a part drawn far
-    /// from its place: the best fit globalizes); when it does not, the model is inconsistent:
+    /// from its place: the best fit globalizes); when it does not and the model is
+    /// over-constrained as drawn (redundant rows at the drawn pose), it is inconsistent:
     /// the rows the rank analysis drops there, with the others solved
     /// ([`Self::assemble_kept_rows`]: [`AnalysisError::InconsistentJoints`] naming them and
     /// how far they stay open, or the pose with them dropped under
@@ -436,6 +437,24 @@ impl Model {
     ) -> Option<Result<AssemblyReport, AnalysisError>> {
         let failed = ws.pose.x.clone();
         ws.pose.x.copy_from_slice(guess);
+        ws.sync_poses();
+        // Over-constrained as drawn: some equations are redundant at the drawn pose. A loop
+        // that merely cannot close (a coupler too short) has none there; at its best fit it is
+        // stretched, singular, and the rank analysis would take that for redundancy.
+        let mut slots = vec![0.0; self.pattern.num_slots()];
+        self.jacobian_into(&ws.pose.bodies, options.t, &mut slots);
+        // A row that vanishes as drawn (a distance joint drawn with its points together) is
+        // degenerate there, not redundant.
+        let mut row_size = vec![0.0f64; pattern.nrows()];
+        for ((r, _), v) in pattern.entries().zip(&slots) {
+            row_size[r] = row_size[r].max(v.abs());
+        }
+        let largest = row_size.iter().fold(0.0f64, |a, &b| a.max(b));
+        let redundant_as_drawn =
+            RankAnalysis::compute_auto(pattern, &slots[..pattern.num_slots()], Default::default())
+                .is_ok_and(|ra| {
+                    (ra.dependent_rows().iter()).any(|&r| row_size[r] > 1e-12 * largest)
+                });
         let off = self.best_fit(ws, options.t, pattern.nrows());
         let outcome = match off {
             Some(off) if off <= options.tolerances.residual => {
@@ -444,6 +463,7 @@ impl Model {
                     _ => None,
                 }
             }
+            Some(_) if !redundant_as_drawn => None,
             Some(_) => self
                 .assemble_kept_rows(ws, options, pattern, nopts, true)
                 .map(|kept| kept.map(|(rep, dropped)| self.assembled(ws, guess, rep, dropped))),
