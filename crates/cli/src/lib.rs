@@ -68,6 +68,11 @@ pub enum Command {
         /// Also write each plot as PNG (rendered from its SVG; text needs a system font).
         #[arg(long)]
         png: bool,
+        /// Which files to write besides run.json, comma-separated (default: all): csv (the
+        /// tables), plots, report (animation.glb, index.html), asmt (an ASMT model's
+        /// .solved.asmt). `--outputs asmt` is the fastest run of an ASMT file.
+        #[arg(long, value_enum, value_delimiter = ',')]
+        outputs: Vec<OutputKind>,
         /// How an ASMT model file is read.
         #[command(flatten)]
         asmt: AsmtArgs,
@@ -107,6 +112,35 @@ pub enum Command {
         #[arg(long, value_enum, default_value_t = eval::Format::Text)]
         format: eval::Format,
     },
+}
+
+/// One value of `cardan run --outputs`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum OutputKind {
+    /// The tables as CSV files.
+    Csv,
+    /// The tables' plots.
+    Plots,
+    /// animation.glb and index.html.
+    Report,
+    /// An ASMT model's .solved.asmt.
+    Asmt,
+}
+
+impl OutputKind {
+    /// The set `--outputs` names (every output when it names none).
+    pub fn set(kinds: &[OutputKind]) -> cardan_model::analysis::OutputSet {
+        if kinds.is_empty() {
+            return cardan_model::analysis::OutputSet::ALL;
+        }
+        let has = |k: OutputKind| kinds.contains(&k);
+        cardan_model::analysis::OutputSet {
+            csv: has(OutputKind::Csv),
+            plots: has(OutputKind::Plots),
+            report: has(OutputKind::Report),
+            asmt: has(OutputKind::Asmt),
+        }
+    }
 }
 
 /// `--units` and `--analysis` of `run` and `check`: how an ASMT file is read (a TOML model
@@ -151,6 +185,7 @@ pub fn run(cli: &Cli, out: &mut dyn std::io::Write) -> Result<(), Error> {
             strict,
             allow_long,
             png,
+            outputs,
             asmt,
         } => {
             let shown = !*quiet && std::io::IsTerminal::is_terminal(&std::io::stderr());
@@ -161,6 +196,7 @@ pub fn run(cli: &Cli, out: &mut dyn std::io::Write) -> Result<(), Error> {
                 allow_long: *allow_long,
                 png: *png,
                 asmt: asmt.options(model)?,
+                outputs: OutputKind::set(outputs),
             };
             commands::run::run(model, output.as_deref(), &flags, out).map(|_| ())
         }

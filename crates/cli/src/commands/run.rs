@@ -6,7 +6,7 @@ use crate::commands::asmt::SolvedSeries;
 use crate::output::OutputDir;
 use cardan_mechanism::Results;
 use cardan_model::analysis::{
-    analyse_into, animation, print_summary, run_report, Analysed, RunFlags, Summary,
+    analyse_into, animation, print_summary, run_report, Analysed, OutputSet, RunFlags, Summary,
 };
 use cardan_model::diag::Error;
 use cardan_model::plot::PlotFiles;
@@ -123,7 +123,8 @@ fn run_prepared(
     let mut out_dir = OutputDir::lock(dir)?;
     // The results of an ASMT file back in ASMT, streamed as the CSV files are and committed
     // with the other outputs.
-    let mut solved = match cardan_model::asmt::is_asmt(path) {
+    let outputs = flags.outputs;
+    let mut solved = match cardan_model::asmt::is_asmt(path) && outputs.asmt {
         true => Some(SolvedSeries::new(path, flags.asmt.units, &mut out_dir)?),
         false => None,
     };
@@ -132,7 +133,7 @@ fn run_prepared(
         analysis.statics(),
         Some(cardan_model::build::StaticKind::Static | cardan_model::build::StaticKind::Modal)
     );
-    let svg = analysis.plots && !one_time;
+    let svg = analysis.plots && !one_time && outputs.plots;
     let plots = PlotFiles {
         svg,
         png: svg && flags.png,
@@ -140,17 +141,30 @@ fn run_prepared(
     // Created while the analysis runs (crate::output::opener), with the streamed CSV files and
     // their plots.
     out_dir.set_plots(plots);
-    out_dir.announce(["animation.glb", "index.html", "run.json"])?;
+    if outputs.report {
+        out_dir.announce(["animation.glb", "index.html"])?;
+    }
+    out_dir.announce(["run.json"])?;
+    // Without CSV files the tables are kept whole (for the plots and the report) instead of
+    // streamed.
     let (kind, mut a) = analyse_into(
         &p,
         &analysis,
         flags,
-        Some(&mut out_dir),
+        outputs.csv.then_some(&mut out_dir),
         solved
             .as_mut()
             .map(|s| s as &mut dyn cardan_model::files::FrameTap),
     )?;
-    let files = write_outputs(out_dir, &p, kind, &mut a, plots, &declared, solved)?;
+    let files = write_outputs(
+        out_dir,
+        &p,
+        (kind, outputs),
+        &mut a,
+        plots,
+        &declared,
+        solved,
+    )?;
     a.summary.dir = dir.to_path_buf();
     a.summary.files = files;
     Ok(RunOutcome {
@@ -180,7 +194,7 @@ fn write_plot(dir: &mut OutputDir, t: &Table, png: bool) -> Result<String, Error
 fn write_outputs(
     mut dir: OutputDir,
     p: &Prepared,
-    kind: &'static str,
+    (kind, outputs): (&'static str, OutputSet),
     a: &mut Analysed,
     plots: PlotFiles,
     declared: &cardan_model::geometry::Declared,
@@ -198,7 +212,8 @@ fn write_outputs(
                 let (name, writer) = streams.swap_remove(i);
                 dir.finish(&name, writer)?;
             }
-            None => dir.write(&name, t.to_csv())?,
+            None if outputs.csv => dir.write(&name, t.to_csv())?,
+            None => {}
         }
         if plots.plots(&t.name) {
             svgs.push((t.name.clone(), write_plot(&mut dir, t, plots.png)?));
@@ -224,7 +239,9 @@ fn write_outputs(
             target.display()
         ));
     }
-    write_animation(&mut dir, p, kind, a, declared, svgs)?;
+    if outputs.report {
+        write_animation(&mut dir, p, kind, a, declared, svgs)?;
+    }
     let report = run_report(p, kind, a, dir.files().to_vec());
     dir.write("run.json", report.to_json())?;
     let files = dir.files().iter().map(|f| target.join(f)).collect();

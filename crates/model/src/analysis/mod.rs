@@ -45,7 +45,7 @@ mod warnings;
 
 pub use energy::EnergyBalance;
 pub(crate) use resting::resting_motion;
-pub use summary::{Analysed, DynamicSummary, RunFlags, Summary};
+pub use summary::{Analysed, DynamicSummary, OutputSet, RunFlags, Summary};
 
 use crate::build::AnalysisKind;
 use crate::diag::Error;

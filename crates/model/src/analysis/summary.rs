@@ -79,6 +79,45 @@ pub struct RunFlags {
     pub png: bool,
     /// `--units`, `--analysis`: how an ASMT file is read.
     pub asmt: crate::asmt::AsmtOptions,
+    /// `--outputs`: which files a run writes besides `run.json`.
+    pub outputs: OutputSet,
+}
+
+/// The files `cardan run` writes besides `run.json` (`--outputs`; all by default).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct OutputSet {
+    /// The tables as CSV files.
+    pub csv: bool,
+    /// Their plots (SVG, and PNG with `--png`).
+    pub plots: bool,
+    /// `animation.glb` and `index.html`.
+    pub report: bool,
+    /// An ASMT model's `<name>.solved.asmt`.
+    pub asmt: bool,
+}
+
+impl Default for OutputSet {
+    fn default() -> Self {
+        Self::ALL
+    }
+}
+
+impl OutputSet {
+    /// Every output.
+    pub const ALL: OutputSet = OutputSet {
+        csv: true,
+        plots: true,
+        report: true,
+        asmt: true,
+    };
+
+    /// Nothing but `run.json`.
+    pub const NONE: OutputSet = OutputSet {
+        csv: false,
+        plots: false,
+        report: false,
+        asmt: false,
+    };
 }
 
 /// An analysis that has run, before anything is written.
