@@ -421,7 +421,8 @@ impl Model {
     /// After Newton failed from the drawn pose `guess`: the best fit of the equations from
     /// there (`analysis::best_fit`). When it satisfies them, Newton from it (a part drawn far
     /// from its place: the best fit globalizes); when it does not and the model is
-    /// over-constrained as drawn (redundant rows at the drawn pose), it is inconsistent:
+    /// over-constrained as drawn (more equations than unknowns, and rows redundant at the drawn
+    /// pose), it is inconsistent:
     /// the rows the rank analysis drops there, with the others solved
     /// ([`Self::assemble_kept_rows`]: [`AnalysisError::InconsistentJoints`] naming them and
     /// how far they stay open, or the pose with them dropped under
@@ -450,11 +451,15 @@ impl Model {
             row_size[r] = row_size[r].max(v.abs());
         }
         let largest = row_size.iter().fold(0.0f64, |a, &b| a.max(b));
-        let redundant_as_drawn =
-            RankAnalysis::compute_auto(pattern, &slots[..pattern.num_slots()], Default::default())
-                .is_ok_and(|ra| {
-                    (ra.dependent_rows().iter()).any(|&r| row_size[r] > 1e-12 * largest)
-                });
+        // More equations than unknowns as well: a loop drawn in a singular pose (two distance
+        // joints drawn in line) has dependent rows there without being over-constrained.
+        let redundant_as_drawn = pattern.nrows() > pattern.ncols()
+            && RankAnalysis::compute_auto(
+                pattern,
+                &slots[..pattern.num_slots()],
+                Default::default(),
+            )
+            .is_ok_and(|ra| (ra.dependent_rows().iter()).any(|&r| row_size[r] > 1e-12 * largest));
         let off = self.best_fit(ws, options.t, pattern.nrows());
         let outcome = match off {
             Some(off) if off <= options.tolerances.residual => {
