@@ -342,8 +342,7 @@ fn analysis_line(
         }
         if dof.dof > dof.drivers && matches!(a.free_dof, cardan_mechanism::FreeDof::Hold(_)) {
             let free = dof.dof - dof.drivers;
-            let names = crate::free_dof::free_coordinates(model, a.t_start)
-                .map_or(String::new(), |n| format!(" ({})", n.join(", ")));
+            let names = crate::free_dof::named(model, a.t_start);
             writeln!(
                 out,
                 "kinematic analysis: {} driver{} for {} DOF: ok, {free} free DOF{names} held by \

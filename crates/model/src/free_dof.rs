@@ -19,6 +19,12 @@ use nalgebra::{DMatrix, DVector, Vector3};
 /// Models with more unknowns are not diagnosed (the dense SVD would cost more than it tells).
 pub const MAX_UNKNOWNS: usize = 600;
 
+/// " (joint \"bearing\" angle, …)" naming the free coordinates of [`free_coordinates`] for a
+/// message, or "" when they cannot be told.
+pub fn named(model: &Model, t: f64) -> String {
+    free_coordinates(model, t).map_or(String::new(), |n| format!(" ({})", n.join(", ")))
+}
+
 /// The joint coordinates left free at `t` (`joint "bearing" angle`), one per free degree of
 /// freedom, or `None` when they cannot be told (a large model, a pose that does not assemble,
 /// a free motion no joint coordinate measures, such as a body without joints).

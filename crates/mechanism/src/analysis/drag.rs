@@ -30,7 +30,6 @@ use crate::analysis::least_change::{BodyWeights, LeastChange, PointGoal};
 use crate::error::AnalysisError;
 use crate::model::{BodyId, Model};
 use crate::workspace::Workspace;
-use cardan_eulerparam::EulerParams;
 use nalgebra::Vector3;
 
 /// Bisection steps on the fraction of a drag step that is cut back: 2⁻⁴⁰ of the step.
@@ -130,7 +129,7 @@ impl Drag {
 
     /// The dragged point's position at the workspace's poses.
     pub fn point_position(&self, ws: &Workspace) -> Vector3<f64> {
-        ws.r(self.body) + ws.p_params(self.body).a() * self.point
+        ws.r(self.body) + cardan_eulerparam::a(&ws.p(self.body)) * self.point
     }
 
     /// One drag step at time `t` (the drivers' time): the workspace's poses move toward
@@ -258,12 +257,4 @@ impl Drag {
 enum Attempt {
     Stop(usize),
     Failed(AnalysisError),
-}
-
-impl Workspace {
-    /// Body `b`'s Euler parameters from the Newton state.
-    fn p_params(&self, b: usize) -> EulerParams {
-        let x = &self.pose.x[7 * b + 3..7 * b + 7];
-        EulerParams::new(x[0], x[1], x[2], x[3])
-    }
 }

@@ -198,6 +198,9 @@ pub struct LeastChange {
     y: Vec<f64>,
     delta: Vec<f64>,
     phi: Vec<f64>,
+    /// The pose of the last factorization (7 per body; NaN before the first): rates at a
+    /// converged solve's pose reuse its factors.
+    factored_x: Vec<f64>,
     /// The pose the change is measured from (7 per body).
     pub(crate) old: Vec<f64>,
     /// A point pulled toward a target, if any.
@@ -264,6 +267,7 @@ impl LeastChange {
             y: vec![0.0; n],
             delta: vec![0.0; n],
             phi: vec![0.0; m],
+            factored_x: vec![f64::NAN; 7 * nb],
             old: vec![0.0; 7 * nb],
             goal: None,
         })
@@ -313,6 +317,7 @@ impl LeastChange {
             self.g[b] = g;
         }
         model.jacobian_into(&ws.pose.bodies, t, &mut self.slots);
+        self.factored_x.copy_from_slice(&ws.pose.x);
         self.hat.iter_mut().for_each(|h| *h = 0.0);
         let scales = model.equation_scales();
         // Ĵ = J L⁻ᵀ: row r, body b: Ĵ[r, b·] = J[r, b·] L_b⁻ᵀ, i.e. Ĵ[r, 6b+i] = Σ_j J[r, 6b+j] L⁻¹[i, j].
@@ -401,7 +406,9 @@ impl LeastChange {
 
     /// The H-weighted minimum-norm solution of Φ_v x = `rhs` at the workspace's poses
     /// (velocities with ν, accelerations with γ#; module docs), then in
-    /// [`solution`](Self::solution). No allocation.
+    /// [`solution`](Self::solution). The factors of the last solve are reused when they were
+    /// made at these poses (a converged solve ends there), so a held frame's velocity and
+    /// acceleration factor nothing. No allocation.
     ///
     /// # Errors
     /// Solver errors.
@@ -412,8 +419,10 @@ impl LeastChange {
         rhs: &[f64],
     ) -> Result<(), AnalysisError> {
         let t = ws.pose.t;
-        self.factor(model, ws, t)
-            .map_err(|e| model.map_solver_error(t, e))?;
+        if self.factored_x != ws.pose.x {
+            self.factor(model, ws, t)
+                .map_err(|e| model.map_solver_error(t, e))?;
+        }
         let scales = model.equation_scales();
         for (r, bv) in self.b.iter_mut().enumerate() {
             *bv = rhs[r] / scales[r];

@@ -67,8 +67,7 @@ pub fn held_dof_warning(
     } else {
         ""
     };
-    let names = crate::free_dof::free_coordinates(&p.model, analysis.t_start)
-        .map_or(String::new(), |n| format!(" ({})", n.join(", ")));
+    let names = crate::free_dof::named(&p.model, analysis.t_start);
     let s = if held == 1 { "" } else { "s" };
     Some(format!(
         "{held} degree{s} of freedom no driver prescribes{names} held still by least change \
