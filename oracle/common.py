@@ -93,11 +93,16 @@ class Body:
 # ---------------------------------------------------------------------------------------------
 
 
-def derive(phi_of):
+def derive(phi_of, n_extra=0):
     """Build a CasADi function of the case inputs from Phi alone.
 
     phi_of(body_i, body_j, t) -> SX column Phi(q_i, q_j, t).
     Returns F(q_i, q_j, t, qdot_i, qdot_j, v_i, v_j) -> (phi, phi_q, phi_v, nu, gamma_q, gamma_v).
+
+    With n_extra > 0 the element also depends on extra coordinates u (an SX column of n_extra,
+    e.g. a curve parameter): phi_of(body_i, body_j, t, u), and
+    F(q_i, q_j, t, qdot_i, qdot_j, v_i, v_j, u, udot) -> (..., gamma_v, phi_u); u moves as
+    u + udot tau in both gamma# forms.
     """
     qi = ca.SX.sym("q_i", 7)
     qj = ca.SX.sym("q_j", 7)
@@ -109,11 +114,23 @@ def derive(phi_of):
     tau = ca.SX.sym("tau")
     w = ca.SX.sym("w", 12)  # [dr_i, pi'_i, dr_j, pi'_j]
 
-    def ev(q_i, q_j, time):
-        return ca.vec(phi_of(Body(q_i), Body(q_j), time))
+    if n_extra:
+        u = ca.SX.sym("u", n_extra)
+        ud = ca.SX.sym("udot", n_extra)
+
+        def ev(q_i, q_j, time, uu):
+            return ca.vec(phi_of(Body(q_i), Body(q_j), time, uu))
+    else:
+        u = ud = None
+
+        def ev(q_i, q_j, time, uu):
+            return ca.vec(phi_of(Body(q_i), Body(q_j), time))
+
+    def moved_u():
+        return u + ud * tau if n_extra else None
 
     # Phi and its Jacobian in the 7-coordinate form; nu = -Phi_t.
-    phi = ev(qi, qj, t)
+    phi = ev(qi, qj, t, u)
     phi_q = ca.jacobian(phi, ca.vertcat(qi, qj))
     nu = -ca.jacobian(phi, t)
 
@@ -121,23 +138,32 @@ def derive(phi_of):
     def perturb(q, dr, pi):
         return ca.vertcat(q[0:3] + dr, quat_mul(q[3:7], ca.vertcat(1, pi / 2)))
 
-    phi_w = ev(perturb(qi, w[0:3], w[3:6]), perturb(qj, w[6:9], w[9:12]), t)
+    phi_w = ev(perturb(qi, w[0:3], w[3:6]), perturb(qj, w[6:9], w[9:12]), t, u)
     phi_v = ca.substitute(ca.jacobian(phi_w, w), w, ca.SX.zeros(12))
 
-    # gamma# (7-coordinate form): -d2/dtau2 Phi(q + qdot tau, t + tau) at tau = 0.
-    phi_tq = ev(qi + qdi * tau, qj + qdj * tau, t + tau)
+    # gamma# (7-coordinate form): -d2/dtau2 Phi(q + qdot tau, [u + udot tau,] t + tau) at tau = 0.
+    phi_tq = ev(qi + qdi * tau, qj + qdj * tau, t + tau, moved_u())
     gamma_q = -ca.substitute(ca.jacobian(ca.jacobian(phi_tq, tau), tau), tau, ca.SX(0))
 
-    # gamma# (6-coordinate form): -d2/dtau2 Phi(r + rdot tau, p (x) E(tau), t + tau) at tau = 0,
-    # E(tau) = [1 - |w'|^2 tau^2 / 8, w' tau / 2] = exp(w' tau / 2) to second order in tau.
+    # gamma# (6-coordinate form): -d2/dtau2 Phi(r + rdot tau, p (x) E(tau), [u + udot tau,]
+    # t + tau) at tau = 0, E(tau) = [1 - |w'|^2 tau^2 / 8, w' tau / 2] = exp(w' tau / 2) to second
+    # order in tau.
     def move(q, v):
         om = v[3:6]
         e = ca.vertcat(1 - ca.dot(om, om) * tau**2 / 8, om * tau / 2)
         return ca.vertcat(q[0:3] + v[0:3] * tau, quat_mul(q[3:7], e))
 
-    phi_tv = ev(move(qi, vi), move(qj, vj), t + tau)
+    phi_tv = ev(move(qi, vi), move(qj, vj), t + tau, moved_u())
     gamma_v = -ca.substitute(ca.jacobian(ca.jacobian(phi_tv, tau), tau), tau, ca.SX(0))
 
+    if n_extra:
+        # Phi_u: the same in the 7- and the 6-coordinate form.
+        phi_u = ca.jacobian(phi, u)
+        return ca.Function(
+            "oracle",
+            [qi, qj, t, qdi, qdj, vi, vj, u, ud],
+            [phi, phi_q, phi_v, nu, gamma_q, gamma_v, phi_u],
+        )
     return ca.Function(
         "oracle",
         [qi, qj, t, qdi, qdj, vi, vj],
@@ -146,13 +172,22 @@ def derive(phi_of):
 
 
 def evaluate(phi_of, case):
-    """Fill a case (inputs already set) with phi, phi_q, phi_v, nu, gamma_q, gamma_v."""
-    f = derive(phi_of)
+    """Fill a case (inputs already set) with phi, phi_q, phi_v, nu, gamma_q, gamma_v.
+
+    A case with extra coordinates (fields "u" and "udot") gets phi_of(bi, bj, t, u) and also
+    phi_u; the others are evaluated exactly as before."""
+    n_extra = len(case["u"]) if "u" in case else 0
+    f = derive(phi_of, n_extra)
     norm = case["normalized"]
     vi = case["v_i"] if norm else [0.0] * 6
     vj = case["v_j"] if norm else [0.0] * 6
-    out = f(case["q_i"], case["q_j"], case["t"], case["qdot_i"], case["qdot_j"], vi, vj)
-    phi, phi_q, phi_v, nu, gamma_q, gamma_v = (np.array(o.full(), dtype=float) for o in out)
+    args = [case["q_i"], case["q_j"], case["t"], case["qdot_i"], case["qdot_j"], vi, vj]
+    if n_extra:
+        args += [case["u"], case["udot"]]
+    out = [np.array(o.full(), dtype=float) for o in f(*args)]
+    phi, phi_q, phi_v, nu, gamma_q, gamma_v = out[:6]
+    if n_extra:
+        case["phi_u"] = out[6].tolist()
     case["phi"] = phi.ravel().tolist()
     case["phi_q"] = phi_q.tolist()
     case["phi_v"] = phi_v.tolist() if norm else None
@@ -351,8 +386,10 @@ def _field(key, v, indent):
 
 CASE_FIELDS = [
     "label", "ground", "normalized", "t", "params", "q_i", "q_j", "qdot_i", "qdot_j", "v_i", "v_j",
-    "phi", "phi_q", "phi_v", "nu", "gamma_q", "gamma_v",
+    "u", "udot", "phi", "phi_q", "phi_v", "phi_u", "nu", "gamma_q", "gamma_v",
 ]
+# Written only for the cases that have them (elements with extra coordinates, e.g. curves).
+OPTIONAL_FIELDS = {"u", "udot", "phi_u"}
 
 
 def write_element(outdir, element, family, generator, rows, cases):
@@ -363,7 +400,8 @@ def write_element(outdir, element, family, generator, rows, cases):
     assert len(set(labels)) == len(labels), f"duplicate labels in {element}"
     blocks = []
     for c in cases:
-        fields = ",\n".join(_field(k, c[k], 6) for k in CASE_FIELDS)
+        keys = [k for k in CASE_FIELDS if k not in OPTIONAL_FIELDS or k in c]
+        fields = ",\n".join(_field(k, c[k], 6) for k in keys)
         blocks.append("    {\n" + fields + "\n    }")
     text = (
         "{\n"

@@ -15,6 +15,7 @@ from concurrent.futures import ProcessPoolExecutor
 
 import common
 import gen_couplers
+import gen_curves
 import gen_drivers
 import gen_expressions
 import gen_joints
@@ -24,7 +25,7 @@ import gen_primitives
 
 GENERATORS = {
     m.__name__: m for m in (gen_primitives, gen_joints, gen_drivers, gen_pose, gen_couplers,
-                               gen_limits)
+                               gen_limits, gen_curves)
 }
 
 

@@ -6,7 +6,7 @@
 //! round-off level of its terms rather than at 1e-12 of itself).
 
 use crate::registry::{build, Element};
-use cardan_constraints::{BodyPair, BodyState, Constraint};
+use cardan_constraints::{BodyPair, BodyState, Constraint, MAX_EXTRA};
 use nalgebra::{Vector3, Vector4};
 use serde_json::Value;
 use std::fmt;
@@ -247,7 +247,23 @@ pub fn compare_case(element_name: &str, case: &Value) -> Result<Vec<Disagreement
     } else {
         body(case, "j", normalized).map_err(err)?
     };
-    let x = BodyPair::new(&i, &j);
+    // The element's extra coordinates (curve parameters) and their rates, when it has any.
+    let (u, u_dot) = if el.extra() > 0 {
+        (
+            vec_of(case, "u").map_err(err)?,
+            vec_of(case, "udot").map_err(err)?,
+        )
+    } else {
+        (Vec::new(), Vec::new())
+    };
+    if u.len() != el.extra() || u_dot.len() != el.extra() {
+        return Err(err(format!(
+            "oracle has {} extra coordinates, Rust {}",
+            u.len(),
+            el.extra()
+        )));
+    }
+    let x = BodyPair::with_extra(&i, &j, &u, &u_dot);
     let m = el.rows();
     let mut out = Vec::new();
     let mut c = Cmp {
@@ -297,10 +313,24 @@ pub fn compare_case(element_name: &str, case: &Value) -> Result<Vec<Disagreement
         .iter()
         .flat_map(|k| vec_of(case, k).unwrap_or_default())
         .collect();
-    let rate_terms = want_q
+    let mut rate_terms = want_q
         .iter()
         .map(|row| row.iter().zip(&qd).map(|(a, b)| (a * b).abs()).sum::<f64>())
         .fold(0.0f64, f64::max);
+    if el.extra() > 0 {
+        // Φ_u, the same in both forms; its rate terms |Φ_u u̇| join R.
+        let want_u = mat_of(case, "phi_u").map_err(err)?;
+        let mut ju = vec![[0.0; MAX_EXTRA]; m];
+        el.jacobian_extra(&x, t, &mut ju);
+        let n = el.extra();
+        let got: Vec<f64> = ju.iter().flat_map(|r| r[..n].to_vec()).collect();
+        let want: Vec<f64> = want_u.iter().flatten().copied().collect();
+        c.check("phi_u", &got, &want, Some(n), jac_scale);
+        for row in &want_u {
+            let r: f64 = row.iter().zip(&u_dot).map(|(a, b)| (a * b).abs()).sum();
+            rate_terms = rate_terms.max(r);
+        }
+    }
     let length = ["q_i", "q_j"]
         .iter()
         .flat_map(|k| vec_of(case, k).unwrap_or_default()[..3].to_vec())

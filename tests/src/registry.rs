@@ -10,11 +10,11 @@
 
 use cardan_constraints::joints::Measure;
 use cardan_constraints::{
-    BodyPair, Bound, Constraint, CoordinateDriver, Coupler, Dimension, Distance, DistanceDriver,
-    Driver, Footprint, Form, Gear, Homokinetic, Joint, JointKind, JointLimit, JointParams, Marker,
-    Normalization, P1Perp, P1Select, P2Perp, P2Select, PoseDriver, Primitive, RackPinion,
-    RadialDistance, RotationDriver, RotationOrder, Screw, Spherical, TimeFunction,
-    TranslationDriver, KINDS, N1, N2, P1, P2,
+    BodyPair, Bound, Circle, Constraint, CoordinateDriver, Coupler, CubicCurve, Curve, Dimension,
+    Distance, DistanceDriver, Driver, Footprint, Form, Gear, Helix, Homokinetic, Joint, JointKind,
+    JointLimit, JointParams, Line, Marker, Normalization, P1Perp, P1Select, P2Perp, P2Select,
+    PointOnCurve, PoseDriver, Primitive, RackPinion, RadialDistance, RotationDriver, RotationOrder,
+    Screw, Spherical, TimeFunction, TranslationDriver, KINDS, MAX_EXTRA, N1, N2, P1, P2,
 };
 use nalgebra::{Matrix3, Vector3};
 use serde_json::Value;
@@ -61,6 +61,27 @@ pub fn limits() -> &'static [&'static str] {
     })
 }
 
+/// Every point-on-curve element, as the oracle names them: `point_on_curve_<kind>` for each
+/// kind of [`Curve::KINDS`] (a curve kind added there needs oracle data).
+pub fn curves() -> &'static [&'static str] {
+    static NAMES: OnceLock<Vec<&'static str>> = OnceLock::new();
+    NAMES.get_or_init(|| {
+        Curve::KINDS
+            .iter()
+            .map(|k| &*Box::leak(format!("point_on_curve_{k}").into_boxed_str()))
+            .collect()
+    })
+}
+
+/// The oracle name of a point-on-curve element (`point_on_curve_<kind>` of its curve).
+pub fn curve_name(c: &PointOnCurve) -> &'static str {
+    let k = Curve::KINDS
+        .iter()
+        .position(|k| *k == c.curve.kind())
+        .expect("every curve kind is in Curve::KINDS");
+    curves()[k]
+}
+
 /// The oracle name of a limit (`limit_<key>` of its measure).
 pub fn limit_name(l: &JointLimit) -> &'static str {
     let k = Measure::ALL
@@ -81,6 +102,7 @@ pub fn elements() -> Vec<&'static str> {
         .chain(DRIVERS.iter().copied())
         .chain(COUPLERS.iter().copied())
         .chain(limits().iter().copied())
+        .chain(curves().iter().copied())
         .collect()
 }
 
@@ -141,6 +163,8 @@ pub enum Element {
     Coupler(Coupler),
     /// A joint-coordinate limit.
     Limit(JointLimit),
+    /// A point on a curve (one extra coordinate).
+    Curve(PointOnCurve),
 }
 
 impl Element {
@@ -153,6 +177,7 @@ impl Element {
             Element::Driver(d) => driver_name(d),
             Element::Coupler(c) => coupler_name(c),
             Element::Limit(l) => limit_name(l),
+            Element::Curve(c) => curve_name(c),
         }
     }
 }
@@ -165,6 +190,7 @@ macro_rules! each {
             Element::Driver($c) => $e,
             Element::Coupler($c) => $e,
             Element::Limit($c) => $e,
+            Element::Curve($c) => $e,
         }
     };
 }
@@ -193,6 +219,12 @@ impl Constraint for Element {
         out_j: &mut [[f64; N]],
     ) {
         each!(self, c => c.jacobian::<N, F>(x, t, out_i, out_j))
+    }
+    fn extra(&self) -> usize {
+        each!(self, c => c.extra())
+    }
+    fn jacobian_extra(&self, x: &BodyPair, t: f64, out: &mut [[f64; MAX_EXTRA]]) {
+        each!(self, c => c.jacobian_extra(x, t, out))
     }
     fn nu(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
         each!(self, c => c.nu(x, t, out))
@@ -403,6 +435,63 @@ pub fn build(name: &str, p: &Value) -> Result<Element, ParamError> {
             } else {
                 RackPinion::new(mi, mj, ks, ka, c, r).into()
             }))
+        }
+        _ if name.starts_with("point_on_curve_") => {
+            let c = p.get("curve").ok_or("missing `curve`")?;
+            let kind = c
+                .get("kind")
+                .and_then(Value::as_str)
+                .ok_or("curve without `kind`")?;
+            let at_axis = |o: &str, z: &str| {
+                Marker::from_axis(v3(c, o)?, v3(c, z)?).map_err(|e| e.to_string())
+            };
+            let frame = || -> Result<Marker, ParamError> {
+                let (x, y) = (v3(c, "x")?, v3(c, "y")?);
+                Marker::new(
+                    v3(c, "center")?,
+                    Matrix3::from_columns(&[x, y, x.cross(&y)]),
+                )
+                .map_err(|e| e.to_string())
+            };
+            let curve: Curve = match kind {
+                "line" => Line::new(&at_axis("origin", "direction")?).into(),
+                "circle" => Circle::new(&frame()?, num(c, "radius")?)
+                    .map_err(|e| e.to_string())?
+                    .into(),
+                "helix" => Helix::new(&frame()?, num(c, "radius")?, num(c, "pitch")?)
+                    .map_err(|e| e.to_string())?
+                    .into(),
+                "cubic" => {
+                    let pts = c
+                        .get("points")
+                        .and_then(Value::as_array)
+                        .ok_or("cubic curve without `points`")?;
+                    let pts: Vec<Vector3<f64>> = pts
+                        .iter()
+                        .map(|v| {
+                            let a: Vec<f64> = v
+                                .as_array()
+                                .into_iter()
+                                .flatten()
+                                .filter_map(Value::as_f64)
+                                .collect();
+                            (a.len() == 3)
+                                .then(|| Vector3::new(a[0], a[1], a[2]))
+                                .ok_or_else(|| "a curve point is not a 3-vector".to_string())
+                        })
+                        .collect::<Result<_, _>>()?;
+                    let closed = c.get("closed").and_then(Value::as_bool).unwrap_or(false);
+                    CubicCurve::new(pts, closed)
+                        .map_err(|e| e.to_string())?
+                        .into()
+                }
+                other => return Err(format!("unknown curve kind `{other}`")),
+            };
+            let e = PointOnCurve::new(curve, v3(p, "sp_j")?);
+            if curve_name(&e) != name {
+                return Err(format!("`{name}` holds a {} curve", e.curve.kind()));
+            }
+            Ok(E::Curve(e))
         }
         _ if name.starts_with("limit_") => {
             let measure = Measure::ALL

@@ -19,7 +19,7 @@
 //! ground on either side, sizes 1e-3 and 1e3, unnormalized p for the 7-coordinate form) plus
 //! seeded random ones. Each mismatch names element, case, quantity, row, column, got and want.
 
-use crate::constraint::Constraint;
+use crate::constraint::{Constraint, MAX_EXTRA};
 use crate::joints::{Joint, JointKind, JointParams};
 use crate::marker::Marker;
 use crate::state::{BodyPair, BodyState, Footprint};
@@ -74,6 +74,9 @@ pub struct Sampler {
     /// jumps) are kept ≥ 0.05 s away from it, so the finite-difference stencils never straddle
     /// one. (The oracle covers evaluation exactly at breakpoints.)
     pub avoid_t: f64,
+    /// The extra coordinates u an element's `make` chose (a curve parameter kept away from a
+    /// spline's knots, where c'_uuu jumps); [`run`] draws them when `None`.
+    pub extra: Option<[f64; MAX_EXTRA]>,
 }
 
 impl Sampler {
@@ -87,6 +90,7 @@ impl Sampler {
             axis_aligned,
             function_kind,
             avoid_t: f64::NAN,
+            extra: None,
         }
     }
 
@@ -265,6 +269,19 @@ pub struct Case {
     pub t: f64,
     /// Both p have unit length and ṗ = ½ Lᵀ ω' (6-coordinate checks run only then).
     pub normalized: bool,
+    /// The element's extra coordinates u (the first [`Constraint::extra`] are used; drawn by
+    /// [`run`] for an element that has any).
+    pub u: [f64; MAX_EXTRA],
+    /// Their rates u̇.
+    pub u_dot: [f64; MAX_EXTRA],
+}
+
+impl Case {
+    /// The pair at this case, with `c`'s extra coordinates.
+    pub fn pair<C: Constraint>(&self, c: &C) -> BodyPair<'_> {
+        let n = c.extra();
+        BodyPair::with_extra(&self.i, &self.j, &self.u[..n], &self.u_dot[..n])
+    }
 }
 
 fn random_body(rng: &mut Rng, scale: f64, p: Option<Vector4<f64>>) -> BodyState {
@@ -408,6 +425,8 @@ fn make_case(
             ground,
             t,
             normalized,
+            u: [0.0; MAX_EXTRA],
+            u_dot: [0.0; MAX_EXTRA],
         },
         s,
     )
@@ -462,11 +481,32 @@ struct Eval<'c, C: Constraint> {
 
 const EPS: f64 = f64::EPSILON;
 
-/// Φ at modified bodies.
-fn phi_at<C: Constraint>(c: &C, i: &BodyState, j: &BodyState, t: f64) -> [f64; MAX_ROWS] {
+/// Φ at modified bodies and extra coordinates `u`.
+fn phi_at<C: Constraint>(
+    c: &C,
+    i: &BodyState,
+    j: &BodyState,
+    u: &[f64],
+    t: f64,
+) -> [f64; MAX_ROWS] {
     let mut v = [0.0; MAX_ROWS];
-    c.phi(&BodyPair::new(i, j), t, &mut v[..c.rows()]);
+    c.phi(
+        &BodyPair::with_extra(i, j, u, &[0.0; MAX_EXTRA][..u.len()]),
+        t,
+        &mut v[..c.rows()],
+    );
     v
+}
+
+/// u + u̇ τ.
+fn u_along(case: &Case, n: usize, tau: f64) -> [f64; MAX_EXTRA] {
+    std::array::from_fn(|k| {
+        if k < n {
+            case.u[k] + case.u_dot[k] * tau
+        } else {
+            0.0
+        }
+    })
 }
 
 /// 4th-order central first derivative of a vector function of one scalar.
@@ -577,7 +617,8 @@ impl<C: Constraint> Eval<'_, C> {
     fn check_q(&mut self) {
         let (c, case) = (self.c, self.case);
         let m = c.rows();
-        let x = BodyPair::new(&case.i, &case.j);
+        let x = case.pair(c);
+        let u = x.u;
         let mut ji = vec![[0.0; 7]; m];
         let mut jj = vec![[0.0; 7]; m];
         c.phi_q(&x, case.t, &mut ji, &mut jj);
@@ -603,9 +644,9 @@ impl<C: Constraint> Eval<'_, C> {
                             b.a = cardan_eulerparam::a(&b.p);
                         }
                         if side == 0 {
-                            phi_at(c, &b, &case.j, case.t)
+                            phi_at(c, &b, &case.j, u, case.t)
                         } else {
-                            phi_at(c, &case.i, &b, case.t)
+                            phi_at(c, &case.i, &b, u, case.t)
                         }
                     },
                     h,
@@ -640,6 +681,7 @@ impl<C: Constraint> Eval<'_, C> {
                     c,
                     &along_q(&case.i, tau),
                     &along_q(&case.j, tau),
+                    &u_along(case, u.len(), tau)[..u.len()],
                     case.t + tau,
                 )
             },
@@ -685,7 +727,8 @@ impl<C: Constraint> Eval<'_, C> {
     fn check_v(&mut self) {
         let (c, case) = (self.c, self.case);
         let m = c.rows();
-        let x = BodyPair::new(&case.i, &case.j);
+        let x = case.pair(c);
+        let u = x.u;
         let mut ji = vec![[0.0; 6]; m];
         let mut jj = vec![[0.0; 6]; m];
         c.phi_v(&x, case.t, &mut ji, &mut jj);
@@ -708,9 +751,9 @@ impl<C: Constraint> Eval<'_, C> {
                             rotated(base, col - 3, e)
                         };
                         if side == 0 {
-                            phi_at(c, &b, &case.j, case.t)
+                            phi_at(c, &b, &case.j, u, case.t)
                         } else {
-                            phi_at(c, &case.i, &b, case.t)
+                            phi_at(c, &case.i, &b, u, case.t)
                         }
                     },
                     h,
@@ -742,6 +785,7 @@ impl<C: Constraint> Eval<'_, C> {
                     c,
                     &along_v(&case.i, tau),
                     &along_v(&case.j, tau),
+                    &u_along(case, u.len(), tau)[..u.len()],
                     case.t + tau,
                 )
             },
@@ -754,12 +798,42 @@ impl<C: Constraint> Eval<'_, C> {
         self.compare("gamma_v", &gv[..m], &want, floor, 1e-6, None);
     }
 
+    /// ∂Φ/∂u against central differences in each extra coordinate.
+    fn check_extra(&mut self) {
+        let (c, case) = (self.c, self.case);
+        let (m, n) = (c.rows(), c.extra());
+        let x = case.pair(c);
+        let mut ju = [[0.0; MAX_EXTRA]; MAX_ROWS];
+        c.jacobian_extra(&x, case.t, &mut ju[..m]);
+        let mut got = vec![0.0; m * n];
+        let mut want = vec![0.0; m * n];
+        let h = 1e-3 * self.length();
+        for k in 0..n {
+            let fd = d1(
+                |e| {
+                    let mut u = case.u;
+                    u[k] += e;
+                    phi_at(c, &case.i, &case.j, &u[..n], case.t)
+                },
+                h,
+            );
+            for row in 0..m {
+                got[row * n + k] = ju[row][k];
+                want[row * n + k] = fd[row];
+            }
+        }
+        let noise = 10.0 * EPS * self.term_scale / h;
+        self.compare("phi_u", &got, &want, noise / 1e-7, 1e-7, Some(n));
+    }
+
     fn check_nu(&mut self) {
         let (c, case) = (self.c, self.case);
         let m = c.rows();
+        let x = case.pair(c);
+        let u = x.u;
         let mut nu = [0.0; MAX_ROWS];
-        c.nu(&BodyPair::new(&case.i, &case.j), case.t, &mut nu[..m]);
-        let fd = d1(|e| phi_at(c, &case.i, &case.j, case.t + e), 1e-3);
+        c.nu(&x, case.t, &mut nu[..m]);
+        let fd = d1(|e| phi_at(c, &case.i, &case.j, u, case.t + e), 1e-3);
         let want: Vec<f64> = fd[..m].iter().map(|v| -v).collect();
         let floor = self
             .rate_scale
@@ -775,10 +849,17 @@ pub fn check<C: Constraint>(element: &C, case: &Case) -> Vec<Mismatch> {
         "conformance suite supports up to {MAX_ROWS} rows"
     );
     let m = element.rows();
-    let x = BodyPair::new(&case.i, &case.j);
+    let x = case.pair(element);
     let mut ji = vec![[0.0; 7]; m];
     let mut jj = vec![[0.0; 7]; m];
     element.phi_q(&x, case.t, &mut ji, &mut jj);
+    let mut ju = [[0.0; MAX_EXTRA]; MAX_ROWS];
+    element.jacobian_extra(&x, case.t, &mut ju[..m]);
+    let extra_rate = |r: usize| {
+        (0..element.extra())
+            .map(|k| (ju[r][k] * case.u_dot[k]).abs())
+            .sum::<f64>()
+    };
     let mut phi = [0.0; MAX_ROWS];
     element.phi(&x, case.t, &mut phi[..m]);
     let qd = |b: &BodyState, c: usize| if c < 3 { b.r_dot[c] } else { b.p_dot[c - 3] };
@@ -788,6 +869,7 @@ pub fn check<C: Constraint>(element: &C, case: &Case) -> Vec<Mismatch> {
                 .map(|c| (ji[r][c] * qd(&case.i, c)).abs() + (jj[r][c] * qd(&case.j, c)).abs())
                 .sum::<f64>()
                 .max(phi[r].abs())
+                .max(extra_rate(r))
         })
         .fold(0.0, f64::max);
     let qv = |b: &BodyState, c: usize| if c < 3 { b.r[c] } else { b.p[c - 3] };
@@ -808,6 +890,9 @@ pub fn check<C: Constraint>(element: &C, case: &Case) -> Vec<Mismatch> {
     };
     e.check_q();
     e.check_nu();
+    if element.extra() > 0 {
+        e.check_extra();
+    }
     if case.normalized {
         e.check_v();
     }
@@ -824,8 +909,15 @@ pub fn run<C: Constraint>(
     let cases = cases(n_random, grounds);
     let n = cases.len();
     let mut all = Vec::new();
-    for (case, mut sampler) in cases {
+    for (mut case, mut sampler) in cases {
         let element = make(&mut sampler);
+        for k in 0..element.extra() {
+            case.u[k] = match sampler.extra {
+                Some(u) => u[k],
+                None => sampler.rng.uniform(-3.0, 3.0) * sampler.scale,
+            };
+            case.u_dot[k] = sampler.rng.uniform(-2.0, 2.0) * sampler.scale;
+        }
         all.extend(check(&element, &case));
     }
     (n, all)

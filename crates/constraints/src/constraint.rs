@@ -3,6 +3,9 @@
 use crate::jet::{Form, Q7, V6};
 use crate::state::{BodyPair, Footprint};
 
+/// The most extra coordinates one element owns (a curve on a curve: one parameter each).
+pub const MAX_EXTRA: usize = 2;
+
 /// A block of constraint equations Φ(q_i, q_j, t) = 0 between bodies i and j.
 ///
 /// Implemented by every primitive, by [`crate::Joint`] (a list of primitives) and by
@@ -44,6 +47,18 @@ pub trait Constraint {
         out_j: &mut [[f64; N]],
     );
 
+    /// The number of extra coordinates u the element owns (the curve parameters of a higher
+    /// pair, read from [`BodyPair::u`]): 0 for every other element, at most [`MAX_EXTRA`].
+    fn extra(&self) -> usize {
+        0
+    }
+
+    /// ∂Φ/∂u: `rows` rows of [`Constraint::extra`] columns (the same in both forms: u is a
+    /// plain coordinate). Elements without extra coordinates write nothing.
+    fn jacobian_extra(&self, x: &BodyPair, t: f64, out: &mut [[f64; MAX_EXTRA]]) {
+        let _ = (x, t, out);
+    }
+
     /// ν = −Φ_t (length `rows`). Zero for elements that do not depend on time.
     fn nu(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
         let _ = (x, t);
@@ -51,7 +66,7 @@ pub trait Constraint {
     }
 
     /// γ# in form `F` (length `rows`), from the velocities held in the [`BodyPair`]
-    /// (ṗ for [`Q7`], ω' for [`V6`]).
+    /// (ṗ for [`Q7`], ω' for [`V6`]; u̇ of an element with extra coordinates).
     fn gamma_sharp<const N: usize, F: Form<N>>(&self, x: &BodyPair, t: f64, out: &mut [f64]);
 
     /// Φ_q: blocks [Φ_ri Φ_pi] and [Φ_rj Φ_pj].

@@ -50,6 +50,10 @@ pub enum ConstraintError {
     /// Any other invalid definition, explained.
     #[error("{0}")]
     Invalid(String),
+    /// A curve that cannot be built from its data (too few or repeated points, a closed curve
+    /// whose ends do not meet), explained.
+    #[error("curve: {0}")]
+    Curve(String),
     /// A coordinate index out of 0..3.
     #[error("coordinate axis must be 0 (x), 1 (y) or 2 (z), got {0}")]
     BadAxis(usize),

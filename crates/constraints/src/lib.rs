@@ -41,6 +41,12 @@
 //! coordinate c (any [`joints::Measure`]); analyses treat it as an equality only where it is
 //! closed.
 //!
+//! ## Curves and higher pairs
+//! [`curves`] holds curves fixed in a body (line, circle, helix, cubic spline through points, open
+//! or closed) with their derivatives in the curve parameter u. A [`PointOnCurve`] keeps a point of
+//! body j on a curve of body i with u as an *extra coordinate* of the element
+//! ([`Constraint::extra`], [`Constraint::jacobian_extra`], read from [`BodyPair::u`]).
+//!
 //! ## Evaluation
 //! All of them implement [`Constraint`]. Evaluation takes a [`BodyPair`] (pose, cached A and
 //! velocities of bodies i and j; ground is [`BodyState::ground`]) and writes into caller slices:
@@ -81,6 +87,7 @@ mod macros;
 pub mod conformance;
 pub mod constraint;
 pub mod couplers;
+pub mod curves;
 pub mod distance;
 pub mod drivers;
 pub mod error;
@@ -99,6 +106,7 @@ pub mod p1_select;
 pub mod p2;
 pub mod p2_perp;
 pub mod p2_select;
+pub mod point_on_curve;
 pub mod primitive;
 pub mod radial_distance;
 pub mod spherical;
@@ -106,8 +114,9 @@ pub mod spline;
 pub mod state;
 pub mod time_function;
 
-pub use constraint::{Constraint, Dimension};
+pub use constraint::{Constraint, Dimension, MAX_EXTRA};
 pub use couplers::{Coupler, Gear, RackPinion, Screw};
+pub use curves::{Circle, CubicCurve, Curve, CurveJet, Helix, Line};
 pub use distance::Distance;
 pub use drivers::{
     CoordinateDriver, DistanceDriver, Driver, PoseDriver, RotationDriver, RotationOrder,
@@ -129,6 +138,7 @@ pub use p1_select::P1Select;
 pub use p2::P2;
 pub use p2_perp::P2Perp;
 pub use p2_select::P2Select;
+pub use point_on_curve::PointOnCurve;
 pub use primitive::Primitive;
 pub use radial_distance::RadialDistance;
 pub use spherical::Spherical;

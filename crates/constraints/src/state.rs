@@ -69,19 +69,35 @@ impl BodyState {
     }
 }
 
-/// The two bodies of a constraint, i and j (either may be [`BodyState::ground`]).
+/// The two bodies of a constraint, i and j (either may be [`BodyState::ground`]), and the
+/// element's extra coordinates u with their rates u̇ (the curve parameters of a higher pair;
+/// empty for every other element).
 #[derive(Debug, Clone, Copy)]
 pub struct BodyPair<'a> {
     /// Body i.
     pub i: &'a BodyState,
     /// Body j.
     pub j: &'a BodyState,
+    /// The element's extra coordinates u ([`crate::Constraint::extra`] of them).
+    pub u: &'a [f64],
+    /// Their rates u̇ (read by γ#).
+    pub u_dot: &'a [f64],
 }
 
 impl<'a> BodyPair<'a> {
-    /// The pair (i, j).
+    /// The pair (i, j), without extra coordinates.
     pub fn new(i: &'a BodyState, j: &'a BodyState) -> Self {
-        Self { i, j }
+        Self {
+            i,
+            j,
+            u: &[],
+            u_dot: &[],
+        }
+    }
+
+    /// The pair (i, j) with an element's extra coordinates `u` and their rates `u_dot`.
+    pub fn with_extra(i: &'a BodyState, j: &'a BodyState, u: &'a [f64], u_dot: &'a [f64]) -> Self {
+        Self { i, j, u, u_dot }
     }
 }
 

@@ -5,6 +5,7 @@
 
 use cardan_constraints::conformance::{self, Ground, Sampler};
 use cardan_constraints::*;
+use nalgebra::Vector3;
 use proptest::prelude::*;
 
 const RANDOM: usize = 30;
@@ -168,5 +169,72 @@ proptest! {
         bad.extend(conformance::check(&RotationDriver::new(s.marker(), s.marker(), s.angle_function()), &case));
         bad.extend(conformance::check(&DistanceDriver::new(s.point(), s.point(), s.function()), &case));
         prop_assert!(bad.is_empty(), "{}", conformance::report(&bad, 10));
+    }
+}
+
+/// A curve of kind `kind` (an entry of `Curve::KINDS`) of the sampler's size, and a curve
+/// parameter on it at least 1 % of the size away from a spline's knots (where c'_uuu jumps and
+/// the stencils would straddle the jump; the oracle covers evaluation at the knots).
+fn curve(s: &mut Sampler, kind: &str) -> (Curve, f64) {
+    let size = s.scale;
+    let m = s.marker();
+    let c: Curve = match kind {
+        "line" => Line::new(&m).into(),
+        "circle" => Circle::new(&m, s.rng.uniform(0.3, 2.0) * size)
+            .unwrap()
+            .into(),
+        "helix" => {
+            let sign = if s.rng.below(2) == 0 { 1.0 } else { -1.0 };
+            let pitch = sign * s.rng.uniform(0.2, 2.0) * size;
+            Helix::new(&m, s.rng.uniform(0.3, 2.0) * size, pitch)
+                .unwrap()
+                .into()
+        }
+        _ => {
+            let closed = kind == "cubic_closed";
+            let n = 4 + s.rng.below(5);
+            let mut pts = vec![s.point()];
+            while pts.len() < n {
+                let p = s.point();
+                let last = pts.len() + 1 == n;
+                let apart = |q: Vector3<f64>| (p - q).norm() > 0.2 * size;
+                if apart(pts[pts.len() - 1]) && !(closed && last && !apart(pts[0])) {
+                    pts.push(p);
+                }
+            }
+            if closed {
+                pts.push(pts[0]);
+            }
+            CubicCurve::new(pts, closed).unwrap().into()
+        }
+    };
+    let knots: Vec<f64> = match &c {
+        Curve::Cubic(k) => k.knots().to_vec(),
+        _ => Vec::new(),
+    };
+    let period = c.period();
+    loop {
+        let u = s.rng.uniform(-3.0, 3.0) * size;
+        let w = match (period, &c) {
+            (Some(l), Curve::Cubic(_)) => u - l * (u / l).floor(),
+            _ => u,
+        };
+        if knots.iter().all(|k| (k - w).abs() > 0.01 * size) {
+            return (c, u);
+        }
+    }
+}
+
+/// A point on each kind of curve, the curve parameter an extra coordinate (Φ_u and γ# with u̇).
+#[test]
+fn point_on_every_curve_kind() {
+    for kind in Curve::KINDS {
+        assert_conforms(kind, BOTH, |s: &mut Sampler| {
+            let (c, u) = curve(s, kind);
+            let mut extra = [0.0; MAX_EXTRA];
+            extra[0] = u;
+            s.extra = Some(extra);
+            PointOnCurve::new(c, s.point())
+        });
     }
 }

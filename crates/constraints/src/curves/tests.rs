@@ -1,0 +1,252 @@
+//! Curve geometry: derivatives against central differences, unit speed and the Frenet closed
+//! forms, interpolation, continuity, periodicity, and the refusals of bad data.
+
+use super::*;
+use crate::error::ConstraintError;
+use crate::marker::Marker;
+use approx::assert_relative_eq;
+use nalgebra::Vector3;
+
+fn marker() -> Marker {
+    Marker::from_axes(
+        Vector3::new(0.3, -0.2, 0.5),
+        Vector3::new(0.2, 0.4, 1.0),
+        Vector3::new(1.0, -0.3, 0.1),
+    )
+    .unwrap()
+}
+
+/// c_u, c_uu, c_uuu against central differences of the next lower derivative.
+fn check_derivatives(curve: &Curve, u: f64, h: f64, tol: f64) {
+    let (a, b) = (curve.jet(u - h), curve.jet(u + h));
+    let j = curve.jet(u);
+    let pairs = [
+        ((b.c - a.c) / (2.0 * h), j.c_u, "c_u"),
+        ((b.c_u - a.c_u) / (2.0 * h), j.c_uu, "c_uu"),
+        ((b.c_uu - a.c_uu) / (2.0 * h), j.c_uuu, "c_uuu"),
+    ];
+    for (fd, exact, what) in pairs {
+        let scale = exact.norm().max(1.0);
+        assert!(
+            (fd - exact).norm() <= tol * scale,
+            "{} {what} at u = {u}: exact {exact:?}, differences {fd:?}",
+            curve.kind()
+        );
+    }
+}
+
+fn spline_points() -> Vec<Vector3<f64>> {
+    vec![
+        Vector3::new(0.0, 0.0, 0.0),
+        Vector3::new(1.0, 0.5, 0.1),
+        Vector3::new(1.6, 1.4, -0.2),
+        Vector3::new(1.0, 2.2, 0.3),
+        Vector3::new(0.1, 1.8, 0.0),
+    ]
+}
+
+fn closed_points() -> Vec<Vector3<f64>> {
+    let mut p = spline_points();
+    p.push(p[0]);
+    p
+}
+
+#[test]
+fn derivatives_agree_with_differences() {
+    let m = marker();
+    let curves: Vec<Curve> = vec![
+        Line::new(&m).into(),
+        Circle::new(&m, 0.7).unwrap().into(),
+        Helix::new(&m, 0.7, 0.4).unwrap().into(),
+        Helix::new(&m, 1.3, -2.0).unwrap().into(),
+        CubicCurve::new(spline_points(), false).unwrap().into(),
+        CubicCurve::new(closed_points(), true).unwrap().into(),
+    ];
+    for c in &curves {
+        for u in [-7.3, -0.4, 0.05, 0.9, 1.77, 3.1, 11.2] {
+            // Away from the knots (the spline's c'_uuu jumps there).
+            let near_knot = match c {
+                Curve::Cubic(s) => {
+                    let l = s.knot_range().1;
+                    let w = if s.is_closed() {
+                        u - l * (u / l).floor()
+                    } else {
+                        u
+                    };
+                    s.knots().iter().any(|k| (k - w).abs() < 1e-3)
+                }
+                _ => false,
+            };
+            if !near_knot {
+                check_derivatives(c, u, 1e-5, 1e-7);
+            }
+        }
+    }
+}
+
+#[test]
+fn line_circle_and_helix_have_unit_speed() {
+    let m = marker();
+    let curves: Vec<Curve> = vec![
+        Line::new(&m).into(),
+        Circle::new(&m, 0.7).unwrap().into(),
+        Helix::new(&m, 0.7, 0.4).unwrap().into(),
+    ];
+    for c in &curves {
+        for u in [-3.0, 0.0, 0.4, 5.0] {
+            assert_relative_eq!(c.jet(u).c_u.norm(), 1.0, epsilon = 1e-14);
+        }
+    }
+    let circle = Circle::new(&m, 0.7).unwrap();
+    assert_relative_eq!(circle.jet(0.0).c, m.point + m.x() * 0.7, epsilon = 1e-15);
+    assert_relative_eq!(
+        circle.jet(circle.period()).c,
+        circle.jet(0.0).c,
+        epsilon = 1e-14
+    );
+}
+
+/// κ = |c_u × c_uu| / |c_u|³, τ = (c_u × c_uu)·c_uuu / |c_u × c_uu|² against R / k², (h/2π) / k².
+#[test]
+fn helix_curvature_and_torsion_are_the_frenet_closed_forms() {
+    let m = marker();
+    for (r, pitch) in [(0.7, 0.4), (1.3, -2.0), (0.05, 3.0)] {
+        let h = Helix::new(&m, r, pitch).unwrap();
+        let rise = pitch / std::f64::consts::TAU;
+        let k2 = r * r + rise * rise;
+        assert_relative_eq!(h.curvature(), r / k2, max_relative = 1e-15);
+        assert_relative_eq!(h.torsion(), rise / k2, max_relative = 1e-15);
+        for u in [0.0, 0.8, -2.5] {
+            let j = h.jet(u);
+            let b = j.c_u.cross(&j.c_uu);
+            assert_relative_eq!(
+                b.norm() / j.c_u.norm().powi(3),
+                r / k2,
+                max_relative = 1e-13
+            );
+            assert_relative_eq!(
+                b.dot(&j.c_uuu) / b.norm_squared(),
+                rise / k2,
+                max_relative = 1e-12
+            );
+        }
+        // One turn rises by the pitch.
+        let turn = std::f64::consts::TAU * k2.sqrt();
+        assert_relative_eq!(
+            (h.jet(turn).c - h.jet(0.0).c),
+            m.z() * pitch,
+            epsilon = 1e-14
+        );
+    }
+}
+
+#[test]
+fn a_spline_interpolates_its_points_and_is_c2_at_its_knots() {
+    for (points, closed) in [(spline_points(), false), (closed_points(), true)] {
+        let s = CubicCurve::new(points.clone(), closed).unwrap();
+        for (k, p) in points.iter().enumerate() {
+            assert_relative_eq!(s.jet(s.knots()[k]).c, *p, epsilon = 1e-14);
+        }
+        let n = s.knots().len() - 1;
+        let knots: Vec<f64> = s.knots().to_vec();
+        for &u in &knots[1..n] {
+            let (a, b) = (s.jet(u - 1e-9), s.jet(u + 1e-9));
+            assert_relative_eq!(a.c_u, b.c_u, epsilon = 1e-7);
+            assert_relative_eq!(a.c_uu, b.c_uu, epsilon = 1e-7);
+        }
+        if closed {
+            // Periodic: value, tangent and curvature vector meet across the seam.
+            let l = s.knot_range().1;
+            let (a, b) = (s.jet(l - 1e-9), s.jet(1e-9));
+            assert_relative_eq!(a.c, b.c, epsilon = 1e-8);
+            assert_relative_eq!(a.c_u, b.c_u, epsilon = 1e-7);
+            assert_relative_eq!(a.c_uu, b.c_uu, epsilon = 1e-7);
+            assert_relative_eq!(s.jet(0.37 + 3.0 * l).c, s.jet(0.37).c, epsilon = 1e-12);
+            assert_relative_eq!(s.jet(0.37 - 2.0 * l).c, s.jet(0.37).c, epsilon = 1e-12);
+        } else {
+            // Natural ends, and the straight continuation beyond them.
+            assert_relative_eq!(s.jet(0.0).c_uu, Vector3::zeros(), epsilon = 1e-14);
+            let (end, j) = (s.knot_range().1, s.jet(s.knot_range().1));
+            assert_relative_eq!(j.c_uu, Vector3::zeros(), epsilon = 1e-12);
+            assert_relative_eq!(s.jet(end + 0.5).c, j.c + j.c_u * 0.5, epsilon = 1e-14);
+            assert_eq!(s.jet(-0.5).c_uu, Vector3::zeros());
+        }
+    }
+}
+
+/// Points on a straight line make the straight line, parametrized by arc length.
+#[test]
+fn collinear_points_make_the_straight_line() {
+    let d = Vector3::new(1.0, 2.0, -2.0) / 3.0;
+    let pts: Vec<_> = [0.0, 0.5, 1.7, 2.0, 3.1]
+        .iter()
+        .map(|&a| Vector3::new(1.0, 1.0, 1.0) + d * a)
+        .collect();
+    let s = CubicCurve::new(pts, false).unwrap();
+    for u in [0.1, 1.0, 2.9] {
+        let j = s.jet(u);
+        assert_relative_eq!(j.c, Vector3::new(1.0, 1.0, 1.0) + d * u, epsilon = 1e-14);
+        assert_relative_eq!(j.c_u, d, epsilon = 1e-14);
+        assert_relative_eq!(j.c_uu.norm(), 0.0, epsilon = 1e-13);
+    }
+}
+
+/// The periodic spline through points on a circle is close to the circle (a cam profile given
+/// as a table): 36 points, radius 1, deviation below 1e-5 and curvature within 3e-3 of 1 (the
+/// interpolant's curvature error at 10° spacing is 2.6e-3).
+#[test]
+fn a_closed_spline_through_points_of_a_circle_follows_the_circle() {
+    let n = 36;
+    let mut pts: Vec<_> = (0..n)
+        .map(|k| {
+            let a = std::f64::consts::TAU * k as f64 / n as f64;
+            Vector3::new(a.cos(), a.sin(), 0.0)
+        })
+        .collect();
+    pts.push(pts[0]);
+    let s = CubicCurve::new(pts, true).unwrap();
+    let l = s.knot_range().1;
+    for k in 0..400 {
+        let j = s.jet(l * k as f64 / 400.0);
+        assert!((j.c.norm() - 1.0).abs() < 1e-5, "{}", j.c.norm());
+        let kappa = j.c_u.cross(&j.c_uu).norm() / j.c_u.norm().powi(3);
+        assert!((kappa - 1.0).abs() < 3e-3, "{kappa}");
+    }
+}
+
+fn curve_error(e: ConstraintError) -> String {
+    match e {
+        ConstraintError::Curve(m) => m,
+        other => panic!("not a curve error: {other}"),
+    }
+}
+
+#[test]
+fn bad_curve_data_is_refused_with_what_to_do() {
+    let p = spline_points();
+    let one = CubicCurve::new(p[..1].to_vec(), false).unwrap_err();
+    assert!(curve_error(one).contains("at least 2 points, got 1"));
+    let mut repeated = p.clone();
+    repeated.insert(2, p[1]);
+    let m = curve_error(CubicCurve::new(repeated, false).unwrap_err());
+    assert!(m.contains("points 1 and 2 coincide"), "{m}");
+    assert!(m.contains("remove the repeated point"), "{m}");
+    let open_ends = curve_error(CubicCurve::new(p.clone(), true).unwrap_err());
+    assert!(
+        open_ends.contains("must end where it starts"),
+        "{open_ends}"
+    );
+    assert!(open_ends.contains("repeat the first point"), "{open_ends}");
+    let few = curve_error(CubicCurve::new(vec![p[0], p[1], p[0]], true).unwrap_err());
+    assert!(few.contains("at least 4 points"), "{few}");
+    let mut nan = p.clone();
+    nan[3].y = f64::NAN;
+    assert!(matches!(
+        CubicCurve::new(nan, false),
+        Err(ConstraintError::NotFinite { .. })
+    ));
+    let m = marker();
+    assert!(Circle::new(&m, 0.0).is_err());
+    assert!(Helix::new(&m, 1.0, 0.0).is_err());
+    assert!(Helix::new(&m, -1.0, 1.0).is_err());
+}

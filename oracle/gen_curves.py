@@ -1,0 +1,348 @@
+"""Oracle for the curve elements: a point of body j that follows a curve c(u) fixed in body i,
+the curve parameter u being an extra coordinate of the system (CONTRACT.md, "Curves"):
+
+    Phi(q_i, q_j, u, t) = r_j + A_j sp_j - (r_i + A_i c(u))      (3 rows, no time dependence)
+
+One element per curve kind: point_on_curve_line, _circle, _helix, _cubic, _cubic_closed.
+c(u) is built as an SX expression of the symbolic u; common.derive (with one extra coordinate)
+differentiates Phi, so phi_u and the u-terms of gamma# come from AD as everything else.
+
+The cubic spline's knot second derivatives M_k are solved here with numpy (a dense solve: the
+oracle's own implementation). The segment (or the linear extension of an open spline, or the
+period count of a closed one) is picked numerically at the case's u, a constant of the case as
+the continued angles of gen_couplers.py are; c is then the SX polynomial of that segment.
+
+Usage: python gen_curves.py OUTDIR
+"""
+
+import math
+import sys
+
+import casadi as ca
+import numpy as np
+
+import common as C
+
+GENERATOR = "gen_curves.py"
+FAMILY = "curve"
+
+TWO_PI = 2.0 * math.pi
+
+# ---------------------------------------------------------------------------------------------
+# Curves: c(u) as SX (u symbolic, u_num the case's value, which picks the piece)
+# ---------------------------------------------------------------------------------------------
+
+
+def cubic_knots(points):
+    """Chord-length knots u_0 = 0, u_k = u_{k-1} + |P_k - P_{k-1}|."""
+    pts = np.array(points, dtype=float)
+    knots = [0.0]
+    for k in range(1, len(pts)):
+        knots.append(knots[-1] + float(np.linalg.norm(pts[k] - pts[k - 1])))
+    return knots
+
+
+def cubic_second_derivatives(points, knots, closed):
+    """Knot second derivatives M_k (rows, 3-vectors) of the interpolating cubic spline:
+    h_{k-1} M_{k-1} + 2 (h_{k-1} + h_k) M_k + h_k M_{k+1} = 6 (D_k - D_{k-1}),
+    D_k = (P_{k+1} - P_k) / h_k, at the interior knots with M_0 = M_n = 0 (open, natural), or at
+    every k = 0..n-1 taken cyclically with M_n = M_0 (closed, periodic). Dense numpy solve."""
+    pts = np.array(points, dtype=float)
+    n = len(pts) - 1
+    h = [knots[k + 1] - knots[k] for k in range(n)]
+    delta = [(pts[k + 1] - pts[k]) / h[k] for k in range(n)]
+    m = np.zeros((n + 1, 3))
+    if not closed:
+        if n < 2:
+            return m
+        a = np.zeros((n - 1, n - 1))
+        b = np.zeros((n - 1, 3))
+        for k in range(1, n):
+            r = k - 1
+            a[r, r] = 2.0 * (h[k - 1] + h[k])
+            if k - 1 >= 1:
+                a[r, r - 1] = h[k - 1]
+            if k + 1 <= n - 1:
+                a[r, r + 1] = h[k]
+            b[r] = 6.0 * (delta[k] - delta[k - 1])
+        m[1:n] = np.linalg.solve(a, b)
+        return m
+    a = np.zeros((n, n))
+    b = np.zeros((n, 3))
+    for k in range(n):
+        km, kp = (k - 1) % n, (k + 1) % n
+        a[k, km] += h[km]
+        a[k, k] += 2.0 * (h[km] + h[k])
+        a[k, kp] += h[k]
+        b[k] = 6.0 * (delta[k] - delta[km])
+    sol = np.linalg.solve(a, b)
+    m[0:n] = sol
+    m[n] = sol[0]
+    return m
+
+
+def cubic_segment(pts, m, knots, k, u):
+    """The contract's cubic of segment k (u_k <= u <= u_{k+1}) as an SX column in u."""
+    h = knots[k + 1] - knots[k]
+    a = knots[k + 1] - u
+    b = u - knots[k]
+    rows = []
+    for d in range(3):
+        rows.append(m[k][d] * a**3 / (6 * h) + m[k + 1][d] * b**3 / (6 * h)
+                    + (pts[k][d] - m[k][d] * h * h / 6) * a / h
+                    + (pts[k + 1][d] - m[k + 1][d] * h * h / 6) * b / h)
+    return ca.vertcat(*rows)
+
+
+def _segment_at(knots, n, w):
+    """Index k of the segment holding w (the last one starting at or before w; 0 below u_0)."""
+    ks = [j for j in range(n) if knots[j] <= w]
+    return max(ks) if ks else 0
+
+
+def _end_tangent(pts, m, knots, k, at):
+    """c'(at) of segment k, by AD of its cubic (numeric 3-vector)."""
+    s = ca.SX.sym("s")
+    f = ca.Function("tangent", [s], [ca.jacobian(cubic_segment(pts, m, knots, k, s), s)])
+    return np.array(f(at).full(), dtype=float).ravel()
+
+
+def curve_point(curve, u, u_num):
+    """c(u) as an SX column (curve coordinates: body i's, or global for ground i)."""
+    kind = curve["kind"]
+    if kind == "line":
+        return C.const(curve["origin"]) + u * C.const(curve["direction"])
+    if kind == "circle":
+        r = curve["radius"]
+        th = u / r
+        return C.const(curve["center"]) + r * (ca.cos(th) * C.const(curve["x"])
+                                               + ca.sin(th) * C.const(curve["y"]))
+    if kind == "helix":
+        r, pitch = curve["radius"], curve["pitch"]
+        k = math.sqrt(r * r + (pitch / TWO_PI) ** 2)
+        ph = u / k
+        return (C.const(curve["center"]) + r * ca.cos(ph) * C.const(curve["x"])
+                + r * ca.sin(ph) * C.const(curve["y"])
+                + (pitch * ph / TWO_PI) * C.const(curve["z"]))
+    if kind == "cubic":
+        pts = [list(map(float, p)) for p in curve["points"]]
+        closed = bool(curve["closed"])
+        knots = cubic_knots(pts)
+        m = cubic_second_derivatives(pts, knots, closed).tolist()
+        n = len(pts) - 1
+        if closed:
+            # c(u) = c(u - L floor(u / L)): the period count is a constant of the case.
+            period = knots[n]
+            turns = math.floor(u_num / period)
+            w_num = u_num - period * turns
+            return cubic_segment(pts, m, knots, _segment_at(knots, n, w_num), u - period * turns)
+        if u_num < knots[0]:
+            return C.const(pts[0]) + u * C.const(_end_tangent(pts, m, knots, 0, knots[0]))
+        if u_num > knots[n]:
+            slope = _end_tangent(pts, m, knots, n - 1, knots[n])
+            return C.const(pts[n]) + (u - knots[n]) * C.const(slope)
+        return cubic_segment(pts, m, knots, _segment_at(knots, n, u_num), u)
+    raise KeyError(kind)
+
+
+def phi_curve(bi, bj, t, u, P, u_num):
+    """Phi = r_j + A_j sp_j - (r_i + A_i c(u))."""
+    c = curve_point(P["curve"], u[0], u_num)
+    return bj.point(P["sp_j"]) - (bi.r + ca.mtimes(bi.a, c)) + 0 * t
+
+
+# ---------------------------------------------------------------------------------------------
+# Parameters and the placement of u
+# ---------------------------------------------------------------------------------------------
+
+
+def _axis_vec(axis, length):
+    e = [0.0, 0.0, 0.0]
+    e[axis % 3] = float(length)
+    return e
+
+
+def _frame(rng, entry):
+    if entry["axis"] is not None:
+        x, y, z = C.AXIS_FRAMES[entry["axis"] % len(C.AXIS_FRAMES)]
+        return list(x), list(y), list(z)
+    return C.random_frame(rng)
+
+
+def _center(rng, entry):
+    s = entry["scale"]
+    if entry["axis"] is not None:
+        return _axis_vec(entry["axis"] + 1, 0.5 * s)
+    return (s * rng.uniform(-1.0, 1.0, 3)).tolist()
+
+
+def _points(rng, entry, closed):
+    """4 to 8 points in a box of size 2 (times the scale), consecutive ones (and, closed, the last
+    and the first) at least 0.2 apart; axis-aligned cases use a grid of step 0.5."""
+    s = entry["scale"]
+    n = int(rng.integers(4, 9))
+
+    def draw():
+        if entry["axis"] is not None:
+            return 0.5 * s * rng.integers(-2, 3, 3).astype(float)
+        return s * rng.uniform(-1.0, 1.0, 3)
+
+    def far(a, b):
+        return float(np.linalg.norm(a - b)) >= 0.2 * s
+
+    pts = [draw()]
+    while len(pts) < n:
+        p = draw()
+        last = len(pts) == n - 1
+        if far(p, pts[-1]) and (not (closed and last) or far(p, pts[0])):
+            pts.append(p)
+    pts = [[float(x) for x in p] for p in pts]
+    if closed:
+        pts.append(list(pts[0]))  # P_n = P_0 exactly
+    return pts
+
+
+def make_curve(kind, closed, rng, entry):
+    s = entry["scale"]
+    if kind == "line":
+        if entry["axis"] is not None:
+            direction = _axis_vec(entry["axis"], 1.0)
+        else:
+            direction = C.unit(rng.standard_normal(3))
+        return {"kind": "line", "origin": _center(rng, entry), "direction": direction}
+    if kind == "circle":
+        x, y, _ = _frame(rng, entry)
+        return {"kind": "circle", "center": _center(rng, entry), "x": x, "y": y,
+                "radius": float(s * rng.uniform(0.3, 2.0))}
+    if kind == "helix":
+        x, y, z = _frame(rng, entry)
+        pitch = float(s * rng.uniform(0.2, 2.0) * rng.choice([-1.0, 1.0]))
+        return {"kind": "helix", "center": _center(rng, entry), "x": x, "y": y, "z": z,
+                "radius": float(s * rng.uniform(0.3, 2.0)), "pitch": pitch}
+    return {"kind": "cubic", "points": _points(rng, entry, closed), "closed": closed}
+
+
+def make_sp_j(rng, entry):
+    s = entry["scale"]
+    if entry["axis"] is not None:
+        return _axis_vec(entry["axis"] + 2, 0.5 * s)
+    return (s * rng.uniform(-1.0, 1.0, 3)).tolist()
+
+
+# Where u is put, cycled over the cases of an element (the label ends with it).
+PLACEMENTS = {
+    "line": ["near", "far-plus", "far-minus"],
+    "circle": ["near", "far-plus", "far-minus"],
+    "helix": ["near", "far-plus", "far-minus"],
+    "cubic": ["inside", "knot", "before", "after"],
+    "cubic_closed": ["inside", "knot", "beyond", "negative", "seam"],
+}
+
+
+def draw_u(curve, placement, rng, scale):
+    """u for a placement: line, circle, helix: |u| within about half a turn (3 for a line)
+    ("near") or well beyond a turn, |u| > 2 pi R for a circle ("far-*"); open cubic: inside
+    [0, u_n], exactly at an interior knot, or on the linear extensions; closed cubic: inside the
+    first period, at an interior knot, beyond the period, negative, or exactly at a multiple of
+    the period (the seam P_0)."""
+    kind = curve["kind"]
+    if kind in ("line", "circle", "helix"):
+        if kind == "line":
+            unit = scale
+        elif kind == "circle":
+            unit = curve["radius"]
+        else:
+            unit = math.sqrt(curve["radius"] ** 2 + (curve["pitch"] / TWO_PI) ** 2)
+        if placement == "near":
+            return float(unit * rng.uniform(-3.0, 3.0))
+        sign = 1.0 if placement == "far-plus" else -1.0
+        return float(sign * unit * rng.uniform(TWO_PI + 0.1, 25.0))
+    knots = cubic_knots(curve["points"])
+    n = len(knots) - 1
+    length = knots[n]
+    if placement == "inside":
+        return float(rng.uniform(0.0, length))
+    if placement == "knot":
+        return float(knots[int(rng.integers(1, n))])
+    if placement == "before":
+        return float(-length * rng.uniform(0.02, 0.5))
+    if placement == "after":
+        return float(length * (1.0 + rng.uniform(0.02, 0.5)))
+    if placement == "beyond":
+        return float(length * rng.uniform(1.02, 4.0))
+    if placement == "negative":
+        return float(-length * rng.uniform(0.02, 3.0))
+    if placement == "seam":
+        return float(length * int(rng.choice([-1, 0, 1, 2])))
+    raise KeyError(placement)
+
+
+# ---------------------------------------------------------------------------------------------
+# Elements and cases
+# ---------------------------------------------------------------------------------------------
+
+# name: (curve kind, closed, placement set)
+ELEMENTS = {
+    "point_on_curve_line": ("line", False, "line"),
+    "point_on_curve_circle": ("circle", False, "circle"),
+    "point_on_curve_helix": ("helix", False, "helix"),
+    "point_on_curve_cubic": ("cubic", False, "cubic"),
+    "point_on_curve_cubic_closed": ("cubic", True, "cubic_closed"),
+}
+
+N_CASES = 60  # every placement cycle (3, 4, 5) recurs evenly
+
+# Extra configurations on the solution (with the plan's five, about a third of the cases).
+EXTRA_SOLVED = [
+    {"label": f"at-solution-{k}", "ground": ("none", "none", "i", "none", "j")[k % 5],
+     "solve": True}
+    for k in range(5, 20)
+]
+
+
+def _phi_of(params, u_num):
+    return lambda bi, bj, tt, uu: phi_curve(bi, bj, tt, uu, params, u_num)
+
+
+def solve_sp_j(case):
+    """Put P_j on the curve: sp_j = A_j^T (r_i + A_i c(u) - r_j) (normalized bodies)."""
+    params = case["params"]
+    params["sp_j"] = [0.0, 0.0, 0.0]
+    off = C.evaluate(_phi_of(params, case["u"][0]), dict(case))["phi"]  # r_j - r_i - A_i c(u)
+    aj = C.a_num(case["q_j"][3:])
+    params["sp_j"] = (-(aj.T @ np.array(off))).tolist()
+
+
+def build_cases(name):
+    kind, closed, pset = ELEMENTS[name]
+    rng = C.element_rng(name)
+    cases = []
+    plan = C.case_plan(n_total=N_CASES, extra=EXTRA_SOLVED)
+    for index, entry in enumerate(plan):
+        placement = PLACEMENTS[pset][index % len(PLACEMENTS[pset])]
+        si, sj = C.states(rng, entry["ground"], entry["rot"], entry["scale"])
+        t = float(rng.uniform(0.0, 2.0))
+        curve = make_curve(kind, closed, rng, entry)
+        params = {"curve": curve, "sp_j": make_sp_j(rng, entry)}
+        u = draw_u(curve, placement, rng, entry["scale"])
+        udot = float(entry["scale"] * rng.uniform(-2.0, 2.0))
+        case = C.new_case(f"{entry['label']}.u-{placement}", entry["ground"], t, params, si, sj)
+        case["u"] = [u]
+        case["udot"] = [udot]
+        if entry["solve"]:
+            assert case["normalized"], case["label"]
+            solve_sp_j(case)
+        cases.append(C.evaluate(_phi_of(params, u), case))
+    return 3, cases
+
+
+def main(outdir):
+    counts = {}
+    for name in ELEMENTS:
+        rows, cases = build_cases(name)
+        counts[name] = C.write_element(outdir, name, FAMILY, GENERATOR, rows, cases)
+    return counts
+
+
+if __name__ == "__main__":
+    print(main(sys.argv[1]))
