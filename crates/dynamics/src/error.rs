@@ -15,6 +15,13 @@ pub enum DynamicsError {
         /// The body.
         body: String,
     },
+    /// The model has point-on-curve elements, whose curve parameters (massless extra
+    /// coordinates) the equations of motion do not take yet.
+    #[error("point-on-curve \"{element}\": dynamic, static, modal and inverse dynamic analyses do not take point-on-curve elements yet (a kinematic analysis does); model the guide with joints, or run kind = \"kinematic\"")]
+    CurveElement {
+        /// The first such element.
+        element: String,
+    },
     /// A force element refers to a body, point or joint that does not exist, or is invalid.
     #[error("force \"{force}\": {reason}")]
     BadForce {

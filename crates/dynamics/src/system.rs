@@ -85,6 +85,11 @@ impl<'m> Dynamics<'m> {
     /// [`DynamicsError::MissingInertia`] if a body lacks mass or inertia;
     /// [`DynamicsError::BadForce`] for an invalid force element.
     pub fn new(model: &'m Model) -> Result<Self, DynamicsError> {
+        if let Some(c) = model.curves().first() {
+            return Err(DynamicsError::CurveElement {
+                element: c.name.clone(),
+            });
+        }
         let mut mass = Vec::new();
         let mut inertia = Vec::new();
         for b in model.bodies() {

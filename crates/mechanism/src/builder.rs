@@ -24,6 +24,7 @@
 //! The ground body [`GROUND`] exists from the start; its points and vectors are global. It has no
 //! unknowns: its coordinates are eliminated, not constrained.
 
+use crate::curve_spec::CurveSpec;
 use cardan_constraints::drivers::POSE_ROWS;
 use cardan_constraints::{JointKind, RotationOrder, TimeFunction};
 use cardan_eulerparam::{
@@ -814,6 +815,7 @@ pub struct MechanismBuilder {
     pub(crate) forces: Vec<ForceSpec>,
     pub(crate) limits: Vec<LimitSpec>,
     pub(crate) frictions: Vec<FrictionSpec>,
+    pub(crate) curves: Vec<CurveSpec>,
 }
 
 impl MechanismBuilder {
@@ -852,6 +854,12 @@ impl MechanismBuilder {
     /// Adds a joint.
     pub fn joint(&mut self, joint: JointSpec) -> &mut Self {
         self.joints.push(joint);
+        self
+    }
+
+    /// Adds a point-on-curve element (its curve parameter becomes an extra coordinate).
+    pub fn curve(&mut self, curve: CurveSpec) -> &mut Self {
+        self.curves.push(curve);
         self
     }
 

@@ -285,6 +285,18 @@ pub enum ModelError {
         /// The value.
         value: f64,
     },
+    /// A point-on-curve element's initial parameter lies off its open curve.
+    #[error("{element}: the initial curve parameter u = {u} lies off the open curve, which runs from u = {start} to {end}; move the point onto the curve or extend the curve")]
+    CurveParameterOff {
+        /// The element.
+        element: String,
+        /// The initial parameter.
+        u: f64,
+        /// The curve's first parameter.
+        start: f64,
+        /// The curve's last parameter.
+        end: f64,
+    },
     /// A number that must not be zero is (its sign is meaningful: a gear ratio's sense of
     /// rotation, a screw's hand).
     #[error("{element}: {what} must be non-zero (its sign gives the sense), got 0")]
@@ -457,7 +469,7 @@ impl Site {
         let quoted: Vec<&str> = element.split('"').skip(1).step_by(2).collect();
         let kind = match element.split_whitespace().next()? {
             "body" | "point" | "vector" => ElementKind::Body,
-            "joint" => ElementKind::Joint,
+            "joint" | "point-on-curve" => ElementKind::Joint,
             "driver" => ElementKind::Driver,
             "coupler" => ElementKind::Coupler,
             "force" => ElementKind::Force,
@@ -519,6 +531,7 @@ impl ModelError {
             | E::Absurd { element, what, .. }
             | E::NonPositive { element, what, .. }
             | E::Zero { element, what } => Site::parse(element, Some(&key_of(what)), None),
+            E::CurveParameterOff { element, .. } => Site::parse(element, Some("initial_u"), None),
             E::BadOrientation { body, .. } => {
                 Some(Site::new(Body, body, Some("orientation"), None))
             }
@@ -694,6 +707,23 @@ pub enum AnalysisError {
         /// Results up to (not including) `time`.
         partial: Option<Box<Results>>,
     },
+    /// A point-on-curve element's parameter left its open curve: the point ran off the end of
+    /// the curve's data (a slot's end, a path's last point); the run stops there.
+    #[error("point-on-curve \"{element}\": at t = {time} the point has run off the end of its open curve (u = {u}; the curve runs from u = {start} to {end}); the prescribed motion drives it past the curve's end: extend the curve or shorten the run")]
+    CurveEnd {
+        /// The element.
+        element: String,
+        /// The first output time past the end.
+        time: f64,
+        /// The curve parameter there.
+        u: f64,
+        /// The curve's first parameter.
+        start: f64,
+        /// The curve's last parameter.
+        end: f64,
+        /// Results up to (not including) `time`.
+        partial: Option<Box<Results>>,
+    },
     /// A prescribed motion drives a joint coordinate past a limit: the run stops at the
     /// crossing, located inside the grid step ([`crate::Model::kinematics`]).
     #[error("limit \"{limit}\" reached at t = {time}: joint \"{joint}\" has {coordinate} = {value} at its {bound_name} bound {bound}; the prescribed motion drives it past the stop")]
@@ -774,6 +804,7 @@ impl AnalysisError {
             | AnalysisError::NotConverged { partial, .. }
             | AnalysisError::Discontinuous { partial, .. }
             | AnalysisError::LimitReached { partial, .. }
+            | AnalysisError::CurveEnd { partial, .. }
             | AnalysisError::Solver { partial, .. } => partial.as_deref(),
             _ => None,
         }
@@ -786,6 +817,7 @@ impl AnalysisError {
             | AnalysisError::NotConverged { partial, .. }
             | AnalysisError::Discontinuous { partial, .. }
             | AnalysisError::LimitReached { partial, .. }
+            | AnalysisError::CurveEnd { partial, .. }
             | AnalysisError::Solver { partial, .. } => partial.map(|b| *b),
             _ => None,
         }
@@ -798,6 +830,7 @@ impl AnalysisError {
             | AnalysisError::NotConverged { partial, .. }
             | AnalysisError::Discontinuous { partial, .. }
             | AnalysisError::LimitReached { partial, .. }
+            | AnalysisError::CurveEnd { partial, .. }
             | AnalysisError::Solver { partial, .. } => *partial = Some(Box::new(results)),
             _ => {}
         }

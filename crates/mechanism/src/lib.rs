@@ -80,6 +80,7 @@
 
 pub mod analysis;
 pub mod builder;
+pub mod curve_spec;
 pub mod dof;
 pub mod equation;
 pub mod error;
@@ -105,6 +106,7 @@ pub use builder::{
     ForceSpec, FrictionSpec, GearRatio, JointSpec, LimitSpec, MechanismBuilder, Orientation,
     PoseTarget, GROUND,
 };
+pub use curve_spec::CurveSpec;
 pub use dof::DofReport;
 pub use error::{AnalysisError, ElementKind, EquationName, Error, ModelError, OpenElement, Site};
 pub use model::{
@@ -112,7 +114,7 @@ pub use model::{
     ForceInfo, FrictionInfo, JointInfo, LimitInfo, Model, StopInfo, FRICTION_KINDS,
 };
 pub use results::{
-    BodyResults, FrameSink, JointResults, Outputs, PointResults, Results, RunTotals,
+    BodyResults, CurveResults, FrameSink, JointResults, Outputs, PointResults, Results, RunTotals,
 };
 pub use sanity::{check_inertia, Quantity};
 pub use workspace::{apply_rotation_step, EvaluationCounts, Workspace};

@@ -174,6 +174,20 @@ pub struct JointResults {
     pub accelerations: Vec<[f64; MAX_COORDINATES]>,
 }
 
+/// The history of one point-on-curve element's curve parameter (its extra coordinate).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct CurveResults {
+    /// Element name.
+    pub name: String,
+    /// u (the curve's parameter: arc length for lines, circles and helices, chord length along
+    /// a spline; continued over the turns of a closed curve).
+    pub u: Vec<f64>,
+    /// u̇, when velocities were computed (else empty).
+    pub u_dot: Vec<f64>,
+    /// ü, when accelerations were computed (else empty).
+    pub u_ddot: Vec<f64>,
+}
+
 /// Everything a kinematic run produced.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Results {
@@ -188,6 +202,8 @@ pub struct Results {
     pub points: Vec<PointResults>,
     /// One entry per joint, in model order (empty without `outputs.joints`).
     pub joints: Vec<JointResults>,
+    /// One entry per point-on-curve element, in model order (always recorded).
+    pub curves: Vec<CurveResults>,
     /// Max |Φ_i| over all equations after each position solve (unscaled).
     pub residual: Vec<f64>,
     /// Newton iterations per step.
@@ -235,6 +251,11 @@ impl Results {
         self.points
             .iter()
             .find(|p| p.body == body && p.name == name)
+    }
+
+    /// The curve-parameter history of point-on-curve element `name`.
+    pub fn curve(&self, name: &str) -> Option<&CurveResults> {
+        self.curves.iter().find(|c| c.name == name)
     }
 
     /// The coordinate history of joint `name`.
@@ -287,6 +308,14 @@ impl Results {
                     accelerations: room(&j.accelerations, n),
                 })
                 .collect(),
+            curves: (self.curves.iter())
+                .map(|c| CurveResults {
+                    name: c.name.clone(),
+                    u: room(&c.u, n),
+                    u_dot: room(&c.u_dot, n),
+                    u_ddot: room(&c.u_ddot, n),
+                })
+                .collect(),
             residual: room(&self.residual, n),
             iterations: room(&self.iterations, n),
             subdivided_steps: self.subdivided_steps,
@@ -324,6 +353,11 @@ impl Results {
                 v.clear();
             }
         }
+        for c in &mut self.curves {
+            for v in [&mut c.u, &mut c.u_dot, &mut c.u_ddot] {
+                v.clear();
+            }
+        }
     }
 
     /// Appends the frames of `other`, which has the same layout (e.g. made by
@@ -353,6 +387,11 @@ impl Results {
             a.values.extend_from_slice(&b.values);
             a.rates.extend_from_slice(&b.rates);
             a.accelerations.extend_from_slice(&b.accelerations);
+        }
+        for (a, b) in self.curves.iter_mut().zip(&other.curves) {
+            a.u.extend_from_slice(&b.u);
+            a.u_dot.extend_from_slice(&b.u_dot);
+            a.u_ddot.extend_from_slice(&b.u_ddot);
         }
     }
 

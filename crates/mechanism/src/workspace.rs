@@ -57,6 +57,13 @@ pub(crate) struct PoseState {
     pub(crate) turns: Vec<[f64; 2]>,
 }
 
+impl PoseState {
+    /// The extra coordinates (curve parameters) of the Newton state, after the bodies'.
+    pub(crate) fn u(&self) -> &[f64] {
+        &self.x[7 * self.bodies.len()..]
+    }
+}
+
 /// Velocities and accelerations of the current frame.
 #[derive(Debug)]
 pub(crate) struct MotionState {
@@ -194,22 +201,24 @@ impl Workspace {
     pub fn new(model: &Model) -> Self {
         let nb = model.num_bodies();
         let m = model.num_equations();
+        // Vectors of unknowns hold the bodies' coordinates, then the extra ones.
+        let (nx, nv) = (7 * nb + model.num_extra(), model.num_unknowns());
         let mut ws = Self {
             pose: PoseState {
                 t: 0.0,
-                x: vec![0.0; 7 * nb],
+                x: vec![0.0; nx],
                 bodies: vec![BodyState::ground(); nb],
                 turns: model.initial_turns(),
             },
             motion: MotionState {
-                v: vec![0.0; 6 * nb],
-                vdot: vec![0.0; 6 * nb],
+                v: vec![0.0; nv],
+                vdot: vec![0.0; nv],
                 velocity_valid: false,
                 acceleration_valid: false,
             },
             jerk: JerkSamples {
-                vdot_last: vec![0.0; 6 * nb],
-                vdot_prev: vec![0.0; 6 * nb],
+                vdot_last: vec![0.0; nv],
+                vdot_prev: vec![0.0; nv],
                 vdot_last_time: f64::NAN,
                 vdot_prev_time: f64::NAN,
                 edge_acc_last: vec![0.0; 6 * nb],
@@ -224,22 +233,22 @@ impl Workspace {
                 pred_absolute: vec![false; nb],
             },
             grid: GridFrames {
-                x_prev: vec![0.0; 7 * nb],
-                x_tmp: vec![0.0; 7 * nb],
-                x_pred: vec![0.0; 7 * nb],
-                v_saved: vec![0.0; 6 * nb],
-                vdot_saved: vec![0.0; 6 * nb],
+                x_prev: vec![0.0; nx],
+                x_tmp: vec![0.0; nx],
+                x_pred: vec![0.0; nx],
+                v_saved: vec![0.0; nv],
+                vdot_saved: vec![0.0; nv],
                 turns_saved: model.initial_turns(),
             },
             stop_frame: StopFrame {
                 t: 0.0,
-                x: vec![0.0; if model.stops().is_empty() { 0 } else { 7 * nb }],
+                x: vec![0.0; if model.stops().is_empty() { 0 } else { nx }],
                 turns: model.initial_turns(),
             },
             kin: KinematicSolver {
                 newton: None,
                 dof: None,
-                x_start: vec![0.0; 7 * nb],
+                x_start: vec![0.0; nx],
             },
             dropped: DroppedRows {
                 kept: vec![true; m],
@@ -259,6 +268,10 @@ impl Workspace {
             self.pose.x[7 * k..7 * k + 3].copy_from_slice(b.initial_r.as_slice());
             self.pose.x[7 * k + 3..7 * k + 7].copy_from_slice(b.initial_p.as_slice());
         }
+        let nb = model.num_bodies();
+        for c in model.curves() {
+            self.pose.x[7 * nb + c.extra] = c.initial_u;
+        }
         self.motion.v.fill(0.0);
         self.motion.vdot.fill(0.0);
         self.pose.turns.copy_from_slice(&model.initial_turns());
@@ -271,17 +284,20 @@ impl Workspace {
         self.pose.t
     }
 
-    /// The Newton state `[r_k; p_k]` (7 per moving body).
+    /// The Newton state `[r_k; p_k]` (7 per moving body), then the extra coordinates (curve
+    /// parameters, [`Model::extras_of`]).
     pub fn state(&self) -> &[f64] {
         &self.pose.x
     }
 
-    /// The velocities `[ṙ_k; ω'_k]` (6 per body), valid after a velocity analysis.
+    /// The velocities `[ṙ_k; ω'_k]` (6 per body, then the extra coordinates' rates), valid
+    /// after a velocity analysis.
     pub fn velocities(&self) -> &[f64] {
         &self.motion.v
     }
 
-    /// The accelerations `[r̈_k; ω̇'_k]` (6 per body), valid after an acceleration analysis.
+    /// The accelerations `[r̈_k; ω̇'_k]` (6 per body, then the extra coordinates'), valid after
+    /// an acceleration analysis.
     pub fn accelerations(&self) -> &[f64] {
         &self.motion.vdot
     }
@@ -515,6 +531,15 @@ pub fn apply_rotation_step(x: &mut [f64], dx: &[f64]) {
     }
 }
 
+/// `x ← x ⊕ dx` for `nb` bodies ([`apply_rotation_step`]) and the extra coordinates after
+/// them, which add: x[7 nb + k] += dx[6 nb + k]. No allocation.
+pub fn apply_step(x: &mut [f64], dx: &[f64], nb: usize) {
+    apply_rotation_step(&mut x[..7 * nb], &dx[..6 * nb]);
+    for (xk, dk) in x[7 * nb..].iter_mut().zip(&dx[6 * nb..]) {
+        *xk += dk;
+    }
+}
+
 /// The position system handed to Newton-Raphson: Φ(x, t) = 0 in the 6-coordinate form.
 pub(crate) struct PositionSystem<'a> {
     pub model: &'a Model,
@@ -531,18 +556,20 @@ impl NonlinearSystem for PositionSystem<'_> {
         self.model.num_unknowns()
     }
     fn state_len(&self) -> usize {
-        7 * self.model.num_bodies()
+        7 * self.model.num_bodies() + self.model.num_extra()
     }
     fn residual(&mut self, x: &[f64], out: &mut [f64]) {
         set_poses(self.bodies, x);
-        self.model.phi_into(self.bodies, self.turns, self.t, out);
+        let u = self.model.extras_of(x);
+        self.model.phi_into(self.bodies, u, self.turns, self.t, out);
     }
     fn jacobian(&mut self, x: &[f64], slots: &mut [f64]) {
         set_poses(self.bodies, x);
-        self.model.jacobian_into(self.bodies, self.t, slots);
+        let u = self.model.extras_of(x);
+        self.model.jacobian_into(self.bodies, u, self.t, slots);
     }
     fn apply_step(&mut self, x: &mut [f64], dx: &[f64]) {
-        apply_rotation_step(x, dx);
+        apply_step(x, dx, self.model.num_bodies());
     }
     fn equation_scales(&self, out: &mut [f64]) {
         out.copy_from_slice(self.model.equation_scales());

@@ -67,6 +67,15 @@ impl Helix {
         self.rise / (self.k * self.k)
     }
 
+    /// The parameter range of the turn of the helix nearest to `p` (one turn each side of the
+    /// height of p along the axis), where [`super::Curve::closest`] searches.
+    pub(crate) fn turn_near(&self, p: &Vector3<f64>) -> (f64, f64) {
+        let phi = self.z.dot(&(p - self.centre)) / self.rise;
+        let u = phi * self.k;
+        let turn = TAU * self.k;
+        (u - turn, u + turn)
+    }
+
     /// c'(u) and its derivatives.
     pub fn jet(&self, u: f64) -> CurveJet {
         let (r, k) = (self.radius, self.k);

@@ -105,6 +105,55 @@ impl Curve {
         }
     }
 
+    /// The parameter u of the curve point nearest to `p` (body coordinates): the best of
+    /// samples over the curve's span (its domain, one period, or for a line and a helix the
+    /// stretch near p) refined by Newton's method on c'_uᵀ(c' − p) = 0. Used to start the curve
+    /// parameter at a drawn pose.
+    pub fn closest(&self, p: &Vector3<f64>) -> f64 {
+        let (a, b) = match self {
+            Curve::Line(l) => {
+                let j = l.jet(0.0);
+                let u = j.c_u.dot(&(p - j.c));
+                (u, u)
+            }
+            Curve::Helix(h) => h.turn_near(p),
+            _ => match (self.domain(), self.period()) {
+                (Some(d), _) => d,
+                (None, Some(l)) => (0.0, l),
+                (None, None) => (0.0, 0.0),
+            },
+        };
+        const SAMPLES: usize = 256;
+        let dist = |u: f64| (self.jet(u).c - p).norm_squared();
+        let mut best = a;
+        for k in 0..=SAMPLES {
+            let u = a + (b - a) * k as f64 / SAMPLES as f64;
+            if dist(u) < dist(best) {
+                best = u;
+            }
+        }
+        let step = (b - a) / SAMPLES as f64;
+        let mut u = best;
+        for _ in 0..50 {
+            let j = self.jet(u);
+            let d = j.c - p;
+            let (f, df) = (j.c_u.dot(&d), j.c_uu.dot(&d) + j.c_u.norm_squared());
+            if df <= 0.0 {
+                break;
+            }
+            let du = (-f / df).clamp(-step.max(1e-300), step.max(1e-300));
+            u += du;
+            if du.abs() <= 1e-15 * (1.0 + u.abs()) {
+                break;
+            }
+        }
+        if dist(u) <= dist(best) {
+            u
+        } else {
+            best
+        }
+    }
+
     /// A length that sets the curve's scale (for equation scaling and tolerances).
     pub fn length_scale(&self) -> f64 {
         match self {

@@ -250,3 +250,27 @@ fn bad_curve_data_is_refused_with_what_to_do() {
     assert!(Helix::new(&m, 1.0, 0.0).is_err());
     assert!(Helix::new(&m, -1.0, 1.0).is_err());
 }
+
+/// The nearest curve point of a point placed off the curve along the normal plane.
+#[test]
+fn closest_finds_the_nearest_parameter() {
+    let m = marker();
+    let curves: Vec<Curve> = vec![
+        Line::new(&m).into(),
+        Circle::new(&m, 0.7).unwrap().into(),
+        Helix::new(&m, 0.7, 0.4).unwrap().into(),
+        CubicCurve::new(spline_points(), false).unwrap().into(),
+        CubicCurve::new(closed_points(), true).unwrap().into(),
+    ];
+    for c in &curves {
+        for u in [0.3, 1.1, 2.05] {
+            let j = c.jet(u);
+            // A small offset perpendicular to the tangent, toward the concave side or not.
+            let n = j.c_u.cross(&Vector3::new(0.3, -0.7, 0.2)).normalize() * 0.01;
+            let found = c.closest(&(j.c + n));
+            let p = c.period().unwrap_or(f64::INFINITY);
+            let diff = (found - u).abs().min((found - u).abs() % p);
+            assert!(diff < 1e-6, "{} at {u}: found {found}", c.kind());
+        }
+    }
+}

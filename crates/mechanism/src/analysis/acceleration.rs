@@ -19,7 +19,12 @@ impl Model {
             self.velocity(ws)?;
         }
         let t = ws.pose.t;
-        self.gamma_into(&ws.pose.bodies, t, &mut ws.rows.rhs);
+        self.gamma_into(
+            &ws.pose.bodies,
+            (ws.pose.u(), &ws.motion.v[6 * ws.pose.bodies.len()..]),
+            t,
+            &mut ws.rows.rhs,
+        );
         ws.counters.evaluations.gamma += 1;
         let newton = ws.kin.newton.as_mut().expect("prepared by velocity");
         let mut sys = PositionSystem {

@@ -23,7 +23,7 @@
 
 use crate::error::{AnalysisError, OpenElement};
 use crate::model::Model;
-use crate::workspace::{apply_rotation_step, set_poses, Workspace};
+use crate::workspace::{apply_step, set_poses, Workspace};
 use cardan_constraints::{unwrap_angle, BodyPair, BodyState, Driver, TimeFunction};
 use cardan_solver::{
     LineSearch, LinearSolver, MinNormQr, Newton, NewtonOptions, NewtonReport, NonlinearSystem,
@@ -200,23 +200,25 @@ impl NonlinearSystem for AssemblySystem<'_> {
         self.model.num_unknowns()
     }
     fn state_len(&self) -> usize {
-        7 * self.model.num_bodies()
+        7 * self.model.num_bodies() + self.model.num_extra()
     }
     fn residual(&mut self, x: &[f64], out: &mut [f64]) {
         set_poses(self.bodies, x);
+        let u = self.model.extras_of(x);
         self.model
-            .phi_into(self.bodies, self.turns, self.t, &mut self.phi);
+            .phi_into(self.bodies, u, self.turns, self.t, &mut self.phi);
         out.copy_from_slice(&self.phi[..self.m]);
     }
     fn jacobian(&mut self, x: &[f64], slots: &mut [f64]) {
         set_poses(self.bodies, x);
+        let u = self.model.extras_of(x);
         self.model
-            .jacobian_into(self.bodies, self.t, &mut self.slots);
+            .jacobian_into(self.bodies, u, self.t, &mut self.slots);
         let k = slots.len();
         slots.copy_from_slice(&self.slots[..k]);
     }
     fn apply_step(&mut self, x: &mut [f64], dx: &[f64]) {
-        apply_rotation_step(x, dx);
+        apply_step(x, dx, self.model.num_bodies());
     }
     fn equation_scales(&self, out: &mut [f64]) {
         out.copy_from_slice(&self.model.equation_scales()[..self.m]);
@@ -443,7 +445,7 @@ impl Model {
         // that merely cannot close (a coupler too short) has none there; at its best fit it is
         // stretched, singular, and the rank analysis would take that for redundancy.
         let mut slots = vec![0.0; self.pattern.num_slots()];
-        self.jacobian_into(&ws.pose.bodies, options.t, &mut slots);
+        self.jacobian_into(&ws.pose.bodies, ws.pose.u(), options.t, &mut slots);
         // A row that vanishes as drawn (a distance joint drawn with its points together) is
         // degenerate there, not redundant.
         let mut row_size = vec![0.0f64; pattern.nrows()];
@@ -528,7 +530,13 @@ impl Model {
         at_best_fit: bool,
     ) -> Option<Result<(MinNormSolve, f64), AnalysisError>> {
         let (m, t) = (pattern.nrows(), options.t);
-        self.phi_into(&ws.pose.bodies, &ws.pose.turns, t, &mut ws.rows.phi);
+        self.phi_into(
+            &ws.pose.bodies,
+            ws.pose.u(),
+            &ws.pose.turns,
+            t,
+            &mut ws.rows.phi,
+        );
         let off = self.scaled_residual(&ws.rows.phi, m);
         if (off > crate::analysis::dropped::LEAST_SQUARES_MAX_RESIDUAL && !at_best_fit)
             || off.is_nan()
@@ -538,7 +546,7 @@ impl Model {
         }
         let rank_options = self.rank_options_for(&ws.rows.phi, m);
         let mut slots = vec![0.0; self.pattern.num_slots()];
-        self.jacobian_into(&ws.pose.bodies, t, &mut slots);
+        self.jacobian_into(&ws.pose.bodies, ws.pose.u(), t, &mut slots);
         let ra = RankAnalysis::compute_auto(pattern, &slots[..pattern.num_slots()], rank_options)
             .ok()?;
         if ra.dependent_rows().is_empty() {
@@ -567,7 +575,13 @@ impl Model {
         };
         ws.sync_poses();
         let rep = solved.ok()?;
-        self.phi_into(&ws.pose.bodies, &ws.pose.turns, t, &mut ws.rows.phi);
+        self.phi_into(
+            &ws.pose.bodies,
+            ws.pose.u(),
+            &ws.pose.turns,
+            t,
+            &mut ws.rows.phi,
+        );
         let mut kept = vec![false; m];
         for &r in ra.independent_rows() {
             kept[r] = true;
@@ -589,7 +603,13 @@ impl Model {
 
     /// The elements among the first `m` rows whose scaled residual exceeds `tol`, largest first.
     pub(crate) fn open_elements(&self, ws: &mut Workspace, m: usize, tol: f64) -> Vec<OpenElement> {
-        self.phi_into(&ws.pose.bodies, &ws.pose.turns, ws.pose.t, &mut ws.rows.phi);
+        self.phi_into(
+            &ws.pose.bodies,
+            ws.pose.u(),
+            &ws.pose.turns,
+            ws.pose.t,
+            &mut ws.rows.phi,
+        );
         let mut open = Vec::new();
         let mut check = |name: &str, rows: &std::ops::Range<usize>| {
             if rows.start >= m {

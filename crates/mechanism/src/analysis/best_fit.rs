@@ -16,7 +16,7 @@
 //! multiplied by 4. Dense (an error path, for models up to [`MAX_BEST_FIT_UNKNOWNS`] unknowns).
 
 use crate::model::Model;
-use crate::workspace::{apply_rotation_step, Workspace};
+use crate::workspace::{apply_step, Workspace};
 use nalgebra::{DMatrix, DVector};
 
 /// Largest model the best fit is tried on (a dense n × n solve per iteration).
@@ -42,7 +42,13 @@ impl Model {
         let e = self.equation_scales()[..m].to_vec();
         let cost = |model: &Model, ws: &mut Workspace, r: &mut DVector<f64>| {
             ws.sync_poses();
-            model.phi_into(&ws.pose.bodies, &ws.pose.turns, t, &mut ws.rows.phi);
+            model.phi_into(
+                &ws.pose.bodies,
+                ws.pose.u(),
+                &ws.pose.turns,
+                t,
+                &mut ws.rows.phi,
+            );
             for i in 0..m {
                 r[i] = ws.rows.phi[i] / e[i];
             }
@@ -58,7 +64,7 @@ impl Model {
             if !f.is_finite() {
                 return None;
             }
-            self.jacobian_into(&ws.pose.bodies, t, &mut slots);
+            self.jacobian_into(&ws.pose.bodies, ws.pose.u(), t, &mut slots);
             let mut j = DMatrix::zeros(m, n);
             for ((row, col), v) in self.pattern.entries().zip(&slots) {
                 if row < m {
@@ -91,7 +97,7 @@ impl Model {
                 let dx: Vec<f64> = (0..n).map(|k| d[k] * scales[k]).collect();
                 x_try.copy_from_slice(&ws.pose.x);
                 std::mem::swap(&mut ws.pose.x, &mut x_try);
-                apply_rotation_step(&mut ws.pose.x, &dx);
+                apply_step(&mut ws.pose.x, &dx, self.num_bodies());
                 let f_try = cost(self, ws, &mut r_try);
                 if f_try < f {
                     f = f_try;

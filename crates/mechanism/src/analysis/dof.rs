@@ -16,7 +16,7 @@ impl Model {
     /// [`AnalysisError::Solver`] if the Jacobian is not finite.
     pub fn dof(&self, ws: &Workspace) -> Result<DofReport, AnalysisError> {
         let mut slots = vec![0.0; self.pattern.num_slots()];
-        self.jacobian_into(&ws.pose.bodies, ws.pose.t, &mut slots);
+        self.jacobian_into(&ws.pose.bodies, ws.pose.u(), ws.pose.t, &mut slots);
         let mj = self.joint_rows;
         let n = self.num_unknowns();
         let (rank, redundant) = if mj == 0 {
@@ -31,7 +31,13 @@ impl Model {
             // A slightly inconsistent model assembled to its least-squares pose: the tolerance
             // widens with its residual (`analysis::dropped`).
             let mut phi = vec![0.0; self.num_equations()];
-            self.phi_into(&ws.pose.bodies, &ws.pose.turns, ws.pose.t, &mut phi);
+            self.phi_into(
+                &ws.pose.bodies,
+                ws.pose.u(),
+                &ws.pose.turns,
+                ws.pose.t,
+                &mut phi,
+            );
             let options = self.rank_options_for(&phi, mj);
             let ra = RankAnalysis::compute_auto(&sub, &slots[..k], options)
                 .map_err(|e| solver(ws.pose.t, e))?;

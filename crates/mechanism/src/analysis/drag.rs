@@ -91,6 +91,11 @@ impl Drag {
         metres_per_unit: f64,
     ) -> Result<Self, AnalysisError> {
         let bad = |m: String| AnalysisError::Options(format!("drag: {m}"));
+        if model.num_extra() > 0 {
+            return Err(bad(
+                "a model with point-on-curve elements cannot be dragged yet (their curve parameters have no least-change weight)".into(),
+            ));
+        }
         let k = match model.body_id(body) {
             Some(BodyId::Moving(k)) => k,
             Some(BodyId::Ground) => return Err(bad("the ground cannot be dragged".into())),

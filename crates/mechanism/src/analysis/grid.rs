@@ -46,7 +46,7 @@ use crate::analysis::position::{OpenRow, PositionReport};
 use crate::error::AnalysisError;
 use crate::model::{BodyId, Model};
 use crate::results::{
-    BodyResults, FrameSink, JointResults, Outputs, PointResults, Results, RunTotals,
+    BodyResults, CurveResults, FrameSink, JointResults, Outputs, PointResults, Results, RunTotals,
 };
 use crate::workspace::Workspace;
 use cardan_constraints::joints::{continue_angle, unwrap_angle};
@@ -456,6 +456,7 @@ impl Model {
             self.check_stops(ws, t, false)?;
             rep
         };
+        self.check_curve_ends(ws, t)?;
         if out.needs_velocity() {
             self.velocity(ws)?;
         }
@@ -696,13 +697,39 @@ impl Model {
         Ok((rep, Verdict::Accepted))
     }
 
+    /// [`AnalysisError::CurveEnd`] when a point-on-curve element's parameter has left its open
+    /// curve's data (beyond them the curve is only the straight continuation that keeps the
+    /// equations smooth). Within a relative 1e-9 of the curve's length the end still counts.
+    fn check_curve_ends(&self, ws: &Workspace, t: f64) -> Result<(), AnalysisError> {
+        let u = ws.pose.u();
+        for c in &self.curves {
+            let Some((a, b)) = c.element.curve.domain() else {
+                continue;
+            };
+            let slack = 1e-9 * (b - a);
+            let uk = u[c.extra];
+            if uk < a - slack || uk > b + slack {
+                return Err(AnalysisError::CurveEnd {
+                    element: c.name.clone(),
+                    time: t,
+                    u: uk,
+                    start: a,
+                    end: b,
+                    partial: None,
+                });
+            }
+        }
+        Ok(())
+    }
+
     /// The branch-jump test (module docs): for some body, C_b > κ M_b + ε, with M_b its
     /// predicted motion (x_pred ⊖ x_start) and C_b its correction (x ⊖ x_pred).
     fn jumped(&self, ws: &Workspace) -> bool {
         let l = self.characteristic_length();
-        let start = ws.grid.x_tmp.chunks_exact(7);
-        let pred = ws.grid.x_pred.chunks_exact(7);
-        let solved = ws.pose.x.chunks_exact(7);
+        let bodies = 7 * self.num_bodies();
+        let start = ws.grid.x_tmp[..bodies].chunks_exact(7);
+        let pred = ws.grid.x_pred[..bodies].chunks_exact(7);
+        let solved = ws.pose.x[..bodies].chunks_exact(7);
         start.zip(pred).zip(solved).any(|((x0, xp), x)| {
             let motion = pose_distance(x0, xp, l);
             let correction = pose_distance(xp, x, l);
@@ -762,7 +789,16 @@ impl Model {
             let jerk = acc && ws.jerk.vdot_last_time == ws.pose.t && h != 0.0 && h.is_finite();
             let c3 = if jerk { dt * dt * dt / (6.0 * h) } else { 0.0 };
             crate::analysis::predictor::predict(self, ws, dt, acc, c3);
+            // The extra coordinates (curve parameters) by their Taylor series.
+            for e in 0..self.num_extra() {
+                let (x, v) = (7 * nb + e, 6 * nb + e);
+                let a = if acc { ws.motion.vdot[v] } else { 0.0 };
+                ws.pose.x[x] += ws.motion.v[v] * dt + 0.5 * a * dt * dt;
+            }
         } else if k >= 2 {
+            for e in 7 * nb..ws.pose.x.len() {
+                ws.pose.x[e] = 2.0 * ws.pose.x[e] - ws.grid.x_prev[e];
+            }
             for b in 0..nb {
                 let (xs, xp) = (
                     &mut ws.pose.x[7 * b..7 * b + 7],
@@ -854,12 +890,23 @@ impl Model {
         } else {
             Vec::new()
         };
+        let curves = self
+            .curves
+            .iter()
+            .map(|c| CurveResults {
+                name: c.name.clone(),
+                u: Vec::with_capacity(n),
+                u_dot: Vec::with_capacity(cap(v)),
+                u_ddot: Vec::with_capacity(cap(a)),
+            })
+            .collect();
         Results {
             outputs: Some(out),
             times: Vec::with_capacity(n),
             bodies,
             points,
             joints,
+            curves,
             residual: Vec::with_capacity(n),
             iterations: Vec::with_capacity(n),
             subdivided_steps: 0,
@@ -913,6 +960,16 @@ impl Model {
                 if a {
                     h.acceleration.push(ws.point_acceleration(p.body, &p.local));
                 }
+            }
+        }
+        let nb = self.num_bodies();
+        for (e, h) in res.curves.iter_mut().enumerate() {
+            h.u.push(ws.pose.x[7 * nb + e]);
+            if v {
+                h.u_dot.push(ws.motion.v[6 * nb + e]);
+            }
+            if a {
+                h.u_ddot.push(ws.motion.vdot[6 * nb + e]);
             }
         }
         let dt = memory.t.map_or(0.0, |t_prev| ws.pose.t - t_prev);

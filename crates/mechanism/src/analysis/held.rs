@@ -31,6 +31,11 @@ impl Model {
         options: &KinematicOptions,
         metric: HoldMetric,
     ) -> Result<Option<HeldRun>, AnalysisError> {
+        if self.num_extra() > 0 {
+            return Err(AnalysisError::Options(
+                "free_dof = \"hold\" does not take point-on-curve elements yet (their curve parameters have no least-change weight); drive every degree of freedom".into(),
+            ));
+        }
         let drawn = ws.pose.x.clone();
         let mut solver = LeastChange::new(self, metric.weights(self))
             .map_err(|e| self.map_solver_error(options.t0, e))?;
@@ -126,7 +131,7 @@ impl Model {
         self.accept_turns(&ws.pose.bodies, &mut ws.pose.turns);
         self.check_stops(ws, t, true)?;
         if out.needs_velocity() {
-            self.nu_into(&ws.pose.bodies, t, &mut ws.rows.rhs);
+            self.nu_into(&ws.pose.bodies, ws.pose.u(), t, &mut ws.rows.rhs);
             ws.counters.evaluations.nu += 1;
             solver.rates(self, ws, &ws.rows.rhs)?;
             ws.motion.v.copy_from_slice(solver.solution());
@@ -134,7 +139,12 @@ impl Model {
             ws.motion.velocity_valid = true;
         }
         if out.acceleration {
-            self.gamma_into(&ws.pose.bodies, t, &mut ws.rows.rhs);
+            self.gamma_into(
+                &ws.pose.bodies,
+                (ws.pose.u(), &ws.motion.v[6 * ws.pose.bodies.len()..]),
+                t,
+                &mut ws.rows.rhs,
+            );
             ws.counters.evaluations.gamma += 1;
             solver.rates(self, ws, &ws.rows.rhs)?;
             ws.motion.vdot.copy_from_slice(solver.solution());

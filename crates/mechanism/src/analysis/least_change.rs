@@ -316,7 +316,7 @@ impl LeastChange {
             self.l_inv[b] = l.try_inverse().ok_or_else(not_definite)?;
             self.g[b] = g;
         }
-        model.jacobian_into(&ws.pose.bodies, t, &mut self.slots);
+        model.jacobian_into(&ws.pose.bodies, ws.pose.u(), t, &mut self.slots);
         self.factored_x.copy_from_slice(&ws.pose.x);
         self.hat.iter_mut().for_each(|h| *h = 0.0);
         let scales = model.equation_scales();
@@ -362,7 +362,13 @@ impl LeastChange {
         let mut last_size = f64::INFINITY;
         for it in 0..MAX_ITERATIONS {
             ws.sync_poses();
-            model.phi_into(&ws.pose.bodies, &ws.pose.turns, t, &mut self.phi);
+            model.phi_into(
+                &ws.pose.bodies,
+                ws.pose.u(),
+                &ws.pose.turns,
+                t,
+                &mut self.phi,
+            );
             self.factor(model, ws, t)
                 .map_err(|e| model.map_solver_error(t, e))?;
             // c = L⁻¹ g.
@@ -395,7 +401,13 @@ impl LeastChange {
             apply_rotation_step(&mut ws.pose.x, &self.delta);
         }
         ws.sync_poses();
-        model.phi_into(&ws.pose.bodies, &ws.pose.turns, t, &mut self.phi);
+        model.phi_into(
+            &ws.pose.bodies,
+            ws.pose.u(),
+            &ws.pose.turns,
+            t,
+            &mut self.phi,
+        );
         Err(AnalysisError::NotConverged {
             time: t,
             iterations: MAX_ITERATIONS,

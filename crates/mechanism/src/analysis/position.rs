@@ -144,8 +144,14 @@ impl Model {
             });
         }
         let mut slots = vec![0.0; self.pattern.num_slots()];
-        self.jacobian_into(&ws.pose.bodies, ws.pose.t, &mut slots);
-        self.phi_into(&ws.pose.bodies, &ws.pose.turns, ws.pose.t, &mut ws.rows.phi);
+        self.jacobian_into(&ws.pose.bodies, ws.pose.u(), ws.pose.t, &mut slots);
+        self.phi_into(
+            &ws.pose.bodies,
+            ws.pose.u(),
+            &ws.pose.turns,
+            ws.pose.t,
+            &mut ws.rows.phi,
+        );
         let rank_options = match kept_rows_only {
             None => self.rank_options_for(&ws.rows.phi, self.num_equations()),
             Some(_) => RankOptions::default(),
@@ -275,7 +281,13 @@ impl Model {
         match result {
             Ok(rep) => {
                 self.accept_turns(&ws.pose.bodies, &mut ws.pose.turns);
-                self.phi_into(&ws.pose.bodies, &ws.pose.turns, t, &mut ws.rows.phi);
+                self.phi_into(
+                    &ws.pose.bodies,
+                    ws.pose.u(),
+                    &ws.pose.turns,
+                    t,
+                    &mut ws.rows.phi,
+                );
                 if selected {
                     self.record_dropped_rows(ws, t);
                 }

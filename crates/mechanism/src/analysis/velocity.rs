@@ -21,7 +21,7 @@ impl Model {
         }
         let t = ws.pose.t;
         let newton = ws.kin.newton.as_mut().expect("prepared above");
-        self.nu_into(&ws.pose.bodies, t, &mut ws.rows.rhs);
+        self.nu_into(&ws.pose.bodies, ws.pose.u(), t, &mut ws.rows.rhs);
         ws.counters.evaluations.nu += 1;
         let mut sys = PositionSystem {
             model: self,

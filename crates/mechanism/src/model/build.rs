@@ -5,7 +5,7 @@
 //! specifications) does not depend on the model.
 
 use super::tree::PredictorTree;
-use super::{couplers, friction, layout, limits, resolve, Model};
+use super::{couplers, curve, friction, layout, limits, resolve, Model};
 use crate::builder::MechanismBuilder;
 use crate::error::ModelError;
 use std::collections::HashMap;
@@ -34,6 +34,16 @@ fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
         let what = format!("a {} joint", spec.kind.name());
         unique(&mut element_names, &spec.name, Some(joints.len()), &what)?;
         joints.push(resolve::joint(spec, &names, &bodies)?);
+    }
+    let mut curves = Vec::with_capacity(b.curves.len());
+    for spec in &b.curves {
+        unique(
+            &mut element_names,
+            &spec.name,
+            None,
+            "a point-on-curve element",
+        )?;
+        curves.push(curve::curve(spec, curves.len(), &names, &bodies)?);
     }
     let mut drivers = Vec::with_capacity(b.drivers.len());
     for spec in &b.drivers {
@@ -74,7 +84,14 @@ fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
     }
 
     let nb = bodies.len();
-    let lay = layout::rows(&mut joints, &mut couplers, &mut drivers, nb, length);
+    let lay = layout::rows(
+        &mut joints,
+        &mut curves,
+        &mut couplers,
+        &mut drivers,
+        nb,
+        length,
+    );
     let tree = PredictorTree::new(nb, &joints);
     let index = |names: Vec<&str>| -> HashMap<String, usize> {
         names
@@ -91,6 +108,7 @@ fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
         points,
         vectors,
         joints,
+        curves,
         drivers,
         couplers,
         forces,

@@ -6,7 +6,7 @@
 
 use crate::builder::Compliance;
 use cardan_constraints::joints::Measure;
-use cardan_constraints::{Constraint, Coupler, Driver, Joint, JointLimit};
+use cardan_constraints::{Constraint, Coupler, Driver, Joint, JointLimit, PointOnCurve};
 use nalgebra::{Matrix3, Vector3, Vector4};
 use std::ops::Range;
 
@@ -74,6 +74,30 @@ pub struct JointInfo {
     /// Its rows in the global system.
     pub rows: Range<usize>,
     pub(crate) map: ScatterMap,
+}
+
+/// A point-on-curve element of the model: a point of body j on a curve of body i, with the
+/// curve parameter u as extra coordinate `extra` (columns after the bodies': 6 nb + `extra`
+/// in the 6-coordinate form, 7 nb + `extra` in the Newton state).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CurveInfo {
+    /// Name.
+    pub name: String,
+    /// Body i (the curve's).
+    pub body_i: BodyId,
+    /// Body j (the point's).
+    pub body_j: BodyId,
+    /// The equations.
+    pub element: PointOnCurve,
+    /// Index of its curve parameter among the model's extra coordinates.
+    pub extra: usize,
+    /// u at the drawn pose.
+    pub initial_u: f64,
+    /// Its rows in the global system (joint rows: they fix degrees of freedom).
+    pub rows: Range<usize>,
+    pub(crate) map: ScatterMap,
+    /// `rows` entries: the slot of each row's u column.
+    pub(crate) extra_slots: Vec<usize>,
 }
 
 /// A driver of the model.

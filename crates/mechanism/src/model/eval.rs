@@ -1,10 +1,12 @@
 //! Evaluation of the global system on body states (6-coordinate form): Φ, ν, γ# and the
-//! Jacobian Φ_v, element by element, scattered into the global vectors and slot array.
+//! Jacobian Φ_v, element by element, scattered into the global vectors and slot array. The
+//! extra coordinates u (curve parameters, [`Model::extras_of`]) and their rates u̇ come beside
+//! the body states; element k of [`Model::curves`] reads u[k].
 
 use super::elements::{BodyId, ScatterMap, NO_SLOT};
 use super::Model;
 use crate::workspace::Workspace;
-use cardan_constraints::{BodyPair, BodyState, Constraint};
+use cardan_constraints::{BodyPair, BodyState, Constraint, MAX_EXTRA};
 use std::ops::Range;
 
 impl Model {
@@ -35,10 +37,12 @@ impl Model {
     }
 
     /// Fills `out` (one entry per equation) element by element with `eval`, which writes an
-    /// element's rows for its body pair: the one loop behind Φ, ν and γ#.
+    /// element's rows for its body pair (with its curve parameter u[k] and rate u̇[k], if a
+    /// point-on-curve element): the one loop behind Φ, ν and γ#.
     fn rows_into(
         &self,
         bodies: &[BodyState],
+        (u, u_dot): (&[f64], &[f64]),
         t: f64,
         out: &mut [f64],
         eval: impl Fn(&dyn ElementEval, &BodyPair, f64, &mut [f64]),
@@ -48,6 +52,20 @@ impl Model {
             let pair = BodyPair::new(Self::state(bodies, &g, bi), Self::state(bodies, &g, bj));
             eval(e, &pair, t, &mut out[rows.clone()]);
         });
+        for c in &self.curves {
+            let k = c.extra;
+            let pair = BodyPair::with_extra(
+                Self::state(bodies, &g, c.body_i),
+                Self::state(bodies, &g, c.body_j),
+                &u[k..k + 1],
+                if u_dot.is_empty() {
+                    &[0.0]
+                } else {
+                    &u_dot[k..k + 1]
+                },
+            );
+            eval(&c.element, &pair, t, &mut out[c.rows.clone()]);
+        }
     }
 
     /// Φ, with each coupler's angles continued from `turns` (its references at the last
@@ -55,11 +73,12 @@ impl Model {
     pub(crate) fn phi_into(
         &self,
         bodies: &[BodyState],
+        u: &[f64],
         turns: &[[f64; 2]],
         t: f64,
         out: &mut [f64],
     ) {
-        self.rows_into(bodies, t, out, |e, x, t, o| e.phi_dyn(x, t, o));
+        self.rows_into(bodies, (u, &[]), t, out, |e, x, t, o| e.phi_dyn(x, t, o));
         let g = BodyState::ground();
         for (c, refs) in self.couplers.iter().zip(turns) {
             let pair = BodyPair::new(
@@ -98,55 +117,95 @@ impl Model {
         self.accept_stop_turns(bodies, &mut turns[self.couplers.len()..]);
     }
 
-    pub(crate) fn nu_into(&self, bodies: &[BodyState], t: f64, out: &mut [f64]) {
-        self.rows_into(bodies, t, out, |e, x, t, o| e.nu_dyn(x, t, o));
+    pub(crate) fn nu_into(&self, bodies: &[BodyState], u: &[f64], t: f64, out: &mut [f64]) {
+        self.rows_into(bodies, (u, &[]), t, out, |e, x, t, o| e.nu_dyn(x, t, o));
     }
 
-    pub(crate) fn gamma_into(&self, bodies: &[BodyState], t: f64, out: &mut [f64]) {
-        self.rows_into(bodies, t, out, |e, x, t, o| e.gamma_dyn(x, t, o));
+    pub(crate) fn gamma_into(
+        &self,
+        bodies: &[BodyState],
+        (u, u_dot): (&[f64], &[f64]),
+        t: f64,
+        out: &mut [f64],
+    ) {
+        self.rows_into(bodies, (u, u_dot), t, out, |e, x, t, o| {
+            e.gamma_dyn(x, t, o)
+        });
     }
 
-    pub(crate) fn jacobian_into(&self, bodies: &[BodyState], t: f64, slots: &mut [f64]) {
+    pub(crate) fn jacobian_into(&self, bodies: &[BodyState], u: &[f64], t: f64, slots: &mut [f64]) {
         let g = BodyState::ground();
         self.each(|e, bi, bj, rows, map| {
             let pair = BodyPair::new(Self::state(bodies, &g, bi), Self::state(bodies, &g, bj));
-            let n = rows.len();
-            let mut bi_blk = [[0.0; 6]; 6];
-            let mut bj_blk = [[0.0; 6]; 6];
-            e.phi_v_dyn(&pair, t, &mut bi_blk[..n], &mut bj_blk[..n]);
-            for r in 0..n {
-                let m = &map.slots[r * 12..r * 12 + 12];
-                for c in 0..6 {
-                    if m[c] != NO_SLOT {
-                        slots[m[c]] = bi_blk[r][c];
-                    }
-                    if m[6 + c] != NO_SLOT {
-                        slots[m[6 + c]] = bj_blk[r][c];
-                    }
-                }
-            }
+            scatter(e, &pair, t, rows.len(), map, slots);
         });
+        for c in &self.curves {
+            let k = c.extra;
+            let pair = BodyPair::with_extra(
+                Self::state(bodies, &g, c.body_i),
+                Self::state(bodies, &g, c.body_j),
+                &u[k..k + 1],
+                &[0.0],
+            );
+            let n = c.rows.len();
+            scatter(&c.element, &pair, t, n, &c.map, slots);
+            let mut ju = [[0.0; MAX_EXTRA]; 6];
+            c.element.jacobian_extra(&pair, t, &mut ju[..n]);
+            for (r, &slot) in c.extra_slots.iter().enumerate() {
+                slots[slot] = ju[r][0];
+            }
+        }
     }
 
     /// Φ at the workspace's poses and time `t` (length [`num_equations`](Self::num_equations)).
     /// No allocation.
     pub fn eval_phi(&self, ws: &Workspace, t: f64, out: &mut [f64]) {
-        self.phi_into(&ws.pose.bodies, &ws.pose.turns, t, out)
+        let u = self.extras_of(&ws.pose.x);
+        self.phi_into(&ws.pose.bodies, u, &ws.pose.turns, t, out)
     }
 
     /// Φ_v slot values (pattern [`Model::pattern`]) at the workspace's poses. No allocation.
     pub fn eval_jacobian(&self, ws: &Workspace, t: f64, slots: &mut [f64]) {
-        self.jacobian_into(&ws.pose.bodies, t, slots)
+        let u = self.extras_of(&ws.pose.x);
+        self.jacobian_into(&ws.pose.bodies, u, t, slots)
     }
 
     /// ν = −Φ_t at the workspace's poses. No allocation.
     pub fn eval_nu(&self, ws: &Workspace, t: f64, out: &mut [f64]) {
-        self.nu_into(&ws.pose.bodies, t, out)
+        let u = self.extras_of(&ws.pose.x);
+        self.nu_into(&ws.pose.bodies, u, t, out)
     }
 
     /// γ#_v (6-coordinate form) at the workspace's poses and velocities (ω'). No allocation.
     pub fn eval_gamma(&self, ws: &Workspace, t: f64, out: &mut [f64]) {
-        self.gamma_into(&ws.pose.bodies, t, out)
+        let u = self.extras_of(&ws.pose.x);
+        let u_dot = self.extra_rates_of(&ws.motion.v);
+        self.gamma_into(&ws.pose.bodies, (u, u_dot), t, out)
+    }
+}
+
+/// Writes an element's Φ_v blocks (its `n` rows) into the slots of its scatter map.
+fn scatter(
+    e: &dyn ElementEval,
+    pair: &BodyPair,
+    t: f64,
+    n: usize,
+    map: &ScatterMap,
+    slots: &mut [f64],
+) {
+    let mut bi_blk = [[0.0; 6]; 6];
+    let mut bj_blk = [[0.0; 6]; 6];
+    e.phi_v_dyn(pair, t, &mut bi_blk[..n], &mut bj_blk[..n]);
+    for r in 0..n {
+        let m = &map.slots[r * 12..r * 12 + 12];
+        for c in 0..6 {
+            if m[c] != NO_SLOT {
+                slots[m[c]] = bi_blk[r][c];
+            }
+            if m[6 + c] != NO_SLOT {
+                slots[m[6 + c]] = bj_blk[r][c];
+            }
+        }
     }
 }
 

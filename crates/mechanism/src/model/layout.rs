@@ -4,7 +4,8 @@
 //! 1, L or L²) and unknowns (L for Δr, 1 for Δπ'), with L the characteristic length.
 
 use super::elements::{
-    BodyId, BodyInfo, CouplerInfo, DriverInfo, FeatureInfo, JointInfo, ScatterMap, NO_SLOT,
+    BodyId, BodyInfo, CouplerInfo, CurveInfo, DriverInfo, FeatureInfo, JointInfo, ScatterMap,
+    NO_SLOT,
 };
 use crate::builder::MechanismBuilder;
 use cardan_constraints::{Constraint, Footprint};
@@ -47,11 +48,12 @@ pub(super) fn characteristic_length(
     length
 }
 
-/// Lays out the rows of `joints`, `couplers`, then `drivers` (setting their row ranges and
+/// Lays out the rows of `joints`, `curves` (point-on-curve elements), `couplers`, then `drivers` (setting their row ranges and
 /// scatter maps) for `nb` moving bodies. Joints and couplers are the constraints that fix the
 /// degrees of freedom (the "joint rows"); drivers come last.
 pub(super) fn rows(
     joints: &mut [JointInfo],
+    curves: &mut [CurveInfo],
     couplers: &mut [CouplerInfo],
     drivers: &mut [DriverInfo],
     nb: usize,
@@ -74,6 +76,31 @@ pub(super) fn rows(
         // Each row's scale from its dimension: 1, L or L².
         for r in 0..j.joint.rows() {
             equation_scales.push(j.joint.dimension(r).scale(length));
+        }
+    }
+    // Point-on-curve elements: joint rows too, with their curve parameter's column after the
+    // bodies' (6 nb + extra).
+    for c in curves.iter_mut() {
+        let n = c.element.rows();
+        let (rows, map) = layout(
+            &mut row,
+            &mut entries,
+            n,
+            c.element.footprint(),
+            c.body_i,
+            c.body_j,
+        );
+        c.extra_slots = rows
+            .clone()
+            .map(|r| {
+                entries.push((r, 6 * nb + c.extra));
+                entries.len() - 1
+            })
+            .collect();
+        c.rows = rows;
+        c.map = map;
+        for r in 0..n {
+            equation_scales.push(c.element.dimension(r).scale(length));
         }
     }
     for c in couplers.iter_mut() {
@@ -104,10 +131,18 @@ pub(super) fn rows(
         equation_scales.push(d.driver.dimension(0).scale(length));
     }
     let num_rows = row;
-    let pattern = SparsityPattern::new(num_rows, 6 * nb, &entries)
+    let n = 6 * nb + curves.len();
+    let pattern = SparsityPattern::new(num_rows, n, &entries)
         .expect("entries are inside the matrix by construction");
-    let unknown_scales = (0..6 * nb)
-        .map(|c| if c % 6 < 3 { length } else { 1.0 })
+    // Δr and a curve parameter (a length: chord length or arc length) scale with L, Δπ' not.
+    let unknown_scales = (0..n)
+        .map(|c| {
+            if c >= 6 * nb || c % 6 < 3 {
+                length
+            } else {
+                1.0
+            }
+        })
         .collect();
     Layout {
         pattern,

@@ -4,10 +4,12 @@
 //!
 //! ## Layout of the global system
 //! Unknowns (6-coordinate form): for moving body k, columns 6k..6k+3 are Δr_k (ṙ_k) and
-//! 6k+3..6k+6 are Δπ'_k (ω'_k). Ground has no columns. Equations: the joints in declaration
-//! order, then the couplers, then the drivers, each a contiguous row range. The pattern holds, for each row, the
-//! declared r and p blocks ([`cardan_constraints::Footprint`]) of each moving body of its
-//! element, so a step only refills values.
+//! 6k+3..6k+6 are Δπ'_k (ω'_k); after the bodies, column 6 nb + k is the extra coordinate k (the
+//! curve parameter u of point-on-curve element k; entry 7 nb + k of the Newton state). Ground
+//! has no columns. Equations: the joints in declaration order, then the point-on-curve
+//! elements, the couplers, the drivers, each a contiguous row range. The pattern holds, for
+//! each row, the declared r and p blocks ([`cardan_constraints::Footprint`]) of each moving
+//! body of its element (and a curve element's u column), so a step only refills values.
 
 //!
 //! The module is laid out by responsibility, in layers: `elements` holds the element records
@@ -19,6 +21,7 @@
 
 mod build;
 mod couplers;
+mod curve;
 mod elements;
 mod eval;
 mod friction;
@@ -30,8 +33,8 @@ mod tree;
 mod validate;
 
 pub use elements::{
-    BodyId, BodyInfo, CoupledCoordinate, CouplerInfo, DriverInfo, FeatureInfo, ForceInfo,
-    FrictionInfo, JointInfo, LimitInfo, StopInfo,
+    BodyId, BodyInfo, CoupledCoordinate, CouplerInfo, CurveInfo, DriverInfo, FeatureInfo,
+    ForceInfo, FrictionInfo, JointInfo, LimitInfo, StopInfo,
 };
 pub use friction::FRICTION_KINDS;
 pub(crate) use tree::{PredictorTree, TreeEdge};
@@ -50,6 +53,7 @@ pub struct Model {
     pub(crate) points: Vec<FeatureInfo>,
     pub(crate) vectors: Vec<FeatureInfo>,
     pub(crate) joints: Vec<JointInfo>,
+    pub(crate) curves: Vec<CurveInfo>,
     pub(crate) drivers: Vec<DriverInfo>,
     pub(crate) couplers: Vec<CouplerInfo>,
     pub(crate) forces: Vec<ForceInfo>,
@@ -150,12 +154,34 @@ impl Model {
         self.joint_rows
     }
 
-    /// Number of unknowns n = 6 nb (6-coordinate form).
+    /// Number of unknowns n = 6 nb + n_u (6-coordinate form): the bodies', then the extra
+    /// coordinates (one curve parameter per point-on-curve element).
     pub fn num_unknowns(&self) -> usize {
-        6 * self.bodies.len()
+        6 * self.bodies.len() + self.curves.len()
     }
 
-    /// The sparsity pattern of Φ_v (all equations × 6 nb).
+    /// Number of extra coordinates n_u (curve parameters), after the bodies' in every vector
+    /// of unknowns: column 6 nb + k of Φ_v, entry 7 nb + k of the Newton state.
+    pub fn num_extra(&self) -> usize {
+        self.curves.len()
+    }
+
+    /// The point-on-curve elements, in declaration order (element k owns extra coordinate k).
+    pub fn curves(&self) -> &[CurveInfo] {
+        &self.curves
+    }
+
+    /// The extra coordinates (curve parameters) of a Newton state `x` (7 nb + n_u entries).
+    pub fn extras_of<'a>(&self, x: &'a [f64]) -> &'a [f64] {
+        &x[7 * self.bodies.len()..]
+    }
+
+    /// The extra coordinates' rates of a velocity vector `v` (6 nb + n_u entries).
+    pub fn extra_rates_of<'a>(&self, v: &'a [f64]) -> &'a [f64] {
+        &v[6 * self.bodies.len()..]
+    }
+
+    /// The sparsity pattern of Φ_v (all equations × (6 nb + n_u)).
     pub fn pattern(&self) -> &SparsityPattern {
         &self.pattern
     }
@@ -188,6 +214,16 @@ impl Model {
                 kind: j.joint.kind().name(),
                 primitive,
                 local_row: local,
+            });
+        }
+        let k = self.curves.partition_point(|c| c.rows.end <= row);
+        if let Some(c) = self.curves.get(k).filter(|c| c.rows.contains(&row)) {
+            return Some(EquationName {
+                row,
+                element: c.name.clone(),
+                kind: "point_on_curve",
+                primitive: c.element.name(),
+                local_row: row - c.rows.start,
             });
         }
         let k = self.couplers.partition_point(|c| c.rows.end <= row);

@@ -106,7 +106,7 @@ impl<'a> Names<'a> {
 }
 
 /// The initial pose of a body (ground at the origin).
-fn pose(bodies: &[BodyInfo], id: BodyId) -> BodyState {
+pub(super) fn pose(bodies: &[BodyInfo], id: BodyId) -> BodyState {
     match id {
         BodyId::Ground => BodyState::ground(),
         BodyId::Moving(k) => BodyState::at(bodies[k].initial_r, bodies[k].initial_p),

@@ -1,0 +1,50 @@
+//! [`CurveSpec`]: a point of one body held on a curve of another (a pin in a curved slot, a
+//! roller on a track, a tool point on a path), as the builder collects it. The curve parameter
+//! u is an extra coordinate of the mechanism (columns after the bodies'); see
+//! [`cardan_constraints::PointOnCurve`] for the equations.
+
+use cardan_constraints::Curve;
+
+/// A point of body j on a curve fixed in body i.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CurveSpec {
+    /// Name (unique among all elements).
+    pub name: String,
+    /// The body carrying the curve (ground allowed).
+    pub body_i: String,
+    /// The curve, in body i's coordinates (global for ground).
+    pub curve: Curve,
+    /// The body carrying the point.
+    pub body_j: String,
+    /// The name of the point on body j.
+    pub point_j: String,
+    /// The curve parameter at the drawn pose; when `None`, the parameter of the curve point
+    /// nearest to the drawn point ([`Curve::closest`]).
+    pub initial_u: Option<f64>,
+}
+
+impl CurveSpec {
+    /// Point `point_j` of `body_j` on `curve` of `body_i`.
+    pub fn new(
+        name: impl Into<String>,
+        body_i: &str,
+        curve: impl Into<Curve>,
+        body_j: &str,
+        point_j: &str,
+    ) -> Self {
+        Self {
+            name: name.into(),
+            body_i: body_i.into(),
+            curve: curve.into(),
+            body_j: body_j.into(),
+            point_j: point_j.into(),
+            initial_u: None,
+        }
+    }
+
+    /// The curve parameter at the drawn pose.
+    pub fn initial_u(mut self, u: f64) -> Self {
+        self.initial_u = Some(u);
+        self
+    }
+}

@@ -1,0 +1,227 @@
+//! Point-on-curve elements in kinematic runs: the curve parameter u as an extra coordinate.
+//!
+//! - A pin in a straight slot (point on a line) with the slider's rotation locked equals a
+//!   prismatic joint: Haug's spatial slider-crank both ways, poses to 1e-12, and u is the
+//!   slide, against the closed form x(θ) with its rates.
+//! - A crank pin on a circle about the crank axis: the circle's rows are implied by the revolute
+//!   (two of three redundant, dropped), and u = R θ over two turns (continued past the circle's
+//!   period), u̇ = R ω, ü = 0.
+//! - Refusals: an initial parameter off an open curve; a motion that drives the point off the
+//!   end of an open curve stops with the time and the parameter.
+
+mod common;
+
+use cardan_constraints::{Circle, CubicCurve, Line, Marker};
+use cardan_mechanism::{
+    AnalysisError, Body, CurveSpec, DriverSpec, JointKind, JointSpec, KinematicOptions,
+    MechanismBuilder, ModelError, Orientation, TimeFunction, GROUND,
+};
+use common::{slider_crank, slider_x};
+use nalgebra::{Matrix3, Vector3};
+use std::f64::consts::PI;
+
+/// Haug's slider-crank with its prismatic joint replaced by the slider's point C on a line
+/// along global x through O (a pin in a straight slot) and a no-rotation joint.
+fn slotted_slider_crank(omega: f64) -> MechanismBuilder {
+    let slot = Line::new(&Marker::from_axis(Vector3::zeros(), Vector3::x()).unwrap());
+    slotted(omega, CurveSpec::new("slot", GROUND, slot, "slider", "C"))
+}
+
+/// The slider-crank with the slider's point C held by `slot` and its rotation locked.
+fn slotted(omega: f64, slot: CurveSpec) -> MechanismBuilder {
+    let mut b = MechanismBuilder::new();
+    let x_rod = Vector3::new(2.0, -1.0, -2.0) / 3.0;
+    let y_rod = Vector3::new(0.0, 2.0, -1.0) / 5f64.sqrt();
+    b.body(
+        Body::new("crank")
+            .mass(0.12)
+            .inertia_diagonal(1e-4, 1e-4, 1e-5)
+            .position(Vector3::new(0.0, 0.1, 0.16)),
+    );
+    b.body(
+        Body::new("conrod")
+            .mass(0.5)
+            .inertia_diagonal(4e-4, 4e-3, 4e-3)
+            .position(Vector3::new(0.1, 0.05, 0.1))
+            .orientation(Orientation::Axes {
+                z: x_rod.cross(&y_rod),
+                x: Some(x_rod),
+            }),
+    );
+    b.body(
+        Body::new("slider")
+            .mass(2.0)
+            .inertia(Matrix3::identity() * 1e-4)
+            .position(Vector3::new(0.2, 0.0, 0.0)),
+    );
+    b.point(GROUND, "A", Vector3::new(0.0, 0.1, 0.12))
+        .point(GROUND, "O", Vector3::zeros())
+        .vector(GROUND, "x", Vector3::x())
+        .vector(GROUND, "z", Vector3::z());
+    b.point("crank", "A", Vector3::new(0.0, 0.0, -0.04))
+        .point("crank", "B", Vector3::new(0.0, 0.0, 0.04))
+        .vector("crank", "x", Vector3::x())
+        .vector("crank", "z", Vector3::z());
+    b.point("conrod", "B", Vector3::new(-0.15, 0.0, 0.0))
+        .point("conrod", "C", Vector3::new(0.15, 0.0, 0.0))
+        .vector("conrod", "y", Vector3::y());
+    b.point("slider", "C", Vector3::zeros())
+        .vector("slider", "x", Vector3::x());
+    b.joint(
+        JointSpec::new("A", JointKind::Revolute, (GROUND, "A"), ("crank", "A"))
+            .axes("x", "x")
+            .x_axes("z", "z"),
+    );
+    b.joint(JointSpec::new(
+        "B",
+        JointKind::Spherical,
+        ("crank", "B"),
+        ("conrod", "B"),
+    ));
+    b.joint(
+        JointSpec::new("C", JointKind::Universal, ("slider", "C"), ("conrod", "C")).axes("x", "y"),
+    );
+    b.joint(
+        JointSpec::new(
+            "keep",
+            JointKind::NoRotation,
+            (GROUND, "O"),
+            ("slider", "C"),
+        )
+        .axes("x", "x"),
+    );
+    b.curve(slot);
+    b.driver(DriverSpec::rotation(
+        "motor",
+        "A",
+        TimeFunction::Polynomial(vec![0.0, omega]),
+    ));
+    b
+}
+
+#[test]
+fn a_pin_in_a_straight_slot_equals_a_prismatic_joint() {
+    let omega = 2.0 * PI;
+    // Both runs converged to round-off, so they agree to it (at the default tolerance each
+    // stops within 1e-10 of the exact pose, by different Newton paths).
+    let options = KinematicOptions::new(0.0, 2.0, 400).tolerance(1e-14);
+    let slot = slotted_slider_crank(omega).build().unwrap();
+    let ws = slot.workspace();
+    let dof = slot.dof(&ws).unwrap();
+    assert_eq!(dof.dof, 1, "{dof}");
+    assert!(dof.redundant.is_empty(), "{dof}");
+    let a = slot.run_kinematics(&options).unwrap();
+    let b = slider_crank().run_kinematics(&options).unwrap();
+    let mut worst = 0.0f64;
+    for name in ["crank", "conrod", "slider"] {
+        let (x, y) = (a.body(name).unwrap(), b.body(name).unwrap());
+        for k in 0..a.len() {
+            worst = worst.max((x.r[k] - y.r[k]).norm());
+            worst = worst.max((x.p[k] - y.p[k]).norm());
+            worst = worst.max((x.r_dot[k] - y.r_dot[k]).norm());
+            worst = worst.max((x.omega[k] - y.omega[k]).norm());
+            worst = worst.max((x.r_ddot[k] - y.r_ddot[k]).norm() / omega);
+        }
+    }
+    // u is the slide x along the slot, with its rates.
+    let u = a.curve("slot").unwrap();
+    let (mut eu, mut ev, mut ea) = (0.0f64, 0.0f64, 0.0f64);
+    for (k, &t) in a.times.iter().enumerate() {
+        let (x, x1, x2) = slider_x(omega * t);
+        eu = eu.max((u.u[k] - x).abs());
+        ev = ev.max((u.u_dot[k] - x1 * omega).abs());
+        ea = ea.max((u.u_ddot[k] - x2 * omega * omega).abs());
+    }
+    eprintln!(
+        "slot vs prismatic: poses, rates, accelerations/ω within {worst:.2e}; u − x(θ) {eu:.2e} m, u̇ {ev:.2e} m/s, ü {ea:.2e} m/s²"
+    );
+    assert!(worst < 1e-12, "{worst}");
+    assert!(eu < 1e-10 && ev < 1e-9 && ea < 1e-8, "{eu} {ev} {ea}");
+}
+
+#[test]
+fn a_crank_pin_on_a_circle_about_its_axis_runs_along_it_over_turns() {
+    let omega = 2.0 * PI;
+    let mut b = common::slider_crank_builder(omega);
+    // The circle of the crank pin B: about x through A, radius 0.08.
+    let m = Marker::from_axis(Vector3::new(0.0, 0.1, 0.12), Vector3::x()).unwrap();
+    b.curve(CurveSpec::new(
+        "rim",
+        GROUND,
+        Circle::new(&m, 0.08).unwrap(),
+        "crank",
+        "B",
+    ));
+    let model = b.build().unwrap();
+    let ws = model.workspace();
+    let dof = model.dof(&ws).unwrap();
+    assert_eq!(dof.dof, 1, "{dof}");
+    assert_eq!(dof.redundant.len(), 2, "{dof}");
+    let res = model
+        .run_kinematics(&KinematicOptions::new(0.0, 2.0, 100))
+        .unwrap();
+    let u = res.curve("rim").unwrap();
+    let u0 = u.u[0];
+    for (k, &t) in res.times.iter().enumerate() {
+        assert!(
+            (u.u[k] - u0 - 0.08 * omega * t).abs() < 1e-10,
+            "t = {t}: {}",
+            u.u[k]
+        );
+        assert!((u.u_dot[k] - 0.08 * omega).abs() < 1e-10);
+        assert!(u.u_ddot[k].abs() < 1e-8);
+    }
+    // Two turns: u went twice round the circle.
+    assert!((u.u[100] - u0 - 2.0 * 2.0 * PI * 0.08).abs() < 1e-10);
+}
+
+/// A slot of spline points along x from 0 to `end`; the slider-crank's stroke is x ∈ [0.15,
+/// 0.27].
+fn spline_slot(start: f64, end: f64) -> CubicCurve {
+    let pts = (0..6)
+        .map(|k| Vector3::new(start + (end - start) * k as f64 / 5.0, 0.0, 0.0))
+        .collect();
+    CubicCurve::new(pts, false).unwrap()
+}
+
+fn with_slot(curve: CubicCurve, initial_u: Option<f64>) -> MechanismBuilder {
+    let mut spec = CurveSpec::new("slot2", GROUND, curve, "slider", "C");
+    spec.initial_u = initial_u;
+    slotted(2.0 * PI, spec)
+}
+
+#[test]
+fn a_spline_slot_along_the_line_gives_the_same_motion() {
+    let model = with_slot(spline_slot(0.0, 0.4), None).build().unwrap();
+    let res = model
+        .run_kinematics(&KinematicOptions::new(0.0, 1.0, 100))
+        .unwrap();
+    let u = res.curve("slot2").unwrap();
+    for (k, &t) in res.times.iter().enumerate() {
+        let (x, x1, _) = slider_x(2.0 * PI * t);
+        assert!((u.u[k] - x).abs() < 1e-12, "{} {x}", u.u[k]);
+        assert!((u.u_dot[k] - x1 * 2.0 * PI).abs() < 1e-10);
+    }
+}
+
+#[test]
+fn a_point_is_refused_off_an_open_curve_and_stopped_at_its_end() {
+    // Initial parameter given off the curve.
+    let e = with_slot(spline_slot(0.0, 0.4), Some(0.5))
+        .build()
+        .unwrap_err();
+    assert!(matches!(e, ModelError::CurveParameterOff { .. }), "{e}");
+    assert!(e.to_string().contains("lies off the open curve"), "{e}");
+    // The slot ends at x = 0.24 inside the stroke (0.15 .. 0.27): the run stops there.
+    let model = with_slot(spline_slot(0.0, 0.24), None).build().unwrap();
+    let err = model
+        .run_kinematics(&KinematicOptions::new(0.0, 1.0, 100))
+        .unwrap_err();
+    let AnalysisError::CurveEnd { time, u, end, .. } = &err else {
+        panic!("{err}");
+    };
+    eprintln!("{err}");
+    assert!(*u > *end && *time > 0.0 && *time < 0.5, "{err}");
+    let partial = err.partial_results().map_or(0, |r| r.len());
+    assert!(partial > 0, "no partial results");
+}
