@@ -11,93 +11,13 @@
 
 mod common;
 
-use cardan_constraints::{Circle, CubicCurve, Line, Marker};
+use cardan_constraints::CubicCurve;
 use cardan_mechanism::{
-    AnalysisError, Body, CurveSpec, DriverSpec, JointKind, JointSpec, KinematicOptions,
-    MechanismBuilder, ModelError, Orientation, TimeFunction, GROUND,
+    AnalysisError, CurveSpec, KinematicOptions, MechanismBuilder, ModelError, GROUND,
 };
-use common::{slider_crank, slider_x};
-use nalgebra::{Matrix3, Vector3};
+use common::{slider_crank, slider_x, slotted, slotted_slider_crank};
+use nalgebra::Vector3;
 use std::f64::consts::PI;
-
-/// Haug's slider-crank with its prismatic joint replaced by the slider's point C on a line
-/// along global x through O (a pin in a straight slot) and a no-rotation joint.
-fn slotted_slider_crank(omega: f64) -> MechanismBuilder {
-    let slot = Line::new(&Marker::from_axis(Vector3::zeros(), Vector3::x()).unwrap());
-    slotted(omega, CurveSpec::new("slot", GROUND, slot, "slider", "C"))
-}
-
-/// The slider-crank with the slider's point C held by `slot` and its rotation locked.
-fn slotted(omega: f64, slot: CurveSpec) -> MechanismBuilder {
-    let mut b = MechanismBuilder::new();
-    let x_rod = Vector3::new(2.0, -1.0, -2.0) / 3.0;
-    let y_rod = Vector3::new(0.0, 2.0, -1.0) / 5f64.sqrt();
-    b.body(
-        Body::new("crank")
-            .mass(0.12)
-            .inertia_diagonal(1e-4, 1e-4, 1e-5)
-            .position(Vector3::new(0.0, 0.1, 0.16)),
-    );
-    b.body(
-        Body::new("conrod")
-            .mass(0.5)
-            .inertia_diagonal(4e-4, 4e-3, 4e-3)
-            .position(Vector3::new(0.1, 0.05, 0.1))
-            .orientation(Orientation::Axes {
-                z: x_rod.cross(&y_rod),
-                x: Some(x_rod),
-            }),
-    );
-    b.body(
-        Body::new("slider")
-            .mass(2.0)
-            .inertia(Matrix3::identity() * 1e-4)
-            .position(Vector3::new(0.2, 0.0, 0.0)),
-    );
-    b.point(GROUND, "A", Vector3::new(0.0, 0.1, 0.12))
-        .point(GROUND, "O", Vector3::zeros())
-        .vector(GROUND, "x", Vector3::x())
-        .vector(GROUND, "z", Vector3::z());
-    b.point("crank", "A", Vector3::new(0.0, 0.0, -0.04))
-        .point("crank", "B", Vector3::new(0.0, 0.0, 0.04))
-        .vector("crank", "x", Vector3::x())
-        .vector("crank", "z", Vector3::z());
-    b.point("conrod", "B", Vector3::new(-0.15, 0.0, 0.0))
-        .point("conrod", "C", Vector3::new(0.15, 0.0, 0.0))
-        .vector("conrod", "y", Vector3::y());
-    b.point("slider", "C", Vector3::zeros())
-        .vector("slider", "x", Vector3::x());
-    b.joint(
-        JointSpec::new("A", JointKind::Revolute, (GROUND, "A"), ("crank", "A"))
-            .axes("x", "x")
-            .x_axes("z", "z"),
-    );
-    b.joint(JointSpec::new(
-        "B",
-        JointKind::Spherical,
-        ("crank", "B"),
-        ("conrod", "B"),
-    ));
-    b.joint(
-        JointSpec::new("C", JointKind::Universal, ("slider", "C"), ("conrod", "C")).axes("x", "y"),
-    );
-    b.joint(
-        JointSpec::new(
-            "keep",
-            JointKind::NoRotation,
-            (GROUND, "O"),
-            ("slider", "C"),
-        )
-        .axes("x", "x"),
-    );
-    b.curve(slot);
-    b.driver(DriverSpec::rotation(
-        "motor",
-        "A",
-        TimeFunction::Polynomial(vec![0.0, omega]),
-    ));
-    b
-}
 
 #[test]
 fn a_pin_in_a_straight_slot_equals_a_prismatic_joint() {
@@ -142,17 +62,7 @@ fn a_pin_in_a_straight_slot_equals_a_prismatic_joint() {
 #[test]
 fn a_crank_pin_on_a_circle_about_its_axis_runs_along_it_over_turns() {
     let omega = 2.0 * PI;
-    let mut b = common::slider_crank_builder(omega);
-    // The circle of the crank pin B: about x through A, radius 0.08.
-    let m = Marker::from_axis(Vector3::new(0.0, 0.1, 0.12), Vector3::x()).unwrap();
-    b.curve(CurveSpec::new(
-        "rim",
-        GROUND,
-        Circle::new(&m, 0.08).unwrap(),
-        "crank",
-        "B",
-    ));
-    let model = b.build().unwrap();
+    let model = common::slider_crank_on_rim(omega);
     let ws = model.workspace();
     let dof = model.dof(&ws).unwrap();
     assert_eq!(dof.dof, 1, "{dof}");

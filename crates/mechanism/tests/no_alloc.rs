@@ -92,6 +92,8 @@ fn streamed_runs_do_not_allocate_per_step(model: &Model, label: &str) {
 fn main() {
     kinematic_frames_do_not_allocate();
     streamed_runs_do_not_allocate_per_step(&common::slider_crank(), "slider-crank");
+    let slot = common::slotted_slider_crank(2.0 * PI).build().unwrap();
+    streamed_runs_do_not_allocate_per_step(&slot, "slider-crank, pin in a slot");
     println!("no_alloc: 2 passed, 0 failed");
 }
 
@@ -100,4 +102,7 @@ fn kinematic_frames_do_not_allocate() {
     // Redundant: the row selection path.
     let four_bar = common::four_bar_builder(0.3, 2.0 * PI).build().unwrap();
     frames_do_not_allocate(&four_bar, "four-bar");
+    // A curve parameter as extra coordinate, with redundant rows.
+    let rim = common::slider_crank_on_rim(2.0 * PI);
+    frames_do_not_allocate(&rim, "slider-crank, pin on a circle");
 }

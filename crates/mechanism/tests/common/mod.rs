@@ -95,6 +95,23 @@ pub fn slider_crank() -> Model {
     slider_crank_builder(2.0 * PI).build().unwrap()
 }
 
+/// The slider-crank at `omega` with its crank pin B also held on the circle it runs on (about
+/// x through A, radius 0.08): a point-on-curve element whose three rows the revolute implies
+/// (two are dropped as redundant); its curve parameter runs u = 0.08 θ + u₀.
+pub fn slider_crank_on_rim(omega: f64) -> Model {
+    use cardan_constraints::{Circle, Marker};
+    let mut b = slider_crank_builder(omega);
+    let m = Marker::from_axis(Vector3::new(0.0, 0.1, 0.12), Vector3::x()).unwrap();
+    b.curve(cardan_mechanism::CurveSpec::new(
+        "rim",
+        GROUND,
+        Circle::new(&m, 0.08).unwrap(),
+        "crank",
+        "B",
+    ));
+    b.build().unwrap()
+}
+
 /// Closed form of the slider position x(θ) and its θ-derivatives x', x''.
 ///
 /// B = A + 0.08 (0, −sin θ, cos θ) (the crank +z rotated by θ about x), C = (x, 0, 0), and
@@ -275,5 +292,89 @@ pub fn bricard_builder() -> MechanismBuilder {
             .x_axes(ref_axis, ref_axis),
         );
     }
+    b
+}
+
+/// Haug's slider-crank with its prismatic joint replaced by the slider's point C on a line
+/// along global x through O (a pin in a straight slot) and a no-rotation joint.
+pub fn slotted_slider_crank(omega: f64) -> MechanismBuilder {
+    let slot = cardan_constraints::Line::new(
+        &cardan_constraints::Marker::from_axis(Vector3::zeros(), Vector3::x()).unwrap(),
+    );
+    slotted(
+        omega,
+        cardan_mechanism::CurveSpec::new("slot", GROUND, slot, "slider", "C"),
+    )
+}
+
+/// The slider-crank with the slider's point C held by `slot` and its rotation locked.
+pub fn slotted(omega: f64, slot: cardan_mechanism::CurveSpec) -> MechanismBuilder {
+    let mut b = MechanismBuilder::new();
+    let x_rod = Vector3::new(2.0, -1.0, -2.0) / 3.0;
+    let y_rod = Vector3::new(0.0, 2.0, -1.0) / 5f64.sqrt();
+    b.body(
+        Body::new("crank")
+            .mass(0.12)
+            .inertia_diagonal(1e-4, 1e-4, 1e-5)
+            .position(Vector3::new(0.0, 0.1, 0.16)),
+    );
+    b.body(
+        Body::new("conrod")
+            .mass(0.5)
+            .inertia_diagonal(4e-4, 4e-3, 4e-3)
+            .position(Vector3::new(0.1, 0.05, 0.1))
+            .orientation(Orientation::Axes {
+                z: x_rod.cross(&y_rod),
+                x: Some(x_rod),
+            }),
+    );
+    b.body(
+        Body::new("slider")
+            .mass(2.0)
+            .inertia(Matrix3::identity() * 1e-4)
+            .position(Vector3::new(0.2, 0.0, 0.0)),
+    );
+    b.point(GROUND, "A", Vector3::new(0.0, 0.1, 0.12))
+        .point(GROUND, "O", Vector3::zeros())
+        .vector(GROUND, "x", Vector3::x())
+        .vector(GROUND, "z", Vector3::z());
+    b.point("crank", "A", Vector3::new(0.0, 0.0, -0.04))
+        .point("crank", "B", Vector3::new(0.0, 0.0, 0.04))
+        .vector("crank", "x", Vector3::x())
+        .vector("crank", "z", Vector3::z());
+    b.point("conrod", "B", Vector3::new(-0.15, 0.0, 0.0))
+        .point("conrod", "C", Vector3::new(0.15, 0.0, 0.0))
+        .vector("conrod", "y", Vector3::y());
+    b.point("slider", "C", Vector3::zeros())
+        .vector("slider", "x", Vector3::x());
+    b.joint(
+        JointSpec::new("A", JointKind::Revolute, (GROUND, "A"), ("crank", "A"))
+            .axes("x", "x")
+            .x_axes("z", "z"),
+    );
+    b.joint(JointSpec::new(
+        "B",
+        JointKind::Spherical,
+        ("crank", "B"),
+        ("conrod", "B"),
+    ));
+    b.joint(
+        JointSpec::new("C", JointKind::Universal, ("slider", "C"), ("conrod", "C")).axes("x", "y"),
+    );
+    b.joint(
+        JointSpec::new(
+            "keep",
+            JointKind::NoRotation,
+            (GROUND, "O"),
+            ("slider", "C"),
+        )
+        .axes("x", "x"),
+    );
+    b.curve(slot);
+    b.driver(DriverSpec::rotation(
+        "motor",
+        "A",
+        TimeFunction::Polynomial(vec![0.0, omega]),
+    ));
     b
 }
