@@ -22,6 +22,7 @@ import casadi as ca
 import numpy as np
 
 import common as C
+import gen_drivers as D
 
 GENERATOR = "gen_curves.py"
 FAMILY = "curve"
@@ -288,7 +289,10 @@ ELEMENTS = {
     "point_on_curve_helix": ("helix", False, "helix"),
     "point_on_curve_cubic": ("cubic", False, "cubic"),
     "point_on_curve_cubic_closed": ("cubic", True, "cubic_closed"),
+    # Phi = u - f(t): build_path_driver_cases.
+    "path_driver": None,
 }
+PATH_DRIVER = "path_driver"
 
 N_CASES = 60  # every placement cycle (3, 4, 5) recurs evenly
 
@@ -314,6 +318,13 @@ def solve_sp_j(case):
 
 
 def build_cases(name):
+    """(rows, cases) of element `name` (generate.py calls this for each entry of ELEMENTS)."""
+    if name == PATH_DRIVER:
+        return build_path_driver_cases()
+    return build_curve_cases(name)
+
+
+def build_curve_cases(name):
     kind, closed, pset = ELEMENTS[name]
     rng = C.element_rng(name)
     cases = []
@@ -334,6 +345,28 @@ def build_cases(name):
             solve_sp_j(case)
         cases.append(C.evaluate(_phi_of(params, u), case))
     return 3, cases
+
+
+def build_path_driver_cases():
+    """The path driver Phi = u - f(t) (CONTRACT.md, "Curves"): the time function of each case
+    from gen_drivers' plan (every kind but expressions), u and udot random; the bodies' states
+    are drawn as elsewhere (the element does not depend on them)."""
+    rng = C.element_rng(PATH_DRIVER)
+    cases = []
+    for index, entry in enumerate(C.case_plan(n_total=N_CASES)):
+        si, sj = C.states(rng, entry["ground"], entry["rot"], entry["scale"])
+        spec, t, what = D.make_function(rng, index, entry["scale"])
+        params = {"function": spec}
+        case = C.new_case(f"{entry['label']}.{what}", entry["ground"], t, params, si, sj)
+        case["u"] = [float(entry["scale"] * rng.uniform(-3.0, 3.0))]
+        case["udot"] = [float(entry["scale"] * rng.uniform(-2.0, 2.0))]
+        t_num = t
+
+        def phi(bi, bj, tt, u, spec=spec, t_num=t_num):
+            return u[0] - D.time_function(spec, tt, t_num)
+
+        cases.append(C.evaluate(phi, case))
+    return 1, cases
 
 
 def main(outdir):

@@ -13,8 +13,9 @@ use cardan_constraints::{
     BodyPair, Bound, Circle, Constraint, CoordinateDriver, Coupler, CubicCurve, Curve, Dimension,
     Distance, DistanceDriver, Driver, Footprint, Form, Gear, Helix, Homokinetic, Joint, JointKind,
     JointLimit, JointParams, Line, Marker, Normalization, P1Perp, P1Select, P2Perp, P2Select,
-    PointOnCurve, PoseDriver, Primitive, RackPinion, RadialDistance, RotationDriver, RotationOrder,
-    Screw, Spherical, TimeFunction, TranslationDriver, KINDS, MAX_EXTRA, N1, N2, P1, P2,
+    PathDriver, PointOnCurve, PoseDriver, Primitive, RackPinion, RadialDistance, RotationDriver,
+    RotationOrder, Screw, Spherical, TimeFunction, TranslationDriver, KINDS, MAX_EXTRA, N1, N2, P1,
+    P2,
 };
 use nalgebra::{Matrix3, Vector3};
 use serde_json::Value;
@@ -103,6 +104,7 @@ pub fn elements() -> Vec<&'static str> {
         .chain(COUPLERS.iter().copied())
         .chain(limits().iter().copied())
         .chain(curves().iter().copied())
+        .chain(["path_driver"])
         .collect()
 }
 
@@ -165,6 +167,8 @@ pub enum Element {
     Limit(JointLimit),
     /// A point on a curve (one extra coordinate).
     Curve(PointOnCurve),
+    /// A curve parameter prescribed in time.
+    Path(PathDriver),
 }
 
 impl Element {
@@ -178,6 +182,7 @@ impl Element {
             Element::Coupler(c) => coupler_name(c),
             Element::Limit(l) => limit_name(l),
             Element::Curve(c) => curve_name(c),
+            Element::Path(_) => "path_driver",
         }
     }
 }
@@ -191,6 +196,7 @@ macro_rules! each {
             Element::Coupler($c) => $e,
             Element::Limit($c) => $e,
             Element::Curve($c) => $e,
+            Element::Path($c) => $e,
         }
     };
 }
@@ -436,6 +442,9 @@ pub fn build(name: &str, p: &Value) -> Result<Element, ParamError> {
                 RackPinion::new(mi, mj, ks, ka, c, r).into()
             }))
         }
+        "path_driver" => Ok(E::Path(PathDriver::new(time_function(
+            p.get("function").ok_or("missing `function`")?,
+        )?))),
         _ if name.starts_with("point_on_curve_") => {
             let c = p.get("curve").ok_or("missing `curve`")?;
             let kind = c

@@ -45,7 +45,8 @@
 //! [`curves`] holds curves fixed in a body (line, circle, helix, cubic spline through points, open
 //! or closed) with their derivatives in the curve parameter u. A [`PointOnCurve`] keeps a point of
 //! body j on a curve of body i with u as an *extra coordinate* of the element
-//! ([`Constraint::extra`], [`Constraint::jacobian_extra`], read from [`BodyPair::u`]).
+//! ([`Constraint::extra`], [`Constraint::jacobian_extra`], read from [`BodyPair::u`]); a
+//! [`PathDriver`] prescribes it in time.
 //!
 //! ## Evaluation
 //! All of them implement [`Constraint`]. Evaluation takes a [`BodyPair`] (pose, cached A and
@@ -106,6 +107,7 @@ pub mod p1_select;
 pub mod p2;
 pub mod p2_perp;
 pub mod p2_select;
+pub mod path_driver;
 pub mod point_on_curve;
 pub mod primitive;
 pub mod radial_distance;
@@ -138,6 +140,7 @@ pub use p1_select::P1Select;
 pub use p2::P2;
 pub use p2_perp::P2Perp;
 pub use p2_select::P2Select;
+pub use path_driver::PathDriver;
 pub use point_on_curve::PointOnCurve;
 pub use primitive::Primitive;
 pub use radial_distance::RadialDistance;

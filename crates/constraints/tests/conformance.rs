@@ -238,3 +238,11 @@ fn point_on_every_curve_kind() {
         });
     }
 }
+
+/// The path driver u = f(t) of a curve parameter (Φ_u = 1, ν = ḟ, γ# = f̈).
+#[test]
+fn path_driver() {
+    assert_conforms("path_driver", BOTH, |s: &mut Sampler| {
+        PathDriver::new(s.function())
+    });
+}

@@ -24,7 +24,7 @@
 //! The ground body [`GROUND`] exists from the start; its points and vectors are global. It has no
 //! unknowns: its coordinates are eliminated, not constrained.
 
-use crate::curve_spec::CurveSpec;
+use crate::curve_spec::{CurveSpec, PathSpec};
 use cardan_constraints::drivers::POSE_ROWS;
 use cardan_constraints::{JointKind, RotationOrder, TimeFunction};
 use cardan_eulerparam::{
@@ -816,6 +816,7 @@ pub struct MechanismBuilder {
     pub(crate) limits: Vec<LimitSpec>,
     pub(crate) frictions: Vec<FrictionSpec>,
     pub(crate) curves: Vec<CurveSpec>,
+    pub(crate) paths: Vec<PathSpec>,
 }
 
 impl MechanismBuilder {
@@ -860,6 +861,12 @@ impl MechanismBuilder {
     /// Adds a point-on-curve element (its curve parameter becomes an extra coordinate).
     pub fn curve(&mut self, curve: CurveSpec) -> &mut Self {
         self.curves.push(curve);
+        self
+    }
+
+    /// Adds a path driver (a point-on-curve element's parameter prescribed in time).
+    pub fn path(&mut self, path: PathSpec) -> &mut Self {
+        self.paths.push(path);
         self
     }
 

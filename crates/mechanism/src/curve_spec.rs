@@ -3,7 +3,7 @@
 //! u is an extra coordinate of the mechanism (columns after the bodies'); see
 //! [`cardan_constraints::PointOnCurve`] for the equations.
 
-use cardan_constraints::Curve;
+use cardan_constraints::{Curve, TimeFunction};
 
 /// A point of body j on a curve fixed in body i.
 #[derive(Debug, Clone, PartialEq)]
@@ -46,5 +46,28 @@ impl CurveSpec {
     pub fn initial_u(mut self, u: f64) -> Self {
         self.initial_u = Some(u);
         self
+    }
+}
+
+/// A path driver: the curve parameter u of a point-on-curve element prescribed in time,
+/// u = f(t) (arc length for lines, circles and helices: f = v t moves the point at speed v).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PathSpec {
+    /// Name (unique among all elements).
+    pub name: String,
+    /// The point-on-curve element whose parameter it drives.
+    pub curve: String,
+    /// f(t), m.
+    pub function: TimeFunction,
+}
+
+impl PathSpec {
+    /// u = `function`(t) for the curve parameter of element `curve`.
+    pub fn new(name: impl Into<String>, curve: &str, function: TimeFunction) -> Self {
+        Self {
+            name: name.into(),
+            curve: curve.into(),
+            function,
+        }
     }
 }

@@ -135,3 +135,61 @@ fn a_point_is_refused_off_an_open_curve_and_stopped_at_its_end() {
     let partial = err.partial_results().map_or(0, |r| r.len());
     assert!(partial > 0, "no partial results");
 }
+
+/// A bead on a helix (R = 0.3, pitch 0.2) sent along it by a path driver at constant arc-length
+/// speed v = 0.5 m/s: its speed is v and its acceleration the Frenet closed form v² κ n (κ =
+/// R/k², n toward the axis), with no tangential part; after one turn it has risen by the pitch.
+#[test]
+fn a_path_driver_sends_a_point_along_a_helix_at_constant_speed() {
+    use cardan_constraints::{Helix, Marker};
+    use cardan_mechanism::{Body, JointKind, JointSpec, PathSpec, TimeFunction};
+    let (r, pitch, v) = (0.3, 0.2, 0.5);
+    let axis =
+        Marker::from_axis(Vector3::new(0.1, -0.2, 0.0), Vector3::new(0.0, 0.0, 1.0)).unwrap();
+    let helix = Helix::new(&axis, r, pitch).unwrap();
+    let start = cardan_constraints::Curve::from(helix).jet(0.0).c;
+    let mut b = MechanismBuilder::new();
+    b.body(Body::new("bead").position(start));
+    b.point("bead", "P", Vector3::zeros())
+        .point(GROUND, "O", Vector3::zeros())
+        .vector(GROUND, "z", Vector3::z())
+        .vector("bead", "z", Vector3::z());
+    b.joint(
+        JointSpec::new("keep", JointKind::NoRotation, (GROUND, "O"), ("bead", "P")).axes("z", "z"),
+    );
+    b.curve(CurveSpec::new("wire", GROUND, helix, "bead", "P"));
+    b.path(PathSpec::new(
+        "feed",
+        "wire",
+        TimeFunction::Polynomial(vec![0.0, v]),
+    ));
+    let model = b.build().unwrap();
+    let k2 = r * r + (pitch / (2.0 * PI)).powi(2);
+    let turn = 2.0 * PI * k2.sqrt() / v;
+    let res = model
+        .run_kinematics(&KinematicOptions::new(0.0, turn, 200))
+        .unwrap();
+    let bead = res.body("bead").unwrap();
+    let (mut speed, mut acc, mut tangential) = (0.0f64, 0.0f64, 0.0f64);
+    for k in 0..res.len() {
+        speed = speed.max((bead.r_dot[k].norm() - v).abs());
+        let c = cardan_constraints::Curve::from(helix).jet(v * res.times[k]);
+        acc = acc.max((bead.r_ddot[k] - c.c_uu * (v * v)).norm());
+        tangential = tangential.max(bead.r_ddot[k].dot(&bead.r_dot[k]).abs());
+        let kappa = bead.r_ddot[k].norm() / (v * v);
+        assert!((kappa - r / k2).abs() < 1e-9, "κ {kappa}");
+    }
+    let rise = bead.r[200] - bead.r[0];
+    eprintln!(
+        "helix at v = {v}: | |ṙ| − v | ≤ {speed:.1e}, |r̈ − v² c''| ≤ {acc:.1e}, |r̈·ṙ| ≤ {tangential:.1e}, rise after a turn {:.15}",
+        rise.z
+    );
+    assert!(speed < 1e-10, "{speed}");
+    assert!(acc < 1e-9 && tangential < 1e-9, "{acc} {tangential}");
+    assert!(
+        (rise - Vector3::new(0.0, 0.0, pitch)).norm() < 1e-10,
+        "{rise:?}"
+    );
+    let u = res.curve("wire").unwrap();
+    assert!((u.u[200] - v * turn).abs() < 1e-12);
+}

@@ -54,7 +54,7 @@ impl Model {
             joint_equations: mj,
             rank,
             redundant,
-            drivers: self.drivers.len(),
+            drivers: self.drivers.len() + self.paths.len(),
         })
     }
 }

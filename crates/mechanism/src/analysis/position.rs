@@ -202,7 +202,7 @@ impl Model {
     /// runs the full rank analysis, which names what is wrong.
     fn prepare_square_fast(&self, ws: &mut Workspace, options: NewtonOptions) -> Option<DofReport> {
         let (m, n, mj) = (self.num_equations(), self.num_unknowns(), self.joint_rows);
-        if n < FAST_RANK_MIN_UNKNOWNS || m != n || n - mj != self.drivers.len() {
+        if n < FAST_RANK_MIN_UNKNOWNS || m != n || n - mj != self.drivers.len() + self.paths.len() {
             return None;
         }
         let mut newton = Newton::new(&self.pattern, AutoSolver::default(), options).ok()?;
@@ -219,7 +219,7 @@ impl Model {
             joint_equations: mj,
             rank: mj,
             redundant: Vec::new(),
-            drivers: self.drivers.len(),
+            drivers: self.drivers.len() + self.paths.len(),
         };
         ws.kin.newton = Some(newton);
         ws.kin.dof = Some(report.clone());

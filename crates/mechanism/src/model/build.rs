@@ -50,6 +50,11 @@ fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
         unique(&mut element_names, &spec.name, None, "a driver")?;
         drivers.extend(resolve::driver(spec, &names, &joints, &element_names)?);
     }
+    let mut paths = Vec::with_capacity(b.paths.len());
+    for spec in &b.paths {
+        unique(&mut element_names, &spec.name, None, "a path driver")?;
+        paths.push(curve::path(spec, &curves)?);
+    }
     let mut couplers = Vec::with_capacity(b.couplers.len());
     for spec in &b.couplers {
         unique(&mut element_names, &spec.name, None, "a coupler")?;
@@ -89,6 +94,7 @@ fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
         &mut curves,
         &mut couplers,
         &mut drivers,
+        &mut paths,
         nb,
         length,
     );
@@ -109,6 +115,7 @@ fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
         vectors,
         joints,
         curves,
+        paths,
         drivers,
         couplers,
         forces,

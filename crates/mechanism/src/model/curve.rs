@@ -1,15 +1,16 @@
 //! Resolution of a [`CurveSpec`]: its bodies and point by name, its curve parameter's index
 //! among the extra coordinates and its value at the drawn pose (given, or the nearest curve
-//! point to the drawn point; an open curve's parameter must lie on the curve).
+//! point to the drawn point; an open curve's parameter must lie on the curve); of a
+//! [`PathSpec`]: its curve element by name and its function checked.
 
-use super::elements::{CurveInfo, ScatterMap};
+use super::elements::{CurveInfo, PathInfo, ScatterMap};
 use super::resolve::{pose, Names};
 use super::validate::{check_number, pair_check};
 use super::BodyInfo;
-use crate::curve_spec::CurveSpec;
+use crate::curve_spec::{CurveSpec, PathSpec};
 use crate::error::ModelError;
 use crate::sanity::Quantity;
-use cardan_constraints::PointOnCurve;
+use cardan_constraints::{PathDriver, PointOnCurve};
 
 /// The model form of `spec`, whose curve parameter is extra coordinate `extra`.
 pub(super) fn curve(
@@ -54,5 +55,32 @@ pub(super) fn curve(
         rows: 0..0,
         map: ScatterMap { slots: Vec::new() },
         extra_slots: Vec::new(),
+    })
+}
+
+/// The model form of path driver `spec` on one of `curves`.
+pub(super) fn path(spec: &PathSpec, curves: &[CurveInfo]) -> Result<PathInfo, ModelError> {
+    let curve = curves
+        .iter()
+        .position(|c| c.name == spec.curve)
+        .ok_or_else(|| ModelError::UnknownJoint {
+            element: format!("path driver \"{}\"", spec.name),
+            name: spec.curve.clone(),
+            suggestion: crate::model::nearest(&spec.curve, curves.iter().map(|c| c.name.as_str()))
+                .map(str::to_string),
+            known: curves.iter().map(|c| c.name.clone()).collect(),
+        })?;
+    spec.function
+        .validate()
+        .map_err(|e| ModelError::BadTimeFunction {
+            driver: spec.name.clone(),
+            reason: e.to_string(),
+        })?;
+    Ok(PathInfo {
+        name: spec.name.clone(),
+        curve,
+        driver: PathDriver::new(spec.function.clone()),
+        rows: 0..0,
+        slot: 0,
     })
 }

@@ -6,7 +6,9 @@
 
 use crate::builder::Compliance;
 use cardan_constraints::joints::Measure;
-use cardan_constraints::{Constraint, Coupler, Driver, Joint, JointLimit, PointOnCurve};
+use cardan_constraints::{
+    Constraint, Coupler, Driver, Joint, JointLimit, PathDriver, PointOnCurve,
+};
 use nalgebra::{Matrix3, Vector3, Vector4};
 use std::ops::Range;
 
@@ -98,6 +100,21 @@ pub struct CurveInfo {
     pub(crate) map: ScatterMap,
     /// `rows` entries: the slot of each row's u column.
     pub(crate) extra_slots: Vec<usize>,
+}
+
+/// A path driver of the model: u_k = f(t) for the curve parameter of curve element k.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PathInfo {
+    /// Name.
+    pub name: String,
+    /// The point-on-curve element (index into [`Model::curves`](super::Model::curves)).
+    pub curve: usize,
+    /// The equation.
+    pub driver: PathDriver,
+    /// Its row in the global system (after the drivers').
+    pub rows: Range<usize>,
+    /// The slot of its u column.
+    pub(crate) slot: usize,
 }
 
 /// A driver of the model.

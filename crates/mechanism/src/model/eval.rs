@@ -66,6 +66,20 @@ impl Model {
             );
             eval(&c.element, &pair, t, &mut out[c.rows.clone()]);
         }
+        for p in &self.paths {
+            let k = p.curve;
+            let pair = BodyPair::with_extra(
+                &g,
+                &g,
+                &u[k..k + 1],
+                if u_dot.is_empty() {
+                    &[0.0]
+                } else {
+                    &u_dot[k..k + 1]
+                },
+            );
+            eval(&p.driver, &pair, t, &mut out[p.rows.clone()]);
+        }
     }
 
     /// Φ, with each coupler's angles continued from `turns` (its references at the last
@@ -154,6 +168,9 @@ impl Model {
             for (r, &slot) in c.extra_slots.iter().enumerate() {
                 slots[slot] = ju[r][0];
             }
+        }
+        for p in &self.paths {
+            slots[p.slot] = 1.0;
         }
     }
 

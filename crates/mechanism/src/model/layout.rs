@@ -4,8 +4,8 @@
 //! 1, L or L²) and unknowns (L for Δr, 1 for Δπ'), with L the characteristic length.
 
 use super::elements::{
-    BodyId, BodyInfo, CouplerInfo, CurveInfo, DriverInfo, FeatureInfo, JointInfo, ScatterMap,
-    NO_SLOT,
+    BodyId, BodyInfo, CouplerInfo, CurveInfo, DriverInfo, FeatureInfo, JointInfo, PathInfo,
+    ScatterMap, NO_SLOT,
 };
 use crate::builder::MechanismBuilder;
 use cardan_constraints::{Constraint, Footprint};
@@ -48,7 +48,8 @@ pub(super) fn characteristic_length(
     length
 }
 
-/// Lays out the rows of `joints`, `curves` (point-on-curve elements), `couplers`, then `drivers` (setting their row ranges and
+/// Lays out the rows of `joints`, `curves` (point-on-curve elements), `couplers`, `drivers`,
+/// then `paths` (setting their row ranges and
 /// scatter maps) for `nb` moving bodies. Joints and couplers are the constraints that fix the
 /// degrees of freedom (the "joint rows"); drivers come last.
 pub(super) fn rows(
@@ -56,6 +57,7 @@ pub(super) fn rows(
     curves: &mut [CurveInfo],
     couplers: &mut [CouplerInfo],
     drivers: &mut [DriverInfo],
+    paths: &mut [PathInfo],
     nb: usize,
     length: f64,
 ) -> Layout {
@@ -129,6 +131,14 @@ pub(super) fn rows(
         d.rows = rows;
         d.map = map;
         equation_scales.push(d.driver.dimension(0).scale(length));
+    }
+    // Path drivers: one row on their curve parameter's column alone.
+    for p in paths.iter_mut() {
+        p.rows = row..row + 1;
+        p.slot = entries.len();
+        entries.push((row, 6 * nb + p.curve));
+        equation_scales.push(p.driver.dimension(0).scale(length));
+        row += 1;
     }
     let num_rows = row;
     let n = 6 * nb + curves.len();

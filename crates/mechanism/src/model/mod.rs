@@ -34,7 +34,7 @@ mod validate;
 
 pub use elements::{
     BodyId, BodyInfo, CoupledCoordinate, CouplerInfo, CurveInfo, DriverInfo, FeatureInfo,
-    ForceInfo, FrictionInfo, JointInfo, LimitInfo, StopInfo,
+    ForceInfo, FrictionInfo, JointInfo, LimitInfo, PathInfo, StopInfo,
 };
 pub use friction::FRICTION_KINDS;
 pub(crate) use tree::{PredictorTree, TreeEdge};
@@ -54,6 +54,7 @@ pub struct Model {
     pub(crate) vectors: Vec<FeatureInfo>,
     pub(crate) joints: Vec<JointInfo>,
     pub(crate) curves: Vec<CurveInfo>,
+    pub(crate) paths: Vec<PathInfo>,
     pub(crate) drivers: Vec<DriverInfo>,
     pub(crate) couplers: Vec<CouplerInfo>,
     pub(crate) forces: Vec<ForceInfo>,
@@ -171,6 +172,11 @@ impl Model {
         &self.curves
     }
 
+    /// The path drivers (each prescribes a curve element's parameter), after the drivers.
+    pub fn paths(&self) -> &[PathInfo] {
+        &self.paths
+    }
+
     /// The extra coordinates (curve parameters) of a Newton state `x` (7 nb + n_u entries).
     pub fn extras_of<'a>(&self, x: &'a [f64]) -> &'a [f64] {
         &x[7 * self.bodies.len()..]
@@ -244,6 +250,16 @@ impl Model {
                 kind: d.driver.name(),
                 primitive: d.driver.name(),
                 local_row: row - d.rows.start,
+            });
+        }
+        let k = self.paths.partition_point(|p| p.rows.end <= row);
+        if let Some(p) = self.paths.get(k).filter(|p| p.rows.contains(&row)) {
+            return Some(EquationName {
+                row,
+                element: p.name.clone(),
+                kind: "path_driver",
+                primitive: "path_driver",
+                local_row: 0,
             });
         }
         None
