@@ -5,7 +5,7 @@
 
 use super::elements::{CurveInfo, PathInfo, ScatterMap};
 use super::resolve::{pose, Names};
-use super::validate::{check_number, pair_check};
+use super::validate::check_number;
 use super::BodyInfo;
 use crate::curve_spec::{CurveSpec, PathSpec};
 use crate::error::ModelError;
@@ -20,9 +20,7 @@ pub(super) fn curve(
     bodies: &[BodyInfo],
 ) -> Result<CurveInfo, ModelError> {
     let el = format!("point-on-curve \"{}\"", spec.name);
-    let bi = names.body(&el, &spec.body_i)?;
-    let bj = names.body(&el, &spec.body_j)?;
-    pair_check(&el, bi, bj, &spec.body_i)?;
+    let (bi, bj) = names.pair(&el, &spec.body_i, &spec.body_j)?;
     let sp_j = names.feature(&el, &spec.body_j, &spec.point_j, false)?;
     let (si, sj) = (pose(bodies, bi), pose(bodies, bj));
     let initial_u = match spec.initial_u {

@@ -51,6 +51,20 @@ impl<'a> Names<'a> {
             })
     }
 
+    /// The two different bodies of a two-body element `element` (not both ground, not the
+    /// same body twice).
+    pub(super) fn pair(
+        &self,
+        element: &str,
+        body_i: &str,
+        body_j: &str,
+    ) -> Result<(BodyId, BodyId), ModelError> {
+        let bi = self.body(element, body_i)?;
+        let bj = self.body(element, body_j)?;
+        pair_check(element, bi, bj, body_i)?;
+        Ok((bi, bj))
+    }
+
     /// Two points on two different bodies (a two-point element: distance driver, spring):
     /// each body's id and the point in its frame.
     pub(super) fn point_pair(
@@ -59,9 +73,7 @@ impl<'a> Names<'a> {
         (body_i, point_i): (&str, &str),
         (body_j, point_j): (&str, &str),
     ) -> Result<(BodyPoint, BodyPoint), ModelError> {
-        let bi = self.body(element, body_i)?;
-        let bj = self.body(element, body_j)?;
-        pair_check(element, bi, bj, body_i)?;
+        let (bi, bj) = self.pair(element, body_i, body_j)?;
         let pi = self.feature(element, body_i, point_i, false)?;
         let pj = self.feature(element, body_j, point_j, false)?;
         Ok(((bi, pi), (bj, pj)))
@@ -235,9 +247,7 @@ pub(super) fn joint(
     bodies: &[BodyInfo],
 ) -> Result<JointInfo, ModelError> {
     let el = format!("joint \"{}\"", spec.name);
-    let bi = names.body(&el, &spec.body_i)?;
-    let bj = names.body(&el, &spec.body_j)?;
-    pair_check(&el, bi, bj, &spec.body_i)?;
+    let (bi, bj) = names.pair(&el, &spec.body_i, &spec.body_j)?;
     let pi = names.feature(&el, &spec.body_i, &spec.point_i, false)?;
     let pj = names.feature(&el, &spec.body_j, &spec.point_j, false)?;
     let kind = spec.kind;
@@ -448,9 +458,7 @@ fn pose_driver(name: &str, t: &PoseTarget, names: &Names) -> Result<Vec<DriverIn
             reason: e.to_string(),
         })?;
     }
-    let bi = names.body(&el, &t.body_i)?;
-    let bj = names.body(&el, &t.body_j)?;
-    pair_check(&el, bi, bj, &t.body_i)?;
+    let (bi, bj) = names.pair(&el, &t.body_i, &t.body_j)?;
     let vector = |body: &str, v: &Option<String>| match v {
         Some(n) => names.feature(&el, body, n, true).map(Some),
         None => Ok(None),

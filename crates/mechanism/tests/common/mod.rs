@@ -24,8 +24,9 @@ pub fn slider_crank_builder(omega: f64) -> MechanismBuilder {
     b
 }
 
-/// The slider-crank without its driver (1 degree of freedom).
-pub fn slider_crank_undriven() -> MechanismBuilder {
+/// The slider-crank's bodies, points and vectors and its joints A, B, C: everything but the
+/// slider's guide and the driver.
+pub fn slider_crank_links() -> MechanismBuilder {
     let mut b = MechanismBuilder::new();
     let x_rod = Vector3::new(2.0, -1.0, -2.0) / 3.0;
     let y_rod = Vector3::new(0.0, 2.0, -1.0) / 5f64.sqrt();
@@ -78,6 +79,12 @@ pub fn slider_crank_undriven() -> MechanismBuilder {
     b.joint(
         JointSpec::new("C", JointKind::Universal, ("slider", "C"), ("conrod", "C")).axes("x", "y"),
     );
+    b
+}
+
+/// The slider-crank without its driver (1 degree of freedom).
+pub fn slider_crank_undriven() -> MechanismBuilder {
+    let mut b = slider_crank_links();
     b.joint(
         JointSpec::new(
             "slide",
@@ -309,58 +316,7 @@ pub fn slotted_slider_crank(omega: f64) -> MechanismBuilder {
 
 /// The slider-crank with the slider's point C held by `slot` and its rotation locked.
 pub fn slotted(omega: f64, slot: cardan_mechanism::CurveSpec) -> MechanismBuilder {
-    let mut b = MechanismBuilder::new();
-    let x_rod = Vector3::new(2.0, -1.0, -2.0) / 3.0;
-    let y_rod = Vector3::new(0.0, 2.0, -1.0) / 5f64.sqrt();
-    b.body(
-        Body::new("crank")
-            .mass(0.12)
-            .inertia_diagonal(1e-4, 1e-4, 1e-5)
-            .position(Vector3::new(0.0, 0.1, 0.16)),
-    );
-    b.body(
-        Body::new("conrod")
-            .mass(0.5)
-            .inertia_diagonal(4e-4, 4e-3, 4e-3)
-            .position(Vector3::new(0.1, 0.05, 0.1))
-            .orientation(Orientation::Axes {
-                z: x_rod.cross(&y_rod),
-                x: Some(x_rod),
-            }),
-    );
-    b.body(
-        Body::new("slider")
-            .mass(2.0)
-            .inertia(Matrix3::identity() * 1e-4)
-            .position(Vector3::new(0.2, 0.0, 0.0)),
-    );
-    b.point(GROUND, "A", Vector3::new(0.0, 0.1, 0.12))
-        .point(GROUND, "O", Vector3::zeros())
-        .vector(GROUND, "x", Vector3::x())
-        .vector(GROUND, "z", Vector3::z());
-    b.point("crank", "A", Vector3::new(0.0, 0.0, -0.04))
-        .point("crank", "B", Vector3::new(0.0, 0.0, 0.04))
-        .vector("crank", "x", Vector3::x())
-        .vector("crank", "z", Vector3::z());
-    b.point("conrod", "B", Vector3::new(-0.15, 0.0, 0.0))
-        .point("conrod", "C", Vector3::new(0.15, 0.0, 0.0))
-        .vector("conrod", "y", Vector3::y());
-    b.point("slider", "C", Vector3::zeros())
-        .vector("slider", "x", Vector3::x());
-    b.joint(
-        JointSpec::new("A", JointKind::Revolute, (GROUND, "A"), ("crank", "A"))
-            .axes("x", "x")
-            .x_axes("z", "z"),
-    );
-    b.joint(JointSpec::new(
-        "B",
-        JointKind::Spherical,
-        ("crank", "B"),
-        ("conrod", "B"),
-    ));
-    b.joint(
-        JointSpec::new("C", JointKind::Universal, ("slider", "C"), ("conrod", "C")).axes("x", "y"),
-    );
+    let mut b = slider_crank_links();
     b.joint(
         JointSpec::new(
             "keep",
