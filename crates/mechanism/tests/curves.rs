@@ -193,3 +193,30 @@ fn a_path_driver_sends_a_point_along_a_helix_at_constant_speed() {
     let u = res.curve("wire").unwrap();
     assert!((u.u[200] - v * turn).abs() < 1e-12);
 }
+
+/// The least change (held runs, drag) has no weight for a curve parameter yet: each refuses a
+/// model with a point on a curve, saying so, instead of indexing past its bodies.
+#[test]
+fn the_least_change_refuses_a_point_on_a_curve() {
+    use cardan_mechanism::{BodyWeights, Drag, FreeDof, HoldMetric, LeastChange};
+    let model = slotted_slider_crank(2.0 * PI).build().unwrap();
+    let weights = vec![
+        BodyWeights {
+            translation: 1.0,
+            rotation: [1.0; 4],
+        };
+        model.num_bodies()
+    ];
+    let e = LeastChange::new(&model, weights)
+        .err()
+        .map(|e| e.to_string());
+    assert!(e.is_some_and(|e| e.contains("point-on-curve")));
+    let e = Drag::new(&model, "slider", Vector3::zeros(), 1.0)
+        .err()
+        .map(|e| e.to_string());
+    assert!(e.is_some_and(|e| e.contains("point-on-curve")));
+    let mut options = KinematicOptions::new(0.0, 1.0, 10);
+    options.free_dof = FreeDof::Hold(HoldMetric::Scaled);
+    let e = model.run_kinematics(&options).unwrap_err().to_string();
+    assert!(e.contains("point-on-curve"), "{e}");
+}
