@@ -39,12 +39,12 @@ impl PointOnCurve {
 
 impl Constraint for PointOnCurve {
     fn name(&self) -> &'static str {
-        match self.curve.kind() {
-            "line" => "point_on_curve_line",
-            "circle" => "point_on_curve_circle",
-            "helix" => "point_on_curve_helix",
-            "cubic" => "point_on_curve_cubic",
-            _ => "point_on_curve_cubic_closed",
+        match &self.curve {
+            Curve::Line(_) => "point_on_curve_line",
+            Curve::Circle(_) => "point_on_curve_circle",
+            Curve::Helix(_) => "point_on_curve_helix",
+            Curve::Cubic(c) if c.is_closed() => "point_on_curve_cubic_closed",
+            Curve::Cubic(_) => "point_on_curve_cubic",
         }
     }
 

@@ -153,16 +153,6 @@ impl Curve {
             best
         }
     }
-
-    /// A length that sets the curve's scale (for equation scaling and tolerances).
-    pub fn length_scale(&self) -> f64 {
-        match self {
-            Curve::Line(c) => c.origin().norm().max(1.0),
-            Curve::Circle(c) => c.radius(),
-            Curve::Helix(c) => c.radius(),
-            Curve::Cubic(c) => c.knot_range().1,
-        }
-    }
 }
 
 impl From<Line> for Curve {

@@ -21,7 +21,7 @@ impl Model {
         let t = ws.pose.t;
         self.gamma_into(
             &ws.pose.bodies,
-            (ws.pose.u(), &ws.motion.v[6 * ws.pose.bodies.len()..]),
+            (ws.pose.u(), self.extra_rates_of(&ws.motion.v)),
             t,
             &mut ws.rows.rhs,
         );

@@ -52,32 +52,27 @@ impl Model {
             let pair = BodyPair::new(Self::state(bodies, &g, bi), Self::state(bodies, &g, bj));
             eval(e, &pair, t, &mut out[rows.clone()]);
         });
+        // u̇[k], or 0 for Φ and ν, which take no rates.
+        let rate = |k: usize| {
+            if u_dot.is_empty() {
+                &[0.0][..]
+            } else {
+                &u_dot[k..k + 1]
+            }
+        };
         for c in &self.curves {
             let k = c.extra;
             let pair = BodyPair::with_extra(
                 Self::state(bodies, &g, c.body_i),
                 Self::state(bodies, &g, c.body_j),
                 &u[k..k + 1],
-                if u_dot.is_empty() {
-                    &[0.0]
-                } else {
-                    &u_dot[k..k + 1]
-                },
+                rate(k),
             );
             eval(&c.element, &pair, t, &mut out[c.rows.clone()]);
         }
         for p in &self.paths {
             let k = p.curve;
-            let pair = BodyPair::with_extra(
-                &g,
-                &g,
-                &u[k..k + 1],
-                if u_dot.is_empty() {
-                    &[0.0]
-                } else {
-                    &u_dot[k..k + 1]
-                },
-            );
+            let pair = BodyPair::with_extra(&g, &g, &u[k..k + 1], rate(k));
             eval(&p.driver, &pair, t, &mut out[p.rows.clone()]);
         }
     }
