@@ -516,6 +516,97 @@ fn rscr_matches_closed_form() {
     check_fd("spatial_fourbar_cylindrical", &p, 100, 1e-2, 5e-1);
 }
 
+/// The crank and slotted lever (`examples/quick_return.toml`): a pin in a straight slot, the
+/// slot a `[[curve]]` of type line. With the pin A = (a cos θ, d + a sin θ), θ = ω t:
+///
+/// ```text
+/// u = |A|,  u̇ = A·Ȧ / u,  ü = (|Ȧ|² + A·Ä − u̇²) / u
+/// φ = atan2(A_y, A_x),  φ̇ = (A × Ȧ)_z / u²,  φ̈ = (A × Ä)_z / u² − 2 u̇ φ̇ / u
+/// ```
+///
+/// read from the joint tables as written (`slot.u [m]`, `lever_pivot.angle [rad]`...).
+#[test]
+fn quick_return_lever_follows_the_pin_in_its_slot() {
+    let (a, d, w) = (0.1, 0.3, 2.0 * PI);
+    let mut worst = [0.0f64; 6];
+    for (k, table) in ["joints", "joint_velocities", "joint_accelerations"]
+        .into_iter()
+        .enumerate()
+    {
+        let (_, _, header, rows) = run_with_table("quick_return", table);
+        let per = ["", "/s", "/s²"][k];
+        let u = column(&header, &rows, &format!("slot.u [m{per}]"));
+        let phi = column(&header, &rows, &format!("lever_pivot.angle [rad{per}]"));
+        for (n, row) in rows.iter().enumerate() {
+            let th = w * row[0];
+            let p = Vector3::new(a * th.cos(), d + a * th.sin(), 0.0);
+            let v = a * w * Vector3::new(-th.sin(), th.cos(), 0.0);
+            let acc = -a * w * w * Vector3::new(th.cos(), th.sin(), 0.0);
+            let l = p.norm();
+            let l_dot = p.dot(&v) / l;
+            let phi_dot = p.cross(&v).z / (l * l);
+            let want = match k {
+                0 => (l, p.y.atan2(p.x)),
+                1 => (l_dot, phi_dot),
+                _ => (
+                    (v.norm_squared() + p.dot(&acc) - l_dot * l_dot) / l,
+                    p.cross(&acc).z / (l * l) - 2.0 * l_dot * phi_dot / l,
+                ),
+            };
+            worst[2 * k] = worst[2 * k].max((u[n] - want.0).abs());
+            worst[2 * k + 1] = worst[2 * k + 1].max((phi[n] - want.1).abs());
+        }
+    }
+    eprintln!(
+        "quick_return: |u − u(θ)|, |φ − φ(θ)| and their rates, accelerations: {:?}",
+        worst.map(|e| format!("{e:.1e}"))
+    );
+    assert!(worst.iter().all(|&e| e < 1e-10), "{worst:?}");
+    let p = prepare(&example("quick_return")).unwrap();
+    check_fd("quick_return", &p, 100, 1e-2, 5e-1);
+}
+
+/// The two-link arm whose tool point follows a circle at constant speed
+/// (`examples/arm_path.toml`: a circle `[[curve]]` and a path driver u = v t). The tool point is
+/// P = C + R (cos(vt/R), sin(vt/R), 0) with speed v and acceleration v²/R toward C, and the
+/// joint angles are the elbow-up inverse kinematics of P:
+/// θ2 = acos((|P|² − l1² − l2²) / (2 l1 l2)), θ1 = atan2(P_y, P_x) − atan2(l2 sin θ2, l1 + l2 cos θ2).
+#[test]
+fn arm_path_tool_follows_the_circle_at_constant_speed() {
+    let (p, r) = run_example("arm_path");
+    let (l1, l2, radius, v) = (0.4, 0.3, 0.1, 0.2);
+    let c = Vector3::new(0.3, 0.3, 0.0);
+    let tool = r.point("fore", "tool").unwrap();
+    let (shoulder, elbow) = (r.joint("shoulder").unwrap(), r.joint("elbow").unwrap());
+    let path = r.curve("path").unwrap();
+    let mut worst = [0.0f64; 5];
+    for (k, &t) in r.times.iter().enumerate() {
+        let a = v * t / radius;
+        let want = c + radius * Vector3::new(a.cos(), a.sin(), 0.0);
+        let acc = -v * v / radius * Vector3::new(a.cos(), a.sin(), 0.0);
+        let th2 = ((want.norm_squared() - l1 * l1 - l2 * l2) / (2.0 * l1 * l2)).acos();
+        let th1 = want.y.atan2(want.x) - (l2 * th2.sin()).atan2(l1 + l2 * th2.cos());
+        let e = [
+            (tool.position[k] - want).amax(),
+            (tool.velocity[k].norm() - v).abs(),
+            (tool.acceleration[k] - acc).amax(),
+            (shoulder.values[k][0] - th1)
+                .abs()
+                .max((elbow.values[k][0] - th2).abs()),
+            (path.u[k] - v * t).abs().max((path.u_dot[k] - v).abs()),
+        ];
+        for (w, e) in worst.iter_mut().zip(e) {
+            *w = w.max(e);
+        }
+    }
+    eprintln!(
+        "arm_path: |P − P(t)|, ||Ṗ| − v|, |P̈ − P̈(t)|, |θ − θ_IK|, |u − vt|: {:?}",
+        worst.map(|e| format!("{e:.1e}"))
+    );
+    assert!(worst.iter().all(|&e| e < 1e-10), "{worst:?}");
+    check_fd("arm_path", &p, 100, 1e-2, 5e-1);
+}
+
 /// Every example also passes `cardan check` (through the library) with DOF = drivers.
 #[test]
 fn every_example_checks() {
@@ -533,6 +624,8 @@ fn every_example_checks() {
         "cv_driveline",
         "wobble_plate_pump",
         "expression_driver",
+        "quick_return",
+        "arm_path",
     ] {
         let p = prepare(&example(name)).unwrap();
         let mut out = Vec::new();
@@ -540,7 +633,7 @@ fn every_example_checks() {
         let text = String::from_utf8(out).unwrap();
         assert!(text.contains("degrees of freedom: 1"), "{name}: {text}");
         assert!(text.contains(": ok"), "{name}: {text}");
-        assert_eq!(p.model.drivers().len(), 1);
+        assert_eq!(p.model.drivers().len() + p.model.paths().len(), 1);
         let mut out = Vec::new();
         cardan_model::eval::eval(&example(name), None, Default::default(), &mut out).unwrap();
         let text = String::from_utf8(out).unwrap();

@@ -470,7 +470,7 @@ impl Site {
         let kind = match element.split_whitespace().next()? {
             "body" | "point" | "vector" => ElementKind::Body,
             "joint" | "point-on-curve" => ElementKind::Joint,
-            "driver" => ElementKind::Driver,
+            "driver" | "path" => ElementKind::Driver,
             "coupler" => ElementKind::Coupler,
             "force" => ElementKind::Force,
             _ => return None,

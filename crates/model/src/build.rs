@@ -7,6 +7,7 @@ mod analysis;
 mod body;
 mod context;
 mod coupler;
+mod curve;
 mod driver;
 mod force;
 mod joint;
@@ -29,7 +30,7 @@ use joint::load_joint;
 use crate::diag::{Error, Source};
 use crate::file::ModelFile;
 use crate::units::UnitSystem;
-use crate::vocabulary::{COUPLERS, DRIVERS, FORCES};
+use crate::vocabulary::{COUPLERS, CURVES, DRIVERS, FORCES};
 use cardan_constraints::drivers::POSE_ROWS;
 use cardan_constraints::{JointKind, TimeFunction};
 use cardan_dynamics::Force;
@@ -87,6 +88,7 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
         order: &bodies.order,
     };
     let joints = load_joints(&resolver, file, &mut spans, &mut builder)?;
+    load_curves(&resolver, file, &mut spans, &mut builder)?;
     load_couplers(&cx, file, &mut spans, &mut builder)?;
     let drivers = load_drivers(&resolver, file, &mut spans, &mut builder)?;
     load_forces(&resolver, file, &joints.kinds, &mut spans, &mut forces)?;
@@ -259,6 +261,26 @@ fn load_joints(
     Ok(out)
 }
 
+/// `[[curve]]`: each point-on-curve element, its kind checked against the curve table
+/// (`build/curve.rs`).
+fn load_curves(
+    r: &Resolver,
+    file: &ModelFile,
+    spans: &mut Spans,
+    builder: &mut MechanismBuilder,
+) -> Result<(), Error> {
+    for section in &file.curve {
+        let c = section.get_ref();
+        check_unique_element(r.cx, spans, &c.name, "curve")?;
+        let owner = format!("curve \"{}\"", c.name.get_ref());
+        let table = section.span().start;
+        let entry = r.cx.check(&CURVES, &owner, &c.kind, table, c.name.span())?;
+        spans.curves.insert(c.name.get_ref().clone(), c.name.span());
+        builder.curve(curve::load_curve(r, section, entry.name)?);
+    }
+    Ok(())
+}
+
 /// `[[limit]]` and `[[friction]]`: each limit and joint friction (`build/limit.rs`).
 fn load_limits(
     cx: &Ctx,
@@ -346,6 +368,15 @@ fn load_drivers(
             .insert(d.name.get_ref().clone(), d.name.span());
         if spans.first_driver.is_none() {
             spans.first_driver = Some(d.name.span());
+        }
+        if d.kind.get_ref() == "path" {
+            let path = driver::load_path(r.cx, d)?;
+            let what = format!("parameter of curve {}", path.curve);
+            out.names.push((path.name.clone(), what));
+            out.functions
+                .push((path.function.clone(), Quantity::Length));
+            builder.path(path);
+            continue;
         }
         let (spec, what) = load_driver(r, d)?;
         match &spec.target {

@@ -60,6 +60,7 @@ fn describe(p: &Prepared, path: &Path, out: &mut dyn Write) -> Result<(), Error>
     .map_err(io)?;
     write_bodies(p, &ws, out)?;
     write_joints(model, out)?;
+    write_curves(model, out)?;
     write_couplers(model, out)?;
     write_limits(p, &ws, out)?;
     write_frictions(p, out)?;
@@ -117,6 +118,38 @@ fn write_joints(model: &Model, out: &mut dyn Write) -> Result<(), Error> {
         })
         .collect();
     write_table(out, &["name", "type", "bodies", "equations", "rows"], &rows).map_err(io)
+}
+
+/// The curves (point-on-curve elements), when the model has any: name, curve kind, bodies,
+/// the column of the curve parameter, equation count and rows.
+fn write_curves(model: &Model, out: &mut dyn Write) -> Result<(), Error> {
+    if model.curves().is_empty() {
+        return Ok(());
+    }
+    writeln!(out, "\ncurves ({})", model.curves().len()).map_err(io)?;
+    let nb6 = 6 * model.bodies().len();
+    let rows: Vec<Vec<String>> = (model.curves().iter())
+        .map(|c| {
+            vec![
+                c.name.clone(),
+                match c.element.curve.kind() {
+                    "cubic" => "spline".to_string(),
+                    "cubic_closed" => "closed spline".to_string(),
+                    kind => kind.to_string(),
+                },
+                format!(
+                    "{} – {}",
+                    model.body_name(c.body_i),
+                    model.body_name(c.body_j)
+                ),
+                format!("u: {}", nb6 + c.extra),
+                c.rows.len().to_string(),
+                format!("{}..{}", c.rows.start, c.rows.end),
+            ]
+        })
+        .collect();
+    let header = ["name", "curve", "bodies", "column", "equations", "rows"];
+    write_table(out, &header, &rows).map_err(io)
 }
 
 /// The couplers (gears, racks, screws), when the model has any: name, type, joints and rows.
@@ -226,17 +259,22 @@ fn write_frictions(p: &Prepared, out: &mut dyn Write) -> Result<(), Error> {
 /// The drivers: name, what each drives, equation count and rows.
 fn write_drivers(p: &Prepared, out: &mut dyn Write) -> Result<(), Error> {
     let model = &p.model;
-    writeln!(out, "\ndrivers ({})", model.drivers().len()).map_err(io)?;
-    let rows: Vec<Vec<String>> = model
-        .drivers()
-        .iter()
-        .zip(&p.loaded.drivers)
-        .map(|(d, (_, what))| {
+    let drivers = (model.drivers().iter()).map(|d| (&d.name, &d.rows));
+    let paths = (model.paths().iter()).map(|d| (&d.name, &d.rows));
+    let all: Vec<_> = drivers.chain(paths).collect();
+    writeln!(out, "\ndrivers ({})", all.len()).map_err(io)?;
+    let what = |name: &str| {
+        (p.loaded.drivers.iter())
+            .find(|(n, _)| n == name)
+            .map_or(String::new(), |(_, w)| w.clone())
+    };
+    let rows: Vec<Vec<String>> = (all.into_iter())
+        .map(|(name, rows)| {
             vec![
-                d.name.clone(),
-                what.clone(),
-                d.rows.len().to_string(),
-                format!("{}..{}", d.rows.start, d.rows.end),
+                name.clone(),
+                what(name),
+                rows.len().to_string(),
+                format!("{}..{}", rows.start, rows.end),
             ]
         })
         .collect();
@@ -248,8 +286,12 @@ fn write_drivers(p: &Prepared, out: &mut dyn Write) -> Result<(), Error> {
 fn write_counts(model: &Model, dof: &DofReport, out: &mut dyn Write) -> Result<(), Error> {
     writeln!(
         out,
-        "\nunknowns: {} (6 per moving body); equations: {} joint + {} driver = {}",
+        "\nunknowns: {} (6 per moving body{}); equations: {} joint + {} driver = {}",
         model.num_unknowns(),
+        match model.num_extra() {
+            0 => String::new(),
+            n => format!(", and {n} curve parameter{}", if n == 1 { "" } else { "s" }),
+        },
         model.num_joint_equations(),
         model.num_equations() - model.num_joint_equations(),
         model.num_equations()

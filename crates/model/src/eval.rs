@@ -106,14 +106,14 @@ pub struct RowInfo {
 /// One column of an [`Evaluation`].
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ColumnInfo {
-    /// The moving body.
+    /// The moving body (for a curve parameter: the curve element).
     pub body: String,
-    /// The coordinate ([`COORDINATES`]).
+    /// The coordinate ([`COORDINATES`], or `u` for a curve parameter).
     pub coordinate: &'static str,
 }
 
 const FORM: &str = "6-coordinate: per moving body the columns are r.x r.y r.z (global, m) and \
-                    ω'.x ω'.y ω'.z (body frame, rad); Φ_v v = ν with ν = −Φ_t, Φ_v v̇ = γ#";
+                    ω'.x ω'.y ω'.z (body frame, rad), then one column u (m) per curve parameter; Φ_v v = ν with ν = −Φ_t, Φ_v v̇ = γ#";
 
 /// Assembles at time t (default: the analysis start) and writes Φ, the Jacobian, ν and γ#, as
 /// text or as JSON.
@@ -267,10 +267,18 @@ pub fn evaluate(path: &Path, t: Option<f64>) -> Result<(Prepared, Evaluation), E
             }
         })
         .collect();
+    // Six columns per moving body, then one per curve parameter (named by its element).
+    let nb6 = 6 * model.bodies().len();
     let columns = (0..n)
-        .map(|c| ColumnInfo {
-            body: model.bodies()[c / 6].name.clone(),
-            coordinate: COORDINATES[c % 6],
+        .map(|c| match c.checked_sub(nb6) {
+            None => ColumnInfo {
+                body: model.bodies()[c / 6].name.clone(),
+                coordinate: COORDINATES[c % 6],
+            },
+            Some(k) => ColumnInfo {
+                body: model.curves()[k].name.clone(),
+                coordinate: "u",
+            },
         })
         .collect();
     let jacobian = model
@@ -312,7 +320,7 @@ fn write_text(p: &Prepared, ev: &Evaluation, out: &mut dyn Write) -> Result<(), 
     .map_err(io)?;
     writeln!(
         out,
-        "{m} equations, {n} unknowns (per moving body: Δr x y z, Δπ' x y z in the body frame; 6-coordinate form)"
+        "{m} equations, {n} unknowns (per moving body: Δr x y z, Δπ' x y z in the body frame; 6-coordinate form; then Δu per curve)"
     )
     .map_err(io)?;
 
@@ -415,7 +423,6 @@ fn write_text(p: &Prepared, ev: &Evaluation, out: &mut dyn Write) -> Result<(), 
         "\nJacobian Φ_v values (row, column, body.coordinate, value)"
     )
     .map_err(io)?;
-    let coord = COORDINATES;
     let rows: Vec<Vec<String>> = pattern
         .entries()
         .zip(&slots)
@@ -423,7 +430,7 @@ fn write_text(p: &Prepared, ev: &Evaluation, out: &mut dyn Write) -> Result<(), 
             vec![
                 r.to_string(),
                 c.to_string(),
-                format!("{}.{}", model.bodies()[c / 6].name, coord[c % 6]),
+                format!("{}.{}", ev.columns[c].body, ev.columns[c].coordinate),
                 e(*v),
             ]
         })

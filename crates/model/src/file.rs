@@ -31,6 +31,9 @@ pub struct ModelFile {
     /// `[[joint]]`.
     #[serde(default)]
     pub joint: Vec<Spanned<JointSection>>,
+    /// `[[curve]]`: points held on curves (slots, tracks, paths).
+    #[serde(default)]
+    pub curve: Vec<Spanned<CurveSection>>,
     /// `[[driver]]`.
     #[serde(default)]
     pub driver: Vec<Spanned<DriverSection>>,
@@ -295,12 +298,15 @@ pub struct FunctionSpec {
 pub struct DriverSection {
     /// Unique name.
     pub name: Name,
-    /// rotation, translation, distance, coordinate, general_motion.
+    /// rotation, translation, distance, coordinate, general_motion, path.
     #[serde(rename = "type")]
     pub kind: Name,
     /// rotation / translation: the driven joint.
     #[serde(default)]
     pub joint: Option<Name>,
+    /// path: the `[[curve]]` whose parameter is driven.
+    #[serde(default)]
+    pub curve: Option<Name>,
     /// distance, general_motion: body i.
     #[serde(default)]
     pub body_i: Option<Name>,
@@ -390,6 +396,48 @@ pub struct CouplerSection {
     /// The law's constant c [rad for a gear, m otherwise] (default: its initial value).
     #[serde(default)]
     pub constant: Option<Num>,
+}
+
+/// `[[curve]]`: a point of body j held on a curve fixed in body i
+/// ([`crate::vocabulary::CURVES`]).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CurveSection {
+    /// Unique name among joints, curves, couplers, drivers and forces.
+    pub name: Name,
+    /// line, circle, helix or spline.
+    #[serde(rename = "type")]
+    pub kind: Name,
+    /// The body carrying the curve.
+    pub body_i: Name,
+    /// The body whose point follows the curve.
+    pub body_j: Name,
+    /// The point of body j on the curve.
+    pub point_j: Name,
+    /// line, circle, helix: the origin or centre on body i.
+    #[serde(default)]
+    pub point_i: Option<Name>,
+    /// line, circle, helix: the direction or axis on body i.
+    #[serde(default)]
+    pub axis_i: Option<Name>,
+    /// circle, helix: where u = 0 lies, seen from the centre.
+    #[serde(default)]
+    pub x_axis_i: Option<Name>,
+    /// circle, helix: R \[m\].
+    #[serde(default)]
+    pub radius: Option<Num>,
+    /// helix: advance per turn \[m\].
+    #[serde(default)]
+    pub pitch: Option<Num>,
+    /// spline: the points in body i's coordinates \[m\].
+    #[serde(default)]
+    pub points: Option<Spanned<Vec<Vec3>>>,
+    /// spline: closed and periodic.
+    #[serde(default)]
+    pub closed: Option<Spanned<bool>>,
+    /// u at the drawn pose \[m\].
+    #[serde(default)]
+    pub initial_u: Option<Num>,
 }
 
 /// `[[limit]]`: a lower bound, an upper bound or both on one coordinate of a joint (end
@@ -738,6 +786,12 @@ fn check_counts(src: &Source, file: &ModelFile) -> Result<(), Error> {
             file.joint.get(MAX_ELEMENTS).map(Spanned::span),
         ),
         (
+            "curves",
+            file.curve.len(),
+            MAX_ELEMENTS,
+            file.curve.get(MAX_ELEMENTS).map(Spanned::span),
+        ),
+        (
             "couplers",
             file.coupler.len(),
             MAX_ELEMENTS,
@@ -832,6 +886,19 @@ fn check_counts(src: &Source, file: &ModelFile) -> Result<(), Error> {
             }
         }
     }
+    for c in &file.curve {
+        if let Some(p) = &c.get_ref().points {
+            if p.get_ref().len() > MAX_ARRAY_LEN {
+                return Err(src.error_at(
+                    p.span(),
+                    format!(
+                        "points has {} entries; at most {MAX_ARRAY_LEN} are accepted",
+                        p.get_ref().len()
+                    ),
+                ));
+            }
+        }
+    }
     if let Some(a) = &file.analysis {
         if let Some(o) = &a.get_ref().outputs {
             let o = o.get_ref();
@@ -871,7 +938,7 @@ fn in_context(text: &str, at: usize, message: String) -> String {
     }
     if message.starts_with("invalid value: a table, expected an array") {
         for name in [
-            "body", "joint", "coupler", "driver", "force", "limit", "friction",
+            "body", "joint", "curve", "coupler", "driver", "force", "limit", "friction",
         ] {
             if text[at..].starts_with(&format!("[{name}]")) {
                 return format!(

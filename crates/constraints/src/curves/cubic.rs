@@ -64,7 +64,7 @@ impl CubicCurve {
         let need = if closed { 4 } else { 2 };
         if points.len() < need {
             return Err(bad(format!(
-                "a{} cubic curve needs at least {need} points{}, got {}",
+                "a{} spline needs at least {need} points{}, got {}",
                 if closed { " closed" } else { "n open" },
                 if closed {
                     " (3 distinct ones and the first repeated at the end)"
@@ -94,7 +94,7 @@ impl CubicCurve {
             let chord = (points[k] - points[k - 1]).norm();
             if chord <= COINCIDENT * extent {
                 return Err(bad(format!(
-                    "curve points {} and {} coincide ({}): remove the repeated point",
+                    "points[{}] and points[{}] coincide ({}): remove the repeated point",
                     k - 1,
                     k,
                     fmt_point(&points[k])

@@ -250,7 +250,7 @@ fn bad_curve_data_is_refused_with_what_to_do() {
     let mut repeated = p.clone();
     repeated.insert(2, p[1]);
     let m = curve_error(CubicCurve::new(repeated, false).unwrap_err());
-    assert!(m.contains("points 1 and 2 coincide"), "{m}");
+    assert!(m.contains("points[1] and points[2] coincide"), "{m}");
     assert!(m.contains("remove the repeated point"), "{m}");
     let open_ends = curve_error(CubicCurve::new(p.clone(), true).unwrap_err());
     assert!(

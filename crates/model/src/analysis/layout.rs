@@ -26,6 +26,8 @@ enum Source {
     Point { i: usize, which: u8, c: usize },
     /// `joints[i]`: values (0), rates (1) or accelerations (2), coordinate q.
     Joint { i: usize, which: u8, q: usize },
+    /// `curves[i]`: the curve parameter u (0), u̇ (1) or ü (2).
+    Curve { i: usize, which: u8 },
     /// `bodies[i]`, a 3-vector history, component c.
     Body { i: usize, vec: BodyVec, c: usize },
     /// `bodies[i].p`, component c.
@@ -61,6 +63,15 @@ impl Source {
                     _ => &j.accelerations,
                 };
                 v.get(k).map_or(f64::NAN, |v| v[q])
+            }
+            Source::Curve { i, which } => {
+                let c = &r.curves[i];
+                let v = match which {
+                    0 => &c.u,
+                    1 => &c.u_dot,
+                    _ => &c.u_ddot,
+                };
+                v.get(k).copied().unwrap_or(f64::NAN)
             }
             Source::Body { i, vec, c } => {
                 let b = &r.bodies[i];
@@ -200,8 +211,15 @@ fn joint_groups(r: &Results, req: &Requested, groups: &mut Vec<Group>) {
     let index: HashMap<&str, usize> = (r.joints.iter().enumerate())
         .map(|(i, j): (usize, &JointResults)| (j.name.as_str(), i))
         .collect();
-    let joints: Vec<usize> = (req.joints.iter())
-        .filter_map(|j| index.get(j.as_str()).copied())
+    let curves: HashMap<&str, usize> = (r.curves.iter().enumerate())
+        .map(|(i, c)| (c.name.as_str(), i))
+        .collect();
+    // A requested name is a joint (its coordinates) or a curve (its parameter u).
+    let entries: Vec<Result<usize, usize>> = (req.joints.iter())
+        .filter_map(|j| {
+            let j = j.as_str();
+            (index.get(j).copied().map(Ok)).or_else(|| curves.get(j).copied().map(Err))
+        })
         .collect();
     let kinds = [
         ("joints", "joint coordinates", ""),
@@ -214,7 +232,18 @@ fn joint_groups(r: &Results, req: &Requested, groups: &mut Vec<Group>) {
     ];
     for (which, (name, title, per)) in kinds.into_iter().enumerate() {
         let mut g = Group::new(name, title);
-        for &i in &joints {
+        for &e in &entries {
+            let i = match e {
+                Ok(i) => i,
+                Err(i) => {
+                    let (which, name) = (which as u8, r.curves[i].name.as_str());
+                    g.column(
+                        header(&[name, "u"], &["m", per]),
+                        Source::Curve { i, which },
+                    );
+                    continue;
+                }
+            };
             let h = &r.joints[i];
             for (q, c) in h.coordinates.iter().enumerate() {
                 let unit = c.measure.quantity().unit();

@@ -298,7 +298,8 @@ fn load_outputs(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Outp
         outputs.points.push((b.to_string(), pt.to_string()));
     }
     for j in &o.joints {
-        known(cx, j, "outputs.joints: unknown joint", spans.joints.keys())?;
+        let names = spans.joints.keys().chain(spans.curves.keys());
+        known(cx, j, "outputs.joints: unknown joint or curve", names)?;
         outputs.joints.push(j.get_ref().clone());
     }
     for b in &o.bodies {

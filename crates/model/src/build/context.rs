@@ -181,6 +181,10 @@ impl Resolver<'_> {
     pub(super) fn point_value(&self, body: &str, n: &str) -> Vector3<f64> {
         self.features[body].points[n].1
     }
+
+    pub(super) fn vector_value(&self, body: &str, n: &str) -> Vector3<f64> {
+        self.features[body].vectors[n].1
+    }
 }
 
 pub(super) fn check_unique_element(
@@ -197,6 +201,7 @@ pub(super) fn check_unique_element(
         .joints
         .get(n)
         .map(|s| ("joint", s))
+        .or_else(|| spans.curves.get(n).map(|s| ("curve", s)))
         .or_else(|| spans.drivers.get(n).map(|s| ("driver", s)))
         .or_else(|| spans.couplers.get(n).map(|s| ("coupler", s)))
         .or_else(|| spans.forces.get(n).map(|s| ("force", s)))
@@ -208,7 +213,7 @@ pub(super) fn check_unique_element(
             name.span(),
             format!(
                 "duplicate name \"{n}\": a {kind} of that name is defined at line {} \
-                 (joints, couplers, drivers, forces, limits and frictions share one namespace)",
+                 (joints, curves, couplers, drivers, forces, limits and frictions share one namespace)",
                 l.line
             ),
         ));

@@ -9,7 +9,7 @@ use crate::file::{DriverSection, FunctionSpec, Name, Num};
 use crate::vocabulary::{DRIVERS, FUNCTIONS};
 use cardan_constraints::expression::{self, Expression};
 use cardan_constraints::{RotationOrder, TimeFunction};
-use cardan_mechanism::{Axis, DriverSpec, PoseTarget, Quantity};
+use cardan_mechanism::{Axis, DriverSpec, PathSpec, PoseTarget, Quantity};
 use std::ops::Range;
 use toml::Spanned;
 
@@ -266,6 +266,22 @@ fn string_inner_span(
     let start = span.start + 1 + inner.start;
     // An empty span (the end of the text) underlines the closing quote.
     start..(span.start + 1 + inner.end).max(start + 1)
+}
+
+/// A path driver: the parameter of the `[[curve]]` named by `curve` follows `function` (the
+/// curve's existence is checked by the builder, located at this key).
+pub(super) fn load_path(cx: &Ctx, d: &DriverSection) -> Result<PathSpec, Error> {
+    let owner = format!("driver \"{}\"", d.name.get_ref());
+    let need = |key: &str, why: &str| missing(cx, d.name.span(), &owner, key, why);
+    let curve = (d.curve.as_ref()).ok_or_else(|| need("curve", "the [[curve]] it drives"))?;
+    let f = (d.function.as_ref())
+        .ok_or_else(|| need("function", "the law u(t) of the curve parameter"))?;
+    let function = load_function(cx, f, &owner, Quantity::Length)?;
+    Ok(PathSpec::new(
+        d.name.get_ref().clone(),
+        curve.get_ref(),
+        function,
+    ))
 }
 
 pub(super) fn load_driver(r: &Resolver, d: &DriverSection) -> Result<(DriverSpec, String), Error> {

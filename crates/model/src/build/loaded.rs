@@ -17,6 +17,8 @@ pub struct Spans {
     pub bodies: HashMap<String, Range<usize>>,
     /// Joint name → span.
     pub joints: HashMap<String, Range<usize>>,
+    /// Curve (point-on-curve element) name → span.
+    pub curves: HashMap<String, Range<usize>>,
     /// Driver name → span.
     pub drivers: HashMap<String, Range<usize>>,
     /// Coupler name → span.
@@ -40,6 +42,7 @@ impl Spans {
     pub fn locate(&self, text: &str, site: &Site) -> Option<Range<usize>> {
         let table = match site.kind {
             ElementKind::Body => &self.bodies,
+            ElementKind::Joint if self.curves.contains_key(&site.name) => &self.curves,
             ElementKind::Joint => &self.joints,
             ElementKind::Driver => &self.drivers,
             ElementKind::Coupler => &self.couplers,
@@ -86,6 +89,7 @@ impl Spans {
     pub fn element(&self, name: &str) -> Option<Range<usize>> {
         self.joints
             .get(name)
+            .or_else(|| self.curves.get(name))
             .or_else(|| self.drivers.get(name))
             .or_else(|| self.couplers.get(name))
             .or_else(|| self.bodies.get(name))

@@ -110,6 +110,20 @@ pub const DRIVERS: Vocabulary = Vocabulary {
             ],
         },
         Entry {
+            name: "path",
+            aliases: &[],
+            summary: "the parameter u of a [[curve]] follows u(t): its point moves along the curve (arc length for a line, a circle and a helix: u = v t moves it at speed v)",
+            keys: &[
+                Key::new("curve", Value::Name, Default::Required, "the driven [[curve]]"),
+                Key::new(
+                    "function",
+                    Value::Function(Quantity::Length),
+                    Default::Required,
+                    "the law u(t) of the curve parameter (m)",
+                ),
+            ],
+        },
+        Entry {
             name: "general_motion",
             aliases: &[],
             summary: "the full pose of frame j relative to frame i: three translations and three angles of a rotation sequence",

@@ -4,11 +4,12 @@
 use super::{Default, Vocabulary};
 
 /// The vocabularies written into docs/model-format.md, with the name of their generated block.
-pub const GENERATED: [(&str, &Vocabulary); 9] = [
+pub const GENERATED: [(&str, &Vocabulary); 10] = [
     ("analysis-kinds", &super::ANALYSES),
     ("integrators", &super::INTEGRATORS),
     ("drivers", &super::DRIVERS),
     ("functions", &super::FUNCTIONS),
+    ("curves", &super::CURVES),
     ("couplers", &super::COUPLERS),
     ("forces", &super::FORCES),
     ("limits", &super::LIMITS),

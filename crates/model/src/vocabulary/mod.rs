@@ -1,6 +1,6 @@
 //! The model file's vocabularies as data, the way the joint kinds are
 //! (`cardan_constraints::KINDS`): analysis kinds, integrators, drivers, time functions, force
-//! elements, couplers, limits, joint friction and the output groups. Each [`Vocabulary`] is a list of [`Entry`]s (a
+//! elements, curves, couplers, limits, joint friction and the output groups. Each [`Vocabulary`] is a list of [`Entry`]s (a
 //! name, its aliases, a summary and the [`Key`]s it takes); each key has its value's
 //! [`Value`] (a quantity with its SI unit, a count with its range, a name, a function...), its
 //! default and what it means.
@@ -20,6 +20,7 @@
 mod analyses;
 mod check;
 mod couplers;
+mod curves;
 mod drivers;
 mod forces;
 mod functions;
@@ -31,6 +32,7 @@ mod outputs;
 pub use analyses::ANALYSES;
 pub use check::{check, KeySpans, Present};
 pub use couplers::COUPLERS;
+pub use curves::CURVES;
 pub use drivers::DRIVERS;
 pub use forces::FORCES;
 pub use functions::FUNCTIONS;
@@ -74,6 +76,8 @@ pub enum Value {
     Functions(Quantity),
     /// A list of numbers (a polynomial's coefficients, a spline's knots).
     Numbers,
+    /// A list of points `[[x, y, z], ...]` of a quantity (a spline's points).
+    Points(Quantity),
     /// A text (an expression).
     Text,
     /// true or false.
@@ -104,6 +108,7 @@ impl Value {
             Value::Function(q) => format!("function{}", unit(q)),
             Value::Functions(q) => format!("list of functions{}", unit(q)),
             Value::Numbers => "list of numbers".into(),
+            Value::Points(q) => format!("[[x, y, z], ...]{}", unit(q)),
             Value::Text => "text".into(),
             Value::Flag => "true or false".into(),
             Value::Table => "table".into(),
@@ -204,7 +209,11 @@ impl Entry {
     pub fn quantity(&self, name: &str) -> Quantity {
         match self.key(name).map(|k| k.value) {
             Some(
-                Value::Number(q) | Value::Vector(q) | Value::Function(q) | Value::Functions(q),
+                Value::Number(q)
+                | Value::Vector(q)
+                | Value::Function(q)
+                | Value::Functions(q)
+                | Value::Points(q),
             ) => q,
             _ => Quantity::Unbounded,
         }

@@ -317,6 +317,15 @@ class Builder:
         self._tables.append(("force", {"name": name, "type": type, **keys}))
         return self
 
+    def curve(self, name: str, type: str, **keys: Any) -> "Builder":
+        """A point held on a curve (a slot, a track, a path): ``type`` is ``"line"``,
+        ``"circle"``, ``"helix"`` or ``"spline"``; ``body_i`` carries the curve (``point_i``,
+        ``axis_i``, ``x_axis_i``, ``radius``, ``pitch``, or a spline's ``points`` in its
+        coordinates and ``closed``), ``point_j`` of ``body_j`` follows it. Its parameter u is an
+        unknown; a driver of ``type="path"`` with ``curve=name`` prescribes it."""
+        self._tables.append(("curve", {"name": name, "type": type, **keys}))
+        return self
+
     def coupler(self, name: str, type: str, **keys: Any) -> "Builder":
         """A coupler (gear, rack and pinion, screw) between joint coordinates."""
         self._tables.append(("coupler", {"name": name, "type": type, **keys}))

@@ -1,0 +1,136 @@
+//! `[[curve]]` sections to [`CurveSpec`]s: the curve built in body i's coordinates from the
+//! body's named point and vectors (a line, a circle, a helix) or from a list of points (a
+//! spline), its own errors (a zero radius, repeated points, a closed spline whose ends do not
+//! meet) placed at the key. Body j and its point are resolved by the builder, whose errors
+//! [`super::Spans::locate`] places at the key.
+
+use super::context::{missing, Ctx, Resolver};
+use crate::diag::Error;
+use crate::file::CurveSection;
+use cardan_constraints::{Circle, ConstraintError, CubicCurve, Curve, Helix, Line, Marker};
+use cardan_mechanism::{CurveSpec, Quantity};
+use nalgebra::Vector3;
+use std::ops::Range;
+use toml::Spanned;
+
+/// The curve of `c` (its kind checked against [`crate::vocabulary::CURVES`]: `kind` is the
+/// entry's name) and the element.
+pub(super) fn load_curve(
+    r: &Resolver,
+    section: &Spanned<CurveSection>,
+    kind: &str,
+) -> Result<CurveSpec, Error> {
+    let cx = r.cx;
+    let c = section.get_ref();
+    let owner = format!("curve \"{}\"", c.name.get_ref());
+    let bi = r.body(&c.body_i, &owner)?;
+    let owner_ref = owner.as_str();
+    let placed = |span: Range<usize>| {
+        move |e: ConstraintError| {
+            let why = match e {
+                ConstraintError::Curve(why) => why,
+                e => e.to_string(),
+            };
+            cx.err(span, format!("{owner_ref}: {why}"))
+        }
+    };
+    let curve = if kind == "spline" {
+        let Some(points) = &c.points else {
+            return Err(missing(
+                cx,
+                c.name.span(),
+                &owner,
+                "points",
+                "a spline needs them",
+            ));
+        };
+        let mut p = Vec::with_capacity(points.get_ref().len());
+        for (k, v) in points.get_ref().iter().enumerate() {
+            p.push(cx.vec3(v, format_args!("{owner}: points[{k}]"), Quantity::Length)?);
+        }
+        let closed = c.closed.as_ref().is_some_and(|f| *f.get_ref());
+        Curve::Cubic(CubicCurve::new(p, closed).map_err(placed(points.span()))?)
+    } else {
+        let m = marker(r, c, bi, &owner)?;
+        let radius = |key: &str| match &c.radius {
+            Some(n) => cx.num(n, format_args!("{owner}: {key}"), Quantity::Length),
+            None => Err(missing(
+                cx,
+                c.name.span(),
+                &owner,
+                key,
+                "the curve needs it",
+            )),
+        };
+        match kind {
+            "line" => Curve::Line(Line::new(&m)),
+            "circle" => {
+                let span = c.radius.as_ref().map_or(c.name.span(), Spanned::span);
+                Curve::Circle(Circle::new(&m, radius("radius")?).map_err(placed(span))?)
+            }
+            _ => {
+                let Some(pitch) = &c.pitch else {
+                    return Err(missing(
+                        cx,
+                        c.name.span(),
+                        &owner,
+                        "pitch",
+                        "a helix needs it",
+                    ));
+                };
+                let h = cx.num(pitch, format_args!("{owner}: pitch"), Quantity::Length)?;
+                let helix = Helix::new(&m, radius("radius")?, h).map_err(placed(pitch.span()))?;
+                Curve::Helix(helix)
+            }
+        }
+    };
+    let mut spec = CurveSpec::new(
+        c.name.get_ref().clone(),
+        bi,
+        curve,
+        c.body_j.get_ref(),
+        c.point_j.get_ref(),
+    );
+    if let Some(u) = &c.initial_u {
+        spec = spec.initial_u(cx.num(u, format_args!("{owner}: initial_u"), Quantity::Length)?);
+    }
+    Ok(spec)
+}
+
+/// The frame of a line, a circle or a helix: origin `point_i`, z along `axis_i`, x along the
+/// part of `x_axis_i` perpendicular to it (any perpendicular when absent).
+fn marker(r: &Resolver, c: &CurveSection, bi: &str, owner: &str) -> Result<Marker, Error> {
+    let cx: &Ctx = r.cx;
+    let (Some(p), Some(z)) = (&c.point_i, &c.axis_i) else {
+        let key = if c.point_i.is_none() {
+            "point_i"
+        } else {
+            "axis_i"
+        };
+        return Err(missing(cx, c.name.span(), owner, key, "the curve needs it"));
+    };
+    r.feature(bi, p, owner, true)?;
+    r.feature(bi, z, owner, false)?;
+    let origin = r.point_value(bi, p.get_ref());
+    let axis = r.vector_value(bi, z.get_ref());
+    let frame = match &c.x_axis_i {
+        Some(x) => {
+            r.feature(bi, x, owner, false)?;
+            let xv: Vector3<f64> = r.vector_value(bi, x.get_ref());
+            if axis.normalize().cross(&xv.normalize()).norm() < 1e-6 {
+                return Err(cx.err(
+                    x.span(),
+                    format!(
+                        "{owner}: x_axis_i \"{}\" is parallel to axis_i \"{}\"; it must point \
+                         from the centre to where u = 0, across the axis",
+                        x.get_ref(),
+                        z.get_ref()
+                    ),
+                ));
+            }
+            Marker::from_axes(origin, axis, xv)
+        }
+        None => Marker::from_axis(origin, axis),
+    };
+    frame.map_err(|e| cx.err(z.span(), format!("{owner}: {e}")))
+}

@@ -1,0 +1,54 @@
+"""Curves from Python (issue 49): the builder's ``curve`` writes the model file's ``[[curve]]``
+table and a driver of ``type="path"`` prescribes its parameter; the joint tables carry the
+curve parameter u; a bad curve is a ModelError at its key."""
+
+import math
+
+import pytest
+
+import cardan
+
+
+def _arm(radius=0.1, speed=0.2):
+    """A two-link planar arm whose tool point runs around a circle at constant speed."""
+    b = cardan.Builder("arm_path")
+    b.ground(points={"O": [0, 0, 0], "C": [0.3, 0.3, 0]}, vectors={"x": [1, 0, 0], "z": [0, 0, 1]})
+    b.body("upper", mass=2.0, inertia={"diag": [1e-3, 3e-2, 3e-2]}, position=[0.2, 0, 0],
+           points={"O": [-0.2, 0, 0], "E": [0.2, 0, 0]}, vectors={"x": [1, 0, 0], "z": [0, 0, 1]})
+    b.body("fore", mass=1.0, inertia={"diag": [1e-3, 8e-3, 8e-3]}, position=[0.4, 0.15, 0],
+           orientation={"axis": [0, 0, 1], "angle": math.pi / 2},
+           points={"E": [-0.15, 0, 0], "tool": [0.15, 0, 0]}, vectors={"x": [1, 0, 0], "z": [0, 0, 1]})
+    for name, (bi, pi, bj) in {"shoulder": ("ground", "O", "upper"), "elbow": ("upper", "E", "fore")}.items():
+        b.joint(name, "revolute", body_i=bi, point_i=pi, axis_i="z", x_axis_i="x",
+                body_j=bj, point_j=pi, axis_j="z", x_axis_j="x")
+    b.curve("path", "circle", body_i="ground", point_i="C", axis_i="z", x_axis_i="x",
+            radius=radius, body_j="fore", point_j="tool")
+    b.driver("feed", type="path", curve="path", function=cardan.polynomial([0.0, speed]))
+    b.analysis("kinematic", t_end=1.0, steps=50,
+               outputs={"points": ["fore.tool"], "joints": ["elbow", "path"]})
+    return b
+
+
+def test_a_tool_point_runs_around_its_circle_at_the_path_speed():
+    r = _arm().build().kinematics()
+    joints = r.joints
+    assert joints.names[-1] == "path.u"
+    assert joints.unit("path.u") == "m"
+    for t, u in zip(joints.t, joints["path.u"]):
+        assert abs(u - 0.2 * t) < 1e-12
+    rates = r.joint_velocities
+    assert max(abs(v - 0.2) for v in rates["path.u"]) < 1e-12
+    points = r.points
+    for t, x, y in zip(points.t, points["fore.tool.x"], points["fore.tool.y"]):
+        a = 0.2 * t / 0.1
+        assert abs(x - (0.3 + 0.1 * math.cos(a))) < 1e-10
+        assert abs(y - (0.3 + 0.1 * math.sin(a))) < 1e-10
+
+
+def test_a_bad_curve_is_a_model_error_at_its_key():
+    b = _arm(radius=-0.1)
+    with pytest.raises(cardan.ModelError) as e:
+        b.build()
+    line = b.to_toml().splitlines()[e.value.line - 1]
+    assert line == "radius = -0.1"
+    assert 'curve "path"' in str(e.value)
