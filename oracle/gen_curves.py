@@ -296,6 +296,20 @@ PATH_DRIVER = "path_driver"
 
 N_CASES = 60  # every placement cycle (3, 4, 5) recurs evenly
 
+# Cam pairs (CONTRACT.md, "Curves"): curve_on_curve_<i>_<j> for every pair of planar kinds,
+# u on curve i and w on curve j the two extra coordinates.
+PLANAR = {"line": ("line", False), "circle": ("circle", False), "cubic": ("cubic", False),
+          "cubic_closed": ("cubic", True)}
+CAMS = {f"curve_on_curve_{a}_{b}": (a, b) for a in PLANAR for b in PLANAR}
+N_CAM_CASES = 50
+# Not at a spline's knots or seam: the tangency row's gamma# holds c''' (the third
+# derivative), which jumps there, so a knot computed one ulp apart on either side picks another
+# one-sided value (point_on_curve_* covers the evaluation at knots).
+CAM_PLACEMENTS = {"line": PLACEMENTS["line"], "circle": PLACEMENTS["circle"],
+                  "cubic": ["inside", "before", "after"],
+                  "cubic_closed": ["inside", "beyond", "negative"]}
+ELEMENTS.update(dict.fromkeys(CAMS))  # built by build_cam_cases
+
 # Extra configurations on the solution (with the plan's five, about a third of the cases).
 EXTRA_SOLVED = [
     {"label": f"at-solution-{k}", "ground": ("none", "none", "i", "none", "j")[k % 5],
@@ -321,7 +335,56 @@ def build_cases(name):
     """(rows, cases) of element `name` (generate.py calls this for each entry of ELEMENTS)."""
     if name == PATH_DRIVER:
         return build_path_driver_cases()
+    if name in CAMS:
+        return build_cam_cases(name)
     return build_curve_cases(name)
+
+
+def curve_tangent(curve, u, u_num):
+    """c'(u) = dc/du by AD on a symbol of its own, then evaluated at the expression u (which
+    derive moves in time, so it is not a symbol)."""
+    s = ca.SX.sym("s")
+    return ca.substitute(ca.jacobian(curve_point(curve, s, u_num), s), s, u)
+
+
+def phi_cam(bi, bj, t, u, P, u_num, w_num):
+    """Phi = [r_j + A_j c_j(w) - r_i - A_i c_i(u); (A_i (k x c_i'(u)))^T (A_j c_j'(w))]."""
+    ci = curve_point(P["curve_i"], u[0], u_num)
+    cj = curve_point(P["curve_j"], u[1], w_num)
+    ti = curve_tangent(P["curve_i"], u[0], u_num)
+    tj = curve_tangent(P["curve_j"], u[1], w_num)
+    d = (bj.r + ca.mtimes(bj.a, cj)) - (bi.r + ca.mtimes(bi.a, ci))
+    n = ca.mtimes(bi.a, ca.cross(C.const(P["normal_i"]), ti))
+    return ca.vertcat(d, ca.dot(n, ca.mtimes(bj.a, tj))) + 0 * t
+
+
+def build_cam_cases(name):
+    """Two planar curves in tangent contact, u and w random on each (the placements of its kind
+    but a spline's knots and seam, CAM_PLACEMENTS, cycled), the plane normal a random unit vector (the equations do not need the curves in
+    its plane), u-dot and w-dot random. Not put on the solution: the gate compares derivatives,
+    which hold anywhere."""
+    kind_i, kind_j = CAMS[name]
+    rng = C.element_rng(name)
+    cases = []
+    for index, entry in enumerate(C.case_plan(n_total=N_CAM_CASES)):
+        si, sj = C.states(rng, entry["ground"], entry["rot"], entry["scale"])
+        t = float(rng.uniform(0.0, 2.0))
+        ci = make_curve(PLANAR[kind_i][0], PLANAR[kind_i][1], rng, entry)
+        cj = make_curve(PLANAR[kind_j][0], PLANAR[kind_j][1], rng, entry)
+        pi, pj = CAM_PLACEMENTS[kind_i], CAM_PLACEMENTS[kind_j]
+        u = draw_u(ci, pi[index % len(pi)], rng, entry["scale"])
+        w = draw_u(cj, pj[(index // len(pi)) % len(pj)], rng, entry["scale"])
+        params = {"curve_i": ci, "normal_i": C.unit(rng.standard_normal(3)), "curve_j": cj}
+        label = f"{entry['label']}.u-{pi[index % len(pi)]}.w-{pj[(index // len(pi)) % len(pj)]}"
+        case = C.new_case(label, entry["ground"], t, params, si, sj)
+        case["u"] = [u, w]
+        case["udot"] = [float(entry["scale"] * rng.uniform(-2.0, 2.0)) for _ in range(2)]
+
+        def phi(bi, bj, tt, uu, params=params, u=u, w=w):
+            return phi_cam(bi, bj, tt, uu, params, u, w)
+
+        cases.append(C.evaluate(phi, case))
+    return 4, cases
 
 
 def build_curve_cases(name):

@@ -10,12 +10,12 @@
 
 use cardan_constraints::joints::Measure;
 use cardan_constraints::{
-    BodyPair, Bound, Circle, Constraint, CoordinateDriver, Coupler, CubicCurve, Curve, Dimension,
-    Distance, DistanceDriver, Driver, Footprint, Form, Gear, Helix, Homokinetic, Joint, JointKind,
-    JointLimit, JointParams, Line, Marker, Normalization, P1Perp, P1Select, P2Perp, P2Select,
-    PathDriver, PointOnCurve, PoseDriver, Primitive, RackPinion, RadialDistance, RotationDriver,
-    RotationOrder, Screw, Spherical, TimeFunction, TranslationDriver, KINDS, MAX_EXTRA, N1, N2, P1,
-    P2,
+    BodyPair, Bound, Circle, Constraint, CoordinateDriver, Coupler, CubicCurve, Curve,
+    CurveOnCurve, Dimension, Distance, DistanceDriver, Driver, Footprint, Form, Gear, Helix,
+    Homokinetic, Joint, JointKind, JointLimit, JointParams, Line, Marker, Normalization, P1Perp,
+    P1Select, P2Perp, P2Select, PathDriver, PointOnCurve, PoseDriver, Primitive, RackPinion,
+    RadialDistance, RotationDriver, RotationOrder, Screw, Spherical, TimeFunction,
+    TranslationDriver, KINDS, MAX_EXTRA, N1, N2, P1, P2,
 };
 use nalgebra::{Matrix3, Vector3};
 use serde_json::Value;
@@ -83,6 +83,31 @@ pub fn curve_name(c: &PointOnCurve) -> &'static str {
     curves()[k]
 }
 
+/// The curve kinds a cam pair takes (`Curve::KINDS` but the helix, which is not planar).
+pub const PLANAR_KINDS: [&str; 4] = ["line", "circle", "cubic", "cubic_closed"];
+
+/// Every cam pair, as the oracle names them: `curve_on_curve_<i>_<j>` for each pair of
+/// [`PLANAR_KINDS`].
+pub fn cams() -> &'static [&'static str] {
+    static NAMES: OnceLock<Vec<&'static str>> = OnceLock::new();
+    NAMES.get_or_init(|| {
+        (PLANAR_KINDS.iter())
+            .flat_map(|i| PLANAR_KINDS.iter().map(move |j| (i, j)))
+            .map(|(i, j)| &*Box::leak(format!("curve_on_curve_{i}_{j}").into_boxed_str()))
+            .collect()
+    })
+}
+
+/// The oracle name of a cam pair (`curve_on_curve_<i>_<j>` of its curves).
+pub fn cam_name(c: &CurveOnCurve) -> &'static str {
+    let k = |curve: &Curve| {
+        (PLANAR_KINDS.iter())
+            .position(|k| *k == curve.kind())
+            .expect("a cam pair's curves are planar")
+    };
+    cams()[k(&c.curve_i) * PLANAR_KINDS.len() + k(&c.curve_j)]
+}
+
 /// The oracle name of a limit (`limit_<key>` of its measure).
 pub fn limit_name(l: &JointLimit) -> &'static str {
     let k = Measure::ALL
@@ -104,6 +129,7 @@ pub fn elements() -> Vec<&'static str> {
         .chain(COUPLERS.iter().copied())
         .chain(limits().iter().copied())
         .chain(curves().iter().copied())
+        .chain(cams().iter().copied())
         .chain(["path_driver"])
         .collect()
 }
@@ -167,6 +193,8 @@ pub enum Element {
     Limit(JointLimit),
     /// A point on a curve (one extra coordinate).
     Curve(PointOnCurve),
+    /// Two curves in tangent contact (two extra coordinates).
+    Cam(CurveOnCurve),
     /// A curve parameter prescribed in time.
     Path(PathDriver),
 }
@@ -182,6 +210,7 @@ impl Element {
             Element::Coupler(c) => coupler_name(c),
             Element::Limit(l) => limit_name(l),
             Element::Curve(c) => curve_name(c),
+            Element::Cam(c) => cam_name(c),
             Element::Path(_) => "path_driver",
         }
     }
@@ -196,6 +225,7 @@ macro_rules! each {
             Element::Coupler($c) => $e,
             Element::Limit($c) => $e,
             Element::Curve($c) => $e,
+            Element::Cam($c) => $e,
             Element::Path($c) => $e,
         }
     };
@@ -446,61 +476,27 @@ pub fn build(name: &str, p: &Value) -> Result<Element, ParamError> {
             p.get("function").ok_or("missing `function`")?,
         )?))),
         _ if name.starts_with("point_on_curve_") => {
-            let c = p.get("curve").ok_or("missing `curve`")?;
-            let kind = c
-                .get("kind")
-                .and_then(Value::as_str)
-                .ok_or("curve without `kind`")?;
-            let at_axis = |o: &str, z: &str| {
-                Marker::from_axis(v3(c, o)?, v3(c, z)?).map_err(|e| e.to_string())
-            };
-            let frame = || -> Result<Marker, ParamError> {
-                let (x, y) = (v3(c, "x")?, v3(c, "y")?);
-                Marker::new(
-                    v3(c, "center")?,
-                    Matrix3::from_columns(&[x, y, x.cross(&y)]),
-                )
-                .map_err(|e| e.to_string())
-            };
-            let curve: Curve = match kind {
-                "line" => Line::new(&at_axis("origin", "direction")?).into(),
-                "circle" => Circle::new(&frame()?, num(c, "radius")?)
-                    .map_err(|e| e.to_string())?
-                    .into(),
-                "helix" => Helix::new(&frame()?, num(c, "radius")?, num(c, "pitch")?)
-                    .map_err(|e| e.to_string())?
-                    .into(),
-                "cubic" => {
-                    let pts = c
-                        .get("points")
-                        .and_then(Value::as_array)
-                        .ok_or("cubic curve without `points`")?;
-                    let pts: Vec<Vector3<f64>> = pts
-                        .iter()
-                        .map(|v| {
-                            let a: Vec<f64> = v
-                                .as_array()
-                                .into_iter()
-                                .flatten()
-                                .filter_map(Value::as_f64)
-                                .collect();
-                            (a.len() == 3)
-                                .then(|| Vector3::new(a[0], a[1], a[2]))
-                                .ok_or_else(|| "a curve point is not a 3-vector".to_string())
-                        })
-                        .collect::<Result<_, _>>()?;
-                    let closed = c.get("closed").and_then(Value::as_bool).unwrap_or(false);
-                    CubicCurve::new(pts, closed)
-                        .map_err(|e| e.to_string())?
-                        .into()
-                }
-                other => return Err(format!("unknown curve kind `{other}`")),
-            };
-            let e = PointOnCurve::new(curve, v3(p, "sp_j")?);
+            let e = PointOnCurve::new(
+                curve(p.get("curve").ok_or("missing `curve`")?)?,
+                v3(p, "sp_j")?,
+            );
             if curve_name(&e) != name {
                 return Err(format!("`{name}` holds a {} curve", e.curve.kind()));
             }
             Ok(E::Curve(e))
+        }
+        _ if name.starts_with("curve_on_curve_") => {
+            let side = |k: &str| curve(p.get(k).ok_or_else(|| format!("missing `{k}`"))?);
+            let e = CurveOnCurve::new(side("curve_i")?, v3(p, "normal_i")?, side("curve_j")?)
+                .map_err(|e| e.to_string())?;
+            if cam_name(&e) != name {
+                return Err(format!(
+                    "`{name}` holds a {} and a {} curve",
+                    e.curve_i.kind(),
+                    e.curve_j.kind()
+                ));
+            }
+            Ok(E::Cam(e))
         }
         _ if name.starts_with("limit_") => {
             let measure = Measure::ALL
@@ -543,4 +539,56 @@ pub fn build(name: &str, p: &Value) -> Result<Element, ParamError> {
             "no Rust element is registered under the oracle name `{other}`"
         )),
     }
+}
+
+/// A curve from its oracle parameters (`kind` and the kind's fields, CONTRACT.md "Curves").
+fn curve(c: &Value) -> Result<Curve, ParamError> {
+    let kind = c
+        .get("kind")
+        .and_then(Value::as_str)
+        .ok_or("curve without `kind`")?;
+    let at_axis =
+        |o: &str, z: &str| Marker::from_axis(v3(c, o)?, v3(c, z)?).map_err(|e| e.to_string());
+    let frame = || -> Result<Marker, ParamError> {
+        let (x, y) = (v3(c, "x")?, v3(c, "y")?);
+        Marker::new(
+            v3(c, "center")?,
+            Matrix3::from_columns(&[x, y, x.cross(&y)]),
+        )
+        .map_err(|e| e.to_string())
+    };
+    Ok(match kind {
+        "line" => Line::new(&at_axis("origin", "direction")?).into(),
+        "circle" => Circle::new(&frame()?, num(c, "radius")?)
+            .map_err(|e| e.to_string())?
+            .into(),
+        "helix" => Helix::new(&frame()?, num(c, "radius")?, num(c, "pitch")?)
+            .map_err(|e| e.to_string())?
+            .into(),
+        "cubic" => {
+            let pts = c
+                .get("points")
+                .and_then(Value::as_array)
+                .ok_or("cubic curve without `points`")?;
+            let pts: Vec<Vector3<f64>> = pts
+                .iter()
+                .map(|v| {
+                    let a: Vec<f64> = v
+                        .as_array()
+                        .into_iter()
+                        .flatten()
+                        .filter_map(Value::as_f64)
+                        .collect();
+                    (a.len() == 3)
+                        .then(|| Vector3::new(a[0], a[1], a[2]))
+                        .ok_or_else(|| "a curve point is not a 3-vector".to_string())
+                })
+                .collect::<Result<_, _>>()?;
+            let closed = c.get("closed").and_then(Value::as_bool).unwrap_or(false);
+            CubicCurve::new(pts, closed)
+                .map_err(|e| e.to_string())?
+                .into()
+        }
+        other => return Err(format!("unknown curve kind `{other}`")),
+    })
 }

@@ -46,7 +46,9 @@
 //! or closed) with their derivatives in the curve parameter u. A [`PointOnCurve`] keeps a point of
 //! body j on a curve of body i with u as an *extra coordinate* of the element
 //! ([`Constraint::extra`], [`Constraint::jacobian_extra`], read from [`BodyPair::u`]); a
-//! [`PathDriver`] prescribes it in time.
+//! [`PathDriver`] prescribes it in time. A [`CurveOnCurve`] keeps a planar curve of body j
+//! tangent to one of body i (a cam and its roller, flat face or profile follower), both curve
+//! parameters extra coordinates.
 //!
 //! ## Evaluation
 //! All of them implement [`Constraint`]. Evaluation takes a [`BodyPair`] (pose, cached A and
@@ -88,6 +90,7 @@ mod macros;
 pub mod conformance;
 pub mod constraint;
 pub mod couplers;
+pub mod curve_on_curve;
 pub mod curves;
 pub mod distance;
 pub mod drivers;
@@ -118,6 +121,7 @@ pub mod time_function;
 
 pub use constraint::{Constraint, Dimension, MAX_EXTRA};
 pub use couplers::{Coupler, Gear, RackPinion, Screw};
+pub use curve_on_curve::CurveOnCurve;
 pub use curves::{Circle, CubicCurve, Curve, CurveJet, Helix, Line};
 pub use distance::Distance;
 pub use drivers::{

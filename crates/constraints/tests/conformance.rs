@@ -239,6 +239,27 @@ fn point_on_every_curve_kind() {
     }
 }
 
+/// The planar curve kinds a cam pair takes (every kind but the helix).
+const PLANAR: [&str; 4] = ["line", "circle", "cubic", "cubic_closed"];
+
+/// Every pair of planar curves in tangent contact, both curve parameters extra coordinates
+/// (Φ_u, Φ_w and γ# with u̇ and ẇ); the plane normal is any direction (the equations do not
+/// need the curves to lie in the plane).
+#[test]
+fn curve_on_every_pair_of_curve_kinds() {
+    for kind_i in PLANAR {
+        for kind_j in PLANAR {
+            let name = format!("curve_on_curve_{kind_i}_{kind_j}");
+            assert_conforms(&name, BOTH, |s: &mut Sampler| {
+                let (ci, u) = curve(s, kind_i);
+                let (cj, w) = curve(s, kind_j);
+                s.extra = Some([u, w]);
+                CurveOnCurve::new(ci, s.direction(), cj).unwrap()
+            });
+        }
+    }
+}
+
 /// The path driver u = f(t) of a curve parameter (Φ_u = 1, ν = ḟ, γ# = f̈).
 #[test]
 fn path_driver() {
