@@ -24,7 +24,7 @@
 //! The ground body [`GROUND`] exists from the start; its points and vectors are global. It has no
 //! unknowns: its coordinates are eliminated, not constrained.
 
-use crate::curve_spec::{CurveSpec, PathSpec};
+use crate::curve_spec::{CamSpec, CurveSpec, PathSpec};
 use cardan_constraints::drivers::POSE_ROWS;
 use cardan_constraints::{JointKind, RotationOrder, TimeFunction};
 use cardan_eulerparam::{
@@ -816,6 +816,7 @@ pub struct MechanismBuilder {
     pub(crate) limits: Vec<LimitSpec>,
     pub(crate) frictions: Vec<FrictionSpec>,
     pub(crate) curves: Vec<CurveSpec>,
+    pub(crate) cams: Vec<CamSpec>,
     pub(crate) paths: Vec<PathSpec>,
 }
 
@@ -861,6 +862,13 @@ impl MechanismBuilder {
     /// Adds a point-on-curve element (its curve parameter becomes an extra coordinate).
     pub fn curve(&mut self, curve: CurveSpec) -> &mut Self {
         self.curves.push(curve);
+        self
+    }
+
+    /// Adds a cam pair (a follower's curve tangent to a cam's; both curve parameters become
+    /// extra coordinates, after those of the point-on-curve elements).
+    pub fn cam(&mut self, cam: CamSpec) -> &mut Self {
+        self.cams.push(cam);
         self
     }
 

@@ -4,6 +4,7 @@
 //! [`cardan_constraints::PointOnCurve`] for the equations.
 
 use cardan_constraints::{Curve, TimeFunction};
+use nalgebra::Vector3;
 
 /// A point of body j on a curve fixed in body i.
 #[derive(Debug, Clone, PartialEq)]
@@ -45,6 +46,55 @@ impl CurveSpec {
     /// The curve parameter at the drawn pose.
     pub fn initial_u(mut self, u: f64) -> Self {
         self.initial_u = Some(u);
+        self
+    }
+}
+
+/// A cam pair: a planar curve of body j (a roller's circle, a flat face's line, a follower's
+/// profile) kept in tangent contact with a curve of body i (the cam's profile), both curve
+/// parameters extra coordinates (u on the cam, w on the follower's curve); see
+/// [`cardan_constraints::CurveOnCurve`] for the equations.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CamSpec {
+    /// Name (unique among all elements).
+    pub name: String,
+    /// The body carrying the cam's profile (ground allowed).
+    pub body_i: String,
+    /// The cam's profile, in body i's coordinates.
+    pub curve_i: Curve,
+    /// The normal of the cam's plane, in body i's coordinates.
+    pub normal_i: Vector3<f64>,
+    /// The follower.
+    pub body_j: String,
+    /// The follower's curve, in body j's coordinates.
+    pub curve_j: Curve,
+    /// (u, w) at the drawn pose; when `None`, the closest pair of points of the two curves as
+    /// drawn.
+    pub initial: Option<[f64; 2]>,
+}
+
+impl CamSpec {
+    /// `curve_j` of `body_j` in tangent contact with `curve_i` of `body_i`, in the plane of
+    /// normal `normal_i` (body i's coordinates).
+    pub fn new(
+        name: impl Into<String>,
+        (body_i, curve_i, normal_i): (&str, impl Into<Curve>, Vector3<f64>),
+        (body_j, curve_j): (&str, impl Into<Curve>),
+    ) -> Self {
+        Self {
+            name: name.into(),
+            body_i: body_i.into(),
+            curve_i: curve_i.into(),
+            normal_i,
+            body_j: body_j.into(),
+            curve_j: curve_j.into(),
+            initial: None,
+        }
+    }
+
+    /// (u, w) at the drawn pose.
+    pub fn initial(mut self, u: f64, w: f64) -> Self {
+        self.initial = Some([u, w]);
         self
     }
 }

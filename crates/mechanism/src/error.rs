@@ -365,6 +365,14 @@ pub enum ModelError {
         /// Why.
         reason: String,
     },
+    /// A cam pair cannot be formed from its curves (a helix, a zero plane normal).
+    #[error("cam \"{cam}\": {reason}")]
+    CamGeometry {
+        /// The cam pair.
+        cam: String,
+        /// Why.
+        reason: String,
+    },
     /// The mechanism has no moving body.
     #[error("the mechanism has no moving body")]
     NoBodies,
@@ -469,7 +477,7 @@ impl Site {
         let quoted: Vec<&str> = element.split('"').skip(1).step_by(2).collect();
         let kind = match element.split_whitespace().next()? {
             "body" | "point" | "vector" => ElementKind::Body,
-            "joint" | "point-on-curve" => ElementKind::Joint,
+            "joint" | "point-on-curve" | "cam" => ElementKind::Joint,
             "driver" | "path" => ElementKind::Driver,
             "coupler" => ElementKind::Coupler,
             "force" => ElementKind::Force,
@@ -566,6 +574,7 @@ impl ModelError {
             E::CouplerBodies { coupler, .. } | E::CouplerGeometry { coupler, .. } => {
                 Some(Site::new(ElementKind::Coupler, coupler, None, None))
             }
+            E::CamGeometry { cam, .. } => Some(Site::new(Joint, cam, None, None)),
             // A limit is about its joint's coordinate: the joint, at the limit's key (the limit
             // itself is named by [`ModelError::limit_site`]).
             E::BadLimit { joint, key, .. } => Some(Site::new(Joint, joint, Some(key), None)),
@@ -707,12 +716,19 @@ pub enum AnalysisError {
         /// Results up to (not including) `time`.
         partial: Option<Box<Results>>,
     },
-    /// A point-on-curve element's parameter left its open curve: the point ran off the end of
-    /// the curve's data (a slot's end, a path's last point); the run stops there.
-    #[error("point-on-curve \"{element}\": at t = {time} the point has run off the end of its open curve (u = {u}; the curve runs from u = {start} to {end}); the prescribed motion drives it past the curve's end: extend the curve or shorten the run")]
+    /// A curve element's parameter left its open curve: the point (or the contact point of a
+    /// cam pair) ran off the end of the curve's data (a slot's end, a path's last point, a
+    /// profile's end); the run stops there.
+    #[error("{what} \"{element}\": at t = {time} the {contact} has run off the end of its open curve ({parameter} = {u:.9}; the curve runs from {parameter} = {start} to {end}); the prescribed motion drives it past the curve's end: extend the curve or shorten the run")]
     CurveEnd {
+        /// What the element is ("point-on-curve", "cam").
+        what: &'static str,
         /// The element.
         element: String,
+        /// "point", or "contact point" of a cam pair.
+        contact: &'static str,
+        /// The parameter's name ("u", "w").
+        parameter: &'static str,
         /// The first output time past the end.
         time: f64,
         /// The curve parameter there.

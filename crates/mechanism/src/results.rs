@@ -174,11 +174,14 @@ pub struct JointResults {
     pub accelerations: Vec<[f64; MAX_COORDINATES]>,
 }
 
-/// The history of one point-on-curve element's curve parameter (its extra coordinate).
+/// The history of one curve parameter (an extra coordinate) of a curve element: a
+/// point-on-curve element's u, a cam pair's u (on the cam) or w (on the follower's curve).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct CurveResults {
     /// Element name.
     pub name: String,
+    /// The parameter's name: "u", or "w" for a cam pair's second.
+    pub parameter: &'static str,
     /// u (the curve's parameter: arc length for lines, circles and helices, chord length along
     /// a spline; continued over the turns of a closed curve).
     pub u: Vec<f64>,
@@ -253,9 +256,14 @@ impl Results {
             .find(|p| p.body == body && p.name == name)
     }
 
-    /// The curve-parameter history of point-on-curve element `name`.
+    /// The history of the first curve parameter (u) of curve element `name`.
     pub fn curve(&self, name: &str) -> Option<&CurveResults> {
         self.curves.iter().find(|c| c.name == name)
+    }
+
+    /// The history of curve parameter `parameter` ("u", "w") of curve element `name`.
+    pub fn curve_parameter(&self, name: &str, parameter: &str) -> Option<&CurveResults> {
+        (self.curves.iter()).find(|c| c.name == name && c.parameter == parameter)
     }
 
     /// The coordinate history of joint `name`.
@@ -311,6 +319,7 @@ impl Results {
             curves: (self.curves.iter())
                 .map(|c| CurveResults {
                     name: c.name.clone(),
+                    parameter: c.parameter,
                     u: room(&c.u, n),
                     u_dot: room(&c.u_dot, n),
                     u_ddot: room(&c.u_ddot, n),

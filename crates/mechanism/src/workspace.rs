@@ -270,7 +270,9 @@ impl Workspace {
         }
         let nb = model.num_bodies();
         for c in model.curves() {
-            self.pose.x[7 * nb + c.extra] = c.initial_u;
+            for (e, k) in c.extras().enumerate() {
+                self.pose.x[7 * nb + k] = c.initial[e];
+            }
         }
         self.motion.v.fill(0.0);
         self.motion.vdot.fill(0.0);

@@ -120,8 +120,8 @@ fn write_joints(model: &Model, out: &mut dyn Write) -> Result<(), Error> {
     write_table(out, &["name", "type", "bodies", "equations", "rows"], &rows).map_err(io)
 }
 
-/// The curves (point-on-curve elements), when the model has any: name, curve kind, bodies,
-/// the column of the curve parameter, equation count and rows.
+/// The curve elements (points on curves, cam pairs), when the model has any: name, curve kinds,
+/// bodies, the columns of the curve parameters, equation count and rows.
 fn write_curves(model: &Model, out: &mut dyn Write) -> Result<(), Error> {
     if model.curves().is_empty() {
         return Ok(());
@@ -132,17 +132,23 @@ fn write_curves(model: &Model, out: &mut dyn Write) -> Result<(), Error> {
         .map(|c| {
             vec![
                 c.name.clone(),
-                match c.element.curve.kind() {
-                    "cubic" => "spline".to_string(),
-                    "cubic_closed" => "closed spline".to_string(),
-                    kind => kind.to_string(),
-                },
+                (c.element.curves().into_iter().flatten())
+                    .map(|curve| match curve.kind() {
+                        "cubic" => "spline",
+                        "cubic_closed" => "closed spline",
+                        kind => kind,
+                    })
+                    .collect::<Vec<_>>()
+                    .join(" on "),
                 format!(
                     "{} – {}",
                     model.body_name(c.body_i),
                     model.body_name(c.body_j)
                 ),
-                format!("u: {}", nb6 + c.extra),
+                (c.element.parameters().iter().zip(c.extras()))
+                    .map(|(p, k)| format!("{p}: {}", nb6 + k))
+                    .collect::<Vec<_>>()
+                    .join(", "),
                 c.rows.len().to_string(),
                 format!("{}..{}", c.rows.start, c.rows.end),
             ]

@@ -108,7 +108,7 @@ pub struct RowInfo {
 pub struct ColumnInfo {
     /// The moving body (for a curve parameter: the curve element).
     pub body: String,
-    /// The coordinate ([`COORDINATES`], or `u` for a curve parameter).
+    /// The coordinate ([`COORDINATES`], or `u`, `w` for a curve parameter).
     pub coordinate: &'static str,
 }
 
@@ -275,10 +275,15 @@ pub fn evaluate(path: &Path, t: Option<f64>) -> Result<(Prepared, Evaluation), E
                 body: model.bodies()[c / 6].name.clone(),
                 coordinate: COORDINATES[c % 6],
             },
-            Some(k) => ColumnInfo {
-                body: model.curves()[k].name.clone(),
-                coordinate: "u",
-            },
+            Some(k) => {
+                let c = (model.curves().iter())
+                    .find(|c| c.extras().contains(&k))
+                    .expect("every extra coordinate belongs to a curve element");
+                ColumnInfo {
+                    body: c.name.clone(),
+                    coordinate: c.element.parameters()[k - c.extra],
+                }
+            }
         })
         .collect();
     let jacobian = model

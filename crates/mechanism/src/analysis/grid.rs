@@ -44,7 +44,7 @@ use crate::analysis::assembly::AssemblyOptions;
 use crate::analysis::least_change::{FreeDof, HeldRun};
 use crate::analysis::position::{OpenRow, PositionReport};
 use crate::error::AnalysisError;
-use crate::model::{BodyId, Model};
+use crate::model::{BodyId, CurveElement, Model};
 use crate::results::{
     BodyResults, CurveResults, FrameSink, JointResults, Outputs, PointResults, Results, RunTotals,
 };
@@ -703,20 +703,28 @@ impl Model {
     fn check_curve_ends(&self, ws: &Workspace, t: f64) -> Result<(), AnalysisError> {
         let u = ws.pose.u();
         for c in &self.curves {
-            let Some((a, b)) = c.element.curve.domain() else {
-                continue;
-            };
-            let slack = 1e-9 * (b - a);
-            let uk = u[c.extra];
-            if uk < a - slack || uk > b + slack {
-                return Err(AnalysisError::CurveEnd {
-                    element: c.name.clone(),
-                    time: t,
-                    u: uk,
-                    start: a,
-                    end: b,
-                    partial: None,
-                });
+            let names = c.element.parameters().iter();
+            let on = c.element.curves().into_iter().zip(c.extras().zip(names));
+            for (curve, (k, parameter)) in on.filter_map(|(curve, k)| Some((curve?, k))) {
+                let Some((a, b)) = curve.domain() else {
+                    continue;
+                };
+                let slack = 1e-9 * (b - a);
+                let uk = u[k];
+                if uk < a - slack || uk > b + slack {
+                    let cam = matches!(c.element, CurveElement::Cam(_));
+                    return Err(AnalysisError::CurveEnd {
+                        what: c.element.what(),
+                        element: c.name.clone(),
+                        contact: if cam { "contact point" } else { "point" },
+                        parameter,
+                        time: t,
+                        u: uk,
+                        start: a,
+                        end: b,
+                        partial: None,
+                    });
+                }
             }
         }
         Ok(())
@@ -890,11 +898,11 @@ impl Model {
         } else {
             Vec::new()
         };
-        let curves = self
-            .curves
-            .iter()
-            .map(|c| CurveResults {
+        let curves = (self.curves.iter())
+            .flat_map(|c| c.element.parameters().iter().map(move |&p| (c, p)))
+            .map(|(c, parameter)| CurveResults {
                 name: c.name.clone(),
+                parameter,
                 u: Vec::with_capacity(n),
                 u_dot: Vec::with_capacity(cap(v)),
                 u_ddot: Vec::with_capacity(cap(a)),

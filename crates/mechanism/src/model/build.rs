@@ -5,7 +5,7 @@
 //! specifications) does not depend on the model.
 
 use super::tree::PredictorTree;
-use super::{couplers, curve, friction, layout, limits, resolve, Model};
+use super::{couplers, curve, friction, layout, limits, resolve, CurveInfo, Model};
 use crate::builder::MechanismBuilder;
 use crate::error::ModelError;
 use std::collections::HashMap;
@@ -44,6 +44,11 @@ fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
             "a point-on-curve element",
         )?;
         curves.push(curve::curve(spec, curves.len(), &names, &bodies)?);
+    }
+    for spec in &b.cams {
+        unique(&mut element_names, &spec.name, None, "a cam")?;
+        let extra = curves.last().map_or(0, |c: &CurveInfo| c.extras().end);
+        curves.push(curve::cam(spec, extra, &names, &bodies)?);
     }
     let mut drivers = Vec::with_capacity(b.drivers.len());
     for spec in &b.drivers {

@@ -3,14 +3,15 @@
 //! point to the drawn point; an open curve's parameter must lie on the curve); of a
 //! [`PathSpec`]: its curve element by name and its function checked.
 
-use super::elements::{CurveInfo, PathInfo, ScatterMap};
+use super::elements::{CurveElement, CurveInfo, PathInfo, ScatterMap};
 use super::resolve::{pose, Names};
 use super::validate::check_number;
 use super::BodyInfo;
-use crate::curve_spec::{CurveSpec, PathSpec};
+use crate::curve_spec::{CamSpec, CurveSpec, PathSpec};
 use crate::error::ModelError;
 use crate::sanity::Quantity;
-use cardan_constraints::{PathDriver, PointOnCurve};
+use cardan_constraints::{Curve, CurveOnCurve, PathDriver, PointOnCurve};
+use nalgebra::{Matrix3, Vector3};
 
 /// The model form of `spec`, whose curve parameter is extra coordinate `extra`.
 pub(super) fn curve(
@@ -47,13 +48,108 @@ pub(super) fn curve(
         name: spec.name.clone(),
         body_i: bi,
         body_j: bj,
-        element: PointOnCurve::new(spec.curve.clone(), sp_j),
+        element: CurveElement::Point(PointOnCurve::new(spec.curve.clone(), sp_j)),
         extra,
-        initial_u,
+        initial: [initial_u, 0.0],
         rows: 0..0,
         map: ScatterMap { slots: Vec::new() },
         extra_slots: Vec::new(),
     })
+}
+
+/// The model form of cam pair `spec`, whose curve parameters are extra coordinates `extra` (u)
+/// and `extra + 1` (w).
+pub(super) fn cam(
+    spec: &CamSpec,
+    extra: usize,
+    names: &Names,
+    bodies: &[BodyInfo],
+) -> Result<CurveInfo, ModelError> {
+    let el = format!("cam \"{}\"", spec.name);
+    let (bi, bj) = names.pair(&el, &spec.body_i, &spec.body_j)?;
+    let element = CurveOnCurve::new(spec.curve_i.clone(), spec.normal_i, spec.curve_j.clone())
+        .map_err(|e| ModelError::CamGeometry {
+            cam: spec.name.clone(),
+            reason: match e {
+                cardan_constraints::ConstraintError::Curve(why) => why,
+                e => e.to_string(),
+            },
+        })?;
+    let initial = match spec.initial {
+        Some([u, w]) => {
+            check_number(&el, "initial cam parameter", Quantity::Length, u)?;
+            check_number(&el, "initial follower parameter", Quantity::Length, w)?;
+            [u, w]
+        }
+        None => {
+            let (si, sj) = (pose(bodies, bi), pose(bodies, bj));
+            // Curve j's points in body i's frame: A_iᵀ (r_j + A_j c'_j − r_i).
+            let rel = si.a.transpose() * sj.a;
+            let off = si.a.transpose() * (sj.r - si.r);
+            closest_pair(&spec.curve_i, &spec.curve_j, &rel, &off)
+        }
+    };
+    for (k, (curve, v)) in [&spec.curve_i, &spec.curve_j]
+        .iter()
+        .zip(initial)
+        .enumerate()
+    {
+        if let Some((a, b)) = curve.domain() {
+            if !(a..=b).contains(&v) {
+                return Err(ModelError::CurveParameterOff {
+                    element: format!("{el} ({})", ["cam curve", "follower curve"][k]),
+                    u: v,
+                    start: a,
+                    end: b,
+                });
+            }
+        }
+    }
+    Ok(CurveInfo {
+        name: spec.name.clone(),
+        body_i: bi,
+        body_j: bj,
+        element: CurveElement::Cam(element),
+        extra,
+        initial,
+        rows: 0..0,
+        map: ScatterMap { slots: Vec::new() },
+        extra_slots: Vec::new(),
+    })
+}
+
+/// The parameters (u, w) of the nearest points of curve i and curve j (whose points are
+/// `rel` c'_j + `off` in curve i's frame): the best of samples of curve i (its domain or period;
+/// a line near curve j's w = 0), each with curve j's nearest point, refined by alternating
+/// projections (the contact point of touching curves).
+fn closest_pair(ci: &Curve, cj: &Curve, rel: &Matrix3<f64>, off: &Vector3<f64>) -> [f64; 2] {
+    let on_j = |w: f64| rel * cj.jet(w).c + off;
+    // Curve i's point in curve j's frame.
+    let to_j = |u: f64| rel.transpose() * (ci.jet(u).c - off);
+    let (a, b) = match (ci.domain(), ci.period()) {
+        (Some(d), _) => d,
+        (None, Some(l)) => (0.0, l),
+        (None, None) => {
+            let u = ci.closest(&on_j(0.0));
+            (u, u)
+        }
+    };
+    const SAMPLES: usize = 64;
+    let mut best = (f64::INFINITY, [a, 0.0]);
+    for k in 0..=SAMPLES {
+        let u = a + (b - a) * k as f64 / SAMPLES as f64;
+        let w = cj.closest(&to_j(u));
+        let d = (on_j(w) - ci.jet(u).c).norm();
+        if d < best.0 {
+            best = (d, [u, w]);
+        }
+    }
+    let [mut u, mut w] = best.1;
+    for _ in 0..50 {
+        u = ci.closest(&on_j(w));
+        w = cj.closest(&to_j(u));
+    }
+    [u, w]
 }
 
 /// The model form of path driver `spec` on one of `curves`.
@@ -77,6 +173,7 @@ pub(super) fn path(spec: &PathSpec, curves: &[CurveInfo]) -> Result<PathInfo, Mo
     Ok(PathInfo {
         name: spec.name.clone(),
         curve,
+        extra: curves[curve].extra,
         driver: PathDriver::new(spec.function.clone()),
         rows: 0..0,
         slot: 0,

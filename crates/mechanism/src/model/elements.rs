@@ -4,11 +4,10 @@
 //! model (`mod.rs`), the steps that build it and the predictor's spanning tree (`tree.rs`)
 //! all use these types.
 
+pub use super::curve_element::CurveElement;
 use crate::builder::Compliance;
 use cardan_constraints::joints::Measure;
-use cardan_constraints::{
-    Constraint, Coupler, Driver, Joint, JointLimit, PathDriver, PointOnCurve,
-};
+use cardan_constraints::{Constraint, Coupler, Driver, Joint, JointLimit, PathDriver};
 use nalgebra::{Matrix3, Vector3, Vector4};
 use std::ops::Range;
 
@@ -78,37 +77,47 @@ pub struct JointInfo {
     pub(crate) map: ScatterMap,
 }
 
-/// A point-on-curve element of the model: a point of body j on a curve of body i, with the
-/// curve parameter u as extra coordinate `extra` (columns after the bodies': 6 nb + `extra`
-/// in the 6-coordinate form, 7 nb + `extra` in the Newton state).
+/// A curve element of the model (a point on a curve of body i, or a cam pair of a curve of body
+/// i and one of body j), with its curve parameters as extra coordinates `extra`, `extra + 1`...
+/// (columns after the bodies': 6 nb + `extra` in the 6-coordinate form, 7 nb + `extra` in the
+/// Newton state).
 #[derive(Debug, Clone, PartialEq)]
 pub struct CurveInfo {
     /// Name.
     pub name: String,
-    /// Body i (the curve's).
+    /// Body i (the curve's; the cam's).
     pub body_i: BodyId,
-    /// Body j (the point's).
+    /// Body j (the point's; the follower's).
     pub body_j: BodyId,
     /// The equations.
-    pub element: PointOnCurve,
-    /// Index of its curve parameter among the model's extra coordinates.
+    pub element: CurveElement,
+    /// Index of its first curve parameter among the model's extra coordinates.
     pub extra: usize,
-    /// u at the drawn pose.
-    pub initial_u: f64,
+    /// The parameters at the drawn pose (the first [`Constraint::extra`] entries).
+    pub initial: [f64; cardan_constraints::MAX_EXTRA],
     /// Its rows in the global system (joint rows: they fix degrees of freedom).
     pub rows: Range<usize>,
     pub(crate) map: ScatterMap,
-    /// `rows` entries: the slot of each row's u column.
+    /// `rows` × parameters entries, row by row: the slot of each row's parameter columns.
     pub(crate) extra_slots: Vec<usize>,
 }
 
-/// A path driver of the model: u_k = f(t) for the curve parameter of curve element k.
+impl CurveInfo {
+    /// The extra coordinates it owns: `extra..extra + n`.
+    pub fn extras(&self) -> Range<usize> {
+        self.extra..self.extra + self.element.extra()
+    }
+}
+
+/// A path driver of the model: u = f(t) for the first curve parameter of curve element k.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PathInfo {
     /// Name.
     pub name: String,
-    /// The point-on-curve element (index into [`Model::curves`](super::Model::curves)).
+    /// The curve element (index into [`Model::curves`](super::Model::curves)).
     pub curve: usize,
+    /// The extra coordinate it drives (the element's first).
+    pub extra: usize,
     /// The equation.
     pub driver: PathDriver,
     /// Its row in the global system (after the drivers').

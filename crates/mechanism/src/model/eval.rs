@@ -52,27 +52,27 @@ impl Model {
             let pair = BodyPair::new(Self::state(bodies, &g, bi), Self::state(bodies, &g, bj));
             eval(e, &pair, t, &mut out[rows.clone()]);
         });
-        // u̇[k], or 0 for Φ and ν, which take no rates.
-        let rate = |k: usize| {
+        // The rates u̇ of extra coordinates `k`, or 0 for Φ and ν, which take no rates.
+        let rate = |k: Range<usize>| {
             if u_dot.is_empty() {
-                &[0.0][..]
+                &[0.0; MAX_EXTRA][..k.len()]
             } else {
-                &u_dot[k..k + 1]
+                &u_dot[k]
             }
         };
         for c in &self.curves {
-            let k = c.extra;
+            let k = c.extras();
             let pair = BodyPair::with_extra(
                 Self::state(bodies, &g, c.body_i),
                 Self::state(bodies, &g, c.body_j),
-                &u[k..k + 1],
+                &u[k.clone()],
                 rate(k),
             );
             eval(&c.element, &pair, t, &mut out[c.rows.clone()]);
         }
         for p in &self.paths {
-            let k = p.curve;
-            let pair = BodyPair::with_extra(&g, &g, &u[k..k + 1], rate(k));
+            let k = p.extra..p.extra + 1;
+            let pair = BodyPair::with_extra(&g, &g, &u[k.clone()], rate(k));
             eval(&p.driver, &pair, t, &mut out[p.rows.clone()]);
         }
     }
@@ -149,19 +149,20 @@ impl Model {
             scatter(e, &pair, t, rows.len(), map, slots);
         });
         for c in &self.curves {
-            let k = c.extra;
+            let k = c.extras();
             let pair = BodyPair::with_extra(
                 Self::state(bodies, &g, c.body_i),
                 Self::state(bodies, &g, c.body_j),
-                &u[k..k + 1],
-                &[0.0],
+                &u[k.clone()],
+                &[0.0; MAX_EXTRA][..k.len()],
             );
             let n = c.rows.len();
             scatter(&c.element, &pair, t, n, &c.map, slots);
             let mut ju = [[0.0; MAX_EXTRA]; 6];
             c.element.jacobian_extra(&pair, t, &mut ju[..n]);
-            for (r, &slot) in c.extra_slots.iter().enumerate() {
-                slots[slot] = ju[r][0];
+            // Row by row, each parameter's column (`layout`).
+            for (s, &slot) in c.extra_slots.iter().enumerate() {
+                slots[slot] = ju[s / k.len()][s % k.len()];
             }
         }
         for p in &self.paths {

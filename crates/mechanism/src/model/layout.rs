@@ -92,10 +92,10 @@ pub(super) fn rows(
             c.body_i,
             c.body_j,
         );
-        c.extra_slots = rows
-            .clone()
-            .map(|r| {
-                entries.push((r, 6 * nb + c.extra));
+        c.extra_slots = (rows.clone())
+            .flat_map(|r| c.extras().map(move |e| (r, 6 * nb + e)))
+            .map(|entry| {
+                entries.push(entry);
                 entries.len() - 1
             })
             .collect();
@@ -136,12 +136,12 @@ pub(super) fn rows(
     for p in paths.iter_mut() {
         p.rows = row..row + 1;
         p.slot = entries.len();
-        entries.push((row, 6 * nb + p.curve));
+        entries.push((row, 6 * nb + p.extra));
         equation_scales.push(p.driver.dimension(0).scale(length));
         row += 1;
     }
     let num_rows = row;
-    let n = 6 * nb + curves.len();
+    let n = 6 * nb + curves.last().map_or(0, |c| c.extras().end);
     let pattern = SparsityPattern::new(num_rows, n, &entries)
         .expect("entries are inside the matrix by construction");
     // Δr and a curve parameter (a length: chord length or arc length) scale with L, Δπ' not.

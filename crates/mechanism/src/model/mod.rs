@@ -22,6 +22,7 @@
 mod build;
 mod couplers;
 mod curve;
+mod curve_element;
 mod elements;
 mod eval;
 mod friction;
@@ -33,8 +34,8 @@ mod tree;
 mod validate;
 
 pub use elements::{
-    BodyId, BodyInfo, CoupledCoordinate, CouplerInfo, CurveInfo, DriverInfo, FeatureInfo,
-    ForceInfo, FrictionInfo, JointInfo, LimitInfo, PathInfo, StopInfo,
+    BodyId, BodyInfo, CoupledCoordinate, CouplerInfo, CurveElement, CurveInfo, DriverInfo,
+    FeatureInfo, ForceInfo, FrictionInfo, JointInfo, LimitInfo, PathInfo, StopInfo,
 };
 pub use friction::FRICTION_KINDS;
 pub(crate) use tree::{PredictorTree, TreeEdge};
@@ -156,18 +157,19 @@ impl Model {
     }
 
     /// Number of unknowns n = 6 nb + n_u (6-coordinate form): the bodies', then the extra
-    /// coordinates (one curve parameter per point-on-curve element).
+    /// coordinates (the curve parameters of the curve elements).
     pub fn num_unknowns(&self) -> usize {
-        6 * self.bodies.len() + self.curves.len()
+        6 * self.bodies.len() + self.num_extra()
     }
 
     /// Number of extra coordinates n_u (curve parameters), after the bodies' in every vector
     /// of unknowns: column 6 nb + k of Φ_v, entry 7 nb + k of the Newton state.
     pub fn num_extra(&self) -> usize {
-        self.curves.len()
+        self.curves.last().map_or(0, |c| c.extras().end)
     }
 
-    /// The point-on-curve elements, in declaration order (element k owns extra coordinate k).
+    /// The curve elements (points on curves, then cam pairs), in declaration order, each owning
+    /// the extra coordinates [`CurveInfo::extras`] (in element order).
     pub fn curves(&self) -> &[CurveInfo] {
         &self.curves
     }
@@ -227,7 +229,7 @@ impl Model {
             return Some(EquationName {
                 row,
                 element: c.name.clone(),
-                kind: "point_on_curve",
+                kind: c.element.kind(),
                 primitive: c.element.name(),
                 local_row: row - c.rows.start,
             });

@@ -211,7 +211,8 @@ fn joint_groups(r: &Results, req: &Requested, groups: &mut Vec<Group>) {
     let index: HashMap<&str, usize> = (r.joints.iter().enumerate())
         .map(|(i, j): (usize, &JointResults)| (j.name.as_str(), i))
         .collect();
-    let curves: HashMap<&str, usize> = (r.curves.iter().enumerate())
+    // Each curve element's first parameter (a cam pair's u; collected backwards so it wins).
+    let curves: HashMap<&str, usize> = (r.curves.iter().enumerate().rev())
         .map(|(i, c)| (c.name.as_str(), i))
         .collect();
     // A requested name is a joint (its coordinates) or a curve (its parameter u).
@@ -236,11 +237,13 @@ fn joint_groups(r: &Results, req: &Requested, groups: &mut Vec<Group>) {
             let i = match e {
                 Ok(i) => i,
                 Err(i) => {
-                    let (which, name) = (which as u8, r.curves[i].name.as_str());
-                    g.column(
-                        header(&[name, "u"], &["m", per]),
-                        Source::Curve { i, which },
-                    );
+                    // Every parameter of the curve element (u; u and w of a cam pair).
+                    let name = r.curves[i].name.as_str();
+                    let all = (i..r.curves.len()).take_while(|&k| r.curves[k].name == name);
+                    for i in all {
+                        let (which, p) = (which as u8, r.curves[i].parameter);
+                        g.column(header(&[name, p], &["m", per]), Source::Curve { i, which });
+                    }
                     continue;
                 }
             };

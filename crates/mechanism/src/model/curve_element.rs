@@ -1,0 +1,97 @@
+//! [`CurveElement`]: the higher pairs whose curve parameters are extra coordinates of the
+//! mechanism: a point on a curve (one parameter u) and a cam pair (two curves in tangent contact,
+//! parameters u and w). One closed enum, so the model stores them in one list, gives them their
+//! columns in order (element k's first parameter follows element k − 1's last) and evaluates them
+//! by static dispatch.
+
+use cardan_constraints::{
+    BodyPair, Constraint, Curve, CurveOnCurve, Dimension, Footprint, Form, PointOnCurve, MAX_EXTRA,
+};
+
+/// A point-on-curve element or a cam pair.
+#[derive(Debug, Clone, PartialEq)]
+pub enum CurveElement {
+    /// A point of body j on a curve of body i (u).
+    Point(PointOnCurve),
+    /// A curve of body j tangent to a curve of body i (u on curve i, w on curve j).
+    Cam(CurveOnCurve),
+}
+
+impl CurveElement {
+    /// The curve each parameter runs on, in parameter order (u, then w for a cam).
+    pub fn curves(&self) -> [Option<&Curve>; MAX_EXTRA] {
+        match self {
+            CurveElement::Point(p) => [Some(&p.curve), None],
+            CurveElement::Cam(c) => [Some(&c.curve_i), Some(&c.curve_j)],
+        }
+    }
+
+    /// The parameters' names, in order ("u"; "u" and "w" for a cam).
+    pub fn parameters(&self) -> &'static [&'static str] {
+        match self {
+            CurveElement::Point(_) => &["u"],
+            CurveElement::Cam(_) => &["u", "w"],
+        }
+    }
+
+    /// The element kind as equation listings name it ("point_on_curve", "cam").
+    pub fn kind(&self) -> &'static str {
+        match self {
+            CurveElement::Point(_) => "point_on_curve",
+            CurveElement::Cam(_) => "cam",
+        }
+    }
+
+    /// What the element is in messages ("point-on-curve", "cam").
+    pub fn what(&self) -> &'static str {
+        match self {
+            CurveElement::Point(_) => "point-on-curve",
+            CurveElement::Cam(_) => "cam",
+        }
+    }
+}
+
+macro_rules! each {
+    ($self:ident, $c:ident => $e:expr) => {
+        match $self {
+            CurveElement::Point($c) => $e,
+            CurveElement::Cam($c) => $e,
+        }
+    };
+}
+
+impl Constraint for CurveElement {
+    fn name(&self) -> &'static str {
+        each!(self, c => c.name())
+    }
+    fn rows(&self) -> usize {
+        each!(self, c => c.rows())
+    }
+    fn dimension(&self, row: usize) -> Dimension {
+        each!(self, c => c.dimension(row))
+    }
+    fn footprint(&self) -> Footprint {
+        each!(self, c => c.footprint())
+    }
+    fn phi(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
+        each!(self, c => c.phi(x, t, out))
+    }
+    fn jacobian<const N: usize, F: Form<N>>(
+        &self,
+        x: &BodyPair,
+        t: f64,
+        out_i: &mut [[f64; N]],
+        out_j: &mut [[f64; N]],
+    ) {
+        each!(self, c => c.jacobian::<N, F>(x, t, out_i, out_j))
+    }
+    fn extra(&self) -> usize {
+        each!(self, c => c.extra())
+    }
+    fn jacobian_extra(&self, x: &BodyPair, t: f64, out: &mut [[f64; MAX_EXTRA]]) {
+        each!(self, c => c.jacobian_extra(x, t, out))
+    }
+    fn gamma_sharp<const N: usize, F: Form<N>>(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
+        each!(self, c => c.gamma_sharp::<N, F>(x, t, out))
+    }
+}
