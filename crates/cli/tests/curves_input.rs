@@ -122,7 +122,7 @@ fn curve_mistakes_are_errors_at_their_key() {
         "x_axis_i = \"x\"",
         "x_axis_i = \"z\"",
         "x_axis_i = \"z\"",
-        &["parallel to axis_i"],
+        &["parallel to axis"],
     );
     fails_in(
         &arm,
@@ -232,4 +232,123 @@ fn a_pin_driven_off_its_slot_is_an_error_with_the_time() {
             o.stderr
         );
     }
+}
+
+/// `base` with the first `from` after its `[[cam]]` header replaced by `to`: `cardan check`
+/// fails at the first line after the header containing `at`, with every needle.
+fn cam_fails(from: &str, to: &str, at: &str, needles: &[&str]) {
+    let base = example("valve_train.toml");
+    let start = base.find("\n[[cam]]\n").unwrap();
+    let k = start + base[start..].find(from).unwrap_or_else(|| panic!("{from}"));
+    let text = format!("{}{to}{}", &base[..k], &base[k + from.len()..]);
+    let o = run_text("check", &text);
+    assert_ne!(o.code, 0, "should fail: {}", o.stdout);
+    let at = start + text[start..].find(at).unwrap();
+    let want = format!("model.toml:{}:", text[..at].matches('\n').count() + 1);
+    assert!(
+        o.stderr.starts_with(&want),
+        "want {want}, got: {}",
+        o.stderr
+    );
+    for n in needles {
+        assert!(o.stderr.contains(n), "missing {n:?} in: {}", o.stderr);
+    }
+}
+
+#[test]
+fn cam_mistakes_are_errors_at_their_key() {
+    cam_fails(
+        "follower = \"flat\"",
+        "follower = \"flag\"",
+        "follower = \"flag\"",
+        &["unknown cam follower \"flag\"", "flat"],
+    );
+    cam_fails(
+        "radius = 0.02",
+        "radius = -0.02",
+        "radius = -0.02",
+        &["cam \"lobe\"", "radius"],
+    );
+    cam_fails(
+        "radius = 0.02\n",
+        "",
+        "name = \"lobe\"",
+        &["missing key \"radius\""],
+    );
+    cam_fails(
+        "radius = 0.02",
+        "radius = 0.02\npoints = [[0.0, 0.0, 0.0]]",
+        "points =",
+        &["points is for profile = \"spline\", not \"disc\""],
+    );
+    cam_fails(
+        "follower = \"flat\"",
+        "follower = \"roller\"",
+        "name = \"lobe\"",
+        &["missing key \"roller_radius\""],
+    );
+    cam_fails(
+        "axis_j = \"x\"",
+        "axis_j = \"x\"\nroller_radius = 0.01",
+        "roller_radius",
+        &["follower = \"flat\" does not take \"roller_radius\""],
+    );
+    cam_fails(
+        "point_i = \"C\"",
+        "point_i = \"D\"",
+        "point_i = \"D\"",
+        &["cam \"lobe\"", "body \"camshaft\" has no point \"D\""],
+    );
+    cam_fails(
+        "profile = \"disc\"",
+        "profile = \"spline\"",
+        "point_i = \"C\"",
+        &["point_i is for profile = \"disc\", not \"spline\""],
+    );
+}
+
+/// A roller follower on the same disc: the roller centre follows the closed form
+/// s(θ) = e cos θ' + √((R + r)² − e² sin² θ') along the tappet's line of motion, θ' the angle
+/// of the disc's centre from that line (here θ' = θ + π: the centre starts below the shaft).
+#[test]
+fn a_roller_tappet_follows_the_closed_form() {
+    let base = example("valve_train.toml");
+    let r = 0.004;
+    let text = base
+        .replacen(
+            "follower = \"flat\"\nbody_i",
+            "follower = \"roller\"\nbody_i",
+            1,
+        )
+        .replacen(
+            "axis_j = \"x\"              # ... along x",
+            "axis_j = \"z\"\nroller_radius = 0.004",
+            1,
+        )
+        .replacen(
+            "vectors = { x = [1.0, 0.0, 0.0], y = [0.0, 1.0, 0.0] }",
+            "vectors = { x = [1.0, 0.0, 0.0], y = [0.0, 1.0, 0.0], z = [0.0, 0.0, 1.0] }",
+            1,
+        )
+        .replacen(
+            "position = [0.0, 0.015, 0.0]",
+            "position = [0.0, 0.019, 0.0]",
+            1,
+        );
+    let o = run_text("run", &text);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let csv = std::fs::read_to_string(o.dir.join("out").join("joints.csv")).unwrap();
+    let (header, rows) = cardan_model::table::parse_csv(&csv).unwrap();
+    let k = header.iter().position(|h| h == "guide.slide [m]").unwrap();
+    let (e, big_r, w) = (0.005, 0.02, 100.0 * std::f64::consts::PI);
+    let mut worst = 0.0f64;
+    for row in &rows {
+        // The disc's centre at (e sin θ, −e cos θ): |(0, s) − centre| = R + r.
+        let th = w * row[0];
+        let l = big_r + r;
+        let s = -e * th.cos() + (l * l - e * e * th.sin().powi(2)).sqrt();
+        worst = worst.max((row[k] - s).abs());
+    }
+    eprintln!("roller tappet: |s − s(θ)| = {worst:.1e} m");
+    assert!(worst < 1e-12, "{worst}");
 }

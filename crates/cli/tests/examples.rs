@@ -607,6 +607,44 @@ fn arm_path_tool_follows_the_circle_at_constant_speed() {
     check_fd("arm_path", &p, 100, 1e-2, 5e-1);
 }
 
+/// The harmonic cam and flat-faced tappet (`examples/valve_train.toml`, a `[[cam]]` with
+/// `follower = "flat"`): lift e (1 − cos θ), ṡ = e ω sin θ, s̈ = e ω² cos θ, and the contact
+/// point on the face at w = e sin θ, read from the joint tables as written.
+#[test]
+fn valve_train_tappet_lifts_e_one_minus_cos() {
+    let (e, w) = (0.005, 100.0 * PI);
+    let mut worst = [0.0f64; 6];
+    for (k, table) in ["joints", "joint_velocities", "joint_accelerations"]
+        .into_iter()
+        .enumerate()
+    {
+        let (_, _, header, rows) = run_with_table("valve_train", table);
+        let per = ["", "/s", "/s²"][k];
+        let s = column(&header, &rows, &format!("guide.slide [m{per}]"));
+        let face = column(&header, &rows, &format!("lobe.w [m{per}]"));
+        for (n, row) in rows.iter().enumerate() {
+            let th = w * row[0];
+            let want = match k {
+                0 => (0.015 + e * (1.0 - th.cos()), e * th.sin()),
+                1 => (e * w * th.sin(), e * w * th.cos()),
+                _ => (e * w * w * th.cos(), -e * w * w * th.sin()),
+            };
+            // Relative to the lift's, rate's, acceleration's scale e ω^k.
+            let scale = e * w.powi(k as i32);
+            worst[2 * k] = worst[2 * k].max((s[n] - want.0).abs() / scale);
+            worst[2 * k + 1] = worst[2 * k + 1].max((face[n] - want.1).abs() / scale);
+        }
+    }
+    eprintln!(
+        "valve_train: |s − s(θ)|, |w − w(θ)| and their rates, accelerations, over e ω^k: {:?}",
+        worst.map(|e| format!("{e:.1e}"))
+    );
+    assert!(worst.iter().all(|&e| e < 1e-10), "{worst:?}");
+    let p = prepare(&example("valve_train")).unwrap();
+    // The FD errors scale with e ω (1.6 m/s) and e ω² (490 m/s²); their order is the check.
+    check_fd("valve_train", &p, 100, 5e-2, 5.0);
+}
+
 /// Every example also passes `cardan check` (through the library) with DOF = drivers.
 #[test]
 fn every_example_checks() {
@@ -626,6 +664,7 @@ fn every_example_checks() {
         "expression_driver",
         "quick_return",
         "arm_path",
+        "valve_train",
     ] {
         let p = prepare(&example(name)).unwrap();
         let mut out = Vec::new();

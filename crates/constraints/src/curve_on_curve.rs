@@ -17,7 +17,7 @@
 //! Every row is a product of body-fixed vectors whose body coordinates depend on u or w. For
 //! s = A_k s'(u) the rate is Ȧ_k s' + A_k s'_u u̇ and the velocity-quadratic part of s̈ is
 //! (Ä_k s')_quad + 2 Ȧ_k s'_u u̇ + A_k s'_uu u̇² (ü's term A_k s'_u ü belongs to Φ_u ü):
-//! [`moving`] builds that [`Motion`], and the products ([`Motion::dot`]) carry it into γ#.
+//! `moving` builds that [`Motion`], and the products ([`Motion::dot`]) carry it into γ#.
 //! Φ_u and Φ_w are the rows' derivatives at fixed bodies. Oracle: `gen_curves.py`.
 
 use crate::constraint::{Constraint, Dimension, MAX_EXTRA};

@@ -15,10 +15,12 @@ pub enum DynamicsError {
         /// The body.
         body: String,
     },
-    /// The model has point-on-curve elements, whose curve parameters (massless extra
-    /// coordinates) the equations of motion do not take yet.
-    #[error("point-on-curve \"{element}\": dynamic, static, modal and inverse dynamic analyses do not take point-on-curve elements yet (a kinematic analysis does); model the guide with joints, or run kind = \"kinematic\"")]
+    /// The model has curve elements (points on curves, cam pairs), whose curve parameters
+    /// (massless extra coordinates) the equations of motion do not take yet.
+    #[error("{what} \"{element}\": dynamic, static, modal and inverse dynamic analyses do not take curve elements yet (a kinematic analysis does); model the guide with joints, or run kind = \"kinematic\"")]
     CurveElement {
+        /// What the first such element is ("point-on-curve", "cam").
+        what: &'static str,
         /// The first such element.
         element: String,
     },

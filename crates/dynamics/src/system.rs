@@ -87,6 +87,7 @@ impl<'m> Dynamics<'m> {
     pub fn new(model: &'m Model) -> Result<Self, DynamicsError> {
         if let Some(c) = model.curves().first() {
             return Err(DynamicsError::CurveElement {
+                what: c.element.what(),
                 element: c.name.clone(),
             });
         }

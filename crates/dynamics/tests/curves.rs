@@ -18,7 +18,7 @@ fn dynamics_refuses_a_point_on_a_curve_by_name() {
         panic!("a model with a point on a curve was accepted");
     };
     assert!(
-        matches!(&err, DynamicsError::CurveElement { element } if element == "wire"),
+        matches!(&err, DynamicsError::CurveElement { element, .. } if element == "wire"),
         "{err}"
     );
     assert!(err.to_string().contains("kind = \"kinematic\""), "{err}");

@@ -5,6 +5,7 @@
 
 mod analysis;
 mod body;
+mod cam;
 mod context;
 mod coupler;
 mod curve;
@@ -30,7 +31,7 @@ use joint::load_joint;
 use crate::diag::{Error, Source};
 use crate::file::ModelFile;
 use crate::units::UnitSystem;
-use crate::vocabulary::{COUPLERS, CURVES, DRIVERS, FORCES};
+use crate::vocabulary::{CAMS, COUPLERS, CURVES, DRIVERS, FORCES};
 use cardan_constraints::drivers::POSE_ROWS;
 use cardan_constraints::{JointKind, TimeFunction};
 use cardan_dynamics::Force;
@@ -261,8 +262,8 @@ fn load_joints(
     Ok(out)
 }
 
-/// `[[curve]]`: each point-on-curve element, its kind checked against the curve table
-/// (`build/curve.rs`).
+/// `[[curve]]` and `[[cam]]`: each point-on-curve element and cam pair, its kind checked
+/// against the curve or the cam table (`build/curve.rs`, `build/cam.rs`).
 fn load_curves(
     r: &Resolver,
     file: &ModelFile,
@@ -277,6 +278,16 @@ fn load_curves(
         let entry = r.cx.check(&CURVES, &owner, &c.kind, table, c.name.span())?;
         spans.curves.insert(c.name.get_ref().clone(), c.name.span());
         builder.curve(curve::load_curve(r, section, entry.name)?);
+    }
+    for section in &file.cam {
+        let c = section.get_ref();
+        check_unique_element(r.cx, spans, &c.name, "cam")?;
+        let owner = format!("cam \"{}\"", c.name.get_ref());
+        let table = section.span().start;
+        let entry =
+            r.cx.check(&CAMS, &owner, &c.follower, table, c.name.span())?;
+        spans.curves.insert(c.name.get_ref().clone(), c.name.span());
+        builder.cam(cam::load_cam(r, section, entry.name)?);
     }
     Ok(())
 }

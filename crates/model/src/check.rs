@@ -126,7 +126,7 @@ fn write_curves(model: &Model, out: &mut dyn Write) -> Result<(), Error> {
     if model.curves().is_empty() {
         return Ok(());
     }
-    writeln!(out, "\ncurves ({})", model.curves().len()).map_err(io)?;
+    writeln!(out, "\ncurves and cams ({})", model.curves().len()).map_err(io)?;
     let nb6 = 6 * model.bodies().len();
     let rows: Vec<Vec<String>> = (model.curves().iter())
         .map(|c| {

@@ -34,6 +34,9 @@ pub struct ModelFile {
     /// `[[curve]]`: points held on curves (slots, tracks, paths).
     #[serde(default)]
     pub curve: Vec<Spanned<CurveSection>>,
+    /// `[[cam]]`: cam pairs (a follower's curve tangent to a cam profile).
+    #[serde(default)]
+    pub cam: Vec<Spanned<CamSection>>,
     /// `[[driver]]`.
     #[serde(default)]
     pub driver: Vec<Spanned<DriverSection>>,
@@ -440,6 +443,51 @@ pub struct CurveSection {
     pub initial_u: Option<Num>,
 }
 
+/// `[[cam]]`: a follower's curve on body j in tangent contact with a cam profile on body i
+/// ([`crate::vocabulary::CAMS`]).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CamSection {
+    /// Unique name among joints, curves, cams, couplers, drivers and forces.
+    pub name: Name,
+    /// flat or roller.
+    pub follower: Name,
+    /// The cam.
+    pub body_i: Name,
+    /// The cam plane's normal on body i.
+    pub axis_i: Name,
+    /// disc or spline.
+    pub profile: Name,
+    /// disc: its centre on body i.
+    #[serde(default)]
+    pub point_i: Option<Name>,
+    /// disc: R \[m\].
+    #[serde(default)]
+    pub radius: Option<Num>,
+    /// disc: where u = 0 lies.
+    #[serde(default)]
+    pub x_axis_i: Option<Name>,
+    /// spline: the profile's points in body i's coordinates \[m\].
+    #[serde(default)]
+    pub points: Option<Spanned<Vec<Vec3>>>,
+    /// The follower.
+    pub body_j: Name,
+    /// The face's point or the roller's centre on body j.
+    pub point_j: Name,
+    /// The face's direction or the roller's axis on body j.
+    #[serde(default)]
+    pub axis_j: Option<Name>,
+    /// roller: r \[m\].
+    #[serde(default)]
+    pub roller_radius: Option<Num>,
+    /// u at the drawn pose \[m\].
+    #[serde(default)]
+    pub initial_u: Option<Num>,
+    /// w at the drawn pose \[m\].
+    #[serde(default)]
+    pub initial_w: Option<Num>,
+}
+
 /// `[[limit]]`: a lower bound, an upper bound or both on one coordinate of a joint (end
 /// stops), with impacts or a compliant law ([`crate::vocabulary::LIMITS`]).
 #[derive(Debug, Deserialize)]
@@ -758,69 +806,39 @@ fn prescan(src: &Source) -> Result<(), Error> {
         }
         k += 1;
     }
-    if bodies > MAX_BODIES || headers - bodies > 6 * MAX_ELEMENTS {
+    if bodies > MAX_BODIES || headers - bodies > 8 * MAX_ELEMENTS {
         return Err(src.error(format!(
             "the model file declares {headers} [[...]] tables ({bodies} of them [[body]]); at \
              most {MAX_BODIES} bodies, \
-             {MAX_ELEMENTS} joints, {MAX_ELEMENTS} couplers, {MAX_ELEMENTS} drivers, \
-             {MAX_ELEMENTS} forces, {MAX_ELEMENTS} limits and {MAX_ELEMENTS} frictions are \
-             accepted"
+             {MAX_ELEMENTS} joints, {MAX_ELEMENTS} curves, {MAX_ELEMENTS} cams, \
+             {MAX_ELEMENTS} couplers, {MAX_ELEMENTS} drivers, {MAX_ELEMENTS} forces, \
+             {MAX_ELEMENTS} limits and {MAX_ELEMENTS} frictions are accepted"
         )));
     }
     Ok(())
 }
 
+/// The name, count, limit and the span of the first element over the limit of one list.
+fn count<T>(
+    what: &'static str,
+    list: &[Spanned<T>],
+    max: usize,
+) -> (&'static str, usize, usize, Option<std::ops::Range<usize>>) {
+    (what, list.len(), max, list.get(max).map(Spanned::span))
+}
+
 /// Element counts and array lengths of a parsed file.
 fn check_counts(src: &Source, file: &ModelFile) -> Result<(), Error> {
     let counts = [
-        (
-            "bodies",
-            file.body.len(),
-            MAX_BODIES,
-            file.body.get(MAX_BODIES).map(Spanned::span),
-        ),
-        (
-            "joints",
-            file.joint.len(),
-            MAX_ELEMENTS,
-            file.joint.get(MAX_ELEMENTS).map(Spanned::span),
-        ),
-        (
-            "curves",
-            file.curve.len(),
-            MAX_ELEMENTS,
-            file.curve.get(MAX_ELEMENTS).map(Spanned::span),
-        ),
-        (
-            "couplers",
-            file.coupler.len(),
-            MAX_ELEMENTS,
-            file.coupler.get(MAX_ELEMENTS).map(Spanned::span),
-        ),
-        (
-            "drivers",
-            file.driver.len(),
-            MAX_ELEMENTS,
-            file.driver.get(MAX_ELEMENTS).map(Spanned::span),
-        ),
-        (
-            "forces",
-            file.force.len(),
-            MAX_ELEMENTS,
-            file.force.get(MAX_ELEMENTS).map(Spanned::span),
-        ),
-        (
-            "limits",
-            file.limit.len(),
-            MAX_ELEMENTS,
-            file.limit.get(MAX_ELEMENTS).map(Spanned::span),
-        ),
-        (
-            "frictions",
-            file.friction.len(),
-            MAX_ELEMENTS,
-            file.friction.get(MAX_ELEMENTS).map(Spanned::span),
-        ),
+        count("bodies", &file.body, MAX_BODIES),
+        count("joints", &file.joint, MAX_ELEMENTS),
+        count("curves", &file.curve, MAX_ELEMENTS),
+        count("cams", &file.cam, MAX_ELEMENTS),
+        count("couplers", &file.coupler, MAX_ELEMENTS),
+        count("drivers", &file.driver, MAX_ELEMENTS),
+        count("forces", &file.force, MAX_ELEMENTS),
+        count("limits", &file.limit, MAX_ELEMENTS),
+        count("frictions", &file.friction, MAX_ELEMENTS),
     ];
     for (what, n, max, first_extra) in counts {
         if n > max {
@@ -886,17 +904,21 @@ fn check_counts(src: &Source, file: &ModelFile) -> Result<(), Error> {
             }
         }
     }
-    for c in &file.curve {
-        if let Some(p) = &c.get_ref().points {
-            if p.get_ref().len() > MAX_ARRAY_LEN {
-                return Err(src.error_at(
-                    p.span(),
-                    format!(
-                        "points has {} entries; at most {MAX_ARRAY_LEN} are accepted",
-                        p.get_ref().len()
-                    ),
-                ));
-            }
+    let cam_points = file.cam.iter().filter_map(|c| c.get_ref().points.as_ref());
+    for p in (file
+        .curve
+        .iter()
+        .filter_map(|c| c.get_ref().points.as_ref()))
+    .chain(cam_points)
+    {
+        if p.get_ref().len() > MAX_ARRAY_LEN {
+            return Err(src.error_at(
+                p.span(),
+                format!(
+                    "points has {} entries; at most {MAX_ARRAY_LEN} are accepted",
+                    p.get_ref().len()
+                ),
+            ));
         }
     }
     if let Some(a) = &file.analysis {
@@ -938,7 +960,7 @@ fn in_context(text: &str, at: usize, message: String) -> String {
     }
     if message.starts_with("invalid value: a table, expected an array") {
         for name in [
-            "body", "joint", "curve", "coupler", "driver", "force", "limit", "friction",
+            "body", "joint", "curve", "cam", "coupler", "driver", "force", "limit", "friction",
         ] {
             if text[at..].starts_with(&format!("[{name}]")) {
                 return format!(

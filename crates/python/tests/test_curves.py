@@ -52,3 +52,26 @@ def test_a_bad_curve_is_a_model_error_at_its_key():
     line = b.to_toml().splitlines()[e.value.line - 1]
     assert line == "radius = -0.1"
     assert 'curve "path"' in str(e.value)
+
+
+def test_a_harmonic_cam_lifts_its_flat_faced_tappet_by_e_one_minus_cos():
+    e, radius, w = 0.005, 0.02, 2 * math.pi
+    b = cardan.Builder("valve")
+    b.ground(points={"O": [0, 0, 0]}, vectors={"x": [1, 0, 0], "y": [0, 1, 0], "z": [0, 0, 1]})
+    b.body("camshaft", mass=0.5, inertia={"diag": [1e-4] * 3},
+           points={"O": [0, 0, 0], "C": [0, -e, 0]}, vectors={"x": [1, 0, 0], "z": [0, 0, 1]})
+    b.body("tappet", mass=0.1, inertia={"diag": [1e-5] * 3}, position=[0, radius - e, 0],
+           points={"F": [0, 0, 0]}, vectors={"x": [1, 0, 0], "y": [0, 1, 0]})
+    b.joint("bearing", "revolute", body_i="ground", point_i="O", axis_i="z", x_axis_i="x",
+            body_j="camshaft", point_j="O", axis_j="z", x_axis_j="x")
+    b.joint("guide", "prismatic", body_i="ground", point_i="O", axis_i="y",
+            body_j="tappet", point_j="F", axis_j="y")
+    b.cam("lobe", "flat", body_i="camshaft", axis_i="z", profile="disc", point_i="C",
+          radius=radius, body_j="tappet", point_j="F", axis_j="x")
+    b.driver("motor", type="rotation", joint="bearing", function=cardan.polynomial([0.0, w]))
+    b.analysis("kinematic", t_end=1.0, steps=40, outputs={"joints": ["guide", "lobe"]})
+    joints = b.build().kinematics().joints
+    assert joints.names == ["guide.slide", "lobe.u", "lobe.w"]
+    for t, s, face in zip(joints.t, joints["guide.slide"], joints["lobe.w"]):
+        assert abs(s - (radius - e) - e * (1 - math.cos(w * t))) < 1e-12
+        assert abs(face - e * math.sin(w * t)) < 1e-12

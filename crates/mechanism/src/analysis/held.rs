@@ -33,7 +33,7 @@ impl Model {
     ) -> Result<Option<HeldRun>, AnalysisError> {
         if self.num_extra() > 0 {
             return Err(AnalysisError::Options(
-                "free_dof = \"hold\" does not take point-on-curve elements yet (their curve parameters have no least-change weight); drive every degree of freedom and leave free_dof at its default".into(),
+                "free_dof = \"hold\" does not take curve elements yet (points on curves, cam pairs: their curve parameters have no least-change weight); drive every degree of freedom and leave free_dof at its default".into(),
             ));
         }
         let drawn = ws.pose.x.clone();

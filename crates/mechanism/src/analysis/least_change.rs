@@ -231,13 +231,14 @@ impl LeastChange {
     /// The solver of `model` with `weights` (one per moving body). Allocates.
     ///
     /// # Errors
-    /// A solver error when the pattern cannot be analyzed, or for a model with point-on-curve
-    /// elements.
+    /// A solver error when the pattern cannot be analyzed, or for a model with curve elements
+    /// (points on curves, cam pairs).
     pub fn new(model: &Model, weights: Vec<BodyWeights>) -> Result<Self, SolverError> {
         if let Some(c) = model.curves().first() {
             // Its metric is per body (6 × 6 blocks); a curve parameter has no weight yet.
             return Err(SolverError::Backend(format!(
-                "the least change does not take point-on-curve elements yet (\"{}\": its curve parameter has no weight)",
+                "the least change does not take curve elements yet ({} \"{}\": its curve parameters have no weight)",
+                c.element.what(),
                 c.name
             )));
         }

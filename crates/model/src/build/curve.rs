@@ -6,7 +6,7 @@
 
 use super::context::{missing, Ctx, Resolver};
 use crate::diag::Error;
-use crate::file::CurveSection;
+use crate::file::{CurveSection, Name, Vec3};
 use cardan_constraints::{Circle, ConstraintError, CubicCurve, Curve, Helix, Line, Marker};
 use cardan_mechanism::{CurveSpec, Quantity};
 use nalgebra::Vector3;
@@ -24,16 +24,7 @@ pub(super) fn load_curve(
     let c = section.get_ref();
     let owner = format!("curve \"{}\"", c.name.get_ref());
     let bi = r.body(&c.body_i, &owner)?;
-    let owner_ref = owner.as_str();
-    let placed = |span: Range<usize>| {
-        move |e: ConstraintError| {
-            let why = match e {
-                ConstraintError::Curve(why) => why,
-                e => e.to_string(),
-            };
-            cx.err(span, format!("{owner_ref}: {why}"))
-        }
-    };
+    let placed = |span: Range<usize>| placed(cx, span, &owner);
     let curve = if kind == "spline" {
         let Some(points) = &c.points else {
             return Err(missing(
@@ -44,14 +35,24 @@ pub(super) fn load_curve(
                 "a spline needs them",
             ));
         };
-        let mut p = Vec::with_capacity(points.get_ref().len());
-        for (k, v) in points.get_ref().iter().enumerate() {
-            p.push(cx.vec3(v, format_args!("{owner}: points[{k}]"), Quantity::Length)?);
-        }
         let closed = c.closed.as_ref().is_some_and(|f| *f.get_ref());
-        Curve::Cubic(CubicCurve::new(p, closed).map_err(placed(points.span()))?)
+        spline(cx, points, closed, &owner)?
     } else {
-        let m = marker(r, c, bi, &owner)?;
+        let (Some(p), Some(z)) = (&c.point_i, &c.axis_i) else {
+            let key = if c.point_i.is_none() {
+                "point_i"
+            } else {
+                "axis_i"
+            };
+            return Err(missing(
+                cx,
+                c.name.span(),
+                &owner,
+                key,
+                "the curve needs it",
+            ));
+        };
+        let m = marker(r, bi, (p, z, c.x_axis_i.as_ref()), &owner)?;
         let radius = |key: &str| match &c.radius {
             Some(n) => cx.num(n, format_args!("{owner}: {key}"), Quantity::Length),
             None => Err(missing(
@@ -97,23 +98,52 @@ pub(super) fn load_curve(
     Ok(spec)
 }
 
-/// The frame of a line, a circle or a helix: origin `point_i`, z along `axis_i`, x along the
-/// part of `x_axis_i` perpendicular to it (any perpendicular when absent).
-fn marker(r: &Resolver, c: &CurveSection, bi: &str, owner: &str) -> Result<Marker, Error> {
-    let cx: &Ctx = r.cx;
-    let (Some(p), Some(z)) = (&c.point_i, &c.axis_i) else {
-        let key = if c.point_i.is_none() {
-            "point_i"
-        } else {
-            "axis_i"
+/// A constraint-layer error about a curve, as an error of `owner` at `span` (a curve's own
+/// reason without its "curve:" prefix).
+pub(super) fn placed<'a>(
+    cx: &'a Ctx,
+    span: Range<usize>,
+    owner: &'a str,
+) -> impl Fn(ConstraintError) -> Error + 'a {
+    move |e: ConstraintError| {
+        let why = match e {
+            ConstraintError::Curve(why) => why,
+            e => e.to_string(),
         };
-        return Err(missing(cx, c.name.span(), owner, key, "the curve needs it"));
-    };
+        cx.err(span.clone(), format!("{owner}: {why}"))
+    }
+}
+
+/// The cubic spline through `points` (body i's coordinates), open or `closed`.
+pub(super) fn spline(
+    cx: &Ctx,
+    points: &Spanned<Vec<Vec3>>,
+    closed: bool,
+    owner: &str,
+) -> Result<Curve, Error> {
+    let mut p = Vec::with_capacity(points.get_ref().len());
+    for (k, v) in points.get_ref().iter().enumerate() {
+        p.push(cx.vec3(v, format_args!("{owner}: points[{k}]"), Quantity::Length)?);
+    }
+    let spline = CubicCurve::new(p, closed).map_err(placed(cx, points.span(), owner))?;
+    Ok(Curve::Cubic(spline))
+}
+
+/// The frame of a line, a circle or a helix (or a cam's disc, a follower's face or roller):
+/// origin `p`, z along `z`, x along the part of `x` perpendicular to it (any perpendicular when
+/// absent), all features of body `bi`.
+pub(super) fn marker(
+    r: &Resolver,
+    bi: &str,
+    (p, z, x): (&Name, &Name, Option<&Name>),
+    owner: &str,
+) -> Result<Marker, Error> {
+    let cx: &Ctx = r.cx;
     r.feature(bi, p, owner, true)?;
     r.feature(bi, z, owner, false)?;
     let origin = r.point_value(bi, p.get_ref());
     let axis = r.vector_value(bi, z.get_ref());
-    let frame = match &c.x_axis_i {
+    let frame = match x {
         Some(x) => {
             r.feature(bi, x, owner, false)?;
             let xv: Vector3<f64> = r.vector_value(bi, x.get_ref());
@@ -121,7 +151,7 @@ fn marker(r: &Resolver, c: &CurveSection, bi: &str, owner: &str) -> Result<Marke
                 return Err(cx.err(
                     x.span(),
                     format!(
-                        "{owner}: x_axis_i \"{}\" is parallel to axis_i \"{}\"; it must point \
+                        "{owner}: x axis \"{}\" is parallel to axis \"{}\"; it must point \
                          from the centre to where u = 0, across the axis",
                         x.get_ref(),
                         z.get_ref()

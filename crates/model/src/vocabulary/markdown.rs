@@ -4,12 +4,13 @@
 use super::{Default, Vocabulary};
 
 /// The vocabularies written into docs/model-format.md, with the name of their generated block.
-pub const GENERATED: [(&str, &Vocabulary); 10] = [
+pub const GENERATED: [(&str, &Vocabulary); 11] = [
     ("analysis-kinds", &super::ANALYSES),
     ("integrators", &super::INTEGRATORS),
     ("drivers", &super::DRIVERS),
     ("functions", &super::FUNCTIONS),
     ("curves", &super::CURVES),
+    ("cams", &super::CAMS),
     ("couplers", &super::COUPLERS),
     ("forces", &super::FORCES),
     ("limits", &super::LIMITS),

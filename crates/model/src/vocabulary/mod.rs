@@ -1,6 +1,6 @@
 //! The model file's vocabularies as data, the way the joint kinds are
 //! (`cardan_constraints::KINDS`): analysis kinds, integrators, drivers, time functions, force
-//! elements, curves, couplers, limits, joint friction and the output groups. Each [`Vocabulary`] is a list of [`Entry`]s (a
+//! elements, curves, cams, couplers, limits, joint friction and the output groups. Each [`Vocabulary`] is a list of [`Entry`]s (a
 //! name, its aliases, a summary and the [`Key`]s it takes); each key has its value's
 //! [`Value`] (a quantity with its SI unit, a count with its range, a name, a function...), its
 //! default and what it means.
@@ -18,6 +18,7 @@
 //! adding a kind is one [`Entry`].
 
 mod analyses;
+mod cams;
 mod check;
 mod couplers;
 mod curves;
@@ -30,6 +31,7 @@ mod markdown;
 mod outputs;
 
 pub use analyses::ANALYSES;
+pub use cams::CAMS;
 pub use check::{check, KeySpans, Present};
 pub use couplers::COUPLERS;
 pub use curves::CURVES;

@@ -326,6 +326,15 @@ class Builder:
         self._tables.append(("curve", {"name": name, "type": type, **keys}))
         return self
 
+    def cam(self, name: str, follower: str, **keys: Any) -> "Builder":
+        """A cam pair: a follower's curve on ``body_j`` (``follower="flat"``: the line through
+        ``point_j`` along ``axis_j``; ``"roller"``: a circle of ``roller_radius``) kept tangent
+        to a cam profile on ``body_i`` in the plane normal to ``axis_i`` (``profile="disc"``
+        with ``point_i`` and ``radius``, or ``"spline"`` with ``points``). Its parameters u
+        (profile) and w (follower) are unknowns, in the joint tables as ``name.u``, ``name.w``."""
+        self._tables.append(("cam", {"name": name, "follower": follower, **keys}))
+        return self
+
     def coupler(self, name: str, type: str, **keys: Any) -> "Builder":
         """A coupler (gear, rack and pinion, screw) between joint coordinates."""
         self._tables.append(("coupler", {"name": name, "type": type, **keys}))
