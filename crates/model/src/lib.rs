@@ -40,6 +40,7 @@ pub mod prepare;
 pub mod progress;
 pub mod run_json;
 pub mod scene;
+pub mod scene_curves;
 pub mod table;
 pub mod units;
 pub mod vocabulary;

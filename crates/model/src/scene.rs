@@ -8,7 +8,9 @@
 //! - at each joint, on body i (on body j when i is the ground): a sphere for a spherical joint
 //!   (and the other kinds without an axis), a short cylinder along the axis of a revolute,
 //!   cylindrical, universal or other axis joint, a block along the axis of a prismatic joint;
-//! - a small cube at each ground point.
+//! - a small cube at each ground point;
+//! - on every body, the curves of its curve elements: slots, tracks, paths, cam profiles and
+//!   followers' faces and rollers, as chains of thin rods ([`crate::scene_curves`]).
 //!
 //! Sizes are fractions of the mechanism's extent L (the diagonal of the box around every body
 //! origin and point over the run): rods of radius L/100, joint parts of L/30, markers of L/60.
@@ -121,6 +123,10 @@ pub fn scene(name: &str, model: &Model, results: &Results, declared: &Declared) 
                 });
             }
         }
+    }
+    // The curves of the curve elements (slots, tracks, paths, cam profiles), on every body.
+    for (on, rods) in crate::scene_curves::curve_rods(model, results, extent) {
+        bodies[index(on)].geometry.extend(rods);
     }
     Scene {
         name: name.to_string(),
@@ -412,7 +418,7 @@ fn joint_part(
 }
 
 /// Euler parameters of a frame whose z axis is along `s`.
-fn along(s: &Vector3<f64>) -> [f64; 4] {
+pub(crate) fn along(s: &Vector3<f64>) -> [f64; 4] {
     cardan_eulerparam::frame_from_axis(s)
         .and_then(|f| cardan_eulerparam::EulerParams::from_rotation_matrix(&f))
         .map(|p| [p.e0(), p.e().x, p.e().y, p.e().z])
