@@ -302,6 +302,14 @@ PLANAR = {"line": ("line", False), "circle": ("circle", False), "cubic": ("cubic
           "cubic_closed": ("cubic", True)}
 CAMS = {f"curve_on_curve_{a}_{b}": (a, b) for a in PLANAR for b in PLANAR}
 N_CAM_CASES = 50
+
+# Path drivers along a spline's arc length (CONTRACT.md, "Curves"): Phi = S(u) - f(t).
+ARC_DRIVERS = {"path_driver_arc_cubic": False, "path_driver_arc_cubic_closed": True}
+ELEMENTS.update(dict.fromkeys(ARC_DRIVERS))  # built by build_arc_driver_cases
+# Gauss-Legendre rules: 20 points for the reference lengths (on 64 pieces of every knot span),
+# 8 for the symbolic stretch from the case's u.
+GL20 = np.polynomial.legendre.leggauss(20)
+GL8 = np.polynomial.legendre.leggauss(8)
 # Not at a spline's knots or seam: the tangency row's gamma# holds c''' (the third
 # derivative), which jumps there, so a knot computed one ulp apart on either side picks another
 # one-sided value (point_on_curve_* covers the evaluation at knots).
@@ -335,6 +343,8 @@ def build_cases(name):
     """(rows, cases) of element `name` (generate.py calls this for each entry of ELEMENTS)."""
     if name == PATH_DRIVER:
         return build_path_driver_cases()
+    if name in ARC_DRIVERS:
+        return build_arc_driver_cases(name)
     if name in CAMS:
         return build_cam_cases(name)
     return build_curve_cases(name)
@@ -408,6 +418,82 @@ def build_curve_cases(name):
             solve_sp_j(case)
         cases.append(C.evaluate(_phi_of(params, u), case))
     return 3, cases
+
+
+def _reference_length(curve, a, b):
+    """Integral of |c'| over [a, b] (inside one knot span, or on one extension): 20-point
+    Gauss-Legendre on 64 equal pieces (|c'| on the piece of the curve holding the middle)."""
+    s = ca.SX.sym("s")
+    speed = ca.Function("speed", [s], [ca.norm_2(curve_tangent(curve, s, 0.5 * (a + b)))])
+    x, w = GL20
+    edges = np.linspace(a, b, 65)
+    mids, halves = 0.5 * (edges[1:] + edges[:-1]), 0.5 * (edges[1:] - edges[:-1])
+    nodes = (mids[:, None] + halves[:, None] * x[None, :]).ravel()
+    values = np.array(speed.map(nodes.size)(nodes.reshape(1, -1))).ravel()
+    return float(np.sum(values.reshape(64, 20) * w[None, :] * halves[:, None]))
+
+
+def arc_length_at(curve, u):
+    """S(u) = integral of |c'| from 0 to u: knot span by knot span; a closed spline's turns
+    (S(u + L) = S(u) + Lambda); an open one's straight extensions beyond its ends."""
+    knots = cubic_knots(curve["points"])
+    n = len(knots) - 1
+    total = [0.0]
+    for k in range(n):
+        total.append(total[-1] + _reference_length(curve, knots[k], knots[k + 1]))
+    if curve["closed"]:
+        turns = math.floor(u / knots[n])
+        w = u - knots[n] * turns
+        return turns * total[n] + _inside_length(curve, knots, total, w)
+    if u < 0.0:
+        return -_reference_length(curve, u, 0.0)
+    if u > knots[n]:
+        return total[n] + _reference_length(curve, knots[n], u)
+    return _inside_length(curve, knots, total, u)
+
+
+def _inside_length(curve, knots, total, u):
+    k = _segment_at(knots, len(knots) - 1, u)
+    return total[k] + _reference_length(curve, knots[k], u)
+
+
+def phi_arc(curve, u, u_num, f):
+    """S(u) - f: S(u_num) numerically plus the integral of |c'| from u_num to the symbolic u by
+    8-point Gauss-Legendre (its first two derivatives in u at u_num are |c'| and its
+    derivative exactly)."""
+    x, w = GL8
+    mid, half = 0.5 * (u + u_num), 0.5 * (u - u_num)
+    stretch = 0
+    for xi, wi in zip(x, w):
+        stretch = stretch + wi * ca.norm_2(curve_tangent(curve, mid + half * xi, u_num))
+    return arc_length_at(curve, u_num) + half * stretch - f
+
+
+def build_arc_driver_cases(name):
+    """The path driver along a spline's arc length: a random spline per case (as the
+    point-on-curve cases draw them), u at the spline's placements, the time functions of
+    gen_drivers' plan (every kind but expressions)."""
+    closed = ARC_DRIVERS[name]
+    pset = "cubic_closed" if closed else "cubic"
+    rng = C.element_rng(name)
+    cases = []
+    for index, entry in enumerate(C.case_plan(n_total=N_CAM_CASES)):
+        si, sj = C.states(rng, entry["ground"], entry["rot"], entry["scale"])
+        spec, t, what = D.make_function(rng, index, entry["scale"])
+        curve = make_curve("cubic", closed, rng, entry)
+        placement = PLACEMENTS[pset][index % len(PLACEMENTS[pset])]
+        u = draw_u(curve, placement, rng, entry["scale"])
+        params = {"function": spec, "curve": curve}
+        case = C.new_case(f"{entry['label']}.{what}.u-{placement}", entry["ground"], t, params,
+                          si, sj)
+        case["u"] = [u]
+        case["udot"] = [float(entry["scale"] * rng.uniform(-2.0, 2.0))]
+
+        def phi(bi, bj, tt, uu, spec=spec, t_num=t, curve=curve, u=u):
+            return phi_arc(curve, uu[0], u, D.time_function(spec, tt, t_num))
+
+        cases.append(C.evaluate(phi, case))
+    return 1, cases
 
 
 def build_path_driver_cases():

@@ -130,7 +130,11 @@ pub fn elements() -> Vec<&'static str> {
         .chain(limits().iter().copied())
         .chain(curves().iter().copied())
         .chain(cams().iter().copied())
-        .chain(["path_driver"])
+        .chain([
+            "path_driver",
+            "path_driver_arc_cubic",
+            "path_driver_arc_cubic_closed",
+        ])
         .collect()
 }
 
@@ -211,7 +215,11 @@ impl Element {
             Element::Limit(l) => limit_name(l),
             Element::Curve(c) => curve_name(c),
             Element::Cam(c) => cam_name(c),
-            Element::Path(_) => "path_driver",
+            Element::Path(p) => match &p.arc {
+                None => "path_driver",
+                Some(a) if a.is_closed() => "path_driver_arc_cubic_closed",
+                Some(_) => "path_driver_arc_cubic",
+            },
         }
     }
 }
@@ -475,6 +483,15 @@ pub fn build(name: &str, p: &Value) -> Result<Element, ParamError> {
         "path_driver" => Ok(E::Path(PathDriver::new(time_function(
             p.get("function").ok_or("missing `function`")?,
         )?))),
+        "path_driver_arc_cubic" | "path_driver_arc_cubic_closed" => {
+            let f = time_function(p.get("function").ok_or("missing `function`")?)?;
+            let c = curve(p.get("curve").ok_or("missing `curve`")?)?;
+            let e = PathDriver::along_arc(f, &c);
+            if e.name() != name {
+                return Err(format!("`{name}` holds a {} curve", c.kind()));
+            }
+            Ok(E::Path(e))
+        }
         _ if name.starts_with("point_on_curve_") => {
             let e = PointOnCurve::new(
                 curve(p.get("curve").ok_or("missing `curve`")?)?,

@@ -352,3 +352,41 @@ fn a_roller_tappet_follows_the_closed_form() {
     eprintln!("roller tappet: |s − s(θ)| = {worst:.1e} m");
     assert!(worst < 1e-12, "{worst}");
 }
+
+/// The arm's tool point on a closed spline through 12 points of its circle, driven by
+/// `arc_length = true` with S = v t: the tool moves at speed v to 1e-10 (the spline's own
+/// parameter, its chord length, would not: without the key the speed varies by 1e-3 of v).
+#[test]
+fn an_arc_length_path_driver_moves_the_tool_along_a_spline_at_constant_speed() {
+    let base = example("arm_path.toml");
+    let points: Vec<String> = (0..=12)
+        .map(|k| {
+            let a = std::f64::consts::TAU * (k % 12) as f64 / 12.0;
+            format!("[{}, {}, 0.0]", 0.3 + 0.1 * a.cos(), 0.3 + 0.1 * a.sin())
+        })
+        .collect();
+    let spline = format!(
+        "type = \"spline\"\nbody_i = \"ground\"\npoints = [{}]\nclosed = true\n",
+        points.join(", ")
+    );
+    let start = base.find("\n[[curve]]\n").unwrap();
+    let end = start + base[start..].find("body_j = \"fore\"").unwrap();
+    let from = base[start..end].find("type = ").unwrap() + start;
+    let text = format!("{}{spline}{}", &base[..from], &base[end..]);
+    let speeds = |text: &str| {
+        let o = run_text("run", text);
+        assert_eq!(o.code, 0, "{}", o.stderr);
+        let csv = std::fs::read_to_string(o.dir.join("out").join("point_velocities.csv")).unwrap();
+        let (_, rows) = cardan_model::table::parse_csv(&csv).unwrap();
+        rows.iter()
+            .map(|r| (r[1] * r[1] + r[2] * r[2] + r[3] * r[3]).sqrt())
+            .collect::<Vec<f64>>()
+    };
+    let worst = |v: &[f64]| v.iter().map(|s| (s - 0.2).abs()).fold(0.0f64, f64::max);
+    let by_chord = worst(&speeds(&text));
+    let arc = text.replacen("curve = \"path\"", "curve = \"path\"\narc_length = true", 1);
+    let by_arc = worst(&speeds(&arc));
+    eprintln!("tool speed − v along the spline: {by_arc:.1e} (arc length), {by_chord:.1e} (chord)");
+    assert!(by_arc < 1e-10, "{by_arc}");
+    assert!(by_chord > 1e-4, "{by_chord}");
+}

@@ -122,7 +122,7 @@ pub mod time_function;
 pub use constraint::{Constraint, Dimension, MAX_EXTRA};
 pub use couplers::{Coupler, Gear, RackPinion, Screw};
 pub use curve_on_curve::CurveOnCurve;
-pub use curves::{Circle, CubicCurve, Curve, CurveJet, Helix, Line};
+pub use curves::{ArcLength, Circle, CubicCurve, Curve, CurveJet, Helix, Line};
 pub use distance::Distance;
 pub use drivers::{
     CoordinateDriver, DistanceDriver, Driver, PoseDriver, RotationDriver, RotationOrder,

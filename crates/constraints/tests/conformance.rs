@@ -260,6 +260,22 @@ fn curve_on_every_pair_of_curve_kinds() {
     }
 }
 
+/// The path driver along a spline's arc length, S(u) = f(t) (Φ_u = |c'_u|, γ# with S_uu u̇²).
+#[test]
+fn path_driver_along_a_spline() {
+    for kind in ["cubic", "cubic_closed"] {
+        assert_conforms(
+            &format!("path_driver_arc_{kind}"),
+            BOTH,
+            |s: &mut Sampler| {
+                let (c, u) = curve(s, kind);
+                s.extra = Some([u, 0.0]);
+                PathDriver::along_arc(s.function(), &c)
+            },
+        );
+    }
+}
+
 /// The path driver u = f(t) of a curve parameter (Φ_u = 1, ν = ḟ, γ# = f̈).
 #[test]
 fn path_driver() {

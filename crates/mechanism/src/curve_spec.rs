@@ -109,6 +109,10 @@ pub struct PathSpec {
     pub curve: String,
     /// f(t), m.
     pub function: TimeFunction,
+    /// Whether f prescribes the arc length travelled along the curve, S(u) = f(t), rather
+    /// than its parameter (the same for lines, circles and helices; a spline's parameter is
+    /// its chord length).
+    pub arc_length: bool,
 }
 
 impl PathSpec {
@@ -118,6 +122,14 @@ impl PathSpec {
             name: name.into(),
             curve: curve.into(),
             function,
+            arc_length: false,
         }
+    }
+
+    /// The arc length travelled along the curve = `function`(t) (a point moved at speed v along
+    /// a spline by f = v t).
+    pub fn along_arc(mut self) -> Self {
+        self.arc_length = true;
+        self
     }
 }

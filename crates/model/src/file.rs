@@ -310,6 +310,9 @@ pub struct DriverSection {
     /// path: the `[[curve]]` whose parameter is driven.
     #[serde(default)]
     pub curve: Option<Name>,
+    /// path: the function is the arc length travelled.
+    #[serde(default)]
+    pub arc_length: Option<Spanned<bool>>,
     /// distance, general_motion: body i.
     #[serde(default)]
     pub body_i: Option<Name>,

@@ -20,13 +20,16 @@
 //! Open curves of finite extent have a [`Curve::domain`]: analyses stop with an error naming
 //! the time when u leaves it (the constraint itself is extended smoothly beyond it, so its
 //! evaluation never fails). Closed curves have a [`Curve::period`] L: c'(u + L) = c'(u), so u
-//! runs on over any number of turns (a cam turning).
+//! runs on over any number of turns (a cam turning). A spline's arc length S(u) is tabulated by
+//! [`ArcLength`], for a path driver that prescribes the distance travelled.
 
+mod arc_length;
 mod circle;
 mod cubic;
 mod helix;
 mod line;
 
+pub use arc_length::ArcLength;
 pub use circle::Circle;
 pub use cubic::CubicCurve;
 pub use helix::Helix;

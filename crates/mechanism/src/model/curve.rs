@@ -174,7 +174,10 @@ pub(super) fn path(spec: &PathSpec, curves: &[CurveInfo]) -> Result<PathInfo, Mo
         name: spec.name.clone(),
         curve,
         extra: curves[curve].extra,
-        driver: PathDriver::new(spec.function.clone()),
+        driver: match (spec.arc_length, curves[curve].element.curves()[0]) {
+            (true, Some(c)) => PathDriver::along_arc(spec.function.clone(), c),
+            _ => PathDriver::new(spec.function.clone()),
+        },
         rows: 0..0,
         slot: 0,
     })

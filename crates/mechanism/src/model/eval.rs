@@ -166,7 +166,11 @@ impl Model {
             }
         }
         for p in &self.paths {
-            slots[p.slot] = 1.0;
+            let k = p.extra..p.extra + 1;
+            let pair = BodyPair::with_extra(&g, &g, &u[k], &[0.0]);
+            let mut ju = [[0.0; MAX_EXTRA]; 1];
+            p.driver.jacobian_extra(&pair, t, &mut ju);
+            slots[p.slot] = ju[0][0];
         }
     }
 

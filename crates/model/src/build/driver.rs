@@ -277,11 +277,11 @@ pub(super) fn load_path(cx: &Ctx, d: &DriverSection) -> Result<PathSpec, Error> 
     let f = (d.function.as_ref())
         .ok_or_else(|| need("function", "the law u(t) of the curve parameter"))?;
     let function = load_function(cx, f, &owner, Quantity::Length)?;
-    Ok(PathSpec::new(
-        d.name.get_ref().clone(),
-        curve.get_ref(),
-        function,
-    ))
+    let spec = PathSpec::new(d.name.get_ref().clone(), curve.get_ref(), function);
+    Ok(match d.arc_length.as_ref().is_some_and(|f| *f.get_ref()) {
+        true => spec.along_arc(),
+        false => spec,
+    })
 }
 
 pub(super) fn load_driver(r: &Resolver, d: &DriverSection) -> Result<(DriverSpec, String), Error> {

@@ -121,6 +121,12 @@ pub const DRIVERS: Vocabulary = Vocabulary {
                     Default::Required,
                     "the law u(t) of the curve parameter (m)",
                 ),
+                Key::new(
+                    "arc_length",
+                    Value::Flag,
+                    Default::Is("false"),
+                    "the function is the arc length travelled S(u(t)) (m) rather than u: a spline's u is its chord length, so f = v t moves the point at speed v only with this set (lines, circles and helices: the same)",
+                ),
             ],
         },
         Entry {
