@@ -10,12 +10,11 @@
 
 use cardan_constraints::joints::Measure;
 use cardan_constraints::{
-    BodyPair, Bound, Circle, Constraint, CoordinateDriver, Coupler, CubicCurve, Curve,
-    CurveOnCurve, Dimension, Distance, DistanceDriver, Driver, Footprint, Form, Gear, Helix,
-    Homokinetic, Joint, JointKind, JointLimit, JointParams, Line, Marker, Normalization, P1Perp,
-    P1Select, P2Perp, P2Select, PathDriver, PointOnCurve, PoseDriver, Primitive, RackPinion,
-    RadialDistance, RotationDriver, RotationOrder, Screw, Spherical, TimeFunction,
-    TranslationDriver, KINDS, MAX_EXTRA, N1, N2, P1, P2,
+    Bound, Circle, Constraint, CoordinateDriver, Coupler, CubicCurve, Curve, CurveOnCurve,
+    Distance, DistanceDriver, Driver, Gear, Helix, Homokinetic, Joint, JointKind, JointLimit,
+    JointParams, Line, Marker, Normalization, P1Perp, P1Select, P2Perp, P2Select, PathDriver,
+    PointOnCurve, PoseDriver, Primitive, RackPinion, RadialDistance, RotationDriver, RotationOrder,
+    Screw, Spherical, TimeFunction, TranslationDriver, KINDS, N1, N2, P1, P2,
 };
 use nalgebra::{Matrix3, Vector3};
 use serde_json::Value;
@@ -224,59 +223,16 @@ impl Element {
     }
 }
 
-macro_rules! each {
-    ($self:ident, $c:ident => $e:expr) => {
-        match $self {
-            Element::Primitive($c) => $e,
-            Element::Joint($c) => $e,
-            Element::Driver($c) => $e,
-            Element::Coupler($c) => $e,
-            Element::Limit($c) => $e,
-            Element::Curve($c) => $e,
-            Element::Cam($c) => $e,
-            Element::Path($c) => $e,
-        }
-    };
-}
-
-impl Constraint for Element {
-    fn name(&self) -> &'static str {
-        each!(self, c => c.name())
-    }
-    fn rows(&self) -> usize {
-        each!(self, c => c.rows())
-    }
-    fn dimension(&self, row: usize) -> Dimension {
-        each!(self, c => c.dimension(row))
-    }
-    fn footprint(&self) -> Footprint {
-        each!(self, c => c.footprint())
-    }
-    fn phi(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
-        each!(self, c => c.phi(x, t, out))
-    }
-    fn jacobian<const N: usize, F: Form<N>>(
-        &self,
-        x: &BodyPair,
-        t: f64,
-        out_i: &mut [[f64; N]],
-        out_j: &mut [[f64; N]],
-    ) {
-        each!(self, c => c.jacobian::<N, F>(x, t, out_i, out_j))
-    }
-    fn extra(&self) -> usize {
-        each!(self, c => c.extra())
-    }
-    fn jacobian_extra(&self, x: &BodyPair, t: f64, out: &mut [[f64; MAX_EXTRA]]) {
-        each!(self, c => c.jacobian_extra(x, t, out))
-    }
-    fn nu(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
-        each!(self, c => c.nu(x, t, out))
-    }
-    fn gamma_sharp<const N: usize, F: Form<N>>(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
-        each!(self, c => c.gamma_sharp::<N, F>(x, t, out))
-    }
-}
+cardan_constraints::delegate_constraint!(Element {
+    Element::Primitive,
+    Element::Joint,
+    Element::Driver,
+    Element::Coupler,
+    Element::Limit,
+    Element::Curve,
+    Element::Cam,
+    Element::Path,
+});
 
 /// An error reading oracle parameters.
 pub type ParamError = String;

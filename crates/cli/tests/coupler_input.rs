@@ -2,7 +2,7 @@
 //! at the line of the offending key (or the coupler's name), in one paragraph, without a panic.
 
 mod common;
-use common::run_text;
+use common::{check_fails_at, run_text};
 
 fn gear_train() -> String {
     let path =
@@ -24,17 +24,7 @@ fn fails(from: &str, to: &str, at: &str, needles: &[&str]) {
     let base = gear_train();
     assert!(base.contains(from), "{from}");
     let text = base.replacen(from, to, 1);
-    let o = run_text("check", &text);
-    assert_ne!(o.code, 0, "should fail: {}", o.stdout);
-    let want = format!("model.toml:{}:", line_of(&text, at));
-    assert!(
-        o.stderr.starts_with(&want),
-        "want {want}, got: {}",
-        o.stderr
-    );
-    for n in needles {
-        assert!(o.stderr.contains(n), "missing {n:?} in: {}", o.stderr);
-    }
+    check_fails_at(&text, line_of(&text, at), needles);
 }
 
 #[test]

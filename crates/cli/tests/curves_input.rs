@@ -4,7 +4,7 @@
 //! key's line.
 
 mod common;
-use common::run_text;
+use common::{check_fails_at, run_text};
 
 fn example(name: &str) -> String {
     let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -31,20 +31,14 @@ fn edited(base: &str, from: &str, to: &str) -> String {
 /// first line after `[[curve]]` containing `at`, with a message containing every needle.
 fn fails_in(base: &str, from: &str, to: &str, at: &str, needles: &[&str]) {
     let text = edited(base, from, to);
-    let o = run_text("check", &text);
-    assert_ne!(o.code, 0, "should fail: {}", o.stdout);
-    let start = text.find("\n[[curve]]\n").unwrap();
-    let at = start + text[start..].find(at).unwrap();
-    let line = text[..at].matches('\n').count() + 1;
-    let want = format!("model.toml:{line}:");
-    assert!(
-        o.stderr.starts_with(&want),
-        "want {want}, got: {}",
-        o.stderr
-    );
-    for n in needles {
-        assert!(o.stderr.contains(n), "missing {n:?} in: {}", o.stderr);
-    }
+    check_fails_at(&text, line_after(&text, "\n[[curve]]\n", at), needles);
+}
+
+/// The 1-based line of the first `at` after `header` in `text`.
+fn line_after(text: &str, header: &str, at: &str) -> usize {
+    let start = text.find(header).unwrap();
+    let at = start + text[start..].find(at).unwrap_or_else(|| panic!("{at}"));
+    text[..at].matches('\n').count() + 1
 }
 
 /// The quick-return example with its straight slot written as a spline through `points` (in
@@ -241,18 +235,7 @@ fn cam_fails(from: &str, to: &str, at: &str, needles: &[&str]) {
     let start = base.find("\n[[cam]]\n").unwrap();
     let k = start + base[start..].find(from).unwrap_or_else(|| panic!("{from}"));
     let text = format!("{}{to}{}", &base[..k], &base[k + from.len()..]);
-    let o = run_text("check", &text);
-    assert_ne!(o.code, 0, "should fail: {}", o.stdout);
-    let at = start + text[start..].find(at).unwrap();
-    let want = format!("model.toml:{}:", text[..at].matches('\n').count() + 1);
-    assert!(
-        o.stderr.starts_with(&want),
-        "want {want}, got: {}",
-        o.stderr
-    );
-    for n in needles {
-        assert!(o.stderr.contains(n), "missing {n:?} in: {}", o.stderr);
-    }
+    check_fails_at(&text, line_after(&text, "\n[[cam]]\n", at), needles);
 }
 
 #[test]

@@ -5,7 +5,7 @@
 //! every mistake in a limit or a friction an error at its key's line.
 
 mod common;
-use common::run_text;
+use common::{check_fails_at, run_text};
 
 const G: f64 = 9.81;
 /// The pendulum's hinge inertia J = m (L/2)² + I_zz = 1/4 + 1/12 (examples/pendulum_stop.toml).
@@ -167,18 +167,8 @@ fn fails(from: &str, to: &str, at: &str, needles: &[&str]) {
     let base = example("pendulum_stop.toml");
     assert!(base.contains(from), "{from}");
     let text = base.replacen(from, to, 1);
-    let o = run_text("check", &text);
-    assert_ne!(o.code, 0, "should fail: {}", o.stdout);
     let line = text.lines().position(|l| l.contains(at)).unwrap() + 1;
-    let want = format!("model.toml:{line}:");
-    assert!(
-        o.stderr.starts_with(&want),
-        "want {want}, got: {}",
-        o.stderr
-    );
-    for n in needles {
-        assert!(o.stderr.contains(n), "missing {n:?} in: {}", o.stderr);
-    }
+    check_fails_at(&text, line, needles);
 }
 
 #[test]

@@ -112,3 +112,73 @@ impl Dimension {
         }
     }
 }
+
+/// Implements [`Constraint`] for an enum whose every variant holds one element, by delegating
+/// each method to the variant's element (a closed family of elements stored in one list and
+/// evaluated by static dispatch):
+///
+/// ```
+/// use cardan_constraints::{delegate_constraint, CurveOnCurve, PointOnCurve};
+/// enum HigherPair {
+///     Point(PointOnCurve),
+///     Cam(CurveOnCurve),
+/// }
+/// delegate_constraint!(HigherPair { HigherPair::Point, HigherPair::Cam });
+/// ```
+#[macro_export]
+macro_rules! delegate_constraint {
+    ($ty:ty { $($variant:path),+ $(,)? }) => {
+        impl $crate::Constraint for $ty {
+            fn name(&self) -> &'static str {
+                match self { $($variant(c) => $crate::Constraint::name(c),)+ }
+            }
+            fn rows(&self) -> usize {
+                match self { $($variant(c) => $crate::Constraint::rows(c),)+ }
+            }
+            fn dimension(&self, row: usize) -> $crate::Dimension {
+                match self { $($variant(c) => $crate::Constraint::dimension(c, row),)+ }
+            }
+            fn footprint(&self) -> $crate::Footprint {
+                match self { $($variant(c) => $crate::Constraint::footprint(c),)+ }
+            }
+            fn phi(&self, x: &$crate::BodyPair, t: f64, out: &mut [f64]) {
+                match self { $($variant(c) => $crate::Constraint::phi(c, x, t, out),)+ }
+            }
+            fn jacobian<const N: usize, F: $crate::Form<N>>(
+                &self,
+                x: &$crate::BodyPair,
+                t: f64,
+                out_i: &mut [[f64; N]],
+                out_j: &mut [[f64; N]],
+            ) {
+                match self {
+                    $($variant(c) => $crate::Constraint::jacobian::<N, F>(c, x, t, out_i, out_j),)+
+                }
+            }
+            fn extra(&self) -> usize {
+                match self { $($variant(c) => $crate::Constraint::extra(c),)+ }
+            }
+            fn jacobian_extra(
+                &self,
+                x: &$crate::BodyPair,
+                t: f64,
+                out: &mut [[f64; $crate::MAX_EXTRA]],
+            ) {
+                match self { $($variant(c) => $crate::Constraint::jacobian_extra(c, x, t, out),)+ }
+            }
+            fn nu(&self, x: &$crate::BodyPair, t: f64, out: &mut [f64]) {
+                match self { $($variant(c) => $crate::Constraint::nu(c, x, t, out),)+ }
+            }
+            fn gamma_sharp<const N: usize, F: $crate::Form<N>>(
+                &self,
+                x: &$crate::BodyPair,
+                t: f64,
+                out: &mut [f64],
+            ) {
+                match self {
+                    $($variant(c) => $crate::Constraint::gamma_sharp::<N, F>(c, x, t, out),)+
+                }
+            }
+        }
+    };
+}

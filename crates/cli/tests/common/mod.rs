@@ -104,6 +104,22 @@ pub fn run_text(cmd: &str, text: &str) -> Outcome {
     }
 }
 
+/// `cardan check` on `text` fails with its error at 1-based line `line` (the message starts
+/// with `model.toml:LINE:`) and a message containing every needle.
+pub fn check_fails_at(text: &str, line: usize, needles: &[&str]) {
+    let o = run_text("check", text);
+    assert_ne!(o.code, 0, "should fail: {}", o.stdout);
+    let want = format!("model.toml:{line}:");
+    assert!(
+        o.stderr.starts_with(&want),
+        "want {want}, got: {}",
+        o.stderr
+    );
+    for n in needles {
+        assert!(o.stderr.contains(n), "missing {n:?} in: {}", o.stderr);
+    }
+}
+
 /// A written MatrixMarket coordinate file (`%%MatrixMarket matrix coordinate real general`):
 /// rows, columns and the entries with 0-based indices; the header's entry count is checked.
 pub fn matrix_market_triplets(path: &Path) -> (usize, usize, Vec<(usize, usize, f64)>) {

@@ -6,7 +6,7 @@
 use super::elements::{CurveElement, CurveInfo, PathInfo, ScatterMap};
 use super::resolve::{pose, Names};
 use super::validate::check_number;
-use super::BodyInfo;
+use super::{BodyId, BodyInfo};
 use crate::curve_spec::{CamSpec, CurveSpec, PathSpec};
 use crate::error::ModelError;
 use crate::sanity::Quantity;
@@ -34,27 +34,44 @@ pub(super) fn curve(
             .curve
             .closest(&(si.a.transpose() * (sj.point(&sp_j) - si.r))),
     };
-    if let Some((a, b)) = spec.curve.domain() {
-        if !(a..=b).contains(&initial_u) {
-            return Err(ModelError::CurveParameterOff {
-                element: el,
-                u: initial_u,
-                start: a,
-                end: b,
-            });
-        }
+    on_curve(|| el.clone(), &spec.curve, initial_u)?;
+    let element = CurveElement::Point(PointOnCurve::new(spec.curve.clone(), sp_j));
+    Ok(info(&spec.name, (bi, bj), element, extra, [initial_u, 0.0]))
+}
+
+/// [`ModelError::CurveParameterOff`] (for the element `element()` names) when `u` lies off an
+/// open curve.
+fn on_curve(element: impl Fn() -> String, curve: &Curve, u: f64) -> Result<(), ModelError> {
+    match curve.domain() {
+        Some((a, b)) if !(a..=b).contains(&u) => Err(ModelError::CurveParameterOff {
+            element: element(),
+            u,
+            start: a,
+            end: b,
+        }),
+        _ => Ok(()),
     }
-    Ok(CurveInfo {
-        name: spec.name.clone(),
-        body_i: bi,
-        body_j: bj,
-        element: CurveElement::Point(PointOnCurve::new(spec.curve.clone(), sp_j)),
+}
+
+/// A curve element before the layout gives it its rows and slots.
+fn info(
+    name: &str,
+    (body_i, body_j): (BodyId, BodyId),
+    element: CurveElement,
+    extra: usize,
+    initial: [f64; 2],
+) -> CurveInfo {
+    CurveInfo {
+        name: name.to_string(),
+        body_i,
+        body_j,
+        element,
         extra,
-        initial: [initial_u, 0.0],
+        initial,
         rows: 0..0,
         map: ScatterMap { slots: Vec::new() },
         extra_slots: Vec::new(),
-    })
+    }
 }
 
 /// The model form of cam pair `spec`, whose curve parameters are extra coordinates `extra` (u)
@@ -94,28 +111,16 @@ pub(super) fn cam(
         .zip(initial)
         .enumerate()
     {
-        if let Some((a, b)) = curve.domain() {
-            if !(a..=b).contains(&v) {
-                return Err(ModelError::CurveParameterOff {
-                    element: format!("{el} ({})", ["cam curve", "follower curve"][k]),
-                    u: v,
-                    start: a,
-                    end: b,
-                });
-            }
-        }
+        let which = ["cam curve", "follower curve"][k];
+        on_curve(|| format!("{el} ({which})"), curve, v)?;
     }
-    Ok(CurveInfo {
-        name: spec.name.clone(),
-        body_i: bi,
-        body_j: bj,
-        element: CurveElement::Cam(element),
+    Ok(info(
+        &spec.name,
+        (bi, bj),
+        CurveElement::Cam(element),
         extra,
         initial,
-        rows: 0..0,
-        map: ScatterMap { slots: Vec::new() },
-        extra_slots: Vec::new(),
-    })
+    ))
 }
 
 /// The parameters (u, w) of the nearest points of curve i and curve j (whose points are

@@ -4,9 +4,7 @@
 //! columns in order (element k's first parameter follows element k − 1's last) and evaluates them
 //! by static dispatch.
 
-use cardan_constraints::{
-    BodyPair, Constraint, Curve, CurveOnCurve, Dimension, Footprint, Form, PointOnCurve, MAX_EXTRA,
-};
+use cardan_constraints::{Curve, CurveOnCurve, PointOnCurve, MAX_EXTRA};
 
 /// A point-on-curve element or a cam pair.
 #[derive(Debug, Clone, PartialEq)]
@@ -51,47 +49,7 @@ impl CurveElement {
     }
 }
 
-macro_rules! each {
-    ($self:ident, $c:ident => $e:expr) => {
-        match $self {
-            CurveElement::Point($c) => $e,
-            CurveElement::Cam($c) => $e,
-        }
-    };
-}
-
-impl Constraint for CurveElement {
-    fn name(&self) -> &'static str {
-        each!(self, c => c.name())
-    }
-    fn rows(&self) -> usize {
-        each!(self, c => c.rows())
-    }
-    fn dimension(&self, row: usize) -> Dimension {
-        each!(self, c => c.dimension(row))
-    }
-    fn footprint(&self) -> Footprint {
-        each!(self, c => c.footprint())
-    }
-    fn phi(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
-        each!(self, c => c.phi(x, t, out))
-    }
-    fn jacobian<const N: usize, F: Form<N>>(
-        &self,
-        x: &BodyPair,
-        t: f64,
-        out_i: &mut [[f64; N]],
-        out_j: &mut [[f64; N]],
-    ) {
-        each!(self, c => c.jacobian::<N, F>(x, t, out_i, out_j))
-    }
-    fn extra(&self) -> usize {
-        each!(self, c => c.extra())
-    }
-    fn jacobian_extra(&self, x: &BodyPair, t: f64, out: &mut [[f64; MAX_EXTRA]]) {
-        each!(self, c => c.jacobian_extra(x, t, out))
-    }
-    fn gamma_sharp<const N: usize, F: Form<N>>(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
-        each!(self, c => c.gamma_sharp::<N, F>(x, t, out))
-    }
-}
+cardan_constraints::delegate_constraint!(CurveElement {
+    CurveElement::Point,
+    CurveElement::Cam,
+});
