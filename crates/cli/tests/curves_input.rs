@@ -373,3 +373,48 @@ fn an_arc_length_path_driver_moves_the_tool_along_a_spline_at_constant_speed() {
     assert!(by_arc < 1e-10, "{by_arc}");
     assert!(by_chord > 1e-4, "{by_chord}");
 }
+
+/// A follower drawn off its cam, a roller drawn into it (the curves cross), and a pin drawn
+/// off its slot are errors at the element's name with the gap: the assembly would otherwise
+/// pull the bodies together silently (before this check the tappet drawn 15 mm above the disc
+/// ran without a word).
+#[test]
+fn curve_elements_drawn_apart_are_errors_with_the_gap() {
+    let vt = example("valve_train.toml");
+    let tappet = "position = [0.0, 0.015, 0.0]";
+    let off = vt.replacen(tappet, "position = [0.0, 0.030, 0.0]", 1);
+    check_fails_at(&off, line_after(&off, "\n[[cam]]\n", "name = \"lobe\""), &[
+        "cam \"lobe\": the follower's curve is off the cam's profile at the drawn pose (1.500e-2 m, more than 2.0e-5 m",
+        "draw the follower touching the cam",
+    ]);
+    let roller = vt
+        .replacen(
+            "follower = \"flat\"\nbody_i",
+            "follower = \"roller\"\nbody_i",
+            1,
+        )
+        .replacen(
+            "axis_j = \"x\"              # ... along x",
+            "axis_j = \"z\"\nroller_radius = 0.004",
+            1,
+        )
+        .replacen(
+            "y = [0.0, 1.0, 0.0] }",
+            "y = [0.0, 1.0, 0.0], z = [0.0, 0.0, 1.0] }",
+            1,
+        )
+        .replacen(tappet, "position = [0.0, 0.017, 0.0]", 1);
+    check_fails_at(
+        &roller,
+        line_after(&roller, "\n[[cam]]\n", "name = \"lobe\""),
+        &["crosses the cam's profile instead of touching it"],
+    );
+    let qr = example("quick_return.toml");
+    let lever = "angle = 1.2490457723982544";
+    let off = qr.replacen(lever, "angle = 1.3", 1);
+    check_fails_at(
+        &off,
+        line_after(&off, "\n[[curve]]\n", "name = \"slot\""),
+        &["point-on-curve \"slot\": the point is off its curve at the drawn pose"],
+    );
+}

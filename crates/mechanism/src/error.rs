@@ -297,6 +297,25 @@ pub enum ModelError {
         /// The curve's last parameter.
         end: f64,
     },
+    /// A curve element drawn apart: its point (a cam's follower curve) is off its curve at the
+    /// drawn pose by more than 1e-3 of the element's size, or a cam's curves cross instead of
+    /// touching tangentially. The assembly would pull the bodies together, silently and maybe
+    /// onto another branch (the roller on the far side of the cam).
+    #[error("{element}: {what} at the drawn pose ({gap:.3e}{unit}, more than {tolerance:.1e}{unit} allowed); {advice}")]
+    CurveApart {
+        /// The element.
+        element: String,
+        /// What is apart ("the point is this far from its curve"...).
+        what: String,
+        /// The distance (m) or the tangents' misalignment (the sine of their angle).
+        gap: f64,
+        /// What is allowed.
+        tolerance: f64,
+        /// The unit of both (" m", or "" for a sine).
+        unit: &'static str,
+        /// What to do.
+        advice: &'static str,
+    },
     /// A number that must not be zero is (its sign is meaningful: a gear ratio's sense of
     /// rotation, a screw's hand).
     #[error("{element}: {what} must be non-zero (its sign gives the sense), got 0")]
@@ -540,6 +559,7 @@ impl ModelError {
             | E::NonPositive { element, what, .. }
             | E::Zero { element, what } => Site::parse(element, Some(&key_of(what)), None),
             E::CurveParameterOff { element, .. } => Site::parse(element, Some("initial_u"), None),
+            E::CurveApart { element, .. } => Site::parse(element, None, None),
             E::BadOrientation { body, .. } => {
                 Some(Site::new(Body, body, Some("orientation"), None))
             }

@@ -35,6 +35,21 @@ pub(super) fn curve(
             .closest(&(si.a.transpose() * (sj.point(&sp_j) - si.r))),
     };
     on_curve(|| el.clone(), &spec.curve, initial_u)?;
+    // The drawn point on its curve, within 1e-3 of the element's size.
+    let drawn = si.a.transpose() * (sj.point(&sp_j) - si.r);
+    let gap = (spec.curve.jet(initial_u).c - drawn).norm();
+    let tolerance = 1e-3 * size(&spec.curve).max(drawn.norm());
+    if gap > tolerance {
+        return Err(ModelError::CurveApart {
+            element: el,
+            what: "the point is off its curve".into(),
+            gap,
+            tolerance,
+            unit: " m",
+            advice: "draw the point on the curve (the assembly would pull the bodies together \
+                     silently): check point_j and the bodies' positions, or the curve's data",
+        });
+    }
     let element = CurveElement::Point(PointOnCurve::new(spec.curve.clone(), sp_j));
     Ok(info(&spec.name, (bi, bj), element, extra, [initial_u, 0.0]))
 }
@@ -114,13 +129,65 @@ pub(super) fn cam(
         let which = ["cam curve", "follower curve"][k];
         on_curve(|| format!("{el} ({which})"), curve, v)?;
     }
-    Ok(info(
-        &spec.name,
-        (bi, bj),
-        CurveElement::Cam(element),
-        extra,
-        initial,
-    ))
+    drawn_in_contact(&el, &element, (bi, bj), bodies, initial)?;
+    let element = CurveElement::Cam(element);
+    Ok(info(&spec.name, (bi, bj), element, extra, initial))
+}
+
+/// A length of a curve: a circle's or a helix's radius, a spline's chord length over 2π (a
+/// closed one's) or its chord length (an open one's); 0 for a line.
+fn size(curve: &Curve) -> f64 {
+    match curve {
+        Curve::Line(_) => 0.0,
+        Curve::Circle(c) => c.radius(),
+        Curve::Helix(h) => h.radius(),
+        Curve::Cubic(c) if c.is_closed() => c.knot_range().1 / std::f64::consts::TAU,
+        Curve::Cubic(c) => c.knot_range().1 - c.knot_range().0,
+    }
+}
+
+/// [`ModelError::CurveApart`] when a cam's curves are drawn apart (their contact points more
+/// than 1e-3 of the smaller curve's size apart) or crossing (the follower's tangent more than
+/// 1e-3 rad off the cam's).
+fn drawn_in_contact(
+    el: &str,
+    cam: &CurveOnCurve,
+    (bi, bj): (BodyId, BodyId),
+    bodies: &[BodyInfo],
+    [u, w]: [f64; 2],
+) -> Result<(), ModelError> {
+    let (si, sj) = (pose(bodies, bi), pose(bodies, bj));
+    let (ci, cj) = (cam.curve_i.jet(u), cam.curve_j.jet(w));
+    let gap = (sj.point(&cj.c) - si.point(&ci.c)).norm();
+    let sizes = [size(&cam.curve_i), size(&cam.curve_j)];
+    let scale = (sizes.into_iter().filter(|&s| s > 0.0)).fold(f64::INFINITY, f64::min);
+    let tolerance = 1e-3
+        * if scale.is_finite() {
+            scale
+        } else {
+            (sj.r - si.r).norm()
+        };
+    let apart = |what: &str, gap: f64, tolerance: f64, unit| ModelError::CurveApart {
+        element: el.to_string(),
+        what: what.to_string(),
+        gap,
+        tolerance,
+        unit,
+        advice: "draw the follower touching the cam (the assembly would pull it on silently, \
+                 maybe onto the other side of the cam): check the bodies' positions and the \
+                 curves' data",
+    };
+    if gap > tolerance {
+        let what = "the follower's curve is off the cam's profile";
+        return Err(apart(what, gap, tolerance, " m"));
+    }
+    let normal = si.a * cam.normal_i.cross(&ci.c_u).normalize();
+    let misalignment = normal.dot(&(sj.a * cj.c_u.normalize())).abs();
+    if misalignment > 1e-3 {
+        let what = "the follower's curve crosses the cam's profile instead of touching it";
+        return Err(apart(what, misalignment, 1e-3, ""));
+    }
+    Ok(())
 }
 
 /// The parameters (u, w) of the nearest points of curve i and curve j (whose points are
