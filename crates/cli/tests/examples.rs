@@ -640,6 +640,24 @@ fn valve_train_tappet_lifts_e_one_minus_cos() {
         worst.map(|e| format!("{e:.1e}"))
     );
     assert!(worst.iter().all(|&e| e < 1e-10), "{worst:?}");
+    // The contact point on the face above the disc's centre, the pressure angle 0 (the face's
+    // normal is the tappet's direction of motion).
+    let (_, _, header, rows) = run_with_table("valve_train", "cams");
+    let (x, y) = (
+        column(&header, &rows, "lobe.contact.x [m]"),
+        column(&header, &rows, "lobe.contact.y [m]"),
+    );
+    let angle = column(&header, &rows, "lobe.pressure_angle [rad]");
+    for (n, row) in rows.iter().enumerate() {
+        let th = w * row[0];
+        assert!((x[n] - e * th.sin()).abs() < 1e-15, "{}", x[n]);
+        assert!(
+            (y[n] - 0.015 - e * (1.0 - th.cos())).abs() < 1e-15,
+            "{}",
+            y[n]
+        );
+        assert!(angle[n].abs() < 1e-12, "{}", angle[n]);
+    }
     let p = prepare(&example("valve_train")).unwrap();
     // The FD errors scale with e ω (1.6 m/s) and e ω² (490 m/s²); their order is the check.
     check_fd("valve_train", &p, 100, 5e-2, 5.0);

@@ -189,6 +189,15 @@ pub struct CurveResults {
     pub u_dot: Vec<f64>,
     /// ü, when accelerations were computed (else empty).
     pub u_ddot: Vec<f64>,
+    /// Whether this is a cam pair's first entry, which records the contact and the pressure
+    /// angle.
+    pub cam: bool,
+    /// A cam pair's first entry only (else empty): the contact point, global.
+    pub contact: Vec<Vector3<f64>>,
+    /// A cam pair's first entry only, when velocities were computed (else empty): the pressure
+    /// angle, between the contact's common normal and the direction the follower's point at
+    /// the contact moves (rad, 0 to π/2; [`crate::model::CurveElement::pressure_angle`]).
+    pub pressure_angle: Vec<f64>,
 }
 
 /// Everything a kinematic run produced.
@@ -320,9 +329,12 @@ impl Results {
                 .map(|c| CurveResults {
                     name: c.name.clone(),
                     parameter: c.parameter,
+                    cam: c.cam,
                     u: room(&c.u, n),
                     u_dot: room(&c.u_dot, n),
                     u_ddot: room(&c.u_ddot, n),
+                    contact: room(&c.contact, n),
+                    pressure_angle: room(&c.pressure_angle, n),
                 })
                 .collect(),
             residual: room(&self.residual, n),
@@ -363,9 +375,10 @@ impl Results {
             }
         }
         for c in &mut self.curves {
-            for v in [&mut c.u, &mut c.u_dot, &mut c.u_ddot] {
+            for v in [&mut c.u, &mut c.u_dot, &mut c.u_ddot, &mut c.pressure_angle] {
                 v.clear();
             }
+            c.contact.clear();
         }
     }
 
@@ -401,6 +414,8 @@ impl Results {
             a.u.extend_from_slice(&b.u);
             a.u_dot.extend_from_slice(&b.u_dot);
             a.u_ddot.extend_from_slice(&b.u_ddot);
+            a.contact.extend_from_slice(&b.contact);
+            a.pressure_angle.extend_from_slice(&b.pressure_angle);
         }
     }
 

@@ -135,6 +135,9 @@ fn a_flat_faced_follower_on_an_eccentric_disc_lifts_e_one_minus_cos() {
         worst.map(|e| format!("{e:.1e}"))
     );
     assert!(worst.iter().all(|&e| e < 1e-10), "{worst:?}");
+    // The flat face's normal is along the tappet's motion: pressure angle 0 throughout.
+    let cam = res.curve("cam_face").unwrap();
+    assert!(cam.pressure_angle.iter().all(|&a| a.abs() < 1e-12));
 }
 
 #[test]
@@ -172,5 +175,24 @@ fn a_roller_follower_on_an_eccentric_disc_follows_the_closed_form() {
         "roller follower: |s − s(θ)|, |ṡ − ṡ(θ)|, |s̈ − s̈(θ)|: {:?}",
         worst.map(|e| format!("{e:.1e}"))
     );
+    // The pressure angle: the common normal runs through the disc's centre C = e (cos θ,
+    // sin θ) and the roller's centre (s, 0); the follower moves along x:
+    // tan φ = e |sin θ| / (s − e cos θ). At θ = 0 and π the follower is at rest and the angle
+    // comes from its acceleration (along x: 0).
+    let cam = res.curve("cam_roller").unwrap();
+    assert_eq!(cam.pressure_angle.len(), res.len());
+    let mut pa = 0.0f64;
+    for (k, &t) in res.times.iter().enumerate() {
+        let th = OMEGA * t;
+        let s = f.r[k].x;
+        let want = (E * th.sin().abs()).atan2(s - E * th.cos());
+        pa = pa.max((cam.pressure_angle[k] - want).abs());
+        // The contact point on the line of centres, R from C.
+        let c = Vector3::new(E * th.cos(), E * th.sin(), 0.0);
+        let p = Vector3::new(s, 0.0, 0.0);
+        pa = pa.max((cam.contact[k] - (c + (p - c).normalize() * R)).norm() / R);
+    }
+    eprintln!("roller follower: pressure angle and contact point (over R) {pa:.1e}");
+    assert!(pa < 1e-12, "{pa}");
     assert!(worst.iter().all(|&e| e < 1e-10), "{worst:?}");
 }

@@ -380,7 +380,7 @@ fn rods(points: &[NamedPoint], extent: f64) -> Vec<Geometry> {
         out.push(Geometry {
             shape: Shape::Cylinder { radius, length },
             position: [mid.x, mid.y, mid.z],
-            rotation: along(&s),
+            rotation: crate::scene_curves::along(&s),
         });
     }
     out
@@ -415,14 +415,6 @@ fn joint_part(
         position: [point.x, point.y, point.z],
         rotation,
     }
-}
-
-/// Euler parameters of a frame whose z axis is along `s`.
-pub(crate) fn along(s: &Vector3<f64>) -> [f64; 4] {
-    cardan_eulerparam::frame_from_axis(s)
-        .and_then(|f| cardan_eulerparam::EulerParams::from_rotation_matrix(&f))
-        .map(|p| [p.e0(), p.e().x, p.e().y, p.e().z])
-        .unwrap_or([1.0, 0.0, 0.0, 0.0])
 }
 
 #[cfg(test)]

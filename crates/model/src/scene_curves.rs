@@ -64,11 +64,19 @@ fn rods(curve: &Curve, samples: &[f64], radius: f64) -> Vec<Geometry> {
                 Geometry {
                     shape: Shape::Cylinder { radius, length },
                     position: [mid.x, mid.y, mid.z],
-                    rotation: crate::scene::along(&s),
+                    rotation: along(&s),
                 }
             })
         })
         .collect()
+}
+
+/// Euler parameters of a frame whose z axis is along `s`.
+pub(crate) fn along(s: &Vector3<f64>) -> [f64; 4] {
+    cardan_eulerparam::frame_from_axis(s)
+        .and_then(|f| cardan_eulerparam::EulerParams::from_rotation_matrix(&f))
+        .map(|p| [p.e0(), p.e().x, p.e().y, p.e().z])
+        .unwrap_or([1.0, 0.0, 0.0, 0.0])
 }
 
 #[cfg(test)]

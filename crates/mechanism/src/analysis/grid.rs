@@ -697,6 +697,32 @@ impl Model {
         Ok((rep, Verdict::Accepted))
     }
 
+    /// Each cam pair's contact point and, with velocities, its pressure angle
+    /// ([`CurveElement::pressure_angle`]: the follower's point at the contact against the
+    /// larger of its speed and the cam's point's; where neither velocity nor acceleration gives
+    /// a direction, the last frame's angle, or 0 at the first). No allocation (room reserved).
+    fn record_cams(&self, ws: &Workspace, (v, a): (bool, bool), res: &mut Results) {
+        let u = ws.pose.u();
+        for c in &self.curves {
+            let (si, sj) = (ws.state_of(c.body_i), ws.state_of(c.body_j));
+            let Some((point, normal, local)) = c.element.contact(&si, &sj, &u[c.extras()]) else {
+                continue;
+            };
+            let h = &mut res.curves[c.extra];
+            h.contact.push(point);
+            if v {
+                let vj = ws.point_velocity(c.body_j, &local);
+                let vi = ws.point_velocity(c.body_i, &(si.a.transpose() * (point - si.r)));
+                let acc = a.then(|| ws.point_acceleration(c.body_j, &local));
+                let scale = vi.norm().max(vj.norm());
+                let angle = CurveElement::pressure_angle(&normal, &vj, acc.as_ref(), scale)
+                    .or_else(|| h.pressure_angle.last().copied())
+                    .unwrap_or(0.0);
+                h.pressure_angle.push(angle);
+            }
+        }
+    }
+
     /// [`AnalysisError::CurveEnd`] when a point-on-curve element's parameter has left its open
     /// curve's data (beyond them the curve is only the straight continuation that keeps the
     /// equations smooth). Within a relative 1e-9 of the curve's length the end still counts.
@@ -903,6 +929,16 @@ impl Model {
             .map(|(c, parameter)| CurveResults {
                 name: c.name.clone(),
                 parameter,
+                // A cam's contact and pressure angle, on its first entry.
+                cam: matches!((&c.element, parameter), (CurveElement::Cam(_), "u")),
+                contact: match (&c.element, parameter) {
+                    (CurveElement::Cam(_), "u") => Vec::with_capacity(n),
+                    _ => Vec::new(),
+                },
+                pressure_angle: match (&c.element, parameter) {
+                    (CurveElement::Cam(_), "u") => Vec::with_capacity(cap(v)),
+                    _ => Vec::new(),
+                },
                 u: Vec::with_capacity(n),
                 u_dot: Vec::with_capacity(cap(v)),
                 u_ddot: Vec::with_capacity(cap(a)),
@@ -980,6 +1016,7 @@ impl Model {
                 h.u_ddot.push(ws.motion.vdot[6 * nb + e]);
             }
         }
+        self.record_cams(ws, (v, a), res);
         let dt = memory.t.map_or(0.0, |t_prev| ws.pose.t - t_prev);
         memory.t = Some(ws.pose.t);
         if out.joints {

@@ -4,7 +4,8 @@
 //! columns in order (element k's first parameter follows element k − 1's last) and evaluates them
 //! by static dispatch.
 
-use cardan_constraints::{Curve, CurveOnCurve, PointOnCurve, MAX_EXTRA};
+use cardan_constraints::{BodyState, Curve, CurveOnCurve, PointOnCurve, MAX_EXTRA};
+use nalgebra::Vector3;
 
 /// A point-on-curve element or a cam pair.
 #[derive(Debug, Clone, PartialEq)]
@@ -38,6 +39,42 @@ impl CurveElement {
             CurveElement::Point(_) => "point_on_curve",
             CurveElement::Cam(_) => "cam",
         }
+    }
+
+    /// A cam pair's contact at parameters `u` (u, w) with its bodies in states `si`, `sj`: the
+    /// contact point (global), the common unit normal (the cam's in-plane normal, global) and
+    /// the point of body j at the contact in body j's coordinates; `None` for other elements.
+    pub fn contact(
+        &self,
+        si: &BodyState,
+        sj: &BodyState,
+        u: &[f64],
+    ) -> Option<(Vector3<f64>, Vector3<f64>, Vector3<f64>)> {
+        let CurveElement::Cam(c) = self else {
+            return None;
+        };
+        let (ci, cj) = (c.curve_i.jet(u[0]), c.curve_j.jet(u[1]));
+        let normal = si.a * c.normal_i.cross(&ci.c_u).normalize();
+        Some((sj.point(&cj.c), normal, cj.c))
+    }
+
+    /// The pressure angle between the contact's common normal `normal` and the direction the
+    /// follower's point at the contact moves: its velocity `v`, or, where the point is at rest
+    /// (|v| ≤ 1e-9 `scale`, a follower at the end of its stroke), its acceleration `a`, the
+    /// direction it starts to move in; `None` where both vanish. In [0, π/2] (the normal's sense
+    /// does not matter).
+    pub fn pressure_angle(
+        normal: &Vector3<f64>,
+        v: &Vector3<f64>,
+        a: Option<&Vector3<f64>>,
+        scale: f64,
+    ) -> Option<f64> {
+        let tiny = 1e-9 * scale;
+        let moving = [Some(v), a]
+            .into_iter()
+            .flatten()
+            .find(|d| d.norm() > tiny)?;
+        Some(normal.cross(moving).norm().atan2(normal.dot(moving).abs()))
     }
 
     /// What the element is in messages ("point-on-curve", "cam").

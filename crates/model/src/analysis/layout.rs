@@ -28,6 +28,9 @@ enum Source {
     Joint { i: usize, which: u8, q: usize },
     /// `curves[i]`: the curve parameter u (0), u̇ (1) or ü (2).
     Curve { i: usize, which: u8 },
+    /// `curves[i]` of a cam pair: its contact point's component c (0–2), or the pressure angle
+    /// (c = 3).
+    Cam { i: usize, c: usize },
     /// `bodies[i]`, a 3-vector history, component c.
     Body { i: usize, vec: BodyVec, c: usize },
     /// `bodies[i].p`, component c.
@@ -73,6 +76,10 @@ impl Source {
                 };
                 v.get(k).copied().unwrap_or(f64::NAN)
             }
+            Source::Cam { i, c: 3 } => {
+                (r.curves[i].pressure_angle.get(k).copied()).unwrap_or(f64::NAN)
+            }
+            Source::Cam { i, c } => component(&r.curves[i].contact, k, c),
             Source::Body { i, vec, c } => {
                 let b = &r.bodies[i];
                 let v = match vec {
@@ -147,6 +154,7 @@ impl Layout {
         }
         if !req.joints.is_empty() {
             joint_groups(r, req, &mut groups);
+            cam_group(r, req, &mut groups);
         }
         if !req.bodies.is_empty() {
             body_groups(r, req, &mut groups);
@@ -259,6 +267,32 @@ fn joint_groups(r: &Results, req: &Requested, groups: &mut Vec<Group>) {
         }
         groups.push(g);
     }
+}
+
+/// The requested cam pairs' contact points and, with velocities, pressure angles: the `cams`
+/// group, written when `joints` lists a cam.
+fn cam_group(r: &Results, req: &Requested, groups: &mut Vec<Group>) {
+    let cams: Vec<usize> = (req.joints.iter())
+        .filter_map(|j| (r.curves.iter()).position(|c| &c.name == j && c.cam))
+        .collect();
+    if cams.is_empty() {
+        return;
+    }
+    let angle = r.outputs.is_none_or(|o| o.needs_velocity());
+    let mut g = Group::new("cams", "cam contact points and pressure angles");
+    for &i in &cams {
+        let name = r.curves[i].name.as_str();
+        for (c, ax) in XYZ.iter().enumerate() {
+            g.column(header(&[name, "contact", ax], &["m"]), Source::Cam { i, c });
+        }
+        if angle {
+            g.column(
+                header(&[name, "pressure_angle"], &["rad"]),
+                Source::Cam { i, c: 3 },
+            );
+        }
+    }
+    groups.push(g);
 }
 
 /// Body poses, velocities and accelerations of the requested bodies.
