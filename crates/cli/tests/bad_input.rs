@@ -15,17 +15,8 @@ fn scratch() -> PathBuf {
 /// Runs the edited model and checks a failure whose message starts with `model.toml:LINE:COL`
 /// and contains every `needle`.
 fn fails_at(from: &str, to: &str, line_col: &str, needles: &[&str]) -> Outcome {
-    let o = run_text("run", &edited(from, to));
-    assert_ne!(o.code, 0, "should fail: {}", o.stdout);
     let want = format!("model.toml:{line_col}: error: ");
-    assert!(
-        o.stderr.starts_with(&want),
-        "want {want}, got: {}",
-        o.stderr
-    );
-    for n in needles {
-        assert!(o.stderr.contains(n), "missing {n:?} in: {}", o.stderr);
-    }
+    let o = common::fails_with("run", &edited(from, to), &want, needles);
     assert_eq!(
         cardan_model::diag::message_paragraph(&o.stderr)
             .lines()

@@ -290,6 +290,31 @@ fn cam_mistakes_are_errors_at_their_key() {
     );
 }
 
+/// The valve train with a roller of radius 4 mm on its tappet (axis z), the tappet drawn at
+/// height `y`.
+fn roller_valve_train(base: &str, y: &str) -> String {
+    base.replacen(
+        "follower = \"flat\"\nbody_i",
+        "follower = \"roller\"\nbody_i",
+        1,
+    )
+    .replacen(
+        "axis_j = \"x\"              # ... along x",
+        "axis_j = \"z\"\nroller_radius = 0.004",
+        1,
+    )
+    .replacen(
+        "y = [0.0, 1.0, 0.0] }",
+        "y = [0.0, 1.0, 0.0], z = [0.0, 0.0, 1.0] }",
+        1,
+    )
+    .replacen(
+        "position = [0.0, 0.015, 0.0]",
+        &format!("position = [0.0, {y}, 0.0]"),
+        1,
+    )
+}
+
 /// A roller follower on the same disc: the roller centre follows the closed form
 /// s(θ) = e cos θ' + √((R + r)² − e² sin² θ') along the tappet's line of motion, θ' the angle
 /// of the disc's centre from that line (here θ' = θ + π: the centre starts below the shaft).
@@ -297,27 +322,7 @@ fn cam_mistakes_are_errors_at_their_key() {
 fn a_roller_tappet_follows_the_closed_form() {
     let base = example("valve_train.toml");
     let r = 0.004;
-    let text = base
-        .replacen(
-            "follower = \"flat\"\nbody_i",
-            "follower = \"roller\"\nbody_i",
-            1,
-        )
-        .replacen(
-            "axis_j = \"x\"              # ... along x",
-            "axis_j = \"z\"\nroller_radius = 0.004",
-            1,
-        )
-        .replacen(
-            "vectors = { x = [1.0, 0.0, 0.0], y = [0.0, 1.0, 0.0] }",
-            "vectors = { x = [1.0, 0.0, 0.0], y = [0.0, 1.0, 0.0], z = [0.0, 0.0, 1.0] }",
-            1,
-        )
-        .replacen(
-            "position = [0.0, 0.015, 0.0]",
-            "position = [0.0, 0.019, 0.0]",
-            1,
-        );
+    let text = roller_valve_train(&base, "0.019");
     let o = run_text("run", &text);
     assert_eq!(o.code, 0, "{}", o.stderr);
     let csv = std::fs::read_to_string(o.dir.join("out").join("joints.csv")).unwrap();
@@ -387,23 +392,7 @@ fn curve_elements_drawn_apart_are_errors_with_the_gap() {
         "cam \"lobe\": the follower's curve is off the cam's profile at the drawn pose (1.500e-2 m, more than 2.0e-5 m",
         "draw the follower touching the cam",
     ]);
-    let roller = vt
-        .replacen(
-            "follower = \"flat\"\nbody_i",
-            "follower = \"roller\"\nbody_i",
-            1,
-        )
-        .replacen(
-            "axis_j = \"x\"              # ... along x",
-            "axis_j = \"z\"\nroller_radius = 0.004",
-            1,
-        )
-        .replacen(
-            "y = [0.0, 1.0, 0.0] }",
-            "y = [0.0, 1.0, 0.0], z = [0.0, 0.0, 1.0] }",
-            1,
-        )
-        .replacen(tappet, "position = [0.0, 0.017, 0.0]", 1);
+    let roller = roller_valve_train(&vt, "0.017");
     check_fails_at(
         &roller,
         line_after(&roller, "\n[[cam]]\n", "name = \"lobe\""),

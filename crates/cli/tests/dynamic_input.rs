@@ -92,17 +92,8 @@ fn read(dir: &Path, name: &str) -> String {
 /// BASE with `from` replaced by `to`; the run must fail at `line_col` with every needle.
 fn fails_at(from: &str, to: &str, line_col: &str, needles: &[&str]) {
     assert!(BASE.contains(from), "{from}");
-    let o = run_text("run", &BASE.replacen(from, to, 1));
-    assert_ne!(o.code, 0, "should fail: {}", o.stdout);
     let want = format!("model.toml:{line_col}: error: ");
-    assert!(
-        o.stderr.starts_with(&want),
-        "want {want}, got: {}",
-        o.stderr
-    );
-    for n in needles {
-        assert!(o.stderr.contains(n), "missing {n:?} in: {}", o.stderr);
-    }
+    let o = common::fails_with("run", &BASE.replacen(from, to, 1), &want, needles);
     assert_eq!(
         cardan_model::diag::message_paragraph(&o.stderr)
             .lines()

@@ -107,17 +107,19 @@ pub fn run_text(cmd: &str, text: &str) -> Outcome {
 /// `cardan check` on `text` fails with its error at 1-based line `line` (the message starts
 /// with `model.toml:LINE:`) and a message containing every needle.
 pub fn check_fails_at(text: &str, line: usize, needles: &[&str]) {
-    let o = run_text("check", text);
+    fails_with("check", text, &format!("model.toml:{line}:"), needles);
+}
+
+/// `cardan <cmd>` on `text` (as [`run_text`]) fails with an error starting with `want` and
+/// containing every needle.
+pub fn fails_with(cmd: &str, text: &str, want: &str, needles: &[&str]) -> Outcome {
+    let o = run_text(cmd, text);
     assert_ne!(o.code, 0, "should fail: {}", o.stdout);
-    let want = format!("model.toml:{line}:");
-    assert!(
-        o.stderr.starts_with(&want),
-        "want {want}, got: {}",
-        o.stderr
-    );
+    assert!(o.stderr.starts_with(want), "want {want}, got: {}", o.stderr);
     for n in needles {
         assert!(o.stderr.contains(n), "missing {n:?} in: {}", o.stderr);
     }
+    o
 }
 
 /// A written MatrixMarket coordinate file (`%%MatrixMarket matrix coordinate real general`):
