@@ -70,8 +70,16 @@ def test_a_harmonic_cam_lifts_its_flat_faced_tappet_by_e_one_minus_cos():
           radius=radius, body_j="tappet", point_j="F", axis_j="x")
     b.driver("motor", type="rotation", joint="bearing", function=cardan.polynomial([0.0, w]))
     b.analysis("kinematic", t_end=1.0, steps=40, outputs={"joints": ["guide", "lobe"]})
-    joints = b.build().kinematics().joints
+    results = b.build().kinematics()
+    joints = results.joints
     assert joints.names == ["guide.slide", "lobe.u", "lobe.w"]
     for t, s, face in zip(joints.t, joints["guide.slide"], joints["lobe.w"]):
         assert abs(s - (radius - e) - e * (1 - math.cos(w * t))) < 1e-12
         assert abs(face - e * math.sin(w * t)) < 1e-12
+    # The cam's contact point (on the face above the disc's centre) and pressure angle (0).
+    cams = results["cams"]
+    assert cams.names == ["lobe.contact.x", "lobe.contact.y", "lobe.contact.z", "lobe.pressure_angle"]
+    assert cams.unit("lobe.pressure_angle") == "rad"
+    for t, x, angle in zip(cams.t, cams["lobe.contact.x"], cams["lobe.pressure_angle"]):
+        assert abs(x - e * math.sin(w * t)) < 1e-12
+        assert abs(angle) < 1e-12
