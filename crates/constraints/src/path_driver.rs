@@ -106,7 +106,6 @@ impl Constraint for PathDriver {
     }
 
     fn gamma_sharp<const N: usize, F: Form<N>>(&self, x: &BodyPair, t: f64, out: &mut [f64]) {
-        let u_dot = x.u_dot.first().copied().unwrap_or(0.0);
-        out[0] = self.function.eval(t).2 - self.s(x.u[0]).2 * u_dot * u_dot;
+        out[0] = self.function.eval(t).2 - self.s(x.u[0]).2 * x.u_dot[0] * x.u_dot[0];
     }
 }

@@ -926,19 +926,17 @@ impl Model {
         };
         let curves = (self.curves.iter())
             .flat_map(|c| c.element.parameters().iter().map(move |&p| (c, p)))
-            .map(|(c, parameter)| CurveResults {
+            .map(|(c, parameter)| {
+                // A cam's contact and pressure angle, on its first entry.
+                let cam = matches!(c.element, CurveElement::Cam(_)) && parameter == "u";
+                (c, parameter, cam)
+            })
+            .map(|(c, parameter, cam)| CurveResults {
                 name: c.name.clone(),
                 parameter,
-                // A cam's contact and pressure angle, on its first entry.
-                cam: matches!((&c.element, parameter), (CurveElement::Cam(_), "u")),
-                contact: match (&c.element, parameter) {
-                    (CurveElement::Cam(_), "u") => Vec::with_capacity(n),
-                    _ => Vec::new(),
-                },
-                pressure_angle: match (&c.element, parameter) {
-                    (CurveElement::Cam(_), "u") => Vec::with_capacity(cap(v)),
-                    _ => Vec::new(),
-                },
+                cam,
+                contact: Vec::with_capacity(if cam { n } else { 0 }),
+                pressure_angle: Vec::with_capacity(if cam { cap(v) } else { 0 }),
                 u: Vec::with_capacity(n),
                 u_dot: Vec::with_capacity(cap(v)),
                 u_ddot: Vec::with_capacity(cap(a)),

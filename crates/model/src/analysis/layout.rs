@@ -219,8 +219,9 @@ fn joint_groups(r: &Results, req: &Requested, groups: &mut Vec<Group>) {
     let index: HashMap<&str, usize> = (r.joints.iter().enumerate())
         .map(|(i, j): (usize, &JointResults)| (j.name.as_str(), i))
         .collect();
-    // Each curve element's first parameter (a cam pair's u; collected backwards so it wins).
-    let curves: HashMap<&str, usize> = (r.curves.iter().enumerate().rev())
+    // Each curve element's first parameter, u (a cam pair's w follows it).
+    let curves: HashMap<&str, usize> = (r.curves.iter().enumerate())
+        .filter(|(_, c)| c.parameter == "u")
         .map(|(i, c)| (c.name.as_str(), i))
         .collect();
     // A requested name is a joint (its coordinates) or a curve (its parameter u).

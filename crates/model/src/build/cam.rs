@@ -4,10 +4,10 @@
 //! about point_j and axis_j), each curve's errors placed at its key.
 
 use super::context::{missing, Ctx, Resolver};
-use super::curve::{marker, placed, spline};
+use super::curve::{circle, marker, spline};
 use crate::diag::Error;
 use crate::file::CamSection;
-use cardan_constraints::{Circle, Curve, Line};
+use cardan_constraints::{Curve, Line};
 use cardan_mechanism::{CamSpec, Quantity};
 use toml::Spanned;
 
@@ -44,8 +44,7 @@ pub(super) fn load_cam(
                 (c.point_i.as_ref()).ok_or_else(|| need("point_i", "a disc needs its centre"))?;
             let radius = (c.radius.as_ref()).ok_or_else(|| need("radius", "a disc needs it"))?;
             let m = marker(r, bi, (p, &c.axis_i, c.x_axis_i.as_ref()), &owner)?;
-            let rr = cx.num(radius, format_args!("{owner}: radius"), Quantity::Length)?;
-            Curve::Circle(Circle::new(&m, rr).map_err(placed(cx, radius.span(), &owner))?)
+            circle(cx, &m, radius, "radius", &owner)?
         }
         "spline" => {
             for (key, span) in [
@@ -73,12 +72,7 @@ pub(super) fn load_cam(
     let curve_j = if follower == "roller" {
         let radius =
             (c.roller_radius.as_ref()).ok_or_else(|| need("roller_radius", "a roller needs it"))?;
-        let rr = cx.num(
-            radius,
-            format_args!("{owner}: roller_radius"),
-            Quantity::Length,
-        )?;
-        Curve::Circle(Circle::new(&m, rr).map_err(placed(cx, radius.span(), &owner))?)
+        circle(cx, &m, radius, "roller_radius", &owner)?
     } else {
         // The face: the line through point_j along axis_j (the marker's z).
         Curve::Line(Line::new(&m))

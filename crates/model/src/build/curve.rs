@@ -6,7 +6,7 @@
 
 use super::context::{missing, Ctx, Resolver};
 use crate::diag::Error;
-use crate::file::{CurveSection, Name, Vec3};
+use crate::file::{CurveSection, Name, Num, Vec3};
 use cardan_constraints::{Circle, ConstraintError, CubicCurve, Curve, Helix, Line, Marker};
 use cardan_mechanism::{CurveSpec, Quantity};
 use nalgebra::Vector3;
@@ -24,7 +24,6 @@ pub(super) fn load_curve(
     let c = section.get_ref();
     let owner = format!("curve \"{}\"", c.name.get_ref());
     let bi = r.body(&c.body_i, &owner)?;
-    let placed = |span: Range<usize>| placed(cx, span, &owner);
     let curve = if kind == "spline" {
         let Some(points) = &c.points else {
             return Err(missing(
@@ -53,22 +52,13 @@ pub(super) fn load_curve(
             ));
         };
         let m = marker(r, bi, (p, z, c.x_axis_i.as_ref()), &owner)?;
-        let radius = |key: &str| match &c.radius {
-            Some(n) => cx.num(n, format_args!("{owner}: {key}"), Quantity::Length),
-            None => Err(missing(
-                cx,
-                c.name.span(),
-                &owner,
-                key,
-                "the curve needs it",
-            )),
+        let radius = || {
+            (c.radius.as_ref())
+                .ok_or_else(|| missing(cx, c.name.span(), &owner, "radius", "the curve needs it"))
         };
         match kind {
             "line" => Curve::Line(Line::new(&m)),
-            "circle" => {
-                let span = c.radius.as_ref().map_or(c.name.span(), Spanned::span);
-                Curve::Circle(Circle::new(&m, radius("radius")?).map_err(placed(span))?)
-            }
+            "circle" => circle(cx, &m, radius()?, "radius", &owner)?,
             _ => {
                 let Some(pitch) = &c.pitch else {
                     return Err(missing(
@@ -80,7 +70,8 @@ pub(super) fn load_curve(
                     ));
                 };
                 let h = cx.num(pitch, format_args!("{owner}: pitch"), Quantity::Length)?;
-                let helix = Helix::new(&m, radius("radius")?, h).map_err(placed(pitch.span()))?;
+                let r = cx.num(radius()?, format_args!("{owner}: radius"), Quantity::Length)?;
+                let helix = Helix::new(&m, r, h).map_err(placed(cx, pitch.span(), &owner))?;
                 Curve::Helix(helix)
             }
         }
@@ -112,6 +103,19 @@ pub(super) fn placed<'a>(
         };
         cx.err(span.clone(), format!("{owner}: {why}"))
     }
+}
+
+/// The circle of radius `radius` (the value of key `key`) about marker `m`'s z axis.
+pub(super) fn circle(
+    cx: &Ctx,
+    m: &Marker,
+    radius: &Num,
+    key: &str,
+    owner: &str,
+) -> Result<Curve, Error> {
+    let r = cx.num(radius, format_args!("{owner}: {key}"), Quantity::Length)?;
+    let circle = Circle::new(m, r).map_err(placed(cx, radius.span(), owner))?;
+    Ok(Curve::Circle(circle))
 }
 
 /// The cubic spline through `points` (body i's coordinates), open or `closed`.
