@@ -15,14 +15,56 @@ pub enum DynamicsError {
         /// The body.
         body: String,
     },
-    /// The model has curve elements (points on curves, cam pairs), whose curve parameters
-    /// (massless extra coordinates) the equations of motion do not take yet.
-    #[error("{what} \"{element}\": dynamic, static, modal and inverse dynamic analyses do not take curve elements yet (a kinematic analysis does); model the guide with joints, or run kind = \"kinematic\"")]
+    /// The model has curve elements (points on curves, cam pairs), which static and modal
+    /// analyses do not take yet.
+    #[error("{what} \"{element}\": static and modal analyses do not take curve elements yet (kinematic, dynamic and inverse dynamic analyses do); model the guide with joints, or run another kind")]
     CurveElement {
         /// What the first such element is ("point-on-curve", "cam").
         what: &'static str,
         /// The first such element.
         element: String,
+    },
+    /// A curve element's parameter ran off the end of its open curve (a slot's end, a
+    /// profile's end) during a dynamic run: beyond it the curve is only the straight continuation
+    /// that keeps the equations smooth, so the run stops there.
+    #[error("{what} \"{element}\": at t = {time} the {contact} has run off the end of its open curve ({parameter} = {u:.9}; the curve runs from {parameter} = {start} to {end}); the motion carries it past the curve's end: extend the curve, stop the motion with a limit, or shorten the run")]
+    CurveEnd {
+        /// What the element is ("point-on-curve", "cam").
+        what: &'static str,
+        /// The element.
+        element: String,
+        /// "point", or "contact point" of a cam pair.
+        contact: &'static str,
+        /// The parameter's name ("u", "w").
+        parameter: &'static str,
+        /// The time of the evaluation past the end.
+        time: f64,
+        /// The curve parameter there.
+        u: f64,
+        /// The curve's first parameter.
+        start: f64,
+        /// The curve's last parameter.
+        end: f64,
+    },
+    /// A curve element's parameters could not be found at the bodies' poses (the closest-point
+    /// iteration did not converge, or the curve's tangent vanished).
+    #[error("{what} \"{element}\": at t = {time} its curve parameters could not be followed (the closest point on the curve did not converge; the point is {residual:.3e} from the curve): the bodies have left the curve, or the curve has a cusp there")]
+    CurveLost {
+        /// What the element is ("point-on-curve", "cam").
+        what: &'static str,
+        /// The element.
+        element: String,
+        /// The time.
+        time: f64,
+        /// |Φ| at the last iterate.
+        residual: f64,
+    },
+    /// The model has a path driver (a curve parameter prescribed in time), which the
+    /// equations of motion, whose curve parameters follow the bodies, do not take.
+    #[error("path driver \"{driver}\": dynamic, inverse dynamic, static and modal analyses do not take path drivers yet (a kinematic analysis does); drive the mechanism's joints instead, or run kind = \"kinematic\"")]
+    PathDriver {
+        /// The first path driver.
+        driver: String,
     },
     /// A force element refers to a body, point or joint that does not exist, or is invalid.
     #[error("force \"{force}\": {reason}")]

@@ -41,6 +41,7 @@
 use cardan_mechanism::Model;
 use cardan_solver::{SchurSolver, SolverError};
 
+mod curves;
 mod elements;
 mod full_lu;
 mod last;
@@ -50,6 +51,7 @@ mod phi_v;
 mod refine;
 mod top_left;
 
+pub(crate) use curves::CurveTrack;
 pub(crate) use elements::{element_blocks, elements, eval_rows, Element, Rhs};
 use full_lu::LU_EAGER_MAX_SIZE;
 pub(crate) use last::Factored;
@@ -214,6 +216,7 @@ impl Kkt {
         model: &Model,
         elements: &[Element],
         bodies: &[cardan_constraints::BodyState],
+        curves: &CurveTrack,
         t: f64,
     ) {
         let mut bi = [[0.0; 6]; 6];
@@ -224,7 +227,7 @@ impl Kkt {
             if !any_active {
                 continue;
             }
-            element_blocks(model, e, bodies, t, &mut bi, &mut bj);
+            element_blocks(model, e, bodies, curves, t, &mut bi, &mut bj);
             for (lr, r) in e.rows.clone().enumerate() {
                 if self.active_of[r] == usize::MAX {
                     continue;

@@ -142,7 +142,7 @@ fn tip_kkt(model: &Model) -> (Kkt, Dynamics<'_>) {
     let els = elements(model);
     let m = model.num_equations();
     let mut kkt = Kkt::new(model, &els, (0..m).collect(), &[]).unwrap();
-    kkt.eval_jacobian(model, &els, &d.bodies, 0.0);
+    kkt.eval_jacobian(model, &els, &d.bodies, &d.curves, 0.0);
     kkt.set_mass(&d.mass, &d.inertia);
     (kkt, d)
 }
@@ -315,7 +315,7 @@ fn tangent_terms_on_coupled_layouts_take_the_lu() {
     let mut kkt = Kkt::new(&model, &els, (0..m).collect(), &[(0, 1)]).unwrap();
     let mut d = d;
     d.sync(&s);
-    kkt.eval_jacobian(&model, &els, &d.bodies, 0.0);
+    kkt.eval_jacobian(&model, &els, &d.bodies, &d.curves, 0.0);
     kkt.set_mass(&d.mass, &d.inertia);
     kkt.factor().unwrap();
     assert_eq!(kkt.factored(), Some(Factored::Schur));
@@ -337,7 +337,7 @@ fn tangent_terms_on_coupled_layouts_take_the_lu() {
     // Without coupling blocks: a symmetric block-diagonal term keeps the Schur path, a
     // non-symmetric one (gyroscopic-like) takes the LU; both solve the same system as the LU.
     let mut kkt = Kkt::new(&model, &els, (0..m).collect(), &[]).unwrap();
-    kkt.eval_jacobian(&model, &els, &d.bodies, 0.0);
+    kkt.eval_jacobian(&model, &els, &d.bodies, &d.curves, 0.0);
     for (i, v) in kkt.rhs.iter_mut().enumerate() {
         *v = ((i as f64) * 0.3).cos();
     }
@@ -399,7 +399,7 @@ fn point_mass_with_negligible_inertia_takes_the_lu_once_and_for_all() {
     d.sync(&State::initial(&model, 0.0));
     let els = elements(&model);
     let mut kkt = Kkt::new(&model, &els, vec![0, 1, 2], &[]).unwrap();
-    kkt.eval_jacobian(&model, &els, &d.bodies, 0.0);
+    kkt.eval_jacobian(&model, &els, &d.bodies, &d.curves, 0.0);
     for _ in 0..3 {
         kkt.set_mass(&d.mass, &d.inertia);
         kkt.factor().unwrap();

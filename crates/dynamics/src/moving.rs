@@ -91,6 +91,7 @@ impl Dynamics<'_> {
     /// [`DynamicsError::Singular`] at a singular configuration, [`DynamicsError::NonFinite`]
     /// for non-finite tangents or a singular reduced mass matrix.
     pub fn linearize_moving(&mut self, state: &State) -> Result<Linearization, DynamicsError> {
+        self.refuse_curves()?;
         if self.kkt.is_none() {
             self.prepare(state)?;
         }
@@ -191,6 +192,7 @@ impl Dynamics<'_> {
                     &self.elements,
                     &self.bodies,
                     &self.turns,
+                    &self.curves,
                     state.t,
                     Rhs::Nu,
                     &mut nu,

@@ -94,7 +94,7 @@ impl<'s> Recorder<'s> {
     ) -> Self {
         let model = d.model;
         let (res, points) = empty_results(d, capacity, outputs);
-        let n = model.num_unknowns();
+        let n = 6 * model.num_bodies();
         let m = model.num_equations();
         let zero = JointCoordinates {
             values: [0.0; MAX_COORDINATES],
@@ -203,6 +203,7 @@ impl<'s> Recorder<'s> {
         self.store_joint_reactions(d, state.t);
         self.store_driver_efforts(d, state.t);
         self.store_coupler_efforts(d, state.t);
+        self.store_curves(d, state.t);
         let g = BodyState::ground();
         let st = |id: BodyId| match id {
             BodyId::Ground => &g,
@@ -233,6 +234,7 @@ impl<'s> Recorder<'s> {
             &d.elements,
             &d.bodies,
             &d.turns,
+            &d.curves,
             t,
             Rhs::Phi,
             &mut self.phi,
@@ -373,6 +375,7 @@ impl<'s> Recorder<'s> {
             &d.elements,
             &d.bodies,
             &d.turns,
+            &d.curves,
             t,
             Rhs::Nu,
             &mut self.phi,
@@ -420,6 +423,61 @@ impl<'s> Recorder<'s> {
                     None => q[0],
                 });
             }
+        }
+    }
+
+    /// Each curve element's parameters (rates and accelerations when asked), and each cam
+    /// pair's contact point, pressure angle and contact force on its follower (from its reduced
+    /// rows' multipliers in `self.lambda`).
+    fn store_curves(&mut self, d: &Dynamics, t: f64) {
+        let model = d.model;
+        let vel = self.outputs.needs_velocity();
+        let acc = self.outputs.acceleration;
+        let g = BodyState::ground();
+        let st = |id: BodyId| match id {
+            BodyId::Ground => &g,
+            BodyId::Moving(k) => &d.bodies[k],
+        };
+        let first = model.joints().len() + model.drivers().len() + model.couplers().len();
+        let mut cams = self.res.cams.iter_mut();
+        for (k, c) in model.curves().iter().enumerate() {
+            let tr = &d.curves.elements[k];
+            let udd = acc.then(|| d.curves.accelerations(model, k, &d.bodies, &self.vdot));
+            for (e, x) in c.extras().enumerate() {
+                let h = &mut self.res.kinematics.curves[x];
+                h.u.push(tr.u[e]);
+                if vel {
+                    h.u_dot.push(tr.u_dot[e]);
+                }
+                if let Some(a) = udd {
+                    h.u_ddot.push(a[e]);
+                }
+            }
+            let (si, sj) = (st(c.body_i), st(c.body_j));
+            let n = c.extras().len();
+            let Some((point, normal, local)) = c.element.contact(si, sj, &tr.u[..n]) else {
+                continue;
+            };
+            let h = &mut self.res.kinematics.curves[c.extra];
+            h.contact.push(point);
+            if vel {
+                let (vj, aj) = point_motion(sj, c.body_j, &local, &self.vdot);
+                let local_i = si.a.tr_mul(&(point - si.r));
+                let vi = point_motion(si, c.body_i, &local_i, &self.vdot).0;
+                let scale = vi.norm().max(vj.norm());
+                let a = acc.then_some(&aj);
+                let angle = cardan_mechanism::CurveElement::pressure_angle(&normal, &vj, a, scale)
+                    .or_else(|| h.pressure_angle.last().copied())
+                    .unwrap_or(0.0);
+                h.pressure_angle.push(angle);
+            }
+            let e = &d.elements[first + k];
+            let (_, on_j) = d.element_reaction(e, t, &self.lambda, &Vector3::zeros(), &local);
+            let push = c.element.push_direction(si, sj, &tr.u[..n]);
+            let cam = cams.next().expect("one history per cam pair");
+            cam.force.push(on_j.force);
+            cam.normal_force
+                .push(push.map_or(f64::NAN, |p| on_j.force.dot(&p)));
         }
     }
 
@@ -559,4 +617,25 @@ fn pose_torques<'a>(
             }
         }
     }
+}
+
+/// The velocity and acceleration (global) of the point `local` of a body in state `s` whose
+/// accelerations are in `vdot` (zero for the ground).
+fn point_motion(
+    s: &BodyState,
+    id: BodyId,
+    local: &Vector3<f64>,
+    vdot: &[f64],
+) -> (Vector3<f64>, Vector3<f64>) {
+    let w = s.omega_local;
+    let v = s.r_dot + s.a * w.cross(local);
+    let a = match id {
+        BodyId::Ground => Vector3::zeros(),
+        BodyId::Moving(k) => {
+            let rdd = Vector3::from_column_slice(&vdot[6 * k..6 * k + 3]);
+            let wd = Vector3::from_column_slice(&vdot[6 * k + 3..6 * k + 6]);
+            rdd + s.a * (wd.cross(local) + w.cross(&w.cross(local)))
+        }
+    };
+    (v, a)
 }

@@ -258,6 +258,32 @@ pub struct IntegrationStats {
     pub wall_time: f64,
 }
 
+/// The contact force of a cam pair on its follower (body j) at each time, from the
+/// multipliers of its reduced rows (the parameters' rows Φ_uᵀλ = 0 make it the frictionless
+/// contact force: along the common normal).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct CamForces {
+    /// The cam pair's name.
+    pub name: String,
+    /// The force on the follower, global (N).
+    pub force: Vec<Vector3<f64>>,
+    /// Its component along the direction a pressing contact pushes the follower
+    /// ([`cardan_mechanism::CurveElement::push_direction`]): positive while the cam pushes,
+    /// negative where the bilateral constraint pulls the follower on (it would lift off); NaN
+    /// where the curves do not tell the side (a flat face on an open profile).
+    pub normal_force: Vec<f64>,
+}
+
+impl CamForces {
+    /// The first time at which the contact pulls by more than `tolerance` (N), with that force:
+    /// where the follower would lift off the cam.
+    pub fn first_pull(&self, times: &[f64], tolerance: f64) -> Option<(f64, f64)> {
+        (self.normal_force.iter().zip(times))
+            .find(|(f, _)| **f < -tolerance)
+            .map(|(f, t)| (*t, *f))
+    }
+}
+
 /// Everything a dynamic run (forward or inverse) produced.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct DynamicResults {
@@ -274,6 +300,8 @@ pub struct DynamicResults {
     pub drivers: Vec<DriverEfforts>,
     /// Efforts of every coupler, in model order.
     pub couplers: Vec<CouplerEfforts>,
+    /// The contact force of every cam pair, in model order.
+    pub cams: Vec<CamForces>,
     /// Energy.
     pub energy: EnergyHistory,
     /// max |Φ_i| (unscaled) per time.
@@ -328,6 +356,11 @@ impl DynamicResults {
         self.drivers.iter().find(|d| d.name == name)
     }
 
+    /// The contact forces of cam pair `name`.
+    pub fn cam(&self, name: &str) -> Option<&CamForces> {
+        self.cams.iter().find(|c| c.name == name)
+    }
+
     /// The same names, outputs and counters without any time, with room for `capacity` times
     /// in every history this one fills (e.g. for a decimated copy of a streamed run).
     pub fn empty_like(&self, capacity: usize) -> Self {
@@ -363,6 +396,13 @@ impl DynamicResults {
                     reactions: reactions(&c.reactions),
                 })
                 .collect(),
+            cams: (self.cams.iter())
+                .map(|c| CamForces {
+                    name: c.name.clone(),
+                    force: room(n),
+                    normal_force: e(),
+                })
+                .collect(),
             energy: self.energy.empty_like(n),
             position_drift: e(),
             velocity_drift: e(),
@@ -395,6 +435,10 @@ impl DynamicResults {
             }
             clear(&mut c.reactions);
         }
+        for c in &mut self.cams {
+            c.force.clear();
+            c.normal_force.clear();
+        }
         self.energy.clear();
         self.position_drift.clear();
         self.velocity_drift.clear();
@@ -426,6 +470,10 @@ impl DynamicResults {
                 fa.extend_from_slice(fb);
             }
             extend(&mut a.reactions, &b.reactions);
+        }
+        for (a, b) in self.cams.iter_mut().zip(&other.cams) {
+            a.force.extend_from_slice(&b.force);
+            a.normal_force.extend_from_slice(&b.normal_force);
         }
         self.energy.extend_from(&other.energy);
         self.position_drift.extend_from_slice(&other.position_drift);

@@ -139,6 +139,7 @@ impl Dynamics<'_> {
         damping: &SparseMatrix,
     ) -> Result<Linearization, DynamicsError> {
         let state = &eq.state;
+        self.refuse_curves()?;
         let active = self.prepared_rows(state)?;
         let basis = self.null_space_sparse(state, &active)?;
         let d = basis.ncols();

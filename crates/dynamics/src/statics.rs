@@ -333,6 +333,7 @@ impl Dynamics<'_> {
         options: &StaticOptions,
     ) -> Result<Equilibrium, DynamicsError> {
         options.validate()?;
+        self.refuse_curves()?;
         let t = options.time;
         let mut state = self.assembled(guess, t)?;
         let mut lambda = vec![0.0; self.model.num_equations()];
@@ -403,6 +404,7 @@ impl Dynamics<'_> {
         options: &StaticOptions,
     ) -> Result<StaticResults, DynamicsError> {
         let start = std::time::Instant::now();
+        self.refuse_curves()?;
         if times.is_empty() || times.windows(2).any(|w| w[1] <= w[0]) {
             return Err(DynamicsError::Options(
                 "quasi-static times must be increasing and at least one".into(),

@@ -2,7 +2,9 @@
 //! M v̇ + Φ_vᵀ λ = h, Φ_v v̇ = γ# solved at a state.
 
 use crate::forces::{AppliedForces, Force, Resolved, UserForces};
-use crate::kkt::{element_blocks, elements, eval_rows, Element, Kkt, Rhs, SchurRefinement};
+use crate::kkt::{
+    element_blocks, elements, eval_rows, CurveTrack, Element, Kkt, Rhs, SchurRefinement,
+};
 use crate::options::Baumgarte;
 use crate::results::Reaction;
 use crate::state::State;
@@ -54,6 +56,9 @@ pub struct Dynamics<'m> {
     /// Each coupler's angles at the last accepted state, which its angles are continued from
     /// ([`Model::accept_turns`]).
     pub(crate) turns: Vec<[f64; 2]>,
+    /// The curve elements' parameters at the synced bodies, eliminated from the equations of
+    /// motion ([`crate::kkt`]'s `curves`).
+    pub(crate) curves: CurveTrack,
     /// Generalized forces h (n).
     pub(crate) h: Vec<f64>,
     /// The user callback's generalized forces alone (n), for its power ([`crate::work`]).
@@ -85,10 +90,9 @@ impl<'m> Dynamics<'m> {
     /// [`DynamicsError::MissingInertia`] if a body lacks mass or inertia;
     /// [`DynamicsError::BadForce`] for an invalid force element.
     pub fn new(model: &'m Model) -> Result<Self, DynamicsError> {
-        if let Some(c) = model.curves().first() {
-            return Err(DynamicsError::CurveElement {
-                what: c.element.what(),
-                element: c.name.clone(),
+        if let Some(p) = model.paths().first() {
+            return Err(DynamicsError::PathDriver {
+                driver: p.name.clone(),
             });
         }
         let mut mass = Vec::new();
@@ -120,6 +124,7 @@ impl<'m> Dynamics<'m> {
             reselections: 0,
             bodies: vec![BodyState::ground(); nb],
             turns: model.initial_turns(),
+            curves: CurveTrack::new(model),
             h: vec![0.0; 6 * nb],
             h_user: vec![0.0; 6 * nb],
             force_excess: None,
@@ -130,6 +135,19 @@ impl<'m> Dynamics<'m> {
             d.add_force(f)?;
         }
         Ok(d)
+    }
+
+    /// Static equilibria and linearizations do not take curve elements yet: their Newton and
+    /// tangent stiffness work on the model's rows, not the reduced rows of the equations of
+    /// motion ([`crate::kkt`]'s `curves`).
+    pub(crate) fn refuse_curves(&self) -> Result<(), DynamicsError> {
+        match self.model.curves().first() {
+            Some(c) => Err(DynamicsError::CurveElement {
+                what: c.element.what(),
+                element: c.name.clone(),
+            }),
+            None => Ok(()),
+        }
     }
 
     /// The model.
@@ -189,9 +207,13 @@ impl<'m> Dynamics<'m> {
         }
     }
 
+    /// Sets the bodies to `state` (and the curve elements' parameters to follow them).
     pub(crate) fn sync(&mut self, state: &State) {
         for (k, b) in self.bodies.iter_mut().enumerate() {
             *b = state.body_state(k);
+        }
+        if !self.curves.elements.is_empty() {
+            self.curves.track(self.model, &self.bodies);
         }
     }
 
@@ -222,12 +244,15 @@ impl<'m> Dynamics<'m> {
             }
             Err(e) => return Err(e.into()),
         }
+        let nq = 7 * self.model.num_bodies();
         let mut state = State {
             t: guess.t,
-            q: ws.state().to_vec(),
+            q: ws.state()[..nq].to_vec(),
             v: guess.v.clone(),
         };
         self.turns.copy_from_slice(ws.turns());
+        self.curves
+            .start_from(self.model, self.model.extras_of(ws.state()));
         self.prepare(&state)?;
         self.project_velocities(&mut state)?;
         let (res, worst) = self.velocity_residual(&state);
@@ -308,7 +333,7 @@ impl<'m> Dynamics<'m> {
     pub(crate) fn independent_rows(&mut self, t: f64) -> Result<Vec<usize>, DynamicsError> {
         let model = self.model;
         let m = model.num_equations();
-        let n = model.num_unknowns();
+        let n = 6 * model.num_bodies();
         let active: Vec<usize> = if m == 0 {
             Vec::new()
         } else {
@@ -318,8 +343,8 @@ impl<'m> Dynamics<'m> {
             let mut bi = [[0.0; 6]; 6];
             let mut bj = [[0.0; 6]; 6];
             for e in &self.elements {
-                element_blocks(model, e, &self.bodies, t, &mut bi, &mut bj);
-                for (lr, r) in e.rows.clone().enumerate() {
+                element_blocks(model, e, &self.bodies, &self.curves, t, &mut bi, &mut bj);
+                for (lr, r) in e.live_rows().enumerate() {
                     for (id, blk) in [(e.bi, &bi), (e.bj, &bj)] {
                         if let BodyId::Moving(k) = id {
                             for c in 0..6 {
@@ -334,9 +359,15 @@ impl<'m> Dynamics<'m> {
                 SparsityPattern::new(m, n, &entries).map_err(|e| self.solver_error(t, e))?;
             let ra = RankAnalysis::compute_auto(&pattern, &slots, RankOptions::default())
                 .map_err(|e| self.solver_error(t, e))?;
+            let eliminated = |r: usize| {
+                self.elements
+                    .iter()
+                    .any(|e| r >= e.live_rows().end && r < e.rows.end)
+            };
             self.redundant = ra
                 .dependent_rows()
                 .iter()
+                .filter(|&&r| !eliminated(r))
                 .filter_map(|&r| model.equation(r))
                 .collect();
             ra.independent_rows().to_vec()
@@ -380,15 +411,17 @@ impl<'m> Dynamics<'m> {
     /// changed) otherwise: the caller runs the rank analysis.
     fn prepare_full_rank_fast(&mut self, state: &State) -> bool {
         let model = self.model;
-        let (m, n) = (model.num_equations(), model.num_unknowns());
+        let mut live: Vec<usize> = self.elements.iter().flat_map(Element::live_rows).collect();
+        live.sort_unstable();
+        let (m, n) = (live.len(), 6 * model.num_bodies());
         if n < cardan_mechanism::FAST_RANK_MIN_UNKNOWNS || m == 0 || m > n {
             return false;
         }
         let pairs = self.coupled_pairs();
-        let Ok(mut kkt) = Kkt::new(model, &self.elements, (0..m).collect(), &pairs) else {
+        let Ok(mut kkt) = Kkt::new(model, &self.elements, live, &pairs) else {
             return false;
         };
-        kkt.eval_jacobian(model, &self.elements, &self.bodies, state.t);
+        kkt.eval_jacobian(model, &self.elements, &self.bodies, &self.curves, state.t);
         kkt.set_mass(&self.mass, &self.inertia);
         if kkt.factor().is_err() {
             return false;
@@ -404,7 +437,7 @@ impl<'m> Dynamics<'m> {
             SolverError::Singular {
                 dependent_equations,
             } => {
-                let n = self.model.num_unknowns();
+                let n = 6 * self.model.num_bodies();
                 let dependent = match &self.kkt {
                     Some(k) => dependent_equations
                         .iter()
@@ -505,6 +538,44 @@ impl<'m> Dynamics<'m> {
         }
     }
 
+    /// [`DynamicsError::CurveLost`] when a curve element's parameters were not found at the
+    /// synced bodies; [`DynamicsError::CurveEnd`] when one has left its open curve's data (within
+    /// a relative 1e-9 of the curve's length the end still counts).
+    pub(crate) fn check_curves(&self, t: f64) -> Result<(), DynamicsError> {
+        let curves = self.model.curves();
+        if let Some((k, residual)) = self.curves.failed {
+            return Err(DynamicsError::CurveLost {
+                what: curves[k].element.what(),
+                element: curves[k].name.clone(),
+                time: t,
+                residual,
+            });
+        }
+        for (c, tr) in curves.iter().zip(&self.curves.elements) {
+            let names = c.element.parameters().iter();
+            for (e, (curve, parameter)) in c.element.curves().into_iter().zip(names).enumerate() {
+                let Some((a, b)) = curve.and_then(|c| c.domain()) else {
+                    continue;
+                };
+                let (slack, u) = (1e-9 * (b - a), tr.u[e]);
+                if u < a - slack || u > b + slack {
+                    let cam = matches!(c.element, cardan_mechanism::CurveElement::Cam(_));
+                    return Err(DynamicsError::CurveEnd {
+                        what: c.element.what(),
+                        element: c.name.clone(),
+                        contact: if cam { "contact point" } else { "point" },
+                        parameter,
+                        time: t,
+                        u,
+                        start: a,
+                        end: b,
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// The generalized forces h = [f_k; n'_k − ω̃'_k J'_k ω'_k] (6 per body) at `state`.
     pub fn generalized_forces(&mut self, state: &State, out: &mut [f64]) {
         self.sync(state);
@@ -523,9 +594,10 @@ impl<'m> Dynamics<'m> {
     ) -> Result<(), DynamicsError> {
         self.eval_forces(t);
         self.check_forces(t)?;
+        self.check_curves(t)?;
         let model = self.model;
         let kkt = self.kkt.as_mut().expect("prepared");
-        kkt.eval_jacobian(model, &self.elements, &self.bodies, t);
+        kkt.eval_jacobian(model, &self.elements, &self.bodies, &self.curves, t);
         kkt.set_mass(&self.mass, &self.inertia);
         let n = kkt.n;
         eval_rows(
@@ -533,6 +605,7 @@ impl<'m> Dynamics<'m> {
             &self.elements,
             &self.bodies,
             &self.turns,
+            &self.curves,
             t,
             Rhs::Gamma,
             &mut kkt.full,
@@ -556,6 +629,7 @@ impl<'m> Dynamics<'m> {
                 &self.elements,
                 &self.bodies,
                 &self.turns,
+                &self.curves,
                 t,
                 Rhs::Nu,
                 &mut kkt.full,
@@ -568,6 +642,7 @@ impl<'m> Dynamics<'m> {
                 &self.elements,
                 &self.bodies,
                 &self.turns,
+                &self.curves,
                 t,
                 Rhs::Phi,
                 &mut kkt.full,
@@ -670,7 +745,7 @@ impl<'m> Dynamics<'m> {
         let model = self.model;
         let t = state.t;
         let kkt = self.kkt.as_mut().expect("prepared");
-        kkt.eval_jacobian(model, &self.elements, &self.bodies, t);
+        kkt.eval_jacobian(model, &self.elements, &self.bodies, &self.curves, t);
         kkt.set_mass(&self.mass, &self.inertia);
         let n = kkt.n;
         let mut wa = std::mem::take(&mut kkt.work_a);
@@ -680,6 +755,7 @@ impl<'m> Dynamics<'m> {
             &self.elements,
             &self.bodies,
             &self.turns,
+            &self.curves,
             t,
             Rhs::Nu,
             &mut kkt.full,
@@ -742,6 +818,7 @@ impl<'m> Dynamics<'m> {
                 &self.elements,
                 &self.bodies,
                 &self.turns,
+                &self.curves,
                 t,
                 Rhs::Phi,
                 &mut kkt.full,
@@ -780,7 +857,7 @@ impl<'m> Dynamics<'m> {
                 }
                 polish += 1;
             }
-            kkt.eval_jacobian(model, &self.elements, &self.bodies, t);
+            kkt.eval_jacobian(model, &self.elements, &self.bodies, &self.curves, t);
             kkt.set_mass(&self.mass, &self.inertia);
             let n = kkt.n;
             kkt.rhs[..n].fill(0.0);
@@ -815,6 +892,7 @@ impl<'m> Dynamics<'m> {
             &self.elements,
             &self.bodies,
             &self.turns,
+            &self.curves,
             state.t,
             Rhs::Nu,
             &mut nu,
@@ -823,7 +901,15 @@ impl<'m> Dynamics<'m> {
         let mut bi = [[0.0; 6]; 6];
         let mut bj = [[0.0; 6]; 6];
         for e in &self.elements {
-            element_blocks(model, e, &self.bodies, state.t, &mut bi, &mut bj);
+            element_blocks(
+                model,
+                e,
+                &self.bodies,
+                &self.curves,
+                state.t,
+                &mut bi,
+                &mut bj,
+            );
             for (lr, r) in e.rows.clone().enumerate() {
                 let mut s = -nu[r];
                 for (id, blk) in [(e.bi, &bi), (e.bj, &bj)] {
@@ -870,7 +956,15 @@ impl<'m> Dynamics<'m> {
     ) -> (Reaction, Reaction) {
         let mut bi = [[0.0; 6]; 6];
         let mut bj = [[0.0; 6]; 6];
-        element_blocks(self.model, e, &self.bodies, t, &mut bi, &mut bj);
+        element_blocks(
+            self.model,
+            e,
+            &self.bodies,
+            &self.curves,
+            t,
+            &mut bi,
+            &mut bj,
+        );
         let g = BodyState::ground();
         let one = |id: BodyId, blk: &[[f64; 6]; 6], s: &Vector3<f64>| {
             let mut f = Vector3::zeros();

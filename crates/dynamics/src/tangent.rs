@@ -87,13 +87,21 @@ impl Dynamics<'_> {
     /// Φ_vᵀλ (n) at the synced bodies with full-row multipliers `lambda` (0 on dropped rows),
     /// and |Φ_v|ᵀ|λ|, the size of its terms.
     pub(crate) fn constraint_forces(&self, t: f64, lambda: &[f64]) -> (DVector<f64>, DVector<f64>) {
-        let n = self.model.num_unknowns();
+        let n = 6 * self.model.num_bodies();
         let mut y = DVector::zeros(n);
         let mut size = DVector::zeros(n);
         let mut bi = [[0.0; 6]; 6];
         let mut bj = [[0.0; 6]; 6];
         for e in &self.elements {
-            element_blocks(self.model, e, &self.bodies, t, &mut bi, &mut bj);
+            element_blocks(
+                self.model,
+                e,
+                &self.bodies,
+                &self.curves,
+                t,
+                &mut bi,
+                &mut bj,
+            );
             for (lr, r) in e.rows.clone().enumerate() {
                 let l = lambda[r];
                 if l == 0.0 {
@@ -134,7 +142,7 @@ impl Dynamics<'_> {
     /// Φ_v on the rows `active` (dense m_a × n) at the synced bodies.
     pub(crate) fn phi_v_dense(&self, t: f64, active: &[usize]) -> DMatrix<f64> {
         let model = self.model;
-        let n = model.num_unknowns();
+        let n = 6 * model.num_bodies();
         let mut of = vec![usize::MAX; model.num_equations()];
         for (a, &r) in active.iter().enumerate() {
             of[r] = a;
@@ -143,7 +151,7 @@ impl Dynamics<'_> {
         let mut bi = [[0.0; 6]; 6];
         let mut bj = [[0.0; 6]; 6];
         for e in &self.elements {
-            element_blocks(model, e, &self.bodies, t, &mut bi, &mut bj);
+            element_blocks(model, e, &self.bodies, &self.curves, t, &mut bi, &mut bj);
             for (lr, r) in e.rows.clone().enumerate() {
                 let a = of[r];
                 if a == usize::MAX {
@@ -169,6 +177,7 @@ impl Dynamics<'_> {
             &self.elements,
             &self.bodies,
             &self.turns,
+            &self.curves,
             t,
             Rhs::Phi,
             &mut phi,

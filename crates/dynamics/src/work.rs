@@ -184,7 +184,15 @@ impl Dynamics<'_> {
     fn element_power(&self, e: &Element, t: f64, lambda: Multipliers<'_>) -> f64 {
         let mut bi = [[0.0; 6]; 6];
         let mut bj = [[0.0; 6]; 6];
-        element_blocks(self.model, e, &self.bodies, t, &mut bi, &mut bj);
+        element_blocks(
+            self.model,
+            e,
+            &self.bodies,
+            &self.curves,
+            t,
+            &mut bi,
+            &mut bj,
+        );
         let mut p = 0.0;
         for (lr, r) in e.rows.clone().enumerate() {
             let l = match lambda {

@@ -1,25 +1,439 @@
-//! Point-on-curve elements are kinematic only for now: every dynamic analysis refuses them by
-//! name instead of running without their equations.
+//! Curve elements in the equations of motion (their parameters eliminated, `kkt::curves`):
+//!
+//! - a bead on a circular wire of radius 1 m in a vertical plane, released at the wire's
+//!   height, swings as the A01 pendulum does (`shared/benchmarks`' exact solution): the bead's
+//!   rotation is free and untouched (the wire's force passes through its centre of mass);
+//! - a bead on a straight wire inclined at α slides with s̈ = g sin α, and the wire's force is
+//!   m g cos α;
+//! - a harmonic cam (an eccentric disc, radius R, eccentricity e) turning at ω and a flat-faced
+//!   tappet (mass m) held on it by a spring (stiffness k, preload F₀): by inverse dynamics, the
+//!   camshaft torque against the power balance T ω = d/dt(½ m ṡ² + ½ k s² + F₀ s).
+//! - static and modal analyses, and path drivers in the equations of motion, are refused by name.
 
-use cardan_constraints::{Line, Marker};
-use cardan_dynamics::{Dynamics, DynamicsError};
-use cardan_mechanism::{Body, CurveSpec, MechanismBuilder, GROUND};
+mod common;
+use cardan_constraints::{Circle, JointKind, Line, Marker, TimeFunction};
+use cardan_dynamics::{
+    Dopri5Options, Dynamics, DynamicsError, Force, GeneralizedAlphaOptions, Integrator,
+    SimulationOptions, StaticOptions,
+};
+use cardan_mechanism::{
+    Body, CamSpec, CurveSpec, DriverSpec, JointSpec, KinematicOptions, MechanismBuilder, PathSpec,
+    GROUND,
+};
+use common::{A01, G};
 use nalgebra::Vector3;
+use std::f64::consts::PI;
+
+/// A bead (its centre of mass at its point P) on `wire`, a curve of the ground, drawn at `at`.
+fn bead_on(wire: cardan_constraints::Curve, at: Vector3<f64>) -> MechanismBuilder {
+    let mut b = MechanismBuilder::new();
+    b.body(
+        Body::new("bead")
+            .mass(1.0)
+            .inertia_diagonal(1e-2, 2e-2, 3e-2)
+            .position(at),
+    );
+    b.point("bead", "P", Vector3::zeros());
+    b.curve(CurveSpec::new("wire", GROUND, wire, "bead", "P"));
+    b
+}
+
+fn circle_wire() -> cardan_constraints::Curve {
+    let m = Marker::from_axes(Vector3::zeros(), Vector3::z(), Vector3::x()).unwrap();
+    Circle::new(&m, 1.0).unwrap().into()
+}
+
+/// The bead on the circle by `integrator`: (max position error against A01, max spin, energy
+/// drift).
+fn bead_swing(integrator: Integrator) -> (f64, f64, f64) {
+    let model = bead_on(circle_wire(), Vector3::new(1.0, 0.0, 0.0))
+        .build()
+        .unwrap();
+    let mut d = Dynamics::new(&model).unwrap();
+    d.add_force(Force::gravity(Vector3::new(0.0, -G, 0.0)))
+        .unwrap();
+    let times: Vec<f64> = A01.iter().map(|r| r.0).collect();
+    let opts = SimulationOptions::new(20.0, 1)
+        .output_times(std::iter::once(0.0).chain(times.iter().copied()).collect())
+        .integrator(integrator);
+    let res = d.simulate(&d.initial_guess(), &opts).unwrap();
+    let body = res.body("bead").unwrap();
+    let mut err: f64 = 0.0;
+    for (k, (_, x, y)) in A01.iter().enumerate() {
+        let r = body.r[k + 1];
+        err = err.max((r.x - x).abs()).max((r.y - y).abs());
+    }
+    let spin = (0..res.len())
+        .map(|k| body.omega[k].norm())
+        .fold(0.0f64, f64::max);
+    (err, spin, res.energy.max_drift())
+}
 
 #[test]
-fn dynamics_refuses_a_point_on_a_curve_by_name() {
-    let mut b = MechanismBuilder::new();
-    b.body(Body::new("bead").mass(1.0).inertia_diagonal(1.0, 1.0, 1.0));
-    b.point("bead", "P", Vector3::zeros());
-    let wire = Line::new(&Marker::from_axis(Vector3::zeros(), Vector3::x()).unwrap());
-    b.curve(CurveSpec::new("wire", GROUND, wire, "bead", "P"));
-    let model = b.build().unwrap();
-    let Err(err) = Dynamics::new(&model) else {
-        panic!("a model with a point on a curve was accepted");
+fn a_bead_on_a_circular_wire_swings_as_the_a01_pendulum() {
+    let (err, spin, drift) =
+        bead_swing(Integrator::Dopri5(Dopri5Options::tolerances(1e-10, 1e-12)));
+    eprintln!("bead on a circle, DOPRI5: position error {err:.2e}, spin {spin:.1e} rad/s, energy drift {drift:.2e}");
+    assert!(err < 1e-7, "position error {err}");
+    assert!(spin < 1e-9, "the bead turned: {spin}");
+    assert!(drift < 1e-7, "energy drift {drift}");
+    let (err, spin, drift) = bead_swing(Integrator::GeneralizedAlpha(GeneralizedAlphaOptions {
+        rho_inf: 1.0,
+        ..GeneralizedAlphaOptions::with_step(1e-3)
+    }));
+    eprintln!("bead on a circle, generalized-α h = 1 ms: position error {err:.2e}, spin {spin:.1e} rad/s, energy drift {drift:.2e}");
+    assert!(err < 1e-3, "position error {err}");
+    assert!(spin < 1e-9, "the bead turned: {spin}");
+    assert!(drift < 1e-3, "energy drift {drift}");
+}
+
+#[test]
+fn a_bead_on_an_inclined_straight_wire_slides_at_g_sin_alpha() {
+    let alpha: f64 = 0.3;
+    let dir = Vector3::new(alpha.cos(), -alpha.sin(), 0.0);
+    let m = Marker::from_axis(Vector3::zeros(), dir).unwrap();
+    let model = bead_on(Line::new(&m).into(), Vector3::zeros())
+        .build()
+        .unwrap();
+    let mut d = Dynamics::new(&model).unwrap();
+    d.add_force(Force::gravity(Vector3::new(0.0, -G, 0.0)))
+        .unwrap();
+    let opts = SimulationOptions::new(1.0, 10)
+        .integrator(Integrator::Dopri5(Dopri5Options::tolerances(1e-11, 1e-13)));
+    let res = d.simulate(&d.initial_guess(), &opts).unwrap();
+    let body = res.body("bead").unwrap();
+    let mut err: f64 = 0.0;
+    for k in 0..res.len() {
+        let t = res.times()[k];
+        let s = 0.5 * G * alpha.sin() * t * t;
+        err = err.max((body.r[k] - s * dir).norm());
+    }
+    eprintln!("bead on an incline: position error {err:.2e}");
+    assert!(err < 1e-9, "position error {err}");
+}
+
+#[test]
+fn a_bead_sliding_off_the_end_of_an_open_spline_wire_stops_the_run_there() {
+    // A straight spline wire inclined at α, 0.5 m long: the bead reaches its end at
+    // t = √(2 L / (g sin α)).
+    let (alpha, length): (f64, f64) = (0.3, 0.5);
+    let dir = Vector3::new(alpha.cos(), -alpha.sin(), 0.0);
+    let pts = (0..5).map(|k| dir * (length * k as f64 / 4.0)).collect();
+    let wire = cardan_constraints::CubicCurve::new(pts, false).unwrap();
+    let model = bead_on(wire.into(), Vector3::zeros()).build().unwrap();
+    let mut d = Dynamics::new(&model).unwrap();
+    d.add_force(Force::gravity(Vector3::new(0.0, -G, 0.0)))
+        .unwrap();
+    let opts = SimulationOptions::new(1.0, 100)
+        .integrator(Integrator::Dopri5(Dopri5Options::tolerances(1e-10, 1e-12)));
+    let err = d.simulate(&d.initial_guess(), &opts).unwrap_err();
+    let end = (2.0 * length / (G * alpha.sin())).sqrt();
+    eprintln!("{err}");
+    let DynamicsError::MidRun { source, .. } = &err else {
+        panic!("not a mid-run stop: {err}");
     };
+    let DynamicsError::CurveEnd { time, element, .. } = source.as_ref() else {
+        panic!("not a curve end: {source}");
+    };
+    assert_eq!(element, "wire");
+    // Within the step that crossed the end.
+    assert!(
+        (*time - end).abs() < 1e-2,
+        "stopped at {time}, end at {end}"
+    );
+}
+
+/// The valve train of `examples/valve_train.toml` with a tappet spring: a disc of radius R whose
+/// centre is e below the camshaft axis at θ = 0, a flat-faced tappet of mass m sliding along y,
+/// a spring k between ground and tappet with its free length `free` (so the force at the lowest
+/// lift is F₀ = k (free − y₀)), the camshaft turning at ω.
+struct ValveTrain {
+    m: f64,
+    k: f64,
+    preload: f64,
+    omega: f64,
+}
+
+const R: f64 = 0.02;
+const E: f64 = 0.005;
+
+impl ValveTrain {
+    fn build(&self) -> cardan_mechanism::Model {
+        self.builder(true).build().unwrap()
+    }
+
+    /// Without the motor: the camshaft turns freely.
+    fn build_free(&self) -> cardan_mechanism::Model {
+        self.builder(false).build().unwrap()
+    }
+
+    fn builder(&self, driven: bool) -> MechanismBuilder {
+        let y0 = R - E;
+        let mut b = MechanismBuilder::new();
+        b.body(
+            Body::new("camshaft")
+                .mass(0.5)
+                .inertia_diagonal(1e-4, 1e-4, 1e-4),
+        );
+        b.body(
+            Body::new("tappet")
+                .mass(self.m)
+                .inertia_diagonal(1e-5, 1e-5, 1e-5)
+                .position(Vector3::new(0.0, y0, 0.0)),
+        );
+        b.point(GROUND, "O", Vector3::zeros())
+            .point(GROUND, "S", Vector3::new(0.0, 0.2, 0.0))
+            .vector(GROUND, "x", Vector3::x())
+            .vector(GROUND, "y", Vector3::y())
+            .vector(GROUND, "z", Vector3::z());
+        b.point("camshaft", "O", Vector3::zeros())
+            .vector("camshaft", "x", Vector3::x())
+            .vector("camshaft", "z", Vector3::z());
+        b.point("tappet", "F", Vector3::zeros())
+            .vector("tappet", "y", Vector3::y());
+        b.joint(
+            JointSpec::new(
+                "bearing",
+                JointKind::Revolute,
+                (GROUND, "O"),
+                ("camshaft", "O"),
+            )
+            .axes("z", "z")
+            .x_axes("x", "x"),
+        );
+        b.joint(
+            JointSpec::new(
+                "guide",
+                JointKind::Prismatic,
+                (GROUND, "O"),
+                ("tappet", "F"),
+            )
+            .axes("y", "y"),
+        );
+        let disc = Marker::from_axes(Vector3::new(0.0, -E, 0.0), Vector3::z(), Vector3::x());
+        let face = Marker::from_axis(Vector3::zeros(), Vector3::x()).unwrap();
+        b.cam(CamSpec::new(
+            "lobe",
+            (
+                "camshaft",
+                Circle::new(&disc.unwrap(), R).unwrap(),
+                Vector3::z(),
+            ),
+            ("tappet", Line::new(&face)),
+        ));
+        if driven {
+            b.driver(DriverSpec::rotation(
+                "motor",
+                "bearing",
+                TimeFunction::Polynomial(vec![0.0, self.omega]),
+            ));
+        }
+        b
+    }
+
+    /// The dynamics of `model` with the valve spring: it pushes the tappet down onto the cam,
+    /// anchored above it at S and compressed by F₀ / k at the lowest lift.
+    fn dynamics<'m>(&self, model: &'m cardan_mechanism::Model) -> Dynamics<'m> {
+        let free = 0.2 - (R - E) + self.preload / self.k;
+        let mut d = Dynamics::new(model).unwrap();
+        let spring = Force::spring_damper(
+            "valve_spring",
+            (GROUND, "S"),
+            ("tappet", "F"),
+            self.k,
+            0.0,
+            Some(free),
+        );
+        d.add_force(spring).unwrap();
+        d
+    }
+}
+
+#[test]
+fn the_camshaft_torque_balances_the_power_of_the_valve_train() {
+    let v = ValveTrain {
+        m: 0.1,
+        k: 2.0e4,
+        preload: 150.0,
+        omega: 2.0 * PI * 50.0,
+    };
+    let model = v.build();
+    let mut d = v.dynamics(&model);
+    let period = 2.0 * PI / v.omega;
+    let steps = 72;
+    let res = d
+        .inverse_dynamics(&KinematicOptions::new(0.0, period, steps))
+        .unwrap();
+    let torque = &res.driver("motor").unwrap().effort;
+    let mut err: f64 = 0.0;
+    let mut scale: f64 = 0.0;
+    for (k, &t) in res.times().iter().enumerate() {
+        let th = v.omega * t;
+        // s = e (1 − cos θ), ṡ = e ω sin θ, s̈ = e ω² cos θ; the spring's force k s + F₀.
+        let (s, sd, sdd) = (
+            E * (1.0 - th.cos()),
+            E * v.omega * th.sin(),
+            E * v.omega * v.omega * th.cos(),
+        );
+        let power = (v.m * sdd + v.k * s + v.preload) * sd;
+        let expected = power / v.omega;
+        err = err.max((torque[k] - expected).abs());
+        scale = scale.max(expected.abs());
+    }
+    eprintln!("camshaft torque against the power balance: {err:.2e} N·m of {scale:.2e}");
+    assert!(err < 1e-9 * scale, "torque error {err} of {scale}");
+}
+
+#[test]
+fn static_analyses_and_path_drivers_are_refused_by_name() {
+    let model = bead_on(circle_wire(), Vector3::new(1.0, 0.0, 0.0))
+        .build()
+        .unwrap();
+    let mut d = Dynamics::new(&model).unwrap();
+    let err = d.statics(&StaticOptions::default()).unwrap_err();
     assert!(
         matches!(&err, DynamicsError::CurveElement { element, .. } if element == "wire"),
         "{err}"
     );
+    let mut b = bead_on(circle_wire(), Vector3::new(1.0, 0.0, 0.0));
+    b.path(PathSpec::new(
+        "along",
+        "wire",
+        TimeFunction::Polynomial(vec![0.0, 0.1]),
+    ));
+    let model = b.build().unwrap();
+    let Err(err) = Dynamics::new(&model) else {
+        panic!("a path driver was accepted");
+    };
+    assert!(
+        matches!(&err, DynamicsError::PathDriver { driver } if driver == "along"),
+        "{err}"
+    );
     assert!(err.to_string().contains("kind = \"kinematic\""), "{err}");
+}
+
+impl ValveTrain {
+    /// The contact force N(θ) = F₀ + k s + m s̈ = F₀ + k e (1 − cos θ) + m e ω² cos θ.
+    fn contact_force(&self, th: f64) -> f64 {
+        self.preload + self.k * E * (1.0 - th.cos()) + self.m * E * self.omega.powi(2) * th.cos()
+    }
+
+    /// The camshaft speed at which N first reaches 0 (at θ = π): F₀ + 2 k e = m e ω².
+    fn lift_off_speed(&self) -> f64 {
+        ((self.preload + 2.0 * self.k * E) / (self.m * E)).sqrt()
+    }
+
+    /// Inverse dynamics over one revolution in `steps` steps.
+    fn revolution(&self, steps: usize) -> cardan_dynamics::DynamicResults {
+        let model = self.build();
+        let mut d = self.dynamics(&model);
+        let period = 2.0 * PI / self.omega;
+        d.inverse_dynamics(&KinematicOptions::new(0.0, period, steps))
+            .unwrap()
+    }
+}
+
+const VALVE: ValveTrain = ValveTrain {
+    m: 0.1,
+    k: 2.0e4,
+    preload: 150.0,
+    omega: 2.0 * PI * 50.0,
+};
+
+#[test]
+fn the_cam_contact_force_is_the_closed_form_of_the_harmonic_cam() {
+    let res = VALVE.revolution(72);
+    let cam = res.cam("lobe").unwrap();
+    let mut err: f64 = 0.0;
+    let mut side: f64 = 0.0;
+    for (k, &t) in res.times().iter().enumerate() {
+        let th = VALVE.omega * t;
+        err = err.max((cam.normal_force[k] - VALVE.contact_force(th)).abs());
+        // Frictionless: along the tappet's axis (the face's normal), nothing across it.
+        side = side.max(cam.force[k].x.abs()).max(cam.force[k].z.abs());
+    }
+    let scale = VALVE.contact_force(0.0);
+    eprintln!("cam contact force against N(θ): {err:.2e} N of {scale:.1} N, across {side:.1e} N");
+    assert!(err < 1e-9 * scale, "contact force error {err}");
+    assert!(side < 1e-9 * scale, "a force across the face: {side}");
+    assert!(cam.first_pull(res.times(), 1e-9).is_none());
+    // The parameters' rates and accelerations: w = e sin θ on the face.
+    let w = res.kinematics.curve_parameter("lobe", "w").unwrap();
+    let mut werr: f64 = 0.0;
+    for (k, &t) in res.times().iter().enumerate() {
+        let th = VALVE.omega * t;
+        let o = VALVE.omega;
+        werr = werr
+            .max((w.u[k] - E * th.sin()).abs())
+            .max((w.u_dot[k] - E * o * th.cos()).abs() / o)
+            .max((w.u_ddot[k] + E * o * o * th.sin()).abs() / (o * o));
+    }
+    eprintln!("face parameter w = e sin θ and its rates: {werr:.2e} m");
+    assert!(werr < 1e-12, "w error {werr}");
+}
+
+#[test]
+fn the_tappet_lifts_off_above_the_closed_form_speed_where_the_contact_first_pulls() {
+    let lift_off = VALVE.lift_off_speed();
+    let below = ValveTrain {
+        omega: 0.99 * lift_off,
+        ..VALVE
+    };
+    let res = below.revolution(720);
+    let cam = res.cam("lobe").unwrap();
+    let least = cam
+        .normal_force
+        .iter()
+        .copied()
+        .fold(f64::INFINITY, f64::min);
+    let expected = below.preload + 2.0 * below.k * E - below.m * E * below.omega.powi(2);
+    eprintln!("at 0.99 ω_lo: least contact force {least:.4} N (closed form {expected:.4} N)");
+    assert!((least - expected).abs() < 1e-9 * below.preload);
+    assert!(cam.first_pull(res.times(), 1e-9).is_none());
+
+    let above = ValveTrain {
+        omega: 1.05 * lift_off,
+        ..VALVE
+    };
+    let steps = 3600;
+    let res = above.revolution(steps);
+    let (t, force) = res
+        .cam("lobe")
+        .unwrap()
+        .first_pull(res.times(), 1e-9)
+        .expect("the contact pulls above the lift-off speed");
+    // N(θ*) = 0: cos θ* = −(F₀ + k e) / (m e ω² − k e).
+    let (ke, me) = (above.k * E, above.m * E * above.omega.powi(2));
+    let theta = (-(above.preload + ke) / (me - ke)).acos();
+    let h = 2.0 * PI / above.omega / steps as f64;
+    eprintln!(
+        "at 1.05 ω_lo = {:.1} rad/s: first pull at t = {t:.6} s ({force:.3} N), closed form θ*/ω = {:.6} s",
+        above.omega,
+        theta / above.omega
+    );
+    assert!(t >= theta / above.omega && t < theta / above.omega + h);
+}
+
+#[test]
+fn a_free_camshaft_and_a_sprung_tappet_keep_their_energy() {
+    // The camshaft spins freely (no motor) and drives the tappet against its spring: the cam
+    // pair's force does no net work, so kinetic + spring energy stays put.
+    let model = VALVE.build_free();
+    let mut d = VALVE.dynamics(&model);
+    let mut guess = d.initial_guess();
+    let cardan_mechanism::BodyId::Moving(shaft) = model.body_id("camshaft").unwrap() else {
+        unreachable!()
+    };
+    guess.set_velocity(shaft, Vector3::zeros(), Vector3::new(0.0, 0.0, 300.0));
+    let state = d.consistent_state(&guess).unwrap();
+    let opts = SimulationOptions::new(0.2, 200)
+        .integrator(Integrator::Dopri5(Dopri5Options::tolerances(1e-10, 1e-12)));
+    let res = d.simulate(&state, &opts).unwrap();
+    let drift = res.energy.max_drift();
+    let e0 = res.energy.total[0];
+    let lift = res.body("tappet").unwrap();
+    let top = lift.r.iter().map(|r| r.y).fold(f64::MIN, f64::max) - (R - E);
+    eprintln!("free camshaft: energy {e0:.4} J, drift {drift:.2e} J; highest lift {top:.2e} m");
+    assert!(top > 1.9 * E, "the tappet did not go over the top: {top}");
+    assert!(drift < 1e-8 * e0, "energy drift {drift} of {e0}");
 }

@@ -1,8 +1,9 @@
 //! "No allocation per step": a counting global allocator wraps the system one. A run allocates
 //! during setup and once per stored output, never per step: two runs with the same outputs and
 //! 10× more steps allocate exactly as often. Also, solves of the equations of motion after
-//! setup allocate nothing, the first one included. Both for a small model and for a 40-link chain (which goes through
-//! the Schur complement).
+//! setup allocate nothing, the first one included. For a small model, for a 40-link chain (which
+//! goes through the Schur complement) and for a bead on a circular wire (a curve element, whose
+//! parameter is tracked at every evaluation).
 //!
 //! The counter is process-wide, so this test runs without the libtest harness (`harness = false`
 //! in Cargo.toml): libtest's main thread, waiting for the test thread, allocated now and then
@@ -11,11 +12,12 @@
 
 mod common;
 
+use cardan_constraints::{Circle, Marker};
 use cardan_dynamics::{
     Dopri5Options, Dynamics, Force, GeneralizedAlphaOptions, Integrator, IterationMatrix,
     SimulationOptions, State,
 };
-use cardan_mechanism::GROUND;
+use cardan_mechanism::{Body, CurveSpec, MechanismBuilder, GROUND};
 use common::*;
 use nalgebra::Vector3;
 use stats_alloc::{Region, StatsAlloc, INSTRUMENTED_SYSTEM};
@@ -33,7 +35,8 @@ fn allocations(f: impl FnOnce()) -> usize {
 
 fn main() {
     steps_do_not_allocate();
-    println!("no_alloc: 1 passed, 0 failed");
+    curve_elements_do_not_allocate();
+    println!("no_alloc: 2 passed, 0 failed");
 }
 
 fn steps_do_not_allocate() {
@@ -128,13 +131,52 @@ fn steps_do_not_allocate() {
     );
 }
 
+/// A bead on a circular wire of the ground under gravity: tracking its curve parameter
+/// allocates nothing per solve or step.
+fn curve_elements_do_not_allocate() {
+    let mut b = MechanismBuilder::new();
+    b.body(
+        Body::new("bead")
+            .mass(1.0)
+            .inertia_diagonal(1e-2, 1e-2, 1e-2)
+            .position(Vector3::new(1.0, 0.0, 0.0)),
+    );
+    b.point("bead", "P", Vector3::zeros());
+    let axes = Marker::from_axes(Vector3::zeros(), Vector3::z(), Vector3::x()).unwrap();
+    let wire = Circle::new(&axes, 1.0).unwrap();
+    b.curve(CurveSpec::new("wire", GROUND, wire, "bead", "P"));
+    let model = b.build().unwrap();
+    let mut d = Dynamics::new(&model).unwrap();
+    d.add_force(Force::gravity(Vector3::new(0.0, -G, 0.0)))
+        .unwrap();
+    let s0 = d.consistent_state(&d.initial_guess()).unwrap();
+    let mut vdot = vec![0.0; 6];
+    let mut lambda = vec![0.0; model.num_equations()];
+    let n = allocations(|| {
+        for _ in 0..50 {
+            d.accelerations(&s0, &mut vdot, &mut lambda).unwrap();
+        }
+    });
+    assert_eq!(n, 0, "bead: {n} allocations in 50 solves");
+    runs_allocate_alike(
+        &mut d,
+        &s0,
+        0.5,
+        [(
+            "bead on a wire, DOPRI5 fixed step",
+            Integrator::Dopri5(Dopri5Options::fixed(1e-3)),
+            Integrator::Dopri5(Dopri5Options::fixed(1e-4)),
+        )],
+    );
+}
+
 /// Runs `d` from `s0` to `t_end` with each (label, coarse, fine) pair of settings, the fine one
 /// taking 10× the steps, and asserts that both runs allocate equally often.
 fn runs_allocate_alike(
     d: &mut Dynamics,
     s0: &State,
     t_end: f64,
-    cases: [(&str, Integrator, Integrator); 2],
+    cases: impl IntoIterator<Item = (&'static str, Integrator, Integrator)>,
 ) {
     for (label, coarse, fine) in cases {
         let mut steps = [0, 0];

@@ -110,8 +110,9 @@ pub use curve_spec::{CamSpec, CurveSpec, PathSpec};
 pub use dof::DofReport;
 pub use error::{AnalysisError, ElementKind, EquationName, Error, ModelError, OpenElement, Site};
 pub use model::{
-    kinds_with, nearest, BodyId, BodyInfo, CoupledCoordinate, CouplerInfo, DriverInfo, FeatureInfo,
-    ForceInfo, FrictionInfo, JointInfo, LimitInfo, Model, StopInfo, FRICTION_KINDS,
+    kinds_with, nearest, BodyId, BodyInfo, CoupledCoordinate, CouplerInfo, CurveElement, CurveInfo,
+    DriverInfo, FeatureInfo, ForceInfo, FrictionInfo, JointInfo, LimitInfo, Model, PathInfo,
+    StopInfo, FRICTION_KINDS,
 };
 pub use results::{
     BodyResults, CurveResults, FrameSink, JointResults, Outputs, PointResults, Results, RunTotals,

@@ -21,7 +21,7 @@ impl Dynamics<'_> {
         self.sync(state);
         let model = self.model;
         let kkt = self.kkt.as_mut().expect("prepared");
-        kkt.eval_jacobian(model, &self.elements, &self.bodies, state.t);
+        kkt.eval_jacobian(model, &self.elements, &self.bodies, &self.curves, state.t);
         kkt.set_mass(&self.mass, &self.inertia);
         let r = kkt.factor();
         r.map_err(|e| self.solver_error(state.t, e))

@@ -54,7 +54,15 @@ impl Dynamics<'_> {
     fn joint_force(&self, joint: usize, t: f64, frozen: bool) -> Vector3<f64> {
         let e = &self.elements[joint];
         let (mut bi, mut bj) = ([[0.0; 6]; 6], [[0.0; 6]; 6]);
-        element_blocks(self.model, e, &self.bodies, t, &mut bi, &mut bj);
+        element_blocks(
+            self.model,
+            e,
+            &self.bodies,
+            &self.curves,
+            t,
+            &mut bi,
+            &mut bj,
+        );
         let kkt = self.kkt.as_ref().expect("prepared");
         let (mut fi, mut fj) = (Vector3::zeros(), Vector3::zeros());
         for (lr, r) in e.rows.clone().enumerate() {

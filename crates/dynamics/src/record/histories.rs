@@ -3,7 +3,8 @@
 //! reactions are taken about.
 
 use crate::results::{
-    CouplerEfforts, DriverEfforts, DynamicResults, EnergyHistory, IntegrationStats, JointReactions,
+    CamForces, CouplerEfforts, DriverEfforts, DynamicResults, EnergyHistory, IntegrationStats,
+    JointReactions,
 };
 use crate::system::Dynamics;
 use cardan_constraints::Driver;
@@ -36,6 +37,14 @@ pub(super) fn empty_results(
         lambda: Vec::with_capacity(capacity),
         reactions: joint_reactions(model, capacity),
         drivers: driver_histories(model, capacity),
+        cams: (model.curves().iter())
+            .filter(|c| matches!(c.element, cardan_mechanism::CurveElement::Cam(_)))
+            .map(|c| CamForces {
+                name: c.name.clone(),
+                force: Vec::with_capacity(capacity),
+                normal_force: Vec::with_capacity(capacity),
+            })
+            .collect(),
         energy: EnergyHistory {
             kinetic: e(),
             gravity: e(),
@@ -115,6 +124,7 @@ fn kinematic_histories(
             });
         }
     }
+    kin.curves = model.curve_histories(capacity, (vel, acc));
     (kin, points)
 }
 

@@ -697,6 +697,29 @@ impl Model {
         Ok((rep, Verdict::Accepted))
     }
 
+    /// Empty histories of the curve elements' parameters (one per parameter, in the order of
+    /// the extra coordinates), room for `n` times; rates and accelerations when `(v, a)` say
+    /// so. A cam pair's first entry also holds its contact and pressure angle.
+    pub fn curve_histories(&self, n: usize, (v, a): (bool, bool)) -> Vec<CurveResults> {
+        let cap = |on: bool| if on { n } else { 0 };
+        (self.curves.iter())
+            .flat_map(|c| c.element.parameters().iter().map(move |&p| (c, p)))
+            .map(|(c, parameter)| {
+                let cam = matches!(c.element, CurveElement::Cam(_)) && parameter == "u";
+                CurveResults {
+                    name: c.name.clone(),
+                    parameter,
+                    cam,
+                    contact: Vec::with_capacity(if cam { n } else { 0 }),
+                    pressure_angle: Vec::with_capacity(if cam { cap(v) } else { 0 }),
+                    u: Vec::with_capacity(n),
+                    u_dot: Vec::with_capacity(cap(v)),
+                    u_ddot: Vec::with_capacity(cap(a)),
+                }
+            })
+            .collect()
+    }
+
     /// Each cam pair's contact point and, with velocities, its pressure angle
     /// ([`CurveElement::pressure_angle`]: the follower's point at the contact against the
     /// larger of its speed and the cam's point's; where neither velocity nor acceleration gives
@@ -924,24 +947,7 @@ impl Model {
         } else {
             Vec::new()
         };
-        let curves = (self.curves.iter())
-            .flat_map(|c| c.element.parameters().iter().map(move |&p| (c, p)))
-            .map(|(c, parameter)| {
-                // A cam's contact and pressure angle, on its first entry.
-                let cam = matches!(c.element, CurveElement::Cam(_)) && parameter == "u";
-                (c, parameter, cam)
-            })
-            .map(|(c, parameter, cam)| CurveResults {
-                name: c.name.clone(),
-                parameter,
-                cam,
-                contact: Vec::with_capacity(if cam { n } else { 0 }),
-                pressure_angle: Vec::with_capacity(if cam { cap(v) } else { 0 }),
-                u: Vec::with_capacity(n),
-                u_dot: Vec::with_capacity(cap(v)),
-                u_ddot: Vec::with_capacity(cap(a)),
-            })
-            .collect();
+        let curves = self.curve_histories(n, (v, a));
         Results {
             outputs: Some(out),
             times: Vec::with_capacity(n),

@@ -58,6 +58,35 @@ impl CurveElement {
         Some((sj.point(&cj.c), normal, cj.c))
     }
 
+    /// The direction in which a pressing contact of a cam pair pushes body j (the follower),
+    /// global, at parameters `u` (u, w) with the bodies in states `si`, `sj`: out of a closed
+    /// cam profile, else into a closed follower curve (a roller); `None` for a point on a curve
+    /// and for two open curves (a flat face on an open profile), where the curves alone do not
+    /// tell which side the bodies are on. The contact force along it is positive while the cam
+    /// pushes and negative where the bilateral constraint pulls the follower on (it would lift
+    /// off).
+    pub fn push_direction(
+        &self,
+        si: &BodyState,
+        sj: &BodyState,
+        u: &[f64],
+    ) -> Option<Vector3<f64>> {
+        let CurveElement::Cam(c) = self else {
+            return None;
+        };
+        let k = c.normal_i;
+        if let Some(turn) = winding(&c.curve_i, &k) {
+            // A counterclockwise profile (about k) has k × c' inward: outward is its opposite.
+            let left = si.a * k.cross(&c.curve_i.jet(u[0]).c_u).normalize();
+            return Some(-turn * left);
+        }
+        let kj = sj.a.tr_mul(&(si.a * k));
+        let turn = winding(&c.curve_j, &kj)?;
+        // Into the follower's curve: its left normal if counterclockwise.
+        let left = sj.a * kj.cross(&c.curve_j.jet(u[1]).c_u).normalize();
+        Some(turn * left)
+    }
+
     /// The pressure angle between the contact's common normal `normal` and the direction the
     /// follower's point at the contact moves: its velocity `v`, or, where the point is at rest
     /// (|v| ≤ 1e-9 `scale`, a follower at the end of its stroke), its acceleration `a`, the
@@ -84,6 +113,17 @@ impl CurveElement {
             CurveElement::Cam(_) => "cam",
         }
     }
+}
+
+/// The sense in which a closed planar curve runs about the plane normal `k` (+1
+/// counterclockwise, −1 clockwise, by the sign of its enclosed area ½∮(c × c')·k over 64 chords);
+/// `None` for an open curve.
+fn winding(curve: &Curve, k: &Vector3<f64>) -> Option<f64> {
+    let period = curve.period()?;
+    let n = 64;
+    let at = |i: usize| curve.jet(period * i as f64 / n as f64).c;
+    let area: f64 = (0..n).map(|i| at(i).cross(&at(i + 1)).dot(k)).sum();
+    Some(area.signum())
 }
 
 cardan_constraints::delegate_constraint!(CurveElement {

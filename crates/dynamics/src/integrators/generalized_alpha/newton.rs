@@ -283,8 +283,17 @@ fn constraint_residual(d: &mut Dynamics, phi: &mut [f64], t1: f64, beta_p: f64) 
     let model = d.model;
     let escale = model.equation_scales();
     let kkt = d.kkt.as_mut().expect("prepared");
-    kkt.eval_jacobian(model, &d.elements, &d.bodies, t1);
-    eval_rows(model, &d.elements, &d.bodies, &d.turns, t1, Rhs::Phi, phi);
+    kkt.eval_jacobian(model, &d.elements, &d.bodies, &d.curves, t1);
+    eval_rows(
+        model,
+        &d.elements,
+        &d.bodies,
+        &d.turns,
+        &d.curves,
+        t1,
+        Rhs::Phi,
+        phi,
+    );
     let n = kkt.n;
     let mut res_c = 0.0f64;
     for (a, &r) in kkt.active.iter().enumerate() {

@@ -129,6 +129,7 @@ impl VelocityProjection {
             &d.elements,
             &d.bodies,
             &d.turns,
+            &d.curves,
             s.t,
             Rhs::Nu,
             &mut kkt.full,
