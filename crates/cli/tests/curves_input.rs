@@ -438,3 +438,58 @@ fn a_spline_cam_profile_lifts_the_tappet_as_its_disc_does() {
     eprintln!("spline cam: |s − s(θ)| = {worst:.1e} m");
     assert!(worst < 1e-6, "{worst}");
 }
+
+/// `examples/valve_spring.toml` run at 8400 rpm, above its closed-form lift-off speed
+/// ω = √((F₀ + 2 k e)/(m e)) = 836.7 rad/s (7990 rpm): the contact pulls from the first output
+/// time past cos θ* = −(F₀ + k e)/(m e ω² − k e), and the run says so in its summary and
+/// run.json, naming the cam and the time; at 3000 rpm it says nothing.
+#[test]
+fn a_tappet_run_above_its_lift_off_speed_is_warned_about_with_the_time() {
+    let base = example("valve_spring.toml");
+    let clean = run_text("run", &base);
+    assert_eq!(clean.code, 0, "{}", clean.stderr);
+    let json = std::fs::read_to_string(clean.dir.join("out/run.json")).unwrap();
+    assert!(!json.contains("lift off"), "{json}");
+
+    let omega = 8400.0 * std::f64::consts::PI / 30.0;
+    let text = base.replace(
+        "coefficients = [0.0, 314.1592653589793]",
+        &format!("coefficients = [0.0, {omega}]"),
+    );
+    let text = text.replace("t_end = 0.02 ", "t_end = 0.0071428571428571 ");
+    let text = text.replace("steps = 180", "steps = 720");
+    let o = run_text("run", &text);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(o.dir.join("out/run.json")).unwrap())
+            .unwrap();
+    let warning = json["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|w| w.as_str())
+        .find(|w| w.contains("lift off"))
+        .unwrap_or_else(|| panic!("no lift-off warning: {json}"));
+    assert!(
+        warning.starts_with("cam \"lobe\": the contact pulls"),
+        "{warning}"
+    );
+    let (m, k, e, f0) = (0.1, 2.0e4, 0.005, 150.0);
+    let theta = (-(f0 + k * e) / (m * e * omega * omega - k * e)).acos();
+    let h = 0.0071428571428571 / 720.0;
+    let from = warning
+        .split("from t = ")
+        .nth(1)
+        .and_then(|r| r.split(' ').next())
+        .and_then(|t| t.parse::<f64>().ok())
+        .unwrap_or_else(|| panic!("no time in {warning}"));
+    eprintln!(
+        "lift-off: warned from t = {from} s, closed form θ*/ω = {} s",
+        theta / omega
+    );
+    assert!(
+        from >= theta / omega && from < theta / omega + h,
+        "{warning}"
+    );
+    assert!(o.stdout.contains("lift off") || o.stderr.contains("lift off"));
+}

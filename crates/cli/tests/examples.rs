@@ -663,6 +663,37 @@ fn valve_train_tappet_lifts_e_one_minus_cos() {
     check_fd("valve_train", &p, 100, 5e-2, 5.0);
 }
 
+/// The valve train against its spring by inverse dynamics (`examples/valve_spring.toml`): the
+/// cam's contact force on the tappet N(θ) = F₀ + k e (1 − cos θ) + m e ω² cos θ along the
+/// tappet's axis, and the camshaft torque T = N e sin θ (T ω = N ṡ), read from cam_forces.csv
+/// and driver_efforts.csv as written.
+#[test]
+fn valve_spring_contact_force_and_camshaft_torque_follow_the_closed_form() {
+    let (e, w, m, k, f0) = (0.005, 100.0 * PI, 0.1, 2.0e4, 150.0);
+    let contact = |th: f64| f0 + k * e * (1.0 - th.cos()) + m * e * w * w * th.cos();
+    let (_, _, header, rows) = run_with_table("valve_spring", "cam_forces");
+    let normal = column(&header, &rows, "lobe.normal_force [N]");
+    let fy = column(&header, &rows, "lobe.force.y [N]");
+    let mut worst = [0.0f64; 2];
+    for (n, row) in rows.iter().enumerate() {
+        let want = contact(w * row[0]);
+        worst[0] = worst[0]
+            .max((normal[n] - want).abs())
+            .max((fy[n] - want).abs());
+    }
+    let (_, _, header, rows) = run_with_table("valve_spring", "driver_efforts");
+    let torque = column(&header, &rows, "motor.torque [N m]");
+    for (n, row) in rows.iter().enumerate() {
+        let th = w * row[0];
+        worst[1] = worst[1].max((torque[n] - contact(th) * e * th.sin()).abs());
+    }
+    eprintln!(
+        "valve_spring: |N − N(θ)| {:.1e} N, |T − N e sin θ| {:.1e} N m",
+        worst[0], worst[1]
+    );
+    assert!(worst[0] < 1e-9 && worst[1] < 1e-11, "{worst:?}");
+}
+
 /// Every example also passes `cardan check` (through the library) with DOF = drivers.
 #[test]
 fn every_example_checks() {
@@ -683,6 +714,7 @@ fn every_example_checks() {
         "quick_return",
         "arm_path",
         "valve_train",
+        "valve_spring",
     ] {
         let p = prepare(&example(name)).unwrap();
         let mut out = Vec::new();

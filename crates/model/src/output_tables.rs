@@ -227,6 +227,42 @@ pub(super) fn coupler_efforts_row(r: &DynamicResults, k: usize, row: &mut Vec<f6
     }
 }
 
+/// The cam pairs' contact forces on their followers (global components, and the component
+/// along the direction a pressing contact pushes: negative where the follower would lift off);
+/// `None` without cam pairs.
+pub fn cam_forces_table(r: &DynamicResults) -> Option<Table> {
+    if r.cams.is_empty() {
+        return None;
+    }
+    let mut cols = Vec::new();
+    for c in &r.cams {
+        for ax in ["x", "y", "z"] {
+            cols.push(format!("{}.force.{ax} [N]", c.name));
+        }
+        cols.push(format!("{}.normal_force [N]", c.name));
+    }
+    let mut t = Table::new(
+        "cam_forces",
+        "cam contact forces on the followers (normal_force < 0: the contact pulls, the follower would lift off)",
+        cols,
+    );
+    for (k, time) in r.times().iter().enumerate() {
+        let mut row = vec![*time];
+        cam_forces_row(r, k, &mut row);
+        t.rows.push(row);
+    }
+    Some(t)
+}
+
+/// Appends the cam contact forces at time k to `row`.
+pub(super) fn cam_forces_row(r: &DynamicResults, k: usize, row: &mut Vec<f64>) {
+    for c in &r.cams {
+        let f = c.force.get(k).map_or([f64::NAN; 3], |f| [f.x, f.y, f.z]);
+        row.extend(f);
+        row.push(c.normal_force.get(k).copied().unwrap_or(f64::NAN));
+    }
+}
+
 /// A reaction history of a [`DynamicResults`]: a joint's or a coupler's.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(super) enum ReactionRef {

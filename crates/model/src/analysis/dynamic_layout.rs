@@ -1,6 +1,6 @@
 //! The output groups of a dynamic or inverse dynamics run as a layout over its frames
 //! ([`DynamicResults`] holding one time, streamed by [`super::stream::Recorder`]): the kinematic
-//! groups (`Layout`), then driver efforts, coupler efforts, reactions, energy and (dynamic
+//! groups (`Layout`), then driver efforts, coupler efforts, cam forces, reactions, energy and (dynamic
 //! runs) constraint drift. Each group's header is the header of the table written whole
 //! (`tables`) and each row comes from the same row functions, so a streamed file and a table
 //! held whole have the same text.
@@ -12,8 +12,8 @@ use super::stream::FrameLayout;
 use super::tables::{dynamic_tables, inverse_tables};
 use crate::build::Outputs as Requested;
 use crate::output_tables::{
-    coupler_efforts_row, driver_efforts_row, energy_row, reaction_selection, reactions_row,
-    ReactionRef,
+    cam_forces_row, coupler_efforts_row, driver_efforts_row, energy_row, reaction_selection,
+    reactions_row, ReactionRef,
 };
 use crate::prepare::Prepared;
 use crate::table::Table;
@@ -38,6 +38,7 @@ enum Group {
     Kinematic(usize),
     DriverEfforts,
     CouplerEfforts,
+    CamForces,
     Reactions {
         local: bool,
     },
@@ -75,6 +76,7 @@ impl DynamicLayout {
                 match t.name.as_str() {
                     "driver_efforts" => Group::DriverEfforts,
                     "coupler_efforts" => Group::CouplerEfforts,
+                    "cam_forces" => Group::CamForces,
                     "reactions" => Group::Reactions { local: false },
                     "reactions_local" => Group::Reactions { local: true },
                     "energy" => Group::Energy,
@@ -119,6 +121,7 @@ impl FrameLayout for DynamicLayout {
             Group::Kinematic(_) => {}
             Group::DriverEfforts => driver_efforts_row(r, k, row),
             Group::CouplerEfforts => coupler_efforts_row(r, k, row),
+            Group::CamForces => cam_forces_row(r, k, row),
             Group::Reactions { local } => reactions_row(r, &self.selected, local, k, row),
             Group::Energy => energy_row(&r.energy, self.e0, k, row),
             Group::ConstraintDrift => row.extend([

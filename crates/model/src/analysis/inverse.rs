@@ -265,5 +265,6 @@ fn inverse_warnings(
         ));
     }
     warnings.extend(dropped_row_warnings(p, dropped_rows));
+    warnings.extend(super::warnings::cam_pull_warnings(tally));
     warnings
 }

@@ -9,7 +9,7 @@ use super::layout::Layout;
 use super::stream::FrameLayout;
 use crate::build::Outputs as Requested;
 use crate::output_tables::{
-    coupler_efforts_table, driver_efforts_table, energy_table, reaction_tables,
+    cam_forces_table, coupler_efforts_table, driver_efforts_table, energy_table, reaction_tables,
 };
 use crate::prepare::Prepared;
 use crate::table::Table;
@@ -29,6 +29,7 @@ pub fn dynamic_tables(p: &Prepared, r: &DynamicResults, req: &Requested) -> Vec<
     out.retain(|t| t.name != "residual");
     out.extend(driver_efforts_table(p, r));
     out.extend(coupler_efforts_table(p, r));
+    out.extend(cam_forces_table(r));
     out.extend(reaction_tables(r, req));
     let times = r.times();
     let n = times.len();
@@ -62,6 +63,7 @@ pub fn inverse_tables(p: &Prepared, r: &DynamicResults, req: &Requested) -> Vec<
     let mut out = kinematic_tables(&r.kinematics, req);
     out.extend(driver_efforts_table(p, r));
     out.extend(coupler_efforts_table(p, r));
+    out.extend(cam_forces_table(r));
     out.extend(reaction_tables(r, req));
     if req.energy {
         out.push(energy_table(r));

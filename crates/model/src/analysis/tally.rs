@@ -31,6 +31,39 @@ pub struct DynamicTally {
     pub max_work: Vec<f64>,
     /// Per driver, the largest |effort|.
     pub peak_efforts: Vec<f64>,
+    /// Per cam pair, where its contact pulls ([`CamPull`]).
+    pub cam_pulls: Vec<CamPull>,
+}
+
+/// Where a cam pair's contact pulls the follower on (its normal force below −1e-9 of the
+/// largest |normal force| so far): the follower would lift off there.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct CamPull {
+    /// The cam pair.
+    pub name: String,
+    /// The largest |normal force| so far (N).
+    pub scale: f64,
+    /// The first time it pulled, with the force then.
+    pub first: Option<(f64, f64)>,
+    /// The least normal force and its time.
+    pub least: Option<(f64, f64)>,
+}
+
+impl CamPull {
+    fn take(&mut self, times: &[f64], normal: &[f64]) {
+        for (&t, &n) in times.iter().zip(normal) {
+            if n.is_nan() {
+                continue;
+            }
+            self.scale = self.scale.max(n.abs());
+            if n < -1e-9 * self.scale {
+                self.first.get_or_insert((t, n));
+                if self.least.is_none_or(|(_, l)| n < l) {
+                    self.least = Some((t, n));
+                }
+            }
+        }
+    }
 }
 
 impl DynamicTally {
@@ -49,6 +82,15 @@ impl DynamicTally {
             self.potential = (f64::INFINITY, f64::NEG_INFINITY);
             self.max_work = vec![0.0; e.elements.len()];
             self.peak_efforts = vec![0.0; r.drivers.len()];
+            self.cam_pulls = (r.cams.iter())
+                .map(|c| CamPull {
+                    name: c.name.clone(),
+                    ..CamPull::default()
+                })
+                .collect();
+        }
+        for (pull, c) in self.cam_pulls.iter_mut().zip(&r.cams) {
+            pull.take(r.times(), &c.normal_force);
         }
         self.frames += r.len();
         self.iterations += r.kinematics.iterations.iter().sum::<usize>();

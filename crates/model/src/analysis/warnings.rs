@@ -12,6 +12,25 @@ use cardan_constraints::Dimension;
 use cardan_dynamics::{DynamicResults, Integrator};
 use cardan_mechanism::DroppedRowResidual;
 
+/// One warning per cam pair whose contact pulled the follower on (it would lift off): the
+/// bilateral cam constraint holds it on, so past that time the motion is not that of a follower
+/// pressed on by a spring or by gravity.
+pub fn cam_pull_warnings(tally: &DynamicTally) -> Vec<String> {
+    (tally.cam_pulls.iter())
+        .filter_map(|c| {
+            let ((t, n), (tl, least)) = (c.first?, c.least?);
+            Some(format!(
+                "cam \"{}\": the contact pulls the follower on from t = {t} s (normal force \
+                 {n:.4e} N; the least {least:.4e} N at t = {tl} s): the follower would lift off \
+                 the cam there, and the cam pair, which always keeps contact, holds it on, so \
+                 the motion and forces after that time are not those of a follower pressed on \
+                 by its spring; stiffen or preload the spring, or lower the speed",
+                c.name
+            ))
+        })
+        .collect()
+}
+
 /// One warning per joint whose equation was dropped as redundant but not satisfied at the
 /// solution (its worst residual in the model's units, relative to the model's size, and when;
 /// `cardan_mechanism::analysis::dropped`).
@@ -128,6 +147,7 @@ pub fn doubtful(
         ));
     }
     warnings.extend(dropped_row_warnings(p, dropped_rows));
+    warnings.extend(cam_pull_warnings(tally));
     let worst = tally.max_drift;
     let bound = drift_bound(p, integrator);
     // A drift no larger than the dropped rows' disagreement is that disagreement (warned above),
