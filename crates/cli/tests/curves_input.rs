@@ -493,3 +493,38 @@ fn a_tappet_run_above_its_lift_off_speed_is_warned_about_with_the_time() {
     );
     assert!(o.stdout.contains("lift off") || o.stderr.contains("lift off"));
 }
+
+/// `examples/valve_spring.toml` as a static analysis at θ = 1.1 rad: the contact force is the
+/// spring's, N = F₀ + k e (1 − cos θ), and the motor holds the camshaft with T = N e sin θ.
+#[test]
+fn the_valve_train_held_still_needs_the_closed_form_torque() {
+    let base = example("valve_spring.toml");
+    let omega = 100.0 * std::f64::consts::PI;
+    let th: f64 = 1.1;
+    let at = base.find("[analysis]").unwrap();
+    let text = format!(
+        "{}[analysis]\nkind = \"static\"\ntime = {}\n\n[analysis.outputs]\njoints = [\"lobe\"]\n",
+        &base[..at],
+        th / omega
+    );
+    let o = run_text("run", &text);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let read = |name: &str| {
+        let csv = std::fs::read_to_string(o.dir.join("out").join(name)).unwrap();
+        cardan_model::table::parse_csv(&csv).unwrap()
+    };
+    let (header, rows) = read("cam_forces.csv");
+    let k = header
+        .iter()
+        .position(|h| h == "lobe.normal_force [N]")
+        .unwrap();
+    let (e, stiffness, f0) = (0.005, 2.0e4, 150.0);
+    let n = f0 + stiffness * e * (1.0 - th.cos());
+    let (_, efforts) = read("driver_efforts.csv");
+    let (nerr, terr) = (
+        (rows[0][k] - n).abs(),
+        (efforts[0][1] - n * e * th.sin()).abs(),
+    );
+    eprintln!("held valve train: |N − N(θ)| {nerr:.1e} N, |T − N e sin θ| {terr:.1e} N m");
+    assert!(nerr < 1e-9 && terr < 1e-11, "{nerr} {terr}");
+}

@@ -15,9 +15,9 @@ pub enum DynamicsError {
         /// The body.
         body: String,
     },
-    /// The model has curve elements (points on curves, cam pairs), which static and modal
-    /// analyses do not take yet.
-    #[error("{what} \"{element}\": static and modal analyses do not take curve elements yet (kinematic, dynamic and inverse dynamic analyses do); model the guide with joints, or run another kind")]
+    /// The model has curve elements (points on curves, cam pairs), which the linearization
+    /// about a motion and the sparse linearization do not take yet.
+    #[error("{what} \"{element}\": the linearization about a motion and the sparse linearization do not take curve elements yet (kinematic, dynamic, inverse dynamic, static and modal analyses do)")]
     CurveElement {
         /// What the first such element is ("point-on-curve", "cam").
         what: &'static str,

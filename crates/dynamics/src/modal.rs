@@ -212,7 +212,6 @@ impl Dynamics<'_> {
         released: &[String],
     ) -> Result<Linearization, DynamicsError> {
         let state = &eq.state;
-        self.refuse_curves()?;
         if self.kkt.is_none() {
             self.prepare(state)?;
         }

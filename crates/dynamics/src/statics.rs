@@ -333,7 +333,6 @@ impl Dynamics<'_> {
         options: &StaticOptions,
     ) -> Result<Equilibrium, DynamicsError> {
         options.validate()?;
-        self.refuse_curves()?;
         let t = options.time;
         let mut state = self.assembled(guess, t)?;
         let mut lambda = vec![0.0; self.model.num_equations()];
@@ -404,7 +403,6 @@ impl Dynamics<'_> {
         options: &StaticOptions,
     ) -> Result<StaticResults, DynamicsError> {
         let start = std::time::Instant::now();
-        self.refuse_curves()?;
         if times.is_empty() || times.windows(2).any(|w| w[1] <= w[0]) {
             return Err(DynamicsError::Options(
                 "quasi-static times must be increasing and at least one".into(),
@@ -566,12 +564,7 @@ impl Dynamics<'_> {
             }
             Err(e) => return Err(e.into()),
         }
-        let state = State {
-            t,
-            q: ws.state().to_vec(),
-            v: vec![0.0; guess.v.len()],
-        };
-        self.turns.copy_from_slice(ws.turns());
+        let state = self.adopt_assembly(&ws, t, vec![0.0; guess.v.len()]);
         self.kkt = None;
         self.prepare(&state)?;
         Ok(state)

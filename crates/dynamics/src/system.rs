@@ -137,9 +137,9 @@ impl<'m> Dynamics<'m> {
         Ok(d)
     }
 
-    /// Static equilibria and linearizations do not take curve elements yet: their Newton and
-    /// tangent stiffness work on the model's rows, not the reduced rows of the equations of
-    /// motion ([`crate::kkt`]'s `curves`).
+    /// The linearization about a motion and the sparse linearization do not take curve
+    /// elements yet (their tangents are assembled from the model's rows, not the reduced rows of
+    /// [`crate::kkt`]'s `curves`).
     pub(crate) fn refuse_curves(&self) -> Result<(), DynamicsError> {
         match self.model.curves().first() {
             Some(c) => Err(DynamicsError::CurveElement {
@@ -244,15 +244,7 @@ impl<'m> Dynamics<'m> {
             }
             Err(e) => return Err(e.into()),
         }
-        let nq = 7 * self.model.num_bodies();
-        let mut state = State {
-            t: guess.t,
-            q: ws.state()[..nq].to_vec(),
-            v: guess.v.clone(),
-        };
-        self.turns.copy_from_slice(ws.turns());
-        self.curves
-            .start_from(self.model, self.model.extras_of(ws.state()));
+        let mut state = self.adopt_assembly(&ws, guess.t, guess.v.clone());
         self.prepare(&state)?;
         self.project_velocities(&mut state)?;
         let (res, worst) = self.velocity_residual(&state);
@@ -269,6 +261,26 @@ impl<'m> Dynamics<'m> {
             });
         }
         Ok(state)
+    }
+
+    /// The state of an assembled workspace `ws` at time `t` with velocities `v`: its body poses
+    /// (the curve parameters after them start the curve elements' tracking), its couplers'
+    /// turns.
+    pub(crate) fn adopt_assembly(
+        &mut self,
+        ws: &cardan_mechanism::Workspace,
+        t: f64,
+        v: Vec<f64>,
+    ) -> State {
+        let nq = 7 * self.model.num_bodies();
+        self.turns.copy_from_slice(ws.turns());
+        self.curves
+            .start_from(self.model, self.model.extras_of(ws.state()));
+        State {
+            t,
+            q: ws.state()[..nq].to_vec(),
+            v,
+        }
     }
 
     /// Lays out the KKT system at `state` (assumed assembled): rank analysis of Φ_v (all

@@ -8,7 +8,10 @@
 //! - a harmonic cam (an eccentric disc, radius R, eccentricity e) turning at ω and a flat-faced
 //!   tappet (mass m) held on it by a spring (stiffness k, preload F₀): by inverse dynamics, the
 //!   camshaft torque against the power balance T ω = d/dt(½ m ṡ² + ½ k s² + F₀ s).
-//! - static and modal analyses, and path drivers in the equations of motion, are refused by name.
+//! - statics and modal analysis: a bead held on a circle by gravity and a push; the valve train
+//!   held at an angle (contact force and motor torque); the free camshaft's oscillation about
+//!   its lowest lift at √(F₀ e / J);
+//! - path drivers in the equations of motion are refused by name.
 
 mod common;
 use cardan_constraints::{Circle, JointKind, Line, Marker, TimeFunction};
@@ -285,16 +288,7 @@ fn the_camshaft_torque_balances_the_power_of_the_valve_train() {
 }
 
 #[test]
-fn static_analyses_and_path_drivers_are_refused_by_name() {
-    let model = bead_on(circle_wire(), Vector3::new(1.0, 0.0, 0.0))
-        .build()
-        .unwrap();
-    let mut d = Dynamics::new(&model).unwrap();
-    let err = d.statics(&StaticOptions::default()).unwrap_err();
-    assert!(
-        matches!(&err, DynamicsError::CurveElement { element, .. } if element == "wire"),
-        "{err}"
-    );
+fn path_drivers_are_refused_by_name() {
     let mut b = bead_on(circle_wire(), Vector3::new(1.0, 0.0, 0.0));
     b.path(PathSpec::new(
         "along",
@@ -310,6 +304,84 @@ fn static_analyses_and_path_drivers_are_refused_by_name() {
         "{err}"
     );
     assert!(err.to_string().contains("kind = \"kinematic\""), "{err}");
+}
+
+/// A bead on a vertical circular wire of radius 1 m under gravity and a constant horizontal
+/// force F rests where tan φ = F / (m g) from the bottom, the wire pushing back with
+/// √((m g)² + F²).
+#[test]
+fn a_bead_on_a_circular_wire_rests_where_gravity_and_a_push_balance() {
+    let model = bead_on(circle_wire(), Vector3::new(0.0, -1.0, 0.0))
+        .build()
+        .unwrap();
+    let mut d = Dynamics::new(&model).unwrap();
+    let push = 4.0;
+    d.add_force(Force::gravity(Vector3::new(0.0, -G, 0.0)))
+        .unwrap();
+    d.add_force(Force::point_force(
+        "push",
+        "bead",
+        "P",
+        Vector3::new(push, 0.0, 0.0),
+        cardan_dynamics::Frame::Global,
+    ))
+    .unwrap();
+    let r = d.statics(&StaticOptions::default()).unwrap();
+    let eq = &r.equilibria[0];
+    let p = eq.state.r(0);
+    let phi = push.atan2(G);
+    let err = (p - Vector3::new(phi.sin(), -phi.cos(), 0.0)).norm();
+    let wire = r.results.cam("wire");
+    eprintln!(
+        "bead at rest: position error {err:.2e} m, {:?}",
+        eq.stability
+    );
+    assert!(err < 1e-10, "position error {err}");
+    assert!(wire.is_none(), "a point on a curve is not a cam pair");
+}
+
+/// The valve train held still at camshaft angle θ (statics at t = θ/ω): the contact force is
+/// the spring's, F₀ + k e (1 − cos θ), and the motor holds the camshaft with T = N e sin θ.
+#[test]
+fn the_valve_train_held_at_an_angle_needs_the_spring_torque() {
+    let model = VALVE.build();
+    let mut d = VALVE.dynamics(&model);
+    let th: f64 = 1.1;
+    let r = d
+        .statics(&StaticOptions {
+            time: th / VALVE.omega,
+            ..StaticOptions::default()
+        })
+        .unwrap();
+    let n = VALVE.preload + VALVE.k * E * (1.0 - th.cos());
+    let cam = r.results.cam("lobe").unwrap();
+    let torque = r.results.driver("motor").unwrap().effort[0];
+    let (nerr, terr) = (
+        (cam.normal_force[0] - n).abs(),
+        (torque - n * E * th.sin()).abs(),
+    );
+    eprintln!("held valve train: contact force error {nerr:.2e} N, torque error {terr:.2e} N m");
+    assert!(nerr < 1e-9 * n && terr < 1e-9 * n * E, "{nerr} {terr}");
+}
+
+/// The free camshaft resting at its lowest lift is held there by the spring through the cam:
+/// the potential F₀ e (1 − cos θ) + ½ k e² (1 − cos θ)² has stiffness F₀ e at θ = 0, and the
+/// tappet does not move to first order (ṡ = e θ̇ sin θ), so the camshaft oscillates at
+/// ω = √(F₀ e / J).
+#[test]
+fn the_free_camshaft_oscillates_at_the_closed_form_frequency() {
+    let model = VALVE.build_free();
+    let mut d = VALVE.dynamics(&model);
+    let r = d.modal(&cardan_dynamics::ModalOptions::default()).unwrap();
+    // In Hz.
+    let expected = (VALVE.preload * E / 1e-4).sqrt() / (2.0 * PI);
+    let f = r.modes[0].frequency;
+    eprintln!("free camshaft: {f:.9} Hz (closed form {expected:.9})");
+    assert!(r.modes.len() == 1, "{} modes", r.modes.len());
+    assert!(
+        (f - expected).abs() < 1e-7 * expected,
+        "{f} against {expected}"
+    );
 }
 
 impl ValveTrain {

@@ -50,6 +50,9 @@ pub(crate) struct Tracked {
     pub u_dot: [f64; MAX_EXTRA],
     /// The basis N as rows: `basis[a][r]` is entry r of column a, pre-multiplied by s W_r.
     basis: [[f64; MAX_ROWS]; MAX_ROWS],
+    /// The coordinate axes N is built from, in order (see [`complement`]); `None` until the
+    /// first update.
+    axes: Option<[usize; MAX_ROWS]>,
     /// The reduced Φ̃_v blocks of body i and j (rows r − k..r zero).
     pub bi: [[f64; 6]; 6],
     pub bj: [[f64; 6]; 6],
@@ -74,6 +77,7 @@ impl CurveTrack {
                 u: c.initial,
                 u_dot: [0.0; MAX_EXTRA],
                 basis: [[0.0; MAX_ROWS]; MAX_ROWS],
+                axes: None,
                 bi: [[0.0; 6]; 6],
                 bj: [[0.0; 6]; 6],
             })
@@ -206,7 +210,8 @@ impl Tracked {
         el.jacobian_extra(&pair, 0.0, &mut ju[..r]);
         let s = 1.0 / w[0];
         let residual = (0..r).map(|q| (w[q] * phi[q]).powi(2)).sum::<f64>().sqrt() * s;
-        self.basis = complement(&ju, w, r, k).ok_or(residual)?;
+        let (basis, axes) = complement(&ju, w, r, k, self.axes).ok_or(residual)?;
+        (self.basis, self.axes) = (basis, Some(axes));
         for a in 0..r - k {
             for q in 0..r {
                 self.basis[a][q] *= s * w[q];
@@ -299,56 +304,85 @@ fn normal_step(
 }
 
 /// An orthonormal basis of the complement of the columns of W Φ_u (r − k vectors, as rows),
-/// by Gram–Schmidt: the columns first, then the coordinate axes that add the most; `None` when
-/// the columns are dependent.
+/// by Gram–Schmidt: the columns first, then r − k coordinate axes projected on their complement,
+/// and the axes used. The axes are those of the last call (`axes`) while each keeps at least
+/// half its length through the projection, so that N varies smoothly with the poses (the
+/// multipliers of the reduced rows keep their meaning from one evaluation to the next, and
+/// finite differences of Φ̃_vᵀλ at fixed λ are the geometric stiffness); otherwise, and at the
+/// first call, the axes that keep the most, one by one. `None` when the columns are dependent.
 fn complement(
     ju: &[[f64; MAX_EXTRA]; MAX_ROWS],
     w: &[f64; MAX_ROWS],
     r: usize,
     k: usize,
-) -> Option<[[f64; MAX_ROWS]; MAX_ROWS]> {
+    axes: Option<[usize; MAX_ROWS]>,
+) -> Option<([[f64; MAX_ROWS]; MAX_ROWS], [usize; MAX_ROWS])> {
     let mut q = [[0.0; MAX_ROWS]; MAX_ROWS];
-    let mut n = 0;
-    let take = |v: [f64; MAX_ROWS], q: &mut [[f64; MAX_ROWS]; MAX_ROWS], n: &mut usize| {
-        let res = orthogonalize(v, &q[..*n], r);
-        let norm = res.iter().map(|x| x * x).sum::<f64>().sqrt();
-        let size = v.iter().map(|x| x * x).sum::<f64>().sqrt();
-        if norm.is_nan() || norm <= 1e-8 * size {
-            return false;
-        }
-        for c in 0..r {
-            q[*n][c] = res[c] / norm;
-        }
-        *n += 1;
-        true
-    };
     for e in 0..k {
         let mut v = [0.0; MAX_ROWS];
         for c in 0..r {
             v[c] = w[c] * ju[c][e];
         }
-        if !take(v, &mut q, &mut n) {
+        let size = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let res = orthogonalize(v, &q[..e], r);
+        let norm = res.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if norm.is_nan() || norm <= 1e-8 * size {
             return None;
         }
+        for c in 0..r {
+            q[e][c] = res[c] / norm;
+        }
     }
-    while n < r {
-        // The axis least in the span so far.
-        let best = (0..r)
-            .map(|c| {
-                let mut e = [0.0; MAX_ROWS];
-                e[c] = 1.0;
-                let res = orthogonalize(e, &q[..n], r);
-                (c, res.iter().map(|x| x * x).sum::<f64>())
-            })
-            .fold((0, -1.0), |b, x| if x.1 > b.1 { x } else { b })
-            .0;
+    let axis = |c: usize| {
         let mut e = [0.0; MAX_ROWS];
-        e[best] = 1.0;
-        take(e, &mut q, &mut n);
+        e[c] = 1.0;
+        e
+    };
+    let norm = |v: &[f64; MAX_ROWS]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    // The last call's axes, while each keeps half its length.
+    let mut kept = axes.map(|a| {
+        let mut q = q;
+        for n in k..r {
+            let res = orthogonalize(axis(a[n - k]), &q[..n], r);
+            let len = norm(&res);
+            if len.is_nan() || len < 0.5 {
+                return None;
+            }
+            q[n] = res.map(|x| x / len);
+        }
+        Some((q, a))
+    });
+    if let Some(Some(found)) = kept.take() {
+        return Some(shift(found, r, k));
     }
+    let mut chosen = [0; MAX_ROWS];
+    for n in k..r {
+        // The axis that keeps the most through the projection.
+        let (best, res) = (0..r)
+            .map(|c| (c, orthogonalize(axis(c), &q[..n], r)))
+            .fold((0, [0.0; MAX_ROWS]), |b, x| {
+                if norm(&x.1) > norm(&b.1) {
+                    x
+                } else {
+                    b
+                }
+            });
+        let len = norm(&res);
+        q[n] = res.map(|x| x / len);
+        chosen[n - k] = best;
+    }
+    Some(shift((q, chosen), r, k))
+}
+
+/// The complement's vectors (rows k..r of `q`) moved to the front.
+fn shift(
+    (q, axes): ([[f64; MAX_ROWS]; MAX_ROWS], [usize; MAX_ROWS]),
+    r: usize,
+    k: usize,
+) -> ([[f64; MAX_ROWS]; MAX_ROWS], [usize; MAX_ROWS]) {
     let mut out = [[0.0; MAX_ROWS]; MAX_ROWS];
     out[..r - k].copy_from_slice(&q[k..r]);
-    Some(out)
+    (out, axes)
 }
 
 /// v minus its projections on the orthonormal rows `q` (twice, for round-off).
