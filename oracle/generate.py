@@ -22,10 +22,11 @@ import gen_joints
 import gen_limits
 import gen_pose
 import gen_primitives
+import gen_surfaces
 
 GENERATORS = {
     m.__name__: m for m in (gen_primitives, gen_joints, gen_drivers, gen_pose, gen_couplers,
-                               gen_limits, gen_curves)
+                               gen_limits, gen_curves, gen_surfaces)
 }
 
 

@@ -10,11 +10,12 @@
 
 use cardan_constraints::joints::Measure;
 use cardan_constraints::{
-    Bound, Circle, Constraint, CoordinateDriver, Coupler, CubicCurve, Curve, CurveOnCurve,
-    Distance, DistanceDriver, Driver, Gear, Helix, Homokinetic, Joint, JointKind, JointLimit,
-    JointParams, Line, Marker, Normalization, P1Perp, P1Select, P2Perp, P2Select, PathDriver,
-    PointOnCurve, PoseDriver, Primitive, RackPinion, RadialDistance, RotationDriver, RotationOrder,
-    Screw, Spherical, TimeFunction, TranslationDriver, KINDS, N1, N2, P1, P2,
+    BicubicPatch, Bound, Circle, Constraint, CoordinateDriver, Coupler, CubicCurve, Curve,
+    CurveOnCurve, Cylinder, Distance, DistanceDriver, Driver, Gear, Helix, Homokinetic, Joint,
+    JointKind, JointLimit, JointParams, Line, Marker, Normalization, P1Perp, P1Select, P2Perp,
+    P2Select, PathDriver, Plane, PointOnCurve, PointOnSurface, PoseDriver, Primitive, RackPinion,
+    RadialDistance, RotationDriver, RotationOrder, Screw, Sphere, Spherical, Surface, TimeFunction,
+    Torus, TranslationDriver, KINDS, N1, N2, P1, P2,
 };
 use nalgebra::{Matrix3, Vector3};
 use serde_json::Value;
@@ -82,6 +83,27 @@ pub fn curve_name(c: &PointOnCurve) -> &'static str {
     curves()[k]
 }
 
+/// Every point-on-surface element, as the oracle names them: `point_on_surface_<kind>` for
+/// each kind of [`Surface::KINDS`] (a surface kind added there needs oracle data).
+pub fn surfaces() -> &'static [&'static str] {
+    static NAMES: std::sync::OnceLock<Vec<&'static str>> = std::sync::OnceLock::new();
+    NAMES.get_or_init(|| {
+        Surface::KINDS
+            .iter()
+            .map(|k| &*Box::leak(format!("point_on_surface_{k}").into_boxed_str()))
+            .collect()
+    })
+}
+
+/// The oracle name of a point-on-surface element (`point_on_surface_<kind>` of its surface).
+pub fn surface_name(c: &PointOnSurface) -> &'static str {
+    let k = Surface::KINDS
+        .iter()
+        .position(|k| *k == c.surface.kind())
+        .expect("every surface kind is in Surface::KINDS");
+    surfaces()[k]
+}
+
 /// The curve kinds a cam pair takes (`Curve::KINDS` but the helix, which is not planar).
 pub const PLANAR_KINDS: [&str; 4] = ["line", "circle", "cubic", "cubic_closed"];
 
@@ -129,6 +151,7 @@ pub fn elements() -> Vec<&'static str> {
         .chain(limits().iter().copied())
         .chain(curves().iter().copied())
         .chain(cams().iter().copied())
+        .chain(surfaces().iter().copied())
         .chain([
             "path_driver",
             "path_driver_arc_cubic",
@@ -198,6 +221,8 @@ pub enum Element {
     Curve(PointOnCurve),
     /// Two curves in tangent contact (two extra coordinates).
     Cam(CurveOnCurve),
+    /// A point on a surface (two extra coordinates).
+    Surface(PointOnSurface),
     /// A curve parameter prescribed in time.
     Path(PathDriver),
 }
@@ -214,6 +239,7 @@ impl Element {
             Element::Limit(l) => limit_name(l),
             Element::Curve(c) => curve_name(c),
             Element::Cam(c) => cam_name(c),
+            Element::Surface(c) => surface_name(c),
             Element::Path(p) => match &p.arc {
                 None => "path_driver",
                 Some(a) if a.is_closed() => "path_driver_arc_cubic_closed",
@@ -231,6 +257,7 @@ cardan_constraints::delegate_constraint!(Element {
     Element::Limit,
     Element::Curve,
     Element::Cam,
+    Element::Surface,
     Element::Path,
 });
 
@@ -458,6 +485,16 @@ pub fn build(name: &str, p: &Value) -> Result<Element, ParamError> {
             }
             Ok(E::Curve(e))
         }
+        _ if name.starts_with("point_on_surface_") => {
+            let e = PointOnSurface::new(
+                surface(p.get("surface").ok_or("missing `surface`")?)?,
+                v3(p, "sp_j")?,
+            );
+            if surface_name(&e) != name {
+                return Err(format!("`{name}` holds a {} surface", e.surface.kind()));
+            }
+            Ok(E::Surface(e))
+        }
         _ if name.starts_with("curve_on_curve_") => {
             let side = |k: &str| curve(p.get(k).ok_or_else(|| format!("missing `{k}`"))?);
             let e = CurveOnCurve::new(side("curve_i")?, v3(p, "normal_i")?, side("curve_j")?)
@@ -563,5 +600,51 @@ fn curve(c: &Value) -> Result<Curve, ParamError> {
                 .into()
         }
         other => return Err(format!("unknown curve kind `{other}`")),
+    })
+}
+
+/// A surface from its oracle parameters (`kind` and the kind's fields, CONTRACT.md "Surfaces").
+fn surface(c: &Value) -> Result<Surface, ParamError> {
+    let kind = c
+        .get("kind")
+        .and_then(Value::as_str)
+        .ok_or("surface without `kind`")?;
+    if kind == "bicubic" {
+        let rows = c
+            .get("points")
+            .and_then(Value::as_array)
+            .ok_or("bicubic surface without `points`")?;
+        let mut pts = [[Vector3::zeros(); 4]; 4];
+        for (i, row) in rows.iter().enumerate().take(4) {
+            for (j, p) in row.as_array().into_iter().flatten().enumerate().take(4) {
+                let a: Vec<f64> = p
+                    .as_array()
+                    .into_iter()
+                    .flatten()
+                    .filter_map(Value::as_f64)
+                    .collect();
+                if a.len() != 3 {
+                    return Err("a control point is not a 3-vector".into());
+                }
+                pts[i][j] = Vector3::new(a[0], a[1], a[2]);
+            }
+        }
+        return Ok(BicubicPatch::new(pts).map_err(|e| e.to_string())?.into());
+    }
+    let (x, y) = (v3(c, "x")?, v3(c, "y")?);
+    let m = Marker::new(
+        v3(c, "center")?,
+        Matrix3::from_columns(&[x, y, x.cross(&y)]),
+    )
+    .map_err(|e| e.to_string())?;
+    let err = |e: cardan_constraints::ConstraintError| e.to_string();
+    Ok(match kind {
+        "plane" => Plane::new(&m).into(),
+        "sphere" => Sphere::new(&m, num(c, "radius")?).map_err(err)?.into(),
+        "cylinder" => Cylinder::new(&m, num(c, "radius")?).map_err(err)?.into(),
+        "torus" => Torus::new(&m, num(c, "major")?, num(c, "minor")?)
+            .map_err(err)?
+            .into(),
+        other => return Err(format!("unknown surface kind `{other}`")),
     })
 }

@@ -77,6 +77,9 @@ pub struct Sampler {
     /// The extra coordinates u an element's `make` chose (a curve parameter kept away from a
     /// spline's knots, where c'_uuu jumps); [`run`] draws them when `None`.
     pub extra: Option<[f64; MAX_EXTRA]>,
+    /// The scale of each extra coordinate, for its rate (a bicubic patch's parameters are
+    /// dimensionless); `None`: the sampler's scale.
+    pub extra_scale: Option<[f64; MAX_EXTRA]>,
 }
 
 impl Sampler {
@@ -91,6 +94,7 @@ impl Sampler {
             function_kind,
             avoid_t: f64::NAN,
             extra: None,
+            extra_scale: None,
         }
     }
 
@@ -916,7 +920,8 @@ pub fn run<C: Constraint>(
                 Some(u) => u[k],
                 None => sampler.rng.uniform(-3.0, 3.0) * sampler.scale,
             };
-            case.u_dot[k] = sampler.rng.uniform(-2.0, 2.0) * sampler.scale;
+            let scale = sampler.extra_scale.map_or(sampler.scale, |s| s[k]);
+            case.u_dot[k] = sampler.rng.uniform(-2.0, 2.0) * scale;
         }
         all.extend(check(&element, &case));
     }

@@ -48,7 +48,9 @@
 //! ([`Constraint::extra`], [`Constraint::jacobian_extra`], read from [`BodyPair::u`]); a
 //! [`PathDriver`] prescribes it in time. A [`CurveOnCurve`] keeps a planar curve of body j
 //! tangent to one of body i (a cam and its roller, flat face or profile follower), both curve
-//! parameters extra coordinates.
+//! parameters extra coordinates. [`surfaces`] holds surfaces (plane, sphere, cylinder, torus,
+//! bicubic patch) with their derivatives in (u, v); a [`PointOnSurface`] keeps a point of body j
+//! on a surface of body i with u and v two extra coordinates.
 //!
 //! ## Evaluation
 //! All of them implement [`Constraint`]. Evaluation takes a [`BodyPair`] (pose, cached A and
@@ -112,11 +114,13 @@ pub mod p2_perp;
 pub mod p2_select;
 pub mod path_driver;
 pub mod point_on_curve;
+pub mod point_on_surface;
 pub mod primitive;
 pub mod radial_distance;
 pub mod spherical;
 pub mod spline;
 pub mod state;
+pub mod surfaces;
 pub mod time_function;
 
 pub use constraint::{Constraint, Dimension, MAX_EXTRA};
@@ -146,9 +150,11 @@ pub use p2_perp::P2Perp;
 pub use p2_select::P2Select;
 pub use path_driver::PathDriver;
 pub use point_on_curve::PointOnCurve;
+pub use point_on_surface::PointOnSurface;
 pub use primitive::Primitive;
 pub use radial_distance::RadialDistance;
 pub use spherical::Spherical;
 pub use spline::Spline;
 pub use state::{BlockUse, BodyPair, BodyState, Footprint};
+pub use surfaces::{BicubicPatch, Cylinder, Plane, Sphere, Surface, SurfaceJet, Torus};
 pub use time_function::TimeFunction;

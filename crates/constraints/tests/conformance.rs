@@ -239,6 +239,71 @@ fn point_on_every_curve_kind() {
     }
 }
 
+/// A surface of kind `kind` (an entry of `Surface::KINDS`) of the sampler's size and parameters
+/// on it (a sphere's latitude within 1.2 rad of its equator, away from the singular poles; a
+/// patch's within [−0.2, 1.2]²).
+fn surface(s: &mut Sampler, kind: &str) -> (Surface, [f64; 2]) {
+    let size = s.scale;
+    let m = s.marker();
+    let mut r = |lo: f64, hi: f64| s.rng.uniform(lo, hi) * size;
+    let (surf, scale): (Surface, [f64; 2]) = match kind {
+        "plane" => (Plane::new(&m).into(), [size, size]),
+        "sphere" => {
+            let radius = r(0.3, 2.0);
+            (Sphere::new(&m, radius).unwrap().into(), [radius, radius])
+        }
+        "cylinder" => {
+            let radius = r(0.3, 2.0);
+            (Cylinder::new(&m, radius).unwrap().into(), [radius, size])
+        }
+        "torus" => {
+            let big = r(0.8, 2.0);
+            let tube = big * s.rng.uniform(0.15, 0.7);
+            (Torus::new(&m, big, tube).unwrap().into(), [big, tube])
+        }
+        _ => {
+            let mut pts = [[Vector3::zeros(); 4]; 4];
+            for row in pts.iter_mut() {
+                for p in row.iter_mut() {
+                    *p = s.point();
+                }
+            }
+            (BicubicPatch::new(pts).unwrap().into(), [1.0, 1.0])
+        }
+    };
+    let uv = match kind {
+        "sphere" => [
+            scale[0] * s.rng.uniform(-8.0, 8.0),
+            scale[1] * s.rng.uniform(-1.2, 1.2),
+        ],
+        "bicubic" => [s.rng.uniform(-0.2, 1.2), s.rng.uniform(-0.2, 1.2)],
+        _ => [
+            scale[0] * s.rng.uniform(-3.0, 3.0),
+            scale[1] * s.rng.uniform(-3.0, 3.0),
+        ],
+    };
+    (surf, uv)
+}
+
+/// A point on each kind of surface, u and v extra coordinates (Φ_u, Φ_v and γ# with u̇, v̇).
+#[test]
+fn point_on_every_surface_kind() {
+    for kind in Surface::KINDS {
+        assert_conforms(
+            &format!("point_on_surface_{kind}"),
+            BOTH,
+            |s: &mut Sampler| {
+                let (surf, uv) = surface(s, kind);
+                s.extra = Some(uv);
+                if kind == "bicubic" {
+                    s.extra_scale = Some([1.0, 1.0]);
+                }
+                PointOnSurface::new(surf, s.point())
+            },
+        );
+    }
+}
+
 /// The planar curve kinds a cam pair takes (every kind but the helix).
 const PLANAR: [&str; 4] = ["line", "circle", "cubic", "cubic_closed"];
 
