@@ -13,8 +13,8 @@ use nalgebra::Vector3;
 /// A bicubic Bézier patch.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BicubicPatch {
-    /// Pᵢⱼ: `points[i][j]`, i along u, j along v.
-    points: [[Vector3<f64>; 4]; 4],
+    /// Pᵢⱼ: `points[i][j]`, i along u, j along v (boxed: the other surfaces are small).
+    points: Box<[[Vector3<f64>; 4]; 4]>,
 }
 
 /// (B, B', B'') of degree 3 at t.
@@ -45,7 +45,9 @@ impl BicubicPatch {
                 "a bicubic patch's control points must be finite".into(),
             ));
         }
-        let patch = Self { points };
+        let patch = Self {
+            points: Box::new(points),
+        };
         if patch.size() == 0.0 {
             return Err(ConstraintError::Curve(
                 "a bicubic patch's control points all coincide".into(),
