@@ -565,8 +565,8 @@ impl<'m> Dynamics<'m> {
         }
         for (c, tr) in curves.iter().zip(&self.curves.elements) {
             let names = c.element.parameters().iter();
-            for (e, (curve, parameter)) in c.element.curves().into_iter().zip(names).enumerate() {
-                let Some((a, b)) = curve.and_then(|c| c.domain()) else {
+            for (e, (domain, parameter)) in c.element.domains().into_iter().zip(names).enumerate() {
+                let Some((a, b)) = domain else {
                     continue;
                 };
                 let (slack, u) = (1e-9 * (b - a), tr.u[e]);
@@ -576,6 +576,10 @@ impl<'m> Dynamics<'m> {
                         what: c.element.what(),
                         element: c.name.clone(),
                         contact: if cam { "contact point" } else { "point" },
+                        curve: match c.element {
+                            cardan_mechanism::CurveElement::Surface(_) => "patch",
+                            _ => "open curve",
+                        },
                         parameter,
                         time: t,
                         u,

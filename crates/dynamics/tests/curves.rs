@@ -11,6 +11,9 @@
 //! - statics and modal analysis: a bead held on a circle by gravity and a push; the valve train
 //!   held at an angle (contact force and motor torque); the free camshaft's oscillation about
 //!   its lowest lift at √(F₀ e / J);
+//! - a ball on a sphere (a spherical pendulum) moves as the same ball on a distance joint, and a
+//!   bead sent along a torus' outer equator without gravity stays on it at constant speed, the
+//!   torus pushing with m v² / (R + r);
 //! - path drivers in the equations of motion are refused by name.
 
 mod common;
@@ -508,4 +511,121 @@ fn a_free_camshaft_and_a_sprung_tappet_keep_their_energy() {
     eprintln!("free camshaft: energy {e0:.4} J, drift {drift:.2e} J; highest lift {top:.2e} m");
     assert!(top > 1.9 * E, "the tappet did not go over the top: {top}");
     assert!(drift < 1e-8 * e0, "energy drift {drift} of {e0}");
+}
+
+/// The ball of a spherical pendulum (length 1 m, released at the height of the pivot with a
+/// sideways speed): held on a sphere of radius 1 (u, v eliminated) or by a distance joint of
+/// length 1 to the pivot, it moves alike.
+#[test]
+fn a_ball_on_a_sphere_moves_as_the_spherical_pendulum() {
+    let axes = Marker::from_axes(Vector3::zeros(), Vector3::z(), Vector3::x()).unwrap();
+    let on_sphere = {
+        let mut b = MechanismBuilder::new();
+        b.body(
+            Body::new("ball")
+                .mass(1.0)
+                .inertia_diagonal(1e-2, 1e-2, 1e-2)
+                .position(Vector3::x()),
+        );
+        b.point("ball", "P", Vector3::zeros());
+        let sphere = cardan_constraints::Sphere::new(&axes, 1.0).unwrap();
+        b.surface(cardan_mechanism::SurfaceSpec::new(
+            "shell", GROUND, sphere, "ball", "P",
+        ));
+        b.build().unwrap()
+    };
+    let on_rod = {
+        let mut b = MechanismBuilder::new();
+        b.body(
+            Body::new("ball")
+                .mass(1.0)
+                .inertia_diagonal(1e-2, 1e-2, 1e-2)
+                .position(Vector3::x()),
+        );
+        b.point("ball", "P", Vector3::zeros());
+        b.point(GROUND, "O", Vector3::zeros());
+        b.joint(
+            JointSpec::new(
+                "rod",
+                JointKind::SphericalSpherical,
+                (GROUND, "O"),
+                ("ball", "P"),
+            )
+            .length(1.0),
+        );
+        b.build().unwrap()
+    };
+    let swing = |model: &cardan_mechanism::Model| {
+        let mut d = Dynamics::new(model).unwrap();
+        d.add_force(Force::gravity(Vector3::new(0.0, -G, 0.0)))
+            .unwrap();
+        let mut guess = d.initial_guess();
+        guess.set_velocity(0, Vector3::new(0.0, 0.0, 1.5), Vector3::zeros());
+        let state = d.consistent_state(&guess).unwrap();
+        let opts = SimulationOptions::new(3.0, 30)
+            .integrator(Integrator::Dopri5(Dopri5Options::tolerances(1e-11, 1e-13)));
+        d.simulate(&state, &opts).unwrap()
+    };
+    let (a, b) = (swing(&on_sphere), swing(&on_rod));
+    let (ra, rb) = (&a.body("ball").unwrap().r, &b.body("ball").unwrap().r);
+    let err = ra
+        .iter()
+        .zip(rb)
+        .map(|(p, q)| (p - q).norm())
+        .fold(0.0, f64::max);
+    let v = a.kinematics.curve_parameter("shell", "v").unwrap();
+    let reach = v.u.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    eprintln!(
+        "spherical pendulum, sphere against distance joint: {err:.2e} m; |v| up to {reach:.2} m, energy drift {:.1e}",
+        a.energy.max_drift()
+    );
+    assert!(err < 1e-8, "{err}");
+    assert!(reach > 0.3, "the ball did not leave the equator: {reach}");
+}
+
+/// A bead sent along a torus' outer equator (radius R + r) without gravity stays on it at its
+/// speed v, and the torus pushes it inward with m v² / (R + r).
+#[test]
+fn a_bead_along_a_torus_equator_keeps_its_circle_and_speed() {
+    let (big, tube, speed) = (1.0, 0.3, 2.0);
+    let axes = Marker::from_axes(Vector3::zeros(), Vector3::z(), Vector3::x()).unwrap();
+    let torus = cardan_constraints::Torus::new(&axes, big, tube).unwrap();
+    let mut b = MechanismBuilder::new();
+    b.body(
+        Body::new("bead")
+            .mass(0.5)
+            .inertia_diagonal(1e-3, 1e-3, 1e-3)
+            .position(Vector3::new(big + tube, 0.0, 0.0)),
+    );
+    b.point("bead", "P", Vector3::zeros());
+    b.surface(cardan_mechanism::SurfaceSpec::new(
+        "ring", GROUND, torus, "bead", "P",
+    ));
+    let model = b.build().unwrap();
+    let mut d = Dynamics::new(&model).unwrap();
+    let mut guess = d.initial_guess();
+    guess.set_velocity(0, Vector3::new(0.0, speed, 0.0), Vector3::zeros());
+    let state = d.consistent_state(&guess).unwrap();
+    let opts = SimulationOptions::new(2.0, 40)
+        .integrator(Integrator::Dopri5(Dopri5Options::tolerances(1e-11, 1e-13)));
+    let res = d.simulate(&state, &opts).unwrap();
+    let body = res.body("bead").unwrap();
+    let radius = big + tube;
+    let mut worst = [0.0f64; 3];
+    for k in 0..res.len() {
+        let (r, v) = (body.r[k], body.r_dot[k]);
+        worst[0] = worst[0].max((r.xy().norm() - radius).abs()).max(r.z.abs());
+        worst[1] = worst[1].max((v.norm() - speed).abs());
+        // The torus' force is the only one: m r̈.
+        let f = body.r_ddot[k] * 0.5;
+        worst[2] = worst[2].max((f.norm() - 0.5 * speed * speed / radius).abs());
+    }
+    eprintln!(
+        "bead on a torus' equator: off the circle {:.1e} m, speed {:.1e} m/s, force {:.1e} N",
+        worst[0], worst[1], worst[2]
+    );
+    assert!(
+        worst[0] < 1e-9 && worst[1] < 1e-9 && worst[2] < 1e-8,
+        "{worst:?}"
+    );
 }

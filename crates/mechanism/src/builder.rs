@@ -24,7 +24,7 @@
 //! The ground body [`GROUND`] exists from the start; its points and vectors are global. It has no
 //! unknowns: its coordinates are eliminated, not constrained.
 
-use crate::curve_spec::{CamSpec, CurveSpec, PathSpec};
+use crate::curve_spec::{CamSpec, CurveSpec, PathSpec, SurfaceSpec};
 use cardan_constraints::drivers::POSE_ROWS;
 use cardan_constraints::{JointKind, RotationOrder, TimeFunction};
 use cardan_eulerparam::{
@@ -817,6 +817,7 @@ pub struct MechanismBuilder {
     pub(crate) frictions: Vec<FrictionSpec>,
     pub(crate) curves: Vec<CurveSpec>,
     pub(crate) cams: Vec<CamSpec>,
+    pub(crate) surfaces: Vec<SurfaceSpec>,
     pub(crate) paths: Vec<PathSpec>,
 }
 
@@ -869,6 +870,13 @@ impl MechanismBuilder {
     /// extra coordinates, after those of the point-on-curve elements).
     pub fn cam(&mut self, cam: CamSpec) -> &mut Self {
         self.cams.push(cam);
+        self
+    }
+
+    /// Adds a point-on-surface element (its two surface parameters become extra coordinates,
+    /// after those of the curves and cams).
+    pub fn surface(&mut self, surface: SurfaceSpec) -> &mut Self {
+        self.surfaces.push(surface);
         self
     }
 

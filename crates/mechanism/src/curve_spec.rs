@@ -3,7 +3,7 @@
 //! u is an extra coordinate of the mechanism (columns after the bodies'); see
 //! [`cardan_constraints::PointOnCurve`] for the equations.
 
-use cardan_constraints::{Curve, TimeFunction};
+use cardan_constraints::{Curve, Surface, TimeFunction};
 use nalgebra::Vector3;
 
 /// A point of body j on a curve fixed in body i.
@@ -96,6 +96,46 @@ impl CamSpec {
     pub fn initial(mut self, u: f64, w: f64) -> Self {
         self.initial = Some([u, w]);
         self
+    }
+}
+
+/// A point of body j on a surface fixed in body i (a ball on a dish, a stylus on a sculptured
+/// surface); its two surface parameters (u, v) become extra coordinates. See
+/// [`cardan_constraints::PointOnSurface`] for the equations.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SurfaceSpec {
+    /// Name (unique among all elements).
+    pub name: String,
+    /// The body carrying the surface (ground allowed).
+    pub body_i: String,
+    /// The surface, in body i's coordinates (global for ground).
+    pub surface: Surface,
+    /// The body carrying the point.
+    pub body_j: String,
+    /// The name of the point on body j.
+    pub point_j: String,
+    /// (u, v) at the drawn pose; when `None`, the parameters of the surface point nearest to
+    /// the drawn point ([`Surface::closest`]).
+    pub initial: Option<[f64; 2]>,
+}
+
+impl SurfaceSpec {
+    /// Point `point_j` of `body_j` on `surface` of `body_i`.
+    pub fn new(
+        name: impl Into<String>,
+        body_i: &str,
+        surface: impl Into<Surface>,
+        body_j: &str,
+        point_j: &str,
+    ) -> Self {
+        Self {
+            name: name.into(),
+            body_i: body_i.into(),
+            surface: surface.into(),
+            body_j: body_j.into(),
+            point_j: point_j.into(),
+            initial: None,
+        }
     }
 }
 

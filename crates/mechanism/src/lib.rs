@@ -106,7 +106,7 @@ pub use builder::{
     ForceSpec, FrictionSpec, GearRatio, JointSpec, LimitSpec, MechanismBuilder, Orientation,
     PoseTarget, GROUND,
 };
-pub use curve_spec::{CamSpec, CurveSpec, PathSpec};
+pub use curve_spec::{CamSpec, CurveSpec, PathSpec, SurfaceSpec};
 pub use dof::DofReport;
 pub use error::{AnalysisError, ElementKind, EquationName, Error, ModelError, OpenElement, Site};
 pub use model::{

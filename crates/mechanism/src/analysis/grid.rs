@@ -753,9 +753,9 @@ impl Model {
         let u = ws.pose.u();
         for c in &self.curves {
             let names = c.element.parameters().iter();
-            let on = c.element.curves().into_iter().zip(c.extras().zip(names));
-            for (curve, (k, parameter)) in on.filter_map(|(curve, k)| Some((curve?, k))) {
-                let Some((a, b)) = curve.domain() else {
+            let on = c.element.domains().into_iter().zip(c.extras().zip(names));
+            for (domain, (k, parameter)) in on {
+                let Some((a, b)) = domain else {
                     continue;
                 };
                 let slack = 1e-9 * (b - a);
@@ -766,6 +766,10 @@ impl Model {
                         what: c.element.what(),
                         element: c.name.clone(),
                         contact: if cam { "contact point" } else { "point" },
+                        curve: match c.element {
+                            CurveElement::Surface(_) => "patch",
+                            _ => "open curve",
+                        },
                         parameter,
                         time: t,
                         u: uk,

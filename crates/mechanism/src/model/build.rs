@@ -50,6 +50,16 @@ fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
         let extra = curves.last().map_or(0, |c: &CurveInfo| c.extras().end);
         curves.push(curve::cam(spec, extra, &names, &bodies)?);
     }
+    for spec in &b.surfaces {
+        unique(
+            &mut element_names,
+            &spec.name,
+            None,
+            "a point-on-surface element",
+        )?;
+        let extra = curves.last().map_or(0, |c: &CurveInfo| c.extras().end);
+        curves.push(curve::surface(spec, extra, &names, &bodies)?);
+    }
     let mut drivers = Vec::with_capacity(b.drivers.len());
     for spec in &b.drivers {
         unique(&mut element_names, &spec.name, None, "a driver")?;

@@ -7,10 +7,10 @@ use super::elements::{CurveElement, CurveInfo, PathInfo, ScatterMap};
 use super::resolve::{pose, Names};
 use super::validate::check_number;
 use super::{BodyId, BodyInfo};
-use crate::curve_spec::{CamSpec, CurveSpec, PathSpec};
+use crate::curve_spec::{CamSpec, CurveSpec, PathSpec, SurfaceSpec};
 use crate::error::ModelError;
 use crate::sanity::Quantity;
-use cardan_constraints::{Curve, CurveOnCurve, PathDriver, PointOnCurve};
+use cardan_constraints::{Curve, CurveOnCurve, PathDriver, PointOnCurve, PointOnSurface};
 use nalgebra::{Matrix3, Vector3};
 
 /// The model form of `spec`, whose curve parameter is extra coordinate `extra`.
@@ -52,6 +52,57 @@ pub(super) fn curve(
     }
     let element = CurveElement::Point(PointOnCurve::new(spec.curve.clone(), sp_j));
     Ok(info(&spec.name, (bi, bj), element, extra, [initial_u, 0.0]))
+}
+
+/// The model form of point-on-surface `spec`, whose parameters are extra coordinates `extra`
+/// (u) and `extra + 1` (v).
+pub(super) fn surface(
+    spec: &SurfaceSpec,
+    extra: usize,
+    names: &Names,
+    bodies: &[BodyInfo],
+) -> Result<CurveInfo, ModelError> {
+    let el = format!("point-on-surface \"{}\"", spec.name);
+    let (bi, bj) = names.pair(&el, &spec.body_i, &spec.body_j)?;
+    let sp_j = names.feature(&el, &spec.body_j, &spec.point_j, false)?;
+    let (si, sj) = (pose(bodies, bi), pose(bodies, bj));
+    // The drawn point in the surface body's frame.
+    let drawn = si.a.transpose() * (sj.point(&sp_j) - si.r);
+    let initial = match spec.initial {
+        Some([u, v]) => {
+            check_number(&el, "initial surface parameter u", Quantity::Length, u)?;
+            check_number(&el, "initial surface parameter v", Quantity::Length, v)?;
+            [u, v]
+        }
+        None => spec.surface.closest(&drawn),
+    };
+    if let Some(domain) = spec.surface.domain() {
+        for (&x, (a, b)) in initial.iter().zip(domain) {
+            if !(a..=b).contains(&x) {
+                return Err(ModelError::CurveParameterOff {
+                    element: el,
+                    u: x,
+                    start: a,
+                    end: b,
+                });
+            }
+        }
+    }
+    let gap = (spec.surface.jet(initial[0], initial[1]).s - drawn).norm();
+    let tolerance = 1e-3 * spec.surface.size().max(drawn.norm());
+    if gap > tolerance {
+        return Err(ModelError::CurveApart {
+            element: el,
+            what: "the point is off its surface".into(),
+            gap,
+            tolerance,
+            unit: " m",
+            advice: "draw the point on the surface (the assembly would pull the bodies together \
+                     silently): check point_j and the bodies' positions, or the surface's data",
+        });
+    }
+    let element = CurveElement::Surface(PointOnSurface::new(spec.surface.clone(), sp_j));
+    Ok(info(&spec.name, (bi, bj), element, extra, initial))
 }
 
 /// [`ModelError::CurveParameterOff`] (for the element `element()` names) when `u` lies off an

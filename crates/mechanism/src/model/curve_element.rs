@@ -1,10 +1,10 @@
 //! [`CurveElement`]: the higher pairs whose curve parameters are extra coordinates of the
-//! mechanism: a point on a curve (one parameter u) and a cam pair (two curves in tangent contact,
-//! parameters u and w). One closed enum, so the model stores them in one list, gives them their
+//! mechanism: a point on a curve (one parameter u), a cam pair (two curves in tangent contact,
+//! parameters u and w) and a point on a surface (parameters u and v). One closed enum, so the model stores them in one list, gives them their
 //! columns in order (element k's first parameter follows element k − 1's last) and evaluates them
 //! by static dispatch.
 
-use cardan_constraints::{BodyState, Curve, CurveOnCurve, PointOnCurve, MAX_EXTRA};
+use cardan_constraints::{BodyState, Curve, CurveOnCurve, PointOnCurve, PointOnSurface, MAX_EXTRA};
 use nalgebra::Vector3;
 
 /// A point-on-curve element or a cam pair.
@@ -14,6 +14,8 @@ pub enum CurveElement {
     Point(PointOnCurve),
     /// A curve of body j tangent to a curve of body i (u on curve i, w on curve j).
     Cam(CurveOnCurve),
+    /// A point of body j on a surface of body i (u, v).
+    Surface(PointOnSurface),
 }
 
 impl CurveElement {
@@ -22,6 +24,19 @@ impl CurveElement {
         match self {
             CurveElement::Point(p) => [Some(&p.curve), None],
             CurveElement::Cam(c) => [Some(&c.curve_i), Some(&c.curve_j)],
+            CurveElement::Surface(_) => [None, None],
+        }
+    }
+
+    /// The interval each parameter must stay in (an open curve's data, a patch's [0, 1]), in
+    /// parameter order; `None` for a parameter without ends.
+    pub fn domains(&self) -> [Option<(f64, f64)>; MAX_EXTRA] {
+        match self {
+            CurveElement::Surface(s) => match s.surface.domain() {
+                Some([a, b]) => [Some(a), Some(b)],
+                None => [None, None],
+            },
+            other => other.curves().map(|c| c.and_then(Curve::domain)),
         }
     }
 
@@ -30,6 +45,7 @@ impl CurveElement {
         match self {
             CurveElement::Point(_) => &["u"],
             CurveElement::Cam(_) => &["u", "w"],
+            CurveElement::Surface(_) => &["u", "v"],
         }
     }
 
@@ -38,6 +54,7 @@ impl CurveElement {
         match self {
             CurveElement::Point(_) => "point_on_curve",
             CurveElement::Cam(_) => "cam",
+            CurveElement::Surface(_) => "point_on_surface",
         }
     }
 
@@ -111,6 +128,7 @@ impl CurveElement {
         match self {
             CurveElement::Point(_) => "point-on-curve",
             CurveElement::Cam(_) => "cam",
+            CurveElement::Surface(_) => "point-on-surface",
         }
     }
 }
@@ -129,4 +147,5 @@ fn winding(curve: &Curve, k: &Vector3<f64>) -> Option<f64> {
 cardan_constraints::delegate_constraint!(CurveElement {
     CurveElement::Point,
     CurveElement::Cam,
+    CurveElement::Surface,
 });
