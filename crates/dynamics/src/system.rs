@@ -576,10 +576,6 @@ impl<'m> Dynamics<'m> {
                         what: c.element.what(),
                         element: c.name.clone(),
                         contact: if cam { "contact point" } else { "point" },
-                        curve: match c.element {
-                            cardan_mechanism::CurveElement::Surface(_) => "patch",
-                            _ => "open curve",
-                        },
                         parameter,
                         time: t,
                         u,

@@ -739,7 +739,7 @@ pub enum AnalysisError {
     /// A curve element's parameter left its open curve: the point (or the contact point of a
     /// cam pair) ran off the end of the curve's data (a slot's end, a path's last point, a
     /// profile's end); the run stops there.
-    #[error("{what} \"{element}\": at t = {time} the {contact} has run off the end of its {curve} ({parameter} = {u:.9}; the {curve} runs from {parameter} = {start} to {end}); the prescribed motion drives it past the {curve}'s end: extend the {curve} or shorten the run")]
+    #[error("{what} \"{element}\": at t = {time} the {contact} has run off the end of its {curve} ({parameter} = {u:.9}; the {curve} runs from {parameter} = {start} to {end}); the prescribed motion drives it past the {curve}'s end: extend the {curve} or shorten the run", curve = runs_on(what))]
     CurveEnd {
         /// What the element is ("point-on-curve", "cam").
         what: &'static str,
@@ -747,8 +747,6 @@ pub enum AnalysisError {
         element: String,
         /// "point", or "contact point" of a cam pair.
         contact: &'static str,
-        /// What it runs on: "open curve", or "patch" of a point on a surface.
-        curve: &'static str,
         /// The parameter's name ("u", "w", "v").
         parameter: &'static str,
         /// The first output time past the end.
@@ -885,4 +883,14 @@ pub enum Error {
     /// Running failed.
     #[error(transparent)]
     Analysis(#[from] AnalysisError),
+}
+
+/// What a curve element's parameter runs on, for messages: a point on a surface's "patch",
+/// else an "open curve" (`what` is the element's [`crate::CurveElement::what`]).
+fn runs_on(what: &str) -> &'static str {
+    if what == "point-on-surface" {
+        "patch"
+    } else {
+        "open curve"
+    }
 }

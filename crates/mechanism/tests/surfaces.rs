@@ -140,7 +140,8 @@ fn a_tip_on_a_sphere_a_torus_and_a_cylinder_follows_the_closed_forms() {
     let about_y = marker(Vector3::zeros(), Vector3::z(), Vector3::x());
     let cylinder = Cylinder::new(&about_y, 0.5).unwrap();
     let z_cylinder = |th: f64| (0.25 - (RHO * th.cos()).powi(2)).sqrt();
-    let cases: [(&str, Surface, &dyn Fn(f64) -> f64); 3] = [
+    type Case<'a> = (&'a str, Surface, &'a dyn Fn(f64) -> f64);
+    let cases: [Case; 3] = [
         ("sphere", sphere.into(), &z_sphere),
         ("torus", torus.into(), &z_torus),
         ("cylinder", cylinder.into(), &z_cylinder),

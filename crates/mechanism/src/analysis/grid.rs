@@ -766,10 +766,6 @@ impl Model {
                         what: c.element.what(),
                         element: c.name.clone(),
                         contact: if cam { "contact point" } else { "point" },
-                        curve: match c.element {
-                            CurveElement::Surface(_) => "patch",
-                            _ => "open curve",
-                        },
                         parameter,
                         time: t,
                         u: uk,
