@@ -528,3 +528,83 @@ fn the_valve_train_held_still_needs_the_closed_form_torque() {
     eprintln!("held valve train: |N − N(θ)| {nerr:.1e} N, |T − N e sin θ| {terr:.1e} N m");
     assert!(nerr < 1e-9 && terr < 1e-11, "{nerr} {terr}");
 }
+
+/// `examples/torus_follower.toml` with `from` replaced by `to` in its `[[surface]]`: `cardan
+/// check` fails at the first line after the header containing `at`, with every needle.
+fn surface_fails(from: &str, to: &str, at: &str, needles: &[&str]) {
+    let base = example("torus_follower.toml");
+    let section = base.find("\n[[surface]]\n").unwrap();
+    let k = section
+        + base[section..]
+            .find(from)
+            .unwrap_or_else(|| panic!("{from}"));
+    let text = format!("{}{to}{}", &base[..k], &base[k + from.len()..]);
+    check_fails_at(&text, line_after(&text, "\n[[surface]]\n", at), needles);
+}
+
+/// Every mistake in a `[[surface]]` is an error at its key's line.
+#[test]
+fn surface_mistakes_are_errors_at_their_key() {
+    surface_fails(
+        "type = \"torus\"",
+        "type = \"donut\"",
+        "type",
+        &["unknown surface type \"donut\"", "torus"],
+    );
+    surface_fails(
+        "tube_radius = 0.4",
+        "tube_radius = 1.5",
+        "tube_radius",
+        &["tube radius", "smaller than its major radius"],
+    );
+    surface_fails(
+        "tube_radius = 0.4\n",
+        "",
+        "name",
+        &["missing key \"tube_radius\""],
+    );
+    surface_fails(
+        "radius = 1.0 ",
+        "radius = -1.0 ",
+        "radius",
+        &["radius", "-1"],
+    );
+    let torus_keys = "point_i = \"O\"\naxis_i = \"x\"              # the torus' axis\n\
+                      x_axis_i = \"y\"            # u = 0 on the centre circle's +y point\n\
+                      radius = 1.0              # the centre circle\ntube_radius = 0.4\n";
+    let base = example("torus_follower.toml").replace(torus_keys, "");
+    let at = base.find("\n[[surface]]\n").unwrap();
+    let patch = format!(
+        "{}{}",
+        &base[..at],
+        base[at..].replacen(
+            "type = \"torus\"",
+            "type = \"patch\"\npoints = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]",
+            1
+        )
+    );
+    check_fails_at(
+        &patch,
+        line_after(&patch, "\n[[surface]]\n", "points"),
+        &["16 control points", "got 2"],
+    );
+    surface_fails(
+        "type = \"torus\"",
+        "type = \"plane\"\npitch = 2.0",
+        "pitch",
+        &["pitch"],
+    );
+    // The tip drawn 5 cm off the torus.
+    surface_fails(
+        "tube_radius = 0.4",
+        "tube_radius = 0.35",
+        "name",
+        &["point is off its surface", "draw the point on the surface"],
+    );
+    surface_fails(
+        "point_j = \"T\"",
+        "point_j = \"T\"\ninitial_u = 0.5",
+        "initial_u",
+        &["initial_u needs initial_v"],
+    );
+}

@@ -694,6 +694,36 @@ fn valve_spring_contact_force_and_camshaft_torque_follow_the_closed_form() {
     assert!(worst[0] < 1e-9 && worst[1] < 1e-11, "{worst:?}");
 }
 
+/// The arm whose tip rides a torus (`examples/torus_follower.toml`, a `[[surface]]` with
+/// `type = "torus"`): the shaft's height z(θ) = √((R + √(r² − ρ² cos² θ))² − ρ² sin² θ), read
+/// from joints.csv as written, and the tip on the torus (its distance from the centre circle r).
+#[test]
+fn torus_follower_height_follows_the_closed_form() {
+    let (big, tube, rho, w) = (1.0f64, 0.4f64, 0.3f64, 2.0 * PI);
+    let z = |th: f64| {
+        let (x, y) = (rho * th.cos(), rho * th.sin());
+        ((big + (tube * tube - x * x).sqrt()).powi(2) - y * y).sqrt()
+    };
+    let (_, r, header, rows) = run_with_table("torus_follower", "joints");
+    let slide = column(&header, &rows, "shaft.slide [m]");
+    let mut worst = [0.0f64; 2];
+    for (n, row) in rows.iter().enumerate() {
+        worst[0] = worst[0].max((slide[n] - z(w * row[0])).abs());
+    }
+    let tip = r.point("arm", "T").unwrap();
+    for p in &tip.position {
+        let off = (p.y.hypot(p.z) - big).hypot(p.x);
+        worst[1] = worst[1].max((off - tube).abs());
+    }
+    eprintln!(
+        "torus_follower: |z − z(θ)| {:.1e} m, tip off the torus {:.1e} m",
+        worst[0], worst[1]
+    );
+    assert!(worst[0] < 1e-12 && worst[1] < 1e-12, "{worst:?}");
+    let p = prepare(&example("torus_follower")).unwrap();
+    check_fd("torus_follower", &p, 100, 5e-2, 5e-1);
+}
+
 /// Every example also passes `cardan check` (through the library) with DOF = drivers.
 #[test]
 fn every_example_checks() {
@@ -715,6 +745,7 @@ fn every_example_checks() {
         "arm_path",
         "valve_train",
         "valve_spring",
+        "torus_follower",
     ] {
         let p = prepare(&example(name)).unwrap();
         let mut out = Vec::new();

@@ -496,7 +496,7 @@ impl Site {
         let quoted: Vec<&str> = element.split('"').skip(1).step_by(2).collect();
         let kind = match element.split_whitespace().next()? {
             "body" | "point" | "vector" => ElementKind::Body,
-            "joint" | "point-on-curve" | "cam" => ElementKind::Joint,
+            "joint" | "point-on-curve" | "point-on-surface" | "cam" => ElementKind::Joint,
             "driver" | "path" => ElementKind::Driver,
             "coupler" => ElementKind::Coupler,
             "force" => ElementKind::Force,

@@ -14,6 +14,7 @@ mod force;
 mod joint;
 mod limit;
 mod loaded;
+mod surface;
 
 pub use analysis::MAX_STORED_FRAMES;
 pub(crate) use body::orientation_matrix;
@@ -31,7 +32,7 @@ use joint::load_joint;
 use crate::diag::{Error, Source};
 use crate::file::ModelFile;
 use crate::units::UnitSystem;
-use crate::vocabulary::{CAMS, COUPLERS, CURVES, DRIVERS, FORCES};
+use crate::vocabulary::{CAMS, COUPLERS, CURVES, DRIVERS, FORCES, SURFACES};
 use cardan_constraints::drivers::POSE_ROWS;
 use cardan_constraints::{JointKind, TimeFunction};
 use cardan_dynamics::Force;
@@ -262,8 +263,9 @@ fn load_joints(
     Ok(out)
 }
 
-/// `[[curve]]` and `[[cam]]`: each point-on-curve element and cam pair, its kind checked
-/// against the curve or the cam table (`build/curve.rs`, `build/cam.rs`).
+/// `[[curve]]`, `[[cam]]` and `[[surface]]`: each point-on-curve element, cam pair and
+/// point-on-surface element, its kind checked against its table (`build/curve.rs`,
+/// `build/cam.rs`, `build/surface.rs`).
 fn load_curves(
     r: &Resolver,
     file: &ModelFile,
@@ -288,6 +290,16 @@ fn load_curves(
             r.cx.check(&CAMS, &owner, &c.follower, table, c.name.span())?;
         spans.curves.insert(c.name.get_ref().clone(), c.name.span());
         builder.cam(cam::load_cam(r, section, entry.name)?);
+    }
+    for section in &file.surface {
+        let c = section.get_ref();
+        check_unique_element(r.cx, spans, &c.name, "surface")?;
+        let owner = format!("surface \"{}\"", c.name.get_ref());
+        let table = section.span().start;
+        let entry =
+            r.cx.check(&SURFACES, &owner, &c.kind, table, c.name.span())?;
+        spans.curves.insert(c.name.get_ref().clone(), c.name.span());
+        builder.surface(surface::load_surface(r, section, entry.name)?);
     }
     Ok(())
 }

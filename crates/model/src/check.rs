@@ -126,20 +126,28 @@ fn write_curves(model: &Model, out: &mut dyn Write) -> Result<(), Error> {
     if model.curves().is_empty() {
         return Ok(());
     }
-    writeln!(out, "\ncurves and cams ({})", model.curves().len()).map_err(io)?;
+    writeln!(
+        out,
+        "\ncurves, cams and surfaces ({})",
+        model.curves().len()
+    )
+    .map_err(io)?;
     let nb6 = 6 * model.bodies().len();
     let rows: Vec<Vec<String>> = (model.curves().iter())
         .map(|c| {
             vec![
                 c.name.clone(),
-                (c.element.curves().into_iter().flatten())
-                    .map(|curve| match curve.kind() {
-                        "cubic" => "spline",
-                        "cubic_closed" => "closed spline",
-                        kind => kind,
-                    })
-                    .collect::<Vec<_>>()
-                    .join(" on "),
+                match &c.element {
+                    cardan_mechanism::CurveElement::Surface(s) => s.surface.kind().to_string(),
+                    e => (e.curves().into_iter().flatten())
+                        .map(|curve| match curve.kind() {
+                            "cubic" => "spline",
+                            "cubic_closed" => "closed spline",
+                            kind => kind,
+                        })
+                        .collect::<Vec<_>>()
+                        .join(" on "),
+                },
                 format!(
                     "{} – {}",
                     model.body_name(c.body_i),

@@ -37,6 +37,9 @@ pub struct ModelFile {
     /// `[[cam]]`: cam pairs (a follower's curve tangent to a cam profile).
     #[serde(default)]
     pub cam: Vec<Spanned<CamSection>>,
+    /// `[[surface]]`: points held on surfaces.
+    #[serde(default)]
+    pub surface: Vec<Spanned<SurfaceSection>>,
     /// `[[driver]]`.
     #[serde(default)]
     pub driver: Vec<Spanned<DriverSection>>,
@@ -446,6 +449,48 @@ pub struct CurveSection {
     pub initial_u: Option<Num>,
 }
 
+/// `[[surface]]`: a point of body j held on a surface fixed in body i
+/// ([`crate::vocabulary::SURFACES`]).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SurfaceSection {
+    /// Unique name among all elements.
+    pub name: Name,
+    /// plane, sphere, cylinder, torus or patch.
+    #[serde(rename = "type")]
+    pub kind: Name,
+    /// The body carrying the surface.
+    pub body_i: Name,
+    /// The body whose point stays on it.
+    pub body_j: Name,
+    /// The point of body j on the surface.
+    pub point_j: Name,
+    /// plane, sphere, cylinder, torus: the origin or centre on body i.
+    #[serde(default)]
+    pub point_i: Option<Name>,
+    /// plane, sphere, cylinder, torus: the normal or axis on body i.
+    #[serde(default)]
+    pub axis_i: Option<Name>,
+    /// plane, sphere, cylinder, torus: where u = 0 lies.
+    #[serde(default)]
+    pub x_axis_i: Option<Name>,
+    /// sphere, cylinder, torus: R \[m\].
+    #[serde(default)]
+    pub radius: Option<Num>,
+    /// torus: the tube's radius \[m\].
+    #[serde(default)]
+    pub tube_radius: Option<Num>,
+    /// patch: the 16 control points in body i's coordinates \[m\].
+    #[serde(default)]
+    pub points: Option<Spanned<Vec<Vec3>>>,
+    /// u at the drawn pose.
+    #[serde(default)]
+    pub initial_u: Option<Num>,
+    /// v at the drawn pose.
+    #[serde(default)]
+    pub initial_v: Option<Num>,
+}
+
 /// `[[cam]]`: a follower's curve on body j in tangent contact with a cam profile on body i
 /// ([`crate::vocabulary::CAMS`]).
 #[derive(Debug, Deserialize)]
@@ -837,6 +882,7 @@ fn check_counts(src: &Source, file: &ModelFile) -> Result<(), Error> {
         count("joints", &file.joint, MAX_ELEMENTS),
         count("curves", &file.curve, MAX_ELEMENTS),
         count("cams", &file.cam, MAX_ELEMENTS),
+        count("surfaces", &file.surface, MAX_ELEMENTS),
         count("couplers", &file.coupler, MAX_ELEMENTS),
         count("drivers", &file.driver, MAX_ELEMENTS),
         count("forces", &file.force, MAX_ELEMENTS),

@@ -20,7 +20,7 @@ use crate::table::Table;
 use cardan_dynamics::DynamicResults;
 
 /// The summary's numbers of these frames (declared below the analyses that read them).
-pub use super::tally::DynamicTally;
+pub use super::tally::{CamPull, DynamicTally};
 
 /// Which analysis wrote the frames: their groups differ.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -26,8 +26,8 @@ pub type Present = Vec<(String, Range<usize>)>;
 type Texts = HashMap<String, (String, Range<usize>)>;
 
 /// The top-level sections whose tables are checked against a vocabulary.
-const SECTIONS: [&str; 8] = [
-    "analysis", "driver", "force", "coupler", "limit", "friction", "curve", "cam",
+const SECTIONS: [&str; 9] = [
+    "analysis", "driver", "force", "coupler", "limit", "friction", "curve", "cam", "surface",
 ];
 
 impl KeySpans {

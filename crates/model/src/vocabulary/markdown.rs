@@ -4,13 +4,14 @@
 use super::{Default, Vocabulary};
 
 /// The vocabularies written into docs/model-format.md, with the name of their generated block.
-pub const GENERATED: [(&str, &Vocabulary); 11] = [
+pub const GENERATED: [(&str, &Vocabulary); 12] = [
     ("analysis-kinds", &super::ANALYSES),
     ("integrators", &super::INTEGRATORS),
     ("drivers", &super::DRIVERS),
     ("functions", &super::FUNCTIONS),
     ("curves", &super::CURVES),
     ("cams", &super::CAMS),
+    ("surfaces", &super::SURFACES),
     ("couplers", &super::COUPLERS),
     ("forces", &super::FORCES),
     ("limits", &super::LIMITS),

@@ -29,6 +29,7 @@ mod integrators;
 mod limits;
 mod markdown;
 mod outputs;
+mod surfaces;
 
 pub use analyses::ANALYSES;
 pub use cams::CAMS;
@@ -42,6 +43,7 @@ pub use integrators::INTEGRATORS;
 pub use limits::{FRICTIONS, LIMITS};
 pub use markdown::{markdown, GENERATED};
 pub use outputs::OUTPUTS;
+pub use surfaces::SURFACES;
 
 use cardan_mechanism::Quantity;
 

@@ -12,7 +12,7 @@ const JOINTS: Key = Key::new(
     "joints",
     Value::Names,
     Default::Is("every joint"),
-    "joint coordinates and their rates (joints.csv, joint_velocities.csv, joint_accelerations.csv); a [[curve]]'s or a [[cam]]'s name adds its curve parameters, a cam's also its contact point and pressure angle (cams.csv)",
+    "joint coordinates and their rates (joints.csv, joint_velocities.csv, joint_accelerations.csv); a [[curve]]'s, a [[surface]]'s or a [[cam]]'s name adds its curve or surface parameters, a cam's also its contact point and pressure angle (cams.csv)",
 );
 const BODIES: Key = Key::new(
     "bodies",
