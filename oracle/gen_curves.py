@@ -108,6 +108,84 @@ def _end_tangent(pts, m, knots, k, at):
     return np.array(f(at).full(), dtype=float).ravel()
 
 
+def quintic_coefficients(pts, knots, closed):
+    """The quintic spline's power-basis coefficients per segment, c(t) = sum_j C[k][j] t^j
+    (t = u - u_k), solved here as one dense system on all 6n coefficients (our own formulation,
+    not the Rust side's knot derivatives): interpolation at both ends of every segment,
+    continuity of the first to fourth derivatives at the interior knots (every knot of a closed
+    curve, cyclically), and the natural ends (third and fourth derivatives 0) of an open one."""
+    n = len(pts) - 1
+    h = [knots[k + 1] - knots[k] for k in range(n)]
+    dim = 6 * n
+    a = np.zeros((dim, dim))
+    b = np.zeros((dim, 3))
+
+    def deriv_row(k, t, d):
+        """The coefficients' weights in the d-th derivative of segment k at local t."""
+        row = np.zeros(dim)
+        for j in range(d, 6):
+            row[6 * k + j] = math.factorial(j) / math.factorial(j - d) * t ** (j - d)
+        return row
+
+    r = 0
+    for k in range(n):
+        a[r] = deriv_row(k, 0.0, 0)
+        b[r] = pts[k]
+        a[r + 1] = deriv_row(k, h[k], 0)
+        b[r + 1] = pts[k + 1]
+        r += 2
+    joins = [(k - 1, k) for k in range(1, n)] + ([(n - 1, 0)] if closed else [])
+    for left, right in joins:
+        for d in range(1, 5):
+            a[r] = deriv_row(left, h[left], d) - deriv_row(right, 0.0, d)
+            r += 1
+    if not closed:
+        for k, t in ((0, 0.0), (n - 1, h[n - 1])):
+            for d in (3, 4):
+                a[r] = deriv_row(k, t, d)
+                r += 1
+    assert r == dim
+    x = np.linalg.solve(a, b)
+    return [x[6 * k:6 * k + 6].tolist() for k in range(n)]
+
+
+def quintic_segment(coef, t):
+    """sum_j coef[j] t^j as SX (t symbolic)."""
+    c = 0
+    for j in range(6):
+        c = c + (t ** j) * C.const(coef[j])
+    return c
+
+
+def quintic_point(curve, u, u_num):
+    """c(u) of a quintic spline as SX: the segment holding the case's u (a closed curve's period
+    count a constant of the case), beyond an open one's ends the end's quadratic Taylor
+    polynomial (CONTRACT.md, "Curves")."""
+    pts = [list(map(float, p)) for p in curve["points"]]
+    closed = bool(curve["closed"])
+    knots = cubic_knots(pts)
+    coef = quintic_coefficients(pts, knots, closed)
+    n = len(pts) - 1
+    if closed:
+        period = knots[n]
+        turns = math.floor(u_num / period)
+        w_num = u_num - period * turns
+        k = _segment_at(knots, n, w_num)
+        return quintic_segment(coef[k], u - period * turns - knots[k])
+    if u_num < knots[0] or u_num > knots[n]:
+        before = u_num < knots[0]
+        k, at = (0, 0.0) if before else (n - 1, knots[n] - knots[n - 1])
+        cf = np.array(coef[k])
+        value = sum(cf[j] * at ** j for j in range(6))
+        slope = sum(j * cf[j] * at ** (j - 1) for j in range(1, 6))
+        curv = sum(j * (j - 1) * cf[j] * at ** (j - 2) for j in range(2, 6))
+        d = u - (knots[0] if before else knots[n])
+        return (C.const(value.tolist()) + d * C.const(slope.tolist())
+                + 0.5 * d * d * C.const(curv.tolist()))
+    k = _segment_at(knots, n, u_num)
+    return quintic_segment(coef[k], u - knots[k])
+
+
 def curve_point(curve, u, u_num):
     """c(u) as an SX column (curve coordinates: body i's, or global for ground i)."""
     kind = curve["kind"]
@@ -125,6 +203,8 @@ def curve_point(curve, u, u_num):
         return (C.const(curve["center"]) + r * ca.cos(ph) * C.const(curve["x"])
                 + r * ca.sin(ph) * C.const(curve["y"])
                 + (pitch * ph / TWO_PI) * C.const(curve["z"]))
+    if kind == "quintic":
+        return quintic_point(curve, u, u_num)
     if kind == "cubic":
         pts = [list(map(float, p)) for p in curve["points"]]
         closed = bool(curve["closed"])
@@ -220,6 +300,8 @@ def make_curve(kind, closed, rng, entry):
         pitch = float(s * rng.uniform(0.2, 2.0) * rng.choice([-1.0, 1.0]))
         return {"kind": "helix", "center": _center(rng, entry), "x": x, "y": y, "z": z,
                 "radius": float(s * rng.uniform(0.3, 2.0)), "pitch": pitch}
+    if kind == "quintic":
+        return {"kind": "quintic", "points": _points(rng, entry, closed), "closed": closed}
     return {"kind": "cubic", "points": _points(rng, entry, closed), "closed": closed}
 
 
@@ -289,6 +371,8 @@ ELEMENTS = {
     "point_on_curve_helix": ("helix", False, "helix"),
     "point_on_curve_cubic": ("cubic", False, "cubic"),
     "point_on_curve_cubic_closed": ("cubic", True, "cubic_closed"),
+    "point_on_curve_quintic": ("quintic", False, "cubic"),
+    "point_on_curve_quintic_closed": ("quintic", True, "cubic_closed"),
     # Phi = u - f(t): build_path_driver_cases.
     "path_driver": None,
 }
@@ -299,7 +383,8 @@ N_CASES = 60  # every placement cycle (3, 4, 5) recurs evenly
 # Cam pairs (CONTRACT.md, "Curves"): curve_on_curve_<i>_<j> for every pair of planar kinds,
 # u on curve i and w on curve j the two extra coordinates.
 PLANAR = {"line": ("line", False), "circle": ("circle", False), "cubic": ("cubic", False),
-          "cubic_closed": ("cubic", True)}
+          "cubic_closed": ("cubic", True), "quintic": ("quintic", False),
+          "quintic_closed": ("quintic", True)}
 CAMS = {f"curve_on_curve_{a}_{b}": (a, b) for a in PLANAR for b in PLANAR}
 N_CAM_CASES = 50
 
@@ -315,7 +400,9 @@ GL8 = np.polynomial.legendre.leggauss(8)
 # one-sided value (point_on_curve_* covers the evaluation at knots).
 CAM_PLACEMENTS = {"line": PLACEMENTS["line"], "circle": PLACEMENTS["circle"],
                   "cubic": ["inside", "before", "after"],
-                  "cubic_closed": ["inside", "beyond", "negative"]}
+                  "cubic_closed": ["inside", "beyond", "negative"],
+                  "quintic": ["inside", "before", "after"],
+                  "quintic_closed": ["inside", "beyond", "negative"]}
 ELEMENTS.update(dict.fromkeys(CAMS))  # built by build_cam_cases
 
 # Extra configurations on the solution (with the plan's five, about a third of the cases).

@@ -105,7 +105,14 @@ pub fn surface_name(c: &PointOnSurface) -> &'static str {
 }
 
 /// The curve kinds a cam pair takes (`Curve::KINDS` but the helix, which is not planar).
-pub const PLANAR_KINDS: [&str; 4] = ["line", "circle", "cubic", "cubic_closed"];
+pub const PLANAR_KINDS: [&str; 6] = [
+    "line",
+    "circle",
+    "cubic",
+    "cubic_closed",
+    "quintic",
+    "quintic_closed",
+];
 
 /// Every cam pair, as the oracle names them: `curve_on_curve_<i>_<j>` for each pair of
 /// [`PLANAR_KINDS`].
@@ -575,7 +582,7 @@ fn curve(c: &Value) -> Result<Curve, ParamError> {
         "helix" => Helix::new(&frame()?, num(c, "radius")?, num(c, "pitch")?)
             .map_err(|e| e.to_string())?
             .into(),
-        "cubic" => {
+        "cubic" | "quintic" => {
             let pts = c
                 .get("points")
                 .and_then(Value::as_array)
@@ -595,9 +602,11 @@ fn curve(c: &Value) -> Result<Curve, ParamError> {
                 })
                 .collect::<Result<_, _>>()?;
             let closed = c.get("closed").and_then(Value::as_bool).unwrap_or(false);
-            CubicCurve::new(pts, closed)
-                .map_err(|e| e.to_string())?
-                .into()
+            let spline = match kind {
+                "quintic" => CubicCurve::quintic(pts, closed),
+                _ => CubicCurve::new(pts, closed),
+            };
+            spline.map_err(|e| e.to_string())?.into()
         }
         other => return Err(format!("unknown curve kind `{other}`")),
     })

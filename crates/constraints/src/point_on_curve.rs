@@ -43,8 +43,12 @@ impl Constraint for PointOnCurve {
             Curve::Line(_) => "point_on_curve_line",
             Curve::Circle(_) => "point_on_curve_circle",
             Curve::Helix(_) => "point_on_curve_helix",
-            Curve::Cubic(c) if c.is_closed() => "point_on_curve_cubic_closed",
-            Curve::Cubic(_) => "point_on_curve_cubic",
+            Curve::Cubic(c) => match (c.degree(), c.is_closed()) {
+                (5, true) => "point_on_curve_quintic_closed",
+                (5, false) => "point_on_curve_quintic",
+                (_, true) => "point_on_curve_cubic_closed",
+                (_, false) => "point_on_curve_cubic",
+            },
         }
     }
 

@@ -191,7 +191,7 @@ fn curve(s: &mut Sampler, kind: &str) -> (Curve, f64) {
                 .into()
         }
         _ => {
-            let closed = kind == "cubic_closed";
+            let closed = kind.ends_with("_closed");
             let n = 4 + s.rng.below(5);
             let mut pts = vec![s.point()];
             while pts.len() < n {
@@ -205,7 +205,10 @@ fn curve(s: &mut Sampler, kind: &str) -> (Curve, f64) {
             if closed {
                 pts.push(pts[0]);
             }
-            CubicCurve::new(pts, closed).unwrap().into()
+            match kind.starts_with("quintic") {
+                true => CubicCurve::quintic(pts, closed).unwrap().into(),
+                false => CubicCurve::new(pts, closed).unwrap().into(),
+            }
         }
     };
     let knots: Vec<f64> = match &c {
@@ -305,7 +308,14 @@ fn point_on_every_surface_kind() {
 }
 
 /// The planar curve kinds a cam pair takes (every kind but the helix).
-const PLANAR: [&str; 4] = ["line", "circle", "cubic", "cubic_closed"];
+const PLANAR: [&str; 6] = [
+    "line",
+    "circle",
+    "cubic",
+    "cubic_closed",
+    "quintic",
+    "quintic_closed",
+];
 
 /// Every pair of planar curves in tangent contact, both curve parameters extra coordinates
 /// (Φ_u, Φ_w and γ# with u̇ and ẇ); the plane normal is any direction (the equations do not

@@ -33,12 +33,14 @@ use nalgebra::Vector3;
 /// repeated, and the ends of a closed curve as meeting.
 const COINCIDENT: f64 = 1e-9;
 
-/// A C² cubic spline curve through points.
+/// A C² cubic (or, made by [`CubicCurve::quintic`], C⁴ quintic) spline curve through points.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CubicCurve {
     points: Vec<Vector3<f64>>,
     knots: Vec<f64>,
     m: Vec<Vector3<f64>>,
+    /// The knot fourth derivatives of a quintic spline; empty for a cubic one.
+    f: Vec<Vector3<f64>>,
     closed: bool,
 }
 
@@ -58,6 +60,31 @@ impl CubicCurve {
     /// coordinate, two consecutive points that coincide (the chord-length parameter would not
     /// advance), a closed curve whose ends do not meet.
     pub fn new(points: Vec<Vector3<f64>>, closed: bool) -> Result<Self, ConstraintError> {
+        Self::of_degree(points, closed, 3)
+    }
+
+    /// The C⁴ quintic spline through `points` (`super::quintic`: natural ends c''' = c'''' = 0
+    /// when open, periodic when `closed`), with the same knots, checks and errors as
+    /// [`CubicCurve::new`]; beyond an open curve's ends it continues along its quadratic Taylor
+    /// polynomial (C⁴ there, since c''' = c'''' = 0 at the ends).
+    pub fn quintic(points: Vec<Vector3<f64>>, closed: bool) -> Result<Self, ConstraintError> {
+        Self::of_degree(points, closed, 5)
+    }
+
+    /// The interpolating polynomial degree: 3 or 5.
+    pub fn degree(&self) -> usize {
+        if self.f.is_empty() {
+            3
+        } else {
+            5
+        }
+    }
+
+    fn of_degree(
+        points: Vec<Vector3<f64>>,
+        closed: bool,
+        degree: usize,
+    ) -> Result<Self, ConstraintError> {
         for p in &points {
             finite("curve point", p.as_slice())?;
         }
@@ -102,15 +129,16 @@ impl CubicCurve {
             }
             knots.push(knots[k - 1] + chord);
         }
-        let m = if closed {
-            periodic_moments(&points, &knots)
-        } else {
-            natural_moments(&points, &knots)
+        let (m, f) = match (degree, closed) {
+            (5, _) => super::quintic::moments(&points, &knots, closed),
+            (_, true) => (periodic_moments(&points, &knots), Vec::new()),
+            (_, false) => (natural_moments(&points, &knots), Vec::new()),
         };
         Ok(Self {
             points,
             knots,
             m,
+            f,
             closed,
         })
     }
@@ -148,10 +176,13 @@ impl CubicCurve {
         if !self.closed && (u < 0.0 || u > end) {
             let (k, at) = if u < 0.0 { (0, 0.0) } else { (n - 1, end) };
             let j = self.segment(k, at);
+            // The end's Taylor polynomial: straight for a cubic (c'' = 0 there), quadratic for
+            // a quintic (c''' = 0 there).
+            let d = u - at;
             return CurveJet {
-                c: j.c + j.c_u * (u - at),
-                c_u: j.c_u,
-                c_uu: Vector3::zeros(),
+                c: j.c + j.c_u * d + j.c_uu * (0.5 * d * d),
+                c_u: j.c_u + j.c_uu * d,
+                c_uu: j.c_uu,
                 c_uuu: Vector3::zeros(),
             };
         }
@@ -163,6 +194,16 @@ impl CubicCurve {
     fn segment(&self, k: usize, u: f64) -> CurveJet {
         let (u0, u1) = (self.knots[k], self.knots[k + 1]);
         let h = u1 - u0;
+        if !self.f.is_empty() {
+            let [c, c_u, c_uu, c_uuu] = super::quintic::segment(
+                h,
+                u - u0,
+                [self.points[k], self.points[k + 1]],
+                [self.m[k], self.m[k + 1]],
+                [self.f[k], self.f[k + 1]],
+            );
+            return CurveJet { c, c_u, c_uu, c_uuu };
+        }
         let (a, b) = ((u1 - u) / h, (u - u0) / h);
         let (p0, p1) = (self.points[k], self.points[k + 1]);
         let (m0, m1) = (self.m[k], self.m[k + 1]);

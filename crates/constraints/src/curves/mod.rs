@@ -16,6 +16,7 @@
 //! | [`Circle`] | P + R (cos(u/R) x + sin(u/R) y) | arc length |
 //! | [`Helix`] | P + R cos φ x + R sin φ y + (h φ / 2π) z, φ = u / √(R² + (h/2π)²) | arc length |
 //! | [`CubicCurve`] | the interpolating cubic spline through points, natural (open) or periodic (closed) | cumulative chord length |
+//! | [`CubicCurve::quintic`] | the interpolating quintic spline (C⁴) through points, natural or periodic | cumulative chord length |
 //!
 //! Open curves of finite extent have a [`Curve::domain`]: analyses stop with an error naming
 //! the time when u leaves it (the constraint itself is extended smoothly beyond it, so its
@@ -28,6 +29,7 @@ mod circle;
 mod cubic;
 mod helix;
 mod line;
+mod quintic;
 
 pub use arc_length::ArcLength;
 pub use circle::Circle;
@@ -66,7 +68,15 @@ pub enum Curve {
 impl Curve {
     /// The kind names, as the oracle elements `point_on_curve_<kind>` spell them (a closed
     /// cubic is its own oracle element, `cubic_closed`).
-    pub const KINDS: [&'static str; 5] = ["line", "circle", "helix", "cubic", "cubic_closed"];
+    pub const KINDS: [&'static str; 7] = [
+        "line",
+        "circle",
+        "helix",
+        "cubic",
+        "cubic_closed",
+        "quintic",
+        "quintic_closed",
+    ];
 
     /// This curve's entry of [`Curve::KINDS`].
     pub fn kind(&self) -> &'static str {
@@ -74,8 +84,12 @@ impl Curve {
             Curve::Line(_) => "line",
             Curve::Circle(_) => "circle",
             Curve::Helix(_) => "helix",
-            Curve::Cubic(c) if c.is_closed() => "cubic_closed",
-            Curve::Cubic(_) => "cubic",
+            Curve::Cubic(c) => match (c.degree(), c.is_closed()) {
+                (5, true) => "quintic_closed",
+                (5, false) => "quintic",
+                (_, true) => "cubic_closed",
+                (_, false) => "cubic",
+            },
         }
     }
 
