@@ -413,6 +413,17 @@ fn curve_elements_drawn_apart_are_errors_with_the_gap() {
 /// circle), and the lift's acceleration follows too (the spline is C²).
 #[test]
 fn a_spline_cam_profile_lifts_the_tappet_as_its_disc_does() {
+    let cubic = spline_cam_lift_error("");
+    // interpolation = "quintic": C⁴ through the same points, its error of a circle O(h⁶).
+    let quintic = spline_cam_lift_error("\ninterpolation = \"quintic\"");
+    eprintln!("spline cam: |s − s(θ)| = {cubic:.1e} m (cubic), {quintic:.1e} m (quintic)");
+    assert!(cubic < 1e-6, "{cubic}");
+    assert!(quintic < 1e-8 && quintic < cubic / 20.0, "{quintic}");
+}
+
+/// The valve train's disc as a closed spline through 24 of its points (`extra` added after the
+/// points): the largest |lift − e (1 − cos θ)| over a revolution.
+fn spline_cam_lift_error(extra: &str) -> f64 {
     let vt = example("valve_train.toml");
     let points: Vec<String> = (0..=24)
         .map(|k| {
@@ -422,7 +433,10 @@ fn a_spline_cam_profile_lifts_the_tappet_as_its_disc_does() {
         .collect();
     let text = vt.replacen(
         "profile = \"disc\"\npoint_i = \"C\"\nradius = 0.02",
-        &format!("profile = \"spline\"\npoints = [{}]", points.join(", ")),
+        &format!(
+            "profile = \"spline\"\npoints = [{}]{extra}",
+            points.join(", ")
+        ),
         1,
     );
     assert_ne!(text, vt);
@@ -432,11 +446,36 @@ fn a_spline_cam_profile_lifts_the_tappet_as_its_disc_does() {
     let (header, rows) = cardan_model::table::parse_csv(&csv).unwrap();
     let k = header.iter().position(|h| h == "guide.slide [m]").unwrap();
     let (e, w) = (0.005, 100.0 * std::f64::consts::PI);
-    let worst = (rows.iter())
+    (rows.iter())
         .map(|r| (r[k] - 0.015 - e * (1.0 - (w * r[0]).cos())).abs())
-        .fold(0.0f64, f64::max);
-    eprintln!("spline cam: |s − s(θ)| = {worst:.1e} m");
-    assert!(worst < 1e-6, "{worst}");
+        .fold(0.0f64, f64::max)
+}
+
+/// The interpolation key: only cubic or quintic, only on a spline.
+#[test]
+fn the_interpolation_key_is_checked() {
+    let vt = example("valve_train.toml");
+    let text = vt.replacen(
+        "radius = 0.02",
+        "radius = 0.02\ninterpolation = \"quintic\"",
+        1,
+    );
+    check_fails_at(
+        &text,
+        line_after(&text, "\n[[cam]]\n", "interpolation"),
+        &["interpolation is for profile = \"spline\""],
+    );
+    let text = spline_slot("[[0.0, 0.0, 0.0], [0.5, 0.0, 0.0], [1.0, 0.0, 0.0]]");
+    let text = text.replacen(
+        "type = \"spline\"",
+        "type = \"spline\"\ninterpolation = \"septic\"",
+        1,
+    );
+    check_fails_at(
+        &text,
+        line_after(&text, "\n[[curve]]\n", "interpolation"),
+        &["septic", "quintic"],
+    );
 }
 
 /// `examples/valve_spring.toml` run at 8400 rpm, above its closed-form lift-off speed

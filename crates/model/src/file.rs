@@ -444,6 +444,9 @@ pub struct CurveSection {
     /// spline: closed and periodic.
     #[serde(default)]
     pub closed: Option<Spanned<bool>>,
+    /// spline: cubic or quintic.
+    #[serde(default)]
+    pub interpolation: Option<Name>,
     /// u at the drawn pose \[m\].
     #[serde(default)]
     pub initial_u: Option<Num>,
@@ -518,6 +521,9 @@ pub struct CamSection {
     /// spline: the profile's points in body i's coordinates \[m\].
     #[serde(default)]
     pub points: Option<Spanned<Vec<Vec3>>>,
+    /// spline: cubic or quintic.
+    #[serde(default)]
+    pub interpolation: Option<Name>,
     /// The follower.
     pub body_j: Name,
     /// The face's point or the roller's centre on body j.

@@ -13,8 +13,9 @@
 //! is the root of a quartic in u, smooth but sharply varying where the spline turns tightly);
 //! the breakpoints b_m and the arc length S(b_m) at each are kept. Evaluation is one 8-point
 //! rule on [b_m, u], inside an interval the bisection resolved. A closed spline's S runs on over
-//! its turns, S(u + L) = S(u) + Λ (Λ its length); an open one's continues straight beyond its
-//! ends as the curve does, at the end speed.
+//! its turns, S(u + L) = S(u) + Λ (Λ its length); an open one's continues beyond its ends along
+//! the curve's continuation (straight at the end speed for a cubic, the quadratic Taylor
+//! polynomial for a quintic), by the same rule from the end.
 
 use super::cubic::CubicCurve;
 
@@ -91,10 +92,12 @@ impl ArcLength {
         let jet = self.curve.jet(w);
         let speed = jet.c_u.norm();
         let rate = jet.c_u.dot(&jet.c_uu) / speed;
+        // Beyond an open curve's ends its continuation (straight for a cubic, the quadratic
+        // Taylor polynomial for a quintic) by the 8-point rule from the end.
         let s = if !self.curve.is_closed() && w < a {
-            speed * (w - a)
+            -gauss(&self.curve, w, a)
         } else if !self.curve.is_closed() && w > end {
-            self.total() + speed * (w - end)
+            self.total() + gauss(&self.curve, end, w)
         } else {
             let m = self.breaks.partition_point(|&b| b <= w).clamp(1, n) - 1;
             self.lengths[m] + gauss(&self.curve, self.breaks[m], w)

@@ -202,7 +202,12 @@ impl CubicCurve {
                 [self.m[k], self.m[k + 1]],
                 [self.f[k], self.f[k + 1]],
             );
-            return CurveJet { c, c_u, c_uu, c_uuu };
+            return CurveJet {
+                c,
+                c_u,
+                c_uu,
+                c_uuu,
+            };
         }
         let (a, b) = ((u1 - u) / h, (u - u0) / h);
         let (p0, p1) = (self.points[k], self.points[k + 1]);

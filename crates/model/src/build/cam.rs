@@ -40,6 +40,9 @@ pub(super) fn load_cam(
             if let Some(p) = &c.points {
                 return Err(refuse(p.span(), "points", "spline"));
             }
+            if let Some(i) = &c.interpolation {
+                return Err(refuse(i.span(), "interpolation", "spline"));
+            }
             let p =
                 (c.point_i.as_ref()).ok_or_else(|| need("point_i", "a disc needs its centre"))?;
             let radius = (c.radius.as_ref()).ok_or_else(|| need("radius", "a disc needs it"))?;
@@ -58,7 +61,7 @@ pub(super) fn load_cam(
             }
             let points =
                 (c.points.as_ref()).ok_or_else(|| need("points", "a spline needs them"))?;
-            spline(cx, points, true, &owner)?
+            spline(cx, points, (true, c.interpolation.as_ref()), &owner)?
         }
         other => {
             return Err(cx.err(

@@ -35,7 +35,7 @@ pub(super) fn load_curve(
             ));
         };
         let closed = c.closed.as_ref().is_some_and(|f| *f.get_ref());
-        spline(cx, points, closed, &owner)?
+        spline(cx, points, (closed, c.interpolation.as_ref()), &owner)?
     } else {
         let (Some(p), Some(z)) = (&c.point_i, &c.axis_i) else {
             let key = if c.point_i.is_none() {
@@ -118,19 +118,27 @@ pub(super) fn circle(
     Ok(Curve::Circle(circle))
 }
 
-/// The cubic spline through `points` (body i's coordinates), open or `closed`.
+/// The spline through `points` (body i's coordinates), open or `closed`, cubic or (key
+/// `interpolation = "quintic"`, checked by the vocabulary) quintic.
 pub(super) fn spline(
     cx: &Ctx,
     points: &Spanned<Vec<Vec3>>,
-    closed: bool,
+    (closed, interpolation): (bool, Option<&Name>),
     owner: &str,
 ) -> Result<Curve, Error> {
     let mut p = Vec::with_capacity(points.get_ref().len());
     for (k, v) in points.get_ref().iter().enumerate() {
         p.push(cx.vec3(v, format_args!("{owner}: points[{k}]"), Quantity::Length)?);
     }
-    let spline = CubicCurve::new(p, closed).map_err(placed(cx, points.span(), owner))?;
-    Ok(Curve::Cubic(spline))
+    let spline = match interpolation.map(|n| n.get_ref().as_str()) {
+        Some("quintic") => CubicCurve::quintic(p, closed),
+        _ => CubicCurve::new(p, closed),
+    };
+    Ok(Curve::Cubic(spline.map_err(placed(
+        cx,
+        points.span(),
+        owner,
+    ))?))
 }
 
 /// The frame of a line, a circle or a helix (or a cam's disc, a follower's face or roller):

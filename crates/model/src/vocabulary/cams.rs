@@ -78,6 +78,7 @@ pub const CAMS: Vocabulary = Vocabulary {
             "the profile's points in body i's coordinates, in the plane normal to axis_i, the \
              first repeated at the end (a closed, periodic C² spline)",
         ),
+        super::curves::INTERPOLATION,
         Key::new("body_j", Value::Name, Default::Required, "the follower"),
         Key::new(
             "initial_u",

@@ -33,6 +33,15 @@ const RADIUS: Key = Key::new(
     "R > 0 (m)",
 );
 
+/// How a spline interpolates its points (`[[curve]]` and `[[cam]]`).
+pub(super) const INTERPOLATION: Key = Key::new(
+    "interpolation",
+    Value::Choice(&["cubic", "quintic"]),
+    Default::Is("cubic"),
+    "the spline through the points: cubic (C², natural or periodic ends) or quintic (C⁴: \
+     continuous jerk and its rate along a path, a smoother cam lift; natural or periodic ends)",
+);
+
 /// The curve kinds.
 pub const CURVES: Vocabulary = Vocabulary {
     what: "curve type",
@@ -124,6 +133,7 @@ pub const CURVES: Vocabulary = Vocabulary {
                     Default::Is("false"),
                     "a closed curve (a cam profile, a loop track): periodic, u wraps",
                 ),
+                INTERPOLATION,
             ],
         },
     ],
