@@ -3,7 +3,7 @@
 Usage: python compare.py COMMITTED_DIR REGENERATED_DIR
 
 Same set of files, same structure, same strings/booleans/nulls, and every number equal to a relative
-tolerance of 1e-13 (absolute floor 1e-14: see ABS); numbers written inside strings (an expression
+tolerance of 1e-12 (absolute floor 1e-14: see ABS and REL); numbers written inside strings (an expression
 driver's text) are compared the same way, the rest of the string exactly. Prints a summary of the differences and exits 1 when the
 committed data are stale; prints "oracle data up to date (N files, M cases)" and exits 0 otherwise.
 """
@@ -14,7 +14,12 @@ import os
 import re
 import sys
 
-REL = 1e-13
+# Relative: numbers computed through a dense solve (a spline's knot derivatives) carry its
+# roundoff, whose last bits follow numpy's LAPACK/SIMD kernels on the machine: on the machine of
+# 2026-12-06 one value of 5955 cases (a cam pair's gamma on a closed spline) came out 1.4e-13
+# relative from the committed data with the pinned versions. A stale generator changes numbers
+# far more than this.
+REL = 1e-12
 # Values that cancel to zero (Φ and its derivatives at a solution: "at-solution" cases) are
 # roundoff of O(1) terms, and their last bits follow the platform's libm and numpy's SIMD kernels
 # (a new machine gave differences of up to 1.8e-15 there). Below this absolute size two numbers

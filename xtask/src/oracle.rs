@@ -6,7 +6,7 @@
 //!    interpreter version) are unchanged.
 //! 3. Without `--check`: regenerate `oracle/data/`.
 //!    With `--check`: regenerate into `target/oracle-check/` and compare with `oracle/data/`
-//!    (`oracle/compare.py`: same files and structure, numbers to relative 1e-13); stale data are an
+//!    (`oracle/compare.py`: same files and structure, numbers to relative 1e-12); stale data are an
 //!    error with a summary of the differences.
 //!
 //! Missing Python, a failing venv creation or a failing pip are errors that say what to install;
