@@ -27,7 +27,7 @@ pub enum DynamicsError {
     /// A curve element's parameter ran off the end of its open curve (a slot's end, a
     /// profile's end) during a dynamic run: beyond it the curve is only the straight continuation
     /// that keeps the equations smooth, so the run stops there.
-    #[error("{what} \"{element}\": at t = {time} the {contact} has run off the end of its {curve} ({parameter} = {u:.9}; the {curve} runs from {parameter} = {start} to {end}); the motion carries it past the {curve}'s end: extend the {curve}, stop the motion with a limit, or shorten the run", curve = runs_on(what))]
+    #[error("{what} \"{element}\": at t = {time} the {contact} has run off the end of its {curve} ({parameter} = {u:.9}; the {curve} runs from {parameter} = {start} to {end}); the motion carries it past the {curve}'s end: extend the {curve}, stop the motion with a limit, or shorten the run", curve = cardan_mechanism::runs_on(what))]
     CurveEnd {
         /// What the element is ("point-on-curve", "cam").
         what: &'static str,
@@ -252,14 +252,4 @@ fn fmt_names(names: &[EquationName]) -> String {
         .map(|e| e.to_string())
         .collect::<Vec<_>>()
         .join(", ")
-}
-
-/// What a curve element's parameter runs on, for messages: a point on a surface's "patch",
-/// else an "open curve" (`what` is the element's `CurveElement::what`).
-fn runs_on(what: &str) -> &'static str {
-    if what == "point-on-surface" {
-        "patch"
-    } else {
-        "open curve"
-    }
 }

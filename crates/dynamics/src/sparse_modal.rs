@@ -213,7 +213,7 @@ impl Dynamics<'_> {
         let mut bi = [[0.0; 6]; 6];
         let mut bj = [[0.0; 6]; 6];
         for e in &self.elements {
-            crate::kkt::element_blocks(model, e, &self.bodies, &self.curves, t, &mut bi, &mut bj);
+            self.element_blocks(e, t, &mut bi, &mut bj);
             for (lr, r) in e.rows.clone().enumerate() {
                 let a = of[r];
                 if a == usize::MAX {

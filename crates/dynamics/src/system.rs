@@ -137,6 +137,17 @@ impl<'m> Dynamics<'m> {
         Ok(d)
     }
 
+    /// Element `e`'s Φ_v blocks at the synced bodies (its reduced rows for a curve element).
+    pub(crate) fn element_blocks(
+        &self,
+        e: &Element,
+        t: f64,
+        bi: &mut [[f64; 6]; 6],
+        bj: &mut [[f64; 6]; 6],
+    ) {
+        element_blocks(self.model, e, &self.bodies, &self.curves, t, bi, bj);
+    }
+
     /// The linearization about a motion and the sparse linearization do not take curve
     /// elements yet (their tangents are assembled from the model's rows, not the reduced rows of
     /// [`crate::kkt`]'s `curves`).
@@ -355,7 +366,7 @@ impl<'m> Dynamics<'m> {
             let mut bi = [[0.0; 6]; 6];
             let mut bj = [[0.0; 6]; 6];
             for e in &self.elements {
-                element_blocks(model, e, &self.bodies, &self.curves, t, &mut bi, &mut bj);
+                self.element_blocks(e, t, &mut bi, &mut bj);
                 for (lr, r) in e.live_rows().enumerate() {
                     for (id, blk) in [(e.bi, &bi), (e.bj, &bj)] {
                         if let BodyId::Moving(k) = id {
@@ -913,15 +924,7 @@ impl<'m> Dynamics<'m> {
         let mut bi = [[0.0; 6]; 6];
         let mut bj = [[0.0; 6]; 6];
         for e in &self.elements {
-            element_blocks(
-                model,
-                e,
-                &self.bodies,
-                &self.curves,
-                state.t,
-                &mut bi,
-                &mut bj,
-            );
+            self.element_blocks(e, state.t, &mut bi, &mut bj);
             for (lr, r) in e.rows.clone().enumerate() {
                 let mut s = -nu[r];
                 for (id, blk) in [(e.bi, &bi), (e.bj, &bj)] {
@@ -968,15 +971,7 @@ impl<'m> Dynamics<'m> {
     ) -> (Reaction, Reaction) {
         let mut bi = [[0.0; 6]; 6];
         let mut bj = [[0.0; 6]; 6];
-        element_blocks(
-            self.model,
-            e,
-            &self.bodies,
-            &self.curves,
-            t,
-            &mut bi,
-            &mut bj,
-        );
+        self.element_blocks(e, t, &mut bi, &mut bj);
         let g = BodyState::ground();
         let one = |id: BodyId, blk: &[[f64; 6]; 6], s: &Vector3<f64>| {
             let mut f = Vector3::zeros();

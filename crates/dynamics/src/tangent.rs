@@ -30,7 +30,7 @@
 
 use crate::forces::AppliedForces;
 use crate::forces::Resolved;
-use crate::kkt::{element_blocks, eval_rows, Rhs};
+use crate::kkt::{eval_rows, Rhs};
 use crate::state::State;
 use crate::system::Dynamics;
 use cardan_mechanism::{apply_rotation_step, BodyId};
@@ -93,15 +93,7 @@ impl Dynamics<'_> {
         let mut bi = [[0.0; 6]; 6];
         let mut bj = [[0.0; 6]; 6];
         for e in &self.elements {
-            element_blocks(
-                self.model,
-                e,
-                &self.bodies,
-                &self.curves,
-                t,
-                &mut bi,
-                &mut bj,
-            );
+            self.element_blocks(e, t, &mut bi, &mut bj);
             for (lr, r) in e.rows.clone().enumerate() {
                 let l = lambda[r];
                 if l == 0.0 {
@@ -151,7 +143,7 @@ impl Dynamics<'_> {
         let mut bi = [[0.0; 6]; 6];
         let mut bj = [[0.0; 6]; 6];
         for e in &self.elements {
-            element_blocks(model, e, &self.bodies, &self.curves, t, &mut bi, &mut bj);
+            self.element_blocks(e, t, &mut bi, &mut bj);
             for (lr, r) in e.rows.clone().enumerate() {
                 let a = of[r];
                 if a == usize::MAX {

@@ -55,7 +55,7 @@
 //! [`EnergyHistory::constraint_power`]: crate::EnergyHistory::constraint_power
 
 use crate::forces::AppliedForces;
-use crate::kkt::{element_blocks, Element};
+use crate::kkt::Element;
 use crate::results::ElementWork;
 use crate::system::Dynamics;
 use cardan_mechanism::BodyId;
@@ -184,15 +184,7 @@ impl Dynamics<'_> {
     fn element_power(&self, e: &Element, t: f64, lambda: Multipliers<'_>) -> f64 {
         let mut bi = [[0.0; 6]; 6];
         let mut bj = [[0.0; 6]; 6];
-        element_blocks(
-            self.model,
-            e,
-            &self.bodies,
-            &self.curves,
-            t,
-            &mut bi,
-            &mut bj,
-        );
+        self.element_blocks(e, t, &mut bi, &mut bj);
         let mut p = 0.0;
         for (lr, r) in e.rows.clone().enumerate() {
             let l = match lambda {

@@ -887,7 +887,7 @@ pub enum Error {
 
 /// What a curve element's parameter runs on, for messages: a point on a surface's "patch",
 /// else an "open curve" (`what` is the element's [`crate::CurveElement::what`]).
-fn runs_on(what: &str) -> &'static str {
+pub fn runs_on(what: &str) -> &'static str {
     if what == "point-on-surface" {
         "patch"
     } else {

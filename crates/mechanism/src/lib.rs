@@ -108,7 +108,9 @@ pub use builder::{
 };
 pub use curve_spec::{CamSpec, CurveSpec, PathSpec, SurfaceSpec};
 pub use dof::DofReport;
-pub use error::{AnalysisError, ElementKind, EquationName, Error, ModelError, OpenElement, Site};
+pub use error::{
+    runs_on, AnalysisError, ElementKind, EquationName, Error, ModelError, OpenElement, Site,
+};
 pub use model::{
     kinds_with, nearest, BodyId, BodyInfo, CoupledCoordinate, CouplerInfo, CurveElement, CurveInfo,
     DriverInfo, FeatureInfo, ForceInfo, FrictionInfo, JointInfo, LimitInfo, Model, PathInfo,

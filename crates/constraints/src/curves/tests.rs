@@ -45,6 +45,18 @@ fn spline_points() -> Vec<Vector3<f64>> {
     ]
 }
 
+/// n points of the unit circle about z, the first repeated at the end.
+fn circle_points(n: usize) -> Vec<Vector3<f64>> {
+    let mut pts: Vec<_> = (0..n)
+        .map(|k| {
+            let a = std::f64::consts::TAU * k as f64 / n as f64;
+            Vector3::new(a.cos(), a.sin(), 0.0)
+        })
+        .collect();
+    pts.push(pts[0]);
+    pts
+}
+
 fn closed_points() -> Vec<Vector3<f64>> {
     let mut p = spline_points();
     p.push(p[0]);
@@ -198,14 +210,7 @@ fn collinear_points_make_the_straight_line() {
 #[test]
 fn a_closed_spline_through_points_of_a_circle_converges_to_the_circle() {
     let errors = |n: usize| {
-        let mut pts: Vec<_> = (0..n)
-            .map(|k| {
-                let a = std::f64::consts::TAU * k as f64 / n as f64;
-                Vector3::new(a.cos(), a.sin(), 0.0)
-            })
-            .collect();
-        pts.push(pts[0]);
-        let s = CubicCurve::new(pts, true).unwrap();
+        let s = CubicCurve::new(circle_points(n), true).unwrap();
         let l = s.knot_range().1;
         let (mut radial, mut curvature) = (0.0f64, 0.0f64);
         for k in 0..2000 {
@@ -422,14 +427,7 @@ fn a_quintic_spline_interpolates_and_is_c4_at_its_knots() {
 #[test]
 fn a_quintic_through_circle_points_converges_as_h6_and_collinear_points_give_the_line() {
     let radial = |n: usize| {
-        let mut pts: Vec<_> = (0..n)
-            .map(|k| {
-                let a = std::f64::consts::TAU * k as f64 / n as f64;
-                Vector3::new(a.cos(), a.sin(), 0.0)
-            })
-            .collect();
-        pts.push(pts[0]);
-        let s = CubicCurve::quintic(pts, true).unwrap();
+        let s = CubicCurve::quintic(circle_points(n), true).unwrap();
         let l = s.knot_range().1;
         (0..2000)
             .map(|k| (s.jet(l * k as f64 / 2000.0).c.norm() - 1.0).abs())

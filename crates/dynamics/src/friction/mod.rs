@@ -31,7 +31,7 @@
 //! tangent in the iteration matrix through the force tangents' differences.
 
 use crate::forces::AppliedForces;
-use crate::kkt::{element_blocks, SchurRefinement};
+use crate::kkt::SchurRefinement;
 use crate::system::Dynamics;
 use crate::DynamicsError;
 use cardan_constraints::joints::{BodyAcceleration, Measure};
@@ -54,15 +54,7 @@ impl Dynamics<'_> {
     fn joint_force(&self, joint: usize, t: f64, frozen: bool) -> Vector3<f64> {
         let e = &self.elements[joint];
         let (mut bi, mut bj) = ([[0.0; 6]; 6], [[0.0; 6]; 6]);
-        element_blocks(
-            self.model,
-            e,
-            &self.bodies,
-            &self.curves,
-            t,
-            &mut bi,
-            &mut bj,
-        );
+        self.element_blocks(e, t, &mut bi, &mut bj);
         let kkt = self.kkt.as_ref().expect("prepared");
         let (mut fi, mut fj) = (Vector3::zeros(), Vector3::zeros());
         for (lr, r) in e.rows.clone().enumerate() {
