@@ -83,3 +83,25 @@ def test_a_harmonic_cam_lifts_its_flat_faced_tappet_by_e_one_minus_cos():
     for t, x, angle in zip(cams.t, cams["lobe.contact.x"], cams["lobe.pressure_angle"]):
         assert abs(x - e * math.sin(w * t)) < 1e-12
         assert abs(angle) < 1e-12
+
+
+def test_an_arm_tip_on_a_torus_sets_the_shaft_height():
+    """The builder's ``surface`` writes ``[[surface]]``: an arm on a sliding shaft whose tip
+    (0.3 m out) rides a torus about x (R = 1, r = 0.4), z(θ) = √((R + √(r² − x²))² − y²)."""
+    b = cardan.Builder("torus_follower")
+    b.ground(points={"O": [0, 0, 0]}, vectors={"x": [1, 0, 0], "y": [0, 1, 0], "z": [0, 0, 1]})
+    z0 = 1.0 + math.sqrt(0.16 - 0.09)
+    b.body("arm", mass=1.0, inertia={"diag": [0.01, 0.01, 0.01]}, position=[0, 0, z0],
+           points={"O": [0, 0, 0], "T": [0.3, 0, 0]}, vectors={"x": [1, 0, 0], "z": [0, 0, 1]})
+    b.joint("shaft", "cylindrical", body_i="ground", point_i="O", axis_i="z", x_axis_i="x",
+            body_j="arm", point_j="O", axis_j="z", x_axis_j="x")
+    b.surface("ring", "torus", body_i="ground", point_i="O", axis_i="x", x_axis_i="y",
+              radius=1.0, tube_radius=0.4, body_j="arm", point_j="T")
+    b.driver("motor", type="rotation", joint="shaft",
+             function=cardan.polynomial([0.0, 2 * math.pi]))
+    b.analysis("kinematic", t_end=1.0, steps=40, outputs={"joints": ["shaft", "ring"]})
+    joints = b.build().kinematics().joints
+    assert joints.names[-2:] == ["ring.u", "ring.v"]
+    for t, z in zip(joints.t, joints["shaft.slide"]):
+        x, y = 0.3 * math.cos(2 * math.pi * t), 0.3 * math.sin(2 * math.pi * t)
+        assert abs(z - math.sqrt((1.0 + math.sqrt(0.16 - x * x)) ** 2 - y * y)) < 1e-12

@@ -335,6 +335,14 @@ class Builder:
         self._tables.append(("cam", {"name": name, "follower": follower, **keys}))
         return self
 
+    def surface(self, name: str, type: str, **keys: Any) -> "Builder":
+        """A point held on a surface: ``type`` is ``"plane"``, ``"sphere"``, ``"cylinder"``,
+        ``"torus"`` (``point_i``, ``axis_i``, ``x_axis_i``, ``radius``, ``tube_radius``) or
+        ``"patch"`` (16 control ``points``) on ``body_i``; ``point_j`` of ``body_j`` stays on it.
+        Its parameters u and v are unknowns, in the joint tables as ``name.u``, ``name.v``."""
+        self._tables.append(("surface", {"name": name, "type": type, **keys}))
+        return self
+
     def coupler(self, name: str, type: str, **keys: Any) -> "Builder":
         """A coupler (gear, rack and pinion, screw) between joint coordinates."""
         self._tables.append(("coupler", {"name": name, "type": type, **keys}))
