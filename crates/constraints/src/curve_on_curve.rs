@@ -36,6 +36,9 @@ pub struct CurveOnCurve {
     pub normal_i: Vector3<f64>,
     /// Curve j (the follower's roller, face or profile), in body j's coordinates.
     pub curve_j: Curve,
+    /// The vector areas of curve i and curve j when closed ([`Curve::area_vector`]): which way
+    /// each runs about its plane's normal, computed once.
+    areas: [Option<Vector3<f64>>; 2],
 }
 
 impl CurveOnCurve {
@@ -63,10 +66,16 @@ impl CurveOnCurve {
             }
         }
         Ok(Self {
+            areas: [curve_i.area_vector(), curve_j.area_vector()],
             curve_i,
             normal_i: normal_i / n,
             curve_j,
         })
+    }
+
+    /// The vector areas of curve i and curve j when closed (in their bodies' coordinates).
+    pub fn areas(&self) -> [Option<Vector3<f64>>; 2] {
+        self.areas
     }
 
     /// The oracle element's curve-kind pair, `curve_on_curve_<i>_<j>`.

@@ -196,3 +196,54 @@ fn a_roller_follower_on_an_eccentric_disc_follows_the_closed_form() {
     assert!(pa < 1e-12, "{pa}");
     assert!(worst.iter().all(|&e| e < 1e-10), "{worst:?}");
 }
+
+/// The direction a pressing contact pushes the follower: out of a closed profile whichever way
+/// it runs about the cam's normal, and, on an open profile, into a closed follower curve (a
+/// roller); none for two open curves.
+#[test]
+fn a_pressing_contact_pushes_out_of_the_profile_or_into_the_roller() {
+    use cardan_constraints::{BodyState, CurveOnCurve};
+    use cardan_mechanism::CurveElement;
+    let ground = BodyState::ground();
+    let up = Vector3::y();
+    // A disc of radius R about the origin, counterclockwise (axis z) and clockwise (axis −z),
+    // touched at its top.
+    for axis in [Vector3::z(), -Vector3::z()] {
+        let m = Marker::from_axes(Vector3::zeros(), axis, Vector3::x()).unwrap();
+        let profile = Circle::new(&m, R).unwrap();
+        let face = Line::new(&Marker::from_axis(Vector3::new(0.0, R, 0.0), Vector3::x()).unwrap());
+        let cam = CurveElement::Cam(
+            CurveOnCurve::new(profile.into(), Vector3::z(), face.into()).unwrap(),
+        );
+        // The top: θ = π/2 about z, −π/2 about −z (whose y axis is −y).
+        let u = axis.z * R * std::f64::consts::FRAC_PI_2;
+        let push = cam.push_direction(&ground, &ground, &[u, 0.0]).unwrap();
+        assert!((push - up).norm() < 1e-12, "{push:?} for axis {axis:?}");
+    }
+    // A straight track along x under a roller of radius r centred at (0, r): pushed up, into
+    // the roller, either way the roller's circle runs.
+    let r = 0.01;
+    for axis in [Vector3::z(), -Vector3::z()] {
+        let track = Line::new(&Marker::from_axis(Vector3::zeros(), Vector3::x()).unwrap());
+        let m = Marker::from_axes(Vector3::new(0.0, r, 0.0), axis, Vector3::x()).unwrap();
+        let roller = Circle::new(&m, r).unwrap();
+        let cam = CurveElement::Cam(
+            CurveOnCurve::new(track.into(), Vector3::z(), roller.into()).unwrap(),
+        );
+        // The roller's bottom: θ = −π/2 about z (u = −r π/2), +π/2 about −z.
+        let w = if axis.z > 0.0 { -r } else { r } * std::f64::consts::FRAC_PI_2;
+        let push = cam.push_direction(&ground, &ground, &[0.0, w]).unwrap();
+        assert!((push - up).norm() < 1e-12, "{push:?} for axis {axis:?}");
+    }
+    let two_lines = CurveElement::Cam(
+        CurveOnCurve::new(
+            Line::new(&Marker::from_axis(Vector3::zeros(), Vector3::x()).unwrap()).into(),
+            Vector3::z(),
+            Line::new(&Marker::from_axis(Vector3::zeros(), Vector3::x()).unwrap()).into(),
+        )
+        .unwrap(),
+    );
+    assert!(two_lines
+        .push_direction(&ground, &ground, &[0.0, 0.0])
+        .is_none());
+}

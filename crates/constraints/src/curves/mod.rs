@@ -122,6 +122,21 @@ impl Curve {
         }
     }
 
+    /// The vector area ½∮ c' × c'_u du of a closed curve (64 chords over one period): normal to
+    /// a planar curve's plane, along the side about which it runs counterclockwise, its length
+    /// the enclosed area; `None` for an open curve.
+    pub fn area_vector(&self) -> Option<Vector3<f64>> {
+        let period = self.period()?;
+        let n = 64;
+        let at = |i: usize| self.jet(period * i as f64 / n as f64).c;
+        Some(
+            (0..n)
+                .map(|i| at(i).cross(&at(i + 1)))
+                .sum::<Vector3<f64>>()
+                * 0.5,
+        )
+    }
+
     /// The parameter u of the curve point nearest to `p` (body coordinates): the best of
     /// samples over the curve's span (its domain, one period, or for a line and a helix the
     /// stretch near p) refined by Newton's method on c'_uᵀ(c' − p) = 0. Used to start the curve

@@ -31,6 +31,7 @@
 //! The state of the parameters ([`CurveTrack`]) is refreshed by every sync of the bodies
 //! ([`crate::Dynamics`]), without allocation.
 
+use super::elements::st;
 use cardan_constraints::{BodyPair, BodyState, Constraint, MAX_EXTRA};
 use cardan_mechanism::{BodyId, CurveInfo, Model};
 
@@ -104,8 +105,8 @@ impl CurveTrack {
         let scales = model.equation_scales();
         let g = BodyState::ground();
         for (k, (c, tr)) in model.curves().iter().zip(&mut self.elements).enumerate() {
-            let si = state(bodies, &g, c.body_i);
-            let sj = state(bodies, &g, c.body_j);
+            let si = st(bodies, &g, c.body_i);
+            let sj = st(bodies, &g, c.body_j);
             let w = weights(c, scales);
             if let Err(res) = tr.update(c, si, sj, &w) {
                 self.failed.get_or_insert((k, res));
@@ -131,7 +132,7 @@ impl CurveTrack {
         let el = &c.element;
         let (r, n) = (el.rows(), el.extra());
         let g = BodyState::ground();
-        let (si, sj) = (state(bodies, &g, c.body_i), state(bodies, &g, c.body_j));
+        let (si, sj) = (st(bodies, &g, c.body_i), st(bodies, &g, c.body_j));
         let pair = BodyPair::with_extra(si, sj, &tr.u[..n], &tr.u_dot[..n]);
         let (mut bi, mut bj) = ([[0.0; 6]; 6], [[0.0; 6]; 6]);
         el.phi_v(&pair, 0.0, &mut bi[..r], &mut bj[..r]);
@@ -150,13 +151,6 @@ impl CurveTrack {
         let w = weights(c, model.equation_scales());
         let step = normal_step(&ju, &res, &w, r, n).unwrap_or([f64::NAN; MAX_EXTRA]);
         [-step[0], -step[1]]
-    }
-}
-
-fn state<'a>(bodies: &'a [BodyState], g: &'a BodyState, id: BodyId) -> &'a BodyState {
-    match id {
-        BodyId::Ground => g,
-        BodyId::Moving(k) => &bodies[k],
     }
 }
 
@@ -184,6 +178,8 @@ impl Tracked {
         let zero = [0.0; MAX_EXTRA];
         let mut phi = [0.0; MAX_ROWS];
         let mut ju = [[0.0; MAX_EXTRA]; MAX_ROWS];
+        // Each pass evaluates Φ and Φ_u at the current u; a step below 1e-14 (relative) is not
+        // taken, so the last evaluation is the converged one the basis and rows are built from.
         let mut converged = false;
         for _ in 0..MAX_ITERATIONS {
             let pair = BodyPair::with_extra(si, sj, &self.u[..k], &zero[..k]);
@@ -192,11 +188,9 @@ impl Tracked {
             let Some(du) = normal_step(&ju, &phi, w, r, k) else {
                 return Err(f64::INFINITY);
             };
-            let mut big = 0.0f64;
-            for e in 0..k {
-                self.u[e] -= du[e];
-                big = big.max(du[e].abs() / (1.0 + self.u[e].abs()));
-            }
+            let big = (0..k)
+                .map(|e| du[e].abs() / (1.0 + self.u[e].abs()))
+                .fold(0.0f64, f64::max);
             if !big.is_finite() {
                 return Err(f64::INFINITY);
             }
@@ -204,10 +198,11 @@ impl Tracked {
                 converged = true;
                 break;
             }
+            for e in 0..k {
+                self.u[e] -= du[e];
+            }
         }
         let pair = BodyPair::with_extra(si, sj, &self.u[..k], &zero[..k]);
-        el.phi(&pair, 0.0, &mut phi[..r]);
-        el.jacobian_extra(&pair, 0.0, &mut ju[..r]);
         let s = 1.0 / w[0];
         let residual = (0..r).map(|q| (w[q] * phi[q]).powi(2)).sum::<f64>().sqrt() * s;
         let (basis, axes) = complement(&ju, w, r, k, self.axes).ok_or(residual)?;
@@ -340,7 +335,7 @@ fn complement(
     };
     let norm = |v: &[f64; MAX_ROWS]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
     // The last call's axes, while each keeps half its length.
-    let mut kept = axes.map(|a| {
+    let kept = axes.and_then(|a| {
         let mut q = q;
         for n in k..r {
             let res = orthogonalize(axis(a[n - k]), &q[..n], r);
@@ -352,7 +347,7 @@ fn complement(
         }
         Some((q, a))
     });
-    if let Some(Some(found)) = kept.take() {
+    if let Some(found) = kept {
         return Some(shift(found, r, k));
     }
     let mut chosen = [0; MAX_ROWS];

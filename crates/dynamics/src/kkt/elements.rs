@@ -113,7 +113,8 @@ pub(crate) fn elements(model: &Model) -> Vec<Element> {
     v
 }
 
-fn st<'a>(bodies: &'a [BodyState], g: &'a BodyState, id: BodyId) -> &'a BodyState {
+/// The state of body `id` (`g` for the ground).
+pub(super) fn st<'a>(bodies: &'a [BodyState], g: &'a BodyState, id: BodyId) -> &'a BodyState {
     match id {
         BodyId::Ground => g,
         BodyId::Moving(k) => &bodies[k],

@@ -92,13 +92,14 @@ impl CurveElement {
             return None;
         };
         let k = c.normal_i;
-        if let Some(turn) = winding(&c.curve_i, &k) {
+        let [area_i, area_j] = c.areas();
+        if let Some(area) = area_i {
             // A counterclockwise profile (about k) has k × c' inward: outward is its opposite.
             let left = si.a * k.cross(&c.curve_i.jet(u[0]).c_u).normalize();
-            return Some(-turn * left);
+            return Some(-area.dot(&k).signum() * left);
         }
         let kj = sj.a.tr_mul(&(si.a * k));
-        let turn = winding(&c.curve_j, &kj)?;
+        let turn = area_j?.dot(&kj).signum();
         // Into the follower's curve: its left normal if counterclockwise.
         let left = sj.a * kj.cross(&c.curve_j.jet(u[1]).c_u).normalize();
         Some(turn * left)
@@ -131,17 +132,6 @@ impl CurveElement {
             CurveElement::Surface(_) => "point-on-surface",
         }
     }
-}
-
-/// The sense in which a closed planar curve runs about the plane normal `k` (+1
-/// counterclockwise, −1 clockwise, by the sign of its enclosed area ½∮(c × c')·k over 64 chords);
-/// `None` for an open curve.
-fn winding(curve: &Curve, k: &Vector3<f64>) -> Option<f64> {
-    let period = curve.period()?;
-    let n = 64;
-    let at = |i: usize| curve.jet(period * i as f64 / n as f64).c;
-    let area: f64 = (0..n).map(|i| at(i).cross(&at(i + 1)).dot(k)).sum();
-    Some(area.signum())
 }
 
 cardan_constraints::delegate_constraint!(CurveElement {
