@@ -34,22 +34,11 @@ pub(super) fn curve(
             .curve
             .closest(&(si.a.transpose() * (sj.point(&sp_j) - si.r))),
     };
-    on_curve(|| el.clone(), &spec.curve, initial_u)?;
+    in_domain(|| el.clone(), spec.curve.domain(), initial_u)?;
     // The drawn point on its curve, within 1e-3 of the element's size.
     let drawn = si.a.transpose() * (sj.point(&sp_j) - si.r);
-    let gap = (spec.curve.jet(initial_u).c - drawn).norm();
-    let tolerance = 1e-3 * size(&spec.curve).max(drawn.norm());
-    if gap > tolerance {
-        return Err(ModelError::CurveApart {
-            element: el,
-            what: "the point is off its curve".into(),
-            gap,
-            tolerance,
-            unit: " m",
-            advice: "draw the point on the curve (the assembly would pull the bodies together \
-                     silently): check point_j and the bodies' positions, or the curve's data",
-        });
-    }
+    let at = spec.curve.jet(initial_u).c;
+    drawn_on(&el, "curve", (at, drawn), size(&spec.curve))?;
     let element = CurveElement::Point(PointOnCurve::new(spec.curve.clone(), sp_j));
     Ok(info(&spec.name, (bi, bj), element, extra, [initial_u, 0.0]))
 }
@@ -76,39 +65,60 @@ pub(super) fn surface(
         }
         None => spec.surface.closest(&drawn),
     };
-    if let Some(domain) = spec.surface.domain() {
-        for (&x, (a, b)) in initial.iter().zip(domain) {
-            if !(a..=b).contains(&x) {
-                return Err(ModelError::CurveParameterOff {
-                    element: el,
-                    u: x,
-                    start: a,
-                    end: b,
-                });
-            }
-        }
+    let domains = spec
+        .surface
+        .domain()
+        .map_or([None; 2], |[a, b]| [Some(a), Some(b)]);
+    for (x, domain) in initial.into_iter().zip(domains) {
+        in_domain(|| el.clone(), domain, x)?;
     }
-    let gap = (spec.surface.jet(initial[0], initial[1]).s - drawn).norm();
-    let tolerance = 1e-3 * spec.surface.size().max(drawn.norm());
-    if gap > tolerance {
-        return Err(ModelError::CurveApart {
-            element: el,
-            what: "the point is off its surface".into(),
-            gap,
-            tolerance,
-            unit: " m",
-            advice: "draw the point on the surface (the assembly would pull the bodies together \
-                     silently): check point_j and the bodies' positions, or the surface's data",
-        });
-    }
+    let at = spec.surface.jet(initial[0], initial[1]).s;
+    drawn_on(&el, "surface", (at, drawn), spec.surface.size())?;
     let element = CurveElement::Surface(PointOnSurface::new(spec.surface.clone(), sp_j));
     Ok(info(&spec.name, (bi, bj), element, extra, initial))
 }
 
-/// [`ModelError::CurveParameterOff`] (for the element `element()` names) when `u` lies off an
-/// open curve.
-fn on_curve(element: impl Fn() -> String, curve: &Curve, u: f64) -> Result<(), ModelError> {
-    match curve.domain() {
+/// [`ModelError::CurveApart`] for element `el` when its point drawn at `drawn` is farther from
+/// its nearest point `at` on the `what` ("curve", "surface") than 1e-3 of the larger of the
+/// geometry's `size` and the point's distance from the origin of the geometry's body.
+fn drawn_on(
+    el: &str,
+    what: &str,
+    (at, drawn): (Vector3<f64>, Vector3<f64>),
+    size: f64,
+) -> Result<(), ModelError> {
+    let gap = (at - drawn).norm();
+    let tolerance = 1e-3 * size.max(drawn.norm());
+    if gap > tolerance {
+        return Err(ModelError::CurveApart {
+            element: el.to_string(),
+            what: format!("the point is off its {what}"),
+            gap,
+            tolerance,
+            unit: " m",
+            advice: match what {
+                "surface" => {
+                    "draw the point on the surface (the assembly would pull the bodies together \
+                     silently): check point_j and the bodies' positions, or the surface's data"
+                }
+                _ => {
+                    "draw the point on the curve (the assembly would pull the bodies together \
+                     silently): check point_j and the bodies' positions, or the curve's data"
+                }
+            },
+        });
+    }
+    Ok(())
+}
+
+/// [`ModelError::CurveParameterOff`] (for the element `element()` names) when `u` lies outside
+/// `domain` (an open curve's data, a patch's [0, 1]).
+fn in_domain(
+    element: impl Fn() -> String,
+    domain: Option<(f64, f64)>,
+    u: f64,
+) -> Result<(), ModelError> {
+    match domain {
         Some((a, b)) if !(a..=b).contains(&u) => Err(ModelError::CurveParameterOff {
             element: element(),
             u,
@@ -178,7 +188,7 @@ pub(super) fn cam(
         .enumerate()
     {
         let which = ["cam curve", "follower curve"][k];
-        on_curve(|| format!("{el} ({which})"), curve, v)?;
+        in_domain(|| format!("{el} ({which})"), curve.domain(), v)?;
     }
     drawn_in_contact(&el, &element, (bi, bj), bodies, initial)?;
     let element = CurveElement::Cam(element);
