@@ -32,15 +32,22 @@ use std::f64::consts::PI;
 
 /// A bead (its centre of mass at its point P) on `wire`, a curve of the ground, drawn at `at`.
 fn bead_on(wire: cardan_constraints::Curve, at: Vector3<f64>) -> MechanismBuilder {
+    let mut b = bead("bead", 1.0, at);
+    b.curve(CurveSpec::new("wire", GROUND, wire, "bead", "P"));
+    b
+}
+
+/// A model of one body `name` of mass `m` (inertia diag(1, 2, 3) · 1e-2) drawn at `at`, its
+/// centre of mass its point P.
+fn bead(name: &str, m: f64, at: Vector3<f64>) -> MechanismBuilder {
     let mut b = MechanismBuilder::new();
     b.body(
-        Body::new("bead")
-            .mass(1.0)
+        Body::new(name)
+            .mass(m)
             .inertia_diagonal(1e-2, 2e-2, 3e-2)
             .position(at),
     );
-    b.point("bead", "P", Vector3::zeros());
-    b.curve(CurveSpec::new("wire", GROUND, wire, "bead", "P"));
+    b.point(name, "P", Vector3::zeros());
     b
 }
 
@@ -520,14 +527,7 @@ fn a_free_camshaft_and_a_sprung_tappet_keep_their_energy() {
 fn a_ball_on_a_sphere_moves_as_the_spherical_pendulum() {
     let axes = Marker::from_axes(Vector3::zeros(), Vector3::z(), Vector3::x()).unwrap();
     let on_sphere = {
-        let mut b = MechanismBuilder::new();
-        b.body(
-            Body::new("ball")
-                .mass(1.0)
-                .inertia_diagonal(1e-2, 1e-2, 1e-2)
-                .position(Vector3::x()),
-        );
-        b.point("ball", "P", Vector3::zeros());
+        let mut b = bead("ball", 1.0, Vector3::x());
         let sphere = cardan_constraints::Sphere::new(&axes, 1.0).unwrap();
         b.surface(cardan_mechanism::SurfaceSpec::new(
             "shell", GROUND, sphere, "ball", "P",
@@ -535,14 +535,7 @@ fn a_ball_on_a_sphere_moves_as_the_spherical_pendulum() {
         b.build().unwrap()
     };
     let on_rod = {
-        let mut b = MechanismBuilder::new();
-        b.body(
-            Body::new("ball")
-                .mass(1.0)
-                .inertia_diagonal(1e-2, 1e-2, 1e-2)
-                .position(Vector3::x()),
-        );
-        b.point("ball", "P", Vector3::zeros());
+        let mut b = bead("ball", 1.0, Vector3::x());
         b.point(GROUND, "O", Vector3::zeros());
         b.joint(
             JointSpec::new(
@@ -590,14 +583,7 @@ fn a_bead_along_a_torus_equator_keeps_its_circle_and_speed() {
     let (big, tube, speed) = (1.0, 0.3, 2.0);
     let axes = Marker::from_axes(Vector3::zeros(), Vector3::z(), Vector3::x()).unwrap();
     let torus = cardan_constraints::Torus::new(&axes, big, tube).unwrap();
-    let mut b = MechanismBuilder::new();
-    b.body(
-        Body::new("bead")
-            .mass(0.5)
-            .inertia_diagonal(1e-3, 1e-3, 1e-3)
-            .position(Vector3::new(big + tube, 0.0, 0.0)),
-    );
-    b.point("bead", "P", Vector3::zeros());
+    let mut b = bead("bead", 0.5, Vector3::new(big + tube, 0.0, 0.0));
     b.surface(cardan_mechanism::SurfaceSpec::new(
         "ring", GROUND, torus, "bead", "P",
     ));
