@@ -31,7 +31,6 @@
 //! The state of the parameters ([`CurveTrack`]) is refreshed by every sync of the bodies
 //! ([`crate::Dynamics`]), without allocation.
 
-use super::elements::st;
 use cardan_constraints::{BodyPair, BodyState, Constraint, MAX_EXTRA};
 use cardan_mechanism::{BodyId, CurveInfo, Model};
 
@@ -151,6 +150,14 @@ impl CurveTrack {
         let w = weights(c, model.equation_scales());
         let step = normal_step(&ju, &res, &w, r, n).unwrap_or([f64::NAN; MAX_EXTRA]);
         [-step[0], -step[1]]
+    }
+}
+
+/// The state of body `id` (`g` for the ground).
+pub(super) fn st<'a>(bodies: &'a [BodyState], g: &'a BodyState, id: BodyId) -> &'a BodyState {
+    match id {
+        BodyId::Ground => g,
+        BodyId::Moving(k) => &bodies[k],
     }
 }
 

@@ -7,7 +7,7 @@
 //! of the run (`turns`), which only Φ depends on. A curve element's rows are its reduced rows,
 //! its parameters eliminated at the synced bodies ([`super::curves`]).
 
-use super::curves::CurveTrack;
+use super::curves::{st, CurveTrack};
 use cardan_constraints::{BodyPair, BodyState, Constraint};
 use cardan_mechanism::{BodyId, Model};
 use std::ops::Range;
@@ -111,14 +111,6 @@ pub(crate) fn elements(model: &Model) -> Vec<Element> {
         eliminated: c.element.extra(),
     }));
     v
-}
-
-/// The state of body `id` (`g` for the ground).
-pub(super) fn st<'a>(bodies: &'a [BodyState], g: &'a BodyState, id: BodyId) -> &'a BodyState {
-    match id {
-        BodyId::Ground => g,
-        BodyId::Moving(k) => &bodies[k],
-    }
 }
 
 /// Evaluates one element's Φ_v blocks (rows × 6 for body i and j; a curve element's reduced
