@@ -66,6 +66,15 @@ pub enum DynamicsError {
         /// The first path driver.
         driver: String,
     },
+    /// A collision shape the geometry library refuses (a convex hull that cannot be built, a
+    /// triangle mesh that is not valid).
+    #[error("shape \"{shape}\": {reason}")]
+    BadShape {
+        /// The shape.
+        shape: String,
+        /// What is wrong.
+        reason: String,
+    },
     /// A force element refers to a body, point or joint that does not exist, or is invalid.
     #[error("force \"{force}\": {reason}")]
     BadForce {

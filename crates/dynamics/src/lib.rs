@@ -135,6 +135,7 @@
 //! - J. Chung, G. M. Hulbert, *A time integration algorithm for structural dynamics with
 //!   improved numerical dissipation: the generalized-α method*, J. Appl. Mech. 60 (1993).
 
+pub mod collision;
 pub mod contacts;
 pub mod error;
 pub mod forces;

@@ -71,6 +71,8 @@ pub struct Dynamics<'m> {
     pub(crate) contacts: crate::contacts::state::Contacts,
     /// The joints' friction ([`crate::friction`]).
     pub(crate) friction: crate::friction::state::FrictionState,
+    /// Contact between the bodies' collision shapes ([`crate::collision`]).
+    pub(crate) collisions: Option<crate::collision::Collisions>,
 }
 
 impl std::fmt::Debug for Dynamics<'_> {
@@ -130,7 +132,16 @@ impl<'m> Dynamics<'m> {
             force_excess: None,
             contacts: crate::contacts::state::Contacts::new(model),
             friction: crate::friction::state::FrictionState::new(model),
+            collisions: None,
         };
+        let rest: Vec<BodyState> = (0..nb)
+            .map(|k| {
+                let b = &model.bodies()[k];
+                BodyState::at(b.initial_r, b.initial_p)
+            })
+            .collect();
+        d.collisions = crate::collision::Collisions::new(model, &rest)
+            .map_err(|(shape, reason)| DynamicsError::BadShape { shape, reason })?;
         for f in Force::from_model(model) {
             d.add_force(f)?;
         }
@@ -215,6 +226,9 @@ impl<'m> Dynamics<'m> {
         self.model.accept_turns(&self.bodies, &mut self.turns);
         for f in &mut self.forces {
             f.accept_angle(self.model, &self.bodies);
+        }
+        if let Some(c) = &mut self.collisions {
+            c.accept();
         }
     }
 
@@ -338,6 +352,27 @@ impl<'m> Dynamics<'m> {
         true
     }
 
+    /// Lays the KKT matrix out again when bodies touched for the first time since the last
+    /// call (their pair joins the coupled blocks, [`crate::collision`]): `true` when it did
+    /// (the caller's factorization and tangents are then of the old layout). Allocates; once
+    /// per new pair of bodies in contact.
+    ///
+    /// # Errors
+    /// The layout's failure.
+    pub(crate) fn lay_out_new_contacts(&mut self, t: f64) -> Result<bool, DynamicsError> {
+        let new = self
+            .collisions
+            .as_mut()
+            .is_some_and(crate::collision::Collisions::take_new_pairs);
+        let Some(old) = self.kkt.as_ref().filter(|_| new) else {
+            return Ok(false);
+        };
+        let (active, factorizations) = (old.active.clone(), old.factorizations);
+        self.lay_out(t, active)?;
+        self.kkt.as_mut().expect("laid out").factorizations = factorizations;
+        Ok(true)
+    }
+
     /// How many times the independent rows were chosen again during the runs of this
     /// [`Dynamics`] (see [`prepare`](Self::prepare)).
     pub fn row_reselections(&self) -> usize {
@@ -421,6 +456,10 @@ impl<'m> Dynamics<'m> {
             if let (BodyId::Moving(i), BodyId::Moving(j)) = (info.body_i, info.body_j) {
                 pairs.push((i, j));
             }
+        }
+        // Bodies in contact (the pairs that have touched so far).
+        if let Some(c) = &self.collisions {
+            pairs.extend_from_slice(&c.coupled);
         }
         pairs
     }
@@ -521,6 +560,13 @@ impl<'m> Dynamics<'m> {
         }
         if !self.contacts.compliant.is_empty() {
             self.add_compliant_stops(t);
+        }
+        if let Some(c) = &mut self.collisions {
+            let mut acc = AppliedForces {
+                h: &mut self.h,
+                bodies: &self.bodies,
+            };
+            c.apply(model, &mut acc);
         }
         for (k, b) in self.bodies.iter().enumerate() {
             let w = b.omega_local;

@@ -82,6 +82,11 @@ impl Dynamics<'_> {
                 f.apply(model, &self.mass, t, &mut acc);
             }
         }
+        // Contacts between shapes are elements (at v = 0: their elastic force alone, no
+        // damping, no friction).
+        if let Some(c) = &mut self.collisions {
+            c.apply(model, &mut acc);
+        }
     }
 
     /// Φ_vᵀλ (n) at the synced bodies with full-row multipliers `lambda` (0 on dropped rows),

@@ -96,6 +96,9 @@ impl Dynamics<'_> {
         for f in self.model.frictions() {
             out.push(channel(&f.name, "friction"));
         }
+        if self.collisions.is_some() {
+            out.push(channel("contact", "contact"));
+        }
         for l in self.model.limits() {
             out.push(channel(&l.name, "limit"));
         }
@@ -123,6 +126,7 @@ impl Dynamics<'_> {
                 .count()
             + usize::from(self.user.is_some())
             + self.model.frictions().len()
+            + usize::from(self.collisions.is_some())
             + self.model.limits().len()
     }
 
@@ -163,7 +167,12 @@ impl Dynamics<'_> {
         }
         let nf = self.friction.power.len();
         out[k..k + nf].copy_from_slice(&self.friction.power);
-        out[k + nf..].copy_from_slice(&self.contacts.compliant_power);
+        k += nf;
+        if let Some(c) = &self.collisions {
+            out[k] = c.power_at(&self.bodies);
+            k += 1;
+        }
+        out[k..].copy_from_slice(&self.contacts.compliant_power);
     }
 
     /// The power of the joints' and couplers' reactions, −Σ λ_r (Φ_v v)_r over their rows, at

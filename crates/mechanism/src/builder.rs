@@ -25,6 +25,7 @@
 //! unknowns: its coordinates are eliminated, not constrained.
 
 use crate::curve_spec::{CamSpec, CurveSpec, PathSpec, SurfaceSpec};
+use crate::shape_spec::{MaterialSpec, ShapeSpec};
 use cardan_constraints::drivers::POSE_ROWS;
 use cardan_constraints::{JointKind, RotationOrder, TimeFunction};
 use cardan_eulerparam::{
@@ -819,6 +820,8 @@ pub struct MechanismBuilder {
     pub(crate) cams: Vec<CamSpec>,
     pub(crate) surfaces: Vec<SurfaceSpec>,
     pub(crate) paths: Vec<PathSpec>,
+    pub(crate) shapes: Vec<ShapeSpec>,
+    pub(crate) materials: Vec<MaterialSpec>,
 }
 
 impl MechanismBuilder {
@@ -907,6 +910,18 @@ impl MechanismBuilder {
     /// Adds Coulomb friction to a joint (dynamic analyses; see [`FrictionSpec`]).
     pub fn friction(&mut self, friction: FrictionSpec) -> &mut Self {
         self.frictions.push(friction);
+        self
+    }
+
+    /// Adds a collision shape (dynamic analyses; see [`ShapeSpec`]).
+    pub fn shape(&mut self, shape: ShapeSpec) -> &mut Self {
+        self.shapes.push(shape);
+        self
+    }
+
+    /// Adds a contact material (see [`MaterialSpec`]).
+    pub fn material(&mut self, material: MaterialSpec) -> &mut Self {
+        self.materials.push(material);
         self
     }
 

@@ -421,6 +421,26 @@ pub enum ModelError {
         /// What is wrong.
         reason: String,
     },
+    /// A collision shape's geometry, placement, material or filter is wrong.
+    #[error("shape \"{shape}\", {key}: {reason}")]
+    BadShape {
+        /// The shape.
+        shape: String,
+        /// The key whose value is wrong.
+        key: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// A contact material's numbers are wrong.
+    #[error("material \"{material}\", {key}: {reason}")]
+    BadMaterial {
+        /// The material.
+        material: String,
+        /// The key whose value is wrong.
+        key: String,
+        /// What is wrong.
+        reason: String,
+    },
     /// The drawn pose lies beyond a limit of its own model.
     #[error("limit \"{limit}\": the drawn pose violates its {key} bound: joint \"{joint}\" has {coordinate} = {value} there, beyond {key} = {bound}; draw the bodies inside the range or move the bound")]
     LimitViolated {
@@ -523,6 +543,21 @@ fn key_of(what: &str) -> String {
 }
 
 impl ModelError {
+    /// The table (`"shape"` or `"material"`), the element and the key of a collision shape's
+    /// or a material's error ([`ModelError::BadShape`], [`ModelError::BadMaterial`], or an
+    /// unknown body named by a shape).
+    pub fn contact_site(&self) -> Option<(&'static str, &str, &str)> {
+        match self {
+            ModelError::BadShape { shape, key, .. } => Some(("shape", shape, key)),
+            ModelError::BadMaterial { material, key, .. } => Some(("material", material, key)),
+            ModelError::UnknownBody { element, .. } => element
+                .strip_prefix("shape \"")
+                .and_then(|r| r.strip_suffix('"'))
+                .map(|s| ("shape", s, "body")),
+            _ => None,
+        }
+    }
+
     /// The element and the key of a limit's or a friction's error ([`ModelError::BadLimit`],
     /// [`ModelError::LimitViolated`], [`ModelError::BadFriction`], or an unknown joint named by
     /// one), for a front end that declares them as elements of their own.
@@ -600,6 +635,8 @@ impl ModelError {
             E::BadLimit { joint, key, .. } => Some(Site::new(Joint, joint, Some(key), None)),
             E::LimitViolated { joint, key, .. } => Some(Site::new(Joint, joint, Some(key), None)),
             E::BadFriction { joint, key, .. } => Some(Site::new(Joint, joint, Some(key), None)),
+            // Shapes and materials are named by [`ModelError::contact_site`].
+            E::BadShape { .. } | E::BadMaterial { .. } => None,
             E::DuplicateElement { .. } | E::EmptyName { .. } | E::NoBodies => None,
         }
     }

@@ -88,6 +88,7 @@ pub mod hold;
 pub mod model;
 pub mod results;
 pub mod sanity;
+pub mod shape_spec;
 pub mod workspace;
 
 pub use analysis::assembly::{AssemblyOptions, AssemblyReport};
@@ -112,14 +113,15 @@ pub use error::{
     runs_on, AnalysisError, ElementKind, EquationName, Error, ModelError, OpenElement, Site,
 };
 pub use model::{
-    kinds_with, nearest, BodyId, BodyInfo, CoupledCoordinate, CouplerInfo, CurveElement, CurveInfo,
-    DriverInfo, FeatureInfo, ForceInfo, FrictionInfo, JointInfo, LimitInfo, Model, PathInfo,
-    StopInfo, FRICTION_KINDS,
+    kinds_with, may_touch, nearest, BodyId, BodyInfo, CoupledCoordinate, CouplerInfo, CurveElement,
+    CurveInfo, DriverInfo, FeatureInfo, ForceInfo, FrictionInfo, JointInfo, LimitInfo,
+    MaterialInfo, Model, PathInfo, ShapeInfo, StopInfo, FRICTION_KINDS, MESH_VERTEX_LIMIT,
 };
 pub use results::{
     BodyResults, CurveResults, FrameSink, JointResults, Outputs, PointResults, Results, RunTotals,
 };
 pub use sanity::{check_inertia, Quantity};
+pub use shape_spec::{Geometry, MaterialSpec, ShapeSpec, Stiffness};
 pub use workspace::{apply_rotation_step, EvaluationCounts, Workspace};
 
 /// Re-exported so users name the same types.

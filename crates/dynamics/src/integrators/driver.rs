@@ -115,7 +115,9 @@ struct Stops {
 
 impl Stops {
     fn new(d: &Dynamics, state: &State) -> Self {
-        let watch = !d.contacts.watched.is_empty() || !d.contacts.compliant.is_empty();
+        let watch = !d.contacts.watched.is_empty()
+            || !d.contacts.compliant.is_empty()
+            || d.collisions.is_some();
         Self {
             watch,
             state: if watch {

@@ -38,6 +38,8 @@ pub(crate) enum Action {
     /// A compliant stop's contact begins or ends: its force law has a kink there, so the
     /// step ends at it and the next starts from it (nothing jumps).
     Kink,
+    /// Collision shapes begin to touch ([`super::onsets`]).
+    Onset,
 }
 
 /// An event at `time`.
@@ -312,6 +314,15 @@ pub(crate) fn first_event<S: Stepper>(
             );
         }
     }
+    if let Some(time) = super::onsets::first_onset(stepper, d, span) {
+        take(
+            Event {
+                time,
+                action: Action::Onset,
+            },
+            &mut first,
+        );
+    }
     if !d.contacts.any_held() {
         return Ok(first);
     }
@@ -377,6 +388,7 @@ pub(crate) fn apply(
                     energy_change: 0.0,
                 });
         }
+        Action::Onset => super::onsets::apply_onset(d, state),
         Action::Hold | Action::Kink => {}
     }
     if d.contacts.any_held() {

@@ -25,7 +25,9 @@
 //! `restart`ed at the event with the state the impulse leaves (new velocities, projected onto
 //! the constraints). `restart` forgets the step history, as a new run would. `events.rs`
 //! does this for the stops of the model's limits (impacts, releases, holds; the physics in
-//! [`crate::contacts`]); a model without limits evaluates nothing there.
+//! [`crate::contacts`]), and `onsets.rs` for collision shapes that begin to touch
+//! (the contact's kink, [`crate::collision`]); a model without limits or shapes evaluates
+//! nothing there.
 //!
 //! ## Adding an integrator
 //! A module beside these with a struct that implements `Stepper` (its options as
@@ -38,6 +40,7 @@ pub mod dopri5;
 pub(crate) mod driver;
 pub(crate) mod events;
 pub mod generalized_alpha;
+pub(crate) mod onsets;
 pub(crate) mod stepper;
 
 #[cfg(test)]

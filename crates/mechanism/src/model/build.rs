@@ -5,7 +5,7 @@
 //! specifications) does not depend on the model.
 
 use super::tree::PredictorTree;
-use super::{couplers, curve, friction, layout, limits, resolve, CurveInfo, Model};
+use super::{couplers, curve, friction, layout, limits, resolve, shapes, CurveInfo, Model};
 use crate::builder::MechanismBuilder;
 use crate::error::ModelError;
 use std::collections::HashMap;
@@ -103,6 +103,9 @@ fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
         frictions.push(friction::friction(spec, &joints)?);
     }
 
+    let (shapes, materials) =
+        shapes::shapes_and_materials(&b.shapes, &b.materials, &bodies, &joints)?;
+
     let nb = bodies.len();
     let lay = layout::rows(
         &mut joints,
@@ -137,6 +140,8 @@ fn build(b: &MechanismBuilder) -> Result<Model, ModelError> {
         limits: limit_infos,
         stops,
         frictions,
+        shapes,
+        materials,
         pattern: lay.pattern,
         equation_scales: lay.equation_scales,
         unknown_scales: lay.unknown_scales,

@@ -29,6 +29,7 @@ mod friction;
 mod layout;
 mod limits;
 mod resolve;
+mod shapes;
 mod stops;
 mod tree;
 mod validate;
@@ -38,6 +39,7 @@ pub use elements::{
     FeatureInfo, ForceInfo, FrictionInfo, JointInfo, LimitInfo, PathInfo, StopInfo,
 };
 pub use friction::FRICTION_KINDS;
+pub use shapes::{may_touch, MaterialInfo, ShapeInfo, MESH_VERTEX_LIMIT};
 pub(crate) use tree::{PredictorTree, TreeEdge};
 pub use validate::{kinds_with, nearest};
 
@@ -62,6 +64,8 @@ pub struct Model {
     pub(crate) limits: Vec<LimitInfo>,
     pub(crate) stops: Vec<StopInfo>,
     pub(crate) frictions: Vec<FrictionInfo>,
+    pub(crate) shapes: Vec<ShapeInfo>,
+    pub(crate) materials: Vec<MaterialInfo>,
     pub(crate) pattern: SparsityPattern,
     pub(crate) equation_scales: Vec<f64>,
     pub(crate) unknown_scales: Vec<f64>,

@@ -123,6 +123,12 @@ impl GeneralizedAlpha {
         let o = self.o;
         let mut halvings = 0;
         loop {
+            // Bodies that touched for the first time (at the last step or the failed try)
+            // couple: the iteration matrix gets their blocks, the tangents their colours.
+            if d.lay_out_new_contacts(self.n.s.t)? {
+                self.newton.new_layout(d, &self.n.s);
+                self.policy = FactorPolicy::new();
+            }
             let before = self.stats.newton_iterations;
             let tangent = o.iteration_matrix == IterationMatrix::Tangent;
             if self.try_step(d, h, tangent)?

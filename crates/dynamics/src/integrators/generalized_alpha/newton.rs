@@ -92,6 +92,13 @@ struct Scales {
 }
 
 impl Newton {
+    /// The tangents' blocks and colours for a new layout of `d` (bodies newly in contact).
+    pub fn new_layout(&mut self, d: &Dynamics, state: &State) {
+        if self.tangents.is_some() {
+            self.tangents = Some(Tangents::new(d, state));
+        }
+    }
+
     /// Buffers for `n` unknowns and `m` equations; `tangents` when the iteration matrix may
     /// have tangent terms.
     pub fn new(n: usize, m: usize, tangents: Option<Tangents>) -> Self {

@@ -1,0 +1,436 @@
+//! Contact between bodies: collision shapes ([`cardan_mechanism::ShapeSpec`]) found touching by
+//! parry3d-f64 and pushed apart by a compliant contact law with friction ([`law`]).
+//!
+//! ## Where it enters the equations of motion
+//! Contact forces are applied forces: at every evaluation of h (every stage of DOPRI5, every
+//! Newton iterate and tangent difference of generalized-α) the shapes are placed at the synced
+//! body poses, the pairs whose boxes overlap are found (the broad phase: parry's BVH over the
+//! shapes' world boxes, refitted at each evaluation, traversed against itself — O(n log n), not
+//! O(n²); planes, which have no box, are tried against every shape), each pair's contact
+//! manifold is computed (the narrow phase: parry's `contact_manifolds`, up to four points per
+//! face contact so a box rests on its face), and every point of penetration δ = −dist > 0 gets
+//! the law's force. With n the normal of the manifold (from shape 1 towards shape 2), P the
+//! midpoint of the two surface points and v_rel = v₂(P) − v₁(P) the relative velocity there:
+//!
+//! ```text
+//! δ̇ = −nᵀ v_rel,   v_t = v_rel − n nᵀ v_rel,   f = F_n n + f_t   on body 2 at P,  −f on body 1
+//! ```
+//!
+//! (applied through [`crate::AppliedForces::add_force_at`], so each body's Newton–Euler
+//! balance holds them like any other force). The power of the contact forces, fᵀ v_rel summed
+//! over the points, is the "contact" work channel: it holds the energy the contacts store
+//! while pressed and what their damping and friction dissipate, so E − E₀ − W still closes.
+//!
+//! ## Memory of a contact
+//! The damping of a pair is scaled by its approach speed v₀ at the onset ([`law`]): a pair
+//! first found touching at an evaluation takes v₀ from its current approach speed, and the
+//! value is kept from the first accepted state the pair touches at until the first accepted
+//! state it does not ([`Collisions::accept`]). Trial states of a rejected step leave no trace.
+//!
+//! ## Implicit steps
+//! A touching pair of moving bodies couples their forces: its bodies become a coupled pair of
+//! the generalized-α iteration matrix (its 6×6 blocks are laid out and its tangents computed by
+//! the coloured differences), from the first evaluation the pair touches at: a new pair asks
+//! for a new layout ([`Collisions::take_new_pairs`]), which the stepper makes before its next
+//! attempt. Pairs once laid out stay (a rare event per pair, not per step).
+
+pub(crate) mod geometry;
+pub mod law;
+
+use crate::forces::AppliedForces;
+use cardan_constraints::BodyState;
+use cardan_mechanism::{BodyId, Model};
+use geometry::{from_parry, Placed};
+use law::PairLaw;
+use nalgebra::Vector3;
+use parry3d_f64::bounding_volume::Aabb;
+use parry3d_f64::math::Pose;
+use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
+use parry3d_f64::query::{
+    ContactManifold, ContactManifoldsWorkspace, DefaultQueryDispatcher, PersistentQueryDispatcher,
+};
+use std::collections::HashMap;
+
+/// One contact point at an evaluation (the rows of `contacts.csv`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactPoint {
+    /// Shape 1 and shape 2 (indices into [`Model::shapes`]).
+    pub shapes: [usize; 2],
+    /// The contact point P (global, m).
+    pub point: Vector3<f64>,
+    /// The unit normal n from shape 1 towards shape 2.
+    pub normal: Vector3<f64>,
+    /// The penetration δ > 0 (m).
+    pub penetration: f64,
+    /// The approach rate δ̇ (m/s, positive while approaching).
+    pub penetration_rate: f64,
+    /// F_n (N), pushing shape 2 along n.
+    pub normal_force: f64,
+    /// The friction force on shape 2 (global, N).
+    pub friction_force: Vector3<f64>,
+    /// The slip velocity v_t of shape 2 over shape 1 (global, m/s).
+    pub slip_velocity: Vector3<f64>,
+}
+
+/// A pair of shapes whose boxes overlap, with parry's persistent manifolds.
+struct Pair {
+    law: PairLaw,
+    manifolds: Vec<ContactManifold<(), ()>>,
+    workspace: Option<ContactManifoldsWorkspace>,
+    /// v₀ kept from the accepted states (NaN: not touching at the last accepted state).
+    v0: f64,
+    /// Touching at the last evaluation, and its largest approach rate there.
+    touching: bool,
+    rate: f64,
+    /// The evaluation counter when the pair was last a candidate.
+    seen: u64,
+}
+
+/// The contact state of a run (module docs). Allocates when pairs first meet; the steps of a
+/// settled scene do not.
+pub(crate) struct Collisions {
+    shapes: Vec<Placed>,
+    /// Leaf index (in the BVH) → shape; the planes are not leaves.
+    leaves: Vec<usize>,
+    planes: Vec<usize>,
+    poses: Vec<Pose>,
+    bvh: Bvh,
+    bvh_workspace: BvhWorkspace,
+    /// Moving body pairs joined by a joint, sorted (a body jointed to the ground still touches
+    /// the ground's shapes: a wheel on its axle rolls on the floor).
+    jointed: Vec<(usize, usize)>,
+    pairs: HashMap<(u32, u32), Pair>,
+    candidates: Vec<(u32, u32)>,
+    /// The contact points of the last evaluation.
+    pub points: Vec<ContactPoint>,
+    /// Moving body pairs coupled by a contact, in the order they first touched.
+    pub coupled: Vec<(usize, usize)>,
+    new_pairs: bool,
+    stamp: u64,
+    /// The pairs that took their onset speed at the last [`Collisions::accept`].
+    pub onsets: Vec<(u32, u32)>,
+    /// Storage for the onsets' event location.
+    pub scratch: Vec<(usize, usize)>,
+}
+
+impl std::fmt::Debug for Collisions {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Collisions")
+            .field("shapes", &self.shapes.len())
+            .field("pairs", &self.pairs.len())
+            .field("points", &self.points.len())
+            .finish_non_exhaustive()
+    }
+}
+
+fn body_key(b: BodyId) -> usize {
+    match b {
+        BodyId::Ground => usize::MAX,
+        BodyId::Moving(k) => k,
+    }
+}
+
+fn ordered(a: usize, b: usize) -> (usize, usize) {
+    (a.min(b), a.max(b))
+}
+
+/// The velocity of the body point at global position `p`: ṙ + A (ω̃' A ᵀ(p − r)).
+fn point_velocity(s: &BodyState, p: &Vector3<f64>) -> Vector3<f64> {
+    s.r_dot + s.a * s.omega_local.cross(&s.a.tr_mul(&(p - s.r)))
+}
+
+impl Collisions {
+    /// The collision state of `model` at rest bodies `bodies`; `None` without shapes.
+    ///
+    /// # Errors
+    /// The shape's name and the reason for a mesh parry refuses.
+    pub fn new(model: &Model, bodies: &[BodyState]) -> Result<Option<Self>, (String, String)> {
+        if model.shapes().is_empty() {
+            return Ok(None);
+        }
+        let shapes = model
+            .shapes()
+            .iter()
+            .map(|s| geometry::place(s).map_err(|e| (s.name.clone(), e)))
+            .collect::<Result<Vec<_>, _>>()?;
+        let poses: Vec<Pose> = shapes.iter().map(|s| s.pose(bodies)).collect();
+        let (planes, leaves): (Vec<usize>, Vec<usize>) =
+            (0..shapes.len()).partition(|&k| shapes[k].unbounded);
+        let boxes: Vec<Aabb> = leaves
+            .iter()
+            .map(|&k| shapes[k].shape.compute_aabb(&poses[k]))
+            .collect();
+        let bvh = Bvh::from_leaves(BvhBuildStrategy::default(), &boxes);
+        let mut jointed: Vec<(usize, usize)> = model
+            .joints()
+            .iter()
+            .filter(|j| j.body_i != BodyId::Ground && j.body_j != BodyId::Ground)
+            .map(|j| ordered(body_key(j.body_i), body_key(j.body_j)))
+            .collect();
+        jointed.sort_unstable();
+        jointed.dedup();
+        Ok(Some(Self {
+            shapes,
+            leaves,
+            planes,
+            poses,
+            bvh,
+            bvh_workspace: BvhWorkspace::default(),
+            jointed,
+            pairs: HashMap::new(),
+            candidates: Vec::new(),
+            points: Vec::new(),
+            coupled: Vec::new(),
+            new_pairs: false,
+            stamp: 0,
+            onsets: Vec::new(),
+            scratch: Vec::new(),
+        }))
+    }
+
+    /// Whether shapes a and b may touch: different bodies, not two moving bodies joined by a
+    /// joint, the filters admit each other ([`cardan_mechanism::may_touch`]).
+    fn may_touch(&self, model: &Model, a: usize, b: usize) -> bool {
+        let (sa, sb) = (&model.shapes()[a], &model.shapes()[b]);
+        if sa.body == sb.body {
+            return false;
+        }
+        if sa.groups & sb.collides_with == 0 || sb.groups & sa.collides_with == 0 {
+            return false;
+        }
+        let key = ordered(body_key(sa.body), body_key(sb.body));
+        self.jointed.binary_search(&key).is_err()
+    }
+
+    /// The candidate pairs at the current poses (broad phase) into `self.candidates`.
+    fn broad_phase(&mut self, model: &Model) {
+        for (leaf, &k) in self.leaves.iter().enumerate() {
+            if let BodyId::Moving(_) = self.shapes[k].body {
+                let aabb = self.shapes[k].shape.compute_aabb(&self.poses[k]);
+                self.bvh.update_partially_if_present(aabb, leaf as u32, 0.0);
+            }
+        }
+        self.bvh.refit_without_opt();
+        let mut found = std::mem::take(&mut self.candidates);
+        found.clear();
+        let leaves = &self.leaves;
+        self.bvh
+            .traverse_bvtt_single_tree::<false>(&mut self.bvh_workspace, &mut |i, j| {
+                let (a, b) = (leaves[i as usize], leaves[j as usize]);
+                found.push((a.min(b) as u32, a.max(b) as u32));
+            });
+        for &p in &self.planes {
+            for k in 0..self.shapes.len() {
+                if k != p {
+                    found.push((k.min(p) as u32, k.max(p) as u32));
+                }
+            }
+        }
+        found.retain(|&(a, b)| self.may_touch(model, a as usize, b as usize));
+        self.candidates = found;
+    }
+
+    /// Places the shapes at `bodies`, finds the contacts and adds their forces to `acc`
+    /// (module docs); the points are kept for the outputs.
+    pub fn apply(&mut self, model: &Model, acc: &mut AppliedForces<'_>) {
+        let bodies = acc.bodies;
+        for (pose, s) in self.poses.iter_mut().zip(&self.shapes) {
+            if let BodyId::Moving(_) = s.body {
+                *pose = s.pose(bodies);
+            }
+        }
+        self.stamp += 1;
+        self.broad_phase(model);
+        self.points.clear();
+        for c in 0..self.candidates.len() {
+            let (a, b) = self.candidates[c];
+            self.pair_forces(model, a as usize, b as usize, acc);
+        }
+        // Forget pairs whose boxes parted long ago (their memory is that of a new contact).
+        if self.stamp.is_multiple_of(64) {
+            let stamp = self.stamp;
+            self.pairs
+                .retain(|_, p| p.touching || !p.v0.is_nan() || stamp - p.seen < 64);
+        }
+    }
+
+    /// The contact of shapes a < b: manifolds, then each penetrating point's force.
+    fn pair_forces(&mut self, model: &Model, a: usize, b: usize, acc: &mut AppliedForces<'_>) {
+        let stamp = self.stamp;
+        let pair = self.pairs.entry((a as u32, b as u32)).or_insert_with(|| {
+            let (sa, sb) = (&model.shapes()[a], &model.shapes()[b]);
+            let m = model.materials();
+            Pair {
+                law: PairLaw::new(&m[sa.material], &sa.geometry, &m[sb.material], &sb.geometry),
+                manifolds: Vec::new(),
+                workspace: None,
+                v0: f64::NAN,
+                touching: false,
+                rate: 0.0,
+                seen: stamp,
+            }
+        });
+        pair.seen = stamp;
+        let (p1, p2) = (&self.poses[a], &self.poses[b]);
+        let pos12 = p1.inv_mul(p2);
+        let (s1, s2) = (&self.shapes[a], &self.shapes[b]);
+        let done = DefaultQueryDispatcher.contact_manifolds(
+            &pos12,
+            s1.shape.as_ref(),
+            s2.shape.as_ref(),
+            0.0,
+            &mut pair.manifolds,
+            &mut pair.workspace,
+        );
+        pair.touching = false;
+        if done.is_err() {
+            return;
+        }
+        let bodies = acc.bodies;
+        let velocity = |id: BodyId, p: &Vector3<f64>| match id {
+            BodyId::Ground => Vector3::zeros(),
+            BodyId::Moving(k) => point_velocity(&bodies[k], p),
+        };
+        let mut rate_max = 0.0_f64;
+        let v0 = pair.v0;
+        for m in &pair.manifolds {
+            let pose1 = match &m.subshape_poses {
+                Some(sp) => sp.pos1.map_or(*p1, |q| *p1 * q),
+                None => *p1,
+            };
+            let pose2 = match &m.subshape_poses {
+                Some(sp) => sp.pos2.map_or(*p2, |q| *p2 * q),
+                None => *p2,
+            };
+            let n = from_parry(pose1.rotation * m.local_n1);
+            for pt in &m.points {
+                if pt.dist > 0.0 {
+                    continue;
+                }
+                let w1 = from_parry(pose1 * pt.local_p1);
+                let w2 = from_parry(pose2 * pt.local_p2);
+                let at = 0.5 * (w1 + w2);
+                let v_rel = velocity(s2.body, &at) - velocity(s1.body, &at);
+                let rate = -n.dot(&v_rel);
+                rate_max = rate_max.max(rate);
+                let delta = -pt.dist;
+                let onset = if v0.is_nan() { rate } else { v0 };
+                let fn_ = pair.law.normal_force(delta, rate, onset);
+                let vt = v_rel + n * rate;
+                let ft = -vt * (pair.law.friction_factor(vt.norm()) * fn_);
+                let f = n * fn_ + ft;
+                for (id, sign) in [(s2.body, 1.0), (s1.body, -1.0)] {
+                    if let BodyId::Moving(k) = id {
+                        let s_local = bodies[k].a.tr_mul(&(at - bodies[k].r));
+                        acc.add_force_at(id, &s_local, &(f * sign));
+                    }
+                }
+                pair.touching = true;
+                self.points.push(ContactPoint {
+                    shapes: [a, b],
+                    point: at,
+                    normal: n,
+                    penetration: delta,
+                    penetration_rate: rate,
+                    normal_force: fn_,
+                    friction_force: ft,
+                    slip_velocity: vt,
+                });
+            }
+        }
+        if pair.touching {
+            if pair.v0.is_nan() {
+                pair.rate = rate_max;
+            }
+            if let (BodyId::Moving(i), BodyId::Moving(j)) = (s1.body, s2.body) {
+                let key = ordered(i, j);
+                if !self.coupled.contains(&key) {
+                    self.coupled.push(key);
+                    self.new_pairs = true;
+                }
+            }
+        }
+    }
+
+    /// At an accepted state (the last evaluation's): a pair touching keeps (or takes) its
+    /// onset speed, a pair apart forgets it.
+    pub fn accept(&mut self) {
+        self.onsets.clear();
+        for (key, p) in self.pairs.iter_mut() {
+            if p.touching {
+                if p.v0.is_nan() {
+                    p.v0 = p.rate.max(law::ONSET_SPEED_FLOOR);
+                    self.onsets.push(*key);
+                }
+            } else {
+                p.v0 = f64::NAN;
+                p.rate = 0.0;
+            }
+        }
+    }
+
+    /// The contacts' power at `bodies` with the forces of the last evaluation (the same state
+    /// but for a velocity projection since): Σ fᵀ v_rel over the points (W).
+    pub fn power_at(&self, bodies: &[BodyState]) -> f64 {
+        let velocity = |id: BodyId, p: &Vector3<f64>| match id {
+            BodyId::Ground => Vector3::zeros(),
+            BodyId::Moving(k) => point_velocity(&bodies[k], p),
+        };
+        self.points
+            .iter()
+            .map(|c| {
+                let [a, b] = c.shapes;
+                let v_rel = velocity(self.shapes[b].body, &c.point)
+                    - velocity(self.shapes[a].body, &c.point);
+                (c.normal * c.normal_force + c.friction_force).dot(&v_rel)
+            })
+            .sum()
+    }
+
+    /// Forgets the onset speeds the last [`Collisions::accept`] took (the step that took them
+    /// went past the contacts' onset, which an event then located: the state there takes them
+    /// again).
+    pub fn forget_onsets(&mut self) {
+        for key in &self.onsets {
+            if let Some(p) = self.pairs.get_mut(key) {
+                p.v0 = f64::NAN;
+            }
+        }
+        self.onsets.clear();
+    }
+
+    /// The pairs that did not touch at the last accepted state (or took their onset speed at
+    /// the last [`Collisions::accept`]) but touch at the last evaluation: the onsets of a
+    /// step, before or after it was accepted.
+    pub fn new_contacts(&self, out: &mut Vec<(usize, usize)>) {
+        out.clear();
+        for (&(a, b), p) in &self.pairs {
+            if p.touching && (p.v0.is_nan() || self.onsets.contains(&(a, b))) {
+                out.push((a as usize, b as usize));
+            }
+        }
+        out.sort_unstable();
+    }
+
+    /// The signed distance of shapes a and b at `bodies` (negative: the penetration), or
+    /// `None` when they are farther apart than `horizon`.
+    pub fn signed_distance(
+        &self,
+        a: usize,
+        b: usize,
+        bodies: &[BodyState],
+        horizon: f64,
+    ) -> Option<f64> {
+        let (s1, s2) = (&self.shapes[a], &self.shapes[b]);
+        let (p1, p2) = (s1.pose(bodies), s2.pose(bodies));
+        parry3d_f64::query::contact(&p1, s1.shape.as_ref(), &p2, s2.shape.as_ref(), horizon)
+            .ok()
+            .flatten()
+            .map(|c| c.dist)
+    }
+
+    /// Whether a moving pair touched for the first time since the last call.
+    pub fn take_new_pairs(&mut self) -> bool {
+        std::mem::take(&mut self.new_pairs)
+    }
+}

@@ -1,0 +1,110 @@
+//! The onset of a contact between collision shapes inside an accepted step
+//! ([`crate::collision`]): a pair that touches at the step's end but did not at its start
+//! began touching inside it. The contact force has a kink there and the pair's damping is
+//! scaled by its approach speed at that instant, so the step is cut at the onset: located on
+//! the stepper's dense output by the Illinois method on the pair's signed distance, to
+//! [`EVENT_TIME_TOLERANCE`], and the state there takes the pair's onset speed
+//! ([`apply_onset`]).
+
+use super::events::EVENT_TIME_TOLERANCE;
+use super::stepper::{Span, Stepper};
+use crate::state::State;
+use crate::system::Dynamics;
+
+/// At most this many evaluations locate an onset.
+const MAX_LOCATE: usize = 200;
+
+/// The signed distance of shapes (a, b) at the dense output's time `t`.
+fn distance_at<S: Stepper>(
+    stepper: &mut S,
+    d: &mut Dynamics,
+    (a, b): (usize, usize),
+    t: f64,
+) -> f64 {
+    let st = stepper.interpolate(t);
+    d.sync(st);
+    let c = d.collisions.as_ref().expect("collisions");
+    c.signed_distance(a, b, &d.bodies, f64::INFINITY)
+        .unwrap_or(f64::INFINITY)
+}
+
+/// The earliest onset of a contact inside the step `span` (module docs), if any: the time of
+/// the bracket's touching end.
+pub(crate) fn first_onset<S: Stepper>(
+    stepper: &mut S,
+    d: &mut Dynamics,
+    span: Span,
+) -> Option<f64> {
+    d.collisions.as_ref()?;
+    // The contacts at the step's end.
+    let end = stepper.interpolate(span.t1);
+    d.sync(end);
+    d.eval_forces(span.t1);
+    let c = d.collisions.as_mut().expect("collisions");
+    let mut onsets = std::mem::take(&mut c.scratch);
+    c.new_contacts(&mut onsets);
+    let mut first: Option<f64> = None;
+    for &pair in &onsets {
+        let f0 = distance_at(stepper, d, pair, span.t0);
+        let f1 = distance_at(stepper, d, pair, span.t1);
+        if !(f0 > 0.0 && f1 <= 0.0) {
+            continue;
+        }
+        let time = illinois(stepper, d, pair, (span.t0, f0), (span.t1, f1));
+        if time > span.t0 + 10.0 * EVENT_TIME_TOLERANCE * (1.0 + span.t0.abs())
+            && first.is_none_or(|f| time < f)
+        {
+            first = Some(time);
+        }
+    }
+    d.collisions.as_mut().expect("collisions").scratch = onsets;
+    first
+}
+
+/// The first time in [a, b] with distance ≤ 0 (f > 0 at a, ≤ 0 at b), by the Illinois
+/// variant of regula falsi.
+fn illinois<S: Stepper>(
+    stepper: &mut S,
+    d: &mut Dynamics,
+    pair: (usize, usize),
+    (mut a, mut fa): (f64, f64),
+    (mut b, mut fb): (f64, f64),
+) -> f64 {
+    let mut side = 0i8;
+    for _ in 0..MAX_LOCATE {
+        if b - a <= EVENT_TIME_TOLERANCE * (1.0 + b.abs()) {
+            break;
+        }
+        let mut tm = (a * fb - b * fa) / (fb - fa);
+        if !(tm > a && tm < b) {
+            tm = 0.5 * (a + b);
+        }
+        let f = distance_at(stepper, d, pair, tm);
+        if f > 0.0 {
+            (a, fa) = (tm, f);
+            if side == 1 {
+                fb *= 0.5;
+            }
+            side = 1;
+        } else {
+            (b, fb) = (tm, f);
+            if side == -1 {
+                fa *= 0.5;
+            }
+            side = -1;
+        }
+    }
+    b
+}
+
+/// At a located onset (`state`, projected): the onset speeds the step past it took are
+/// forgotten and taken again from `state`.
+pub(crate) fn apply_onset(d: &mut Dynamics, state: &State) {
+    let Some(c) = d.collisions.as_mut() else {
+        return;
+    };
+    c.forget_onsets();
+    d.sync(state);
+    d.eval_forces(state.t);
+    d.collisions.as_mut().expect("collisions").accept();
+}

@@ -1,0 +1,264 @@
+//! Contact between collision shapes: closed forms of a sphere on a plane (static Hertz
+//! penetration, rebound at the stated restitution, a billiard ball's transition to rolling, a
+//! ball rolling or slipping down an incline) and a box resting on a plane.
+
+use cardan_dynamics::{Dopri5Options, Dynamics, Force, Integrator, SimulationOptions};
+use cardan_mechanism::{
+    Body, Geometry, MaterialSpec, MechanismBuilder, Model, ShapeSpec, Stiffness, GROUND,
+};
+use nalgebra::Vector3;
+
+const G: f64 = 9.81;
+
+/// A ball of mass m and radius r (solid: J = 2/5 m r²) at height z above the plane z = 0
+/// (tilted by `slope` rad about x), of a material with stiffness K (n = 3/2), restitution e
+/// and friction μ.
+fn ball_on_plane(m: f64, r: f64, z: f64, k: f64, e: f64, mu: f64, slope: f64) -> Model {
+    let mut b = MechanismBuilder::new();
+    let j = 0.4 * m * r * r;
+    b.body(
+        Body::new("ball")
+            .mass(m)
+            .inertia_diagonal(j, j, j)
+            .position(Vector3::new(0.0, 0.0, z)),
+    );
+    b.material(
+        MaterialSpec::new(
+            "steel",
+            Stiffness::Direct {
+                k: 2.0 * k,
+                exponent: 1.5,
+            },
+            e,
+        )
+        .friction(mu)
+        .slip_velocity(1e-4),
+    );
+    // Two materials of 2K: K.
+    b.shape(ShapeSpec::new(
+        "ball",
+        "ball",
+        Geometry::Sphere { radius: r },
+        "steel",
+    ));
+    let normal = Vector3::new(0.0, -slope.sin(), slope.cos());
+    b.shape(ShapeSpec::new("floor", GROUND, Geometry::Plane, "steel").axes(normal, Vector3::x()));
+    b.build().unwrap()
+}
+
+fn tight() -> Integrator {
+    Integrator::Dopri5(Dopri5Options::tolerances(1e-10, 1e-12))
+}
+
+fn dynamics(model: &Model) -> Dynamics<'_> {
+    let mut d = Dynamics::new(model).unwrap();
+    d.add_force(Force::gravity(Vector3::new(0.0, 0.0, -G)))
+        .unwrap();
+    d
+}
+
+/// The rebound ratio v_out / v_in of a ball thrown at the plane at `v_in` without gravity
+/// (measured once the contact has ended).
+fn rebound_without_gravity(e: f64, integrator: Integrator) -> f64 {
+    let (m, r, k, v_in) = (1.0, 0.05, 1e8, 2.0);
+    let model = ball_on_plane(m, r, r + 0.01, k, e, 0.0, 0.0);
+    let mut d = Dynamics::new(&model).unwrap();
+    let mut s = d.initial_guess();
+    s.set_velocity(0, Vector3::new(0.0, 0.0, -v_in), Vector3::zeros());
+    let options = SimulationOptions::new(0.02, 2).integrator(integrator);
+    let res = d.simulate(&s, &options).unwrap();
+    res.body("ball").unwrap().r_dot[2].z / v_in
+}
+
+#[test]
+fn a_ball_rebounds_at_the_stated_restitution() {
+    // The law's hysteresis gives v_out = e v_in exactly for a normal impact (collision::law);
+    // the onset located on the dense output starts the contact at its true approach speed.
+    for e in [0.95, 0.7, 0.5, 0.2, 0.05] {
+        let ratio = rebound_without_gravity(e, tight());
+        eprintln!("e = {e}: v_out / v_in = {ratio:.10}");
+        assert!((ratio - e).abs() < 1e-6, "e = {e}: {ratio}");
+    }
+}
+
+#[test]
+fn a_dropped_ball_rises_to_e_squared_of_its_height() {
+    // Dropped from h above the plane: impact at v = √(2 g h), rebound to e² h. Gravity acts
+    // during the contact too, changing the rebound speed by up to g T_c (T_c ≈ 2.94 δ_max / v,
+    // δ_max = (5 m v² / (4 K))^(2/5), Johnson 1985 §11.4), which the check allows.
+    for e in [0.9, 0.5, 0.2] {
+        let (m, r, k, h) = (1.0, 0.05, 1e8, 0.2);
+        let model = ball_on_plane(m, r, r + h, k, e, 0.0, 0.0);
+        let mut d = dynamics(&model);
+        let v_in = (2.0 * G * h).sqrt();
+        let t_in = v_in / G;
+        let t_out = t_in + 0.01 + e * v_in / G;
+        let options = SimulationOptions::new(t_out, 2000).integrator(tight());
+        let res = d.simulate(&d.initial_guess(), &options).unwrap();
+        let ball = res.body("ball").unwrap();
+        let apex = res
+            .times()
+            .iter()
+            .zip(&ball.r)
+            .filter(|(t, _)| **t > t_in + 0.005)
+            .map(|(_, r)| r.z)
+            .fold(f64::MIN, f64::max)
+            - r;
+        let ratio = (apex / h).sqrt();
+        let d_max = (5.0 * m * v_in * v_in / (4.0 * k)).powf(0.4);
+        let t_c = 2.94 * d_max / v_in;
+        eprintln!(
+            "e = {e}: √(apex/h) = {ratio:.6}, g T_c / v = {:.2e}",
+            G * t_c / v_in
+        );
+        assert!((ratio - e).abs() < G * t_c / v_in, "e = {e}: {ratio}");
+    }
+}
+
+/// A ball on a vertical rail (a prismatic joint along z) drawn 0.1 mm into the plane.
+fn ball_on_a_rail(m: f64, r: f64, k: f64) -> Model {
+    use cardan_mechanism::{JointKind, JointSpec};
+    let mut b = MechanismBuilder::new();
+    let j = 0.4 * m * r * r;
+    b.body(
+        Body::new("ball")
+            .mass(m)
+            .inertia_diagonal(j, j, j)
+            .position(Vector3::new(0.0, 0.0, r - 1e-4)),
+    );
+    b.point(GROUND, "O", Vector3::zeros())
+        .vector(GROUND, "z", Vector3::z())
+        .vector(GROUND, "x", Vector3::x());
+    b.point("ball", "C", Vector3::zeros())
+        .vector("ball", "z", Vector3::z())
+        .vector("ball", "x", Vector3::x());
+    b.joint(
+        JointSpec::new("rail", JointKind::Prismatic, (GROUND, "O"), ("ball", "C"))
+            .axes("z", "z")
+            .x_axes("x", "x"),
+    );
+    b.material(MaterialSpec::new(
+        "steel",
+        Stiffness::Direct {
+            k: 2.0 * k,
+            exponent: 1.5,
+        },
+        0.5,
+    ));
+    b.shape(ShapeSpec::new(
+        "ball",
+        "ball",
+        Geometry::Sphere { radius: r },
+        "steel",
+    ));
+    b.shape(ShapeSpec::new("floor", GROUND, Geometry::Plane, "steel"));
+    b.build().unwrap()
+}
+
+#[test]
+fn a_resting_ball_sinks_by_hertz_penetration() {
+    // m g = K δ^(3/2): δ = (m g / K)^(2/3), the contact force m g. Statics from a pose in
+    // contact (in free space the rail would be a free direction).
+    use cardan_dynamics::StaticOptions;
+    let (m, r, k) = (2.0, 0.1, 1e7);
+    let delta = (m * G / k).powf(2.0 / 3.0);
+    let model = ball_on_a_rail(m, r, k);
+    let mut d = dynamics(&model);
+    let res = d.statics(&StaticOptions::default()).unwrap();
+    let z = res.results.body("ball").unwrap().r[0].z;
+    let sink = r - z;
+    eprintln!("statics: penetration {sink:.15e}, Hertz {delta:.15e}");
+    assert!((sink - delta).abs() < 1e-9 * delta, "{sink} vs {delta}");
+    // Dropped 1 mm onto the floor, the ball settles there.
+    let model = ball_on_plane(m, r, r + 1e-3, k, 0.3, 0.0, 0.0);
+    let mut d = dynamics(&model);
+    let options = SimulationOptions::new(2.0, 4).integrator(tight());
+    let res = d.simulate(&d.initial_guess(), &options).unwrap();
+    let sink = r - res.body("ball").unwrap().r.last().unwrap().z;
+    eprintln!("settled: penetration {sink:.15e}");
+    assert!((sink - delta).abs() < 1e-9 * delta, "{sink} vs {delta}");
+}
+
+/// The billiard ball's closed form (module test below): the speed at `t` of a ball launched
+/// sliding at v₀ without spin. Friction μ m g decelerates it and spins it up until it rolls.
+/// The contact point P lies at mid-penetration, ρ = r − δ/2 below the centre (δ the static
+/// penetration), so the ball rolls on ρ: v = ω ρ after t_r = v₀ / (μ g (1 + m ρ²/J)), at
+/// v₀ / (1 + J/(m ρ²)) — for δ → 0, 2 v₀/(7 μ g) and 5 v₀/7.
+fn billiard_closed_form(m: f64, r: f64, delta: f64, mu: f64, v0: f64, t: f64) -> f64 {
+    let j = 0.4 * m * r * r;
+    let rho = r - 0.5 * delta;
+    let t_roll = v0 / (mu * G * (1.0 + m * rho * rho / j));
+    if t < t_roll {
+        v0 - mu * G * t
+    } else {
+        v0 / (1.0 + j / (m * rho * rho))
+    }
+}
+
+#[test]
+fn a_billiard_ball_slides_then_rolls_at_five_sevenths() {
+    let (m, r, k, mu, v0) = (0.17, 0.028575, 1e8, 0.2, 2.0);
+    let delta = (m * G / k).powf(2.0 / 3.0);
+    let model = ball_on_plane(m, r, r - delta, k, 0.5, mu, 0.0);
+    let mut d = dynamics(&model);
+    let mut s = d.initial_guess();
+    s.set_velocity(0, Vector3::new(v0, 0.0, 0.0), Vector3::zeros());
+    let t_roll = 2.0 * v0 / (7.0 * mu * G);
+    let times = vec![0.0, 0.5 * t_roll, 2.0 * t_roll];
+    let options = SimulationOptions::new(2.0 * t_roll, 2)
+        .integrator(tight())
+        .output_times(times.clone());
+    let res = d.simulate(&s, &options).unwrap();
+    let ball = res.body("ball").unwrap();
+    for k in 1..3 {
+        let v = ball.r_dot[k].x;
+        let exact = billiard_closed_form(m, r, delta, mu, v0, times[k]);
+        eprintln!(
+            "t = {:.4}: v = {v:.10} (closed form {exact:.10}; δ → 0: {:.10})",
+            times[k],
+            if k == 1 {
+                v0 - mu * G * times[k]
+            } else {
+                5.0 * v0 / 7.0
+            }
+        );
+        assert!((v - exact).abs() < 1e-8 * v0, "{v} vs {exact}");
+    }
+}
+
+#[test]
+fn generalized_alpha_rebounds_and_rolls_at_a_practical_step() {
+    use cardan_dynamics::GeneralizedAlphaOptions;
+    for h in [1e-4, 2.5e-5] {
+        let ga = Integrator::GeneralizedAlpha(GeneralizedAlphaOptions::with_step(h));
+        for e in [0.8, 0.3] {
+            let ratio = rebound_without_gravity(e, ga.clone());
+            eprintln!("generalized-α h = {h:e}, e = {e}: v_out / v_in = {ratio:.6}");
+            // About 18 and 72 steps over the contact (T_c ≈ 1.8 ms).
+            assert!((ratio - e).abs() < 0.1 * h / 1e-4 * e, "{ratio}");
+        }
+    }
+    let (m, r, k, mu, v0) = (0.17, 0.028575, 1e8, 0.2, 2.0);
+    let delta = (m * G / k).powf(2.0 / 3.0);
+    let model = ball_on_plane(m, r, r - delta, k, 0.5, mu, 0.0);
+    for h in [4e-3, 1e-3, 2.5e-4] {
+        let mut d = dynamics(&model);
+        let mut s = d.initial_guess();
+        s.set_velocity(0, Vector3::new(v0, 0.0, 0.0), Vector3::zeros());
+        let t_roll = 2.0 * v0 / (7.0 * mu * G);
+        let ga = Integrator::GeneralizedAlpha(GeneralizedAlphaOptions::with_step(h));
+        let options = SimulationOptions::new(2.0 * t_roll, 2)
+            .integrator(ga)
+            .output_times(vec![0.0, 0.5 * t_roll, 2.0 * t_roll]);
+        let res = d.simulate(&s, &options).unwrap();
+        let ball = res.body("ball").unwrap();
+        let slide = ball.r_dot[1].x - billiard_closed_form(m, r, delta, mu, v0, 0.5 * t_roll);
+        let roll = ball.r_dot[2].x - billiard_closed_form(m, r, delta, mu, v0, 2.0 * t_roll);
+        eprintln!(
+            "generalized-α h = {h:e}: sliding error {slide:.3e}, rolling error {roll:.3e}, {} \
+             steps",
+            res.stats.steps
+        );
+        assert!(slide.abs().max(roll.abs()) < 1e-6 * v0);
+    }
+}
