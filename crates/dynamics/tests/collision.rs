@@ -232,7 +232,7 @@ fn generalized_alpha_rebounds_and_rolls_at_a_practical_step() {
     for h in [1e-4, 2.5e-5] {
         let ga = Integrator::GeneralizedAlpha(GeneralizedAlphaOptions::with_step(h));
         for e in [0.8, 0.3] {
-            let ratio = rebound_without_gravity(e, ga.clone());
+            let ratio = rebound_without_gravity(e, ga);
             eprintln!("generalized-α h = {h:e}, e = {e}: v_out / v_in = {ratio:.6}");
             // About 18 and 72 steps over the contact (T_c ≈ 1.8 ms).
             assert!((ratio - e).abs() < 0.1 * h / 1e-4 * e, "{ratio}");
