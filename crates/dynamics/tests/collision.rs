@@ -262,3 +262,183 @@ fn generalized_alpha_rebounds_and_rolls_at_a_practical_step() {
         assert!(slide.abs().max(roll.abs()) < 1e-6 * v0);
     }
 }
+
+#[test]
+fn a_ball_rolls_down_an_incline_at_five_sevenths_or_slips() {
+    // On a slope α, a ball rolls without slip when μ ≥ (2/7) tan α: a = g sin α / (1 + J/(m ρ²))
+    // (5/7 g sin α for ρ → r), and slips otherwise: a = g (sin α − μ cos α). From rest, the
+    // speed after T is a T, plus what the regularized law adds: rolling, the friction f = J a/ρ²
+    // it needs makes it creep at the slip s* = v_s x / √(1 − x²), x = f / (μ N), which puts
+    // s* / (1 + m ρ²/J) on the centre's speed; slipping, the friction's deficit μ N (1 − φ(s))
+    // while the slip s builds up (φ = s/√(s² + v_s²), ṡ = A − B φ with A = g sin α and
+    // B = μ g cos α (1 + m ρ²/J)) adds μ g cos α ∫₀^∞ (1 − φ)/(A − B φ) ds to it.
+    let (m, r, k, alpha, t) = (1.0, 0.05, 1e9, 20f64.to_radians(), 0.5);
+    let down = Vector3::new(0.0, -alpha.cos(), -alpha.sin());
+    let normal = Vector3::new(0.0, -alpha.sin(), alpha.cos());
+    for mu in [0.5, 0.05] {
+        let rolls = mu >= 2.0 / 7.0 * alpha.tan();
+        let delta = (m * G * alpha.cos() / k).powf(2.0 / 3.0);
+        let mut b = MechanismBuilder::new();
+        let j = 0.4 * m * r * r;
+        b.body(
+            Body::new("ball")
+                .mass(m)
+                .inertia_diagonal(j, j, j)
+                .position(normal * (r - delta)),
+        );
+        b.material(
+            MaterialSpec::new(
+                "m",
+                Stiffness::Direct {
+                    k: 2.0 * k,
+                    exponent: 1.5,
+                },
+                0.5,
+            )
+            .friction(mu)
+            .slip_velocity(1e-4),
+        );
+        b.shape(ShapeSpec::new(
+            "ball",
+            "ball",
+            Geometry::Sphere { radius: r },
+            "m",
+        ));
+        b.shape(ShapeSpec::new("slope", GROUND, Geometry::Plane, "m").axes(normal, Vector3::x()));
+        let model = b.build().unwrap();
+        let mut d = dynamics(&model);
+        let options = SimulationOptions::new(t, 1).integrator(tight());
+        let res = d.simulate(&d.initial_guess(), &options).unwrap();
+        let v = res.body("ball").unwrap().r_dot[1].dot(&down);
+        let rho = r - 0.5 * delta;
+        let (a, creep) = if rolls {
+            let a = G * alpha.sin() / (1.0 + j / (m * rho * rho));
+            let x = j * a / (rho * rho) / (mu * m * G * alpha.cos());
+            let s_star = 1e-4 * x / (1.0 - x * x).sqrt();
+            (a, s_star / (1.0 + m * rho * rho / j))
+        } else {
+            let (vs, aa) = (1e-4, G * alpha.sin());
+            let bb = mu * G * alpha.cos() * (1.0 + m * rho * rho / j);
+            // Simpson's rule on s = v_s sinh u, u ∈ [0, 12] (the integrand is e^(−2u) beyond).
+            let f = |u: f64| {
+                let phi = u.tanh();
+                (1.0 - phi) / (aa - bb * phi) * vs * u.cosh()
+            };
+            let n = 20_000;
+            let hu = 12.0 / n as f64;
+            let sum: f64 = (0..=n)
+                .map(|i| {
+                    let w = if i == 0 || i == n {
+                        1.0
+                    } else if i % 2 == 1 {
+                        4.0
+                    } else {
+                        2.0
+                    };
+                    w * f(i as f64 * hu)
+                })
+                .sum();
+            (
+                G * (alpha.sin() - mu * alpha.cos()),
+                mu * G * alpha.cos() * sum * hu / 3.0,
+            )
+        };
+        eprintln!(
+            "μ = {mu} ({}): v = {v:.10}, closed form {:.10} (5/7 g sin α T = {:.10})",
+            if rolls { "rolls" } else { "slips" },
+            a * t + creep,
+            5.0 / 7.0 * G * alpha.sin() * t
+        );
+        assert!((v - a * t - creep).abs() < 1e-8, "{v} vs {}", a * t + creep);
+    }
+}
+
+/// `n` boxes of 0.2 × 0.2 × 0.1 m and 1 kg stacked on the floor, each drawn 0.1 mm above the one
+/// below.
+fn stack(n: usize) -> Model {
+    let mut b = MechanismBuilder::new();
+    let (a, c, m) = (0.2, 0.1, 1.0);
+    for i in 0..n {
+        let name = format!("box{i}");
+        let jxx = m * (a * a + c * c) / 12.0;
+        b.body(
+            Body::new(&name)
+                .mass(m)
+                .inertia_diagonal(jxx, jxx, m * (a * a + a * a) / 12.0)
+                .position(Vector3::new(
+                    0.0,
+                    0.0,
+                    (i as f64 + 0.5) * c + (i as f64 + 1.0) * 1e-4,
+                )),
+        );
+        b.shape(ShapeSpec::new(
+            &name,
+            &name,
+            Geometry::Box {
+                size: Vector3::new(a, a, c),
+            },
+            "wood",
+        ));
+    }
+    b.material(
+        MaterialSpec::new(
+            "wood",
+            Stiffness::Direct {
+                k: 2e7,
+                exponent: 1.5,
+            },
+            0.3,
+        )
+        .friction(0.5)
+        .slip_velocity(1e-4),
+    );
+    b.shape(ShapeSpec::new("floor", GROUND, Geometry::Plane, "wood"));
+    b.build().unwrap()
+}
+
+#[test]
+fn boxes_rest_on_the_floor_and_on_each_other_without_drift_creep_or_energy_gain() {
+    use cardan_dynamics::GeneralizedAlphaOptions;
+    for (n, integrator, label) in [
+        (1, tight(), "DOPRI5"),
+        (
+            1,
+            Integrator::GeneralizedAlpha(GeneralizedAlphaOptions::with_step(1e-3)),
+            "generalized-α h = 1 ms",
+        ),
+        (
+            5,
+            Integrator::GeneralizedAlpha(GeneralizedAlphaOptions::with_step(1e-3)),
+            "generalized-α h = 1 ms",
+        ),
+    ] {
+        let model = stack(n);
+        let mut d = dynamics(&model);
+        let t_end = 10.0;
+        let options = SimulationOptions::new(t_end, 100).integrator(integrator);
+        let res = d.simulate(&d.initial_guess(), &options).unwrap();
+        // Settled by 1 s; from there on nothing moves and no energy appears.
+        let settled = res.times().iter().position(|&t| t >= 1.0).unwrap();
+        let mut drift: f64 = 0.0;
+        let mut tilt: f64 = 0.0;
+        for i in 0..n {
+            let bx = res.body(&format!("box{i}")).unwrap();
+            for k in settled..res.times().len() {
+                drift = drift.max((bx.r[k] - bx.r[settled]).norm());
+                tilt = tilt.max((bx.p[k] - bx.p[0]).norm());
+            }
+        }
+        let e = &res.energy.total;
+        let gain = (settled + 1..e.len())
+            .map(|k| e[k] - e[k - 1])
+            .fold(f64::MIN, f64::max);
+        eprintln!(
+            "{n} box(es), {label}: drift after 1 s {drift:.2e} m, tilt {tilt:.2e}, largest \
+             energy gain between outputs {gain:.2e} J, {} steps",
+            res.stats.steps
+        );
+        assert!(drift < 1e-7, "{drift}");
+        assert!(tilt < 1e-6, "{tilt}");
+        assert!(gain < 1e-9, "{gain}");
+    }
+}
