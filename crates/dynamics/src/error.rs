@@ -75,6 +75,21 @@ pub enum DynamicsError {
         /// What is wrong.
         reason: String,
     },
+    /// Two collision shapes overlap deeply at the start of a run (more than
+    /// [`crate::collision::DEEP_PENETRATION`] of the thinner one's thickness).
+    #[error("shapes \"{shape_1}\" and \"{shape_2}\" overlap by {depth:e} m at the start (t = {time} s), {percent:.0} % of the thinner one: the contact would throw them apart; draw them apart or touching (a resting contact's static penetration is allowed)")]
+    ShapesOverlap {
+        /// One shape.
+        shape_1: String,
+        /// The other.
+        shape_2: String,
+        /// The penetration (m).
+        depth: f64,
+        /// The time.
+        time: f64,
+        /// The penetration in percent of the thinner shape's thickness.
+        percent: f64,
+    },
     /// A force element refers to a body, point or joint that does not exist, or is invalid.
     #[error("force \"{force}\": {reason}")]
     BadForce {

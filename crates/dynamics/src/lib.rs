@@ -171,8 +171,8 @@ pub use options::{
     RTOL_RANGE,
 };
 pub use results::{
-    CouplerEfforts, DriverEfforts, DynamicResults, DynamicSink, ElementWork, EnergyHistory,
-    IntegrationStats, JointReactions, Reaction,
+    ContactHistory, CouplerEfforts, DriverEfforts, DynamicResults, DynamicSink, ElementWork,
+    EnergyHistory, IntegrationStats, JointReactions, Reaction,
 };
 pub use sparse_linearization::{
     LinearizationMatrices, SparseTriplets, SPARSE_LINEARIZATION_MAX_DOF,

@@ -178,6 +178,10 @@ impl<'s> Recorder<'s> {
         iterations: usize,
     ) {
         d.sync(state);
+        if d.collisions.is_some() {
+            // The contacts at the equilibrium (the last evaluation may have been a trial).
+            d.eval_static_forces(state.t, 1.0);
+        }
         self.vdot.fill(0.0);
         self.lambda.copy_from_slice(lambda);
         self.begin();
@@ -204,6 +208,10 @@ impl<'s> Recorder<'s> {
         self.store_driver_efforts(d, state.t);
         self.store_coupler_efforts(d, state.t);
         self.store_curves(d, state.t);
+        if let Some(c) = &d.collisions {
+            let t = state.t;
+            (self.res.contacts.points).extend(c.points.iter().map(|p| (t, *p)));
+        }
         let g = BodyState::ground();
         let st = |id: BodyId| match id {
             BodyId::Ground => &g,

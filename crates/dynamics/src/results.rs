@@ -284,6 +284,16 @@ impl CamForces {
     }
 }
 
+/// The contacts between collision shapes at the output times ([`crate::collision`]): one row
+/// per contact point and time, in time order.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ContactHistory {
+    /// The shapes' names (index = the model's shape index).
+    pub shapes: Vec<String>,
+    /// The contact points: the output time and the contact there.
+    pub points: Vec<(f64, crate::collision::ContactPoint)>,
+}
+
 /// Everything a dynamic run (forward or inverse) produced.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct DynamicResults {
@@ -302,6 +312,8 @@ pub struct DynamicResults {
     pub couplers: Vec<CouplerEfforts>,
     /// The contact force of every cam pair, in model order.
     pub cams: Vec<CamForces>,
+    /// The contacts between collision shapes.
+    pub contacts: ContactHistory,
     /// Energy.
     pub energy: EnergyHistory,
     /// max |Φ_i| (unscaled) per time.
@@ -403,6 +415,10 @@ impl DynamicResults {
                     normal_force: e(),
                 })
                 .collect(),
+            contacts: ContactHistory {
+                shapes: self.contacts.shapes.clone(),
+                points: Vec::new(),
+            },
             energy: self.energy.empty_like(n),
             position_drift: e(),
             velocity_drift: e(),
@@ -439,6 +455,7 @@ impl DynamicResults {
             c.force.clear();
             c.normal_force.clear();
         }
+        self.contacts.points.clear();
         self.energy.clear();
         self.position_drift.clear();
         self.velocity_drift.clear();
@@ -475,6 +492,7 @@ impl DynamicResults {
             a.force.extend_from_slice(&b.force);
             a.normal_force.extend_from_slice(&b.normal_force);
         }
+        (self.contacts.points).extend_from_slice(&other.contacts.points);
         self.energy.extend_from(&other.energy);
         self.position_drift.extend_from_slice(&other.position_drift);
         self.velocity_drift.extend_from_slice(&other.velocity_drift);

@@ -128,6 +128,7 @@ impl Dynamics<'_> {
             self.prepare(&state)?;
         }
         self.start_stops(&state)?;
+        self.start_contacts(&state)?;
         self.reset_friction_history();
         let mut rec = match sink {
             Some(sink) => Recorder::streamed(self, options.outputs, sink),

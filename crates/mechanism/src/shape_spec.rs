@@ -76,6 +76,29 @@ impl Geometry {
         }
     }
 
+    /// The thickness a penetration is measured against: a sphere's or capsule's radius, a
+    /// cylinder's radius or half length, a box's smallest half edge, a hull's smallest half
+    /// extent; ∞ for a plane or a triangle mesh (the other shape decides).
+    pub fn thickness(&self) -> f64 {
+        match self {
+            Geometry::Sphere { radius } | Geometry::Capsule { radius, .. } => *radius,
+            Geometry::Cylinder { radius, length } => radius.min(0.5 * length),
+            Geometry::Box { size } => 0.5 * size.min(),
+            Geometry::ConvexMesh { points } => {
+                let Some(&first) = points.first() else {
+                    return f64::INFINITY;
+                };
+                let (mut lo, mut hi) = (first, first);
+                for p in points {
+                    lo = lo.inf(p);
+                    hi = hi.sup(p);
+                }
+                0.5 * (hi - lo).min()
+            }
+            Geometry::Plane | Geometry::TriangleMesh { .. } => f64::INFINITY,
+        }
+    }
+
     /// The radius of curvature a Hertz contact sees on this shape: r for a sphere or a
     /// capsule (its caps and, across, its side), ∞ for the flat or edged shapes.
     pub fn curvature_radius(&self) -> f64 {

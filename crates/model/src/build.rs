@@ -14,6 +14,7 @@ mod force;
 mod joint;
 mod limit;
 mod loaded;
+mod shape;
 mod surface;
 
 pub use analysis::MAX_STORED_FRAMES;
@@ -32,7 +33,7 @@ use joint::load_joint;
 use crate::diag::{Error, Source};
 use crate::file::ModelFile;
 use crate::units::UnitSystem;
-use crate::vocabulary::{CAMS, COUPLERS, CURVES, DRIVERS, FORCES, SURFACES};
+use crate::vocabulary::{CAMS, COUPLERS, CURVES, DRIVERS, FORCES, MATERIALS, SHAPES, SURFACES};
 use cardan_constraints::drivers::POSE_ROWS;
 use cardan_constraints::{JointKind, TimeFunction};
 use cardan_dynamics::Force;
@@ -95,6 +96,7 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
     let drivers = load_drivers(&resolver, file, &mut spans, &mut builder)?;
     load_forces(&resolver, file, &joints.kinds, &mut spans, &mut forces)?;
     load_limits(&cx, file, &joints.kinds, &mut spans, &mut builder)?;
+    load_shapes(&resolver, file, &mut spans, &mut builder)?;
 
     spans.analysis = 0..0;
     let analysis = match &file.analysis {
@@ -302,6 +304,74 @@ fn load_curves(
         builder.surface(surface::load_surface(r, section, entry.name)?);
     }
     Ok(())
+}
+
+/// `[[material]]` and `[[shape]]`: the contact materials and the collision shapes
+/// (`build/shape.rs`); a shape's mesh file is relative to the model file.
+fn load_shapes(
+    r: &Resolver,
+    file: &ModelFile,
+    spans: &mut Spans,
+    builder: &mut MechanismBuilder,
+) -> Result<(), Error> {
+    let cx = r.cx;
+    for section in &file.material {
+        let m = section.get_ref();
+        let owner = format!("material \"{}\"", m.name.get_ref());
+        let law = m
+            .law
+            .clone()
+            .unwrap_or_else(|| toml::Spanned::new(m.name.span(), "hunt_crossley".to_string()));
+        cx.check(
+            &MATERIALS,
+            &owner,
+            &law,
+            section.span().start,
+            m.name.span(),
+        )?;
+        if let Some(first) = spans
+            .materials
+            .insert(m.name.get_ref().clone(), m.name.span())
+        {
+            return Err(duplicate(cx, &m.name, "material", &first));
+        }
+        builder.material(shape::load_material(cx, section)?);
+    }
+    let dir = cx.src.path.parent().unwrap_or(std::path::Path::new("."));
+    for section in &file.shape {
+        let s = section.get_ref();
+        let owner = format!("shape \"{}\"", s.name.get_ref());
+        let entry = cx.check(
+            &SHAPES,
+            &owner,
+            &s.kind,
+            section.span().start,
+            s.name.span(),
+        )?;
+        if let Some(first) = spans.shapes.insert(s.name.get_ref().clone(), s.name.span()) {
+            return Err(duplicate(cx, &s.name, "shape", &first));
+        }
+        builder.shape(shape::load_shape(r, section, entry.name, dir)?);
+    }
+    Ok(())
+}
+
+/// A second `what` of the name at `name`, the first at `first`.
+fn duplicate(
+    cx: &Ctx,
+    name: &crate::file::Name,
+    what: &str,
+    first: &std::ops::Range<usize>,
+) -> Error {
+    let l = cx.src.location(first.start);
+    cx.err(
+        name.span(),
+        format!(
+            "duplicate {what} name \"{}\" (first defined at line {})",
+            name.get_ref(),
+            l.line
+        ),
+    )
 }
 
 /// `[[limit]]` and `[[friction]]`: each limit and joint friction (`build/limit.rs`).

@@ -64,6 +64,7 @@ fn describe(p: &Prepared, path: &Path, out: &mut dyn Write) -> Result<(), Error>
     write_couplers(model, out)?;
     write_limits(p, &ws, out)?;
     write_frictions(p, out)?;
+    write_shapes(p, out)?;
     write_drivers(p, out)?;
     write_counts(model, &dof, out)?;
     analysis_line(p, &mut ws, &dof, out)
@@ -164,6 +165,81 @@ fn write_curves(model: &Model, out: &mut dyn Write) -> Result<(), Error> {
         .collect();
     let header = ["name", "curve", "bodies", "column", "equations", "rows"];
     write_table(out, &header, &rows).map_err(io)
+}
+
+/// The collision shapes and their materials, when the model has any: name, type, body, size
+/// (in the model's units), material and its law; then the number of shape pairs that may touch.
+fn write_shapes(p: &Prepared, out: &mut dyn Write) -> Result<(), Error> {
+    use cardan_mechanism::{Geometry, Stiffness};
+    let model = &p.model;
+    if model.shapes().is_empty() {
+        return Ok(());
+    }
+    let (unit, length) = p.units.unit("m");
+    let l = |x: f64| g(x * length);
+    writeln!(
+        out,
+        "
+shapes ({})",
+        model.shapes().len()
+    )
+    .map_err(io)?;
+    let rows: Vec<Vec<String>> = (model.shapes().iter())
+        .map(|s| {
+            let size = match &s.geometry {
+                Geometry::Sphere { radius } => format!("r {}", l(*radius)),
+                Geometry::Capsule { radius, length } | Geometry::Cylinder { radius, length } => {
+                    format!("r {}, ℓ {}", l(*radius), l(*length))
+                }
+                Geometry::Box { size } => format!("{} × {} × {}", l(size.x), l(size.y), l(size.z)),
+                Geometry::Plane => "-".into(),
+                Geometry::ConvexMesh { points } => format!("hull of {} points", points.len()),
+                Geometry::TriangleMesh { triangles, .. } => {
+                    format!("{} triangles", triangles.len())
+                }
+            };
+            let m = &model.materials()[s.material];
+            let law = match m.stiffness {
+                Stiffness::Direct { k, exponent } => format!("K {} N/m^{exponent}", g(k)),
+                Stiffness::Elastic {
+                    youngs_modulus,
+                    poisson_ratio,
+                } => format!("E {} Pa, ν {}", g(youngs_modulus), g(poisson_ratio)),
+            };
+            vec![
+                s.name.clone(),
+                s.geometry.kind().to_string(),
+                model.body_name(s.body).to_string(),
+                size,
+                format!(
+                    "{} ({law}, e {}, μ {})",
+                    m.name,
+                    g(m.restitution),
+                    g(m.friction_dynamic)
+                ),
+            ]
+        })
+        .collect();
+    let size = format!("size [{unit}]");
+    write_table(out, &["name", "type", "body", &size, "material"], &rows).map_err(io)?;
+    let n = model.shapes().len();
+    if n > 1000 {
+        return writeln!(
+            out,
+            "(the pairs that may touch are not counted beyond 1000 shapes)"
+        )
+        .map_err(io);
+    }
+    let pairs = (0..n)
+        .flat_map(|a| (a + 1..n).map(move |b| (a, b)))
+        .filter(|&(a, b)| model.shapes_may_touch(a, b))
+        .count();
+    writeln!(
+        out,
+        "{pairs} pair{} of shapes may touch (bodies joined by a joint and filtered groups do not)",
+        if pairs == 1 { "" } else { "s" }
+    )
+    .map_err(io)
 }
 
 /// The couplers (gears, racks, screws), when the model has any: name, type, joints and rows.

@@ -55,6 +55,12 @@ pub struct ModelFile {
     /// `[[friction]]`: Coulomb friction in joints (dynamic analyses).
     #[serde(default)]
     pub friction: Vec<Spanned<FrictionSection>>,
+    /// `[[material]]`: contact materials of the collision shapes.
+    #[serde(default)]
+    pub material: Vec<Spanned<MaterialSection>>,
+    /// `[[shape]]`: collision shapes on bodies and the ground (dynamic analyses).
+    #[serde(default)]
+    pub shape: Vec<Spanned<ShapeSection>>,
     /// `[analysis]`.
     pub analysis: Option<Spanned<AnalysisSection>>,
     /// The keys written in the sections with vocabularies, with their spans (not a key of the
@@ -603,6 +609,89 @@ pub struct FrictionSection {
     pub stiction_velocity: Option<Num>,
 }
 
+/// `[[material]]`: a contact material ([`crate::vocabulary::MATERIALS`]).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialSection {
+    /// Unique name among the materials.
+    pub name: Name,
+    /// "hunt_crossley" (default).
+    #[serde(default)]
+    pub law: Option<Name>,
+    /// K \[N/mⁿ\] of F = K δⁿ.
+    #[serde(default)]
+    pub stiffness: Option<Num>,
+    /// n of F = K δⁿ (default 1.5).
+    #[serde(default)]
+    pub exponent: Option<Num>,
+    /// E \[Pa\] (Hertz's stiffness from the shapes' curvature).
+    #[serde(default)]
+    pub youngs_modulus: Option<Num>,
+    /// ν.
+    #[serde(default)]
+    pub poisson_ratio: Option<Num>,
+    /// e ∈ (0, 1].
+    #[serde(default)]
+    pub restitution: Option<Num>,
+    /// μ_d ≥ 0.
+    #[serde(default)]
+    pub friction: Option<Num>,
+    /// μ_s ≥ μ_d.
+    #[serde(default)]
+    pub friction_static: Option<Num>,
+    /// v_s \[m/s\].
+    #[serde(default)]
+    pub slip_velocity: Option<Num>,
+}
+
+/// `[[shape]]`: a collision shape fixed in a body ([`crate::vocabulary::SHAPES`]).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShapeSection {
+    /// Unique name among the shapes.
+    pub name: Name,
+    /// sphere, capsule, cylinder, box, plane, convex_mesh or mesh.
+    #[serde(rename = "type")]
+    pub kind: Name,
+    /// The body (ground allowed).
+    pub body: Name,
+    /// The material's name.
+    pub material: Name,
+    /// A point of the body: the shape's centre (default the body's reference point).
+    #[serde(default)]
+    pub point: Option<Name>,
+    /// A vector of the body: the shape's z axis (default the body's z).
+    #[serde(default)]
+    pub axis: Option<Name>,
+    /// A vector of the body: the shape's x axis (its part across `axis`).
+    #[serde(default)]
+    pub x_axis: Option<Name>,
+    /// sphere, capsule, cylinder: r \[m\].
+    #[serde(default)]
+    pub radius: Option<Num>,
+    /// capsule, cylinder: ℓ \[m\].
+    #[serde(default)]
+    pub length: Option<Num>,
+    /// box: edge lengths \[m\].
+    #[serde(default)]
+    pub size: Option<Vec3>,
+    /// convex_mesh, mesh: an STL or OBJ file, relative to the model file.
+    #[serde(default)]
+    pub file: Option<Name>,
+    /// convex_mesh, mesh: from the file's coordinates to the model's length unit.
+    #[serde(default)]
+    pub scale: Option<Num>,
+    /// convex_mesh: points whose hull is the shape \[m\].
+    #[serde(default)]
+    pub points: Option<Spanned<Vec<Vec3>>>,
+    /// The collision groups (1 – 32) the shape belongs to.
+    #[serde(default)]
+    pub groups: Option<Spanned<Vec<Num>>>,
+    /// The groups it collides with.
+    #[serde(default)]
+    pub collides_with: Option<Spanned<Vec<Num>>>,
+}
+
 /// `[[force]]`: one force element (used by dynamic analysis only).
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -894,6 +983,8 @@ fn check_counts(src: &Source, file: &ModelFile) -> Result<(), Error> {
         count("forces", &file.force, MAX_ELEMENTS),
         count("limits", &file.limit, MAX_ELEMENTS),
         count("frictions", &file.friction, MAX_ELEMENTS),
+        count("materials", &file.material, MAX_ELEMENTS),
+        count("shapes", &file.shape, MAX_BODIES),
     ];
     for (what, n, max, first_extra) in counts {
         if n > max {

@@ -85,7 +85,7 @@ pub fn prepare_source(source: Source) -> Result<Prepared, Error> {
     })
 }
 
-/// The one validation of the force elements, the dynamics' own
+/// The one validation of the force elements and the collision shapes, the dynamics. own
 /// ([`cardan_dynamics::Force::validate`]), run when the model is read (so `cardan check` reports
 /// it too), its error placed at the key it names.
 ///
@@ -111,6 +111,23 @@ fn validate_forces(src: &Source, loaded: &Loaded, model: &Model) -> Result<(), E
         return Err(match span {
             Some(s) => src.error_at(s, e.to_string()),
             None => src.error(e.to_string()),
+        });
+    }
+    // The collision shapes as the geometry library takes them (a hull it cannot build, a
+    // triangle mesh that is not manifold), at the shape's mesh.
+    if let Err((shape, reason)) = cardan_dynamics::collision::validate_shapes(model) {
+        let span = loaded
+            .spans
+            .locate_contact(&src.text, "shape", &shape, "file")
+            .or_else(|| {
+                loaded
+                    .spans
+                    .locate_contact(&src.text, "shape", &shape, "points")
+            });
+        let message = format!("shape \"{shape}\": {reason}");
+        return Err(match span {
+            Some(s) => src.error_at(s, message),
+            None => src.error(message),
         });
     }
     Ok(())
@@ -154,9 +171,12 @@ pub fn check_driver_values(src: &Source, loaded: &Loaded, times: &[f64]) -> Resu
 /// A builder error, located at what it is about (the key's value, the unknown name, or the
 /// element) in the model file.
 fn model_error(src: &Source, loaded: &Loaded, e: &ModelError) -> Error {
-    let span = match e.limit_site() {
-        Some((name, key)) => loaded.spans.locate_limit(&src.text, name, key),
-        None => e.site().and_then(|s| loaded.spans.locate(&src.text, &s)),
+    let span = match (e.limit_site(), e.contact_site()) {
+        (Some((name, key)), _) => loaded.spans.locate_limit(&src.text, name, key),
+        (None, Some((table, name, key))) => {
+            loaded.spans.locate_contact(&src.text, table, name, key)
+        }
+        (None, None) => e.site().and_then(|s| loaded.spans.locate(&src.text, &s)),
     };
     let message = format!("invalid model: {e}");
     match span {

@@ -11,6 +11,7 @@ use nalgebra::{Matrix3, Vector3};
 use parry3d_f64::math::{Pose, Rotation, Vector};
 use parry3d_f64::shape::{
     Ball, Capsule, ConvexPolyhedron, Cuboid, Cylinder, HalfSpace, SharedShape, TriMesh,
+    TriMeshFlags,
 };
 
 /// A vector in parry's type.
@@ -83,8 +84,20 @@ pub(crate) fn place(info: &ShapeInfo) -> Result<Placed, String> {
             triangles,
         } => {
             let v: Vec<Vector> = vertices.iter().map(to_parry).collect();
-            let mesh = TriMesh::new(v, triangles.clone())
+            // Welded, with its half-edge topology (a non-manifold mesh is refused) and its
+            // internal edges fixed (a ball rolling over a seam gets no bump).
+            let flags = TriMeshFlags::MERGE_DUPLICATE_VERTICES
+                | TriMeshFlags::HALF_EDGE_TOPOLOGY
+                | TriMeshFlags::FIX_INTERNAL_EDGES;
+            // (`TriMesh::with_flags` drops the topology's error: set the flags after.)
+            let mut mesh = TriMesh::new(v, triangles.clone())
                 .map_err(|e| format!("the triangle mesh is not valid: {e}"))?;
+            mesh.set_flags(flags).map_err(|e| {
+                format!(
+                    "the triangle mesh is not manifold ({e}): each edge must be shared by at \
+                     most two triangles, consistently oriented"
+                )
+            })?;
             SharedShape::new(mesh)
         }
     };
@@ -110,5 +123,37 @@ impl Placed {
                 Pose::from_parts(to_parry(&c), q * self.rotation)
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use cardan_mechanism::ShapeInfo;
+
+    #[test]
+    fn a_non_manifold_mesh_is_refused() {
+        let v = |x: f64, y: f64, z: f64| Vector3::new(x, y, z);
+        let info = ShapeInfo {
+            name: "fan".into(),
+            body: BodyId::Ground,
+            geometry: Geometry::TriangleMesh {
+                vertices: vec![
+                    v(0., 0., 0.),
+                    v(1., 0., 0.),
+                    v(0., 1., 0.),
+                    v(0., -1., 0.),
+                    v(0., 0., 1.),
+                ],
+                triangles: vec![[0, 1, 2], [0, 1, 3], [0, 1, 4]],
+            },
+            center: Vector3::zeros(),
+            axes: Matrix3::identity(),
+            material: 0,
+            groups: 1,
+            collides_with: u32::MAX,
+        };
+        let e = place(&info).unwrap_err();
+        assert!(e.contains("manifold"), "{e}");
     }
 }

@@ -51,6 +51,24 @@ use parry3d_f64::query::{
 };
 use std::collections::HashMap;
 
+/// A penetration deeper than this fraction of the thinner shape's thickness
+/// ([`cardan_mechanism::Geometry::thickness`]) is doubtful: at the start of a run an error
+/// ([`DynamicsError::ShapesOverlap`](crate::DynamicsError::ShapesOverlap)), during it a warning
+/// of the front end.
+pub const DEEP_PENETRATION: f64 = 0.1;
+
+/// Builds every shape of `model` as the geometry library takes it.
+///
+/// # Errors
+/// The first shape it refuses (a convex hull it cannot build, a triangle mesh that is not
+/// manifold), with the reason.
+pub fn validate_shapes(model: &Model) -> Result<(), (String, String)> {
+    for s in model.shapes() {
+        geometry::place(s).map_err(|e| (s.name.clone(), e))?;
+    }
+    Ok(())
+}
+
 /// One contact point at an evaluation (the rows of `contacts.csv`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContactPoint {
@@ -432,5 +450,50 @@ impl Collisions {
     /// Whether a moving pair touched for the first time since the last call.
     pub fn take_new_pairs(&mut self) -> bool {
         std::mem::take(&mut self.new_pairs)
+    }
+}
+
+impl crate::system::Dynamics<'_> {
+    /// Refuses a start where two shapes overlap deeply ([`DEEP_PENETRATION`]).
+    ///
+    /// # Errors
+    /// [`crate::DynamicsError::ShapesOverlap`] naming the deepest pair.
+    pub(crate) fn start_contacts(
+        &mut self,
+        state: &crate::state::State,
+    ) -> Result<(), crate::DynamicsError> {
+        if self.collisions.is_none() {
+            return Ok(());
+        }
+        self.sync(state);
+        self.eval_forces(state.t);
+        let model = self.model;
+        let shapes = model.shapes();
+        let c = self.collisions.as_ref().expect("collisions");
+        let worst = c
+            .points
+            .iter()
+            .map(|p| {
+                let [a, b] = p.shapes;
+                let thin = shapes[a]
+                    .geometry
+                    .thickness()
+                    .min(shapes[b].geometry.thickness());
+                (p.penetration / thin, p)
+            })
+            .filter(|(r, _)| r.is_finite())
+            .max_by(|x, y| x.0.total_cmp(&y.0));
+        match worst {
+            Some((ratio, p)) if ratio > DEEP_PENETRATION => {
+                Err(crate::DynamicsError::ShapesOverlap {
+                    shape_1: shapes[p.shapes[0]].name.clone(),
+                    shape_2: shapes[p.shapes[1]].name.clone(),
+                    depth: p.penetration,
+                    time: state.t,
+                    percent: 100.0 * ratio,
+                })
+            }
+            _ => Ok(()),
+        }
     }
 }

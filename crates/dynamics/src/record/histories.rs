@@ -45,6 +45,10 @@ pub(super) fn empty_results(
                 normal_force: Vec::with_capacity(capacity),
             })
             .collect(),
+        contacts: crate::results::ContactHistory {
+            shapes: model.shapes().iter().map(|s| s.name.clone()).collect(),
+            points: Vec::new(),
+        },
         energy: EnergyHistory {
             kinetic: e(),
             gravity: e(),

@@ -186,9 +186,9 @@ fn geometry(spec: &ShapeSpec, ground: bool) -> Result<(), ModelError> {
             if !ground {
                 return Err(bad_shape(
                     spec,
-                    "kind",
+                    "type",
                     "a triangle mesh is a static shape of the ground; on a moving body use a \
-                     convex mesh (kind = \"convex_mesh\") or split the part into convex pieces"
+                     convex mesh (type = \"convex_mesh\") or split the part into convex pieces"
                         .into(),
                 ));
             }

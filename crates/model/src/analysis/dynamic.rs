@@ -97,6 +97,7 @@ pub(super) fn run_dynamic(
     tables.extend(friction);
     files.extend(events);
     let tally = rec.tally;
+    files.extend(super::contacts::contacts_csv(p, &tally.contacts));
     let summary = Summary {
         name: p.loaded.name.clone(),
         steps: rec.frames,
@@ -116,7 +117,10 @@ pub(super) fn run_dynamic(
         }),
         energy_balance: Some(tally.energy_balance()),
         peak_efforts: peak_efforts_of(p, &r, &tally.peak_efforts),
-        warnings: doubtful(p, &tally, &r.kinematics.dropped_rows, &opts.integrator),
+        warnings: doubtful(p, &tally, &r.kinematics.dropped_rows, &opts.integrator)
+            .into_iter()
+            .chain(super::contacts::penetration_warning(p, &tally.contacts))
+            .collect(),
         subdivided_steps: None,
         row_reselections: r.stats.row_reselections,
     };

@@ -27,6 +27,9 @@ pub fn located_as(p: &Prepared, e: &cardan_dynamics::DynamicsError, what: &str) 
             dependent: equations,
             ..
         } => equations.first().and_then(|o| spans.element(&o.element)),
+        E::ShapesOverlap { shape_2, .. } | E::BadShape { shape: shape_2, .. } => {
+            spans.shapes.get(shape_2).cloned()
+        }
         _ => None,
     }
     .unwrap_or_else(|| spans.analysis.clone());
@@ -38,7 +41,10 @@ pub fn located_as(p: &Prepared, e: &cardan_dynamics::DynamicsError, what: &str) 
     }
     let mut err = Error::analysis(message);
     err.location = Some(p.source.span_location(span));
-    if matches!(e.cause(), E::MissingInertia { .. } | E::BadForce { .. }) {
+    if matches!(
+        e.cause(),
+        E::MissingInertia { .. } | E::BadForce { .. } | E::ShapesOverlap { .. }
+    ) {
         // The file is incomplete, not the analysis failed.
         err.kind = crate::diag::ErrorKind::Input;
     }

@@ -20,6 +20,7 @@
 //!     results);
 //!   - a modal run's outputs: `modes` (the mode tables) and `matrices` (MatrixMarket files).
 
+pub mod contacts;
 mod csv_files;
 pub mod dynamic;
 pub mod dynamic_layout;

@@ -33,6 +33,8 @@ pub struct DynamicTally {
     pub peak_efforts: Vec<f64>,
     /// Per cam pair, where its contact pulls ([`CamPull`]).
     pub cam_pulls: Vec<CamPull>,
+    /// The contacts between collision shapes at every time (`contacts.csv`).
+    pub contacts: Vec<(f64, cardan_dynamics::collision::ContactPoint)>,
 }
 
 /// Where a cam pair's contact pulls the follower on (its normal force below −1e-9 of the
@@ -111,6 +113,7 @@ impl DynamicTally {
             *m = w.work.iter().fold(*m, |a, x| a.max(x.abs()));
         }
         fold_peak_efforts(r, &mut self.peak_efforts);
+        self.contacts.extend_from_slice(&r.contacts.points);
     }
 
     /// The energy scale ([`super::energy::energy_scale`]) over the times taken.

@@ -29,6 +29,10 @@ pub struct Spans {
     pub limits: HashMap<String, Range<usize>>,
     /// Joint friction name → span.
     pub frictions: HashMap<String, Range<usize>>,
+    /// Collision shape name → span.
+    pub shapes: HashMap<String, Range<usize>>,
+    /// Contact material name → span.
+    pub materials: HashMap<String, Range<usize>>,
     /// Span of `[analysis] kind` (or of the file start).
     pub analysis: Range<usize>,
     /// Span of the `[[driver]]` array (first driver name) for driver-count messages.
@@ -61,6 +65,31 @@ impl Spans {
     /// by [`cardan_mechanism::ModelError::limit_site`]), else of its name.
     pub fn locate_limit(&self, text: &str, name: &str, key: &str) -> Option<Range<usize>> {
         let at = self.limits.get(name).or_else(|| self.frictions.get(name))?;
+        Some(Self::within(text, at.clone(), Some(key), None))
+    }
+
+    /// The span of a collision shape's or a material's key `key` (`table` "shape" or
+    /// "material", [`cardan_mechanism::ModelError::contact_site`]), else of its name.
+    pub fn locate_contact(
+        &self,
+        text: &str,
+        table: &str,
+        name: &str,
+        key: &str,
+    ) -> Option<Range<usize>> {
+        let at = if table == "shape" {
+            self.shapes.get(name)
+        } else {
+            self.materials.get(name)
+        }?;
+        if key == "mesh" {
+            // A mesh's points come from its file or its points key.
+            let file = Self::within(text, at.clone(), Some("file"), None);
+            if file != *at {
+                return Some(file);
+            }
+            return Some(Self::within(text, at.clone(), Some("points"), None));
+        }
         Some(Self::within(text, at.clone(), Some(key), None))
     }
 

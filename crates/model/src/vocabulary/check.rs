@@ -26,8 +26,9 @@ pub type Present = Vec<(String, Range<usize>)>;
 type Texts = HashMap<String, (String, Range<usize>)>;
 
 /// The top-level sections whose tables are checked against a vocabulary.
-const SECTIONS: [&str; 9] = [
+const SECTIONS: [&str; 11] = [
     "analysis", "driver", "force", "coupler", "limit", "friction", "curve", "cam", "surface",
+    "shape", "material",
 ];
 
 impl KeySpans {

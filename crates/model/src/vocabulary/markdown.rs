@@ -4,7 +4,7 @@
 use super::{Default, Vocabulary};
 
 /// The vocabularies written into docs/model-format.md, with the name of their generated block.
-pub const GENERATED: [(&str, &Vocabulary); 12] = [
+pub const GENERATED: [(&str, &Vocabulary); 14] = [
     ("analysis-kinds", &super::ANALYSES),
     ("integrators", &super::INTEGRATORS),
     ("drivers", &super::DRIVERS),
@@ -16,6 +16,8 @@ pub const GENERATED: [(&str, &Vocabulary); 12] = [
     ("forces", &super::FORCES),
     ("limits", &super::LIMITS),
     ("frictions", &super::FRICTIONS),
+    ("shapes", &super::SHAPES),
+    ("materials", &super::MATERIALS),
     ("outputs", &super::OUTPUTS),
 ];
 

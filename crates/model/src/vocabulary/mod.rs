@@ -1,6 +1,6 @@
 //! The model file's vocabularies as data, the way the joint kinds are
 //! (`cardan_constraints::KINDS`): analysis kinds, integrators, drivers, time functions, force
-//! elements, curves, cams, couplers, limits, joint friction and the output groups. Each [`Vocabulary`] is a list of [`Entry`]s (a
+//! elements, curves, cams, couplers, limits, joint friction, collision shapes, contact materials and the output groups. Each [`Vocabulary`] is a list of [`Entry`]s (a
 //! name, its aliases, a summary and the [`Key`]s it takes); each key has its value's
 //! [`Value`] (a quantity with its SI unit, a count with its range, a name, a function...), its
 //! default and what it means.
@@ -29,6 +29,7 @@ mod integrators;
 mod limits;
 mod markdown;
 mod outputs;
+mod shapes;
 mod surfaces;
 
 pub use analyses::ANALYSES;
@@ -43,6 +44,7 @@ pub use integrators::INTEGRATORS;
 pub use limits::{FRICTIONS, LIMITS};
 pub use markdown::{markdown, GENERATED};
 pub use outputs::OUTPUTS;
+pub use shapes::{MATERIALS, SHAPES};
 pub use surfaces::SURFACES;
 
 use cardan_mechanism::Quantity;

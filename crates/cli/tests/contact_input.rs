@@ -1,0 +1,353 @@
+//! `[[shape]]` and `[[material]]` through the model file (issue 50): the billiard example runs
+//! and writes contacts.csv; every mistake in a material, a shape or a mesh file is an error at
+//! its key's line, never a panic; shapes drawn deep in each other are an error at the start.
+
+mod common;
+use common::{cardan, check_fails_at, fails_with, run_text, scratch};
+
+fn billiard() -> String {
+    let path =
+        std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/billiard.toml");
+    std::fs::read_to_string(path).unwrap()
+}
+
+/// The billiard example with the first `from` after `header` replaced by `to`.
+fn edited(header: &str, from: &str, to: &str) -> String {
+    let base = billiard();
+    let start = base.find(header).unwrap_or_else(|| panic!("{header}"));
+    let k = start + base[start..].find(from).unwrap_or_else(|| panic!("{from}"));
+    format!("{}{to}{}", &base[..k], &base[k + from.len()..])
+}
+
+/// The 1-based line of the first `at` after `header` in `text`.
+fn line_after(text: &str, header: &str, at: &str) -> usize {
+    let start = text.find(header).unwrap();
+    let at = start + text[start..].find(at).unwrap_or_else(|| panic!("{at}"));
+    text[..at].matches('\n').count() + 1
+}
+
+/// `cardan check` of the edit fails at the first line after `header` containing `at`.
+fn fails_in(header: &str, from: &str, to: &str, at: &str, needles: &[&str]) {
+    let text = edited(header, from, to);
+    let first_line = header.split('\n').next().unwrap();
+    check_fails_at(&text, line_after(&text, first_line, at), needles);
+}
+
+const MATERIAL: &str = "[[material]]";
+const BALL: &str = "[[shape]]\nname = \"ball\"\ntype = \"sphere\"";
+const TABLE: &str = "name = \"table\"";
+
+#[test]
+fn the_billiard_example_rolls_and_writes_its_contacts() {
+    let o = run_text("run", &billiard());
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let csv = std::fs::read_to_string(o.dir.join("out/contacts.csv")).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    assert_eq!(
+        &header[..5],
+        ["t [s]", "shape_1", "body_1", "shape_2", "body_2"]
+    );
+    // One contact per output time, the ball on the table; the normal force m g.
+    let rows: Vec<Vec<&str>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    assert_eq!(rows.len(), 61);
+    let col = |name: &str| header.iter().position(|h| h.starts_with(name)).unwrap();
+    let last = &rows[60];
+    assert_eq!(&last[1..5], ["ball", "ball", "table", "ground"]);
+    let fz: f64 = last[col("normal_force")].parse().unwrap();
+    assert!((fz - 0.17 * 9.81).abs() < 1e-6, "{fz}");
+    // Rolling at the end: no slip, no friction.
+    let slip: f64 = last[col("slip.x")].parse().unwrap();
+    assert!(slip.abs() < 1e-6, "{slip}");
+    let bodies = std::fs::read_to_string(o.dir.join("out/body_velocities.csv")).unwrap();
+    let vx: f64 = bodies
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .nth(1)
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!((vx - 5.0 / 7.0 * 2.0).abs() < 2e-4, "{vx}");
+    let json = std::fs::read_to_string(o.dir.join("out/run.json")).unwrap();
+    assert!(json.contains("contacts.csv"), "{json}");
+}
+
+#[test]
+fn material_mistakes_are_errors_at_their_key() {
+    for (from, to, at, needles) in [
+        (
+            "stiffness = 2e8",
+            "stiffness = 0",
+            "stiffness",
+            &["stiffness", "> 0"][..],
+        ),
+        ("stiffness = 2e8", "stiffness = -1e8", "stiffness", &["> 0"]),
+        (
+            "friction = 0.2",
+            "friction = -0.2",
+            "friction",
+            &["μ", "≥ 0"],
+        ),
+        (
+            "restitution = 0.8",
+            "restitution = 0",
+            "restitution",
+            &["(0, 1]", "0.05"],
+        ),
+        (
+            "restitution = 0.8",
+            "restitution = 1.5",
+            "restitution",
+            &["(0, 1]"],
+        ),
+        (
+            "friction = 0.2",
+            "friction = 0.2\nfriction_static = 0.1",
+            "friction_static",
+            &["μ_s", "≥ μ_d"],
+        ),
+        (
+            "slip_velocity = 1e-4",
+            "slip_velocity = 0",
+            "slip_velocity",
+            &["> 0"],
+        ),
+        (
+            "stiffness = 2e8 ",
+            "stiffness = 2e8\nyoungs_modulus = 2e11 ",
+            "youngs_modulus",
+            &["not both"],
+        ),
+        (
+            "stiffness = 2e8 ",
+            "youngs_modulus = 2e11\npoisson_ratio = 0.6 ",
+            "poisson_ratio",
+            &["[0, 0.5)"],
+        ),
+        (
+            "stiffness = 2e8 ",
+            "exponent = 5\nstiffness = 2e8 ",
+            "exponent",
+            &["[1, 3]"],
+        ),
+        (
+            "stiffness = 2e8 ",
+            "stifness = 2e8 ",
+            "stifness",
+            &["stiffness"],
+        ),
+        (
+            "restitution = 0.8\n",
+            "",
+            "name",
+            &["restitution", "missing"],
+        ),
+        ("law", "law", "name", &[]),
+    ] {
+        if from == "law" {
+            // An unknown law, with the known one named.
+            let text = edited(
+                MATERIAL,
+                "name = \"ball_on_cloth\"",
+                "name = \"ball_on_cloth\"\nlaw = \"hertz\"",
+            );
+            check_fails_at(
+                &text,
+                line_after(&text, MATERIAL, "law"),
+                &["hunt_crossley"],
+            );
+            continue;
+        }
+        fails_in(MATERIAL, from, to, at, needles);
+    }
+}
+
+#[test]
+fn shape_mistakes_are_errors_at_their_key() {
+    for (header, from, to, at, needles) in [
+        (BALL, "radius = 0.028575", "radius = 0", "radius", &["radius", "> 0"][..]),
+        (BALL, "radius = 0.028575", "", "name", &["radius", "missing"]),
+        (BALL, "material = \"ball_on_cloth\"", "material = \"ball_on_clot\"", "material", &["no material", "ball_on_cloth"]),
+        (BALL, "type = \"sphere\"", "type = \"sphear\"", "sphear", &["unknown shape type", "sphere"]),
+        (BALL, "body = \"ball\"", "body = \"bal\"", "body", &["unknown body", "ball"]),
+        (BALL, "radius = 0.028575", "radius = 0.028575\nsize = [1, 1, 1]", "size", &["size", "box"]),
+        (BALL, "radius = 0.028575", "radius = 0.028575\ngroups = [0]", "groups", &["1 – 32"]),
+        (BALL, "radius = 0.028575", "radius = 0.028575\ngroups = [33]", "groups", &["1 – 32"]),
+        (BALL, "radius = 0.028575", "radius = 0.028575\ngroups = []", "groups", &["empty"]),
+        (TABLE, "point = \"O\"", "point = \"P\"", "point", &["no point \"P\""]),
+        (TABLE, "point = \"O\"", "point = \"O\"\naxis = \"up\"", "axis", &["no vector \"up\""]),
+        (
+            BALL,
+            "type = \"sphere\"\nbody = \"ball\"\nmaterial = \"ball_on_cloth\"\nradius = 0.028575",
+            "type = \"box\"\nbody = \"ball\"\nmaterial = \"ball_on_cloth\"\nsize = [0.1, 0.0, 0.1]",
+            "size",
+            &["> 0"],
+        ),
+        (
+            BALL,
+            "type = \"sphere\"\nbody = \"ball\"\nmaterial = \"ball_on_cloth\"\nradius = 0.028575",
+            "type = \"convex_mesh\"\nbody = \"ball\"\nmaterial = \"ball_on_cloth\"\npoints = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]]",
+            "points",
+            &["plane"],
+        ),
+    ] {
+        fails_in(header, from, to, at, needles);
+    }
+}
+
+#[test]
+fn two_flat_shapes_of_elastic_materials_have_no_hertz_stiffness() {
+    let text = edited(MATERIAL, "stiffness = 2e8 ", "youngs_modulus = 2e11 ");
+    let text = text.replacen(
+        "type = \"sphere\"\nbody = \"ball\"\nmaterial = \"ball_on_cloth\"\nradius = 0.028575",
+        "type = \"box\"\nbody = \"ball\"\nmaterial = \"ball_on_cloth\"\nsize = [0.05, 0.05, 0.05]",
+        1,
+    );
+    let line = line_after(&text, TABLE, "material");
+    check_fails_at(&text, line, &["both flat", "stiffness"]);
+}
+
+/// The billiard example with the ball's shape a mesh of `kind` from `file` (written into the
+/// run's directory as `name`), on `body`.
+fn with_mesh(kind: &str, body: &str, name: &str, file: &[u8]) -> (std::path::PathBuf, String) {
+    let dir = scratch("mesh");
+    std::fs::write(dir.join(name), file).unwrap();
+    let text = billiard().replacen(
+        "type = \"sphere\"\nbody = \"ball\"\nmaterial = \"ball_on_cloth\"\nradius = 0.028575",
+        &format!(
+            "type = \"{kind}\"\nbody = \"{body}\"\nmaterial = \"ball_on_cloth\"\nfile = \"{name}\""
+        ),
+        1,
+    );
+    std::fs::write(dir.join("model.toml"), &text).unwrap();
+    (dir, text)
+}
+
+/// `cardan check` in `dir` fails at the line of `file = ` after the ball's shape.
+fn mesh_fails(dir: &std::path::Path, text: &str, needles: &[&str]) {
+    let o = cardan(&["check", "model.toml"], dir);
+    assert_ne!(o.code, 0, "{}", o.stdout);
+    let line = line_after(text, BALL.split('\n').next().unwrap(), "file =");
+    assert!(
+        o.stderr.starts_with(&format!("model.toml:{line}:")),
+        "{}",
+        o.stderr
+    );
+    for n in needles {
+        assert!(o.stderr.contains(n), "missing {n:?} in {}", o.stderr);
+    }
+}
+
+const TETRA_OBJ: &str =
+    "v 0 0 0\nv 0.05 0 0\nv 0 0.05 0\nv 0 0 0.05\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+
+#[test]
+fn mesh_file_mistakes_are_errors_at_the_file_key() {
+    // Missing.
+    let (dir, text) = with_mesh("convex_mesh", "ball", "part.stl", b"");
+    std::fs::remove_file(dir.join("part.stl")).unwrap();
+    mesh_fails(&dir, &text, &["part.stl", "cannot open"]);
+    // Empty.
+    let (dir, text) = with_mesh("convex_mesh", "ball", "part.obj", b"# nothing\n");
+    mesh_fails(&dir, &text, &["no triangle"]);
+    // A NaN vertex.
+    let nan = TETRA_OBJ.replace("v 0 0 0.05", "v 0 nan 0.05");
+    let (dir, text) = with_mesh("convex_mesh", "ball", "part.obj", nan.as_bytes());
+    mesh_fails(&dir, &text, &["not finite"]);
+    // Gigantic: a binary STL whose header says 2·10⁶ triangles (a sparse file of that length).
+    let (dir, text) = with_mesh("convex_mesh", "ball", "huge.stl", b"");
+    let f = std::fs::File::create(dir.join("huge.stl")).unwrap();
+    let n: u32 = 2_000_000;
+    let mut header = vec![0u8; 84];
+    header[80..84].copy_from_slice(&n.to_le_bytes());
+    use std::io::Write;
+    (&f).write_all(&header).unwrap();
+    f.set_len(84 + 50 * u64::from(n)).unwrap();
+    mesh_fails(&dir, &text, &["2000000 triangles", "at most"]);
+    // A triangle mesh on a moving body.
+    let (dir, text) = with_mesh("mesh", "ball", "part.obj", TETRA_OBJ.as_bytes());
+    let o = cardan(&["check", "model.toml"], &dir);
+    assert_ne!(o.code, 0);
+    assert!(
+        o.stderr.contains("static shape of the ground"),
+        "{}",
+        o.stderr
+    );
+    let line = line_after(&text, BALL.split('\n').next().unwrap(), "type =");
+    assert!(
+        o.stderr.starts_with(&format!("model.toml:{line}:")),
+        "{}",
+        o.stderr
+    );
+    // A non-manifold ground mesh: three triangles on one edge.
+    let fan = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\nf 1 2 5\n";
+    let dir = scratch("mesh");
+    std::fs::write(dir.join("floor.obj"), fan).unwrap();
+    let text = billiard().replacen(
+        "type = \"plane\"\nbody = \"ground\"\nmaterial = \"ball_on_cloth\"\npoint = \"O\"",
+        "type = \"mesh\"\nbody = \"ground\"\nmaterial = \"ball_on_cloth\"\nfile = \"floor.obj\"",
+        1,
+    );
+    std::fs::write(dir.join("model.toml"), &text).unwrap();
+    let o = cardan(&["check", "model.toml"], &dir);
+    assert_ne!(o.code, 0, "{}", o.stdout);
+    assert!(o.stderr.contains("manifold"), "{}", o.stderr);
+    let line = line_after(&text, TABLE, "file =");
+    assert!(
+        o.stderr.starts_with(&format!("model.toml:{line}:")),
+        "{}",
+        o.stderr
+    );
+}
+
+#[test]
+fn a_convex_mesh_from_a_file_rests_on_the_table() {
+    // A tetrahedron of 5 cm (its centroid at the body's origin) dropped 1 mm onto the table
+    // lands on its face and rests: contacts.csv holds the three corners of the face.
+    let obj = "v -0.0125 -0.0125 -0.0125\nv 0.0375 -0.0125 -0.0125\nv -0.0125 0.0375 -0.0125\nv -0.0125 -0.0125 0.0375\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+    let (dir, _) = with_mesh("convex_mesh", "ball", "tetra.obj", obj.as_bytes());
+    let text = std::fs::read_to_string(dir.join("model.toml"))
+        .unwrap()
+        .replace(
+            "position = [0.0, 0.0, 0.0285685]",
+            "position = [0.0, 0.0, 0.0135]",
+        )
+        .replace("velocity = [2.0, 0.0, 0.0]", "velocity = [0.0, 0.0, 0.0]");
+    std::fs::write(dir.join("model.toml"), text).unwrap();
+    let o = cardan(&["run", "model.toml", "-o", "out", "--quiet"], &dir);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let csv = std::fs::read_to_string(dir.join("out/contacts.csv")).unwrap();
+    let last_t = csv
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .next()
+        .unwrap()
+        .to_string();
+    let at_end: Vec<&str> = csv
+        .lines()
+        .filter(|l| l.starts_with(&format!("{last_t},")))
+        .collect();
+    assert_eq!(at_end.len(), 3, "{csv}");
+}
+
+#[test]
+fn shapes_drawn_deep_in_each_other_are_an_error_at_the_start() {
+    let text = billiard().replace(
+        "position = [0.0, 0.0, 0.0285685]",
+        "position = [0.0, 0.0, 0.02]",
+    );
+    let line = line_after(&text, TABLE, "table");
+    fails_with(
+        "run",
+        &text,
+        &format!("model.toml:{line}:"),
+        &["overlap", "ball", "table", "30 %"],
+    );
+}
