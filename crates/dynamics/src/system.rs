@@ -73,6 +73,9 @@ pub struct Dynamics<'m> {
     pub(crate) friction: crate::friction::state::FrictionState,
     /// Contact between the bodies' collision shapes ([`crate::collision`]).
     pub(crate) collisions: Option<crate::collision::Collisions>,
+    /// Leave the contacts out of [`Dynamics::eval_forces`] (the finite differences of the
+    /// implicit tangents, which take the contacts' tangents in closed form).
+    pub(crate) contacts_off: bool,
 }
 
 impl std::fmt::Debug for Dynamics<'_> {
@@ -133,6 +136,7 @@ impl<'m> Dynamics<'m> {
             contacts: crate::contacts::state::Contacts::new(model),
             friction: crate::friction::state::FrictionState::new(model),
             collisions: None,
+            contacts_off: false,
         };
         let rest: Vec<BodyState> = (0..nb)
             .map(|k| {
@@ -442,8 +446,19 @@ impl<'m> Dynamics<'m> {
         Ok(())
     }
 
-    /// Body pairs coupled by force elements (off-diagonal blocks of the iteration matrix).
+    /// Body pairs coupled by force elements (off-diagonal blocks of the iteration matrix),
+    /// those in contact included.
     pub(crate) fn coupled_pairs(&self) -> Vec<(usize, usize)> {
+        let mut pairs = self.differenced_pairs();
+        // Bodies in contact (the pairs that have touched so far).
+        if let Some(c) = &self.collisions {
+            pairs.extend_from_slice(&c.coupled);
+        }
+        pairs
+    }
+
+    /// The coupled pairs whose tangents are finite differences (all but the contacts').
+    pub(crate) fn differenced_pairs(&self) -> Vec<(usize, usize)> {
         let mut pairs = Vec::new();
         for f in &self.forces {
             if let Some((BodyId::Moving(i), BodyId::Moving(j))) = f.coupled(self.model) {
@@ -456,10 +471,6 @@ impl<'m> Dynamics<'m> {
             if let (BodyId::Moving(i), BodyId::Moving(j)) = (info.body_i, info.body_j) {
                 pairs.push((i, j));
             }
-        }
-        // Bodies in contact (the pairs that have touched so far).
-        if let Some(c) = &self.collisions {
-            pairs.extend_from_slice(&c.coupled);
         }
         pairs
     }
@@ -561,7 +572,7 @@ impl<'m> Dynamics<'m> {
         if !self.contacts.compliant.is_empty() {
             self.add_compliant_stops(t);
         }
-        if let Some(c) = &mut self.collisions {
+        if let Some(c) = self.collisions.as_mut().filter(|_| !self.contacts_off) {
             let mut acc = AppliedForces {
                 h: &mut self.h,
                 bodies: &self.bodies,

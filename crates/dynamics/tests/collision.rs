@@ -442,3 +442,70 @@ fn boxes_rest_on_the_floor_and_on_each_other_without_drift_creep_or_energy_gain(
         assert!(gain < 1e-9, "{gain}");
     }
 }
+
+/// Two balls of 1 cm stacked above the floor (steel, K = 1e9 N/m^1.5), dropped 5 mm.
+fn two_balls() -> Model {
+    let mut b = MechanismBuilder::new();
+    let (r, m) = (0.01, 0.0327);
+    let j = 0.4 * m * r * r;
+    for (k, z) in [(0, 1.5 * r), (1, 4.0 * r)] {
+        let name = format!("ball{k}");
+        b.body(
+            Body::new(&name)
+                .mass(m)
+                .inertia_diagonal(j, j, j)
+                .position(Vector3::new(0.0, 0.0, z)),
+        );
+        b.shape(ShapeSpec::new(
+            &name,
+            &name,
+            Geometry::Sphere { radius: r },
+            "steel",
+        ));
+    }
+    b.material(
+        MaterialSpec::new(
+            "steel",
+            Stiffness::Direct {
+                k: 2e9,
+                exponent: 1.5,
+            },
+            0.5,
+        )
+        .friction(0.3),
+    );
+    b.shape(ShapeSpec::new("floor", GROUND, Geometry::Plane, "steel"));
+    b.build().unwrap()
+}
+
+#[test]
+fn stacked_balls_settle_with_both_integrators() {
+    use cardan_dynamics::GeneralizedAlphaOptions;
+    let model = two_balls();
+    for (integrator, label) in [
+        (tight(), "DOPRI5"),
+        (
+            Integrator::GeneralizedAlpha(GeneralizedAlphaOptions::with_step(2e-4)),
+            "generalized-α h = 0.2 ms",
+        ),
+        (
+            Integrator::GeneralizedAlpha(GeneralizedAlphaOptions::with_step(2e-5)),
+            "generalized-α h = 0.02 ms",
+        ),
+        (
+            Integrator::GeneralizedAlpha(GeneralizedAlphaOptions::with_step(2e-6)),
+            "generalized-α h = 0.002 ms",
+        ),
+    ] {
+        let mut d = dynamics(&model);
+        let options = SimulationOptions::new(0.3, 30).integrator(integrator);
+        let res = d.simulate(&d.initial_guess(), &options).unwrap();
+        let z0 = res.body("ball0").unwrap().r.last().unwrap().z;
+        let z1 = res.body("ball1").unwrap().r.last().unwrap().z;
+        let balance = res.energy.max_balance();
+        eprintln!(
+            "{label}: z = {z0:.6} / {z1:.6}, balance {balance:.2e} J, {} steps ({} rejected), {} Newton iterations",
+            res.stats.steps, res.stats.rejected, res.stats.newton_iterations
+        );
+    }
+}

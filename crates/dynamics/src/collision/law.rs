@@ -153,6 +153,17 @@ impl PairLaw {
         (self.k * delta.powf(self.n) * (1.0 + self.a / v0 * delta_dot)).max(0.0)
     }
 
+    /// (∂F_n/∂δ, ∂F_n/∂δ̇) at penetration δ, rate δ̇ and onset speed v₀ (0 where F_n is 0).
+    pub fn normal_slopes(&self, delta: f64, delta_dot: f64, v0: f64) -> (f64, f64) {
+        if self.normal_force(delta, delta_dot, v0) <= 0.0 {
+            return (0.0, 0.0);
+        }
+        let v0 = v0.max(ONSET_SPEED_FLOOR);
+        let dn = delta.powf(self.n);
+        let k = self.k * self.n * delta.powf(self.n - 1.0) * (1.0 + self.a / v0 * delta_dot);
+        (k, self.k * dn * self.a / v0)
+    }
+
     /// The factor φ(s) = μ(s) / √(s² + v_s²) with f_t = −φ F_n v_t (module docs).
     pub fn friction_factor(&self, slip: f64) -> f64 {
         if self.mu_s == 0.0 {

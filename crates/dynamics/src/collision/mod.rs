@@ -43,7 +43,7 @@ use cardan_mechanism::{BodyId, Model};
 use geometry::{from_parry, Placed};
 use law::PairLaw;
 use nalgebra::Vector3;
-use parry3d_f64::bounding_volume::Aabb;
+use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use parry3d_f64::math::Pose;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
 use parry3d_f64::query::{
@@ -69,6 +69,10 @@ pub fn validate_shapes(model: &Model) -> Result<(), (String, String)> {
     Ok(())
 }
 
+/// The margin of a shape, relative to its thickness: pairs closer than it are followed (their
+/// approach rate kept) before they touch.
+const MARGIN: f64 = 0.25;
+
 /// One contact point at an evaluation (the rows of `contacts.csv`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContactPoint {
@@ -90,6 +94,17 @@ pub struct ContactPoint {
     pub slip_velocity: Vector3<f64>,
 }
 
+/// The derivatives of one point's law at an evaluation ([`Collisions::tangents`]).
+#[derive(Debug, Clone, Copy)]
+struct Slopes {
+    /// ∂F_n/∂δ.
+    k: f64,
+    /// ∂F_n/∂δ̇.
+    c: f64,
+    /// φ of f_t = −φ F_n v_t.
+    phi: f64,
+}
+
 /// A pair of shapes whose boxes overlap, with parry's persistent manifolds.
 struct Pair {
     law: PairLaw,
@@ -100,6 +115,12 @@ struct Pair {
     /// Touching at the last evaluation, and its largest approach rate there.
     touching: bool,
     rate: f64,
+    /// The largest approach rate of its points within the margin but apart, at the last
+    /// evaluation, and at the last accepted state at which the pair was apart.
+    approach: f64,
+    pre: f64,
+    /// The distance within which the pair's points are followed before they touch.
+    margin: f64,
     /// The evaluation counter when the pair was last a candidate.
     seen: u64,
 }
@@ -112,6 +133,8 @@ pub(crate) struct Collisions {
     leaves: Vec<usize>,
     planes: Vec<usize>,
     poses: Vec<Pose>,
+    /// Each shape's margin: a quarter of its thickness (0 for a plane or a ground mesh).
+    margins: Vec<f64>,
     bvh: Bvh,
     bvh_workspace: BvhWorkspace,
     /// Moving body pairs joined by a joint, sorted (a body jointed to the ground still touches
@@ -121,6 +144,8 @@ pub(crate) struct Collisions {
     candidates: Vec<(u32, u32)>,
     /// The contact points of the last evaluation.
     pub points: Vec<ContactPoint>,
+    /// Each point's law derivatives at the last evaluation (for the implicit tangents).
+    slopes: Vec<Slopes>,
     /// Moving body pairs coupled by a contact, in the order they first touched.
     pub coupled: Vec<(usize, usize)>,
     new_pairs: bool,
@@ -172,11 +197,21 @@ impl Collisions {
             .map(|s| geometry::place(s).map_err(|e| (s.name.clone(), e)))
             .collect::<Result<Vec<_>, _>>()?;
         let poses: Vec<Pose> = shapes.iter().map(|s| s.pose(bodies)).collect();
+        let margins: Vec<f64> = (model.shapes().iter())
+            .map(|s| {
+                let t = s.geometry.thickness();
+                if t.is_finite() {
+                    MARGIN * t
+                } else {
+                    0.0
+                }
+            })
+            .collect();
         let (planes, leaves): (Vec<usize>, Vec<usize>) =
             (0..shapes.len()).partition(|&k| shapes[k].unbounded);
         let boxes: Vec<Aabb> = leaves
             .iter()
-            .map(|&k| shapes[k].shape.compute_aabb(&poses[k]))
+            .map(|&k| shapes[k].shape.compute_aabb(&poses[k]).loosened(margins[k]))
             .collect();
         let bvh = Bvh::from_leaves(BvhBuildStrategy::default(), &boxes);
         let mut jointed: Vec<(usize, usize)> = model
@@ -192,12 +227,14 @@ impl Collisions {
             leaves,
             planes,
             poses,
+            margins,
             bvh,
             bvh_workspace: BvhWorkspace::default(),
             jointed,
             pairs: HashMap::new(),
             candidates: Vec::new(),
             points: Vec::new(),
+            slopes: Vec::new(),
             coupled: Vec::new(),
             new_pairs: false,
             stamp: 0,
@@ -224,7 +261,8 @@ impl Collisions {
     fn broad_phase(&mut self, model: &Model) {
         for (leaf, &k) in self.leaves.iter().enumerate() {
             if let BodyId::Moving(_) = self.shapes[k].body {
-                let aabb = self.shapes[k].shape.compute_aabb(&self.poses[k]);
+                let aabb =
+                    (self.shapes[k].shape.compute_aabb(&self.poses[k])).loosened(self.margins[k]);
                 self.bvh.update_partially_if_present(aabb, leaf as u32, 0.0);
             }
         }
@@ -260,6 +298,7 @@ impl Collisions {
         self.stamp += 1;
         self.broad_phase(model);
         self.points.clear();
+        self.slopes.clear();
         for c in 0..self.candidates.len() {
             let (a, b) = self.candidates[c];
             self.pair_forces(model, a as usize, b as usize, acc);
@@ -275,6 +314,7 @@ impl Collisions {
     /// The contact of shapes a < b: manifolds, then each penetrating point's force.
     fn pair_forces(&mut self, model: &Model, a: usize, b: usize, acc: &mut AppliedForces<'_>) {
         let stamp = self.stamp;
+        let margins = &self.margins;
         let pair = self.pairs.entry((a as u32, b as u32)).or_insert_with(|| {
             let (sa, sb) = (&model.shapes()[a], &model.shapes()[b]);
             let m = model.materials();
@@ -285,6 +325,9 @@ impl Collisions {
                 v0: f64::NAN,
                 touching: false,
                 rate: 0.0,
+                approach: 0.0,
+                pre: 0.0,
+                margin: margins[a].min(margins[b]),
                 seen: stamp,
             }
         });
@@ -296,11 +339,12 @@ impl Collisions {
             &pos12,
             s1.shape.as_ref(),
             s2.shape.as_ref(),
-            0.0,
+            pair.margin,
             &mut pair.manifolds,
             &mut pair.workspace,
         );
         pair.touching = false;
+        pair.approach = 0.0;
         if done.is_err() {
             return;
         }
@@ -322,20 +366,24 @@ impl Collisions {
             };
             let n = from_parry(pose1.rotation * m.local_n1);
             for pt in &m.points {
-                if pt.dist > 0.0 {
-                    continue;
-                }
                 let w1 = from_parry(pose1 * pt.local_p1);
                 let w2 = from_parry(pose2 * pt.local_p2);
                 let at = 0.5 * (w1 + w2);
                 let v_rel = velocity(s2.body, &at) - velocity(s1.body, &at);
                 let rate = -n.dot(&v_rel);
+                if pt.dist > 0.0 {
+                    // Apart, within the margin: its approach, for the onset speed.
+                    pair.approach = pair.approach.max(rate);
+                    continue;
+                }
                 rate_max = rate_max.max(rate);
                 let delta = -pt.dist;
-                let onset = if v0.is_nan() { rate } else { v0 };
+                let onset = if v0.is_nan() { rate.max(pair.pre) } else { v0 };
                 let fn_ = pair.law.normal_force(delta, rate, onset);
+                let (k_n, c_n) = pair.law.normal_slopes(delta, rate, onset);
                 let vt = v_rel + n * rate;
-                let ft = -vt * (pair.law.friction_factor(vt.norm()) * fn_);
+                let phi = pair.law.friction_factor(vt.norm());
+                let ft = -vt * (phi * fn_);
                 let f = n * fn_ + ft;
                 for (id, sign) in [(s2.body, 1.0), (s1.body, -1.0)] {
                     if let BodyId::Moving(k) = id {
@@ -344,6 +392,11 @@ impl Collisions {
                     }
                 }
                 pair.touching = true;
+                self.slopes.push(Slopes {
+                    k: k_n,
+                    c: c_n,
+                    phi,
+                });
                 self.points.push(ContactPoint {
                     shapes: [a, b],
                     point: at,
@@ -377,12 +430,13 @@ impl Collisions {
         for (key, p) in self.pairs.iter_mut() {
             if p.touching {
                 if p.v0.is_nan() {
-                    p.v0 = p.rate.max(law::ONSET_SPEED_FLOOR);
+                    p.v0 = p.rate.max(p.pre).max(law::ONSET_SPEED_FLOOR);
                     self.onsets.push(*key);
                 }
             } else {
                 p.v0 = f64::NAN;
                 p.rate = 0.0;
+                p.pre = p.approach;
             }
         }
     }
@@ -445,6 +499,68 @@ impl Collisions {
             .ok()
             .flatten()
             .map(|c| c.dist)
+    }
+
+    /// The contacts' force tangents at the last evaluation, block by block: for each point and
+    /// each pair (j, k) of its moving bodies, `add(j, k, C, K)` with the 6×6 blocks (row-major)
+    /// C = −∂h_j/∂v_k and K = −∂h_j/∂q_k. With the contact point's Jacobians J_k = [I, −A_k s̃'_k]
+    /// (v_P = J_k v_k), the force f on body 2 (−f on body 1) and v_rel = J₂v₂ − J₁v₁:
+    ///
+    /// ```text
+    /// ∂f/∂v_rel = D = −c_n n nᵀ − φ F_n (I − n nᵀ),    ∂f/∂x_P₂ = S = −k_n (n − φ v_t) nᵀ
+    /// ```
+    ///
+    /// (c_n = ∂F_n/∂δ̇, k_n = ∂F_n/∂δ; the friction by its secant φ F_n, not its derivative:
+    /// the regularized law saturates beyond v_s, and Newton on its tangent overshoots from one
+    /// side of the steep part to the other, where the secant — a lagged viscosity — contracts;
+    /// the turning of n and of the lever arms is left out), so the blocks are
+    /// ∓J_jᵀ D J_k and ∓J_jᵀ S J_k with the sign of body j times that of body k.
+    pub fn tangents(
+        &self,
+        bodies: &[BodyState],
+        mut add: impl FnMut(usize, usize, &[f64; 36], &[f64; 36]),
+    ) {
+        use nalgebra::{Matrix3, Matrix3x6};
+        for (c, sl) in self.points.iter().zip(&self.slopes) {
+            let n = c.normal;
+            let nn = n * n.transpose();
+            let d = -sl.c * nn - sl.phi * c.normal_force * (Matrix3::identity() - nn);
+            let s = -sl.k * (n - sl.phi * c.slip_velocity) * n.transpose();
+            let jac = |k: usize| {
+                let b = &bodies[k];
+                let arm = b.a.tr_mul(&(c.point - b.r));
+                let mut j = Matrix3x6::zeros();
+                j.fixed_view_mut::<3, 3>(0, 0)
+                    .copy_from(&Matrix3::identity());
+                j.fixed_view_mut::<3, 3>(0, 3)
+                    .copy_from(&(-b.a * arm.cross_matrix()));
+                j
+            };
+            let sides = [
+                (self.shapes[c.shapes[1]].body, 1.0),
+                (self.shapes[c.shapes[0]].body, -1.0),
+            ];
+            for &(bj, sj) in &sides {
+                let BodyId::Moving(j) = bj else { continue };
+                let jj = jac(j);
+                for &(bk, sk) in &sides {
+                    let BodyId::Moving(k) = bk else { continue };
+                    let jk = jac(k);
+                    // h_j = s_j J_jᵀ f, f depending on v_rel (s_k J_k v_k) and x_P (s_k J_k q_k).
+                    let cb = -(sj * sk) * (jj.transpose() * d * jk);
+                    let kb = -(sj * sk) * (jj.transpose() * s * jk);
+                    let mut cm = [0.0; 36];
+                    let mut km = [0.0; 36];
+                    for r in 0..6 {
+                        for col in 0..6 {
+                            cm[r * 6 + col] = cb[(r, col)];
+                            km[r * 6 + col] = kb[(r, col)];
+                        }
+                    }
+                    add(j, k, &cm, &km);
+                }
+            }
+        }
     }
 
     /// Whether a moving pair touched for the first time since the last call.

@@ -36,6 +36,9 @@ pub(crate) fn first_onset<S: Stepper>(
     span: Span,
 ) -> Option<f64> {
     d.collisions.as_ref()?;
+    if !stepper.locates_contact_onsets() {
+        return None;
+    }
     // The contacts at the step's end.
     let end = stepper.interpolate(span.t1);
     d.sync(end);

@@ -80,6 +80,15 @@ pub(crate) trait Stepper: Sized {
     /// Steps, rejections, evaluations and Newton iterations so far.
     fn stats(&self) -> &IntegrationStats;
 
+    /// Whether the driver cuts the step at a contact's onset ([`super::onsets`]): a scheme
+    /// whose dense output follows a stiff contact inside a step (DOPRI5's continuous
+    /// extension of an adaptive step). Generalized-α's fixed steps are not cut: its Hermite
+    /// interpolant across an unresolved impact is too coarse to restart from, and its pairs
+    /// take their onset speed from the approach before the contact.
+    fn locates_contact_onsets(&self) -> bool {
+        true
+    }
+
     /// Whether no step can follow (DOPRI5 at t_end). Generalized-α steps to each output time,
     /// so only the output times end its run.
     fn finished(&self) -> bool {

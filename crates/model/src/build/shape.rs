@@ -255,12 +255,7 @@ type Welded = (Vec<Vector3<f64>>, Vec<[u32; 3]>);
 
 /// The vertices and triangles of the shape's mesh file (welded: the reader gives each triangle
 /// its own vertices), in the model's length unit converted to metres.
-fn mesh(
-    cx: &Ctx,
-    s: &ShapeSection,
-    owner: &str,
-    dir: &Path,
-) -> Result<Welded, Error> {
+fn mesh(cx: &Ctx, s: &ShapeSection, owner: &str, dir: &Path) -> Result<Welded, Error> {
     let file = s.file.as_ref().ok_or_else(|| {
         missing(
             cx,

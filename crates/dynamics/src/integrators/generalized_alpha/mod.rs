@@ -242,6 +242,10 @@ impl Stepper for GeneralizedAlpha {
         REFINE
     }
 
+    fn locates_contact_onsets(&self) -> bool {
+        false
+    }
+
     fn time(&self) -> f64 {
         self.n.s.t
     }

@@ -54,6 +54,10 @@ pub(super) const NEWTON_FRACTION: f64 = 1e-4;
 /// Consecutive non-contracting iterations of a fresh matrix after which a step attempt fails.
 const STALLED_MAX: usize = 4;
 
+/// The least size of a 3-row group of the equations of motion in the residual test, relative
+/// to the largest group of its kind (see `eom_residual`).
+const GROUP_FLOOR: f64 = 1e-13;
+
 /// The Newton iteration's buffers and the force tangents.
 #[derive(Debug)]
 pub(super) struct Newton {
@@ -325,9 +329,18 @@ fn eom_residual(d: &mut Dynamics, trial: &Variables, scale: &mut [f64]) -> f64 {
         scale[i] = top[i].abs() + d.h[i].abs();
     }
     kkt.phi_v_t_mul_add_with_size(&trial.lambda, &mut top, scale);
+    // A group whose terms are all roundoff (a free body's torque-free rotation, its ω̇ a
+    // residue of the solve coupled to bodies in contact) is measured against the largest
+    // group of its kind (forces, torques), not against its own roundoff.
+    let mut floor = [0.0f64; 2];
+    for (k3, tri) in scale.chunks(3).enumerate() {
+        let f = &mut floor[k3 % 2];
+        *f = f.max(tri[0].max(tri[1]).max(tri[2]));
+    }
+    let floor = floor.map(|f| GROUP_FLOOR * f);
     let mut res_v = 0.0f64;
     for (k3, tri) in scale.chunks(3).enumerate() {
-        let size = tri[0].max(tri[1]).max(tri[2]) + f64::MIN_POSITIVE;
+        let size = tri[0].max(tri[1]).max(tri[2]).max(floor[k3 % 2]) + f64::MIN_POSITIVE;
         for i in 3 * k3..3 * k3 + 3 {
             let r = top[i] - d.h[i];
             kkt.rhs[i] = -r;

@@ -52,15 +52,21 @@ impl Tangents {
         let mut rows: Vec<Vec<(usize, usize)>> = (0..nb).map(|k| vec![(k, k)]).collect();
         let mut nblocks = nb;
         for (i, j) in d.coupled_pairs() {
-            if i == j || adj[i].contains(&j) {
+            if i == j || rows[i].iter().any(|&(c, _)| c == j) {
                 continue;
             }
-            adj[i].push(j);
-            adj[j].push(i);
             for (r, c) in [(i, j), (j, i)] {
                 columns[c].push((r, nblocks));
                 rows[r].push((c, nblocks));
                 nblocks += 1;
+            }
+        }
+        // The colours from the differenced couplings alone: the contacts' blocks are added in
+        // closed form ([`crate::collision::Collisions::tangents`]).
+        for (i, j) in d.differenced_pairs() {
+            if i != j && !adj[i].contains(&j) {
+                adj[i].push(j);
+                adj[j].push(i);
             }
         }
         let colours = if d.user.is_some() {
@@ -87,6 +93,12 @@ impl Tangents {
     pub fn eval(&mut self, d: &mut Dynamics, at: &State) {
         let l = d.model.characteristic_length();
         d.sync(at);
+        let contacts = d.collisions.is_some();
+        if contacts {
+            // The contacts at `at`, for their closed-form blocks; then differences without them.
+            d.eval_implicit_forces(at.t);
+            d.contacts_off = true;
+        }
         d.eval_implicit_forces(at.t);
         self.h0.copy_from_slice(&d.h);
         self.pert.t = at.t;
@@ -126,6 +138,22 @@ impl Tangents {
                     }
                 }
             }
+        }
+        if contacts {
+            d.contacts_off = false;
+            d.sync(at);
+            let c = d.collisions.as_ref().expect("collisions");
+            let (rows, ct, kt) = (&self.rows, &mut self.ct, &mut self.kt);
+            c.tangents(&d.bodies, |j, k, cb, kb| {
+                // A pair laid out after these tangents' blocks were made has none: left out
+                // until the stepper lays out again.
+                if let Some(&(_, b)) = rows[j].iter().find(|&&(col, _)| col == k) {
+                    for e in 0..36 {
+                        ct[b][e] += cb[e];
+                        kt[b][e] += kb[e];
+                    }
+                }
+            });
         }
     }
 
