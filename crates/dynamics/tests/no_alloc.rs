@@ -36,7 +36,8 @@ fn allocations(f: impl FnOnce()) -> usize {
 fn main() {
     steps_do_not_allocate();
     curve_elements_do_not_allocate();
-    println!("no_alloc: 2 passed, 0 failed");
+    contacts_do_not_allocate();
+    println!("no_alloc: 3 passed, 0 failed");
 }
 
 fn steps_do_not_allocate() {
@@ -167,6 +168,104 @@ fn curve_elements_do_not_allocate() {
             Integrator::Dopri5(Dopri5Options::fixed(1e-3)),
             Integrator::Dopri5(Dopri5Options::fixed(1e-4)),
         )],
+    );
+}
+
+/// A ball rolling and sliding on a plane, and two balls resting on each other on the plane
+/// (sphere–plane and sphere–sphere manifolds): after the first contacts, the collision
+/// detection and the contact law allocate nothing per step. (Polyhedral manifolds — a box on a
+/// plane or on a box — allocate one vector per pair and evaluation inside parry3d 0.31, whose
+/// contact tracking takes the old points out of the manifold: `mem::take` in
+/// `contact_manifold_halfspace_pfm`, a clone in `contact_manifold_cuboid_cuboid`.)
+fn contacts_do_not_allocate() {
+    use cardan_mechanism::{Geometry, MaterialSpec, ShapeSpec, Stiffness};
+    let mut b = MechanismBuilder::new();
+    let (m, r) = (0.17, 0.028575);
+    let j = 0.4 * m * r * r;
+    // Drawn at their static penetrations (K = 1e8 N/m^1.5 for the pair): no contact begins
+    // or ends, so no event.
+    let delta = |w: f64| (w * G / 1e8f64).powf(2.0 / 3.0);
+    b.body(
+        Body::new("ball")
+            .mass(m)
+            .inertia_diagonal(j, j, j)
+            .position(Vector3::new(0.0, 0.0, r - delta(m))),
+    );
+    b.body(
+        Body::new("below")
+            .mass(m)
+            .inertia_diagonal(j, j, j)
+            .position(Vector3::new(0.5, 0.0, r - delta(2.0 * m))),
+    );
+    b.body(
+        Body::new("top")
+            .mass(m)
+            .inertia_diagonal(j, j, j)
+            .position(Vector3::new(0.5, 0.0, 3.0 * r - delta(2.0 * m) - delta(m))),
+    );
+    let k = Stiffness::Direct {
+        k: 2e8,
+        exponent: 1.5,
+    };
+    b.material(MaterialSpec::new("m", k, 0.5).friction(0.2));
+    b.shape(ShapeSpec::new(
+        "ball",
+        "ball",
+        Geometry::Sphere { radius: r },
+        "m",
+    ));
+    b.shape(ShapeSpec::new(
+        "top",
+        "top",
+        Geometry::Sphere { radius: r },
+        "m",
+    ));
+    b.shape(ShapeSpec::new(
+        "below",
+        "below",
+        Geometry::Sphere { radius: r },
+        "m",
+    ));
+    b.shape(ShapeSpec::new("floor", GROUND, Geometry::Plane, "m"));
+    let model = b.build().unwrap();
+    let mut d = Dynamics::new(&model).unwrap();
+    d.add_force(Force::gravity(Vector3::new(0.0, 0.0, -G)))
+        .unwrap();
+    let mut s0 = d.consistent_state(&d.initial_guess()).unwrap();
+    s0.set_velocity(0, Vector3::new(2.0, 0.0, 0.0), Vector3::zeros());
+    // Warm-up: every pair has met, and generalized-α has laid out the blocks of the bodies in
+    // contact (once per new pair).
+    for integrator in [
+        Integrator::Dopri5(Dopri5Options::fixed(1e-5)),
+        Integrator::GeneralizedAlpha(GeneralizedAlphaOptions::with_step(1e-4)),
+    ] {
+        let warm = SimulationOptions::new(0.01, 1).integrator(integrator);
+        d.simulate_consistent(s0.clone(), &warm).unwrap();
+    }
+    let mut vdot = vec![0.0; 18];
+    let mut lambda = vec![0.0; model.num_equations()];
+    let n = allocations(|| {
+        for _ in 0..50 {
+            d.accelerations(&s0, &mut vdot, &mut lambda).unwrap();
+        }
+    });
+    assert_eq!(n, 0, "contacts: {n} allocations in 50 solves");
+    runs_allocate_alike(
+        &mut d,
+        &s0,
+        0.05,
+        [
+            (
+                "contacts, DOPRI5 fixed step",
+                Integrator::Dopri5(Dopri5Options::fixed(1e-4)),
+                Integrator::Dopri5(Dopri5Options::fixed(1e-5)),
+            ),
+            (
+                "contacts, generalized-α",
+                Integrator::GeneralizedAlpha(GeneralizedAlphaOptions::with_step(1e-4)),
+                Integrator::GeneralizedAlpha(GeneralizedAlphaOptions::with_step(1e-5)),
+            ),
+        ],
     );
 }
 

@@ -41,6 +41,7 @@ pub mod progress;
 pub mod run_json;
 pub mod scene;
 pub mod scene_curves;
+pub mod scene_shapes;
 pub mod table;
 pub mod units;
 pub mod vocabulary;

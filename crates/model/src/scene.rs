@@ -96,6 +96,20 @@ pub fn scene(name: &str, model: &Model, results: &Results, declared: &Declared) 
             None => b.geometry = rods(&b.points, extent),
         }
     }
+    // A body with collision shapes is drawn as its shapes, not as rods between its points.
+    let shapes = crate::scene_shapes::shape_geometry(model, extent);
+    let mut shaped = vec![false; bodies.len()];
+    for (on, _) in &shapes {
+        shaped[index(*on)] = true;
+    }
+    for (k, b) in bodies.iter_mut().enumerate() {
+        if derive[k] && shaped[k] && k != ground {
+            b.geometry.clear();
+        }
+    }
+    for (on, g) in shapes {
+        bodies[index(on)].geometry.push(g);
+    }
     let mut axes = Vec::new();
     for j in model.joints() {
         let kind = j.joint.kind();

@@ -34,7 +34,7 @@ mod tessellate;
 
 pub use glb::write_glb;
 pub use html::{classic_three, write_html, Html, Page};
-pub use mesh_file::{read_mesh, MeshFormat};
+pub use mesh_file::{flat_mesh, read_mesh, MeshFormat};
 pub use modes::{
     amplitude, mode_pose, small_rotation, validate_modes, BodyIncrement, ModeShape,
     MAX_ANIMATED_MODES, MODE_FRACTION,

@@ -129,8 +129,11 @@ fn check_count(n: usize, max: usize) -> Result<(), String> {
     }
 }
 
-/// Three vertices per triangle with its face normal, scaled.
-fn flat_mesh(triangles: &[[[f32; 3]; 3]], scale: f64) -> Result<Mesh, String> {
+/// Three vertices per triangle with its face normal, scaled (flat shading).
+///
+/// # Errors
+/// A non-finite vertex, named by its number and its triangle's.
+pub fn flat_mesh(triangles: &[[[f32; 3]; 3]], scale: f64) -> Result<Mesh, String> {
     let mut m = Mesh {
         positions: Vec::with_capacity(3 * triangles.len()),
         normals: Vec::with_capacity(3 * triangles.len()),

@@ -35,6 +35,7 @@
 //! attempt. Pairs once laid out stay (a rare event per pair, not per step).
 
 pub(crate) mod geometry;
+pub use geometry::hull_triangles;
 pub mod law;
 
 use crate::forces::AppliedForces;

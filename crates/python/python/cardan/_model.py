@@ -343,6 +343,21 @@ class Builder:
         self._tables.append(("surface", {"name": name, "type": type, **keys}))
         return self
 
+    def material(self, name: str, **keys: Any) -> "Builder":
+        """A contact material: ``stiffness`` (N/m^1.5, with ``exponent``) or
+        ``youngs_modulus`` and ``poisson_ratio``, ``restitution``, ``friction``,
+        ``friction_static``, ``slip_velocity``."""
+        self._tables.append(("material", {"name": name, **keys}))
+        return self
+
+    def shape(self, name: str, type: str, body: str, material: str, **keys: Any) -> "Builder":
+        """A collision shape on ``body`` (``"ground"`` allowed) made of ``material``: ``type`` is
+        ``"sphere"``, ``"capsule"``, ``"cylinder"`` (``radius``, ``length``), ``"box"``
+        (``size``), ``"plane"``, ``"convex_mesh"`` (``file`` or ``points``) or ``"mesh"`` (a
+        ground ``file``); placed at the body's ``point`` with its z along ``axis``."""
+        self._tables.append(("shape", {"name": name, "type": type, "body": body, "material": material, **keys}))
+        return self
+
     def coupler(self, name: str, type: str, **keys: Any) -> "Builder":
         """A coupler (gear, rack and pinion, screw) between joint coordinates."""
         self._tables.append(("coupler", {"name": name, "type": type, **keys}))
