@@ -110,9 +110,12 @@ pub(crate) fn place(info: &ShapeInfo) -> Result<Placed, String> {
     })
 }
 
-/// The triangles of the convex hull of `points` (vertices and indices, counter-clockwise from
-/// outside), for drawing a convex mesh; `None` when the hull cannot be built.
-pub fn hull_triangles(points: &[Vector3<f64>]) -> Option<(Vec<Vector3<f64>>, Vec<[u32; 3]>)> {
+/// A triangle mesh: vertices and the vertex indices of each triangle.
+pub type Triangles = (Vec<Vector3<f64>>, Vec<[u32; 3]>);
+
+/// The triangles of the convex hull of `points` (counter-clockwise from outside), for drawing
+/// a convex mesh; `None` when the hull cannot be built.
+pub fn hull_triangles(points: &[Vector3<f64>]) -> Option<Triangles> {
     let pts: Vec<Vector> = points.iter().map(to_parry).collect();
     let (v, t) = parry3d_f64::transformation::try_convex_hull(&pts).ok()?;
     Some((v.into_iter().map(from_parry).collect(), t))
