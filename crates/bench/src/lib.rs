@@ -17,6 +17,7 @@
 
 pub mod animation;
 pub mod asmt;
+pub mod contact;
 pub mod genalpha;
 pub mod kinematic_accuracy;
 pub mod large;

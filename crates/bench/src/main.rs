@@ -12,6 +12,7 @@
 //! cardan-bench --drivers [--smoke]    (the driver-function section alone, to stdout)
 //! cardan-bench --animation [--smoke]  (the animation and report section alone, to stdout)
 //! cardan-bench --large [--smoke]      (check and run setup of 10³–10⁵-body chains, to stdout)
+//! cardan-bench --contact [--smoke]    (contact at scale: a sphere pile and a chain on a plane, to stdout)
 //! cardan-bench --modal [--smoke] [--peers PYTHON]  (the modal sections alone, to stdout; with
 //!     --peers also the frequencies against Exudyn, exit status 1 above 1e-6 relative)
 //! cardan-bench --asmt [--smoke] [--peers PYTHON] [--only FILE]  (ASMT files against OndselSolver, to stdout)
@@ -98,6 +99,10 @@ fn single_mode(args: &[String]) -> bool {
         }
         Some("--large-point") => {
             cardan_bench::large::point(&args[1..]);
+        }
+        Some("--contact") => {
+            let smoke = args.iter().any(|a| a == "--smoke");
+            print!("{}", cardan_bench::contact::section(smoke));
         }
         Some("--large") => {
             println!(

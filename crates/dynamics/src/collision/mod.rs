@@ -136,12 +136,15 @@ pub(crate) struct Collisions {
     poses: Vec<Pose>,
     /// Each shape's margin: a quarter of its thickness (0 for a plane or a ground mesh).
     margins: Vec<f64>,
+    /// Each shape's reach from its body's reference point: the distance to its centre plus
+    /// its bounding radius (for the step cap).
+    reach: Vec<f64>,
     bvh: Bvh,
     bvh_workspace: BvhWorkspace,
     /// Moving body pairs joined by a joint, sorted (a body jointed to the ground still touches
     /// the ground's shapes: a wheel on its axle rolls on the floor).
     jointed: Vec<(usize, usize)>,
-    pairs: HashMap<(u32, u32), Pair>,
+    pairs: HashMap<(u32, u32), Pair, foldhash::fast::FixedState>,
     candidates: Vec<(u32, u32)>,
     /// The contact points of the last evaluation.
     pub points: Vec<ContactPoint>,
@@ -208,6 +211,12 @@ impl Collisions {
                 }
             })
             .collect();
+        let reach: Vec<f64> = (shapes.iter())
+            .map(|p| {
+                let local = p.shape.compute_local_aabb();
+                p.center.norm() + local.half_extents().length()
+            })
+            .collect();
         let (planes, leaves): (Vec<usize>, Vec<usize>) =
             (0..shapes.len()).partition(|&k| shapes[k].unbounded);
         let boxes: Vec<Aabb> = leaves
@@ -229,10 +238,11 @@ impl Collisions {
             planes,
             poses,
             margins,
+            reach,
             bvh,
             bvh_workspace: BvhWorkspace::default(),
             jointed,
-            pairs: HashMap::new(),
+            pairs: HashMap::with_hasher(foldhash::fast::FixedState::default()),
             candidates: Vec::new(),
             points: Vec::new(),
             slopes: Vec::new(),
@@ -276,9 +286,16 @@ impl Collisions {
                 let (a, b) = (leaves[i as usize], leaves[j as usize]);
                 found.push((a.min(b) as u32, a.max(b) as u32));
             });
+        // A plane against the shapes whose box reaches it (within the shape's margin).
         for &p in &self.planes {
-            for k in 0..self.shapes.len() {
-                if k != p {
+            let n = self.poses[p].rotation * parry3d_f64::math::Vector::Z;
+            let offset = n.dot(self.poses[p].translation);
+            for (leaf, &k) in self.leaves.iter().enumerate() {
+                let b = self.bvh.leaf_node(leaf as u32).map(|node| node.aabb());
+                let Some(b) = b else { continue };
+                let (c, h) = (b.center(), b.half_extents());
+                let lowest = n.dot(c) - n.abs().dot(h) - offset;
+                if lowest <= 0.0 {
                     found.push((k.min(p) as u32, k.max(p) as u32));
                 }
             }
@@ -458,6 +475,22 @@ impl Collisions {
                 (c.normal * c.normal_force + c.friction_force).dot(&v_rel)
             })
             .sum()
+    }
+
+    /// The longest step in which no moving shape travels more than its margin, at `bodies`
+    /// (∞ without moving shapes or at rest): within it two shapes cannot pass through each
+    /// other unseen, since each moves less than a quarter of its thickness.
+    pub fn step_cap(&self, bodies: &[BodyState]) -> f64 {
+        let mut cap = f64::INFINITY;
+        for (k, s) in self.shapes.iter().enumerate() {
+            let BodyId::Moving(b) = s.body else { continue };
+            let st = &bodies[b];
+            let speed = st.r_dot.norm() + st.omega_local.norm() * self.reach[k];
+            if speed > 0.0 && self.margins[k] > 0.0 {
+                cap = cap.min(self.margins[k] / speed);
+            }
+        }
+        cap
     }
 
     /// Forgets the onset speeds the last [`Collisions::accept`] took (the step that took them

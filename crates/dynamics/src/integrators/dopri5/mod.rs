@@ -208,7 +208,19 @@ impl Stepper for Dopri5 {
 
     fn attempt(&mut self, d: &mut Dynamics, _target: f64) -> Result<Attempt, DynamicsError> {
         let t = self.t;
-        let hs = self.control.step_size(self.t_end - t);
+        let mut hs = self.control.step_size(self.t_end - t);
+        if let Some(c) = d.collisions.as_ref().filter(|_| !self.control.fixed()) {
+            // No shape moves more than its margin in a step (`Collisions::step_cap`): in
+            // free flight the error estimate would let a step carry a ball through a wall.
+            to_state(&self.v.y0, t, &mut self.v.scratch);
+            let bodies = &mut d.bodies;
+            self.v.scratch.body_states_into(bodies);
+            let cap = c.step_cap(bodies);
+            if cap < hs {
+                hs = cap;
+                self.control.h = cap;
+            }
+        }
         let failed = self.stages(d, hs);
         let fixed = self.control.fixed();
         let err = if failed.is_some() {
