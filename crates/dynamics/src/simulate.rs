@@ -182,3 +182,48 @@ fn check_times(t0: f64, t_end: f64, times: &[f64]) -> Result<(), DynamicsError> 
     }
     Ok(())
 }
+
+impl Dynamics<'_> {
+    /// Refuses a start where two shapes overlap deeply ([`crate::collision::DEEP_PENETRATION`]).
+    ///
+    /// # Errors
+    /// [`crate::DynamicsError::ShapesOverlap`] naming the deepest pair.
+    pub(crate) fn start_contacts(
+        &mut self,
+        state: &crate::state::State,
+    ) -> Result<(), crate::DynamicsError> {
+        if self.collisions.is_none() {
+            return Ok(());
+        }
+        self.sync(state);
+        self.eval_forces(state.t);
+        let model = self.model;
+        let shapes = model.shapes();
+        let c = self.collisions.as_ref().expect("collisions");
+        let worst = c
+            .points
+            .iter()
+            .map(|p| {
+                let [a, b] = p.shapes;
+                let thin = shapes[a]
+                    .geometry
+                    .thickness()
+                    .min(shapes[b].geometry.thickness());
+                (p.penetration / thin, p)
+            })
+            .filter(|(r, _)| r.is_finite())
+            .max_by(|x, y| x.0.total_cmp(&y.0));
+        match worst {
+            Some((ratio, p)) if ratio > crate::collision::DEEP_PENETRATION => {
+                Err(crate::DynamicsError::ShapesOverlap {
+                    shape_1: shapes[p.shapes[0]].name.clone(),
+                    shape_2: shapes[p.shapes[1]].name.clone(),
+                    depth: p.penetration,
+                    time: state.t,
+                    percent: 100.0 * ratio,
+                })
+            }
+            _ => Ok(()),
+        }
+    }
+}

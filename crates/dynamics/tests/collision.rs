@@ -22,18 +22,7 @@ fn ball_on_plane(m: f64, r: f64, z: f64, k: f64, e: f64, mu: f64, slope: f64) ->
             .inertia_diagonal(j, j, j)
             .position(Vector3::new(0.0, 0.0, z)),
     );
-    b.material(
-        MaterialSpec::new(
-            "steel",
-            Stiffness::Direct {
-                k: 2.0 * k,
-                exponent: 1.5,
-            },
-            e,
-        )
-        .friction(mu)
-        .slip_velocity(1e-4),
-    );
+    b.material(hertz("steel", 2.0 * k, e).friction(mu).slip_velocity(1e-4));
     // Two materials of 2K: K.
     b.shape(ShapeSpec::new(
         "ball",
@@ -44,6 +33,11 @@ fn ball_on_plane(m: f64, r: f64, z: f64, k: f64, e: f64, mu: f64, slope: f64) ->
     let normal = Vector3::new(0.0, -slope.sin(), slope.cos());
     b.shape(ShapeSpec::new("floor", GROUND, Geometry::Plane, "steel").axes(normal, Vector3::x()));
     b.build().unwrap()
+}
+
+/// A material of direct stiffness K (n = 3/2) and restitution e, frictionless.
+fn hertz(name: &str, k: f64, e: f64) -> MaterialSpec {
+    MaterialSpec::new(name, Stiffness::Direct { k, exponent: 1.5 }, e)
 }
 
 fn tight() -> Integrator {
@@ -137,14 +131,7 @@ fn ball_on_a_rail(m: f64, r: f64, k: f64) -> Model {
             .axes("z", "z")
             .x_axes("x", "x"),
     );
-    b.material(MaterialSpec::new(
-        "steel",
-        Stiffness::Direct {
-            k: 2.0 * k,
-            exponent: 1.5,
-        },
-        0.5,
-    ));
+    b.material(hertz("steel", 2.0 * k, 0.5));
     b.shape(ShapeSpec::new(
         "ball",
         "ball",
@@ -286,18 +273,7 @@ fn a_ball_rolls_down_an_incline_at_five_sevenths_or_slips() {
                 .inertia_diagonal(j, j, j)
                 .position(normal * (r - delta)),
         );
-        b.material(
-            MaterialSpec::new(
-                "m",
-                Stiffness::Direct {
-                    k: 2.0 * k,
-                    exponent: 1.5,
-                },
-                0.5,
-            )
-            .friction(mu)
-            .slip_velocity(1e-4),
-        );
+        b.material(hertz("m", 2.0 * k, 0.5).friction(mu).slip_velocity(1e-4));
         b.shape(ShapeSpec::new(
             "ball",
             "ball",
@@ -380,18 +356,7 @@ fn stack(n: usize) -> Model {
             "wood",
         ));
     }
-    b.material(
-        MaterialSpec::new(
-            "wood",
-            Stiffness::Direct {
-                k: 2e7,
-                exponent: 1.5,
-            },
-            0.3,
-        )
-        .friction(0.5)
-        .slip_velocity(1e-4),
-    );
+    b.material(hertz("wood", 2e7, 0.3).friction(0.5).slip_velocity(1e-4));
     b.shape(ShapeSpec::new("floor", GROUND, Geometry::Plane, "wood"));
     b.build().unwrap()
 }
@@ -463,17 +428,7 @@ fn two_balls() -> Model {
             "steel",
         ));
     }
-    b.material(
-        MaterialSpec::new(
-            "steel",
-            Stiffness::Direct {
-                k: 2e9,
-                exponent: 1.5,
-            },
-            0.5,
-        )
-        .friction(0.3),
-    );
+    b.material(hertz("steel", 2e9, 0.5).friction(0.3));
     b.shape(ShapeSpec::new("floor", GROUND, Geometry::Plane, "steel"));
     b.build().unwrap()
 }
@@ -524,14 +479,7 @@ fn a_fast_ball_is_not_stepped_through_a_thin_wall() {
             .inertia_diagonal(j, j, j)
             .position(Vector3::zeros()),
     );
-    b.material(MaterialSpec::new(
-        "steel",
-        Stiffness::Direct {
-            k: 2e9,
-            exponent: 1.5,
-        },
-        0.8,
-    ));
+    b.material(hertz("steel", 2e9, 0.8));
     b.shape(ShapeSpec::new(
         "ball",
         "ball",

@@ -35,8 +35,10 @@
 //! attempt. Pairs once laid out stay (a rare event per pair, not per step).
 
 pub(crate) mod geometry;
-pub use geometry::hull_triangles;
 pub mod law;
+mod point;
+pub use geometry::hull_triangles;
+pub use point::ContactPoint;
 
 use crate::forces::AppliedForces;
 use cardan_constraints::BodyState;
@@ -73,27 +75,6 @@ pub fn validate_shapes(model: &Model) -> Result<(), (String, String)> {
 /// The margin of a shape, relative to its thickness: pairs closer than it are followed (their
 /// approach rate kept) before they touch.
 const MARGIN: f64 = 0.25;
-
-/// One contact point at an evaluation (the rows of `contacts.csv`).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ContactPoint {
-    /// Shape 1 and shape 2 (indices into [`Model::shapes`]).
-    pub shapes: [usize; 2],
-    /// The contact point P (global, m).
-    pub point: Vector3<f64>,
-    /// The unit normal n from shape 1 towards shape 2.
-    pub normal: Vector3<f64>,
-    /// The penetration δ > 0 (m).
-    pub penetration: f64,
-    /// The approach rate δ̇ (m/s, positive while approaching).
-    pub penetration_rate: f64,
-    /// F_n (N), pushing shape 2 along n.
-    pub normal_force: f64,
-    /// The friction force on shape 2 (global, N).
-    pub friction_force: Vector3<f64>,
-    /// The slip velocity v_t of shape 2 over shape 1 (global, m/s).
-    pub slip_velocity: Vector3<f64>,
-}
 
 /// The derivatives of one point's law at an evaluation ([`Collisions::tangents`]).
 #[derive(Debug, Clone, Copy)]
@@ -600,50 +581,5 @@ impl Collisions {
     /// Whether a moving pair touched for the first time since the last call.
     pub fn take_new_pairs(&mut self) -> bool {
         std::mem::take(&mut self.new_pairs)
-    }
-}
-
-impl crate::system::Dynamics<'_> {
-    /// Refuses a start where two shapes overlap deeply ([`DEEP_PENETRATION`]).
-    ///
-    /// # Errors
-    /// [`crate::DynamicsError::ShapesOverlap`] naming the deepest pair.
-    pub(crate) fn start_contacts(
-        &mut self,
-        state: &crate::state::State,
-    ) -> Result<(), crate::DynamicsError> {
-        if self.collisions.is_none() {
-            return Ok(());
-        }
-        self.sync(state);
-        self.eval_forces(state.t);
-        let model = self.model;
-        let shapes = model.shapes();
-        let c = self.collisions.as_ref().expect("collisions");
-        let worst = c
-            .points
-            .iter()
-            .map(|p| {
-                let [a, b] = p.shapes;
-                let thin = shapes[a]
-                    .geometry
-                    .thickness()
-                    .min(shapes[b].geometry.thickness());
-                (p.penetration / thin, p)
-            })
-            .filter(|(r, _)| r.is_finite())
-            .max_by(|x, y| x.0.total_cmp(&y.0));
-        match worst {
-            Some((ratio, p)) if ratio > DEEP_PENETRATION => {
-                Err(crate::DynamicsError::ShapesOverlap {
-                    shape_1: shapes[p.shapes[0]].name.clone(),
-                    shape_2: shapes[p.shapes[1]].name.clone(),
-                    depth: p.penetration,
-                    time: state.t,
-                    percent: 100.0 * ratio,
-                })
-            }
-            _ => Ok(()),
-        }
     }
 }

@@ -20,11 +20,8 @@ use crate::state::State;
 use crate::system::Dynamics;
 use crate::DynamicsError;
 
-/// The relative time tolerance of an event's location.
-pub const EVENT_TIME_TOLERANCE: f64 = 1e-13;
-
-/// At most this many evaluations locate an event.
-const MAX_LOCATE: usize = 200;
+pub use super::roots::EVENT_TIME_TOLERANCE;
+use super::roots::{illinois as illinois_on, MAX_LOCATE};
 
 /// What happens at an event.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -95,45 +92,17 @@ fn locate_closing<S: Stepper>(stepper: &mut S, d: &mut Dynamics, s: usize, span:
 }
 
 /// The sign change of `sign` g_s in [a, b] (`sign` g > 0 at a, < 0 at b) by the Illinois
-/// variant of regula falsi, to [`EVENT_TIME_TOLERANCE`]: the final bracket, both ends at a time
-/// where |g| ≤ `zero`.
+/// method ([`illinois_on`]): the final bracket, both ends at a time where |g| ≤ `zero`.
 fn illinois<S: Stepper>(
     stepper: &mut S,
     d: &mut Dynamics,
     s: usize,
     sign: f64,
-    (mut a, mut fa): (f64, f64),
-    (mut b, mut fb): (f64, f64),
+    a: (f64, f64),
+    b: (f64, f64),
     zero: f64,
 ) -> (f64, f64) {
-    let mut side = 0i8;
-    for _ in 0..MAX_LOCATE {
-        if b - a <= EVENT_TIME_TOLERANCE * (1.0 + b.abs()) {
-            break;
-        }
-        let mut tm = (a * fb - b * fa) / (fb - fa);
-        if !(tm > a && tm < b) {
-            tm = 0.5 * (a + b);
-        }
-        let f = sign * gap_at(stepper, d, s, tm);
-        if f.abs() <= zero {
-            return (tm, tm);
-        }
-        if f > 0.0 {
-            (a, fa) = (tm, f);
-            if side == 1 {
-                fb *= 0.5;
-            }
-            side = 1;
-        } else {
-            (b, fb) = (tm, f);
-            if side == -1 {
-                fa *= 0.5;
-            }
-            side = -1;
-        }
-    }
-    (a, b)
+    illinois_on(|t| sign * gap_at(stepper, d, s, t), a, b, zero)
 }
 
 /// A stop closed and opened again inside the step (a graze): g ≥ 0 at both ends, but the

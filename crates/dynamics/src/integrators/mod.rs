@@ -41,6 +41,7 @@ pub(crate) mod driver;
 pub(crate) mod events;
 pub mod generalized_alpha;
 pub(crate) mod onsets;
+mod roots;
 pub(crate) mod stepper;
 
 #[cfg(test)]

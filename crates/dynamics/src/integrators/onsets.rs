@@ -6,13 +6,10 @@
 //! [`EVENT_TIME_TOLERANCE`], and the state there takes the pair's onset speed
 //! ([`apply_onset`]).
 
-use super::events::EVENT_TIME_TOLERANCE;
+use super::roots::{illinois, EVENT_TIME_TOLERANCE};
 use super::stepper::{Span, Stepper};
 use crate::state::State;
 use crate::system::Dynamics;
-
-/// At most this many evaluations locate an onset.
-const MAX_LOCATE: usize = 200;
 
 /// The signed distance of shapes (a, b) at the dense output's time `t`.
 fn distance_at<S: Stepper>(
@@ -53,7 +50,8 @@ pub(crate) fn first_onset<S: Stepper>(
         if !(f0 > 0.0 && f1 <= 0.0) {
             continue;
         }
-        let time = illinois(stepper, d, pair, (span.t0, f0), (span.t1, f1));
+        let at = |t: f64| distance_at(stepper, d, pair, t);
+        let (_, time) = illinois(at, (span.t0, f0), (span.t1, f1), 0.0);
         if time > span.t0 + 10.0 * EVENT_TIME_TOLERANCE * (1.0 + span.t0.abs())
             && first.is_none_or(|f| time < f)
         {
@@ -62,42 +60,6 @@ pub(crate) fn first_onset<S: Stepper>(
     }
     d.collisions.as_mut().expect("collisions").scratch = onsets;
     first
-}
-
-/// The first time in [a, b] with distance ≤ 0 (f > 0 at a, ≤ 0 at b), by the Illinois
-/// variant of regula falsi.
-fn illinois<S: Stepper>(
-    stepper: &mut S,
-    d: &mut Dynamics,
-    pair: (usize, usize),
-    (mut a, mut fa): (f64, f64),
-    (mut b, mut fb): (f64, f64),
-) -> f64 {
-    let mut side = 0i8;
-    for _ in 0..MAX_LOCATE {
-        if b - a <= EVENT_TIME_TOLERANCE * (1.0 + b.abs()) {
-            break;
-        }
-        let mut tm = (a * fb - b * fa) / (fb - fa);
-        if !(tm > a && tm < b) {
-            tm = 0.5 * (a + b);
-        }
-        let f = distance_at(stepper, d, pair, tm);
-        if f > 0.0 {
-            (a, fa) = (tm, f);
-            if side == 1 {
-                fb *= 0.5;
-            }
-            side = 1;
-        } else {
-            (b, fb) = (tm, f);
-            if side == -1 {
-                fa *= 0.5;
-            }
-            side = -1;
-        }
-    }
-    b
 }
 
 /// At a located onset (`state`, projected): the onset speeds the step past it took are
