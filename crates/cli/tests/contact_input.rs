@@ -75,6 +75,54 @@ fn the_billiard_example_rolls_and_writes_its_contacts() {
     assert!((vx - 5.0 / 7.0 * 2.0).abs() < 2e-4, "{vx}");
     let json = std::fs::read_to_string(o.dir.join("out/run.json")).unwrap();
     assert!(json.contains("contacts.csv"), "{json}");
+    // The ball's Newton–Euler balance closes with contacts.csv's forces (on shape 2, the table;
+    // the ball gets the opposite): m a = m g − (F_n n + f) and J ω̇ = s × (−(F_n n + f)) with
+    // s from the centre to the contact point, at every output time.
+    let acc = std::fs::read_to_string(o.dir.join("out/body_accelerations.csv")).unwrap();
+    let pos = std::fs::read_to_string(o.dir.join("out/bodies.csv")).unwrap();
+    let num = |l: &str| -> Vec<f64> {
+        l.split(',')
+            .map(|x| x.parse().unwrap_or(f64::NAN))
+            .collect()
+    };
+    let (m, j) = (0.17, 5.5523e-5);
+    for ((row, a), p) in rows
+        .iter()
+        .zip(acc.lines().skip(1))
+        .zip(pos.lines().skip(1))
+    {
+        let (a, p) = (num(a), num(p));
+        let f = |name: &str| -> f64 { row[col(name)].parse().unwrap() };
+        let fn_ = f("normal_force");
+        let on_ball = [
+            -(fn_ * f("normal.x") + f("friction.x")),
+            -(fn_ * f("normal.y") + f("friction.y")),
+            -(fn_ * f("normal.z") + f("friction.z")),
+        ];
+        for c in 0..3 {
+            let g = if c == 2 { -9.81 } else { 0.0 };
+            let lhs = m * a[1 + c];
+            assert!(
+                (lhs - (m * g + on_ball[c])).abs() < 1e-9,
+                "t = {}: force {c}: {lhs} vs {}",
+                a[0],
+                m * g + on_ball[c]
+            );
+        }
+        // About y: the arm from the centre down to the point (the ball does not turn about x, z).
+        let arm = [
+            f("point.x") - p[1],
+            f("point.y") - p[2],
+            f("point.z") - p[3],
+        ];
+        let torque_y = arm[2] * on_ball[0] - arm[0] * on_ball[2];
+        assert!(
+            (j * a[5] - torque_y).abs() < 1e-9,
+            "t = {}: torque {} vs {torque_y}",
+            a[0],
+            j * a[5]
+        );
+    }
 }
 
 #[test]
