@@ -399,3 +399,24 @@ fn shapes_drawn_deep_in_each_other_are_an_error_at_the_start() {
         &["overlap", "ball", "table", "30 %"],
     );
 }
+
+#[test]
+fn a_fixed_step_that_lets_shapes_jump_is_warned_about() {
+    // Generalized-α at 32 ms: the ball (2 m/s) moves 64 mm a step, nine times a quarter of its
+    // radius; thin shapes could be stepped through. The rolling itself stays accurate.
+    let text = billiard().replace(
+        "integrator = \"dopri5\"\nrtol = 1e-9\natol = 1e-11",
+        "integrator = \"generalized_alpha\"\ndt = 0.032",
+    );
+    assert!(text.contains("dt = 0.032"));
+    let o = run_text("run", &text);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let all = format!("{}{}", o.stdout, o.stderr);
+    assert!(all.contains("quarter of its thickness"), "{all}");
+    let json = std::fs::read_to_string(o.dir.join("out/run.json")).unwrap();
+    assert!(json.contains("quarter of its thickness"), "{json}");
+    // At 1 ms no warning.
+    let calm = text.replace("dt = 0.032", "dt = 0.001");
+    let o = run_text("run", &calm);
+    assert!(!format!("{}{}", o.stdout, o.stderr).contains("quarter of its thickness"));
+}

@@ -256,6 +256,12 @@ pub struct IntegrationStats {
     pub row_reselections: usize,
     /// Wall time of the integration loop (s).
     pub wall_time: f64,
+    /// The largest accepted step over the collision shapes' step cap
+    /// ([`Collisions::step_cap`](crate::collision::Collisions::step_cap)), with its time: above
+    /// 1, a shape moved more than a quarter of its thickness in one step and thin shapes could
+    /// have passed through each other unseen (generalized-α's fixed steps; DOPRI5 caps its
+    /// own). 0 without shapes.
+    pub contact_step_ratio: (f64, f64),
 }
 
 /// The contact force of a cam pair on its follower (body j) at each time, from the

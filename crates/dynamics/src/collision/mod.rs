@@ -117,9 +117,10 @@ pub(crate) struct Collisions {
     poses: Vec<Pose>,
     /// Each shape's margin: a quarter of its thickness (0 for a plane or a ground mesh).
     margins: Vec<f64>,
-    /// Each shape's reach from its body's reference point: the distance to its centre plus
-    /// its bounding radius (for the step cap).
+    /// Each shape's bounding radius about its centre, and whether it is a ball (for the step
+    /// cap).
     reach: Vec<f64>,
+    round: Vec<bool>,
     bvh: Bvh,
     bvh_workspace: BvhWorkspace,
     /// Moving body pairs joined by a joint, sorted (a body jointed to the ground still touches
@@ -193,10 +194,10 @@ impl Collisions {
             })
             .collect();
         let reach: Vec<f64> = (shapes.iter())
-            .map(|p| {
-                let local = p.shape.compute_local_aabb();
-                p.center.norm() + local.half_extents().length()
-            })
+            .map(|p| p.shape.compute_local_aabb().half_extents().length())
+            .collect();
+        let round: Vec<bool> = (model.shapes().iter())
+            .map(|s| matches!(s.geometry, cardan_mechanism::Geometry::Sphere { .. }))
             .collect();
         let (planes, leaves): (Vec<usize>, Vec<usize>) =
             (0..shapes.len()).partition(|&k| shapes[k].unbounded);
@@ -220,6 +221,7 @@ impl Collisions {
             poses,
             margins,
             reach,
+            round,
             bvh,
             bvh_workspace: BvhWorkspace::default(),
             jointed,
@@ -461,12 +463,21 @@ impl Collisions {
     /// The longest step in which no moving shape travels more than its margin, at `bodies`
     /// (∞ without moving shapes or at rest): within it two shapes cannot pass through each
     /// other unseen, since each moves less than a quarter of its thickness.
-    pub fn step_cap(&self, bodies: &[BodyState]) -> f64 {
+    pub(crate) fn step_cap(&self, bodies: &[BodyState]) -> f64 {
         let mut cap = f64::INFINITY;
         for (k, s) in self.shapes.iter().enumerate() {
             let BodyId::Moving(b) = s.body else { continue };
             let st = &bodies[b];
-            let speed = st.r_dot.norm() + st.omega_local.norm() * self.reach[k];
+            let w = st.omega_local.norm();
+            // The shape's centre moves at |ṙ + ω × c|; its boundary turns about it at |ω| times
+            // its bounding radius, except a ball's, which turning does not move.
+            let centre = (st.r_dot + st.a * st.omega_local.cross(&s.center)).norm();
+            let speed = centre
+                + if self.round[k] {
+                    0.0
+                } else {
+                    w * self.reach[k]
+                };
             if speed > 0.0 && self.margins[k] > 0.0 {
                 cap = cap.min(self.margins[k] / speed);
             }

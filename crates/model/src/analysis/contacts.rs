@@ -87,3 +87,17 @@ pub fn penetration_warning(p: &Prepared, rows: &[(f64, ContactPoint)]) -> Option
         100.0 * ratio
     ))
 }
+
+/// The warning about fixed steps long enough for a shape to move more than a quarter of its
+/// thickness in one (`IntegrationStats::contact_step_ratio` above 1), if any.
+pub fn step_warning(stats: &cardan_dynamics::IntegrationStats) -> Option<String> {
+    let (ratio, t) = stats.contact_step_ratio;
+    (ratio > 1.0).then(|| {
+        format!(
+            "at t = {} s a collision shape moved {ratio:.1} times a quarter of its thickness in \
+             one step: thin shapes could pass through each other unseen and impacts are \
+             resolved by too few steps; use a smaller dt (or DOPRI5, which caps its steps)",
+            crate::number::num(t)
+        )
+    })
+}

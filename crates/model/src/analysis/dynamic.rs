@@ -120,6 +120,7 @@ pub(super) fn run_dynamic(
         warnings: doubtful(p, &tally, &r.kinematics.dropped_rows, &opts.integrator)
             .into_iter()
             .chain(super::contacts::penetration_warning(p, &tally.contacts))
+            .chain(super::contacts::step_warning(&r.stats))
             .collect(),
         subdivided_steps: None,
         row_reselections: r.stats.row_reselections,

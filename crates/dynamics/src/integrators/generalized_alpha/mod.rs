@@ -194,6 +194,13 @@ impl GeneralizedAlpha {
         }
         let h_accepted = self.n.s.t - t_before;
         self.history.h = h_accepted;
+        if let Some(c) = &d.collisions {
+            // The step against the shapes' cap (no shape should move more than its margin).
+            let ratio = h_accepted / c.step_cap(&d.bodies);
+            if ratio > self.stats.contact_step_ratio.0 {
+                self.stats.contact_step_ratio = (ratio, self.n.s.t);
+            }
+        }
         self.work
             .step(d, &mut self.policy, &self.n.s, h_accepted, REFINE)?;
         self.stats.steps += 1;
