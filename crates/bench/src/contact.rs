@@ -4,7 +4,7 @@
 //! - a pile of steel-like spheres (r = 1 cm, 32.7 g) settling in a box (a floor and four
 //!   walls), drawn in layers 0.5 mm apart with a small random offset, μ = 0.3, e = 0.5,
 //!   K = 1e7 N/m^1.5 for a pair (a soft contact: a resting ball sinks 2.4 µm);
-//! - a chain of capsule links on spherical joints falling flat on a plane.
+//! - a free chain of capsule links on spherical joints falling flat on a plane.
 //!
 //! Each case: 0.03 s of the run (the bottom layer lands, the layers above start to), then
 //! 0.01 s timed; time per step, contact points per step (contacts.csv's rows per output time),
@@ -92,13 +92,12 @@ pub fn pile(n: usize) -> Model {
     b.build().expect("the pile builds")
 }
 
-/// A chain of `n` capsule links (0.1 m, r = 1 cm, 0.1 kg) on spherical joints, the first
-/// pinned to the ground, held horizontal 2 mm above a plane (it lands after 20 ms).
+/// A free chain of `n` capsule links (0.1 m, r = 1 cm, 0.1 kg) on spherical joints, dropped
+/// flat from 0.2 mm above a plane (every link lands at 6 ms; e = 0.5, settled by 20 ms).
 pub fn chain_on_plane(n: usize) -> Model {
     let (len, r, m) = (0.1, 0.01, 0.1);
     let mut b = MechanismBuilder::new();
-    let z = r + 0.002;
-    b.point(GROUND, "O", Vector3::new(0.0, 0.0, z));
+    let z = r + 2e-4;
     for k in 0..n {
         let name = format!("l{k}");
         let jt = m * len * len / 12.0;
@@ -122,17 +121,15 @@ pub fn chain_on_plane(n: usize) -> Model {
             )
             .axes(Vector3::x(), Vector3::y()),
         );
-        let (prev, at) = if k == 0 {
-            (GROUND.to_string(), "O".to_string())
-        } else {
-            (format!("l{}", k - 1), "b".to_string())
-        };
-        b.joint(JointSpec::new(
-            format!("j{k}"),
-            JointKind::Spherical,
-            (prev.as_str(), at.as_str()),
-            (name.as_str(), "a"),
-        ));
+        if k > 0 {
+            let prev = format!("l{}", k - 1);
+            b.joint(JointSpec::new(
+                format!("j{k}"),
+                JointKind::Spherical,
+                (prev.as_str(), "b"),
+                (name.as_str(), "a"),
+            ));
+        }
     }
     material(&mut b);
     b.shape(ShapeSpec::new("floor", GROUND, Geometry::Plane, "steel"));
@@ -175,12 +172,13 @@ fn measure(model: &Model, h: f64, warm: f64, timed: f64) -> (usize, f64, f64, f6
 }
 
 /// The section (module docs), as Markdown.
-pub fn section(smoke: bool) -> String {
+pub fn section(smoke: bool, chains_only: bool) -> String {
     let (piles, chains): (&[usize], &[usize]) = if smoke {
         (&[8, 27], &[5, 10])
     } else {
         (&[27, 125, 343, 1000], &[25, 50, 100, 200])
     };
+    let piles = if chains_only { &[][..] } else { piles };
     let (warm, timed) = if smoke { (0.005, 0.002) } else { (0.03, 0.01) };
     let mut out = String::new();
     let _ = writeln!(
@@ -215,4 +213,77 @@ pub fn section(smoke: bool) -> String {
     }
     let _ = writeln!(out, "\nFitted exponents: {}.", fits.join("; "));
     out
+}
+
+/// The billiard ball's plots from the peers' `RESULT code=... setting=... error=... time=...`
+/// lines (`bench/peers/contact_mujoco.py`, `contact_exudyn.py`): the error against the step
+/// of every fixed-step series, and the error against the time of every series (the
+/// work–precision plot). Returns (error against step, work–precision) as SVG.
+pub fn billiard_plots(results: &str) -> (String, String) {
+    use crate::svg::{loglog, Series};
+    use std::collections::BTreeMap;
+    // Series name → (step or NaN, error, time).
+    let mut series: BTreeMap<String, Vec<(f64, f64, f64)>> = BTreeMap::new();
+    for line in results.lines().filter(|l| l.starts_with("RESULT ")) {
+        let field = |k: &str| {
+            line.split_whitespace()
+                .find_map(|w| w.strip_prefix(&format!("{k}=")))
+                .unwrap_or("")
+                .to_string()
+        };
+        let (code, setting) = (field("code"), field("setting"));
+        let (Ok(error), Ok(time)) = (field("error").parse::<f64>(), field("time").parse::<f64>())
+        else {
+            continue;
+        };
+        // "K_2.4e+10_genalpha_h_0.004" → series "cardan stiff gen-α", step 0.004; "h_0.004"
+        // (MuJoCo's one series) → "mujoco", step 0.004.
+        let padded = format!("_{setting}");
+        let (name, step) = match padded.rsplit_once("_h_") {
+            Some((head, h)) => (head.to_string(), h.parse().unwrap_or(f64::NAN)),
+            None => match padded.rsplit_once("_rtol_") {
+                Some((head, _)) => (head.to_string(), f64::NAN),
+                None => (padded.clone(), f64::NAN),
+            },
+        };
+        let name = name
+            .replace("_K_2.4e+10", " stiff")
+            .replace("_K_1e+08", " K1e8")
+            .replace("_genalpha", " gen-α")
+            .replace("_dopri5", " DOPRI5");
+        let code = match code.as_str() {
+            "mujoco" => "MuJoCo",
+            "exudyn" => "Exudyn",
+            other => other,
+        };
+        let label = format!("{code}{name}").trim().to_string();
+        series.entry(label).or_default().push((step, error, time));
+    }
+    let by_step: Vec<Series> = (series.iter())
+        .filter(|(_, p)| p.iter().all(|(h, _, _)| h.is_finite()))
+        .map(|(label, p)| Series {
+            label: label.clone(),
+            points: p.iter().map(|&(h, e, _)| (h, e)).collect(),
+        })
+        .collect();
+    let work: Vec<Series> = (series.iter())
+        .map(|(label, p)| Series {
+            label: label.clone(),
+            points: p.iter().map(|&(_, e, t)| (t, e)).collect(),
+        })
+        .collect();
+    (
+        loglog(
+            "billiard ball: error against the step",
+            "step h [s]",
+            "error [m/s]",
+            &by_step,
+        ),
+        loglog(
+            "billiard ball: error against the time",
+            "time [s]",
+            "error [m/s]",
+            &work,
+        ),
+    )
 }

@@ -12,7 +12,8 @@
 //! cardan-bench --drivers [--smoke]    (the driver-function section alone, to stdout)
 //! cardan-bench --animation [--smoke]  (the animation and report section alone, to stdout)
 //! cardan-bench --large [--smoke]      (check and run setup of 10³–10⁵-body chains, to stdout)
-//! cardan-bench --contact [--smoke]    (contact at scale: a sphere pile and a chain on a plane, to stdout)
+//! cardan-bench --contact [--smoke] [chain]  (contact at scale: a sphere pile and a chain on a plane, to stdout)
+//! cardan-bench --contact-plots RESULTS OUT  (the billiard ball's plots from the peers' RESULT lines)
 //! cardan-bench --modal [--smoke] [--peers PYTHON]  (the modal sections alone, to stdout; with
 //!     --peers also the frequencies against Exudyn, exit status 1 above 1e-6 relative)
 //! cardan-bench --asmt [--smoke] [--peers PYTHON] [--only FILE]  (ASMT files against OndselSolver, to stdout)
@@ -100,9 +101,18 @@ fn single_mode(args: &[String]) -> bool {
         Some("--large-point") => {
             cardan_bench::large::point(&args[1..]);
         }
+        Some("--contact-plots") => {
+            // RESULTS file (the peers' output) → two SVG files beside OUT (OUT_step.svg,
+            // OUT_work.svg).
+            let input = std::fs::read_to_string(&args[1]).expect("the results file");
+            let (step, work) = cardan_bench::contact::billiard_plots(&input);
+            std::fs::write(format!("{}_step.svg", args[2]), step).expect("write");
+            std::fs::write(format!("{}_work.svg", args[2]), work).expect("write");
+        }
         Some("--contact") => {
             let smoke = args.iter().any(|a| a == "--smoke");
-            print!("{}", cardan_bench::contact::section(smoke));
+            let chains = args.iter().any(|a| a == "chain");
+            print!("{}", cardan_bench::contact::section(smoke, chains));
         }
         Some("--large") => {
             println!(
