@@ -257,7 +257,7 @@ pub struct IntegrationStats {
     /// Wall time of the integration loop (s).
     pub wall_time: f64,
     /// The largest accepted step over the collision shapes' step cap
-    /// ([`Collisions::step_cap`](crate::collision::Collisions::step_cap)), with its time: above
+    /// (a quarter of each shape's thickness over its speed), with its time: above
     /// 1, a shape moved more than a quarter of its thickness in one step and thin shapes could
     /// have passed through each other unseen (generalized-α's fixed steps; DOPRI5 caps its
     /// own). 0 without shapes.

@@ -22,16 +22,19 @@
 //! while pressed and what their damping and friction dissipate, so E − E₀ − W still closes.
 //!
 //! ## Memory of a contact
-//! The damping of a pair is scaled by its approach speed v₀ at the onset ([`law`]): a pair
-//! first found touching at an evaluation takes v₀ from its current approach speed, and the
-//! value is kept from the first accepted state the pair touches at until the first accepted
-//! state it does not ([`Collisions::accept`]). Trial states of a rejected step leave no trace.
+//! The damping of a pair is scaled by its approach speed v₀ at the onset ([`law`]). A pair is
+//! followed within a margin (a quarter of the thinner shape's thickness) before it touches, and
+//! keeps its approach rate at the last accepted state at which it was apart; at the first
+//! accepted state it touches, v₀ is the larger of that and its approach rate there (DOPRI5 cuts
+//! its step at the onset, so the latter is exact; generalized-α's is the approach one step
+//! before), and v₀ is kept until the first accepted state it does not touch
+//! (`Collisions::accept`). Trial states of a rejected step leave no trace.
 //!
 //! ## Implicit steps
 //! A touching pair of moving bodies couples their forces: its bodies become a coupled pair of
 //! the generalized-α iteration matrix (its 6×6 blocks are laid out and its tangents computed by
 //! the coloured differences), from the first evaluation the pair touches at: a new pair asks
-//! for a new layout ([`Collisions::take_new_pairs`]), which the stepper makes before its next
+//! for a new layout (`Collisions::take_new_pairs`), which the stepper makes before its next
 //! attempt. Pairs once laid out stay (a rare event per pair, not per step).
 
 pub(crate) mod geometry;

@@ -6,7 +6,7 @@ use nalgebra::Vector3;
 /// One contact point at an evaluation (the rows of `contacts.csv`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContactPoint {
-    /// Shape 1 and shape 2 (indices into [`Model::shapes`]).
+    /// Shape 1 and shape 2 (indices into [`cardan_mechanism::Model::shapes`]).
     pub shapes: [usize; 2],
     /// The contact point P (global, m).
     pub point: Vector3<f64>,
