@@ -200,17 +200,8 @@ impl Dynamics<'_> {
         let model = self.model;
         let shapes = model.shapes();
         let c = self.collisions.as_ref().expect("collisions");
-        let worst = c
-            .points
-            .iter()
-            .map(|p| {
-                let [a, b] = p.shapes;
-                let thin = shapes[a]
-                    .geometry
-                    .thickness()
-                    .min(shapes[b].geometry.thickness());
-                (p.penetration / thin, p)
-            })
+        let worst = (c.points.iter())
+            .map(|p| (crate::collision::depth_ratio(model, p), p))
             .filter(|(r, _)| r.is_finite())
             .max_by(|x, y| x.0.total_cmp(&y.0));
         match worst {

@@ -63,6 +63,15 @@ use std::collections::HashMap;
 /// of the front end.
 pub const DEEP_PENETRATION: f64 = 0.1;
 
+/// A contact's penetration relative to the thinner of its shapes' thicknesses
+/// ([`cardan_mechanism::Geometry::thickness`]); not finite between a plane and a mesh.
+pub fn depth_ratio(model: &Model, c: &ContactPoint) -> f64 {
+    let shapes = model.shapes();
+    let thin =
+        (shapes[c.shapes[0]].geometry.thickness()).min(shapes[c.shapes[1]].geometry.thickness());
+    c.penetration / thin
+}
+
 /// Builds every shape of `model` as the geometry library takes it.
 ///
 /// # Errors
@@ -126,8 +135,7 @@ pub(crate) struct Collisions {
     round: Vec<bool>,
     bvh: Bvh,
     bvh_workspace: BvhWorkspace,
-    /// Moving body pairs joined by a joint, sorted (a body jointed to the ground still touches
-    /// the ground's shapes: a wheel on its axle rolls on the floor).
+    /// Moving body pairs joined by a joint, sorted.
     jointed: Vec<(usize, usize)>,
     pairs: HashMap<(u32, u32), Pair, foldhash::fast::FixedState>,
     candidates: Vec<(u32, u32)>,
@@ -152,13 +160,6 @@ impl std::fmt::Debug for Collisions {
             .field("pairs", &self.pairs.len())
             .field("points", &self.points.len())
             .finish_non_exhaustive()
-    }
-}
-
-fn body_key(b: BodyId) -> usize {
-    match b {
-        BodyId::Ground => usize::MAX,
-        BodyId::Moving(k) => k,
     }
 }
 
@@ -209,11 +210,11 @@ impl Collisions {
             .map(|&k| shapes[k].shape.compute_aabb(&poses[k]).loosened(margins[k]))
             .collect();
         let bvh = Bvh::from_leaves(BvhBuildStrategy::default(), &boxes);
-        let mut jointed: Vec<(usize, usize)> = model
-            .joints()
-            .iter()
-            .filter(|j| j.body_i != BodyId::Ground && j.body_j != BodyId::Ground)
-            .map(|j| ordered(body_key(j.body_i), body_key(j.body_j)))
+        let mut jointed: Vec<(usize, usize)> = (model.joints().iter())
+            .filter_map(|j| match (j.body_i, j.body_j) {
+                (BodyId::Moving(a), BodyId::Moving(b)) => Some(ordered(a, b)),
+                _ => None,
+            })
             .collect();
         jointed.sort_unstable();
         jointed.dedup();
@@ -240,18 +241,12 @@ impl Collisions {
         }))
     }
 
-    /// Whether shapes a and b may touch: different bodies, not two moving bodies joined by a
-    /// joint, the filters admit each other ([`cardan_mechanism::may_touch`]).
+    /// Whether shapes a and b may touch ([`cardan_mechanism::may_touch`], the joined bodies
+    /// from the sorted table).
     fn may_touch(&self, model: &Model, a: usize, b: usize) -> bool {
         let (sa, sb) = (&model.shapes()[a], &model.shapes()[b]);
-        if sa.body == sb.body {
-            return false;
-        }
-        if sa.groups & sb.collides_with == 0 || sb.groups & sa.collides_with == 0 {
-            return false;
-        }
-        let key = ordered(body_key(sa.body), body_key(sb.body));
-        self.jointed.binary_search(&key).is_err()
+        let jointed = &self.jointed;
+        cardan_mechanism::may_touch(sa, sb, |i, j| jointed.binary_search(&ordered(i, j)).is_ok())
     }
 
     /// The candidate pairs at the current poses (broad phase) into `self.candidates`.
@@ -513,21 +508,13 @@ impl Collisions {
         out.sort_unstable();
     }
 
-    /// The signed distance of shapes a and b at `bodies` (negative: the penetration), or
-    /// `None` when they are farther apart than `horizon`.
-    pub fn signed_distance(
-        &self,
-        a: usize,
-        b: usize,
-        bodies: &[BodyState],
-        horizon: f64,
-    ) -> Option<f64> {
+    /// The distance between shapes a and b at `bodies` (0 when they touch or overlap; ∞ when
+    /// the geometry library cannot tell).
+    pub fn distance(&self, a: usize, b: usize, bodies: &[BodyState]) -> f64 {
         let (s1, s2) = (&self.shapes[a], &self.shapes[b]);
         let (p1, p2) = (s1.pose(bodies), s2.pose(bodies));
-        parry3d_f64::query::contact(&p1, s1.shape.as_ref(), &p2, s2.shape.as_ref(), horizon)
-            .ok()
-            .flatten()
-            .map(|c| c.dist)
+        parry3d_f64::query::distance(&p1, s1.shape.as_ref(), &p2, s2.shape.as_ref())
+            .map_or(f64::INFINITY, |d| d.distance)
     }
 
     /// The contacts' force tangents at the last evaluation, block by block: for each point and
@@ -565,16 +552,20 @@ impl Collisions {
                     .copy_from(&(-b.a * arm.cross_matrix()));
                 j
             };
-            let sides = [
+            // Each moving side: its body, sign and Jacobian, once.
+            let mut sides = [(0, 0.0, Matrix3x6::zeros()); 2];
+            let mut n_sides = 0;
+            for (id, sign) in [
                 (self.shapes[c.shapes[1]].body, 1.0),
                 (self.shapes[c.shapes[0]].body, -1.0),
-            ];
-            for &(bj, sj) in &sides {
-                let BodyId::Moving(j) = bj else { continue };
-                let jj = jac(j);
-                for &(bk, sk) in &sides {
-                    let BodyId::Moving(k) = bk else { continue };
-                    let jk = jac(k);
+            ] {
+                if let BodyId::Moving(k) = id {
+                    sides[n_sides] = (k, sign, jac(k));
+                    n_sides += 1;
+                }
+            }
+            for &(j, sj, ref jj) in &sides[..n_sides] {
+                for &(k, sk, ref jk) in &sides[..n_sides] {
                     // h_j = s_j J_jᵀ f, f depending on v_rel (s_k J_k v_k) and x_P (s_k J_k q_k).
                     let cb = -(sj * sk) * (jj.transpose() * d * jk);
                     let kb = -(sj * sk) * (jj.transpose() * s * jk);

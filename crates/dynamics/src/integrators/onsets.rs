@@ -2,7 +2,7 @@
 //! ([`crate::collision`]): a pair that touches at the step's end but did not at its start
 //! began touching inside it. The contact force has a kink there and the pair's damping is
 //! scaled by its approach speed at that instant, so the step is cut at the onset: located on
-//! the stepper's dense output by the Illinois method on the pair's signed distance, to
+//! the stepper's dense output by the Illinois method on the pair's distance (0 once touching), to
 //! [`EVENT_TIME_TOLERANCE`], and the state there takes the pair's onset speed
 //! ([`apply_onset`]).
 
@@ -11,7 +11,7 @@ use super::stepper::{Span, Stepper};
 use crate::state::State;
 use crate::system::Dynamics;
 
-/// The signed distance of shapes (a, b) at the dense output's time `t`.
+/// The distance of shapes (a, b) at the dense output's time `t` (0 once they touch).
 fn distance_at<S: Stepper>(
     stepper: &mut S,
     d: &mut Dynamics,
@@ -21,8 +21,7 @@ fn distance_at<S: Stepper>(
     let st = stepper.interpolate(t);
     d.sync(st);
     let c = d.collisions.as_ref().expect("collisions");
-    c.signed_distance(a, b, &d.bodies, f64::INFINITY)
-        .unwrap_or(f64::INFINITY)
+    c.distance(a, b, &d.bodies)
 }
 
 /// The earliest onset of a contact inside the step `span` (module docs), if any: the time of
@@ -36,10 +35,9 @@ pub(crate) fn first_onset<S: Stepper>(
     if !stepper.locates_contact_onsets() {
         return None;
     }
-    // The contacts at the step's end.
-    let end = stepper.interpolate(span.t1);
-    d.sync(end);
-    d.eval_forces(span.t1);
+    // The contacts at the step's end are those of the last evaluation: the step's last stage,
+    // at its end (DOPRI5's first-same-as-last stage; nothing evaluates between the accepted
+    // attempt and this check).
     let c = d.collisions.as_mut().expect("collisions");
     let mut onsets = std::mem::take(&mut c.scratch);
     c.new_contacts(&mut onsets);
@@ -51,7 +49,9 @@ pub(crate) fn first_onset<S: Stepper>(
             continue;
         }
         let at = |t: f64| distance_at(stepper, d, pair, t);
-        let (_, time) = illinois(at, (span.t0, f0), (span.t1, f1), 0.0);
+        // The distance is 0 all through the contact: no early return at a zero (the bracket
+        // closes on its first time, bisecting where the secant lands on the touching end).
+        let (_, time) = illinois(at, (span.t0, f0), (span.t1, f1), -1.0);
         if time > span.t0 + 10.0 * EVENT_TIME_TOLERANCE * (1.0 + span.t0.abs())
             && first.is_none_or(|f| time < f)
         {

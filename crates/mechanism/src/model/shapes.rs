@@ -334,7 +334,7 @@ pub(crate) fn check_pairs(
         .collect();
     for (i, a) in flat_elastic.iter().enumerate() {
         for b in &flat_elastic[i + 1..] {
-            if may_touch(a, b, joints) {
+            if may_touch(a, b, |i, j| joined(joints, i, j)) {
                 return Err(ModelError::BadShape {
                     shape: b.name.clone(),
                     key: "material".into(),
@@ -354,19 +354,27 @@ pub(crate) fn check_pairs(
 /// Whether two shapes may touch: different bodies, not two moving bodies joined by a joint
 /// (a body jointed to the ground still touches the ground's shapes, as in MuJoCo: a wheel on
 /// its axle rolls on the floor), and each one's filter admitting the other's groups.
-pub fn may_touch(a: &ShapeInfo, b: &ShapeInfo, joints: &[JointInfo]) -> bool {
+/// `joined(i, j)` tells whether moving bodies i and j are joined (a scan of the joints here, a
+/// sorted table in the dynamics' broad phase).
+pub fn may_touch(a: &ShapeInfo, b: &ShapeInfo, joined: impl FnOnce(usize, usize) -> bool) -> bool {
     if a.body == b.body {
         return false;
     }
     if a.groups & b.collides_with == 0 || b.groups & a.collides_with == 0 {
         return false;
     }
-    if a.body == BodyId::Ground || b.body == BodyId::Ground {
-        return true;
+    match (a.body, b.body) {
+        (BodyId::Moving(i), BodyId::Moving(j)) => !joined(i, j),
+        _ => true,
     }
-    !joints.iter().any(|j| {
-        (j.body_i == a.body && j.body_j == b.body) || (j.body_i == b.body && j.body_j == a.body)
-    })
+}
+
+/// Whether a joint joins moving bodies i and j.
+fn joined(joints: &[JointInfo], i: usize, j: usize) -> bool {
+    let (bi, bj) = (BodyId::Moving(i), BodyId::Moving(j));
+    joints
+        .iter()
+        .any(|jt| (jt.body_i == bi && jt.body_j == bj) || (jt.body_i == bj && jt.body_j == bi))
 }
 
 /// Checks the shapes and materials of a model: names unique, every key valid, the pairs.
@@ -419,6 +427,8 @@ impl Model {
     /// Whether shapes `a` and `b` (indices into [`Model::shapes`]) may touch
     /// ([`may_touch`]).
     pub fn shapes_may_touch(&self, a: usize, b: usize) -> bool {
-        may_touch(&self.shapes[a], &self.shapes[b], &self.joints)
+        may_touch(&self.shapes[a], &self.shapes[b], |i, j| {
+            joined(&self.joints, i, j)
+        })
     }
 }

@@ -57,13 +57,8 @@ pub fn contacts_csv(p: &Prepared, rows: &[(f64, ContactPoint)]) -> Option<(Strin
 
 /// The deepest penetration relative to the shapes' size over `rows`: (ratio, time, point).
 pub fn deepest(p: &Prepared, rows: &[(f64, ContactPoint)]) -> Option<(f64, f64, ContactPoint)> {
-    let shapes = p.model.shapes();
     rows.iter()
-        .map(|(t, c)| {
-            let s = (shapes[c.shapes[0]].geometry.thickness())
-                .min(shapes[c.shapes[1]].geometry.thickness());
-            (c.penetration / s, *t, *c)
-        })
+        .map(|(t, c)| (cardan_dynamics::collision::depth_ratio(&p.model, c), *t, *c))
         .filter(|(r, _, _)| r.is_finite())
         .max_by(|a, b| a.0.total_cmp(&b.0))
 }
