@@ -15,21 +15,9 @@ const G: f64 = 9.81;
 /// and friction μ.
 fn ball_on_plane(m: f64, r: f64, z: f64, k: f64, e: f64, mu: f64, slope: f64) -> Model {
     let mut b = MechanismBuilder::new();
-    let j = 0.4 * m * r * r;
-    b.body(
-        Body::new("ball")
-            .mass(m)
-            .inertia_diagonal(j, j, j)
-            .position(Vector3::new(0.0, 0.0, z)),
-    );
-    b.material(hertz("steel", 2.0 * k, e).friction(mu).slip_velocity(1e-4));
+    ball(&mut b, "ball", m, r, Vector3::new(0.0, 0.0, z), "steel");
     // Two materials of 2K: K.
-    b.shape(ShapeSpec::new(
-        "ball",
-        "ball",
-        Geometry::Sphere { radius: r },
-        "steel",
-    ));
+    b.material(hertz("steel", 2.0 * k, e).friction(mu).slip_velocity(1e-4));
     let normal = Vector3::new(0.0, -slope.sin(), slope.cos());
     b.shape(ShapeSpec::new("floor", GROUND, Geometry::Plane, "steel").axes(normal, Vector3::x()));
     b.build().unwrap()
