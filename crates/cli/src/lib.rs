@@ -86,9 +86,9 @@ pub enum Command {
         asmt: AsmtArgs,
     },
     /// Write the cardan model (TOML) equivalent to an ASMT file (OndselSolver / FreeCAD
-    /// Assembly), with comments tracing each element to its ASMT path.
+    /// Assembly) or a URDF robot, with comments tracing each element to its source.
     Import {
-        /// The ASMT file.
+        /// The ASMT or URDF file.
         model: PathBuf,
         /// The TOML file to write (default: standard output).
         #[arg(short, long)]
@@ -100,6 +100,9 @@ pub enum Command {
         /// The analysis the model file asks for (default: the ASMT file's kinematics).
         #[arg(long, value_enum, default_value_t = asmt::Analysis::Kinematic)]
         analysis: asmt::Analysis,
+        /// How a URDF file is read.
+        #[command(flatten)]
+        urdf: UrdfArgs,
     },
     /// Print Φ, the Jacobian (pattern and values), ν and γ# at the assembled state.
     Eval {
@@ -153,11 +156,77 @@ pub struct AsmtArgs {
     /// ASMT files: the analysis to run (default: the file's kinematics).
     #[arg(long, value_enum)]
     pub analysis: Option<asmt::Analysis>,
+    /// How a URDF file is read.
+    #[command(flatten)]
+    pub urdf: UrdfArgs,
+}
+
+/// `--base`, `--mimic` and `--no-limits`: how a URDF file is read.
+#[derive(Debug, Clone, Copy, clap::Args)]
+pub struct UrdfArgs {
+    /// URDF files: the root link fixed to the ground (default) or floating (a free-flyer
+    /// base: a humanoid, a quadruped).
+    #[arg(long, value_enum)]
+    pub base: Option<UrdfBase>,
+    /// URDF files: mimic joints as gear couplers (default) or as free joints (Pinocchio's
+    /// default reading).
+    #[arg(long, value_enum)]
+    pub mimic: Option<UrdfMimic>,
+    /// URDF files: no stops at the joints' position limits.
+    #[arg(long)]
+    pub no_limits: bool,
+}
+
+/// `--base` of a URDF file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum UrdfBase {
+    /// The root link is the ground.
+    Fixed,
+    /// The root link's body moves freely.
+    Floating,
+}
+
+/// `--mimic` of a URDF file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum UrdfMimic {
+    /// A gear coupler per mimic joint.
+    Couple,
+    /// Mimic joints move freely.
+    Free,
+}
+
+impl UrdfArgs {
+    /// Whether any URDF flag is given.
+    fn given(&self) -> bool {
+        self.base.is_some() || self.mimic.is_some() || self.no_limits
+    }
+
+    /// The URDF reading the flags ask for.
+    fn options(&self) -> cardan_model::urdf::UrdfOptions {
+        use cardan_model::urdf::{Base, MimicMode, UrdfOptions};
+        UrdfOptions {
+            base: match self.base {
+                Some(UrdfBase::Floating) => Base::Floating,
+                _ => Base::Fixed,
+            },
+            mimic: match self.mimic {
+                Some(UrdfMimic::Free) => MimicMode::Free,
+                _ => MimicMode::Couple,
+            },
+            limits: !self.no_limits,
+        }
+    }
 }
 
 impl AsmtArgs {
-    /// The options, or an error for a TOML model given either flag.
+    /// The options, or an error for a model given a flag of another format.
     fn options(&self, model: &std::path::Path) -> Result<asmt::AsmtOptions, Error> {
+        if !cardan_model::urdf::is_urdf(model) && self.urdf.given() {
+            return Err(Error::usage(format!(
+                "--base, --mimic and --no-limits apply to URDF files (.urdf); {} is not one",
+                model.display()
+            )));
+        }
         if !asmt::is_asmt(model) && (self.units.is_some() || self.analysis.is_some()) {
             return Err(Error::usage(format!(
                 "--units and --analysis apply to ASMT files (.asmt); {} is a cardan model, \
@@ -166,6 +235,7 @@ impl AsmtArgs {
             )));
         }
         Ok(asmt::AsmtOptions {
+            urdf: self.urdf.options(),
             units: self.units.unwrap_or_default(),
             analysis: self.analysis.unwrap_or_default(),
         })
@@ -213,7 +283,15 @@ pub fn run(cli: &Cli, out: &mut dyn std::io::Write) -> Result<(), Error> {
             output,
             units,
             analysis,
-        } => commands::asmt::import(model, output.as_deref(), *units, *analysis, out),
+            urdf,
+        } => {
+            let options = asmt::AsmtOptions {
+                units: *units,
+                analysis: *analysis,
+                urdf: urdf.options(),
+            };
+            commands::asmt::import(model, output.as_deref(), options, out)
+        }
         Command::Eval { model, t, format } => eval::eval(model, *t, *format, out),
     }
 }

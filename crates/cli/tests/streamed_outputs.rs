@@ -230,7 +230,11 @@ fn solved_equals_whole(file: &Path, asmt: AsmtOptions) {
 
 #[test]
 fn an_asmt_runs_solved_series_streams_the_whole_series() {
-    let asmt = |units, analysis| AsmtOptions { units, analysis };
+    let asmt = |units, analysis| AsmtOptions {
+        units,
+        analysis,
+        ..AsmtOptions::default()
+    };
     // 10,001 frames of 91 rows: past the memory budget, so the frames spill to disk.
     let long = asmt_with_hout("crank_slider", "\t\t\t1.0e-4 ");
     solved_equals_whole(&long, asmt(Units::Si, Analysis::Kinematic));

@@ -8,7 +8,8 @@
 //!
 //! - Reading: [`file`](mod@file) (the file as written, every value spanned), [`build`] (the builders and
 //!   the analysis from it, located errors), [`units`], [`diag`] (errors with file, line, column
-//!   and the source line), [`asmt`] (an ASMT file imported as a model text), [`geometry`] (what
+//!   and the source line), [`asmt`] (an ASMT file imported as a model text), [`urdf`] (a URDF
+//!   robot imported as a model text), [`geometry`] (what
 //!   the animation draws).
 //! - [`prepare`](mod@prepare): read, check and build in one call ([`prepare::prepare`]), and the analysis
 //!   errors located in the file.
@@ -44,6 +45,7 @@ pub mod scene_curves;
 pub mod scene_shapes;
 pub mod table;
 pub mod units;
+pub mod urdf;
 pub mod vocabulary;
 
 pub use diag::{Error, ErrorKind, Location, Source};

@@ -8,25 +8,28 @@ use cardan_asmt::series::write_block;
 use cardan_asmt::solved::SeriesPlan;
 use cardan_asmt::transpose::Transposer;
 use cardan_model::analysis::stream::Tap;
-use cardan_model::asmt::{import_source, Analysis, Units};
+use cardan_model::asmt::{import_source, AsmtOptions, Units};
 use cardan_model::diag::{Error, Source};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-/// `cardan import MODEL.asmt [-o MODEL.toml] [--units si|mm]`: writes the equivalent cardan model (to stdout
-/// without `-o`).
+/// `cardan import MODEL.asmt|MODEL.urdf [-o MODEL.toml] [--units si|mm] [--base …]`: writes the
+/// equivalent cardan model (to stdout without `-o`).
 ///
 /// # Errors
-/// Unreadable or bad ASMT file, unwritable output.
+/// Unreadable or bad ASMT or URDF file, unwritable output.
 pub fn import(
     path: &Path,
     output: Option<&Path>,
-    units: Units,
-    analysis: Analysis,
+    options: AsmtOptions,
     out: &mut dyn Write,
 ) -> Result<(), Error> {
     let src = Source::read(path)?;
-    let (model, warnings) = import_source(&src, units, analysis)?;
+    let (model, warnings) = if cardan_model::urdf::is_urdf(path) {
+        cardan_model::urdf::import_source(&src, options.urdf, true)?
+    } else {
+        import_source(&src, options.units, options.analysis)?
+    };
     for w in &warnings {
         eprintln!("warning: {w}");
     }
@@ -34,7 +37,7 @@ pub fn import(
         Some(o) => {
             if crate::output::single::same_file(path, o) {
                 return Err(Error::usage(format!(
-                    "the output {} is the input file {}: importing would overwrite the ASMT \
+                    "the output {} is the input file {}: importing would overwrite the \
                      file with its cardan model; write to another file (e.g. -o {})",
                     o.display(),
                     path.display(),

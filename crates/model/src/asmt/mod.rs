@@ -71,6 +71,8 @@ pub struct AsmtOptions {
     pub units: Units,
     /// The analysis to run.
     pub analysis: Analysis,
+    /// How a URDF file is read (`run` and `check` take `.urdf` files too).
+    pub urdf: crate::urdf::UrdfOptions,
 }
 
 /// Reads an ASMT source and returns the imported cardan model text (as a [`Source`] named
@@ -165,13 +167,16 @@ fn refuse_massless(import: &cardan_asmt::Import, path: &Path) -> Result<(), Erro
     )))
 }
 
-/// Reads `path`: a TOML model as it is (no warnings), an ASMT file imported as `options` say
-/// (with the import's warnings, each a sentence with the ASMT line).
+/// Reads `path`: a TOML model as it is (no warnings), an ASMT or a URDF file imported as
+/// `options` say (with the import's warnings, each a sentence with the file's line).
 ///
 /// # Errors
 /// Unreadable file, or an ASMT reader error.
 pub fn read_model(path: &Path, options: AsmtOptions) -> Result<(Source, Vec<String>), Error> {
     let src = Source::read(path)?;
+    if crate::urdf::is_urdf(path) {
+        return crate::urdf::import_source(&src, options.urdf, true);
+    }
     if !is_asmt(path) {
         return Ok((src, Vec::new()));
     }
