@@ -61,6 +61,9 @@ pub struct ModelFile {
     /// `[[shape]]`: collision shapes on bodies and the ground (dynamic analyses).
     #[serde(default)]
     pub shape: Vec<Spanned<ShapeSection>>,
+    /// `[urdf]`: the file is an overlay on a URDF robot ([`crate::overlay`]).
+    #[serde(default)]
+    pub urdf: Option<Spanned<UrdfSection>>,
     /// `[analysis]`.
     pub analysis: Option<Spanned<AnalysisSection>>,
     /// The keys written in the sections with vocabularies, with their spans (not a key of the
@@ -84,6 +87,23 @@ pub struct ModelSection {
     /// Gravity [m/s²] (used by dynamic analysis; ignored by kinematics).
     #[serde(default)]
     pub gravity: Option<Vec3>,
+}
+
+/// `[urdf]`: the robot this file adds to ([`crate::overlay`]).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct UrdfSection {
+    /// The URDF file, relative to this file's directory.
+    pub file: Name,
+    /// `"fixed"` (default): the root link is the ground; `"floating"`: it moves freely.
+    #[serde(default)]
+    pub base: Option<Name>,
+    /// `"couple"` (default): mimic joints as gear couplers; `"free"`: as free joints.
+    #[serde(default)]
+    pub mimic: Option<Name>,
+    /// The position limits as stops (default true).
+    #[serde(default)]
+    pub limits: Option<bool>,
 }
 
 /// `[ground]`.

@@ -43,7 +43,8 @@ pub struct Declared {
 /// # Errors
 /// An input error naming the body, the item and the line (module docs).
 pub fn load(src: &Source) -> Result<Declared, Error> {
-    load_parsed(src, &crate::file::parse(src)?)
+    let (src, file, _) = crate::overlay::parse_overlaid(src.clone())?;
+    load_parsed(&src, &file)
 }
 
 /// [`load`] from the file already parsed (a large model's file is parsed once: `Prepared`).

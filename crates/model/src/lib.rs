@@ -36,6 +36,7 @@ pub mod geometry;
 pub mod limits;
 mod number;
 pub mod output_tables;
+pub mod overlay;
 pub mod plot;
 pub mod prepare;
 pub mod progress;

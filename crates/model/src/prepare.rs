@@ -47,7 +47,7 @@ pub fn prepare(path: &Path) -> Result<Prepared, Error> {
 pub fn prepare_with(path: &Path, options: crate::asmt::AsmtOptions) -> Result<Prepared, Error> {
     let (source, warnings) = crate::asmt::read_model(path, options)?;
     let mut p = prepare_source(source)?;
-    p.warnings = warnings;
+    p.warnings.splice(0..0, warnings);
     p.file = path.to_path_buf();
     Ok(p)
 }
@@ -58,7 +58,7 @@ pub fn prepare_with(path: &Path, options: crate::asmt::AsmtOptions) -> Result<Pr
 /// # Errors
 /// As [`prepare`], except reading.
 pub fn prepare_source(source: Source) -> Result<Prepared, Error> {
-    let file = crate::file::parse(&source)?;
+    let (source, file, warnings) = crate::overlay::parse_overlaid(source)?;
     let loaded = load(&source, &file)?;
     let geometry = crate::geometry::load_parsed(&source, &file);
     drop(file);
@@ -79,7 +79,7 @@ pub fn prepare_source(source: Source) -> Result<Prepared, Error> {
         source,
         loaded,
         model,
-        warnings: Vec::new(),
+        warnings,
         units,
         geometry,
     })

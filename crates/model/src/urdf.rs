@@ -59,6 +59,21 @@ pub fn import_source(
     options: UrdfOptions,
     needs_masses: bool,
 ) -> Result<(Source, Vec<String>), Error> {
+    let (text, warnings) = import_text(src, options, needs_masses, true)?;
+    Ok((Source::from_text(imported_path(&src.path), text), warnings))
+}
+
+/// [`import_source`]'s text, with or without its default `[analysis]` (an overlay's robot,
+/// [`crate::overlay`], has the overlay's).
+///
+/// # Errors
+/// As [`import_source`].
+pub fn import_text(
+    src: &Source,
+    options: UrdfOptions,
+    needs_masses: bool,
+    analysis: bool,
+) -> Result<(String, Vec<String>), Error> {
     let import = cardan_urdf::import(
         &src.text,
         cardan_urdf::Options {
@@ -73,13 +88,13 @@ pub fn import_source(
         .path
         .file_name()
         .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-    let text = cardan_urdf::toml_out::to_toml(&import, &name);
+    let text = cardan_urdf::toml_out::to_toml_with(&import, &name, analysis);
     let warnings = import
         .warnings
         .iter()
         .map(|w| format!("{}:{}: {}", src.path.display(), w.line, w.message))
         .collect();
-    Ok((Source::from_text(imported_path(&src.path), text), warnings))
+    Ok((text, warnings))
 }
 
 /// A reader error at its URDF line.

@@ -95,6 +95,11 @@ fn features(import: &Import) -> Vec<Features> {
 
 /// The cardan model text of `import`; `file` names the URDF in the comments.
 pub fn to_toml(import: &Import, file: &str) -> String {
+    to_toml_with(import, file, true)
+}
+
+/// [`to_toml`], with or without the default `[analysis]` (an overlay gives its own).
+pub fn to_toml_with(import: &Import, file: &str, analysis: bool) -> String {
     let robot = &import.robot;
     let lay = &import.layout;
     let mut out = String::new();
@@ -176,6 +181,9 @@ pub fn to_toml(import: &Import, file: &str) -> String {
         }
     }
     joints(import, &mut out);
+    if !analysis {
+        return out;
+    }
     let _ = writeln!(
         out,
         "\n[analysis]   # the robot released at rest in its zero configuration, under gravity\nkind = \"dynamic\"\nt_end = 2.0\noutput_dt = 0.01"

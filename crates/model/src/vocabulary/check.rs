@@ -32,6 +32,12 @@ const SECTIONS: [&str; 11] = [
 ];
 
 impl KeySpans {
+    /// Adds the keys of another part of the same text (an overlay's robot, [`crate::overlay`]).
+    pub fn extend(&mut self, other: KeySpans) {
+        self.tables.extend(other.tables);
+        self.texts.extend(other.texts);
+    }
+
     /// The keys of the vocabulary sections of `doc` (the parsed file).
     pub fn collect(doc: &DeTable<'_>) -> Self {
         let mut spans = Self::default();
