@@ -27,9 +27,14 @@ pub fn read(text: &str) -> Result<(Robot, Vec<Warning>)> {
         nodes_limit: MAX_NODES,
         ..ParsingOptions::default()
     };
-    let doc = Document::parse_with_options(text, options).map_err(xml_error)?;
+    let doc = Document::parse_with_options(text, options).map_err(|e| xml_error(text, e))?;
     let root = doc.root_element();
-    let at = |n: Node| doc.text_pos_at(n.range().start).row as usize;
+    // Line starts, for a node's line by binary search (roxmltree's `text_pos_at` scans the text
+    // from its start: quadratic over a large file).
+    let starts: Vec<usize> = std::iter::once(0)
+        .chain(text.match_indices('\n').map(|(k, _)| k + 1))
+        .collect();
+    let at = |n: Node| starts.partition_point(|&s| s <= n.range().start);
     if root.tag_name().name() != "robot" {
         return Err(UrdfError::new(
             at(root),
@@ -63,8 +68,13 @@ pub fn read(text: &str) -> Result<(Robot, Vec<Warning>)> {
 }
 
 /// An XML syntax error at its line; a DTD or too many nodes said in words.
-fn xml_error(e: roxmltree::Error) -> UrdfError {
-    let line = e.pos().row as usize;
+fn xml_error(text: &str, e: roxmltree::Error) -> UrdfError {
+    let mut line = e.pos().row as usize;
+    if matches!(e, roxmltree::Error::DtdDetected) {
+        if let Some(k) = text.find("<!DOCTYPE") {
+            line = 1 + text[..k].matches('\n').count();
+        }
+    }
     let message = match e {
         roxmltree::Error::DtdDetected => {
             "the file has a document type declaration (<!DOCTYPE …>); URDF needs none and entity \
