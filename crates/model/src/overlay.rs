@@ -24,7 +24,8 @@
 //!
 //! The robot is imported as `cardan import` would ([`crate::urdf`]) and its bodies, joints,
 //! limits, couplers and ground points are added to the overlay's; the overlay's `[model]`,
-//! `[ground]` (merged with the robot's ground points) and `[analysis]` are the model's. Messages
+//! `[ground]` (merged with the robot's ground points) and `[analysis]` are the model's, with the
+//! robot's gravity (0, 0, −9.81) m/s² unless the overlay's `[model]` gives one. Messages
 //! about the overlay's own elements point at its lines; the robot's part is checked when it is
 //! read, at the URDF's lines.
 //!
@@ -85,7 +86,11 @@ fn options(src: &Source, t: &crate::file::UrdfSection) -> Result<UrdfOptions, Er
         words.iter().position(|w| w == v.get_ref()).ok_or_else(|| {
             src.error_at(
                 v.span(),
-                format!("[urdf] {key} = \"{}\": use {}", v.get_ref(), words.join(" or ")),
+                format!(
+                    "[urdf] {key} = \"{}\": use {}",
+                    v.get_ref(),
+                    words.join(" or ")
+                ),
             )
         })
     };
@@ -98,6 +103,10 @@ fn options(src: &Source, t: &crate::file::UrdfSection) -> Result<UrdfOptions, Er
 
 /// Adds the robot's elements to the overlay's.
 fn merge(src: &Source, file: &mut ModelFile, robot: ModelFile) -> Result<(), Error> {
+    let gravity = &mut file.model.get_mut().gravity;
+    if gravity.is_none() {
+        *gravity = robot.model.into_inner().gravity;
+    }
     file.body.extend(robot.body);
     file.joint.extend(robot.joint);
     file.limit.extend(robot.limit);

@@ -15,6 +15,7 @@
 //! - `table_csv`: a table's CSV text exactly as `cardan run` writes it.
 //! - `validate`: a model text read and validated (what `cardan.Model` does when it is made).
 //! - `import_asmt`: an ASMT file as model text.
+//! - `import_urdf`: a URDF robot as model text.
 //! - `drag`: one drag step (a point of a body pulled toward a target, the rest by least change).
 //! - `main`: the `cardan` command itself (`python -m cardan`).
 //!
@@ -351,6 +352,51 @@ fn import_asmt<'py>(
     Ok(out)
 }
 
+/// A URDF robot as cardan model text: a dict with `text` (the imported model), `path` (its
+/// name, `<file>.urdf.toml`) and `warnings`, or `error`. `base` is `"fixed"` or `"floating"`,
+/// `mimic` `"couple"` or `"free"`; `limits` writes the position limits as stops.
+#[pyfunction]
+#[pyo3(signature = (text, path, base="fixed", mimic="couple", limits=true))]
+fn import_urdf<'py>(
+    py: Python<'py>,
+    text: String,
+    path: String,
+    base: &str,
+    mimic: &str,
+    limits: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    use cardan_model::urdf::{import_source, Base, MimicMode, UrdfOptions};
+    let bad = |key: &str, v: &str, words: &str| {
+        pyo3::exceptions::PyValueError::new_err(format!("{key}={v:?}: use {words}"))
+    };
+    let base = match base {
+        "fixed" => Base::Fixed,
+        "floating" => Base::Floating,
+        other => return Err(bad("base", other, "\"fixed\" or \"floating\"")),
+    };
+    let mimic = match mimic {
+        "couple" => MimicMode::Couple,
+        "free" => MimicMode::Free,
+        other => return Err(bad("mimic", other, "\"couple\" or \"free\"")),
+    };
+    let options = UrdfOptions {
+        base,
+        mimic,
+        limits,
+    };
+    let out = PyDict::new(py);
+    match import_source(&Source::from_text(path, text), options, true) {
+        Ok((model, warnings)) => {
+            out.set_item("text", model.text)?;
+            out.set_item("path", model.path.display().to_string())?;
+            out.set_item("warnings", warnings)?;
+            out.set_item("error", py.None())?;
+        }
+        Err(e) => out.set_item("error", error_dict(py, &ErrorData::from(&e))?)?,
+    }
+    Ok(out)
+}
+
 /// Reads and validates a model text as every analysis does before it runs (syntax, names,
 /// numbers, shapes; not the assembly): `None`, or the error dict.
 #[pyfunction]
@@ -384,6 +430,7 @@ fn _cardan(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(main, m)?)?;
     m.add_function(wrap_pyfunction!(table_csv, m)?)?;
     m.add_function(wrap_pyfunction!(import_asmt, m)?)?;
+    m.add_function(wrap_pyfunction!(import_urdf, m)?)?;
     m.add_function(wrap_pyfunction!(drag::drag, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

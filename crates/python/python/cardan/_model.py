@@ -92,9 +92,17 @@ class Model:
         return cls(text, path if path is not None else "<string>")
 
     @classmethod
-    def load(cls, path: "os.PathLike[str] | str", units: "str | None" = None) -> "Model":
+    def load(
+        cls,
+        path: "os.PathLike[str] | str",
+        units: "str | None" = None,
+        *,
+        base: "str | None" = None,
+        mimic: "str | None" = None,
+        limits: "bool | None" = None,
+    ) -> "Model":
         """Reads and validates a model file (a ``str`` or a ``pathlib.Path``): see :func:`load`."""
-        return load(path, units)
+        return load(path, units, base=base, mimic=mimic, limits=limits)
 
     def check(self) -> Check:
         """Validates the model and analyses its joints: raises :class:`ModelError` for a bad
@@ -203,16 +211,41 @@ class Model:
         return f"<cardan.Model {self.path}>"
 
 
-def load(path: "os.PathLike[str] | str", units: "str | None" = None) -> Model:
-    """Reads a model file: TOML, or an ASMT assembly (``.asmt``, OndselSolver / FreeCAD),
-    imported as cardan does for ``cardan run model.asmt``. ``units`` is for ASMT files, as
-    ``--units`` of the command: ``"si"`` (default) or ``"mm"`` (FreeCAD's millimetres: the model
-    says ``[model] units = "mm"`` and its results are in mm). A TOML model gives its units in
-    ``[model] units``, and ``units=`` is refused for it. The import's warnings (elements read
-    but ignored) are issued as Python warnings."""
+def load(
+    path: "os.PathLike[str] | str",
+    units: "str | None" = None,
+    *,
+    base: "str | None" = None,
+    mimic: "str | None" = None,
+    limits: "bool | None" = None,
+) -> Model:
+    """Reads a model file: TOML, an ASMT assembly (``.asmt``, OndselSolver / FreeCAD) or a URDF
+    robot (``.urdf``), imported as cardan does for ``cardan run model.asmt``. ``units`` is for
+    ASMT files, as ``--units`` of the command: ``"si"`` (default) or ``"mm"`` (FreeCAD's
+    millimetres: the model says ``[model] units = "mm"`` and its results are in mm). A TOML model
+    gives its units in ``[model] units``, and ``units=`` is refused for it. ``base``
+    (``"fixed"`` or ``"floating"``), ``mimic`` (``"couple"`` or ``"free"``) and ``limits`` are
+    for URDF files, as ``--base``, ``--mimic`` and ``--no-limits``. The import's warnings
+    (elements read but ignored) are issued as Python warnings."""
     path = os.path.abspath(os.fspath(path))
     with open(path, encoding="utf-8") as f:
         text = f.read()
+    is_urdf = path.lower().endswith(".urdf")
+    if not is_urdf and (base is not None or mimic is not None or limits is not None):
+        raise ValueError(f"base=, mimic= and limits= apply to URDF files; {path} is not one")
+    if is_urdf:
+        if units is not None:
+            raise ValueError(f"units={units!r} applies to ASMT files; a URDF is in SI units")
+        out = _cardan.import_urdf(
+            text, path, base or "fixed", mimic or "couple", True if limits is None else limits
+        )
+        if out["error"] is not None:
+            raise_error(out["error"])
+        import warnings
+
+        for w in out["warnings"]:
+            warnings.warn(w, stacklevel=2)
+        return Model(out["text"], out["path"])
     if path.lower().endswith(".asmt"):
         out = _cardan.import_asmt(text, path, units or "si")
         if out["error"] is not None:
