@@ -1,6 +1,6 @@
-"""Every bundled example runs (issue 46): TOML models with `cardan run`, ASMT assemblies with
-`cardan run`, `check` and `import` (the imported model checked too), Python examples with the
-test venv's Python. An example the documents already run (test_docs.py) is not run again."""
+"""Every bundled example runs (issue 46): TOML models with `cardan run`, ASMT assemblies and URDF
+robots with `cardan run`, `check` and `import` (the imported model checked too), Python examples
+with the test venv's Python. An example the documents already run (test_docs.py) is not run again."""
 
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ from conftest import environment, workdir
 EXAMPLES = sorted(
     p.relative_to(ROOT).as_posix()
     for p in (ROOT / "examples").rglob("*")
-    if p.suffix in (".toml", ".asmt", ".py") and "__pycache__" not in p.parts
+    if p.suffix in (".toml", ".asmt", ".urdf", ".py") and "__pycache__" not in p.parts
 )
 
 
@@ -33,7 +33,7 @@ DOCS_RUN = run_by_docs()
 
 
 def test_there_are_examples_of_each_kind():
-    assert {pathlib_suffix(e) for e in EXAMPLES} == {".toml", ".asmt", ".py"}
+    assert {pathlib_suffix(e) for e in EXAMPLES} == {".toml", ".asmt", ".urdf", ".py"}
 
 
 def pathlib_suffix(name: str) -> str:
@@ -42,7 +42,8 @@ def pathlib_suffix(name: str) -> str:
 
 @pytest.mark.parametrize("example", EXAMPLES)
 def test_example_runs(example, tmp_path, cardan_bin, venv_python):
-    if example in DOCS_RUN and not example.endswith(".asmt"):
+    imported = example.endswith((".asmt", ".urdf"))
+    if example in DOCS_RUN and not imported:
         pytest.skip("run by the documents' blocks (test_docs.py)")
     work = workdir(tmp_path, cardan_bin)
     env = environment(work, venv_python)
@@ -55,7 +56,7 @@ def test_example_runs(example, tmp_path, cardan_bin, venv_python):
         run(str(venv_python), example, "--out", "out")
     else:
         run("cardan", "run", example, "-o", "out", "--quiet")
-    if example.endswith(".asmt"):
+    if imported:
         run("cardan", "check", example)
         run("cardan", "import", example, "-o", "imported.toml")
         run("cardan", "check", "imported.toml")

@@ -189,6 +189,30 @@ mod tests {
     use crate::read::read;
     use crate::tree::tree;
 
+    /// A joint's origin comes first, its motion after it: the child link's frame is
+    /// T_parent · T_origin · M(q), so a link 1 m along the origin's rotated x, then turned by q
+    /// about the joint's z, has its own x axis turned by the origin's yaw plus q.
+    #[test]
+    fn the_joint_origin_comes_before_the_joint_motion() {
+        let text = r#"<robot name="r"><link name="world"/><link name="a"/>
+          <joint name="j" type="revolute"><parent link="world"/><child link="a"/>
+          <origin xyz="1 0 0" rpy="0 0 0.5"/><axis xyz="0 0 1"/><limit lower="0.25" upper="1"/></joint>
+        </robot>"#;
+        let (robot, _) = read(text).unwrap();
+        let t = tree(&robot).unwrap();
+        // 0 is outside [0.25, 1]: drawn at the lower limit.
+        let q0 = initial_q(&robot);
+        assert_eq!(q0, vec![0.25]);
+        let lay = layout(&robot, &t, Base::Fixed, &q0);
+        let a = lay.link_pose[1];
+        assert!((a.r - Vector3::new(1.0, 0.0, 0.0)).norm() < 1e-15);
+        let x = a.a * Vector3::x();
+        let angle = x.y.atan2(x.x);
+        assert!((angle - 0.75).abs() < 1e-15, "{angle}");
+        let xj = lay.joint_frame[0].a * Vector3::x();
+        assert!((xj.y.atan2(xj.x) - 0.5).abs() < 1e-15);
+    }
+
     /// Two unit point-like cubes merged through a fixed joint: the parallel-axis theorem.
     #[test]
     fn a_fixed_child_merges_into_its_parent_by_steiner() {

@@ -149,7 +149,11 @@ pub fn check_mimics(robot: &Robot) -> Result<()> {
         .enumerate()
         .map(|(k, j)| (j.name.as_str(), k))
         .collect();
-    for j in &robot.joints {
+    for j in robot
+        .joints
+        .iter()
+        .filter(|j| j.kind != crate::robot::JointType::Fixed)
+    {
         let Some(m) = &j.mimic else { continue };
         let Some(&target) = joint_index.get(m.joint.as_str()) else {
             return Err(UrdfError::new(
