@@ -7,8 +7,8 @@
 //! at rest in its zero configuration under gravity for 2 s (a dynamic run); an overlay model file
 //! (`[model] urdf = "robot.urdf"`, [`crate::overlay`]) adds drivers, joints, forces and any other
 //! analysis. Mesh paths (`package://pkg/…`, `file://…`, relative) are resolved by
-//! [`resolve_mesh`] against the file's directory and a search path (`--package-path`, or
-//! `CARDAN_PACKAGE_PATH` / `ROS_PACKAGE_PATH`).
+//! [`resolve_mesh`] against a search path (`CARDAN_PACKAGE_PATH`, then `ROS_PACKAGE_PATH`) and
+//! the file's parent directories.
 
 use crate::diag::{Error, Location, Source};
 pub use cardan_urdf::{Base, MimicMode};
@@ -88,10 +88,16 @@ pub fn import_text(
         .path
         .file_name()
         .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-    let text = cardan_urdf::toml_out::to_toml_with(&import, &name, analysis);
+    let search = package_path();
+    let resolve = |f: &str| {
+        resolve_mesh(f, &src.path, &search).map(|p| std::fs::canonicalize(&p).unwrap_or(p))
+    };
+    let (geometry, mesh_warnings) = cardan_urdf::visuals::visuals(&import, &resolve);
+    let text = cardan_urdf::toml_out::to_toml_with(&import, &name, analysis, &geometry);
     let warnings = import
         .warnings
         .iter()
+        .chain(&mesh_warnings)
         .map(|w| format!("{}:{}: {}", src.path.display(), w.line, w.message))
         .collect();
     Ok((text, warnings))

@@ -1,5 +1,7 @@
-//! Mesh files as triangle meshes: STL (binary or ASCII, through `stl_io`) and Wavefront OBJ
-//! (through `tobj`, polygons triangulated, materials ignored).
+//! Mesh files as triangle meshes: STL (binary or ASCII, through `stl_io`), Wavefront OBJ
+//! (through `tobj`, polygons triangulated, materials ignored) and COLLADA (`.dae`, through
+//! `mesh-loader`: the document's unit and node transforms applied, materials ignored), the
+//! formats robot descriptions use.
 //!
 //! Each triangle gets its own three vertices and its face normal (flat shading: mechanical
 //! parts have sharp edges; a degenerate triangle gets +z). Coordinates are multiplied by
@@ -22,6 +24,8 @@ pub enum MeshFormat {
     Stl,
     /// `.obj`.
     Obj,
+    /// `.dae` (COLLADA).
+    Dae,
 }
 
 impl MeshFormat {
@@ -31,6 +35,7 @@ impl MeshFormat {
         match ext.as_str() {
             "stl" => Some(Self::Stl),
             "obj" => Some(Self::Obj),
+            "dae" => Some(Self::Dae),
             _ => None,
         }
     }
@@ -44,7 +49,7 @@ impl MeshFormat {
 pub fn read_mesh(path: &Path, scale: f64, max_triangles: usize) -> Result<Mesh, Error> {
     let fail = |why: String| Error::Mesh(format!("mesh file {}: {why}", path.display()));
     let format = MeshFormat::of(path).ok_or_else(|| {
-        fail("unknown kind of mesh file; the extension must be .stl or .obj".into())
+        fail("unknown kind of mesh file; the extension must be .stl, .obj or .dae".into())
     })?;
     let mut file = std::fs::File::open(path).map_err(|e| fail(format!("cannot open it ({e})")))?;
     let bytes = file
@@ -97,6 +102,25 @@ pub fn read_mesh(path: &Path, scale: f64, max_triangles: usize) -> Result<Mesh, 
                         _ => return Err(fail("a face refers to a missing vertex".into())),
                     }
                 }
+            }
+            out
+        }
+        MeshFormat::Dae => {
+            let mut bytes = Vec::new();
+            file.read_to_end(&mut bytes)
+                .map_err(|e| fail(format!("cannot read it ({e})")))?;
+            let scene = mesh_loader::collada::from_slice(&bytes)
+                .map_err(|e| fail(format!("not a readable COLLADA file ({e})")))?;
+            let mut out = Vec::new();
+            for m in &scene.meshes {
+                for f in &m.faces {
+                    let v = |i: u32| m.vertices.get(i as usize).copied();
+                    match (v(f[0]), v(f[1]), v(f[2])) {
+                        (Some(a), Some(b), Some(c)) => out.push([a, b, c]),
+                        _ => return Err(fail("a face refers to a missing vertex".into())),
+                    }
+                }
+                check_count(out.len(), max_triangles).map_err(fail)?;
             }
             out
         }

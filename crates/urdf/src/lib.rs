@@ -46,6 +46,7 @@ pub mod read;
 pub mod robot;
 pub mod toml_out;
 pub mod tree;
+pub mod visuals;
 
 pub use bodies::Base;
 pub use error::{UrdfError, Warning};

@@ -95,11 +95,18 @@ fn features(import: &Import) -> Vec<Features> {
 
 /// The cardan model text of `import`; `file` names the URDF in the comments.
 pub fn to_toml(import: &Import, file: &str) -> String {
-    to_toml_with(import, file, true)
+    to_toml_with(import, file, true, &[])
 }
 
-/// [`to_toml`], with or without the default `[analysis]` (an overlay gives its own).
-pub fn to_toml_with(import: &Import, file: &str, analysis: bool) -> String {
+/// [`to_toml`], with or without the default `[analysis]` (an overlay gives its own), and with
+/// each body's `geometry` items ([`crate::visuals`]; none when `geometry` is empty: the body
+/// is drawn from its points and joints).
+pub fn to_toml_with(
+    import: &Import,
+    file: &str,
+    analysis: bool,
+    geometry: &[Vec<String>],
+) -> String {
     let robot = &import.robot;
     let lay = &import.layout;
     let mut out = String::new();
@@ -178,6 +185,9 @@ pub fn to_toml_with(import: &Import, file: &str, analysis: bool) -> String {
         let _ = writeln!(out, "global_points = {}", inline(&f.points));
         if !f.vectors.is_empty() {
             let _ = writeln!(out, "global_vectors = {}", inline(&f.vectors));
+        }
+        if let Some(items) = geometry.get(g).filter(|i| !i.is_empty()) {
+            let _ = writeln!(out, "geometry = [\n  {},\n]", items.join(",\n  "));
         }
     }
     joints(import, &mut out);
