@@ -253,11 +253,25 @@ fn load_joints(
         check_unique_element(r.cx, spans, &j.name, "joint")?;
         spans.joints.insert(jname.clone(), j.name.span());
         let spec = load_joint(r, j)?;
+        let rating = |v: &Option<crate::file::Num>, key: &str| -> Result<Option<f64>, Error> {
+            let Some(v) = v else { return Ok(None) };
+            let x = *v.get_ref();
+            if x.is_finite() && x > 0.0 {
+                Ok(Some(x))
+            } else {
+                Err(r.cx.err(
+                    v.span(),
+                    format!("joint \"{jname}\": {key} = {x} must be a positive number"),
+                ))
+            }
+        };
         out.list.push(JointEntry {
             name: jname.clone(),
             kind: spec.kind,
             body_i: spec.body_i.clone(),
             body_j: spec.body_j.clone(),
+            effort_limit: rating(&j.effort_limit, "effort_limit")?,
+            rate_limit: rating(&j.rate_limit, "rate_limit")?,
         });
         out.kinds.insert(jname, spec.kind);
         builder.joint(spec);

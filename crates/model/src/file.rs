@@ -275,6 +275,14 @@ pub struct JointSection {
     /// Angle α \[rad\] of an angle or cone joint (default: its initial value).
     #[serde(default)]
     pub angle: Option<Num>,
+    /// The joint's effort rating (SI: N m for an angle, N for a slide; a URDF `<limit effort>`):
+    /// a driver effort beyond it is a warning.
+    #[serde(default)]
+    pub effort_limit: Option<Num>,
+    /// The joint's rate rating (SI: rad/s or m/s; a URDF `<limit velocity>`): a driven rate
+    /// beyond it is a warning.
+    #[serde(default)]
+    pub rate_limit: Option<Num>,
 }
 
 /// `function = { kind = ..., ... }`.

@@ -5,7 +5,7 @@
 //! written as a cardan model (`<file>.urdf.toml`, the text `cardan import` writes) that goes
 //! through the same validation and analysis as a TOML model. Its analysis is the robot released
 //! at rest in its zero configuration under gravity for 2 s (a dynamic run); an overlay model file
-//! (`[model] urdf = "robot.urdf"`, [`crate::overlay`]) adds drivers, joints, forces and any other
+//! (`[urdf] file = "robot.urdf"`, [`crate::overlay`]) adds drivers, joints, forces and any other
 //! analysis. Mesh paths (`package://pkg/…`, `file://…`, relative) are resolved by
 //! [`resolve_mesh`] against a search path (`CARDAN_PACKAGE_PATH`, then `ROS_PACKAGE_PATH`) and
 //! the file's parent directories.

@@ -231,6 +231,14 @@ fn joints(import: &Import, out: &mut String) {
             body(lay.body_of[p]),
             body(lay.body_of[c]),
         );
+        // The actuator's ratings: warnings when a driven motion passes them.
+        if let Some(l) = &j.limit {
+            for (key, v) in [("effort_limit", l.effort), ("rate_limit", l.velocity)] {
+                if let Some(v) = v.filter(|v| v.is_finite() && *v > 0.0) {
+                    let _ = writeln!(out, "{key} = {}", num(v));
+                }
+            }
+        }
         let Some(l) = j.limit.filter(|l| l.lower < l.upper) else {
             continue;
         };

@@ -266,5 +266,6 @@ fn inverse_warnings(
     }
     warnings.extend(dropped_row_warnings(p, dropped_rows));
     warnings.extend(super::warnings::cam_pull_warnings(tally));
+    warnings.extend(super::warnings::rating_warnings(p, &tally.peak_efforts));
     warnings
 }

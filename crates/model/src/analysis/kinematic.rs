@@ -85,6 +85,7 @@ pub(super) fn run_kinematic(
         peak_efforts: Vec::new(),
         warnings: (dropped_row_warnings(p, &totals.dropped_rows).into_iter())
             .chain(super::warnings::held_dof_warning(p, analysis, &totals))
+            .chain(super::warnings::rating_warnings(p, &[]))
             .collect(),
         subdivided_steps: Some(totals.subdivided_steps),
         row_reselections: totals.row_reselections,

@@ -164,3 +164,52 @@ pub fn doubtful(
     }
     warnings
 }
+
+/// One warning per driven joint whose ratings its prescribed motion passes (a URDF's
+/// `<limit effort velocity>`, a joint's `effort_limit` and `rate_limit`): the driver's largest
+/// |effort| (`peaks`, per driver, from an inverse dynamics run; empty otherwise) beyond the
+/// effort rating, and the largest |rate| of its function over the output times beyond the rate
+/// rating.
+pub fn rating_warnings(p: &Prepared, peaks: &[f64]) -> Vec<String> {
+    let joints = p.model.joints();
+    let times = p
+        .loaded
+        .analysis
+        .as_ref()
+        .map(|a| a.times())
+        .unwrap_or_default();
+    let mut out = Vec::new();
+    for (k, d) in p.model.drivers().iter().enumerate() {
+        let Some(name) = d.joint.map(|j| &joints[j].name) else {
+            continue;
+        };
+        let Some(entry) = p.loaded.joints.iter().find(|e| &e.name == name) else {
+            continue;
+        };
+        if let (Some(limit), Some(&peak)) = (entry.effort_limit, peaks.get(k)) {
+            if peak > limit {
+                out.push(format!(
+                    "driver \"{}\": its largest effort {peak:.4e} is beyond joint \"{name}\"'s \
+                     effort limit {limit} (N m for an angle, N for a slide): its actuator \
+                     cannot deliver this motion; slow it down or lighten the load",
+                    d.name
+                ));
+            }
+        }
+        let (Some(limit), Some((f, _))) = (entry.rate_limit, p.loaded.driver_functions.get(k))
+        else {
+            continue;
+        };
+        let (t, rate) = (times.iter())
+            .map(|&t| (t, f.eval(t).1.abs()))
+            .fold((0.0, 0.0), |a, b| if b.1 > a.1 { b } else { a });
+        if rate > limit {
+            out.push(format!(
+                "driver \"{}\": it moves joint \"{name}\" at {rate:.4e} (rad/s or m/s) at t = \
+                 {t} s, beyond the joint's rate limit {limit}",
+                d.name
+            ));
+        }
+    }
+    out
+}

@@ -330,6 +330,10 @@ pub struct JointEntry {
     pub body_i: String,
     /// Body j.
     pub body_j: String,
+    /// The effort rating (`effort_limit`, SI), if given.
+    pub effort_limit: Option<f64>,
+    /// The rate rating (`rate_limit`, SI), if given.
+    pub rate_limit: Option<f64>,
 }
 
 /// The initial velocity of one body as given in the file.

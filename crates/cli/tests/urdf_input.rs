@@ -1,0 +1,178 @@
+//! URDF robots on the command line (issue 51): `run`, `check` and `import` take a `.urdf`; an
+//! overlay (`[urdf] file = …`) adds drivers and its analysis, its own mistakes at its lines; a
+//! driven motion beyond a joint's URDF effort or velocity limit is a warning; the URDF flags are
+//! refused for other files.
+
+mod common;
+use common::{cardan, scratch};
+use std::path::{Path, PathBuf};
+
+fn arm() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/urdf/three_link_arm.urdf")
+}
+
+/// A scratch directory with the arm and `overlay.toml` = `text`.
+fn with_overlay(text: &str) -> PathBuf {
+    let dir = scratch("urdf");
+    std::fs::copy(arm(), dir.join("arm.urdf")).unwrap();
+    std::fs::write(dir.join("overlay.toml"), text).unwrap();
+    dir
+}
+
+const HEAD: &str = "[model]\nname = \"wave\"\n\n[urdf]\nfile = \"arm.urdf\"\n";
+
+fn driver(name: &str, joint: &str, f: &str) -> String {
+    format!(
+        "\n[[driver]]\nname = \"{name}\"\ntype = \"rotation\"\njoint = \"{joint}\"\nfunction = {{ kind = \"expression\", text = \"{f}\" }}\n"
+    )
+}
+
+/// Drivers on the three joints, the shoulder's `f`.
+fn drivers(f: &str) -> String {
+    driver("turn", "turret_joint", "0.1 * t")
+        + &driver("bend", "elbow", "0.3")
+        + &driver("lift", "shoulder", f)
+}
+
+const INVERSE: &str = "\n[analysis]\nkind = \"inverse_dynamics\"\nt_end = 1.0\ndt = 0.01\n";
+
+fn run_json(dir: &Path) -> serde_json::Value {
+    let text = std::fs::read_to_string(dir.join("out/run.json")).unwrap();
+    serde_json::from_str(&text).unwrap()
+}
+
+#[test]
+fn check_run_and_import_take_a_urdf() {
+    let dir = scratch("urdf");
+    let arm = arm();
+    let arm = arm.to_str().unwrap();
+    let o = cardan(&["check", arm], &dir);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert!(
+        o.stdout.contains("bodies (3 moving, plus ground)"),
+        "{}",
+        o.stdout
+    );
+    assert!(o.stdout.contains("shoulder_limit"), "{}", o.stdout);
+    let o = cardan(&["import", arm, "-o", "arm.toml"], &dir);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let text = std::fs::read_to_string(dir.join("arm.toml")).unwrap();
+    assert!(
+        text.contains("effort_limit = 80.0") && text.contains("rate_limit = 3.0"),
+        "{text}"
+    );
+    // The imported model is a model of its own.
+    let o = cardan(&["check", "arm.toml"], &dir);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let o = cardan(&["run", arm, "-o", "out", "--quiet", "--no-limits"], &dir);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let joints = std::fs::read_to_string(dir.join("out/joints.csv")).unwrap();
+    assert!(
+        joints.starts_with("t [s],turret_joint.angle [rad],shoulder.angle [rad],elbow.angle [rad]"),
+        "{joints}"
+    );
+}
+
+#[test]
+fn the_urdf_flags_apply_to_urdf_files_only() {
+    let dir = scratch("urdf");
+    let model = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/slider_crank.toml");
+    let o = cardan(
+        &["check", model.to_str().unwrap(), "--base", "floating"],
+        &dir,
+    );
+    assert_eq!(o.code, 2, "{}", o.stderr);
+    assert!(o.stderr.contains("apply to URDF files"), "{}", o.stderr);
+    let o = cardan(&["check", arm().to_str().unwrap(), "--units", "mm"], &dir);
+    assert_eq!(o.code, 2, "{}", o.stderr);
+}
+
+#[test]
+fn an_overlay_drives_the_robot_and_its_mistakes_are_at_its_lines() {
+    let text = format!("{HEAD}{}{INVERSE}", drivers("0.5 * sin(t)"));
+    let dir = with_overlay(&text);
+    let o = cardan(&["run", "overlay.toml", "-o", "out", "--quiet"], &dir);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert!(dir.join("out/driver_efforts.csv").is_file());
+    // A driver naming a joint the robot does not have: the overlay's line.
+    let bad = format!(
+        "{HEAD}{}{INVERSE}",
+        drivers("0.5 * sin(t)").replace("\"shoulder\"", "\"shoulderr\"")
+    );
+    let dir = with_overlay(&bad);
+    let o = cardan(&["check", "overlay.toml"], &dir);
+    assert_eq!(o.code, 1);
+    let line = bad[..bad.find("shoulderr").unwrap()].matches('\n').count() + 1;
+    assert!(
+        o.stderr.starts_with(&format!("overlay.toml:{line}:")),
+        "{}",
+        o.stderr
+    );
+    // A missing URDF: at the file key.
+    let dir = with_overlay(&format!(
+        "{}{INVERSE}",
+        HEAD.replace("arm.urdf", "nothing.urdf")
+    ));
+    let o = cardan(&["check", "overlay.toml"], &dir);
+    assert_eq!(o.code, 1);
+    assert!(o.stderr.starts_with("overlay.toml:5:"), "{}", o.stderr);
+    // A ground point clashing with the robot's.
+    let clash =
+        format!("{HEAD}\n[ground]\npoints = {{ turret_joint = [0.0, 0.0, 0.0] }}\n{INVERSE}");
+    let dir = with_overlay(&clash);
+    let o = cardan(&["check", "overlay.toml"], &dir);
+    assert_eq!(o.code, 1);
+    assert!(
+        o.stderr.contains("also a ground point of the robot"),
+        "{}",
+        o.stderr
+    );
+    // A word that is not one of [urdf]'s.
+    let dir = with_overlay(&format!("{}base = \"flying\"\n{INVERSE}", HEAD));
+    let o = cardan(&["check", "overlay.toml"], &dir);
+    assert!(
+        o.stderr
+            .contains("base = \"flying\": use fixed or floating"),
+        "{}",
+        o.stderr
+    );
+}
+
+#[test]
+fn a_motion_beyond_the_urdf_effort_and_velocity_limits_is_a_warning() {
+    // Within: 0.5 rad at 1 rad/s.
+    let calm = format!("{HEAD}{}{INVERSE}", drivers("0.5 * sin(t)"));
+    let dir = with_overlay(&calm);
+    let o = cardan(&["run", "overlay.toml", "-o", "out", "--quiet"], &dir);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let warnings = run_json(&dir)["warnings"].as_array().unwrap().len();
+    assert_eq!(warnings, 0, "{}", run_json(&dir));
+    // 1.5 rad at 12 rad/s: beyond the shoulder's 3 rad/s, and its effort beyond 80 N m.
+    let fast = format!("{HEAD}{}{INVERSE}", drivers("1.5 * sin(8 * t)"));
+    let dir = with_overlay(&fast);
+    let o = cardan(&["run", "overlay.toml", "-o", "out", "--quiet"], &dir);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let json = run_json(&dir);
+    let w: Vec<&str> = json["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|w| w.as_str().unwrap())
+        .collect();
+    assert!(
+        w.iter()
+            .any(|w| w.contains("beyond joint \"shoulder\"'s effort limit 80")),
+        "{w:?}"
+    );
+    assert!(
+        w.iter()
+            .any(|w| w.contains("at 1.2000e1") && w.contains("rate limit 3")),
+        "{w:?}"
+    );
+    // --strict makes them failures.
+    let o = cardan(
+        &["run", "overlay.toml", "-o", "out2", "--quiet", "--strict"],
+        &dir,
+    );
+    assert_eq!(o.code, 3, "{}", o.stderr);
+}
