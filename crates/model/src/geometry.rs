@@ -78,8 +78,35 @@ pub fn load_parsed(src: &Source, file: &crate::file::ModelFile) -> Result<Declar
         }
         out.bodies.insert(name.clone(), list);
     }
+    draw_small(&mut out);
     Ok(out)
 }
+
+/// The meshes of a model drawn with at most [`DRAWN_TRIANGLES`] together: when they have more,
+/// each is decimated ([`cardan_report::decimate`]) to its share, so a robot's report stays a few
+/// megabytes whatever its meshes (the file's triangles are checked against [`MAX_TRIANGLES`]
+/// first).
+fn draw_small(declared: &mut Declared) {
+    let meshes = || declared.bodies.values().flatten();
+    let total: usize = meshes()
+        .map(|g| match &g.shape {
+            Shape::Mesh(m) => m.triangles(),
+            _ => 0,
+        })
+        .sum();
+    if total <= DRAWN_TRIANGLES {
+        return;
+    }
+    for g in declared.bodies.values_mut().flatten() {
+        if let Shape::Mesh(m) = &mut g.shape {
+            let share = (m.triangles() * DRAWN_TRIANGLES).div_ceil(total).max(200);
+            *m = cardan_report::decimate::decimate(m, share).0;
+        }
+    }
+}
+
+/// The most triangles the meshes of a model are drawn with (about 5 MB of report).
+pub const DRAWN_TRIANGLES: usize = 60_000;
 
 /// One item being read: for its messages.
 struct Item<'a> {

@@ -23,6 +23,7 @@ mod base64;
 /// The conversion `build.rs` runs (compiled here for its unit tests).
 #[cfg(test)]
 mod classic;
+pub mod decimate;
 mod glb;
 mod html;
 mod mesh_file;

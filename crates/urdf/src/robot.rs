@@ -1,5 +1,5 @@
 //! The URDF model as read: links, joints and their elements, each with its file line. Nothing
-//! here is checked beyond the element's own values ([`crate::tree`] checks the topology).
+//! here is checked beyond the element's own values ([`mod@crate::tree`] checks the topology).
 
 use crate::pose::Pose;
 use nalgebra::{Matrix3, Vector3};
