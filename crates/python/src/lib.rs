@@ -339,8 +339,19 @@ fn import_asmt<'py>(
     } else {
         Analysis::Kinematic
     };
+    imported(
+        py,
+        import_source(&Source::from_text(path, text), units, analysis),
+    )
+}
+
+/// The dict of an import: `text`, `path`, `warnings` and `error` None, or `error`.
+fn imported<'py>(
+    py: Python<'py>,
+    result: Result<(Source, Vec<String>), cardan_model::diag::Error>,
+) -> PyResult<Bound<'py, PyDict>> {
     let out = PyDict::new(py);
-    match import_source(&Source::from_text(path, text), units, analysis) {
+    match result {
         Ok((model, warnings)) => {
             out.set_item("text", model.text)?;
             out.set_item("path", model.path.display().to_string())?;
@@ -384,17 +395,10 @@ fn import_urdf<'py>(
         mimic,
         limits,
     };
-    let out = PyDict::new(py);
-    match import_source(&Source::from_text(path, text), options, true) {
-        Ok((model, warnings)) => {
-            out.set_item("text", model.text)?;
-            out.set_item("path", model.path.display().to_string())?;
-            out.set_item("warnings", warnings)?;
-            out.set_item("error", py.None())?;
-        }
-        Err(e) => out.set_item("error", error_dict(py, &ErrorData::from(&e))?)?,
-    }
-    Ok(out)
+    imported(
+        py,
+        import_source(&Source::from_text(path, text), options, true),
+    )
 }
 
 /// Reads and validates a model text as every analysis does before it runs (syntax, names,

@@ -9,11 +9,13 @@ use nalgebra::{Matrix3, Vector3};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-fn num(x: f64) -> String {
+/// A number in full (shortest round-trip form).
+pub(crate) fn num(x: f64) -> String {
     format!("{x:?}")
 }
 
-fn vec3(v: &Vector3<f64>) -> String {
+/// `[x, y, z]`.
+pub(crate) fn vec3(v: &Vector3<f64>) -> String {
     format!("[{}, {}, {}]", num(v.x), num(v.y), num(v.z))
 }
 

@@ -9,15 +9,8 @@
 use crate::error::Warning;
 use crate::import::Import;
 use crate::robot::Geometry;
+use crate::toml_out::{num, vec3};
 use std::path::PathBuf;
-
-fn num(x: f64) -> String {
-    format!("{x:?}")
-}
-
-fn vec3(v: &nalgebra::Vector3<f64>) -> String {
-    format!("[{}, {}, {}]", num(v.x), num(v.y), num(v.z))
-}
 
 /// The geometry items (TOML inline tables) of every body, and the warnings.
 pub fn visuals(
