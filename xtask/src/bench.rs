@@ -23,7 +23,9 @@ fn root() -> PathBuf {
     crate::workspace_root()
 }
 
-/// Builds `cardan-bench` in release mode.
+/// Builds `cardan-bench` in release mode — selected together with `cardan-python` so cargo unifies
+/// the dependencies' features as for the wheel and the `cardan` command (scripts/python-env): the
+/// three share one release build of the dependencies instead of compiling them once each.
 fn build(root: &Path) -> Result<(), String> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let status = Command::new(&cargo)
@@ -33,6 +35,8 @@ fn build(root: &Path) -> Result<(), String> {
             "--release",
             "-p",
             "cardan-bench",
+            "-p",
+            "cardan-python",
             "--bin",
             "cardan-bench",
         ])
