@@ -6,7 +6,8 @@
 //! one, NaN or ∞, a negative mass, a missing attribute, an unknown joint type are errors at the
 //! element's line naming the link or joint. Elements URDF tools add (`<gazebo>`,
 //! `<transmission>`, `<material>`, `<dynamics>`, `<safety_controller>`, `<calibration>`) are
-//! not part of the mechanism; `<dynamics>` (damping, friction) is reported as a warning.
+//! not part of the mechanism; `<dynamics>` damping or friction is reported, in one warning
+//! listing the joints.
 
 use crate::error::{Result, UrdfError, Warning};
 use crate::pose::Pose;
@@ -50,13 +51,30 @@ pub fn read(text: &str) -> Result<(Robot, Vec<Warning>)> {
         links: Vec::new(),
         joints: Vec::new(),
     };
-    let mut warnings = Vec::new();
+    let mut damped = Vec::new();
     for node in root.children().filter(Node::is_element) {
         match node.tag_name().name() {
             "link" => robot.links.push(reader.link(node)?),
-            "joint" => robot.joints.push(reader.joint(node, &mut warnings)?),
+            "joint" => robot.joints.push(reader.joint(node, &mut damped)?),
             _ => {}
         }
+    }
+    // One warning for all joints with damping or friction (a robot often has it on every joint).
+    let mut warnings = Vec::new();
+    if let Some((_, line)) = damped.first() {
+        let listed: Vec<String> = (damped.iter().take(6))
+            .map(|(j, l)| format!("\"{j}\" (line {l})"))
+            .collect();
+        warnings.push(Warning {
+            line: *line,
+            message: format!(
+                "{} joint{} with <dynamics> damping or friction, which is not modelled: {}{}; add dampers or [[friction]] in an overlay",
+                damped.len(),
+                if damped.len() == 1 { "" } else { "s" },
+                listed.join(", "),
+                if damped.len() > 6 { ", …" } else { "" }
+            ),
+        });
     }
     if robot.links.is_empty() {
         return Err(UrdfError::new(
@@ -310,7 +328,7 @@ impl Reader<'_> {
         })
     }
 
-    fn joint(&self, node: Node, warnings: &mut Vec<Warning>) -> Result<Joint> {
+    fn joint(&self, node: Node, damped: &mut Vec<(String, usize)>) -> Result<Joint> {
         let name = self.attr(node, "name", "a joint")?.to_string();
         let owner = format!("joint \"{name}\"");
         let type_name = self.attr(node, "type", &owner)?;
@@ -398,10 +416,7 @@ impl Reader<'_> {
                     .map(|v| v.is_some_and(|v| v != 0.0))
             };
             if nonzero("damping")? || nonzero("friction")? {
-                warnings.push(Warning {
-                line: (self.at)(d),
-                message: format!("{owner}: <dynamics> (damping, friction) is not read; add a damper or a [[friction]] in an overlay"),
-            });
+                damped.push((name.clone(), (self.at)(d)));
             }
         }
         Ok(Joint {

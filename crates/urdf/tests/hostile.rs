@@ -191,3 +191,38 @@ fn ten_thousand_links_import_quickly() {
     assert!(t.elapsed().as_secs() < 30, "{:?}", t.elapsed());
     let _ = Base::Floating;
 }
+
+#[test]
+fn joint_damping_is_one_warning_listing_the_joints() {
+    let mut text = chain(8);
+    text = text.replace(
+        "</joint>",
+        "<dynamics damping=\"0.5\" friction=\"0\"/></joint>",
+    );
+    let i = import(&text, Options::default()).unwrap();
+    let damping: Vec<_> = i
+        .warnings
+        .iter()
+        .filter(|w| w.message.contains("<dynamics>"))
+        .collect();
+    assert_eq!(damping.len(), 1, "{damping:?}");
+    assert!(
+        damping[0].message.starts_with("8 joints with <dynamics>"),
+        "{}",
+        damping[0]
+    );
+    assert!(
+        damping[0].message.contains("\"j1\" (line 4)")
+            && damping[0]
+                .message
+                .ends_with("…; add dampers or [[friction]] in an overlay"),
+        "{}",
+        damping[0]
+    );
+    // Zero damping and friction: nothing to say.
+    let quiet = chain(2).replace("</joint>", "<dynamics damping=\"0\"/></joint>");
+    assert!(import(&quiet, Options::default())
+        .unwrap()
+        .warnings
+        .is_empty());
+}
