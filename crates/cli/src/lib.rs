@@ -147,9 +147,14 @@ impl OutputKind {
 }
 
 /// `--units` and `--analysis` of `run` and `check`: how an ASMT file is read (a TOML model
-/// says both itself, and refuses them).
-#[derive(Debug, Clone, Copy, clap::Args)]
+/// says both itself, and refuses them); `--set`: a cardan model's parameter values.
+#[derive(Debug, Clone, clap::Args)]
 pub struct AsmtArgs {
+    /// A value for one of the model's [parameters], replacing the file's: `--set crank=0.1`
+    /// (a plain number is in the model's units of the parameter), `--set crank="90 mm"`,
+    /// `--set speed="2 * pi"`. Repeatable.
+    #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_setting)]
+    pub set: Vec<(String, String)>,
     /// ASMT files: the units of the file's numbers, SI (m, kg, s) or mm (FreeCAD exports).
     #[arg(long, value_enum)]
     pub units: Option<asmt::Units>,
@@ -218,6 +223,18 @@ impl UrdfArgs {
     }
 }
 
+/// `NAME=VALUE` of `--set`.
+fn parse_setting(text: &str) -> Result<(String, String), String> {
+    match text.split_once('=') {
+        Some((name, value)) if !name.trim().is_empty() && !value.trim().is_empty() => {
+            Ok((name.trim().to_string(), value.trim().to_string()))
+        }
+        _ => Err(format!(
+            "\"{text}\" is not NAME=VALUE (e.g. --set crank=0.1 or --set crank=\"90 mm\")"
+        )),
+    }
+}
+
 impl AsmtArgs {
     /// The options, or an error for a model given a flag of another format.
     fn options(&self, model: &std::path::Path) -> Result<asmt::AsmtOptions, Error> {
@@ -235,6 +252,7 @@ impl AsmtArgs {
             )));
         }
         Ok(asmt::AsmtOptions {
+            set: self.set.clone(),
             urdf: self.urdf.options(),
             units: self.units.unwrap_or_default(),
             analysis: self.analysis.unwrap_or_default(),
@@ -289,6 +307,7 @@ pub fn run(cli: &Cli, out: &mut dyn std::io::Write) -> Result<(), Error> {
                 units: *units,
                 analysis: *analysis,
                 urdf: urdf.options(),
+                set: Vec::new(),
             };
             commands::asmt::import(model, output.as_deref(), options, out)
         }

@@ -194,12 +194,12 @@ fn asmt_with_hout(name: &str, hout: &str) -> PathBuf {
 fn solved_equals_whole(file: &Path, asmt: AsmtOptions) {
     let dir = scratch("streamed-asmt-out").join("out");
     let flags = RunFlags {
-        asmt,
+        asmt: asmt.clone(),
         ..RunFlags::default()
     };
     let outcome = run_model_with(file, Some(&dir), &flags).unwrap();
     assert!(outcome.error.is_none(), "{:?}", outcome.error);
-    let p = prepare_with(file, asmt).unwrap();
+    let p = prepare_with(file, asmt.clone()).unwrap();
     let analysis = p.loaded.analysis.clone().unwrap();
     let (_, whole) = analyse(&p, &analysis, &flags).unwrap();
     let text = std::fs::read_to_string(file).unwrap();

@@ -70,6 +70,7 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
         src,
         units,
         keys: &file.keys,
+        parameters: &file.parameters,
     };
     let mut spans = Spans::default();
     let mut builder = MechanismBuilder::new();
@@ -112,6 +113,7 @@ pub fn load(src: &Source, file: &ModelFile) -> Result<Loaded, Error> {
     Ok(Loaded {
         name,
         units,
+        parameters: file.parameters.clone(),
         builder,
         spans,
         analysis,

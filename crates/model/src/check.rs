@@ -58,6 +58,7 @@ fn describe(p: &Prepared, path: &Path, out: &mut dyn Write) -> Result<(), Error>
         p.units.describe()
     )
     .map_err(io)?;
+    write_parameters(p, out)?;
     write_bodies(p, &ws, out)?;
     write_joints(model, out)?;
     write_curves(model, out)?;
@@ -68,6 +69,36 @@ fn describe(p: &Prepared, path: &Path, out: &mut dyn Write) -> Result<(), Error>
     write_drivers(p, out)?;
     write_counts(model, &dof, out)?;
     analysis_line(p, &mut ws, &dof, out)
+}
+
+/// The parameters: each one's value (SI, with its unit), the number the model uses (in its
+/// units), how it is written and where; a value given with `--set` says so.
+fn write_parameters(p: &Prepared, out: &mut dyn Write) -> Result<(), Error> {
+    let params = &p.loaded.parameters;
+    if params.list.is_empty() {
+        return Ok(());
+    }
+    writeln!(out, "\nparameters ({})", params.list.len()).map_err(io)?;
+    let rows: Vec<Vec<String>> = (params.list.iter())
+        .map(|q| {
+            let written = match &q.set {
+                Some(text) => format!("--set {}={text} (the file: {})", q.name, q.written),
+                None => q.written.clone(),
+            };
+            vec![
+                q.name.clone(),
+                q.value.describe(),
+                g(q.value.in_model_units(params.ell)),
+                written,
+                q.line.to_string(),
+            ]
+        })
+        .collect();
+    let used = match p.units {
+        crate::units::UnitSystem::Si => "in the model (SI)",
+        crate::units::UnitSystem::Mm => "in the model (mm units)",
+    };
+    write_table(out, &["name", "value", used, "written", "line"], &rows).map_err(io)
 }
 
 /// The moving bodies: name, mass, assembled position (in the model's units) and columns.

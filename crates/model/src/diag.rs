@@ -202,6 +202,10 @@ pub struct Source {
     pub path: PathBuf,
     /// The contents.
     pub text: String,
+    /// Parameter values given from outside the file (`--set name=value`, Python's
+    /// `with_parameters`), in their order: they replace the file's definitions
+    /// ([`crate::parameters`]).
+    pub set: Vec<(String, String)>,
 }
 
 impl Source {
@@ -231,6 +235,7 @@ impl Source {
                 Ok(text) => Ok(Self {
                     path: path.to_path_buf(),
                     text,
+                    set: Vec::new(),
                 }),
                 Err(e) => {
                     let at = e.utf8_error().valid_up_to();
@@ -249,6 +254,7 @@ impl Source {
                     let src = Self {
                         path: path.to_path_buf(),
                         text,
+                        set: Vec::new(),
                     };
                     err.location = Some(src.location(at));
                     Err(err)
@@ -267,6 +273,7 @@ impl Source {
         Self {
             path: path.into(),
             text: text.into(),
+            set: Vec::new(),
         }
     }
 

@@ -9,8 +9,74 @@ use serde::Deserialize;
 use std::collections::BTreeMap;
 use toml::Spanned;
 
-/// A spanned number.
-pub type Num = Spanned<f64>;
+/// A spanned number: written as a number (`0.08`) or as text, an expression of numbers with
+/// units and parameters (`"80 mm"`, `"2 * crank"`, [`crate::parameters`]) whose value is in the
+/// model's units.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Num(Spanned<f64>);
+
+impl Num {
+    /// `value` at `span`.
+    pub fn new(span: std::ops::Range<usize>, value: f64) -> Self {
+        Self(Spanned::new(span, value))
+    }
+
+    /// The value.
+    pub fn into_inner(self) -> f64 {
+        self.0.into_inner()
+    }
+}
+
+impl std::ops::Deref for Num {
+    type Target = Spanned<f64>;
+    fn deref(&self) -> &Spanned<f64> {
+        &self.0
+    }
+}
+
+impl<'de> Deserialize<'de> for Num {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let s = Spanned::<NumberOrText>::deserialize(d)?;
+        let span = s.span();
+        let value = match s.into_inner() {
+            NumberOrText::Number(x) => x,
+            NumberOrText::Text(t) => crate::parameters::number_in_scope(&t)
+                .map_err(<D::Error as serde::de::Error>::custom)?,
+        };
+        Ok(Self::new(span, value))
+    }
+}
+
+/// A number as TOML writes it, or a text to evaluate.
+enum NumberOrText {
+    Number(f64),
+    Text(String),
+}
+
+impl<'de> Deserialize<'de> for NumberOrText {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl serde::de::Visitor<'_> for V {
+            type Value = NumberOrText;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("a number (or a text such as \"80 mm\" or \"2 * crank\")")
+            }
+            fn visit_f64<E>(self, v: f64) -> Result<NumberOrText, E> {
+                Ok(NumberOrText::Number(v))
+            }
+            fn visit_i64<E>(self, v: i64) -> Result<NumberOrText, E> {
+                Ok(NumberOrText::Number(v as f64))
+            }
+            fn visit_u64<E>(self, v: u64) -> Result<NumberOrText, E> {
+                Ok(NumberOrText::Number(v as f64))
+            }
+            fn visit_str<E>(self, v: &str) -> Result<NumberOrText, E> {
+                Ok(NumberOrText::Text(v.to_string()))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
 /// A spanned 3-vector.
 pub type Vec3 = Spanned<[Num; 3]>;
 /// A spanned name.
@@ -70,6 +136,12 @@ pub struct ModelFile {
     /// file: read off the parsed document, [`parse`]).
     #[serde(skip)]
     pub keys: crate::vocabulary::KeySpans,
+    /// `[parameters]`: named values (read off the parsed document before the rest, [`parse`]).
+    #[serde(default, rename = "parameters")]
+    pub parameters_table: Option<serde::de::IgnoredAny>,
+    /// The parameters, evaluated with the values given from outside ([`Source::set`]).
+    #[serde(skip)]
+    pub parameters: std::sync::Arc<crate::parameters::Parameters>,
 }
 
 /// `[model]`.
@@ -913,8 +985,17 @@ pub fn parse(src: &Source) -> Result<ModelFile, Error> {
     // spans, for the table-driven key checks) before it is deserialized.
     let doc = toml::de::DeTable::parse(&src.text).map_err(located)?;
     let keys = crate::vocabulary::KeySpans::collect(doc.get_ref());
-    let mut file = ModelFile::deserialize(toml::de::Deserializer::from(doc)).map_err(located)?;
+    let parameters = std::sync::Arc::new(crate::parameters::Parameters::read(
+        src,
+        doc.get_ref(),
+        &src.set,
+    )?);
+    let mut file = crate::parameters::with_scope(parameters.clone(), || {
+        ModelFile::deserialize(toml::de::Deserializer::from(doc))
+    })
+    .map_err(located)?;
     file.keys = keys;
+    file.parameters = parameters;
     check_counts(src, &file)?;
     Ok(file)
 }

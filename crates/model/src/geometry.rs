@@ -164,11 +164,11 @@ impl Item<'_> {
         let g = s.get_ref();
         let given = [
             ("size", g.size.as_ref().map(Spanned::span)),
-            ("radius", g.radius.as_ref().map(Spanned::span)),
-            ("length", g.length.as_ref().map(Spanned::span)),
-            ("axis", g.axis.as_ref().map(Spanned::span)),
-            ("file", g.file.as_ref().map(Spanned::span)),
-            ("scale", g.scale.as_ref().map(Spanned::span)),
+            ("radius", g.radius.as_ref().map(|n| n.span())),
+            ("length", g.length.as_ref().map(|n| n.span())),
+            ("axis", g.axis.as_ref().map(|n| n.span())),
+            ("file", g.file.as_ref().map(|n| n.span())),
+            ("scale", g.scale.as_ref().map(|n| n.span())),
         ];
         for (key, span) in given {
             if let (Some(span), false) = (span, allowed.contains(&key)) {

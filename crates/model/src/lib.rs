@@ -37,6 +37,7 @@ pub mod limits;
 mod number;
 pub mod output_tables;
 pub mod overlay;
+pub mod parameters;
 pub mod plot;
 pub mod prepare;
 pub mod progress;

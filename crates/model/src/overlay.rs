@@ -72,7 +72,8 @@ pub fn parse_overlaid(src: Source) -> Result<(Source, ModelFile, Vec<String>), E
             }
         })
         .collect();
-    let combined = Source::from_text(src.path.clone(), format!("{}\n{text}", src.text));
+    let mut combined = Source::from_text(src.path.clone(), format!("{}\n{text}", src.text));
+    combined.set = src.set.clone();
     let padded = Source::from_text(src.path.clone(), format!("{blank}\n{text}"));
     let robot_file = parse(&padded)?;
     merge(&combined, &mut file, robot_file)?;

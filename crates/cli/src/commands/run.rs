@@ -79,7 +79,7 @@ pub fn run_model_with(
 ) -> Result<RunOutcome, Error> {
     // A run that writes nothing says when its output directory holds an earlier run's results,
     // so those are not taken for this run's.
-    let p = prepare_with(path, flags.asmt).map_err(|e| match output {
+    let p = prepare_with(path, flags.asmt.clone()).map_err(|e| match output {
         Some(d) => earlier_results_note(e, d),
         None => e,
     })?;

@@ -54,6 +54,7 @@ mod parser;
 pub use eval::DomainError;
 pub use functions::names;
 pub use jet::Jet;
+pub use parser::Constants;
 
 use crate::spline::Spline;
 use std::fmt;
@@ -88,7 +89,16 @@ impl Expression {
     /// # Errors
     /// A [`ParseError`] with the span of the problem.
     pub fn parse(text: &str) -> Result<Self, ParseError> {
-        let tree = parser::parse(text)?;
+        Self::parse_with(text, &|_| None)
+    }
+
+    /// Parses and compiles `text`, a name that is neither `t`, `pi`, `e` nor a function
+    /// standing for the constant `constants` gives it (a model's parameters).
+    ///
+    /// # Errors
+    /// As [`Expression::parse`]; a name `constants` does not know is unknown.
+    pub fn parse_with(text: &str, constants: parser::Constants<'_>) -> Result<Self, ParseError> {
+        let tree = parser::parse(text, constants)?;
         let prog = compile::compile(&tree)?;
         Ok(Self {
             text: text.to_string(),

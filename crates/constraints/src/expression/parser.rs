@@ -71,18 +71,25 @@ impl Node {
     }
 }
 
-struct Parser {
+/// Names of constants an expression may use besides `pi` and `e` (a model's parameters), with
+/// their values.
+pub type Constants<'a> = &'a dyn Fn(&str) -> Option<f64>;
+
+struct Parser<'a> {
     toks: Vec<(Tok, Range<usize>)>,
     at: usize,
     depth: usize,
+    constants: Constants<'a>,
 }
 
-/// Parses a whole expression.
-pub(crate) fn parse(text: &str) -> Result<Node, ParseError> {
+/// Parses a whole expression, names other than `t`, `pi`, `e` and the functions looked up in
+/// `constants`.
+pub(crate) fn parse(text: &str, constants: Constants<'_>) -> Result<Node, ParseError> {
     let mut p = Parser {
         toks: tokens(text)?,
         at: 0,
         depth: 0,
+        constants,
     };
     if p.peek() == &Tok::End {
         return Err(ParseError::new(0..0, "the expression is empty"));
@@ -100,7 +107,7 @@ pub(crate) fn parse(text: &str) -> Result<Node, ParseError> {
     }
 }
 
-impl Parser {
+impl Parser<'_> {
     fn peek(&self) -> &Tok {
         &self.toks[self.at].0
     }
@@ -226,7 +233,10 @@ impl Parser {
                         format!("the function \"{n}\" needs its arguments in parentheses"),
                     ))
                 }
-                _ => return Err(ParseError::unknown(span, n)),
+                _ => match (self.constants)(&n) {
+                    Some(x) => NodeKind::Num(x),
+                    None => return Err(ParseError::unknown(span, n)),
+                },
             },
             Tok::LParen => {
                 let inner = self.expr()?;
@@ -350,14 +360,14 @@ mod depth_tests {
     #[test]
     fn long_chains_are_refused_not_overflowed() {
         let ok = format!("t{}", "+t".repeat(MAX_TREE_DEPTH - 1));
-        assert!(parse(&ok).is_ok());
+        assert!(parse(&ok, &|_| None).is_ok());
         for op in ["+", "*"] {
             let long = format!("t{}", format!("{op}t").repeat(4900));
-            let e = parse(&long).unwrap_err();
+            let e = parse(&long, &|_| None).unwrap_err();
             assert!(e.to_string().contains("more than 512 operations"), "{e}");
         }
         // Nesting is bounded separately; a table of 2000 negative numbers is a shallow list.
         let list = format!("[{}]", vec!["-1.5"; 2000].join(", "));
-        assert!(parse(&list).is_ok());
+        assert!(parse(&list, &|_| None).is_ok());
     }
 }

@@ -66,7 +66,7 @@ pub struct DynamicSummary {
 }
 
 /// How `cardan run` was asked to run.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Default)]
 pub struct RunFlags {
     /// The progress bar to draw (the command's terminal bar; `None`: none).
     pub progress: Option<crate::progress::MakeBar>,

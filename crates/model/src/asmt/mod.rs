@@ -65,7 +65,7 @@ impl Analysis {
 }
 
 /// How `run` and `check` read an ASMT file (`--units`, `--analysis`); TOML models ignore it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
 pub struct AsmtOptions {
     /// The units of the file's numbers.
     pub units: Units,
@@ -73,6 +73,9 @@ pub struct AsmtOptions {
     pub analysis: Analysis,
     /// How a URDF file is read (`run` and `check` take `.urdf` files too).
     pub urdf: crate::urdf::UrdfOptions,
+    /// Parameter values replacing a cardan model file's (`--set name=value`,
+    /// [`Source::set`]); refused for ASMT and URDF files, which have no parameters.
+    pub set: Vec<(String, String)>,
 }
 
 /// Reads an ASMT source and returns the imported cardan model text (as a [`Source`] named
@@ -173,7 +176,15 @@ fn refuse_massless(import: &cardan_asmt::Import, path: &Path) -> Result<(), Erro
 /// # Errors
 /// Unreadable file, or an ASMT reader error.
 pub fn read_model(path: &Path, options: AsmtOptions) -> Result<(Source, Vec<String>), Error> {
-    let src = Source::read(path)?;
+    let mut src = Source::read(path)?;
+    if !options.set.is_empty() && (crate::urdf::is_urdf(path) || is_asmt(path)) {
+        return Err(Error::usage(format!(
+            "--set gives values to a cardan model's [parameters]; {} has none (an overlay model \
+             file with [urdf] can have them)",
+            path.display()
+        )));
+    }
+    src.set = options.set;
     if crate::urdf::is_urdf(path) {
         return crate::urdf::import_source(&src, options.urdf, true);
     }

@@ -191,7 +191,7 @@ fn time_grid(
         None => return Err(cx.err(a.kind.span(), "[analysis] needs t_end (the end time, s)")),
     };
     if t_end <= t_start {
-        let span = a.t_end.as_ref().map_or(a.kind.span(), Spanned::span);
+        let span = a.t_end.as_ref().map_or(a.kind.span(), |n| n.span());
         return Err(cx.err(
             span,
             format!("t_end = {t_end} s must be greater than t_start = {t_start} s"),
@@ -392,7 +392,7 @@ fn load_integrator(cx: &Ctx, a: &AnalysisSection, table: usize) -> Result<Integr
             "rho_inf" => &a.rho_inf,
             _ => &None,
         };
-        let span = value.as_ref().map_or(a.kind.span(), Spanned::span);
+        let span = value.as_ref().map_or(a.kind.span(), |n| n.span());
         cx.err(span, e.describe(e.option))
     })?;
     Ok(integrator)

@@ -24,10 +24,12 @@ pub(crate) fn orientation_matrix(
 ) -> Result<Matrix3<f64>, Error> {
     // Angles and directions only: the same in every unit system.
     let keys = crate::vocabulary::KeySpans::default();
+    let parameters = crate::parameters::Parameters::default();
     let cx = Ctx {
         src,
         units: UnitSystem::Si,
         keys: &keys,
+        parameters: &parameters,
     };
     orientation(&cx, o).map(|(_, a)| a)
 }

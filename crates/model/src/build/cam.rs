@@ -52,7 +52,7 @@ pub(super) fn load_cam(
         "spline" => {
             for (key, span) in [
                 ("point_i", c.point_i.as_ref().map(Spanned::span)),
-                ("radius", c.radius.as_ref().map(Spanned::span)),
+                ("radius", c.radius.as_ref().map(|n| n.span())),
                 ("x_axis_i", c.x_axis_i.as_ref().map(Spanned::span)),
             ] {
                 if let Some(span) = span {

@@ -11,7 +11,6 @@ use nalgebra::Vector3;
 use std::collections::{BTreeMap, HashMap};
 use std::fmt::Display;
 use std::ops::Range;
-use toml::Spanned;
 
 /// Points and vectors of one body, with the span of each name.
 #[derive(Default)]
@@ -26,6 +25,8 @@ pub(super) struct Ctx<'a> {
     pub(super) units: UnitSystem,
     /// The keys written in the sections with vocabularies ([`crate::vocabulary`]).
     pub(super) keys: &'a crate::vocabulary::KeySpans,
+    /// The file's parameters: constants of its time-function expressions.
+    pub(super) parameters: &'a crate::parameters::Parameters,
 }
 
 impl Ctx<'_> {
@@ -122,7 +123,7 @@ impl Ctx<'_> {
         what: impl Display,
         q: Quantity,
     ) -> Result<f64, Error> {
-        self.num(&Spanned::new(span, v), what, q)
+        self.num(&crate::file::Num::new(span, v), what, q)
     }
 }
 

@@ -113,7 +113,7 @@ pub(super) fn load_function(
             f1: req(&s.f1, "f1")?,
         },
         "expression" => match &s.text {
-            Some(text) => in_si(expression(cx, text, owner)?, cx.units.to_si(value_q)),
+            Some(text) => in_si(cx, expression(cx, text, owner)?, cx.units.to_si(value_q)),
             None => return Err(missing(cx, span, owner, "text", "an expression needs it")),
         },
         _ => {
@@ -212,13 +212,17 @@ fn load_general_motion(r: &Resolver, d: &DriverSection) -> Result<(DriverSpec, S
 /// An expression function; a parse error points at its column inside the TOML string.
 fn expression(cx: &Ctx, text: &Name, owner: &str) -> Result<TimeFunction, Error> {
     let t = text.get_ref();
-    Expression::parse(t)
+    Expression::parse_with(t, &|n| cx.parameters.constant(n))
         .map(TimeFunction::Expression)
         .map_err(|e| {
             let hint = e
                 .unknown
                 .as_deref()
-                .map(|n| did_you_mean(n, expression::names()))
+                .map(|n| {
+                    let mut known: Vec<&str> = expression::names().collect();
+                    known.extend(cx.parameters.list.iter().map(|p| p.name.as_str()));
+                    did_you_mean(n, known)
+                })
                 .unwrap_or_default();
             let span = string_inner_span(&cx.src.text, text.span(), t, e.span.clone());
             cx.err(
@@ -235,10 +239,11 @@ fn expression(cx: &Ctx, text: &Name, owner: &str) -> Result<TimeFunction, Error>
 
 /// An expression in the file's units as a function of SI value: `factor·(f)` (`f` itself in
 /// SI). The text parsed first, so that errors point into the file's string.
-fn in_si(f: TimeFunction, factor: f64) -> TimeFunction {
+fn in_si(cx: &Ctx, f: TimeFunction, factor: f64) -> TimeFunction {
     match f {
         TimeFunction::Expression(e) if factor != 1.0 => {
-            match Expression::parse(&format!("{factor:?}*({})", e.text())) {
+            let scaled = format!("{factor:?}*({})", e.text());
+            match Expression::parse_with(&scaled, &|n| cx.parameters.constant(n)) {
                 Ok(scaled) => TimeFunction::Expression(scaled),
                 Err(_) => TimeFunction::Expression(e),
             }

@@ -297,6 +297,8 @@ pub struct Loaded {
     pub name: String,
     /// `[model] units`: the inputs were converted from them, the outputs are written in them.
     pub units: UnitSystem,
+    /// `[parameters]`, evaluated (with the values given from outside).
+    pub parameters: std::sync::Arc<crate::parameters::Parameters>,
     /// The mechanism.
     pub builder: MechanismBuilder,
     /// Element locations.

@@ -29,7 +29,7 @@ pub(super) fn load_material(
     let stiffness = match (&m.stiffness, &m.youngs_modulus) {
         (Some(k), None) => {
             if m.poisson_ratio.is_some() {
-                let span = m.poisson_ratio.as_ref().map_or(0..0, Spanned::span);
+                let span = m.poisson_ratio.as_ref().map_or(0..0, |n| n.span());
                 return Err(cx.err(
                     span,
                     format!("{owner}: poisson_ratio goes with youngs_modulus, not stiffness"),
