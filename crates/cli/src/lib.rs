@@ -150,7 +150,7 @@ impl OutputKind {
 /// says both itself, and refuses them); `--set`: a cardan model's parameter values.
 #[derive(Debug, Clone, clap::Args)]
 pub struct AsmtArgs {
-    /// A value for one of the model's [parameters], replacing the file's: `--set crank=0.1`
+    /// A value for one of the model file's parameters, replacing its own: `--set crank=0.1`
     /// (a plain number is in the model's units of the parameter), `--set crank="90 mm"`,
     /// `--set speed="2 * pi"`. Repeatable.
     #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_setting)]

@@ -172,7 +172,7 @@ fn mistakes_are_errors_at_their_place() {
     check_fails_at(
         &common::BASE.replace("mass = 1.0", "mass = \"m\""),
         10,
-        &["the file has no [parameters] table"],
+        &["\"m\" is not a number, nor a parameter: the file has no [parameters] table"],
     );
     // A name that is a function, a value of another type.
     check_fails_at(

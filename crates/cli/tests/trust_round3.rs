@@ -450,7 +450,7 @@ fn messages_say_what_is_wrong() {
                 "mass = 1.5",
                 "mass = \"heavy\"",
             ),
-            vec!["the string \"heavy\", expected a number"],
+            vec!["\"heavy\" is not a number, nor a parameter"],
         ),
         // A 4,900-term expression: refused without a stack overflow, quoted in 80 characters.
         (

@@ -191,16 +191,82 @@ pub struct GroundSection {
 }
 
 /// Inertia: a full 3×3 matrix or `{ diag = [...] }`.
-#[derive(Debug, Deserialize)]
-#[serde(untagged)]
+#[derive(Debug)]
 pub enum InertiaSpec {
     /// The full matrix in body coordinates [kg m²].
-    Matrix([[f64; 3]; 3]),
+    Matrix([[Real; 3]; 3]),
     /// Principal moments.
     Diag {
         /// [Ixx, Iyy, Izz].
-        diag: [f64; 3],
+        diag: [Real; 3],
     },
+}
+
+/// The inertia's words, for its messages.
+const INERTIA_FORMS: &str = "inertia must be a 3×3 matrix [[Ixx, Ixy, Ixz], [Ixy, Iyy, Iyz], \
+                             [Ixz, Iyz, Izz]] or { diag = [Ixx, Iyy, Izz] } (numbers in kg m²)";
+
+impl<'de> Deserialize<'de> for InertiaSpec {
+    // By hand rather than `untagged`, so that a number's own message (an unknown parameter)
+    // reaches the user instead of "did not match any variant".
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> serde::de::Visitor<'de> for V {
+            type Value = InertiaSpec;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str(INERTIA_FORMS)
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut a: A,
+            ) -> Result<InertiaSpec, A::Error> {
+                let mut rows = Vec::new();
+                while let Some(row) = a.next_element::<Vec<Real>>()? {
+                    let row: [Real; 3] =
+                        (row.try_into()).map_err(|_| serde::de::Error::custom(INERTIA_FORMS))?;
+                    rows.push(row);
+                }
+                let rows: [[Real; 3]; 3] =
+                    (rows.try_into()).map_err(|_| serde::de::Error::custom(INERTIA_FORMS))?;
+                Ok(InertiaSpec::Matrix(rows))
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                mut a: A,
+            ) -> Result<InertiaSpec, A::Error> {
+                let mut diag = None;
+                while let Some(key) = a.next_key::<String>()? {
+                    if key != "diag" || diag.is_some() {
+                        return Err(serde::de::Error::custom(INERTIA_FORMS));
+                    }
+                    let row = a.next_value::<Vec<Real>>()?;
+                    diag = Some(
+                        row.try_into()
+                            .map_err(|_| serde::de::Error::custom(INERTIA_FORMS))?,
+                    );
+                }
+                diag.map(|diag| InertiaSpec::Diag { diag })
+                    .ok_or_else(|| serde::de::Error::custom(INERTIA_FORMS))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// A number without its place (within a value whose place is kept, such as the inertia):
+/// written as a number or as text, as [`Num`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Real(pub f64);
+
+impl<'de> Deserialize<'de> for Real {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        match NumberOrText::deserialize(d)? {
+            NumberOrText::Number(x) => Ok(Self(x)),
+            NumberOrText::Text(t) => crate::parameters::number_in_scope(&t)
+                .map(Self)
+                .map_err(<D::Error as serde::de::Error>::custom),
+        }
+    }
 }
 
 /// `orientation = { ... }`: exactly one of the forms.
@@ -1306,11 +1372,6 @@ fn improve_message(raw: &str) -> String {
         if let Some((field, _)) = rest.split_once('`') {
             return format!("missing required key \"{field}\"");
         }
-    }
-    if raw.starts_with("data did not match any variant of untagged enum InertiaSpec") {
-        return "inertia must be a 3×3 matrix [[Ixx, Ixy, Ixz], [Ixy, Iyy, Iyz], [Ixz, Iyz, Izz]] \
-                or { diag = [Ixx, Iyy, Izz] } (numbers in kg m²)"
-            .into();
     }
     let mut m = raw.replace('\n', " ");
     // serde names Rust types: say what the file needs instead.

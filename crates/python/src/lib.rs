@@ -417,6 +417,75 @@ fn validate<'py>(
     error.map(|e| error_dict(py, &e)).transpose()
 }
 
+/// The model text with parameters given values (`values`: name → text, as `--set` reads them):
+/// `{"text": new text, "error": None}` or `{"text": None, "error": error dict}`.
+#[pyfunction]
+fn with_parameters<'py>(
+    py: Python<'py>,
+    text: String,
+    path: String,
+    values: Vec<(String, String)>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let out = py.detach(|| {
+        let mut src = Source::from_text(path, text);
+        src.set = values;
+        cardan_model::parameters::rewrite(&src).map_err(|e| ErrorData::from(&e))
+    });
+    outcome_dict(py, "text", out)
+}
+
+/// `{key: value, "error": None}` or `{key: None, "error": error dict}`.
+fn outcome_dict<'py, T: IntoPyObject<'py>>(
+    py: Python<'py>,
+    key: &str,
+    out: Result<T, ErrorData>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    match out {
+        Ok(value) => {
+            d.set_item(key, value)?;
+            d.set_item("error", py.None())?;
+        }
+        Err(e) => {
+            d.set_item(key, py.None())?;
+            d.set_item("error", error_dict(py, &e)?)?;
+        }
+    }
+    Ok(d)
+}
+
+/// The model's parameters: `{"parameters": [(name, SI value, SI unit, number in the model's
+/// units, as written), ...], "error": None}` or `{"parameters": None, "error": error dict}`.
+#[pyfunction]
+fn parameters<'py>(py: Python<'py>, text: String, path: String) -> PyResult<Bound<'py, PyDict>> {
+    type Row = (String, f64, String, f64, String);
+    let out = py.detach(|| -> Result<Vec<Row>, ErrorData> {
+        let src = Source::from_text(path, text);
+        let file = cardan_model::file::parse(&src).map_err(|e| ErrorData::from(&e))?;
+        let p = &file.parameters;
+        Ok((p.list.iter())
+            .map(|q| {
+                let unit = q.value.dim.map_or(String::new(), |d| {
+                    if d == cardan_model::parameters::quantity::Dim::NONE {
+                        String::new()
+                    } else {
+                        d.to_string()
+                    }
+                });
+                let model = q.value.in_model_units(p.ell);
+                (
+                    q.name.clone(),
+                    q.value.value,
+                    unit,
+                    model,
+                    q.written.clone(),
+                )
+            })
+            .collect())
+    });
+    outcome_dict(py, "parameters", out)
+}
+
 /// The `cardan` command itself with the arguments `argv` (the first is the program name, as
 /// in `sys.argv`): what `python -m cardan` runs. Prints as the command does and returns its
 /// exit code; runs with the GIL released.
@@ -431,6 +500,8 @@ fn _cardan(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run, m)?)?;
     m.add_function(wrap_pyfunction!(check, m)?)?;
     m.add_function(wrap_pyfunction!(validate, m)?)?;
+    m.add_function(wrap_pyfunction!(with_parameters, m)?)?;
+    m.add_function(wrap_pyfunction!(parameters, m)?)?;
     m.add_function(wrap_pyfunction!(main, m)?)?;
     m.add_function(wrap_pyfunction!(table_csv, m)?)?;
     m.add_function(wrap_pyfunction!(import_asmt, m)?)?;

@@ -127,8 +127,8 @@ pub(super) fn load_body(cx: &Ctx, b: &BodySection) -> Result<(Body, Features), E
     }
     if let Some(i) = &b.inertia {
         let mut j = match i.get_ref() {
-            InertiaSpec::Matrix(m) => Matrix3::from_fn(|r, c| m[r][c]),
-            InertiaSpec::Diag { diag } => Matrix3::from_diagonal(&Vector3::from(*diag)),
+            InertiaSpec::Matrix(m) => Matrix3::from_fn(|r, c| m[r][c].0),
+            InertiaSpec::Diag { diag } => Matrix3::from_diagonal(&Vector3::from(diag.map(|x| x.0))),
         };
         for v in j.iter_mut() {
             // Checked and converted to SI (kg m²).

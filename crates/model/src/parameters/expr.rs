@@ -635,6 +635,29 @@ mod tests {
     }
 
     #[test]
+    fn exact_texts_read_back_to_the_same_quantity() {
+        for t in [
+            "80 mm",
+            "60 rpm",
+            "50 N/m",
+            "0.5 kg m^2",
+            "2 N s/m",
+            "0.1",
+            "90 deg",
+            "3 W",
+        ] {
+            let q = value(t, 1.0).unwrap();
+            let back = value(&q.exact_text(), 1.0).unwrap();
+            assert_eq!(q.value, back.value, "{t}");
+            assert_eq!(
+                q.dim.filter(|d| *d != Dim::NONE),
+                back.dim.filter(|d| *d != Dim::NONE),
+                "{t}"
+            );
+        }
+    }
+
+    #[test]
     fn mismatched_units_are_refused_with_both_values() {
         let e = value("80 mm + 2 s", 1.0).unwrap_err();
         assert!(e.message.contains("0.08 m and 2 s"), "{}", e.message);

@@ -107,7 +107,13 @@ impl Parameters {
             .map_err(|e| format!("\"{quoted}\" (column {}): {}", e.span.start + 1, e.message))?;
         let lookup = |n: &str| self.lookup(n);
         let q = e.eval(&lookup, self.ell).map_err(|err| {
-            let mut m = format!("\"{quoted}\": {}", err.message);
+            // A lone name needs no quoting before the sentence that names it.
+            let lone = e.names().first().is_some_and(|(n, _)| *n == text.trim());
+            let mut m = if lone {
+                err.message.clone()
+            } else {
+                format!("\"{quoted}\": {}", err.message)
+            };
             let used: Vec<String> = e
                 .names()
                 .iter()
@@ -126,7 +132,7 @@ impl Parameters {
         match self.get(n) {
             Some(p) => Ok(p.value),
             None if self.list.is_empty() => Err(format!(
-                "\"{n}\" is not a parameter: the file has no [parameters] table"
+                "\"{n}\" is not a number, nor a parameter: the file has no [parameters] table"
             )),
             None => Err(format!(
                 "no parameter \"{n}\"{}",
@@ -231,12 +237,14 @@ fn definitions(src: &Source, doc: &DeTable<'_>) -> Result<Vec<Definition>, Error
                 let plain = raw.len() == s.len() + 2;
                 (s.to_string(), plain.then_some(v.span().start + 1))
             }
-            _ => return Err(src.error_at(
-                v.span(),
-                format!(
+            _ => {
+                return Err(src.error_at(
+                    v.span(),
+                    format!(
                     "the parameter {name} is a number or a text such as \"80 mm\" or \"2 * crank\""
                 ),
-            )),
+                ))
+            }
         };
         if written.len() > crate::limits::MAX_EXPRESSION_LEN {
             return Err(src.error_at(
@@ -434,6 +442,29 @@ fn converted_setting(
             d.name, d.name, d.written
         ))),
     }
+}
+
+/// The model file's text with the parameters named in `src.set` given those values: each
+/// one's definition replaced by its value as a quantity (`crank = "0.1 m"`), read as `--set`
+/// reads it (a plain number in the model's units of the parameter). What Python's
+/// `Model.with_parameters` makes: a model of its own, as if the file had been edited.
+///
+/// # Errors
+/// As [`Parameters::read`]; TOML syntax.
+pub fn rewrite(src: &Source) -> Result<String, Error> {
+    let doc = toml::de::DeTable::parse(&src.text)
+        .map_err(|e| src.error_at(e.span().unwrap_or(0..0), e.message().to_string()))?;
+    let p = Parameters::read(src, doc.get_ref(), &src.set)?;
+    let mut edits: Vec<(Range<usize>, String)> = (p.list.iter())
+        .filter(|q| q.set.is_some())
+        .map(|q| (q.span.clone(), format!("\"{}\"", q.value.exact_text())))
+        .collect();
+    edits.sort_by_key(|(s, _)| std::cmp::Reverse(s.start));
+    let mut text = src.text.clone();
+    for (span, value) in edits {
+        text.replace_range(span, &value);
+    }
+    Ok(text)
 }
 
 thread_local! {

@@ -11,88 +11,7 @@
 //! ([`Dim::length_exponent`]), as [`crate::units`] writes outputs: N m → N mm (e = 1), N/m →
 //! N/mm (e = −1), kg m² → kg mm² (e = 2), N and kg unchanged.
 
-use std::fmt;
-
-/// Exponents of length, mass and time.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct Dim(pub [i8; 3]);
-
-impl Dim {
-    /// Dimensionless.
-    pub const NONE: Dim = Dim([0, 0, 0]);
-
-    /// The product's dimension.
-    pub fn times(self, o: Dim) -> Dim {
-        Dim([self.0[0] + o.0[0], self.0[1] + o.0[1], self.0[2] + o.0[2]])
-    }
-
-    /// The quotient's dimension.
-    pub fn over(self, o: Dim) -> Dim {
-        Dim([self.0[0] - o.0[0], self.0[1] - o.0[1], self.0[2] - o.0[2]])
-    }
-
-    /// The power of metres in the unit written with newtons for the mass of a quantity that
-    /// has a negative power of time (a force, stiffness, damping, energy, power, pressure)
-    /// and with kilograms otherwise (a mass, an inertia): N m → 1, N/m → −1, kg m² → 2,
-    /// m/s² → 1, N → 0.
-    pub fn length_exponent(self) -> i32 {
-        let [l, m, t] = self.0.map(i32::from);
-        let newtons = if t < 0 { m } else { 0 };
-        l - newtons
-    }
-
-    /// The dimension raised to `p`, when every exponent stays a small integer.
-    pub fn pow(self, p: f64) -> Option<Dim> {
-        let mut out = [0i8; 3];
-        for (o, &e) in out.iter_mut().zip(&self.0) {
-            let x = f64::from(e) * p;
-            if (x - x.round()).abs() > 1e-9 || x.abs() > 60.0 {
-                return None;
-            }
-            *o = x.round() as i8;
-        }
-        Some(Dim(out))
-    }
-}
-
-impl fmt::Display for Dim {
-    /// In SI units: a named unit where one has this dimension (N, J, W, Pa), else
-    /// `m kg/s^2`-style products; "1" for dimensionless.
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if *self == Dim::NONE {
-            return write!(f, "1");
-        }
-        let named = super::units::UNITS.iter().find(|u| {
-            u.factor == 1.0 && u.dim == *self && u.dim.0.iter().filter(|&&e| e != 0).count() > 1
-        });
-        if let Some(u) = named {
-            return write!(f, "{}", u.name);
-        }
-        let part = |name: &str, e: i8| match e {
-            1 => name.to_string(),
-            _ => format!("{name}^{e}"),
-        };
-        let names = ["m", "kg", "s"];
-        let up: Vec<String> = (0..3)
-            .filter(|&k| self.0[k] > 0)
-            .map(|k| part(names[k], self.0[k]))
-            .collect();
-        let down: Vec<String> = (0..3)
-            .filter(|&k| self.0[k] < 0)
-            .map(|k| part(names[k], -self.0[k]))
-            .collect();
-        let up = if up.is_empty() {
-            "1".to_string()
-        } else {
-            up.join(" ")
-        };
-        if down.is_empty() {
-            write!(f, "{up}")
-        } else {
-            write!(f, "{up}/{}", down.join(" "))
-        }
-    }
-}
+pub use super::units::Dim;
 
 /// A value: SI with a dimension, or a plain number (see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -132,6 +51,23 @@ impl Quantity {
             Some(_) => self.value,
             None => self.value * ell.powi(dim.length_exponent()),
         }
+    }
+
+    /// The value as the language reads it back exactly: `"0.08 m"`, `"6.283185307179586 s^-1"`,
+    /// `"2"` (plain or dimensionless).
+    pub fn exact_text(&self) -> String {
+        let mut text = format!("{:?}", self.value);
+        let Some(d) = self.dim.filter(|d| *d != Dim::NONE) else {
+            return text;
+        };
+        for (name, e) in ["m", "kg", "s"].iter().zip(d.0) {
+            match e {
+                0 => {}
+                1 => text += &format!(" {name}"),
+                _ => text += &format!(" {name}^{e}"),
+            }
+        }
+        text
     }
 
     /// "0.08 m", "2" (plain), "1.5708" (dimensionless).

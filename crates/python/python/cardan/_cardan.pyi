@@ -1,8 +1,8 @@
 """Type stub of the native module (crates/python/src/lib.rs)."""
 
-from typing import Any, Dict, List, Optional
+from typing import Any, Dict, List, Optional, Tuple
 
-__all__ = ["__version__", "check", "drag", "import_asmt", "import_urdf", "main", "run", "table_csv", "validate"]
+__all__ = ["__version__", "check", "drag", "import_asmt", "import_urdf", "main", "parameters", "run", "table_csv", "validate", "with_parameters"]
 
 __version__: str
 
@@ -19,6 +19,8 @@ def table_csv(name: str, title: str, columns: List[str], data: bytes) -> str: ..
 def import_asmt(text: str, path: str, units: str = "si", inverse_dynamics: bool = False) -> Dict[str, Any]: ...
 def import_urdf(text: str, path: str, base: str = "fixed", mimic: str = "couple", limits: bool = True) -> Dict[str, Any]: ...
 def validate(text: str, path: str) -> Optional[Dict[str, Any]]: ...
+def with_parameters(text: str, path: str, values: List[Tuple[str, str]]) -> Dict[str, Any]: ...
+def parameters(text: str, path: str) -> Dict[str, Any]: ...
 def main(argv: List[str]) -> int: ...
 def drag(
     text: str,

@@ -56,6 +56,30 @@ class Dragged:
     distance: float
 
 
+@dataclass(frozen=True)
+class Parameter:
+    """One of a model's ``[parameters]`` (:meth:`Model.parameters`)."""
+
+    name: str
+    #: Its value in SI units (a plain number as written).
+    value: float
+    #: Its SI unit ("m", "kg m^2", "1/s"; "" for a plain or dimensionless number).
+    unit: str
+    #: The number the model uses: the value in the model's units (mm for a length in a mm model).
+    in_model: float
+    #: Its definition as written in the file.
+    written: str
+
+
+def _parameter_text(v: Any) -> str:
+    """A value of ``with_parameters`` as the text ``--set`` takes."""
+    if hasattr(v, "item"):  # numpy scalars
+        v = v.item()
+    if isinstance(v, bool) or not isinstance(v, (int, float, str)):
+        raise TypeError(f"a parameter's value is a number or a string such as \"90 mm\", not {type(v).__name__}")
+    return v if isinstance(v, str) else repr(v)
+
+
 class Model:
     """A mechanism model: the text of a model file and the path it came from (which names it
     in error messages and anchors the files it refers to).
@@ -103,6 +127,30 @@ class Model:
     ) -> "Model":
         """Reads and validates a model file (a ``str`` or a ``pathlib.Path``): see :func:`load`."""
         return load(path, units, base=base, mimic=mimic, limits=limits)
+
+    def with_parameters(self, **values: Any) -> "Model":
+        """This model with ``[parameters]`` given values, as ``cardan run --set`` gives them:
+        ``model.with_parameters(crank=0.1, speed="120 rpm")``. A number is in the model's
+        units of the parameter (metres for a length in an SI model), a string is an expression
+        with units (``"90 mm"``); another unit than the file's, or a name the file does not
+        define, raises :class:`ModelError`. The new model's text has those definitions
+        replaced (``crank = "0.1 m"``)."""
+        pairs = [(name, _parameter_text(v)) for name, v in values.items()]
+        out = _cardan.with_parameters(self.text, self.path, pairs)
+        if out["error"] is not None:
+            raise_error(out["error"])
+        return Model(out["text"], self.path)
+
+    def parameters(self) -> Dict[str, Parameter]:
+        """The model's ``[parameters]``, evaluated: name → :class:`Parameter` (its SI value and
+        unit, the number the model uses in its own units, the text as written)."""
+        out = _cardan.parameters(self.text, self.path)
+        if out["error"] is not None:
+            raise_error(out["error"])
+        return {
+            name: Parameter(name=name, value=value, unit=unit, in_model=in_model, written=written)
+            for name, value, unit, in_model, written in out["parameters"]
+        }
 
     def check(self) -> Check:
         """Validates the model and analyses its joints: raises :class:`ModelError` for a bad
@@ -321,6 +369,7 @@ class Builder:
     _ground: Dict[str, Any] = field(default_factory=dict)
     _tables: List[tuple] = field(default_factory=list)
     _analysis: Optional[Dict[str, Any]] = None
+    _parameters: Dict[str, Any] = field(default_factory=dict)
 
     def ground(self, **keys: Any) -> "Builder":
         """The ground's points and vectors: ``points={"A": [x, y, z]}``, ``vectors={...}``."""
@@ -409,6 +458,12 @@ class Builder:
         self._tables.append(("friction", {"name": name, "joint": joint, "coefficient": coefficient, **keys}))
         return self
 
+    def parameters(self, **values: Any) -> "Builder":
+        """The ``[parameters]`` table: ``b.parameters(crank="80 mm", speed=2.0)``; any number
+        of a table may then be a string using them (``position=["crank", 0, 0]``)."""
+        self._parameters.update(values)
+        return self
+
     def analysis(self, kind: str, **keys: Any) -> "Builder":
         """The ``[analysis]`` table: ``t_end``, ``steps``, ``outputs``, ..."""
         self._analysis = {"kind": kind, **keys}
@@ -421,6 +476,8 @@ class Builder:
             lines.append(f"description = {_toml_value(self.description)}")
         if self.gravity is not None:
             lines.append(f"gravity = {_toml_value(self.gravity)}")
+        if self._parameters:
+            lines += ["", "[parameters]"] + [f"{_toml_key(k)} = {_toml_value(v)}" for k, v in self._parameters.items()]
         if self._ground:
             lines += ["", "[ground]"] + [f"{_toml_key(k)} = {_toml_value(v)}" for k, v in self._ground.items()]
         for table, keys in self._tables:
