@@ -104,6 +104,34 @@ pub enum Command {
         #[command(flatten)]
         urdf: UrdfArgs,
     },
+    /// Run the model for every case of a grid of parameter values (or of a cases file) on
+    /// all cores; write sweep.csv (a row per case), a plot of each output against each
+    /// parameter and run.json.
+    Sweep {
+        /// The model file (TOML, with a parameters table).
+        model: PathBuf,
+        /// An axis of the grid: NAME=A:B:N (N values from A to B; "60 mm:100 mm:5"),
+        /// NAME=V1,V2,... or NAME=V. Repeatable: the grid is every combination.
+        #[arg(long = "set", value_name = "NAME=VALUES", value_parser = parse_setting)]
+        set: Vec<(String, String)>,
+        /// The cases as a CSV file: the parameter names in the header, a case per row.
+        #[arg(long)]
+        cases: Option<PathBuf>,
+        /// An output: NAME=EXPR over the run's tables, e.g.
+        /// "peak_torque=max(abs(motor.torque))", "top=max(abs(slider.C.x'))" (' the velocity),
+        /// "work=integral(motor.P)", "mid=at(crank_pin.angle, 0.5)". Repeatable.
+        #[arg(long = "output", value_name = "NAME=EXPR")]
+        outputs: Vec<String>,
+        /// Output directory (default: out/STEM-sweep/, STEM the model file's name).
+        #[arg(short = 'o', long = "out-dir")]
+        dir: Option<PathBuf>,
+        /// Threads (default: one per core).
+        #[arg(short = 'j', long)]
+        jobs: Option<usize>,
+        /// Run more than 100 000 cases.
+        #[arg(long)]
+        allow_long: bool,
+    },
     /// Print Φ, the Jacobian (pattern and values), ν and γ# at the assembled state.
     Eval {
         /// The model file (TOML).
@@ -311,6 +339,26 @@ pub fn run(cli: &Cli, out: &mut dyn std::io::Write) -> Result<(), Error> {
             };
             commands::asmt::import(model, output.as_deref(), options, out)
         }
+        Command::Sweep {
+            model,
+            set,
+            cases,
+            outputs,
+            dir,
+            jobs,
+            allow_long,
+        } => commands::sweep::sweep(
+            &commands::sweep::SweepArgs {
+                model: model.clone(),
+                set: set.clone(),
+                cases: cases.clone(),
+                outputs: outputs.clone(),
+                dir: dir.clone(),
+                jobs: *jobs,
+                allow_long: *allow_long,
+            },
+            out,
+        ),
         Command::Eval { model, t, format } => eval::eval(model, *t, *format, out),
     }
 }

@@ -45,6 +45,7 @@ pub mod run_json;
 pub mod scene;
 pub mod scene_curves;
 pub mod scene_shapes;
+pub mod sweep;
 pub mod table;
 pub mod units;
 pub mod urdf;

@@ -1,12 +1,21 @@
 """Model factories and outputs of the sweep tests: module-level so that process pools and Dask
 workers can unpickle them. The factory is the one of examples/python/slider_crank_sweep.py."""
 
+from pathlib import Path
+
 import numpy as np
 
 import cardan
 from slider_crank_sweep import peak_torque, slider_crank
 
-__all__ = ["peak_slider_force", "peak_torque", "slider_crank"]
+__all__ = ["parametric", "peak_slider_force", "peak_torque", "slider_crank"]
+
+_PARAMETRIC = Path(__file__).resolve().parents[3] / "examples" / "slider_crank_parametric.toml"
+
+
+def parametric(crank: float, speed: float) -> cardan.Model:
+    """examples/slider_crank_parametric.toml with its crank (m) and speed (rad/s) set."""
+    return cardan.load(_PARAMETRIC).with_parameters(crank=crank, speed=speed)
 
 
 def peak_slider_force(r: cardan.Results) -> float:

@@ -1,6 +1,7 @@
 """Sweeps: serial, process pool and a Dask cluster give the same table; failing cases are rows."""
 
 import math
+from pathlib import Path
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
@@ -89,3 +90,26 @@ def test_the_error_column_keeps_the_whole_message():
     # The location (file:line:column) and the source excerpt under it.
     assert error.startswith("ModelError: slider_crank(crank=0.08, speed=nan):"), error
     assert "error:" in error and "\n" in error and "^" in error, error
+
+
+def test_the_command_line_sweep_gives_the_python_sweep_numbers(tmp_path):
+    """`cardan sweep` and `cardan.sweep` over the same grid of the parametric slider-crank:
+    the same parameters, the same peak torques, to the last bit."""
+    import os
+    import subprocess
+
+    from sweep_models import parametric
+
+    cli = os.environ.get("CARDAN_BIN", "cardan")
+    model = str(Path(__file__).resolve().parents[3] / "examples" / "slider_crank_parametric.toml")
+    subprocess.run(
+        [cli, "sweep", model, "--set", "crank=0.06:0.1:3", "--set", "speed=1,4",
+         "--output", "peak=max(abs(motor.torque))", "-o", str(tmp_path / "sw")],
+        check=True, capture_output=True,
+    )
+    rows = (tmp_path / "sw" / "sweep.csv").read_text().splitlines()[1:]
+    cli_rows = [tuple(float(x) for x in r.split(",")[:3]) for r in rows]
+    params = cardan.grid(crank=[0.06, 0.08, 0.1], speed=[1.0, 4.0])
+    table = cardan.sweep_serial(parametric, params, outputs={"peak": peak_torque}, as_frame=False)
+    py_rows = [(r["crank"], r["speed"], r["peak"]) for r in table]
+    assert cli_rows == py_rows

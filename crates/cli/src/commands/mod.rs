@@ -4,3 +4,4 @@
 
 pub mod asmt;
 pub mod run;
+pub mod sweep;
