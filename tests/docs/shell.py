@@ -19,6 +19,11 @@ CARGO_RUN = re.compile(r"\bcargo run --release -p cardan-cli --\s+")
 # Programs a block may run (the file commands a tutorial uses, the cardan command, Python).
 PROGRAMS = {"cardan", "python", "python3", "pip", "cp", "mv", "mkdir", "cd", "ls", "cat", "head", "tail", "echo", "export"}
 
+# cardan subcommands that never end by themselves: left out, each tested elsewhere.
+LONG_RUNNING = {
+    "watch": "it serves until Ctrl-C; crates/cli/tests/watch.rs drives it in a browser",
+}
+
 # Commands that set up what the tests themselves set up before they start: left out, not run.
 DONE_BEFORE = {
     "scripts/test": "the test command itself (these tests are part of it)",
@@ -59,6 +64,9 @@ def prepare(text: str) -> Tuple[str, List[str], List[str]]:
         program = w[0]
         if program in DONE_BEFORE:
             skipped.append(f"{line}: {DONE_BEFORE[program]}")
+            continue
+        if program == "cardan" and len(w) > 1 and w[1] in LONG_RUNNING:
+            skipped.append(f"{line}: {LONG_RUNNING[w[1]]}")
             continue
         if program.endswith("/python") and program.startswith("target/py-venv/bin/"):
             program = "python"

@@ -20,6 +20,7 @@
 pub mod commands;
 pub mod output;
 pub mod progress;
+pub mod watch;
 
 pub use cardan_model::diag::{Error, ErrorKind, Location, Source};
 use cardan_model::{asmt, check, eval, output_tables};
@@ -131,6 +132,15 @@ pub enum Command {
         /// Run more than 100 000 cases.
         #[arg(long)]
         allow_long: bool,
+    },
+    /// A live preview: serves the model's report on 127.0.0.1 and re-solves it whenever the
+    /// file is saved or a parameter's slider moves (Ctrl-C ends it).
+    Watch {
+        /// The model file (TOML).
+        model: PathBuf,
+        /// The port (default 0: a free one, printed).
+        #[arg(long, default_value_t = 0)]
+        port: u16,
     },
     /// Print Φ, the Jacobian (pattern and values), ν and γ# at the assembled state.
     Eval {
@@ -359,6 +369,7 @@ pub fn run(cli: &Cli, out: &mut dyn std::io::Write) -> Result<(), Error> {
             },
             out,
         ),
+        Command::Watch { model, port } => watch::watch(model, *port, out),
         Command::Eval { model, t, format } => eval::eval(model, *t, *format, out),
     }
 }

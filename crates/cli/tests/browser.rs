@@ -11,35 +11,9 @@
 
 mod common;
 
-use common::{cardan, scratch};
+use common::{cardan, chromium, scratch, tool};
 use std::path::{Path, PathBuf};
 use std::process::Command;
-
-/// The tool `what` from `var`, or `None` after the skip message (a panic under CI).
-fn tool(var: &str, what: &str, fallback: Option<PathBuf>) -> Option<PathBuf> {
-    let found = std::env::var_os(var)
-        .map(PathBuf::from)
-        .or(fallback)
-        .filter(|p| p.exists());
-    if found.is_none() {
-        let msg = format!(
-            "{what} not found (set {var}, or run scripts/test, which installs it and sets it)"
-        );
-        if std::env::var_os("CI").is_some() {
-            panic!("CI is set and {msg}");
-        }
-        eprintln!("\n!!!!!!!! SKIPPED: {msg} !!!!!!!!\n");
-    }
-    found
-}
-
-fn chromium() -> Option<PathBuf> {
-    let fallback = ["/usr/bin/chromium", "/usr/bin/chromium-browser"]
-        .iter()
-        .map(PathBuf::from)
-        .find(|p| p.exists());
-    tool("CARDAN_CHROMIUM", "headless Chromium", fallback)
-}
 
 fn node_modules() -> Option<PathBuf> {
     let fallback = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../target/npm/node_modules");

@@ -170,3 +170,31 @@ pub fn rssr_q(th: f64) -> nalgebra::Vector3<f64> {
     let psi = w.z.atan2(w.x) + (cc / w.x.hypot(w.z)).acos();
     g + b * Vector3::new(psi.cos(), 0.0, psi.sin())
 }
+
+/// The tool `what` from `var`, or `None` after the skip message (a panic under CI).
+pub fn tool(var: &str, what: &str, fallback: Option<PathBuf>) -> Option<PathBuf> {
+    let found = std::env::var_os(var)
+        .map(PathBuf::from)
+        .or(fallback)
+        .filter(|p| p.exists());
+    if found.is_none() {
+        let msg = format!(
+            "{what} not found (set {var}, or run scripts/test, which installs it and sets it)"
+        );
+        if std::env::var_os("CI").is_some() {
+            panic!("CI is set and {msg}");
+        }
+        eprintln!("\n!!!!!!!! SKIPPED: {msg} !!!!!!!!\n");
+    }
+    found
+}
+
+/// Headless Chromium (`CARDAN_CHROMIUM`, else the Debian paths), or `None` after the skip
+/// message (a panic under CI).
+pub fn chromium() -> Option<PathBuf> {
+    let fallback = ["/usr/bin/chromium", "/usr/bin/chromium-browser"]
+        .iter()
+        .map(PathBuf::from)
+        .find(|p| p.exists());
+    tool("CARDAN_CHROMIUM", "headless Chromium", fallback)
+}

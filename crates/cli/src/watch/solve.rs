@@ -1,0 +1,90 @@
+//! One solve of the live preview: the model file read with the sliders' values, its analysis
+//! run in memory and its report page made, or the error as `cardan run` prints it.
+
+use cardan_model::analysis::{analyse, animation, RunFlags};
+use cardan_model::diag::{Error, Source};
+use cardan_model::parameters::expr;
+use cardan_model::plot::PlotFiles;
+use cardan_model::prepare::prepare_source;
+use std::path::Path;
+
+/// A parameter the page offers a slider for: one defined by a value, not from others.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Slider {
+    /// The parameter.
+    pub name: String,
+    /// Its value in the model's units (what `--set NAME=VALUE` gives).
+    pub value: f64,
+    /// Its SI unit as the page shows it ("m", "1/s"; empty when plain).
+    pub unit: String,
+}
+
+/// What a solve gives the page.
+#[derive(Debug, Clone, Default)]
+pub struct Solved {
+    /// The report page (`index.html` of `cardan run`), when the run produced results.
+    pub html: Option<String>,
+    /// The error as the command prints it (file, line, excerpt), or a run's failure.
+    pub error: Option<String>,
+    /// The warnings of the run.
+    pub warnings: Vec<String>,
+    /// The sliders (the model's independent parameters).
+    pub sliders: Vec<Slider>,
+}
+
+/// Reads `path` with `set`, runs its analysis and makes its report page.
+pub fn solve(path: &Path, set: &[(String, String)]) -> Solved {
+    match run(path, set) {
+        Ok(s) => s,
+        Err(e) => Solved {
+            error: Some(e.to_string()),
+            ..Solved::default()
+        },
+    }
+}
+
+fn run(path: &Path, set: &[(String, String)]) -> Result<Solved, Error> {
+    let mut src = Source::read(path)?;
+    src.set = set.to_vec();
+    let p = prepare_source(src)?;
+    let sliders = (p.loaded.parameters.list.iter())
+        .filter(|q| expr::parse(&q.written).is_ok_and(|e| e.names().is_empty()))
+        .map(|q| Slider {
+            name: q.name.clone(),
+            value: q.value.in_model_units(p.loaded.parameters.ell),
+            unit: q
+                .value
+                .dim
+                .map(|d| d.to_string())
+                .filter(|u| u != "1")
+                .unwrap_or_default(),
+        })
+        .collect();
+    let Some(a) = p.loaded.analysis.clone() else {
+        return Err(p
+            .source
+            .error("the model has no [analysis] table: the preview runs it on every save"));
+    };
+    let declared = p.geometry.clone()?;
+    let (kind, mut analysed) = analyse(&p, &a, &RunFlags::default())?;
+    let names: Vec<String> = analysed
+        .tables
+        .iter()
+        .map(|t| format!("{}.csv", t.name))
+        .collect();
+    let plots = PlotFiles {
+        svg: a.plots,
+        png: false,
+    };
+    let svgs = (analysed.tables.iter())
+        .filter(|t| plots.plots(&t.name))
+        .map(|t| (t.name.clone(), t.to_svg()))
+        .collect();
+    let page = animation(&p, kind, &mut analysed, &declared, svgs, names)?;
+    Ok(Solved {
+        html: page.map(|(_, html)| html.to_string()),
+        error: analysed.failure.as_ref().map(ToString::to_string),
+        warnings: analysed.summary.warnings.clone(),
+        sliders,
+    })
+}
