@@ -249,9 +249,11 @@ fn the_preview_follows_the_file_and_the_sliders() {
     let v2 = version(&mut page);
     page.wait(&loaded_at(v2), "the edited model loaded");
     assert_ne!(page.eval(DIGEST), before, "the report did not change");
+    let load = page.eval("document.body.dataset.loadMs");
     eprintln!(
-        "save-to-updated-page latency: {:.0} ms",
-        latency.as_secs_f64() * 1e3
+        "save-to-updated-page latency: {:.0} ms (the frame's load of the new report: {} ms)",
+        latency.as_secs_f64() * 1e3,
+        load.as_str().unwrap_or("?")
     );
 
     // Move a slider: a new solution, and the arguments that reproduce it.

@@ -69,6 +69,13 @@ fn handle(mut request: Request, port: u16, shared: &Shared) {
     let response = match (request.method(), path) {
         (Method::Get, "/") => Response::from_string(PAGE)
             .with_header(header("Content-Type", "text/html; charset=utf-8")),
+        (Method::Get, "/three.js") => {
+            let js = Response::from_string(cardan_report::classic_three())
+                .with_header(header("Content-Type", "text/javascript; charset=utf-8"))
+                .with_header(header("Cache-Control", "max-age=86400"));
+            let _ = request.respond(js);
+            return;
+        }
         (Method::Get, "/report") => {
             let html = shared.state.lock().ok().and_then(|s| s.solved.html.clone());
             match html {
