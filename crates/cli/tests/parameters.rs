@@ -185,6 +185,19 @@ fn mistakes_are_errors_at_their_place() {
         5,
         &["is a number or a text"],
     );
+    // Hostile: a chain too long to evaluate safely, a power tower, both at their place.
+    let chain = "1+".repeat(100_000) + "1";
+    check_fails_at(
+        &with_parameters("a = 1.0").replace("mass = 1.0", &format!("mass = \"{chain}\"")),
+        13,
+        &["more than 512 operations"],
+    );
+    let tower = "2^".repeat(10_000) + "1";
+    check_fails_at(
+        &with_parameters("a = 1.0").replace("mass = 1.0", &format!("mass = \"{tower}\"")),
+        13,
+        &["nested deeper than 64 levels"],
+    );
     check_fails_at(
         &with_parameters("a = \"sqrt(-1 m^2)\""),
         5,

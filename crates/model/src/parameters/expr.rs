@@ -24,6 +24,9 @@ use std::ops::Range;
 
 /// Deepest nesting of parentheses and operators.
 const MAX_DEPTH: usize = 64;
+/// Most binary operations in one expression (a chain `1+1+1+…` is a tree as deep as it is
+/// long: evaluating a longer one could exhaust the stack).
+pub const MAX_OPS: usize = 512;
 
 /// A problem in an expression: the byte span within its text and a sentence.
 #[derive(Debug, Clone, PartialEq)]
@@ -161,6 +164,7 @@ struct Parser {
     toks: Vec<(Tok, Range<usize>)>,
     at: usize,
     depth: usize,
+    ops: usize,
 }
 
 /// Parses `text`.
@@ -172,6 +176,7 @@ pub fn parse(text: &str) -> Result<Expr, ExprError> {
         toks: tokens(text)?,
         at: 0,
         depth: 0,
+        ops: 0,
     };
     if p.peek() == &Tok::End {
         return err(0..0, "the expression is empty");
@@ -215,7 +220,7 @@ impl Parser {
         while let Tok::Op(c @ ('+' | '-')) = *self.peek() {
             self.bump();
             let b = self.term()?;
-            a = bin(c, a, b);
+            a = self.bin(c, a, b)?;
         }
         self.depth -= 1;
         Ok(a)
@@ -226,7 +231,7 @@ impl Parser {
         while let Tok::Op(c @ ('*' | '/')) = *self.peek() {
             self.bump();
             let b = self.unary()?;
-            a = bin(c, a, b);
+            a = self.bin(c, a, b)?;
         }
         Ok(a)
     }
@@ -252,9 +257,15 @@ impl Parser {
         }
         let a = self.primary()?;
         if self.peek() == &Tok::Op('^') {
-            self.bump();
+            let s = self.bump().1;
+            // A power's exponent nests (2^2^2 is 2^(2^2)).
+            self.depth += 1;
+            if self.depth > MAX_DEPTH {
+                return err(s, format!("nested deeper than {MAX_DEPTH} levels"));
+            }
             let b = self.unary()?;
-            return Ok(bin('^', a, b));
+            self.depth -= 1;
+            return self.bin('^', a, b);
         }
         Ok(a)
     }
@@ -376,11 +387,21 @@ impl Parser {
     }
 }
 
-fn bin(op: char, a: Expr, b: Expr) -> Expr {
-    let span = a.span.start..b.span.end;
-    Expr {
-        kind: Kind::Bin(op, Box::new(a), Box::new(b)),
-        span,
+impl Parser {
+    /// `a op b`, counted against [`MAX_OPS`].
+    fn bin(&mut self, op: char, a: Expr, b: Expr) -> Result<Expr, ExprError> {
+        self.ops += 1;
+        let span = a.span.start..b.span.end;
+        if self.ops > MAX_OPS {
+            return err(
+                span,
+                format!("more than {MAX_OPS} operations in one expression"),
+            );
+        }
+        Ok(Expr {
+            kind: Kind::Bin(op, Box::new(a), Box::new(b)),
+            span,
+        })
     }
 }
 
@@ -686,6 +707,14 @@ mod tests {
         assert!(e.message.contains("inf"), "{}", e.message);
         let deep = format!("{}1{}", "(".repeat(200), ")".repeat(200));
         assert!(value(&deep, 1.0).unwrap_err().message.contains("nested"));
+        // A long chain is refused before it is a tree too deep to evaluate.
+        let chain = "1+".repeat(100_000) + "1";
+        assert!(value(&chain, 1.0)
+            .unwrap_err()
+            .message
+            .contains("more than 512 operations"));
+        let pow = "2^".repeat(10_000) + "1";
+        assert!(value(&pow, 1.0).is_err());
         let e = value("crank mm", 1.0).unwrap_err();
         assert!(e.message.contains("must follow a number"), "{}", e.message);
     }

@@ -88,6 +88,7 @@ impl Output {
             text,
             at: 0,
             depth: 0,
+            ops: 0,
         };
         let tree = p.expr().and_then(|t| {
             p.skip();
@@ -127,6 +128,7 @@ struct Parser<'a> {
     text: &'a str,
     at: usize,
     depth: usize,
+    ops: usize,
 }
 
 type Parsed = Result<Node, (usize, String)>;
@@ -144,6 +146,17 @@ impl Parser<'_> {
         self.skip();
         self.text[self.at..].chars().next()
     }
+    /// `a op b`, at most [`crate::parameters::expr::MAX_OPS`] of them (a chain is a tree as
+    /// deep as it is long).
+    fn bin(&mut self, op: char, a: Node, b: Node) -> Parsed {
+        self.ops += 1;
+        if self.ops > crate::parameters::expr::MAX_OPS {
+            let max = crate::parameters::expr::MAX_OPS;
+            return Err((self.at, format!("more than {max} operations in one output")));
+        }
+        Ok(Node::Bin(op, Box::new(a), Box::new(b)))
+    }
+
     fn expr(&mut self) -> Parsed {
         self.depth += 1;
         if self.depth > 64 {
@@ -152,7 +165,8 @@ impl Parser<'_> {
         let mut a = self.term()?;
         while let Some(c @ ('+' | '-')) = self.peek() {
             self.at += 1;
-            a = Node::Bin(c, Box::new(a), Box::new(self.term()?));
+            let b = self.term()?;
+            a = self.bin(c, a, b)?;
         }
         self.depth -= 1;
         Ok(a)
@@ -161,7 +175,8 @@ impl Parser<'_> {
         let mut a = self.unary()?;
         while let Some(c @ ('*' | '/')) = self.peek() {
             self.at += 1;
-            a = Node::Bin(c, Box::new(a), Box::new(self.unary()?));
+            let b = self.unary()?;
+            a = self.bin(c, a, b)?;
         }
         Ok(a)
     }
@@ -179,7 +194,13 @@ impl Parser<'_> {
         let a = self.primary()?;
         if self.peek() == Some('^') {
             self.at += 1;
-            return Ok(Node::Bin('^', Box::new(a), Box::new(self.unary()?)));
+            self.depth += 1;
+            if self.depth > 64 {
+                return Err((self.at, "nested too deeply".into()));
+            }
+            let b = self.unary()?;
+            self.depth -= 1;
+            return self.bin('^', a, b);
         }
         Ok(a)
     }
@@ -521,5 +542,9 @@ mod tests {
             .contains("span t = 0 … 1 s"));
         assert!(Output::parse("max(x)").unwrap_err().contains("NAME=EXPR"));
         assert!(Output::parse("p=max(x").unwrap_err().contains("column 6"));
+        let chain = format!("p={}1", "1+".repeat(100_000));
+        assert!(Output::parse(&chain)
+            .unwrap_err()
+            .contains("more than 512 operations"));
     }
 }
