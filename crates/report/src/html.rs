@@ -141,36 +141,16 @@ pub fn write_html(scene: &Scene, glb: &[u8], page: &Page) -> Result<Html, crate:
     }
     html.push_str("</section>");
     html.push_str(end);
-    html.push_str("<section id=\"plots\"><h2>Plots</h2>\n");
-    for (name, svg) in &page.plots {
-        let svg = svg.trim_start();
-        let svg = match svg.strip_prefix("<?xml") {
-            Some(rest) => rest.split_once("?>").map_or(rest, |(_, s)| s),
-            None => svg,
-        };
-        let _ = writeln!(
-            html,
-            "<figure><figcaption>{}</figcaption>{svg}</figure>",
-            escape(name)
-        );
-    }
-    html.push_str("</section>\n<section id=\"summary\"><h2>Run summary</h2>\n");
-    if let Some(s) = &page.summary {
-        summary_table(s, &mut html);
-    }
+    html.push_str("<section id=\"plots\">");
+    plots_html(&page.plots, &mut html);
+    html.push_str("</section>\n<section id=\"summary\">");
+    summary_html(page.summary.as_ref(), &mut html);
     html.push_str("</section>\n<script>");
     let head = std::mem::replace(&mut html, String::with_capacity(glb.len() * 4 / 3 + 50_000));
     html.push_str("</script>\n<script id=\"glb\" type=\"application/octet-stream\">");
     encode_into(glb, &mut html);
     html.push_str("</script>\n<script id=\"meta\" type=\"application/json\">");
-    let mut meta = meta(scene, page.up);
-    if !page.modes.is_empty() {
-        meta["modes"] = modes_json(scene, &page.modes);
-    }
-    if with_stops {
-        meta["stops"] = stops_json(&page.stops, &page.stop_events);
-    }
-    html.push_str(&script_safe(&meta.to_string()));
+    html.push_str(&script_safe(&page_meta(scene, page).to_string()));
     html.push_str("</script>\n<script>");
     if with_stops {
         html.push_str(STOPS_SCRIPT);
@@ -183,6 +163,70 @@ pub fn write_html(scene: &Scene, glb: &[u8], page: &Page) -> Result<Html, crate:
         three: classic_three(),
         tail: html,
     })
+}
+
+/// The data of a new solve for a page already open (the live preview, `cardan watch`): a JSON
+/// object with the `.glb` in base64 (`glb`), the viewer's data (`meta`) and the inner HTML of
+/// the plots and summary sections (`plots`, `summary`), which the viewer's `replace` shows in
+/// place of the old model without loading a page. `meta.replaceable` is false for a modal run
+/// or a run with end stops (their controls are part of the page; the host loads the new page).
+///
+/// # Errors
+/// As [`write_html`].
+pub fn write_update(scene: &Scene, glb: &[u8], page: &Page) -> Result<String, crate::Error> {
+    validate_modes(scene, &page.modes)?;
+    validate_stops(scene, &page.stops, &page.stop_events)?;
+    let mut glb64 = String::with_capacity(glb.len() * 4 / 3 + 4);
+    encode_into(glb, &mut glb64);
+    let (mut plots, mut summary) = (String::new(), String::new());
+    plots_html(&page.plots, &mut plots);
+    summary_html(page.summary.as_ref(), &mut summary);
+    let update = serde_json::json!({
+        "glb": glb64,
+        "meta": page_meta(scene, page),
+        "plots": plots,
+        "summary": summary,
+    });
+    Ok(update.to_string())
+}
+
+/// The page's JSON data: [`meta`], the modes and the stops, and whether the viewer can show a
+/// new solve in place (`replaceable`).
+fn page_meta(scene: &Scene, page: &Page) -> serde_json::Value {
+    let mut meta = meta(scene, page.up);
+    if !page.modes.is_empty() {
+        meta["modes"] = modes_json(scene, &page.modes);
+    }
+    if !page.stops.is_empty() {
+        meta["stops"] = stops_json(&page.stops, &page.stop_events);
+    }
+    meta["replaceable"] = serde_json::Value::Bool(page.modes.is_empty() && page.stops.is_empty());
+    meta
+}
+
+/// The plots section's content: its heading and a figure per plot (the SVG inline).
+fn plots_html(plots: &[(String, String)], html: &mut String) {
+    html.push_str("<h2>Plots</h2>\n");
+    for (name, svg) in plots {
+        let svg = svg.trim_start();
+        let svg = match svg.strip_prefix("<?xml") {
+            Some(rest) => rest.split_once("?>").map_or(rest, |(_, s)| s),
+            None => svg,
+        };
+        let _ = writeln!(
+            html,
+            "<figure><figcaption>{}</figcaption>{svg}</figure>",
+            escape(name)
+        );
+    }
+}
+
+/// The summary section's content: its heading and the run summary as a table.
+fn summary_html(summary: Option<&serde_json::Value>, html: &mut String) {
+    html.push_str("<h2>Run summary</h2>\n");
+    if let Some(s) = summary {
+        summary_table(s, html);
+    }
 }
 
 /// Records errors into `#errors` from the very start (before three.js runs).

@@ -34,7 +34,7 @@ mod stops;
 mod tessellate;
 
 pub use glb::write_glb;
-pub use html::{classic_three, write_html, Html, Page};
+pub use html::{classic_three, write_html, write_update, Html, Page};
 pub use mesh_file::{flat_mesh, read_mesh, MeshFormat};
 pub use modes::{
     amplitude, mode_pose, small_rotation, validate_modes, BodyIncrement, ModeShape,

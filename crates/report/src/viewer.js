@@ -149,9 +149,6 @@
   }
 
   // --- page -------------------------------------------------------------------------------
-  var meta = JSON.parse(document.getElementById('meta').textContent);
-  var glb = parseGlb(fromBase64(document.getElementById('glb').textContent));
-  var built = buildScene(glb);
   var canvas = document.getElementById('canvas');
   var renderer = makeRenderer(canvas);
   var scene = new T.Scene();
@@ -159,70 +156,106 @@
   scene.add(new T.HemisphereLight(0xffffff, 0x888899, 2.0));
   var sun = new T.DirectionalLight(0xffffff, 1.5);
   scene.add(sun);
-  built.roots.forEach(function (r) { scene.add(r); });
-
-  var size = meta.size, centre = new T.Vector3().fromArray(meta.centre);
-  var up = new T.Vector3().fromArray(meta.up).normalize();
-  var camera = new T.PerspectiveCamera(40, 1, size * 1e-3, size * 1e3);
-  camera.up.copy(up);
-
-  // Body frames and joint axes (hidden until toggled).
-  var frameHelpers = [], axisHelpers = [];
-  var armLength = 0.15 * size;
-  built.roots.forEach(function (r) {
-    var h = new T.AxesHelper(armLength); h.visible = false; r.add(h); frameHelpers.push(h);
-  });
-  (meta.axes || []).forEach(function (a) {
-    var root = built.roots[a.body]; if (!root) return;
-    var d = new T.Vector3().fromArray(a.direction).normalize();
-    var p = new T.Vector3().fromArray(a.point);
-    var half = 0.2 * size;
-    var geo = new T.BufferGeometry().setFromPoints([p.clone().addScaledVector(d, -half), p.clone().addScaledVector(d, half)]);
-    var line = new T.Line(geo, new T.LineBasicMaterial({ color: 0xd4a017 }));
-    line.visible = false; root.add(line); axisHelpers.push(line);
-  });
-
-  // Trails: each named point's path over the keyframes, drawn up to the current time.
-  var trails = [];
+  var camera = new T.PerspectiveCamera(40, 1, 1e-3, 1e3);
   var trailBox = document.getElementById('trails');
   var palette = [0x0072b2, 0xd55e00, 0x009e73, 0xcc79a7, 0xe69f00, 0x56b4e9, 0x8c564b];
-  (meta.bodies || []).forEach(function (b, bi) {
-    var root = built.roots[bi];
-    var tr = built.tracks.filter(function (t) { return t.node === root; });
-    if (!tr.length) return;
-    b.points.forEach(function (pt) {
-      var times = built.times, n = times.length;
-      var stride = Math.max(1, Math.ceil(n / 20000));
-      var pts = [], sampleTimes = [];
-      var saved = [root.position.clone(), root.quaternion.clone()];
-      for (var k = 0; k < n; k += stride) {
-        applyTracks(tr, times[k]);
-        root.updateMatrix();
-        pts.push(new T.Vector3().fromArray(pt.local).applyMatrix4(root.matrix));
-        sampleTimes.push(times[k]);
-      }
-      root.position.copy(saved[0]); root.quaternion.copy(saved[1]);
-      var geo = new T.BufferGeometry().setFromPoints(pts);
-      var line = new T.Line(geo, new T.LineBasicMaterial({ color: palette[trails.length % palette.length] }));
-      line.visible = false; line.frustumCulled = false; scene.add(line);
-      var label = document.createElement('label');
-      var box = document.createElement('input'); box.type = 'checkbox';
-      box.addEventListener('change', function () { line.visible = box.checked; draw(); });
-      label.appendChild(box); label.appendChild(document.createTextNode(' ' + b.name + '.' + pt.name));
-      trailBox.appendChild(label);
-      trails.push({ line: line, times: sampleTimes });
+
+  // The model shown: its data, its scene objects and its time span. `show` builds it from the
+  // page's data and again, in place, for each update of the live preview (`replace`).
+  var meta = null, built = null, size = 1, up = new T.Vector3(0, 0, 1);
+  var frameHelpers = [], axisHelpers = [], trails = [];
+  var t0 = 0, t1 = 0;
+
+  function dispose(root) {
+    root.traverse(function (o) {
+      if (o.geometry) o.geometry.dispose();
+      if (o.material) o.material.dispose();
     });
-  });
-  if (!trails.length) trailBox.textContent = 'no named points on moving bodies';
+  }
+
+  // Returns the old model's objects, removed from the scene: disposed after the new model is
+  // drawn, so that three.js keeps the compiled shaders they share (disposing the last material
+  // of a shader deletes it, and compiling it again costs a software renderer ~0.3 s).
+  function show(newMeta, glb) {
+    var checked = {}, old = [];
+    if (built) {
+      built.roots.forEach(function (r) { scene.remove(r); old.push(r); });
+      trails.forEach(function (tr) { checked[tr.name] = tr.box.checked; scene.remove(tr.line); old.push(tr.line); });
+    }
+    meta = newMeta;
+    built = buildScene(glb);
+    built.roots.forEach(function (r) { scene.add(r); });
+    size = meta.size;
+    up = new T.Vector3().fromArray(meta.up).normalize();
+    camera.up.copy(up);
+    camera.near = size * 1e-3; camera.far = size * 1e3; camera.updateProjectionMatrix();
+
+    // Body frames and joint axes (hidden until toggled).
+    var showFrames = document.getElementById('frames').checked;
+    var showAxes = document.getElementById('axes').checked;
+    frameHelpers = []; axisHelpers = [];
+    var armLength = 0.15 * size;
+    built.roots.forEach(function (r) {
+      var h = new T.AxesHelper(armLength); h.visible = showFrames; r.add(h); frameHelpers.push(h);
+    });
+    (meta.axes || []).forEach(function (a) {
+      var root = built.roots[a.body]; if (!root) return;
+      var d = new T.Vector3().fromArray(a.direction).normalize();
+      var p = new T.Vector3().fromArray(a.point);
+      var half = 0.2 * size;
+      var geo = new T.BufferGeometry().setFromPoints([p.clone().addScaledVector(d, -half), p.clone().addScaledVector(d, half)]);
+      var line = new T.Line(geo, new T.LineBasicMaterial({ color: 0xd4a017 }));
+      line.visible = showAxes; root.add(line); axisHelpers.push(line);
+    });
+
+    // Trails: each named point's path over the keyframes, drawn up to the current time.
+    trails = [];
+    trailBox.textContent = '';
+    (meta.bodies || []).forEach(function (b, bi) {
+      var root = built.roots[bi];
+      var tr = built.tracks.filter(function (t) { return t.node === root; });
+      if (!tr.length) return;
+      b.points.forEach(function (pt) {
+        var times = built.times, n = times.length;
+        var stride = Math.max(1, Math.ceil(n / 20000));
+        var pts = [], sampleTimes = [];
+        var saved = [root.position.clone(), root.quaternion.clone()];
+        for (var k = 0; k < n; k += stride) {
+          applyTracks(tr, times[k]);
+          root.updateMatrix();
+          pts.push(new T.Vector3().fromArray(pt.local).applyMatrix4(root.matrix));
+          sampleTimes.push(times[k]);
+        }
+        root.position.copy(saved[0]); root.quaternion.copy(saved[1]);
+        var name = b.name + '.' + pt.name;
+        var geo = new T.BufferGeometry().setFromPoints(pts);
+        var line = new T.Line(geo, new T.LineBasicMaterial({ color: palette[trails.length % palette.length] }));
+        line.visible = !!checked[name]; line.frustumCulled = false; scene.add(line);
+        var label = document.createElement('label');
+        var box = document.createElement('input'); box.type = 'checkbox'; box.checked = line.visible;
+        box.addEventListener('change', function () { line.visible = box.checked; draw(); });
+        label.appendChild(box); label.appendChild(document.createTextNode(' ' + name));
+        trailBox.appendChild(label);
+        trails.push({ line: line, times: sampleTimes, name: name, box: box });
+      });
+    });
+    if (!trails.length) trailBox.textContent = 'no named points on moving bodies';
+    t0 = built.times[0]; t1 = built.times[built.times.length - 1];
+    return old;
+  }
+
+  show(JSON.parse(document.getElementById('meta').textContent),
+    parseGlb(fromBase64(document.getElementById('glb').textContent)));
 
   // Orbit: spherical coordinates about the target, around the up direction.
-  var target = centre.clone(), radius = 1.25 * size, azimuth = 0.6, elevation = 0.45;
+  var target = new T.Vector3().fromArray(meta.centre), radius = 1.25 * size, azimuth = 0.6, elevation = 0.45;
   var basisX = new T.Vector3(), basisY = new T.Vector3();
-  (function () {
+  function orbitBasis() {
     var ref = Math.abs(up.z) < 0.9 ? new T.Vector3(0, 0, 1) : new T.Vector3(1, 0, 0);
     basisY.crossVectors(up, ref).normalize();
     basisX.crossVectors(basisY, up).normalize();
-  })();
+  }
+  orbitBasis();
   function placeCamera() {
     var ce = Math.cos(elevation);
     var dir = basisX.clone().multiplyScalar(ce * Math.cos(azimuth))
@@ -231,14 +264,59 @@
     camera.lookAt(target);
     sun.position.copy(camera.position).addScaledVector(up, size);
   }
+
+  // Picking and dragging a body (Ctrl- or Alt-drag) for a host that sets
+  // `cardanReport.dragHandler` (the live preview, `cardan watch`): start({body, index, point,
+  // t}), move(target), end(), points in world coordinates; the host answers with poses
+  // (`cardanReport.setPoses`). The target moves in the plane through the picked point facing
+  // the camera.
+  var raycaster = new T.Raycaster();
+  function rayAt(x, y) {
+    var rect = canvas.getBoundingClientRect();
+    var ndc = new T.Vector2(2 * (x - rect.left) / rect.width - 1, 1 - 2 * (y - rect.top) / rect.height);
+    camera.updateMatrixWorld();
+    raycaster.setFromCamera(ndc, camera);
+    return raycaster.ray;
+  }
+  function pick(x, y) {
+    rayAt(x, y);
+    var hits = raycaster.intersectObjects(built.roots, true).filter(function (h) { return h.object.isMesh && h.object.visible; });
+    if (!hits.length) return null;
+    var o = hits[0].object;
+    while (o && built.roots.indexOf(o) < 0) o = o.parent;
+    var index = built.roots.indexOf(o);
+    return { body: meta.bodies[index].name, index: index, point: hits[0].point.toArray(), t: t };
+  }
+  var api = window.cardanReport = { dragHandler: null, replaced: 0 };
+  var posed = false, dragPlane = null;
+
   var drag = null;
   canvas.addEventListener('contextmenu', function (e) { e.preventDefault(); });
   canvas.addEventListener('pointerdown', function (e) {
+    if ((e.ctrlKey || e.altKey) && api.dragHandler && !modes) {
+      var hit = pick(e.clientX, e.clientY);
+      if (!hit) return;
+      var normal = new T.Vector3();
+      camera.getWorldDirection(normal);
+      dragPlane = new T.Plane().setFromNormalAndCoplanarPoint(normal, new T.Vector3().fromArray(hit.point));
+      setPlaying(false);
+      canvas.setPointerCapture(e.pointerId);
+      api.dragHandler.start(hit);
+      return;
+    }
     drag = { x: e.clientX, y: e.clientY, pan: e.button === 2 || e.shiftKey };
     canvas.setPointerCapture(e.pointerId);
   });
-  canvas.addEventListener('pointerup', function () { drag = null; });
+  canvas.addEventListener('pointerup', function () {
+    drag = null;
+    if (dragPlane) { dragPlane = null; if (api.dragHandler) api.dragHandler.end(); }
+  });
   canvas.addEventListener('pointermove', function (e) {
+    if (dragPlane) {
+      var p = rayAt(e.clientX, e.clientY).intersectPlane(dragPlane, new T.Vector3());
+      if (p && api.dragHandler) api.dragHandler.move(p.toArray());
+      return;
+    }
     if (!drag) return;
     var dx = e.clientX - drag.x, dy = e.clientY - drag.y;
     drag.x = e.clientX; drag.y = e.clientY;
@@ -310,7 +388,6 @@
   var stops = !modes && window.cardanStops ? window.cardanStops(T, meta, built, findFrame) : null; // [stops]
 
   // Playback (a modal run: the phase τ over one period, a period per second at speed 1).
-  var t0 = built.times[0], t1 = built.times[built.times.length - 1];
   if (modes) { t0 = 0; t1 = 1; document.getElementById('scrub').setAttribute('aria-label', 'phase'); }
   var t = t0, playing = t1 > t0, speed = 1, last = null;
   var playBtn = document.getElementById('play'), scrub = document.getElementById('scrub');
@@ -321,9 +398,9 @@
     t = Math.max(t0, Math.min(t1, parseFloat(query))); playing = false;
     recordPoses = !!modes;
   }
-  function setPlaying(p) { playing = p && t1 > t0; playBtn.textContent = playing ? 'pause' : 'play'; last = null; }
+  function setPlaying(p) { playing = p && t1 > t0; playBtn.textContent = playing ? 'pause' : 'play'; last = null; if (playing) posed = false; }
   playBtn.addEventListener('click', function () { setPlaying(!playing); if (playing) requestAnimationFrame(tick); });
-  scrub.addEventListener('input', function () { t = parseFloat(scrub.value); setPlaying(false); draw(); });
+  scrub.addEventListener('input', function () { t = parseFloat(scrub.value); setPlaying(false); posed = false; draw(); });
   document.getElementById('speed').addEventListener('change', function (e) { speed = parseFloat(e.target.value); });
   document.getElementById('frames').addEventListener('change', function (e) {
     frameHelpers.forEach(function (h) { h.visible = e.target.checked; }); draw();
@@ -342,10 +419,10 @@
       applyMode(t);
       timeLabel.textContent = 'mode ' + mode.number + ', τ = ' + t.toFixed(3) + ' T';
     } else {
-      applyTracks(built.tracks, t);
+      if (!posed) applyTracks(built.tracks, t);
       trails.forEach(function (tr) { tr.line.geometry.setDrawRange(0, findFrame(tr.times, t)[0] + 1); });
       if (stops) stops.draw(t); // [stops]
-      timeLabel.textContent = 't = ' + t.toFixed(4) + ' s';
+      timeLabel.textContent = 't = ' + t.toFixed(4) + ' s' + (posed ? ' (dragged)' : '');
     }
     scrub.value = t;
     if (renderer) renderer.render(scene, camera);
@@ -361,6 +438,56 @@
     requestAnimationFrame(tick);
   }
   window.addEventListener('resize', function () { resize(); draw(); });
+
+  // The live preview's hooks (`cardan watch`, crates/cli/src/watch/page.html).
+  // replace(update): the model of a new solve shown in place (update: `glb` in base64, `meta`,
+  // the `plots` and `summary` sections' HTML), the camera, time and toggles kept; false when
+  // either page is not `replaceable` (a modal run or a run with limits: their controls are
+  // part of the page, the host loads the new page instead).
+  api.replace = function (update) {
+    if (!meta.replaceable || !update.meta.replaceable) return false;
+    var oldUp = up.clone();
+    var old = show(update.meta, parseGlb(fromBase64(update.glb)));
+    if (!up.equals(oldUp)) orbitBasis();
+    scrub.min = t0; scrub.max = t1;
+    t = Math.max(t0, Math.min(t1, t));
+    if (!(t1 > t0)) setPlaying(false);
+    document.getElementById('plots').innerHTML = update.plots;
+    document.getElementById('summary').innerHTML = update.summary;
+    posed = false;
+    placeCamera(); draw();
+    old.forEach(dispose);
+    api.replaced += 1;
+    document.body.setAttribute('data-replaced', String(api.replaced));
+    return true;
+  };
+  // setPoses(poses): each body at [x, y, z, e0, e1, e2, e3] (null: where it is) until the
+  // time moves or the playback starts.
+  api.setPoses = function (poses) {
+    poses.forEach(function (q, bi) {
+      var root = built.roots[bi];
+      if (!q || !root) return;
+      root.position.set(q[0], q[1], q[2]);
+      root.quaternion.set(q[4], q[5], q[6], q[3]).normalize();
+    });
+    posed = true; setPlaying(false); draw();
+  };
+  // project(index, local): where a point of a body is on the screen (client pixels).
+  api.project = function (index, local) {
+    var root = built.roots[index];
+    root.updateMatrixWorld();
+    var p = new T.Vector3().fromArray(local).applyMatrix4(root.matrixWorld).project(camera);
+    var rect = canvas.getBoundingClientRect();
+    return { x: rect.left + (p.x + 1) / 2 * rect.width, y: rect.top + (1 - p.y) / 2 * rect.height };
+  };
+  // pose(index): a body's pose as drawn, [x, y, z, e0, e1, e2, e3]; bodies(): their names.
+  api.pose = function (index) {
+    var r = built.roots[index], q = r.quaternion;
+    return [r.position.x, r.position.y, r.position.z, q.w, q.x, q.y, q.z];
+  };
+  api.bodies = function () { return meta.bodies.map(function (b) { return b.name; }); };
+  api.time = function () { return t; };
+
   resize(); placeCamera(); setPlaying(playing); draw();
   document.body.setAttribute('data-ready', '1');
   if (playing) requestAnimationFrame(tick);

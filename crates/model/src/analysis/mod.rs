@@ -289,6 +289,36 @@ pub fn animation(
     svgs: Vec<(String, String)>,
     files: Vec<String>,
 ) -> Result<Option<(Vec<u8>, cardan_report::Html)>, Error> {
+    let Some(shown) = animation_page(p, kind, a, declared, svgs, files) else {
+        return Ok(None);
+    };
+    let html = cardan_report::write_html(&shown.scene, &shown.glb, &shown.page)
+        .map_err(|e| Error::output(format!("index.html: {e}")))?;
+    Ok(Some((shown.glb, html)))
+}
+
+/// What the report page shows: the scene, its animation (`.glb`) and the page's other parts.
+#[derive(Debug, Clone)]
+pub struct Shown {
+    /// The bodies, their geometry and poses over the run.
+    pub scene: cardan_report::Scene,
+    /// The scene as `animation.glb`.
+    pub glb: Vec<u8>,
+    /// The plots, the summary, the modes and the stops.
+    pub page: cardan_report::Page,
+}
+
+/// The parts of the report page of [`animation`] before they are written as a page (the live
+/// preview also sends them to a page already open, [`cardan_report::write_update`]). `None`
+/// as in [`animation`].
+pub fn animation_page(
+    p: &Prepared,
+    kind: &'static str,
+    a: &mut Analysed,
+    declared: &crate::geometry::Declared,
+    svgs: Vec<(String, String)>,
+    files: Vec<String>,
+) -> Option<Shown> {
     let scene = crate::scene::scene(&p.loaded.name, &p.model, &a.results, declared);
     let glb = match cardan_report::write_glb(&scene) {
         Ok(g) => g,
@@ -296,7 +326,7 @@ pub fn animation(
             a.summary.warnings.push(format!(
                 "animation.glb and index.html were not written: {e}"
             ));
-            return Ok(None);
+            return None;
         }
     };
     let mut modes = crate::scene::mode_shapes(&p.model, &a.results, &a.modes);
@@ -321,9 +351,7 @@ pub fn animation(
         stops,
         stop_events,
     };
-    let html = cardan_report::write_html(&scene, &glb, &page)
-        .map_err(|e| Error::output(format!("index.html: {e}")))?;
-    Ok(Some((glb, html)))
+    Some(Shown { scene, glb, page })
 }
 
 /// The contents of `run.json` for an analysed run whose tables are `files`.
