@@ -4,13 +4,16 @@
 //! solution with the `--set` arguments that reproduce it; writes a broken file and sees the
 //! error with its line; fixes it, deletes it, replaces it by a directory and restores it, the
 //! preview following each time; then Ctrl-C ends the command. The server refuses other hosts
-//! and origins and listens on the loopback interface only.
+//! and origins and listens on the loopback interface only. A saved edit is shown in place by
+//! the report's viewer (the bodies' poses at a paused time change, no page load). A second
+//! preview drags a hinged rod with the mouse (Ctrl held): it turns about its hinge toward the
+//! pointer and stops at its end stop.
 
 mod common;
 use common::{chromium, scratch};
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::TcpStream;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 use tungstenite::Message;
@@ -79,7 +82,7 @@ impl Page {
             }
             std::thread::sleep(Duration::from_millis(5));
         }
-        let state = self.eval("document.body.dataset.version + ' ' + document.body.dataset.loaded + ' ' + document.getElementById('error').textContent");
+        let state = self.eval("document.body.dataset.version + ' ' + document.body.dataset.loaded + ' ' + document.getElementById('error').textContent + ' ' + document.getElementById('drag').textContent");
         panic!("timed out waiting for {what} ({js}); page: {state}");
     }
 }
@@ -88,6 +91,20 @@ impl Page {
 const DIGEST: &str = "(() => { const d = document.getElementById('report').contentDocument; \
     if (!d || !d.body) return ''; const s = d.body.innerHTML; let h = 0; \
     for (let i = 0; i < s.length; i++) h = (h * 31 + s.charCodeAt(i)) | 0; return s.length + ':' + h; })()";
+
+/// The report's viewer paused at t = 0.25 s.
+const PAUSE: &str = "(() => { const d = document.getElementById('report').contentDocument; \
+    const s = d.getElementById('scrub'); s.value = 0.25; s.dispatchEvent(new Event('input')); \
+    return true; })()";
+
+/// The poses of the bodies as the viewer draws them.
+const POSES: &str =
+    "(() => { const v = document.getElementById('report').contentWindow.cardanReport; \
+    return JSON.stringify(v.bodies().map((_, i) => v.pose(i))); })()";
+
+/// How many solves the viewer showed in place, its time and the errors it recorded.
+const VIEWER_STATE: &str = "(() => { const w = document.getElementById('report').contentWindow; \
+    return [w.cardanReport.replaced, w.cardanReport.time(), JSON.stringify(w.__cardanErrors)]; })()";
 
 fn loaded_at(v: u64) -> String {
     format!("document.body.dataset.loaded === '{v}'")
@@ -115,12 +132,25 @@ fn status(port: u16, host: &str, origin: Option<&str>) -> String {
     out.lines().next().unwrap_or("").to_string()
 }
 
-#[test]
-fn the_preview_follows_the_file_and_the_sliders() {
-    let Some(chromium) = chromium() else { return };
-    let dir = scratch("watch");
-    let example =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/slider_crank_parametric.toml");
+/// A preview of a copy of an example, open in headless Chromium.
+struct Preview {
+    page: Page,
+    children: Kill,
+    /// The model file watched.
+    model: PathBuf,
+    /// The example's text.
+    original: String,
+}
+
+/// Starts `cardan watch` on a copy of `example` in a scratch directory `name` and opens its
+/// page in headless Chromium (None without Chromium). The server's host and origin checks and
+/// its loopback-only listening are tested on the way.
+fn open(example: &str, name: &str) -> Option<Preview> {
+    let chromium = chromium()?;
+    let dir = scratch(name);
+    let example = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(example);
     let original = std::fs::read_to_string(example).unwrap();
     let model = dir.join("model.toml");
     std::fs::write(&model, &original).unwrap();
@@ -223,6 +253,25 @@ fn the_preview_follows_the_file_and_the_sliders() {
         false,
     );
     page.session = attached["sessionId"].as_str().unwrap().to_string();
+    Some(Preview {
+        page,
+        children,
+        model,
+        original,
+    })
+}
+
+#[test]
+fn the_preview_follows_the_file_and_the_sliders() {
+    let Some(Preview {
+        mut page,
+        mut children,
+        model,
+        original,
+    }) = open("slider_crank_parametric.toml", "watch")
+    else {
+        return;
+    };
 
     // The first solve: the report is shown, with sliders for the independent parameters.
     page.wait(
@@ -232,7 +281,9 @@ fn the_preview_follows_the_file_and_the_sliders() {
     let v1 = version(&mut page);
     page.wait(&loaded_at(v1), "the first report loaded");
     assert_eq!(page.eval("!!document.getElementById('slider-crank')"), true);
+    page.eval(PAUSE);
     let before = page.eval(DIGEST);
+    let poses = page.eval(POSES);
 
     // Save a shorter crank: the scene and plots change.
     let saved = Instant::now();
@@ -248,7 +299,11 @@ fn the_preview_follows_the_file_and_the_sliders() {
     let latency = saved.elapsed();
     let v2 = version(&mut page);
     page.wait(&loaded_at(v2), "the edited model loaded");
-    assert_ne!(page.eval(DIGEST), before, "the report did not change");
+    assert_ne!(page.eval(DIGEST), before, "the plots did not change");
+    assert_ne!(page.eval(POSES), poses, "the scene did not change");
+    // In place: the viewer replaced its model (no page load), kept its time and recorded no
+    // error.
+    assert_eq!(page.eval(VIEWER_STATE), serde_json::json!([1, 0.25, "[]"]));
     let load = page.eval("document.body.dataset.loadMs");
     eprintln!(
         "save-to-updated-page latency: {:.0} ms (the frame's load of the new report: {} ms)",
@@ -326,4 +381,124 @@ fn the_preview_follows_the_file_and_the_sliders() {
         std::thread::sleep(Duration::from_millis(20));
     };
     assert_eq!(code, Some(0));
+}
+
+/// Presses, moves and releases the mouse with Ctrl held at page coordinates (the report's
+/// frame offset added to the viewer's client coordinates).
+fn ctrl_drag(page: &mut Page, path: &[(f64, f64)]) {
+    let offset = page.eval(
+        "(() => { const r = document.getElementById('report').getBoundingClientRect(); \
+         return [r.left, r.top]; })()",
+    );
+    let (dx, dy) = (offset[0].as_f64().unwrap(), offset[1].as_f64().unwrap());
+    let mouse = |page: &mut Page, kind: &str, (x, y): (f64, f64), buttons: u8| {
+        page.call(
+            "Input.dispatchMouseEvent",
+            serde_json::json!({"type": kind, "x": x + dx, "y": y + dy, "modifiers": 2,
+                "button": "left", "buttons": buttons, "clickCount": 1}),
+            true,
+        );
+    };
+    mouse(page, "mousePressed", path[0], 1);
+    for &p in &path[1..] {
+        mouse(page, "mouseMoved", p, 1);
+    }
+    mouse(page, "mouseReleased", *path.last().unwrap(), 0);
+}
+
+/// Where the viewer draws a point given in the frame of body `index` (client pixels), and
+/// whether that is on its canvas.
+fn screen(page: &mut Page, index: usize, local: [f64; 3]) -> (f64, f64) {
+    let p = page.eval(&format!(
+        "(() => {{ const w = document.getElementById('report').contentWindow; \
+         const p = w.cardanReport.project({index}, {local:?}); \
+         const r = w.document.getElementById('canvas').getBoundingClientRect(); \
+         return [p.x, p.y, p.x > r.left && p.x < r.right && p.y > r.top && p.y < r.bottom]; }})()"
+    ));
+    assert_eq!(
+        p[2], true,
+        "{local:?} of body {index} is drawn outside the view: {p}"
+    );
+    (p[0].as_f64().unwrap(), p[1].as_f64().unwrap())
+}
+
+/// The rod's angle about z (deg) as the viewer draws it.
+fn rod_angle(page: &mut Page) -> f64 {
+    let q = page.eval("document.getElementById('report').contentWindow.cardanReport.pose(0)");
+    let (e0, e3) = (q[3].as_f64().unwrap(), q[6].as_f64().unwrap());
+    2.0 * e3.atan2(e0).to_degrees()
+}
+
+#[test]
+fn a_body_dragged_with_the_mouse_follows_it_and_stops_at_its_end_stop() {
+    let Some(Preview {
+        mut page,
+        children: _processes,
+        ..
+    }) = open("pendulum_stop.toml", "watch-drag")
+    else {
+        return;
+    };
+    page.wait(&loaded_at(1), "the report");
+    page.wait(
+        "document.getElementById('report').contentDocument.body.dataset.ready === '1'",
+        "the viewer",
+    );
+    // At t = 0 the rod lies along x from the hinge; its body index 0, the ground's 1.
+    let names = page.eval("document.getElementById('report').contentWindow.cardanReport.bodies()");
+    assert_eq!(names, serde_json::json!(["rod", "ground"]));
+    page.eval(
+        "(() => { const d = document.getElementById('report').contentDocument; \
+         const s = d.getElementById('scrub'); s.value = 0; s.dispatchEvent(new Event('input')); \
+         return true; })()",
+    );
+    assert!(rod_angle(&mut page).abs() < 1e-6);
+
+    // Up: the rod turns toward the pointer, about the hinge.
+    let from = screen(&mut page, 0, [0.0, 0.0, 0.0]);
+    let to = screen(&mut page, 1, [0.45, 0.1, 0.0]);
+    let path: Vec<(f64, f64)> = (0..=8)
+        .map(|k| {
+            let s = f64::from(k) / 8.0;
+            (from.0 + s * (to.0 - from.0), from.1 + s * (to.1 - from.1))
+        })
+        .collect();
+    ctrl_drag(&mut page, &path);
+    page.wait(
+        "Number(document.body.dataset.dragSteps || 0) >= 1 && document.body.dataset.dragError === '0'",
+        "a drag step",
+    );
+    page.wait(
+        "document.getElementById('drag').textContent.startsWith('dragging rod:')",
+        "the drag's report",
+    );
+    std::thread::sleep(Duration::from_millis(300));
+    let up = rod_angle(&mut page);
+    assert!(up > 4.0 && up < 20.0, "the rod turned to {up}°");
+    // The hinge held: the rod's end O stays at the ground's O.
+    let hinge = page.eval(
+        "(() => { const v = document.getElementById('report').contentWindow.cardanReport; \
+         const q = v.pose(0); return q; })()",
+    );
+    let (x, y) = (hinge[0].as_f64().unwrap(), hinge[1].as_f64().unwrap());
+    let a = up.to_radians();
+    assert!(
+        (x - 0.5 * a.cos()).abs() < 1e-6 && (y - 0.5 * a.sin()).abs() < 1e-6,
+        "the rod's centre ({x}, {y}) is not 0.5 m from the hinge at {up}°"
+    );
+
+    // Far down, grabbed nearer the hinge: the rod stops at its end stop, −60°.
+    let from = screen(&mut page, 0, [-0.3, 0.0, 0.0]);
+    let to = screen(&mut page, 1, [0.1, -0.8, 0.0]);
+    ctrl_drag(&mut page, &[from, to]);
+    page.wait("document.body.dataset.dragStop === 'stop'", "the end stop");
+    let down = rod_angle(&mut page);
+    assert!((down + 60.0).abs() < 1e-6, "the rod went to {down}°");
+    let said = page.eval("document.getElementById('drag').textContent");
+    assert!(
+        said.as_str()
+            .unwrap()
+            .contains("stopped by the end stop \"stop\""),
+        "{said}"
+    );
 }

@@ -7,13 +7,16 @@
 //! file over the old one, a file deleted or replaced by a directory are all seen) and marks it
 //! dirty; the solver solves whenever it is dirty ([`solve`]) and publishes a new version; the
 //! server ([`server`]) answers the page: `/` the page, `/report` the latest report,
-//! `/state?after=N` a long poll that returns when the version passes N, `POST /set` the
-//! sliders' values. Polling rather than file-system notifications: one `stat` every 50 ms is
+//! `/update` the same solve for the page's viewer to show in place (no page load: the view,
+//! time and toggles stay), `/state?after=N` a long poll that returns when the version passes
+//! N, `POST /set` the sliders' values, `POST /drag` the steps of a body dragged with the mouse
+//! ([`drag`]). Polling rather than file-system notifications: one `stat` every 50 ms is
 //! free, sees every way a file can change (including the atomic renames of editors, which
 //! notification APIs report as a remove on the old inode) and needs no platform code.
 //!
 //! Ctrl-C ends it: the threads see the stop flag within a poll and the command returns.
 
+pub mod drag;
 pub mod server;
 pub mod solve;
 
@@ -48,6 +51,9 @@ pub struct Shared {
     pub state: Mutex<State>,
     /// Signalled on every change.
     pub changed: Condvar,
+    /// The drag in progress (the page's Ctrl-drag of a body), apart from the state: its steps
+    /// do not hold up the long polls.
+    pub drag: Mutex<Option<drag::Session>>,
 }
 
 impl Shared {

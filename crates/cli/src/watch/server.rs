@@ -3,6 +3,7 @@
 //! answered: a `Host` other than `127.0.0.1:PORT` or `localhost:PORT` (a DNS-rebinding page)
 //! or an `Origin` other than this page's (another site's script) gets 403.
 
+use super::drag::{describe as describe_step, Session};
 use super::{stopped, Shared, State};
 use std::io::Read as _;
 use std::time::{Duration, Instant};
@@ -82,6 +83,30 @@ fn handle(mut request: Request, port: u16, shared: &Shared) {
                 Some(h) => Response::from_string(h)
                     .with_header(header("Content-Type", "text/html; charset=utf-8")),
                 None => text(404, "no report yet"),
+            }
+        }
+        (Method::Get, "/update") => {
+            let update = shared
+                .state
+                .lock()
+                .ok()
+                .and_then(|s| s.solved.update.clone());
+            match update {
+                Some(u) => {
+                    Response::from_string(u).with_header(header("Content-Type", "application/json"))
+                }
+                None => text(404, "no report yet"),
+            }
+        }
+        (Method::Post, "/drag") => {
+            let mut body = String::new();
+            let read = request.as_reader().take(MAX_BODY).read_to_string(&mut body);
+            match read
+                .map_err(|e| e.to_string())
+                .and_then(|_| drag(shared, &body))
+            {
+                Ok(v) => json(&v),
+                Err(e) => text(400, &e),
             }
         }
         (Method::Get, "/state") => {
@@ -185,4 +210,65 @@ fn set(shared: &Shared, body: &str) -> Result<(), String> {
         s.dirty = true;
     });
     Ok(())
+}
+
+/// `POST /drag`: `{"phase": "start", "body": name, "point": [x, y, z], "t": time}` picks a
+/// body's point (world coordinates, m) at a time the page shows; `{"phase": "move", "target":
+/// [x, y, z]}` is a drag step, answered with every moving body's pose (`poses`: x, y, z, e0,
+/// e1, e2, e3) and how far it got; `{"phase": "end"}` ends the drag.
+fn drag(shared: &Shared, body: &str) -> Result<serde_json::Value, String> {
+    let v: serde_json::Value = serde_json::from_str(body).map_err(|e| format!("not JSON: {e}"))?;
+    let triple = |key: &str| -> Result<[f64; 3], String> {
+        let a = v[key].as_array().filter(|a| a.len() == 3);
+        let a = a.ok_or(format!("drag: \"{key}\" must be three numbers"))?;
+        let x: Vec<f64> = a.iter().filter_map(serde_json::Value::as_f64).collect();
+        <[f64; 3]>::try_from(x).map_err(|_| format!("drag: \"{key}\" must be three numbers"))
+    };
+    let mut slot = shared.drag.lock().map_err(|_| "the preview stopped")?;
+    let (version, snapshot) = {
+        let s = shared.state.lock().map_err(|_| "the preview stopped")?;
+        (s.version, s.solved.snapshot.clone())
+    };
+    match v["phase"].as_str() {
+        Some("start") => {
+            let snapshot = snapshot.ok_or("drag: no solved model to drag (see the error)")?;
+            let name = v["body"]
+                .as_str()
+                .ok_or("drag: \"body\" must be a body's name")?;
+            let t = v["t"].as_f64().ok_or("drag: \"t\" must be a time")?;
+            *slot = Some(Session::start(
+                snapshot,
+                version,
+                name,
+                triple("point")?,
+                t,
+            )?);
+            Ok(serde_json::json!({"ok": true}))
+        }
+        Some("move") => {
+            let session = slot.as_mut().ok_or("drag: no drag in progress")?;
+            if session.version != version {
+                *slot = None;
+                return Err("drag: the model was solved again; start the drag again".into());
+            }
+            let stepped = session.step(triple("target")?)?;
+            let (unit, per_metre) = session.units().unit("m");
+            Ok(serde_json::json!({
+                "poses": stepped.poses,
+                "reached": stepped.report.reached,
+                "stop": match &stepped.report.stop {
+                    cardan_mechanism::DragStop::None => None,
+                    cardan_mechanism::DragStop::Limit(name) => Some(name.clone()),
+                    cardan_mechanism::DragStop::NotConverged => Some("not converged".to_string()),
+                },
+                "distance": stepped.report.distance,
+                "message": describe_step(session.body(), &stepped, per_metre, &unit),
+            }))
+        }
+        Some("end") => {
+            *slot = None;
+            Ok(serde_json::json!({"ok": true}))
+        }
+        _ => Err("drag: \"phase\" must be start, move or end".into()),
+    }
 }

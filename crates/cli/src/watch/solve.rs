@@ -1,12 +1,14 @@
 //! One solve of the live preview: the model file read with the sliders' values, its analysis
 //! run in memory and its report page made, or the error as `cardan run` prints it.
 
-use cardan_model::analysis::{analyse, animation, RunFlags};
+use super::drag::Snapshot;
+use cardan_model::analysis::{analyse, animation_page, RunFlags};
 use cardan_model::diag::{Error, Source};
 use cardan_model::parameters::expr;
 use cardan_model::plot::PlotFiles;
 use cardan_model::prepare::prepare_source;
 use std::path::Path;
+use std::sync::Arc;
 
 /// A parameter the page offers a slider for: one defined by a value, not from others.
 #[derive(Debug, Clone, PartialEq)]
@@ -24,6 +26,10 @@ pub struct Slider {
 pub struct Solved {
     /// The report page (`index.html` of `cardan run`), when the run produced results.
     pub html: Option<String>,
+    /// The same solve for a page already open ([`cardan_report::write_update`]).
+    pub update: Option<String>,
+    /// The model and its poses over the run, for dragging a body.
+    pub snapshot: Option<Arc<Snapshot>>,
     /// The error as the command prints it (file, line, excerpt), or a run's failure.
     pub error: Option<String>,
     /// The warnings of the run.
@@ -90,11 +96,27 @@ fn run(path: &Path, set: &[(String, String)]) -> Result<Solved, Error> {
         .filter(|t| plots.plots(&t.name))
         .map(|t| (t.name.clone(), t.to_svg()))
         .collect();
-    let page = animation(&p, kind, &mut analysed, &declared, svgs, names)?;
+    let Some(shown) = animation_page(&p, kind, &mut analysed, &declared, svgs, names) else {
+        return Ok(Solved {
+            error: analysed.failure.as_ref().map(ToString::to_string),
+            warnings: analysed.summary.warnings.clone(),
+            sliders,
+            ..Solved::default()
+        });
+    };
+    let page_error = |e: cardan_report::Error| Error::output(format!("index.html: {e}"));
+    let html =
+        cardan_report::write_html(&shown.scene, &shown.glb, &shown.page).map_err(page_error)?;
+    let update =
+        cardan_report::write_update(&shown.scene, &shown.glb, &shown.page).map_err(page_error)?;
+    let error = analysed.failure.as_ref().map(ToString::to_string);
+    let warnings = analysed.summary.warnings.clone();
     Ok(Solved {
-        html: page.map(|(_, html)| linked(&html)),
-        error: analysed.failure.as_ref().map(ToString::to_string),
-        warnings: analysed.summary.warnings.clone(),
+        html: Some(linked(&html)),
+        update: Some(update),
+        snapshot: Some(Arc::new(Snapshot::new(p, &analysed.results))),
+        error,
+        warnings,
         sliders,
     })
 }
