@@ -11,7 +11,7 @@
 //! - `cardan import MODEL.asmt [-o MODEL.toml]`: an ASMT file (OndselSolver / FreeCAD Assembly)
 //!   as a cardan model; `run` and `check` also take `.asmt` files directly (`--units si|mm`,
 //!   `--analysis kinematic|inverse_dynamics|dynamic`).
-//! - `cardan eval MODEL.toml [--t T] [--format text|json|csv]`: Φ, the Jacobian (pattern and
+//! - `cardan eval MODEL.toml [--t T] [--format text|json|csv] [--set NAME=VALUE]`: Φ, the Jacobian (pattern and
 //!   values), ν and γ# at the assembled state; JSON at full precision with row and column maps.
 //!
 //! Every failure is an [`Error`] with a one-paragraph message (file:line:column when it comes
@@ -152,6 +152,9 @@ pub enum Command {
         /// Output format: tables to read, or JSON at full precision with the row and column maps.
         #[arg(long, value_enum, default_value_t = eval::Format::Text)]
         format: eval::Format,
+        /// A value for one of the model's [parameters] (repeatable), as for `run`.
+        #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_setting)]
+        set: Vec<(String, String)>,
     },
 }
 
@@ -370,7 +373,12 @@ pub fn run(cli: &Cli, out: &mut dyn std::io::Write) -> Result<(), Error> {
             out,
         ),
         Command::Watch { model, port } => watch::watch(model, *port, out),
-        Command::Eval { model, t, format } => eval::eval(model, *t, *format, out),
+        Command::Eval {
+            model,
+            t,
+            format,
+            set,
+        } => eval::eval_with(model, *t, set, *format, out),
     }
 }
 

@@ -233,3 +233,24 @@ fn set_mistakes_are_usage_errors_naming_the_parameters() {
     assert_eq!(o.code, 2, "{}", o.stderr);
     assert!(o.stderr.contains("has none"), "{}", o.stderr);
 }
+
+#[test]
+fn eval_takes_set_values() {
+    let dir = scratch("parameters-eval");
+    let model = example("slider_crank_parametric.toml");
+    let m = model.to_str().unwrap();
+    let state = |extra: &[&str]| {
+        let mut args = vec!["eval", m, "--format", "json"];
+        args.extend_from_slice(extra);
+        let o = cardan(&args, &dir);
+        assert_eq!(o.code, 0, "{}", o.stderr);
+        let v: serde_json::Value = serde_json::from_str(&o.stdout).unwrap();
+        v["bodies"].clone()
+    };
+    let file = state(&[]);
+    assert_eq!(state(&["--set", "crank=80 mm"]), file);
+    assert_ne!(state(&["--set", "crank=60 mm"]), file);
+    let o = cardan(&["eval", m, "--set", "crnak=1"], &dir);
+    assert_eq!(o.code, 2, "{}", o.stderr);
+    assert!(o.stderr.contains("did you mean \"crank\"?"), "{}", o.stderr);
+}

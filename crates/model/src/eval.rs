@@ -121,7 +121,25 @@ const FORM: &str = "6-coordinate: per moving body the columns are r.x r.y r.z (g
 /// # Errors
 /// Input errors; an assembly that cannot close.
 pub fn eval(path: &Path, t: Option<f64>, format: Format, out: &mut dyn Write) -> Result<(), Error> {
-    let (p, ev) = evaluate(path, t)?;
+    eval_with(path, t, &[], format, out)
+}
+
+/// [`eval`] with `--set` values for the model's `[parameters]`.
+///
+/// # Errors
+/// As [`eval`]; a `--set` of a parameter the file does not define, or of a wrong unit.
+pub fn eval_with(
+    path: &Path,
+    t: Option<f64>,
+    set: &[(String, String)],
+    format: Format,
+    out: &mut dyn Write,
+) -> Result<(), Error> {
+    let options = crate::asmt::AsmtOptions {
+        set: set.to_vec(),
+        ..Default::default()
+    };
+    let (p, ev) = evaluate_prepared(crate::prepare::prepare_with(path, options)?, t)?;
     match format {
         Format::Text => write_text(&p, &ev, out),
         Format::Json => {
@@ -201,7 +219,14 @@ fn write_csv(ev: &Evaluation, out: &mut dyn Write) -> Result<(), Error> {
 /// # Errors
 /// Input errors; an assembly that cannot close.
 pub fn evaluate(path: &Path, t: Option<f64>) -> Result<(Prepared, Evaluation), Error> {
-    let p = prepare(path)?;
+    evaluate_prepared(prepare(path)?, t)
+}
+
+/// [`evaluate`] of a model already read.
+///
+/// # Errors
+/// As [`evaluate`].
+pub fn evaluate_prepared(p: Prepared, t: Option<f64>) -> Result<(Prepared, Evaluation), Error> {
     let model = &p.model;
     let t = t.unwrap_or_else(|| p.loaded.analysis.as_ref().map_or(0.0, |a| a.t_start));
     if !t.is_finite() {
