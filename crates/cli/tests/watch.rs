@@ -306,7 +306,7 @@ fn the_preview_follows_the_file_and_the_sliders() {
     assert_eq!(page.eval(VIEWER_STATE), serde_json::json!([1, 0.25, "[]"]));
     let load = page.eval("document.body.dataset.loadMs");
     eprintln!(
-        "save-to-updated-page latency: {:.0} ms (the frame's load of the new report: {} ms)",
+        "save-to-updated-page latency: {:.0} ms (the page showing the new solve: {} ms)",
         latency.as_secs_f64() * 1e3,
         load.as_str().unwrap_or("?")
     );
