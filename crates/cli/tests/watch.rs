@@ -502,3 +502,130 @@ fn a_body_dragged_with_the_mouse_follows_it_and_stops_at_its_end_stop() {
         "{said}"
     );
 }
+
+/// An HTTP POST to the preview: its status code and body.
+fn post(port: u16, path: &str, body: &str) -> (u16, String) {
+    let mut s = TcpStream::connect(("127.0.0.1", port)).unwrap();
+    write!(
+        s,
+        "POST {path} HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nContent-Type: application/json\r\n\
+         Content-Length: {}\r\nConnection: close\r\n\r\n{body}",
+        body.len()
+    )
+    .unwrap();
+    let mut out = String::new();
+    s.read_to_string(&mut out).unwrap();
+    let code = out.split_whitespace().nth(1).unwrap().parse().unwrap();
+    let body = out
+        .split_once("\r\n\r\n")
+        .map_or("", |(_, b)| b)
+        .to_string();
+    (code, body)
+}
+
+/// Starts `cardan watch` on a copy of `example` without a browser: its model path and port.
+fn serve(example: &str, name: &str) -> (PathBuf, u16, Kill) {
+    let dir = scratch(name);
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../examples")
+            .join(example),
+    )
+    .unwrap();
+    let model = dir.join("model.toml");
+    std::fs::write(&model, text).unwrap();
+    let mut watch = Command::new(env!("CARGO_BIN_EXE_cardan"))
+        .args(["watch", "model.toml"])
+        .current_dir(&dir)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut line = String::new();
+    BufReader::new(watch.stdout.take().unwrap())
+        .read_line(&mut line)
+        .unwrap();
+    let port = line
+        .split_whitespace()
+        .find_map(|w| w.strip_prefix("http://127.0.0.1:"))
+        .and_then(|w| w.trim_end_matches('/').parse().ok())
+        .unwrap();
+    (model, port, Kill(vec![watch]))
+}
+
+/// Waits for the preview's solve after `version`; returns its version.
+fn solved_after(port: u16, version: u64) -> u64 {
+    let mut s = TcpStream::connect(("127.0.0.1", port)).unwrap();
+    write!(
+        s,
+        "GET /state?after={version} HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nConnection: close\r\n\r\n"
+    )
+    .unwrap();
+    let mut out = String::new();
+    s.read_to_string(&mut out).unwrap();
+    let body = out.split_once("\r\n\r\n").unwrap().1;
+    let v: serde_json::Value = serde_json::from_str(body).unwrap();
+    v["version"].as_u64().unwrap()
+}
+
+#[test]
+fn drag_requests_that_cannot_be_followed_are_refused_with_the_reason() {
+    let (model, port, _watch) = serve("pendulum_stop.toml", "watch-drag-refused");
+    let v1 = solved_after(port, 0);
+    for (body, reason) in [
+        ("not json", "not JSON"),
+        (
+            r#"{"phase": "jump"}"#,
+            "\"phase\" must be start, move or end",
+        ),
+        (
+            r#"{"phase": "move", "target": [0, 0, 0]}"#,
+            "no drag in progress",
+        ),
+        (
+            r#"{"phase": "start", "body": "ground", "point": [0, 0, 0], "t": 0}"#,
+            "the ground cannot be dragged",
+        ),
+        (
+            r#"{"phase": "start", "body": "arm", "point": [0, 0, 0], "t": 0}"#,
+            "no body \"arm\"",
+        ),
+        (
+            r#"{"phase": "start", "body": "rod", "point": [0, 0], "t": 0}"#,
+            "\"point\" must be three numbers",
+        ),
+        (
+            r#"{"phase": "start", "body": "rod", "point": [0, 0, 0]}"#,
+            "\"t\" must be a time",
+        ),
+    ] {
+        let (code, said) = post(port, "/drag", body);
+        assert_eq!(code, 400, "{body}: {said}");
+        assert!(said.contains(reason), "{body}: {said}");
+    }
+    // A drag step, then the file saved again: the next step is refused, not applied to a
+    // model that is no longer shown.
+    let start = r#"{"phase": "start", "body": "rod", "point": [1, 0, 0], "t": 0}"#;
+    assert_eq!(post(port, "/drag", start).0, 200);
+    let (code, said) = post(
+        port,
+        "/drag",
+        r#"{"phase": "move", "target": [0.9, 0.3, 0]}"#,
+    );
+    assert_eq!(code, 200, "{said}");
+    let step: serde_json::Value = serde_json::from_str(&said).unwrap();
+    assert_eq!(step["stop"], serde_json::Value::Null);
+    let tip = step["poses"][0].as_array().unwrap();
+    let (x, y) = (tip[0].as_f64().unwrap(), tip[1].as_f64().unwrap());
+    assert!(((x * x + y * y).sqrt() - 0.5).abs() < 1e-9, "({x}, {y})");
+    let text = std::fs::read_to_string(&model).unwrap();
+    std::fs::write(&model, text.replace("t_end = 3.0", "t_end = 2.0")).unwrap();
+    solved_after(port, v1);
+    let (code, said) = post(
+        port,
+        "/drag",
+        r#"{"phase": "move", "target": [0.9, 0.4, 0]}"#,
+    );
+    assert_eq!(code, 400, "{said}");
+    assert!(said.contains("solved again"), "{said}");
+}
