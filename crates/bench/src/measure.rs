@@ -142,3 +142,10 @@ pub fn machine() -> String {
 pub fn ms(v: u64) -> Duration {
     Duration::from_millis(v)
 }
+
+/// The `cardan` binary beside this one (`cargo build --release -p cardan-cli`).
+pub fn cardan_binary() -> std::path::PathBuf {
+    std::env::current_exe()
+        .map(|p| p.with_file_name("cardan"))
+        .unwrap_or_else(|_| "cardan".into())
+}

@@ -834,12 +834,7 @@ fn settings_tried(md: &mut String, ladders: &[Ladder]) {
     }
 }
 
-/// The `cardan` binary beside this one (`cargo build --release -p cardan-cli`).
-fn cardan_binary() -> std::path::PathBuf {
-    std::env::current_exe()
-        .map(|p| p.with_file_name("cardan"))
-        .unwrap_or_else(|_| "cardan".into())
-}
+use cardan_bench::measure::cardan_binary;
 
 /// A whole `cardan run MODEL -o OUT` in its own process: wall time (reading the model, assembly,
 /// the integration and every output file), or why it failed.
