@@ -221,6 +221,10 @@ pub struct UrdfArgs {
     /// URDF files: no stops at the joints' position limits.
     #[arg(long)]
     pub no_limits: bool,
+    /// URDF files: each revolute joint's <dynamics damping> as a rotational damper (torque
+    /// −c q̇; friction is not modelled).
+    #[arg(long)]
+    pub damping: bool,
 }
 
 /// `--base` of a URDF file.
@@ -244,7 +248,7 @@ pub enum UrdfMimic {
 impl UrdfArgs {
     /// Whether any URDF flag is given.
     fn given(&self) -> bool {
-        self.base.is_some() || self.mimic.is_some() || self.no_limits
+        self.base.is_some() || self.mimic.is_some() || self.no_limits || self.damping
     }
 
     /// The URDF reading the flags ask for.
@@ -260,6 +264,7 @@ impl UrdfArgs {
                 _ => MimicMode::Couple,
             },
             limits: !self.no_limits,
+            damping: self.damping,
         }
     }
 }

@@ -176,3 +176,104 @@ fn a_motion_beyond_the_urdf_effort_and_velocity_limits_is_a_warning() {
     );
     assert_eq!(o.code, 3, "{}", o.stderr);
 }
+
+/// A link turning about a vertical joint with `<dynamics damping="0.3">`: its moment of
+/// inertia about the axis J = I_zz + m d² = 0.02 + 2 · 0.2² = 0.1 kg m², no gravity torque.
+const SPINNER: &str = r#"<?xml version="1.0"?>
+<robot name="spinner">
+  <link name="base"/>
+  <link name="arm">
+    <inertial>
+      <origin xyz="0.2 0 0"/>
+      <mass value="2.0"/>
+      <inertia ixx="0.011" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.02"/>
+    </inertial>
+  </link>
+  <joint name="spin" type="continuous">
+    <parent link="base"/>
+    <child link="arm"/>
+    <origin xyz="0 0 0.1"/>
+    <axis xyz="0 0 1"/>
+    <dynamics damping="0.3" friction="0.1"/>
+  </joint>
+</robot>
+"#;
+
+/// The spinner driven along θ = 0.5 sin 2t (inverse dynamics): its motor torque at each
+/// output time, with `damping` in the overlay's `[urdf]`, and the run's warnings.
+fn spinner_torque(damping: &str) -> (Vec<(f64, f64)>, Vec<String>) {
+    let dir = scratch("urdf-damping");
+    std::fs::write(dir.join("spinner.urdf"), SPINNER).unwrap();
+    let overlay = format!(
+        "[model]\nname = \"spin\"\n\n[urdf]\nfile = \"spinner.urdf\"\n{damping}\n{}{INVERSE}",
+        driver("motor", "spin", "0.5 * sin(2 * t)")
+    );
+    std::fs::write(dir.join("overlay.toml"), overlay).unwrap();
+    let o = cardan(&["run", "overlay.toml", "-o", "out", "--quiet"], &dir);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let text = std::fs::read_to_string(dir.join("out/driver_efforts.csv")).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = header
+        .iter()
+        .position(|h| h.starts_with("motor.torque"))
+        .unwrap();
+    let rows = lines
+        .map(|l| {
+            let v: Vec<f64> = l.split(',').map(|x| x.parse().unwrap()).collect();
+            (v[0], v[col])
+        })
+        .collect();
+    let warnings = run_json(&dir)["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|w| w.as_str().unwrap().to_string())
+        .collect();
+    (rows, warnings)
+}
+
+#[test]
+fn joint_damping_becomes_a_rotational_damper_when_asked_for() {
+    // τ = J θ̈ + c θ̇ with θ = 0.5 sin 2t: −0.2 sin 2t + 0.3 cos 2t.
+    let (rows, warnings) = spinner_torque("damping = true");
+    assert_eq!(rows.len(), 101);
+    for (t, tau) in &rows {
+        let want = -0.2 * (2.0 * t).sin() + 0.3 * (2.0 * t).cos();
+        assert!((tau - want).abs() < 1e-9, "t = {t}: {tau} against {want}");
+    }
+    // The friction is still not modelled: said once.
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.contains("1 joint with <dynamics> friction")),
+        "{warnings:?}"
+    );
+    // Not asked for: the torque has no damping term, and the warning says how to ask.
+    let (rows, warnings) = spinner_torque("");
+    for (t, tau) in &rows {
+        let want = -0.2 * (2.0 * t).sin();
+        assert!((tau - want).abs() < 1e-9, "t = {t}: {tau} against {want}");
+    }
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.contains("damping or friction, which is not modelled (--damping")),
+        "{warnings:?}"
+    );
+    // The flag on the command line: the imported model has the damper.
+    let dir = scratch("urdf-damping-flag");
+    std::fs::write(dir.join("spinner.urdf"), SPINNER).unwrap();
+    let o = cardan(
+        &["import", "spinner.urdf", "--damping", "-o", "spinner.toml"],
+        &dir,
+    );
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let text = std::fs::read_to_string(dir.join("spinner.toml")).unwrap();
+    assert!(
+        text.contains("[[force]]   # <dynamics damping> of joint \"spin\" (line 16)")
+            && text
+                .contains("type = \"rotational_spring_damper\"\njoint = \"spin\"\ndamping = 0.3"),
+        "{text}"
+    );
+}

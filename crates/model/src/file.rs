@@ -176,6 +176,9 @@ pub struct UrdfSection {
     /// The position limits as stops (default true).
     #[serde(default)]
     pub limits: Option<bool>,
+    /// Revolute joints' `<dynamics damping>` as rotational dampers (default false).
+    #[serde(default)]
+    pub damping: Option<bool>,
 }
 
 /// `[ground]`.

@@ -8,7 +8,8 @@
 //!
 //! [urdf]
 //! file = "ur5.urdf"        # relative to this file
-//! base = "fixed"           # or "floating"; mimic = "couple" | "free"; limits = true | false
+//! base = "fixed"           # or "floating"; mimic = "couple" | "free"; limits = true | false;
+//!                          # damping = true: revolute joints' <dynamics damping> as dampers
 //!
 //! [[driver]]
 //! name = "wave"
@@ -23,7 +24,7 @@
 //! ```
 //!
 //! The robot is imported as `cardan import` would ([`crate::urdf`]) and its bodies, joints,
-//! limits, couplers and ground points are added to the overlay's; the overlay's `[model]`,
+//! limits, couplers, dampers and ground points are added to the overlay's; the overlay's `[model]`,
 //! `[ground]` (merged with the robot's ground points) and `[analysis]` are the model's, with the
 //! robot's gravity (0, 0, −9.81) m/s² unless the overlay's `[model]` gives one. Messages
 //! about the overlay's own elements point at its lines; the robot's part is checked when it is
@@ -99,6 +100,7 @@ fn options(src: &Source, t: &crate::file::UrdfSection) -> Result<UrdfOptions, Er
         base: [Base::Fixed, Base::Floating][word(&t.base, "base", &["fixed", "floating"])?],
         mimic: [MimicMode::Couple, MimicMode::Free][word(&t.mimic, "mimic", &["couple", "free"])?],
         limits: t.limits.unwrap_or(true),
+        damping: t.damping.unwrap_or(false),
     })
 }
 
@@ -112,6 +114,7 @@ fn merge(src: &Source, file: &mut ModelFile, robot: ModelFile) -> Result<(), Err
     file.joint.extend(robot.joint);
     file.limit.extend(robot.limit);
     file.coupler.extend(robot.coupler);
+    file.force.extend(robot.force);
     file.keys.extend(robot.keys);
     let Some(theirs) = robot.ground else {
         return Ok(());

@@ -20,7 +20,7 @@ pub fn is_urdf(path: &Path) -> bool {
         .is_some_and(|e| e.eq_ignore_ascii_case("urdf"))
 }
 
-/// How a URDF file is read (`--base`, `--mimic`, `--no-limits`).
+/// How a URDF file is read (`--base`, `--mimic`, `--no-limits`, `--damping`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct UrdfOptions {
     /// The root link fixed to the ground or floating.
@@ -29,6 +29,8 @@ pub struct UrdfOptions {
     pub mimic: MimicMode,
     /// The position limits as stops.
     pub limits: bool,
+    /// Revolute joints' `<dynamics damping>` as rotational dampers (`--damping`).
+    pub damping: bool,
 }
 
 impl Default for UrdfOptions {
@@ -37,6 +39,7 @@ impl Default for UrdfOptions {
             base: Base::Fixed,
             mimic: MimicMode::Couple,
             limits: true,
+            damping: false,
         }
     }
 }
@@ -80,6 +83,7 @@ pub fn import_text(
             base: options.base,
             limits: options.limits,
             mimic: options.mimic,
+            damping: options.damping,
             needs_masses,
         },
     )

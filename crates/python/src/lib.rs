@@ -365,9 +365,10 @@ fn imported<'py>(
 
 /// A URDF robot as cardan model text: a dict with `text` (the imported model), `path` (its
 /// name, `<file>.urdf.toml`) and `warnings`, or `error`. `base` is `"fixed"` or `"floating"`,
-/// `mimic` `"couple"` or `"free"`; `limits` writes the position limits as stops.
+/// `mimic` `"couple"` or `"free"`; `limits` writes the position limits as stops; `damping`
+/// the revolute joints' `<dynamics damping>` as rotational dampers.
 #[pyfunction]
-#[pyo3(signature = (text, path, base="fixed", mimic="couple", limits=true))]
+#[pyo3(signature = (text, path, base="fixed", mimic="couple", limits=true, damping=false))]
 fn import_urdf<'py>(
     py: Python<'py>,
     text: String,
@@ -375,6 +376,7 @@ fn import_urdf<'py>(
     base: &str,
     mimic: &str,
     limits: bool,
+    damping: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     use cardan_model::urdf::{import_source, Base, MimicMode, UrdfOptions};
     let bad = |key: &str, v: &str, words: &str| {
@@ -394,6 +396,7 @@ fn import_urdf<'py>(
         base,
         mimic,
         limits,
+        damping,
     };
     imported(
         py,

@@ -22,9 +22,21 @@ def test_a_urdf_loads_with_its_options() -> None:
         cardan.load(ARM, base="floating")
 
 
+def test_joint_damping_is_a_damper_when_asked_for(tmp_path) -> None:
+    damped = tmp_path / "damped.urdf"
+    damped.write_text(ARM.read_text().replace("</joint>", '<dynamics damping="0.2"/></joint>', 1))
+    with pytest.warns(UserWarning, match="not modelled"):
+        plain = cardan.load(damped)
+    assert "rotational_spring_damper" not in plain.text
+    model = cardan.load(damped, damping=True)
+    assert 'type = "rotational_spring_damper"\njoint = "turret_joint"\ndamping = 0.2' in model.text
+
+
 def test_urdf_options_are_refused_elsewhere_and_checked() -> None:
     with pytest.raises(ValueError, match="apply to URDF files"):
         cardan.load(EXAMPLES / "slider_crank.toml", base="floating")
+    with pytest.raises(ValueError, match="apply to URDF files"):
+        cardan.load(EXAMPLES / "slider_crank.toml", damping=True)
     with pytest.raises(ValueError, match="ASMT"):
         cardan.load(ARM, units="mm")
     with pytest.raises(ValueError, match="fixed"):

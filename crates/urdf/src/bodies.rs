@@ -198,7 +198,7 @@ mod tests {
           <joint name="j" type="revolute"><parent link="world"/><child link="a"/>
           <origin xyz="1 0 0" rpy="0 0 0.5"/><axis xyz="0 0 1"/><limit lower="0.25" upper="1"/></joint>
         </robot>"#;
-        let (robot, _) = read(text).unwrap();
+        let robot = read(text).unwrap();
         let t = tree(&robot).unwrap();
         // 0 is outside [0.25, 1]: drawn at the lower limit.
         let q0 = initial_q(&robot);
@@ -223,7 +223,7 @@ mod tests {
           <joint name="j" type="revolute"><parent link="world"/><child link="a"/><origin xyz="1 0 0"/><axis xyz="0 0 1"/><limit lower="-1" upper="1"/></joint>
           <joint name="f" type="fixed"><parent link="a"/><child link="b"/><origin xyz="0 2 0"/></joint>
         </robot>"#;
-        let (robot, _) = read(text).unwrap();
+        let robot = read(text).unwrap();
         let t = tree(&robot).unwrap();
         let lay = layout(&robot, &t, Base::Fixed, &initial_q(&robot));
         assert_eq!(lay.groups.len(), 1);

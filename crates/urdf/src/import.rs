@@ -43,6 +43,8 @@ pub struct Options {
     pub limits: bool,
     /// Mimic joints as couplers or free.
     pub mimic: MimicMode,
+    /// The `<dynamics damping>` of revolute and continuous joints as rotational dampers.
+    pub damping: bool,
     /// The analysis needs masses (dynamics): a massless moving body is an error naming its links.
     pub needs_masses: bool,
 }
@@ -53,6 +55,7 @@ impl Default for Options {
             base: Base::Fixed,
             limits: true,
             mimic: MimicMode::Couple,
+            damping: false,
             needs_masses: true,
         }
     }
@@ -88,7 +91,8 @@ pub struct Import {
 /// # Errors
 /// The first problem, at its line.
 pub fn import(text: &str, options: Options) -> Result<Import> {
-    let (robot, mut warnings) = crate::read::read(text)?;
+    let robot = crate::read::read(text)?;
+    let mut warnings = Vec::new();
     let tree = tree(&robot)?;
     if options.mimic == MimicMode::Couple {
         crate::tree::check_mimics(&robot)?;
@@ -163,6 +167,7 @@ pub fn import(text: &str, options: Options) -> Result<Import> {
     };
     import.couplers = mimic_couplers(&import, &mut warnings)?;
     limit_warnings(&import, &mut warnings);
+    dynamics_warning(&import, &mut warnings);
     if options.needs_masses {
         refuse_negative_inertia(&import.robot)?;
         refuse_massless(&import)?;
@@ -170,6 +175,53 @@ pub fn import(text: &str, options: Options) -> Result<Import> {
     }
     import.warnings = warnings;
     Ok(import)
+}
+
+/// Whether joint `j`'s `<dynamics damping>` becomes a rotational damper (`damping` chosen; a
+/// revolute or continuous joint between two bodies; a damping above 0).
+pub fn damped(import: &Import, j: usize) -> bool {
+    let joint = &import.robot.joints[j];
+    import.options.damping
+        && matches!(joint.kind, JointType::Revolute | JointType::Continuous)
+        && !import.joint_features[j].0.is_empty()
+        && joint.dynamics.is_some_and(|d| d.damping > 0.0)
+}
+
+/// One warning for every joint whose `<dynamics>` is not modelled (a robot often has it on
+/// every joint): friction always; damping unless `damping` is chosen (then only a prismatic or
+/// planar joint's).
+fn dynamics_warning(import: &Import, warnings: &mut Vec<Warning>) {
+    let left: Vec<(usize, &crate::robot::Joint)> = (import.robot.joints.iter().enumerate())
+        .filter(|(k, j)| {
+            j.dynamics
+                .is_some_and(|d| d.friction > 0.0 || (d.damping > 0.0 && !damped(import, *k)))
+                && !import.joint_features[*k].0.is_empty()
+        })
+        .collect();
+    let Some((_, first)) = left.first() else {
+        return;
+    };
+    let listed: Vec<String> = (left.iter().take(6))
+        .map(|(_, j)| {
+            let line = j.dynamics.map_or(j.line, |d| d.line);
+            format!("\"{}\" (line {line})", j.name)
+        })
+        .collect();
+    let what = if import.options.damping {
+        "friction (or a prismatic or planar joint's damping), which is not modelled"
+    } else {
+        "damping or friction, which is not modelled (--damping, or damping = true in an overlay's [urdf], makes a revolute joint's damping a rotational damper)"
+    };
+    warnings.push(Warning {
+        line: first.dynamics.map_or(first.line, |d| d.line),
+        message: format!(
+            "{} joint{} with <dynamics> {what}: {}{}; add dampers or [[friction]] in an overlay",
+            left.len(),
+            if left.len() == 1 { "" } else { "s" },
+            listed.join(", "),
+            if left.len() > 6 { ", …" } else { "" }
+        ),
+    });
 }
 
 /// The mimic joints that become gear couplers (two revolute joints whose bodies share one).

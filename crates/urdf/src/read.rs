@@ -9,20 +9,22 @@
 //! not part of the mechanism; `<dynamics>` damping or friction is reported, in one warning
 //! listing the joints.
 
-use crate::error::{Result, UrdfError, Warning};
+use crate::error::{Result, UrdfError};
 use crate::pose::Pose;
-use crate::robot::{Geometry, Inertial, Joint, JointType, Limit, Link, Mimic, Robot, Visual};
+use crate::robot::{
+    Dynamics, Geometry, Inertial, Joint, JointType, Limit, Link, Mimic, Robot, Visual,
+};
 use nalgebra::{Matrix3, Vector3};
 use roxmltree::{Document, Node, ParsingOptions};
 
 /// The most XML nodes a file may hold (elements, attributes' text, comments): about 10⁵ links.
 pub const MAX_NODES: u32 = 4_000_000;
 
-/// Reads a URDF document: the robot and the warnings about what was read but not used.
+/// Reads a URDF document.
 ///
 /// # Errors
 /// The first problem, at its line.
-pub fn read(text: &str) -> Result<(Robot, Vec<Warning>)> {
+pub fn read(text: &str) -> Result<Robot> {
     let options = ParsingOptions {
         allow_dtd: false,
         nodes_limit: MAX_NODES,
@@ -51,30 +53,12 @@ pub fn read(text: &str) -> Result<(Robot, Vec<Warning>)> {
         links: Vec::new(),
         joints: Vec::new(),
     };
-    let mut damped = Vec::new();
     for node in root.children().filter(Node::is_element) {
         match node.tag_name().name() {
             "link" => robot.links.push(reader.link(node)?),
-            "joint" => robot.joints.push(reader.joint(node, &mut damped)?),
+            "joint" => robot.joints.push(reader.joint(node)?),
             _ => {}
         }
-    }
-    // One warning for all joints with damping or friction (a robot often has it on every joint).
-    let mut warnings = Vec::new();
-    if let Some((_, line)) = damped.first() {
-        let listed: Vec<String> = (damped.iter().take(6))
-            .map(|(j, l)| format!("\"{j}\" (line {l})"))
-            .collect();
-        warnings.push(Warning {
-            line: *line,
-            message: format!(
-                "{} joint{} with <dynamics> damping or friction, which is not modelled: {}{}; add dampers or [[friction]] in an overlay",
-                damped.len(),
-                if damped.len() == 1 { "" } else { "s" },
-                listed.join(", "),
-                if damped.len() > 6 { ", …" } else { "" }
-            ),
-        });
     }
     if robot.links.is_empty() {
         return Err(UrdfError::new(
@@ -82,7 +66,7 @@ pub fn read(text: &str) -> Result<(Robot, Vec<Warning>)> {
             format!("robot \"{}\" has no <link>", robot.name),
         ));
     }
-    Ok((robot, warnings))
+    Ok(robot)
 }
 
 /// An XML syntax error at its line; a DTD or too many nodes said in words.
@@ -328,7 +312,7 @@ impl Reader<'_> {
         })
     }
 
-    fn joint(&self, node: Node, damped: &mut Vec<(String, usize)>) -> Result<Joint> {
+    fn joint(&self, node: Node) -> Result<Joint> {
         let name = self.attr(node, "name", "a joint")?.to_string();
         let owner = format!("joint \"{name}\"");
         let type_name = self.attr(node, "type", &owner)?;
@@ -410,15 +394,26 @@ impl Reader<'_> {
                 line: (self.at)(m),
             }),
         };
-        if let Some(d) = child(node, "dynamics") {
-            let nonzero = |key| {
-                self.number(d, key, &owner)
-                    .map(|v| v.is_some_and(|v| v != 0.0))
-            };
-            if nonzero("damping")? || nonzero("friction")? {
-                damped.push((name.clone(), (self.at)(d)));
+        let dynamics = match child(node, "dynamics") {
+            None => None,
+            Some(d) => {
+                let value = |key| -> Result<f64> {
+                    let v = self.number(d, key, &owner)?.unwrap_or(0.0);
+                    if v < 0.0 {
+                        return Err(UrdfError::new(
+                            (self.at)(d),
+                            format!("{owner}: <dynamics> {key} = {v} is negative; a damping or friction is at least 0"),
+                        ));
+                    }
+                    Ok(v)
+                };
+                Some(Dynamics {
+                    damping: value("damping")?,
+                    friction: value("friction")?,
+                    line: (self.at)(d),
+                })
             }
-        }
+        };
         Ok(Joint {
             name,
             line: (self.at)(node),
@@ -429,6 +424,7 @@ impl Reader<'_> {
             axis,
             limit,
             mimic,
+            dynamics,
         })
     }
 }

@@ -152,6 +152,19 @@ pub struct Joint {
     pub limit: Option<Limit>,
     /// `<mimic>`.
     pub mimic: Option<Mimic>,
+    /// `<dynamics>`.
+    pub dynamics: Option<Dynamics>,
+}
+
+/// A `<dynamics>`: the joint's viscous damping and dry friction.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Dynamics {
+    /// `damping` \[N m s/rad or N s/m\] (default 0): the torque or force −c q̇.
+    pub damping: f64,
+    /// `friction` \[N m or N\] (default 0): a dry friction's largest torque or force.
+    pub friction: f64,
+    /// Line of the `<dynamics>` tag.
+    pub line: usize,
 }
 
 /// A `<limit>`.

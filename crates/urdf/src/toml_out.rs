@@ -203,7 +203,7 @@ pub fn to_toml_with(
     out
 }
 
-/// `[[joint]]`, `[[limit]]` and `[[coupler]]` tables.
+/// `[[joint]]`, `[[limit]]`, `[[coupler]]` and (`damping` chosen) `[[force]]` tables.
 fn joints(import: &Import, out: &mut String) {
     let robot = &import.robot;
     let lay = &import.layout;
@@ -212,6 +212,7 @@ fn joints(import: &Import, out: &mut String) {
     for n in &import.joint_names {
         elements.claim(n);
     }
+    let mut forces = String::new();
     for (k, j) in robot.joints.iter().enumerate() {
         let kind = match j.kind {
             JointType::Revolute | JointType::Continuous => "revolute",
@@ -233,6 +234,18 @@ fn joints(import: &Import, out: &mut String) {
             body(lay.body_of[p]),
             body(lay.body_of[c]),
         );
+        if crate::import::damped(import, k) {
+            let d = j.dynamics.map_or((0.0, 0), |d| (d.damping, d.line));
+            let _ = write!(
+                forces,
+                "\n[[force]]   # <dynamics damping> of joint \"{}\" (line {}): torque −c q̇\nname = \"{}\"\ntype = \"rotational_spring_damper\"\njoint = \"{}\"\ndamping = {}\n",
+                comment(&j.name),
+                d.1,
+                elements.claim(&format!("{}_damping", import.joint_names[k])),
+                import.joint_names[k],
+                num(d.0)
+            );
+        }
         // The actuator's ratings: warnings when a driven motion passes them.
         if let Some(l) = &j.limit {
             for (key, v) in [("effort_limit", l.effort), ("rate_limit", l.velocity)] {
@@ -283,4 +296,5 @@ fn joints(import: &Import, out: &mut String) {
             num(m.1)
         );
     }
+    out.push_str(&forces);
 }

@@ -226,3 +226,39 @@ fn joint_damping_is_one_warning_listing_the_joints() {
         .warnings
         .is_empty());
 }
+
+#[test]
+fn joint_damping_asked_for_is_a_damper_per_joint_and_a_negative_one_an_error() {
+    let text = chain(3).replace(
+        "</joint>",
+        "<dynamics damping=\"0.5\" friction=\"0\"/></joint>",
+    );
+    let options = Options {
+        damping: true,
+        ..Options::default()
+    };
+    let i = import(&text, options).unwrap();
+    assert!(
+        !i.warnings.iter().any(|w| w.message.contains("<dynamics>")),
+        "{:?}",
+        i.warnings
+    );
+    let toml = cardan_urdf::toml_out::to_toml(&i, "chain.urdf");
+    assert_eq!(
+        toml.matches("type = \"rotational_spring_damper\"").count(),
+        3
+    );
+    assert!(toml.contains("joint = \"j2\"\ndamping = 0.5"), "{toml}");
+    // Not asked for: no damper.
+    let plain = import(&text, Options::default()).unwrap();
+    let toml = cardan_urdf::toml_out::to_toml(&plain, "chain.urdf");
+    assert!(!toml.contains("[[force]]"), "{toml}");
+    // A negative damping or friction is refused at its line.
+    let bad = chain(2).replace("</joint>", "<dynamics damping=\"-1\"/></joint>");
+    let e = err(&bad);
+    assert_eq!(e.line, 4, "{e}");
+    assert!(
+        e.message.contains("<dynamics> damping = -1 is negative"),
+        "{e}"
+    );
+}

@@ -124,9 +124,10 @@ class Model:
         base: "str | None" = None,
         mimic: "str | None" = None,
         limits: "bool | None" = None,
+        damping: "bool | None" = None,
     ) -> "Model":
         """Reads and validates a model file (a ``str`` or a ``pathlib.Path``): see :func:`load`."""
-        return load(path, units, base=base, mimic=mimic, limits=limits)
+        return load(path, units, base=base, mimic=mimic, limits=limits, damping=damping)
 
     def with_parameters(self, **values: Any) -> "Model":
         """This model with ``[parameters]`` given values, as ``cardan run --set`` gives them:
@@ -266,26 +267,33 @@ def load(
     base: "str | None" = None,
     mimic: "str | None" = None,
     limits: "bool | None" = None,
+    damping: "bool | None" = None,
 ) -> Model:
     """Reads a model file: TOML, an ASMT assembly (``.asmt``, OndselSolver / FreeCAD) or a URDF
     robot (``.urdf``), imported as cardan does for ``cardan run model.asmt``. ``units`` is for
     ASMT files, as ``--units`` of the command: ``"si"`` (default) or ``"mm"`` (FreeCAD's
     millimetres: the model says ``[model] units = "mm"`` and its results are in mm). A TOML model
     gives its units in ``[model] units``, and ``units=`` is refused for it. ``base``
-    (``"fixed"`` or ``"floating"``), ``mimic`` (``"couple"`` or ``"free"``) and ``limits`` are
-    for URDF files, as ``--base``, ``--mimic`` and ``--no-limits``. The import's warnings
+    (``"fixed"`` or ``"floating"``), ``mimic`` (``"couple"`` or ``"free"``), ``limits`` and
+    ``damping`` are for URDF files, as ``--base``, ``--mimic``, ``--no-limits`` and
+    ``--damping``. The import's warnings
     (elements read but ignored) are issued as Python warnings."""
     path = os.path.abspath(os.fspath(path))
     with open(path, encoding="utf-8") as f:
         text = f.read()
     is_urdf = path.lower().endswith(".urdf")
-    if not is_urdf and (base is not None or mimic is not None or limits is not None):
-        raise ValueError(f"base=, mimic= and limits= apply to URDF files; {path} is not one")
+    if not is_urdf and any(v is not None for v in (base, mimic, limits, damping)):
+        raise ValueError(f"base=, mimic=, limits= and damping= apply to URDF files; {path} is not one")
     if is_urdf:
         if units is not None:
             raise ValueError(f"units={units!r} applies to ASMT files; a URDF is in SI units")
         out = _cardan.import_urdf(
-            text, path, base or "fixed", mimic or "couple", True if limits is None else limits
+            text,
+            path,
+            base or "fixed",
+            mimic or "couple",
+            True if limits is None else limits,
+            bool(damping),
         )
         if out["error"] is not None:
             raise_error(out["error"])
