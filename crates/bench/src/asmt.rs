@@ -25,6 +25,42 @@ use std::path::Path;
 use std::process::Command;
 use std::time::Instant;
 
+/// A file's row: name, frames, OndselSolver's time, cardan's in-process and process times.
+type Row<'a> = (&'a &'a str, usize, Option<f64>, f64, Option<f64>);
+
+/// The table's rows (`readback`: OndselSolver's reading of each solved file); the smallest
+/// ratio.
+fn table_rows(md: &mut String, rows: &[Row], readback: &[String]) -> Option<f64> {
+    let mut worst: Option<f64> = None;
+    for ((f, frames, theirs, ours, process), back) in rows.iter().zip(readback) {
+        let mut ratio = |t: f64, c: f64| {
+            let r = t / c;
+            worst = Some(worst.map_or(r, |w: f64| w.min(r)));
+            (format!("{r:.0}×"), r >= TARGET)
+        };
+        let (t, (in_process, met_in), (by_process, met_by)) = match theirs {
+            Some(t) => (
+                fmt_time(*t),
+                ratio(*t, *ours),
+                process.map_or(("–".into(), true), |c| ratio(*t, c)),
+            ),
+            None => ("–".into(), ("–".into(), true), ("–".into(), true)),
+        };
+        let met = match theirs {
+            None => "–",
+            Some(_) if met_in && met_by => "met",
+            Some(_) => "**missed**",
+        };
+        let shown = process.map_or("–".into(), fmt_time);
+        let _ = writeln!(
+            md,
+            "| {f} | {frames} | {t} | {} | {in_process} | {shown} | {by_process} | {met} | {back} |",
+            fmt_time(*ours)
+        );
+    }
+    worst
+}
+
 /// `cardan run path --outputs asmt -o out --quiet` in its own process, best of `n` wall times;
 /// `None` when the `cardan` binary is not built beside this one or the run fails.
 fn process_best(path: &Path, out: &Path, n: usize) -> Option<f64> {
@@ -296,33 +332,7 @@ pub fn section_of(smoke: bool, python: Option<&str>, only: Option<&str>, root: &
             Err(e) => peer_error = Some(e),
         }
     }
-    let mut worst: Option<f64> = None;
-    for ((f, frames, theirs, ours, process), back) in rows.iter().zip(&readback) {
-        let mut ratio = |t: f64, c: f64| {
-            let r = t / c;
-            worst = Some(worst.map_or(r, |w: f64| w.min(r)));
-            (format!("{r:.0}×"), r >= TARGET)
-        };
-        let (t, (in_process, met_in), (by_process, met_by)) = match theirs {
-            Some(t) => (
-                fmt_time(*t),
-                ratio(*t, *ours),
-                process.map_or(("–".into(), true), |c| ratio(*t, c)),
-            ),
-            None => ("–".into(), ("–".into(), true), ("–".into(), true)),
-        };
-        let met = match theirs {
-            None => "–",
-            Some(_) if met_in && met_by => "met",
-            Some(_) => "**missed**",
-        };
-        let shown = process.map_or("–".into(), fmt_time);
-        let _ = writeln!(
-            md,
-            "| {f} | {frames} | {t} | {} | {in_process} | {shown} | {by_process} | {met} | {back} |",
-            fmt_time(*ours)
-        );
-    }
+    let worst = table_rows(&mut md, &rows, &readback);
     if let Some(w) = worst {
         let _ = writeln!(
             md,
