@@ -236,30 +236,26 @@ fn spinner_torque(damping: &str) -> (Vec<(f64, f64)>, Vec<String>) {
 #[test]
 fn joint_damping_becomes_a_rotational_damper_when_asked_for() {
     // τ = J θ̈ + c θ̇ with θ = 0.5 sin 2t: −0.2 sin 2t + 0.3 cos 2t.
+    let agrees = |rows: &[(f64, f64)], c: f64| {
+        assert_eq!(rows.len(), 101);
+        for (t, tau) in rows {
+            let want = -0.2 * (2.0 * t).sin() + c * (2.0 * t).cos();
+            assert!((tau - want).abs() < 1e-9, "t = {t}: {tau} against {want}");
+        }
+    };
     let (rows, warnings) = spinner_torque("damping = true");
-    assert_eq!(rows.len(), 101);
-    for (t, tau) in &rows {
-        let want = -0.2 * (2.0 * t).sin() + 0.3 * (2.0 * t).cos();
-        assert!((tau - want).abs() < 1e-9, "t = {t}: {tau} against {want}");
-    }
+    agrees(&rows, 0.3);
+    let says = |warnings: &[String], text: &str| {
+        assert!(warnings.iter().any(|w| w.contains(text)), "{warnings:?}");
+    };
     // The friction is still not modelled: said once.
-    assert!(
-        warnings
-            .iter()
-            .any(|w| w.contains("1 joint with <dynamics> friction")),
-        "{warnings:?}"
-    );
+    says(&warnings, "1 joint with <dynamics> friction");
     // Not asked for: the torque has no damping term, and the warning says how to ask.
     let (rows, warnings) = spinner_torque("");
-    for (t, tau) in &rows {
-        let want = -0.2 * (2.0 * t).sin();
-        assert!((tau - want).abs() < 1e-9, "t = {t}: {tau} against {want}");
-    }
-    assert!(
-        warnings
-            .iter()
-            .any(|w| w.contains("damping or friction, which is not modelled (--damping")),
-        "{warnings:?}"
+    agrees(&rows, 0.0);
+    says(
+        &warnings,
+        "damping or friction, which is not modelled (--damping",
     );
     // The flag on the command line: the imported model has the damper.
     let dir = scratch("urdf-damping-flag");

@@ -147,39 +147,10 @@ struct Preview {
 /// its loopback-only listening are tested on the way.
 fn open(example: &str, name: &str) -> Option<Preview> {
     let chromium = chromium()?;
-    let dir = scratch(name);
-    let example = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../examples")
-        .join(example);
-    let original = std::fs::read_to_string(example).unwrap();
-    let model = dir.join("model.toml");
-    std::fs::write(&model, &original).unwrap();
-    // CARDAN_BIN: the release command, for the latency reported in docs/performance.md.
-    let bin = std::env::var_os("CARDAN_BIN").unwrap_or_else(|| env!("CARGO_BIN_EXE_cardan").into());
-    let mut watch = Command::new(bin)
-        .args(["watch", "model.toml"])
-        .current_dir(&dir)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut line = String::new();
-    BufReader::new(watch.stdout.take().unwrap())
-        .read_line(&mut line)
-        .unwrap();
-    let url = line
-        .split_whitespace()
-        .find(|w| w.starts_with("http://127.0.0.1:"))
-        .unwrap()
-        .to_string();
-    let port: u16 = url
-        .trim_end_matches('/')
-        .rsplit(':')
-        .next()
-        .unwrap()
-        .parse()
-        .unwrap();
-    let mut children = Kill(vec![watch]);
+    let (model, port, mut children) = serve(example, name);
+    let original = std::fs::read_to_string(&model).unwrap();
+    let dir = model.parent().unwrap().to_path_buf();
+    let url = format!("http://127.0.0.1:{port}/");
 
     // Only this server's host and origin are answered.
     assert!(status(port, &format!("127.0.0.1:{port}"), None).contains("200"));
@@ -534,7 +505,9 @@ fn serve(example: &str, name: &str) -> (PathBuf, u16, Kill) {
     .unwrap();
     let model = dir.join("model.toml");
     std::fs::write(&model, text).unwrap();
-    let mut watch = Command::new(env!("CARGO_BIN_EXE_cardan"))
+    // CARDAN_BIN: the release command, for the latency reported in docs/performance.md.
+    let bin = std::env::var_os("CARDAN_BIN").unwrap_or_else(|| env!("CARGO_BIN_EXE_cardan").into());
+    let mut watch = Command::new(bin)
         .args(["watch", "model.toml"])
         .current_dir(&dir)
         .stdout(Stdio::piped())

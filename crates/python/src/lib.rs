@@ -128,8 +128,11 @@ fn run_text(
                         .map(|t| (t.name.clone(), t.to_svg()))
                         .collect();
                     match animation(&p, kind, &mut analysed, d, svgs, names.clone()) {
-                        Ok(page) => page.map(|(glb, html)| (glb, html.to_string())),
-                        Err(e) => return failed(&e),
+                        Some(shown) => match shown.html() {
+                            Ok(html) => Some((shown.glb, html.to_string())),
+                            Err(e) => return failed(&e),
+                        },
+                        None => None,
                     }
                 }
                 None => None,

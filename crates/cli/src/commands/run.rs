@@ -262,9 +262,10 @@ fn write_animation(
 ) -> Result<(), Error> {
     let mut files = dir.files().to_vec();
     files.extend(["animation.glb".to_string(), "index.html".to_string()]);
-    match animation(p, kind, a, declared, svgs, files)? {
-        Some((glb, html)) => {
-            dir.write("animation.glb", glb)?;
+    match animation(p, kind, a, declared, svgs, files) {
+        Some(shown) => {
+            let html = shown.html()?;
+            dir.write("animation.glb", shown.glb)?;
             dir.write_parts("index.html", &html.parts().map(str::as_bytes))
         }
         None => Ok(()),

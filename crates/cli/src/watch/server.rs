@@ -98,17 +98,7 @@ fn handle(mut request: Request, port: u16, shared: &Shared) {
                 None => text(404, "no report yet"),
             }
         }
-        (Method::Post, "/drag") => {
-            let mut body = String::new();
-            let read = request.as_reader().take(MAX_BODY).read_to_string(&mut body);
-            match read
-                .map_err(|e| e.to_string())
-                .and_then(|_| drag(shared, &body))
-            {
-                Ok(v) => json(&v),
-                Err(e) => text(400, &e),
-            }
-        }
+        (Method::Post, "/drag") => posted(&mut request, |body| drag(shared, body)),
         (Method::Get, "/state") => {
             let after = (query.split('&'))
                 .find_map(|kv| kv.strip_prefix("after="))
@@ -116,20 +106,25 @@ fn handle(mut request: Request, port: u16, shared: &Shared) {
                 .unwrap_or(0);
             json(&state_after(shared, after))
         }
-        (Method::Post, "/set") => {
-            let mut body = String::new();
-            let read = request.as_reader().take(MAX_BODY).read_to_string(&mut body);
-            match read
-                .map_err(|e| e.to_string())
-                .and_then(|_| set(shared, &body))
-            {
-                Ok(()) => json(&serde_json::json!({"ok": true})),
-                Err(e) => text(400, &e),
-            }
-        }
+        (Method::Post, "/set") => posted(&mut request, |body| {
+            set(shared, body).map(|()| serde_json::json!({"ok": true}))
+        }),
         _ => text(404, "not found"),
     };
     let _ = request.respond(response.with_header(header("Cache-Control", "no-store")));
+}
+
+/// A POST's answer: `f` of its body (at most [`MAX_BODY`] bytes) as JSON, or its error (400).
+fn posted(
+    request: &mut Request,
+    f: impl FnOnce(&str) -> Result<serde_json::Value, String>,
+) -> Response<std::io::Cursor<Vec<u8>>> {
+    let mut body = String::new();
+    let read = request.as_reader().take(MAX_BODY).read_to_string(&mut body);
+    match read.map_err(|e| e.to_string()).and_then(|_| f(&body)) {
+        Ok(v) => json(&v),
+        Err(e) => text(400, &e),
+    }
 }
 
 fn json(v: &serde_json::Value) -> Response<std::io::Cursor<Vec<u8>>> {

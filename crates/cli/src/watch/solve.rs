@@ -2,7 +2,7 @@
 //! run in memory and its report page made, or the error as `cardan run` prints it.
 
 use super::drag::Snapshot;
-use cardan_model::analysis::{analyse, animation_page, RunFlags};
+use cardan_model::analysis::{analyse, animation, RunFlags};
 use cardan_model::diag::{Error, Source};
 use cardan_model::parameters::expr;
 use cardan_model::plot::PlotFiles;
@@ -96,24 +96,15 @@ fn run(path: &Path, set: &[(String, String)]) -> Result<Solved, Error> {
         .filter(|t| plots.plots(&t.name))
         .map(|t| (t.name.clone(), t.to_svg()))
         .collect();
-    let Some(shown) = animation_page(&p, kind, &mut analysed, &declared, svgs, names) else {
-        return Ok(Solved {
-            error: analysed.failure.as_ref().map(ToString::to_string),
-            warnings: analysed.summary.warnings.clone(),
-            sliders,
-            ..Solved::default()
-        });
+    let (html, update) = match animation(&p, kind, &mut analysed, &declared, svgs, names) {
+        Some(shown) => (Some(linked(&shown.html()?)), Some(shown.update()?)),
+        None => (None, None),
     };
-    let page_error = |e: cardan_report::Error| Error::output(format!("index.html: {e}"));
-    let html =
-        cardan_report::write_html(&shown.scene, &shown.glb, &shown.page).map_err(page_error)?;
-    let update =
-        cardan_report::write_update(&shown.scene, &shown.glb, &shown.page).map_err(page_error)?;
     let error = analysed.failure.as_ref().map(ToString::to_string);
     let warnings = analysed.summary.warnings.clone();
     Ok(Solved {
-        html: Some(linked(&html)),
-        update: Some(update),
+        html,
+        update,
         snapshot: Some(Arc::new(Snapshot::new(p, &analysed.results))),
         error,
         warnings,

@@ -274,29 +274,6 @@ fn strict_error(warnings: &[String]) -> Error {
     ))
 }
 
-/// The animation (`animation.glb`) and the report page (`index.html`) of an analysed run whose
-/// output files are `files`, the page showing the plots `svgs` (name, SVG) and the run
-/// summary. `None` (with a warning in the summary) when the scene cannot be written as glTF;
-/// modes the page cannot animate (not finite) are left out of it with a warning.
-///
-/// # Errors
-/// The page cannot be written.
-pub fn animation(
-    p: &Prepared,
-    kind: &'static str,
-    a: &mut Analysed,
-    declared: &crate::geometry::Declared,
-    svgs: Vec<(String, String)>,
-    files: Vec<String>,
-) -> Result<Option<(Vec<u8>, cardan_report::Html)>, Error> {
-    let Some(shown) = animation_page(p, kind, a, declared, svgs, files) else {
-        return Ok(None);
-    };
-    let html = cardan_report::write_html(&shown.scene, &shown.glb, &shown.page)
-        .map_err(|e| Error::output(format!("index.html: {e}")))?;
-    Ok(Some((shown.glb, html)))
-}
-
 /// What the report page shows: the scene, its animation (`.glb`) and the page's other parts.
 #[derive(Debug, Clone)]
 pub struct Shown {
@@ -308,10 +285,33 @@ pub struct Shown {
     pub page: cardan_report::Page,
 }
 
-/// The parts of the report page of [`animation`] before they are written as a page (the live
-/// preview also sends them to a page already open, [`cardan_report::write_update`]). `None`
-/// as in [`animation`].
-pub fn animation_page(
+impl Shown {
+    /// The report page (`index.html`).
+    ///
+    /// # Errors
+    /// The page cannot be written (modes or stops that do not fit the scene).
+    pub fn html(&self) -> Result<cardan_report::Html, Error> {
+        cardan_report::write_html(&self.scene, &self.glb, &self.page)
+            .map_err(|e| Error::output(format!("index.html: {e}")))
+    }
+
+    /// The same for a page already open ([`cardan_report::write_update`]).
+    ///
+    /// # Errors
+    /// As [`Self::html`].
+    pub fn update(&self) -> Result<String, Error> {
+        cardan_report::write_update(&self.scene, &self.glb, &self.page)
+            .map_err(|e| Error::output(format!("index.html: {e}")))
+    }
+}
+
+/// The animation (`animation.glb`) and the parts of the report page (`index.html`:
+/// [`Shown::html`]; the live preview also sends them to a page already open, [`Shown::update`])
+/// of an analysed run whose output files are `files`, the page showing the plots `svgs` (name,
+/// SVG) and the run summary. `None` (with a warning in the summary) when the scene cannot be
+/// written as glTF; modes the page cannot animate (not finite) are left out of it with a
+/// warning.
+pub fn animation(
     p: &Prepared,
     kind: &'static str,
     a: &mut Analysed,
