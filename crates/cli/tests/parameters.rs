@@ -180,6 +180,15 @@ fn mistakes_are_errors_at_their_place() {
         5,
         &["is a function or constant"],
     );
+    // The names expression functions read as the time, a constant or a function: a parameter
+    // of that name would be shadowed there.
+    for name in ["t", "time", "e", "step", "spline"] {
+        check_fails_at(
+            &with_parameters(&format!("{name} = 2.0")),
+            5,
+            &["expression functions", "call the parameter otherwise"],
+        );
+    }
     check_fails_at(
         &with_parameters("a = [1, 2]"),
         5,

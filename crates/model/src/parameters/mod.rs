@@ -229,6 +229,13 @@ fn definitions(src: &Source, doc: &DeTable<'_>) -> Result<Vec<Definition>, Error
                 format!("\"{name}\" is a function or constant of expressions; call the parameter otherwise"),
             ));
         }
+        // Expression time functions see the parameters as constants, after their own names.
+        if cardan_constraints::expression::names().any(|n| n == name) {
+            return Err(src.error_at(
+                k.span(),
+                format!("\"{name}\" is the time, a constant or a function in expression functions (kind = \"expression\"), where the parameter would not be seen; call the parameter otherwise"),
+            ));
+        }
         let (written, text_at) = match v.get_ref() {
             DeValue::Integer(i) if i.radix() == 10 => (i.as_str().to_string(), None),
             DeValue::Float(f) => (f.as_str().to_string(), None),
