@@ -152,7 +152,7 @@ pub enum Command {
         /// Output format: tables to read, or JSON at full precision with the row and column maps.
         #[arg(long, value_enum, default_value_t = eval::Format::Text)]
         format: eval::Format,
-        /// A value for one of the model's [parameters] (repeatable), as for `run`.
+        /// A value for one of the model's `[parameters]` (repeatable), as for `run`.
         #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_setting)]
         set: Vec<(String, String)>,
     },
@@ -221,7 +221,7 @@ pub struct UrdfArgs {
     /// URDF files: no stops at the joints' position limits.
     #[arg(long)]
     pub no_limits: bool,
-    /// URDF files: each revolute joint's <dynamics damping> as a rotational damper (torque
+    /// URDF files: each revolute joint's `<dynamics damping>` as a rotational damper (torque
     /// −c q̇; friction is not modelled).
     #[arg(long)]
     pub damping: bool,
