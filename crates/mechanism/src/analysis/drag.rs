@@ -175,6 +175,34 @@ impl Drag {
         Ok(report)
     }
 
+    /// Follows the pointer to `target`: [`Self::step`], repeated from where it got while a step
+    /// is cut back because the solve could not follow all of it ([`DragStop::NotConverged`])
+    /// and still gets further, at most `max_steps` steps; the last step's report. A long step
+    /// can need that where the dragged point's path curves through the constraints (a point
+    /// near a hinge pulled far away): the least-change iteration leaves out the constraints'
+    /// curvature (`least_change`, "The iteration"), which the reaction of a far goal makes
+    /// large. No allocation.
+    ///
+    /// # Errors
+    /// As [`Self::step`].
+    pub fn follow(
+        &mut self,
+        model: &Model,
+        ws: &mut Workspace,
+        t: f64,
+        target: Vector3<f64>,
+        max_steps: usize,
+    ) -> Result<DragReport, AnalysisError> {
+        let mut report = self.step(model, ws, t, target)?;
+        for _ in 1..max_steps {
+            if report.stop != DragStop::NotConverged || report.reached <= 1e-6 {
+                break;
+            }
+            report = self.step(model, ws, t, target)?;
+        }
+        Ok(report)
+    }
+
     /// Bisects the fraction of the step to the largest that passes ([`Self::attempt`]), leaving
     /// its pose in the workspace; `first` is why the whole step failed.
     fn cut_back(

@@ -44,6 +44,18 @@
 //! zero, without the term from the rate of H, which is of the order of the free coordinates'
 //! curvature; documented in docs/model-format.md).
 //!
+//! # The drag goal
+//! A drag ([`crate::analysis::drag`]) adds ½ w_d ‖P − target‖² for a point P = r + A s' of one
+//! body. Its Gauss–Newton term w_d BᵀB (B = [I, −A s̃']) leaves out the curvature of P's path,
+//! w_d mᵀ (½ π̃'π̃' s') with m = Aᵀ (P − target): negligible when P is near its target, but when
+//! the target is far from P against the radius |s'| of P's circle about the body's origin (a
+//! point near a hinge pulled far away), Gauss–Newton overshoots by a factor of about
+//! 1 + |P − target| / |s'| and does not converge. H gets that term's positive part (where it is
+//! negative, leaving it out only shortens the step); the fixed point, hence the solution, is
+//! unchanged. The curvature the constraints give P's path (a point near a hinge circles the
+//! hinge, not the body's origin) stays out, as for every least change: a drag step that cannot
+//! converge for it is cut back and repeated ([`crate::Drag::follow`]).
+//!
 //! # The weights
 //! [`HoldMetric::Ondsel`] is OndselSolver's (`Part::fillqsuWeights`, in the raw coordinates of
 //! the file's length unit): w_r = 1e3 + 1e6 m/m_max per component of the centre of mass,
@@ -58,6 +70,23 @@ use cardan_eulerparam::EulerParams;
 use cardan_solver::{LinearSolver, MinNormQr, SolverError, SparsityPattern};
 use nalgebra::{Matrix3, Matrix3x4, Matrix4x3, Matrix6, Vector3, Vector4, Vector6};
 use std::collections::BTreeSet;
+
+/// The positive part of the drag goal's second-order term in the body-frame rotation
+/// increment π' (module docs, "The drag goal"): with m = Aᵀ (P − target) and the dragged point
+/// s', the Hessian of mᵀ (½ π̃'π̃' s') is C = ½ (m s'ᵀ + s' mᵀ) − (m·s') I; its negative
+/// eigenvalues are set to zero so that H stays positive definite. No allocation.
+fn goal_curvature(m: &Vector3<f64>, s: &Vector3<f64>) -> Matrix3<f64> {
+    let c = 0.5 * (m * s.transpose() + s * m.transpose()) - Matrix3::identity() * m.dot(s);
+    let eig = c.symmetric_eigen();
+    let mut out = Matrix3::zeros();
+    for (k, lambda) in eig.eigenvalues.iter().enumerate() {
+        if *lambda > 0.0 {
+            let v = eig.eigenvectors.column(k);
+            out += *lambda * v * v.transpose();
+        }
+    }
+    out
+}
 
 /// The metric of the least change (module docs).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -320,6 +349,10 @@ impl LeastChange {
                 let miss = Vector3::new(x[0], x[1], x[2]) + a * goal.point - goal.target;
                 h += goal.weight * jac.transpose() * jac;
                 g += goal.weight * jac.transpose() * miss;
+                // The goal's curvature term (module docs, "The drag goal"), its positive part.
+                let curvature = goal_curvature(&(a.transpose() * miss), &goal.point);
+                let mut rot = h.fixed_view_mut::<3, 3>(3, 3);
+                rot += goal.weight * curvature;
             }
             let l = h.cholesky().ok_or_else(not_definite)?.l();
             self.l_inv[b] = l.try_inverse().ok_or_else(not_definite)?;
