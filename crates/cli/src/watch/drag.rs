@@ -9,57 +9,40 @@
 //! point stayed from the pointer. Dragging is meant for the under-driven models a drag
 //! explores (a dynamic run's free mechanism, a kinematic run with `free_dof = "hold"`).
 
-use cardan_mechanism::nalgebra::{Vector3, Vector4};
+use cardan_mechanism::nalgebra::Vector3;
 use cardan_mechanism::{Drag, DragReport, DragStop, Results, Workspace};
 use cardan_model::prepare::{analysis_error, Prepared};
 use std::sync::Arc;
 
-/// How many times a drag step the solve could follow only part of is repeated toward the same
-/// target.
-const MAX_REPEATS: usize = 16;
+/// Most drag steps toward one pointer position ([`Drag::follow`]).
+const MAX_STEPS: usize = 16;
 
-/// A body's positions and Euler parameters at the output times.
-pub type History = (Vec<Vector3<f64>>, Vec<Vector4<f64>>);
-
-/// A solve's model and its poses at the output times, kept for dragging.
+/// A solve's model and its results, kept for dragging.
 pub struct Snapshot {
     /// The model as it was solved.
     pub prepared: Prepared,
-    /// The output times.
-    pub times: Vec<f64>,
-    /// Per moving body (model order), its position and Euler parameters at each output time.
-    pub poses: Vec<History>,
+    /// Its run's results: the output times and every moving body's poses at them.
+    pub results: Results,
 }
 
 impl std::fmt::Debug for Snapshot {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Snapshot")
             .field("file", &self.prepared.file)
-            .field("times", &self.times.len())
+            .field("times", &self.results.times.len())
             .finish_non_exhaustive()
     }
 }
 
 impl Snapshot {
-    /// The model `prepared` with the poses of its run's `results`.
-    pub fn new(prepared: Prepared, results: &Results) -> Self {
-        let poses = (results.bodies.iter())
-            .map(|b| (b.r.clone(), b.p.clone()))
-            .collect();
-        Self {
-            prepared,
-            times: results.times.clone(),
-            poses,
-        }
-    }
-
     /// The index of the output time nearest `t`.
     fn frame(&self, t: f64) -> usize {
-        let k = self.times.partition_point(|x| *x < t);
+        let times = &self.results.times;
+        let k = times.partition_point(|x| *x < t);
         match k {
             0 => 0,
-            k if k >= self.times.len() => self.times.len().saturating_sub(1),
-            k if t - self.times[k - 1] <= self.times[k] - t => k - 1,
+            k if k >= times.len() => times.len().saturating_sub(1),
+            k if t - times[k - 1] <= times[k] - t => k - 1,
             k => k,
         }
     }
@@ -105,18 +88,19 @@ impl Session {
         if !(t.is_finite() && point.iter().all(|x| x.is_finite())) {
             return Err("drag: the point and the time must be finite".into());
         }
-        if snapshot.times.is_empty() || snapshot.poses.len() != model.num_bodies() {
+        let results = &snapshot.results;
+        if results.times.is_empty() || results.bodies.len() != model.num_bodies() {
             return Err("drag: the run has no poses to start from".into());
         }
         let k = snapshot.frame(t);
         let mut ws = model.workspace();
-        for (b, (r, q)) in snapshot.poses.iter().enumerate() {
-            let (Some(r), Some(q)) = (r.get(k), q.get(k)) else {
+        for (b, body) in results.bodies.iter().enumerate() {
+            let (Some(r), Some(q)) = (body.r.get(k), body.p.get(k)) else {
                 return Err("drag: the run has no poses to start from".into());
             };
             ws.set_pose(b, *r, *q);
         }
-        let t = snapshot.times[k];
+        let t = results.times[k];
         ws.set_time(t);
         let local = match model.body_id(body) {
             Some(cardan_mechanism::BodyId::Moving(b)) => {
@@ -154,21 +138,16 @@ impl Session {
     /// `cardan run` gives a solver failure).
     pub fn step(&mut self, target: [f64; 3]) -> Result<Stepped, String> {
         let p = &self.snapshot.prepared;
-        let mut report = None;
-        // A fast pointer makes long steps: a step cut back because the solve could not follow
-        // all of it is repeated from where it got, as long as it gets further.
-        for _ in 0..MAX_REPEATS {
-            let r = self
-                .drag
-                .step(&p.model, &mut self.ws, self.t, Vector3::from(target))
-                .map_err(|e| analysis_error(p, &e).to_string())?;
-            let again = r.stop == DragStop::NotConverged && r.reached > 1e-6;
-            report = Some(r);
-            if !again {
-                break;
-            }
-        }
-        let report = report.expect("at least one step");
+        let report = self
+            .drag
+            .follow(
+                &p.model,
+                &mut self.ws,
+                self.t,
+                Vector3::from(target),
+                MAX_STEPS,
+            )
+            .map_err(|e| analysis_error(p, &e).to_string())?;
         let poses = (0..p.model.num_bodies())
             .map(|b| {
                 let (r, q) = (self.ws.r(b), self.ws.p(b));

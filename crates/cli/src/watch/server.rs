@@ -5,6 +5,7 @@
 
 use super::drag::{describe as describe_step, Session};
 use super::{stopped, Shared, State};
+use cardan_model::analysis::Shown;
 use std::io::Read as _;
 use std::time::{Duration, Instant};
 use tiny_http::{Header, Method, Request, Response};
@@ -77,27 +78,8 @@ fn handle(mut request: Request, port: u16, shared: &Shared) {
             let _ = request.respond(js);
             return;
         }
-        (Method::Get, "/report") => {
-            let html = shared.state.lock().ok().and_then(|s| s.solved.html.clone());
-            match html {
-                Some(h) => Response::from_string(h)
-                    .with_header(header("Content-Type", "text/html; charset=utf-8")),
-                None => text(404, "no report yet"),
-            }
-        }
-        (Method::Get, "/update") => {
-            let update = shared
-                .state
-                .lock()
-                .ok()
-                .and_then(|s| s.solved.update.clone());
-            match update {
-                Some(u) => {
-                    Response::from_string(u).with_header(header("Content-Type", "application/json"))
-                }
-                None => text(404, "no report yet"),
-            }
-        }
+        (Method::Get, "/report") => shown(shared, "text/html; charset=utf-8", super::solve::page),
+        (Method::Get, "/update") => shown(shared, "application/json", |s| s.update()),
         (Method::Post, "/drag") => posted(&mut request, |body| drag(shared, body)),
         (Method::Get, "/state") => {
             let after = (query.split('&'))
@@ -112,6 +94,27 @@ fn handle(mut request: Request, port: u16, shared: &Shared) {
         _ => text(404, "not found"),
     };
     let _ = request.respond(response.with_header(header("Cache-Control", "no-store")));
+}
+
+/// The latest solve's page or update (`make` of what it shows, made when asked, outside the
+/// state's lock), or 404 before there is one.
+fn shown(
+    shared: &Shared,
+    content_type: &str,
+    make: impl FnOnce(&Shown) -> Result<String, cardan_model::diag::Error>,
+) -> Response<std::io::Cursor<Vec<u8>>> {
+    let shown = shared
+        .state
+        .lock()
+        .ok()
+        .and_then(|s| s.solved.shown.clone());
+    match shown.as_deref().map(make) {
+        Some(Ok(body)) => {
+            Response::from_string(body).with_header(header("Content-Type", content_type))
+        }
+        Some(Err(e)) => text(500, &e.to_string()),
+        None => text(404, "no report yet"),
+    }
 }
 
 /// A POST's answer: `f` of its body (at most [`MAX_BODY`] bytes) as JSON, or its error (400).
@@ -165,7 +168,7 @@ fn describe(s: &State) -> serde_json::Value {
         "version": s.version,
         "error": s.solved.error,
         "warnings": s.solved.warnings,
-        "report": s.solved.html.is_some(),
+        "report": s.solved.shown.is_some(),
         "seconds": s.seconds,
         "sliders": sliders,
         "command": command.join(" "),

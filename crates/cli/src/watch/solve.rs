@@ -2,7 +2,7 @@
 //! run in memory and its report page made, or the error as `cardan run` prints it.
 
 use super::drag::Snapshot;
-use cardan_model::analysis::{analyse, animation, RunFlags};
+use cardan_model::analysis::{analyse, animation, RunFlags, Shown};
 use cardan_model::diag::{Error, Source};
 use cardan_model::parameters::expr;
 use cardan_model::plot::PlotFiles;
@@ -24,10 +24,9 @@ pub struct Slider {
 /// What a solve gives the page.
 #[derive(Debug, Clone, Default)]
 pub struct Solved {
-    /// The report page (`index.html` of `cardan run`), when the run produced results.
-    pub html: Option<String>,
-    /// The same solve for a page already open ([`cardan_report::write_update`]).
-    pub update: Option<String>,
+    /// What the report page shows, when the run produced results: made into the page
+    /// ([`page`]) or an update of a page already open ([`Shown::update`]) when the page asks.
+    pub shown: Option<Arc<Shown>>,
     /// The model and its poses over the run, for dragging a body.
     pub snapshot: Option<Arc<Snapshot>>,
     /// The error as the command prints it (file, line, excerpt), or a run's failure.
@@ -49,14 +48,18 @@ pub fn solve(path: &Path, set: &[(String, String)]) -> Solved {
     }
 }
 
-/// The report page with three.js as a link to the server's `/three.js` instead of inline: the
-/// browser keeps that script (and its compiled code) between solves, and each new report is
-/// 0.67 MB lighter to load.
-fn linked(html: &cardan_report::Html) -> String {
+/// The report page of `shown` with three.js as a link to the server's `/three.js` instead of
+/// inline: the browser keeps that script (and its compiled code) between solves, and each new
+/// report is 0.67 MB lighter to load.
+///
+/// # Errors
+/// As [`Shown::html`].
+pub fn page(shown: &Shown) -> Result<String, Error> {
+    let html = shown.html()?;
     let [head, _, tail] = html.parts();
     let head = head.strip_suffix("<script>").unwrap_or(head);
     let tail = tail.strip_prefix("</script>").unwrap_or(tail);
-    format!("{head}<script src=\"/three.js\"></script>{tail}")
+    Ok(format!("{head}<script src=\"/three.js\"></script>{tail}"))
 }
 
 fn run(path: &Path, set: &[(String, String)]) -> Result<Solved, Error> {
@@ -96,16 +99,15 @@ fn run(path: &Path, set: &[(String, String)]) -> Result<Solved, Error> {
         .filter(|t| plots.plots(&t.name))
         .map(|t| (t.name.clone(), t.to_svg()))
         .collect();
-    let (html, update) = match animation(&p, kind, &mut analysed, &declared, svgs, names) {
-        Some(shown) => (Some(linked(&shown.html()?)), Some(shown.update()?)),
-        None => (None, None),
-    };
+    let shown = animation(&p, kind, &mut analysed, &declared, svgs, names).map(Arc::new);
     let error = analysed.failure.as_ref().map(ToString::to_string);
     let warnings = analysed.summary.warnings.clone();
     Ok(Solved {
-        html,
-        update,
-        snapshot: Some(Arc::new(Snapshot::new(p, &analysed.results))),
+        shown,
+        snapshot: Some(Arc::new(Snapshot {
+            prepared: p,
+            results: std::mem::take(&mut analysed.results),
+        })),
         error,
         warnings,
         sliders,
