@@ -273,3 +273,72 @@ fn joint_damping_becomes_a_rotational_damper_when_asked_for() {
         "{text}"
     );
 }
+
+/// The columns of a CSV file and its rows.
+fn csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let head = lines.next().unwrap().split(',').map(String::from).collect();
+    let rows = lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    (head, rows)
+}
+
+#[test]
+fn the_joint_space_is_written_and_makes_the_efforts() {
+    // The bundled overlay asks for it: M(θ) θ̈ + h(θ, θ̇) is the drivers' efforts at every time
+    // (θ̈ from the drivers' laws), M is symmetric, the tool's Jacobian has its units.
+    let dir = scratch("urdf");
+    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/urdf");
+    for f in ["arm_wave.toml", "three_link_arm.urdf"] {
+        std::fs::copy(example.join(f), dir.join(f)).unwrap();
+    }
+    let o = cardan(&["run", "arm_wave.toml", "-o", "out", "--quiet"], &dir);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let (mh, m) = csv(&dir.join("out/mass_matrix.csv"));
+    let (hh, h) = csv(&dir.join("out/bias_forces.csv"));
+    let (_, tau) = csv(&dir.join("out/driver_efforts.csv"));
+    let (jh, j) = csv(&dir.join("out/jacobians.csv"));
+    assert_eq!(
+        mh[1..4],
+        [
+            "M.turn.turn [kg m²]",
+            "M.turn.lift [kg m²]",
+            "M.turn.bend [kg m²]"
+        ]
+    );
+    assert_eq!(
+        hh[1..],
+        [
+            "turn.torque [N m]",
+            "lift.torque [N m]",
+            "bend.torque [N m]"
+        ]
+    );
+    assert_eq!(jh.len(), 1 + 18);
+    assert_eq!(jh[1], "forearm.tool.vx.turn [m]");
+    assert_eq!(jh[10], "forearm.tool.wx.turn [-]");
+    // θ̈ of the laws 0.8 sin 1.5t, 0.6 + 0.4 sin 2t, 1 − 0.5 cos 2t.
+    let accel = |t: f64| {
+        [
+            -0.8 * 2.25 * (1.5 * t).sin(),
+            -1.6 * (2.0 * t).sin(),
+            2.0 * (2.0 * t).cos(),
+        ]
+    };
+    let mut worst: f64 = 0.0;
+    for k in 0..m.len() {
+        let a = accel(m[k][0]);
+        for i in 0..3 {
+            let mi = &m[k][1 + 3 * i..4 + 3 * i];
+            let sum: f64 = (0..3).map(|c| mi[c] * a[c]).sum::<f64>() + h[k][1 + i];
+            worst = worst.max((sum - tau[k][1 + i]).abs());
+            for c in 0..3 {
+                assert!((m[k][1 + 3 * i + c] - m[k][1 + 3 * c + i]).abs() < 1e-14);
+            }
+        }
+        assert_eq!(j[k][0], m[k][0]);
+    }
+    assert!(worst < 1e-9, "|M θ̈ + h − τ| = {worst}");
+}

@@ -110,6 +110,13 @@ pub enum DynamicsError {
         /// What is wrong.
         reason: String,
     },
+    /// The joint-space outputs cannot be computed for this model or at this time
+    /// ([`crate::joint_space`]).
+    #[error("joint space: {reason}")]
+    JointSpace {
+        /// Why.
+        reason: String,
+    },
     /// Invalid options (times, tolerances, step sizes).
     #[error("invalid options: {0}")]
     Options(String),

@@ -142,6 +142,7 @@ pub mod forces;
 pub mod friction;
 pub mod integrators;
 pub mod inverse;
+pub mod joint_space;
 mod kkt;
 pub mod modal;
 pub mod moving;
@@ -164,6 +165,7 @@ pub use contacts::StopHistory;
 pub use error::DynamicsError;
 pub use forces::{AppliedForces, Force, Frame, PointRef, UserForces, VectorFunction};
 pub use friction::state::FrictionHistory;
+pub use joint_space::{JointSpaceHistory, JointSpacePoint};
 pub use modal::{BodyShape, Linearization, ModalOptions, ModalResults, Mode, ModeKind};
 pub use options::{
     Baumgarte, Dopri5Options, GeneralizedAlphaOptions, Integrator, IterationMatrix, OptionError,

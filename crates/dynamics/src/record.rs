@@ -142,6 +142,7 @@ impl<'s> Recorder<'s> {
         self.begin();
         self.record_work(d, state.t, work);
         self.store(d, state, iterations, false);
+        d.record_joint_space(state.t, &mut self.res.joint_space)?;
         self.hand_over(state.t)
     }
 

@@ -7,6 +7,7 @@
 //! `DynamicResults` holding exactly that time, its storage reused from one time to the next, as
 //! the mechanism's [`FrameSink`](cardan_mechanism::FrameSink) does for kinematic frames.
 
+use crate::joint_space::JointSpaceHistory;
 use cardan_mechanism::{BodyResults, EquationName, PointResults, Results};
 use nalgebra::Vector3;
 use std::ops::ControlFlow;
@@ -322,6 +323,9 @@ pub struct DynamicResults {
     pub contacts: ContactHistory,
     /// Energy.
     pub energy: EnergyHistory,
+    /// The mass matrix, bias forces and point Jacobians in the drivers' coordinates, when
+    /// requested ([`crate::Dynamics::request_joint_space`]; inverse dynamics).
+    pub joint_space: JointSpaceHistory,
     /// max |Φ_i| (unscaled) per time.
     pub position_drift: Vec<f64>,
     /// max |Φ_v v − ν| per time.
@@ -426,6 +430,7 @@ impl DynamicResults {
                 points: Vec::new(),
             },
             energy: self.energy.empty_like(n),
+            joint_space: self.joint_space.empty_like(n),
             position_drift: e(),
             velocity_drift: e(),
             redundant: self.redundant.clone(),
@@ -463,6 +468,7 @@ impl DynamicResults {
         }
         self.contacts.points.clear();
         self.energy.clear();
+        self.joint_space.clear();
         self.position_drift.clear();
         self.velocity_drift.clear();
     }
@@ -500,6 +506,7 @@ impl DynamicResults {
         }
         (self.contacts.points).extend_from_slice(&other.contacts.points);
         self.energy.extend_from(&other.energy);
+        self.joint_space.extend_from(&other.joint_space);
         self.position_drift.extend_from_slice(&other.position_drift);
         self.velocity_drift.extend_from_slice(&other.velocity_drift);
     }

@@ -76,6 +76,8 @@ pub struct Dynamics<'m> {
     /// Leave the contacts out of [`Dynamics::eval_forces`] (the finite differences of the
     /// implicit tangents, which take the contacts' tangents in closed form).
     pub(crate) contacts_off: bool,
+    /// The joint-space outputs an inverse dynamics run records ([`crate::joint_space`]).
+    pub(crate) joint_space: Option<crate::joint_space::JointSpaceWork>,
 }
 
 impl std::fmt::Debug for Dynamics<'_> {
@@ -137,6 +139,7 @@ impl<'m> Dynamics<'m> {
             friction: crate::friction::state::FrictionState::new(model),
             collisions: None,
             contacts_off: false,
+            joint_space: None,
         };
         let rest: Vec<BodyState> = (0..nb)
             .map(|k| {

@@ -1029,6 +1029,12 @@ pub struct OutputsSection {
     /// dynamic and inverse dynamics: write energy.csv (default true).
     #[serde(default)]
     pub energy: Option<bool>,
+    /// inverse dynamics: write mass_matrix.csv and bias_forces.csv (default false).
+    #[serde(default)]
+    pub joint_space: Option<bool>,
+    /// inverse dynamics: "body.point" whose Jacobians are written (jacobians.csv).
+    #[serde(default)]
+    pub jacobians: Vec<Name>,
 }
 
 pub use crate::limits::{

@@ -115,6 +115,8 @@ pub(super) fn requested(p: &Prepared, req: &Requested) -> Requested {
         bodies: m.bodies().iter().map(|b| b.name.clone()).collect(),
         reactions: req.reactions.clone(),
         energy: req.energy,
+        joint_space: req.joint_space,
+        jacobians: req.jacobians.clone(),
     }
 }
 

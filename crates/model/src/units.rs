@@ -75,6 +75,8 @@ impl UnitSystem {
             "J" => ("mJ", 1e3),
             "W" => ("mW", 1e3),
             "kg m²" => ("kg mm²", 1e6),
+            "kg m" => ("kg mm", 1e3),
+            "rad/m" => ("rad/mm", 1e-3),
             "N/m" => ("N/mm", 1e-3),
             "N s/m" => ("N s/mm", 1e-3),
             _ => return (si.to_string(), 1.0),

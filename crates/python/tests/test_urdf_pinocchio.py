@@ -122,7 +122,7 @@ def trajectory(joints: list, seed: int) -> list:
     return out
 
 
-def overlay(name: str, joints: list, law: list, t_end: float, dt: float) -> cardan.Model:
+def overlay(name: str, joints: list, law: list, t_end: float, dt: float, outputs: tuple = ()) -> cardan.Model:
     path, base = ROBOTS[name]
     lines = [
         "[model]",
@@ -147,6 +147,7 @@ def overlay(name: str, joints: list, law: list, t_end: float, dt: float) -> card
         f"t_end = {t_end!r}",
         f"dt = {dt!r}",
         "position_tolerance = 1e-13",
+        *outputs,
     ]
     return cardan.Model.from_toml("\n".join(lines) + "\n", path=ROBOTS_DIR / path.replace(".urdf", ".overlay.toml"))
 
@@ -193,6 +194,56 @@ def test_kinematics_and_inverse_dynamics_match_pinocchio(name: str) -> None:
     print(f"{name}: |Δx| {worst_x:.2e} m, |ΔR| {worst_r:.2e}, |Δτ|/max|τ| {worst_tau:.2e}")
     assert worst_x < 1e-12
     assert worst_r < 1e-12
+    assert worst_tau < 1e-10
+
+
+def pin_state(model: pin.Model, joints: list, law: list, t: float) -> tuple:
+    """Pinocchio's q, v, a of the overlay's law at t."""
+    q, v, a = pin.neutral(model), np.zeros(model.nv), np.zeros(model.nv)
+    for (jid, _, _, _), (c, amp, w, phi) in zip(joints, law):
+        set_q(model, q, jid, c + amp * math.sin(w * t + phi))
+        iv = model.joints[jid].idx_v
+        v[iv] = amp * w * math.cos(w * t + phi)
+        a[iv] = -amp * w * w * math.sin(w * t + phi)
+    return q, v, a
+
+
+@pytest.mark.parametrize("name", FIXED)
+def test_joint_space_matches_pinocchio_crba_nle_and_frame_jacobians(name: str) -> None:
+    """M(θ) against ``crba``, h(θ, θ̇) against ``nonLinearEffects`` and every link frame's
+    Jacobian against ``computeFrameJacobian`` (``LOCAL_WORLD_ALIGNED``), along the same
+    trajectories; cardan's coordinates are the overlay's drivers, one per joint."""
+    model = pinocchio_model(name)
+    data = model.createData()
+    joints = moving_joints(model)
+    law = trajectory(joints, seed=len(name) + 1)
+    columns = link_columns(model, imported(name, limits=False).text)
+    points = ", ".join(f'"{col}"' for _, col in columns.values())
+    outputs = ("[analysis.outputs]", "joint_space = true", f"jacobians = [{points}]")
+    results = overlay(name, joints, law, t_end=0.5, dt=0.05, outputs=outputs).inverse_dynamics()
+    js = results.joint_space()
+    assert js.coordinates == [f"d_{sanitize(j[1])}" for j in joints]
+    iv = [model.joints[jid].idx_v for jid, _, _, _ in joints]
+    worst_m = worst_h = worst_j = worst_tau = 0.0
+    for k, t in enumerate(js.t):
+        q, v, a = pin_state(model, joints, law, t)
+        m = pin.crba(model, data, q)
+        m = np.triu(m) + np.triu(m, 1).T
+        m = m[np.ix_(iv, iv)]
+        worst_m = max(worst_m, np.abs(js.M[k] - m).max() / np.abs(m).max())
+        h = pin.nonLinearEffects(model, data, q, v)[iv]
+        worst_h = max(worst_h, np.abs(js.h[k] - h).max() / max(np.abs(h).max(), 1e-300))
+        tau = js.M[k] @ a[iv] + js.h[k]
+        ref = pin.rnea(model, data, q, v, a)[iv]
+        worst_tau = max(worst_tau, np.abs(tau - ref).max() / np.abs(ref).max())
+        for fid, col in columns.values():
+            jf = pin.computeFrameJacobian(model, data, q, fid, pin.LOCAL_WORLD_ALIGNED)[:, iv]
+            worst_j = max(worst_j, np.abs(js.jacobians[col][k] - jf).max())
+    print(f"{name}: n = {len(iv)}, |ΔM|/max|M| {worst_m:.2e}, |Δh|/max|h| {worst_h:.2e}, "
+          f"|ΔJ| {worst_j:.2e} (m, rad), |M a + h − rnea|/max {worst_tau:.2e}")
+    assert worst_m < 1e-10
+    assert worst_h < 1e-10
+    assert worst_j < 1e-12
     assert worst_tau < 1e-10
 
 

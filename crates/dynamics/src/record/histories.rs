@@ -58,6 +58,9 @@ pub(super) fn empty_results(
             work: e(),
             constraint_power: e(),
         },
+        joint_space: (d.joint_space.as_ref())
+            .map(|w| w.names.empty_like(capacity))
+            .unwrap_or_default(),
         position_drift: e(),
         velocity_drift: e(),
         redundant: d.redundant.clone(),

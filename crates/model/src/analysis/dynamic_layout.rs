@@ -44,6 +44,8 @@ enum Group {
     },
     Energy,
     ConstraintDrift,
+    /// The joint space's group g ([`super::joint_space::joint_space_row`]).
+    JointSpace(usize),
 }
 
 /// The groups of a dynamic or inverse dynamics run (module docs).
@@ -81,6 +83,9 @@ impl DynamicLayout {
                     "reactions_local" => Group::Reactions { local: true },
                     "energy" => Group::Energy,
                     "constraint_drift" => Group::ConstraintDrift,
+                    "mass_matrix" => Group::JointSpace(0),
+                    "bias_forces" => Group::JointSpace(1),
+                    "jacobians" => Group::JointSpace(2),
                     name => Group::Kinematic(names.iter().position(|n| n == name).unwrap_or(0)),
                 }
             })
@@ -124,6 +129,7 @@ impl FrameLayout for DynamicLayout {
             Group::CamForces => cam_forces_row(r, k, row),
             Group::Reactions { local } => reactions_row(r, &self.selected, local, k, row),
             Group::Energy => energy_row(&r.energy, self.e0, k, row),
+            Group::JointSpace(j) => super::joint_space::joint_space_row(r, j, k, row),
             Group::ConstraintDrift => row.extend([
                 r.position_drift.get(k).copied().unwrap_or(f64::NAN),
                 r.velocity_drift.get(k).copied().unwrap_or(f64::NAN),

@@ -185,7 +185,8 @@ fn setup(p: &Prepared) -> Result<(cardan_dynamics::Dynamics<'_>, KinematicOption
         let dof = p.model.dof(&ws).map_err(|e| analysis_error(p, &e))?;
         return Err(crate::prepare::not_fully_driven(p, dof.dof, 0));
     }
-    let d = dynamics_as(p, WHAT)?;
+    let mut d = dynamics_as(p, WHAT)?;
+    super::joint_space::request(p, &mut d, &a.outputs)?;
     let opts = KinematicOptions::new(a.t_start, a.t_end, a.steps)
         .tolerance(a.tolerance)
         .drop_inconsistent(a.drop_inconsistent);

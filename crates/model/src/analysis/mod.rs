@@ -27,6 +27,7 @@ pub mod dynamic_layout;
 mod energy;
 mod friction;
 pub mod inverse;
+pub mod joint_space;
 pub mod kinematic;
 mod layout;
 mod linearize;

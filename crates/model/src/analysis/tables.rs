@@ -68,5 +68,6 @@ pub fn inverse_tables(p: &Prepared, r: &DynamicResults, req: &Requested) -> Vec<
     if req.energy {
         out.push(energy_table(r));
     }
+    out.extend(super::joint_space::joint_space_tables(p, r));
     out
 }

@@ -278,25 +278,14 @@ fn load_outputs(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Outp
     };
     let o = o.get_ref();
     for p in &o.points {
-        let Some((b, pt)) = p.get_ref().split_once('.') else {
-            return Err(cx.err(
-                p.span(),
-                format!(
-                    "output point \"{}\" must be written \"body.point\" (e.g. \"crank.B\")",
-                    p.get_ref()
-                ),
-            ));
-        };
-        let bname = Spanned::new(p.span(), b.to_string());
-        let b = r.body(&bname, "outputs.points")?;
-        r.feature(
-            b,
-            &Spanned::new(p.span(), pt.to_string()),
-            "outputs.points",
-            true,
-        )?;
-        outputs.points.push((b.to_string(), pt.to_string()));
+        outputs.points.push(body_point(r, p, "outputs.points")?);
     }
+    for p in &o.jacobians {
+        outputs
+            .jacobians
+            .push(body_point(r, p, "outputs.jacobians")?);
+    }
+    outputs.joint_space = o.joint_space.unwrap_or(false);
     for j in &o.joints {
         let names = spans.joints.keys().chain(spans.curves.keys());
         known(cx, j, "outputs.joints: unknown joint or curve", names)?;
@@ -320,6 +309,23 @@ fn load_outputs(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Outp
     }
     outputs.energy = o.energy.unwrap_or(true);
     Ok(outputs)
+}
+
+/// A `"body.point"` of `[analysis.outputs] key`: the body and the point, which exist.
+fn body_point(r: &Resolver, p: &Name, key: &str) -> Result<(String, String), Error> {
+    let Some((b, pt)) = p.get_ref().split_once('.') else {
+        return Err(r.cx.err(
+            p.span(),
+            format!(
+                "{key}: \"{}\" must be written \"body.point\" (e.g. \"crank.B\")",
+                p.get_ref()
+            ),
+        ));
+    };
+    let bname = Spanned::new(p.span(), b.to_string());
+    let b = r.body(&bname, key)?;
+    r.feature(b, &Spanned::new(p.span(), pt.to_string()), key, true)?;
+    Ok((b.to_string(), pt.to_string()))
 }
 
 /// Refuses `name` when it is not one of `names` ("{what} \"x\"; did you mean …").

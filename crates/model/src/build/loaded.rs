@@ -164,6 +164,10 @@ pub struct Outputs {
     pub reactions: Option<Vec<String>>,
     /// Dynamic and inverse dynamics: write the energy table (with power, work and balance).
     pub energy: bool,
+    /// Inverse dynamics: write the mass matrix and bias forces in the drivers' coordinates.
+    pub joint_space: bool,
+    /// Inverse dynamics: (body, point) whose Jacobians are written.
+    pub jacobians: Vec<(String, String)>,
 }
 
 /// What `[analysis] kind` asks for, with what only that kind has.

@@ -35,7 +35,31 @@ const ENERGY: Key = Key::new(
 )
 .elsewhere("a kinematic run has no forces, a static one no motion to conserve energy along");
 
+const JOINT_SPACE: Key = Key::new(
+    "joint_space",
+    Value::Flag,
+    Default::Is("false"),
+    "write mass_matrix.csv and bias_forces.csv: the mass matrix M(θ) and the bias forces h(θ, θ̇) in the coordinates the drivers prescribe (efforts = M θ̈ + h)",
+)
+.elsewhere("the joint space is an inverse dynamics run's: its coordinates are the drivers'");
+const JACOBIANS: Key = Key::new(
+    "jacobians",
+    Value::Names,
+    Default::Is("none"),
+    "\"body.point\": the point's velocity and its body's angular velocity per unit rate of each driven coordinate, global axes (jacobians.csv)",
+)
+.elsewhere("the joint space is an inverse dynamics run's: its coordinates are the drivers'");
+
 const MOTION: &[Key] = &[POINTS, JOINTS, BODIES, REACTIONS, ENERGY];
+const INVERSE: &[Key] = &[
+    POINTS,
+    JOINTS,
+    BODIES,
+    REACTIONS,
+    ENERGY,
+    JOINT_SPACE,
+    JACOBIANS,
+];
 const STATIC: &[Key] = &[POINTS, JOINTS, BODIES, REACTIONS];
 
 /// The output groups, by analysis kind.
@@ -60,8 +84,8 @@ pub const OUTPUTS: Vocabulary = Vocabulary {
         Entry {
             name: "inverse_dynamics",
             aliases: &[],
-            summary: "the kinematic groups, driver efforts, reactions, energy",
-            keys: MOTION,
+            summary: "the kinematic groups, driver efforts, reactions, energy, the joint space",
+            keys: INVERSE,
         },
         Entry {
             name: "static",

@@ -16,6 +16,7 @@ __all__ = [
     "CardanError",
     "Check",
     "Dragged",
+    "JointSpace",
     "Model",
     "Parameter",
     "Pose",
@@ -93,6 +94,21 @@ class Table:
     def to_csv(self) -> str: ...
     def to_pandas(self) -> Any: ...
 
+class JointSpace:
+    coordinates: List[str]
+    t: npt.NDArray[np.float64]
+    M: npt.NDArray[np.float64]
+    h: npt.NDArray[np.float64]
+    jacobians: Dict[str, npt.NDArray[np.float64]]
+    def __init__(
+        self,
+        coordinates: List[str],
+        t: npt.NDArray[np.float64],
+        M: npt.NDArray[np.float64],
+        h: npt.NDArray[np.float64],
+        jacobians: Dict[str, npt.NDArray[np.float64]],
+    ) -> None: ...
+
 class Results:
     kind: str
     tables: Dict[str, Table]
@@ -151,6 +167,7 @@ class Results:
     def mode_shapes(self) -> Table: ...
     @property
     def warnings(self) -> List[str]: ...
+    def joint_space(self) -> JointSpace: ...
     @property
     def status(self) -> str: ...
     @property

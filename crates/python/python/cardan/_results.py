@@ -92,6 +92,47 @@ class Table:
         return (Table, (self.name, self.title, self.columns, np.array(self._data)))
 
 
+class JointSpace:
+    """The joint space of an inverse dynamics run (``[analysis.outputs] joint_space = true``
+    and ``jacobians``), as arrays in the coordinates the drivers prescribe, in their order:
+
+    - ``coordinates``: the drivers' names (n);
+    - ``t``: the output times (T);
+    - ``M``: the mass matrix M(θ), shape (T, n, n);
+    - ``h``: the bias forces h(θ, θ̇) (the efforts at θ̈ = 0), shape (T, n), so that the
+      drivers' efforts are ``M @ θ̈ + h``;
+    - ``jacobians``: ``"body.point"`` → shape (T, 6, n): rows ẋ ẏ ż of the point and ω_x ω_y
+      ω_z of its body per unit rate of each coordinate, global axes (Pinocchio's
+      ``LOCAL_WORLD_ALIGNED``)."""
+
+    def __init__(self, coordinates: List[str], t: np.ndarray, M: np.ndarray, h: np.ndarray,
+                 jacobians: Dict[str, np.ndarray]) -> None:
+        self.coordinates = coordinates
+        self.t = t
+        self.M = M
+        self.h = h
+        self.jacobians = jacobians
+
+    @classmethod
+    def _from_tables(cls, mass: Table, bias: Table, jac: Optional[Table]) -> "JointSpace":
+        coordinates = [name.rsplit(".", 1)[0] for name in bias.names]
+        n, count = len(coordinates), len(bias)
+        M = np.array(mass.values).reshape(count, n, n)
+        h = np.array(bias.values)
+        jacobians: Dict[str, np.ndarray] = {}
+        if jac is not None:
+            block = 6 * n
+            for p in range(len(jac.names) // block):
+                # "body.point.vx.<coordinate>": the point is what precedes the row's name.
+                point = jac.names[p * block][: -len(f".vx.{coordinates[0]}")]
+                jacobians[point] = np.array(jac.values[:, p * block:(p + 1) * block]).reshape(count, 6, n)
+        return cls(coordinates, np.array(bias.t), M, h, jacobians)
+
+    def __repr__(self) -> str:
+        return (f"<cardan.JointSpace: {len(self.coordinates)} coordinates, {len(self.t)} times, "
+                f"{len(self.jacobians)} Jacobians>")
+
+
 class Results:
     """What an analysis computed: its :class:`Table` s by name (``results.points``,
     ``results["reactions"]``), the run summary (``run``: the contents of ``run.json``) and its
@@ -218,6 +259,17 @@ class Results:
     def mode_shapes(self) -> Table:
         """``mode_shapes.csv``: mode shapes."""
         return self._table("mode_shapes")
+
+    def joint_space(self) -> JointSpace:
+        """The mass matrix, bias forces and Jacobians of an inverse dynamics run as arrays
+        (:class:`JointSpace`); the run needs ``[analysis.outputs] joint_space = true``."""
+        if "mass_matrix" not in self.tables:
+            raise AttributeError(
+                "no joint space: run an inverse dynamics analysis with [analysis.outputs] "
+                "joint_space = true (and jacobians = [\"body.point\", ...] for Jacobians)"
+            )
+        return JointSpace._from_tables(self.tables["mass_matrix"], self.tables["bias_forces"],
+                                       self.tables.get("jacobians"))
 
     def _table(self, name: str) -> Table:
         try:

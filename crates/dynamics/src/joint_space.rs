@@ -1,0 +1,321 @@
+//! The joint-space view of a fully driven mechanism: the mass matrix M(θ), the bias forces
+//! h(θ, θ̇) and the Jacobians of body points, in the coordinates θ the drivers prescribe (for a
+//! robot read from URDF and driven joint by joint: its joint angles and slides in the drivers'
+//! order). Robot codes compute them by recursive algorithms over a tree in joint coordinates
+//! (Featherstone 2008 §6.2 composite rigid bodies for M, §5.3 recursive Newton–Euler for h);
+//! here they come from the absolute-coordinate model, which also holds for closed loops.
+//!
+//! # Theory
+//!
+//! With v = [ṙ_k; ω'_k] (6 per body) and the constraints Φ_v v = ν, a fully driven mechanism's
+//! rows are the joints' (ν = 0) and one per driver, whose Φ_v row times v is s_i ċ_i (s_i =
+//! ∂Φ/∂c, [`cardan_constraints::Driver::coordinate_slope`]: 1 for a rotation or translation
+//! driver). The velocity of every body per unit rate of coordinate i is the column
+//!
+//! ```text
+//! V_i = Φ_v⁻¹ (s_i e_i)            so that  v = Σ_i V_i ċ_i   (Haug 1989 §11.2, the velocity
+//!                                            transformation; Nikravesh 1988 §13.2)
+//! ```
+//!
+//! solved with the factorization of the augmented matrix [M Φ_vᵀ; Φ_v 0] the dynamics already
+//! holds (right-hand side [0; s_i e_i]: its first block is V_i). The virtual work of the joint
+//! reactions vanishes along every V_i (Φ_v^joints V_i = 0), so projecting the Newton–Euler
+//! equations M v̇ − h_e = −Φ_vᵀλ onto the V_i gives the equations in θ:
+//!
+//! ```text
+//! M(θ) = Vᵀ M V = Σ_k m_k V_r,kᵀ V_r,k + V_ω,kᵀ J'_k V_ω,k       (M = diag(m_k I, J'_k))
+//! h_i(θ, θ̇) = −s_i λ⁰_i      (the effort of driver i when θ̈ = 0)
+//! ```
+//!
+//! where λ⁰ solves the augmented system with the applied and gyroscopic forces h_e and the
+//! right-hand side γ# less the drivers' prescribed accelerations (γ#_i − s_i f̈_i(t): the
+//! acceleration whose θ̈ is zero). The inverse dynamics' efforts are then τ = M(θ) θ̈ + h(θ, θ̇),
+//! Pinocchio's `rnea` = `crba` · q̈ + `nonLinearEffects` sign convention (h holds gravity and
+//! every applied force element, with the sign of an effort that balances them).
+//!
+//! A point P at s'_P on body k moves with ṙ_P = ṙ_k + A_k (ω'_k × s'_P) and turns with
+//! ω_k = A_k ω'_k, so its Jacobian (6 × n, global axes; Pinocchio's `LOCAL_WORLD_ALIGNED`) has
+//! the columns [V_r,k,i + A_k (V_ω,k,i × s'_P); A_k V_ω,k,i].
+//!
+//! Cost per time: n + 1 solves with the factored matrix and O(n² · bodies) products; nothing is
+//! allocated after [`Dynamics::request_joint_space`].
+
+use crate::kkt::{eval_rows, Rhs, SchurRefinement};
+use crate::system::Dynamics;
+use crate::DynamicsError;
+use cardan_constraints::Driver;
+use cardan_mechanism::BodyId;
+use nalgebra::Vector3;
+
+/// A point whose Jacobian is recorded: its name (`body.point`), body and place in the body's
+/// frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct JointSpacePoint {
+    /// `body.point`, for the tables.
+    pub name: String,
+    /// The body (the ground's points have zero Jacobians).
+    pub body: BodyId,
+    /// s'_P, in the body's frame (m).
+    pub local: Vector3<f64>,
+}
+
+/// The joint-space quantities at each recorded time ([`crate::DynamicResults::joint_space`]),
+/// stored flat: time k's mass matrix is `mass[k n² .. (k+1) n²]` (row-major), its bias forces
+/// `bias[k n .. (k+1) n]`, the Jacobian of point p `jacobians[(k P + p) 6n ..][..6n]` (rows
+/// ẋ ẏ ż ω_x ω_y ω_z in global axes, row-major). Empty unless requested.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct JointSpaceHistory {
+    /// The coordinates: the drivers' names, in model order (n).
+    pub coordinates: Vec<String>,
+    /// The points whose Jacobians are recorded.
+    pub points: Vec<JointSpacePoint>,
+    /// M(θ), n × n per time, row-major.
+    pub mass: Vec<f64>,
+    /// h(θ, θ̇), n per time.
+    pub bias: Vec<f64>,
+    /// The points' Jacobians, 6 × n each per time, row-major.
+    pub jacobians: Vec<f64>,
+}
+
+impl JointSpaceHistory {
+    /// n, the number of coordinates.
+    pub fn n(&self) -> usize {
+        self.coordinates.len()
+    }
+
+    /// Whether the history is recorded (a run that requested it).
+    pub fn is_requested(&self) -> bool {
+        !self.coordinates.is_empty()
+    }
+
+    /// M(θ) at time k: entry (i, j) is `mass_at(k)[i * n + j]`.
+    pub fn mass_at(&self, k: usize) -> &[f64] {
+        let n2 = self.n() * self.n();
+        &self.mass[k * n2..(k + 1) * n2]
+    }
+
+    /// h(θ, θ̇) at time k.
+    pub fn bias_at(&self, k: usize) -> &[f64] {
+        let n = self.n();
+        &self.bias[k * n..(k + 1) * n]
+    }
+
+    /// The Jacobian of point p at time k: entry (row, i) is `jacobian_at(k, p)[row * n + i]`.
+    pub fn jacobian_at(&self, k: usize, p: usize) -> &[f64] {
+        let size = 6 * self.n();
+        let at = (k * self.points.len() + p) * size;
+        &self.jacobians[at..at + size]
+    }
+
+    /// The same coordinates and points, no time, room for `capacity` times.
+    pub(crate) fn empty_like(&self, capacity: usize) -> Self {
+        let n = self.n();
+        Self {
+            coordinates: self.coordinates.clone(),
+            points: self.points.clone(),
+            mass: Vec::with_capacity(capacity * n * n),
+            bias: Vec::with_capacity(capacity * n),
+            jacobians: Vec::with_capacity(capacity * self.points.len() * 6 * n),
+        }
+    }
+
+    /// Removes every time, keeping the storage.
+    pub(crate) fn clear(&mut self) {
+        self.mass.clear();
+        self.bias.clear();
+        self.jacobians.clear();
+    }
+
+    /// Appends the times of `o` (same coordinates and points).
+    pub(crate) fn extend_from(&mut self, o: &Self) {
+        self.mass.extend_from_slice(&o.mass);
+        self.bias.extend_from_slice(&o.bias);
+        self.jacobians.extend_from_slice(&o.jacobians);
+    }
+}
+
+/// What [`Dynamics::request_joint_space`] prepared: the history's names and the scratch of one
+/// time.
+#[derive(Debug, Clone)]
+pub(crate) struct JointSpaceWork {
+    /// The names and points (no times).
+    pub names: JointSpaceHistory,
+    /// V, column i = `v_cols[i * 6nb ..][..6nb]`.
+    v_cols: Vec<f64>,
+}
+
+impl Dynamics<'_> {
+    /// Asks the next inverse dynamics run to record M(θ), h(θ, θ̇) and the Jacobians of
+    /// `points` at every output time ([`crate::DynamicResults::joint_space`]; module docs of
+    /// [`crate::joint_space`]). The coordinates are the drivers', in model order.
+    ///
+    /// # Errors
+    /// [`DynamicsError::JointSpace`] without drivers, or with a pose driver (its rotation rows
+    /// prescribe no single coordinate).
+    pub fn request_joint_space(
+        &mut self,
+        points: Vec<JointSpacePoint>,
+    ) -> Result<&mut Self, DynamicsError> {
+        let drivers = self.model.drivers();
+        if drivers.is_empty() {
+            return Err(DynamicsError::JointSpace {
+                reason: "the model has no drivers: the joint space is the coordinates the \
+                         drivers prescribe (drive each joint)"
+                    .into(),
+            });
+        }
+        if let Some(d) = drivers.iter().find(|d| matches!(d.driver, Driver::Pose(_))) {
+            return Err(DynamicsError::JointSpace {
+                reason: format!(
+                    "driver \"{}\" prescribes a pose, not one coordinate: the joint space needs a \
+                     rotation, translation, distance or coordinate driver per coordinate",
+                    d.name
+                ),
+            });
+        }
+        let n = drivers.len();
+        self.joint_space = Some(JointSpaceWork {
+            names: JointSpaceHistory {
+                coordinates: drivers.iter().map(|d| d.name.clone()).collect(),
+                points,
+                ..JointSpaceHistory::default()
+            },
+            v_cols: vec![0.0; n * 6 * self.model.num_bodies()],
+        });
+        Ok(self)
+    }
+
+    /// Appends M(θ), h(θ, θ̇) and the points' Jacobians at the synced bodies and time `t` to
+    /// `out` (module docs). The equations of motion must have been solved at these bodies (the
+    /// KKT layout prepared). No allocation when `out` has room.
+    ///
+    /// # Errors
+    /// [`DynamicsError::JointSpace`] when a driver's row was dropped as redundant (its
+    /// coordinate is not independent); a singular matrix.
+    pub(crate) fn record_joint_space(
+        &mut self,
+        t: f64,
+        out: &mut JointSpaceHistory,
+    ) -> Result<(), DynamicsError> {
+        let Some(mut work) = self.joint_space.take() else {
+            return Ok(());
+        };
+        let r = self.joint_space_into(t, &mut work, out);
+        self.joint_space = Some(work);
+        r
+    }
+
+    fn joint_space_into(
+        &mut self,
+        t: f64,
+        work: &mut JointSpaceWork,
+        out: &mut JointSpaceHistory,
+    ) -> Result<(), DynamicsError> {
+        let model = self.model;
+        // The applied and gyroscopic forces at these bodies (as the efforts' solve had them).
+        self.eval_forces(t);
+        let kkt = self
+            .kkt
+            .as_mut()
+            .expect("prepared by the equations of motion");
+        let n6 = kkt.n;
+        kkt.eval_jacobian(model, &self.elements, &self.bodies, &self.curves, t);
+        kkt.set_mass(&self.mass, &self.inertia);
+        if let Err(e) = kkt.factor() {
+            return Err(self.solver_error(t, e));
+        }
+        let kkt = self.kkt.as_mut().expect("prepared");
+        // V_i = Φ_v⁻¹ (s_i e_i), the first block of [M Φ_vᵀ; Φ_v 0]⁻¹ [0; s_i e_i].
+        for (i, d) in model.drivers().iter().enumerate() {
+            let a = kkt.active_of[d.rows.start];
+            if a == usize::MAX {
+                return Err(DynamicsError::JointSpace {
+                    reason: format!(
+                        "driver \"{}\" was dropped as redundant at t = {t}: its coordinate is \
+                         not independent of the others, so the joint space is not defined",
+                        d.name
+                    ),
+                });
+            }
+            kkt.rhs.fill(0.0);
+            kkt.rhs[n6 + a] = d.driver.coordinate_slope(t);
+            kkt.solve(SchurRefinement::ONE_SHOT)
+                .map_err(|e| DynamicsError::JointSpace {
+                    reason: format!("t = {t}: the velocity transformation: {e}"),
+                })?;
+            work.v_cols[i * n6..(i + 1) * n6].copy_from_slice(&kkt.sol[..n6]);
+        }
+        // h(θ, θ̇): the efforts at θ̈ = 0 (γ# less the drivers' s_i f̈_i).
+        eval_rows(
+            model,
+            &self.elements,
+            &self.bodies,
+            &self.turns,
+            &self.curves,
+            t,
+            Rhs::Gamma,
+            &mut kkt.full,
+        );
+        for d in model.drivers() {
+            let f_ddot = d.driver.function().eval(t).2;
+            kkt.full[d.rows.start] -= d.driver.coordinate_slope(t) * f_ddot;
+        }
+        for (a, &r) in kkt.active.iter().enumerate() {
+            kkt.rhs[n6 + a] = kkt.full[r];
+        }
+        kkt.rhs[..n6].copy_from_slice(&self.h);
+        kkt.solve(SchurRefinement::ONE_SHOT)
+            .map_err(|e| DynamicsError::JointSpace {
+                reason: format!("t = {t}: the bias forces: {e}"),
+            })?;
+        for d in model.drivers() {
+            let lambda = kkt.sol[n6 + kkt.active_of[d.rows.start]];
+            out.bias.push(-lambda * d.driver.coordinate_slope(t));
+        }
+        self.push_mass(&work.v_cols, out);
+        self.push_jacobians(&work.v_cols, &work.names.points, out);
+        Ok(())
+    }
+
+    /// M(θ) = Vᵀ diag(m_k I, J'_k) V, appended row-major.
+    fn push_mass(&self, v: &[f64], out: &mut JointSpaceHistory) {
+        let n6 = 6 * self.bodies.len();
+        let n = v.len() / n6.max(1);
+        for i in 0..n {
+            let vi = &v[i * n6..(i + 1) * n6];
+            for j in 0..n {
+                let vj = &v[j * n6..(j + 1) * n6];
+                let mut s = 0.0;
+                for (k, (m, inertia)) in self.mass.iter().zip(&self.inertia).enumerate() {
+                    let (bi, bj) = (&vi[6 * k..6 * k + 6], &vj[6 * k..6 * k + 6]);
+                    s += m * (bi[0] * bj[0] + bi[1] * bj[1] + bi[2] * bj[2]);
+                    let wj = inertia * Vector3::new(bj[3], bj[4], bj[5]);
+                    s += bi[3] * wj[0] + bi[4] * wj[1] + bi[5] * wj[2];
+                }
+                out.mass.push(s);
+            }
+        }
+    }
+
+    /// Each requested point's Jacobian [V_r + A (V_ω × s'); A V_ω], appended row-major.
+    fn push_jacobians(&self, v: &[f64], points: &[JointSpacePoint], out: &mut JointSpaceHistory) {
+        let n6 = 6 * self.bodies.len();
+        let n = v.len() / n6.max(1);
+        for p in points {
+            let at = out.jacobians.len();
+            out.jacobians.resize(at + 6 * n, 0.0);
+            let BodyId::Moving(k) = p.body else { continue };
+            let a = &self.bodies[k].a;
+            for i in 0..n {
+                let b = &v[i * n6 + 6 * k..i * n6 + 6 * k + 6];
+                let w = Vector3::new(b[3], b[4], b[5]);
+                let lin = Vector3::new(b[0], b[1], b[2]) + a * w.cross(&p.local);
+                let ang = a * w;
+                for c in 0..3 {
+                    out.jacobians[at + c * n + i] = lin[c];
+                    out.jacobians[at + (3 + c) * n + i] = ang[c];
+                }
+            }
+        }
+    }
+}
