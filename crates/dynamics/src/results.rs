@@ -7,7 +7,7 @@
 //! `DynamicResults` holding exactly that time, its storage reused from one time to the next, as
 //! the mechanism's [`FrameSink`](cardan_mechanism::FrameSink) does for kinematic frames.
 
-use crate::joint_space::JointSpaceHistory;
+use crate::joint_space::history::JointSpaceHistory;
 use cardan_mechanism::{BodyResults, EquationName, PointResults, Results};
 use nalgebra::Vector3;
 use std::ops::ControlFlow;

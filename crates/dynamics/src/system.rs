@@ -77,7 +77,7 @@ pub struct Dynamics<'m> {
     /// implicit tangents, which take the contacts' tangents in closed form).
     pub(crate) contacts_off: bool,
     /// The joint-space outputs an inverse dynamics run records ([`crate::joint_space`]).
-    pub(crate) joint_space: Option<crate::joint_space::JointSpaceWork>,
+    pub(crate) joint_space: Option<crate::joint_space::history::JointSpaceWork>,
 }
 
 impl std::fmt::Debug for Dynamics<'_> {
