@@ -342,3 +342,70 @@ fn the_joint_space_is_written_and_makes_the_efforts() {
     }
     assert!(worst < 1e-9, "|M θ̈ + h − τ| = {worst}");
 }
+
+/// A can: one floating link, its `<collision>` a cylinder turned onto its side by the
+/// collision origin's rpy.
+const CAN: &str = r#"<robot name="can">
+  <link name="can">
+    <inertial><mass value="1.0"/><inertia ixx="0.014" iyy="0.014" izz="0.00125" ixy="0" ixz="0" iyz="0"/></inertial>
+    <collision><origin xyz="0 0 0" rpy="1.5707963267948966 0 0"/><geometry><cylinder radius="0.05" length="0.4"/></geometry></collision>
+  </link>
+</robot>
+"#;
+
+fn can_overlay(collision: &str) -> String {
+    format!(
+        "[model]\nname = \"drop\"\n\n[urdf]\nfile = \"can.urdf\"\nbase = \"floating\"\n{collision}\n\n\
+         [ground]\npoints = {{ O = [0.0, 0.0, -0.2] }}\n\n\
+         [[material]]\nname = \"steel\"\nstiffness = 1e7\nrestitution = 0.5\nfriction = 0.5\n\n\
+         [[shape]]\nname = \"floor\"\ntype = \"plane\"\nbody = \"ground\"\nmaterial = \"steel\"\npoint = \"O\"\n\n\
+         [analysis]\nkind = \"dynamic\"\nintegrator = \"dopri5\"\nt_end = 2.0\noutput_dt = 0.05\n"
+    )
+}
+
+#[test]
+fn collision_elements_become_contact_shapes_of_the_overlays_material() {
+    // Dropped 0.15 m onto the overlay's floor at z = −0.2 m, the can comes to rest on its side:
+    // its centre at −0.2 + r less the contact's static penetration (0.1 mm); standing
+    // on end (the rpy lost) it would rest at z = 0, and without its shape it falls through.
+    let dir = scratch("urdf");
+    std::fs::write(dir.join("can.urdf"), CAN).unwrap();
+    std::fs::write(
+        dir.join("overlay.toml"),
+        can_overlay("collision = \"steel\""),
+    )
+    .unwrap();
+    let o = cardan(&["run", "overlay.toml", "-o", "out", "--quiet"], &dir);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let (head, rows) = csv(&dir.join("out/bodies.csv"));
+    let z = head.iter().position(|h| h == "can.r.z [m]").unwrap();
+    let last = rows.last().unwrap()[z];
+    // Two contact points (the cylinder's rims) share m g, each K* δ^1.5 with the pair's
+    // K* = K/2 (the two materials' compliances add): δ = (m g / (2 K*))^(2/3).
+    let delta = (9.81_f64 / (2.0 * 5e6)).powf(2.0 / 3.0);
+    let rest = -0.2 + 0.05 - delta;
+    assert!(
+        (last - rest).abs() < 1e-9,
+        "the can rests at z = {last}, not {rest}"
+    );
+    let contacts = std::fs::read_to_string(dir.join("out/contacts.csv")).unwrap();
+    assert!(
+        contacts.contains("can_collision,can,floor,ground")
+            || contacts.contains("floor,ground,can_collision,can"),
+        "{contacts}"
+    );
+
+    // A material the overlay does not define: an error at the key, with the names it has.
+    std::fs::write(
+        dir.join("overlay.toml"),
+        can_overlay("collision = \"steal\""),
+    )
+    .unwrap();
+    let o = cardan(&["check", "overlay.toml"], &dir);
+    assert_eq!(o.code, 1, "{}", o.stderr);
+    assert!(
+        o.stderr.contains("overlay.toml:7:") && o.stderr.contains("did you mean \"steel\""),
+        "{}",
+        o.stderr
+    );
+}

@@ -179,6 +179,10 @@ pub struct UrdfSection {
     /// Revolute joints' `<dynamics damping>` as rotational dampers (default false).
     #[serde(default)]
     pub damping: Option<bool>,
+    /// The links' `<collision>` elements as contact shapes of this `[[material]]` (default:
+    /// none).
+    #[serde(default)]
+    pub collision: Option<Name>,
 }
 
 /// `[ground]`.

@@ -9,7 +9,8 @@
 //! [urdf]
 //! file = "ur5.urdf"        # relative to this file
 //! base = "fixed"           # or "floating"; mimic = "couple" | "free"; limits = true | false;
-//!                          # damping = true: revolute joints' <dynamics damping> as dampers
+//!                          # damping = true: revolute joints' <dynamics damping> as dampers;
+//!                          # collision = "steel": the links' <collision> as shapes of a [[material]]
 //!
 //! [[driver]]
 //! name = "wave"
@@ -61,7 +62,9 @@ pub fn parse_overlaid(src: Source) -> Result<(Source, ModelFile, Vec<String>), E
         .analysis
         .as_ref()
         .is_none_or(|a| a.get_ref().kind.get_ref() != "kinematic");
-    let (text, warnings) = crate::urdf::import_text(&robot, options, needs_masses, false)?;
+    let collision = collision_material(&src, &file)?;
+    let (text, warnings) =
+        crate::urdf::import_text(&robot, options, needs_masses, false, collision.as_deref())?;
     let blank: String = src
         .text
         .chars()
@@ -79,6 +82,35 @@ pub fn parse_overlaid(src: Source) -> Result<(Source, ModelFile, Vec<String>), E
     let robot_file = parse(&padded)?;
     merge(&combined, &mut file, robot_file)?;
     Ok((combined, file, warnings))
+}
+
+/// `[urdf] collision`: the material of the robot's contact shapes, one of the overlay's
+/// `[[material]]`s.
+///
+/// # Errors
+/// A name no `[[material]]` has, at the key.
+fn collision_material(src: &Source, file: &ModelFile) -> Result<Option<String>, Error> {
+    let Some(name) = file
+        .urdf
+        .as_ref()
+        .and_then(|u| u.get_ref().collision.as_ref())
+    else {
+        return Ok(None);
+    };
+    let known: Vec<&str> = (file.material.iter())
+        .map(|m| m.get_ref().name.get_ref().as_str())
+        .collect();
+    if known.contains(&name.get_ref().as_str()) {
+        return Ok(Some(name.get_ref().clone()));
+    }
+    let hint = crate::diag::did_you_mean(name.get_ref(), known.iter().copied());
+    Err(src.error_at(
+        name.span(),
+        format!(
+            "[urdf] collision = \"{}\": no [[material]] of this file has that name{hint}; the robot's <collision> shapes are made of it (add a [[material]] with the contact law)",
+            name.get_ref()
+        ),
+    ))
 }
 
 /// The import choices of a `[urdf]` table.
@@ -115,6 +147,7 @@ fn merge(src: &Source, file: &mut ModelFile, robot: ModelFile) -> Result<(), Err
     file.limit.extend(robot.limit);
     file.coupler.extend(robot.coupler);
     file.force.extend(robot.force);
+    file.shape.extend(robot.shape);
     file.keys.extend(robot.keys);
     let Some(theirs) = robot.ground else {
         return Ok(());

@@ -62,12 +62,14 @@ pub fn import_source(
     options: UrdfOptions,
     needs_masses: bool,
 ) -> Result<(Source, Vec<String>), Error> {
-    let (text, warnings) = import_text(src, options, needs_masses, true)?;
+    let (text, warnings) = import_text(src, options, needs_masses, true, None)?;
     Ok((Source::from_text(imported_path(&src.path), text), warnings))
 }
 
 /// [`import_source`]'s text, with or without its default `[analysis]` (an overlay's robot,
-/// [`crate::overlay`], has the overlay's).
+/// [`crate::overlay`], has the overlay's), and with the links' `<collision>` elements as
+/// shapes of `collision`, a material's name (an overlay's `[urdf] collision`;
+/// [`cardan_urdf::collisions`]).
 ///
 /// # Errors
 /// As [`import_source`].
@@ -76,6 +78,7 @@ pub fn import_text(
     options: UrdfOptions,
     needs_masses: bool,
     analysis: bool,
+    collision: Option<&str>,
 ) -> Result<(String, Vec<String>), Error> {
     let import = cardan_urdf::import(
         &src.text,
@@ -97,11 +100,19 @@ pub fn import_text(
         resolve_mesh(f, &src.path, &search).map(|p| std::fs::canonicalize(&p).unwrap_or(p))
     };
     let (geometry, mesh_warnings) = cardan_urdf::visuals::visuals(&import, &resolve);
-    let text = cardan_urdf::toml_out::to_toml_with(&import, &name, analysis, &geometry);
+    let (shapes, shape_warnings) = match collision {
+        Some(material) => {
+            let taken = cardan_urdf::toml_out::feature_taken(&import);
+            cardan_urdf::collisions::collision_shapes(&import, material, &resolve, &taken)
+        }
+        None => Default::default(),
+    };
+    let text = cardan_urdf::toml_out::to_toml_with(&import, &name, analysis, &geometry, &shapes);
     let warnings = import
         .warnings
         .iter()
         .chain(&mesh_warnings)
+        .chain(&shape_warnings)
         .map(|w| format!("{}:{}: {}", src.path.display(), w.line, w.message))
         .collect();
     Ok((text, warnings))

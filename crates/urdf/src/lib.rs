@@ -38,9 +38,11 @@
 //! Bad input never panics: every problem is a [`UrdfError`] with the file line and the element.
 
 pub mod bodies;
+pub mod collisions;
 pub mod error;
 pub mod import;
 pub mod names;
+mod numbers;
 pub mod pose;
 pub mod read;
 pub mod robot;

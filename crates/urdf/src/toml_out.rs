@@ -9,15 +9,7 @@ use nalgebra::{Matrix3, Vector3};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-/// A number in full (shortest round-trip form).
-pub(crate) fn num(x: f64) -> String {
-    format!("{x:?}")
-}
-
-/// `[x, y, z]`.
-pub(crate) fn vec3(v: &Vector3<f64>) -> String {
-    format!("[{}, {}, {}]", num(v.x), num(v.y), num(v.z))
-}
+pub(crate) use crate::numbers::{num, vec3};
 
 fn matrix(m: &Matrix3<f64>) -> String {
     let row = |k: usize| {
@@ -97,17 +89,30 @@ fn features(import: &Import) -> Vec<Features> {
 
 /// The cardan model text of `import`; `file` names the URDF in the comments.
 pub fn to_toml(import: &Import, file: &str) -> String {
-    to_toml_with(import, file, true, &[])
+    to_toml_with(import, file, true, &[], &[])
 }
 
-/// [`to_toml`], with or without the default `[analysis]` (an overlay gives its own), and with
+/// Whether body `slot` (0 the ground, g + 1 body g) of the model text has a point or vector
+/// `name` (for [`crate::collisions::collision_shapes`]).
+pub fn feature_taken(import: &Import) -> impl Fn(usize, &str) -> bool {
+    let feats = features(import);
+    move |slot, name| {
+        feats
+            .get(slot)
+            .is_some_and(|f| f.points.contains_key(name) || f.vectors.contains_key(name))
+    }
+}
+
+/// [`to_toml`], with or without the default `[analysis]` (an overlay gives its own), with
 /// each body's `geometry` items ([`crate::visuals`]; none when `geometry` is empty: the body
-/// is drawn from its points and joints).
+/// is drawn from its points and joints) and the collisions' `shapes`
+/// ([`crate::collisions`]: their points and vectors join their bodies').
 pub fn to_toml_with(
     import: &Import,
     file: &str,
     analysis: bool,
     geometry: &[Vec<String>],
+    shapes: &[crate::collisions::CollisionShape],
 ) -> String {
     let robot = &import.robot;
     let lay = &import.layout;
@@ -142,7 +147,14 @@ pub fn to_toml_with(
         "\n[model]\nname = \"{}\"\nunits = \"SI\"\ngravity = [0.0, 0.0, -9.81]",
         crate::names::sanitize(&robot.name)
     );
-    let feats = features(import);
+    let mut feats = features(import);
+    for s in shapes {
+        let f = &mut feats[s.slot];
+        f.points.insert(s.point.0.clone(), s.point.1);
+        for (name, v) in &s.vectors {
+            f.vectors.insert(name.clone(), *v);
+        }
+    }
     if !feats[0].points.is_empty() || !feats[0].vectors.is_empty() {
         let _ = writeln!(out, "\n[ground]");
         let _ = writeln!(out, "points = {}", inline(&feats[0].points));
@@ -193,6 +205,9 @@ pub fn to_toml_with(
         }
     }
     joints(import, &mut out);
+    for s in shapes {
+        out.push_str(&s.table);
+    }
     if !analysis {
         return out;
     }
