@@ -142,7 +142,8 @@ impl<'s> Recorder<'s> {
         self.begin();
         self.record_work(d, state.t, work);
         self.store(d, state, iterations, false);
-        d.record_joint_space(state.t, &mut self.res.joint_space)?;
+        let solved = (&self.lambda[..], &self.vdot[..]);
+        d.record_joint_space(state.t, solved, &mut self.res.joint_space)?;
         self.hand_over(state.t)
     }
 

@@ -247,6 +247,103 @@ def test_joint_space_matches_pinocchio_crba_nle_and_frame_jacobians(name: str) -
     assert worst_tau < 1e-10
 
 
+FLOATING = [n for n, (_, b) in ROBOTS.items() if b == "floating"]
+
+
+def rot(axis: int, a: float) -> np.ndarray:
+    """The rotation by a about the x, y or z axis."""
+    c, s = math.cos(a), math.sin(a)
+    m = np.eye(3)
+    i, j = [(1, 2), (0, 2), (0, 1)][axis]
+    m[i, i], m[i, j], m[j, i], m[j, j] = c, -s, s, c
+    if axis == 1:
+        m[i, j], m[j, i] = s, -s
+    return m
+
+
+def skew(w: np.ndarray) -> np.ndarray:
+    return np.array([[0, -w[2], w[1]], [w[2], 0, -w[0]], [-w[1], w[0], 0]])
+
+
+def base_state(law: list, t: float) -> tuple:
+    """The base's position, R = R_x(a₁) R_y(a₂) R_z(a₃), ṗ and Ṙ of the general motion law
+    (six (c, a, w, φ): x, y, z, a₁, a₂, a₃)."""
+    val = [c + a * math.sin(w * t + ph) for c, a, w, ph in law]
+    rate = [a * w * math.cos(w * t + ph) for c, a, w, ph in law]
+    f = [rot(k, val[3 + k]) for k in range(3)]
+    df = [f[k] @ skew(np.eye(3)[k]) * rate[3 + k] for k in range(3)]
+    r = f[0] @ f[1] @ f[2]
+    r_dot = df[0] @ f[1] @ f[2] + f[0] @ df[1] @ f[2] + f[0] @ f[1] @ df[2]
+    return np.array(val[:3]), r, np.array(rate[:3]), r_dot
+
+
+@pytest.mark.parametrize("name", FLOATING)
+def test_floating_base_joint_space_matches_pinocchio(name: str) -> None:
+    """A floating robot's base driven by a general motion from the ground, its joints by their
+    own laws: M(θ) against ``crba`` and h against ``nonLinearEffects`` with Pinocchio's
+    free-flyer velocity v with u = T v (cardan's six base rows u: the base link origin's velocity
+    in ground axes, then ω·y, −ω·x, −ω·z; T = diag(R, P); ``cardan_dynamics::joint_space``), so
+    M_pin = Tᵀ M T, h_pin = Tᵀ (h + M Ṫ v) (the two bases' accelerations differ by Ṫ v) and
+    every link frame's Jacobian J_pin = J T."""
+    model = pinocchio_model(name)
+    data = model.createData()
+    joints = moving_joints(model)
+    law = trajectory(joints, seed=len(name) + 2)
+    rng = np.random.default_rng(7)
+    base = [(rng.uniform(-0.05, 0.05), 0.05, rng.uniform(1, 3), rng.uniform(0, 6)) for _ in range(3)]
+    base += [(rng.uniform(-0.1, 0.1), 0.2, rng.uniform(1, 3), rng.uniform(0, 6)) for _ in range(3)]
+    text = imported(name, limits=False).text
+    columns = link_columns(model, text)
+    root = next(f for f in model.frames if f.parentJoint == 1 and f.type == pin.FrameType.BODY)
+    body, point = columns[root.name][1].split(".")
+    fn = lambda c, a, w, ph: f'{{ kind = "expression", text = "{c!r} + {a!r} * sin({w!r} * t + {ph!r})" }}'
+    path, _ = ROBOTS[name]
+    lines = ["[model]", f'name = "{name}_float"', "[urdf]", f'file = "{ROBOTS_DIR / path}"', 'base = "floating"',
+             'mimic = "free"', "limits = false", "[ground]", "points = { world_o = [0.0, 0.0, 0.0] }",
+             "[[driver]]", 'name = "base"', 'type = "general_motion"', 'body_i = "ground"', 'point_i = "world_o"',
+             f'body_j = "{body}"', f'point_j = "{point}"', 'order = "xyz"',
+             "translation = [" + ", ".join(fn(*b) for b in base[:3]) + "]",
+             "rotation = [" + ", ".join(fn(*b) for b in base[3:]) + "]"]
+    for (_, jname, prismatic, _), (c, a, w, phi) in zip(joints, law):
+        lines += ["[[driver]]", f'name = "d_{sanitize(jname)}"', f'type = "{"translation" if prismatic else "rotation"}"',
+                  f'joint = "{sanitize(jname)}"', f"function = {fn(c, a, w, phi)}"]
+    points = ", ".join(f'"{col}"' for _, col in columns.values())
+    lines += ["[analysis]", 'kind = "inverse_dynamics"', "t_end = 0.5", "dt = 0.05", "position_tolerance = 1e-13",
+              "[analysis.outputs]", "joint_space = true", f"jacobians = [{points}]"]
+    overlay_model = cardan.Model.from_toml("\n".join(lines) + "\n", path=ROBOTS_DIR / path.replace(".urdf", ".float.toml"))
+    js = overlay_model.inverse_dynamics().joint_space()
+    assert js.coordinates[:6] == ["base.x", "base.y", "base.z", "base.angle_1", "base.angle_2", "base.angle_3"]
+    iv = list(range(6)) + [model.joints[jid].idx_v for jid, _, _, _ in joints]
+    p_ang = np.array([[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, -1.0]])
+    worst_m = worst_h = worst_j = 0.0
+    for k, t in enumerate(js.t):
+        pos, r, p_dot, r_dot = base_state(base, t)
+        q, v, _ = pin_state(model, joints, law, t)
+        q[:3], q[3:7] = pos, pin.Quaternion(r).coeffs()
+        omega = r.T @ r_dot
+        v[:3], v[3:6] = r.T @ p_dot, np.array([omega[2, 1], omega[0, 2], omega[1, 0]])
+        tt = np.eye(len(iv))
+        tt[:3, :3], tt[3:6, 3:6] = r, p_ang
+        m = pin.crba(model, data, q)
+        m = (np.triu(m) + np.triu(m, 1).T)[np.ix_(iv, iv)]
+        mine = tt.T @ js.M[k] @ tt
+        worst_m = max(worst_m, np.abs(mine - m).max() / np.abs(m).max())
+        # Pinocchio's base acceleration is d/dt (Rᵀ ṗ), cardan's d/dt ṗ: with u = T v,
+        # u̇ = T v̇ + Ṫ v, so h_pin = Tᵀ (h + M Ṫ v), Ṫ v = [R (ω × v_lin); 0].
+        t_dot_v = np.zeros(len(iv))
+        t_dot_v[:3] = r @ np.cross(v[3:6], v[:3])
+        h = pin.nonLinearEffects(model, data, q, v)[iv]
+        mine_h = tt.T @ (js.h[k] + js.M[k] @ t_dot_v)
+        worst_h = max(worst_h, np.abs(mine_h - h).max() / np.abs(h).max())
+        for fid, col in columns.values():
+            jf = pin.computeFrameJacobian(model, data, q, fid, pin.LOCAL_WORLD_ALIGNED)[:, iv]
+            worst_j = max(worst_j, np.abs(js.jacobians[col][k] @ tt - jf).max())
+    print(f"{name}: n = {len(iv)}, |ΔM|/max|M| {worst_m:.2e}, |Δh|/max|h| {worst_h:.2e}, |ΔJ| {worst_j:.2e}")
+    assert worst_m < 1e-10
+    assert worst_h < 1e-10
+    assert worst_j < 1e-11
+
+
 def aba_trajectory(model: pin.Model, q0: np.ndarray, times: np.ndarray, h: float) -> list:
     """Pinocchio's ABA from rest, classical RK4 with step h (pin.integrate on the manifold)."""
     data = model.createData()

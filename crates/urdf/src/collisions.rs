@@ -16,8 +16,8 @@
 
 use crate::error::Warning;
 use crate::import::Import;
-use crate::robot::Geometry;
 use crate::numbers::num;
+use crate::robot::Geometry;
 use nalgebra::Vector3;
 use std::fmt::Write;
 use std::path::PathBuf;

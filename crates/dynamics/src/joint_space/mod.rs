@@ -24,23 +24,32 @@
 //!
 //! ```text
 //! M(θ) = Vᵀ M V = Σ_k m_k V_r,kᵀ V_r,k + V_ω,kᵀ J'_k V_ω,k       (M = diag(m_k I, J'_k))
-//! h_i(θ, θ̇) = −s_i λ⁰_i      (the effort of driver i when θ̈ = 0)
+//! h(θ, θ̇) = τ − M(θ) θ̈
 //! ```
 //!
-//! where λ⁰ solves the augmented system with the applied and gyroscopic forces h_e and the
-//! right-hand side γ# less the drivers' prescribed accelerations (γ#_i − s_i f̈_i(t): the
-//! acceleration whose θ̈ is zero). The inverse dynamics' efforts are then τ = M(θ) θ̈ + h(θ, θ̇),
-//! Pinocchio's `rnea` = `crba` · q̈ + `nonLinearEffects` sign convention (h holds gravity and
-//! every applied force element, with the sign of an effort that balances them).
+//! with τ the drivers' efforts at this time (−s_i λ_i, the inverse dynamics') and θ̈ the
+//! coordinates' accelerations: f̈_i(t) for a driver written c_i − f_i(t) (or ℓ² − ℓ(t)²). So
+//! τ = M(θ) θ̈ + h(θ, θ̇): h holds the Coriolis, centrifugal and gyroscopic terms, gravity and
+//! every applied force element with the sign of an effort that balances them (Pinocchio's
+//! `rnea` = `crba` · q̈ + `nonLinearEffects`).
+//!
+//! **A floating base** is driven by a general motion from the ground (a pose driver, rows
+//! x_Iᵀ d − f_k(t) and the fixed joint's x_Eᵀ z_J, y_Eᵀ z_J, x_Eᵀ y_J to the prescribed frame
+//! E = A_I R(t)). Its six rows are quasi-coordinates: at the solution (E = A_J) their rates are
+//! the point's velocity along the ground axes, then ω·y_J, −ω·x_J and −ω·z_J (the body's angular
+//! velocity along its marker's axes, so Pinocchio's free-flyer velocity [A_Jᵀ ṙ_P; A_Jᵀ ω] is
+//! T u with T = diag(A_J, P), P = [0 1 0; −1 0 0; 0 0 −1] row by row: M_pin = Tᵀ M T). Their
+//! accelerations are f̈_k and α·y_J, −α·x_J, −α·z_J (ω·ẏ_J = ω·(ω × y_J) = 0), α from v̇. A
+//! pose driver from a moving body is refused (its rows' rates are not these).
 //!
 //! A point P at s'_P on body k moves with ṙ_P = ṙ_k + A_k (ω'_k × s'_P) and turns with
 //! ω_k = A_k ω'_k, so its Jacobian (6 × n, global axes; Pinocchio's `LOCAL_WORLD_ALIGNED`) has
 //! the columns [V_r,k,i + A_k (V_ω,k,i × s'_P); A_k V_ω,k,i].
 //!
-//! Cost per time: n + 1 solves with the factored matrix and O(n² · bodies) products; nothing is
+//! Cost per time: n solves with the factored matrix and O(n² · bodies) products; nothing is
 //! allocated after [`Dynamics::request_joint_space`].
 
-use crate::kkt::{eval_rows, Rhs, SchurRefinement};
+use crate::kkt::SchurRefinement;
 use crate::system::Dynamics;
 use crate::DynamicsError;
 use cardan_constraints::Driver;
@@ -57,8 +66,7 @@ impl Dynamics<'_> {
     /// [`crate::joint_space`]). The coordinates are the drivers', in model order.
     ///
     /// # Errors
-    /// [`DynamicsError::JointSpace`] without drivers, or with a pose driver (its rotation rows
-    /// prescribe no single coordinate).
+    /// [`DynamicsError::JointSpace`] without drivers, or with a pose driver from a moving body.
     pub fn request_joint_space(
         &mut self,
         points: Vec<JointSpacePoint>,
@@ -71,11 +79,14 @@ impl Dynamics<'_> {
                     .into(),
             });
         }
-        if let Some(d) = drivers.iter().find(|d| matches!(d.driver, Driver::Pose(_))) {
+        let from_moving = |d: &&cardan_mechanism::DriverInfo| {
+            matches!(d.driver, Driver::Pose(_)) && d.body_i != BodyId::Ground
+        };
+        if let Some(d) = drivers.iter().find(from_moving) {
             return Err(DynamicsError::JointSpace {
                 reason: format!(
-                    "driver \"{}\" prescribes a pose, not one coordinate: the joint space needs a \
-                     rotation, translation, distance or coordinate driver per coordinate",
+                    "driver \"{}\" prescribes a pose relative to a moving body: the joint space \
+                     takes a general motion from the ground only (a floating base)",
                     d.name
                 ),
             });
@@ -90,8 +101,9 @@ impl Dynamics<'_> {
     }
 
     /// Appends M(θ), h(θ, θ̇) and the points' Jacobians at the synced bodies and time `t` to
-    /// `out` (module docs). The equations of motion must have been solved at these bodies (the
-    /// KKT layout prepared). No allocation when `out` has room.
+    /// `out` (module docs), with the multipliers `lambda` (one per model row) and accelerations
+    /// `vdot` the equations of motion gave there (the KKT layout prepared). No allocation when
+    /// `out` has room.
     ///
     /// # Errors
     /// [`DynamicsError::JointSpace`] when a driver's row was dropped as redundant (its
@@ -99,12 +111,13 @@ impl Dynamics<'_> {
     pub(crate) fn record_joint_space(
         &mut self,
         t: f64,
+        (lambda, vdot): (&[f64], &[f64]),
         out: &mut JointSpaceHistory,
     ) -> Result<(), DynamicsError> {
         let Some(mut work) = self.joint_space.take() else {
             return Ok(());
         };
-        let r = self.joint_space_into(t, &mut work, out);
+        let r = self.joint_space_into(t, (lambda, vdot), &mut work, out);
         self.joint_space = Some(work);
         r
     }
@@ -112,12 +125,11 @@ impl Dynamics<'_> {
     fn joint_space_into(
         &mut self,
         t: f64,
+        (lambda, vdot): (&[f64], &[f64]),
         work: &mut JointSpaceWork,
         out: &mut JointSpaceHistory,
     ) -> Result<(), DynamicsError> {
         let model = self.model;
-        // The applied and gyroscopic forces at these bodies (as the efforts' solve had them).
-        self.eval_forces(t);
         let kkt = self
             .kkt
             .as_mut()
@@ -149,36 +161,46 @@ impl Dynamics<'_> {
                 })?;
             work.v_cols[i * n6..(i + 1) * n6].copy_from_slice(&kkt.sol[..n6]);
         }
-        // h(θ, θ̇): the efforts at θ̈ = 0 (γ# less the drivers' s_i f̈_i).
-        eval_rows(
-            model,
-            &self.elements,
-            &self.bodies,
-            &self.turns,
-            &self.curves,
-            t,
-            Rhs::Gamma,
-            &mut kkt.full,
-        );
-        for d in model.drivers() {
-            let f_ddot = d.driver.function().eval(t).2;
-            kkt.full[d.rows.start] -= d.driver.coordinate_slope(t) * f_ddot;
-        }
-        for (a, &r) in kkt.active.iter().enumerate() {
-            kkt.rhs[n6 + a] = kkt.full[r];
-        }
-        kkt.rhs[..n6].copy_from_slice(&self.h);
-        kkt.solve(SchurRefinement::ONE_SHOT)
-            .map_err(|e| DynamicsError::JointSpace {
-                reason: format!("t = {t}: the bias forces: {e}"),
-            })?;
-        for d in model.drivers() {
-            let lambda = kkt.sol[n6 + kkt.active_of[d.rows.start]];
-            out.bias.push(-lambda * d.driver.coordinate_slope(t));
-        }
+        let at = out.mass.len();
         self.push_mass(&work.v_cols, out);
+        // h = τ − M θ̈.
+        let n = model.drivers().len();
+        for (i, d) in model.drivers().iter().enumerate() {
+            let tau = -lambda[d.rows.start] * d.driver.coordinate_slope(t);
+            let m_theta: f64 = (model.drivers().iter().enumerate())
+                .map(|(j, e)| out.mass[at + i * n + j] * self.coordinate_acceleration(e, vdot, t))
+                .sum();
+            out.bias.push(tau - m_theta);
+        }
         self.push_jacobians(&work.v_cols, &work.names.points, out);
         Ok(())
+    }
+
+    /// θ̈ of driver `d`'s coordinate (module docs): f̈(t), or a floating base's angular rows
+    /// from the body's angular acceleration in `vdot`.
+    fn coordinate_acceleration(
+        &self,
+        d: &cardan_mechanism::DriverInfo,
+        vdot: &[f64],
+        t: f64,
+    ) -> f64 {
+        let Driver::Pose(p) = &d.driver else {
+            return d.driver.function().eval(t).2;
+        };
+        let BodyId::Moving(k) = d.body_j else {
+            return 0.0;
+        };
+        if p.row < 3 {
+            return d.driver.function().eval(t).2;
+        }
+        let a = &self.bodies[k].a;
+        let alpha = a * Vector3::new(vdot[6 * k + 3], vdot[6 * k + 4], vdot[6 * k + 5]);
+        let m = &p.marker_j;
+        match p.row {
+            3 => alpha.dot(&(a * m.y())),
+            4 => -alpha.dot(&(a * m.x())),
+            _ => -alpha.dot(&(a * m.z())),
+        }
     }
 
     /// M(θ) = Vᵀ diag(m_k I, J'_k) V, appended row-major.

@@ -20,7 +20,8 @@ use cardan_dynamics::{DynamicResults, Dynamics, JointSpacePoint};
 /// Asks `d` for the joint space when `req` does (`joint_space = true` or `jacobians`).
 ///
 /// # Errors
-/// The model's drivers do not make a joint space (none, or a pose driver), at the analysis.
+/// The model's drivers do not make a joint space (none, or a general motion from a moving
+/// body).
 pub(super) fn request(p: &Prepared, d: &mut Dynamics, req: &Requested) -> Result<(), Error> {
     if !req.joint_space && req.jacobians.is_empty() {
         return Ok(());
