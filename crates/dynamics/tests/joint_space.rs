@@ -196,3 +196,98 @@ fn without_a_request_nothing_is_recorded() {
     assert!(!res.joint_space.is_requested());
     assert!(res.joint_space.mass.is_empty());
 }
+
+/// A free body (CoM at its frame's origin) driven from the ground by a general motion:
+/// translations (0.1 t², −0.2 t, 0.3 + 0.05 t³) and angles (0.4 t, 0.3 t², −0.5 t) of the
+/// sequence x-y-z.
+fn flying_box(from: &str) -> Model {
+    let mut b = MechanismBuilder::new();
+    b.point(GROUND, "O", Vector3::zeros());
+    b.body(
+        Body::new("box")
+            .mass(3.0)
+            .inertia_diagonal(0.1, 0.2, 0.3)
+            .position(Vector3::new(0.0, 0.0, 0.3)),
+    );
+    b.point("box", "c", Vector3::zeros());
+    if from != GROUND {
+        rod(&mut b, from, 1.0, 1.0, 2.0);
+    }
+    let poly = |c: &[f64]| TimeFunction::Polynomial(c.to_vec());
+    b.driver(DriverSpec::pose(
+        "base",
+        cardan_mechanism::PoseTarget {
+            body_i: from.into(),
+            point_i: "O".into(),
+            axis_i: None,
+            x_axis_i: None,
+            body_j: "box".into(),
+            point_j: "c".into(),
+            axis_j: None,
+            x_axis_j: None,
+            order: cardan_constraints::drivers::RotationOrder([0, 1, 2]),
+            functions: [
+                poly(&[0.0, 0.0, 0.1]),
+                poly(&[0.0, -0.2]),
+                poly(&[0.3, 0.0, 0.0, 0.05]),
+                poly(&[0.0, 0.4]),
+                poly(&[0.0, 0.0, 0.3]),
+                poly(&[0.0, -0.5]),
+            ],
+        },
+    ));
+    b.build().unwrap()
+}
+
+#[test]
+fn a_free_body_driven_from_the_ground_has_the_rigid_body_joint_space() {
+    // Quasi-coordinates u = [ṙ (ground axes); ω'_y, −ω'_x, −ω'_z] = diag(A, P) [Aᵀṙ; ω'], so
+    // M = diag(m I, P J Pᵀ) = diag(m I, J_y, J_x, J_z) and h = [−m g; P (ω' × J ω')].
+    let model = flying_box(GROUND);
+    let mut d = Dynamics::new(&model).unwrap();
+    d.add_force(Force::gravity(Vector3::new(0.0, 0.0, -G)))
+        .unwrap();
+    d.request_joint_space(Vec::new()).unwrap();
+    let res = d
+        .inverse_dynamics(&KinematicOptions::new(0.0, 1.0, 10))
+        .unwrap();
+    let js = &res.joint_space;
+    let (j, p) = (
+        nalgebra::Matrix3::from_diagonal(&Vector3::new(0.1, 0.2, 0.3)),
+        nalgebra::Matrix3::new(0.0, 1.0, 0.0, -1.0, 0.0, 0.0, 0.0, 0.0, -1.0),
+    );
+    let mut m = nalgebra::Matrix6::zeros();
+    m.fixed_view_mut::<3, 3>(0, 0)
+        .copy_from(&(3.0 * nalgebra::Matrix3::identity()));
+    m.fixed_view_mut::<3, 3>(3, 3)
+        .copy_from(&(p * j * p.transpose()));
+    let (mut em, mut eh): (f64, f64) = (0.0, 0.0);
+    for k in 0..res.len() {
+        let mine = nalgebra::Matrix6::from_row_slice(js.mass_at(k));
+        em = em.max((mine - m).abs().max());
+        let w = res.kinematics.bodies[0].omega_local[k];
+        let gyro = p * w.cross(&(j * w));
+        let h = [0.0, 0.0, 3.0 * G, gyro.x, gyro.y, gyro.z];
+        let mine = js.bias_at(k);
+        eh = eh.max(
+            h.iter()
+                .zip(mine)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max),
+        );
+    }
+    eprintln!("free body: |ΔM| {em:.2e}, |Δh| {eh:.2e}");
+    assert!(em < 1e-12, "{em}");
+    assert!(eh < 1e-10, "{eh}");
+}
+
+#[test]
+fn a_general_motion_from_a_moving_body_is_refused() {
+    let model = flying_box("link1");
+    let mut d = Dynamics::new(&model).unwrap();
+    let err = d.request_joint_space(Vec::new()).unwrap_err();
+    assert!(
+        err.to_string().contains("relative to a moving body"),
+        "{err}"
+    );
+}

@@ -171,12 +171,7 @@ def test_kinematics_and_inverse_dynamics_match_pinocchio(name: str) -> None:
     body_names = [b["name"] for b in tomllib.loads(text)["body"]]
     worst_x = worst_r = worst_tau = 0.0
     for k, t in enumerate(results.t):
-        q, v, a = pin.neutral(model), np.zeros(model.nv), np.zeros(model.nv)
-        for (jid, _, _, _), (c, amp, w, phi) in zip(joints, law):
-            set_q(model, q, jid, c + amp * math.sin(w * t + phi))
-            iv = model.joints[jid].idx_v
-            v[iv] = amp * w * math.cos(w * t + phi)
-            a[iv] = -amp * w * w * math.sin(w * t + phi)
+        q, v, a = pin_state(model, joints, law, t)
         pin.framesForwardKinematics(model, data, q)
         for link, (fid, col) in columns.items():
             oMf = data.oMf[fid]
