@@ -3,10 +3,15 @@ table and a driver of ``type="path"`` prescribes its parameter; the joint tables
 curve parameter u; a bad curve is a ModelError at its key."""
 
 import math
+import pathlib
+
+import numpy as np
 
 import pytest
 
 import cardan
+
+ROOT = pathlib.Path(__file__).resolve().parents[3]
 
 
 def _arm(radius=0.1, speed=0.2):
@@ -126,3 +131,26 @@ def test_a_billiard_ball_built_in_python_rolls_at_five_sevenths():
     v = b.build().dynamics().body_velocities
     rho = r - delta / 2
     assert abs(v["ball.r_dot.x"][-1] - v0 / (1 + j / (m * rho * rho))) < 1e-8
+
+
+def test_the_contacts_of_a_run_are_arrays_with_the_closed_form_forces():
+    """``Results.contacts()`` reads ``contacts.csv``: the billiard ball's one contact point per
+    output time carries m g normally and, while it slides (t < 2 v0 / (7 μ g) = 0.29 s), the
+    friction μ m g against its motion; the penetration is (m g / K)^(2/3) with the pair's K (once
+    settled from its drawn height)."""
+    r = cardan.load(ROOT / "examples/billiard.toml").run()
+    c = r.contacts()
+    m, g, mu = 0.17, 9.81, 0.2
+    assert len(c) == len(r.t) and c.columns[:3] == ["point.x", "point.y", "point.z"]
+    assert c.units["normal_force"] == "N" and c.units["penetration"] == "m"
+    assert set(c.shape_1) | set(c.shape_2) == {"ball", "table"} and c.between("table", "ball").all()
+    settled = c.t > 0.05  # the ball is drawn at a rounded height: it settles in a few ms
+    assert np.allclose(c["normal_force"][settled], m * g, rtol=1e-6)
+    assert np.allclose(c["penetration"][settled], (m * g / 1e8) ** (2 / 3), rtol=1e-6)
+    sliding = settled & (c.t < 0.25)
+    # friction.x is the force on shape 2: on the ball, against its motion.
+    on_ball = np.where([s == "ball" for s in c.shape_2], c["friction.x"], -c["friction.x"])
+    assert np.allclose(on_ball[sliding], -mu * m * g, rtol=1e-3)
+    assert list(c.to_pandas().columns[:5]) == ["t", "shape_1", "body_1", "shape_2", "body_2"]
+    with pytest.raises(AttributeError, match="no contacts"):
+        cardan.load(ROOT / "examples/a01_pendulum.toml").run().contacts()

@@ -16,7 +16,7 @@ process pool or a Dask cluster: :func:`sweep`, :func:`grid`. See docs/python.md.
 from ._cardan import __version__
 from ._errors import AnalysisError, CardanError, ModelError, SolverError
 from ._model import Builder, Check, Dragged, Model, Parameter, Pose, constant, expression, harmonic, load, polynomial, ramp, spline
-from ._results import JointSpace, Results, Table
+from ._results import Contacts, JointSpace, Results, Table
 from ._sweep import grid, run_case, run_cases, sweep, sweep_serial
 
 __all__ = [
@@ -24,6 +24,7 @@ __all__ = [
     "Builder",
     "CardanError",
     "Check",
+    "Contacts",
     "Dragged",
     "JointSpace",
     "Model",

@@ -92,6 +92,61 @@ class Table:
         return (Table, (self.name, self.title, self.columns, np.array(self._data)))
 
 
+class Contacts:
+    """``contacts.csv`` of a run with collision shapes, one row per contact point and output
+    time: ``t`` (s), ``shape_1``, ``body_1``, ``shape_2``, ``body_2`` (lists of names) and the
+    numeric columns by name (``contacts["normal_force"]``, ``contacts["point.x"]``: float64
+    arrays), their units in ``units``. ``between(a, b)`` selects the rows of two shapes (either
+    order). An output time with no contact has no row."""
+
+    def __init__(self, text: str) -> None:
+        import csv
+        import io
+
+        rows = list(csv.reader(io.StringIO(text)))
+        header, body = rows[0], rows[1:]
+        split = [split_header(h) for h in header]
+        self.names = [s[0] for s in split]
+        self.units = {s[0]: s[1] for s in split}
+        text_cols = {"shape_1", "body_1", "shape_2", "body_2"}
+        self._text = {n: [r[k] for r in body] for k, n in enumerate(self.names) if n in text_cols}
+        self._num = {
+            n: np.array([float(r[k]) for r in body], dtype=np.float64)
+            for k, n in enumerate(self.names) if n not in text_cols
+        }
+        self.t = self._num.pop("t")
+        self.shape_1, self.body_1 = self._text["shape_1"], self._text["body_1"]
+        self.shape_2, self.body_2 = self._text["shape_2"], self._text["body_2"]
+
+    def __len__(self) -> int:
+        return len(self.t)
+
+    def __getitem__(self, column: str) -> np.ndarray:
+        try:
+            return self._num[column]
+        except KeyError:
+            raise KeyError(f"contacts has no numeric column {column!r}; its columns are {', '.join(self._num)}") from None
+
+    @property
+    def columns(self) -> List[str]:
+        """The numeric columns' names."""
+        return list(self._num)
+
+    def between(self, a: str, b: str) -> np.ndarray:
+        """A boolean mask of the rows where shapes ``a`` and ``b`` touch."""
+        return np.array([{s1, s2} == {a, b} for s1, s2 in zip(self.shape_1, self.shape_2)], dtype=bool)
+
+    def to_pandas(self) -> Any:
+        """A pandas DataFrame with every column (needs pandas)."""
+        import pandas as pd
+
+        data: Dict[str, Any] = {"t": self.t, **self._text, **self._num}
+        return pd.DataFrame(data)
+
+    def __repr__(self) -> str:
+        return f"<cardan.Contacts: {len(self)} contact points>"
+
+
 class JointSpace:
     """The joint space of an inverse dynamics run (``[analysis.outputs] joint_space = true``
     and ``jacobians``), as arrays in the coordinates the drivers prescribe, in their order:
@@ -259,6 +314,13 @@ class Results:
     def mode_shapes(self) -> Table:
         """``mode_shapes.csv``: mode shapes."""
         return self._table("mode_shapes")
+
+    def contacts(self) -> Contacts:
+        """The contact points of a run with collision shapes (``contacts.csv``) as arrays
+        (:class:`Contacts`)."""
+        if "contacts.csv" not in self.files:
+            raise AttributeError("no contacts: the model has no [[shape]]s (docs/model-format.md, contact)")
+        return Contacts(self.files["contacts.csv"])
 
     def joint_space(self) -> JointSpace:
         """The mass matrix, bias forces and Jacobians of an inverse dynamics run as arrays
