@@ -209,6 +209,10 @@ pub struct MaterialSpec {
     /// v_s > 0 (m/s): the slip speed below which friction is a steep viscous law
     /// (regularized Coulomb friction).
     pub slip_velocity: f64,
+    /// A pair law: the contact between shapes of these two materials (either order; the same
+    /// name twice for a material against itself) takes this law instead of the two materials'
+    /// combination. No shape may name it. Its stiffness must be direct (the pair's measured K).
+    pub between: Option<[String; 2]>,
 }
 
 impl MaterialSpec {
@@ -221,7 +225,14 @@ impl MaterialSpec {
             friction_static: 0.0,
             friction_dynamic: 0.0,
             slip_velocity: 1e-3,
+            between: None,
         }
+    }
+
+    /// Makes it the law of the contacts between materials `a` and `b` ([`Self::between`]).
+    pub fn between(mut self, a: impl Into<String>, b: impl Into<String>) -> Self {
+        self.between = Some([a.into(), b.into()]);
+        self
     }
 
     /// Coulomb friction μ (static and dynamic alike).

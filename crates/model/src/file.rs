@@ -815,6 +815,9 @@ pub struct MaterialSection {
     /// v_s \[m/s\].
     #[serde(default)]
     pub slip_velocity: Option<Num>,
+    /// Two material names: this is their pair's law, not a material of shapes.
+    #[serde(default)]
+    pub between: Option<Spanned<Vec<Name>>>,
 }
 
 /// `[[shape]]`: a collision shape fixed in a body ([`crate::vocabulary::SHAPES`]).

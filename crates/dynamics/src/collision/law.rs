@@ -144,6 +144,25 @@ impl PairLaw {
         }
     }
 
+    /// The law a pair material declares ([`cardan_mechanism::MaterialSpec::between`]): its
+    /// stiffness, exponent, restitution and friction as they are, not combined.
+    pub fn of_pair(m: &MaterialInfo) -> PairLaw {
+        let (k, n) = match m.stiffness {
+            Stiffness::Direct { k, exponent } => (k, exponent),
+            // Refused when the model is built.
+            Stiffness::Elastic { .. } => (f64::NAN, 1.5),
+        };
+        PairLaw {
+            k,
+            n,
+            a: hysteresis(m.restitution),
+            e: m.restitution,
+            mu_s: m.friction_static,
+            mu_d: m.friction_dynamic,
+            vs: m.slip_velocity,
+        }
+    }
+
     /// F_n at penetration δ ≥ 0, rate δ̇ and onset speed v₀ (module docs).
     pub fn normal_force(&self, delta: f64, delta_dot: f64, v0: f64) -> f64 {
         if delta <= 0.0 {

@@ -317,8 +317,12 @@ impl Collisions {
         let pair = self.pairs.entry((a as u32, b as u32)).or_insert_with(|| {
             let (sa, sb) = (&model.shapes()[a], &model.shapes()[b]);
             let m = model.materials();
+            let law = match model.material_pair(sa.material, sb.material) {
+                Some(p) => PairLaw::of_pair(&m[p]),
+                None => PairLaw::new(&m[sa.material], &sa.geometry, &m[sb.material], &sb.geometry),
+            };
             Pair {
-                law: PairLaw::new(&m[sa.material], &sa.geometry, &m[sb.material], &sb.geometry),
+                law,
                 manifolds: Vec::new(),
                 workspace: None,
                 v0: f64::NAN,

@@ -299,6 +299,17 @@ pub(crate) fn shape(
                 ),
             )
         })?;
+    if let Some([a, b]) = &materials[material].between {
+        return Err(bad_shape(
+            spec,
+            "material",
+            format!(
+                "\"{}\" is the pair law between \"{a}\" and \"{b}\", not a material of shapes; \
+                 name \"{a}\" or \"{b}\"",
+                spec.material
+            ),
+        ));
+    }
     if spec.groups == 0 {
         return Err(bad_shape(
             spec,
@@ -318,6 +329,62 @@ pub(crate) fn shape(
     })
 }
 
+/// The pair laws ([`MaterialSpec::between`]): two materials that exist and are not pair laws
+/// themselves, a direct stiffness, one law per pair.
+fn check_material_pairs(materials: &[MaterialInfo]) -> Result<(), ModelError> {
+    let mut pairs = HashMap::new();
+    for m in materials {
+        let Some([a, b]) = &m.between else { continue };
+        for name in [a, b] {
+            match materials.iter().find(|o| &o.name == name) {
+                None => {
+                    let known = materials.iter().filter(|o| o.between.is_none());
+                    return Err(bad_material(
+                        m,
+                        "between",
+                        format!(
+                            "no material \"{name}\"{} (materials: {})",
+                            suggest(name, known.clone().map(|o| o.name.as_str()))
+                                .map(|s| format!("; did you mean \"{s}\"?"))
+                                .unwrap_or_default(),
+                            known
+                                .map(|o| o.name.as_str())
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        ),
+                    ));
+                }
+                Some(o) if o.between.is_some() => {
+                    return Err(bad_material(
+                        m,
+                        "between",
+                        format!("\"{name}\" is a pair law itself; name the materials of shapes"),
+                    ))
+                }
+                Some(_) => {}
+            }
+        }
+        if !matches!(m.stiffness, Stiffness::Direct { .. }) {
+            return Err(bad_material(
+                m,
+                "youngs_modulus",
+                "a pair law takes the pair's stiffness K directly (stiffness = K, N/mⁿ), not a \
+                 Young's modulus"
+                    .into(),
+            ));
+        }
+        let key = if a <= b { (a, b) } else { (b, a) };
+        if let Some(first) = pairs.insert(key, &m.name) {
+            return Err(bad_material(
+                m,
+                "between",
+                format!("material \"{first}\" is already the law between \"{a}\" and \"{b}\""),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Two elastic materials between two flat shapes have no Hertz stiffness (R* = ∞): an error
 /// naming the first such pair that may touch.
 pub(crate) fn check_pairs(
@@ -334,7 +401,8 @@ pub(crate) fn check_pairs(
         .collect();
     for (i, a) in flat_elastic.iter().enumerate() {
         for b in &flat_elastic[i + 1..] {
-            if may_touch(a, b, |i, j| joined(joints, i, j)) {
+            let law = pair_law(materials, a.material, b.material);
+            if law.is_none() && may_touch(a, b, |i, j| joined(joints, i, j)) {
                 return Err(ModelError::BadShape {
                     shape: b.name.clone(),
                     key: "material".into(),
@@ -396,6 +464,7 @@ pub(crate) fn shapes_and_materials(
         }
         materials.push(material(m)?);
     }
+    check_material_pairs(&materials)?;
     seen.clear();
     let mut shapes = Vec::with_capacity(shape_specs.len());
     for s in shape_specs {
@@ -413,7 +482,23 @@ pub(crate) fn shapes_and_materials(
     Ok((shapes, materials))
 }
 
+/// The pair law between materials `a` and `b` (indices), if one is declared.
+fn pair_law(materials: &[MaterialInfo], a: usize, b: usize) -> Option<usize> {
+    let (na, nb) = (&materials[a].name, &materials[b].name);
+    materials.iter().position(|m| {
+        m.between
+            .as_ref()
+            .is_some_and(|[x, y]| (x == na && y == nb) || (x == nb && y == na))
+    })
+}
+
 impl Model {
+    /// The pair law ([`MaterialSpec::between`]) between materials `a` and `b` (indices into
+    /// [`Model::materials`]), if the model declares one.
+    pub fn material_pair(&self, a: usize, b: usize) -> Option<usize> {
+        pair_law(&self.materials, a, b)
+    }
+
     /// The collision shapes.
     pub fn shapes(&self) -> &[ShapeInfo] {
         &self.shapes

@@ -100,6 +100,19 @@ pub(super) fn load_material(
     if let Some(v) = &m.slip_velocity {
         spec = spec.slip_velocity(num(v, "slip_velocity", Quantity::Velocity)?);
     }
+    if let Some(between) = &m.between {
+        let [a, b] = &between.get_ref()[..] else {
+            return Err(cx.err(
+                between.span(),
+                format!(
+                    "{owner}: between names two materials (the same one twice for a material \
+                     against itself), got {}",
+                    between.get_ref().len()
+                ),
+            ));
+        };
+        spec = spec.between(a.get_ref().clone(), b.get_ref().clone());
+    }
     Ok(spec)
 }
 

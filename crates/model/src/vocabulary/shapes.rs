@@ -173,6 +173,14 @@ pub const MATERIALS: Vocabulary = Vocabulary {
             Default::Is("\"hunt_crossley\""),
             "the contact law",
         ),
+        Key::new(
+            "between",
+            Value::Names,
+            Default::Is("none: a material of shapes"),
+            "two materials' names: this is the law of their contacts, used as given instead of \
+             the two materials' combination (the same name twice: a material against itself); \
+             no shape names it, and it takes a stiffness, not a Young's modulus",
+        ),
     ],
     entries: &[Entry {
         name: "hunt_crossley",
