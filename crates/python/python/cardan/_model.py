@@ -436,7 +436,8 @@ class Builder:
     def material(self, name: str, **keys: Any) -> "Builder":
         """A contact material: ``stiffness`` (N/m^1.5, with ``exponent``) or
         ``youngs_modulus`` and ``poisson_ratio``, ``restitution``, ``friction``,
-        ``friction_static``, ``slip_velocity``."""
+        ``friction_static``, ``slip_velocity``; ``between=["a", "b"]`` makes it the law of the
+        contacts between materials a and b instead of their combination."""
         self._tables.append(("material", {"name": name, **keys}))
         return self
 
