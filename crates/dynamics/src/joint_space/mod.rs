@@ -37,8 +37,9 @@
 //! x_Iᵀ d − f_k(t) and the fixed joint's x_Eᵀ z_J, y_Eᵀ z_J, x_Eᵀ y_J to the prescribed frame
 //! E = A_I R(t)). Its six rows are quasi-coordinates: at the solution (E = A_J) their rates are
 //! the point's velocity along the ground axes, then ω·y_J, −ω·x_J and −ω·z_J (the body's angular
-//! velocity along its marker's axes, so Pinocchio's free-flyer velocity [A_Jᵀ ṙ_P; A_Jᵀ ω] is
-//! T u with T = diag(A_J, P), P = [0 1 0; −1 0 0; 0 0 −1] row by row: M_pin = Tᵀ M T). Their
+//! velocity along its marker's axes: u = T v for Pinocchio's free-flyer velocity
+//! v = [A_Jᵀ ṙ_P; A_Jᵀ ω], T = diag(A_J, P), P = [0 1 0; −1 0 0; 0 0 −1] row by row, so
+//! M_pin = Tᵀ M T and h_pin = Tᵀ (h + M Ṫ v), docs/urdf.md). Their
 //! accelerations are f̈_k and α·y_J, −α·x_J, −α·z_J (ω·ẏ_J = ω·(ω × y_J) = 0), α from v̇. A
 //! pose driver from a moving body is refused (its rows' rates are not these).
 //!
