@@ -605,3 +605,20 @@ fn drag_requests_that_cannot_be_followed_are_refused_with_the_reason() {
     assert_eq!(code, 400, "{said}");
     assert!(said.contains("solved again"), "{said}");
 }
+
+#[test]
+fn a_save_without_an_edit_is_not_solved_again() {
+    // The stamp changes (a save, or one of the two change events of an in-place write) but the
+    // text does not: no new version. An edit after it is solved.
+    let (model, port, _watch) = serve("pendulum_stop.toml", "watch-same-text");
+    let v1 = solved_after(port, 0);
+    let text = std::fs::read_to_string(&model).unwrap();
+    for _ in 0..3 {
+        std::thread::sleep(std::time::Duration::from_millis(120));
+        std::fs::write(&model, &text).unwrap();
+    }
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    assert_eq!(solved_after(port, 0), v1, "the same text was solved again");
+    std::fs::write(&model, text.replace("t_end = 3.0", "t_end = 2.0")).unwrap();
+    assert!(solved_after(port, v1) > v1);
+}

@@ -90,8 +90,19 @@ fn watcher(path: &Path, shared: &Shared) {
     shared.update(|_| {});
 }
 
-/// Solves whenever the state is dirty and publishes each solve as a new version.
+/// How long the solver lets a change settle before it reads the file: an editor that saves in
+/// place truncates the file and then writes it, and the watcher may see the file in between.
+pub const SETTLE: Duration = Duration::from_millis(10);
+
+/// The file's text, or why it cannot be read (a missing file and a directory differ).
+type Text = Result<Vec<u8>, std::io::ErrorKind>;
+
+/// Solves whenever the state is dirty and publishes each solve as a new version. It reads the
+/// file [`SETTLE`] after a change; a change that leaves the file's text (or its read error) and
+/// the sliders as they were last solved (a save without an edit, the second change event of an
+/// in-place save) is not solved again, so the page does not reload the same solution.
 fn solver(path: &Path, shared: &Shared) {
+    let mut last: Option<(Text, Vec<(String, String)>)> = None;
     loop {
         let set = {
             let Ok(mut s) = shared.state.lock() else {
@@ -109,8 +120,14 @@ fn solver(path: &Path, shared: &Shared) {
             s.dirty = false;
             s.set.clone()
         };
+        std::thread::sleep(SETTLE);
+        let input = (std::fs::read(path).map_err(|e| e.kind()), set);
+        if last.as_ref() == Some(&input) {
+            continue;
+        }
+        let set = &input.1;
         let start = Instant::now();
-        let solved = solve::solve(path, &set);
+        let solved = solve::solve(path, set);
         let seconds = start.elapsed().as_secs_f64();
         shared.update(|s| {
             for sl in &solved.sliders {
@@ -123,6 +140,7 @@ fn solver(path: &Path, shared: &Shared) {
             s.solved = solved;
             s.seconds = seconds;
         });
+        last = Some(input);
     }
 }
 
