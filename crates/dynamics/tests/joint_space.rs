@@ -9,7 +9,8 @@
 //! h₂ = m₂ l₁ l_c2 sin θ₂ θ̇₁² + m₂ l_c2 g cos(θ₁ + θ₂)
 //! ```
 //!
-//! and the tip's Jacobian; the efforts τ = M θ̈ + h.
+//! and the tip's Jacobian. (h is computed as the efforts less M θ̈, so τ = M θ̈ + h holds by
+//! construction; the closed form of h is what checks it.)
 
 mod common;
 use cardan_constraints::{JointKind, TimeFunction};
@@ -131,20 +132,13 @@ fn double_pendulum_mass_matrix_bias_and_jacobian_match_the_closed_form() {
     let js = &res.joint_space;
     assert_eq!(js.coordinates, ["d1", "d2"]);
     assert_eq!(js.mass.len(), 41 * 4);
-    let (mut em, mut eh, mut ej, mut et): (f64, f64, f64, f64) = (0.0, 0.0, 0.0, 0.0);
+    let (mut em, mut eh, mut ej): (f64, f64, f64) = (0.0, 0.0, 0.0);
     for (k, &t) in res.times().iter().enumerate() {
-        let [th, thd, thdd] = law(t);
+        let [th, thd, _] = law(t);
         let (m, h) = closed_form(th, thd);
         let mine = Matrix2::from_row_slice(js.mass_at(k));
         em = em.max((mine - m).abs().max());
         eh = eh.max((Vector2::from_column_slice(js.bias_at(k)) - h).abs().max());
-        // τ = M θ̈ + h: the efforts of the same run.
-        let tau = Vector2::new(res.drivers[0].effort[k], res.drivers[1].effort[k]);
-        et = et.max(
-            (mine * thdd + Vector2::from_column_slice(js.bias_at(k)) - tau)
-                .abs()
-                .max(),
-        );
         let (s1, c1) = th[0].sin_cos();
         let (s12, c12) = (th[0] + th[1]).sin_cos();
         #[rustfmt::skip]
@@ -168,13 +162,10 @@ fn double_pendulum_mass_matrix_bias_and_jacobian_match_the_closed_form() {
             "the ground's point"
         );
     }
-    eprintln!(
-        "double pendulum: |ΔM| {em:.2e}, |Δh| {eh:.2e}, |ΔJ| {ej:.2e}, |M θ̈ + h − τ| {et:.2e}"
-    );
+    eprintln!("double pendulum: |ΔM| {em:.2e}, |Δh| {eh:.2e}, |ΔJ| {ej:.2e}");
     assert!(em < 1e-12, "{em}");
     assert!(eh < 1e-10, "{eh}");
     assert!(ej < 1e-12, "{ej}");
-    assert!(et < 1e-10, "{et}");
 }
 
 #[test]

@@ -99,12 +99,15 @@ pub(crate) struct JointSpaceWork {
     pub names: JointSpaceHistory,
     /// V, column i = `v_cols[i * 6nb ..][..6nb]`.
     pub v_cols: Vec<f64>,
+    /// θ̈ of each coordinate at the time being recorded.
+    pub theta_ddot: Vec<f64>,
 }
 
 impl JointSpaceWork {
     /// For `coordinates` and `points`, V of `size` entries (n · 6nb).
     pub fn new(coordinates: Vec<String>, points: Vec<JointSpacePoint>, size: usize) -> Self {
         Self {
+            theta_ddot: vec![0.0; coordinates.len()],
             names: JointSpaceHistory {
                 coordinates,
                 points,

@@ -136,6 +136,8 @@ impl Dynamics<'_> {
             .as_mut()
             .expect("prepared by the equations of motion");
         let n6 = kkt.n;
+        // The plain augmented matrix at these bodies: the efforts' solve may have held stops or
+        // joint friction on top of it. Its factors are reused when nothing changed.
         kkt.eval_jacobian(model, &self.elements, &self.bodies, &self.curves, t);
         kkt.set_mass(&self.mass, &self.inertia);
         if let Err(e) = kkt.factor() {
@@ -164,13 +166,15 @@ impl Dynamics<'_> {
         }
         let at = out.mass.len();
         self.push_mass(&work.v_cols, out);
-        // h = τ − M θ̈.
-        let n = model.drivers().len();
+        // h = τ − M θ̈, θ̈ evaluated once per coordinate.
+        for (acc, d) in work.theta_ddot.iter_mut().zip(model.drivers()) {
+            *acc = self.coordinate_acceleration(d, vdot, t);
+        }
+        let n = work.theta_ddot.len();
         for (i, d) in model.drivers().iter().enumerate() {
             let tau = -lambda[d.rows.start] * d.driver.coordinate_slope(t);
-            let m_theta: f64 = (model.drivers().iter().enumerate())
-                .map(|(j, e)| out.mass[at + i * n + j] * self.coordinate_acceleration(e, vdot, t))
-                .sum();
+            let row = &out.mass[at + i * n..at + (i + 1) * n];
+            let m_theta: f64 = row.iter().zip(&work.theta_ddot).map(|(m, a)| m * a).sum();
             out.bias.push(tau - m_theta);
         }
         self.push_jacobians(&work.v_cols, &work.names.points, out);
@@ -204,13 +208,16 @@ impl Dynamics<'_> {
         }
     }
 
-    /// M(θ) = Vᵀ diag(m_k I, J'_k) V, appended row-major.
+    /// M(θ) = Vᵀ diag(m_k I, J'_k) V, appended row-major (the upper triangle computed, the
+    /// lower one its mirror).
     fn push_mass(&self, v: &[f64], out: &mut JointSpaceHistory) {
         let n6 = 6 * self.bodies.len();
         let n = v.len() / n6.max(1);
+        let at = out.mass.len();
+        out.mass.resize(at + n * n, 0.0);
         for i in 0..n {
             let vi = &v[i * n6..(i + 1) * n6];
-            for j in 0..n {
+            for j in i..n {
                 let vj = &v[j * n6..(j + 1) * n6];
                 let mut s = 0.0;
                 for (k, (m, inertia)) in self.mass.iter().zip(&self.inertia).enumerate() {
@@ -219,7 +226,8 @@ impl Dynamics<'_> {
                     let wj = inertia * Vector3::new(bj[3], bj[4], bj[5]);
                     s += bi[3] * wj[0] + bi[4] * wj[1] + bi[5] * wj[2];
                 }
-                out.mass.push(s);
+                out.mass[at + i * n + j] = s;
+                out.mass[at + j * n + i] = s;
             }
         }
     }
