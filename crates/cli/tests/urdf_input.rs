@@ -415,4 +415,14 @@ fn collision_elements_become_contact_shapes_of_the_overlays_material() {
         "{}",
         o.stderr
     );
+    // A pair law is not a material of shapes: refused at the key, not in the robot's text.
+    let pair = "collision = \"pair\"\n\n[[material]]\nname = \"pair\"\nbetween = [\"steel\", \"steel\"]\nstiffness = 1e7\nrestitution = 0.5";
+    std::fs::write(dir.join("overlay.toml"), can_overlay(pair)).unwrap();
+    let o = cardan(&["check", "overlay.toml"], &dir);
+    assert_eq!(o.code, 1, "{}", o.stderr);
+    assert!(
+        o.stderr.contains("overlay.toml:7:") && o.stderr.contains("a pair law"),
+        "{}",
+        o.stderr
+    );
 }

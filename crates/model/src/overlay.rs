@@ -97,7 +97,9 @@ fn collision_material(src: &Source, file: &ModelFile) -> Result<Option<String>, 
     else {
         return Ok(None);
     };
+    // A pair law (`between`) is no material of shapes.
     let known: Vec<&str> = (file.material.iter())
+        .filter(|m| m.get_ref().between.is_none())
         .map(|m| m.get_ref().name.get_ref().as_str())
         .collect();
     if known.contains(&name.get_ref().as_str()) {
@@ -107,7 +109,7 @@ fn collision_material(src: &Source, file: &ModelFile) -> Result<Option<String>, 
     Err(src.error_at(
         name.span(),
         format!(
-            "[urdf] collision = \"{}\": no [[material]] of this file has that name{hint}; the robot's <collision> shapes are made of it (add a [[material]] with the contact law)",
+            "[urdf] collision = \"{}\": no [[material]] of shapes in this file has that name{hint} (a pair law, with between, is not one); the robot's <collision> shapes are made of it (add a [[material]] with the contact law)",
             name.get_ref()
         ),
     ))
