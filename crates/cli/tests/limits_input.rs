@@ -282,6 +282,31 @@ fn friction_mistakes_are_errors_at_their_key() {
         "restitution = 0.2",
         &["unknown key \"restitution\""],
     );
+    // The constant law: a pin takes a torque, not a force; it must have one; it takes no μ.
+    fails(
+        base,
+        &add("law = \"constant\"\nforce = 2.0"),
+        "force = 2.0",
+        &["friction \"pin\"", "is revolute, which has no slide"],
+    );
+    fails(
+        base,
+        &add("law = \"constant\""),
+        "name = \"pin\"",
+        &["a constant friction needs a force (N, a slide) or a torque"],
+    );
+    fails(
+        base,
+        &add("law = \"constant\"\ntorque = 0.5\ncoefficient = 0.1"),
+        "coefficient = 0.1",
+        &["law = \"constant\" does not take \"coefficient\" (it applies to law = \"coulomb\")"],
+    );
+    fails(
+        base,
+        &add("law = \"constant\"\ntorque = -0.5"),
+        "torque = -0.5",
+        &["must be ≥ 0"],
+    );
 }
 
 #[test]

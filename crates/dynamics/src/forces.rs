@@ -1,5 +1,6 @@
 //! Applied forces: gravity, point forces and torques, translational spring-damper-actuators,
-//! rotational spring-dampers on revolute joints, and a user callback.
+//! rotational spring-dampers on revolute joints, translational ones on prismatic joints, and a
+//! user callback.
 //!
 //! ## Generalized forces in the 6-coordinate form
 //! With v_k = [ṙ_k; ω'_k] the generalized force of body k is h_k = [f_k; n'_k]: f_k the resultant
@@ -24,6 +25,10 @@
 //!   joint's marker angle, x_j from x_i about z_i) and rate θ̇ = z_iᵀ(ω_j − ω_i): torque
 //!   T = −(k (θ − θ0) + c θ̇) z_i on body j and −T on body i. θ − θ0 is taken in (−π, π].
 //!   Potential ½ k (θ − θ0)².
+//! - [`Force::TranslationalSpringDamper`]: on a prismatic (or cylindrical) joint with slide s
+//!   (z_iᵀ(P_j − P_i)) and rate ṡ = z_iᵀ(v_Pj − v_Q), Q the point of body i at P_j: force
+//!   F = −(k (s − s0) + c ṡ) z_i on body j at P_j and −F on body i at Q (no moment, and the
+//!   pair's power is F ṡ). Potential ½ k (s − s0)².
 //! - A user callback ([`UserForces`]) adds anything else through [`AppliedForces`].
 
 use crate::DynamicsError;
@@ -179,6 +184,19 @@ pub enum Force {
         /// θ0 (rad).
         rest_angle: f64,
     },
+    /// Translational spring-damper on a prismatic or cylindrical joint.
+    TranslationalSpringDamper {
+        /// Name.
+        name: String,
+        /// The joint.
+        joint: String,
+        /// k ≥ 0 (N/m).
+        stiffness: f64,
+        /// c ≥ 0 (N s/m).
+        damping: f64,
+        /// s0 (m).
+        rest_position: f64,
+    },
 }
 
 impl Force {
@@ -253,6 +271,23 @@ impl Force {
         }
     }
 
+    /// A translational spring-damper on joint `joint` (a prismatic or cylindrical joint's slide).
+    pub fn translational_spring_damper(
+        name: &str,
+        joint: &str,
+        stiffness: f64,
+        damping: f64,
+        rest_position: f64,
+    ) -> Self {
+        Force::TranslationalSpringDamper {
+            name: name.into(),
+            joint: joint.into(),
+            stiffness,
+            damping,
+            rest_position,
+        }
+    }
+
     /// Checks the element against `model` as [`crate::Dynamics::add_force`] does (its bodies,
     /// points and joint exist; coefficients ≥ 0; a spring between two bodies that does
     /// something; a rotational spring on a joint with an angle and x axes), without building
@@ -272,7 +307,8 @@ impl Force {
             Force::PointForce { name, .. }
             | Force::PointTorque { name, .. }
             | Force::SpringDamperActuator { name, .. }
-            | Force::RotationalSpringDamper { name, .. } => name,
+            | Force::RotationalSpringDamper { name, .. }
+            | Force::TranslationalSpringDamper { name, .. } => name,
         }
     }
 
@@ -420,6 +456,14 @@ pub(crate) enum Resolved {
         /// [`Resolved::follow_angle`]: the spring's angle minus the caller's (a multiple of 2π).
         offset: f64,
     },
+    Translational {
+        joint: usize,
+        /// The index of the joint's slide among its coordinates.
+        slide: usize,
+        k: f64,
+        c: f64,
+        s0: f64,
+    },
 }
 
 fn state_of<'a>(bodies: &'a [BodyState], ground: &'a BodyState, id: BodyId) -> &'a BodyState {
@@ -444,6 +488,32 @@ fn continued(theta: f64, reference: f64, theta0: f64) -> f64 {
         reference
     };
     unwrap_angle(from, theta)
+}
+
+/// A prismatic or cylindrical joint's slide s along z_i (its coordinate `slide`), its rate
+/// ṡ = z_iᵀ(v_Pj − v_Pi), the axis z_i (global) and the marker point P_j in body i's
+/// coordinates (where the reaction of a force on j at P_j acts on i, so the pair has no moment).
+struct JointSlide {
+    s: f64,
+    rate: f64,
+    z: Vector3<f64>,
+    on_i: Vector3<f64>,
+}
+
+impl JointSlide {
+    fn at(j: &cardan_mechanism::JointInfo, slide: usize, bodies: &[BodyState]) -> Self {
+        let ground = BodyState::ground();
+        let (si, sj) = (
+            state_of(bodies, &ground, j.body_i),
+            state_of(bodies, &ground, j.body_j),
+        );
+        let s = j.joint.coordinates(&BodyPair::new(si, sj)).values[slide];
+        let z = si.a * j.joint.marker_i().z();
+        let pj = &j.joint.marker_j().point;
+        let on_i = si.a.tr_mul(&(sj.point(pj) - si.r));
+        let rate = z.dot(&(point_velocity(sj, pj) - point_velocity(si, &on_i)));
+        Self { s, rate, z, on_i }
+    }
 }
 
 /// The checks of one force element against the model while it is resolved: each failure a
@@ -531,6 +601,30 @@ impl Checks<'_> {
             }
         };
         Ok((at(bj, pj) - at(bi, pi)).norm())
+    }
+
+    /// The index of the joint of a translational spring and of its slide among the joint's
+    /// coordinates: a joint with a translation along its axis.
+    fn translational_joint(&self, joint: &str) -> Result<(usize, usize), DynamicsError> {
+        let model = self.model;
+        let j = model
+            .joint_index(joint)
+            .ok_or_else(|| self.at("joint", format!("unknown joint \"{joint}\"")))?;
+        let info = model.joints()[j].joint.kind().info();
+        let slide = info
+            .translation
+            .and_then(|name| info.coordinates.iter().position(|c| c.name == name));
+        slide.map(|s| (j, s)).ok_or_else(|| {
+            self.at(
+                "joint",
+                format!(
+                    "joint \"{joint}\" is a {} joint; a translational spring acts on the slide \
+                     of {}",
+                    info.name,
+                    cardan_mechanism::kinds_with(|k| k.translation.is_some())
+                ),
+            )
+        })
     }
 
     /// The index of the joint of a rotational spring: a joint with a rotation angle.
@@ -670,6 +764,34 @@ impl Resolved {
                     offset: f64::NAN,
                 }
             }
+            Force::TranslationalSpringDamper {
+                joint,
+                stiffness,
+                damping,
+                rest_position,
+                ..
+            } => {
+                let (j, slide) = checks.translational_joint(joint)?;
+                checks.nonneg("stiffness", *stiffness)?;
+                checks.nonneg("damping", *damping)?;
+                if *stiffness == 0.0 && *damping == 0.0 {
+                    return Err(checks.bad(
+                        "a translational spring-damper with no stiffness and no damping does \
+                         nothing"
+                            .into(),
+                    ));
+                }
+                if !rest_position.is_finite() {
+                    return Err(checks.at("rest_position", "rest_position is not finite".into()));
+                }
+                Resolved::Translational {
+                    joint: j,
+                    slide,
+                    k: *stiffness,
+                    c: *damping,
+                    s0: *rest_position,
+                }
+            }
         })
     }
 
@@ -773,6 +895,21 @@ impl Resolved {
                 out.add_torque(j.body_i, &(-tq));
                 tq.norm()
             }
+            Resolved::Translational {
+                joint,
+                slide,
+                k,
+                c,
+                s0,
+            } => {
+                let j = &model.joints()[*joint];
+                let m = JointSlide::at(j, *slide, out.bodies);
+                let f = -(k * (m.s - s0) + c * m.rate);
+                let fz = m.z * f;
+                out.add_force_at(j.body_j, &j.joint.marker_j().point, &fz);
+                out.add_force_at(j.body_i, &m.on_i, &(-fz));
+                f.abs()
+            }
         }
     }
 
@@ -832,7 +969,7 @@ impl Resolved {
             Resolved::Gravity(_) => false,
             Resolved::PointForce { .. } | Resolved::Torque { .. } => true,
             Resolved::Spring { c, actuator, .. } => *c != 0.0 || actuator.is_some(),
-            Resolved::Rotational { c, .. } => *c != 0.0,
+            Resolved::Rotational { c, .. } | Resolved::Translational { c, .. } => *c != 0.0,
         }
     }
 
@@ -905,6 +1042,12 @@ impl Resolved {
                 let rate = z.dot(&(sj.a * sj.omega_local - si.a * si.omega_local));
                 -c * rate * rate
             }
+            Resolved::Translational {
+                joint, slide, c, ..
+            } => {
+                let m = JointSlide::at(&model.joints()[*joint], *slide, bodies);
+                -c * m.rate * m.rate
+            }
         }
     }
 
@@ -954,6 +1097,16 @@ impl Resolved {
                 let th = continued(theta, *reference, *theta0) - theta0;
                 (0.0, 0.5 * k * th * th)
             }
+            Resolved::Translational {
+                joint,
+                slide,
+                k,
+                s0,
+                ..
+            } => {
+                let m = JointSlide::at(&model.joints()[*joint], *slide, bodies);
+                (0.0, 0.5 * k * (m.s - s0).powi(2))
+            }
             _ => (0.0, 0.0),
         }
     }
@@ -962,7 +1115,7 @@ impl Resolved {
     pub(crate) fn coupled(&self, model: &Model) -> Option<(BodyId, BodyId)> {
         match self {
             Resolved::Spring { bi, bj, .. } => Some((*bi, *bj)),
-            Resolved::Rotational { joint, .. } => {
+            Resolved::Rotational { joint, .. } | Resolved::Translational { joint, .. } => {
                 let j = &model.joints()[*joint];
                 Some((j.body_i, j.body_j))
             }

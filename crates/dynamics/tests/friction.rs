@@ -20,6 +20,14 @@ const G: f64 = 9.81;
 /// A 2 kg block on a prismatic joint down an incline of angle `alpha` (axis (cos α, −sin α,
 /// 0)), with friction μ.
 fn incline(alpha: f64, mu: f64, vs: f64) -> MechanismBuilder {
+    incline_with(
+        alpha,
+        FrictionSpec::new("dry", "rail", mu).stiction_velocity(vs),
+    )
+}
+
+/// The block of [`incline`] with the friction `friction` of joint "rail".
+fn incline_with(alpha: f64, friction: FrictionSpec) -> MechanismBuilder {
     let axis = Vector3::new(alpha.cos(), -alpha.sin(), 0.0);
     let mut b = MechanismBuilder::new();
     b.body(Body::new("block").mass(2.0).inertia_diagonal(0.1, 0.1, 0.1));
@@ -34,7 +42,7 @@ fn incline(alpha: f64, mu: f64, vs: f64) -> MechanismBuilder {
             .axes("d", "d")
             .x_axes("z", "z"),
     );
-    b.friction(FrictionSpec::new("dry", "rail", mu).stiction_velocity(vs));
+    b.friction(friction);
     b
 }
 
@@ -180,6 +188,96 @@ fn hostile_friction_specs_are_builder_errors() {
         "stiction_velocity",
     );
     bad(FrictionSpec::new("f", "rial", 0.1), "joint");
+    // The constant law: a slide takes a force, not a torque; no negative or non-finite value.
+    bad(
+        FrictionSpec::new("f", "rail", 0.0).constant_torque(1.0),
+        "torque",
+    );
+    bad(
+        FrictionSpec::new("f", "rail", 0.0).constant_force(-1.0),
+        "force",
+    );
+    bad(
+        FrictionSpec::new("f", "rail", 0.0).constant_force(f64::NAN),
+        "force",
+    );
+}
+
+/// The constant law (URDF's `<dynamics friction>`): a block sliding down a 30° incline from
+/// rest under a friction force F_c independent of the load accelerates at g sin α − F_c/m
+/// whatever its normal load (closed form at t = 1 s, to 1e-6 as the Coulomb block); with
+/// gravity doubled across the rail only, the same acceleration along it.
+#[test]
+fn constant_friction_slows_a_slide_by_its_force_whatever_the_load() {
+    let (alpha, m, fc) = (30f64.to_radians(), 2.0, 3.0);
+    let a = G * alpha.sin() - fc / m;
+    let tight = Integrator::Dopri5(Dopri5Options::tolerances(1e-10, 1e-12));
+    let axis = Vector3::new(alpha.cos(), -alpha.sin(), 0.0);
+    let normal = Vector3::new(alpha.sin(), alpha.cos(), 0.0);
+    for extra in [0.0, 1.0] {
+        let spec = FrictionSpec::new("dry", "rail", 0.0)
+            .constant_force(fc)
+            .stiction_velocity(1e-6);
+        let model = incline_with(alpha, spec).build().unwrap();
+        let mut d = Dynamics::new(&model).unwrap();
+        // Gravity, plus (second run) a pull of the normal load's size across the rail.
+        let g = Vector3::new(0.0, -G, 0.0) - normal * (extra * G * alpha.cos());
+        d.add_force(Force::gravity(g)).unwrap();
+        let o = SimulationOptions::new(1.0, 10).integrator(tight);
+        let r = d.simulate(&d.initial_guess(), &o).unwrap();
+        let b = r.body("block").unwrap();
+        let (s, v) = (
+            b.r.last().unwrap().dot(&axis),
+            b.r_dot.last().unwrap().dot(&axis),
+        );
+        let balance = (r.energy.balance().iter()).fold(0.0f64, |x, y| x.max(y.abs()));
+        eprintln!(
+            "constant friction, extra load {extra}: v(1) error {:.2e}, s(1) error {:.2e}, \
+             balance {balance:.2e}",
+            v - a,
+            s - 0.5 * a
+        );
+        assert!((v - a).abs() < 1e-6 * a, "{v} vs {a}");
+        assert!((s - 0.5 * a).abs() < 1e-6 * a, "{s} vs {}", 0.5 * a);
+        assert!(balance < 1e-6, "{balance:e}");
+    }
+}
+
+/// A rod spinning on a vertical pin (no gravity torque) under a constant friction torque T_c
+/// slows at T_c / J: ω(t) = ω0 − T_c t / J until it stops (closed form at t = 0.5 s, before
+/// the stop at 1 s); then it stays (creeping at the regularization's rate).
+#[test]
+fn constant_friction_torque_spins_a_rotor_down_linearly() {
+    let (m, l, w0) = (1.0, 1.0, 2.0);
+    let j = m * l * l / 3.0;
+    let tc = w0 * j; // stops at t = 1 s
+    let mut b = common::rod_on_a_pin("crank", m, l, 1e-3);
+    b.friction(
+        FrictionSpec::new("dry", "pin", 0.0)
+            .constant_torque(tc)
+            .stiction_velocity(1e-6),
+    );
+    let model = b.build().unwrap();
+    let mut d = Dynamics::new(&model).unwrap();
+    let mut s = d.initial_guess();
+    s.set_velocity(
+        0,
+        Vector3::new(0.0, w0 * l / 2.0, 0.0),
+        Vector3::new(0.0, 0.0, w0),
+    );
+    let tight = Integrator::Dopri5(Dopri5Options::tolerances(1e-10, 1e-12));
+    let r = d
+        .simulate(&s, &SimulationOptions::new(1.5, 3).integrator(tight))
+        .unwrap();
+    let pin = r.kinematics.joint("pin").unwrap();
+    let (t_half, w_half) = (r.times()[1], pin.rates[1][0]);
+    let err = (w_half - (w0 - tc * t_half / j)).abs();
+    let angle_err = (pin.values[1][0] - (w0 * t_half - 0.5 * tc / j * t_half * t_half)).abs();
+    let after = pin.rates[3][0].abs();
+    eprintln!("friction torque: ω(0.5) error {err:.2e}, θ(0.5) error {angle_err:.2e}, |ω(1.5)| {after:.2e}");
+    assert!(err < 1e-6 * w0, "{err}");
+    assert!(angle_err < 1e-6, "{angle_err}");
+    assert!(after < 1e-5, "{after}");
 }
 
 #[test]

@@ -758,6 +758,11 @@ pub struct FrictionSpec {
     pub preload: f64,
     /// v_s > 0 of the regularization (m/s or rad/s; default 1e-4).
     pub stiction_velocity: f64,
+    /// F_c ≥ 0: a slide's friction force independent of the load (N): URDF's `<dynamics
+    /// friction>`, MuJoCo's `frictionloss`.
+    pub force: f64,
+    /// T_c ≥ 0: a pin's or ball's friction torque independent of the load (N m).
+    pub torque: f64,
 }
 
 impl FrictionSpec {
@@ -770,7 +775,21 @@ impl FrictionSpec {
             radius: None,
             preload: 0.0,
             stiction_velocity: 1e-4,
+            force: 0.0,
+            torque: 0.0,
         }
+    }
+
+    /// A constant friction force F_c of a slide, added to μ N.
+    pub fn constant_force(mut self, f: f64) -> Self {
+        self.force = f;
+        self
+    }
+
+    /// A constant friction torque T_c of a pin or ball, added to μ r N.
+    pub fn constant_torque(mut self, t: f64) -> Self {
+        self.torque = t;
+        self
     }
 
     /// The pin radius r of a rotating joint.

@@ -349,7 +349,8 @@ fn write_limits(p: &Prepared, ws: &Workspace, out: &mut dyn Write) -> Result<(),
     .map_err(io)
 }
 
-/// The joint frictions, when the model has any: name, joint, μ, radius, preload.
+/// The joint frictions, when the model has any: name, joint, μ, radius, preload, the constant
+/// friction (a slide's force, a pin's torque).
 fn write_frictions(p: &Prepared, out: &mut dyn Write) -> Result<(), Error> {
     let model = &p.model;
     if model.frictions().is_empty() {
@@ -357,6 +358,7 @@ fn write_frictions(p: &Prepared, out: &mut dyn Write) -> Result<(), Error> {
     }
     writeln!(out, "\njoint friction ({})", model.frictions().len()).map_err(io)?;
     let (unit, f) = p.units.unit("m");
+    let (torque_unit, tf) = p.units.unit("N m");
     let rows: Vec<Vec<String>> = model
         .frictions()
         .iter()
@@ -371,10 +373,19 @@ fn write_frictions(p: &Prepared, out: &mut dyn Write) -> Result<(), Error> {
                     "-".into()
                 },
                 format!("{} N", g(fr.preload)),
+                match (fr.force > 0.0, fr.torque > 0.0) {
+                    (true, true) => {
+                        format!("{} N, {} {torque_unit}", g(fr.force), g(fr.torque * tf))
+                    }
+                    (true, false) => format!("{} N", g(fr.force)),
+                    (false, true) => format!("{} {torque_unit}", g(fr.torque * tf)),
+                    (false, false) => "-".into(),
+                },
             ]
         })
         .collect();
-    write_table(out, &["name", "joint", "μ", "radius", "preload"], &rows).map_err(io)
+    let head = ["name", "joint", "μ", "radius", "preload", "constant"];
+    write_table(out, &head, &rows).map_err(io)
 }
 
 /// The drivers: name, what each drives, equation count and rows.

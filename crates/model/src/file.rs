@@ -176,9 +176,12 @@ pub struct UrdfSection {
     /// The position limits as stops (default true).
     #[serde(default)]
     pub limits: Option<bool>,
-    /// Revolute joints' `<dynamics damping>` as rotational dampers (default false).
+    /// Joints' `<dynamics damping>` as dampers (default false).
     #[serde(default)]
     pub damping: Option<bool>,
+    /// Joints' `<dynamics friction>` as constant friction (default false).
+    #[serde(default)]
+    pub friction: Option<bool>,
     /// The links' `<collision>` elements as contact shapes of this `[[material]]` (default:
     /// none).
     #[serde(default)]
@@ -765,7 +768,7 @@ pub struct FrictionSection {
     pub name: Name,
     /// The joint (revolute, prismatic, cylindrical or spherical).
     pub joint: Name,
-    /// "coulomb" (default).
+    /// "coulomb" (default) or "constant".
     #[serde(default)]
     pub law: Option<Name>,
     /// μ ≥ 0.
@@ -780,6 +783,12 @@ pub struct FrictionSection {
     /// v_s > 0 of the regularized sign \[m/s or rad/s\].
     #[serde(default)]
     pub stiction_velocity: Option<Num>,
+    /// law "constant": a slide's friction force F_c ≥ 0 \[N\].
+    #[serde(default)]
+    pub force: Option<Num>,
+    /// law "constant": a pin's or ball's friction torque T_c ≥ 0 \[N m\].
+    #[serde(default)]
+    pub torque: Option<Num>,
 }
 
 /// `[[material]]`: a contact material ([`crate::vocabulary::MATERIALS`]).
@@ -874,7 +883,8 @@ pub struct ShapeSection {
 pub struct ForceSection {
     /// Unique name among joints, drivers and forces.
     pub name: Name,
-    /// point_force, torque, spring_damper, rotational_spring_damper.
+    /// point_force, torque, spring_damper, rotational_spring_damper,
+    /// translational_spring_damper.
     #[serde(rename = "type")]
     pub kind: Name,
     /// point_force / torque: the body.
@@ -916,12 +926,15 @@ pub struct ForceSection {
     /// spring_damper: actuator tension f_a(t) \[N\], added to the spring-damper tension.
     #[serde(default)]
     pub actuator: Option<Spanned<FunctionSpec>>,
-    /// rotational_spring_damper: the revolute or cylindrical joint.
+    /// rotational / translational_spring_damper: the joint.
     #[serde(default)]
     pub joint: Option<Name>,
     /// rotational_spring_damper: rest angle θ0 \[rad\] (default 0).
     #[serde(default)]
     pub rest_angle: Option<Num>,
+    /// translational_spring_damper: rest position s0 \[m\] of the slide (default 0).
+    #[serde(default)]
+    pub rest_position: Option<Num>,
 }
 
 /// `[analysis]`.

@@ -6,14 +6,17 @@
 //! axis, plus the preload; |F| + N₀ for a ball joint). The friction is
 //!
 //! ```text
-//! slide (prismatic, cylindrical):  f = −μ N s(ṡ)           along z_i, on j at P_j (−f on i)
-//! pin (revolute, cylindrical):     τ = −μ r N s(θ̇)         about z_i, on j (−τ on i)
-//! ball (spherical):                τ = −μ r N ω_rel / √(|ω_rel|² + v_s²)   on j (−τ on i)
+//! slide (prismatic, cylindrical):  f = −(μ N + F_c) s(ṡ)           along z_i, on j at P_j (−f on i)
+//! pin (revolute, cylindrical):     τ = −(μ r N + T_c) s(θ̇)         about z_i, on j (−τ on i)
+//! ball (spherical):                τ = −(μ r N + T_c) ω_rel / √(|ω_rel|² + v_s²)   on j (−τ on i)
 //! s(v) = v / √(v² + v_s²)
 //! ```
 //!
 //! with ṡ, θ̇ the joint's slide and angle rates and ω_rel = ω_j − ω_i: the friction circle of
-//! radius μ r for a pin (Shigley; Haug 1989 §11.4 for joint friction from reactions). s
+//! radius μ r for a pin (Shigley; Haug 1989 §11.4 for joint friction from reactions). F_c and
+//! T_c are a friction independent of the load (the `constant` law: URDF's `<dynamics
+//! friction>`, MuJoCo's `frictionloss`, whose inverse dynamics gives exactly F_c sign(ṡ) while
+//! the joint slides). s
 //! regularizes sign(v) near zero velocity (the stiction model: a steep viscous law of slope
 //! μN/v_s below v_s, so a joint held by friction creeps at about v_s times the ratio of the
 //! driving force to μN; the run's steps resolve that slope).
@@ -111,7 +114,8 @@ impl Dynamics<'_> {
             };
             let (mut value, mut power) = (0.0, 0.0);
             if let Some(v) = rate_of(Measure::Slide) {
-                let fr = -f.coefficient * (radial + f.preload) * reg(v, f.stiction_velocity);
+                let load = f.coefficient * (radial + f.preload) + f.force;
+                let fr = -load * reg(v, f.stiction_velocity);
                 let pj = sj.point(&joint.marker_j().point);
                 let on_i = si.a.tr_mul(&(pj - si.r));
                 acc.add_force_at(info.body_j, &joint.marker_j().point, &(z * fr));
@@ -120,8 +124,8 @@ impl Dynamics<'_> {
                 power += fr * v;
             }
             if let Some(w) = rate_of(Measure::Angle) {
-                let tq =
-                    -f.coefficient * f.radius * (radial + f.preload) * reg(w, f.stiction_velocity);
+                let load = f.coefficient * f.radius * (radial + f.preload) + f.torque;
+                let tq = -load * reg(w, f.stiction_velocity);
                 acc.add_torque(info.body_j, &(z * tq));
                 acc.add_torque(info.body_i, &(-z * tq));
                 value = if joint.kind() == JointKind::Cylindrical {
@@ -134,7 +138,7 @@ impl Dynamics<'_> {
             if joint.kind() == JointKind::Spherical {
                 let w = sj.a * sj.omega_local - si.a * si.omega_local;
                 let n = w.norm();
-                let scale = f.coefficient * f.radius * (force.norm() + f.preload)
+                let scale = (f.coefficient * f.radius * (force.norm() + f.preload) + f.torque)
                     / (n * n + f.stiction_velocity * f.stiction_velocity).sqrt();
                 acc.add_torque(info.body_j, &(-w * scale));
                 acc.add_torque(info.body_i, &(w * scale));

@@ -287,4 +287,8 @@ pub struct FrictionInfo {
     pub preload: f64,
     /// v_s.
     pub stiction_velocity: f64,
+    /// F_c, N: a slide's friction force independent of the load.
+    pub force: f64,
+    /// T_c, N m: a pin's or ball's friction torque independent of the load.
+    pub torque: f64,
 }

@@ -78,6 +78,8 @@ pub(crate) fn friction(
             ))
         }
         (_, Some(r)) if r.is_finite() && r > 0.0 => r,
+        // A constant torque alone needs no pin radius.
+        (_, None) if mu == 0.0 => 0.0,
         (_, r) => {
             return Err(bad(
                 spec,
@@ -89,6 +91,7 @@ pub(crate) fn friction(
             ))
         }
     };
+    constants(spec, kind)?;
     Ok(FrictionInfo {
         name: spec.name.clone(),
         joint: k,
@@ -96,7 +99,37 @@ pub(crate) fn friction(
         radius,
         preload: n0,
         stiction_velocity: vs,
+        force: spec.force,
+        torque: spec.torque,
     })
+}
+
+/// The constant friction force and torque: finite, ≥ 0, each on a joint with that motion (a
+/// force on a slide, a torque on a pin or ball).
+fn constants(spec: &FrictionSpec, kind: JointKind) -> Result<(), ModelError> {
+    let slides = matches!(kind, JointKind::Prismatic | JointKind::Cylindrical);
+    let turns = kind != JointKind::Prismatic;
+    for (key, value, fits, motion) in [
+        ("force", spec.force, slides, "slide"),
+        ("torque", spec.torque, turns, "rotation"),
+    ] {
+        if !(value.is_finite() && value >= 0.0) {
+            return Err(bad(spec, key, format!("must be ≥ 0, got {value}")));
+        }
+        if value > 0.0 && !fits {
+            return Err(bad(
+                spec,
+                key,
+                format!(
+                    "joint \"{}\" is {}, which has no {motion}: a slide takes a force (N), a \
+                     pin or ball a torque (N m)",
+                    spec.joint,
+                    kind.name()
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 impl Model {

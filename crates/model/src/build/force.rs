@@ -3,7 +3,7 @@
 //! nearest name on a typo), the numbers read in the quantity their key gives (the model's units
 //! converted, the magnitude limits) and the functions loaded. Whether the element makes sense
 //! (coefficients ≥ 0, a spring between two bodies that does something, a rotational spring on
-//! a joint with an angle and x axes) is checked once, by the dynamics' own validation
+//! a joint with an angle and x axes, a translational one on a joint that slides) is checked once, by the dynamics' own validation
 //! ([`Force::validate`]) when the model is prepared, located at the key it names
 //! ([`super::Spans::force_keys`]).
 
@@ -84,13 +84,17 @@ pub(super) fn load_force(
                     ),
                 ));
             }
-            Ok(Force::rotational_spring_damper(
-                &name,
-                jn,
+            let (k, c) = (
                 number(&f.stiffness, "stiffness")?.unwrap_or(0.0),
                 number(&f.damping, "damping")?.unwrap_or(0.0),
-                number(&f.rest_angle, "rest_angle")?.unwrap_or(0.0),
-            ))
+            );
+            Ok(if entry.name == "translational_spring_damper" {
+                let s0 = number(&f.rest_position, "rest_position")?.unwrap_or(0.0);
+                Force::translational_spring_damper(&name, jn, k, c, s0)
+            } else {
+                let theta0 = number(&f.rest_angle, "rest_angle")?.unwrap_or(0.0);
+                Force::rotational_spring_damper(&name, jn, k, c, theta0)
+            })
         }
     }
 }

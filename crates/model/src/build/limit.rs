@@ -128,6 +128,22 @@ pub(super) fn load_friction(
     if let Some(n0) = &f.preload {
         spec = spec.preload(cx.num(n0, format_args!("{owner}: preload"), Quantity::Force)?);
     }
+    if let Some(fc) = &f.force {
+        spec = spec.constant_force(cx.num(fc, format_args!("{owner}: force"), Quantity::Force)?);
+    }
+    if let Some(tc) = &f.torque {
+        let tc = cx.num(tc, format_args!("{owner}: torque"), Quantity::Torque)?;
+        spec = spec.constant_torque(tc);
+    }
+    if selected.get_ref() == "constant" && spec.force == 0.0 && spec.torque == 0.0 {
+        return Err(cx.src.error_at(
+            f.name.span(),
+            format!(
+                "{owner}: a constant friction needs a force (N, a slide) or a torque (N m, a pin \
+                 or ball) above 0; without one it does nothing"
+            ),
+        ));
+    }
     if let Some(v) = &f.stiction_velocity {
         let q = match kinds.get(f.joint.get_ref()) {
             Some(JointKind::Prismatic) => Quantity::Velocity,

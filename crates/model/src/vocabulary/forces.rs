@@ -70,5 +70,16 @@ pub const FORCES: Vocabulary = Vocabulary {
                 Key::new("rest_angle", Value::Number(Quantity::Angle), Default::Is("0"), "θ0 (rad)"),
             ],
         },
+        Entry {
+            name: "translational_spring_damper",
+            aliases: &[],
+            summary: "force −(k (s − s0) + c ṡ) along a prismatic or cylindrical joint's axis, on body j at its marker, the opposite on body i (s the joint's slide)",
+            keys: &[
+                Key::new("joint", Value::Name, Default::Required, "the prismatic or cylindrical joint"),
+                Key::new("stiffness", Value::Number(Quantity::Stiffness), Default::Is("0"), "k ≥ 0 (N/m)"),
+                Key::new("damping", Value::Number(Quantity::Damping), Default::Is("0"), "c ≥ 0 (N s/m)"),
+                Key::new("rest_position", Value::Number(Quantity::Length), Default::Is("0"), "s0 (m)"),
+            ],
+        },
     ],
 };

@@ -116,38 +116,64 @@ pub const FRICTIONS: Vocabulary = Vocabulary {
             "the joint (revolute, prismatic, cylindrical or spherical)",
         ),
     ],
-    entries: &[Entry {
-        name: "coulomb",
-        aliases: &[],
-        summary: "Coulomb friction from the joint's reaction N: a slide's force μ N, a pin's \
+    entries: &[
+        Entry {
+            name: "coulomb",
+            aliases: &[],
+            summary: "Coulomb friction from the joint's reaction N: a slide's force μ N, a pin's \
                   torque μ r N (the friction circle), a ball's μ r ‖F‖, against the motion, \
                   with the sign regularized below the stiction velocity",
-        keys: &[
-            Key::new(
-                "coefficient",
-                Value::Number(Quantity::Ratio),
-                Default::Required,
-                "μ ≥ 0",
-            ),
-            Key::new(
-                "radius",
-                Value::Number(Quantity::Length),
-                Default::Is("required for a rotating joint"),
-                "the pin, journal or ball radius r (m, > 0)",
-            ),
-            Key::new(
-                "preload",
-                Value::Number(Quantity::Force),
-                Default::Is("0"),
-                "N₀ ≥ 0 added to the reaction (N): a preload, or a constant friction μ N₀",
-            ),
-            Key::new(
-                "stiction_velocity",
-                Value::Number(Quantity::Unbounded),
-                Default::Is("1e-4"),
-                "v_s > 0 of s(v) = v/√(v² + v_s²) (m/s for a slide, rad/s for a rotation): \
-                 below it the friction acts as a steep viscous law",
-            ),
-        ],
-    }],
+            keys: &[
+                Key::new(
+                    "coefficient",
+                    Value::Number(Quantity::Ratio),
+                    Default::Required,
+                    "μ ≥ 0",
+                ),
+                Key::new(
+                    "radius",
+                    Value::Number(Quantity::Length),
+                    Default::Is("required for a rotating joint"),
+                    "the pin, journal or ball radius r (m, > 0)",
+                ),
+                Key::new(
+                    "preload",
+                    Value::Number(Quantity::Force),
+                    Default::Is("0"),
+                    "N₀ ≥ 0 added to the reaction (N): a preload, or a constant friction μ N₀",
+                ),
+                STICTION_VELOCITY,
+            ],
+        },
+        Entry {
+            name: "constant",
+            aliases: &[],
+            summary: "a friction independent of the load: a slide's force F_c, a pin's or ball's \
+                  torque T_c, against the motion, with the sign regularized below the stiction \
+                  velocity (URDF's <dynamics friction>, MuJoCo's frictionloss)",
+            keys: &[
+                Key::new(
+                    "force",
+                    Value::Number(Quantity::Force),
+                    Default::Is("0"),
+                    "F_c ≥ 0 of a slide (prismatic, cylindrical), N",
+                ),
+                Key::new(
+                    "torque",
+                    Value::Number(Quantity::Torque),
+                    Default::Is("0"),
+                    "T_c ≥ 0 of a pin or ball (revolute, cylindrical, spherical), N m",
+                ),
+                STICTION_VELOCITY,
+            ],
+        },
+    ],
 };
+
+const STICTION_VELOCITY: Key = Key::new(
+    "stiction_velocity",
+    Value::Number(Quantity::Unbounded),
+    Default::Is("1e-4"),
+    "v_s > 0 of s(v) = v/√(v² + v_s²) (m/s for a slide, rad/s for a rotation): below it the \
+     friction acts as a steep viscous law",
+);
