@@ -221,10 +221,14 @@ pub struct UrdfArgs {
     /// URDF files: no stops at the joints' position limits.
     #[arg(long)]
     pub no_limits: bool,
-    /// URDF files: each revolute joint's `<dynamics damping>` as a rotational damper (torque
-    /// −c q̇; friction is not modelled).
+    /// URDF files: each revolute or prismatic joint's `<dynamics damping>` as a damper (torque
+    /// or force −c q̇).
     #[arg(long)]
     pub damping: bool,
+    /// URDF files: each revolute or prismatic joint's `<dynamics friction>` as a constant
+    /// friction torque or force against the motion (`[[friction]] law = "constant"`).
+    #[arg(long)]
+    pub friction: bool,
 }
 
 /// `--base` of a URDF file.
@@ -248,7 +252,11 @@ pub enum UrdfMimic {
 impl UrdfArgs {
     /// Whether any URDF flag is given.
     fn given(&self) -> bool {
-        self.base.is_some() || self.mimic.is_some() || self.no_limits || self.damping
+        self.base.is_some()
+            || self.mimic.is_some()
+            || self.no_limits
+            || self.damping
+            || self.friction
     }
 
     /// The URDF reading the flags ask for.
@@ -265,6 +273,7 @@ impl UrdfArgs {
             },
             limits: !self.no_limits,
             damping: self.damping,
+            friction: self.friction,
         }
     }
 }

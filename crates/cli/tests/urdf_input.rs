@@ -199,14 +199,29 @@ const SPINNER: &str = r#"<?xml version="1.0"?>
 </robot>
 "#;
 
-/// The spinner driven along θ = 0.5 sin 2t (inverse dynamics): its motor torque at each
-/// output time, with `damping` in the overlay's `[urdf]`, and the run's warnings.
-fn spinner_torque(damping: &str) -> (Vec<(f64, f64)>, Vec<String>) {
+/// The spinner's link on a horizontal prismatic joint instead (mass 2 kg; gravity across the
+/// slide), with damping and friction.
+fn slider_urdf() -> String {
+    SPINNER
+        .replace("type=\"continuous\"", "type=\"prismatic\"")
+        .replace("<axis xyz=\"0 0 1\"/>", "<axis xyz=\"1 0 0\"/>\n    <limit lower=\"-1\" upper=\"1\" effort=\"100\" velocity=\"10\"/>")
+        .replace("damping=\"0.3\" friction=\"0.1\"", "damping=\"0.5\" friction=\"0.2\"")
+}
+
+/// The robot `urdf` with its one joint "spin" driven along q = 0.5 sin 2t (inverse dynamics,
+/// a `rotation` or `translation` driver): its driver effort (column `effort`) at each output
+/// time, with `keys` in the overlay's `[urdf]`, and the run's warnings.
+fn driven_effort(
+    urdf: &str,
+    drive: &str,
+    effort: &str,
+    keys: &str,
+) -> (Vec<(f64, f64)>, Vec<String>) {
     let dir = scratch("urdf-damping");
-    std::fs::write(dir.join("spinner.urdf"), SPINNER).unwrap();
+    std::fs::write(dir.join("spinner.urdf"), urdf).unwrap();
     let overlay = format!(
-        "[model]\nname = \"spin\"\n\n[urdf]\nfile = \"spinner.urdf\"\n{damping}\n{}{INVERSE}",
-        driver("motor", "spin", "0.5 * sin(2 * t)")
+        "[model]\nname = \"spin\"\n\n[urdf]\nfile = \"spinner.urdf\"\nlimits = false\n{keys}\n{}{INVERSE}",
+        driver("motor", "spin", "0.5 * sin(2 * t)").replace("type = \"rotation\"", drive)
     );
     std::fs::write(dir.join("overlay.toml"), overlay).unwrap();
     let o = cardan(&["run", "overlay.toml", "-o", "out", "--quiet"], &dir);
@@ -214,10 +229,7 @@ fn spinner_torque(damping: &str) -> (Vec<(f64, f64)>, Vec<String>) {
     let text = std::fs::read_to_string(dir.join("out/driver_efforts.csv")).unwrap();
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let col = header
-        .iter()
-        .position(|h| h.starts_with("motor.torque"))
-        .unwrap();
+    let col = header.iter().position(|h| h.starts_with(effort)).unwrap();
     let rows = lines
         .map(|l| {
             let v: Vec<f64> = l.split(',').map(|x| x.parse().unwrap()).collect();
@@ -233,35 +245,63 @@ fn spinner_torque(damping: &str) -> (Vec<(f64, f64)>, Vec<String>) {
     (rows, warnings)
 }
 
+/// The spinner driven along θ = 0.5 sin 2t: its motor torque and the run's warnings.
+fn spinner_torque(keys: &str) -> (Vec<(f64, f64)>, Vec<String>) {
+    driven_effort(SPINNER, "type = \"rotation\"", "motor.torque", keys)
+}
+
+/// The regularized sign of the friction laws, s(v) = v / √(v² + v_s²), v_s = 1e-4.
+fn sign(v: f64) -> f64 {
+    v / (v * v + 1e-8).sqrt()
+}
+
 #[test]
 fn joint_damping_becomes_a_rotational_damper_when_asked_for() {
     // τ = J θ̈ + c θ̇ with θ = 0.5 sin 2t: −0.2 sin 2t + 0.3 cos 2t.
-    let agrees = |rows: &[(f64, f64)], c: f64| {
+    let agrees = |rows: &[(f64, f64)], c: f64, fc: f64| {
         assert_eq!(rows.len(), 101);
         for (t, tau) in rows {
-            let want = -0.2 * (2.0 * t).sin() + c * (2.0 * t).cos();
+            let rate = (2.0 * t).cos();
+            let want = -0.2 * (2.0 * t).sin() + c * rate + fc * sign(rate);
             assert!((tau - want).abs() < 1e-9, "t = {t}: {tau} against {want}");
         }
     };
     let (rows, warnings) = spinner_torque("damping = true");
-    agrees(&rows, 0.3);
+    agrees(&rows, 0.3, 0.0);
     let says = |warnings: &[String], text: &str| {
         assert!(warnings.iter().any(|w| w.contains(text)), "{warnings:?}");
     };
-    // The friction is still not modelled: said once.
-    says(&warnings, "1 joint with <dynamics> friction");
-    // Not asked for: the torque has no damping term, and the warning says how to ask.
-    let (rows, warnings) = spinner_torque("");
-    agrees(&rows, 0.0);
+    // The friction is still not modelled: said once, with how to ask for it.
     says(
         &warnings,
-        "damping or friction, which is not modelled (--damping",
+        "1 joint with <dynamics> friction, which is not modelled (--friction",
     );
-    // The flag on the command line: the imported model has the damper.
+    // Not asked for: the torque has no damping term, and the warning says how to ask.
+    let (rows, warnings) = spinner_torque("");
+    agrees(&rows, 0.0, 0.0);
+    says(
+        &warnings,
+        "damping or friction, which is not modelled (--damping and --friction",
+    );
+    // Both: τ = J θ̈ + c θ̇ + F_c s(θ̇), and nothing is left unmodelled.
+    let (rows, warnings) = spinner_torque("damping = true\nfriction = true");
+    agrees(&rows, 0.3, 0.1);
+    assert!(
+        warnings.iter().all(|w| !w.contains("<dynamics>")),
+        "{warnings:?}"
+    );
+    // The flags on the command line: the imported model has the damper and the friction.
     let dir = scratch("urdf-damping-flag");
     std::fs::write(dir.join("spinner.urdf"), SPINNER).unwrap();
     let o = cardan(
-        &["import", "spinner.urdf", "--damping", "-o", "spinner.toml"],
+        &[
+            "import",
+            "spinner.urdf",
+            "--damping",
+            "--friction",
+            "-o",
+            "spinner.toml",
+        ],
         &dir,
     );
     assert_eq!(o.code, 0, "{}", o.stderr);
@@ -269,8 +309,30 @@ fn joint_damping_becomes_a_rotational_damper_when_asked_for() {
     assert!(
         text.contains("[[force]]   # <dynamics damping> of joint \"spin\" (line 16)")
             && text
-                .contains("type = \"rotational_spring_damper\"\njoint = \"spin\"\ndamping = 0.3"),
+                .contains("type = \"rotational_spring_damper\"\njoint = \"spin\"\ndamping = 0.3")
+            && text.contains("law = \"constant\"\njoint = \"spin\"\ntorque = 0.1"),
         "{text}"
+    );
+}
+
+#[test]
+fn a_prismatic_joints_damping_and_friction_become_a_damper_and_a_constant_friction() {
+    // F = m s̈ + c ṡ + F_c s(ṡ) with s = 0.5 sin 2t, m = 2, c = 0.5, F_c = 0.2.
+    let (rows, warnings) = driven_effort(
+        &slider_urdf(),
+        "type = \"translation\"",
+        "motor.force",
+        "damping = true\nfriction = true",
+    );
+    assert_eq!(rows.len(), 101);
+    for (t, f) in &rows {
+        let rate = (2.0 * t).cos();
+        let want = 2.0 * -2.0 * (2.0 * t).sin() + 0.5 * rate + 0.2 * sign(rate);
+        assert!((f - want).abs() < 1e-9, "t = {t}: {f} against {want}");
+    }
+    assert!(
+        warnings.iter().all(|w| !w.contains("<dynamics>")),
+        "{warnings:?}"
     );
 }
 

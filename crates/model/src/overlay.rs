@@ -9,7 +9,8 @@
 //! [urdf]
 //! file = "ur5.urdf"        # relative to this file
 //! base = "fixed"           # or "floating"; mimic = "couple" | "free"; limits = true | false;
-//!                          # damping = true: revolute joints' <dynamics damping> as dampers;
+//!                          # damping = true: joints' <dynamics damping> as dampers;
+//!                          # friction = true: joints' <dynamics friction> as [[friction]];
 //!                          # collision = "steel": the links' <collision> as shapes of a [[material]]
 //!
 //! [[driver]]
@@ -135,23 +136,54 @@ fn options(src: &Source, t: &crate::file::UrdfSection) -> Result<UrdfOptions, Er
         mimic: [MimicMode::Couple, MimicMode::Free][word(&t.mimic, "mimic", &["couple", "free"])?],
         limits: t.limits.unwrap_or(true),
         damping: t.damping.unwrap_or(false),
+        friction: t.friction.unwrap_or(false),
     })
 }
 
-/// Adds the robot's elements to the overlay's.
+/// Adds the robot's elements to the overlay's. The robot's file is taken apart field by field,
+/// so an element kind the import learns to write cannot be left out here unnoticed (the
+/// `[[friction]]` tables of `<dynamics friction>` were, at first).
 fn merge(src: &Source, file: &mut ModelFile, robot: ModelFile) -> Result<(), Error> {
+    let ModelFile {
+        model,
+        ground,
+        body,
+        joint,
+        curve,
+        cam,
+        surface,
+        driver,
+        coupler,
+        force,
+        limit,
+        friction,
+        material,
+        shape,
+        keys,
+        // The import writes no [urdf], [analysis] or [parameters] for an overlay.
+        urdf: _,
+        analysis: _,
+        parameters_table: _,
+        parameters: _,
+    } = robot;
     let gravity = &mut file.model.get_mut().gravity;
     if gravity.is_none() {
-        *gravity = robot.model.into_inner().gravity;
+        *gravity = model.into_inner().gravity;
     }
-    file.body.extend(robot.body);
-    file.joint.extend(robot.joint);
-    file.limit.extend(robot.limit);
-    file.coupler.extend(robot.coupler);
-    file.force.extend(robot.force);
-    file.shape.extend(robot.shape);
-    file.keys.extend(robot.keys);
-    let Some(theirs) = robot.ground else {
+    file.body.extend(body);
+    file.joint.extend(joint);
+    file.curve.extend(curve);
+    file.cam.extend(cam);
+    file.surface.extend(surface);
+    file.driver.extend(driver);
+    file.coupler.extend(coupler);
+    file.force.extend(force);
+    file.limit.extend(limit);
+    file.friction.extend(friction);
+    file.material.extend(material);
+    file.shape.extend(shape);
+    file.keys.extend(keys);
+    let Some(theirs) = ground else {
         return Ok(());
     };
     let Some(ours) = file.ground.as_mut() else {

@@ -20,7 +20,8 @@ pub fn is_urdf(path: &Path) -> bool {
         .is_some_and(|e| e.eq_ignore_ascii_case("urdf"))
 }
 
-/// How a URDF file is read (`--base`, `--mimic`, `--no-limits`, `--damping`).
+/// How a URDF file is read (`--base`, `--mimic`, `--no-limits`, `--damping`,
+/// `--friction`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct UrdfOptions {
     /// The root link fixed to the ground or floating.
@@ -29,8 +30,10 @@ pub struct UrdfOptions {
     pub mimic: MimicMode,
     /// The position limits as stops.
     pub limits: bool,
-    /// Revolute joints' `<dynamics damping>` as rotational dampers (`--damping`).
+    /// Joints' `<dynamics damping>` as dampers (`--damping`).
     pub damping: bool,
+    /// Joints' `<dynamics friction>` as constant friction (`--friction`).
+    pub friction: bool,
 }
 
 impl Default for UrdfOptions {
@@ -40,6 +43,7 @@ impl Default for UrdfOptions {
             mimic: MimicMode::Couple,
             limits: true,
             damping: false,
+            friction: false,
         }
     }
 }
@@ -87,6 +91,7 @@ pub fn import_text(
             limits: options.limits,
             mimic: options.mimic,
             damping: options.damping,
+            friction: options.friction,
             needs_masses,
         },
     )

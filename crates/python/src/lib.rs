@@ -369,9 +369,10 @@ fn imported<'py>(
 /// A URDF robot as cardan model text: a dict with `text` (the imported model), `path` (its
 /// name, `<file>.urdf.toml`) and `warnings`, or `error`. `base` is `"fixed"` or `"floating"`,
 /// `mimic` `"couple"` or `"free"`; `limits` writes the position limits as stops; `damping`
-/// the revolute joints' `<dynamics damping>` as rotational dampers.
+/// the joints' `<dynamics damping>` as dampers, `friction` their `<dynamics friction>` as
+/// constant friction.
 #[pyfunction]
-#[pyo3(signature = (text, path, base="fixed", mimic="couple", limits=true, damping=false))]
+#[pyo3(signature = (text, path, base="fixed", mimic="couple", limits=true, damping=false, friction=false))]
 fn import_urdf<'py>(
     py: Python<'py>,
     text: String,
@@ -380,6 +381,7 @@ fn import_urdf<'py>(
     mimic: &str,
     limits: bool,
     damping: bool,
+    friction: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     use cardan_model::urdf::{import_source, Base, MimicMode, UrdfOptions};
     let bad = |key: &str, v: &str, words: &str| {
@@ -400,6 +402,7 @@ fn import_urdf<'py>(
         mimic,
         limits,
         damping,
+        friction,
     };
     imported(
         py,

@@ -9,6 +9,7 @@ import re
 
 import mujoco
 import numpy as np
+import pytest
 
 import cardan
 from conftest import EXAMPLES
@@ -79,4 +80,96 @@ def test_joint_damping_matches_mujoco_inverse_dynamics(tmp_path) -> None:
     print(f"|Δτ| {worst:.2e} N m of {largest:.2f} N m (the damping's part up to {damping_part:.3f} N m)")
     # The damping is a visible part of the torque, and the two agree far below it.
     assert damping_part > 0.01 * largest
+    assert worst < 1e-9 * largest
+
+
+# A cart on a rail (prismatic, x) carrying a pendulum arm (revolute about y), both joints with
+# <dynamics damping friction>.
+CART = """<?xml version="1.0"?>
+<robot name="cart">
+  <link name="rail"/>
+  <link name="cart">
+    <inertial><mass value="3.0"/><inertia ixx="0.05" ixy="0" ixz="0" iyy="0.06" iyz="0" izz="0.07"/></inertial>
+  </link>
+  <link name="arm">
+    <inertial><origin xyz="0 0 -0.25"/><mass value="0.8"/><inertia ixx="0.02" ixy="0" ixz="0" iyy="0.021" iyz="0" izz="0.001"/></inertial>
+  </link>
+  <joint name="slide" type="prismatic">
+    <parent link="rail"/><child link="cart"/><axis xyz="1 0 0"/>
+    <limit lower="-2" upper="2" effort="100" velocity="10"/>
+    <dynamics damping="1.2" friction="0.7"/>
+  </joint>
+  <joint name="swing" type="continuous">
+    <parent link="cart"/><child link="arm"/><origin xyz="0 0 -0.05"/><axis xyz="0 1 0"/>
+    <dynamics damping="0.05" friction="0.03"/>
+  </joint>
+</robot>
+"""
+CART_LAW = {"slide": (0.1, 0.3, 1.7, 0.4), "swing": (0.2, 0.6, 2.3, 1.1)}
+CART_DYNAMICS = {"slide": (1.2, 0.7), "swing": (0.05, 0.03)}
+
+
+def test_joint_damping_and_friction_match_mujoco_inverse_dynamics(tmp_path) -> None:
+    """``damping = true`` and ``friction = true``: a prismatic joint's damping a
+    ``translational_spring_damper``, each joint's friction a ``[[friction]] law = "constant"``.
+    MuJoCo reads the same ``<dynamics>`` as ``dof_damping`` and ``dof_frictionloss``; while a
+    joint moves, ``mj_inverse`` gives its friction loss F_c sign(q̇) exactly. cardan's friction
+    has the sign regularized, s(v) = v/√(v² + v_s²) (v_s = 1e-4 by default), so the comparison
+    adds F_c (s(q̇) − sign(q̇)) to MuJoCo's efforts. MuJoCo's friction loss is a soft
+    constraint, its force −(q̈ + b q̇)/R clamped to ±F_c: near a turning point, where the
+    acceleration outweighs b q̇, it is not saturated against the motion (or even pushes along
+    it); those samples, by MuJoCo's own constraint force (``efc_force``), are skipped, and
+    so are |q̇| < 1e-3."""
+    (tmp_path / "cart.urdf").write_text(CART)
+    m = mujoco.MjModel.from_xml_path(str(tmp_path / "cart.urdf"))
+    names = [m.joint(i).name for i in range(m.njnt)]
+    assert names == list(CART_LAW)
+    assert np.allclose(m.dof_damping, [CART_DYNAMICS[n][0] for n in names])
+    assert np.allclose(m.dof_frictionloss, [CART_DYNAMICS[n][1] for n in names])
+    # cardan.load reads them the same way when asked.
+    text = cardan.load(tmp_path / "cart.urdf", damping=True, friction=True).text
+    assert 'type = "translational_spring_damper"\njoint = "slide"\ndamping = 1.2' in text
+    assert 'law = "constant"\njoint = "swing"\ntorque = 0.03' in text
+    with pytest.warns(UserWarning, match="damping or friction, which is not modelled"):
+        assert "law = \"constant\"" not in cardan.load(tmp_path / "cart.urdf").text
+    lines = ["[model]", 'name = "cart"', "[urdf]", 'file = "cart.urdf"', "limits = false", "damping = true", "friction = true"]
+    for name, (c, a, w, phi) in CART_LAW.items():
+        kind = "translation" if name == "slide" else "rotation"
+        lines += [
+            "[[driver]]",
+            f'name = "d_{name}"',
+            f'type = "{kind}"',
+            f'joint = "{name}"',
+            f'function = {{ kind = "expression", text = "{c!r} + {a!r} * sin({w!r} * t + {phi!r})" }}',
+        ]
+    lines += ["[analysis]", 'kind = "inverse_dynamics"', "t_end = 3.0", "dt = 0.01", "position_tolerance = 1e-13"]
+    results = cardan.Model.from_toml("\n".join(lines) + "\n", path=tmp_path / "overlay.toml").inverse_dynamics()
+    efforts = results.driver_efforts
+    d = mujoco.MjData(m)
+    vs = 1e-4
+    worst = largest = friction_part = 0.0
+    compared = 0
+    for k, t in enumerate(results.t):
+        for i, name in enumerate(names):
+            c, a, w, phi = CART_LAW[name]
+            d.qpos[i] = c + a * math.sin(w * t + phi)
+            d.qvel[i] = a * w * math.cos(w * t + phi)
+            d.qacc[i] = -a * w * w * math.sin(w * t + phi)
+        mujoco.mj_inverse(m, d)
+        # MuJoCo's friction row of each dof: saturated against the motion, or skipped.
+        row = {int(d.efc_id[r]): d.efc_force[r] for r in range(d.nefc) if d.efc_type[r] == mujoco.mjtConstraint.mjCNSTR_FRICTION_DOF}
+        for i, name in enumerate(names):
+            v = d.qvel[i]
+            fc = CART_DYNAMICS[name][1]
+            if abs(v) < 1e-3 or not math.isclose(row[i], -math.copysign(fc, v), rel_tol=1e-12):
+                continue
+            theirs = d.qfrc_inverse[i] + fc * (v / math.hypot(v, vs) - math.copysign(1.0, v))
+            col = f"d_{name}.force" if name == "slide" else f"d_{name}.torque"
+            worst = max(worst, abs(efforts[col][k] - theirs))
+            largest = max(largest, abs(theirs))
+            friction_part = max(friction_part, fc)
+            compared += 1
+    print(f"{compared} samples: |Δ| {worst:.2e} of {largest:.2f} (friction up to {friction_part})")
+    assert compared > 0.8 * 2 * len(results.t)
+    assert friction_part > 0.05 * largest
     assert worst < 1e-9 * largest

@@ -43,8 +43,11 @@ pub struct Options {
     pub limits: bool,
     /// Mimic joints as couplers or free.
     pub mimic: MimicMode,
-    /// The `<dynamics damping>` of revolute and continuous joints as rotational dampers.
+    /// The `<dynamics damping>` of revolute, continuous and prismatic joints as dampers.
     pub damping: bool,
+    /// The `<dynamics friction>` of revolute, continuous and prismatic joints as constant
+    /// friction (`[[friction]] law = "constant"`).
+    pub friction: bool,
     /// The analysis needs masses (dynamics): a massless moving body is an error naming its links.
     pub needs_masses: bool,
 }
@@ -56,6 +59,7 @@ impl Default for Options {
             limits: true,
             mimic: MimicMode::Couple,
             damping: false,
+            friction: false,
             needs_masses: true,
         }
     }
@@ -177,25 +181,45 @@ pub fn import(text: &str, options: Options) -> Result<Import> {
     Ok(import)
 }
 
-/// Whether joint `j`'s `<dynamics damping>` becomes a rotational damper (`damping` chosen; a
-/// revolute or continuous joint between two bodies; a damping above 0).
+/// Whether joint `j`'s `<dynamics damping>` becomes a damper (`damping` chosen; a revolute,
+/// continuous or prismatic joint between two bodies; a damping above 0): a
+/// `rotational_spring_damper` or a `translational_spring_damper`.
 pub fn damped(import: &Import, j: usize) -> bool {
     let joint = &import.robot.joints[j];
     import.options.damping
-        && matches!(joint.kind, JointType::Revolute | JointType::Continuous)
+        && one_axis(joint.kind)
         && !import.joint_features[j].0.is_empty()
         && joint.dynamics.is_some_and(|d| d.damping > 0.0)
 }
 
+/// Whether joint `j`'s `<dynamics friction>` becomes a constant friction (`friction` chosen; a
+/// revolute, continuous or prismatic joint between two bodies; a friction above 0).
+pub fn frictional(import: &Import, j: usize) -> bool {
+    let joint = &import.robot.joints[j];
+    import.options.friction
+        && one_axis(joint.kind)
+        && !import.joint_features[j].0.is_empty()
+        && joint.dynamics.is_some_and(|d| d.friction > 0.0)
+}
+
+/// The joint types whose one coordinate a damper or a friction acts on.
+fn one_axis(kind: JointType) -> bool {
+    matches!(
+        kind,
+        JointType::Revolute | JointType::Continuous | JointType::Prismatic
+    )
+}
+
 /// One warning for every joint whose `<dynamics>` is not modelled (a robot often has it on
-/// every joint): friction always; damping unless `damping` is chosen (then only a prismatic or
-/// planar joint's).
+/// every joint): damping unless `damping` is chosen, friction unless `friction` is (and a
+/// planar joint's either way).
 fn dynamics_warning(import: &Import, warnings: &mut Vec<Warning>) {
     let left: Vec<(usize, &crate::robot::Joint)> = (import.robot.joints.iter().enumerate())
         .filter(|(k, j)| {
-            j.dynamics
-                .is_some_and(|d| d.friction > 0.0 || (d.damping > 0.0 && !damped(import, *k)))
-                && !import.joint_features[*k].0.is_empty()
+            j.dynamics.is_some_and(|d| {
+                (d.friction > 0.0 && !frictional(import, *k))
+                    || (d.damping > 0.0 && !damped(import, *k))
+            }) && !import.joint_features[*k].0.is_empty()
         })
         .collect();
     let Some((_, first)) = left.first() else {
@@ -207,10 +231,17 @@ fn dynamics_warning(import: &Import, warnings: &mut Vec<Warning>) {
             format!("\"{}\" (line {line})", j.name)
         })
         .collect();
-    let what = if import.options.damping {
-        "friction (or a prismatic or planar joint's damping), which is not modelled"
-    } else {
-        "damping or friction, which is not modelled (--damping, or damping = true in an overlay's [urdf], makes a revolute joint's damping a rotational damper)"
+    let what = match (import.options.damping, import.options.friction) {
+        (true, true) => "damping or friction on a planar joint, which is not modelled",
+        (true, false) => {
+            "friction, which is not modelled (--friction, or friction = true in an overlay's [urdf], makes it a constant friction)"
+        }
+        (false, true) => {
+            "damping, which is not modelled (--damping, or damping = true in an overlay's [urdf], makes it a damper)"
+        }
+        (false, false) => {
+            "damping or friction, which is not modelled (--damping and --friction, or damping = true and friction = true in an overlay's [urdf], make them dampers and constant friction)"
+        }
     };
     warnings.push(Warning {
         line: first.dynamics.map_or(first.line, |d| d.line),

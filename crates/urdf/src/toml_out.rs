@@ -218,7 +218,8 @@ pub fn to_toml_with(
     out
 }
 
-/// `[[joint]]`, `[[limit]]`, `[[coupler]]` and (`damping` chosen) `[[force]]` tables.
+/// `[[joint]]`, `[[limit]]`, `[[coupler]]`, (`damping` chosen) `[[force]]` and (`friction`
+/// chosen) `[[friction]]` tables.
 fn joints(import: &Import, out: &mut String) {
     let robot = &import.robot;
     let lay = &import.layout;
@@ -249,16 +250,35 @@ fn joints(import: &Import, out: &mut String) {
             body(lay.body_of[p]),
             body(lay.body_of[c]),
         );
+        let slide = j.kind == JointType::Prismatic;
+        let d = j
+            .dynamics
+            .map_or((0.0, 0.0, 0), |d| (d.damping, d.friction, d.line));
         if crate::import::damped(import, k) {
-            let d = j.dynamics.map_or((0.0, 0), |d| (d.damping, d.line));
+            let (what, kind) = match slide {
+                true => ("force", "translational_spring_damper"),
+                false => ("torque", "rotational_spring_damper"),
+            };
             let _ = write!(
                 forces,
-                "\n[[force]]   # <dynamics damping> of joint \"{}\" (line {}): torque −c q̇\nname = \"{}\"\ntype = \"rotational_spring_damper\"\njoint = \"{}\"\ndamping = {}\n",
+                "\n[[force]]   # <dynamics damping> of joint \"{}\" (line {}): {what} −c q̇\nname = \"{}\"\ntype = \"{kind}\"\njoint = \"{}\"\ndamping = {}\n",
                 comment(&j.name),
-                d.1,
+                d.2,
                 elements.claim(&format!("{}_damping", import.joint_names[k])),
                 import.joint_names[k],
                 num(d.0)
+            );
+        }
+        if crate::import::frictional(import, k) {
+            let key = if slide { "force" } else { "torque" };
+            let _ = write!(
+                forces,
+                "\n[[friction]]   # <dynamics friction> of joint \"{}\" (line {}): a constant {key} against the motion\nname = \"{}\"\nlaw = \"constant\"\njoint = \"{}\"\n{key} = {}\n",
+                comment(&j.name),
+                d.2,
+                elements.claim(&format!("{}_friction", import.joint_names[k])),
+                import.joint_names[k],
+                num(d.1)
             );
         }
         // The actuator's ratings: warnings when a driven motion passes them.

@@ -125,9 +125,10 @@ class Model:
         mimic: "str | None" = None,
         limits: "bool | None" = None,
         damping: "bool | None" = None,
+        friction: "bool | None" = None,
     ) -> "Model":
         """Reads and validates a model file (a ``str`` or a ``pathlib.Path``): see :func:`load`."""
-        return load(path, units, base=base, mimic=mimic, limits=limits, damping=damping)
+        return load(path, units, base=base, mimic=mimic, limits=limits, damping=damping, friction=friction)
 
     def with_parameters(self, **values: Any) -> "Model":
         """This model with ``[parameters]`` given values, as ``cardan run --set`` gives them:
@@ -268,6 +269,7 @@ def load(
     mimic: "str | None" = None,
     limits: "bool | None" = None,
     damping: "bool | None" = None,
+    friction: "bool | None" = None,
 ) -> Model:
     """Reads a model file: TOML, an ASMT assembly (``.asmt``, OndselSolver / FreeCAD) or a URDF
     robot (``.urdf``), imported as cardan does for ``cardan run model.asmt``. ``units`` is for
@@ -275,15 +277,15 @@ def load(
     millimetres: the model says ``[model] units = "mm"`` and its results are in mm). A TOML model
     gives its units in ``[model] units``, and ``units=`` is refused for it. ``base``
     (``"fixed"`` or ``"floating"``), ``mimic`` (``"couple"`` or ``"free"``), ``limits`` and
-    ``damping`` are for URDF files, as ``--base``, ``--mimic``, ``--no-limits`` and
-    ``--damping``. The import's warnings
+    ``damping``, ``friction`` are for URDF files, as ``--base``, ``--mimic``, ``--no-limits``,
+    ``--damping`` and ``--friction``. The import's warnings
     (elements read but ignored) are issued as Python warnings."""
     path = os.path.abspath(os.fspath(path))
     with open(path, encoding="utf-8") as f:
         text = f.read()
     is_urdf = path.lower().endswith(".urdf")
-    if not is_urdf and any(v is not None for v in (base, mimic, limits, damping)):
-        raise ValueError(f"base=, mimic=, limits= and damping= apply to URDF files; {path} is not one")
+    if not is_urdf and any(v is not None for v in (base, mimic, limits, damping, friction)):
+        raise ValueError(f"base=, mimic=, limits=, damping= and friction= apply to URDF files; {path} is not one")
     if is_urdf:
         if units is not None:
             raise ValueError(f"units={units!r} applies to ASMT files; a URDF is in SI units")
@@ -294,6 +296,7 @@ def load(
             mimic or "couple",
             True if limits is None else limits,
             bool(damping),
+            bool(friction),
         )
         if out["error"] is not None:
             raise_error(out["error"])
@@ -461,10 +464,17 @@ class Builder:
         self._tables.append(("limit", {"name": name, "joint": joint, **keys}))
         return self
 
-    def friction(self, name: str, joint: str, coefficient: float, **keys: Any) -> "Builder":
-        """Coulomb friction in a joint from its reaction: μ = ``coefficient``, ``radius`` of a
-        rotating joint, ``preload``, ``stiction_velocity``."""
-        self._tables.append(("friction", {"name": name, "joint": joint, "coefficient": coefficient, **keys}))
+    def friction(self, name: str, joint: str, coefficient: float | None = None, **keys: Any) -> "Builder":
+        """Friction in a joint. With ``coefficient``: Coulomb friction from its reaction, μ =
+        ``coefficient``, ``radius`` of a rotating joint, ``preload``, ``stiction_velocity``.
+        Without: the ``constant`` law, a slide's ``force`` or a pin's ``torque`` independent of
+        the load (``b.friction("f", "slide", force=1.5)``)."""
+        table = {"name": name, "joint": joint}
+        if coefficient is None:
+            table["law"] = "constant"
+        else:
+            table["coefficient"] = coefficient
+        self._tables.append(("friction", {**table, **keys}))
         return self
 
     def parameters(self, **values: Any) -> "Builder":
