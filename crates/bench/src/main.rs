@@ -387,6 +387,24 @@ fn profile(args: &[String]) {
             let r = d.simulate_consistent(s, &opts).expect("simulate");
             eprintln!("{:?}", r.stats);
         }
+        Some("model") => {
+            // A model file's analysis, in memory (tables kept, nothing written), n times.
+            let path = Path::new(arg(1).expect("profile model FILE [N]"));
+            let p = cardan_model::prepare::prepare_source(
+                cardan_model::Source::read(path).expect("read"),
+            )
+            .expect("prepare");
+            let a = p.loaded.analysis.clone().expect("an [analysis] table");
+            let flags = cardan_model::analysis::RunFlags::default();
+            let t0 = Instant::now();
+            for _ in 0..n {
+                cardan_model::analysis::analyse(&p, &a, &flags).expect("analyse");
+            }
+            eprintln!(
+                "{:.3} ms per run",
+                t0.elapsed().as_secs_f64() * 1e3 / n.max(1) as f64
+            );
+        }
         _ => {
             let name = args.get(1).map_or("slider_crank", String::as_str);
             let (_, p) = examples()
