@@ -167,7 +167,7 @@ pub fn examples_section(examples: &std::path::Path, smoke: bool) -> String {
             let elapsed = t0.elapsed().as_secs_f64();
             whole.push(elapsed);
             let t1 = std::time::Instant::now();
-            let Ok(declared) = o.prepared.geometry.clone() else {
+            let Ok(declared) = o.prepared.geometry.declared() else {
                 break;
             };
             let scene = cardan_model::scene::scene(

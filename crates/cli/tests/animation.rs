@@ -380,6 +380,23 @@ fn a_missing_mesh_file_is_refused_with_body_and_line() {
     assert!(o.stderr.contains("nowhere.stl"), "{}", o.stderr);
 }
 
+/// Preparing a model reads no mesh file: the geometry is read when first asked for (a run
+/// that writes no report never reads it). The mesh is written only after the model is
+/// prepared, and the geometry then reads it.
+#[test]
+fn mesh_files_are_read_when_the_geometry_is_asked_for_not_when_the_model_is_prepared() {
+    let dir = scratch("anim-lazy");
+    let m = with_geometry(r#"{ shape = "mesh", file = "late.obj" }"#);
+    std::fs::write(dir.join("model.toml"), m).unwrap();
+    let p = cardan_model::prepare::prepare(&dir.join("model.toml")).expect("prepared");
+    std::fs::write(dir.join("late.obj"), OBJ_QUAD).unwrap();
+    let declared = p
+        .geometry
+        .declared()
+        .expect("read after the mesh was written");
+    assert_eq!(declared.bodies["crank"].len(), 1);
+}
+
 #[test]
 fn a_mesh_of_ten_million_triangles_is_refused_before_it_is_read() {
     let dir = scratch("anim-huge");

@@ -37,7 +37,7 @@ pub fn check_with(
 /// The description `check` prints, and its refusals.
 fn describe(p: &Prepared, path: &Path, out: &mut dyn Write) -> Result<(), Error> {
     // The animation's geometry (mesh files included), as `cardan run` checks it.
-    p.geometry.as_ref().map_err(Clone::clone)?;
+    p.geometry.readable()?;
     let model = &p.model;
     let t0 = p.loaded.analysis.as_ref().map_or(0.0, |a| a.t_start);
     let mut ws = model.workspace();

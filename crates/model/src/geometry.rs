@@ -21,6 +21,7 @@ use cardan_report::{read_mesh, Geometry, Shape};
 use nalgebra::{Matrix3, Vector3};
 use std::collections::BTreeMap;
 use std::path::Path;
+use std::sync::{Arc, OnceLock};
 use toml::Spanned;
 
 /// Most triangles of all mesh files of a model together.
@@ -43,43 +44,101 @@ pub struct Declared {
 /// # Errors
 /// An input error naming the body, the item and the line (module docs).
 pub fn load(src: &Source) -> Result<Declared, Error> {
-    let (src, file, _) = crate::overlay::parse_overlaid(src.clone())?;
-    load_parsed(&src, &file)
+    let (src, mut file, _) = crate::overlay::parse_overlaid(src.clone())?;
+    LazyGeometry::take(&src, &mut file).declared()
 }
 
-/// [`load`] from the file already parsed (a large model's file is parsed once: `Prepared`).
-///
-/// # Errors
-/// As [`load`].
-pub fn load_parsed(src: &Source, file: &crate::file::ModelFile) -> Result<Declared, Error> {
-    let length = crate::build::model_units(src, file)?.length();
-    let mut out = Declared::default();
-    if let Some(g) = &file.model.get_ref().gravity {
-        let g = g.get_ref();
-        let v = [*g[0].get_ref(), *g[1].get_ref(), *g[2].get_ref()];
-        out.up = v.map(|x| -x);
-    }
-    let dir = src.path.parent().unwrap_or(Path::new("."));
-    let mut budget = MAX_TRIANGLES;
-    for b in &file.body {
-        let b = b.get_ref();
-        let Some(items) = &b.geometry else { continue };
-        let name = b.name.get_ref();
-        let mut list = Vec::with_capacity(items.get_ref().len());
-        for (k, item) in items.get_ref().iter().enumerate() {
-            let cx = Item {
-                src,
-                body: name,
-                number: k + 1,
+/// The bodies' `geometry` keys taken from a parsed file, read (mesh files included) the first
+/// time they are asked for ([`LazyGeometry::declared`]) and kept: only the commands that draw
+/// or check the geometry read its meshes, not every analysis (a robot's visual meshes were
+/// 60 ms of a two-sample inverse dynamics from Python). Clones share the reading.
+#[derive(Debug, Clone)]
+pub struct LazyGeometry {
+    pending: Arc<Pending>,
+    read: Arc<OnceLock<Result<Declared, Error>>>,
+}
+
+/// What reading the geometry needs from the model file.
+#[derive(Debug)]
+struct Pending {
+    src: Source,
+    /// The model's length unit in metres, or why the units are wrong.
+    length: Result<f64, Error>,
+    up: [f64; 3],
+    /// Each body with a `geometry` key: its name and items.
+    bodies: Vec<(String, Spanned<Vec<Spanned<GeometrySpec>>>)>,
+}
+
+impl LazyGeometry {
+    /// Takes the `geometry` keys out of `file` (parsed from `src`), to be read when asked for.
+    pub fn take(src: &Source, file: &mut crate::file::ModelFile) -> Self {
+        let length = crate::build::model_units(src, file).map(|u| u.length());
+        let up = file.model.get_ref().gravity.as_ref().map_or([0.0; 3], |g| {
+            let g = g.get_ref();
+            [*g[0].get_ref(), *g[1].get_ref(), *g[2].get_ref()].map(|x| -x)
+        });
+        let bodies = (file.body.iter_mut())
+            .filter_map(|b| {
+                let b = b.get_mut();
+                b.geometry.take().map(|g| (b.name.get_ref().clone(), g))
+            })
+            .collect();
+        Self {
+            pending: Arc::new(Pending {
+                src: src.clone(),
                 length,
-            };
-            let g = cx.geometry(item, dir, &mut budget)?;
-            list.push(g);
+                up,
+                bodies,
+            }),
+            read: Arc::new(OnceLock::new()),
         }
-        out.bodies.insert(name.clone(), list);
     }
-    draw_small(&mut out);
-    Ok(out)
+
+    /// The declared geometry, its mesh files read (the first call reads them).
+    ///
+    /// # Errors
+    /// An input error naming the body, the item and the line (module docs).
+    pub fn declared(&self) -> Result<Declared, Error> {
+        self.read.get_or_init(|| self.pending.read()).clone()
+    }
+
+    /// Whether the declared geometry can be read (reading it, without a copy).
+    ///
+    /// # Errors
+    /// As [`Self::declared`].
+    pub fn readable(&self) -> Result<(), Error> {
+        let read = self.read.get_or_init(|| self.pending.read());
+        read.as_ref().map(drop).map_err(Clone::clone)
+    }
+}
+
+impl Pending {
+    fn read(&self) -> Result<Declared, Error> {
+        let src = &self.src;
+        let length = self.length.clone()?;
+        let mut out = Declared {
+            up: self.up,
+            ..Declared::default()
+        };
+        let dir = src.path.parent().unwrap_or(Path::new("."));
+        let mut budget = MAX_TRIANGLES;
+        for (name, items) in &self.bodies {
+            let mut list = Vec::with_capacity(items.get_ref().len());
+            for (k, item) in items.get_ref().iter().enumerate() {
+                let cx = Item {
+                    src,
+                    body: name,
+                    number: k + 1,
+                    length,
+                };
+                let g = cx.geometry(item, dir, &mut budget)?;
+                list.push(g);
+            }
+            out.bodies.insert(name.clone(), list);
+        }
+        draw_small(&mut out);
+        Ok(out)
+    }
 }
 
 /// The meshes of a model drawn with at most [`DRAWN_TRIANGLES`] together: when they have more,

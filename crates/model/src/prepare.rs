@@ -24,10 +24,10 @@ pub struct Prepared {
     /// The model's units (`[model] units`), in which the outputs are written (the analyses
     /// work in SI).
     pub units: crate::units::UnitSystem,
-    /// The animation's declared geometry (mesh files read), or why it cannot be used: read
-    /// with the model, so the file is parsed once, and refused only by the commands that draw
-    /// or check it (`run`, `check`).
-    pub geometry: Result<crate::geometry::Declared, Error>,
+    /// The animation's declared geometry, taken from the file as it is parsed (once) and read
+    /// (mesh files) when first asked for: by the commands that draw or check it (`run`,
+    /// `check`), which refuse a model whose geometry cannot be read.
+    pub geometry: crate::geometry::LazyGeometry,
 }
 
 /// Reads, parses, checks and builds a model file.
@@ -58,9 +58,9 @@ pub fn prepare_with(path: &Path, options: crate::asmt::AsmtOptions) -> Result<Pr
 /// # Errors
 /// As [`prepare`], except reading.
 pub fn prepare_source(source: Source) -> Result<Prepared, Error> {
-    let (source, file, warnings) = crate::overlay::parse_overlaid(source)?;
+    let (source, mut file, warnings) = crate::overlay::parse_overlaid(source)?;
     let loaded = load(&source, &file)?;
-    let geometry = crate::geometry::load_parsed(&source, &file);
+    let geometry = crate::geometry::LazyGeometry::take(&source, &mut file);
     drop(file);
     let model = loaded
         .builder

@@ -101,7 +101,7 @@ fn run_text(
         ..RunFlags::default()
     };
     // The geometry is checked before the analysis, as `cardan run` does.
-    let declared = match report.then(|| p.geometry.clone()).transpose() {
+    let declared = match report.then(|| p.geometry.declared()).transpose() {
         Ok(d) => d,
         Err(e) => return failed(&e),
     };

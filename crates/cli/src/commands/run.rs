@@ -118,7 +118,7 @@ fn run_prepared(
         ));
     };
     // The animation's geometry (mesh files included) is checked before any work is done.
-    let declared = p.geometry.clone()?;
+    let declared = p.geometry.declared()?;
     // Locked before the analysis: a concurrent run is refused at once, not after its work.
     let mut out_dir = OutputDir::lock(dir)?;
     // The results of an ASMT file back in ASMT, streamed as the CSV files are and committed

@@ -84,7 +84,7 @@ fn run(path: &Path, set: &[(String, String)]) -> Result<Solved, Error> {
             .source
             .error("the model has no [analysis] table: the preview runs it on every save"));
     };
-    let declared = p.geometry.clone()?;
+    let declared = p.geometry.declared()?;
     let (kind, mut analysed) = analyse(&p, &a, &RunFlags::default())?;
     let names: Vec<String> = analysed
         .tables
