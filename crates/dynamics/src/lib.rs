@@ -142,6 +142,7 @@ pub mod forces;
 pub mod friction;
 pub mod integrators;
 pub mod inverse;
+mod joint_angles;
 pub mod joint_space;
 mod kkt;
 pub mod modal;

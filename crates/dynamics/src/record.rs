@@ -299,7 +299,7 @@ impl<'s> Recorder<'s> {
     }
 
     /// The joint coordinates at time `t` (rates and accelerations when asked), angles
-    /// continued over turns from the time recorded last.
+    /// continued over turns along a dynamic run's steps, or from the time recorded last.
     fn store_joints(&mut self, d: &Dynamics, t: f64) {
         let vel = self.outputs.needs_velocity();
         let acc = self.outputs.acceleration;
@@ -318,13 +318,10 @@ impl<'s> Recorder<'s> {
             _ => BodyAcceleration::default(),
         };
         let continued = self.last_t.is_some();
-        for ((jr, j), last) in self
-            .res
-            .kinematics
-            .joints
-            .iter_mut()
+        for (index, ((jr, j), last)) in (self.res.kinematics.joints.iter_mut())
             .zip(d.model.joints())
             .zip(&mut self.last_joint)
+            .enumerate()
         {
             let pair = BodyPair::new(st(j.body_i), st(j.body_j));
             let mut c = j.joint.coordinates(&pair);
@@ -332,13 +329,18 @@ impl<'s> Recorder<'s> {
                 j.joint
                     .coordinate_rates(&pair, &body_acc(j.body_i), &body_acc(j.body_j))
             });
-            if continued {
-                let (prev, prev_rates) = (last.values, last.rates);
-                for (i, coord) in c.coordinates.iter().enumerate() {
-                    if coord.measure.quantity() == CoordinateQuantity::Angle {
-                        let w = rates.as_ref().map(|r| (prev_rates[i], r.rates[i]));
-                        c.values[i] = continue_angle(prev[i], w, dt, c.values[i]);
-                    }
+            let (prev, prev_rates) = (last.values, last.rates);
+            for (i, coord) in c.coordinates.iter().enumerate() {
+                if coord.measure.quantity() != CoordinateQuantity::Angle {
+                    continue;
+                }
+                // Along a dynamic run's steps ([`crate::joint_angles`]); else (inverse
+                // dynamics, statics) from the time recorded last.
+                if let Some(v) = d.joint_angles.continued(index, i, c.values[i]) {
+                    c.values[i] = v;
+                } else if continued {
+                    let w = rates.as_ref().map(|r| (prev_rates[i], r.rates[i]));
+                    c.values[i] = continue_angle(prev[i], w, dt, c.values[i]);
                 }
             }
             last.values = c.values;

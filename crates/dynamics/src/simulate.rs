@@ -134,6 +134,10 @@ impl Dynamics<'_> {
             Some(sink) => Recorder::streamed(self, options.outputs, sink),
             None => Recorder::new(self, times.len(), options.outputs),
         };
+        // The joint angles continue from the start's principal values (the first output's).
+        self.joint_angles.start(options.outputs.joints);
+        self.sync(&state);
+        self.joint_angles.accept(self.model, &self.bodies);
         let mut stats = IntegrationStats::default();
         let f0 = self.kkt.as_ref().map_or(0, |k| k.factorizations);
         let reselections = self.reselections;
@@ -146,6 +150,7 @@ impl Dynamics<'_> {
                 self, state, o, options, &times, &mut rec, &mut stats, progress,
             ),
         };
+        self.joint_angles.start(false);
         stats.factorizations = self.kkt.as_ref().map_or(0, |k| k.factorizations) - f0;
         stats.row_reselections = self.reselections - reselections;
         stats.wall_time = start.elapsed().as_secs_f64();

@@ -56,6 +56,9 @@ pub struct Dynamics<'m> {
     /// Each coupler's angles at the last accepted state, which its angles are continued from
     /// ([`Model::accept_turns`]).
     pub(crate) turns: Vec<[f64; 2]>,
+    /// The joints' angles continued along the accepted steps of a run recording them
+    /// ([`crate::joint_angles`]).
+    pub(crate) joint_angles: crate::joint_angles::JointAngles,
     /// The curve elements' parameters at the synced bodies, eliminated from the equations of
     /// motion ([`crate::kkt`]'s `curves`).
     pub(crate) curves: CurveTrack,
@@ -131,6 +134,7 @@ impl<'m> Dynamics<'m> {
             reselections: 0,
             bodies: vec![BodyState::ground(); nb],
             turns: model.initial_turns(),
+            joint_angles: crate::joint_angles::JointAngles::new(model),
             curves: CurveTrack::new(model),
             h: vec![0.0; 6 * nb],
             h_user: vec![0.0; 6 * nb],
@@ -234,6 +238,7 @@ impl<'m> Dynamics<'m> {
         for f in &mut self.forces {
             f.accept_angle(self.model, &self.bodies);
         }
+        self.joint_angles.accept(self.model, &self.bodies);
         if let Some(c) = &mut self.collisions {
             c.accept();
         }
