@@ -9,7 +9,7 @@ import pytest
 import cardan
 
 
-def _pendulum(**limit):
+def _pendulum(friction=None, **limit):
     b = cardan.Builder("pendulum", gravity=[0, -9.81, 0])
     b.ground(points={"O": [0, 0, 0]}, vectors={"z": [0, 0, 1], "x": [1, 0, 0]})
     b.body("rod", mass=1.0, inertia={"diag": [1e-4, 1 / 12, 1 / 12]}, position=[0.5, 0, 0],
@@ -17,7 +17,7 @@ def _pendulum(**limit):
     b.joint("hinge", "revolute", body_i="ground", point_i="O", axis_i="z", x_axis_i="x",
             body_j="rod", point_j="O", axis_j="z", x_axis_j="x")
     b.limit("stop", "hinge", **limit)
-    b.friction("pin", "hinge", 0.0, radius=0.01)
+    b.friction("pin", "hinge", **(friction or {"coefficient": 0.0, "radius": 0.01}))
     b.analysis("dynamic", integrator="dopri5", rtol=1e-10, atol=1e-12, t_end=1.0, output_dt=0.01)
     return b
 
@@ -45,3 +45,14 @@ def test_a_bad_limit_is_a_model_error_at_its_key():
     line = b.to_toml().splitlines()[e.value.line - 1]
     assert line == "upper = 0.2"
     assert "range is empty" in str(e.value)
+
+
+def test_a_constant_friction_torque_from_the_builder():
+    """``friction(name, joint, torque=T_c)`` without a coefficient writes ``law = "constant"``:
+    the pin's friction torque is T_c s(θ̇) against the swing, whatever the load."""
+    b = _pendulum(friction={"torque": 0.05}, lower=-math.pi)
+    assert 'joint = "hinge"\nlaw = "constant"\ntorque = 0.05' in b.to_toml()
+    r = b.build().dynamics()
+    torque = r["friction"]["pin torque"]
+    assert max(abs(x) for x in torque) <= 0.05 + 1e-15
+    assert max(abs(x) for x in torque) > 0.0499
