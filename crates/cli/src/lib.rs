@@ -274,6 +274,8 @@ impl UrdfArgs {
             limits: !self.no_limits,
             damping: self.damping,
             friction: self.friction,
+            // Collision shapes come from an overlay's [urdf] only.
+            self_collision: false,
         }
     }
 }

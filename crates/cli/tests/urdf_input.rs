@@ -488,3 +488,65 @@ fn collision_elements_become_contact_shapes_of_the_overlays_material() {
         o.stderr
     );
 }
+
+/// A turntable (`table`, driven about the vertical at one turn a second) carrying a free
+/// swinging arm (`arm`, about a vertical pin 0.15 m out on the table, pointing outwards) whose
+/// ball sweeps about a circle of radius 0.3 m; the root link has a post (a sphere) on that
+/// circle at half a turn (a spring on the pin keeps the arm pointing outwards). The post and
+/// the ball belong to links whose bodies share no joint.
+const SWEEPER: &str = r#"<?xml version="1.0"?>
+<robot name="sweeper">
+  <link name="base">
+    <collision><origin xyz="-0.3 0 0.1"/><geometry><sphere radius="0.05"/></geometry></collision>
+  </link>
+  <link name="table">
+    <inertial><mass value="1.0"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>
+  </link>
+  <link name="arm">
+    <inertial><origin xyz="0.15 0 0"/><mass value="0.5"/><inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.001"/></inertial>
+    <collision><origin xyz="0.15 0 0"/><geometry><sphere radius="0.05"/></geometry></collision>
+  </link>
+  <joint name="turn" type="continuous">
+    <parent link="base"/><child link="table"/><axis xyz="0 0 1"/>
+  </joint>
+  <joint name="swing" type="continuous">
+    <parent link="table"/><child link="arm"/><origin xyz="0.15 0 0.1"/><axis xyz="0 0 1"/>
+  </joint>
+</robot>
+"#;
+
+/// The sweeper's contacts over 1 s with `keys` in the overlay's `[urdf]`: the rows of
+/// contacts.csv.
+fn sweeper_contacts(keys: &str) -> Vec<String> {
+    let dir = scratch("urdf-self-collision");
+    std::fs::write(dir.join("sweeper.urdf"), SWEEPER).unwrap();
+    let overlay = format!(
+        "[model]\nname = \"sweep\"\ngravity = [0.0, 0.0, 0.0]\n\n[urdf]\nfile = \"sweeper.urdf\"\n\
+         collision = \"steel\"\n{keys}\n\n\
+         [[material]]\nname = \"steel\"\nstiffness = 1e7\nrestitution = 0.5\nfriction = 0.0\n\n\
+         [[force]]\nname = \"stiff\"\ntype = \"rotational_spring_damper\"\njoint = \"swing\"\n\
+         stiffness = 50.0\ndamping = 0.5\n\n\
+         {}\n[analysis]\nkind = \"dynamic\"\nintegrator = \"dopri5\"\nt_end = 1.0\noutput_dt = 0.01\n",
+        driver("spin", "turn", "2 * pi * t")
+    );
+    std::fs::write(dir.join("overlay.toml"), overlay).unwrap();
+    let o = cardan(&["run", "overlay.toml", "-o", "out", "--quiet"], &dir);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let text = std::fs::read_to_string(dir.join("out/contacts.csv")).unwrap_or_default();
+    text.lines().skip(1).map(String::from).collect()
+}
+
+#[test]
+fn the_robots_own_shapes_touch_each_other_only_with_self_collision() {
+    // Without: the ball passes through the post.
+    assert!(sweeper_contacts("").is_empty());
+    // With: the post stops the ball at half a turn (the arm swings back about its pin).
+    let rows = sweeper_contacts("self_collision = true");
+    assert!(!rows.is_empty());
+    assert!(
+        rows.iter()
+            .all(|r| r.contains("arm_collision,arm,base_collision,ground")
+                || r.contains("base_collision,ground,arm_collision,arm")),
+        "{rows:?}"
+    );
+}

@@ -182,6 +182,9 @@ pub struct UrdfSection {
     /// Joints' `<dynamics friction>` as constant friction (default false).
     #[serde(default)]
     pub friction: Option<bool>,
+    /// The robot's collision shapes touch each other too (default false; with `collision`).
+    #[serde(default)]
+    pub self_collision: Option<bool>,
     /// The links' `<collision>` elements as contact shapes of this `[[material]]` (default:
     /// none).
     #[serde(default)]

@@ -11,7 +11,8 @@
 //! base = "fixed"           # or "floating"; mimic = "couple" | "free"; limits = true | false;
 //!                          # damping = true: joints' <dynamics damping> as dampers;
 //!                          # friction = true: joints' <dynamics friction> as [[friction]];
-//!                          # collision = "steel": the links' <collision> as shapes of a [[material]]
+//!                          # collision = "steel": the links' <collision> as shapes of a [[material]];
+//!                          # self_collision = true: those shapes touch each other too
 //!
 //! [[driver]]
 //! name = "wave"
@@ -137,6 +138,7 @@ fn options(src: &Source, t: &crate::file::UrdfSection) -> Result<UrdfOptions, Er
         limits: t.limits.unwrap_or(true),
         damping: t.damping.unwrap_or(false),
         friction: t.friction.unwrap_or(false),
+        self_collision: t.self_collision.unwrap_or(false),
     })
 }
 

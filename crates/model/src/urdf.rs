@@ -34,6 +34,8 @@ pub struct UrdfOptions {
     pub damping: bool,
     /// Joints' `<dynamics friction>` as constant friction (`--friction`).
     pub friction: bool,
+    /// The links' collision shapes touch each other too (an overlay's `[urdf] self_collision`).
+    pub self_collision: bool,
 }
 
 impl Default for UrdfOptions {
@@ -44,6 +46,7 @@ impl Default for UrdfOptions {
             limits: true,
             damping: false,
             friction: false,
+            self_collision: false,
         }
     }
 }
@@ -92,6 +95,7 @@ pub fn import_text(
             mimic: options.mimic,
             damping: options.damping,
             friction: options.friction,
+            self_collision: options.self_collision,
             needs_masses,
         },
     )

@@ -403,6 +403,8 @@ fn import_urdf<'py>(
         limits,
         damping,
         friction,
+        // Collision shapes come from an overlay's [urdf] only.
+        self_collision: false,
     };
     imported(
         py,

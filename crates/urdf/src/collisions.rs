@@ -10,7 +10,9 @@
 //! The robot's shapes are in collision group 2 and touch group 1 only: they do not touch each
 //! other (a robot's collision geometry overlaps between links, which URDF readers filter by
 //! adjacency or leave to the user), and they touch the shapes an overlay adds (group 1 by
-//! default: a floor, a part to grip). A mesh that cannot be found, a COLLADA mesh (the shapes
+//! default: a floor, a part to grip). With `self_collision` ([`crate::Options`]) they touch
+//! group 2 too: every pair of links whose bodies are not the two bodies of one joint (the
+//! model's rule for every shape; MuJoCo's default for a URDF, which filters parent and child). A mesh that cannot be found, a COLLADA mesh (the shapes
 //! read STL and OBJ) or a non-uniform scale leaves the collision out, with a warning at its
 //! line.
 
@@ -79,13 +81,17 @@ pub fn collision_shapes(
                 point = format!("{name}_{n}");
                 n += 1;
             }
+            let touches = match import.options.self_collision {
+                true => "[1, 2]",
+                false => "[1]",
+            };
             let frame = lay.link_pose[l].then(&c.origin);
             let mut table = String::new();
             let _ = write!(
                 table,
                 "\n[[shape]]   # <collision> of link \"{}\" (line {})\nname = \"{name}\"\n{kind}\n\
                  body = \"{body}\"\nmaterial = \"{material}\"\npoint = \"{point}\"\n\
-                 axis = \"{point}_z\"\nx_axis = \"{point}_x\"\ngroups = [2]\ncollides_with = [1]\n",
+                 axis = \"{point}_z\"\nx_axis = \"{point}_x\"\ngroups = [2]\ncollides_with = {touches}\n",
                 link.name.replace(['\n', '\r'], " "),
                 c.line
             );

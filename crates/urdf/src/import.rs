@@ -48,6 +48,9 @@ pub struct Options {
     /// The `<dynamics friction>` of revolute, continuous and prismatic joints as constant
     /// friction (`[[friction]] law = "constant"`).
     pub friction: bool,
+    /// The links' collision shapes (when made) touch each other too, except between the two
+    /// bodies of a joint.
+    pub self_collision: bool,
     /// The analysis needs masses (dynamics): a massless moving body is an error naming its links.
     pub needs_masses: bool,
 }
@@ -60,6 +63,7 @@ impl Default for Options {
             mimic: MimicMode::Couple,
             damping: false,
             friction: false,
+            self_collision: false,
             needs_masses: true,
         }
     }
