@@ -469,7 +469,7 @@ class Builder:
         ``coefficient``, ``radius`` of a rotating joint, ``preload``, ``stiction_velocity``.
         Without: the ``constant`` law, a slide's ``force`` or a pin's ``torque`` independent of
         the load (``b.friction("f", "slide", force=1.5)``)."""
-        table = {"name": name, "joint": joint}
+        table: dict[str, Any] = {"name": name, "joint": joint}
         if coefficient is None:
             table["law"] = "constant"
         else:
