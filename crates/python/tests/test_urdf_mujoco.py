@@ -40,19 +40,35 @@ def damped_arm(tmp_path):
     return path
 
 
-def cardan_torques(tmp_path):
-    lines = ["[model]", 'name = "damped"', "[urdf]", 'file = "arm.urdf"', "limits = false", "damping = true"]
-    for name, (c, a, w, phi) in LAW.items():
+def driven(tmp_path, urdf: str, keys: list, law: dict, t_end: float, dt: float, slides=()):
+    """The inverse dynamics of an overlay on ``urdf`` (in tmp_path) with ``keys`` in its
+    ``[urdf]``, each joint of ``law`` driven along q = c + a sin(w t + φ) (a translation driver
+    for the joints in ``slides``, a rotation driver otherwise)."""
+    lines = ["[model]", 'name = "driven"', "[urdf]", f'file = "{urdf}"', "limits = false", *keys]
+    for name, (c, a, w, phi) in law.items():
         lines += [
             "[[driver]]",
             f'name = "d_{name}"',
-            'type = "rotation"',
+            f'type = "{"translation" if name in slides else "rotation"}"',
             f'joint = "{name}"',
             f'function = {{ kind = "expression", text = "{c!r} + {a!r} * sin({w!r} * t + {phi!r})" }}',
         ]
-    lines += ["[analysis]", 'kind = "inverse_dynamics"', "t_end = 2.0", "dt = 0.05", "position_tolerance = 1e-13"]
+    lines += ["[analysis]", 'kind = "inverse_dynamics"', f"t_end = {t_end!r}", f"dt = {dt!r}", "position_tolerance = 1e-13"]
     model = cardan.Model.from_toml("\n".join(lines) + "\n", path=tmp_path / "overlay.toml")
     return model.inverse_dynamics()
+
+
+def set_state(d, names: list, law: dict, t: float) -> None:
+    """MuJoCo's q, q̇, q̈ of the joints ``names`` (dof i the i-th) along ``law`` at t."""
+    for i, name in enumerate(names):
+        c, a, w, phi = law[name]
+        d.qpos[i] = c + a * math.sin(w * t + phi)
+        d.qvel[i] = a * w * math.cos(w * t + phi)
+        d.qacc[i] = -a * w * w * math.sin(w * t + phi)
+
+
+def cardan_torques(tmp_path):
+    return driven(tmp_path, "arm.urdf", ["damping = true"], LAW, t_end=2.0, dt=0.05)
 
 
 def test_joint_damping_matches_mujoco_inverse_dynamics(tmp_path) -> None:
@@ -66,11 +82,7 @@ def test_joint_damping_matches_mujoco_inverse_dynamics(tmp_path) -> None:
     efforts = results.driver_efforts
     worst = largest = damping_part = 0.0
     for k, t in enumerate(results.t):
-        for i, name in enumerate(names):
-            c, a, w, phi = LAW[name]
-            d.qpos[i] = c + a * math.sin(w * t + phi)
-            d.qvel[i] = a * w * math.cos(w * t + phi)
-            d.qacc[i] = -a * w * w * math.sin(w * t + phi)
+        set_state(d, names, LAW, t)
         mujoco.mj_inverse(m, d)
         for i, name in enumerate(names):
             mine = efforts[f"d_{name}.torque"][k]
@@ -132,29 +144,15 @@ def test_joint_damping_and_friction_match_mujoco_inverse_dynamics(tmp_path) -> N
     assert 'law = "constant"\njoint = "swing"\ntorque = 0.03' in text
     with pytest.warns(UserWarning, match="damping or friction, which is not modelled"):
         assert "law = \"constant\"" not in cardan.load(tmp_path / "cart.urdf").text
-    lines = ["[model]", 'name = "cart"', "[urdf]", 'file = "cart.urdf"', "limits = false", "damping = true", "friction = true"]
-    for name, (c, a, w, phi) in CART_LAW.items():
-        kind = "translation" if name == "slide" else "rotation"
-        lines += [
-            "[[driver]]",
-            f'name = "d_{name}"',
-            f'type = "{kind}"',
-            f'joint = "{name}"',
-            f'function = {{ kind = "expression", text = "{c!r} + {a!r} * sin({w!r} * t + {phi!r})" }}',
-        ]
-    lines += ["[analysis]", 'kind = "inverse_dynamics"', "t_end = 3.0", "dt = 0.01", "position_tolerance = 1e-13"]
-    results = cardan.Model.from_toml("\n".join(lines) + "\n", path=tmp_path / "overlay.toml").inverse_dynamics()
+    keys = ["damping = true", "friction = true"]
+    results = driven(tmp_path, "cart.urdf", keys, CART_LAW, t_end=3.0, dt=0.01, slides=("slide",))
     efforts = results.driver_efforts
     d = mujoco.MjData(m)
     vs = 1e-4
     worst = largest = friction_part = 0.0
     compared = 0
     for k, t in enumerate(results.t):
-        for i, name in enumerate(names):
-            c, a, w, phi = CART_LAW[name]
-            d.qpos[i] = c + a * math.sin(w * t + phi)
-            d.qvel[i] = a * w * math.cos(w * t + phi)
-            d.qacc[i] = -a * w * w * math.sin(w * t + phi)
+        set_state(d, names, CART_LAW, t)
         mujoco.mj_inverse(m, d)
         # MuJoCo's friction row of each dof: saturated against the motion, or skipped.
         row = {int(d.efc_id[r]): d.efc_force[r] for r in range(d.nefc) if d.efc_type[r] == mujoco.mjtConstraint.mjCNSTR_FRICTION_DOF}
