@@ -460,3 +460,31 @@ fn inverse_dynamics_energy_output_can_be_turned_off() {
     assert!(dir.join("out/driver_efforts.csv").exists());
     assert!(!dir.join("out/energy.csv").exists());
 }
+
+/// An inverse dynamics run that writes bodies and efforts alone computes no point or joint
+/// history (the dynamics' recorder is told what the outputs need), and its efforts are those
+/// of the run that writes everything.
+#[test]
+fn a_run_asking_for_no_points_or_joints_computes_none() {
+    let text = std::fs::read_to_string(example("slider_crank")).unwrap();
+    let inverse = text.replace("kind = \"kinematic\"", "kind = \"inverse_dynamics\"");
+    let lean = inverse
+        .replace("points = [\"crank.B\", \"slider.C\"]\n", "points = []\n")
+        .replace("joints = [\"crank_pin\", \"slide\"]\n", "joints = []\n");
+    let run = |text: &str| {
+        let dir = common::scratch("inverse-lean");
+        std::fs::write(dir.join("model.toml"), text).unwrap();
+        let p = prepare(&dir.join("model.toml")).unwrap();
+        let a = p.loaded.analysis.clone().unwrap();
+        let flags = cardan_model::analysis::RunFlags::default();
+        let (_, analysed) = cardan_model::analysis::analyse(&p, &a, &flags).unwrap();
+        analysed.dynamic.unwrap()
+    };
+    let (full, lean) = (run(&inverse), run(&lean));
+    assert!(!full.kinematics.points.is_empty() && !full.kinematics.joints.is_empty());
+    assert!(lean.kinematics.points.is_empty() && lean.kinematics.joints.is_empty());
+    assert_eq!(full.drivers.len(), lean.drivers.len());
+    for (a, b) in full.drivers.iter().zip(&lean.drivers) {
+        assert_eq!(a.effort, b.effort);
+    }
+}

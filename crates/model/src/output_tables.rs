@@ -120,6 +120,17 @@ pub(super) fn requested(p: &Prepared, req: &Requested) -> Requested {
     }
 }
 
+/// What the analysis computes at each output time for the outputs `req` (as [`requested`]
+/// gives them): the point and joint histories only when a point or a joint is written (a run
+/// asking for bodies and efforts alone computes neither).
+pub(super) fn computed(req: &Requested) -> cardan_mechanism::Outputs {
+    cardan_mechanism::Outputs {
+        points: !req.points.is_empty(),
+        joints: !req.joints.is_empty(),
+        ..cardan_mechanism::Outputs::default()
+    }
+}
+
 /// What a driver exerts and its unit: a torque (N m) for a rotation driver and a general
 /// motion's angle rows (the torque on body j about P_j, frame-i components), else a force (N).
 pub fn effort_kind(p: &Prepared, driver: &str) -> (&'static str, &'static str) {

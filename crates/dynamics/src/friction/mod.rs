@@ -16,8 +16,7 @@
 //! radius μ r for a pin (Shigley; Haug 1989 §11.4 for joint friction from reactions). F_c and
 //! T_c are a friction independent of the load (the `constant` law: URDF's `<dynamics
 //! friction>`, MuJoCo's `frictionloss`, whose inverse dynamics gives exactly F_c sign(ṡ) while
-//! the joint slides). s
-//! regularizes sign(v) near zero velocity (the stiction model: a steep viscous law of slope
+//! the joint slides). s regularizes sign(v) near zero velocity (the stiction model: a steep viscous law of slope
 //! μN/v_s below v_s, so a joint held by friction creeps at about v_s times the ratio of the
 //! driving force to μN; the run's steps resolve that slope).
 //!

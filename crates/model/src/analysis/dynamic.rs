@@ -18,7 +18,7 @@ use super::stream::{Recorder, Tap};
 use super::summary::{Analysed, DynamicSummary, RunFlags, Summary};
 use crate::diag::Error;
 use crate::files::{FrameTap, OutputFiles};
-use crate::output_tables::{peak_efforts_of, requested};
+use crate::output_tables::{computed, peak_efforts_of, requested};
 use crate::prepare::Prepared;
 use cardan_dynamics::{DynamicResults, Integrator, SimulationOptions};
 use std::path::PathBuf;
@@ -48,6 +48,7 @@ pub(super) fn run_dynamic(
     let mut d = dynamics(p)?;
     let initial = initial_state(p);
     let req = requested(p, &analysis.outputs);
+    opts = opts.outputs(computed(&req));
     let planned = opts.times(initial.t).len();
     let make = |f: &DynamicResults| DynamicLayout::new(p, f, &req, Kind::Dynamic);
     let tap = solved.map(|s| s as &mut dyn Tap<DynamicResults>);

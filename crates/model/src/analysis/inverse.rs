@@ -18,7 +18,7 @@ use super::tally::DynamicTally;
 use super::warnings::dropped_row_warnings;
 use crate::diag::Error;
 use crate::files::{FrameTap, OutputFiles};
-use crate::output_tables::{peak_efforts_of, requested};
+use crate::output_tables::{computed, peak_efforts_of, requested};
 use crate::prepare::{analysis_error, Prepared};
 use cardan_dynamics::{DynamicResults, DynamicsError};
 use cardan_mechanism::{AssemblyOptions, KinematicOptions};
@@ -47,6 +47,7 @@ pub(super) fn run_inverse(
     let mut pulls = super::resting::PullWatch::new(p);
     let (mut d, opts) = setup(p)?;
     let req = requested(p, &analysis.outputs);
+    let opts = opts.outputs(computed(&req));
     let make = |f: &DynamicResults| DynamicLayout::new(p, f, &req, Kind::Inverse);
     let tap = solved.map(|s| s as &mut dyn Tap<DynamicResults>);
     let mut rec = Recorder::new(p.units, opts.steps + 1, dir, tap, make);
