@@ -116,25 +116,10 @@ def inverse(name: str) -> dict:
 
 
 def rk4_pin(model, q0, t_end, h):
-    data = model.createData()
-    zero = np.zeros(model.nv)
-    q, v, t, out = q0.copy(), np.zeros(model.nv), 0.0, {}
-    marks = MARKS
-    while t < t_end - 1e-12:
-        k1a = pin.aba(model, data, q, v, zero)
-        q2, v2 = q + 0.5 * h * v, v + 0.5 * h * k1a
-        k2a = pin.aba(model, data, q2, v2, zero)
-        q3, v3 = q + 0.5 * h * v2, v + 0.5 * h * k2a
-        k3a = pin.aba(model, data, q3, v3, zero)
-        q4, v4 = q + h * v3, v + h * k3a
-        k4a = pin.aba(model, data, q4, v4, zero)
-        q = q + h / 6 * (v + 2 * v2 + 2 * v3 + v4)
-        v = v + h / 6 * (k1a + 2 * k2a + 2 * k3a + k4a)
-        t += h
-        for mark in marks:
-            if abs(t - mark) < 0.5 * h:
-                out[mark] = q.copy()
-    return out
+    """Pinocchio's ``aba`` with classical RK4 from rest to ``t_end`` (the tests' integration,
+    ``test_urdf_pinocchio.aba_trajectory``): q at each of ``MARKS``."""
+    qs = T.aba_trajectory(model, q0, np.array([*MARKS, t_end]), h)
+    return dict(zip(MARKS, qs))
 
 
 def forward(name: str, rtol: float) -> dict:
