@@ -274,7 +274,7 @@ fn joint_damping_becomes_a_rotational_damper_when_asked_for() {
     // The friction is still not modelled: said once, with how to ask for it.
     says(
         &warnings,
-        "1 joint with <dynamics> friction, which is not modelled (--friction",
+        "1 joint with <dynamics> friction (or a planar joint's damping), which is not modelled (--friction",
     );
     // Not asked for: the torque has no damping term, and the warning says how to ask.
     let (rows, warnings) = spinner_torque("");

@@ -12,9 +12,10 @@
 //! adjacency or leave to the user), and they touch the shapes an overlay adds (group 1 by
 //! default: a floor, a part to grip). With `self_collision` ([`crate::Options`]) they touch
 //! group 2 too: every pair of links whose bodies are not the two bodies of one joint (the
-//! model's rule for every shape; MuJoCo's default for a URDF, which filters parent and child). A mesh that cannot be found, a COLLADA mesh (the shapes
-//! read STL and OBJ) or a non-uniform scale leaves the collision out, with a warning at its
-//! line.
+//! model's rule for every shape; MuJoCo's default for a URDF, which filters parent and child).
+//!
+//! A mesh that cannot be found, a COLLADA mesh (the shapes read STL and OBJ) or a non-uniform
+//! scale leaves the collision out, with a warning at its line.
 
 use crate::error::Warning;
 use crate::import::Import;

@@ -189,29 +189,25 @@ pub fn import(text: &str, options: Options) -> Result<Import> {
 /// continuous or prismatic joint between two bodies; a damping above 0): a
 /// `rotational_spring_damper` or a `translational_spring_damper`.
 pub fn damped(import: &Import, j: usize) -> bool {
-    let joint = &import.robot.joints[j];
-    import.options.damping
-        && one_axis(joint.kind)
-        && !import.joint_features[j].0.is_empty()
-        && joint.dynamics.is_some_and(|d| d.damping > 0.0)
+    import.options.damping && modelled(import, j, |d| d.damping)
 }
 
 /// Whether joint `j`'s `<dynamics friction>` becomes a constant friction (`friction` chosen; a
 /// revolute, continuous or prismatic joint between two bodies; a friction above 0).
 pub fn frictional(import: &Import, j: usize) -> bool {
-    let joint = &import.robot.joints[j];
-    import.options.friction
-        && one_axis(joint.kind)
-        && !import.joint_features[j].0.is_empty()
-        && joint.dynamics.is_some_and(|d| d.friction > 0.0)
+    import.options.friction && modelled(import, j, |d| d.friction)
 }
 
-/// The joint types whose one coordinate a damper or a friction acts on.
-fn one_axis(kind: JointType) -> bool {
+/// Whether joint `j` has the `<dynamics>` value `value` above 0 and is a joint a damper or a
+/// friction can act on: a revolute, continuous or prismatic joint (one coordinate) between two
+/// bodies.
+fn modelled(import: &Import, j: usize, value: impl Fn(&crate::robot::Dynamics) -> f64) -> bool {
+    let joint = &import.robot.joints[j];
     matches!(
-        kind,
+        joint.kind,
         JointType::Revolute | JointType::Continuous | JointType::Prismatic
-    )
+    ) && !import.joint_features[j].0.is_empty()
+        && joint.dynamics.is_some_and(|d| value(&d) > 0.0)
 }
 
 /// One warning for every joint whose `<dynamics>` is not modelled (a robot often has it on
@@ -238,10 +234,10 @@ fn dynamics_warning(import: &Import, warnings: &mut Vec<Warning>) {
     let what = match (import.options.damping, import.options.friction) {
         (true, true) => "damping or friction on a planar joint, which is not modelled",
         (true, false) => {
-            "friction, which is not modelled (--friction, or friction = true in an overlay's [urdf], makes it a constant friction)"
+            "friction (or a planar joint's damping), which is not modelled (--friction, or friction = true in an overlay's [urdf], makes it a constant friction)"
         }
         (false, true) => {
-            "damping, which is not modelled (--damping, or damping = true in an overlay's [urdf], makes it a damper)"
+            "damping (or a planar joint's friction), which is not modelled (--damping, or damping = true in an overlay's [urdf], makes it a damper)"
         }
         (false, false) => {
             "damping or friction, which is not modelled (--damping and --friction, or damping = true and friction = true in an overlay's [urdf], make them dampers and constant friction)"

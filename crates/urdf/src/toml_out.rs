@@ -251,7 +251,7 @@ fn joints(import: &Import, out: &mut String) {
             body(lay.body_of[c]),
         );
         let slide = j.kind == JointType::Prismatic;
-        let d = j
+        let (damping, friction, line) = j
             .dynamics
             .map_or((0.0, 0.0, 0), |d| (d.damping, d.friction, d.line));
         if crate::import::damped(import, k) {
@@ -263,10 +263,10 @@ fn joints(import: &Import, out: &mut String) {
                 forces,
                 "\n[[force]]   # <dynamics damping> of joint \"{}\" (line {}): {what} −c q̇\nname = \"{}\"\ntype = \"{kind}\"\njoint = \"{}\"\ndamping = {}\n",
                 comment(&j.name),
-                d.2,
+                line,
                 elements.claim(&format!("{}_damping", import.joint_names[k])),
                 import.joint_names[k],
-                num(d.0)
+                num(damping)
             );
         }
         if crate::import::frictional(import, k) {
@@ -275,10 +275,10 @@ fn joints(import: &Import, out: &mut String) {
                 forces,
                 "\n[[friction]]   # <dynamics friction> of joint \"{}\" (line {}): a constant {key} against the motion\nname = \"{}\"\nlaw = \"constant\"\njoint = \"{}\"\n{key} = {}\n",
                 comment(&j.name),
-                d.2,
+                line,
                 elements.claim(&format!("{}_friction", import.joint_names[k])),
                 import.joint_names[k],
-                num(d.1)
+                num(friction)
             );
         }
         // The actuator's ratings: warnings when a driven motion passes them.

@@ -3,9 +3,9 @@
 //! nearest name on a typo), the numbers read in the quantity their key gives (the model's units
 //! converted, the magnitude limits) and the functions loaded. Whether the element makes sense
 //! (coefficients ≥ 0, a spring between two bodies that does something, a rotational spring on
-//! a joint with an angle and x axes, a translational one on a joint that slides) is checked once, by the dynamics' own validation
-//! ([`Force::validate`]) when the model is prepared, located at the key it names
-//! ([`super::Spans::force_keys`]).
+//! a joint with an angle and x axes, a translational one on a joint that slides) is checked
+//! once, by the dynamics' own validation ([`Force::validate`]) when the model is prepared,
+//! located at the key it names ([`super::Spans::force_keys`]).
 
 use super::context::{missing, Resolver};
 use super::driver::load_function;
