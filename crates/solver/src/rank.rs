@@ -201,6 +201,8 @@ struct PivotedQr {
     s: Vec<f64>,
     tau2: Vec<f64>,
     work: Vec<f64>,
+    /// n entries: Qᵀ y of [`PivotedQr::solve_transpose`].
+    work_n: Vec<f64>,
 }
 
 /// Householder QR (no pivoting) of a column-major `rows × cols` matrix in place, `rows ≥ cols`.
@@ -255,6 +257,7 @@ impl PivotedQr {
             s: vec![0.0; m * k],
             tau2: vec![0.0; k],
             work: vec![0.0; m],
+            work_n: vec![0.0; n],
         }
     }
 
@@ -445,6 +448,61 @@ impl PivotedQr {
         for (xi, c) in x.iter_mut().zip(&self.col_scale) {
             *xi *= c;
         }
+    }
+}
+
+impl PivotedQr {
+    /// The multipliers μ of `Jᵀ μ = y` for a `y` in the row space of J (a minimum-norm
+    /// solution's), with the dependent equations' multipliers zero: with μ = D P w,
+    /// `(D J)ᵀ P w = Q R w = y`, so `R11 w₁ = (Qᵀ y)[..r]` and w₂ = 0. No allocation.
+    fn solve_transpose(&mut self, y: &[f64], mu: &mut [f64]) {
+        let (n, r) = (self.n, self.rank);
+        let qty = &mut self.work_n;
+        for ((q, yi), c) in qty.iter_mut().zip(y).zip(&self.col_scale) {
+            *q = yi * c;
+        }
+        // Qᵀ y = H_{r−1} … H_0 y.
+        for k in 0..r {
+            let v = &self.a[k * n + k + 1..(k + 1) * n];
+            let w = qty[k] + v.iter().zip(&qty[k + 1..]).map(|(a, b)| a * b).sum::<f64>();
+            let tw = self.tau[k] * w;
+            qty[k] -= tw;
+            for (qi, vi) in qty[k + 1..].iter_mut().zip(v) {
+                *qi -= tw * vi;
+            }
+        }
+        // R11 w₁ = (Qᵀ y)[..r]: R[i, k] = a[k n + i] for i ≤ k.
+        for k in (0..r).rev() {
+            let mut acc = qty[k];
+            for j in k + 1..r {
+                acc -= self.a[j * n + k] * qty[j];
+            }
+            qty[k] = acc / self.a[k * n + k];
+        }
+        mu.fill(0.0);
+        for k in 0..r {
+            let row = self.perm[k];
+            mu[row] = self.row_scale[row] * qty[k];
+        }
+    }
+}
+
+impl MinNormQr {
+    /// The multipliers μ of `Jᵀ μ = y` with the last factorization, for `y` in the row space
+    /// of J (for instance a [`solve`](LinearSolver::solve)'s minimum-norm solution, which is
+    /// `Jᵀ μ` for the μ of the least-norm problem's optimality conditions); the equations found
+    /// dependent get μ = 0. `y` has `ncols` entries, `mu` `nrows`. No allocation.
+    ///
+    /// # Errors
+    /// [`SolverError::NotReady`], [`SolverError::DimensionMismatch`].
+    pub fn solve_transpose(&mut self, y: &[f64], mu: &mut [f64]) -> Result<(), SolverError> {
+        if !self.factored {
+            return Err(SolverError::NotReady { missing: "factor" });
+        }
+        check_len("right-hand side", self.qr.n, y.len())?;
+        check_len("multipliers", self.qr.m, mu.len())?;
+        self.qr.solve_transpose(y, mu);
+        Ok(())
     }
 }
 

@@ -79,6 +79,52 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// The multipliers of a right-hand side in the row space of J (Jᵀ μ₀ for a random μ₀; and,
+    /// without column equilibration, a minimum-norm solution): Jᵀ μ reproduces it with every
+    /// dependent row's μ zero, with and without column equilibration, rows scaled over 1e±4.
+    #[test]
+    fn multipliers_of_a_row_space_vector(seed in 1u64.., n in 2usize..20, extra in 0usize..4, deficit in 0usize..4, equilibrate: bool) {
+        let mut rng = Rng(seed);
+        let k = n.saturating_sub(deficit).max(1);
+        let m = k + extra;
+        let dependent: Vec<usize> = (k..m).collect();
+        let slots = deficient(m, n, &dependent, 4, &mut rng);
+        let p = SparsityPattern::dense(m, n);
+        let mut solver = MinNormQr::with_options(RankOptions {
+            equilibrate_columns: equilibrate,
+            ..RankOptions::default()
+        });
+        solver.analyze(&p).unwrap();
+        solver.factor(&slots).unwrap();
+        let column = |j: usize| &slots[j * m..(j + 1) * m];
+        let mu0: Vec<f64> = (0..m).map(|_| rng.sym()).collect();
+        let mut targets = vec![(0..n).map(|j| column(j).iter().zip(&mu0).map(|(a, b)| a * b).sum()).collect::<Vec<f64>>()];
+        if !equilibrate {
+            let x0: Vec<f64> = (0..n).map(|_| rng.sym()).collect();
+            let mut b = vec![0.0; m];
+            p.mul_vec(&slots, &x0, &mut b).unwrap();
+            let mut x = vec![0.0; n];
+            solver.solve(&b, &mut x).unwrap();
+            targets.push(x);
+        }
+        for y in &targets {
+            let mut mu = vec![f64::NAN; m];
+            solver.solve_transpose(y, &mut mu).unwrap();
+            for i in solver.dependent_equations() {
+                prop_assert_eq!(mu[*i], 0.0);
+            }
+            for j in 0..n {
+                let back: f64 = column(j).iter().zip(&mu).map(|(a, b)| a * b).sum();
+                let size: f64 = column(j).iter().zip(&mu).map(|(a, b)| (a * b).abs()).sum::<f64>() + y[j].abs();
+                prop_assert!((back - y[j]).abs() <= 1e-9 * size, "column {}: {} vs {}", j, back, y[j]);
+            }
+        }
+    }
+}
+
 #[test]
 fn minimum_norm_step_for_underdetermined_systems() {
     // One equation x + y + z = 3: minimum-norm solution (1, 1, 1) (Euclidean, columns equal).

@@ -21,7 +21,7 @@ impl Model {
         }
     }
 
-    fn each<F>(&self, mut f: F)
+    pub(super) fn each<F>(&self, mut f: F)
     where
         F: FnMut(&dyn ElementEval, BodyId, BodyId, &Range<usize>, &ScatterMap),
     {
@@ -227,7 +227,7 @@ fn scatter(
 }
 
 /// Object-safe view of a joint, coupler or driver (the [`Constraint`] trait has generic methods).
-pub(crate) trait ElementEval {
+pub(super) trait ElementEval {
     fn phi_dyn(&self, x: &BodyPair, t: f64, out: &mut [f64]);
     fn nu_dyn(&self, x: &BodyPair, t: f64, out: &mut [f64]);
     fn gamma_dyn(&self, x: &BodyPair, t: f64, out: &mut [f64]);

@@ -21,6 +21,7 @@
 
 mod build;
 mod couplers;
+mod curvature;
 mod curve;
 mod curve_element;
 mod elements;

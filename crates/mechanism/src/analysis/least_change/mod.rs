@@ -39,6 +39,13 @@
 //!
 //! by the rank-revealing QR ([`cardan_solver::MinNormQr`]) that also drops redundant rows (the
 //! rows of Ĵ scaled by the equation scales first, so the rank decision sees unit rows).
+//! Where that rate is no contraction at all (a step at least [`SLOW_CONTRACTION`] of the one
+//! before: a part drawn far from its place on a distance joint, a point near a hinge dragged
+//! far), the solve goes on with Newton steps, which put back the curvature Gauss–Newton leaves
+//! out (the constraints' λᵀΦ_qq, the rotation's own; [`newton`]) and converge quadratically.
+//! Gauss–Newton stays the first choice because it is cheaper and, where it converges, finds the
+//! minimum OndselSolver finds; Newton may reach another one (in the far-drawn survey of
+//! `docs/asmt.md`, one with a third of the objective).
 //! Velocities and accelerations of the held motion are the H-weighted minimum-norm solutions of
 //! Φ_v v = ν and Φ_v v̇ = γ# (the rates of the least-change motion as the output step tends to
 //! zero, without the term from the rate of H, which is of the order of the free coordinates'
@@ -53,8 +60,9 @@
 //! 1 + |P − target| / |s'| and does not converge. H gets that term's positive part (where it is
 //! negative, leaving it out only shortens the step); the fixed point, hence the solution, is
 //! unchanged. The curvature the constraints give P's path (a point near a hinge circles the
-//! hinge, not the body's origin) stays out, as for every least change: a drag step that cannot
-//! converge for it is cut back and repeated ([`crate::Drag::follow`]).
+//! hinge, not the body's origin) and the goal's negative part are the Newton step's
+//! ([`newton`]); a drag step that still cannot converge is cut back and repeated
+//! ([`crate::Drag::follow`]).
 //!
 //! # The weights
 //! [`HoldMetric::Ondsel`] is OndselSolver's (`Part::fillqsuWeights`, in the raw coordinates of
@@ -71,11 +79,14 @@ use cardan_solver::{LinearSolver, MinNormQr, SolverError, SparsityPattern};
 use nalgebra::{Matrix3, Matrix3x4, Matrix4x3, Matrix6, Vector3, Vector4, Vector6};
 use std::collections::BTreeSet;
 
-/// The positive part of the drag goal's second-order term in the body-frame rotation
-/// increment π' (module docs, "The drag goal"): with m = Aᵀ (P − target) and the dragged point
-/// s', the Hessian of mᵀ (½ π̃'π̃' s') is C = ½ (m s'ᵀ + s' mᵀ) − (m·s') I; its negative
-/// eigenvalues are set to zero so that H stays positive definite. No allocation.
-fn goal_curvature(m: &Vector3<f64>, s: &Vector3<f64>) -> Matrix3<f64> {
+mod newton;
+
+/// The drag goal's second-order term in the body-frame rotation increment π' (module docs,
+/// "The drag goal"), split into its positive and negative parts: with m = Aᵀ (P − target) and
+/// the dragged point s', the Hessian of mᵀ (½ π̃'π̃' s') is C = ½ (m s'ᵀ + s' mᵀ) − (m·s') I.
+/// The positive part goes into H (which stays positive definite), the negative part into the
+/// Newton step's curvature ([`newton`]). No allocation.
+fn goal_curvature(m: &Vector3<f64>, s: &Vector3<f64>) -> (Matrix3<f64>, Matrix3<f64>) {
     let c = 0.5 * (m * s.transpose() + s * m.transpose()) - Matrix3::identity() * m.dot(s);
     let eig = c.symmetric_eigen();
     let mut out = Matrix3::zeros();
@@ -85,7 +96,7 @@ fn goal_curvature(m: &Vector3<f64>, s: &Vector3<f64>) -> Matrix3<f64> {
             out += *lambda * v * v.transpose();
         }
     }
-    out
+    (out, c - out)
 }
 
 /// The metric of the least change (module docs).
@@ -234,6 +245,10 @@ pub struct LeastChange {
     pub(crate) old: Vec<f64>,
     /// A point pulled toward a target, if any.
     pub(crate) goal: Option<PointGoal>,
+    /// The weighted negative part of the goal's curvature at the last factorization.
+    goal_negative: Matrix3<f64>,
+    /// The Newton step's buffers (a dense n × n curvature among them), made at its first use.
+    newton: Option<newton::NewtonBuffers>,
 }
 
 /// Iteration cap of a least-change solve.
@@ -251,6 +266,15 @@ pub const STAGNATION_STEP: f64 = 1e-12;
 
 /// See [`STAGNATION_STEP`].
 pub const STAGNATION: f64 = 0.9;
+
+/// A Gauss–Newton step at least this fraction of the one before it switches the solve to
+/// Newton steps ([`newton`]): Gauss–Newton converges linearly at a rate that grows with the
+/// distance moved times the constraints' curvature, fast between nearby output times (where
+/// the cheaper step is kept) and not at all for a part drawn far from its place.
+pub const SLOW_CONTRACTION: f64 = 0.9;
+
+/// Scaled step below which a slow contraction is roundoff, not curvature, and changes nothing.
+pub const NEWTON_STEP: f64 = 1e-9;
 
 /// Largest scaled step of one iteration (as the assembly's cap): half the model's size or about
 /// 30°.
@@ -308,6 +332,8 @@ impl LeastChange {
             factored_x: vec![f64::NAN; 7 * nb],
             old: vec![0.0; 7 * nb],
             goal: None,
+            goal_negative: Matrix3::zeros(),
+            newton: None,
         })
     }
 
@@ -350,9 +376,10 @@ impl LeastChange {
                 h += goal.weight * jac.transpose() * jac;
                 g += goal.weight * jac.transpose() * miss;
                 // The goal's curvature term (module docs, "The drag goal"), its positive part.
-                let curvature = goal_curvature(&(a.transpose() * miss), &goal.point);
+                let (positive, negative) = goal_curvature(&(a.transpose() * miss), &goal.point);
                 let mut rot = h.fixed_view_mut::<3, 3>(3, 3);
-                rot += goal.weight * curvature;
+                rot += goal.weight * positive;
+                self.goal_negative = goal.weight * negative;
             }
             let l = h.cholesky().ok_or_else(not_definite)?.l();
             self.l_inv[b] = l.try_inverse().ok_or_else(not_definite)?;
@@ -402,6 +429,7 @@ impl LeastChange {
         let scales = model.equation_scales();
         ws.pose.t = t;
         let mut last_size = f64::INFINITY;
+        let mut newton = false;
         for it in 0..MAX_ITERATIONS {
             ws.sync_poses();
             model.phi_into(
@@ -426,7 +454,13 @@ impl LeastChange {
                 *bv -= self.phi[r] / scales[r];
             }
             self.step().map_err(|e| model.map_solver_error(t, e))?;
+            if newton {
+                self.newton_step(model, ws, t)
+                    .map_err(|e| model.map_solver_error(t, e))?;
+            }
             let size = scaled_size(&self.delta, l);
+            // Gauss–Newton contracting slowly (or capped): the curvature from here on.
+            newton |= it >= 1 && size > NEWTON_STEP && size > SLOW_CONTRACTION * last_size;
             if size > MAX_STEP {
                 let f = MAX_STEP / size;
                 self.delta.iter_mut().for_each(|d| *d *= f);
