@@ -10,7 +10,7 @@
 //! | `fixed` | none: the child link is part of the parent's body |
 //! | `floating` | none: the child's body is free |
 //! | `planar` | `planar` joint (axis = the plane normal) |
-//! | `mimic` | `gear` coupler θ_j = multiplier · θ_i + offset (two revolute joints sharing a body) |
+//! | `mimic` | `gear` coupler θ_j = multiplier · θ_i + offset (two revolute joints sharing a body); on a fixed joint ignored with a warning |
 //!
 //! Both sides of a joint get the joint frame J: the point `<joint>` and the vectors `<joint>_z`
 //! (the axis) and `<joint>_x` (a perpendicular, the zero of the angle) — on the parent's body J
@@ -259,8 +259,14 @@ fn dynamics_warning(import: &Import, warnings: &mut Vec<Warning>) {
 fn mimic_couplers(import: &Import, warnings: &mut Vec<Warning>) -> Result<Vec<(usize, usize)>> {
     let robot = &import.robot;
     let mut out = Vec::new();
+    let mut fixed = Vec::new();
     for (k, j) in robot.joints.iter().enumerate() {
         let Some(m) = &j.mimic else { continue };
+        if j.kind == JointType::Fixed {
+            // No coordinate to couple (Talos's grippers carry such tags for a Gazebo plugin).
+            fixed.push((j.name.as_str(), m.line));
+            continue;
+        }
         let t = robot
             .joints
             .iter()
@@ -301,6 +307,23 @@ fn mimic_couplers(import: &Import, warnings: &mut Vec<Warning>) -> Result<Vec<(u
             ));
         }
         out.push((t, k));
+    }
+    if let Some(&(_, line)) = fixed.first() {
+        let names: Vec<String> = fixed
+            .iter()
+            .take(6)
+            .map(|(n, _)| format!("\"{n}\""))
+            .collect();
+        warnings.push(Warning {
+            line,
+            message: format!(
+                "{} fixed joint{} with <mimic> ({}{}): a fixed joint has no coordinate to follow another joint's, so the tag is ignored and the links stay fixed",
+                fixed.len(),
+                if fixed.len() == 1 { "" } else { "s" },
+                names.join(", "),
+                if fixed.len() > 6 { ", …" } else { "" }
+            ),
+        });
     }
     Ok(out)
 }

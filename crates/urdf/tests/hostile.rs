@@ -159,6 +159,35 @@ fn bad_mimic_joints_are_refused_in_couple_mode_and_ignored_when_free() {
 }
 
 #[test]
+fn a_mimic_on_a_fixed_joint_is_ignored_with_a_warning() {
+    // Talos's grippers: fixed joints carrying <mimic> for a simulator plugin.
+    let text = format!(
+        r#"<robot name="r"><link name="world"/>
+<link name="a">{INERTIAL}</link><link name="b">{INERTIAL}</link><link name="c">{INERTIAL}</link>
+<joint name="ja" type="revolute"><parent link="world"/><child link="a"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+<joint name="jb" type="fixed"><parent link="a"/><child link="b"/>
+<mimic joint="ja" multiplier="-1"/></joint>
+<joint name="jc" type="fixed"><parent link="a"/><child link="c"/>
+<mimic joint="ja"/></joint></robot>"#
+    );
+    let i = import(&text, Options::default()).unwrap();
+    assert!(i.couplers.is_empty());
+    let w: Vec<_> = i
+        .warnings
+        .iter()
+        .filter(|w| w.message.contains("<mimic>"))
+        .collect();
+    assert_eq!(w.len(), 1, "{:?}", i.warnings);
+    assert_eq!(w[0].line, 5);
+    assert!(
+        w[0].message
+            .starts_with("2 fixed joints with <mimic> (\"jb\", \"jc\")"),
+        "{}",
+        w[0].message
+    );
+}
+
+#[test]
 fn bad_numbers_name_the_element_and_the_value() {
     let text = r#"<robot name="r"><link name="world"/>
 <link name="a">
