@@ -79,14 +79,30 @@ impl TimeSeries {
         let rows: Vec<&[f64]> = (self.items.iter())
             .flat_map(|i| i.rows.iter().map(|r| r.values.as_slice()))
             .collect();
-        let mut text = Vec::new();
-        let written = write_block(&mut text, self.times.len(), &self.items, &mut |i, emit| {
-            emit(if i == 0 { &self.times } else { rows[i - 1] })
-        });
-        // Writing to memory cannot fail, and every byte written is ASCII or the items' text.
-        if written.is_ok() {
-            out.push_str(&String::from_utf8_lossy(&text));
-        }
+        // Writing to memory cannot fail: every piece write_block writes is a whole `str`.
+        let _ = write_block(
+            &mut StrSink(out),
+            self.times.len(),
+            &self.items,
+            &mut |i, emit| emit(if i == 0 { &self.times } else { rows[i - 1] }),
+        );
+    }
+}
+
+/// `write_block`'s output appended to a `String`: each piece it writes is the bytes of a whole
+/// `str`, checked (ASCII fast path) and appended once, without a byte buffer in between.
+struct StrSink<'a>(&'a mut String);
+
+impl std::io::Write for StrSink<'_> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let text = std::str::from_utf8(buf)
+            .map_err(|e| std::io::Error::new(std::io::ErrorKind::InvalidData, e))?;
+        self.0.push_str(text);
+        Ok(buf.len())
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
     }
 }
 

@@ -3,7 +3,7 @@
 //! ```text
 //! cardan-bench [--smoke] [--report docs/performance.md] [--plots docs/performance] [--peers PYTHON]
 //! cardan-bench --point <kin|dyn> <chain|ladder> N     (one scaling point; used internally)
-//! cardan-bench --profile <frame EXAMPLE N | kin-chain N FRAMES | chain N STEPS | chain-dopri5 N RTOL>
+//! cardan-bench --profile <frame EXAMPLE N | kin-chain N FRAMES | chain N STEPS | chain-dopri5 N RTOL | model FILE N | asmt FILE N>
 //!     (one run for a profiler)
 //! cardan-bench --peers-only PYTHON [--smoke] [kinematics|slider-crank|chain ...]  (peers to stdout)
 //! cardan-bench --genalpha N T_END H [mass|tangent] [INTERVALS] [--no-reference]
@@ -386,6 +386,18 @@ fn profile(args: &[String]) {
                 .outputs(Outputs::position_only());
             let r = d.simulate_consistent(s, &opts).expect("simulate");
             eprintln!("{:?}", r.stats);
+        }
+        Some("asmt") => {
+            // An ASMT file solved in process as the `--asmt` section times it, n times.
+            let path = Path::new(arg(1).expect("profile asmt FILE [N]"));
+            let t0 = Instant::now();
+            for _ in 0..n {
+                cardan_bench::asmt::cardan_solve(path);
+            }
+            eprintln!(
+                "{:.3} ms per solve",
+                t0.elapsed().as_secs_f64() * 1e3 / n.max(1) as f64
+            );
         }
         Some("model") => {
             // A model file's analysis, in memory (tables kept, nothing written), n times.
