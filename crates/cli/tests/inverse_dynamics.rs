@@ -488,3 +488,29 @@ fn a_run_asking_for_no_points_or_joints_computes_none() {
         assert_eq!(a.effort, b.effort);
     }
 }
+
+/// An empty list in `[analysis.outputs]` is a choice, not an absence: an inverse dynamics run
+/// whose outputs list no point, joint or body writes its efforts and no pose table (it wrote
+/// every table when all three lists were empty, as if `[analysis.outputs]` were absent).
+#[test]
+fn empty_output_lists_write_the_efforts_alone() {
+    let text = std::fs::read_to_string(example("slider_crank")).unwrap();
+    let lean = text
+        .replace("kind = \"kinematic\"", "kind = \"inverse_dynamics\"")
+        .replace("points = [\"crank.B\", \"slider.C\"]\n", "points = []\n")
+        .replace("joints = [\"crank_pin\", \"slide\"]\n", "joints = []\n")
+        .replace("bodies = [\"conrod\"]\n", "bodies = []\n");
+    assert!(lean.contains("bodies = []"));
+    let o = common::run_text("run", &lean);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let out = o.dir.join("out");
+    assert!(out.join("driver_efforts.csv").exists());
+    for table in [
+        "bodies.csv",
+        "points.csv",
+        "joints.csv",
+        "body_velocities.csv",
+    ] {
+        assert!(!out.join(table).exists(), "{table} written");
+    }
+}

@@ -1037,15 +1037,15 @@ pub struct AnalysisSection {
 #[serde(deny_unknown_fields)]
 pub struct OutputsSection {
     /// "body.point": positions, velocities and accelerations (points.csv, point_velocities.csv,
-    /// point_accelerations.csv).
+    /// point_accelerations.csv). Given (even empty), only the listed groups are written.
     #[serde(default)]
-    pub points: Vec<Name>,
+    pub points: Option<Vec<Name>>,
     /// Joint names: joint coordinates (joints.csv).
     #[serde(default)]
-    pub joints: Vec<Name>,
+    pub joints: Option<Vec<Name>>,
     /// Body names: position and Euler parameters (bodies.csv), ω (body_velocities.csv).
     #[serde(default)]
-    pub bodies: Vec<Name>,
+    pub bodies: Option<Vec<Name>>,
     /// dynamic: joint names whose reactions are written (reactions.csv); default all joints.
     #[serde(default)]
     pub reactions: Option<Vec<Name>>,
@@ -1277,10 +1277,10 @@ fn check_counts(src: &Source, file: &ModelFile) -> Result<(), Error> {
     if let Some(a) = &file.analysis {
         if let Some(o) = &a.get_ref().outputs {
             let o = o.get_ref();
-            let n = o.points.len()
-                + o.joints.len()
-                + o.bodies.len()
-                + o.reactions.as_ref().map_or(0, Vec::len);
+            let n = [&o.points, &o.joints, &o.bodies, &o.reactions]
+                .iter()
+                .map(|l| l.as_ref().map_or(0, Vec::len))
+                .sum::<usize>();
             if n > MAX_ARRAY_LEN {
                 return Err(src.error_at(
                     a.get_ref().outputs.as_ref().map_or(0..0, Spanned::span),

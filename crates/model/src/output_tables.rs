@@ -98,9 +98,11 @@ pub(super) fn peak_efforts_of(
         .collect()
 }
 
-/// The outputs to write: as requested, or everything when the file has no `[analysis.outputs]`.
+/// The outputs to write: as requested, or every point, joint and body when `[analysis.outputs]`
+/// lists none of the three groups (an empty list is a choice: `bodies = []` alone writes the
+/// efforts of an inverse dynamics run and no pose table).
 pub(super) fn requested(p: &Prepared, req: &Requested) -> Requested {
-    if !req.points.is_empty() || !req.joints.is_empty() || !req.bodies.is_empty() {
+    if req.listed || !req.points.is_empty() || !req.joints.is_empty() || !req.bodies.is_empty() {
         return req.clone();
     }
     let m = &p.model;
@@ -113,6 +115,7 @@ pub(super) fn requested(p: &Prepared, req: &Requested) -> Requested {
             .collect(),
         joints: m.joints().iter().map(|j| j.name.clone()).collect(),
         bodies: m.bodies().iter().map(|b| b.name.clone()).collect(),
+        listed: true,
         reactions: req.reactions.clone(),
         energy: req.energy,
         joint_space: req.joint_space,

@@ -277,7 +277,8 @@ fn load_outputs(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Outp
         return Ok(outputs);
     };
     let o = o.get_ref();
-    for p in &o.points {
+    outputs.listed = o.points.is_some() || o.joints.is_some() || o.bodies.is_some();
+    for p in o.points.iter().flatten() {
         outputs.points.push(body_point(r, p, "outputs.points")?);
     }
     for p in &o.jacobians {
@@ -286,12 +287,12 @@ fn load_outputs(r: &Resolver, a: &AnalysisSection, spans: &Spans) -> Result<Outp
             .push(body_point(r, p, "outputs.jacobians")?);
     }
     outputs.joint_space = o.joint_space.unwrap_or(false);
-    for j in &o.joints {
+    for j in o.joints.iter().flatten() {
         let names = spans.joints.keys().chain(spans.curves.keys());
         known(cx, j, "outputs.joints: unknown joint or curve", names)?;
         outputs.joints.push(j.get_ref().clone());
     }
-    for b in &o.bodies {
+    for b in o.bodies.iter().flatten() {
         let bs = r.body(b, "outputs.bodies")?;
         if bs == GROUND {
             return Err(cx.err(b.span(), "outputs.bodies: the ground does not move"));

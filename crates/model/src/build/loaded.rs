@@ -160,6 +160,9 @@ pub struct Outputs {
     pub joints: Vec<String>,
     /// Body names.
     pub bodies: Vec<String>,
+    /// Whether `[analysis.outputs]` gives `points`, `joints` or `bodies` (even an empty list):
+    /// then only the groups listed are written; otherwise every element of the three groups.
+    pub listed: bool,
     /// Dynamic: joints whose reactions are written (`None`: all joints).
     pub reactions: Option<Vec<String>>,
     /// Dynamic and inverse dynamics: write the energy table (with power, work and balance).

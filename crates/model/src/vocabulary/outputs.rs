@@ -5,19 +5,19 @@ use super::{Default, Entry, Key, Value, Vocabulary};
 const POINTS: Key = Key::new(
     "points",
     Value::Names,
-    Default::Is("every named point of a moving body"),
+    Default::Is("every named point of a moving body when none of points, joints, bodies is given; else none"),
     "\"body.point\": positions, velocities and accelerations (points.csv, point_velocities.csv, point_accelerations.csv)",
 );
 const JOINTS: Key = Key::new(
     "joints",
     Value::Names,
-    Default::Is("every joint"),
+    Default::Is("every joint when none of points, joints, bodies is given; else none"),
     "joint coordinates and their rates (joints.csv, joint_velocities.csv, joint_accelerations.csv); a [[curve]]'s, a [[surface]]'s or a [[cam]]'s name adds its curve or surface parameters, a cam's also its contact point and pressure angle (cams.csv)",
 );
 const BODIES: Key = Key::new(
     "bodies",
     Value::Names,
-    Default::Is("every moving body"),
+    Default::Is("every moving body when none of points, joints, bodies is given; else none"),
     "positions and Euler parameters (bodies.csv), velocities and accelerations",
 );
 const REACTIONS: Key = Key::new(
