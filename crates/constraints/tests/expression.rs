@@ -292,3 +292,41 @@ proptest! {
         }
     }
 }
+
+/// The per-thread memo of the last value of each expression ([`Expression::eval`]) gives the
+/// program's own values: expressions evaluated in turn at one time, at alternating times, a
+/// clone, one parsed where another was dropped (same text, then another text), and more
+/// expressions than the memo has slots.
+#[test]
+fn the_evaluation_memo_gives_each_expression_its_own_values() {
+    let a = Expression::parse("sin(3*t) + t^2").unwrap();
+    let b = Expression::parse("cos(2*t)").unwrap();
+    for t in [0.1, 0.2, 0.1, 0.1, 0.3] {
+        for _ in 0..3 {
+            let (fa, fb) = (a.eval(t), b.eval(t));
+            assert_eq!(fa.0, (3.0 * t).sin() + t * t);
+            assert_eq!(fa.1, 3.0 * (3.0 * t).cos() + 2.0 * t);
+            assert_eq!(fb.0, (2.0 * t).cos());
+            assert_eq!(a.clone().eval(t), fa);
+        }
+    }
+    // Dropped and parsed again at the same place and time: its own values.
+    let v = a.eval(0.5);
+    drop(a);
+    let c = Expression::parse("t").unwrap();
+    assert_eq!(c.eval(0.5), (0.5, 1.0, 0.0));
+    assert_ne!(c.eval(0.5), v);
+    // More expressions than slots, each evaluated twice.
+    let many: Vec<Expression> = (0..200)
+        .map(|k| Expression::parse(&format!("{k} * t")).unwrap())
+        .collect();
+    for round in 0..2 {
+        for (k, e) in many.iter().enumerate() {
+            assert_eq!(
+                e.eval(2.0),
+                (2.0 * k as f64, k as f64, 0.0),
+                "round {round}"
+            );
+        }
+    }
+}

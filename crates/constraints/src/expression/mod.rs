@@ -64,10 +64,41 @@ use std::ops::Range;
 pub const STACK: usize = 32;
 
 /// A parsed, compiled expression f(t).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct Expression {
     text: String,
     prog: Program,
+    /// A number no other compiled expression of the process has (clones share it: the same
+    /// program gives the same values), the key of the evaluation memo ([`Expression::eval`]).
+    id: u64,
+}
+
+impl PartialEq for Expression {
+    fn eq(&self, other: &Self) -> bool {
+        self.text == other.text && self.prog == other.prog
+    }
+}
+
+/// The source of [`Expression`] ids (0 marks an empty memo slot).
+static NEXT_ID: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+
+/// Slots of the evaluation memo, per thread: direct-mapped on the id, so up to this many
+/// expressions evaluated in turn at one time each keep their values.
+const MEMO_SLOTS: usize = 64;
+
+/// One memo slot: an expression's id, the bits of t and (f, ḟ, f̈) there.
+#[derive(Clone, Copy)]
+struct Memo {
+    id: u64,
+    t: u64,
+    value: (f64, f64, f64),
+}
+
+thread_local! {
+    /// The last values of the expressions this thread evaluated (see [`Expression::eval`]).
+    static MEMO: std::cell::RefCell<[Memo; MEMO_SLOTS]> = const {
+        std::cell::RefCell::new([Memo { id: 0, t: 0, value: (0.0, 0.0, 0.0) }; MEMO_SLOTS])
+    };
 }
 
 /// Longest expression text quoted in a message ([`quoted`]).
@@ -103,6 +134,7 @@ impl Expression {
         Ok(Self {
             text: text.to_string(),
             prog,
+            id: NEXT_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
         })
     }
 
@@ -119,8 +151,25 @@ impl Expression {
     /// (f, ḟ, f̈) at t (not finite where the expression is not defined).
     #[inline]
     pub fn eval(&self, t: f64) -> (f64, f64, f64) {
-        let j = self.prog.run(t);
-        (j.v, j.d1, j.d2)
+        // A driver's f(t) is asked for about ten times at each time of a run (Φ in each Newton
+        // iteration, ν, γ#, the dynamics' rows, the power), at the same t: the last value of
+        // each expression is kept per thread (an expression is a pure function of t).
+        let key = t.to_bits();
+        MEMO.with(|memo| {
+            let mut memo = memo.borrow_mut();
+            let slot = &mut memo[(self.id % MEMO_SLOTS as u64) as usize];
+            if slot.id == self.id && slot.t == key {
+                return slot.value;
+            }
+            let j = self.prog.run(t);
+            let value = (j.v, j.d1, j.d2);
+            *slot = Memo {
+                id: self.id,
+                t: key,
+                value,
+            };
+            value
+        })
     }
 
     /// Where the expression first stops being finite at t (`None` if f, ḟ, f̈ are finite).
