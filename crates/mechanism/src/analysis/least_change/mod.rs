@@ -45,7 +45,7 @@
 //! out (the constraints' λᵀΦ_qq, the rotation's own; [`newton`]) and converge quadratically.
 //! Gauss–Newton stays the first choice because it is cheaper and, where it converges, finds the
 //! minimum OndselSolver finds; Newton may reach another one (in the far-drawn survey of
-//! `docs/asmt.md`, one with a third of the objective).
+//! `docs/asmt.md`, one with a sixth of the objective OndselSolver reaches).
 //! Velocities and accelerations of the held motion are the H-weighted minimum-norm solutions of
 //! Φ_v v = ν and Φ_v v̇ = γ# (the rates of the least-change motion as the output step tends to
 //! zero, without the term from the rate of H, which is of the order of the free coordinates'
