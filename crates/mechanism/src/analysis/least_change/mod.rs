@@ -42,7 +42,8 @@
 //! Where that rate is no contraction at all (a step at least [`SLOW_CONTRACTION`] of the one
 //! before: a part drawn far from its place on a distance joint, a point near a hinge dragged
 //! far), the solve goes on with Newton steps, which put back the curvature Gauss–Newton leaves
-//! out (the constraints' λᵀΦ_qq, the rotation's own; [`newton`]) and converge quadratically.
+//! out (the constraints' λᵀΦ_qq, the rotation's own; `least_change/newton.rs`) and converge
+//! quadratically.
 //! Gauss–Newton stays the first choice because it is cheaper and, where it converges, finds the
 //! minimum OndselSolver finds; Newton may reach another one (in the far-drawn survey of
 //! `docs/asmt.md`, one with a sixth of the objective OndselSolver reaches).
@@ -61,7 +62,7 @@
 //! negative, leaving it out only shortens the step); the fixed point, hence the solution, is
 //! unchanged. The curvature the constraints give P's path (a point near a hinge circles the
 //! hinge, not the body's origin) and the goal's negative part are the Newton step's
-//! ([`newton`]); a drag step that still cannot converge is cut back and repeated
+//! (`newton.rs`); a drag step that still cannot converge is cut back and repeated
 //! ([`crate::Drag::follow`]).
 //!
 //! # The weights
@@ -268,7 +269,7 @@ pub const STAGNATION_STEP: f64 = 1e-12;
 pub const STAGNATION: f64 = 0.9;
 
 /// A Gauss–Newton step at least this fraction of the one before it switches the solve to
-/// Newton steps ([`newton`]): Gauss–Newton converges linearly at a rate that grows with the
+/// Newton steps (`newton.rs`): Gauss–Newton converges linearly at a rate that grows with the
 /// distance moved times the constraints' curvature, fast between nearby output times (where
 /// the cheaper step is kept) and not at all for a part drawn far from its place.
 pub const SLOW_CONTRACTION: f64 = 0.9;
@@ -431,14 +432,7 @@ impl LeastChange {
         let mut last_size = f64::INFINITY;
         let mut newton = false;
         for it in 0..MAX_ITERATIONS {
-            ws.sync_poses();
-            model.phi_into(
-                &ws.pose.bodies,
-                ws.pose.u(),
-                &ws.pose.turns,
-                t,
-                &mut self.phi,
-            );
+            self.phi_at(model, ws, t);
             self.factor(model, ws, t)
                 .map_err(|e| model.map_solver_error(t, e))?;
             // c = L⁻¹ g.
@@ -476,20 +470,20 @@ impl LeastChange {
             }
             apply_rotation_step(&mut ws.pose.x, &self.delta);
         }
-        ws.sync_poses();
-        model.phi_into(
-            &ws.pose.bodies,
-            ws.pose.u(),
-            &ws.pose.turns,
-            t,
-            &mut self.phi,
-        );
+        self.phi_at(model, ws, t);
         Err(AnalysisError::NotConverged {
             time: t,
             iterations: MAX_ITERATIONS,
             worst: worst_rows(model, &self.phi),
             partial: None,
         })
+    }
+
+    /// Φ at the workspace's poses (synced first) into `phi`. No allocation.
+    fn phi_at(&mut self, model: &Model, ws: &mut Workspace, t: f64) {
+        ws.sync_poses();
+        let p = &ws.pose;
+        model.phi_into(&p.bodies, p.u(), &p.turns, t, &mut self.phi);
     }
 
     /// The H-weighted minimum-norm solution of Φ_v x = `rhs` at the workspace's poses
