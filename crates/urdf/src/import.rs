@@ -225,12 +225,13 @@ fn dynamics_warning(import: &Import, warnings: &mut Vec<Warning>) {
     let Some((_, first)) = left.first() else {
         return;
     };
-    let listed: Vec<String> = (left.iter().take(6))
-        .map(|(_, j)| {
+    let listed = listing(
+        left.iter().map(|(_, j)| {
             let line = j.dynamics.map_or(j.line, |d| d.line);
             format!("\"{}\" (line {line})", j.name)
-        })
-        .collect();
+        }),
+        left.len(),
+    );
     let what = match (import.options.damping, import.options.friction) {
         (true, true) => "damping or friction on a planar joint, which is not modelled",
         (true, false) => {
@@ -246,13 +247,21 @@ fn dynamics_warning(import: &Import, warnings: &mut Vec<Warning>) {
     warnings.push(Warning {
         line: first.dynamics.map_or(first.line, |d| d.line),
         message: format!(
-            "{} joint{} with <dynamics> {what}: {}{}; add dampers or [[friction]] in an overlay",
-            left.len(),
-            if left.len() == 1 { "" } else { "s" },
-            listed.join(", "),
-            if left.len() > 6 { ", …" } else { "" }
+            "{} with <dynamics> {what}: {listed}; add dampers or [[friction]] in an overlay",
+            counted(left.len(), "joint"),
         ),
     });
+}
+
+/// "N joint(s)" (or another noun), for a warning that lists joints.
+fn counted(n: usize, noun: &str) -> String {
+    format!("{n} {noun}{}", if n == 1 { "" } else { "s" })
+}
+
+/// The first six of `items` (there are `total`), joined, with "…" when some are left out.
+fn listing(items: impl Iterator<Item = String>, total: usize) -> String {
+    let shown: Vec<String> = items.take(6).collect();
+    format!("{}{}", shown.join(", "), if total > 6 { ", …" } else { "" })
 }
 
 /// The mimic joints that become gear couplers (two revolute joints whose bodies share one).
@@ -309,19 +318,12 @@ fn mimic_couplers(import: &Import, warnings: &mut Vec<Warning>) -> Result<Vec<(u
         out.push((t, k));
     }
     if let Some(&(_, line)) = fixed.first() {
-        let names: Vec<String> = fixed
-            .iter()
-            .take(6)
-            .map(|(n, _)| format!("\"{n}\""))
-            .collect();
+        let names = listing(fixed.iter().map(|(n, _)| format!("\"{n}\"")), fixed.len());
         warnings.push(Warning {
             line,
             message: format!(
-                "{} fixed joint{} with <mimic> ({}{}): a fixed joint has no coordinate to follow another joint's, so the tag is ignored and the links stay fixed",
-                fixed.len(),
-                if fixed.len() == 1 { "" } else { "s" },
-                names.join(", "),
-                if fixed.len() > 6 { ", …" } else { "" }
+                "{} with <mimic> ({names}): a fixed joint has no coordinate to follow another joint's, so the tag is ignored and the links stay fixed",
+                counted(fixed.len(), "fixed joint"),
             ),
         });
     }
