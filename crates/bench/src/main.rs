@@ -3,7 +3,7 @@
 //! ```text
 //! cardan-bench [--smoke] [--report docs/performance.md] [--plots docs/performance] [--peers PYTHON]
 //! cardan-bench --point <kin|dyn> <chain|ladder> N     (one scaling point; used internally)
-//! cardan-bench --profile <frame EXAMPLE N | kin-chain N FRAMES | chain N STEPS | chain-dopri5 N RTOL | model FILE N | asmt FILE N>
+//! cardan-bench --profile <frame EXAMPLE N | kin-chain N FRAMES | chain N STEPS | chain-dopri5 N RTOL | model FILE N | model-prepare FILE N | asmt FILE N>
 //!     (one run for a profiler)
 //! cardan-bench --peers-only PYTHON [--smoke] [kinematics|slider-crank|chain ...]  (peers to stdout)
 //! cardan-bench --genalpha N T_END H [mass|tangent] [INTERVALS] [--no-reference]
@@ -399,17 +399,22 @@ fn profile(args: &[String]) {
                 t0.elapsed().as_secs_f64() * 1e3 / n.max(1) as f64
             );
         }
-        Some("model") => {
-            // A model file's analysis, in memory (tables kept, nothing written), n times.
+        Some(kind @ ("model" | "model-prepare")) => {
+            // A model file's analysis, in memory (tables kept, nothing written), n times;
+            // `model-prepare` also reads and prepares the file each time (as Python's run does).
             let path = Path::new(arg(1).expect("profile model FILE [N]"));
-            let p = cardan_model::prepare::prepare_source(
-                cardan_model::Source::read(path).expect("read"),
-            )
-            .expect("prepare");
+            let prepare = || {
+                let source = cardan_model::Source::read(path).expect("read");
+                cardan_model::prepare::prepare_source(source).expect("prepare")
+            };
+            let mut p = prepare();
             let a = p.loaded.analysis.clone().expect("an [analysis] table");
             let flags = cardan_model::analysis::RunFlags::default();
             let t0 = Instant::now();
             for _ in 0..n {
+                if kind == "model-prepare" {
+                    p = prepare();
+                }
                 cardan_model::analysis::analyse(&p, &a, &flags).expect("analyse");
             }
             eprintln!(
