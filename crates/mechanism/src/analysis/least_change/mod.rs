@@ -78,7 +78,6 @@ use crate::workspace::{apply_rotation_step, Workspace};
 use cardan_eulerparam::EulerParams;
 use cardan_solver::{LinearSolver, MinNormQr, SolverError, SparsityPattern};
 use nalgebra::{Matrix3, Matrix3x4, Matrix4x3, Matrix6, Vector3, Vector4, Vector6};
-use std::collections::BTreeSet;
 
 mod newton;
 
@@ -298,19 +297,17 @@ impl LeastChange {
         }
         let (m, n) = (model.num_equations(), model.num_unknowns());
         let src = model.pattern();
-        let mut set = BTreeSet::new();
-        for (r, c) in src.entries() {
-            let b = c / 6;
-            for k in 0..6 {
-                set.insert((r, 6 * b + k));
-            }
-        }
-        let entries: Vec<(usize, usize)> = set.iter().copied().collect();
-        let index: std::collections::HashMap<(usize, usize), usize> =
-            entries.iter().enumerate().map(|(k, &e)| (e, k)).collect();
+        // Each entry's row touches all six columns of its body: sorted (row, column), once.
+        let mut entries: Vec<(usize, usize)> = src
+            .entries()
+            .flat_map(|(r, c)| (0..6).map(move |k| (r, 6 * (c / 6) + k)))
+            .collect();
+        entries.sort_unstable();
+        entries.dedup();
+        let slot_of = |e: (usize, usize)| entries.binary_search(&e).unwrap_or_else(|k| k);
         let targets = src
             .entries()
-            .map(|(r, c)| (r, index[&(r, 6 * (c / 6))]))
+            .map(|(r, c)| (r, slot_of((r, 6 * (c / 6)))))
             .collect();
         let pattern = SparsityPattern::new(m, n, &entries)?;
         let mut qr = MinNormQr::new();
