@@ -205,6 +205,24 @@ struct PivotedQr {
     work_n: Vec<f64>,
 }
 
+/// x ← (I − τ v vᵀ) x for the Householder vector v = [1; `tail`] (the unit first entry implied,
+/// as the factors store it). No allocation.
+#[inline]
+fn reflect(tail: &[f64], tau: f64, x: &mut [f64]) {
+    let (head, rest) = x.split_at_mut(1);
+    let w = head[0]
+        + tail
+            .iter()
+            .zip(rest.iter())
+            .map(|(a, b)| a * b)
+            .sum::<f64>();
+    let tw = tau * w;
+    head[0] -= tw;
+    for (xi, vi) in rest.iter_mut().zip(tail) {
+        *xi -= tw * vi;
+    }
+}
+
 /// Householder QR (no pivoting) of a column-major `rows × cols` matrix in place, `rows ≥ cols`.
 /// R in the upper triangle, reflectors (unit first entry implied) below, scalars in `tau`.
 fn householder_in_place(a: &mut [f64], rows: usize, cols: usize, tau: &mut [f64]) {
@@ -408,13 +426,7 @@ impl PivotedQr {
                 *ci = self.row_scale[row] * b[row];
             }
             for k in 0..r {
-                let v = &s[k * m + k + 1..(k + 1) * m];
-                let w = c[k] + v.iter().zip(&c[k + 1..]).map(|(a, b)| a * b).sum::<f64>();
-                let tw = self.tau2[k] * w;
-                c[k] -= tw;
-                for (ci, vi) in c[k + 1..].iter_mut().zip(v) {
-                    *ci -= tw * vi;
-                }
+                reflect(&s[k * m + k + 1..(k + 1) * m], self.tau2[k], &mut c[k..]);
             }
             for k in (0..r).rev() {
                 let mut acc = c[k];
@@ -437,13 +449,11 @@ impl PivotedQr {
         x[r..].fill(0.0);
         // x = H_0 H_1 … H_{r−1} [y; 0]
         for k in (0..r).rev() {
-            let v = &self.a[k * n + k + 1..(k + 1) * n];
-            let w = x[k] + v.iter().zip(&x[k + 1..]).map(|(a, b)| a * b).sum::<f64>();
-            let tw = self.tau[k] * w;
-            x[k] -= tw;
-            for (xi, vi) in x[k + 1..].iter_mut().zip(v) {
-                *xi -= tw * vi;
-            }
+            reflect(
+                &self.a[k * n + k + 1..(k + 1) * n],
+                self.tau[k],
+                &mut x[k..],
+            );
         }
         for (xi, c) in x.iter_mut().zip(&self.col_scale) {
             *xi *= c;
@@ -463,13 +473,11 @@ impl PivotedQr {
         }
         // Qᵀ y = H_{r−1} … H_0 y.
         for k in 0..r {
-            let v = &self.a[k * n + k + 1..(k + 1) * n];
-            let w = qty[k] + v.iter().zip(&qty[k + 1..]).map(|(a, b)| a * b).sum::<f64>();
-            let tw = self.tau[k] * w;
-            qty[k] -= tw;
-            for (qi, vi) in qty[k + 1..].iter_mut().zip(v) {
-                *qi -= tw * vi;
-            }
+            reflect(
+                &self.a[k * n + k + 1..(k + 1) * n],
+                self.tau[k],
+                &mut qty[k..],
+            );
         }
         // R11 w₁ = (Qᵀ y)[..r]: R[i, k] = a[k n + i] for i ≤ k.
         for k in (0..r).rev() {
