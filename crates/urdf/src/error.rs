@@ -39,3 +39,14 @@ impl fmt::Display for Warning {
         write!(f, "line {}: {}", self.line, self.message)
     }
 }
+
+/// The first `max` of `items` (there are `total`), joined by commas, with "…" when some are
+/// left out: the lists of names in messages.
+pub(crate) fn listing(items: impl Iterator<Item = String>, total: usize, max: usize) -> String {
+    let shown: Vec<String> = items.take(max).collect();
+    format!(
+        "{}{}",
+        shown.join(", "),
+        if total > max { ", …" } else { "" }
+    )
+}

@@ -19,7 +19,7 @@
 //! URDF axis. Every link's origin is a point named after the link on its body.
 
 use crate::bodies::{initial_q, layout, Base, Layout};
-use crate::error::{Result, UrdfError, Warning};
+use crate::error::{listing, Result, UrdfError, Warning};
 use crate::names::Namespace;
 use crate::robot::{JointType, Robot};
 use crate::tree::{tree, Tree};
@@ -231,6 +231,7 @@ fn dynamics_warning(import: &Import, warnings: &mut Vec<Warning>) {
             format!("\"{}\" (line {line})", j.name)
         }),
         left.len(),
+        6,
     );
     let what = match (import.options.damping, import.options.friction) {
         (true, true) => "damping or friction on a planar joint, which is not modelled",
@@ -256,12 +257,6 @@ fn dynamics_warning(import: &Import, warnings: &mut Vec<Warning>) {
 /// "N joint(s)" (or another noun), for a warning that lists joints.
 fn counted(n: usize, noun: &str) -> String {
     format!("{n} {noun}{}", if n == 1 { "" } else { "s" })
-}
-
-/// The first six of `items` (there are `total`), joined, with "…" when some are left out.
-fn listing(items: impl Iterator<Item = String>, total: usize) -> String {
-    let shown: Vec<String> = items.take(6).collect();
-    format!("{}{}", shown.join(", "), if total > 6 { ", …" } else { "" })
 }
 
 /// The mimic joints that become gear couplers (two revolute joints whose bodies share one).
@@ -318,7 +313,11 @@ fn mimic_couplers(import: &Import, warnings: &mut Vec<Warning>) -> Result<Vec<(u
         out.push((t, k));
     }
     if let Some(&(_, line)) = fixed.first() {
-        let names = listing(fixed.iter().map(|(n, _)| format!("\"{n}\"")), fixed.len());
+        let names = listing(
+            fixed.iter().map(|(n, _)| format!("\"{n}\"")),
+            fixed.len(),
+            6,
+        );
         warnings.push(Warning {
             line,
             message: format!(

@@ -2,7 +2,7 @@
 //! parent, exactly one root, no cycle; every mimic joint follows another, non-mimic joint
 //! ([`check_mimics`]).
 
-use crate::error::{Result, UrdfError};
+use crate::error::{listing, Result, UrdfError};
 use crate::robot::Robot;
 use std::collections::HashMap;
 
@@ -97,14 +97,13 @@ pub fn tree(robot: &Robot) -> Result<Tree> {
             ))
         }
         many => {
-            let names: Vec<String> = many.iter().take(5).map(|&l| format!("\"{}\" (line {})", robot.links[l].name, robot.links[l].line)).collect();
+            let link = |&l: &usize| format!("\"{}\" (line {})", robot.links[l].name, robot.links[l].line);
+            let names = listing(many.iter().map(link), many.len(), 5);
             return Err(UrdfError::new(
                 robot.links[many[1]].line,
                 format!(
-                    "the robot has {} root links (links no joint has as its child): {}{}; join them into one tree",
+                    "the robot has {} root links (links no joint has as its child): {names}; join them into one tree",
                     many.len(),
-                    names.join(", "),
-                    if many.len() > 5 { ", …" } else { "" }
                 ),
             ));
         }
