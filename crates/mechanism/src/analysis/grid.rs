@@ -377,16 +377,42 @@ impl Model {
 
     /// Assembles an unprepared workspace for a run (joints, the driver count, then the drivers
     /// at t0) and prepares the kinematic solver with the run's tolerance.
+    ///
+    /// With `free_dof = "hold"` the driven run is tried first: a mechanism whose drivers take
+    /// every degree of freedom runs as without the option (the least-change assembly would be
+    /// solved, its DOF counted and its pose then thrown away: a fifth of a small fully driven
+    /// ASMT file's run). When that preparation fails (too few drivers, or an assembly the
+    /// least change may still reach from the drawn pose), the workspace goes back to the drawn
+    /// pose and the held run is prepared; a mechanism the least change finds fully driven too
+    /// gets the driven run's error.
     fn prepare_run(
         &self,
         ws: &mut Workspace,
         options: &KinematicOptions,
     ) -> Result<Option<HeldRun>, AnalysisError> {
-        if let FreeDof::Hold(metric) = options.free_dof {
-            if let Some(held) = self.prepare_held(ws, options, metric)? {
-                return Ok(Some(held));
-            }
+        let FreeDof::Hold(metric) = options.free_dof else {
+            return self.prepare_driven(ws, options).map(|()| None);
+        };
+        let drawn = ws.pose.x.clone();
+        let Err(driven) = self.prepare_driven(ws, options) else {
+            return Ok(None);
+        };
+        ws.pose.x.copy_from_slice(&drawn);
+        ws.sync_poses();
+        ws.reset_dropped_rows();
+        ws.invalidate();
+        match self.prepare_held(ws, options, metric)? {
+            Some(held) => Ok(Some(held)),
+            None => Err(driven),
         }
+    }
+
+    /// [`Self::prepare_run`] for a run whose drivers take every degree of freedom.
+    fn prepare_driven(
+        &self,
+        ws: &mut Workspace,
+        options: &KinematicOptions,
+    ) -> Result<(), AnalysisError> {
         // Joints first, then the drivers. The preparation below checks the driver count
         // (one rank analysis); when the drivers make the assembly fail, the count is
         // checked at the joints' pose first (an over-driven mechanism gets "superfluous",
@@ -415,7 +441,7 @@ impl Model {
             ..Self::kinematic_newton_options()
         };
         self.prepare_kinematics_with(ws, newton)?;
-        Ok(None)
+        Ok(())
     }
 
     /// The dropped rows off by more than the kinematic solver's residual tolerance during the

@@ -305,17 +305,19 @@ pub fn bricard_builder() -> MechanismBuilder {
 /// Haug's slider-crank with its prismatic joint replaced by the slider's point C on a line
 /// along global x through O (a pin in a straight slot) and a no-rotation joint.
 pub fn slotted_slider_crank(omega: f64) -> MechanismBuilder {
+    slotted(omega, straight_slot())
+}
+
+/// The slider's point C on a line along global x through O.
+pub fn straight_slot() -> cardan_mechanism::CurveSpec {
     let slot = cardan_constraints::Line::new(
         &cardan_constraints::Marker::from_axis(Vector3::zeros(), Vector3::x()).unwrap(),
     );
-    slotted(
-        omega,
-        cardan_mechanism::CurveSpec::new("slot", GROUND, slot, "slider", "C"),
-    )
+    cardan_mechanism::CurveSpec::new("slot", GROUND, slot, "slider", "C")
 }
 
-/// The slider-crank with the slider's point C held by `slot` and its rotation locked.
-pub fn slotted(omega: f64, slot: cardan_mechanism::CurveSpec) -> MechanismBuilder {
+/// [`slotted`] without its motor: one degree of freedom left free.
+pub fn slotted_undriven(slot: cardan_mechanism::CurveSpec) -> MechanismBuilder {
     let mut b = slider_crank_links();
     b.joint(
         JointSpec::new(
@@ -327,6 +329,12 @@ pub fn slotted(omega: f64, slot: cardan_mechanism::CurveSpec) -> MechanismBuilde
         .axes("x", "x"),
     );
     b.curve(slot);
+    b
+}
+
+/// The slider-crank with the slider's point C held by `slot` and its rotation locked.
+pub fn slotted(omega: f64, slot: cardan_mechanism::CurveSpec) -> MechanismBuilder {
+    let mut b = slotted_undriven(slot);
     b.driver(DriverSpec::rotation(
         "motor",
         "A",
