@@ -117,21 +117,3 @@ pub fn table_from_bytes(
     }
     Ok(t)
 }
-
-/// The model of `text` (read from `path`) prepared, or `None` with its error set under the key
-/// `error` of `out`.
-pub fn prepared_or_error(
-    py: pyo3::Python<'_>,
-    out: &pyo3::Bound<'_, pyo3::types::PyDict>,
-    text: String,
-    path: String,
-) -> pyo3::PyResult<Option<cardan_model::prepare::Prepared>> {
-    use pyo3::types::PyDictMethods;
-    match cardan_model::prepare::prepare_source(cardan_model::diag::Source::from_text(path, text)) {
-        Ok(p) => Ok(Some(p)),
-        Err(e) => {
-            out.set_item("error", error_dict(py, &ErrorData::from(&e))?)?;
-            Ok(None)
-        }
-    }
-}

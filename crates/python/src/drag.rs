@@ -3,7 +3,7 @@
 //! assembled at `time` from the drawn one), the point of the body pulled toward the target, and
 //! the new pose returned with how far the step got. Lengths in the model's units.
 
-use crate::convert::{error_dict, prepared_or_error, ErrorData};
+use crate::convert::{error_dict, ErrorData};
 use cardan_mechanism::nalgebra::{Vector3, Vector4};
 use cardan_mechanism::{AnalysisError, AssemblyOptions, Drag, DragStop};
 use cardan_model::prepare::{analysis_error, Prepared};
@@ -17,7 +17,7 @@ type Pose = HashMap<String, ([f64; 3], [f64; 4])>;
 /// One drag step (module docs): a dict with `pose` (body → (r, p)), `reached`, `stop` (the
 /// limit's name, `"not converged"` or None), `distance` (model units), or `error`.
 #[pyfunction]
-#[pyo3(signature = (text, path, body, target, point=None, pose=None, time=0.0))]
+#[pyo3(signature = (text, path, body, target, point=None, pose=None, time=0.0, model=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn drag<'py>(
     py: Python<'py>,
@@ -28,9 +28,11 @@ pub fn drag<'py>(
     point: Option<String>,
     pose: Option<Pose>,
     time: f64,
+    model: Option<&Bound<'py, crate::prepared::Prepared>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let out = PyDict::new(py);
-    let Some(p) = prepared_or_error(py, &out, text, path)? else {
+    let handle = model.map(Bound::get);
+    let Some(p) = crate::prepared::model_or_error(py, &out, text, path, handle)? else {
         return Ok(out);
     };
     match step(&p, &body, target, point.as_deref(), pose.as_ref(), time) {

@@ -13,9 +13,11 @@
 //!   polls for Python signals, so Ctrl-C stops the run at its next step and keeps its results.
 //! - `check`: degrees of freedom, redundant equations and driver counts.
 //! - `table_csv`: a table's CSV text exactly as `cardan run` writes it.
-//! - `validate`: a model text read and validated (what `cardan.Model` does when it is made).
-//! - `import_asmt`: an ASMT file as model text.
-//! - `import_urdf`: a URDF robot as model text.
+//! - `prepare`: a model text read, validated and built (what `cardan.Model` does when it is
+//!   made), as an opaque handle ([`prepared`]) that `run`, `check` and `drag` take beside the
+//!   text so as not to read it again.
+//! - `import_asmt`: an ASMT file as model text (and prepared).
+//! - `import_urdf`: a URDF robot as model text (and prepared).
 //! - `drag`: one drag step (a point of a body pulled toward a target, the rest by least change).
 //! - `main`: the `cardan` command itself (`python -m cardan`).
 //!
@@ -26,19 +28,20 @@
 mod analysis;
 mod convert;
 mod drag;
+mod prepared;
 
 use cardan_cli::Error;
 use cardan_mechanism::AssemblyOptions;
 use cardan_model::analysis::{analyse, animation, run_json, RunFlags};
 use cardan_model::diag::Source;
 use cardan_model::plot::PlotFiles;
-use cardan_model::prepare::{analysis_error, prepare_source};
+use cardan_model::prepare::{analysis_error, prepare_source, Prepared};
 use cardan_model::progress;
 use cardan_model::table::Table;
-use convert::{error_dict, prepared_or_error, table_tuple, ErrorData};
+use convert::{error_dict, table_tuple, ErrorData};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use std::sync::{mpsc, Mutex};
+use std::sync::{mpsc, Arc, Mutex};
 use std::time::{Duration, Instant};
 
 /// How often the calling thread looks for Ctrl-C while an analysis runs.
@@ -62,16 +65,30 @@ struct RunData {
     files: Vec<(String, String)>,
 }
 
-/// Runs the analysis of the model text `text` (read from `path`), with the analysis `kind`
-/// and `[analysis]` keys `options` set over the file's, and `strict` as `--strict`.
-fn run_text(
+/// What `run` was asked for: the model text `text` (read from `path`; `ready` when it is
+/// prepared already), the analysis `kind` and `[analysis]` keys `options` set over the file's,
+/// `strict` as `--strict` and `report` for the animation and the report page.
+struct Request {
     text: String,
     path: String,
+    ready: Option<Arc<Prepared>>,
     kind: Option<String>,
     options: Vec<(String, analysis::Value)>,
     strict: bool,
     report: bool,
-) -> RunData {
+}
+
+/// Runs the analysis of a [`Request`].
+fn run_text(r: Request) -> RunData {
+    let Request {
+        text,
+        path,
+        ready,
+        kind,
+        options,
+        strict,
+        report,
+    } = r;
     let start = Instant::now();
     let failed = |e: &Error| RunData {
         kind: "",
@@ -82,11 +99,13 @@ fn run_text(
         report: None,
         files: Vec::new(),
     };
-    let text = match analysis::set_analysis(&text, kind.as_deref(), &options) {
-        Ok(t) => t,
-        Err(e) => return failed(&Error::input(e)),
+    let prepared = match ready {
+        Some(p) => Ok(p),
+        None => analysis::set_analysis(&text, kind.as_deref(), &options)
+            .map_err(Error::input)
+            .and_then(|text| prepare_source(Source::from_text(path, text)).map(Arc::new)),
     };
-    let p = match prepare_source(Source::from_text(path, text)) {
+    let p = match prepared {
         Ok(p) => p,
         Err(e) => return failed(&e),
     };
@@ -164,7 +183,8 @@ fn run_text(
 /// animation and the report page, with `report`; else `None`) and `files` (other output
 /// files as `(name, text)`: a modal run's matrices).
 #[pyfunction]
-#[pyo3(signature = (text, path, kind=None, options=None, strict=false, report=false))]
+#[pyo3(signature = (text, path, kind=None, options=None, strict=false, report=false, model=None))]
+#[allow(clippy::too_many_arguments)]
 fn run<'py>(
     py: Python<'py>,
     text: String,
@@ -173,16 +193,31 @@ fn run<'py>(
     options: Option<&Bound<'py, PyDict>>,
     strict: bool,
     report: bool,
+    model: Option<&Bound<'py, prepared::Prepared>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let options = match options {
         Some(d) => analysis::options_from_dict(d)?,
         None => Vec::new(),
     };
+    // The model's own prepared text, when the run takes the text as it is.
+    let ready = if kind.is_none() && options.is_empty() {
+        prepared::made_from(model.map(Bound::get), &text, &path)
+    } else {
+        None
+    };
     let (send, recv) = mpsc::channel();
     // A Mutex makes the receiver shareable with the GIL-free closure below.
     let recv = Mutex::new(recv);
     let worker = std::thread::spawn(move || {
-        let _ = send.send(run_text(text, path, kind, options, strict, report));
+        let _ = send.send(run_text(Request {
+            text,
+            path,
+            ready,
+            kind,
+            options,
+            strict,
+            report,
+        }));
     });
     let mut interrupt: Option<PyErr> = None;
     let data = loop {
@@ -243,9 +278,15 @@ fn run<'py>(
 /// Degrees of freedom, redundant equations and element counts of a model text: a dict, or an
 /// error dict under the key `error`.
 #[pyfunction]
-fn check<'py>(py: Python<'py>, text: String, path: String) -> PyResult<Bound<'py, PyDict>> {
+#[pyo3(signature = (text, path, model=None))]
+fn check<'py>(
+    py: Python<'py>,
+    text: String,
+    path: String,
+    model: Option<&Bound<'py, prepared::Prepared>>,
+) -> PyResult<Bound<'py, PyDict>> {
     let out = PyDict::new(py);
-    let Some(p) = prepared_or_error(py, &out, text, path)? else {
+    let Some(p) = prepared::model_or_error(py, &out, text, path, model.map(Bound::get))? else {
         return Ok(out);
     };
     let model = &p.model;
@@ -317,12 +358,13 @@ fn table_csv(name: String, title: String, columns: Vec<String>, data: &[u8]) -> 
 /// An ASMT assembly (OndselSolver / FreeCAD) as cardan model text: a dict with `text` (the
 /// imported model in the file's units, `[model] units`), `path` (its name, `<file>.asmt.toml`)
 /// and `warnings` (the elements read but ignored, a millimetre file read as SI), or `error`.
-/// `units` is `"si"` or `"mm"` (`[model] units = "mm"`: results in mm).
+/// `units` is `"si"` or `"mm"` (`[model] units = "mm"`: results in mm). `text` is the file's
+/// text, or `None` to read the file at `path`.
 #[pyfunction]
 #[pyo3(signature = (text, path, units="si", inverse_dynamics=false))]
 fn import_asmt<'py>(
     py: Python<'py>,
-    text: String,
+    text: Option<String>,
     path: String,
     units: &str,
     inverse_dynamics: bool,
@@ -344,11 +386,21 @@ fn import_asmt<'py>(
     };
     imported(
         py,
-        import_source(&Source::from_text(path, text), units, analysis),
+        py.detach(|| source(text, path).and_then(|s| import_source(&s, units, analysis))),
     )
 }
 
-/// The dict of an import: `text`, `path`, `warnings` and `error` None, or `error`.
+/// The file an import reads: `text` read from `path`, or (`None`) the file at `path` read here
+/// (Rust reads a large assembly faster than Python hands its text over).
+fn source(text: Option<String>, path: String) -> Result<Source, cardan_model::diag::Error> {
+    match text {
+        Some(text) => Ok(Source::from_text(path, text)),
+        None => Source::read(std::path::Path::new(&path)),
+    }
+}
+
+/// The dict of an import: `text`, `path`, `warnings`, `prepared` (the model text prepared, as
+/// `prepare` returns it) and `error` None, or `error`.
 fn imported<'py>(
     py: Python<'py>,
     result: Result<(Source, Vec<String>), cardan_model::diag::Error>,
@@ -356,8 +408,11 @@ fn imported<'py>(
     let out = PyDict::new(py);
     match result {
         Ok((model, warnings)) => {
+            let path = model.path.display().to_string();
+            let handle = py.detach(|| prepared::Prepared::new(model.text.clone(), path.clone()));
+            out.set_item("prepared", prepared::prepared_dict(py, handle)?)?;
             out.set_item("text", model.text)?;
-            out.set_item("path", model.path.display().to_string())?;
+            out.set_item("path", path)?;
             out.set_item("warnings", warnings)?;
             out.set_item("error", py.None())?;
         }
@@ -370,12 +425,12 @@ fn imported<'py>(
 /// name, `<file>.urdf.toml`) and `warnings`, or `error`. `base` is `"fixed"` or `"floating"`,
 /// `mimic` `"couple"` or `"free"`; `limits` writes the position limits as stops; `damping`
 /// the joints' `<dynamics damping>` as dampers, `friction` their `<dynamics friction>` as
-/// constant friction.
+/// constant friction. `text` is the file's text, or `None` to read the file at `path`.
 #[pyfunction]
 #[pyo3(signature = (text, path, base="fixed", mimic="couple", limits=true, damping=false, friction=false))]
 fn import_urdf<'py>(
     py: Python<'py>,
-    text: String,
+    text: Option<String>,
     path: String,
     base: &str,
     mimic: &str,
@@ -408,24 +463,8 @@ fn import_urdf<'py>(
     };
     imported(
         py,
-        import_source(&Source::from_text(path, text), options, true),
+        py.detach(|| source(text, path).and_then(|s| import_source(&s, options, true))),
     )
-}
-
-/// Reads and validates a model text as every analysis does before it runs (syntax, names,
-/// numbers, shapes; not the assembly): `None`, or the error dict.
-#[pyfunction]
-fn validate<'py>(
-    py: Python<'py>,
-    text: String,
-    path: String,
-) -> PyResult<Option<Bound<'py, PyDict>>> {
-    let error = py.detach(|| {
-        prepare_source(Source::from_text(path, text))
-            .err()
-            .map(|e| ErrorData::from(&e))
-    });
-    error.map(|e| error_dict(py, &e)).transpose()
 }
 
 /// The model text with parameters given values (`values`: name → text, as `--set` reads them):
@@ -510,7 +549,8 @@ fn main(py: Python<'_>, argv: Vec<String>) -> i32 {
 fn _cardan(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run, m)?)?;
     m.add_function(wrap_pyfunction!(check, m)?)?;
-    m.add_function(wrap_pyfunction!(validate, m)?)?;
+    m.add_function(wrap_pyfunction!(prepared::prepare, m)?)?;
+    m.add_class::<prepared::Prepared>()?;
     m.add_function(wrap_pyfunction!(with_parameters, m)?)?;
     m.add_function(wrap_pyfunction!(parameters, m)?)?;
     m.add_function(wrap_pyfunction!(main, m)?)?;

@@ -81,9 +81,11 @@ class Table:
     name: str
     title: str
     columns: List[str]
-    names: List[str]
-    units: List[str]
     def __init__(self, name: str, title: str, columns: List[str], data: npt.NDArray[np.float64]) -> None: ...
+    @property
+    def names(self) -> List[str]: ...
+    @property
+    def units(self) -> List[str]: ...
     @property
     def t(self) -> npt.NDArray[np.float64]: ...
     @property

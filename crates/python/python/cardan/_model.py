@@ -80,6 +80,14 @@ def _parameter_text(v: Any) -> str:
     return v if isinstance(v, str) else repr(v)
 
 
+def _prepared(out: Dict[str, Any]) -> Any:
+    """The native handle of a prepared model text (``_cardan.prepare``'s dict); raises its
+    :class:`ModelError`."""
+    if out["error"] is not None:
+        raise_error(out["error"])
+    return out["model"]
+
+
 class Model:
     """A mechanism model: the text of a model file and the path it came from (which names it
     in error messages and anchors the files it refers to).
@@ -96,15 +104,15 @@ class Model:
         files it refers to (``"<model>"`` when not given)."""
         self.text = text
         self.path = os.fspath(path) if path is not None else "<model>"
-        error = _cardan.validate(self.text, self.path)
-        if error is not None:
-            raise_error(error)
+        self._native = _prepared(_cardan.prepare(self.text, self.path))
 
     @classmethod
-    def _trusted(cls, text: str, path: str) -> "Model":
-        """A model whose text was validated before (unpickling, an imported ASMT file)."""
+    def _trusted(cls, text: str, path: str, native: Any = None) -> "Model":
+        """A model whose text was validated before (unpickling, an import), with the native
+        handle of its prepared text if there is one (not after unpickling: the text is prepared
+        again by each call then)."""
         model = cls.__new__(cls)
-        model.text, model.path = text, path
+        model.text, model.path, model._native = text, path, native
         return model
 
     @classmethod
@@ -157,7 +165,7 @@ class Model:
     def check(self) -> Check:
         """Validates the model and analyses its joints: raises :class:`ModelError` for a bad
         model, :class:`AnalysisError` when it cannot be assembled."""
-        out = _cardan.check(self.text, self.path)
+        out = _cardan.check(self.text, self.path, self._native)
         if out["error"] is not None:
             raise_error(out["error"])
         return Check(
@@ -183,7 +191,7 @@ class Model:
         (with the complete results as ``partial``). ``report=True`` also makes the 3D
         animation and the report page of ``cardan run`` (``Results.glb``, ``Results.html``;
         shown inline in Jupyter, saved by :meth:`Results.save_report`)."""
-        out = _cardan.run(self.text, self.path, kind, options or None, strict, report)
+        out = _cardan.run(self.text, self.path, kind, options or None, strict, report, self._native)
         results = Results._from_native(out) if out["tables"] else None
         if out["interrupted"]:
             err = KeyboardInterrupt("cardan: analysis stopped by Ctrl-C; its results so far are in .partial")
@@ -244,6 +252,7 @@ class Model:
             point,
             None if pose is None else {k: (list(r), list(p)) for k, (r, p) in pose.items()},
             float(time),
+            self._native,
         )
         if out["error"] is not None:
             raise_error(out["error"])
@@ -281,8 +290,8 @@ def load(
     ``--damping`` and ``--friction``. The import's warnings
     (elements read but ignored) are issued as Python warnings."""
     path = os.path.abspath(os.fspath(path))
-    with open(path, encoding="utf-8") as f:
-        text = f.read()
+    # An unreadable file raises OSError here, whatever its kind (the imports read it in Rust).
+    open(path, "rb").close()
     is_urdf = path.lower().endswith(".urdf")
     if not is_urdf and any(v is not None for v in (base, mimic, limits, damping, friction)):
         raise ValueError(f"base=, mimic=, limits=, damping= and friction= apply to URDF files; {path} is not one")
@@ -290,7 +299,7 @@ def load(
         if units is not None:
             raise ValueError(f"units={units!r} applies to ASMT files; a URDF is in SI units")
         out = _cardan.import_urdf(
-            text,
+            None,
             path,
             base or "fixed",
             mimic or "couple",
@@ -298,27 +307,29 @@ def load(
             bool(damping),
             bool(friction),
         )
-        if out["error"] is not None:
-            raise_error(out["error"])
-        import warnings
-
-        for w in out["warnings"]:
-            warnings.warn(w, stacklevel=2)
-        return Model(out["text"], out["path"])
+        return _imported(out)
     if path.lower().endswith(".asmt"):
-        out = _cardan.import_asmt(text, path, units or "si")
-        if out["error"] is not None:
-            raise_error(out["error"])
-        import warnings
-
-        for w in out["warnings"]:
-            warnings.warn(w, stacklevel=2)
-        return Model(out["text"], out["path"])
+        out = _cardan.import_asmt(None, path, units or "si")
+        return _imported(out)
     if units is not None:
         raise ValueError(
             f"units={units!r} applies to ASMT files; {path} gives its units in [model] units"
         )
+    with open(path, encoding="utf-8") as f:
+        text = f.read()
     return Model(text, path)
+
+
+def _imported(out: Dict[str, Any]) -> Model:
+    """The model of an import (``_cardan.import_asmt``, ``import_urdf``), its warnings issued
+    as Python warnings at the caller of :func:`load`; raises the import's error."""
+    if out["error"] is not None:
+        raise_error(out["error"])
+    import warnings
+
+    for w in out["warnings"]:
+        warnings.warn(w, stacklevel=3)
+    return Model._trusted(out["text"], out["path"], _prepared(out["prepared"]))
 
 
 # ---------------------------------------------------------------------------------------------

@@ -32,9 +32,7 @@ class Table:
         self.name = name
         self.title = title
         self.columns = list(columns)
-        split = [split_header(c) for c in self.columns]
-        self.names = [s[0] for s in split]
-        self.units = [s[1] for s in split]
+        self._split: Optional[List[Tuple[str, str]]] = None
         self._data = data
         if data.flags.writeable:
             data.setflags(write=False)
@@ -44,6 +42,22 @@ class Table:
         # A read-only view of the bytes the extension made: no copy.
         data = np.frombuffer(raw, dtype="<f8").reshape(rows, len(columns) + 1)
         return cls(name, title, columns, data)
+
+    @property
+    def names(self) -> List[str]:
+        """The headers without their units (``"crank.B.x"``)."""
+        return [s[0] for s in self._headers()]
+
+    @property
+    def units(self) -> List[str]:
+        """The headers' units (``"m"``; ``""`` for a header without one)."""
+        return [s[1] for s in self._headers()]
+
+    def _headers(self) -> List[Tuple[str, str]]:
+        # Split when first asked for: a run makes many tables that are never read by name.
+        if self._split is None:
+            self._split = [split_header(c) for c in self.columns]
+        return self._split
 
     @property
     def t(self) -> np.ndarray:
@@ -59,7 +73,7 @@ class Table:
         return self._data.shape[0]
 
     def __getitem__(self, column: str) -> np.ndarray:
-        for k, (full, short) in enumerate(zip(self.columns, self.names)):
+        for k, (full, (short, _)) in enumerate(zip(self.columns, self._headers())):
             if column in (full, short):
                 return self._data[:, k + 1]
         raise KeyError(f"{self.name} has no column {column!r}; its columns are {', '.join(self.names)}")
@@ -69,7 +83,7 @@ class Table:
 
     def unit(self, column: str) -> str:
         """The unit of a column (by name or full header)."""
-        for full, short, unit in zip(self.columns, self.names, self.units):
+        for full, (short, unit) in zip(self.columns, self._headers()):
             if column in (full, short):
                 return unit
         raise KeyError(column)
