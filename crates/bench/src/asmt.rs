@@ -16,6 +16,11 @@
 //!   solves it again: same number of frames) and by pyondsel's TimeSeries reader (every part,
 //!   one pose per time) (`bench/peers/asmt.py readback`).
 //!
+//! - **Through Python**, as a Python user meets both (`bench/peers/asmt.py python`): cardan's
+//!   package (`cardan.load(FILE).run()`, from the test environment `target/py-venv`) against
+//!   pyondsel's public `solve_asmt` (OndselSolver in a worker process) and its in-process C++
+//!   extension `solve_asmt_raw`, in one Python process; when `target/py-venv` holds the package.
+//!
 //! `cardan-bench --asmt [--smoke] [--peers PYTHON]` prints the section alone; without a Python
 //! with pyondsel only cardan's times are given.
 
@@ -351,6 +356,83 @@ pub fn section_of(smoke: bool, python: Option<&str>, only: Option<&str>, root: &
     }
     md.push_str(&stages_md);
     md.push('\n');
+    if let Some(py) = python {
+        md.push_str(&through_python(py, &script, root, &data, only, smoke));
+    }
     let _ = std::fs::remove_dir_all(&out_dir);
+    md
+}
+
+/// The test environment's site-packages folder when it holds cardan's package.
+fn cardan_site(root: &Path) -> Option<std::path::PathBuf> {
+    let lib = root.join("target/py-venv/lib");
+    std::fs::read_dir(lib)
+        .ok()?
+        .filter_map(Result::ok)
+        .map(|e| e.path().join("site-packages"))
+        .find(|site| site.join("cardan").is_dir())
+}
+
+/// The subsection timing both Python packages in one process (module docs).
+fn through_python(
+    python: &str,
+    script: &Path,
+    root: &Path,
+    data: &Path,
+    only: Option<&str>,
+    smoke: bool,
+) -> String {
+    let mut md = String::from("#### Through Python, in one process\n\n");
+    let Some(site) = cardan_site(root) else {
+        md.push_str("Not run: `target/py-venv` has no cardan package (`scripts/python-env`).\n\n");
+        return md;
+    };
+    let n = if smoke { 1 } else { 20 };
+    let mut args = vec![
+        "python".to_string(),
+        n.to_string(),
+        site.display().to_string(),
+    ];
+    args.extend(
+        FILES
+            .iter()
+            .filter(|f| only.is_none_or(|o| o == **f))
+            .map(|f| data.join(format!("{f}.asmt")).display().to_string()),
+    );
+    let _ = writeln!(
+        md,
+        "`cardan.load(FILE).run()` (reading, import, kinematics, every table as numpy arrays) \
+         against pyondsel's `solve_asmt` (its public solve: OndselSolver in a worker process) \
+         and `solve_asmt_raw` (the C++ extension in this process), each given the file's text \
+         read in the timing; in 3 rounds, best of {n} (cardan) and of {} (pyondsel) per round. \
+         Source: `bench/peers/asmt.py python`.\n\n\
+         | file | cardan | `solve_asmt` | ratio | `solve_asmt_raw` | ratio |\n\
+         |---|---:|---:|---:|---:|---:|",
+        (n / 4).max(1)
+    );
+    let rows = match peer(python, script, &args) {
+        Ok(r) => r,
+        Err(e) => {
+            let _ = writeln!(md, "\nFailed: {e}\n");
+            return md;
+        }
+    };
+    for r in &rows {
+        let num = |k: &str| value(r, k).parse::<f64>().unwrap_or(f64::NAN);
+        let (ours, public, raw) = (num("cardan"), num("public"), num("raw"));
+        let name = Path::new(value(r, "file"))
+            .file_stem()
+            .map_or(String::new(), |s| s.to_string_lossy().into_owned());
+        let _ = writeln!(
+            md,
+            "| {name} | {} | {} | {:.0}× | {} | {:.0}× |",
+            fmt_time(ours),
+            fmt_time(public),
+            public / ours,
+            fmt_time(raw),
+            raw / ours
+        );
+    }
+    md.push('\n');
     md
 }
