@@ -401,12 +401,10 @@ fn profile(args: &[String]) {
         }
         Some(kind @ ("model" | "model-prepare")) => {
             // A model file's analysis, in memory (tables kept, nothing written), n times;
-            // `model-prepare` also reads and prepares the file each time (as Python's run does).
+            // `model-prepare` also reads and prepares the file each time (an ASMT or URDF file
+            // imported: as Python's `cardan.load(f).run()` does).
             let path = Path::new(arg(1).expect("profile model FILE [N]"));
-            let prepare = || {
-                let source = cardan_model::Source::read(path).expect("read");
-                cardan_model::prepare::prepare_source(source).expect("prepare")
-            };
+            let prepare = || cardan_model::prepare::prepare(path).expect("prepare");
             let mut p = prepare();
             let a = p.loaded.analysis.clone().expect("an [analysis] table");
             let flags = cardan_model::analysis::RunFlags::default();
