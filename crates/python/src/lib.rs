@@ -9,8 +9,9 @@
 //!   optional analysis kind and `[analysis]` keys to set → a dict with every output table as
 //!   packed little-endian `float64` rows (numpy reads them without a copy per value), the
 //!   `run.json` text, and the error if the run failed or stopped early (with its partial
-//!   tables). The analysis runs on its own thread with the GIL released; the calling thread
-//!   polls for Python signals, so Ctrl-C stops the run at its next step and keeps its results.
+//!   tables). The analysis runs on another thread ([`workers`]: kept for the next run) with
+//!   the GIL released; the calling thread polls for Python signals, so Ctrl-C stops the run at
+//!   its next step and keeps its results.
 //! - `check`: degrees of freedom, redundant equations and driver counts.
 //! - `table_csv`: a table's CSV text exactly as `cardan run` writes it.
 //! - `prepare`: a model text read, validated and built (what `cardan.Model` does when it is
@@ -29,6 +30,7 @@ mod analysis;
 mod convert;
 mod drag;
 mod prepared;
+mod workers;
 
 use cardan_cli::Error;
 use cardan_mechanism::AssemblyOptions;
@@ -208,7 +210,7 @@ fn run<'py>(
     let (send, recv) = mpsc::channel();
     // A Mutex makes the receiver shareable with the GIL-free closure below.
     let recv = Mutex::new(recv);
-    let worker = std::thread::spawn(move || {
+    let started = workers::run(move || {
         let _ = send.send(run_text(Request {
             text,
             path,
@@ -219,6 +221,11 @@ fn run<'py>(
             report,
         }));
     });
+    if let Err(e) = started {
+        return Err(pyo3::exceptions::PyRuntimeError::new_err(format!(
+            "cannot start a thread for the analysis: {e}"
+        )));
+    }
     let mut interrupt: Option<PyErr> = None;
     let data = loop {
         let wait = || match recv.lock() {
@@ -237,7 +244,6 @@ fn run<'py>(
             }
             Err(mpsc::RecvTimeoutError::Disconnected) => {
                 progress::clear_stop();
-                let _ = worker.join();
                 return Err(pyo3::exceptions::PyRuntimeError::new_err(
                     "the analysis thread ended without a result (a bug in cardan: please report \
                      it with the model file)",
@@ -246,7 +252,6 @@ fn run<'py>(
         }
     };
     progress::clear_stop();
-    let _ = worker.join();
     let out = PyDict::new(py);
     out.set_item("kind", data.kind)?;
     let tables = PyList::empty(py);

@@ -1,6 +1,8 @@
 """Pickling, the type stub, Ctrl-C, the prepared model a Model keeps."""
 
+import concurrent.futures
 import inspect
+import multiprocessing
 import os
 import pathlib
 import pickle
@@ -40,6 +42,26 @@ def test_a_model_whose_text_is_replaced_runs_the_new_text():
     a = cardan.load(asmt)
     a2 = pickle.loads(pickle.dumps(a))
     np.testing.assert_array_equal(a.run().bodies.values, a2.run().bodies.values)
+
+
+def _rows_of_a_short_run(model):
+    return len(model.run(steps=5).points)
+
+
+def test_a_forked_process_runs_after_its_parent_ran():
+    # A run leaves its thread waiting for the next one; a forked child has no such thread and
+    # must start its own (handing it the parent's would wait forever).
+    m = cardan.load(EXAMPLES / "slider_crank.toml")
+    assert _rows_of_a_short_run(m) == 6
+    with multiprocessing.get_context("fork").Pool(1) as pool:
+        assert pool.apply_async(_rows_of_a_short_run, (m,)).get(timeout=60) == 6
+
+
+def test_runs_from_several_threads_run_side_by_side():
+    m = cardan.load(EXAMPLES / "slider_crank.toml")
+    with concurrent.futures.ThreadPoolExecutor(4) as pool:
+        rows = list(pool.map(_rows_of_a_short_run, [m] * 8))
+    assert rows == [6] * 8
 
 
 def test_an_unreadable_file_raises_oserror_whatever_its_kind(tmp_path):
