@@ -82,15 +82,6 @@ struct Request {
 
 /// Runs the analysis of a [`Request`].
 fn run_text(r: Request) -> RunData {
-    let Request {
-        text,
-        path,
-        ready,
-        kind,
-        options,
-        strict,
-        report,
-    } = r;
     let start = Instant::now();
     let failed = |e: &Error| RunData {
         kind: "",
@@ -101,11 +92,11 @@ fn run_text(r: Request) -> RunData {
         report: None,
         files: Vec::new(),
     };
-    let prepared = match ready {
+    let prepared = match r.ready {
         Some(p) => Ok(p),
-        None => analysis::set_analysis(&text, kind.as_deref(), &options)
+        None => analysis::set_analysis(&r.text, r.kind.as_deref(), &r.options)
             .map_err(Error::input)
-            .and_then(|text| prepare_source(Source::from_text(path, text)).map(Arc::new)),
+            .and_then(|text| prepare_source(Source::from_text(r.path, text)).map(Arc::new)),
     };
     let p = match prepared {
         Ok(p) => p,
@@ -118,11 +109,11 @@ fn run_text(r: Request) -> RunData {
         ));
     };
     let flags = RunFlags {
-        strict,
+        strict: r.strict,
         ..RunFlags::default()
     };
     // The geometry is checked before the analysis, as `cardan run` does.
-    let declared = match report.then(|| p.geometry.declared()).transpose() {
+    let declared = match r.report.then(|| p.geometry.declared()).transpose() {
         Ok(d) => d,
         Err(e) => return failed(&e),
     };
