@@ -9,13 +9,13 @@
 //!   optional analysis kind and `[analysis]` keys to set → a dict with every output table as
 //!   packed little-endian `float64` rows (numpy reads them without a copy per value), the
 //!   `run.json` text, and the error if the run failed or stopped early (with its partial
-//!   tables). The analysis runs on another thread ([`workers`]: kept for the next run) with
+//!   tables). The analysis runs on another thread (module `workers`: kept for the next run) with
 //!   the GIL released; the calling thread polls for Python signals, so Ctrl-C stops the run at
 //!   its next step and keeps its results.
 //! - `check`: degrees of freedom, redundant equations and driver counts.
 //! - `table_csv`: a table's CSV text exactly as `cardan run` writes it.
 //! - `prepare`: a model text read, validated and built (what `cardan.Model` does when it is
-//!   made), as an opaque handle ([`prepared`]) that `run`, `check` and `drag` take beside the
+//!   made), as an opaque handle (module `prepared`) that `run`, `check` and `drag` take beside the
 //!   text so as not to read it again.
 //! - `import_asmt`: an ASMT file as model text (and prepared).
 //! - `import_urdf`: a URDF robot as model text (and prepared).
