@@ -10,7 +10,7 @@
 //! file is read once with about (values / budget)² reads: the two-pass external transpose.
 //! Memory is about three budgets (the block being filled, the group being read, and one byte
 //! buffer), whatever the number of frames; a run that fits in one block never touches the disk.
-//! The block being filled starts at [`FIRST_FRAMES`] frames and doubles up to the budget: a
+//! The block being filled starts at 16 frames (`FIRST_FRAMES`) and doubles up to the budget: a
 //! short run does not touch a page of a budget-sized block per row (on a 26-frame ASMT file that
 //! was a hundred page faults, about a tenth of the run).
 
