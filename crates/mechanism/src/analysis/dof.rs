@@ -15,47 +15,51 @@ impl Model {
     /// # Errors
     /// [`AnalysisError::Solver`] if the Jacobian is not finite.
     pub fn dof(&self, ws: &Workspace) -> Result<DofReport, AnalysisError> {
-        let mut slots = vec![0.0; self.pattern.num_slots()];
-        self.jacobian_into(&ws.pose.bodies, ws.pose.u(), ws.pose.t, &mut slots);
-        let mj = self.joint_rows;
         let n = self.num_unknowns();
-        let (rank, redundant) = if mj == 0 {
-            (0, Vec::new())
-        } else {
-            // Joint rows come first and their entries are the first slots.
-            let k = self.joints.last().map_or(0, |_| {
-                self.pattern.entries().take_while(|&(r, _)| r < mj).count()
-            });
-            let entries: Vec<(usize, usize)> = self.pattern.entries().take(k).collect();
-            let sub = SparsityPattern::new(mj, n, &entries).map_err(|e| solver(ws.pose.t, e))?;
-            // A slightly inconsistent model assembled to its least-squares pose: the tolerance
-            // widens with its residual (`analysis::dropped`).
-            let mut phi = vec![0.0; self.num_equations()];
-            self.phi_into(
-                &ws.pose.bodies,
-                ws.pose.u(),
-                &ws.pose.turns,
-                ws.pose.t,
-                &mut phi,
-            );
-            let options = self.rank_options_for(&phi, mj);
-            let ra = RankAnalysis::compute_auto(&sub, &slots[..k], options)
-                .map_err(|e| solver(ws.pose.t, e))?;
-            let red = ra
-                .dependent_rows()
-                .iter()
-                .filter_map(|&r| self.equation(r))
-                .collect();
-            (ra.rank(), red)
-        };
+        let (rank, dependent) = self.joint_rank(ws)?;
+        let redundant = dependent.iter().filter_map(|&r| self.equation(r)).collect();
         Ok(DofReport {
             dof: n - rank,
             moving_bodies: self.num_bodies(),
-            joint_equations: mj,
+            joint_equations: self.joint_rows,
             rank,
             redundant,
             drivers: self.drivers.len() + self.paths.len(),
         })
+    }
+
+    /// The rank of the joint rows' Jacobian at the workspace's poses and the joint rows the rank
+    /// analysis finds dependent (indices), the tolerance widened by the residual of a slightly
+    /// inconsistent model at its least-squares pose (`analysis::dropped`). Allocates.
+    ///
+    /// # Errors
+    /// A solver error of the rank analysis.
+    pub(crate) fn joint_rank(&self, ws: &Workspace) -> Result<(usize, Vec<usize>), AnalysisError> {
+        let mj = self.joint_rows;
+        if mj == 0 {
+            return Ok((0, Vec::new()));
+        }
+        let mut slots = vec![0.0; self.pattern.num_slots()];
+        self.jacobian_into(&ws.pose.bodies, ws.pose.u(), ws.pose.t, &mut slots);
+        let n = self.num_unknowns();
+        // Joint rows come first and their entries are the first slots.
+        let k = self.joints.last().map_or(0, |_| {
+            self.pattern.entries().take_while(|&(r, _)| r < mj).count()
+        });
+        let entries: Vec<(usize, usize)> = self.pattern.entries().take(k).collect();
+        let sub = SparsityPattern::new(mj, n, &entries).map_err(|e| solver(ws.pose.t, e))?;
+        let mut phi = vec![0.0; self.num_equations()];
+        self.phi_into(
+            &ws.pose.bodies,
+            ws.pose.u(),
+            &ws.pose.turns,
+            ws.pose.t,
+            &mut phi,
+        );
+        let options = self.rank_options_for(&phi, mj);
+        let ra = RankAnalysis::compute_auto(&sub, &slots[..k], options)
+            .map_err(|e| solver(ws.pose.t, e))?;
+        Ok((ra.rank(), ra.dependent_rows().to_vec()))
     }
 }
 

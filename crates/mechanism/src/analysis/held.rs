@@ -60,6 +60,11 @@ impl Model {
             return Ok(None);
         }
         let held = report.dof - report.drivers;
+        if from_assembly && options.drop_inconsistent {
+            // The assembly dropped the rows that cannot hold with the others (an inconsistent
+            // model run as OndselSolver runs it): the least change solves the rest.
+            self.drop_dependent_rows(ws, &mut solver)?;
+        }
         ws.kin.dof = Some(report);
         Ok(Some(HeldRun {
             solver,
@@ -106,10 +111,29 @@ impl Model {
             frames,
             subdivided_steps: 0,
             row_reselections: 0,
-            dropped_rows: Vec::new(),
+            dropped_rows: self.dropped_row_residuals(ws, options.tolerance),
             held_dof: held,
             held_from_assembly: from_assembly,
         })
+    }
+
+    /// Marks the joint rows dependent at the assembled pose as dropped, for the run's record
+    /// and for `solver` (the rows the kinematic solver would drop: `analysis::dropped`).
+    ///
+    /// # Errors
+    /// A solver error of the rank analysis.
+    fn drop_dependent_rows(
+        &self,
+        ws: &mut Workspace,
+        solver: &mut LeastChange,
+    ) -> Result<(), AnalysisError> {
+        let (_, dependent) = self.joint_rank(ws)?;
+        let kept: Vec<usize> = (0..self.num_equations())
+            .filter(|r| !dependent.contains(r))
+            .collect();
+        ws.set_kept_rows(&kept);
+        solver.keep_rows(&ws.dropped.kept);
+        Ok(())
     }
 
     /// One output time of a held run: the least change from the last pose (at k = 0 the
@@ -129,6 +153,11 @@ impl Model {
         solver.old.copy_from_slice(&ws.pose.x);
         let rep: LeastChangeReport = solver.solve(self, ws, t, options.tolerance)?;
         self.accept_turns(&ws.pose.bodies, &mut ws.pose.turns);
+        if ws.dropped.kept.iter().any(|&k| !k) {
+            let p = &ws.pose;
+            self.phi_into(&p.bodies, p.u(), &p.turns, t, &mut ws.rows.phi);
+            self.record_dropped_rows(ws, t);
+        }
         self.check_stops(ws, t, true)?;
         if out.needs_velocity() {
             self.nu_into(&ws.pose.bodies, ws.pose.u(), t, &mut ws.rows.rhs);

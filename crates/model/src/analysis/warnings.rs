@@ -79,12 +79,19 @@ pub fn held_dof_warning(
     if held == 0 {
         return None;
     }
-    let start = if totals.held_from_assembly {
-        "; the least change from the drawn pose did not converge (a distance joint drawn far \
-         from its place?), so they start from the pose the minimum-norm assembly reaches \
-         instead, which OndselSolver's may not be (draw the parts nearer their places)"
-    } else {
-        ""
+    let start = match (totals.held_from_assembly, totals.dropped_rows.is_empty()) {
+        (false, _) => "",
+        (true, true) => {
+            "; the least change from the drawn pose did not converge (a distance joint drawn \
+             far from its place?), so they start from the pose the minimum-norm assembly \
+             reaches instead, which OndselSolver's may not be (draw the parts nearer their \
+             places)"
+        }
+        (true, false) => {
+            "; the least change from the drawn pose cannot close the inconsistent rows, so they \
+             start from the pose the assembly reaches with those rows dropped, and the least \
+             change solves the other rows"
+        }
     };
     let names = crate::free_dof::named(&p.model, analysis.t_start);
     let s = if held == 1 { "" } else { "s" };

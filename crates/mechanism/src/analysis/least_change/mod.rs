@@ -238,6 +238,8 @@ pub struct LeastChange {
     y: Vec<f64>,
     delta: Vec<f64>,
     phi: Vec<f64>,
+    /// The rows solved for (all, unless [`keep_rows`](Self::keep_rows) dropped some).
+    kept: Vec<bool>,
     /// The pose of the last factorization (7 per body; NaN before the first): rates at a
     /// converged solve's pose reuse its factors.
     factored_x: Vec<f64>,
@@ -327,12 +329,22 @@ impl LeastChange {
             y: vec![0.0; n],
             delta: vec![0.0; n],
             phi: vec![0.0; m],
+            kept: vec![true; m],
             factored_x: vec![f64::NAN; 7 * nb],
             old: vec![0.0; 7 * nb],
             goal: None,
             goal_negative: Matrix3::zeros(),
             newton: None,
         })
+    }
+
+    /// Solves for the rows marked in `kept` only (one flag per equation): the redundant rows
+    /// of an inconsistent model, dropped as the kinematic solver drops them
+    /// (`analysis::dropped`), cannot vanish with the others. Their Φ and their rows of Ĵ are
+    /// left out (zero: the minimum-norm factorization gives them no multiplier).
+    pub(crate) fn keep_rows(&mut self, kept: &[bool]) {
+        self.kept.copy_from_slice(kept);
+        self.factored_x.fill(f64::NAN);
     }
 
     /// The weights.
@@ -389,6 +401,9 @@ impl LeastChange {
         let scales = model.equation_scales();
         // Ĵ = J L⁻ᵀ: row r, body b: Ĵ[r, b·] = J[r, b·] L_b⁻ᵀ, i.e. Ĵ[r, 6b+i] = Σ_j J[r, 6b+j] L⁻¹[i, j].
         for (k, (&(r, first), &v)) in self.targets.iter().zip(&self.slots).enumerate() {
+            if !self.kept[r] {
+                continue;
+            }
             let (_, c) = model.pattern().entry(k);
             let (b, j) = (c / 6, c % 6);
             let v = v / scales[r];
@@ -476,11 +491,15 @@ impl LeastChange {
         })
     }
 
-    /// Φ at the workspace's poses (synced first) into `phi`. No allocation.
+    /// Φ at the workspace's poses (synced first) into `phi`, the rows not kept zero. No
+    /// allocation.
     fn phi_at(&mut self, model: &Model, ws: &mut Workspace, t: f64) {
         ws.sync_poses();
         let p = &ws.pose;
         model.phi_into(&p.bodies, p.u(), &p.turns, t, &mut self.phi);
+        for (phi, _) in self.phi.iter_mut().zip(&self.kept).filter(|(_, &k)| !k) {
+            *phi = 0.0;
+        }
     }
 
     /// The H-weighted minimum-norm solution of Φ_v x = `rhs` at the workspace's poses
@@ -504,7 +523,11 @@ impl LeastChange {
         }
         let scales = model.equation_scales();
         for (r, bv) in self.b.iter_mut().enumerate() {
-            *bv = rhs[r] / scales[r];
+            *bv = if self.kept[r] {
+                rhs[r] / scales[r]
+            } else {
+                0.0
+            };
         }
         self.c.iter_mut().for_each(|c| *c = 0.0);
         self.step().map_err(|e| model.map_solver_error(t, e))
