@@ -13,6 +13,16 @@ fn bent_cv() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../asmt/tests/data/small/bent_cv.asmt")
 }
 
+/// The drive's model as `cardan import` writes it (into `dir`).
+fn imported(dir: &std::path::Path) -> String {
+    let o = cardan(
+        &["import", bent_cv().to_str().unwrap(), "-o", "bent.toml"],
+        dir,
+    );
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    std::fs::read_to_string(dir.join("bent.toml")).unwrap()
+}
+
 #[test]
 fn an_inconsistent_assembly_is_diagnosed_and_runs_only_when_asked() {
     let dir = scratch("bent-cv");
@@ -33,9 +43,7 @@ fn an_inconsistent_assembly_is_diagnosed_and_runs_only_when_asked() {
         );
     }
     // Imported, with the option: it runs, warning that the model is inconsistent.
-    let o = cardan(&["import", file.to_str().unwrap(), "-o", "bent.toml"], &dir);
-    assert_eq!(o.code, 0, "{}", o.stderr);
-    let toml = std::fs::read_to_string(dir.join("bent.toml")).unwrap();
+    let toml = imported(&dir);
     let toml = toml.replacen(
         "kind = \"kinematic\"",
         "kind = \"kinematic\"\ninconsistent_joints = \"drop\"",
@@ -66,10 +74,7 @@ fn an_inconsistent_assembly_is_diagnosed_and_runs_only_when_asked() {
 #[test]
 fn an_inconsistent_under_driven_assembly_is_held_on_its_other_rows() {
     let dir = scratch("bent-cv-free");
-    let file = bent_cv();
-    let o = cardan(&["import", file.to_str().unwrap(), "-o", "bent.toml"], &dir);
-    assert_eq!(o.code, 0, "{}", o.stderr);
-    let toml = std::fs::read_to_string(dir.join("bent.toml")).unwrap();
+    let toml = imported(&dir);
     let (head, tail) = toml.split_at(toml.find("[[driver]]").expect("the motion"));
     let toml = format!(
         "{head}{}",
