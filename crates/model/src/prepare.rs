@@ -440,9 +440,10 @@ impl Conditioning {
     }
 
     /// The likely cause of a position solve that did not converge, from the conditioning at
-    /// the last solved time (`None`: not known): a limit of the motion or a singular
-    /// configuration only when the Jacobian was (nearly) singular there; with a well
-    /// conditioned Jacobian, a prescribed motion that changes faster than the steps follow.
+    /// the last solved time: a limit of the motion or a singular configuration only when the
+    /// Jacobian was (nearly) singular there; with a well conditioned Jacobian, a prescribed
+    /// motion that changes faster than the steps follow; without a solved time (`None`, a
+    /// failure at the first), not known, and said so.
     pub fn cause(c: Option<&Conditioning>) -> &'static str {
         match c {
             Some(c) if c.ratio >= WELL_CONDITIONED_RATIO => {
@@ -451,7 +452,11 @@ impl Conditioning {
                  driver's function with a sharp step or a jump?); give more output steps or smooth \
                  the function"
             }
-            _ => "the mechanism reached a limit of its motion or a singular configuration",
+            Some(_) => "the mechanism reached a limit of its motion or a singular configuration",
+            None => {
+                "no time was solved before it, so the cause is not known: a limit of the \
+                 motion, a singular configuration, or equations that cannot all hold there"
+            }
         }
     }
 }
@@ -533,7 +538,7 @@ mod tests {
     }
 
     /// σ_min/σ_max = 7e-2 (issue 53's robot at t = 8 s) is not called singular, nor blamed for
-    /// the failure; 1e-6 is.
+    /// the failure; 1e-6 is; without a solved time the cause is not guessed.
     #[test]
     fn a_well_conditioned_jacobian_is_not_called_singular() {
         assert!(at(7e-2).describe().contains("well conditioned"));
@@ -542,6 +547,9 @@ mod tests {
         assert!(at(1e-3).describe().contains("nearly singular"));
         assert!(at(1e-6).describe().contains("was singular"));
         assert!(Conditioning::cause(Some(&at(1e-6))).contains("singular configuration"));
-        assert!(Conditioning::cause(None).contains("limit of its motion"));
+        // No solved time (a failure at the first): no conditioning to blame, and no
+        // singularity named as the cause.
+        assert!(Conditioning::cause(None).contains("the cause is not known"));
+        assert!(!Conditioning::cause(None).contains("reached"));
     }
 }
