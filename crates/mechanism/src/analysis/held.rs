@@ -154,8 +154,8 @@ impl Model {
         let rep: LeastChangeReport = solver.solve(self, ws, t, options.tolerance)?;
         self.accept_turns(&ws.pose.bodies, &mut ws.pose.turns);
         if ws.dropped.kept.iter().any(|&k| !k) {
-            let p = &ws.pose;
-            self.phi_into(&p.bodies, p.u(), &p.turns, t, &mut ws.rows.phi);
+            // Φ at the solution, from the solve (not evaluated again).
+            ws.rows.phi.copy_from_slice(solver.residuals());
             self.record_dropped_rows(ws, t);
         }
         self.check_stops(ws, t, true)?;

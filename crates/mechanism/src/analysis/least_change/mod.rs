@@ -340,8 +340,9 @@ impl LeastChange {
 
     /// Solves for the rows marked in `kept` only (one flag per equation): the redundant rows
     /// of an inconsistent model, dropped as the kinematic solver drops them
-    /// (`analysis::dropped`), cannot vanish with the others. Their Φ and their rows of Ĵ are
-    /// left out (zero: the minimum-norm factorization gives them no multiplier).
+    /// (`analysis::dropped`), cannot vanish with the others. Their rows of Ĵ and of the
+    /// right-hand side are zero (the minimum-norm factorization gives them no multiplier) and
+    /// the convergence test leaves them out.
     pub(crate) fn keep_rows(&mut self, kept: &[bool]) {
         self.kept.copy_from_slice(kept);
         self.factored_x.fill(f64::NAN);
@@ -457,7 +458,11 @@ impl LeastChange {
                 .mul_vec(&self.hat, &self.c, &mut self.b)
                 .map_err(|e| model.map_solver_error(t, e))?;
             for (r, bv) in self.b.iter_mut().enumerate() {
-                *bv -= self.phi[r] / scales[r];
+                *bv = if self.kept[r] {
+                    *bv - self.phi[r] / scales[r]
+                } else {
+                    0.0
+                };
             }
             self.step().map_err(|e| model.map_solver_error(t, e))?;
             if newton {
@@ -471,7 +476,7 @@ impl LeastChange {
                 let f = MAX_STEP / size;
                 self.delta.iter_mut().for_each(|d| *d *= f);
             }
-            let residual = max_scaled(&self.phi, scales);
+            let residual = max_scaled(&self.phi, scales, &self.kept);
             let stagnant = size <= STAGNATION_STEP && size >= STAGNATION * last_size;
             last_size = size;
             if residual <= tolerance && (size <= STEP_TOLERANCE || stagnant) {
@@ -486,20 +491,22 @@ impl LeastChange {
         Err(AnalysisError::NotConverged {
             time: t,
             iterations: MAX_ITERATIONS,
-            worst: worst_rows(model, &self.phi),
+            worst: worst_rows(model, &self.phi, &self.kept),
             partial: None,
         })
     }
 
-    /// Φ at the workspace's poses (synced first) into `phi`, the rows not kept zero. No
-    /// allocation.
+    /// Φ at the workspace's poses (synced first) into `phi`. No allocation.
     fn phi_at(&mut self, model: &Model, ws: &mut Workspace, t: f64) {
         ws.sync_poses();
         let p = &ws.pose;
         model.phi_into(&p.bodies, p.u(), &p.turns, t, &mut self.phi);
-        for (phi, _) in self.phi.iter_mut().zip(&self.kept).filter(|(_, &k)| !k) {
-            *phi = 0.0;
-        }
+    }
+
+    /// Φ at the pose the last [`solve`](Self::solve) ended at, every row (the rows not kept
+    /// too: a held run records theirs from it).
+    pub(crate) fn residuals(&self) -> &[f64] {
+        &self.phi
     }
 
     /// The H-weighted minimum-norm solution of Φ_v x = `rhs` at the workspace's poses
@@ -556,20 +563,22 @@ fn scaled_size(delta: &[f64], l: f64) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// max |Φ_r| / e_r.
-fn max_scaled(phi: &[f64], scales: &[f64]) -> f64 {
-    phi.iter()
-        .zip(scales)
-        .map(|(p, e)| (p / e).abs())
+/// max |Φ_r| / e_r over the kept rows.
+fn max_scaled(phi: &[f64], scales: &[f64], kept: &[bool]) -> f64 {
+    (phi.iter().zip(scales).zip(kept))
+        .filter(|(_, &k)| k)
+        .map(|((p, e), _)| (p / e).abs())
         .fold(0.0, f64::max)
 }
 
-/// The three equations with the largest scaled residuals, largest first. Allocates (error path).
-fn worst_rows(model: &Model, phi: &[f64]) -> Vec<(crate::EquationName, f64)> {
+/// The three kept equations with the largest scaled residuals, largest first. Allocates (error
+/// path).
+fn worst_rows(model: &Model, phi: &[f64], kept: &[bool]) -> Vec<(crate::EquationName, f64)> {
     let scales = model.equation_scales();
     let mut rows: Vec<(usize, f64)> = (phi.iter().zip(scales))
         .map(|(p, e)| (p / e).abs())
         .enumerate()
+        .filter(|&(r, _)| kept[r])
         .collect();
     rows.sort_by(|a, b| b.1.total_cmp(&a.1));
     rows.iter()
