@@ -37,13 +37,13 @@ use cardan_mechanism::AssemblyOptions;
 use cardan_model::analysis::{analyse, animation, run_json, RunFlags};
 use cardan_model::diag::Source;
 use cardan_model::plot::PlotFiles;
-use cardan_model::prepare::{analysis_error, prepare_source, Prepared};
+use cardan_model::prepare::analysis_error;
 use cardan_model::progress;
 use cardan_model::table::Table;
 use convert::{error_dict, table_tuple, ErrorData};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use std::sync::{mpsc, Arc, Mutex};
+use std::sync::{mpsc, Mutex};
 use std::time::{Duration, Instant};
 
 /// How often the calling thread looks for Ctrl-C while an analysis runs.
@@ -67,13 +67,14 @@ struct RunData {
     files: Vec<(String, String)>,
 }
 
-/// What `run` was asked for: the model text `text` (read from `path`; `ready` when it is
-/// prepared already), the analysis `kind` and `[analysis]` keys `options` set over the file's,
-/// `strict` as `--strict` and `report` for the animation and the report page.
+/// What `run` was asked for: the model text `text` (read from `path`; `handle` its `Model`'s
+/// prepared text, used when the text the run takes is that one), the analysis `kind` and
+/// `[analysis]` keys `options` set over the file's, `strict` as `--strict` and `report` for the
+/// animation and the report page.
 struct Request {
     text: String,
     path: String,
-    ready: Option<Arc<Prepared>>,
+    handle: Option<prepared::Prepared>,
     kind: Option<String>,
     options: Vec<(String, analysis::Value)>,
     strict: bool,
@@ -92,12 +93,10 @@ fn run_text(r: Request) -> RunData {
         report: None,
         files: Vec::new(),
     };
-    let prepared = match r.ready {
-        Some(p) => Ok(p),
-        None => analysis::set_analysis(&r.text, r.kind.as_deref(), &r.options)
-            .map_err(Error::input)
-            .and_then(|text| prepare_source(Source::from_text(r.path, text)).map(Arc::new)),
-    };
+    // Without analysis keys to set, the text is the Model's own and its handle serves.
+    let prepared = analysis::set_analysis(&r.text, r.kind.as_deref(), &r.options)
+        .map_err(Error::input)
+        .and_then(|text| prepared::model_of(text, r.path, r.handle.as_ref()));
     let p = match prepared {
         Ok(p) => p,
         Err(e) => return failed(&e),
@@ -192,12 +191,7 @@ fn run<'py>(
         Some(d) => analysis::options_from_dict(d)?,
         None => Vec::new(),
     };
-    // The model's own prepared text, when the run takes the text as it is.
-    let ready = if kind.is_none() && options.is_empty() {
-        prepared::made_from(model.map(Bound::get), &text, &path)
-    } else {
-        None
-    };
+    let handle = model.map(|m| m.get().clone());
     let (send, recv) = mpsc::channel();
     // A Mutex makes the receiver shareable with the GIL-free closure below.
     let recv = Mutex::new(recv);
@@ -205,7 +199,7 @@ fn run<'py>(
         let _ = send.send(run_text(Request {
             text,
             path,
-            ready,
+            handle,
             kind,
             options,
             strict,

@@ -17,12 +17,14 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::sync::Arc;
 
-/// A prepared model (module docs): opaque to Python.
+/// A prepared model (module docs): opaque to Python. Cloned (two reference counts) into the
+/// thread a run goes to.
 #[pyclass(frozen, module = "cardan._cardan")]
+#[derive(Clone)]
 pub struct Prepared {
     /// The text and path it was prepared from (an overlay's prepared source is another text).
-    made_from: (String, String),
-    /// The prepared model, shared with the analysis thread.
+    made_from: Arc<(String, String)>,
+    /// The prepared model.
     model: Arc<cardan_model::prepare::Prepared>,
 }
 
@@ -32,12 +34,9 @@ impl Prepared {
     /// # Errors
     /// As [`model_of`].
     pub fn new(text: String, path: String) -> Result<Self, cardan_model::diag::Error> {
-        let model = Arc::new(prepare_source(Source::from_text(
-            path.clone(),
-            text.clone(),
-        ))?);
+        let model = prepared_text(text.clone(), path.clone())?;
         Ok(Self {
-            made_from: (text, path),
+            made_from: Arc::new((text, path)),
             model,
         })
     }
@@ -53,21 +52,18 @@ pub fn model_of(
     path: String,
     handle: Option<&Prepared>,
 ) -> Result<Arc<cardan_model::prepare::Prepared>, cardan_model::diag::Error> {
-    if let Some(model) = made_from(handle, &text, &path) {
-        return Ok(model);
+    match handle.filter(|h| h.made_from.0 == text && h.made_from.1 == path) {
+        Some(h) => Ok(Arc::clone(&h.model)),
+        None => prepared_text(text, path),
     }
-    prepare_source(Source::from_text(path, text)).map(Arc::new)
 }
 
-/// `handle`'s model when it was prepared from `text` and `path`.
-pub fn made_from(
-    handle: Option<&Prepared>,
-    text: &str,
-    path: &str,
-) -> Option<Arc<cardan_model::prepare::Prepared>> {
-    handle
-        .filter(|h| h.made_from.0 == text && h.made_from.1 == path)
-        .map(|h| Arc::clone(&h.model))
+/// `text` read from `path`, prepared now.
+fn prepared_text(
+    text: String,
+    path: String,
+) -> Result<Arc<cardan_model::prepare::Prepared>, cardan_model::diag::Error> {
+    prepare_source(Source::from_text(path, text)).map(Arc::new)
 }
 
 /// [`model_of`], or `None` with the error set under the key `error` of `out`.
