@@ -472,6 +472,7 @@ fn bennett_chooses_its_rows_again_where_the_first_choice_is_singular() {
     cardan_model::analysis::print_summary(&o.summary, &mut line).unwrap();
     let line = String::from_utf8(line).unwrap();
     assert!(line.contains("redundant equations chosen again"), "{line}");
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// RSCR four-bar with a cylindrical joint. The ball centre is P(θ) = (a cos θ, a sin θ, h),

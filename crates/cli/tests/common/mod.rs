@@ -5,6 +5,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::OnceLock;
 
 /// A valid one-body model: a crank on a revolute joint, driven at 1 rad/s.
 pub const BASE: &str = r#"[model]
@@ -48,10 +49,42 @@ steps = 10
 
 static COUNTER: AtomicUsize = AtomicUsize::new(0);
 
-/// A fresh scratch directory under the system temp dir, named after `prefix`.
+/// This test process's scratch root: `cli-scratch/<test binary>/<process id>` under cargo's
+/// temporary directory for integration tests (inside `target/`, so `cargo clean` removes it).
+/// The first call removes the roots that earlier runs of the same test binary left (their
+/// processes have ended: nothing else removes a test's directories, about 150 per run).
+fn scratch_root() -> &'static Path {
+    static ROOT: OnceLock<PathBuf> = OnceLock::new();
+    ROOT.get_or_init(|| {
+        let exe = std::env::current_exe().expect("the test binary's path");
+        let name = exe
+            .file_stem()
+            .map_or("tests".into(), |s| s.to_string_lossy().into_owned());
+        let parent = Path::new(env!("CARGO_TARGET_TMPDIR"))
+            .join("cli-scratch")
+            .join(name);
+        let me = std::process::id();
+        for entry in std::fs::read_dir(&parent).into_iter().flatten().flatten() {
+            let pid = entry.file_name().to_string_lossy().parse::<u32>().ok();
+            if pid.is_some_and(|p| p != me && !process_alive(p)) {
+                let _ = std::fs::remove_dir_all(entry.path());
+            }
+        }
+        parent.join(me.to_string())
+    })
+}
+
+/// Whether process `pid` is running (Linux's `/proc`; elsewhere assumed running, so nothing is
+/// removed).
+fn process_alive(pid: u32) -> bool {
+    let proc = Path::new("/proc");
+    !proc.is_dir() || proc.join(pid.to_string()).exists()
+}
+
+/// A fresh scratch directory of this test process, named after `prefix` ([`scratch_root`]).
 pub fn scratch(prefix: &str) -> PathBuf {
     let k = COUNTER.fetch_add(1, Ordering::SeqCst);
-    let d = std::env::temp_dir().join(format!("cardan-{prefix}-{}-{k}", std::process::id()));
+    let d = scratch_root().join(format!("{prefix}-{k}"));
     std::fs::create_dir_all(&d).unwrap();
     d
 }
