@@ -55,7 +55,7 @@ use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
 use parry3d_f64::query::{
     ContactManifold, ContactManifoldsWorkspace, DefaultQueryDispatcher, PersistentQueryDispatcher,
 };
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 /// A penetration deeper than this fraction of the thinner shape's thickness
 /// ([`cardan_mechanism::Geometry::thickness`]) is doubtful: at the start of a run an error
@@ -143,8 +143,11 @@ pub(crate) struct Collisions {
     pub points: Vec<ContactPoint>,
     /// Each point's law derivatives at the last evaluation (for the implicit tangents).
     slopes: Vec<Slopes>,
-    /// Moving body pairs coupled by a contact, in the order they first touched.
+    /// Moving body pairs coupled by a contact, in the order they first touched, and as a set
+    /// (a pile has hundreds: a search of the list at every touching pair's evaluation grew
+    /// with their square).
     pub coupled: Vec<(usize, usize)>,
+    coupled_set: HashSet<(usize, usize), foldhash::fast::FixedState>,
     new_pairs: bool,
     stamp: u64,
     /// The pairs that took their onset speed at the last [`Collisions::accept`].
@@ -234,6 +237,7 @@ impl Collisions {
             points: Vec::new(),
             slopes: Vec::new(),
             coupled: Vec::new(),
+            coupled_set: HashSet::with_hasher(foldhash::fast::FixedState::default()),
             new_pairs: false,
             stamp: 0,
             onsets: Vec::new(),
@@ -418,7 +422,7 @@ impl Collisions {
             }
             if let (BodyId::Moving(i), BodyId::Moving(j)) = (s1.body, s2.body) {
                 let key = ordered(i, j);
-                if !self.coupled.contains(&key) {
+                if self.coupled_set.insert(key) {
                     self.coupled.push(key);
                     self.new_pairs = true;
                 }

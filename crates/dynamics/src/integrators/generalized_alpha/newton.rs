@@ -268,7 +268,8 @@ impl Newton {
         let mut with_tangents = false;
         if let Some(tan) = self.tangents.as_mut().filter(|_| tangent) {
             if policy.evaluates_tangents(plan, reuse, it) {
-                tan.eval(d, at);
+                // `at` is the iterate whose forces the attempt has just evaluated.
+                tan.eval(d, at, true);
                 policy.tangents_evaluated(tan.relative_size(gamma_p, beta_p, &d.mass, &d.inertia));
             }
             with_tangents = policy.with_tangents(reuse);

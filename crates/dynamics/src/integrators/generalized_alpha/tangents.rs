@@ -89,14 +89,18 @@ impl Tangents {
 
     /// Evaluates C_t and K_t at `at`. Perturbations: 1e-7 (1 + |v_c|) for a velocity,
     /// 1e-7 L (L the model's characteristic length) for a translation, 1e-7 rad for a
-    /// rotation. No allocation.
-    pub fn eval(&mut self, d: &mut Dynamics, at: &State) {
+    /// rotation. `contacts_at`: the forces were last evaluated at `at` (the Newton iterate),
+    /// so the contacts found there serve their closed-form blocks as they are (finding them
+    /// again was a third of a pile's tangent). No allocation.
+    pub fn eval(&mut self, d: &mut Dynamics, at: &State, contacts_at: bool) {
         let l = d.model.characteristic_length();
         d.sync(at);
         let contacts = d.collisions.is_some();
         if contacts {
             // The contacts at `at`, for their closed-form blocks; then differences without them.
-            d.eval_implicit_forces(at.t);
+            if !contacts_at {
+                d.eval_implicit_forces(at.t);
+            }
             d.contacts_off = true;
         }
         d.eval_implicit_forces(at.t);
@@ -283,7 +287,7 @@ mod tests {
         }
         let mut tan = Tangents::new(&d, &s);
         assert_eq!(tan.colours.len(), 3);
-        tan.eval(&mut d, &s);
+        tan.eval(&mut d, &s, false);
         // Dense differences, one coordinate at a time.
         let n = s.v.len();
         let l = model.characteristic_length();
