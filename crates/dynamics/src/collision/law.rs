@@ -183,6 +183,22 @@ impl PairLaw {
         (k, self.k * dn * self.a / v0)
     }
 
+    /// The slope of the friction's magnitude per unit normal force, ψ(s) = φ(s) s:
+    /// dψ/ds = μ'(s) s / √(s² + v_s²) + μ(s) v_s² / (s² + v_s²)^(3/2), at least 0 (past a
+    /// Stribeck drop it is negative; the implicit tangent takes no negative slope).
+    pub fn friction_slope(&self, slip: f64) -> f64 {
+        if self.mu_s == 0.0 {
+            return 0.0;
+        }
+        let x = slip / self.vs;
+        let g = (-x * x).exp();
+        let mu = self.mu_d + (self.mu_s - self.mu_d) * g;
+        let dmu = (self.mu_s - self.mu_d) * g * (-2.0 * x / self.vs);
+        let r2 = slip * slip + self.vs * self.vs;
+        let r = r2.sqrt();
+        (dmu * slip / r + mu * self.vs * self.vs / (r2 * r)).max(0.0)
+    }
+
     /// The factor φ(s) = μ(s) / √(s² + v_s²) with f_t = −φ F_n v_t (module docs).
     pub fn friction_factor(&self, slip: f64) -> f64 {
         if self.mu_s == 0.0 {
@@ -249,6 +265,33 @@ mod tests {
             }
         }
         assert_eq!(hysteresis(1.0), 0.0);
+    }
+
+    #[test]
+    fn the_friction_slope_is_the_derivative_of_its_magnitude() {
+        // With a Stribeck drop (μ_s > μ_d) ψ' turns negative past the drop: clamped to 0.
+        for (mu_s, mu_d) in [(0.3, 0.3), (0.5, 0.3)] {
+            let law = PairLaw {
+                k: 1e7,
+                n: 1.5,
+                a: 0.0,
+                e: 1.0,
+                mu_s,
+                mu_d,
+                vs: 1e-3,
+            };
+            let psi = |s: f64| law.friction_factor(s) * s;
+            for s in [0.0, 2e-4, 1e-3, 1.7e-3, 5e-3, 0.1] {
+                let h = 1e-7;
+                let numeric = (psi(s + h) - psi((s - h).max(0.0))) / (s + h - (s - h).max(0.0));
+                let want = numeric.max(0.0);
+                let got = law.friction_slope(s);
+                assert!(
+                    (got - want).abs() <= 1e-6 * (1.0 + want.abs()),
+                    "μ_s {mu_s}, s = {s}: {got} against {want}"
+                );
+            }
+        }
     }
 
     #[test]

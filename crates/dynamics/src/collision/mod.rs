@@ -97,6 +97,9 @@ struct Slopes {
     c: f64,
     /// φ of f_t = −φ F_n v_t.
     phi: f64,
+    /// The slope of the friction's magnitude along the slip that the tangent takes, per unit
+    /// F_n: dψ/ds or φ ([`Collisions::tangents`]).
+    along: f64,
 }
 
 /// A pair of shapes whose boxes overlap, with parry's persistent manifolds.
@@ -117,6 +120,8 @@ struct Pair {
     margin: f64,
     /// The evaluation counter when the pair was last a candidate.
     seen: u64,
+    /// The slips v_t of its first four contact points at that evaluation.
+    last_slip: [Vector3<f64>; 4],
 }
 
 /// The contact state of a run (module docs). Allocates when pairs first meet; the steps of a
@@ -335,10 +340,13 @@ impl Collisions {
                 approach: 0.0,
                 pre: 0.0,
                 margin: margins[a].min(margins[b]),
-                seen: stamp,
+                seen: 0,
+                last_slip: [Vector3::zeros(); 4],
             }
         });
+        let consecutive = pair.seen + 1 == stamp;
         pair.seen = stamp;
+        let mut ip = 0usize;
         let (p1, p2) = (&self.poses[a], &self.poses[b]);
         let pos12 = p1.inv_mul(p2);
         let (s1, s2) = (&self.shapes[a], &self.shapes[b]);
@@ -389,7 +397,22 @@ impl Collisions {
                 let fn_ = pair.law.normal_force(delta, rate, onset);
                 let (k_n, c_n) = pair.law.normal_slopes(delta, rate, onset);
                 let vt = v_rel + n * rate;
-                let phi = pair.law.friction_factor(vt.norm());
+                let slip = vt.norm();
+                let phi = pair.law.friction_factor(slip);
+                // Along the slip, the tangent's slope: dψ/ds where the slip grew since the
+                // pair's last evaluation in the same direction, the secant φ otherwise
+                // (`Collisions::tangents`).
+                let mut along = phi;
+                if let Some(prev) = pair.last_slip.get_mut(ip) {
+                    let grew = consecutive
+                        && slip > prev.norm()
+                        && vt.dot(prev) > 0.5 * slip * prev.norm();
+                    if grew {
+                        along = pair.law.friction_slope(slip);
+                    }
+                    *prev = vt;
+                }
+                ip += 1;
                 let ft = -vt * (phi * fn_);
                 let f = n * fn_ + ft;
                 for (id, sign) in [(s2.body, 1.0), (s1.body, -1.0)] {
@@ -403,6 +426,7 @@ impl Collisions {
                     k: k_n,
                     c: c_n,
                     phi,
+                    along,
                 });
                 self.points.push(ContactPoint {
                     shapes: [a, b],
@@ -531,13 +555,21 @@ impl Collisions {
     /// (v_P = J_k v_k), the force f on body 2 (−f on body 1) and v_rel = J₂v₂ − J₁v₁:
     ///
     /// ```text
-    /// ∂f/∂v_rel = D = −c_n n nᵀ − φ F_n (I − n nᵀ),    ∂f/∂x_P₂ = S = −k_n (n − φ v_t) nᵀ
+    /// ∂f/∂v_rel = D = −c_n n nᵀ − F_n (φ (I − n nᵀ − t tᵀ) + σ t tᵀ),
+    /// ∂f/∂x_P₂ = S = −k_n (n − φ v_t) nᵀ
     /// ```
     ///
-    /// (c_n = ∂F_n/∂δ̇, k_n = ∂F_n/∂δ; the friction by its secant φ F_n, not its derivative:
-    /// the regularized law saturates beyond v_s, and Newton on its tangent overshoots from one
-    /// side of the steep part to the other, where the secant — a lagged viscosity — contracts;
-    /// the turning of n and of the lever arms is left out), so the blocks are
+    /// (c_n = ∂F_n/∂δ̇, k_n = ∂F_n/∂δ, t = v_t/|v_t|; across the slip the friction's exact
+    /// φ F_n; along it the slope σ of the magnitude ψ(s) = φ(s) s: the secant φ, or the
+    /// derivative dψ/ds where the slip grew since the pair's previous evaluation in the same
+    /// direction. ψ is concave in s and saturates beyond v_s: Newton on its derivative from
+    /// above the solution overshoots from one side of the steep part to the other (from
+    /// s = v_s it lands at −v_s and cycles), while the secant — a lagged viscosity — never
+    /// crosses the solution but contracts only linearly (by about 1 − (dψ/ds)/φ, a half at
+    /// s = v_s); an iteration whose slip grows approaches from below, where Newton on a
+    /// concave ψ is monotone. On the 343-sphere pile this took 20 % fewer iterations than the
+    /// secant alone; the derivative everywhere took six times more, a line search on it three
+    /// times more. The turning of n and of the lever arms is left out.) So the blocks are
     /// ∓J_jᵀ D J_k and ∓J_jᵀ S J_k with the sign of body j times that of body k.
     pub fn tangents(
         &self,
@@ -548,7 +580,12 @@ impl Collisions {
         for (c, sl) in self.points.iter().zip(&self.slopes) {
             let n = c.normal;
             let nn = n * n.transpose();
-            let d = -sl.c * nn - sl.phi * c.normal_force * (Matrix3::identity() - nn);
+            let mut d = -sl.c * nn - sl.phi * c.normal_force * (Matrix3::identity() - nn);
+            let slip = c.slip_velocity.norm();
+            if sl.along != sl.phi && slip > 0.0 {
+                let t = c.slip_velocity / slip;
+                d += (sl.phi - sl.along) * c.normal_force * t * t.transpose();
+            }
             let s = -sl.k * (n - sl.phi * c.slip_velocity) * n.transpose();
             let jac = |k: usize| {
                 let b = &bodies[k];
