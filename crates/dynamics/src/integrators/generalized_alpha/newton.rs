@@ -51,8 +51,18 @@ const STAGNATION_MAX_RESIDUAL: f64 = 1e-2;
 /// of 3.9 iterations per step. Used only when no row is dropped (see the module docs).
 pub(super) const NEWTON_FRACTION: f64 = 1e-4;
 
-/// Consecutive non-contracting iterations of a fresh matrix after which a step attempt fails.
+/// Consecutive stalled iterations of a fresh matrix after which a step attempt fails: the
+/// residual reduced by less than 10 % and the update by less than half
+/// ([`STALLED_UPDATE_RATIO`]).
 const STALLED_MAX: usize = 4;
+
+/// The ratio of an update to the one before above which an iteration of a fresh matrix whose
+/// residual did not fall counts as stalled. The largest relative residual stays near 1 while
+/// contacts settle (a point whose force changes between iterates is as large as the terms it
+/// is measured against) although each Newton update halves or better: counted as stalled,
+/// such attempts failed and halved the step (the 343-sphere pile: 59 of 493 attempts, and
+/// 12 iterations a step; with the updates' test none, 7.3 a step, 40 % less time).
+const STALLED_UPDATE_RATIO: f64 = 0.5;
 
 /// The least size of a 3-row group of the equations of motion in the residual test, relative
 /// to the largest group of its kind (see `eom_residual`).
@@ -221,10 +231,10 @@ impl Newton {
             if (constraints_ok && res_v <= tol) || stagnated {
                 return Ok(true);
             }
-            // A fresh matrix that no longer reduces the residual will not converge: give up
-            // early (the caller halves the step) instead of refactoring up to `max_iterations`
-            // times.
-            if fresh && it >= 1 && theta > 0.9 {
+            // A fresh matrix that no longer reduces the residual nor its updates will not
+            // converge: give up early (the caller halves the step) instead of refactoring up to
+            // `max_iterations` times.
+            if fresh && it >= 1 && theta > 0.9 && up.dv > STALLED_UPDATE_RATIO * up.dv_prev {
                 stalled += 1;
                 if stalled >= STALLED_MAX {
                     return Ok(false);
