@@ -287,3 +287,25 @@ pub fn billiard_plots(results: &str) -> (String, String) {
         ),
     )
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Friction makes a landing pile's Newton iterations: while its contacts settle the
+    /// largest relative residual stays near 1 although each update halves, and such an
+    /// attempt must not be given up as stalled (it was, and the step was halved).
+    #[test]
+    fn a_landing_pile_takes_every_step_at_its_size() {
+        let model = pile(64);
+        let mut d = Dynamics::new(&model).expect("dynamics");
+        d.add_force(Force::gravity(Vector3::new(0.0, 0.0, -G)))
+            .expect("gravity");
+        let ga = Integrator::GeneralizedAlpha(GeneralizedAlphaOptions::with_step(1e-4));
+        let opts = SimulationOptions::new(0.035, 5).integrator(ga);
+        let r = d.simulate(&d.initial_guess(), &opts).expect("the run");
+        eprintln!("{:?}", r.stats);
+        assert_eq!(r.stats.rejected, 0, "{:?}", r.stats);
+        assert_eq!(r.stats.steps, 350, "{:?}", r.stats);
+    }
+}
