@@ -344,7 +344,7 @@ impl Collisions {
                 approach: 0.0,
                 pre: 0.0,
                 margin: margins[a].min(margins[b]),
-                seen: 0,
+                seen: stamp,
                 slips: [SlipMemory::default(); 4],
                 run: 0,
             }
@@ -565,9 +565,9 @@ impl Collisions {
     /// φ F_n; along it a slope σ of its magnitude ψ(s) = φ(s) s chosen from the point's last
     /// slips ([`slip`]: the derivative where the slip grows, a chord to the solution
     /// estimated from the last three where it shrinks steadily, else the secant φ). On the
-    /// 343-sphere pile the secant alone took 12 iterations a step and the derivative
-    /// everywhere six times more; the choice takes 7. The turning of n and of the lever arms
-    /// is left out.) So the blocks are
+    /// landing 343-sphere pile the secant alone took 13.6 Newton iterations a step, the
+    /// choice 7.8, the derivative everywhere six times the secant's. The turning of n and of
+    /// the lever arms is left out.) So the blocks are
     /// ∓J_jᵀ D J_k and ∓J_jᵀ S J_k with the sign of body j times that of body k.
     pub fn tangents(
         &self,
