@@ -100,7 +100,7 @@ struct Slopes {
     /// φ of f_t = −φ F_n v_t.
     phi: f64,
     /// The slope of the friction's magnitude along the slip that the tangent takes, per unit
-    /// F_n: dψ/ds or φ ([`Collisions::tangents`]).
+    /// F_n: dψ/ds, a chord or φ (`slip::along_slope`).
     along: f64,
 }
 
