@@ -411,7 +411,7 @@ impl Collisions {
                 // The tangent's slope along the slip, from this point's last slips (a pair's
                 // fifth point on takes the secant).
                 let along = match pair.slips.get_mut(ip) {
-                    Some(memory) => slip::along_slope(&pair.law, &vt, memory, pair.run),
+                    Some(memory) => slip::along_slope(&pair.law, &vt, phi, memory, pair.run),
                     None => phi,
                 };
                 ip += 1;

@@ -41,16 +41,17 @@ fn same_way(a: &Vector3<f64>, b: &Vector3<f64>) -> bool {
 }
 
 /// The slope σ along the slip v_t (per unit F_n) for the tangent at this evaluation (module
-/// docs); `run`: how many evaluations of the pair in a row came just before this one (so
-/// `memory` holds that many of this point's slips, up to two). Records v_t in `memory`.
+/// docs), given the secant `phi` = φ(|v_t|) the force took; `run`: how many evaluations of
+/// the pair in a row came just before this one (so `memory` holds that many of this point's
+/// slips, up to two). Records v_t in `memory`.
 pub(super) fn along_slope(
     law: &PairLaw,
     vt: &Vector3<f64>,
+    phi: f64,
     memory: &mut SlipMemory,
     run: u32,
 ) -> f64 {
     let s = vt.norm();
-    let phi = law.friction_factor(s);
     let (s1, s2) = (memory.last.norm(), memory.before.norm());
     let along1 = run >= 1 && same_way(vt, &memory.last);
     let along2 = along1 && run >= 2 && same_way(&memory.last, &memory.before);
@@ -119,8 +120,10 @@ mod tests {
         // s_p = 0.2125 m/s: the solution creeps at about v_s; s_p = 0.3: at a few v_s.
         for sp in [0.2125, 0.3] {
             let secant = iterations(sp, |law, s, _, _| law.friction_factor(s.abs()));
-            let chosen = iterations(sp, |law, s, m, run| along_slope(law, &v(s), m, run))
-                .expect("the chosen slope converges");
+            let chosen = iterations(sp, |law, s, m, run| {
+                along_slope(law, &v(s), law.friction_factor(s.abs()), m, run)
+            })
+            .expect("the chosen slope converges");
             assert!(
                 secant.is_none_or(|k| 2 * chosen <= k),
                 "s_p {sp}: chosen {chosen} against the secant's {secant:?} iterations"
@@ -139,15 +142,21 @@ mod tests {
         let mut m = SlipMemory::default();
         let x = |s: f64| Vector3::new(s, 0.0, 0.0);
         let phi = |s: f64| law.friction_factor(s);
-        assert_eq!(along_slope(&law, &x(2e-3), &mut m, 0), phi(2e-3));
+        assert_eq!(along_slope(&law, &x(2e-3), phi(2e-3), &mut m, 0), phi(2e-3));
         // Grown the same way: the derivative.
         assert_eq!(
-            along_slope(&law, &x(3e-3), &mut m, 1),
+            along_slope(&law, &x(3e-3), phi(3e-3), &mut m, 1),
             law.friction_slope(3e-3)
         );
         // Reversed: the secant.
-        assert_eq!(along_slope(&law, &x(-1e-3), &mut m, 2), phi(1e-3));
+        assert_eq!(
+            along_slope(&law, &x(-1e-3), phi(1e-3), &mut m, 2),
+            phi(1e-3)
+        );
         // After a gap in the evaluations: the secant, whatever the memory says.
-        assert_eq!(along_slope(&law, &x(-2e-3), &mut m, 0), phi(2e-3));
+        assert_eq!(
+            along_slope(&law, &x(-2e-3), phi(2e-3), &mut m, 0),
+            phi(2e-3)
+        );
     }
 }
